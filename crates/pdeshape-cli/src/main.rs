@@ -1,0 +1,5 @@
+//! The `pdeshape` command-line tool.
+
+fn main() {
+    println!("pdeshape");
+}

@@ -1,0 +1,77 @@
+//! Curves in R³ with exact derivatives.
+//!
+//! Periodic curves (the boundary conditions of the analytic PDE method) live on `[0, 2π)`; open
+//! curves on an interval. Every kind implements [`Curve`]; transforms and reparametrisations wrap
+//! a curve (§5.1 and §6.1 of the book).
+
+mod arclength;
+mod bezier;
+mod bspline;
+mod conic;
+mod formula;
+mod hermite;
+mod samples;
+mod transform;
+
+pub use arclength::ArcLength;
+pub use bezier::Bezier;
+pub use bspline::BSpline;
+pub use conic::{Ellipse, Point};
+pub use formula::Formula;
+pub use hermite::Hermite;
+pub use samples::{PointSamples, SampleParam};
+pub use transform::{Affine, Combination, OriginShift, Transformed};
+
+pub use crate::fourier::FourierSeries;
+
+use crate::Vec3;
+use std::sync::Arc;
+
+/// Highest derivative order any curve must provide through [`Curve::jet`].
+pub const MAX_ORDER: usize = 8;
+
+/// The parameter domain of a curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Domain {
+    /// Periodic with period 2π; the parameter is usually called `v` and lives on `[0, 2π)`.
+    Periodic,
+    /// An open curve on `[start, end]` (`start < end`).
+    Interval(f64, f64),
+}
+
+/// A parametric curve `C(t)` in R³ with exact derivatives.
+pub trait Curve: Send + Sync + std::fmt::Debug {
+    /// Where the parameter lives.
+    fn domain(&self) -> Domain;
+
+    /// Writes `C(t), C'(t), …, C⁽ᵏ⁾(t)` into `out[0..=k]` with `k = out.len() - 1 ≤ MAX_ORDER`.
+    /// Derivatives are exact (analytic), not finite differences. Periodic curves accept any real
+    /// `t` (reduced modulo 2π); open curves extend their end pieces outside the interval.
+    fn jet(&self, t: f64, out: &mut [Vec3]);
+
+    /// The exact finite Fourier series of this curve, if it is one (circle, ellipse, Fourier
+    /// series, point, and affine images of these). Lets the solver skip sampling.
+    fn fourier(&self) -> Option<FourierSeries> {
+        None
+    }
+
+    /// `C(t)`.
+    fn point(&self, t: f64) -> Vec3 {
+        let mut out = [Vec3::zeros(); 1];
+        self.jet(t, &mut out);
+        out[0]
+    }
+
+    /// `dᵏC/dtᵏ (t)` for `k = order ≤ MAX_ORDER` (zero beyond).
+    fn derivative(&self, t: f64, order: usize) -> Vec3 {
+        if order > MAX_ORDER {
+            return Vec3::zeros();
+        }
+        let mut out = [Vec3::zeros(); MAX_ORDER + 1];
+        self.jet(t, &mut out[..=order]);
+        out[order]
+    }
+}
+
+/// A curve shared between conditions, patches and wrappers.
+pub type SharedCurve = Arc<dyn Curve>;

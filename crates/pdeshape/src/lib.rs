@@ -1,0 +1,36 @@
+//! # pdeshape
+//!
+//! Geometric design with partial differential equations. A designer gives a few boundary curves
+//! (position curves, derivative curves, intermediate curves), picks an elliptic operator and a
+//! smoothing parameter `a`, and gets the surface that solves the Bloor–Wilson boundary-value problem
+//! (H. Ugail, *Partial Differential Equations for Geometric Design*, chapters 4–6).
+//!
+//! The data flow:
+//!
+//! ```text
+//! design file (TOML) ──spec──▶ curves, operator, conditions
+//!                                │ elliptic::solve
+//!                                ▼
+//!                PdePatch (implements Surface: exact partials anywhere)
+//!                                │ mesh::tessellate / mesh::sample
+//!                                ▼
+//!                Grid (positions, normals, uv) ──▶ obj, stl, ply, glb, csv, png
+//! ```
+
+pub mod curve;
+pub mod design;
+pub mod elliptic;
+mod error;
+pub mod fourier;
+pub mod mesh;
+pub mod render;
+pub mod spec;
+pub mod surface;
+
+pub use error::{Error, Result};
+
+/// Points and vectors in R³.
+pub type Vec3 = nalgebra::Vector3<f64>;
+
+/// 2π: periodic curves live on `[0, 2π)`.
+pub const TAU: f64 = std::f64::consts::TAU;

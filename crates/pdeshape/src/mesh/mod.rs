@@ -1,0 +1,184 @@
+//! Tessellation of surfaces on `nu × nv` grids, and writers for mesh and sample formats.
+//!
+//! Grids are u-major: vertex `(i, j)` sits at index `i·nv + j`, with `u_i = i/(nu−1)` and, for a
+//! periodic `v`, `v_j = 2πj/nv` (no repeated seam column: faces wrap from column `nv−1` to 0).
+
+mod writers;
+
+pub use writers::{write_csv, write_glb, write_obj, write_ply, write_stl, Format};
+
+use crate::surface::{Surface, VDomain};
+use crate::{Error, Result, Vec3, TAU};
+use rayon::prelude::*;
+
+/// Largest number of grid vertices we agree to allocate (per patch).
+pub const MAX_VERTICES: usize = 1 << 26;
+
+/// A tessellated grid. `GridMesh` (f32, for meshes and pictures) and `Samples` (f64, for numbers)
+/// are the two precisions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid<T> {
+    pub nu: usize,
+    pub nv: usize,
+    /// Faces wrap from the last column to the first.
+    pub periodic_v: bool,
+    /// Parameter values of the rows (`nu` of them) and columns (`nv`).
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub positions: Vec<[T; 3]>,
+    pub normals: Vec<[T; 3]>,
+}
+
+/// Mesh precision: what every mesh format stores.
+pub type GridMesh = Grid<f32>;
+/// Full precision samples (CSV).
+pub type Samples = Grid<f64>;
+
+impl<T> Grid<T> {
+    /// Index of vertex `(i, j)`.
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        i * self.nv + j
+    }
+
+    /// Quads `(i,j), (i+1,j), (i+1,j+1), (i,j+1)`, counter-clockwise seen from the side the
+    /// normals `X_u × X_v` point to.
+    pub fn quads(&self) -> impl Iterator<Item = [u32; 4]> + '_ {
+        let cols = if self.periodic_v {
+            self.nv
+        } else {
+            self.nv.saturating_sub(1)
+        };
+        let nv = self.nv;
+        (0..self.nu.saturating_sub(1)).flat_map(move |i| {
+            (0..cols).map(move |j| {
+                let j1 = (j + 1) % nv;
+                [
+                    (i * nv + j) as u32,
+                    ((i + 1) * nv + j) as u32,
+                    ((i + 1) * nv + j1) as u32,
+                    (i * nv + j1) as u32,
+                ]
+            })
+        })
+    }
+
+    /// The quads split into two triangles each.
+    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.quads().flat_map(|[a, b, c, d]| [[a, b, c], [a, c, d]])
+    }
+
+    /// Number of vertices.
+    pub fn len(&self) -> usize {
+        self.nu * self.nv
+    }
+
+    /// True for an empty grid.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Grid parameters for a surface: `u_i = i/(nu−1)`; `v_j = 2πj/nv` if periodic, else evenly
+/// spaced over the interval including both ends. Refuses `nu < 2`, `nv < 3` (periodic) or
+/// `nv < 2`, and grids over [`MAX_VERTICES`], before allocating anything.
+pub fn grid_parameters(domain: VDomain, nu: usize, nv: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    if nu < 2 {
+        return Err(Error::invalid(format!("must be at least 2 (got {nu})")).at("nu"));
+    }
+    let min_nv = if domain == VDomain::Periodic { 3 } else { 2 };
+    if nv < min_nv {
+        return Err(Error::invalid(format!("must be at least {min_nv} (got {nv})")).at("nv"));
+    }
+    if nu.checked_mul(nv).is_none_or(|n| n > MAX_VERTICES) {
+        return Err(Error::invalid(format!(
+            "a {nu} × {nv} grid has more than {MAX_VERTICES} vertices; refusing to allocate it"
+        ))
+        .at("nu × nv"));
+    }
+    let us = (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect();
+    let vs = match domain {
+        VDomain::Periodic => (0..nv).map(|j| TAU * j as f64 / nv as f64).collect(),
+        VDomain::Interval(a, b) => (0..nv)
+            .map(|j| a + (b - a) * j as f64 / (nv - 1) as f64)
+            .collect(),
+    };
+    Ok((us, vs))
+}
+
+/// Scalar types a grid can store.
+pub trait GridScalar: Copy + Send + Sync + Default + 'static {
+    fn from_f64(x: f64) -> Self;
+}
+impl GridScalar for f32 {
+    fn from_f64(x: f64) -> Self {
+        x as f32
+    }
+}
+impl GridScalar for f64 {
+    fn from_f64(x: f64) -> Self {
+        x
+    }
+}
+
+/// Evaluates positions and unit normals (from exact derivatives) on an `nu × nv` grid, rows in
+/// parallel. `tessellate` gives an f32 mesh, `sample` full precision.
+pub fn evaluate_grid<T: GridScalar>(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+) -> Result<Grid<T>> {
+    let domain = surface.v_domain();
+    let (us, vs) = grid_parameters(domain, nu, nv)?;
+    let n = nu * nv;
+    let mut positions: Vec<[T; 3]> = Vec::with_capacity(n);
+    let mut normals: Vec<[T; 3]> = Vec::with_capacity(n);
+    // SAFETY-free initialisation in parallel: the buffers are written row by row below, so the
+    // first touch of each page happens on the thread that fills it.
+    positions.resize(n, [T::default(); 3]);
+    normals.resize(n, [T::default(); 3]);
+    {
+        let rows = surface.row_evaluator(&vs);
+        let rows = &*rows;
+        positions
+            .par_chunks_mut(nv)
+            .zip(normals.par_chunks_mut(nv))
+            .zip(us.par_iter())
+            .for_each_init(
+                || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
+                |(pos, nrm), ((prow, nrow), &u)| {
+                    rows.eval_row(u, pos, nrm);
+                    for j in 0..nv {
+                        prow[j] = [
+                            T::from_f64(pos[j].x),
+                            T::from_f64(pos[j].y),
+                            T::from_f64(pos[j].z),
+                        ];
+                        nrow[j] = [
+                            T::from_f64(nrm[j].x),
+                            T::from_f64(nrm[j].y),
+                            T::from_f64(nrm[j].z),
+                        ];
+                    }
+                },
+            );
+    }
+    Ok(Grid {
+        nu,
+        nv,
+        periodic_v: domain == VDomain::Periodic,
+        u: us,
+        v: vs,
+        positions,
+        normals,
+    })
+}
+
+/// f32 mesh of a surface on an `nu × nv` grid.
+pub fn tessellate(surface: &dyn Surface, nu: usize, nv: usize) -> Result<GridMesh> {
+    evaluate_grid(surface, nu, nv)
+}
+
+/// Full-precision samples of a surface on an `nu × nv` grid.
+pub fn sample(surface: &dyn Surface, nu: usize, nv: usize) -> Result<Samples> {
+    evaluate_grid(surface, nu, nv)
+}

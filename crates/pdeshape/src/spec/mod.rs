@@ -1,0 +1,1 @@
+//! The design-file schema (serde) and its validation.

@@ -1,0 +1,86 @@
+//! The [`Surface`] trait: every solver returns something that evaluates anywhere with exact
+//! partial derivatives, so tessellation, export, analysis and pictures work on all of them alike.
+
+use crate::Vec3;
+
+/// `X` and its partial derivatives up to second order at one `(u, v)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Partials {
+    pub x: Vec3,
+    pub xu: Vec3,
+    pub xv: Vec3,
+    pub xuu: Vec3,
+    pub xuv: Vec3,
+    pub xvv: Vec3,
+}
+
+impl Partials {
+    /// Unit normal `X_u × X_v / |X_u × X_v|`. Where that cross product vanishes (a pole: a
+    /// position curve shrunk to a point, so `X_v = 0`), the limit normal `X_u × X_uv` is used, and
+    /// `X_uv × X_v` where `X_u` vanishes; zero if all of these vanish.
+    pub fn normal(&self) -> Vec3 {
+        let scale = (self.xu.norm() + self.xv.norm()).max(f64::MIN_POSITIVE);
+        let n = self.xu.cross(&self.xv);
+        if n.norm() > 1e-12 * scale * scale {
+            return n.normalize();
+        }
+        for m in [self.xu.cross(&self.xuv), self.xuv.cross(&self.xv)] {
+            let s = m.norm();
+            if s > 1e-300 {
+                return m / s;
+            }
+        }
+        Vec3::zeros()
+    }
+}
+
+/// The parameter domain in `v`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VDomain {
+    /// Periodic with period 2π.
+    Periodic,
+    /// `[start, end]`.
+    Interval(f64, f64),
+}
+
+/// A parametric surface `X(u, v)` with `u ∈ [0, 1]`.
+pub trait Surface: Send + Sync {
+    /// The `v` domain (`u` always runs over `[0, 1]`).
+    fn v_domain(&self) -> VDomain;
+
+    /// `X` and exact partials up to second order.
+    fn partials(&self, u: f64, v: f64) -> Partials;
+
+    /// `X(u, v)`.
+    fn point(&self, u: f64, v: f64) -> Vec3 {
+        self.partials(u, v).x
+    }
+
+    /// An evaluator for whole rows of a tensor grid with the given `v` values. Surfaces with
+    /// structure (the PDE patch: a sum of products) override this with per-column tables so a
+    /// grid is a few small matrix products.
+    fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
+        Box::new(PointwiseRows { surface: self, vs })
+    }
+}
+
+/// Evaluates positions and unit normals along one grid row `u = const`.
+pub trait RowEvaluator: Send + Sync {
+    /// Fills `pos[j] = X(u, v_j)` and `nrm[j] = n(u, v_j)` for every column `j`.
+    fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]);
+}
+
+struct PointwiseRows<'a, S: Surface + ?Sized> {
+    surface: &'a S,
+    vs: &'a [f64],
+}
+
+impl<S: Surface + ?Sized> RowEvaluator for PointwiseRows<'_, S> {
+    fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+        for (j, &v) in self.vs.iter().enumerate() {
+            let p = self.surface.partials(u, v);
+            pos[j] = p.x;
+            nrm[j] = p.normal();
+        }
+    }
+}
