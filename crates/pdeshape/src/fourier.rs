@@ -24,14 +24,34 @@ impl FourierSeries {
     /// samples and a real FFT. Uses the curve's exact series ([`Curve::fourier`]) when it has one.
     /// Fails (naming the parameter) if the curve is not periodic or a sample is not finite.
     pub fn from_curve(curve: &dyn Curve, modes: usize, samples: usize) -> Result<Self> {
-        let _ = (curve, modes, samples);
-        todo!("fourier")
+        if let Some(f) = curve.fourier() {
+            return Ok(f.truncated(modes));
+        }
+        let s = samples.max(2 * modes + 1);
+        let mut f = FourierSeries {
+            a0: Vec3::zeros(),
+            cos: vec![Vec3::zeros(); modes],
+            sin: vec![Vec3::zeros(); modes],
+        };
+        for k in 0..s {
+            let v = crate::TAU * k as f64 / s as f64;
+            let p = curve.point(v);
+            f.a0 += p / s as f64;
+            for n in 1..=modes {
+                let (sn, cn) = (n as f64 * v).sin_cos();
+                f.cos[n - 1] += p * (2.0 * cn / s as f64);
+                f.sin[n - 1] += p * (2.0 * sn / s as f64);
+            }
+        }
+        Ok(f)
     }
 
     /// The series cut (or zero-padded) to `modes`.
     pub fn truncated(&self, modes: usize) -> Self {
-        let _ = modes;
-        todo!("fourier")
+        let mut f = self.clone();
+        f.cos.resize(modes, Vec3::zeros());
+        f.sin.resize(modes, Vec3::zeros());
+        f
     }
 
     /// `max_k |C(v_k) − f(v_k)|` over `samples` equally spaced parameters.
@@ -45,8 +65,22 @@ impl Curve for FourierSeries {
     fn domain(&self) -> Domain {
         Domain::Periodic
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("fourier")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        for (d, o) in out.iter_mut().enumerate() {
+            *o = if d == 0 { self.a0 } else { Vec3::zeros() };
+            for n in 1..=self.modes() {
+                let nf = n as f64;
+                let (s, c) = (nf * t).sin_cos();
+                // d-th derivative of cos(nt) is n^d cos(nt + dπ/2).
+                let (cd, sd) = match d % 4 {
+                    0 => (c, s),
+                    1 => (-s, c),
+                    2 => (-c, -s),
+                    _ => (s, -c),
+                };
+                *o += (self.cos[n - 1] * cd + self.sin[n - 1] * sd) * nf.powi(d as i32);
+            }
+        }
     }
     fn fourier(&self) -> Option<FourierSeries> {
         Some(self.clone())

@@ -35,8 +35,11 @@ pub struct Ellipse {
 impl Ellipse {
     /// General ellipse from its two (conjugate) semi-axis vectors; they must be independent.
     pub fn new(center: Vec3, axis1: Vec3, axis2: Vec3) -> Result<Self> {
-        let _ = (center, axis1, axis2);
-        todo!("curve kinds")
+        Ok(Ellipse {
+            center,
+            axis1,
+            axis2,
+        })
     }
     /// Circle of `radius > 0` about `center` in the plane normal to `normal`, starting (v = 0)
     /// along the projection of +x on that plane (+y if the normal is along x).
@@ -55,7 +58,25 @@ impl Curve for Ellipse {
     fn domain(&self) -> Domain {
         Domain::Periodic
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        let (s, c) = t.sin_cos();
+        for (d, o) in out.iter_mut().enumerate() {
+            let (cd, sd) = match d % 4 {
+                0 => (c, s),
+                1 => (-s, c),
+                2 => (-c, -s),
+                _ => (s, -c),
+            };
+            *o = self.axis1 * cd
+                + self.axis2 * sd
+                + if d == 0 { self.center } else { Vec3::zeros() };
+        }
+    }
+    fn fourier(&self) -> Option<crate::fourier::FourierSeries> {
+        Some(crate::fourier::FourierSeries {
+            a0: self.center,
+            cos: vec![self.axis1],
+            sin: vec![self.axis2],
+        })
     }
 }
