@@ -40,7 +40,6 @@ pub(crate) fn recip(a: &Series, n: usize) -> Series {
     r
 }
 
-#[allow(dead_code)] // TEMP
 /// `f(g(ε))` for a series `g` with `g₀ = 0` (Horner in `g`).
 pub(crate) fn compose(f: &Series, g: &Series, n: usize) -> Series {
     debug_assert!(g[0] == 0.0);
@@ -52,7 +51,6 @@ pub(crate) fn compose(f: &Series, g: &Series, n: usize) -> Series {
     acc
 }
 
-#[allow(dead_code)] // TEMP
 /// `F(g(ε))` for vector coefficients `F` and a scalar series `g` with `g₀ = 0`.
 pub(crate) fn compose_vec(f: &[Vec3], g: &Series, n: usize) -> [Vec3; LEN] {
     let mut acc = [Vec3::zeros(); LEN];
