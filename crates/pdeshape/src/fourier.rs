@@ -6,6 +6,11 @@
 use crate::curve::{Curve, Domain};
 use crate::{Error, Result, Vec3, TAU};
 
+/// Largest number of modes [`FourierSeries::from_curve`] accepts.
+pub const MAX_MODES: usize = 1 << 20;
+/// Largest number of samples [`FourierSeries::from_curve`] accepts.
+pub const MAX_SAMPLES: usize = 1 << 24;
+
 /// `a0 + Σ_{n=1}^{M} [cos[n-1]·cos(nv) + sin[n-1]·sin(nv)]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FourierSeries {
@@ -22,7 +27,8 @@ impl FourierSeries {
 
     /// Coefficients of a periodic curve up to `modes`, from `samples ≥ 2·modes + 1` equally spaced
     /// samples and a real FFT. Uses the curve's exact series ([`Curve::fourier`]) when it has one.
-    /// Fails (naming the parameter) if the curve is not periodic or a sample is not finite.
+    /// Fails (naming the parameter) if the curve is not periodic or a sample is not finite, or if
+    /// `modes > MAX_MODES` or `samples > MAX_SAMPLES`.
     ///
     /// With `g_k = C(v_k)`, `v_k = 2πk/S` and the discrete transform `G_n = Σ_k g_k e^{−i n v_k}`
     /// (Eq. 4.20–4.22, trapezoidal rule): `a₀ = G₀/S` (the mean), `aₙ = (2/S) Re Gₙ`,
@@ -30,6 +36,16 @@ impl FourierSeries {
     /// two. Modes above `S/2` alias, so the result is exact only for curves whose series ends
     /// below `S − modes`.
     pub fn from_curve(curve: &dyn Curve, modes: usize, samples: usize) -> Result<Self> {
+        if modes > MAX_MODES {
+            return Err(Error::invalid(format!(
+                "modes = {modes} is too large (at most {MAX_MODES})"
+            )));
+        }
+        if samples > MAX_SAMPLES {
+            return Err(Error::invalid(format!(
+                "samples = {samples} is too large (at most {MAX_SAMPLES})"
+            )));
+        }
         if let Some(exact) = curve.fourier() {
             return Ok(exact.truncated(modes));
         }
@@ -346,6 +362,8 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("v = 3.14159"), "{e}");
+        assert!(FourierSeries::from_curve(&c, usize::MAX, 0).is_err());
+        assert!(FourierSeries::from_curve(&c, 3, usize::MAX).is_err());
         let inf = Sampled(|_| Vec3::new(0.0, f64::INFINITY, 0.0), Domain::Periodic);
         assert!(FourierSeries::from_curve(&inf, 2, 8).is_err());
         // The exact path ignores samples.

@@ -393,6 +393,30 @@ mod tests {
     }
 
     #[test]
+    fn unclamped_knots_work() {
+        // Uniform open knot vector 0..=n+p: domain [p, n], no end interpolation.
+        let p = 3;
+        let c = ctrl(7);
+        let knots: Vec<f64> = (0..=c.len() + p).map(|i| i as f64).collect();
+        let s = BSpline::clamped(p, c.clone(), Some(knots.clone())).unwrap();
+        assert_eq!(s.domain(), Domain::Interval(3.0, 7.0));
+        for &t in &[3.0f64, 3.4, 4.5, 6.9, 7.0] {
+            let want = c.iter().enumerate().fold(Vec3::zeros(), |acc, (i, cp)| {
+                acc + cp * basis(&knots, i, p, t.min(6.999_999_999_999))
+            });
+            assert_close(&s.point(t), &want, 1e-11, "unclamped");
+        }
+        // Uniform cubic piece formula at the domain start: (P0 + 4P1 + P2)/6.
+        assert_close(
+            &s.point(3.0),
+            &((c[0] + c[1] * 4.0 + c[2]) / 6.0),
+            1e-14,
+            "start",
+        );
+        check_fd(&s, &[3.5, 4.5, 5.5, 6.5], 1e-4, 5, 10.0);
+    }
+
+    #[test]
     fn default_knots_are_uniform_clamped() {
         let c = ctrl(6);
         let s = BSpline::clamped(3, c.clone(), None).unwrap();

@@ -226,7 +226,7 @@ mod tests {
             let mid: Vec<f64> = (0..7)
                 .map(|i| 0.5 * (s.params[i] + s.params[i + 1]))
                 .collect();
-            check_fd(&s, &mid, 1e-5, 0, 3.0);
+            check_fd(&s, &mid, 1e-5, 5, 3.0);
             // Periodic.
             assert_close(&s.point(-0.5), &s.point(TAU - 0.5), 1e-14, "periodic");
         }
