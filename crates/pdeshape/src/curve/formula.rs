@@ -8,7 +8,7 @@ type Expr = FlatEx<Taylor, TaylorOps, Literal>;
 
 /// A curve given by three formulas in the parameter `v`, e.g. `x = "2*cos(v)"`. Derivatives are
 /// exact: each formula is evaluated on truncated Taylor series (`v + ε`), which yields all
-/// derivatives up to [`MAX_ORDER`] in one pass (automatic differentiation; no expression swell,
+/// derivatives up to [`MAX_ORDER`](super::MAX_ORDER) in one pass (automatic differentiation; no expression swell,
 /// unlike repeated symbolic differentiation).
 ///
 /// Syntax (parsed by the `exmex` crate): numbers (`2`, `0.5`, `.5`, `1e-3`), the variable `v`,
