@@ -103,13 +103,8 @@ impl Ellipse {
     /// start direction `e`: `a₁ = r e`, `a₂ = r n̂ × e`, so the circle runs counter-clockwise
     /// about the normal.
     pub fn circle(center: Vec3, radius: f64, normal: Vec3) -> Result<Self> {
-        Self::with_radii(center, radius, radius, normal).map_err(|e| match e {
-            Error::Invalid { place, message } => Error::Invalid {
-                place,
-                message: message.replace("rx = ", "radius = "),
-            },
-            other => other,
-        })
+        check_radius("radius", radius)?;
+        Self::with_radii(center, radius, radius, normal)
     }
     /// Axis-aligned ellipse with semi-axes `rx` (along the circle's start direction) and `ry`.
     pub fn with_radii(center: Vec3, rx: f64, ry: f64, normal: Vec3) -> Result<Self> {
