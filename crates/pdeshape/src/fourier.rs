@@ -31,7 +31,7 @@ impl FourierSeries {
     /// `modes > MAX_MODES` or `samples > MAX_SAMPLES`.
     ///
     /// With `g_k = C(v_k)`, `v_k = 2πk/S` and the discrete transform `G_n = Σ_k g_k e^{−i n v_k}`
-    /// (Eq. 4.20–4.22, trapezoidal rule): `a₀ = G₀/S` (the mean), `aₙ = (2/S) Re Gₙ`,
+    /// (the integrals of Eqs. 4.21–4.23 by the trapezoidal rule): `a₀ = G₀/S` (the mean), `aₙ = (2/S) Re Gₙ`,
     /// `bₙ = −(2/S) Im Gₙ`. `samples = 0` picks `S = max(64, 8·modes)` rounded up to a power of
     /// two. Modes above `S/2` alias, so the result is exact only for curves whose series ends
     /// below `S − modes`.

@@ -3,7 +3,8 @@ use crate::{Error, Result, Vec3, TAU};
 
 /// B-spline curve of any degree: clamped/open on a knot vector, or periodic on `[0, 2π)`.
 ///
-/// `C(t) = Σ_i N_{i,p}(t) P_i` with the Cox–de Boor basis of degree `p` on the knots `t_0 ≤ t_1 ≤ …`.
+/// `C(t) = Σ_i N_{i,p}(t) P_i` (book Eq. 4.19/5.1, any degree) with the Cox–de Boor basis of
+/// degree `p` on the knots `t_0 ≤ t_1 ≤ …`.
 /// Values come from de Boor's algorithm; the `k`-th derivative is the B-spline of degree `p − k`
 /// with the derivative control points `P⁽ᵏ⁾_i = (p − k + 1)/(t_{i+p+1} − t_{i+k}) (P⁽ᵏ⁻¹⁾_{i+1} −
 /// P⁽ᵏ⁻¹⁾_i)`; derivatives beyond the degree are zero. Outside the domain the first/last
@@ -183,6 +184,16 @@ impl BSpline {
     /// Degree `p`.
     pub fn degree(&self) -> usize {
         self.degree
+    }
+
+    /// The control points as given (periodic: without the wrapped copies).
+    pub fn control_points(&self) -> &[Vec3] {
+        let n = self.control.len();
+        if self.periodic {
+            &self.control[..n - self.degree]
+        } else {
+            &self.control
+        }
     }
 
     /// The knot vector of the equivalent open spline (periodic: extended periodically).
@@ -447,6 +458,7 @@ mod tests {
         let n = 7;
         let c = ctrl(n);
         let s = BSpline::periodic(3, c.clone(), None).unwrap();
+        assert_eq!(s.control_points(), &c[..]);
         let h = TAU / n as f64;
         for j in 0..n {
             for &x in &[0.0, 0.25, 0.5, 0.9] {
