@@ -247,6 +247,49 @@ mod tests {
     }
 
     #[test]
+    fn formula_curves_are_analysed_by_sampling() {
+        let f = crate::curve::Formula::new(
+            "1 + cos(v) - 0.25*sin(3*v)",
+            "2*sin(v) + cos(v)^2",
+            "0.5",
+            Domain::Periodic,
+        )
+        .unwrap();
+        assert!(f.fourier().is_none());
+        let g = FourierSeries::from_curve(&f, 4, 0).unwrap();
+        // cos² v = 1/2 + cos(2v)/2.
+        let want = FourierSeries {
+            a0: Vec3::new(1.0, 0.5, 0.5),
+            cos: vec![
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 0.5, 0.0),
+                Vec3::zeros(),
+                Vec3::zeros(),
+            ],
+            sin: vec![
+                Vec3::new(0.0, 2.0, 0.0),
+                Vec3::zeros(),
+                Vec3::new(-0.25, 0.0, 0.0),
+                Vec3::zeros(),
+            ],
+        };
+        assert!((g.a0 - want.a0).norm() < 1e-15);
+        for n in 0..4 {
+            assert!(
+                (g.cos[n] - want.cos[n]).norm() < 2e-15,
+                "cos {n}: {:?}",
+                g.cos[n]
+            );
+            assert!(
+                (g.sin[n] - want.sin[n]).norm() < 2e-15,
+                "sin {n}: {:?}",
+                g.sin[n]
+            );
+        }
+        assert!(g.reconstruction_error(&f, 100) < 1e-14);
+    }
+
+    #[test]
     fn fft_matches_direct_sums() {
         let ctrl: Vec<Vec3> = (0..7)
             .map(|i| {
