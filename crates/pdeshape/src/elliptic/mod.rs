@@ -138,8 +138,9 @@ impl ModeFn {
             }
             return;
         }
-        let mut b = vec![0.0; self.basis.len()];
-        self.basis.eval(u, d, &mut b);
+        let mut buf = [0.0; 2 * MAX_HALF_ORDER];
+        let b = &mut buf[..self.basis.len()];
+        self.basis.eval(u, d, b);
         for (c, o) in out.iter_mut().enumerate().take(self.ncols()) {
             *o = (0..b.len()).map(|k| b[k] * self.coef[(k, c)]).sum();
         }

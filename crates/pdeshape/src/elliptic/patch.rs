@@ -269,27 +269,47 @@ impl Surface for PdePatch {
 
 /// Grid rows of a [`PdePatch`]: per-column tables of `cos nv_j`, `sin nv_j` (and of the
 /// remainder's `Δ_i(v_j)`, `Δ_i'(v_j)`), so a row is a handful of multiply–adds per vertex.
+///
+/// On the standard periodic grid `v_j = 2πj/nv` with `4 | nv`, the quarter-wave symmetries
+/// `cos n(π ∓ v) = (−1)ⁿ cos nv`, `sin n(π ∓ v) = ∓(−1)ⁿ sin nv` and `v ↦ 2π − v` give the four
+/// columns `j, nv/2 − j, nv/2 + j, nv − j` from the even/odd cosine and sine sums at `j`, so each
+/// mode costs one multiply–add per quantity per four vertices.
 struct PdeRows<'a> {
     patch: &'a PdePatch,
     vs: &'a [f64],
-    /// `cos[(n−1)·nv + j] = cos(n v_j)`, likewise `sin`.
+    /// Columns the tables cover: `nv/4 + 1` on the symmetric grid, else `nv`.
+    cols: usize,
+    symmetric: bool,
+    /// `cos[(n−1)·cols + j] = cos(n v_j)`, likewise `sin`.
     cos: Vec<f64>,
     sin: Vec<f64>,
-    /// `delta[(i·2 + d)·nv + j] = ∂ᵈ_v Δ_i(v_j)` (d = 0, 1) as `Vec3`.
+    /// `delta[(i·2 + d)·nv + j] = ∂ᵈ_v Δ_i(v_j)` (d = 0, 1).
     delta: Vec<Vec3>,
 }
+
+/// Quantities accumulated per vertex: X, X_u, X_v (x, y, z each).
+const Q: usize = 9;
+/// Columns per block of the accumulation (the accumulators of a block stay in L1).
+const BLOCK: usize = 64;
 
 impl<'a> PdeRows<'a> {
     fn new(patch: &'a PdePatch, vs: &'a [f64]) -> Self {
         let m = patch.modes();
         let nv = vs.len();
-        let mut cos = vec![0.0; m * nv];
-        let mut sin = vec![0.0; m * nv];
+        let symmetric = nv % 4 == 0
+            && nv >= 8
+            && vs
+                .iter()
+                .enumerate()
+                .all(|(j, &v)| v == TAU * j as f64 / nv as f64);
+        let cols = if symmetric { nv / 4 + 1 } else { nv };
+        let mut cos = vec![0.0; m * cols];
+        let mut sin = vec![0.0; m * cols];
         for n in 1..=m {
-            for (j, &v) in vs.iter().enumerate() {
+            for (j, &v) in vs.iter().take(cols).enumerate() {
                 let (s, c) = (n as f64 * v).sin_cos();
-                cos[(n - 1) * nv + j] = c;
-                sin[(n - 1) * nv + j] = s;
+                cos[(n - 1) * cols + j] = c;
+                sin[(n - 1) * cols + j] = s;
             }
         }
         let mut delta = Vec::new();
@@ -307,38 +327,209 @@ impl<'a> PdeRows<'a> {
         PdeRows {
             patch,
             vs,
+            cols,
+            symmetric,
             cos,
             sin,
             delta,
         }
+    }
+
+    /// Cosine and sine coefficients of the nine quantities for every mode at `u`:
+    /// `alpha[n·Q + q]`, `beta[n·Q + q]`.
+    fn row_coefficients(&self, u: f64, alpha: &mut [f64], beta: &mut [f64]) {
+        let mut o0 = [0.0; 6];
+        let mut o1 = [0.0; 6];
+        for (n, mode) in self.patch.modes.iter().enumerate() {
+            mode.eval(u, 0, &mut o0);
+            mode.eval(u, 1, &mut o1);
+            let nf = n as f64;
+            let (a, b) = (
+                &mut alpha[n * Q..(n + 1) * Q],
+                &mut beta[n * Q..(n + 1) * Q],
+            );
+            for k in 0..3 {
+                a[k] = o0[k];
+                b[k] = o0[3 + k];
+                a[3 + k] = o1[k];
+                b[3 + k] = o1[3 + k];
+                // X_v: n(B cos − A sin).
+                a[6 + k] = nf * o0[3 + k];
+                b[6 + k] = -nf * o0[k];
+            }
+        }
+    }
+}
+
+/// `acc[q][j] += Σ_n alpha[n][q]·cos_n[j] + beta[n][q]·sin_n[j]` over one block of columns, the
+/// sums split by the parity of `n` when `split` (even into `acc[0..Q]`, odd into `acc[Q..2Q]`,
+/// cosine and sine parts apart: four groups of `Q`).
+#[inline(always)]
+fn accumulate_block(
+    alpha: &[f64],
+    beta: &[f64],
+    cos: &[f64],
+    sin: &[f64],
+    cols: usize,
+    j0: usize,
+    len: usize,
+    acc: &mut [[f64; BLOCK]],
+) {
+    let m = alpha.len() / Q - 1;
+    for n in 1..=m {
+        let c = &cos[(n - 1) * cols + j0..(n - 1) * cols + j0 + len];
+        let s = &sin[(n - 1) * cols + j0..(n - 1) * cols + j0 + len];
+        let parity = n % 2;
+        for q in 0..Q {
+            let (an, bn) = (alpha[n * Q + q], beta[n * Q + q]);
+            let (ac, asn) = if acc.len() == Q {
+                // Not split: one accumulator for both parts (cos and sin share it).
+                (q, q)
+            } else {
+                (parity * Q + q, 2 * Q + parity * Q + q)
+            };
+            if ac == asn {
+                let row = &mut acc[ac][..len];
+                for j in 0..len {
+                    row[j] += an * c[j] + bn * s[j];
+                }
+            } else {
+                {
+                    let row = &mut acc[ac][..len];
+                    for j in 0..len {
+                        row[j] += an * c[j];
+                    }
+                }
+                let row = &mut acc[asn][..len];
+                for j in 0..len {
+                    row[j] += bn * s[j];
+                }
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn accumulate_block_avx2(
+    alpha: &[f64],
+    beta: &[f64],
+    cos: &[f64],
+    sin: &[f64],
+    cols: usize,
+    j0: usize,
+    len: usize,
+    acc: &mut [[f64; BLOCK]],
+) {
+    accumulate_block(alpha, beta, cos, sin, cols, j0, len, acc)
+}
+
+fn accumulate(
+    alpha: &[f64],
+    beta: &[f64],
+    cos: &[f64],
+    sin: &[f64],
+    cols: usize,
+    j0: usize,
+    len: usize,
+    acc: &mut [[f64; BLOCK]],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU supports the features the function was compiled for.
+        return unsafe { accumulate_block_avx2(alpha, beta, cos, sin, cols, j0, len, acc) };
+    }
+    accumulate_block(alpha, beta, cos, sin, cols, j0, len, acc)
+}
+
+/// Unit normal `X_u × X_v / |X_u × X_v|`, or `None` where it degenerates (a pole).
+#[inline(always)]
+fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
+    let n = [
+        xu[1] * xv[2] - xu[2] * xv[1],
+        xu[2] * xv[0] - xu[0] * xv[2],
+        xu[0] * xv[1] - xu[1] * xv[0],
+    ];
+    let len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    let size2 = (xu[0] * xu[0] + xu[1] * xu[1] + xu[2] * xu[2])
+        * (xv[0] * xv[0] + xv[1] * xv[1] + xv[2] * xv[2]);
+    if len2 > 1e-20 * size2 && len2 > 0.0 {
+        let inv = 1.0 / len2.sqrt();
+        Some(Vec3::new(n[0] * inv, n[1] * inv, n[2] * inv))
+    } else {
+        None
     }
 }
 
 impl RowEvaluator for PdeRows<'_> {
     fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
         let nv = self.vs.len();
-        let m = self.patch.modes();
-        let mut o0 = [0.0; 6];
-        let mut o1 = [0.0; 6];
-        self.patch.modes[0].eval(u, 0, &mut o0);
-        self.patch.modes[0].eval(u, 1, &mut o1);
-        let mut xu = vec![col3(&o1, 0); nv];
-        let mut xv = vec![Vec3::zeros(); nv];
-        pos.iter_mut().for_each(|p| *p = col3(&o0, 0));
-        for n in 1..=m {
-            self.patch.modes[n].eval(u, 0, &mut o0);
-            self.patch.modes[n].eval(u, 1, &mut o1);
-            let (a, b, a1, b1) = (col3(&o0, 0), col3(&o0, 3), col3(&o1, 0), col3(&o1, 3));
-            let nf = n as f64;
-            let (an, bn) = (a * -nf, b * nf);
-            let cs = &self.cos[(n - 1) * nv..n * nv];
-            let sn = &self.sin[(n - 1) * nv..n * nv];
-            for j in 0..nv {
-                let (c, s) = (cs[j], sn[j]);
-                pos[j] += a * c + b * s;
-                xu[j] += a1 * c + b1 * s;
-                xv[j] += bn * c + an * s;
+        let nm = self.patch.modes.len();
+        let mut alpha = vec![0.0; nm * Q];
+        let mut beta = vec![0.0; nm * Q];
+        self.row_coefficients(u, &mut alpha, &mut beta);
+        // With a remainder, X_u and X_v are kept until it has been added.
+        let with_remainder = self.patch.remainder.is_some();
+        let mut xu = vec![Vec3::zeros(); if with_remainder { nv } else { 0 }];
+        let mut xv = vec![Vec3::zeros(); if with_remainder { nv } else { 0 }];
+        let mut degenerate = Vec::new();
+        let groups = if self.symmetric { 4 * Q } else { Q };
+        let mut acc = vec![[0.0; BLOCK]; groups];
+        let mut j0 = 0;
+        while j0 < self.cols {
+            let len = BLOCK.min(self.cols - j0);
+            for (g, a) in acc.iter_mut().enumerate() {
+                // The mean (n = 0) belongs to the even cosine sums.
+                a[..len].fill(if g < Q { alpha[g] } else { 0.0 });
             }
+            accumulate(
+                &alpha, &beta, &self.cos, &self.sin, self.cols, j0, len, &mut acc,
+            );
+            // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four columns
+            // j, nv/2 − j, nv/2 + j, nv − j.
+            let targets: &[[f64; 4]] = if self.symmetric {
+                &[
+                    [1.0, 1.0, 1.0, 1.0],
+                    [1.0, -1.0, -1.0, 1.0],
+                    [1.0, -1.0, 1.0, -1.0],
+                    [1.0, 1.0, -1.0, -1.0],
+                ]
+            } else {
+                &[[1.0, 0.0, 0.0, 0.0]]
+            };
+            for (t, sg) in targets.iter().enumerate() {
+                for jj in 0..len {
+                    let j = j0 + jj;
+                    let col = match t {
+                        0 => j,
+                        1 => nv / 2 - j,
+                        2 => nv / 2 + j,
+                        _ => (nv - j) % nv,
+                    };
+                    let mut v = [0.0; Q];
+                    for (q, vq) in v.iter_mut().enumerate() {
+                        *vq = if self.symmetric {
+                            sg[0] * acc[q][jj]
+                                + sg[1] * acc[Q + q][jj]
+                                + sg[2] * acc[2 * Q + q][jj]
+                                + sg[3] * acc[3 * Q + q][jj]
+                        } else {
+                            acc[q][jj]
+                        };
+                    }
+                    pos[col] = Vec3::new(v[0], v[1], v[2]);
+                    if with_remainder {
+                        xu[col] = Vec3::new(v[3], v[4], v[5]);
+                        xv[col] = Vec3::new(v[6], v[7], v[8]);
+                    } else {
+                        match unit_normal([v[3], v[4], v[5]], [v[6], v[7], v[8]]) {
+                            Some(n) => nrm[col] = n,
+                            None => degenerate.push(col),
+                        }
+                    }
+                }
+            }
+            j0 += len;
         }
         if let Some(r) = &self.patch.remainder {
             let k = self.patch.conditions.len();
@@ -346,7 +537,7 @@ impl RowEvaluator for PdeRows<'_> {
             let mut w1 = vec![0.0; k];
             r.cardinal.eval(u, 0, &mut w0);
             r.cardinal.eval(u, 1, &mut w1);
-            for i in 0..k {
+            for i in (0..k).filter(|&i| r.active[i]) {
                 let d0 = &self.delta[(2 * i) * nv..(2 * i + 1) * nv];
                 let d1 = &self.delta[(2 * i + 1) * nv..(2 * i + 2) * nv];
                 for j in 0..nv {
@@ -355,16 +546,95 @@ impl RowEvaluator for PdeRows<'_> {
                     xv[j] += d1[j] * w0[i];
                 }
             }
+            for j in 0..nv {
+                match unit_normal(xu[j].into(), xv[j].into()) {
+                    Some(n) => nrm[j] = n,
+                    None => degenerate.push(j),
+                }
+            }
         }
-        for j in 0..nv {
-            let n = xu[j].cross(&xv[j]);
-            let len = n.norm();
-            let size = xu[j].norm() * xv[j].norm();
-            nrm[j] = if len > 1e-10 * size && len > 0.0 {
-                n / len
-            } else {
-                self.patch.partials(u, self.vs[j]).normal()
-            };
+        for j in degenerate {
+            nrm[j] = self.patch.partials(u, self.vs[j]).normal();
+        }
+    }
+}
+
+#[cfg(test)]
+mod row_tests {
+    use super::*;
+    use crate::elliptic::{solve, Condition, SolveOptions};
+    use crate::fourier::FourierSeries;
+    use std::sync::Arc;
+
+    /// The fast row evaluator (symmetric and general paths, with and without remainder) agrees
+    /// with pointwise evaluation.
+    #[test]
+    fn rows_match_pointwise_partials() {
+        let op = Operator::polyharmonic(2, 1.7).unwrap();
+        let f = |a0: f64, r: f64, extra: f64| {
+            Arc::new(FourierSeries {
+                a0: Vec3::new(0.1, 0.0, a0),
+                cos: vec![
+                    Vec3::new(r, 0.1, 0.0),
+                    Vec3::new(0.0, extra, 0.05),
+                    Vec3::new(0.02, 0.0, 0.0),
+                ],
+                sin: vec![
+                    Vec3::new(0.0, r, 0.1),
+                    Vec3::new(extra, 0.0, 0.0),
+                    Vec3::new(0.0, 0.01, 0.03),
+                ],
+            }) as crate::curve::SharedCurve
+        };
+        let conds = vec![
+            Condition {
+                u: 0.0,
+                derivative: 0,
+                curve: f(0.0, 1.0, 0.2),
+            },
+            Condition {
+                u: 0.0,
+                derivative: 1,
+                curve: f(1.0, 0.3, 0.1),
+            },
+            Condition {
+                u: 1.0,
+                derivative: 0,
+                curve: f(1.0, 0.7, -0.1),
+            },
+            Condition {
+                u: 1.0,
+                derivative: 1,
+                curve: f(1.0, -0.2, 0.0),
+            },
+        ];
+        for modes in [3usize, 2] {
+            // 2 modes leave the third to the remainder.
+            let patch = solve(
+                &op,
+                conds.clone(),
+                &SolveOptions {
+                    modes,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(patch.has_remainder(), modes == 2);
+            for nv in [16usize, 15] {
+                let vs: Vec<f64> = (0..nv).map(|j| TAU * j as f64 / nv as f64).collect();
+                let rows = PdeRows::new(&patch, &vs);
+                assert_eq!(rows.symmetric, nv % 4 == 0);
+                let mut pos = vec![Vec3::zeros(); nv];
+                let mut nrm = vec![Vec3::zeros(); nv];
+                for &u in &[0.0, 0.3, 1.0] {
+                    rows.eval_row(u, &mut pos, &mut nrm);
+                    for j in 0..nv {
+                        let p = patch.partials(u, vs[j]);
+                        assert!((pos[j] - p.x).norm() < 1e-14, "nv={nv} u={u} j={j}");
+                        assert!((nrm[j] - p.normal()).norm() < 1e-12);
+                    }
+                }
+            }
         }
     }
 }

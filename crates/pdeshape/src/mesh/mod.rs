@@ -132,35 +132,38 @@ pub fn evaluate_grid<T: GridScalar>(
     let n = nu * nv;
     let mut positions: Vec<[T; 3]> = Vec::with_capacity(n);
     let mut normals: Vec<[T; 3]> = Vec::with_capacity(n);
-    // SAFETY-free initialisation in parallel: the buffers are written row by row below, so the
-    // first touch of each page happens on the thread that fills it.
-    positions.resize(n, [T::default(); 3]);
-    normals.resize(n, [T::default(); 3]);
     {
         let rows = surface.row_evaluator(&vs);
         let rows = &*rows;
-        positions
-            .par_chunks_mut(nv)
-            .zip(normals.par_chunks_mut(nv))
-            .zip(us.par_iter())
-            .for_each_init(
-                || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
-                |(pos, nrm), ((prow, nrow), &u)| {
-                    rows.eval_row(u, pos, nrm);
-                    for j in 0..nv {
-                        prow[j] = [
-                            T::from_f64(pos[j].x),
-                            T::from_f64(pos[j].y),
-                            T::from_f64(pos[j].z),
-                        ];
-                        nrow[j] = [
-                            T::from_f64(nrm[j].x),
-                            T::from_f64(nrm[j].y),
-                            T::from_f64(nrm[j].z),
-                        ];
-                    }
-                },
-            );
+        // Each row is written exactly once by the thread that evaluates it, straight into the
+        // uninitialised buffers: the first touch of every page happens in parallel, and nothing
+        // is zero-filled first.
+        let pos_rows = positions.spare_capacity_mut()[..n].par_chunks_mut(nv);
+        let nrm_rows = normals.spare_capacity_mut()[..n].par_chunks_mut(nv);
+        pos_rows.zip(nrm_rows).zip(us.par_iter()).for_each_init(
+            || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
+            |(pos, nrm), ((prow, nrow), &u)| {
+                rows.eval_row(u, pos, nrm);
+                for j in 0..nv {
+                    prow[j].write([
+                        T::from_f64(pos[j].x),
+                        T::from_f64(pos[j].y),
+                        T::from_f64(pos[j].z),
+                    ]);
+                    nrow[j].write([
+                        T::from_f64(nrm[j].x),
+                        T::from_f64(nrm[j].y),
+                        T::from_f64(nrm[j].z),
+                    ]);
+                }
+            },
+        );
+    }
+    // SAFETY: the loop above wrote all `n = nu·nv` elements of both buffers: every row chunk of
+    // `nv` elements is visited once and written in full.
+    unsafe {
+        positions.set_len(n);
+        normals.set_len(n);
     }
     Ok(Grid {
         nu,
