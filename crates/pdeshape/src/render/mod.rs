@@ -388,6 +388,12 @@ impl Camera {
     pub(crate) fn line_bias(&self) -> f32 {
         (0.01 * self.radius / self.dist) as f32
     }
+
+    /// Depth step between neighbouring samples (3 % of the scene radius, in units of `w / d`)
+    /// beyond which the nearer sample is drawn as part of an outline.
+    pub(crate) fn edge_threshold(&self) -> f32 {
+        (0.03 * self.radius / self.dist) as f32
+    }
 }
 
 fn mesh_box(m: &GridMesh) -> (Vec3, Vec3) {
