@@ -257,10 +257,9 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                         let c = lights.shade(scratch.normal[i], scratch.back[i]);
                         // Outline: a neighbour sample shows the background or a surface
                         // much farther away.
-                        let far = |j: usize| {
-                            let e = scratch.depth[j];
-                            e == 0.0 || 1.0 / e > 1.0 / d + edge
-                        };
+                        // 1/e > 1/d + edge, for depths e ≥ 0 (0 being the background).
+                        let limit = d / (1.0 + edge * d);
+                        let far = |j: usize| scratch.depth[j] < limit;
                         let outline = (x > 0 && far(i - 1))
                             || (x + 1 < sw && far(i + 1))
                             || (y > 0 && far(i - sw))

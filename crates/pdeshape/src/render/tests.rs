@@ -389,7 +389,23 @@ fn empty_scenes() {
     for p in &mut flat.positions {
         *p = [0.5, 0.5, 0.5];
     }
-    render(&[flat, empty], &[], &opts);
+    let q = render(&[flat, empty], &[], &opts);
+    assert_eq!(q.rgb, p.rgb);
+    // Missing normals (zero or NaN): the facet normals shade instead.
+    let mut facets = sphere(24, 32);
+    for (k, n) in facets.normals.iter_mut().enumerate() {
+        *n = if k % 2 == 0 { [0.0; 3] } else { [f32::NAN; 3] };
+    }
+    let q = render(&[facets], &[], &opts);
+    let mask = object_mask(&q, &opts);
+    let lumas: Vec<f64> = (0..q.w * q.h)
+        .filter(|&i| mask[i])
+        .map(|i| luma(q.px(i % q.w, i / q.w)))
+        .collect();
+    assert!(lumas.len() > q.w * q.h / 4);
+    let max = lumas.iter().cloned().fold(0.0, f64::max);
+    let min = lumas.iter().cloned().fold(255.0, f64::min);
+    assert!(max - min > 60.0, "{min}..{max}");
     // Tiny pictures.
     for (w, h) in [(1, 1), (1, 7), (5, 1)] {
         let opts = RenderOptions {
@@ -542,4 +558,54 @@ fn timing_and_example_picture() {
     std::fs::write(dir.join("pdeshape-crop.png"), &bytes).unwrap();
     let bytes = render_png(&[cup(48, 96)], &overlays[..1], &opts).unwrap();
     std::fs::write(dir.join("pdeshape-cup.png"), &bytes).unwrap();
+}
+
+/// The picture is not mirrored: seen from +z with +y up, +x points right; seen from −y with +z
+/// up, +x points right too.
+#[test]
+fn axes_are_not_mirrored() {
+    let axis = |d: Vec3, color: [u8; 3]| Polyline {
+        points: vec![Vec3::zeros(), d],
+        color,
+        width: 4.0,
+        closed: false,
+    };
+    let centroid = |p: &Picture, color: [u8; 3]| {
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
+        for y in 0..p.h {
+            for x in 0..p.w {
+                if p.px(x, y) == color {
+                    sx += x as f64;
+                    sy += y as f64;
+                    n += 1.0;
+                }
+            }
+        }
+        assert!(n > 10.0);
+        (sx / n, sy / n)
+    };
+    let lines = [
+        axis(Vec3::x(), [255, 0, 0]),
+        axis(Vec3::y(), [0, 0, 255]),
+        axis(Vec3::z(), [0, 255, 0]),
+    ];
+    let opts = RenderOptions {
+        width: 200,
+        height: 200,
+        view: Some(Vec3::z()),
+        up: Vec3::y(),
+    };
+    let p = render(&[], &lines, &opts);
+    let (red, blue) = (centroid(&p, [255, 0, 0]), centroid(&p, [0, 0, 255]));
+    assert!(red.0 > blue.0 + 40.0, "{red:?} {blue:?}");
+    assert!(blue.1 + 40.0 < red.1, "{red:?} {blue:?}");
+    let opts = RenderOptions {
+        view: Some(-Vec3::y()),
+        up: Vec3::z(),
+        ..opts
+    };
+    let p = render(&[], &lines, &opts);
+    let (red, green) = (centroid(&p, [255, 0, 0]), centroid(&p, [0, 255, 0]));
+    assert!(red.0 > green.0 + 40.0, "{red:?} {green:?}");
+    assert!(green.1 + 40.0 < red.1, "{red:?} {green:?}");
 }
