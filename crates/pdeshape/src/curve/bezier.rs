@@ -1,23 +1,134 @@
-use super::{Curve, Domain};
-use crate::{Result, Vec3};
+use super::{check_finite, Curve, Domain};
+use crate::{Error, Result, Vec3};
 
-/// Bézier curve of any degree on `[0, 1]`.
+/// Bézier curve of any degree `n` on `[0, 1]`: `B(t) = Σ_{i=0}^{n} P_i C(n,i) tⁱ (1 − t)ⁿ⁻ⁱ`,
+/// evaluated by de Casteljau; the `k`-th derivative is the Bézier curve of the `k`-th hodograph,
+/// `n!/(n−k)! Δᵏ P_i`. Outside `[0, 1]` the polynomial is extended.
 #[derive(Clone, Debug)]
-pub struct Bezier {}
+pub struct Bezier {
+    /// Control points `P_0 … P_n`.
+    pub control: Vec<Vec3>,
+    /// `hodographs[k]` holds the control points of `B⁽ᵏ⁾` for `k = 0..=min(n, MAX_ORDER)`.
+    hodographs: Vec<Vec<Vec3>>,
+}
 
 impl Bezier {
-    /// At least two control points.
+    /// At least two control points, all finite.
     pub fn new(control: Vec<Vec3>) -> Result<Self> {
-        let _ = control;
-        todo!("curve kinds")
+        if control.len() < 2 {
+            return Err(Error::invalid(format!(
+                "control: a Bézier curve needs at least 2 control points, got {}",
+                control.len()
+            )));
+        }
+        for (i, p) in control.iter().enumerate() {
+            check_finite(&format!("control[{i}]"), p)?;
+        }
+        let n = control.len() - 1;
+        let mut hodographs = vec![control.clone()];
+        for k in 1..=n.min(super::MAX_ORDER) {
+            let prev = &hodographs[k - 1];
+            let m = (n - k + 1) as f64;
+            let next: Vec<Vec3> = prev.windows(2).map(|w| (w[1] - w[0]) * m).collect();
+            hodographs.push(next);
+        }
+        Ok(Bezier {
+            control,
+            hodographs,
+        })
     }
+
+    /// Degree `n`.
+    pub fn degree(&self) -> usize {
+        self.control.len() - 1
+    }
+}
+
+/// de Casteljau's algorithm.
+fn de_casteljau(points: &[Vec3], t: f64) -> Vec3 {
+    let mut w: Vec<Vec3> = points.to_vec();
+    let n = w.len();
+    for r in 1..n {
+        for i in 0..n - r {
+            w[i] = w[i] * (1.0 - t) + w[i + 1] * t;
+        }
+    }
+    w[0]
 }
 
 impl Curve for Bezier {
     fn domain(&self) -> Domain {
         Domain::Interval(0.0, 1.0)
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = match self.hodographs.get(k) {
+                Some(h) => de_casteljau(h, t),
+                None => Vec3::zeros(),
+            };
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testutil::{assert_close, check_fd, jet};
+    use super::*;
+
+    fn binom(n: usize, k: usize) -> f64 {
+        (0..k).fold(1.0, |b, i| b * (n - i) as f64 / (i + 1) as f64)
+    }
+
+    #[test]
+    fn bezier_matches_bernstein_form() {
+        let ctrl = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+            Vec3::new(2.0, -1.0, 1.0),
+            Vec3::new(3.0, 0.5, 2.0),
+            Vec3::new(4.0, 1.0, -1.0),
+        ];
+        let b = Bezier::new(ctrl.clone()).unwrap();
+        let n = 4;
+        for &t in &[0.0f64, 0.25, 0.6, 1.0, -0.3, 1.4] {
+            let want: Vec3 = (0..=n).fold(Vec3::zeros(), |s, i| {
+                s + ctrl[i] * binom(n, i) * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
+            });
+            // B'(t) = n Σ (P_{i+1} − P_i) b_{i,n−1}(t).
+            let dwant: Vec3 = (0..n).fold(Vec3::zeros(), |s, i| {
+                s + (ctrl[i + 1] - ctrl[i])
+                    * (n as f64
+                        * binom(n - 1, i)
+                        * t.powi(i as i32)
+                        * (1.0 - t).powi((n - 1 - i) as i32))
+            });
+            let j = jet(&b, t);
+            assert_close(&j[0], &want, 1e-13, "value");
+            assert_close(&j[1], &dwant, 1e-12, "first");
+            // 4th derivative of a quartic: 24 Δ⁴P.
+            let d4 = (ctrl[4] - ctrl[3] * 4.0 + ctrl[2] * 6.0 - ctrl[1] * 4.0 + ctrl[0]) * 24.0;
+            assert_close(&j[4], &d4, 1e-12, "fourth");
+            for d in &j[5..] {
+                assert_eq!(*d, Vec3::zeros());
+            }
+        }
+        assert_close(&b.point(0.0), &ctrl[0], 0.0, "start");
+        assert_close(&b.point(1.0), &ctrl[4], 0.0, "end");
+        check_fd(&b, &[0.1, 0.5, 0.9], 1e-4, 5, 10.0);
+        // A line.
+        let l = Bezier::new(vec![Vec3::zeros(), Vec3::x()]).unwrap();
+        assert_close(&l.derivative(0.3, 1), &Vec3::x(), 0.0, "line");
+        assert_eq!(l.derivative(0.3, 2), Vec3::zeros());
+    }
+
+    #[test]
+    fn bezier_rejects_bad_input() {
+        assert!(Bezier::new(vec![]).is_err());
+        assert!(Bezier::new(vec![Vec3::x()]).is_err());
+        let e = Bezier::new(vec![Vec3::x(), Vec3::new(f64::NAN, 0.0, 0.0)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("control[1]"), "{e}");
+        assert!(Bezier::new(vec![Vec3::x(), Vec3::new(0.0, f64::INFINITY, 0.0)]).is_err());
     }
 }

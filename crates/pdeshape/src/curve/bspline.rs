@@ -1,34 +1,549 @@
-use super::{Curve, Domain};
-use crate::{Result, Vec3};
+use super::{check_finite, Curve, Domain};
+use crate::{Error, Result, Vec3, TAU};
 
 /// B-spline curve of any degree: clamped/open on a knot vector, or periodic on `[0, 2π)`.
+///
+/// `C(t) = Σ_i N_{i,p}(t) P_i` with the Cox–de Boor basis of degree `p` on the knots `t_0 ≤ t_1 ≤ …`.
+/// Values come from de Boor's algorithm; the `k`-th derivative is the B-spline of degree `p − k`
+/// with the derivative control points `P⁽ᵏ⁾_i = (p − k + 1)/(t_{i+p+1} − t_{i+k}) (P⁽ᵏ⁻¹⁾_{i+1} −
+/// P⁽ᵏ⁻¹⁾_i)`; derivatives beyond the degree are zero. Outside the domain the first/last
+/// polynomial piece is extended.
 #[derive(Clone, Debug)]
-pub struct BSpline {}
+pub struct BSpline {
+    degree: usize,
+    /// Control points of the equivalent open spline (periodic: the `n` given ones followed by the
+    /// first `p` again).
+    control: Vec<Vec3>,
+    /// Full knot vector, `control.len() + degree + 1` values.
+    knots: Vec<f64>,
+    periodic: bool,
+}
+
+/// Highest degree accepted.
+pub const MAX_DEGREE: usize = 30;
+
+fn bad(msg: String) -> Error {
+    Error::invalid(msg)
+}
 
 impl BSpline {
     /// Open B-spline with the full knot vector (`control.len() + degree + 1` non-decreasing knots);
     /// `None` gives the uniform clamped knot vector on `[0, 1]`. Domain `[t_p, t_n]`.
+    ///
+    /// Requirements (else an error naming the value): `1 ≤ degree ≤ MAX_DEGREE` (30); at least `degree + 1` finite
+    /// control points; finite, non-decreasing knots; `t_p < t_n`; no knot value repeated more than
+    /// `degree + 1` times, and none strictly inside `(t_p, t_n)` more than `degree` times (which
+    /// would make the curve discontinuous). Knots need not be clamped (unclamped open knot vectors
+    /// are fine).
     pub fn clamped(degree: usize, control: Vec<Vec3>, knots: Option<Vec<f64>>) -> Result<Self> {
-        let _ = (degree, control, knots);
-        todo!("curve kinds")
+        check_degree_and_control(degree, &control)?;
+        let n = control.len();
+        let p = degree;
+        let knots = match knots {
+            None => {
+                let spans = n - p;
+                let mut k = vec![0.0; p + 1];
+                k.extend((1..spans).map(|i| i as f64 / spans as f64));
+                k.extend(std::iter::repeat_n(1.0, p + 1));
+                k
+            }
+            Some(k) => k,
+        };
+        if knots.len() != n + p + 1 {
+            return Err(bad(format!(
+                "knots: expected control.len() + degree + 1 = {} values, got {}",
+                n + p + 1,
+                knots.len()
+            )));
+        }
+        for (i, k) in knots.iter().enumerate() {
+            if !k.is_finite() {
+                return Err(bad(format!("knots[{i}] = {k} is not finite")));
+            }
+            if i > 0 && *k < knots[i - 1] {
+                return Err(bad(format!(
+                    "knots[{i}] = {k} is smaller than knots[{}] = {}; knots must not decrease",
+                    i - 1,
+                    knots[i - 1]
+                )));
+            }
+        }
+        let (a, b) = (knots[p], knots[n]);
+        if a >= b {
+            return Err(bad(format!(
+                "knots: the domain [knots[{p}], knots[{n}]] = [{a}, {b}] is empty"
+            )));
+        }
+        let mut i = 0;
+        while i < knots.len() {
+            let mut j = i;
+            while j + 1 < knots.len() && knots[j + 1] == knots[i] {
+                j += 1;
+            }
+            let mult = j - i + 1;
+            let interior = knots[i] > a && knots[i] < b;
+            if mult > p + 1 || (interior && mult > p) {
+                return Err(bad(format!(
+                    "knots[{i}] = {} is repeated {mult} times; at most {} allowed {}",
+                    knots[i],
+                    if interior { p } else { p + 1 },
+                    if interior {
+                        "inside the domain"
+                    } else {
+                        "at the ends"
+                    }
+                )));
+            }
+            i = j + 1;
+        }
+        Ok(BSpline {
+            degree,
+            control,
+            knots,
+            periodic: false,
+        })
     }
+
     /// Periodic (closed) B-spline; `breakpoints` (`control.len() + 1` increasing values, mapped
     /// linearly onto `[0, 2π]`) default to uniform.
+    ///
+    /// With the breakpoints `u_0 = 0 < u_1 < … < u_n = 2π` (n = `control.len()` ≥ degree + 1),
+    /// the knots are extended periodically (`u_{j+n} = u_j + 2π`) and the control points wrapped
+    /// (`P_{j+n} = P_j`); the curve is `C^{p−1}` everywhere, including across `v = 0`. On
+    /// `[u_j, u_{j+1}]` the curve depends on `P_j … P_{j+p}` (indices modulo n).
     pub fn periodic(
         degree: usize,
         control: Vec<Vec3>,
         breakpoints: Option<Vec<f64>>,
     ) -> Result<Self> {
-        let _ = (degree, control, breakpoints);
-        todo!("curve kinds")
+        check_degree_and_control(degree, &control)?;
+        let n = control.len();
+        let p = degree;
+        let u: Vec<f64> = match breakpoints {
+            None => (0..=n).map(|i| TAU * i as f64 / n as f64).collect(),
+            Some(b) => {
+                if b.len() != n + 1 {
+                    return Err(bad(format!(
+                        "breakpoints: expected control.len() + 1 = {} values, got {}",
+                        n + 1,
+                        b.len()
+                    )));
+                }
+                for (i, x) in b.iter().enumerate() {
+                    if !x.is_finite() {
+                        return Err(bad(format!("breakpoints[{i}] = {x} is not finite")));
+                    }
+                    if i > 0 && *x <= b[i - 1] {
+                        return Err(bad(format!(
+                            "breakpoints[{i}] = {x} is not larger than breakpoints[{}] = {}; \
+                             breakpoints must increase strictly",
+                            i - 1,
+                            b[i - 1]
+                        )));
+                    }
+                }
+                let (b0, bn) = (b[0], b[n]);
+                let mut u: Vec<f64> = b.iter().map(|x| TAU * (x - b0) / (bn - b0)).collect();
+                u[0] = 0.0;
+                u[n] = TAU;
+                for i in 1..=n {
+                    if u[i] <= u[i - 1] {
+                        return Err(bad(format!(
+                            "breakpoints[{i}] = {} is too close to breakpoints[{}] = {}",
+                            b[i],
+                            i - 1,
+                            b[i - 1]
+                        )));
+                    }
+                }
+                u
+            }
+        };
+        // Equivalent open spline: knots T_i = ext(i − p), i = 0..n + 2p; control P_0..P_{n−1},
+        // P_0..P_{p−1}; domain [T_p, T_{n+p}] = [0, 2π].
+        let ext = |j: isize| -> f64 {
+            let nn = n as isize;
+            let q = j.div_euclid(nn);
+            let r = j.rem_euclid(nn) as usize;
+            u[r] + q as f64 * TAU
+        };
+        let knots: Vec<f64> = (0..=(n + 2 * p))
+            .map(|i| ext(i as isize - p as isize))
+            .collect();
+        let mut ctrl = control.clone();
+        ctrl.extend_from_slice(&control[..p]);
+        Ok(BSpline {
+            degree,
+            control: ctrl,
+            knots,
+            periodic: true,
+        })
     }
+
+    /// Degree `p`.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The knot vector of the equivalent open spline (periodic: extended periodically).
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// The distinct knots inside the domain, ends included (where derivatives of order `≥ p`
+    /// may jump).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let (a, b) = self.bounds();
+        let mut v: Vec<f64> = self
+            .knots
+            .iter()
+            .copied()
+            .filter(|&k| k >= a && k <= b)
+            .collect();
+        v.dedup();
+        v
+    }
+
+    fn bounds(&self) -> (f64, f64) {
+        let n = self.control.len();
+        (self.knots[self.degree], self.knots[n])
+    }
+
+    /// The span `s` (`t_s < t_{s+1}`, `p ≤ s < n`) whose polynomial piece evaluates `t`.
+    fn span(&self, t: f64) -> usize {
+        let p = self.degree;
+        let n = self.control.len();
+        let k = &self.knots;
+        // Last s in [p, n) with k[s] ≤ t and a non-empty span; first non-empty one if t < k[p].
+        let mut lo = p;
+        let mut hi = n; // invariant: answer in [lo, hi)
+        if t >= k[p] {
+            // largest s < n with k[s] <= t
+            while hi - lo > 1 {
+                let mid = (lo + hi) / 2;
+                if k[mid] <= t {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let mut s = lo;
+            while s > p && k[s] >= k[s + 1] {
+                s -= 1;
+            }
+            if k[s] >= k[s + 1] {
+                s = self.first_span();
+            }
+            s
+        } else {
+            self.first_span()
+        }
+    }
+
+    fn first_span(&self) -> usize {
+        let p = self.degree;
+        (p..self.control.len())
+            .find(|&s| self.knots[s] < self.knots[s + 1])
+            .unwrap_or(p)
+    }
+}
+
+fn check_degree_and_control(degree: usize, control: &[Vec3]) -> Result<()> {
+    if degree == 0 || degree > MAX_DEGREE {
+        return Err(bad(format!(
+            "degree = {degree}: the degree must be between 1 and {MAX_DEGREE}"
+        )));
+    }
+    if control.len() < degree + 1 {
+        return Err(bad(format!(
+            "control: degree {degree} needs at least {} control points, got {}",
+            degree + 1,
+            control.len()
+        )));
+    }
+    for (i, p) in control.iter().enumerate() {
+        check_finite(&format!("control[{i}]"), p)?;
+    }
+    Ok(())
 }
 
 impl Curve for BSpline {
     fn domain(&self) -> Domain {
-        todo!("curve kinds")
+        if self.periodic {
+            Domain::Periodic
+        } else {
+            let (a, b) = self.bounds();
+            Domain::Interval(a, b)
+        }
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        let t = if self.periodic {
+            super::reduce_periodic(t)
+        } else {
+            t
+        };
+        let p = self.degree;
+        let s = self.span(t);
+        let u = &self.knots;
+        // Local control points L⁽⁰⁾_r = P_{s−p+r}, r = 0..=p.
+        let mut l = [Vec3::zeros(); MAX_DEGREE + 1];
+        let mut work = [Vec3::zeros(); MAX_DEGREE + 1];
+        l[..=p].copy_from_slice(&self.control[s - p..=s]);
+        for (k, o) in out.iter_mut().enumerate() {
+            if k > p {
+                *o = Vec3::zeros();
+                continue;
+            }
+            if k > 0 {
+                // L⁽ᵏ⁾_r = (p−k+1)/(u_{s+r+1} − u_{s−p+r+k}) (L⁽ᵏ⁻¹⁾_{r+1} − L⁽ᵏ⁻¹⁾_r).
+                let f = (p - k + 1) as f64;
+                for r in 0..=(p - k) {
+                    let den = u[s + r + 1] - u[s - p + r + k];
+                    l[r] = (l[r + 1] - l[r]) * (f / den);
+                }
+            }
+            // de Boor for degree q = p − k on span s.
+            let q = p - k;
+            work[..=q].copy_from_slice(&l[..=q]);
+            for r in 1..=q {
+                for j in (r..=q).rev() {
+                    let lo = u[j + s - q];
+                    let hi = u[j + 1 + s - r];
+                    let alpha = (t - lo) / (hi - lo);
+                    work[j] = work[j - 1] * (1.0 - alpha) + work[j] * alpha;
+                }
+            }
+            *o = work[q];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testutil::{assert_close, check_fd, jet};
+    use super::*;
+
+    /// Cox–de Boor recursion, independent of the evaluator.
+    fn basis(knots: &[f64], i: usize, p: usize, t: f64) -> f64 {
+        if p == 0 {
+            return if knots[i] <= t && t < knots[i + 1] {
+                1.0
+            } else {
+                0.0
+            };
+        }
+        let mut v = 0.0;
+        let d1 = knots[i + p] - knots[i];
+        if d1 > 0.0 {
+            v += (t - knots[i]) / d1 * basis(knots, i, p - 1, t);
+        }
+        let d2 = knots[i + p + 1] - knots[i + 1];
+        if d2 > 0.0 {
+            v += (knots[i + p + 1] - t) / d2 * basis(knots, i + 1, p - 1, t);
+        }
+        v
+    }
+
+    fn ctrl(n: usize) -> Vec<Vec3> {
+        (0..n)
+            .map(|i| {
+                let x = i as f64;
+                Vec3::new(x, (1.3 * x).sin() * 2.0, (0.7 * x).cos() + 0.1 * x * x)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn clamped_matches_cox_de_boor_and_interpolates_ends() {
+        for p in 1..=5 {
+            let c = ctrl(p + 4);
+            let knots: Vec<f64> = {
+                let mut k = vec![-1.0; p + 1];
+                k.extend([-0.5, 0.0, 0.2, 1.5].iter().take(3));
+                k.extend(vec![2.0; p + 1]);
+                k
+            };
+            // n + p + 1 = p + 4 + p + 1: interior count 3.
+            let s = BSpline::clamped(p, c.clone(), Some(knots.clone())).unwrap();
+            assert_eq!(s.domain(), Domain::Interval(-1.0, 2.0));
+            assert_close(&s.point(-1.0), &c[0], 1e-14, "start");
+            assert_close(&s.point(2.0), &c[c.len() - 1], 1e-13, "end");
+            for &t in &[-0.9, -0.3, 0.1, 0.7, 1.99] {
+                let mut sum = 0.0;
+                let mut want = Vec3::zeros();
+                for (i, cp) in c.iter().enumerate() {
+                    let b = basis(&knots, i, p, t);
+                    sum += b;
+                    want += cp * b;
+                }
+                assert!((sum - 1.0).abs() < 1e-14, "partition of unity p = {p}");
+                assert_close(&s.point(t), &want, 1e-13, "Cox–de Boor");
+            }
+            // FD away from knots (step 1e-4, knots ≥ 0.1 away).
+            check_fd(&s, &[-0.8, -0.2, 0.5, 1.0, 1.8], 1e-4, 5, 10.0);
+            // Beyond the degree: zero.
+            let j = jet(&s, 0.5);
+            for d in &j[p + 1..] {
+                assert_eq!(*d, Vec3::zeros());
+            }
+            // Extrapolation is finite and continuous with the end piece.
+            let e = jet(&s, 2.5);
+            assert!(e.iter().all(|v| v.iter().all(|c| c.is_finite())));
+        }
+    }
+
+    #[test]
+    fn default_knots_are_uniform_clamped() {
+        let c = ctrl(6);
+        let s = BSpline::clamped(3, c.clone(), None).unwrap();
+        assert_eq!(
+            s.knots(),
+            &[0.0, 0.0, 0.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0, 1.0, 1.0, 1.0]
+        );
+        // Clamped end tangent: p/(t_{p+1} − t_1) (P_1 − P_0).
+        assert_close(
+            &s.derivative(0.0, 1),
+            &((c[1] - c[0]) * 9.0),
+            1e-13,
+            "end tangent",
+        );
+        // A degree-n B-spline with n+1 points is the Bézier curve.
+        let b = BSpline::clamped(4, ctrl(5), None).unwrap();
+        let z = super::super::Bezier::new(ctrl(5)).unwrap();
+        for &t in &[0.0, 0.3, 0.77, 1.0] {
+            let (jb, jz) = (jet(&b, t), jet(&z, t));
+            for k in 0..=5 {
+                assert_close(&jb[k], &jz[k], 1e-11, "bezier");
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_uniform_cubic_matches_known_formula() {
+        let n = 7;
+        let c = ctrl(n);
+        let s = BSpline::periodic(3, c.clone(), None).unwrap();
+        let h = TAU / n as f64;
+        for j in 0..n {
+            for &x in &[0.0, 0.25, 0.5, 0.9] {
+                let t = (j as f64 + x) * h;
+                // On [u_j, u_{j+1}] the curve uses P_j … P_{j+3}.
+                let p = |m: isize| c[(j as isize + m + 3).rem_euclid(n as isize) as usize];
+                let want = (p(-3) * (1.0 - x).powi(3)
+                    + p(-2) * (3.0 * x.powi(3) - 6.0 * x * x + 4.0)
+                    + p(-1) * (-3.0 * x.powi(3) + 3.0 * x * x + 3.0 * x + 1.0)
+                    + p(0) * x.powi(3))
+                    / 6.0;
+                assert_close(&s.point(t), &want, 1e-13, "uniform cubic");
+                let dwant = (p(-3) * (-3.0 * (1.0 - x).powi(2))
+                    + p(-2) * (9.0 * x * x - 12.0 * x)
+                    + p(-1) * (-9.0 * x * x + 6.0 * x + 3.0)
+                    + p(0) * (3.0 * x * x))
+                    / (6.0 * h);
+                assert_close(&s.derivative(t, 1), &dwant, 1e-12, "uniform cubic d1");
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_is_smooth_across_the_seam_and_knots() {
+        for p in 1..=5 {
+            let c = ctrl(p + 3);
+            let bp: Vec<f64> = (0..=p + 3).map(|i| (i as f64).powf(1.3)).collect();
+            let s = BSpline::periodic(p, c, Some(bp)).unwrap();
+            assert_eq!(s.domain(), Domain::Periodic);
+            for &k in &s.breakpoints() {
+                // One-sided limits through the polynomial pieces on either side.
+                let a = piece_jet(&s, k, true);
+                let b = piece_jet(&s, k, false);
+                for d in 0..p {
+                    let scale = a[d].norm().max(1.0);
+                    assert_close(&a[d], &b[d], 1e-11 * scale, "continuity");
+                }
+            }
+            // Periodic values: t and t + 2π agree, negative t works.
+            for &t in &[0.3, 2.0, 5.0] {
+                let (j1, j2, j3) = (jet(&s, t), jet(&s, t + TAU), jet(&s, t - 3.0 * TAU));
+                for d in 0..=p {
+                    assert_close(&j1[d], &j2[d], 1e-11 * j1[d].norm().max(1.0), "period");
+                    assert_close(&j1[d], &j3[d], 1e-11 * j1[d].norm().max(1.0), "period-");
+                }
+            }
+        }
+    }
+
+    /// Jet at a knot `k` from the piece on its left (`left`) or right, by evaluating the piece's
+    /// polynomial: evaluate slightly inside and Taylor-extrapolate exactly to `k`.
+    fn piece_jet(s: &BSpline, k: f64, left: bool) -> [Vec3; 9] {
+        let d = 1e-3 * if left { -1.0 } else { 1.0 };
+        let j = jet(s, super::super::reduce_periodic(k + d));
+        // The piece is a polynomial of degree p: its Taylor series at k+d is exact.
+        let mut out = [Vec3::zeros(); 9];
+        for (m, o) in out.iter_mut().enumerate() {
+            let mut acc = Vec3::zeros();
+            let mut f = 1.0;
+            for (i, ji) in j.iter().enumerate().skip(m) {
+                if i > m {
+                    f *= -d / (i - m) as f64;
+                }
+                acc += ji * f;
+            }
+            *o = acc;
+        }
+        out
+    }
+
+    #[test]
+    fn periodic_fd() {
+        let s = BSpline::periodic(5, ctrl(9), None).unwrap();
+        let h = TAU / 9.0;
+        let ts: Vec<f64> = (0..9).map(|j| (j as f64 + 0.5) * h).collect();
+        check_fd(&s, &ts, 1e-4, 5, 10.0);
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let c = ctrl(5);
+        assert!(BSpline::clamped(0, c.clone(), None).is_err());
+        assert!(BSpline::clamped(5, c.clone(), None).is_err());
+        assert!(BSpline::clamped(3, c.clone(), Some(vec![0.0; 9])).is_err());
+        let e = BSpline::clamped(
+            3,
+            c.clone(),
+            Some(vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.4, 1.0, 1.0, 1.0]),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("knots[5]"), "{e}");
+        let e = BSpline::clamped(
+            3,
+            ctrl(8),
+            Some(vec![0., 0., 0., 0., 0.5, 0.5, 0.5, 0.5, 1., 1., 1., 1.]),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("repeated"), "{e}");
+        assert!(BSpline::clamped(
+            3,
+            c.clone(),
+            Some(vec![0., 0., 0., 0., f64::NAN, 1., 1., 1., 1.])
+        )
+        .is_err());
+        assert!(BSpline::clamped(1, c.clone(), Some(vec![0.0; 7])).is_err());
+        let mut bad = c.clone();
+        bad[2].y = f64::INFINITY;
+        let e = BSpline::clamped(3, bad.clone(), None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("control[2]"), "{e}");
+        assert!(BSpline::periodic(3, bad, None).is_err());
+        assert!(BSpline::periodic(0, c.clone(), None).is_err());
+        assert!(BSpline::periodic(5, c.clone(), None).is_err());
+        assert!(BSpline::periodic(3, c.clone(), Some(vec![0.0, 1.0, 2.0])).is_err());
+        assert!(BSpline::periodic(3, c.clone(), Some(vec![0., 1., 1., 2., 3., 4.])).is_err());
+        assert!(BSpline::periodic(3, c.clone(), Some(vec![0., 1., 2., 3., 4., f64::NAN])).is_err());
+        assert!(
+            BSpline::periodic(3, c.clone(), Some(vec![0., 1., 2., 3., 4., f64::INFINITY])).is_err()
+        );
     }
 }

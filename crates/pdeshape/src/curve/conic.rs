@@ -1,5 +1,5 @@
-use super::{Curve, Domain};
-use crate::{Result, Vec3};
+use super::{check_finite, Curve, Domain, FourierSeries};
+use crate::{Error, Result, Vec3};
 
 /// A constant curve: the degenerate "curve" that closes a surface to a pole.
 #[derive(Clone, Debug)]
@@ -22,6 +22,14 @@ impl Curve for Point {
             *o = if k == 0 { self.p } else { Vec3::zeros() };
         }
     }
+    /// The series with `a₀ = p` and no modes.
+    fn fourier(&self) -> Option<FourierSeries> {
+        Some(FourierSeries {
+            a0: self.p,
+            cos: Vec::new(),
+            sin: Vec::new(),
+        })
+    }
 }
 
 /// `C(v) = c + cos v · a₁ + sin v · a₂` on `[0, 2π)`: circles and ellipses.
@@ -32,22 +40,88 @@ pub struct Ellipse {
     pub axis2: Vec3,
 }
 
+/// Relative tolerance below which two axes count as dependent: `|a₁ × a₂| ≤ tol·|a₁||a₂|`.
+const DEPENDENT_TOL: f64 = 1e-12;
+
+/// The unit start direction of a circle about `normal`: the projection of +x on the plane normal
+/// to `normal`, or of +y when `normal` is along x. `normal` must be a unit vector.
+fn start_direction(n: &Vec3) -> Vec3 {
+    let project = |e: Vec3| e - n * n.dot(&e);
+    let px = project(Vec3::x());
+    if px.norm() > 1e-12 {
+        px.normalize()
+    } else {
+        project(Vec3::y()).normalize()
+    }
+}
+
+fn unit_normal(normal: &Vec3) -> Result<Vec3> {
+    check_finite("normal", normal)?;
+    let len = normal.norm();
+    if len == 0.0 || !len.is_finite() {
+        return Err(Error::invalid(format!(
+            "normal = ({}, {}, {}) must be a non-zero vector",
+            normal.x, normal.y, normal.z
+        )));
+    }
+    Ok(normal / len)
+}
+
+fn check_radius(name: &str, r: f64) -> Result<()> {
+    if r.is_finite() && r > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!(
+            "{name} = {r} must be a positive finite number"
+        )))
+    }
+}
+
 impl Ellipse {
-    /// General ellipse from its two (conjugate) semi-axis vectors; they must be independent.
+    /// General ellipse from its two (conjugate) semi-axis vectors; they must be independent
+    /// (`|a₁ × a₂| > 10⁻¹² |a₁||a₂|`) and finite.
     pub fn new(center: Vec3, axis1: Vec3, axis2: Vec3) -> Result<Self> {
-        let _ = (center, axis1, axis2);
-        todo!("curve kinds")
+        check_finite("center", &center)?;
+        check_finite("axis1", &axis1)?;
+        check_finite("axis2", &axis2)?;
+        let cross = axis1.cross(&axis2).norm();
+        if cross <= DEPENDENT_TOL * axis1.norm() * axis2.norm() {
+            return Err(Error::invalid(format!(
+                "axis1 = ({}, {}, {}) and axis2 = ({}, {}, {}) are linearly dependent",
+                axis1.x, axis1.y, axis1.z, axis2.x, axis2.y, axis2.z
+            )));
+        }
+        Ok(Ellipse {
+            center,
+            axis1,
+            axis2,
+        })
     }
     /// Circle of `radius > 0` about `center` in the plane normal to `normal`, starting (v = 0)
-    /// along the projection of +x on that plane (+y if the normal is along x).
+    /// along the projection of +x on that plane (+y if the normal is along x). With that unit
+    /// start direction `e`: `a₁ = r e`, `a₂ = r n̂ × e`, so the circle runs counter-clockwise
+    /// about the normal.
     pub fn circle(center: Vec3, radius: f64, normal: Vec3) -> Result<Self> {
-        let _ = (center, radius, normal);
-        todo!("curve kinds")
+        Self::with_radii(center, radius, radius, normal).map_err(|e| match e {
+            Error::Invalid { place, message } => Error::Invalid {
+                place,
+                message: message.replace("rx = ", "radius = "),
+            },
+            other => other,
+        })
     }
     /// Axis-aligned ellipse with semi-axes `rx` (along the circle's start direction) and `ry`.
     pub fn with_radii(center: Vec3, rx: f64, ry: f64, normal: Vec3) -> Result<Self> {
-        let _ = (center, rx, ry, normal);
-        todo!("curve kinds")
+        check_finite("center", &center)?;
+        check_radius("rx", rx)?;
+        check_radius("ry", ry)?;
+        let n = unit_normal(&normal)?;
+        let e = start_direction(&n);
+        Ok(Ellipse {
+            center,
+            axis1: e * rx,
+            axis2: n.cross(&e) * ry,
+        })
     }
 }
 
@@ -55,7 +129,124 @@ impl Curve for Ellipse {
     fn domain(&self) -> Domain {
         Domain::Periodic
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    /// `C⁽ᵏ⁾(v) = cos(v + kπ/2) a₁ + sin(v + kπ/2) a₂` (plus `c` for `k = 0`).
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        let (s, c) = super::reduce_periodic(t).sin_cos();
+        for (k, o) in out.iter_mut().enumerate() {
+            let (ck, sk) = match k % 4 {
+                0 => (c, s),
+                1 => (-s, c),
+                2 => (-c, -s),
+                _ => (s, -c),
+            };
+            *o = self.axis1 * ck + self.axis2 * sk;
+            if k == 0 {
+                *o += self.center;
+            }
+        }
+    }
+    /// Exact: `a₀ = c`, one mode with `a₁`, `b₁` the axes.
+    fn fourier(&self) -> Option<FourierSeries> {
+        Some(FourierSeries {
+            a0: self.center,
+            cos: vec![self.axis1],
+            sin: vec![self.axis2],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testutil::{assert_close, check_fd, jet};
+    use super::*;
+    use crate::TAU;
+
+    #[test]
+    fn ellipse_jet_matches_closed_form_and_fd() {
+        let e = Ellipse::new(
+            Vec3::new(1.0, -2.0, 0.5),
+            Vec3::new(2.0, 0.5, 0.0),
+            Vec3::new(0.0, 1.0, 1.5),
+        )
+        .unwrap();
+        for &v in &[0.0, 0.3, 2.0, 5.9, -1.0, 100.0] {
+            let j = jet(&e, v);
+            for (k, d) in j.iter().enumerate() {
+                // d^k/dv^k cos v = cos(v + kπ/2).
+                let ph = v + k as f64 * std::f64::consts::FRAC_PI_2;
+                let mut want = e.axis1 * ph.cos() + e.axis2 * ph.sin();
+                if k == 0 {
+                    want += e.center;
+                }
+                assert_close(d, &want, 1e-13, "ellipse derivative");
+            }
+        }
+        check_fd(&e, &[0.1, 1.0, 3.0, 6.2], 1e-4, 5, 3.0);
+    }
+
+    #[test]
+    fn circle_orientation_and_start() {
+        let c = Ellipse::circle(Vec3::zeros(), 2.0, Vec3::new(0.0, 0.0, 3.0)).unwrap();
+        assert_close(&c.point(0.0), &Vec3::new(2.0, 0.0, 0.0), 1e-15, "start");
+        assert_close(
+            &c.point(TAU / 4.0),
+            &Vec3::new(0.0, 2.0, 0.0),
+            1e-15,
+            "quarter",
+        );
+        // Counter-clockwise about the normal: (C − c) × C' along n.
+        let j = jet(&c, 0.7);
+        assert!(j[0].cross(&j[1]).dot(&Vec3::z()) > 0.0);
+        // Normal along x: start along +y.
+        let c = Ellipse::circle(Vec3::zeros(), 1.0, Vec3::new(-2.0, 0.0, 0.0)).unwrap();
+        assert_close(&c.point(0.0), &Vec3::y(), 1e-15, "start y");
+        assert!(c.axis1.cross(&c.axis2).dot(&Vec3::new(-1.0, 0.0, 0.0)) > 0.0);
+        // Oblique normal: start is the normalised projection of +x.
+        let n = Vec3::new(1.0, 1.0, 1.0);
+        let c = Ellipse::with_radii(Vec3::zeros(), 3.0, 1.0, n).unwrap();
+        let want = (Vec3::x() - n * (n.dot(&Vec3::x()) / n.norm_squared())).normalize() * 3.0;
+        assert_close(&c.axis1, &want, 4e-15, "oblique start");
+        assert!((c.axis2.norm() - 1.0).abs() < 1e-15);
+        assert!(c.axis1.dot(&c.axis2).abs() < 1e-15);
+        assert!(c.axis1.dot(&n).abs() < 1e-14 && c.axis2.dot(&n).abs() < 1e-14);
+    }
+
+    #[test]
+    fn fourier_is_exact() {
+        let e = Ellipse::with_radii(Vec3::new(0.0, 0.0, 1.0), 2.0, 1.0, Vec3::z()).unwrap();
+        let f = e.fourier().unwrap();
+        for &v in &[0.0, 1.0, 4.0] {
+            assert_close(&f.point(v), &e.point(v), 1e-15, "series");
+        }
+        let p = Point::new(Vec3::new(1.0, 2.0, 3.0));
+        let f = p.fourier().unwrap();
+        assert_eq!(f.modes(), 0);
+        assert_eq!(f.a0, p.p);
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let z = Vec3::zeros();
+        let nan = Vec3::new(f64::NAN, 0.0, 0.0);
+        let inf = Vec3::new(0.0, f64::INFINITY, 0.0);
+        assert!(Ellipse::circle(z, 0.0, Vec3::z()).is_err());
+        assert!(Ellipse::circle(z, -1.0, Vec3::z()).is_err());
+        assert!(Ellipse::circle(z, f64::NAN, Vec3::z()).is_err());
+        assert!(Ellipse::circle(z, f64::INFINITY, Vec3::z()).is_err());
+        let e = Ellipse::circle(z, 1.0, z).unwrap_err().to_string();
+        assert!(e.contains("normal"), "{e}");
+        assert!(Ellipse::circle(z, 1.0, nan).is_err());
+        assert!(Ellipse::circle(nan, 1.0, Vec3::z()).is_err());
+        let e = Ellipse::circle(z, -2.0, Vec3::z()).unwrap_err().to_string();
+        assert!(e.contains("radius = -2"), "{e}");
+        assert!(Ellipse::with_radii(z, 1.0, 0.0, Vec3::z()).is_err());
+        assert!(Ellipse::new(z, Vec3::x(), Vec3::x() * 2.0).is_err());
+        assert!(Ellipse::new(z, Vec3::x(), z).is_err());
+        assert!(Ellipse::new(z, inf, Vec3::y()).is_err());
+        assert!(Ellipse::new(nan, Vec3::x(), Vec3::y()).is_err());
+        let e = Ellipse::new(z, Vec3::x(), -Vec3::x())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("dependent"), "{e}");
     }
 }

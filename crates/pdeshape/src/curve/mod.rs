@@ -11,6 +11,10 @@ mod conic;
 mod formula;
 mod hermite;
 mod samples;
+mod series;
+mod taylor;
+#[cfg(test)]
+pub(crate) mod testutil;
 mod transform;
 
 pub use arclength::ArcLength;
@@ -75,3 +79,48 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
 
 /// A curve shared between conditions, patches and wrappers.
 pub type SharedCurve = Arc<dyn Curve>;
+
+/// Reduces a periodic parameter to `[0, 2π)` (robust for negative and huge values).
+pub(crate) fn reduce_periodic(t: f64) -> f64 {
+    let r = t.rem_euclid(crate::TAU);
+    // `rem_euclid` may round up to exactly 2π for tiny negative inputs.
+    if r >= crate::TAU {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// Writes the value and derivatives at `x` of the polynomial `Σ_j c_j x^j` (vector coefficients)
+/// into `out[0..=k]`; derivatives beyond the degree are zero.
+pub(crate) fn poly_jet(coeffs: &[Vec3], x: f64, out: &mut [Vec3]) {
+    let n = coeffs.len();
+    for (k, o) in out.iter_mut().enumerate() {
+        if k >= n {
+            *o = Vec3::zeros();
+            continue;
+        }
+        // d^k/dx^k Σ c_j x^j = Σ_{j≥k} j!/(j−k)! c_j x^{j−k}, by Horner from the top.
+        let mut acc = Vec3::zeros();
+        for j in (k..n).rev() {
+            let mut f = 1.0;
+            for m in (j - k + 1)..=j {
+                f *= m as f64;
+            }
+            acc = acc * x + coeffs[j] * f;
+        }
+        *o = acc;
+    }
+}
+
+/// Checks that a vector is finite, naming it in the error.
+pub(crate) fn check_finite(name: &str, v: &Vec3) -> crate::Result<()> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(crate::Error::invalid(format!(
+            "{name} = ({}, {}, {}) is not finite",
+            v.x, v.y, v.z
+        )))
+    }
+}

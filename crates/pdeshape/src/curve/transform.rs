@@ -1,5 +1,5 @@
-use super::{Curve, Domain, FourierSeries, SharedCurve};
-use crate::{Result, Vec3};
+use super::{check_finite, Curve, Domain, FourierSeries, SharedCurve, MAX_ORDER};
+use crate::{Error, Result, Vec3};
 
 /// An affine map `x ↦ M x + t` of R³: the design parameters of §6.1 (translate, rotate about an
 /// axis through a point, scale about a point).
@@ -22,15 +22,43 @@ impl Affine {
             shift: d,
         }
     }
-    /// Rotation by `angle` radians (right-handed) about the line through `about` along `axis`.
+    /// Rotation by `angle` radians (right-handed) about the line through `about` along `axis`:
+    /// Rodrigues' formula `R = cos θ I + sin θ [k]ₓ + (1 − cos θ) k kᵀ` with `k = axis/|axis|`,
+    /// and `x ↦ R (x − about) + about`. The axis must be finite and non-zero, the angle finite.
     pub fn rotation(axis: Vec3, angle: f64, about: Vec3) -> Result<Self> {
-        let _ = (axis, angle, about);
-        todo!("curve kinds")
+        check_finite("axis", &axis)?;
+        check_finite("about", &about)?;
+        if !angle.is_finite() {
+            return Err(Error::invalid(format!("angle = {angle} is not finite")));
+        }
+        let len = axis.norm();
+        if len == 0.0 || !len.is_finite() {
+            return Err(Error::invalid(format!(
+                "axis = ({}, {}, {}) must be a non-zero vector",
+                axis.x, axis.y, axis.z
+            )));
+        }
+        let k = axis / len;
+        let (s, c) = angle.sin_cos();
+        let cross = nalgebra::Matrix3::new(0.0, -k.z, k.y, k.z, 0.0, -k.x, -k.y, k.x, 0.0);
+        let linear = nalgebra::Matrix3::identity() * c + cross * s + k * k.transpose() * (1.0 - c);
+        Ok(Affine {
+            linear,
+            shift: about - linear * about,
+        })
     }
-    /// Uniform scaling by `factor ≠ 0` about the point `about`.
+    /// Uniform scaling by `factor ≠ 0` about the point `about`: `x ↦ f (x − about) + about`.
     pub fn scaling(factor: f64, about: Vec3) -> Result<Self> {
-        let _ = (factor, about);
-        todo!("curve kinds")
+        check_finite("about", &about)?;
+        if !factor.is_finite() || factor == 0.0 {
+            return Err(Error::invalid(format!(
+                "factor = {factor} must be a finite non-zero number"
+            )));
+        }
+        Ok(Affine {
+            linear: nalgebra::Matrix3::identity() * factor,
+            shift: about * (1.0 - factor),
+        })
     }
     /// `self` followed by `next`.
     pub fn then(&self, next: &Affine) -> Affine {
@@ -64,11 +92,25 @@ impl Curve for Transformed {
     fn domain(&self) -> Domain {
         self.inner.domain()
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    /// `(M C + t)⁽ᵏ⁾ = M C⁽ᵏ⁾` for `k ≥ 1`.
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        self.inner.jet(t, out);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = if k == 0 {
+                self.map.apply_point(o)
+            } else {
+                self.map.apply_vector(o)
+            };
+        }
     }
+    /// The inner exact series mapped: `a₀ ↦ M a₀ + t`, `aₙ ↦ M aₙ`, `bₙ ↦ M bₙ`.
     fn fourier(&self) -> Option<FourierSeries> {
-        todo!("curve kinds")
+        let f = self.inner.fourier()?;
+        Some(FourierSeries {
+            a0: self.map.apply_point(&f.a0),
+            cos: f.cos.iter().map(|c| self.map.apply_vector(c)).collect(),
+            sin: f.sin.iter().map(|c| self.map.apply_vector(c)).collect(),
+        })
     }
 }
 
@@ -80,10 +122,17 @@ pub struct OriginShift {
 }
 
 impl OriginShift {
-    /// The inner curve must be periodic.
+    /// The inner curve must be periodic and the shift finite.
     pub fn new(inner: SharedCurve, shift: f64) -> Result<Self> {
-        let _ = (&inner, shift);
-        todo!("curve kinds")
+        if !shift.is_finite() {
+            return Err(Error::invalid(format!("shift = {shift} is not finite")));
+        }
+        if let Domain::Interval(a, b) = inner.domain() {
+            return Err(Error::invalid(format!(
+                "the origin of a curve on the interval [{a}, {b}] cannot move; it must be periodic"
+            )));
+        }
+        Ok(OriginShift { inner, shift })
     }
 }
 
@@ -91,8 +140,25 @@ impl Curve for OriginShift {
     fn domain(&self) -> Domain {
         Domain::Periodic
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        let s = super::reduce_periodic(self.shift);
+        self.inner.jet(super::reduce_periodic(t) + s, out);
+    }
+    /// `aₙ cos n(v+s) + bₙ sin n(v+s) = [aₙ cos ns + bₙ sin ns] cos nv + [bₙ cos ns − aₙ sin ns] sin nv`.
+    fn fourier(&self) -> Option<FourierSeries> {
+        let f = self.inner.fourier()?;
+        let s = super::reduce_periodic(self.shift);
+        let (cos, sin) = f
+            .cos
+            .iter()
+            .zip(&f.sin)
+            .enumerate()
+            .map(|(i, (a, b))| {
+                let (sn, cn) = ((i + 1) as f64 * s).sin_cos();
+                (a * cn + b * sn, b * cn - a * sn)
+            })
+            .unzip();
+        Some(FourierSeries { a0: f.a0, cos, sin })
     }
 }
 
@@ -104,10 +170,28 @@ pub struct Combination {
 }
 
 impl Combination {
-    /// At least one term; all domains equal.
+    /// At least one term; finite weights; all domains equal.
     pub fn new(terms: Vec<(f64, SharedCurve)>) -> Result<Self> {
-        let _ = &terms;
-        todo!("curve kinds")
+        let Some(first) = terms.first() else {
+            return Err(Error::invalid(
+                "terms: a combination needs at least one curve",
+            ));
+        };
+        let d0 = first.1.domain();
+        for (i, (w, c)) in terms.iter().enumerate() {
+            if !w.is_finite() {
+                return Err(Error::invalid(format!(
+                    "terms[{i}]: weight {w} is not finite"
+                )));
+            }
+            if c.domain() != d0 {
+                return Err(Error::invalid(format!(
+                    "terms[{i}]: domain {:?} differs from the domain {d0:?} of terms[0]",
+                    c.domain()
+                )));
+            }
+        }
+        Ok(Combination { terms })
     }
 }
 
@@ -115,7 +199,224 @@ impl Curve for Combination {
     fn domain(&self) -> Domain {
         self.terms[0].1.domain()
     }
-    fn jet(&self, _t: f64, _out: &mut [Vec3]) {
-        todo!("curve kinds")
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        let n = out.len().min(MAX_ORDER + 1);
+        let mut buf = [Vec3::zeros(); MAX_ORDER + 1];
+        for o in out.iter_mut() {
+            *o = Vec3::zeros();
+        }
+        for (w, c) in &self.terms {
+            c.jet(t, &mut buf[..n]);
+            for (o, b) in out.iter_mut().zip(&buf[..n]) {
+                *o += b * *w;
+            }
+        }
+    }
+    /// `Σ wᵢ fᵢ` when every term has an exact series.
+    fn fourier(&self) -> Option<FourierSeries> {
+        let series: Option<Vec<FourierSeries>> =
+            self.terms.iter().map(|(_, c)| c.fourier()).collect();
+        let series = series?;
+        let m = series.iter().map(|f| f.modes()).max().unwrap_or(0);
+        let mut out = FourierSeries {
+            a0: Vec3::zeros(),
+            cos: vec![Vec3::zeros(); m],
+            sin: vec![Vec3::zeros(); m],
+        };
+        for ((w, _), f) in self.terms.iter().zip(&series) {
+            out.a0 += f.a0 * *w;
+            for n in 0..f.modes() {
+                out.cos[n] += f.cos[n] * *w;
+                out.sin[n] += f.sin[n] * *w;
+            }
+        }
+        Some(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testutil::{assert_close, check_fd, jet};
+    use super::super::{BSpline, Ellipse, Hermite};
+    use super::*;
+    use crate::TAU;
+    use std::sync::Arc;
+
+    #[test]
+    fn rotation_is_rigid_and_fixes_its_axis() {
+        let about = Vec3::new(1.0, -2.0, 0.5);
+        let axis = Vec3::new(1.0, 2.0, -0.5);
+        let r = Affine::rotation(axis, 0.8, about).unwrap();
+        // Orthogonal with determinant 1.
+        let m = r.linear;
+        assert!((m.transpose() * m - nalgebra::Matrix3::identity()).norm() < 1e-15 * 4.0);
+        assert!((m.determinant() - 1.0).abs() < 1e-15 * 4.0);
+        // Points on the axis are fixed.
+        for s in [0.0, 1.0, -3.0] {
+            let p = about + axis * s;
+            assert_close(&r.apply_point(&p), &p, 1e-14, "axis point");
+        }
+        // Distances and angles are preserved.
+        let (a, b, c) = (
+            Vec3::new(0.3, 1.0, 2.0),
+            Vec3::new(-1.0, 0.0, 4.0),
+            Vec3::new(2.0, 2.0, -1.0),
+        );
+        let (ra, rb, rc) = (r.apply_point(&a), r.apply_point(&b), r.apply_point(&c));
+        assert!(((ra - rb).norm() - (a - b).norm()).abs() < 1e-14);
+        assert!(((rc - rb).dot(&(ra - rb)) - (c - b).dot(&(a - b))).abs() < 1e-13);
+        // Right-handed: x about z by π/2 gives y.
+        let q = Affine::rotation(Vec3::z() * 5.0, TAU / 4.0, Vec3::zeros()).unwrap();
+        assert_close(
+            &q.apply_point(&Vec3::x()),
+            &Vec3::y(),
+            1e-16,
+            "quarter turn",
+        );
+        // The rotation angle: a vector ⟂ axis turns by θ.
+        let k = axis.normalize();
+        let u = k.cross(&Vec3::x()).normalize();
+        let ru = r.apply_vector(&u);
+        assert!((ru.dot(&u) - 0.8f64.cos()).abs() < 1e-15 * 4.0);
+        assert!((u.cross(&ru).dot(&k) - 0.8f64.sin()).abs() < 1e-15 * 4.0);
+    }
+
+    #[test]
+    fn scaling_and_composition() {
+        let about = Vec3::new(1.0, 1.0, 1.0);
+        let s = Affine::scaling(-2.0, about).unwrap();
+        assert_close(&s.apply_point(&about), &about, 0.0, "fixed");
+        assert_close(
+            &s.apply_point(&Vec3::new(2.0, 1.0, 1.0)),
+            &Vec3::new(-1.0, 1.0, 1.0),
+            0.0,
+            "scaled",
+        );
+        let t = Affine::translation(Vec3::x());
+        let st = s.then(&t);
+        let p = Vec3::new(0.2, 0.4, -1.0);
+        assert_close(
+            &st.apply_point(&p),
+            &t.apply_point(&s.apply_point(&p)),
+            1e-15,
+            "then",
+        );
+    }
+
+    #[test]
+    fn bad_input_is_rejected() {
+        let z = Vec3::zeros();
+        let e = Affine::rotation(z, 1.0, z).unwrap_err().to_string();
+        assert!(e.contains("axis"), "{e}");
+        assert!(Affine::rotation(Vec3::new(f64::NAN, 0.0, 1.0), 1.0, z).is_err());
+        assert!(Affine::rotation(Vec3::z(), f64::INFINITY, z).is_err());
+        assert!(Affine::rotation(Vec3::z(), 1.0, Vec3::new(0.0, f64::NAN, 0.0)).is_err());
+        assert!(Affine::scaling(0.0, z).is_err());
+        assert!(Affine::scaling(f64::NAN, z).is_err());
+        assert!(Affine::scaling(f64::NEG_INFINITY, z).is_err());
+        assert!(Affine::scaling(2.0, Vec3::new(f64::INFINITY, 0.0, 0.0)).is_err());
+        let h: SharedCurve = Arc::new(Hermite::new(z, Vec3::x(), Vec3::y(), Vec3::y()));
+        assert!(OriginShift::new(h.clone(), 1.0).is_err());
+        let c: SharedCurve = Arc::new(Ellipse::circle(z, 1.0, Vec3::z()).unwrap());
+        assert!(OriginShift::new(c.clone(), f64::NAN).is_err());
+        assert!(Combination::new(vec![]).is_err());
+        let e = Combination::new(vec![(1.0, c.clone()), (1.0, h)])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("terms[1]"), "{e}");
+        assert!(Combination::new(vec![(f64::NAN, c)]).is_err());
+    }
+
+    fn spline() -> SharedCurve {
+        let ctrl: Vec<Vec3> = (0..6)
+            .map(|i| {
+                let a = TAU * i as f64 / 6.0;
+                Vec3::new(a.cos() * 2.0, a.sin(), 0.3 * (2.0 * a).cos())
+            })
+            .collect();
+        Arc::new(BSpline::periodic(4, ctrl, None).unwrap())
+    }
+
+    #[test]
+    fn transformed_and_shifted_jets() {
+        let map = Affine::rotation(Vec3::new(0.0, 1.0, 1.0), 0.5, Vec3::x())
+            .unwrap()
+            .then(&Affine::scaling(1.5, Vec3::y()).unwrap());
+        let inner = spline();
+        let tc = Transformed::new(inner.clone(), map);
+        for &t in &[0.1, 2.0, 4.0] {
+            let (a, b) = (jet(&tc, t), jet(inner.as_ref(), t));
+            assert_close(&a[0], &map.apply_point(&b[0]), 1e-14, "point");
+            for k in 1..=8 {
+                assert_close(
+                    &a[k],
+                    &map.apply_vector(&b[k]),
+                    1e-12 * b[k].norm().max(1.0),
+                    "derivative",
+                );
+            }
+        }
+        check_fd(&tc, &[0.5, 1.5, 3.5], 1e-4, 3, 5.0);
+        let os = OriginShift::new(inner.clone(), -1.0).unwrap();
+        for &t in &[0.1, 2.0, 6.0] {
+            let (a, b) = (jet(&os, t), jet(inner.as_ref(), t - 1.0));
+            for k in 0..=8 {
+                assert_close(&a[k], &b[k], 1e-11 * b[k].norm().max(1.0), "shift");
+            }
+        }
+        assert!(os.fourier().is_none());
+        assert!(tc.fourier().is_none());
+    }
+
+    #[test]
+    fn exact_series_follow_the_wrappers() {
+        let e: SharedCurve = Arc::new(
+            Ellipse::new(
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(2.0, 0.0, 0.5),
+                Vec3::new(0.0, 1.0, 0.0),
+            )
+            .unwrap(),
+        );
+        let f: SharedCurve = Arc::new(FourierSeries {
+            a0: Vec3::new(1.0, 0.0, 0.0),
+            cos: vec![Vec3::zeros(), Vec3::new(0.0, 0.0, 0.3)],
+            sin: vec![Vec3::new(0.1, 0.0, 0.0), Vec3::new(0.0, 0.2, 0.0)],
+        });
+        let map =
+            Affine::rotation(Vec3::new(1.0, 1.0, 0.0), 1.1, Vec3::new(0.0, 0.0, 2.0)).unwrap();
+        let curves: Vec<SharedCurve> = vec![
+            Arc::new(Transformed::new(e.clone(), map)),
+            Arc::new(OriginShift::new(f.clone(), 0.7).unwrap()),
+            Arc::new(OriginShift::new(e.clone(), -8.0).unwrap()),
+            Arc::new(Combination::new(vec![(2.0, e.clone()), (-0.5, f.clone())]).unwrap()),
+        ];
+        for c in curves {
+            let s = c.fourier().expect("exact series");
+            for &v in &[0.0, 0.9, 2.5, 5.0] {
+                assert_close(&s.point(v), &c.point(v), 1e-14, "series");
+                assert_close(&s.derivative(v, 3), &c.derivative(v, 3), 1e-13, "series d3");
+            }
+        }
+    }
+
+    #[test]
+    fn combination_is_the_weighted_sum() {
+        let a = spline();
+        let b: SharedCurve = Arc::new(Ellipse::circle(Vec3::z(), 1.0, Vec3::z()).unwrap());
+        let c = Combination::new(vec![(0.5, a.clone()), (-2.0, b.clone())]).unwrap();
+        for &t in &[0.3, 3.3] {
+            let (jc, ja, jb) = (jet(&c, t), jet(a.as_ref(), t), jet(b.as_ref(), t));
+            for k in 0..=8 {
+                assert_close(
+                    &jc[k],
+                    &(ja[k] * 0.5 - jb[k] * 2.0),
+                    1e-12 * ja[k].norm().max(1.0),
+                    "sum",
+                );
+            }
+        }
+        assert!(c.fourier().is_none());
+        assert_eq!(c.domain(), Domain::Periodic);
     }
 }
