@@ -38,8 +38,20 @@ pub fn parse_design(text: &str) -> Result<DesignSpec> {
     serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| {
         let path = e.path().to_string();
         let path = if path == "." { String::new() } else { path };
-        let message = one_line(e.inner().message());
-        Error::invalid(message).at(&path)
+        let message = e.inner().message();
+        match types::split_path_marker(message) {
+            (Some(inner), rest) => {
+                let place = if path.is_empty() {
+                    inner.to_string()
+                } else if inner.starts_with('[') {
+                    format!("{path}{inner}")
+                } else {
+                    format!("{path}.{inner}")
+                };
+                Error::invalid(one_line(rest)).at(&place)
+            }
+            (None, rest) => Error::invalid(one_line(rest)).at(&path),
+        }
     })
 }
 

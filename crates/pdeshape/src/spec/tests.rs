@@ -130,7 +130,10 @@ fn syntax_and_schema_errors_name_the_place() {
     let e = err_of("title = \n");
     assert!(!e.is_empty());
     let e = err_of("[curves.rim]\ntype = \"circle\"\ncenter = [0,0,0]\nradiuss = 1\n");
-    assert!(e.starts_with("curves.rim: unknown field `radiuss`"), "{e}");
+    assert!(
+        e.starts_with("curves.rim.radiuss: unknown field `radiuss`"),
+        "{e}"
+    );
     let e = err_of("colour = 1\n");
     assert!(e.starts_with("colour: unknown field `colour`"), "{e}");
     let e = err_of("[solver]\nmodes = \"many\"\n");

@@ -190,13 +190,53 @@ pub struct CurveSpec {
 
 const COMMON_KEYS: [&str; 3] = ["transform", "v_origin", "arc_length"];
 
+/// Marks the path of an error found inside a curve table: custom serde errors cannot extend the
+/// path that `serde_path_to_error` tracks outside, so the inner path travels in the message and
+/// [`split_path_marker`] moves it back into the error's place.
+const PATH_MARK: char = '\u{1}';
+
+fn with_path(inner: &str, message: &str) -> String {
+    if inner.is_empty() {
+        return message.to_string();
+    }
+    // A nested curve's message may carry a path already: join the two.
+    match split_path_marker(message) {
+        (Some(deeper), rest) => {
+            let sep = if deeper.starts_with('[') { "" } else { "." };
+            format!("{PATH_MARK}{inner}{sep}{deeper}{PATH_MARK}{rest}")
+        }
+        (None, rest) => format!("{PATH_MARK}{inner}{PATH_MARK}{rest}"),
+    }
+}
+
+/// `(inner path, message)` of a message made by [`with_path`].
+pub(crate) fn split_path_marker(message: &str) -> (Option<&str>, &str) {
+    if let Some(rest) = message.strip_prefix(PATH_MARK) {
+        if let Some((path, msg)) = rest.split_once(PATH_MARK) {
+            return (Some(path), msg);
+        }
+    }
+    (None, message)
+}
+
 impl<'de> Deserialize<'de> for CurveSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let mut table = toml::Table::deserialize(d)?;
         let take = |t: &mut toml::Table, k: &str| t.remove(k);
         let transform = match take(&mut table, "transform") {
-            Some(v) => Vec::<TransformStep>::deserialize(v)
-                .map_err(|e| de::Error::custom(format!("transform: {}", e.message())))?,
+            Some(v) => {
+                serde_path_to_error::deserialize::<_, Vec<TransformStep>>(v).map_err(|e| {
+                    let path = e.path().to_string();
+                    let inner = if path == "." || path.is_empty() {
+                        "transform".to_string()
+                    } else if path.starts_with('[') {
+                        format!("transform{path}")
+                    } else {
+                        format!("transform.{path}")
+                    };
+                    de::Error::custom(with_path(&inner, e.inner().message()))
+                })?
+            }
             None => Vec::new(),
         };
         let v_origin = match take(&mut table, "v_origin") {
@@ -209,16 +249,48 @@ impl<'de> Deserialize<'de> for CurveSpec {
                 .map_err(|e| de::Error::custom(format!("arc_length: {}", e.message())))?,
             None => false,
         };
-        let kind = CurveKind::deserialize(toml::Value::Table(table)).map_err(|e| {
-            let m = e.message().to_string();
-            // Name the keys every kind accepts too, so the hint is complete.
-            let m = if m.starts_with("unknown field") {
-                format!("{m} (or one of {})", COMMON_KEYS.join(", "))
-            } else {
-                m
-            };
-            de::Error::custom(m)
-        })?;
+        // `type` picks the variant; the rest is deserialized as the externally tagged
+        // `{ <type> = { … } }` so that the path of an error inside the table is known.
+        let kind_name = match table.remove("type") {
+            Some(toml::Value::String(t)) => t,
+            Some(other) => {
+                return Err(de::Error::custom(with_path(
+                    "type",
+                    &format!("expected a string, found {}", other.type_str()),
+                )))
+            }
+            None => return Err(de::Error::missing_field("type")),
+        };
+        let mut wrapped = toml::Table::new();
+        wrapped.insert(kind_name, toml::Value::Table(table));
+        let kind = serde_path_to_error::deserialize::<_, CurveKind>(toml::Value::Table(wrapped))
+            .map_err(|e| {
+                let path = e.path().to_string();
+                // Drop the variant name (first segment) from the path.
+                let inner = path
+                    .split_once(['.', '['])
+                    .map(|(_, rest)| {
+                        if path.as_bytes()[path.len() - rest.len() - 1] == b'[' {
+                            format!("[{rest}")
+                        } else {
+                            rest.to_string()
+                        }
+                    })
+                    .unwrap_or_default();
+                let m = e.inner().message().to_string();
+                let inner = if inner.is_empty() && m.starts_with("unknown variant") {
+                    "type".to_string()
+                } else {
+                    inner
+                };
+                let m = if m.starts_with("unknown field") {
+                    // Name the keys every kind accepts too, so the hint is complete.
+                    format!("{m} (or one of {})", COMMON_KEYS.join(", "))
+                } else {
+                    m
+                };
+                de::Error::custom(with_path(&inner, &m))
+            })?;
         Ok(CurveSpec {
             kind,
             transform,
@@ -268,9 +340,11 @@ impl JsonSchema for CurveSpec {
     }
 }
 
-/// The curve kinds, chosen by `type`.
+/// The curve kinds, chosen by `type`. (Serde reads the externally tagged form that
+/// `CurveSpec`'s deserializer builds from `type`; the schema shows the file's form.)
 #[derive(Clone, Debug, Deserialize, JsonSchema)]
-#[serde(tag = "type", deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
+#[schemars(tag = "type")]
 pub enum CurveKind {
     /// `center + r (cos v e₁ + sin v e₂)` in the plane normal to `normal`; v = 0 lies along the
     /// projection of +x on that plane (+y if the normal is along x).
