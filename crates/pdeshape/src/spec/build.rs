@@ -889,6 +889,30 @@ impl CurveBuilder<'_> {
     }
 }
 
+fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCurve>> {
+    let specs = builder.specs;
+    let mut curves = Vec::new();
+    for (name, c) in specs {
+        let curve = builder.named(name, &curve_place(name))?;
+        curves.push(NamedCurve {
+            name: name.clone(),
+            kind: kind_name(&c.kind),
+            curve,
+        });
+    }
+    Ok(curves)
+}
+
+/// Validates the design and builds its named curves (sorted by name), without solving: what a
+/// viewer needs to draw the design's curves.
+pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
+    validate_design(spec)?;
+    named_curves(&mut CurveBuilder {
+        specs: &spec.curves,
+        built: HashMap::new(),
+    })
+}
+
 /// Validates the design ([`validate_design`]), builds its curves (errors at `curves.<name>` or
 /// `conditions[i].curve`), its operators and conditions, solves every patch with
 /// [`elliptic::solve`], and measures the G0/G1 mismatch ([`edge_mismatch`]) of every shared edge:
@@ -900,15 +924,7 @@ pub fn build_design(spec: &DesignSpec) -> Result<BuiltDesign> {
         specs: &spec.curves,
         built: HashMap::new(),
     };
-    let mut curves = Vec::new();
-    for (name, c) in &spec.curves {
-        let curve = builder.named(name, &curve_place(name))?;
-        curves.push(NamedCurve {
-            name: name.clone(),
-            kind: kind_name(&c.kind),
-            curve,
-        });
-    }
+    let curves = named_curves(&mut builder)?;
     let plans = plan(spec)?;
     let mut patches = Vec::new();
     let mut all_conditions = Vec::new();
