@@ -580,3 +580,94 @@ fn the_klein_bottle_file_is_what_the_script_generates() {
     let committed = std::fs::read_to_string(examples_dir().join("klein_bottle.toml")).unwrap();
     assert_eq!(String::from_utf8(out.stdout).unwrap(), committed);
 }
+
+/// Rows `[u, v, x, y, z, nx, ny, nz]` of a CSV written by `surface`.
+fn csv_rows(design: &Path, nu: usize, nv: usize) -> Vec<Vec<f64>> {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("s.csv");
+    let (nu_s, nv_s) = (nu.to_string(), nv.to_string());
+    let out = pdeshape(&[
+        "surface",
+        s(design),
+        "-o",
+        s(&o),
+        "--nu",
+        &nu_s,
+        "--nv",
+        &nv_s,
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&o).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), nu * nv);
+    rows
+}
+
+#[test]
+#[ignore = "needs the PDE solver (elliptic::solve)"]
+fn laplace_example_matches_the_closed_form() {
+    // §4.2: r(u) = b cosh u + (a_c − b cosh 1) sinh u / sinh 1, z = h u, with b = 2, a_c = 1,
+    // h = 1 (the corrected Eq. 4.4).
+    let rows = csv_rows(&examples_dir().join("laplace_blend.toml"), 11, 12);
+    for row in rows {
+        let (u, v) = (row[0], row[1]);
+        let r = 2.0 * u.cosh() + (1.0 - 2.0 * 1f64.cosh()) * u.sinh() / 1f64.sinh();
+        let want = [r * v.cos(), r * v.sin(), u];
+        for k in 0..3 {
+            assert!(
+                (row[2 + k] - want[k]).abs() < 1e-12,
+                "u = {u}, v = {v}: {:?} vs {want:?}",
+                &row[2..5]
+            );
+        }
+    }
+}
+
+#[test]
+#[ignore = "needs the PDE solver (elliptic::solve)"]
+fn maple_example_meets_its_intermediate_positions() {
+    // u = 0, 0.2, …, 1: rows at u = 0.2 and 0.8 lie on the intermediate circles; the spine is the
+    // cubic through (0, 0), (0.2, 0.5), (0.8, 0.8), (1, 1) (mode 0 of the biharmonic equation).
+    let rows = csv_rows(&examples_dir().join("maple_appendix.toml"), 6, 8);
+    let nodes = [(0.0, 0.0), (0.2, 0.5), (0.8, 0.8), (1.0, 1.0)];
+    let cubic = |u: f64| {
+        nodes
+            .iter()
+            .enumerate()
+            .map(|(i, &(ui, zi))| {
+                let l: f64 = nodes
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, &(uj, _))| (u - uj) / (ui - uj))
+                    .product();
+                zi * l
+            })
+            .sum::<f64>()
+    };
+    let radius = |u: f64| match u {
+        u if u < 0.1 => Some(0.5),
+        u if (u - 0.2).abs() < 1e-12 => Some(0.5),
+        u if (u - 0.8).abs() < 1e-12 => Some(2.0),
+        u if u > 0.99 => Some(2.0),
+        _ => None,
+    };
+    for row in rows {
+        let (u, v) = (row[0], row[1]);
+        // Circles: every point of a row has the same z, the spine's.
+        assert!((row[4] - cubic(u)).abs() < 1e-12, "u = {u}: z = {}", row[4]);
+        if let Some(r) = radius(u) {
+            assert!((row[2] - r * v.cos()).abs() < 1e-12, "u = {u}, v = {v}");
+            assert!((row[3] - r * v.sin()).abs() < 1e-12, "u = {u}, v = {v}");
+        }
+    }
+}
