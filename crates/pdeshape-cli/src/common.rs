@@ -1,9 +1,7 @@
 //! What the subcommands share: loading a design with located errors, choosing the grid, and
 //! writing an output file atomically.
 
-use pdeshape::mesh::grid_parameters;
 use pdeshape::spec::{self, BuiltDesign, DesignSpec, DEFAULT_NU, DEFAULT_NV};
-use pdeshape::surface::VDomain;
 use pdeshape::Error;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -49,13 +47,13 @@ impl Loaded {
     }
 
     /// The grid: the command line's `--nu`/`--nv`, else `[output]`, else 64 × 128; refused
-    /// (before anything is solved or allocated) if [`grid_parameters`] refuses it.
+    /// (before anything is solved or allocated) beyond the library's grid limits.
     pub fn grid(&self, nu: Option<usize>, nv: Option<usize>) -> Result<(usize, usize), CliError> {
         let (nu_file, nv_file) = (self.spec.output.nu, self.spec.output.nv);
         let nu_v = nu.or(nu_file).unwrap_or(DEFAULT_NU);
         let nv_v = nv.or(nv_file).unwrap_or(DEFAULT_NV);
-        match grid_parameters(VDomain::Periodic, nu_v, nv_v) {
-            Ok(_) => Ok((nu_v, nv_v)),
+        match spec::check_grid(nu_v, nv_v) {
+            Ok(()) => Ok((nu_v, nv_v)),
             Err(e) => {
                 let from_cli = match e.place() {
                     "nu" => nu.is_some(),

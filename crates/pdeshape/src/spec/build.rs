@@ -8,8 +8,9 @@ use crate::curve::{
 };
 use crate::design::{edge_mismatch, EdgeReport, Patch};
 use crate::elliptic::{self, Condition, Operator, SolveOptions};
+#[cfg(doc)]
 use crate::mesh::grid_parameters;
-use crate::surface::VDomain;
+use crate::mesh::MAX_VERTICES;
 use crate::{Error, Result, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
@@ -190,12 +191,31 @@ fn check_solver(s: &SolverSpec) -> Result<SolveOptions> {
     })
 }
 
+/// Checks an `nu × nv` grid of a periodic surface against the limits of [`grid_parameters`]
+/// (`nu ≥ 2`, `nv ≥ 3`, at most [`MAX_VERTICES`] vertices) with the same messages, without
+/// allocating anything. The place of the error is `nu`, `nv` or `nu × nv`.
+pub fn check_grid(nu: usize, nv: usize) -> Result<()> {
+    if nu < 2 {
+        return Err(Error::invalid(format!("must be at least 2 (got {nu})")).at("nu"));
+    }
+    if nv < 3 {
+        return Err(Error::invalid(format!("must be at least 3 (got {nv})")).at("nv"));
+    }
+    if nu.checked_mul(nv).is_none_or(|n| n > MAX_VERTICES) {
+        return Err(Error::invalid(format!(
+            "a {nu} × {nv} grid has more than {MAX_VERTICES} vertices; refusing to allocate it"
+        ))
+        .at("nu × nv"));
+    }
+    Ok(())
+}
+
 /// The output grid `(nu, nv)` of the design's `[output]` table (defaults 64 × 128), checked
-/// against the limits of [`grid_parameters`] without allocating the grid.
+/// with [`check_grid`].
 pub(crate) fn output_grid(o: &OutputSpec) -> Result<(usize, usize)> {
     let nu = o.nu.unwrap_or(DEFAULT_NU);
     let nv = o.nv.unwrap_or(DEFAULT_NV);
-    grid_parameters(VDomain::Periodic, nu, nv).map_err(|e| match e.place() {
+    check_grid(nu, nv).map_err(|e| match e.place() {
         "nu" | "nv" => e.at("output"),
         _ => e,
     })?;

@@ -15,8 +15,8 @@ mod locate;
 mod types;
 
 pub use build::{
-    build_curves, build_design, key_path, validate_design, BuiltDesign, ConditionInfo, NamedCurve,
-    SharedEdge, DEFAULT_NU, DEFAULT_NV,
+    build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
+    NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
 };
 pub use locate::{describe_error, locate};
 pub use types::{

@@ -486,3 +486,31 @@ z = "1"
     let e = build_curves(&parse_design(&bad).unwrap()).unwrap_err();
     assert!(e.to_string().starts_with("curves.f.z: "), "{e}");
 }
+
+#[test]
+fn check_grid_agrees_with_grid_parameters() {
+    use crate::mesh::{grid_parameters, MAX_VERTICES};
+    use crate::surface::VDomain;
+    let cases = [
+        (0, 10),
+        (1, 10),
+        (2, 10),
+        (10, 0),
+        (10, 2),
+        (10, 3),
+        (2, MAX_VERTICES / 2),
+        (2, MAX_VERTICES / 2 + 1),
+        (1_000_000_000, 128),
+        (usize::MAX, usize::MAX),
+    ];
+    for (nu, nv) in cases {
+        // grid_parameters allocates nu + nv values on success: only call it for small grids.
+        let mine = check_grid(nu, nv);
+        if nu.saturating_add(nv) <= 1_000 || mine.is_err() {
+            let theirs = grid_parameters(VDomain::Periodic, nu, nv).map(|_| ());
+            assert_eq!(mine, theirs, "{nu} × {nv}");
+        }
+    }
+    assert!(check_grid(2, MAX_VERTICES / 2).is_ok());
+    assert!(check_grid(2, MAX_VERTICES / 2 + 1).is_err());
+}
