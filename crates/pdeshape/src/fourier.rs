@@ -6,6 +6,11 @@
 use crate::curve::{Curve, Domain};
 use crate::{Error, Result, Vec3, TAU};
 
+/// Largest number of modes [`FourierSeries::from_curve`] accepts.
+pub const MAX_MODES: usize = 1 << 20;
+/// Largest number of samples [`FourierSeries::from_curve`] accepts.
+pub const MAX_SAMPLES: usize = 1 << 24;
+
 /// `a0 + Σ_{n=1}^{M} [cos[n-1]·cos(nv) + sin[n-1]·sin(nv)]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FourierSeries {
@@ -22,14 +27,25 @@ impl FourierSeries {
 
     /// Coefficients of a periodic curve up to `modes`, from `samples ≥ 2·modes + 1` equally spaced
     /// samples and a real FFT. Uses the curve's exact series ([`Curve::fourier`]) when it has one.
-    /// Fails (naming the parameter) if the curve is not periodic or a sample is not finite.
+    /// Fails (naming the parameter) if the curve is not periodic or a sample is not finite, or if
+    /// `modes > MAX_MODES` or `samples > MAX_SAMPLES`.
     ///
     /// With `g_k = C(v_k)`, `v_k = 2πk/S` and the discrete transform `G_n = Σ_k g_k e^{−i n v_k}`
-    /// (Eq. 4.20–4.22, trapezoidal rule): `a₀ = G₀/S` (the mean), `aₙ = (2/S) Re Gₙ`,
+    /// (the integrals of Eqs. 4.21–4.23 by the trapezoidal rule): `a₀ = G₀/S` (the mean), `aₙ = (2/S) Re Gₙ`,
     /// `bₙ = −(2/S) Im Gₙ`. `samples = 0` picks `S = max(64, 8·modes)` rounded up to a power of
     /// two. Modes above `S/2` alias, so the result is exact only for curves whose series ends
     /// below `S − modes`.
     pub fn from_curve(curve: &dyn Curve, modes: usize, samples: usize) -> Result<Self> {
+        if modes > MAX_MODES {
+            return Err(Error::invalid(format!(
+                "modes = {modes} is too large (at most {MAX_MODES})"
+            )));
+        }
+        if samples > MAX_SAMPLES {
+            return Err(Error::invalid(format!(
+                "samples = {samples} is too large (at most {MAX_SAMPLES})"
+            )));
+        }
         if let Some(exact) = curve.fourier() {
             return Ok(exact.truncated(modes));
         }
@@ -231,6 +247,49 @@ mod tests {
     }
 
     #[test]
+    fn formula_curves_are_analysed_by_sampling() {
+        let f = crate::curve::Formula::new(
+            "1 + cos(v) - 0.25*sin(3*v)",
+            "2*sin(v) + cos(v)^2",
+            "0.5",
+            Domain::Periodic,
+        )
+        .unwrap();
+        assert!(f.fourier().is_none());
+        let g = FourierSeries::from_curve(&f, 4, 0).unwrap();
+        // cos² v = 1/2 + cos(2v)/2.
+        let want = FourierSeries {
+            a0: Vec3::new(1.0, 0.5, 0.5),
+            cos: vec![
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 0.5, 0.0),
+                Vec3::zeros(),
+                Vec3::zeros(),
+            ],
+            sin: vec![
+                Vec3::new(0.0, 2.0, 0.0),
+                Vec3::zeros(),
+                Vec3::new(-0.25, 0.0, 0.0),
+                Vec3::zeros(),
+            ],
+        };
+        assert!((g.a0 - want.a0).norm() < 1e-15);
+        for n in 0..4 {
+            assert!(
+                (g.cos[n] - want.cos[n]).norm() < 2e-15,
+                "cos {n}: {:?}",
+                g.cos[n]
+            );
+            assert!(
+                (g.sin[n] - want.sin[n]).norm() < 2e-15,
+                "sin {n}: {:?}",
+                g.sin[n]
+            );
+        }
+        assert!(g.reconstruction_error(&f, 100) < 1e-14);
+    }
+
+    #[test]
     fn fft_matches_direct_sums() {
         let ctrl: Vec<Vec3> = (0..7)
             .map(|i| {
@@ -346,6 +405,8 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("v = 3.14159"), "{e}");
+        assert!(FourierSeries::from_curve(&c, usize::MAX, 0).is_err());
+        assert!(FourierSeries::from_curve(&c, 3, usize::MAX).is_err());
         let inf = Sampled(|_| Vec3::new(0.0, f64::INFINITY, 0.0), Domain::Periodic);
         assert!(FourierSeries::from_curve(&inf, 2, 8).is_err());
         // The exact path ignores samples.

@@ -3,7 +3,8 @@ use crate::{Error, Result, Vec3, TAU};
 
 /// B-spline curve of any degree: clamped/open on a knot vector, or periodic on `[0, 2π)`.
 ///
-/// `C(t) = Σ_i N_{i,p}(t) P_i` with the Cox–de Boor basis of degree `p` on the knots `t_0 ≤ t_1 ≤ …`.
+/// `C(t) = Σ_i N_{i,p}(t) P_i` (book Eq. 4.19/5.1, any degree) with the Cox–de Boor basis of
+/// degree `p` on the knots `t_0 ≤ t_1 ≤ …`.
 /// Values come from de Boor's algorithm; the `k`-th derivative is the B-spline of degree `p − k`
 /// with the derivative control points `P⁽ᵏ⁾_i = (p − k + 1)/(t_{i+p+1} − t_{i+k}) (P⁽ᵏ⁻¹⁾_{i+1} −
 /// P⁽ᵏ⁻¹⁾_i)`; derivatives beyond the degree are zero. Outside the domain the first/last
@@ -183,6 +184,16 @@ impl BSpline {
     /// Degree `p`.
     pub fn degree(&self) -> usize {
         self.degree
+    }
+
+    /// The control points as given (periodic: without the wrapped copies).
+    pub fn control_points(&self) -> &[Vec3] {
+        let n = self.control.len();
+        if self.periodic {
+            &self.control[..n - self.degree]
+        } else {
+            &self.control
+        }
     }
 
     /// The knot vector of the equivalent open spline (periodic: extended periodically).
@@ -393,6 +404,30 @@ mod tests {
     }
 
     #[test]
+    fn unclamped_knots_work() {
+        // Uniform open knot vector 0..=n+p: domain [p, n], no end interpolation.
+        let p = 3;
+        let c = ctrl(7);
+        let knots: Vec<f64> = (0..=c.len() + p).map(|i| i as f64).collect();
+        let s = BSpline::clamped(p, c.clone(), Some(knots.clone())).unwrap();
+        assert_eq!(s.domain(), Domain::Interval(3.0, 7.0));
+        for &t in &[3.0f64, 3.4, 4.5, 6.9, 7.0] {
+            let want = c.iter().enumerate().fold(Vec3::zeros(), |acc, (i, cp)| {
+                acc + cp * basis(&knots, i, p, t.min(6.999_999_999_999))
+            });
+            assert_close(&s.point(t), &want, 1e-11, "unclamped");
+        }
+        // Uniform cubic piece formula at the domain start: (P0 + 4P1 + P2)/6.
+        assert_close(
+            &s.point(3.0),
+            &((c[0] + c[1] * 4.0 + c[2]) / 6.0),
+            1e-14,
+            "start",
+        );
+        check_fd(&s, &[3.5, 4.5, 5.5, 6.5], 1e-4, 5, 10.0);
+    }
+
+    #[test]
     fn default_knots_are_uniform_clamped() {
         let c = ctrl(6);
         let s = BSpline::clamped(3, c.clone(), None).unwrap();
@@ -423,6 +458,7 @@ mod tests {
         let n = 7;
         let c = ctrl(n);
         let s = BSpline::periodic(3, c.clone(), None).unwrap();
+        assert_eq!(s.control_points(), &c[..]);
         let h = TAU / n as f64;
         for j in 0..n {
             for &x in &[0.0, 0.25, 0.5, 0.9] {
@@ -447,9 +483,9 @@ mod tests {
 
     #[test]
     fn periodic_is_smooth_across_the_seam_and_knots() {
-        for p in 1..=5 {
-            let c = ctrl(p + 3);
-            let bp: Vec<f64> = (0..=p + 3).map(|i| (i as f64).powf(1.3)).collect();
+        for (p, n) in (1..=5).flat_map(|p| [(p, p + 1), (p, p + 3)]) {
+            let c = ctrl(n);
+            let bp: Vec<f64> = (0..=n).map(|i| (i as f64).powf(1.3)).collect();
             let s = BSpline::periodic(p, c, Some(bp)).unwrap();
             assert_eq!(s.domain(), Domain::Periodic);
             for &k in &s.breakpoints() {

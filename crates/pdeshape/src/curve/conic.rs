@@ -57,14 +57,15 @@ fn start_direction(n: &Vec3) -> Vec3 {
 
 fn unit_normal(normal: &Vec3) -> Result<Vec3> {
     check_finite("normal", normal)?;
-    let len = normal.norm();
-    if len == 0.0 || !len.is_finite() {
+    // Scale first so that huge or tiny normals neither overflow nor underflow.
+    let big = normal.amax();
+    if big == 0.0 {
         return Err(Error::invalid(format!(
             "normal = ({}, {}, {}) must be a non-zero vector",
             normal.x, normal.y, normal.z
         )));
     }
-    Ok(normal / len)
+    Ok((normal / big).normalize())
 }
 
 fn check_radius(name: &str, r: f64) -> Result<()> {
@@ -102,13 +103,8 @@ impl Ellipse {
     /// start direction `e`: `a₁ = r e`, `a₂ = r n̂ × e`, so the circle runs counter-clockwise
     /// about the normal.
     pub fn circle(center: Vec3, radius: f64, normal: Vec3) -> Result<Self> {
-        Self::with_radii(center, radius, radius, normal).map_err(|e| match e {
-            Error::Invalid { place, message } => Error::Invalid {
-                place,
-                message: message.replace("rx = ", "radius = "),
-            },
-            other => other,
-        })
+        check_radius("radius", radius)?;
+        Self::with_radii(center, radius, radius, normal)
     }
     /// Axis-aligned ellipse with semi-axes `rx` (along the circle's start direction) and `ry`.
     pub fn with_radii(center: Vec3, rx: f64, ry: f64, normal: Vec3) -> Result<Self> {
@@ -236,6 +232,10 @@ mod tests {
         let e = Ellipse::circle(z, 1.0, z).unwrap_err().to_string();
         assert!(e.contains("normal"), "{e}");
         assert!(Ellipse::circle(z, 1.0, nan).is_err());
+        let big = Ellipse::circle(z, 1.0, Vec3::new(0.0, 0.0, 1e300)).unwrap();
+        assert_close(&big.axis2, &Vec3::y(), 1e-15, "huge normal");
+        let tiny = Ellipse::circle(z, 1.0, Vec3::new(0.0, 0.0, 1e-310)).unwrap();
+        assert_close(&tiny.axis2, &Vec3::y(), 1e-15, "tiny normal");
         assert!(Ellipse::circle(nan, 1.0, Vec3::z()).is_err());
         let e = Ellipse::circle(z, -2.0, Vec3::z()).unwrap_err().to_string();
         assert!(e.contains("radius = -2"), "{e}");

@@ -8,7 +8,7 @@ type Expr = FlatEx<Taylor, TaylorOps, Literal>;
 
 /// A curve given by three formulas in the parameter `v`, e.g. `x = "2*cos(v)"`. Derivatives are
 /// exact: each formula is evaluated on truncated Taylor series (`v + ε`), which yields all
-/// derivatives up to [`MAX_ORDER`] in one pass (automatic differentiation; no expression swell,
+/// derivatives up to [`MAX_ORDER`](super::MAX_ORDER) in one pass (automatic differentiation; no expression swell,
 /// unlike repeated symbolic differentiation).
 ///
 /// Syntax (parsed by the `exmex` crate): numbers (`2`, `0.5`, `.5`, `1e-3`), the variable `v`,
@@ -17,12 +17,16 @@ type Expr = FlatEx<Taylor, TaylorOps, Literal>;
 /// tanh asinh acosh atanh exp ln log (natural) log2 log10 sqrt cbrt abs`, and the constants
 /// `pi`, `PI`, `π`, `TAU`, `τ` (2π) and `E`, `e` (Euler's number). Functions without derivatives
 /// (`min`, `max`, `floor`, …) are unknown operators. A formula may be a constant (`"0"`).
+/// Binary operators follow exmex's precedence (`^` before `/` before `*` before `-` before `+`,
+/// left to right, so `2^3^2 = 64`); a unary minus directly in front of a power (`-v^2`,
+/// `2*-v^2`) is refused as ambiguous, since exmex would read it as `(-v)^2`.
 #[derive(Clone, Debug)]
 pub struct Formula {
     /// The formulas as given.
     pub text: [String; 3],
     domain: Domain,
-    exprs: [Expr; 3],
+    /// On the heap: a parsed expression over Taylor numbers is about 20 kB.
+    exprs: Vec<Expr>,
 }
 
 const NAMES: [&str; 3] = ["x", "y", "z"];
@@ -51,6 +55,89 @@ fn normalise(text: &str) -> String {
         }
     }
     out
+}
+
+/// Finds a unary minus whose operand is raised to a power (`-v^2`, `2*-v^2`): exmex binds that
+/// minus first (`(-v)^2`), against the usual convention, so such input is refused as ambiguous.
+/// Returns the byte offset of the minus.
+fn unary_minus_before_power(text: &str) -> Option<usize> {
+    let b: Vec<(usize, char)> = text.char_indices().collect();
+    let skip_ws = |mut i: usize| {
+        while i < b.len() && b[i].1.is_whitespace() {
+            i += 1;
+        }
+        i
+    };
+    let group_end = |mut i: usize| {
+        // b[i] is '('; returns the index after the matching ')'.
+        let mut depth = 0usize;
+        while i < b.len() {
+            match b[i].1 {
+                '(' => depth += 1,
+                ')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return i + 1;
+                    }
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        i
+    };
+    let mut prev: Option<char> = None;
+    for i in 0..b.len() {
+        let c = b[i].1;
+        if c.is_whitespace() {
+            continue;
+        }
+        let unary =
+            c == '-' && matches!(prev, None | Some('(' | ',' | '+' | '-' | '*' | '/' | '^'));
+        prev = Some(c);
+        if !unary {
+            continue;
+        }
+        let mut j = skip_ws(i + 1);
+        if j >= b.len() {
+            return None;
+        }
+        let d = b[j].1;
+        if d.is_ascii_digit() || d == '.' {
+            while j < b.len() && (b[j].1.is_ascii_digit() || b[j].1 == '.') {
+                j += 1;
+            }
+            if j < b.len() && (b[j].1 == 'e' || b[j].1 == 'E') {
+                let mut k = j + 1;
+                if k < b.len() && (b[k].1 == '+' || b[k].1 == '-') {
+                    k += 1;
+                }
+                if k < b.len() && b[k].1.is_ascii_digit() {
+                    j = k;
+                    while j < b.len() && b[j].1.is_ascii_digit() {
+                        j += 1;
+                    }
+                }
+            }
+        } else if d.is_alphabetic() || d == '_' {
+            while j < b.len() && (b[j].1.is_alphanumeric() || b[j].1 == '_') {
+                j += 1;
+            }
+            let k = skip_ws(j);
+            if k < b.len() && b[k].1 == '(' {
+                j = group_end(k);
+            }
+        } else if d == '(' {
+            j = group_end(j);
+        } else {
+            continue;
+        }
+        let k = skip_ws(j);
+        if k < b.len() && b[k].1 == '^' {
+            return Some(b[i].0);
+        }
+    }
+    None
 }
 
 /// Six significant digits, trailing zeros trimmed.
@@ -83,25 +170,33 @@ impl Formula {
                 )));
             }
         }
-        let texts = [x, y, z];
-        let mut exprs = Vec::with_capacity(3);
-        for c in 0..3 {
+        let parse = |c: usize, given: &str| -> Result<Expr> {
             let name = NAMES[c];
-            let text = normalise(texts[c]);
+            let text = normalise(given);
             if text.trim().is_empty() {
                 return Err(Error::invalid("the formula is empty").at(name));
             }
-            let expr = Expr::parse(&text).map_err(|e| {
-                Error::invalid(format!("cannot parse '{}': {e}", texts[c])).at(name)
-            })?;
+            if let Some(at) = unary_minus_before_power(&text) {
+                return Err(Error::invalid(format!(
+                    "'{given}': the minus at character {} is applied before the power; write \
+                     -(…^…) or (-…)^… explicitly",
+                    at + 1
+                ))
+                .at(name));
+            }
+            let expr = Expr::parse(&text)
+                .map_err(|e| Error::invalid(format!("cannot parse '{given}': {e}")).at(name))?;
             if let Some(bad) = expr.var_names().iter().find(|n| n.as_str() != "v") {
                 return Err(
                     Error::invalid(format!("unknown variable '{bad}'; formulas use v")).at(name),
                 );
             }
-            exprs.push(expr);
+            Ok(expr)
+        };
+        let mut exprs = Vec::with_capacity(3);
+        for (c, given) in [x, y, z].into_iter().enumerate() {
+            exprs.push(parse(c, given)?);
         }
-        let exprs: [Expr; 3] = exprs.try_into().expect("three formulas");
         let f = Formula {
             text: [x.to_string(), y.to_string(), z.to_string()],
             domain,
@@ -293,6 +388,12 @@ mod tests {
     }
 
     #[test]
+    fn formula_is_small() {
+        // Results are moved around by value; the expressions live on the heap.
+        assert!(std::mem::size_of::<Formula>() <= 256);
+    }
+
+    #[test]
     fn errors_name_the_component() {
         let e = Formula::new("cos(v)", "sin(v)", "w", Domain::Periodic)
             .unwrap_err()
@@ -323,6 +424,69 @@ mod tests {
         assert!(Formula::new("floor(v)", "0", "0", Domain::Interval(0.0, 1.0)).is_err());
         assert!(Formula::new("min(v, 1)", "0", "0", Domain::Interval(0.0, 1.0)).is_err());
         assert!(Formula::new("", "0", "0", Domain::Periodic).is_err());
+        let e = Formula::new("0", "-v^2", "0", Domain::Interval(0.0, 1.0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("y: '-v^2': the minus at character 1"), "{e}");
+        for ok in [
+            "0 - v^2",
+            "-(v^2)",
+            "(-v)^2",
+            "2^-1",
+            "-sin(v)",
+            "1 - 2e-3^2",
+            "v*-2",
+        ] {
+            assert_eq!(unary_minus_before_power(ok), None, "{ok}");
+        }
+        for amb in [
+            "-v^2",
+            "2*-v^2",
+            "(-sin(v)^2)",
+            "2^-v^2",
+            "- 3 ^ 2",
+            "-(v)^2",
+            "-1e-3^2",
+        ] {
+            assert!(unary_minus_before_power(amb).is_some(), "{amb}");
+        }
+        let f = Formula::new(
+            "0 - v^2",
+            "-(v^2)",
+            "2^3^2 + 8/2/2",
+            Domain::Interval(0.0, 4.0),
+        )
+        .unwrap();
+        assert_close(
+            &f.point(3.0),
+            &Vec3::new(-9.0, -9.0, 66.0),
+            1e-13,
+            "precedence",
+        );
+        for bad in [
+            "(",
+            ")",
+            "+",
+            "sin",
+            "v v",
+            "1..2",
+            "^2",
+            "v^",
+            "()",
+            "sin()",
+            "2*",
+            "*2",
+            "cos(v))",
+            "((v)",
+            "v/",
+            "√v",
+            "v!",
+            "1,2",
+            "atan2(v, 1)",
+        ] {
+            let r = Formula::new(bad, "0", "0", Domain::Interval(0.5, 1.0));
+            assert!(r.is_err(), "{bad}: {r:?}");
+        }
         assert!(Formula::new("v", "0", "0", Domain::Interval(1.0, 1.0)).is_err());
         assert!(Formula::new("v", "0", "0", Domain::Interval(0.0, f64::INFINITY)).is_err());
         assert!(Formula::new("v", "0", "0", Domain::Interval(f64::NAN, 1.0)).is_err());

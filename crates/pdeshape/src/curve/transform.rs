@@ -31,14 +31,14 @@ impl Affine {
         if !angle.is_finite() {
             return Err(Error::invalid(format!("angle = {angle} is not finite")));
         }
-        let len = axis.norm();
-        if len == 0.0 || !len.is_finite() {
+        let big = axis.amax();
+        if big == 0.0 {
             return Err(Error::invalid(format!(
                 "axis = ({}, {}, {}) must be a non-zero vector",
                 axis.x, axis.y, axis.z
             )));
         }
-        let k = axis / len;
+        let k = (axis / big).normalize();
         let (s, c) = angle.sin_cos();
         let cross = nalgebra::Matrix3::new(0.0, -k.z, k.y, k.z, 0.0, -k.x, -k.y, k.x, 0.0);
         let linear = nalgebra::Matrix3::identity() * c + cross * s + k * k.transpose() * (1.0 - c);

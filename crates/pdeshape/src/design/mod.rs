@@ -3,6 +3,7 @@
 
 use crate::elliptic::PdePatch;
 use crate::surface::Surface;
+use crate::TAU;
 
 /// A named patch of a design.
 #[derive(Debug)]
@@ -26,7 +27,9 @@ pub struct EdgeReport {
 }
 
 /// The G0 and G1 mismatch of two surfaces along `u = ua` on the first and `u = ub` on the second,
-/// on `samples` equally spaced `v`.
+/// on `samples` equally spaced `v ∈ [0, 2π)`: `(max |X_a − X_b|, max angle between normals)`.
+/// Normals are compared up to orientation (two patches may run in opposite directions); points
+/// where either normal is undefined (a pole) are skipped for G1.
 pub fn edge_mismatch(
     a: &dyn Surface,
     ua: f64,
@@ -34,6 +37,17 @@ pub fn edge_mismatch(
     ub: f64,
     samples: usize,
 ) -> (f64, f64) {
-    let _ = (a, ua, b, ub, samples);
-    todo!("design")
+    let samples = samples.max(1);
+    let (mut g0, mut g1) = (0.0f64, 0.0f64);
+    for j in 0..samples {
+        let v = TAU * j as f64 / samples as f64;
+        let (pa, pb) = (a.partials(ua, v), b.partials(ub, v));
+        g0 = g0.max((pa.x - pb.x).norm());
+        let (na, nb) = (pa.normal(), pb.normal());
+        if na.norm() > 0.5 && nb.norm() > 0.5 {
+            // Angle between lines: atan2(|na × nb|, |na · nb|), accurate for tiny angles.
+            g1 = g1.max(na.cross(&nb).norm().atan2(na.dot(&nb).abs()));
+        }
+    }
+    (g0, g1)
 }

@@ -1,40 +1,25 @@
 //! The Bloor–Wilson PDE method (book chapter 4): elliptic operators separable in `(u, v)`,
 //! conditions at `u_i ∈ [0, 1]`, the analytic per-mode solution and the spectral remainder.
+//!
+//! The solution of `L X = 0` periodic in `v` is (Eqs. 4.11, 4.36)
+//! `X(u,v) = A₀(u) + Σ_{n=1}^{M} [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`, where each `Aₙ, Bₙ`
+//! solves its mode equation exactly (see [`basis`]) and meets the Fourier coefficients of the `2N`
+//! conditions, and `R` is the spectral remainder (Eqs. 4.45–4.53) that takes up what the `M`
+//! modes leave of the conditions, so they hold to rounding for any periodic curves.
+
+mod basis;
+mod operator;
+mod patch;
+
+pub use basis::BasisKind;
+pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
+pub use patch::PdePatch;
 
 use crate::curve::SharedCurve;
-use crate::surface::{Partials, Surface, VDomain};
-use crate::{Result, Vec3};
-
-/// A constant-coefficient operator `Σ_{k=0}^{N} c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Operator {
-    coefficients: Vec<f64>,
-}
-
-impl Operator {
-    /// `(∂²/∂u² + a² ∂²/∂v²)^N`, `N = 1…20`, `a > 0` (Eqs. 4.1, 4.10, 4.35).
-    pub fn polyharmonic(n: usize, a: f64) -> Result<Self> {
-        let _ = (n, a);
-        todo!("solver")
-    }
-    /// `a ∂u⁶ + b ∂u⁴∂v² + c ∂u²∂v⁴ + d ∂v⁶` (Eq. 4.54).
-    pub fn sixth_order(a: f64, b: f64, c: f64, d: f64) -> Result<Self> {
-        Self::general(vec![a, b, c, d])
-    }
-    /// `Σ c_k ∂u^{2N−2k} ∂v^{2k}` from `[c_0, …, c_N]`; must be elliptic.
-    pub fn general(coefficients: Vec<f64>) -> Result<Self> {
-        let _ = coefficients;
-        todo!("solver")
-    }
-    /// `N` (the operator has order `2N` and takes `2N` conditions).
-    pub fn half_order(&self) -> usize {
-        self.coefficients.len() - 1
-    }
-    /// `[c_0, …, c_N]`.
-    pub fn coefficients(&self) -> &[f64] {
-        &self.coefficients
-    }
-}
+use crate::fourier::FourierSeries;
+use crate::{Error, Result, Vec3};
+use basis::Basis;
+use nalgebra::DMatrix;
 
 /// `∂ᵈX/∂uᵈ (u, v) = curve(v)` for all `v`.
 #[derive(Clone, Debug)]
@@ -51,7 +36,7 @@ pub struct SolveOptions {
     /// Fourier modes `M` solved analytically.
     pub modes: usize,
     /// Add the spectral remainder (Eqs. 4.45–4.53) so curves that are not finite Fourier series
-    /// are met exactly.
+    /// with at most `modes` modes are met exactly.
     pub remainder: bool,
     /// Samples per curve for the Fourier analysis (0: automatic).
     pub samples: usize,
@@ -67,14 +52,18 @@ impl Default for SolveOptions {
     }
 }
 
+/// Largest number of Fourier modes accepted.
+pub const MAX_MODES: usize = 1024;
+
 /// What the solver reports about one Fourier mode's linear system.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModeReport {
     /// The mode `n` (0 is the spine; `modes + 1` is the remainder's mode).
     pub n: usize,
-    /// 2-norm condition number of the mode's condition matrix in the basis used.
+    /// 2-norm condition number of the mode's condition matrix (rows and columns equilibrated) in
+    /// the basis used.
     pub condition_number: f64,
-    /// The basis the mode was solved in.
+    /// The basis the mode was solved in: `"chebyshev"` or `"exponential layers"`.
     pub basis: &'static str,
 }
 
@@ -85,55 +74,358 @@ pub struct ConditionError {
     pub derivative: usize,
     /// `max_v |∂ᵈX(u,v) − g(v)|`.
     pub absolute: f64,
-    /// `absolute` divided by the design's size (the largest `|g(v)|` over all position conditions).
+    /// `absolute` divided by the design's size (the radius of the position curves about their
+    /// centroid) times `max(1, |g|/size)` for derivative curves, i.e. relative to the larger of
+    /// the design's size and the condition's own magnitude.
     pub relative: f64,
 }
 
-/// A solved Bloor–Wilson patch `X(u,v) = A₀(u) + Σ [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`.
-#[derive(Debug)]
-pub struct PdePatch {}
+/// A mode's solution: `2N` basis coefficients for each of `ncols` right-hand sides, plus
+/// precomputed Chebyshev series for the fast paths.
+#[derive(Clone, Debug)]
+pub(crate) struct ModeFn {
+    basis: Basis,
+    /// `coef[(k, c)]`: coefficient of basis function `k` in column `c`.
+    coef: DMatrix<f64>,
+    /// For the Chebyshev basis: the combined series of each column and its first two
+    /// x-derivatives, `series[d][c]`.
+    series: Option<[Vec<Vec<f64>>; 3]>,
+}
 
-/// Solves the PDE for the conditions (their count must be `2N`).
+impl ModeFn {
+    fn new(basis: Basis, coef: DMatrix<f64>) -> Self {
+        let series = match &basis {
+            Basis::Chebyshev { series } => {
+                let len = series.iter().map(Vec::len).max().unwrap_or(0);
+                let cols: Vec<Vec<f64>> = (0..coef.ncols())
+                    .map(|c| {
+                        let mut s = vec![0.0; len];
+                        for (k, sk) in series.iter().enumerate() {
+                            let w = coef[(k, c)];
+                            if w != 0.0 {
+                                for (a, b) in s.iter_mut().zip(sk) {
+                                    *a += w * b;
+                                }
+                            }
+                        }
+                        s
+                    })
+                    .collect();
+                let d1: Vec<Vec<f64>> = cols.iter().map(|s| basis::cheb_diff(s)).collect();
+                let d2: Vec<Vec<f64>> = d1.iter().map(|s| basis::cheb_diff(s)).collect();
+                Some([cols, d1, d2])
+            }
+            Basis::Layers(_) => None,
+        };
+        ModeFn {
+            basis,
+            coef,
+            series,
+        }
+    }
+
+    fn ncols(&self) -> usize {
+        self.coef.ncols()
+    }
+
+    /// `d`-th u-derivative of every column at `u` into `out[c]`.
+    fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+        if let (Some(series), true) = (&self.series, d <= 2) {
+            let x = 2.0 * u - 1.0;
+            let scale = 2f64.powi(d as i32);
+            for (o, s) in out.iter_mut().zip(&series[d]) {
+                *o = basis::clenshaw(s, x) * scale;
+            }
+            return;
+        }
+        let mut b = vec![0.0; self.basis.len()];
+        self.basis.eval(u, d, &mut b);
+        for (c, o) in out.iter_mut().enumerate().take(self.ncols()) {
+            *o = (0..b.len()).map(|k| b[k] * self.coef[(k, c)]).sum();
+        }
+    }
+}
+
+/// Solves `L X = 0` for the conditions (their count must be `2N`).
 pub fn solve(
     operator: &Operator,
     conditions: Vec<Condition>,
     options: &SolveOptions,
 ) -> Result<PdePatch> {
-    let _ = (operator, conditions, options);
-    todo!("solver")
+    let nn = operator.half_order();
+    check_conditions(nn, &conditions)?;
+    if options.modes > MAX_MODES {
+        return Err(Error::invalid(format!(
+            "at most {MAX_MODES} Fourier modes (got {})",
+            options.modes
+        ))
+        .at("modes"));
+    }
+    let m = options.modes;
+    let samples = if options.samples == 0 {
+        (8 * m).max(64).next_power_of_two()
+    } else {
+        options.samples
+    };
+    let series: Vec<FourierSeries> = conditions
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            FourierSeries::from_curve(&*c.curve, m, samples)
+                .map_err(|e| e.at(&format!("conditions[{i}].curve")))
+        })
+        .collect::<Result<_>>()?;
+    let at: Vec<(f64, usize)> = conditions.iter().map(|c| (c.u, c.derivative)).collect();
+
+    let mut modes = Vec::with_capacity(m + 1);
+    let mut reports = Vec::with_capacity(m + 2);
+    for n in 0..=m {
+        let mut rhs = DMatrix::<f64>::zeros(2 * nn, 6);
+        for (i, s) in series.iter().enumerate() {
+            let (c, sn) = if n == 0 {
+                (s.a0, Vec3::zeros())
+            } else {
+                (s.cos[n - 1], s.sin[n - 1])
+            };
+            for k in 0..3 {
+                rhs[(i, k)] = c[k];
+                rhs[(i, 3 + k)] = sn[k];
+            }
+        }
+        let (f, report) = solve_mode(operator, n, &at, rhs)?;
+        modes.push(f);
+        reports.push(report);
+    }
+
+    // The remainder (Eqs. 4.50–4.53) takes up Δ_i(v) = g_i(v) − ∂ᵈX̃(u_i, v): the Fourier tail of
+    // curves that are not finite series within M modes, and whatever the mode systems left at
+    // the conditions beyond rounding (high modes with intermediate conditions have solutions as
+    // large as e^{anu} between the conditions, so their values at the ends carry that much
+    // rounding). Conditions whose Δ is at rounding level stay out of it: multiplying rounding
+    // noise by a cardinal function of mode M + 1 (huge at an intermediate u for large a) would
+    // only add noise.
+    let fitted: Vec<FourierSeries> = conditions
+        .iter()
+        .map(|c| patch::fitted_series(&modes, c.u, c.derivative))
+        .collect();
+    let active: Vec<bool> = conditions
+        .iter()
+        .zip(series.iter().zip(&fitted))
+        .map(|(c, (s, f))| {
+            let exact = c.curve.fourier().is_some_and(|f| f.modes() <= m);
+            !exact || series_distance(s, f) > 1e-15 * series_size(s)
+        })
+        .collect();
+    let remainder = if options.remainder && active.iter().any(|&a| a) {
+        let (cardinal, report) =
+            solve_mode(operator, m + 1, &at, DMatrix::identity(2 * nn, 2 * nn))?;
+        reports.push(report);
+        Some(patch::Remainder {
+            cardinal,
+            fitted,
+            active,
+        })
+    } else {
+        None
+    };
+    Ok(PdePatch::new(
+        operator.clone(),
+        conditions,
+        modes,
+        remainder,
+        reports,
+    ))
 }
 
-impl PdePatch {
-    /// The spine `A₀(u)` (§5.3) and its derivatives: `spine(u, 0)` is the centre line.
-    pub fn spine(&self, u: f64, derivative: usize) -> Vec3 {
-        let _ = (u, derivative);
-        todo!("solver")
+/// `Σ |coefficient differences|` of two series with the same number of modes.
+fn series_distance(a: &FourierSeries, b: &FourierSeries) -> f64 {
+    (a.a0 - b.a0).norm()
+        + a.cos
+            .iter()
+            .zip(&b.cos)
+            .chain(a.sin.iter().zip(&b.sin))
+            .map(|(x, y)| (x - y).norm())
+            .sum::<f64>()
+}
+
+/// `Σ |coefficients|`, a bound on the series' values.
+fn series_size(a: &FourierSeries) -> f64 {
+    a.a0.norm() + a.cos.iter().chain(&a.sin).map(|x| x.norm()).sum::<f64>()
+}
+
+/// Count, range and uniqueness of the conditions.
+fn check_conditions(nn: usize, conditions: &[Condition]) -> Result<()> {
+    if conditions.len() != 2 * nn {
+        return Err(Error::not_unique(format!(
+            "an operator of order {} needs {} conditions, got {}",
+            2 * nn,
+            2 * nn,
+            conditions.len()
+        )));
     }
-    /// One report per mode system solved.
-    pub fn mode_reports(&self) -> &[ModeReport] {
-        todo!("solver")
+    for (i, c) in conditions.iter().enumerate() {
+        let place = format!("conditions[{i}]");
+        if !(c.u.is_finite() && (0.0..=1.0).contains(&c.u)) {
+            return Err(Error::invalid(format!("must lie in [0, 1] (got {})", c.u))
+                .at(&format!("{place}.u")));
+        }
+        if c.derivative >= 2 * nn {
+            return Err(Error::invalid(format!(
+                "derivative order {} is too high for an operator of order {} (at most {})",
+                c.derivative,
+                2 * nn,
+                2 * nn - 1
+            ))
+            .at(&format!("{place}.derivative")));
+        }
+        for (j, o) in conditions[..i].iter().enumerate() {
+            if o.u == c.u && o.derivative == c.derivative {
+                let what = if c.derivative == 0 {
+                    "the position".to_string()
+                } else {
+                    format!("derivative {}", c.derivative)
+                };
+                return Err(Error::not_unique(format!(
+                    "prescribes {what} at u = {} like conditions[{j}]",
+                    c.u
+                ))
+                .at(&place));
+            }
+        }
     }
-    /// The conditions this patch was solved for.
-    pub fn conditions(&self) -> &[Condition] {
-        todo!("solver")
+    Ok(())
+}
+
+/// Condition number above which a mode system counts as singular.
+const SINGULAR: f64 = 1e14;
+/// Condition number below which the layer basis is kept without trying the Chebyshev basis.
+const LAYERS_GOOD: f64 = 1e5;
+
+/// Solves one mode: picks the basis, builds the condition matrix `A[i][k] = ψ_k^{(d_i)}(u_i)`,
+/// equilibrates it and solves with partial pivoting plus one step of iterative refinement.
+fn solve_mode(
+    op: &Operator,
+    n: usize,
+    at: &[(f64, usize)],
+    rhs: DMatrix<f64>,
+) -> Result<(ModeFn, ModeReport)> {
+    let mut best: Option<(Basis, DMatrix<f64>, f64)> = None;
+    let mut candidates = Vec::new();
+    if n > 0 {
+        candidates.push(Basis::layers(op, n));
     }
-    /// The operator.
-    pub fn operator(&self) -> &Operator {
-        todo!("solver")
+    for attempt in 0..2 {
+        if attempt == 1 {
+            if best.as_ref().is_some_and(|b| b.2 <= LAYERS_GOOD) {
+                break;
+            }
+            if let Some(c) = Basis::chebyshev(op, n) {
+                candidates.push(c);
+            }
+        }
+        while let Some(basis) = candidates.pop() {
+            let a = condition_matrix(&basis, at);
+            let cond = condition_number(&a);
+            if best.as_ref().is_none_or(|b| cond < b.2) {
+                best = Some((basis, a, cond));
+            }
+        }
     }
-    /// Condition errors on `samples` equally spaced `v`.
-    pub fn condition_errors(&self, samples: usize) -> Vec<ConditionError> {
-        let _ = samples;
-        todo!("solver")
+    let (basis, a, cond) =
+        best.ok_or_else(|| Error::not_unique(format!("Fourier mode {n} has no usable basis")))?;
+    if !(cond <= SINGULAR) {
+        let which = if n == 0 {
+            "the spine (mode 0)".to_string()
+        } else {
+            format!("Fourier mode {n}")
+        };
+        return Err(Error::not_unique(format!(
+            "the system for {which} is singular (condition number {cond:.1e}); check that the conditions fix the surface, e.g. at least one position curve"
+        )));
+    }
+    let coef = solve_equilibrated(&a, &rhs)
+        .ok_or_else(|| Error::not_unique(format!("the system for Fourier mode {n} is singular")))?;
+    let report = ModeReport {
+        n,
+        condition_number: cond,
+        basis: basis.kind().name(),
+    };
+    Ok((ModeFn::new(basis, coef), report))
+}
+
+fn condition_matrix(basis: &Basis, at: &[(f64, usize)]) -> DMatrix<f64> {
+    let k = basis.len();
+    let mut a = DMatrix::<f64>::zeros(at.len(), k);
+    let mut row = vec![0.0; k];
+    for (i, &(u, d)) in at.iter().enumerate() {
+        basis.eval(u, d, &mut row);
+        for j in 0..k {
+            a[(i, j)] = row[j];
+        }
+    }
+    a
+}
+
+/// Row and column scalings that make every row and column of `a` peak at 1.
+fn equilibrate(a: &DMatrix<f64>) -> (Vec<f64>, Vec<f64>) {
+    let r: Vec<f64> = (0..a.nrows())
+        .map(|i| {
+            let m = a.row(i).amax();
+            if m > 0.0 && m.is_finite() {
+                1.0 / m
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let c: Vec<f64> = (0..a.ncols())
+        .map(|j| {
+            let m = (0..a.nrows())
+                .map(|i| (a[(i, j)] * r[i]).abs())
+                .fold(0.0, f64::max);
+            if m > 0.0 && m.is_finite() {
+                1.0 / m
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    (r, c)
+}
+
+fn scaled(a: &DMatrix<f64>, r: &[f64], c: &[f64]) -> DMatrix<f64> {
+    DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] * r[i] * c[j])
+}
+
+fn condition_number(a: &DMatrix<f64>) -> f64 {
+    if a.iter().any(|x| !x.is_finite()) {
+        return f64::INFINITY;
+    }
+    let (r, c) = equilibrate(a);
+    let s = scaled(a, &r, &c).singular_values();
+    let max = s.max();
+    let min = s.min();
+    if min > 0.0 {
+        max / min
+    } else {
+        f64::INFINITY
     }
 }
 
-impl Surface for PdePatch {
-    fn v_domain(&self) -> VDomain {
-        VDomain::Periodic
+fn solve_equilibrated(a: &DMatrix<f64>, b: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let (r, c) = equilibrate(a);
+    let lu = scaled(a, &r, &c).lu();
+    let rb = DMatrix::from_fn(b.nrows(), b.ncols(), |i, j| b[(i, j)] * r[i]);
+    let mut y = lu.solve(&rb)?;
+    // One step of iterative refinement on the scaled system.
+    let sa = scaled(a, &r, &c);
+    let resid = &rb - &sa * &y;
+    if let Some(dy) = lu.solve(&resid) {
+        y += dy;
     }
-    fn partials(&self, u: f64, v: f64) -> Partials {
-        let _ = (u, v);
-        todo!("solver")
-    }
+    let x = DMatrix::from_fn(y.nrows(), y.ncols(), |i, j| y[(i, j)] * c[i]);
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
+
+#[cfg(test)]
+mod tests;

@@ -752,3 +752,28 @@ pub fn write_csv(samples: &[Samples], w: &mut dyn Write) -> Result<()> {
     }
     out.finish()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_and_float_text() {
+        let mut dest = Vec::new();
+        let mut out = Sink::new(&mut dest, "test");
+        for x in [0, 7, 10, 99, 100, 4_294_967_295, u64::MAX] {
+            out.uint_text(x);
+            out.bytes(b" ");
+        }
+        out.f32_text(0.1);
+        out.bytes(b" ");
+        out.f32_text(-0.0);
+        out.bytes(b" ");
+        out.f64_text(0.1 + 0.2);
+        out.finish().unwrap();
+        assert_eq!(
+            String::from_utf8(dest).unwrap(),
+            "0 7 10 99 100 4294967295 18446744073709551615 0.1 -0.0 0.30000000000000004"
+        );
+    }
+}

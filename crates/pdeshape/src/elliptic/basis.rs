@@ -1,0 +1,365 @@
+//! Bounded bases for the solution space `V_n` of one Fourier mode's equation, and the mode
+//! functions built from them.
+//!
+//! Two bases cover every regime:
+//! - **Layers** (`n·|s|` large compared with `N`): for each characteristic root `s` (multiplicity
+//!   `m`, `Re s = α > 0`) the functions `e^{−n s t} L_k(2nα t)`, `k < m`, with `t = u` (decaying
+//!   away from `u = 0`) and `t = 1 − u` (decaying away from `u = 1`); `L_k` are Laguerre
+//!   polynomials, so the functions are bounded by 1 on `[0, 1]` and close to orthonormal. This is
+//!   the book's `u^k e^{±anu}` (Eqs. 4.13, 4.38) in a basis that never overflows: the book's
+//!   `e^{anu}` reaches `e^{96}` for `a = 8, n = 12`.
+//! - **Chebyshev** (`n·|s|` small or moderate, and always for the spine `n = 0`): `ψ_k = T_k(x) +
+//!   tail_k(x)`, `x = 2u − 1`, `k < 2N`, where the tail (Chebyshev coefficients `≥ 2N`) is fixed by
+//!   the mode equation integrated `2N` times. As `n → 0` the `ψ_k` become the Chebyshev
+//!   polynomials themselves, so the basis stays as well conditioned as polynomial interpolation
+//!   allows; exponential bases lose every digit there (they become nearly dependent).
+//!
+//! Both represent members of `V_n` exactly up to rounding (the Chebyshev tail is continued until
+//! its coefficients fall below the unit roundoff).
+
+use super::operator::{Operator, RootGroup};
+use nalgebra::{Complex, DMatrix};
+
+/// Which basis a mode is represented in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BasisKind {
+    Chebyshev,
+    Layers,
+}
+
+impl BasisKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            BasisKind::Chebyshev => "chebyshev",
+            BasisKind::Layers => "exponential layers",
+        }
+    }
+}
+
+/// The `2N` basis functions of `V_n` in one of the two representations.
+#[derive(Clone, Debug)]
+pub(crate) enum Basis {
+    /// Chebyshev coefficients (in `x = 2u − 1`) of each basis function: `series[k][m]`.
+    Chebyshev { series: Vec<Vec<f64>> },
+    /// Layer functions.
+    Layers(LayerBasis),
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct LayerBasis {
+    n: f64,
+    groups: Vec<RootGroup>,
+    /// (group, side (false: t = u, true: t = 1 − u), Laguerre index k, imaginary part?)
+    funcs: Vec<(usize, bool, usize, bool)>,
+}
+
+impl Basis {
+    pub fn kind(&self) -> BasisKind {
+        match self {
+            Basis::Chebyshev { .. } => BasisKind::Chebyshev,
+            Basis::Layers(_) => BasisKind::Layers,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        match self {
+            Basis::Chebyshev { series } => series.len(),
+            Basis::Layers(l) => l.funcs.len(),
+        }
+    }
+
+    /// The layer basis of mode `n ≥ 1`.
+    pub fn layers(op: &Operator, n: usize) -> Basis {
+        let mut funcs = Vec::new();
+        for (g, group) in op.roots().iter().enumerate() {
+            for side in [false, true] {
+                for k in 0..group.multiplicity {
+                    funcs.push((g, side, k, false));
+                    if group.is_complex() {
+                        funcs.push((g, side, k, true));
+                    }
+                }
+            }
+        }
+        Basis::Layers(LayerBasis {
+            n: n as f64,
+            groups: op.roots().to_vec(),
+            funcs,
+        })
+    }
+
+    /// The Chebyshev basis of mode `n` (exactly `T_0 … T_{2N−1}` for `n = 0`). `None` if the
+    /// tail does not decay within the largest truncation we allow (modes far in the layer
+    /// regime).
+    pub fn chebyshev(op: &Operator, n: usize) -> Option<Basis> {
+        let two_n = 2 * op.half_order();
+        if n == 0 {
+            let series = (0..two_n)
+                .map(|k| {
+                    let mut c = vec![0.0; two_n];
+                    c[k] = 1.0;
+                    c
+                })
+                .collect();
+            return Some(Basis::Chebyshev { series });
+        }
+        let gammas = op.mode_gammas_x(n);
+        // Growth rate in x is n|s|/2; Chebyshev coefficients of e^{zx} decay like I_k(z).
+        let z = n as f64 * op.root_scale() / 2.0;
+        let mut m = two_n + (z + 8.0 * z.sqrt()).ceil() as usize + 24 + 2 * two_n;
+        while m <= MAX_CHEBYSHEV {
+            if let Some(series) = chebyshev_tail(&gammas, two_n, m) {
+                return Some(Basis::Chebyshev { series });
+            }
+            m = m * 3 / 2;
+        }
+        None
+    }
+
+    /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
+    pub fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+        match self {
+            Basis::Chebyshev { series } => {
+                for (k, s) in series.iter().enumerate() {
+                    out[k] = cheb_derivative_at(s, 2.0 * u - 1.0, d) * 2f64.powi(d as i32);
+                }
+            }
+            Basis::Layers(l) => l.eval(u, d, out),
+        }
+    }
+}
+
+/// Largest Chebyshev truncation tried.
+const MAX_CHEBYSHEV: usize = 640;
+
+/// Chebyshev integration `J` (zero constant), truncated to the length of `a`.
+fn integrate(a: &[f64], out: &mut [f64]) {
+    let m = a.len();
+    out[0] = 0.0;
+    if m > 1 {
+        out[1] = a[0] - if m > 2 { a[2] / 2.0 } else { 0.0 };
+    }
+    for k in 2..m {
+        let next = if k + 1 < m { a[k + 1] } else { 0.0 };
+        out[k] = (a[k - 1] - next) / (2.0 * k as f64);
+    }
+}
+
+/// Tails of `ψ_k = T_k + Σ_{j ≥ 2N} t_{kj} T_j`: the mode equation `f^{(2N)} + Σ γ_j f^{(2N−2j)} =
+/// 0` integrated `2N` times reads `f + Σ γ_j J^{2j} f = p` with `p` of degree `< 2N`, so the
+/// Chebyshev coefficients `≥ 2N` of `f + Σ γ_j J^{2j} f` vanish. Those rows form a square system
+/// for the tail given the head. Returns `None` if the last coefficients have not decayed to
+/// rounding level (the truncation `m` is too short).
+fn chebyshev_tail(gammas: &[f64], two_n: usize, m: usize) -> Option<Vec<Vec<f64>>> {
+    let len = m + 1;
+    let tail = len - two_n;
+    // Columns of B = I + Σ γ_j J^{2j}, rows ≥ 2N.
+    let mut b = DMatrix::<f64>::zeros(tail, len);
+    let mut v = vec![0.0; len];
+    let mut w = vec![0.0; len];
+    for c in 0..len {
+        v.iter_mut().for_each(|x| *x = 0.0);
+        v[c] = 1.0;
+        let mut acc = v.clone();
+        for &g in gammas {
+            integrate(&v, &mut w);
+            integrate(&w, &mut v);
+            for (a, x) in acc.iter_mut().zip(&v) {
+                *a += g * x;
+            }
+        }
+        for r in 0..tail {
+            b[(r, c)] = acc[two_n + r];
+        }
+    }
+    let btt = b.columns(two_n, tail).into_owned();
+    let rhs = -b.columns(0, two_n).into_owned();
+    let lu = btt.lu();
+    let sol = lu.solve(&rhs)?;
+    let mut series = Vec::with_capacity(two_n);
+    for k in 0..two_n {
+        let mut s = vec![0.0; len];
+        s[k] = 1.0;
+        for r in 0..tail {
+            s[two_n + r] = sol[(r, k)];
+        }
+        if s.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        // The highest derivative a condition may ask for is 2N − 1, and T_j^{(d)}(±1) grows like
+        // j^{2d}: the truncated coefficients must be negligible even after that growth.
+        let weight = |j: usize| {
+            (0..two_n - 1).fold(1.0f64, |w, i| {
+                w * (((j * j) as f64 - (i * i) as f64) / (2 * i + 1) as f64).max(1.0)
+            })
+        };
+        let size = s
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |a, (j, x)| a.max(x.abs() * weight(j)));
+        let last = (len - 3..len).map(|j| s[j].abs() * weight(j)).sum::<f64>();
+        if last > 1e-17 * size {
+            return None;
+        }
+        let mut end = len;
+        while end > two_n && s[end - 1] == 0.0 {
+            end -= 1;
+        }
+        s.truncate(end);
+        series.push(s);
+    }
+    Some(series)
+}
+
+/// Chebyshev coefficients of the derivative of `Σ a_m T_m`.
+pub(crate) fn cheb_diff(a: &[f64]) -> Vec<f64> {
+    let m = a.len();
+    if m <= 1 {
+        return vec![0.0];
+    }
+    let mut b = vec![0.0; m + 1];
+    for k in (1..m).rev() {
+        b[k - 1] = b[k + 1] + 2.0 * k as f64 * a[k];
+    }
+    b[0] /= 2.0;
+    b.truncate(m - 1);
+    b
+}
+
+/// `Σ a_m T_m(x)` by Clenshaw's recurrence.
+pub(crate) fn clenshaw(a: &[f64], x: f64) -> f64 {
+    let (mut b1, mut b2) = (0.0, 0.0);
+    for &c in a.iter().skip(1).rev() {
+        let b0 = 2.0 * x * b1 - b2 + c;
+        b2 = b1;
+        b1 = b0;
+    }
+    x * b1 - b2 + a.first().copied().unwrap_or(0.0)
+}
+
+/// `d`-th x-derivative of `Σ a_m T_m` at `x`.
+fn cheb_derivative_at(a: &[f64], x: f64, d: usize) -> f64 {
+    if d == 0 {
+        return clenshaw(a, x);
+    }
+    let mut s = cheb_diff(a);
+    for _ in 1..d {
+        s = cheb_diff(&s);
+    }
+    clenshaw(&s, x)
+}
+
+impl LayerBasis {
+    /// `d`-th u-derivatives of every layer function at `u`.
+    fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+        let mut lag = [0.0f64; 24];
+        let mut coef = [Complex::new(0.0, 0.0); 24];
+        for (slot, &(g, side, k, imag)) in self.funcs.iter().enumerate() {
+            let group = &self.groups[g];
+            let m = group.multiplicity;
+            let t = if side { 1.0 - u } else { u };
+            let lambda = group.s * self.n;
+            let alpha2 = 2.0 * lambda.re;
+            let x = alpha2 * t;
+            laguerre(x, &mut lag[..m]);
+            // Laguerre coefficients of the d-th t-derivative of e^{−λt} L_k(x), divided by e^{−λt}.
+            for (j, c) in coef[..m].iter_mut().enumerate() {
+                *c = Complex::new(if j == k { 1.0 } else { 0.0 }, 0.0);
+            }
+            for _ in 0..d {
+                // q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j, with α, β the parts of λ.
+                let mut suffix = Complex::new(0.0, 0.0);
+                for j in (0..=k).rev() {
+                    let p = coef[j];
+                    coef[j] = (-suffix - p * 0.5) * alpha2 - Complex::new(0.0, lambda.im) * p;
+                    suffix += p;
+                }
+            }
+            let sum: Complex<f64> = (0..=k).map(|j| coef[j] * lag[j]).sum();
+            let value = (-lambda * t).exp() * sum;
+            let sign = if side && d % 2 == 1 { -1.0 } else { 1.0 };
+            out[slot] = sign * if imag { value.im } else { value.re };
+        }
+    }
+}
+
+/// Laguerre polynomials `L_0(x) … L_{m−1}(x)`.
+fn laguerre(x: f64, out: &mut [f64]) {
+    if out.is_empty() {
+        return;
+    }
+    out[0] = 1.0;
+    if out.len() > 1 {
+        out[1] = 1.0 - x;
+    }
+    for j in 1..out.len().saturating_sub(1) {
+        out[j + 1] = ((2 * j + 1) as f64 - x) / (j + 1) as f64 * out[j]
+            - j as f64 / (j + 1) as f64 * out[j - 1];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Residual of the mode equation `Σ_k c_k (−n²)^k f^{(2N−2k)}(u)` for basis function `k`,
+    /// relative to the size of its terms.
+    fn mode_residual(op: &Operator, basis: &Basis, n: usize, u: f64, k: usize) -> f64 {
+        let nn = op.half_order();
+        let mut vals = vec![0.0; basis.len()];
+        let (mut sum, mut size) = (0.0, 0.0);
+        for (j, &c) in op.coefficients().iter().enumerate() {
+            basis.eval(u, 2 * nn - 2 * j, &mut vals);
+            let term = c * (-((n * n) as f64)).powi(j as i32) * vals[k];
+            sum += term;
+            size += term.abs();
+        }
+        sum.abs() / size.max(1e-300)
+    }
+
+    #[test]
+    fn both_bases_solve_the_mode_equation() {
+        for (op, n) in [
+            (Operator::polyharmonic(2, 1.0).unwrap(), 3),
+            (Operator::polyharmonic(3, 0.5).unwrap(), 1),
+            (Operator::polyharmonic(5, 0.1).unwrap(), 2),
+            (Operator::sixth_order(1.0, 2.0, 2.0, 1.0).unwrap(), 4),
+        ] {
+            for basis in [Basis::layers(&op, n), Basis::chebyshev(&op, n).unwrap()] {
+                assert_eq!(basis.len(), 2 * op.half_order());
+                for k in 0..basis.len() {
+                    for &u in &[0.0, 0.23, 0.5, 0.91, 1.0] {
+                        let r = mode_residual(&op, &basis, n, u, k);
+                        assert!(
+                            r < 1e-10,
+                            "{:?} n={n} k={k} u={u}: residual {r:e}",
+                            basis.kind()
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn layer_functions_are_bounded_by_one() {
+        let op = Operator::polyharmonic(4, 8.0).unwrap();
+        let basis = Basis::layers(&op, 12);
+        let mut v = vec![0.0; 8];
+        for i in 0..=200 {
+            basis.eval(i as f64 / 200.0, 0, &mut v);
+            assert!(v.iter().all(|x| x.abs() <= 1.0 + 1e-15));
+        }
+    }
+
+    #[test]
+    fn chebyshev_derivative_matches_closed_form() {
+        // T_3 = 4x³ − 3x: derivative 12x² − 3 = 6 T_2 + 3 T_0.
+        assert_eq!(cheb_diff(&[0.0, 0.0, 0.0, 1.0]), vec![3.0, 0.0, 6.0]);
+        let x: f64 = 0.3;
+        assert!(
+            (clenshaw(&[1.0, 2.0, 3.0], x) - (1.0 + 2.0 * x + 3.0 * (2.0 * x * x - 1.0))).abs()
+                < 1e-15
+        );
+    }
+}
