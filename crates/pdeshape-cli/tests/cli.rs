@@ -408,7 +408,6 @@ fn good_surface(ext: &str) -> Vec<u8> {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn surface_writes_every_format() {
     for ext in ["obj", "stl", "ply", "glb"] {
         let bytes = good_surface(ext);
@@ -429,7 +428,6 @@ fn surface_writes_every_format() {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn grid_flags_override_the_design() {
     let dir = tempfile::tempdir().unwrap();
     let d = write(dir.path(), "d.toml", GOOD);
@@ -448,7 +446,6 @@ fn grid_flags_override_the_design() {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn timings_are_one_json_line() {
     let dir = tempfile::tempdir().unwrap();
     let d = write(dir.path(), "d.toml", GOOD);
@@ -473,7 +470,6 @@ fn timings_are_one_json_line() {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn render_writes_a_png() {
     let dir = tempfile::tempdir().unwrap();
     let d = write(dir.path(), "d.toml", GOOD);
@@ -506,7 +502,6 @@ fn examples_dir() -> PathBuf {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn check_passes_on_every_example() {
     let mut seen = 0;
     for entry in std::fs::read_dir(examples_dir()).unwrap() {
@@ -532,7 +527,6 @@ fn check_passes_on_every_example() {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn check_reports_shared_edges_of_the_cup() {
     let out = pdeshape(&["check", s(&examples_dir().join("cup.toml"))]);
     assert_eq!(
@@ -613,7 +607,6 @@ fn csv_rows(design: &Path, nu: usize, nv: usize) -> Vec<Vec<f64>> {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn laplace_example_matches_the_closed_form() {
     // §4.2: r(u) = b cosh u + (a_c − b cosh 1) sinh u / sinh 1, z = h u, with b = 2, a_c = 1,
     // h = 1 (the corrected Eq. 4.4).
@@ -633,7 +626,6 @@ fn laplace_example_matches_the_closed_form() {
 }
 
 #[test]
-#[ignore = "needs the PDE solver (elliptic::solve)"]
 fn maple_example_meets_its_intermediate_positions() {
     // u = 0, 0.2, …, 1: rows at u = 0.2 and 0.8 lie on the intermediate circles; the spine is the
     // cubic through (0, 0), (0.2, 0.5), (0.8, 0.8), (1, 1) (mode 0 of the biharmonic equation).
