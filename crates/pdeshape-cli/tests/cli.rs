@@ -663,3 +663,32 @@ fn maple_example_meets_its_intermediate_positions() {
         }
     }
 }
+
+#[test]
+fn multi_patch_csv_has_a_patch_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = dir.path().join("cup.csv");
+    let cup = examples_dir().join("cup.toml");
+    let out = pdeshape(&["surface", s(&cup), "-o", s(&o), "--nu", "4", "--nv", "5"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&o).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "u,v,x,y,z,nx,ny,nz,patch");
+    assert_eq!(lines.len(), 1 + 2 * 4 * 5);
+    assert!(lines[1].ends_with(",0") && lines[40].ends_with(",1"));
+}
+
+#[test]
+fn conditions_that_do_not_determine_a_surface() {
+    // Laplace with two derivative conditions: the constant of mode 0 is free.
+    let text = "conditions = [ { u = 0.0, derivative = 1, curve = \"c\" }, \
+                { u = 1.0, derivative = 1, curve = \"c\" } ]\n\
+                [operator]\nkind = \"polyharmonic\"\norder = 1\n\
+                [curves.c]\ntype = \"circle\"\ncenter = [0, 0, 1]\nradius = 1\n";
+    bad_design(text, &["conditions", "unique"]);
+}
