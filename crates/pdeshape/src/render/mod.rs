@@ -7,7 +7,8 @@
 //! interpolation of the vertex normals) with a key light from the upper left, a weaker fill light
 //! from the right, a sky/ground ambient term and a small specular highlight. The side the normals
 //! point to is drawn in a cool grey-blue, the other side in a warm tan, so the inside of a cup reads
-//! at once. Every picture is rendered with 2 × 2 supersampling in linear light and averaged down.
+//! at once. Silhouettes and depth steps get a thin dark outline. Every picture is rendered with
+//! 2 × 2 supersampling in linear light and averaged down.
 //! Polylines are drawn over the surface with analytic coverage; where the surface hides them they
 //! are still drawn, faded and dashed.
 
@@ -281,8 +282,7 @@ impl Camera {
                 return Err(Error::invalid(format!(
                     "the scene spans from ({}, {}, {}) to ({}, {}, {}), too far to draw",
                     lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
-                ))
-                .at("meshes"));
+                )));
             }
             // A single point still gets a view around it.
             let r = if r > 0.0 { r } else { c.norm().max(1.0) * 1e-3 };
@@ -387,6 +387,12 @@ impl Camera {
     /// (1 % of the scene radius) still counts as in front.
     pub(crate) fn line_bias(&self) -> f32 {
         (0.01 * self.radius / self.dist) as f32
+    }
+
+    /// Depth step between neighbouring samples (3 % of the scene radius, in units of `w / d`)
+    /// beyond which the nearer sample is drawn as part of an outline.
+    pub(crate) fn edge_threshold(&self) -> f32 {
+        (0.03 * self.radius / self.dist) as f32
     }
 }
 

@@ -20,6 +20,9 @@ const BACK: [u8; 3] = [226, 182, 134];
 const SKY: [u8; 3] = [251, 252, 253];
 const FLOOR: [u8; 3] = [206, 213, 224];
 
+/// Brightness factor of outline samples (silhouettes and depth steps).
+const OUTLINE: f32 = 0.35;
+
 /// Dashes of hidden lines, in output pixels.
 const DASH_PERIOD: f32 = 10.0;
 const DASH_ON: f32 = 6.0;
@@ -210,7 +213,10 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
     let nbands = oh.div_ceil(BAND);
     let mut bins: Vec<Vec<u32>> = vec![Vec::new(); nbands];
     for (k, t) in tris.iter().enumerate() {
-        for bin in &mut bins[t.y0 as usize / band_samples..=t.y1 as usize / band_samples] {
+        // A band also rasterises one sample row above and below it (for outlines).
+        let first = (t.y0 as usize).saturating_sub(1) / band_samples;
+        let last = ((t.y1 as usize + 1) / band_samples).min(nbands - 1);
+        for bin in &mut bins[first..=last] {
             bin.push(k as u32);
         }
     }
@@ -221,16 +227,18 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
     let sky = linear3(SKY);
     let floor = linear3(FLOOR);
     let bias = camera.line_bias();
+    let edge = camera.edge_threshold();
 
     let mut out = vec![0u8; 3 * ow * oh];
     out.par_chunks_mut(3 * ow * BAND).enumerate().for_each_init(
-        || Scratch::new(sw * band_samples),
+        || Scratch::new(sw * (band_samples + 2)),
         |scratch, (band, chunk)| {
             let rows = chunk.len() / (3 * ow) * ss;
             let y0 = band * band_samples;
-            scratch.clear(sw * rows);
+            scratch.clear(sw * (rows + 2));
+            let (lo, hi) = (y0.saturating_sub(1), (y0 + rows + 1).min(sh));
             for &k in &bins[band] {
-                fill(&tris[k as usize], &verts, scratch, y0, rows, sw);
+                fill(&tris[k as usize], &verts, scratch, y0, lo, hi, sw);
             }
             // Shading and background.
             for r in 0..rows {
@@ -240,9 +248,27 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                     sky[1] + (floor[1] - sky[1]) * t,
                     sky[2] + (floor[2] - sky[2]) * t,
                 ];
-                for i in r * sw..(r + 1) * sw {
-                    scratch.color[i] = if scratch.depth[i] > 0.0 {
-                        lights.shade(scratch.normal[i], scratch.back[i])
+                let y = y0 + r;
+                let row = (r + 1) * sw;
+                for x in 0..sw {
+                    let i = row + x;
+                    let d = scratch.depth[i];
+                    scratch.color[i] = if d > 0.0 {
+                        let c = lights.shade(scratch.normal[i], scratch.back[i]);
+                        // Outline: a neighbour sample shows the background or a surface
+                        // much farther away.
+                        // 1/e > 1/d + edge, for depths e ≥ 0 (0 being the background).
+                        let limit = d / (1.0 + edge * d);
+                        let far = |j: usize| scratch.depth[j] < limit;
+                        let outline = (x > 0 && far(i - 1))
+                            || (x + 1 < sw && far(i + 1))
+                            || (y > 0 && far(i - sw))
+                            || (y + 1 < sh && far(i + sw));
+                        if outline {
+                            c.map(|v| v * OUTLINE)
+                        } else {
+                            c
+                        }
                     } else {
                         bg
                     };
@@ -257,7 +283,7 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                 for (c, px) in row.chunks_mut(3).enumerate() {
                     let mut acc = [0.0f32; 3];
                     for dy in 0..ss {
-                        let base = (r * ss + dy) * sw + c * ss;
+                        let base = (r * ss + dy + 1) * sw + c * ss;
                         for s in &scratch.color[base..base + ss] {
                             acc[0] += s[0];
                             acc[1] += s[1];
@@ -358,10 +384,12 @@ fn setup(
     })
 }
 
-/// Fills one triangle into the band of sample rows `[y0, y0 + rows)`.
-fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, y0: usize, rows: usize, sw: usize) {
-    let ylo = (t.y0 as usize).max(y0);
-    let yhi = (t.y1 as usize).min(y0 + rows - 1);
+/// Fills one triangle into the sample rows `[lo, hi)` of the band starting at row `y0` (row `y`
+/// of the picture is row `y + 1 − y0` of the band's buffers).
+#[allow(clippy::too_many_arguments)]
+fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, y0: usize, lo: usize, hi: usize, sw: usize) {
+    let ylo = (t.y0 as usize).max(lo);
+    let yhi = (t.y1 as usize).min(hi - 1);
     if ylo > yhi {
         return;
     }
@@ -378,7 +406,7 @@ fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, y0: usize, rows: usize, sw: us
         let d0 = -(c.y - b.y) * SUB;
         let d1 = -(a.y - c.y) * SUB;
         let d2 = -(b.y - a.y) * SUB;
-        let row = (y - y0) * sw;
+        let row = (y + 1 - y0) * sw;
         for x in t.x0 as usize..=t.x1 as usize {
             if e0 >= 0 && e1 >= 0 && e2 >= 0 {
                 let (wa, wb, wc) = (e0 as f32 * inv, e1 as f32 * inv, e2 as f32 * inv);
@@ -482,7 +510,7 @@ fn draw_line(
         let len2 = dx * dx + dy * dy;
         for y in ylo..=yhi {
             let cy = y as f32 + 0.5;
-            let row = (y - y0) * sw;
+            let row = (y + 1 - y0) * sw;
             for x in xlo..=xhi {
                 let cx = x as f32 + 0.5;
                 let t = if len2 > 0.0 {
@@ -521,7 +549,7 @@ fn draw_line(
         return;
     }
     for y in by0..=by1 {
-        let row = (y - y0) * sw;
+        let row = (y + 1 - y0) * sw;
         for i in row + bx0..=row + bx1 {
             let a = s.cover[i];
             if a > 0.0 {

@@ -389,7 +389,23 @@ fn empty_scenes() {
     for p in &mut flat.positions {
         *p = [0.5, 0.5, 0.5];
     }
-    render(&[flat, empty], &[], &opts);
+    let q = render(&[flat, empty], &[], &opts);
+    assert_eq!(q.rgb, p.rgb);
+    // Missing normals (zero or NaN): the facet normals shade instead.
+    let mut facets = sphere(24, 32);
+    for (k, n) in facets.normals.iter_mut().enumerate() {
+        *n = if k % 2 == 0 { [0.0; 3] } else { [f32::NAN; 3] };
+    }
+    let q = render(&[facets], &[], &opts);
+    let mask = object_mask(&q, &opts);
+    let lumas: Vec<f64> = (0..q.w * q.h)
+        .filter(|&i| mask[i])
+        .map(|i| luma(q.px(i % q.w, i / q.w)))
+        .collect();
+    assert!(lumas.len() > q.w * q.h / 4);
+    let max = lumas.iter().cloned().fold(0.0, f64::max);
+    let min = lumas.iter().cloned().fold(255.0, f64::min);
+    assert!(max - min > 60.0, "{min}..{max}");
     // Tiny pictures.
     for (w, h) in [(1, 1), (1, 7), (5, 1)] {
         let opts = RenderOptions {
@@ -510,20 +526,86 @@ fn timing_and_example_picture() {
     let opts = RenderOptions::default();
     let meshes = [mesh, cupm];
     render_png(&meshes, &overlays, &opts).unwrap();
-    let t = std::time::Instant::now();
     let n = 5;
+    let t = std::time::Instant::now();
+    let mut rgb = Vec::new();
+    for _ in 0..n {
+        rgb = render_rgb(&meshes[..1], &[], &opts).unwrap();
+    }
+    let raster = t.elapsed().as_secs_f64() * 1e3 / n as f64;
+    let t = std::time::Instant::now();
     let mut bytes = Vec::new();
     for _ in 0..n {
-        bytes = render_png(&meshes[..1], &[], &opts).unwrap();
+        bytes = encode_png(opts.width, opts.height, &rgb).unwrap();
     }
-    eprintln!(
-        "256 × 512 torus at 800 × 600: {:.1} ms per picture",
-        t.elapsed().as_secs_f64() * 1e3 / n as f64
-    );
+    let encode = t.elapsed().as_secs_f64() * 1e3 / n as f64;
+    eprintln!("256 × 512 torus at 800 × 600: {raster:.1} ms drawing + {encode:.1} ms PNG encoding");
     let dir = std::env::temp_dir();
     std::fs::write(dir.join("pdeshape-torus.png"), &bytes).unwrap();
     let bytes = render_png(&meshes, &overlays, &opts).unwrap();
     std::fs::write(dir.join("pdeshape-scene.png"), &bytes).unwrap();
+    // A 3× enlargement of the middle, to look at edges.
+    let rgb = render_rgb(&meshes, &overlays, &opts).unwrap();
+    let (cw, ch) = (240usize, 180usize);
+    let mut crop = Vec::with_capacity(9 * cw * ch * 3);
+    for y in 0..3 * ch {
+        for x in 0..3 * cw {
+            let i = 3 * ((200 + y / 3) * 800 + 280 + x / 3);
+            crop.extend_from_slice(&rgb[i..i + 3]);
+        }
+    }
+    let bytes = encode_png(3 * cw as u32, 3 * ch as u32, &crop).unwrap();
+    std::fs::write(dir.join("pdeshape-crop.png"), &bytes).unwrap();
     let bytes = render_png(&[cup(48, 96)], &overlays[..1], &opts).unwrap();
     std::fs::write(dir.join("pdeshape-cup.png"), &bytes).unwrap();
+}
+
+/// The picture is not mirrored: seen from +z with +y up, +x points right; seen from −y with +z
+/// up, +x points right too.
+#[test]
+fn axes_are_not_mirrored() {
+    let axis = |d: Vec3, color: [u8; 3]| Polyline {
+        points: vec![Vec3::zeros(), d],
+        color,
+        width: 4.0,
+        closed: false,
+    };
+    let centroid = |p: &Picture, color: [u8; 3]| {
+        let (mut sx, mut sy, mut n) = (0.0, 0.0, 0.0);
+        for y in 0..p.h {
+            for x in 0..p.w {
+                if p.px(x, y) == color {
+                    sx += x as f64;
+                    sy += y as f64;
+                    n += 1.0;
+                }
+            }
+        }
+        assert!(n > 10.0);
+        (sx / n, sy / n)
+    };
+    let lines = [
+        axis(Vec3::x(), [255, 0, 0]),
+        axis(Vec3::y(), [0, 0, 255]),
+        axis(Vec3::z(), [0, 255, 0]),
+    ];
+    let opts = RenderOptions {
+        width: 200,
+        height: 200,
+        view: Some(Vec3::z()),
+        up: Vec3::y(),
+    };
+    let p = render(&[], &lines, &opts);
+    let (red, blue) = (centroid(&p, [255, 0, 0]), centroid(&p, [0, 0, 255]));
+    assert!(red.0 > blue.0 + 40.0, "{red:?} {blue:?}");
+    assert!(blue.1 + 40.0 < red.1, "{red:?} {blue:?}");
+    let opts = RenderOptions {
+        view: Some(-Vec3::y()),
+        up: Vec3::z(),
+        ..opts
+    };
+    let p = render(&[], &lines, &opts);
+    let (red, green) = (centroid(&p, [255, 0, 0]), centroid(&p, [0, 255, 0]));
+    assert!(red.0 > green.0 + 40.0, "{red:?} {green:?}");
+    assert!(green.1 + 40.0 < red.1, "{red:?} {green:?}");
 }
