@@ -15,6 +15,47 @@ pub struct Args {
 const ERROR_SAMPLES: usize = 512;
 /// Relative errors above this are flagged in the report.
 const WARN_RELATIVE: f64 = 1e-6;
+/// A surface reaching farther than this many times the extent of its position curves (from
+/// their centre) is flagged: the interpolation oscillates between the conditions.
+const WARN_EXCURSION: f64 = 10.0;
+
+/// `(surface extent, curve extent)`: the largest distance from the centre of the position
+/// curves' bounding box, over a 257 × 64 sample of the patch and over its position curves.
+fn excursion(
+    patch: &pdeshape::design::Patch,
+    conds: &[pdeshape::spec::ConditionInfo],
+) -> (f64, f64) {
+    use pdeshape::Vec3;
+    let mut pts = Vec::new();
+    for c in conds.iter().filter(|c| c.derivative == 0) {
+        for k in 0..256 {
+            pts.push(c.curve.point(pdeshape::TAU * k as f64 / 256.0));
+        }
+    }
+    if pts.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mut lo = pts[0];
+    let mut hi = pts[0];
+    for p in &pts {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let centre: Vec3 = (lo + hi) / 2.0;
+    let curves = pts.iter().map(|p| (p - centre).norm()).fold(0.0, f64::max);
+    let surface = match pdeshape::mesh::sample(&patch.surface, 257, 64) {
+        Ok(grid) => grid
+            .positions
+            .iter()
+            .map(|p| (Vec3::new(p[0], p[1], p[2]) - centre).norm())
+            .fold(
+                0.0,
+                |m: f64, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+            ),
+        Err(_) => 0.0,
+    };
+    (surface, curves)
+}
 
 fn describe_operator(op: &OperatorSpec) -> String {
     match op {
@@ -137,6 +178,17 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
                     e.relative
                 ));
             }
+        }
+    }
+    for (patch, conds) in built.patches.iter().zip(&built.conditions) {
+        let (surface, curves) = excursion(patch, conds);
+        if curves > 0.0 && surface > WARN_EXCURSION * curves {
+            warnings.push(format!(
+                "patch '{}': the surface reaches {surface:.3e} from the centre of its position \
+                 curves, which lie within {curves:.3e}: it oscillates between the conditions \
+                 (fewer or smoother conditions, or other u values, help)",
+                patch.name
+            ));
         }
     }
     if built.multi_patch {
