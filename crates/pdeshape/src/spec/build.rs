@@ -91,6 +91,16 @@ fn curve_place(name: &str) -> String {
     format!("curves.{}", key_path(name))
 }
 
+/// A number for a message: plain for moderate magnitudes, scientific otherwise (`1e308`, not 309
+/// digits).
+pub(crate) fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn finite(x: f64, place: &str) -> Result<()> {
     if x.is_finite() {
         Ok(())
@@ -119,7 +129,7 @@ fn positive(x: f64, place: &str) -> Result<()> {
     if x > 0.0 {
         Ok(())
     } else {
-        Err(Error::invalid(format!("must be positive (got {x})")).at(place))
+        Err(Error::invalid(format!("must be positive (got {})", num(x))).at(place))
     }
 }
 
@@ -560,7 +570,8 @@ fn check_conditions(
         finite(c.u, &format!("{p}.u"))?;
         if !(0.0..=1.0).contains(&c.u) {
             return Err(
-                Error::invalid(format!("must lie in [0, 1] (got {})", c.u)).at(&format!("{p}.u"))
+                Error::invalid(format!("must lie in [0, 1] (got {})", num(c.u)))
+                    .at(&format!("{p}.u")),
             );
         }
         if c.derivative >= 2 * n {
@@ -602,7 +613,7 @@ fn check_conditions(
                 return Err(Error::invalid(format!(
                     "prescribes {} at u = {} like {place}[{j}]",
                     derivative_words(c.derivative),
-                    c.u
+                    num(c.u)
                 ))
                 .at(&p));
             }

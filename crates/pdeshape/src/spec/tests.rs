@@ -514,3 +514,47 @@ fn check_grid_agrees_with_grid_parameters() {
     assert!(check_grid(2, MAX_VERTICES / 2).is_ok());
     assert!(check_grid(2, MAX_VERTICES / 2 + 1).is_err());
 }
+
+#[test]
+fn schema_errors_inside_tagged_tables_keep_their_path() {
+    let e = err_of("[operator]\nkind = \"polyharmonic\"\norder = 0.5\n");
+    assert!(
+        e.starts_with("operator.order: invalid type: floating point `0.5`"),
+        "{e}"
+    );
+    let e = err_of("[operator]\nkind = \"general\"\ncoefficients = [1, \"x\"]\n");
+    assert!(
+        e.starts_with("operator.coefficients[1]: invalid type: string"),
+        "{e}"
+    );
+    let e = err_of("[curves.r]\ntype = \"bspline\"\ndegree = 2\ncontrol = [[0, 0, 0], [1, 0]]\n");
+    assert!(
+        e.starts_with("curves.r.control[1]: invalid length 2"),
+        "{e}"
+    );
+    let e = err_of(
+        "[curves.r]\ntype = \"derivative\"\ndirection = \"a\"\n\
+         position = { type = \"circle\", center = [0, 0, 0], radius = 1, transform = [ { rotate = { axis = [0, 0, 1], angel = 3 } } ] }\n",
+    );
+    assert!(
+        e.starts_with("curves.r.position.transform[0].rotate.angel: unknown field `angel`"),
+        "{e}"
+    );
+    let e = err_of("[curves.r]\ntype = 3\n");
+    assert!(
+        e.starts_with("curves.r.type: expected a string, found integer"),
+        "{e}"
+    );
+}
+
+#[test]
+fn huge_numbers_are_written_compactly() {
+    let text = design(&FOUR.replace("u = 1.0, curve", "u = 1e300, curve"), "");
+    assert_eq!(
+        err_of(&text),
+        "conditions[2].u: must lie in [0, 1] (got 1e300)"
+    );
+    assert_eq!(build::num(0.25), "0.25");
+    assert_eq!(build::num(-3.0), "-3");
+    assert_eq!(build::num(1e-7), "1e-7");
+}

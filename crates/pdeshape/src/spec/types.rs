@@ -20,7 +20,7 @@ pub struct DesignSpec {
     pub title: Option<String>,
     /// The elliptic operator of every patch that does not override it (default: polyharmonic,
     /// order 2, a = 1).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "deserialize_operator")]
     pub operator: Option<OperatorSpec>,
     /// Options of the analytic solver.
     #[serde(default)]
@@ -41,7 +41,8 @@ pub struct DesignSpec {
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
 #[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
-#[serde(tag = "kind", deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
+#[schemars(tag = "kind")]
 pub enum OperatorSpec {
     /// `(∂²/∂u² + a² ∂²/∂v²)^N` (book Eqs. 4.1, 4.10, 4.35).
     #[serde(rename = "polyharmonic")]
@@ -127,7 +128,7 @@ pub struct PatchSpec {
     /// Unique name of the patch.
     pub name: String,
     /// Overrides the design's operator for this patch.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "deserialize_operator")]
     pub operator: Option<OperatorSpec>,
     /// The patch's conditions (`2N` of them).
     pub conditions: Vec<ConditionSpec>,
@@ -219,6 +220,55 @@ pub(crate) fn split_path_marker(message: &str) -> (Option<&str>, &str) {
     (None, message)
 }
 
+/// Reads a table whose variant is chosen by the key `tag` (`type`, `kind`) as the externally
+/// tagged `{ <variant> = { … } }`, so that errors inside the table keep their path (serde's
+/// internally tagged enums buffer the table and lose it). `hint` is appended to "unknown field"
+/// messages.
+fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
+    mut table: toml::Table,
+    tag: &str,
+    hint: &str,
+) -> Result<T, E> {
+    let variant = match table.remove(tag) {
+        Some(toml::Value::String(t)) => t,
+        Some(other) => {
+            return Err(E::custom(with_path(
+                tag,
+                &format!("expected a string, found {}", other.type_str()),
+            )))
+        }
+        None => return Err(E::custom(format!("missing field `{tag}`"))),
+    };
+    let mut wrapped = toml::Table::new();
+    wrapped.insert(variant, toml::Value::Table(table));
+    serde_path_to_error::deserialize::<_, T>(toml::Value::Table(wrapped)).map_err(|e| {
+        let path = e.path().to_string();
+        // Drop the variant name (first segment) from the path.
+        let inner = match path.find(['.', '[']) {
+            Some(i) if path.as_bytes()[i] == b'.' => path[i + 1..].to_string(),
+            Some(i) => path[i..].to_string(),
+            None => String::new(),
+        };
+        let m = e.inner().message().to_string();
+        let inner = if inner.is_empty() && m.starts_with("unknown variant") {
+            tag.to_string()
+        } else {
+            inner
+        };
+        let m = if m.starts_with("unknown field") && !hint.is_empty() {
+            format!("{m} {hint}")
+        } else {
+            m
+        };
+        E::custom(with_path(&inner, &m))
+    })
+}
+
+fn deserialize_operator<'de, D: Deserializer<'de>>(d: D) -> Result<Option<OperatorSpec>, D::Error> {
+    let table = toml::Table::deserialize(d)?;
+    deserialize_tagged(table, "kind", "").map(Some)
+}
+
 impl<'de> Deserialize<'de> for CurveSpec {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let mut table = toml::Table::deserialize(d)?;
@@ -249,48 +299,9 @@ impl<'de> Deserialize<'de> for CurveSpec {
                 .map_err(|e| de::Error::custom(format!("arc_length: {}", e.message())))?,
             None => false,
         };
-        // `type` picks the variant; the rest is deserialized as the externally tagged
-        // `{ <type> = { … } }` so that the path of an error inside the table is known.
-        let kind_name = match table.remove("type") {
-            Some(toml::Value::String(t)) => t,
-            Some(other) => {
-                return Err(de::Error::custom(with_path(
-                    "type",
-                    &format!("expected a string, found {}", other.type_str()),
-                )))
-            }
-            None => return Err(de::Error::missing_field("type")),
-        };
-        let mut wrapped = toml::Table::new();
-        wrapped.insert(kind_name, toml::Value::Table(table));
-        let kind = serde_path_to_error::deserialize::<_, CurveKind>(toml::Value::Table(wrapped))
-            .map_err(|e| {
-                let path = e.path().to_string();
-                // Drop the variant name (first segment) from the path.
-                let inner = path
-                    .split_once(['.', '['])
-                    .map(|(_, rest)| {
-                        if path.as_bytes()[path.len() - rest.len() - 1] == b'[' {
-                            format!("[{rest}")
-                        } else {
-                            rest.to_string()
-                        }
-                    })
-                    .unwrap_or_default();
-                let m = e.inner().message().to_string();
-                let inner = if inner.is_empty() && m.starts_with("unknown variant") {
-                    "type".to_string()
-                } else {
-                    inner
-                };
-                let m = if m.starts_with("unknown field") {
-                    // Name the keys every kind accepts too, so the hint is complete.
-                    format!("{m} (or one of {})", COMMON_KEYS.join(", "))
-                } else {
-                    m
-                };
-                de::Error::custom(with_path(&inner, &m))
-            })?;
+        // `type` picks the variant; errors inside the table keep their path.
+        let hint = format!("(or one of {})", COMMON_KEYS.join(", "));
+        let kind: CurveKind = deserialize_tagged(table, "type", &hint)?;
         Ok(CurveSpec {
             kind,
             transform,
