@@ -578,13 +578,18 @@ fn check_reports_shared_edges_of_the_cup() {
 #[test]
 fn the_klein_bottle_file_is_what_the_script_generates() {
     let script = examples_dir().join("klein_bottle.py");
-    let Ok(out) = Command::new("python3").arg(&script).output() else {
-        eprintln!("python3 not available; skipped");
-        return;
-    };
-    assert!(out.status.success());
-    let committed = std::fs::read_to_string(examples_dir().join("klein_bottle.toml")).unwrap();
-    assert_eq!(String::from_utf8(out.stdout).unwrap(), committed);
+    for (args, file) in [
+        (&[][..], "klein_bottle.toml"),
+        (&["--patches"][..], "klein_bottle_patches.toml"),
+    ] {
+        let Ok(out) = Command::new("python3").arg(&script).args(args).output() else {
+            eprintln!("python3 not available; skipped");
+            return;
+        };
+        assert!(out.status.success());
+        let committed = std::fs::read_to_string(examples_dir().join(file)).unwrap();
+        assert_eq!(String::from_utf8(out.stdout).unwrap(), committed, "{file}");
+    }
 }
 
 /// Rows `[u, v, x, y, z, nx, ny, nz]` of a CSV written by `surface`.
