@@ -1,5 +1,98 @@
-//! The `pdeshape` command-line tool.
+//! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
+//! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
-fn main() {
-    println!("pdeshape");
+mod check;
+mod common;
+mod render;
+mod schema;
+mod surface;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Geometric design with partial differential equations (Bloor–Wilson PDE surfaces).
+#[derive(Parser, Debug)]
+#[command(name = "pdeshape", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Solve a design and write its surface (obj, stl, ply, glb or csv, chosen by extension).
+    Surface(surface::Args),
+    /// Solve a design and render it with its boundary curves and spine to a PNG picture.
+    Render(render::Args),
+    /// Validate and solve a design and print a report (modes, condition errors, shared edges).
+    Check(check::Args),
+    /// Print the JSON schema of the design file.
+    Schema,
+}
+
+fn run(cli: Cli) -> Result<(), common::CliError> {
+    match cli.command {
+        Command::Surface(args) => surface::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::Check(args) => check::run(&args),
+        Command::Schema => schema::run(),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            return match e.kind() {
+                ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+                    print!("{e}");
+                    ExitCode::SUCCESS
+                }
+                ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    eprintln!(
+                        "error: a subcommand is required: surface, render, check or schema \
+                         (see pdeshape --help)"
+                    );
+                    ExitCode::from(2)
+                }
+                _ => {
+                    // clap's message starts with "error: " and its first paragraph says what
+                    // is wrong; print that paragraph on one line.
+                    let text = e.render().to_string();
+                    let paragraph: Vec<&str> = text
+                        .lines()
+                        .skip_while(|l| l.trim().is_empty())
+                        .take_while(|l| !l.trim().is_empty())
+                        .map(str::trim)
+                        .collect();
+                    let line = paragraph.join(" ");
+                    let line = line.strip_prefix("error:").unwrap_or(&line).trim();
+                    eprintln!("error: {line}");
+                    ExitCode::from(2)
+                }
+            };
+        }
+    };
+    // A panic is a bug; report it on one line like every other failure.
+    std::panic::set_hook(Box::new(|_| {}));
+    match std::panic::catch_unwind(move || run(cli)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {}", e.message);
+            ExitCode::from(e.status)
+        }
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            eprintln!(
+                "error: internal error: {}",
+                what.lines().next().unwrap_or("")
+            );
+            ExitCode::from(1)
+        }
+    }
 }

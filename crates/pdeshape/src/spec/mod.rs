@@ -1,1 +1,74 @@
-//! The design-file schema (serde) and its validation.
+//! The design file (TOML): schema, parsing with error paths, validation, and the construction of
+//! curves, operators, conditions and solved patches from it.
+//!
+//! ```text
+//! text ──parse_design──▶ DesignSpec ──build_design──▶ BuiltDesign (solved patches, named curves,
+//!                                                      shared edges with their G0/G1 mismatch)
+//! ```
+//!
+//! Every error names its place as a path into the file (`curves.rim.radius`,
+//! `conditions[2].curve`, `patches[1].operator.a`); [`locate`] turns such a path into a line and
+//! column, and [`describe_error`] formats `file:line:col: path: message`.
+
+mod build;
+mod locate;
+mod types;
+
+pub use build::{
+    build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
+    NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
+};
+pub use locate::{describe_error, locate};
+pub use types::{
+    ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
+    OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,
+};
+
+use crate::{Error, Result};
+
+/// Parses a design file: TOML syntax and the schema (unknown keys, wrong types, missing keys).
+/// The error's place is the path of the offending key (`curves.rim` for an unknown key inside the
+/// `rim` table); NaN and infinite numbers are refused here with their exact path.
+pub fn parse_design(text: &str) -> Result<DesignSpec> {
+    // Syntax first, so that a syntax error is reported as such and not as a schema mismatch.
+    let doc: toml::Table =
+        toml::from_str(text).map_err(|e| Error::invalid(one_line(e.message())))?;
+    locate::check_finite(&toml::Value::Table(doc), "")?;
+    let de = toml::Deserializer::new(text);
+    serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| {
+        let path = e.path().to_string();
+        let path = if path == "." { String::new() } else { path };
+        let message = e.inner().message();
+        match types::split_path_marker(message) {
+            (Some(inner), rest) => {
+                let place = if path.is_empty() {
+                    inner.to_string()
+                } else if inner.starts_with('[') {
+                    format!("{path}{inner}")
+                } else {
+                    format!("{path}.{inner}")
+                };
+                Error::invalid(one_line(rest)).at(&place)
+            }
+            (None, rest) => Error::invalid(one_line(rest)).at(&path),
+        }
+    })
+}
+
+/// The JSON schema of the design file (pretty-printed).
+pub fn json_schema() -> String {
+    let schema = schemars::schema_for!(DesignSpec);
+    serde_json::to_string_pretty(&schema).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// Joins the lines of a multi-line message.
+fn one_line(s: &str) -> String {
+    s.split('\n')
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+#[cfg(test)]
+mod tests;

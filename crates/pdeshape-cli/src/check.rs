@@ -1,0 +1,222 @@
+//! `pdeshape check DESIGN`: validate, solve and report.
+
+use crate::common::{self, CliError};
+use pdeshape::spec::{BuiltDesign, DesignSpec, OperatorSpec};
+use std::fmt::Write;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML).
+    pub design: PathBuf,
+}
+
+/// Samples of v for the condition errors.
+const ERROR_SAMPLES: usize = 512;
+/// Relative errors above this are flagged in the report.
+const WARN_RELATIVE: f64 = 1e-6;
+/// A surface reaching farther than this many times the extent of its position curves (from
+/// their centre) is flagged: the interpolation oscillates between the conditions.
+const WARN_EXCURSION: f64 = 10.0;
+
+/// `(surface extent, curve extent)`: the largest distance from the centre of the position
+/// curves' bounding box, over a 257 × 64 sample of the patch and over its position curves.
+fn excursion(
+    patch: &pdeshape::design::Patch,
+    conds: &[pdeshape::spec::ConditionInfo],
+) -> (f64, f64) {
+    use pdeshape::Vec3;
+    let mut pts = Vec::new();
+    for c in conds.iter().filter(|c| c.derivative == 0) {
+        for k in 0..256 {
+            pts.push(c.curve.point(pdeshape::TAU * k as f64 / 256.0));
+        }
+    }
+    if pts.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mut lo = pts[0];
+    let mut hi = pts[0];
+    for p in &pts {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let centre: Vec3 = (lo + hi) / 2.0;
+    let curves = pts.iter().map(|p| (p - centre).norm()).fold(0.0, f64::max);
+    let surface = match pdeshape::mesh::sample(&patch.surface, 257, 64) {
+        Ok(grid) => grid
+            .positions
+            .iter()
+            .map(|p| (Vec3::new(p[0], p[1], p[2]) - centre).norm())
+            .fold(
+                0.0,
+                |m: f64, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+            ),
+        Err(_) => 0.0,
+    };
+    (surface, curves)
+}
+
+fn describe_operator(op: &OperatorSpec) -> String {
+    match op {
+        OperatorSpec::Polyharmonic { order, a } => format!(
+            "polyharmonic (∂²/∂u² + a²∂²/∂v²)^{order}, order {} PDE, a = {a}",
+            2 * order
+        ),
+        OperatorSpec::SixthOrder { a, b, c, d } => {
+            format!("sixth-order a∂u⁶ + b∂u⁴∂v² + c∂u²∂v⁴ + d∂v⁶ with a = {a}, b = {b}, c = {c}, d = {d}")
+        }
+        OperatorSpec::General { coefficients } => format!(
+            "general Σ c_k ∂u^(2N−2k) ∂v^(2k), order {} PDE, c = {coefficients:?}",
+            2 * coefficients.len().saturating_sub(1)
+        ),
+    }
+}
+
+fn patch_operator(spec: &DesignSpec, i: usize) -> OperatorSpec {
+    spec.patches
+        .as_ref()
+        .and_then(|p| p.get(i))
+        .and_then(|p| p.operator.clone())
+        .or_else(|| spec.operator.clone())
+        .unwrap_or_default()
+}
+
+fn derivative_name(d: usize) -> String {
+    match d {
+        0 => "position".to_string(),
+        1 => "X_u".to_string(),
+        2 => "X_uu".to_string(),
+        _ => format!("∂^{d}X/∂u^{d}"),
+    }
+}
+
+/// The report for a solved design; the second value lists what deserves a warning.
+pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Vec<String>) {
+    let mut s = String::new();
+    let mut warnings = Vec::new();
+    let _ = writeln!(
+        s,
+        "design: {file}{}",
+        built
+            .title
+            .as_ref()
+            .map(|t| format!(" ({t})"))
+            .unwrap_or_default()
+    );
+    let o = &built.options;
+    let _ = writeln!(
+        s,
+        "solver: {} Fourier modes, spectral remainder {}, {} samples per curve",
+        o.modes,
+        if o.remainder { "on" } else { "off" },
+        if o.samples == 0 {
+            "automatic".to_string()
+        } else {
+            o.samples.to_string()
+        }
+    );
+    let _ = writeln!(s, "curves: {}", built.curves.len());
+    for c in &built.curves {
+        let _ = writeln!(s, "  {} ({})", c.name, c.kind);
+    }
+    for (i, (patch, conds)) in built.patches.iter().zip(&built.conditions).enumerate() {
+        let _ = writeln!(s, "patch {i} '{}':", patch.name);
+        let _ = writeln!(
+            s,
+            "  operator: {}",
+            describe_operator(&patch_operator(spec, i))
+        );
+        let _ = writeln!(s, "  conditions:");
+        for (k, c) in conds.iter().enumerate() {
+            let name = c
+                .curve_name
+                .as_ref()
+                .map(|n| format!("'{n}'"))
+                .unwrap_or_else(|| "inline".to_string());
+            let _ = writeln!(
+                s,
+                "    [{k}] u = {:<6} {:<9} curve {name} ({})",
+                c.u,
+                derivative_name(c.derivative),
+                c.kind
+            );
+        }
+        let _ = writeln!(s, "  modes:");
+        let _ = writeln!(s, "    {:>4}  {:>12}  basis", "n", "condition");
+        for m in patch.surface.mode_reports() {
+            let _ = writeln!(
+                s,
+                "    {:>4}  {:>12.3e}  {}",
+                m.n, m.condition_number, m.basis
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  condition errors (max over {ERROR_SAMPLES} values of v):"
+        );
+        let _ = writeln!(
+            s,
+            "    {:<8} {:<9} {:>12}  {:>12}",
+            "u", "condition", "absolute", "relative"
+        );
+        for e in patch.surface.condition_errors(ERROR_SAMPLES) {
+            let _ = writeln!(
+                s,
+                "    {:<8} {:<9} {:>12.3e}  {:>12.3e}",
+                e.u,
+                derivative_name(e.derivative),
+                e.absolute,
+                e.relative
+            );
+            if e.relative > WARN_RELATIVE || e.relative.is_nan() {
+                warnings.push(format!(
+                    "patch '{}': the {} condition at u = {} is met only to {:.3e} (relative)",
+                    patch.name,
+                    derivative_name(e.derivative),
+                    e.u,
+                    e.relative
+                ));
+            }
+        }
+    }
+    for (patch, conds) in built.patches.iter().zip(&built.conditions) {
+        let (surface, curves) = excursion(patch, conds);
+        if curves > 0.0 && surface > WARN_EXCURSION * curves {
+            warnings.push(format!(
+                "patch '{}': the surface reaches {surface:.3e} from the centre of its position \
+                 curves, which lie within {curves:.3e}: it oscillates between the conditions \
+                 (fewer or smoother conditions, or other u values, help)",
+                patch.name
+            ));
+        }
+    }
+    if built.multi_patch {
+        let _ = writeln!(s, "shared edges:");
+        if built.edges.is_empty() {
+            let _ = writeln!(s, "  none (no named position curve is used by two patches)");
+        }
+        for e in &built.edges {
+            let r = &e.report;
+            let _ = writeln!(
+                s,
+                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {:.3e}  G1 = {:.3e} rad",
+                built.patches[r.a].name, r.ua, built.patches[r.b].name, r.ub, e.curve, r.g0, r.g1
+            );
+        }
+    }
+    (s, warnings)
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let design = common::load(&args.design)?;
+    let built = design.build()?;
+    let (text, warnings) = report(&design.file, &design.spec, &built);
+    let mut text = text;
+    for w in &warnings {
+        let _ = writeln!(text, "warning: {w}");
+    }
+    text.push_str("OK\n");
+    common::print_stdout(&text);
+    Ok(())
+}

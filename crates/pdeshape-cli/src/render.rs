@@ -1,0 +1,165 @@
+//! `pdeshape render DESIGN -o shape.png`: the shaded surface with its position curves and spine.
+
+use crate::common::{self, CliError, Output};
+use pdeshape::curve::{Curve, Domain};
+use pdeshape::mesh;
+use pdeshape::render::{render_png, Polyline, RenderOptions};
+use pdeshape::spec::BuiltDesign;
+use pdeshape::{Vec3, TAU};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML).
+    pub design: PathBuf,
+    /// Output picture (.png).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Picture size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600")]
+    pub size: String,
+    /// Direction from the object towards the eye, x,y,z (default: a three-quarter view).
+    #[arg(long, allow_hyphen_values = true)]
+    pub view: Option<String>,
+    /// Grid rows (values of u; default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns (values of v; default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+}
+
+/// Largest picture side we agree to render.
+const MAX_SIDE: u32 = 8192;
+/// Points per drawn curve and along the spine.
+const CURVE_POINTS: usize = 256;
+const CURVE_COLOR: [u8; 3] = [210, 40, 30];
+const SPINE_COLOR: [u8; 3] = [20, 70, 200];
+
+fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
+    let bad = || {
+        CliError::input(format!(
+            "--size: expected WIDTHxHEIGHT such as 800x600 (got '{s}')"
+        ))
+    };
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
+        return Err(CliError::input(format!(
+            "--size: width and height must be between 1 and {MAX_SIDE} (got {w}x{h})"
+        )));
+    }
+    Ok((w, h))
+}
+
+fn parse_view(s: &str) -> Result<Vec3, CliError> {
+    let bad = || CliError::input(format!("--view: expected three numbers x,y,z (got '{s}')"));
+    let parts: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    if parts.len() != 3 || parts.iter().any(|x| !x.is_finite()) {
+        return Err(bad());
+    }
+    let v = Vec3::new(parts[0], parts[1], parts[2]);
+    if v.norm() == 0.0 {
+        return Err(CliError::input("--view: must not be the zero vector"));
+    }
+    Ok(v)
+}
+
+/// `CURVE_POINTS` points of a curve: over [0, 2π) for a periodic curve (drawn closed), over its
+/// whole interval otherwise.
+fn curve_polyline(curve: &dyn Curve) -> Polyline {
+    let (points, closed) = match curve.domain() {
+        Domain::Periodic => (
+            (0..CURVE_POINTS)
+                .map(|k| curve.point(TAU * k as f64 / CURVE_POINTS as f64))
+                .collect(),
+            true,
+        ),
+        Domain::Interval(a, b) => (
+            (0..CURVE_POINTS)
+                .map(|k| curve.point(a + (b - a) * k as f64 / (CURVE_POINTS - 1) as f64))
+                .collect(),
+            false,
+        ),
+    };
+    Polyline {
+        points,
+        color: CURVE_COLOR,
+        width: 2.0,
+        closed,
+    }
+}
+
+/// The position curves of every patch (each shared curve once) and every patch's spine.
+pub fn overlays(built: &BuiltDesign) -> Vec<Polyline> {
+    let mut lines = Vec::new();
+    let mut drawn: Vec<String> = Vec::new();
+    for conds in &built.conditions {
+        for c in conds.iter().filter(|c| c.derivative == 0) {
+            if let Some(name) = &c.curve_name {
+                if drawn.contains(name) {
+                    continue;
+                }
+                drawn.push(name.clone());
+            }
+            lines.push(curve_polyline(&*c.curve));
+        }
+    }
+    for p in &built.patches {
+        let points = (0..CURVE_POINTS)
+            .map(|k| p.surface.spine(k as f64 / (CURVE_POINTS - 1) as f64, 0))
+            .collect();
+        lines.push(Polyline {
+            points,
+            color: SPINE_COLOR,
+            width: 2.0,
+            closed: false,
+        });
+    }
+    lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
+    lines
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    let is_png = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !is_png {
+        return Err(CliError::input(format!(
+            "-o {shown}: the picture must be a .png file"
+        )));
+    }
+    let (width, height) = parse_size(&args.size)?;
+    let view = args.view.as_deref().map(parse_view).transpose()?;
+    let design = common::load(&args.design)?;
+    design.validate()?;
+    let (nu, nv) = design.grid(args.nu, args.nv)?;
+    let mut out = Output::create(&args.output)?;
+    let built = design.build()?;
+    let meshes = built
+        .patches
+        .iter()
+        .map(|p| mesh::tessellate(&p.surface, nu, nv))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| CliError::input(e.to_string()))?;
+    let options = RenderOptions {
+        width,
+        height,
+        view,
+        ..RenderOptions::default()
+    };
+    let png = render_png(&meshes, &overlays(&built), &options)
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    out.write_all(&png)?;
+    out.commit()?;
+    crate::common::print_stdout(&format!("wrote {shown}: {width}x{height}\n"));
+    Ok(())
+}

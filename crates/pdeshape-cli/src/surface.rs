@@ -1,0 +1,105 @@
+//! `pdeshape surface DESIGN -o OUT`: solve, tessellate, write (obj, stl, ply, glb, csv).
+
+use crate::common::{self, CliError, Output};
+use pdeshape::mesh::{self, Format};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML).
+    pub design: PathBuf,
+    /// Output file; the extension picks the format: obj, stl, ply, glb or csv.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Grid rows (values of u; default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns (values of v; default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+    /// Print one JSON line with the solve, tessellate and write times (ms) on stderr.
+    #[arg(long)]
+    pub timings: bool,
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    let format = Format::from_path(&args.output)
+        .map_err(|e| CliError::input(format!("-o {shown}: {}", common::message_of(&e))))?;
+    let design = common::load(&args.design)?;
+    design.validate()?;
+    let (nu, nv) = design.grid(args.nu, args.nv)?;
+    let mut out = Output::create(&args.output)?;
+
+    let t = Instant::now();
+    let built = design.build()?;
+    let solve_ms = ms(t);
+
+    let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
+    let (tessellate_ms, write_ms);
+    if format == Format::Csv {
+        let t = Instant::now();
+        let samples = built
+            .patches
+            .iter()
+            .map(|p| mesh::sample(&p.surface, nu, nv))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| CliError::input(e.to_string()))?;
+        tessellate_ms = ms(t);
+        let t = Instant::now();
+        let mut w = out.writer();
+        mesh::write_csv(&samples, &mut w).map_err(io_err)?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        drop(w);
+        write_ms = ms(t);
+    } else {
+        let t = Instant::now();
+        let meshes = built
+            .patches
+            .iter()
+            .map(|p| mesh::tessellate(&p.surface, nu, nv))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| CliError::input(e.to_string()))?;
+        tessellate_ms = ms(t);
+        let t = Instant::now();
+        let mut w = out.writer();
+        match format {
+            Format::Obj => mesh::write_obj(&meshes, &mut w),
+            Format::Stl => mesh::write_stl(&meshes, &mut w),
+            Format::Ply => mesh::write_ply(&meshes, &mut w),
+            Format::Glb => mesh::write_glb(&meshes, &mut w),
+            Format::Csv => unreachable!("handled above"),
+        }
+        .map_err(io_err)?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        drop(w);
+        write_ms = ms(t);
+    }
+    let t = Instant::now();
+    out.commit()?;
+    let write_ms = write_ms + ms(t);
+    if args.timings {
+        eprintln!(
+            "{}",
+            serde_json::json!({
+                "solve_ms": solve_ms,
+                "tessellate_ms": tessellate_ms,
+                "write_ms": write_ms,
+            })
+        );
+    }
+    crate::common::print_stdout(&format!(
+        "wrote {shown}: {} patch{}, {nu} × {nv} grid\n",
+        built.patches.len(),
+        if built.patches.len() == 1 { "" } else { "es" }
+    ));
+    Ok(())
+}

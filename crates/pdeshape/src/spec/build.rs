@@ -1,0 +1,1046 @@
+//! Validation of a [`DesignSpec`] and construction of the library objects from it.
+
+use super::types::*;
+use crate::curve::Affine;
+use crate::curve::{
+    ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
+    OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
+};
+use crate::design::{edge_mismatch, EdgeReport, Patch};
+use crate::elliptic::{self, Condition, Operator, SolveOptions};
+#[cfg(doc)]
+use crate::mesh::grid_parameters;
+use crate::mesh::MAX_VERTICES;
+use crate::{Error, Result, Vec3};
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+/// Default grid rows when neither the command line nor `[output]` gives `nu`.
+pub const DEFAULT_NU: usize = 64;
+/// Default grid columns when neither the command line nor `[output]` gives `nv`.
+pub const DEFAULT_NV: usize = 128;
+/// Most Fourier modes the design file may ask for.
+const MAX_MODES: usize = 256;
+/// Most FFT samples per curve the design file may ask for.
+const MAX_SAMPLES: usize = 1 << 16;
+/// Samples of `v` used to measure the mismatch along shared edges.
+const EDGE_SAMPLES: usize = 512;
+
+/// A named curve of the design, built.
+#[derive(Clone, Debug)]
+pub struct NamedCurve {
+    pub name: String,
+    /// The curve kind as written in the file (`circle`, `bspline`, …).
+    pub kind: &'static str,
+    pub curve: SharedCurve,
+}
+
+/// One condition of a patch as the design file gave it.
+#[derive(Clone, Debug)]
+pub struct ConditionInfo {
+    pub u: f64,
+    pub derivative: usize,
+    /// The curve's name, `None` for an inline curve table.
+    pub curve_name: Option<String>,
+    /// The curve kind (`circle`, `derivative`, …).
+    pub kind: &'static str,
+    pub curve: SharedCurve,
+}
+
+/// An edge shared by two patches: the same named curve is a position condition of both.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SharedEdge {
+    /// The shared curve's name.
+    pub curve: String,
+    /// Patch indices, the edge's `u` on each, and the G0/G1 mismatch.
+    pub report: EdgeReport,
+}
+
+/// A design with every patch solved.
+#[derive(Debug)]
+pub struct BuiltDesign {
+    pub title: Option<String>,
+    /// The patches (one, named after the title or `surface`, for a single-patch design).
+    pub patches: Vec<Patch>,
+    /// `conditions[i]` are the conditions of `patches[i]`, in file order.
+    pub conditions: Vec<Vec<ConditionInfo>>,
+    /// The named curves, sorted by name.
+    pub curves: Vec<NamedCurve>,
+    /// Edges shared between patches with their G0/G1 mismatch.
+    pub edges: Vec<SharedEdge>,
+    /// The solver options used.
+    pub options: SolveOptions,
+    /// The design used `[[patches]]`.
+    pub multi_patch: bool,
+}
+
+/// A TOML key as it appears in a path: bare if it can be, quoted otherwise.
+pub fn key_path(key: &str) -> String {
+    if !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        key.to_string()
+    } else {
+        format!("{key:?}")
+    }
+}
+
+fn curve_place(name: &str) -> String {
+    format!("curves.{}", key_path(name))
+}
+
+/// A number for a message: plain for moderate magnitudes, scientific otherwise (`1e308`, not 309
+/// digits).
+pub(crate) fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+fn finite(x: f64, place: &str) -> Result<()> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!("must be finite (got {x})")).at(place))
+    }
+}
+
+fn finite3(v: &V3, place: &str) -> Result<Vec3> {
+    for (i, x) in v.iter().enumerate() {
+        finite(*x, &format!("{place}[{i}]"))?;
+    }
+    Ok(Vec3::new(v[0], v[1], v[2]))
+}
+
+fn finite_points(points: &[V3], place: &str) -> Result<Vec<Vec3>> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| finite3(p, &format!("{place}[{i}]")))
+        .collect()
+}
+
+fn positive(x: f64, place: &str) -> Result<()> {
+    finite(x, place)?;
+    if x > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!("must be positive (got {})", num(x))).at(place))
+    }
+}
+
+fn nonzero_vector(v: &V3, place: &str) -> Result<Vec3> {
+    let w = finite3(v, place)?;
+    if w.norm() > 0.0 {
+        Ok(w)
+    } else {
+        Err(Error::invalid("must not be the zero vector").at(place))
+    }
+}
+
+/// The kind name as written in the file.
+pub(crate) fn kind_name(kind: &CurveKind) -> &'static str {
+    match kind {
+        CurveKind::Circle { .. } => "circle",
+        CurveKind::Ellipse { .. } => "ellipse",
+        CurveKind::Point { .. } => "point",
+        CurveKind::BSpline { .. } => "bspline",
+        CurveKind::Bezier { .. } => "bezier",
+        CurveKind::Hermite { .. } => "hermite",
+        CurveKind::Fourier { .. } => "fourier",
+        CurveKind::Samples { .. } => "samples",
+        CurveKind::Formula { .. } => "formula",
+        CurveKind::Derivative { .. } => "derivative",
+    }
+}
+
+/// Checks an operator's parameters and builds it. `place` is where it came from (`operator`).
+fn build_operator(spec: &OperatorSpec, place: &str) -> Result<Operator> {
+    check_operator_values(spec, place)?;
+    match spec {
+        OperatorSpec::Polyharmonic { order, a } => Operator::polyharmonic(*order, *a),
+        OperatorSpec::SixthOrder { a, b, c, d } => Operator::sixth_order(*a, *b, *c, *d),
+        OperatorSpec::General { coefficients } => Operator::general(coefficients.clone()),
+    }
+    .map_err(|e| e.at(place))
+}
+
+/// The half order `N` of an operator spec (checked later by [`build_operator`]).
+fn half_order(spec: &OperatorSpec) -> usize {
+    match spec {
+        OperatorSpec::Polyharmonic { order, .. } => *order,
+        OperatorSpec::SixthOrder { .. } => 3,
+        OperatorSpec::General { coefficients } => coefficients.len().saturating_sub(1),
+    }
+}
+
+fn check_solver(s: &SolverSpec) -> Result<SolveOptions> {
+    if !(1..=MAX_MODES).contains(&s.modes) {
+        return Err(Error::invalid(format!(
+            "must be between 1 and {MAX_MODES} (got {})",
+            s.modes
+        ))
+        .at("solver.modes"));
+    }
+    if s.samples != 0 && !(2 * s.modes + 1..=MAX_SAMPLES).contains(&s.samples) {
+        return Err(Error::invalid(format!(
+            "must be 0 (automatic) or between 2·modes + 1 = {} and {MAX_SAMPLES} (got {})",
+            2 * s.modes + 1,
+            s.samples
+        ))
+        .at("solver.samples"));
+    }
+    Ok(SolveOptions {
+        modes: s.modes,
+        remainder: s.remainder,
+        samples: s.samples,
+    })
+}
+
+/// Checks an `nu × nv` grid of a periodic surface against the limits of [`grid_parameters`]
+/// (`nu ≥ 2`, `nv ≥ 3`, at most [`MAX_VERTICES`] vertices) with the same messages, without
+/// allocating anything. The place of the error is `nu`, `nv` or `nu × nv`.
+pub fn check_grid(nu: usize, nv: usize) -> Result<()> {
+    if nu < 2 {
+        return Err(Error::invalid(format!("must be at least 2 (got {nu})")).at("nu"));
+    }
+    if nv < 3 {
+        return Err(Error::invalid(format!("must be at least 3 (got {nv})")).at("nv"));
+    }
+    if nu.checked_mul(nv).is_none_or(|n| n > MAX_VERTICES) {
+        return Err(Error::invalid(format!(
+            "a {nu} × {nv} grid has more than {MAX_VERTICES} vertices; refusing to allocate it"
+        ))
+        .at("nu × nv"));
+    }
+    Ok(())
+}
+
+/// The output grid `(nu, nv)` of the design's `[output]` table (defaults 64 × 128), checked
+/// with [`check_grid`].
+pub(crate) fn output_grid(o: &OutputSpec) -> Result<(usize, usize)> {
+    let nu = o.nu.unwrap_or(DEFAULT_NU);
+    let nv = o.nv.unwrap_or(DEFAULT_NV);
+    check_grid(nu, nv).map_err(|e| match e.place() {
+        "nu" | "nv" => e.at("output"),
+        _ => e,
+    })?;
+    Ok((nu, nv))
+}
+
+/// Checks the numbers of one curve table (everything that does not need the curve built).
+fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
+    let at = |e: Error| e.at(place);
+    match &c.kind {
+        CurveKind::Circle {
+            center,
+            radius,
+            normal,
+        } => {
+            finite3(center, "center").map_err(at)?;
+            positive(*radius, "radius").map_err(at)?;
+            nonzero_vector(normal, "normal").map_err(at)?;
+        }
+        CurveKind::Ellipse {
+            center,
+            axis1,
+            axis2,
+            rx,
+            ry,
+            normal,
+        } => {
+            finite3(center, "center").map_err(at)?;
+            match (axis1, axis2, rx, ry) {
+                (Some(a1), Some(a2), None, None) => {
+                    if normal.is_some() {
+                        return Err(at(Error::invalid(
+                            "is only used with rx and ry (the axes already fix the plane)",
+                        )
+                        .at("normal")));
+                    }
+                    let a1 = nonzero_vector(a1, "axis1").map_err(at)?;
+                    let a2 = nonzero_vector(a2, "axis2").map_err(at)?;
+                    let area = a1.cross(&a2).norm();
+                    if area <= 1e-12 * a1.norm() * a2.norm() {
+                        return Err(at(Error::invalid(
+                            "axis1 and axis2 are parallel: the ellipse is degenerate",
+                        )
+                        .at("axis2")));
+                    }
+                }
+                (None, None, Some(rx), Some(ry)) => {
+                    positive(*rx, "rx").map_err(at)?;
+                    positive(*ry, "ry").map_err(at)?;
+                    if let Some(n) = normal {
+                        nonzero_vector(n, "normal").map_err(at)?;
+                    }
+                }
+                _ => {
+                    return Err(at(Error::invalid(
+                        "give either axis1 and axis2, or rx and ry (with an optional normal)",
+                    )))
+                }
+            }
+        }
+        CurveKind::Point { at: p } => {
+            finite3(p, "at").map_err(at)?;
+        }
+        CurveKind::BSpline {
+            degree,
+            control,
+            knots,
+            periodic,
+        } => {
+            if *degree < 1 {
+                return Err(at(Error::invalid("must be at least 1 (got 0)").at("degree")));
+            }
+            finite_points(control, "control").map_err(at)?;
+            if control.len() < degree + 1 {
+                return Err(at(Error::invalid(format!(
+                    "a degree-{degree} B-spline needs at least {} control points (got {})",
+                    degree + 1,
+                    control.len()
+                ))
+                .at("control")));
+            }
+            if let Some(k) = knots {
+                let (want, strict, what) = if *periodic {
+                    (control.len() + 1, true, "increasing breakpoints")
+                } else {
+                    (control.len() + degree + 1, false, "non-decreasing knots")
+                };
+                if k.len() != want {
+                    return Err(at(Error::invalid(format!(
+                        "needs {want} {what} for {} control points of degree {degree} (got {})",
+                        control.len(),
+                        k.len()
+                    ))
+                    .at("knots")));
+                }
+                for (i, x) in k.iter().enumerate() {
+                    finite(*x, &format!("knots[{i}]")).map_err(at)?;
+                }
+                for i in 1..k.len() {
+                    let bad = if strict {
+                        k[i] <= k[i - 1]
+                    } else {
+                        k[i] < k[i - 1]
+                    };
+                    if bad {
+                        return Err(at(Error::invalid(format!(
+                            "must be {} (got {} after {})",
+                            if strict {
+                                "increasing"
+                            } else {
+                                "non-decreasing"
+                            },
+                            k[i],
+                            k[i - 1]
+                        ))
+                        .at(&format!("knots[{i}]"))));
+                    }
+                }
+                if !strict && k[*degree] >= k[control.len()] {
+                    return Err(at(Error::invalid(format!(
+                        "the domain [knots[{degree}], knots[{}]] = [{}, {}] is empty",
+                        control.len(),
+                        k[*degree],
+                        k[control.len()]
+                    ))
+                    .at("knots")));
+                }
+            }
+        }
+        CurveKind::Bezier { control } => {
+            finite_points(control, "control").map_err(at)?;
+            if control.len() < 2 {
+                return Err(at(Error::invalid(format!(
+                    "needs at least 2 control points (got {})",
+                    control.len()
+                ))
+                .at("control")));
+            }
+        }
+        CurveKind::Hermite { p0, p1, d0, d1 } => {
+            for (name, v) in [("p0", p0), ("p1", p1), ("d0", d0), ("d1", d1)] {
+                finite3(v, name).map_err(at)?;
+            }
+        }
+        CurveKind::Fourier { a0, cos, sin } => {
+            finite3(a0, "a0").map_err(at)?;
+            finite_points(cos, "cos").map_err(at)?;
+            finite_points(sin, "sin").map_err(at)?;
+        }
+        CurveKind::Samples { points, .. } => {
+            finite_points(points, "points").map_err(at)?;
+            if points.len() < 3 {
+                return Err(at(Error::invalid(format!(
+                    "needs at least 3 points (got {})",
+                    points.len()
+                ))
+                .at("points")));
+            }
+        }
+        CurveKind::Formula { x, y, z, domain } => {
+            for (name, f) in [("x", x), ("y", y), ("z", z)] {
+                if f.trim().is_empty() {
+                    return Err(at(Error::invalid("is empty").at(name)));
+                }
+            }
+            if let DomainSpec::Interval([t0, t1]) = domain {
+                finite(*t0, "domain[0]").map_err(at)?;
+                finite(*t1, "domain[1]").map_err(at)?;
+                if t0 >= t1 {
+                    return Err(at(Error::invalid(format!(
+                        "must be an interval [t0, t1] with t0 < t1 (got [{t0}, {t1}])"
+                    ))
+                    .at("domain")));
+                }
+            }
+        }
+        CurveKind::Derivative {
+            position,
+            direction,
+            scale,
+        } => {
+            finite(*scale, "scale").map_err(at)?;
+            if *scale == 0.0 {
+                return Err(at(Error::invalid("must not be 0").at("scale")));
+            }
+            for (name, r) in [("position", position), ("direction", direction)] {
+                if let CurveRef::Inline(inner) = r {
+                    check_curve(inner, &format!("{place}.{name}"))?;
+                }
+            }
+        }
+    }
+    for (i, step) in c.transform.iter().enumerate() {
+        let p = format!("{place}.transform[{i}]");
+        match step {
+            TransformStep::Translate(d) => {
+                finite3(d, &format!("{p}.translate"))?;
+            }
+            TransformStep::Rotate { axis, angle, about } => {
+                nonzero_vector(axis, &format!("{p}.rotate.axis"))?;
+                finite(*angle, &format!("{p}.rotate.angle"))?;
+                finite3(about, &format!("{p}.rotate.about"))?;
+            }
+            TransformStep::Scale { factor, about } => {
+                finite(*factor, &format!("{p}.scale.factor"))?;
+                if *factor == 0.0 {
+                    return Err(Error::invalid("must not be 0").at(&format!("{p}.scale.factor")));
+                }
+                finite3(about, &format!("{p}.scale.about"))?;
+            }
+        }
+    }
+    finite(c.v_origin, &format!("{place}.v_origin"))?;
+    Ok(())
+}
+
+/// Names of the curves a curve refers to, with the place of each reference.
+fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)>) {
+    if let CurveKind::Derivative {
+        position,
+        direction,
+        ..
+    } = &c.kind
+    {
+        for (name, r) in [("position", position), ("direction", direction)] {
+            match r {
+                CurveRef::Name(n) => out.push((n.as_str(), format!("{place}.{name}"))),
+                CurveRef::Inline(inner) => references(inner, &format!("{place}.{name}"), out),
+            }
+        }
+    }
+}
+
+fn unknown_curve(name: &str, curves: &BTreeMap<String, CurveSpec>, place: &str) -> Error {
+    let known: Vec<&str> = curves.keys().map(String::as_str).collect();
+    let known = if known.is_empty() {
+        "no curves are defined".to_string()
+    } else {
+        format!("known: {}", known.join(", "))
+    };
+    Error::invalid(format!("unknown curve '{name}' ({known})")).at(place)
+}
+
+/// Every reference exists and the references between named curves have no cycle.
+fn check_references(curves: &BTreeMap<String, CurveSpec>) -> Result<()> {
+    for (name, c) in curves {
+        let mut refs = Vec::new();
+        references(c, &curve_place(name), &mut refs);
+        for (r, place) in refs {
+            if !curves.contains_key(r) {
+                return Err(unknown_curve(r, curves, &place));
+            }
+        }
+    }
+    // Depth-first search with colours: 1 = on the stack, 2 = done.
+    fn visit<'a>(
+        name: &'a str,
+        curves: &'a BTreeMap<String, CurveSpec>,
+        colour: &mut HashMap<&'a str, u8>,
+        stack: &mut Vec<&'a str>,
+    ) -> Result<()> {
+        match colour.get(name) {
+            Some(2) => return Ok(()),
+            Some(1) => {
+                let start = stack.iter().position(|s| *s == name).unwrap_or(0);
+                let mut cycle: Vec<&str> = stack[start..].to_vec();
+                cycle.push(name);
+                return Err(Error::invalid(format!(
+                    "curves refer to each other in a cycle: {}",
+                    cycle.join(" → ")
+                ))
+                .at(&curve_place(name)));
+            }
+            _ => {}
+        }
+        colour.insert(name, 1);
+        stack.push(name);
+        let mut refs = Vec::new();
+        if let Some(c) = curves.get(name) {
+            references(c, "", &mut refs);
+        }
+        for (r, _) in refs {
+            if let Some((k, _)) = curves.get_key_value(r) {
+                visit(k.as_str(), curves, colour, stack)?;
+            }
+        }
+        stack.pop();
+        colour.insert(name, 2);
+        Ok(())
+    }
+    let mut colour = HashMap::new();
+    for name in curves.keys() {
+        visit(name, curves, &mut colour, &mut Vec::new())?;
+    }
+    Ok(())
+}
+
+/// Whether a curve spec describes a periodic curve (closed on [0, 2π)).
+fn is_periodic(c: &CurveSpec, curves: &BTreeMap<String, CurveSpec>, depth: usize) -> bool {
+    if depth > curves.len() + 8 {
+        return false;
+    }
+    match &c.kind {
+        CurveKind::Circle { .. }
+        | CurveKind::Ellipse { .. }
+        | CurveKind::Point { .. }
+        | CurveKind::Fourier { .. }
+        | CurveKind::Samples { .. } => true,
+        CurveKind::BSpline { periodic, .. } => *periodic,
+        CurveKind::Bezier { .. } | CurveKind::Hermite { .. } => false,
+        CurveKind::Formula { domain, .. } => *domain == DomainSpec::Periodic,
+        CurveKind::Derivative { position, .. } => match position {
+            CurveRef::Name(n) => curves
+                .get(n)
+                .is_some_and(|p| is_periodic(p, curves, depth + 1)),
+            CurveRef::Inline(p) => is_periodic(p, curves, depth + 1),
+        },
+    }
+}
+
+fn derivative_words(d: usize) -> String {
+    match d {
+        0 => "the position".to_string(),
+        1 => "the first u-derivative".to_string(),
+        2 => "the second u-derivative".to_string(),
+        3 => "the third u-derivative".to_string(),
+        _ => format!("the u-derivative of order {d}"),
+    }
+}
+
+/// Checks one patch's conditions: count, u, derivative orders, duplicates, curve references and
+/// periodicity. `place` is `conditions` or `patches[i].conditions`.
+fn check_conditions(
+    conds: &[ConditionSpec],
+    n: usize,
+    curves: &BTreeMap<String, CurveSpec>,
+    place: &str,
+    op_words: &str,
+) -> Result<()> {
+    for (i, c) in conds.iter().enumerate() {
+        let p = format!("{place}[{i}]");
+        finite(c.u, &format!("{p}.u"))?;
+        if !(0.0..=1.0).contains(&c.u) {
+            return Err(
+                Error::invalid(format!("must lie in [0, 1] (got {})", num(c.u)))
+                    .at(&format!("{p}.u")),
+            );
+        }
+        if c.derivative >= 2 * n {
+            return Err(Error::invalid(format!(
+                "must be below the PDE's order {} (got {})",
+                2 * n,
+                c.derivative
+            ))
+            .at(&format!("{p}.derivative")));
+        }
+        let (spec, periodic) = match &c.curve {
+            CurveRef::Name(name) => {
+                let Some(spec) = curves.get(name) else {
+                    return Err(unknown_curve(name, curves, &format!("{p}.curve")));
+                };
+                (spec, is_periodic(spec, curves, 0))
+            }
+            CurveRef::Inline(spec) => {
+                check_curve(spec, &format!("{p}.curve"))?;
+                let mut refs = Vec::new();
+                references(spec, &format!("{p}.curve"), &mut refs);
+                for (r, rp) in refs {
+                    if !curves.contains_key(r) {
+                        return Err(unknown_curve(r, curves, &rp));
+                    }
+                }
+                (&**spec, is_periodic(spec, curves, 0))
+            }
+        };
+        if !periodic {
+            return Err(Error::invalid(format!(
+                "a condition curve must be periodic (closed, v in [0, 2π)); this {} curve is open",
+                kind_name(&spec.kind)
+            ))
+            .at(&format!("{p}.curve")));
+        }
+        for (j, earlier) in conds[..i].iter().enumerate() {
+            if earlier.u == c.u && earlier.derivative == c.derivative {
+                return Err(Error::invalid(format!(
+                    "prescribes {} at u = {} like {place}[{j}]",
+                    derivative_words(c.derivative),
+                    num(c.u)
+                ))
+                .at(&p));
+            }
+        }
+    }
+    if conds.len() != 2 * n {
+        return Err(Error::invalid(format!(
+            "{op_words} needs {} conditions, got {}",
+            2 * n,
+            conds.len()
+        ))
+        .at(place));
+    }
+    Ok(())
+}
+
+fn operator_words(spec: &OperatorSpec) -> String {
+    match spec {
+        OperatorSpec::Polyharmonic { order, .. } => {
+            format!("a polyharmonic operator of order {order}")
+        }
+        OperatorSpec::SixthOrder { .. } => "a sixth-order operator".to_string(),
+        OperatorSpec::General { coefficients } => format!(
+            "a general operator of order {}",
+            2 * coefficients.len().saturating_sub(1)
+        ),
+    }
+}
+
+/// One patch after validation, before solving.
+struct PatchPlan<'a> {
+    name: String,
+    place: String,
+    operator: &'a OperatorSpec,
+    operator_place: String,
+    conditions: &'a [ConditionSpec],
+}
+
+fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
+    static DEFAULT_OP: OperatorSpec = OperatorSpec::Polyharmonic { order: 2, a: 1.0 };
+    let top_op = spec.operator.as_ref().unwrap_or(&DEFAULT_OP);
+    match (&spec.conditions, &spec.patches) {
+        (Some(_), Some(_)) => Err(Error::invalid(
+            "a design has either top-level conditions (one patch) or [[patches]], not both",
+        )
+        .at("conditions")),
+        (None, None) => Err(Error::invalid(
+            "the design has no conditions: give `conditions = [...]` or [[patches]]",
+        )),
+        (Some(conds), None) => Ok(vec![PatchPlan {
+            name: spec.title.clone().unwrap_or_else(|| "surface".to_string()),
+            place: "conditions".to_string(),
+            operator: top_op,
+            operator_place: "operator".to_string(),
+            conditions: conds,
+        }]),
+        (None, Some(patches)) => {
+            if patches.is_empty() {
+                return Err(Error::invalid("needs at least one patch").at("patches"));
+            }
+            let mut out = Vec::new();
+            for (i, p) in patches.iter().enumerate() {
+                if p.name.trim().is_empty() {
+                    return Err(
+                        Error::invalid("must not be empty").at(&format!("patches[{i}].name"))
+                    );
+                }
+                if let Some(j) = patches[..i].iter().position(|q| q.name == p.name) {
+                    return Err(Error::invalid(format!(
+                        "'{}' is already the name of patches[{j}]",
+                        p.name
+                    ))
+                    .at(&format!("patches[{i}].name")));
+                }
+                let (operator, operator_place) = match &p.operator {
+                    Some(op) => (op, format!("patches[{i}].operator")),
+                    None => (top_op, "operator".to_string()),
+                };
+                out.push(PatchPlan {
+                    name: p.name.clone(),
+                    place: format!("patches[{i}].conditions"),
+                    operator,
+                    operator_place,
+                    conditions: &p.conditions,
+                });
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// Validates a design without building any curve or solving anything: numbers finite and in
+/// range, curve references known and acyclic, the operator's parameters, condition counts (`2N`),
+/// `u ∈ [0, 1]`, derivative orders `< 2N`, no two conditions of the same order at the same `u`,
+/// condition curves periodic, solver options and the `[output]` grid.
+pub fn validate_design(spec: &DesignSpec) -> Result<()> {
+    check_solver(&spec.solver)?;
+    output_grid(&spec.output)?;
+    for (name, c) in &spec.curves {
+        check_curve(c, &curve_place(name))?;
+    }
+    check_references(&spec.curves)?;
+    for p in plan(spec)? {
+        check_operator_values(p.operator, &p.operator_place)?;
+        check_conditions(
+            p.conditions,
+            half_order(p.operator),
+            &spec.curves,
+            &p.place,
+            &operator_words(p.operator),
+        )?;
+    }
+    Ok(())
+}
+
+/// The checks of [`build_operator`] that do not need the operator built.
+fn check_operator_values(spec: &OperatorSpec, place: &str) -> Result<()> {
+    match spec {
+        OperatorSpec::Polyharmonic { order, a } => {
+            if !(1..=20).contains(order) {
+                return Err(Error::invalid(format!(
+                    "must be between 1 and 20 (got {order}); the PDE has order 2·order"
+                ))
+                .at(&format!("{place}.order")));
+            }
+            positive(*a, &format!("{place}.a"))
+        }
+        OperatorSpec::SixthOrder { a, b, c, d } => {
+            for (name, x) in [("a", a), ("b", b), ("c", c), ("d", d)] {
+                finite(*x, &format!("{place}.{name}"))?;
+            }
+            Ok(())
+        }
+        OperatorSpec::General { coefficients } => {
+            if !(2..=21).contains(&coefficients.len()) {
+                return Err(Error::invalid(format!(
+                    "needs between 2 and 21 values [c0, …, cN] (got {})",
+                    coefficients.len()
+                ))
+                .at(&format!("{place}.coefficients")));
+            }
+            for (i, x) in coefficients.iter().enumerate() {
+                finite(*x, &format!("{place}.coefficients[{i}]"))?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Builds curves by name, each once, following references.
+struct CurveBuilder<'a> {
+    specs: &'a BTreeMap<String, CurveSpec>,
+    built: HashMap<String, SharedCurve>,
+}
+
+impl CurveBuilder<'_> {
+    fn named(&mut self, name: &str, place: &str) -> Result<SharedCurve> {
+        if let Some(c) = self.built.get(name) {
+            return Ok(c.clone());
+        }
+        let Some(spec) = self.specs.get(name) else {
+            return Err(unknown_curve(name, self.specs, place));
+        };
+        let c = self.build(spec, &curve_place(name))?;
+        self.built.insert(name.to_string(), c.clone());
+        Ok(c)
+    }
+
+    fn reference(&mut self, r: &CurveRef, place: &str) -> Result<SharedCurve> {
+        match r {
+            CurveRef::Name(n) => self.named(n, place),
+            CurveRef::Inline(spec) => self.build(spec, place),
+        }
+    }
+
+    /// Builds one curve: its kind, then arc length, `v_origin`, and the transforms in order.
+    fn build(&mut self, spec: &CurveSpec, place: &str) -> Result<SharedCurve> {
+        check_curve(spec, place)?;
+        let at = |e: Error| e.at(place);
+        let v3 = |v: &V3| Vec3::new(v[0], v[1], v[2]);
+        let pts = |v: &[V3]| v.iter().map(v3).collect::<Vec<_>>();
+        let mut curve: SharedCurve = match &spec.kind {
+            CurveKind::Circle {
+                center,
+                radius,
+                normal,
+            } => Arc::new(Ellipse::circle(v3(center), *radius, v3(normal)).map_err(at)?),
+            CurveKind::Ellipse {
+                center,
+                axis1,
+                axis2,
+                rx,
+                ry,
+                normal,
+            } => Arc::new(
+                match (axis1, axis2, rx, ry) {
+                    (Some(a1), Some(a2), _, _) => Ellipse::new(v3(center), v3(a1), v3(a2)),
+                    (_, _, Some(rx), Some(ry)) => Ellipse::with_radii(
+                        v3(center),
+                        *rx,
+                        *ry,
+                        normal.as_ref().map_or(Vec3::z(), v3),
+                    ),
+                    _ => Err(Error::invalid("give either axis1 and axis2, or rx and ry")),
+                }
+                .map_err(at)?,
+            ),
+            CurveKind::Point { at: p } => Arc::new(Point::new(v3(p))),
+            CurveKind::BSpline {
+                degree,
+                control,
+                knots,
+                periodic,
+            } => Arc::new(
+                if *periodic {
+                    BSpline::periodic(*degree, pts(control), knots.clone())
+                } else {
+                    BSpline::clamped(*degree, pts(control), knots.clone())
+                }
+                .map_err(at)?,
+            ),
+            CurveKind::Bezier { control } => Arc::new(Bezier::new(pts(control)).map_err(at)?),
+            CurveKind::Hermite { p0, p1, d0, d1 } => {
+                Arc::new(Hermite::new(v3(p0), v3(p1), v3(d0), v3(d1)))
+            }
+            CurveKind::Fourier { a0, cos, sin } => {
+                // The shorter of `cos` and `sin` is padded with zeros.
+                let m = cos.len().max(sin.len());
+                let pad = |v: &[V3]| {
+                    let mut out = pts(v);
+                    out.resize(m, Vec3::zeros());
+                    out
+                };
+                Arc::new(FourierSeries {
+                    a0: v3(a0),
+                    cos: pad(cos),
+                    sin: pad(sin),
+                })
+            }
+            CurveKind::Samples { points, param } => {
+                let param = match param {
+                    ParamSpec::Uniform => SampleParam::Uniform,
+                    ParamSpec::Chord => SampleParam::Chord,
+                    ParamSpec::Centripetal => SampleParam::Centripetal,
+                };
+                Arc::new(PointSamples::closed(pts(points), param).map_err(at)?)
+            }
+            CurveKind::Formula { x, y, z, domain } => {
+                let domain = match domain {
+                    DomainSpec::Periodic => Domain::Periodic,
+                    DomainSpec::Interval([t0, t1]) => Domain::Interval(*t0, *t1),
+                };
+                Arc::new(Formula::new(x, y, z, domain).map_err(at)?)
+            }
+            CurveKind::Derivative {
+                position,
+                direction,
+                scale,
+            } => {
+                let p = self.reference(position, &format!("{place}.position"))?;
+                let d = self.reference(direction, &format!("{place}.direction"))?;
+                if p.domain() != d.domain() {
+                    return Err(Error::invalid(format!(
+                        "position and direction curves have different domains ({:?} and {:?})",
+                        p.domain(),
+                        d.domain()
+                    ))
+                    .at(place));
+                }
+                // X_u = s (d − p): points from the position curve towards the direction curve.
+                Arc::new(Combination::new(vec![(*scale, d), (-*scale, p)]).map_err(at)?)
+            }
+        };
+        if spec.arc_length {
+            curve =
+                Arc::new(ArcLength::new(curve).map_err(|e| e.at(&format!("{place}.arc_length")))?);
+        }
+        if spec.v_origin != 0.0 {
+            curve = Arc::new(
+                OriginShift::new(curve, spec.v_origin)
+                    .map_err(|e| e.at(&format!("{place}.v_origin")))?,
+            );
+        }
+        if !spec.transform.is_empty() {
+            let mut map = Affine::identity();
+            for (i, step) in spec.transform.iter().enumerate() {
+                let p = format!("{place}.transform[{i}]");
+                let next = match step {
+                    TransformStep::Translate(d) => Affine::translation(v3(d)),
+                    TransformStep::Rotate { axis, angle, about } => {
+                        Affine::rotation(v3(axis), angle.to_radians(), v3(about))
+                            .map_err(|e| e.at(&format!("{p}.rotate")))?
+                    }
+                    TransformStep::Scale { factor, about } => {
+                        Affine::scaling(*factor, v3(about))
+                            .map_err(|e| e.at(&format!("{p}.scale")))?
+                    }
+                };
+                map = map.then(&next);
+            }
+            curve = Arc::new(Transformed::new(curve, map));
+        }
+        Ok(curve)
+    }
+}
+
+fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCurve>> {
+    let specs = builder.specs;
+    let mut curves = Vec::new();
+    for (name, c) in specs {
+        let curve = builder.named(name, &curve_place(name))?;
+        curves.push(NamedCurve {
+            name: name.clone(),
+            kind: kind_name(&c.kind),
+            curve,
+        });
+    }
+    Ok(curves)
+}
+
+/// Validates the design and builds its named curves (sorted by name), without solving: what a
+/// viewer needs to draw the design's curves.
+pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
+    validate_design(spec)?;
+    named_curves(&mut CurveBuilder {
+        specs: &spec.curves,
+        built: HashMap::new(),
+    })
+}
+
+/// Validates the design ([`validate_design`]), builds its curves (errors at `curves.<name>` or
+/// `conditions[i].curve`), its operators and conditions, solves every patch with
+/// [`elliptic::solve`], and measures the G0/G1 mismatch ([`edge_mismatch`]) of every shared edge:
+/// a named curve that is a position condition of two patches.
+pub fn build_design(spec: &DesignSpec) -> Result<BuiltDesign> {
+    validate_design(spec)?;
+    let options = check_solver(&spec.solver)?;
+    let mut builder = CurveBuilder {
+        specs: &spec.curves,
+        built: HashMap::new(),
+    };
+    let curves = named_curves(&mut builder)?;
+    let plans = plan(spec)?;
+    let mut patches = Vec::new();
+    let mut all_conditions = Vec::new();
+    for p in &plans {
+        let op = build_operator(p.operator, &p.operator_place)?;
+        let mut infos = Vec::new();
+        for (i, c) in p.conditions.iter().enumerate() {
+            let place = format!("{}[{i}].curve", p.place);
+            let curve = builder.reference(&c.curve, &place)?;
+            let (curve_name, kind) = match &c.curve {
+                CurveRef::Name(n) => (
+                    Some(n.clone()),
+                    spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
+                ),
+                CurveRef::Inline(s) => (None, kind_name(&s.kind)),
+            };
+            infos.push(ConditionInfo {
+                u: c.u,
+                derivative: c.derivative,
+                curve_name,
+                kind,
+                curve,
+            });
+        }
+        let conds = infos
+            .iter()
+            .map(|c| Condition {
+                u: c.u,
+                derivative: c.derivative,
+                curve: c.curve.clone(),
+            })
+            .collect();
+        let surface = elliptic::solve(&op, conds, &options).map_err(|e| e.at(&p.place))?;
+        patches.push(Patch {
+            name: p.name.clone(),
+            surface,
+        });
+        all_conditions.push(infos);
+    }
+    let edges = shared_edges(&patches, &all_conditions);
+    Ok(BuiltDesign {
+        title: spec.title.clone(),
+        patches,
+        conditions: all_conditions,
+        curves,
+        edges,
+        options,
+        multi_patch: spec.patches.is_some(),
+    })
+}
+
+/// Every pair of patches that share a named position curve, with the G0/G1 mismatch there.
+fn shared_edges(patches: &[Patch], conditions: &[Vec<ConditionInfo>]) -> Vec<SharedEdge> {
+    let mut edges = Vec::new();
+    for a in 0..patches.len() {
+        for b in a + 1..patches.len() {
+            for ca in conditions[a].iter().filter(|c| c.derivative == 0) {
+                for cb in conditions[b].iter().filter(|c| c.derivative == 0) {
+                    let (Some(na), Some(nb)) = (&ca.curve_name, &cb.curve_name) else {
+                        continue;
+                    };
+                    if na != nb {
+                        continue;
+                    }
+                    let (g0, g1) = edge_mismatch(
+                        &patches[a].surface,
+                        ca.u,
+                        &patches[b].surface,
+                        cb.u,
+                        EDGE_SAMPLES,
+                    );
+                    edges.push(SharedEdge {
+                        curve: na.clone(),
+                        report: EdgeReport {
+                            a,
+                            ua: ca.u,
+                            b,
+                            ub: cb.u,
+                            g0,
+                            g1,
+                        },
+                    });
+                }
+            }
+        }
+    }
+    edges
+}

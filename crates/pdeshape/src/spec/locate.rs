@@ -1,0 +1,199 @@
+//! From error paths back to lines and columns of the design file.
+
+use super::build::key_path;
+use crate::{Error, Result};
+use toml_edit::{ImDocument, Item, Value};
+
+/// Refuses NaN and infinite numbers anywhere in a parsed TOML value; the error names the path.
+pub(crate) fn check_finite(value: &toml::Value, place: &str) -> Result<()> {
+    match value {
+        toml::Value::Float(x) if !x.is_finite() => {
+            Err(Error::invalid(format!("must be finite (got {x})")).at(place))
+        }
+        toml::Value::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                check_finite(item, &format!("{place}[{i}]"))?;
+            }
+            Ok(())
+        }
+        toml::Value::Table(t) => {
+            for (k, item) in t {
+                let p = if place.is_empty() {
+                    key_path(k)
+                } else {
+                    format!("{place}.{}", key_path(k))
+                };
+                check_finite(item, &p)?;
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// One step of a path such as `curves."my rim".center[1]`.
+#[derive(Debug, PartialEq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+fn parse_path(path: &str) -> Option<Vec<Step>> {
+    let mut steps = Vec::new();
+    let mut chars = path.chars().peekable();
+    while let Some(&c) = chars.peek() {
+        match c {
+            '.' => {
+                chars.next();
+            }
+            '[' => {
+                chars.next();
+                let mut digits = String::new();
+                for d in chars.by_ref() {
+                    if d == ']' {
+                        break;
+                    }
+                    digits.push(d);
+                }
+                steps.push(Step::Index(digits.trim().parse().ok()?));
+            }
+            '"' => {
+                chars.next();
+                let mut key = String::new();
+                while let Some(d) = chars.next() {
+                    match d {
+                        '"' => break,
+                        '\\' => key.push(chars.next()?),
+                        _ => key.push(d),
+                    }
+                }
+                steps.push(Step::Key(key));
+            }
+            _ => {
+                let mut key = String::new();
+                while let Some(&d) = chars.peek() {
+                    if d == '.' || d == '[' {
+                        break;
+                    }
+                    key.push(d);
+                    chars.next();
+                }
+                steps.push(Step::Key(key));
+            }
+        }
+    }
+    Some(steps)
+}
+
+/// The 1-based line and column of the deepest part of `path` (e.g. `conditions[2].curve`) that
+/// exists in the TOML `text`; `None` if the text does not parse or not even the first step exists.
+pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+    let doc = ImDocument::parse(text).ok()?;
+    let steps = parse_path(path)?;
+    walk_table(doc.as_table(), &steps, None).map(|r| line_col(text, r.start))
+}
+
+type Span = Option<std::ops::Range<usize>>;
+
+/// Follows `steps` inside a table; returns the span of the deepest part found.
+fn walk_table(table: &toml_edit::Table, steps: &[Step], best: Span) -> Span {
+    let Some((Step::Key(k), rest)) = steps.split_first() else {
+        return best;
+    };
+    let Some((key, next)) = table.get_key_value(k) else {
+        return best;
+    };
+    let best = key.span().or_else(|| next.span()).or(best);
+    match next {
+        Item::Value(v) => walk_value(v, rest, best),
+        Item::Table(t) => walk_table(t, rest, best),
+        Item::ArrayOfTables(a) => match rest.split_first() {
+            Some((Step::Index(i), rest)) => match a.get(*i) {
+                Some(t) => walk_table(t, rest, t.span().or(best)),
+                None => best,
+            },
+            _ => best,
+        },
+        Item::None => best,
+    }
+}
+
+/// Follows `steps` inside a value (inline tables and arrays).
+fn walk_value(mut value: &Value, steps: &[Step], mut best: Span) -> Span {
+    for step in steps {
+        match step {
+            Step::Key(k) => {
+                let Some((key, next)) = value
+                    .as_inline_table()
+                    .and_then(|t| Some((t.key(k)?, t.get(k)?)))
+                else {
+                    return best;
+                };
+                best = key.span().or_else(|| next.span()).or(best);
+                value = next;
+            }
+            Step::Index(i) => {
+                let Some(next) = value.as_array().and_then(|a| a.get(*i)) else {
+                    return best;
+                };
+                best = next.span().or(best);
+                value = next;
+            }
+        }
+    }
+    best
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// `file:line:col: place: message` for an error about the design file `text` named `file`. The
+/// position comes from the error's place, or, for a TOML syntax error, from the parser.
+pub fn describe_error(file: &str, text: &str, err: &Error) -> String {
+    let position = if err.place().is_empty() {
+        match toml::from_str::<toml::Table>(text) {
+            Err(e) => e.span().map(|r| line_col(text, r.start)),
+            Ok(_) => None,
+        }
+    } else {
+        locate(text, err.place())
+    };
+    match position {
+        Some((line, col)) => format!("{file}:{line}:{col}: {err}"),
+        None => format!("{file}: {err}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_parse() {
+        assert_eq!(
+            parse_path("curves.\"my rim\".center[1]").unwrap(),
+            vec![
+                Step::Key("curves".into()),
+                Step::Key("my rim".into()),
+                Step::Key("center".into()),
+                Step::Index(1)
+            ]
+        );
+    }
+
+    #[test]
+    fn locates_keys_values_and_array_tables() {
+        let text = "title = \"x\"\n[curves.rim]\ntype = \"circle\"\ncenter = [0, 0, 1]\nradius = -1\n\
+                    conditions = [\n  { u = 0.0, curve = \"a\" },\n  { u = 1.0, curve = \"rimm\" },\n]\n";
+        assert_eq!(locate(text, "curves.rim.radius"), Some((5, 1)));
+        assert_eq!(locate(text, "curves.rim.center[2]"), Some((4, 17)));
+        assert_eq!(locate(text, "curves.rim.nothing"), Some((2, 9)));
+        let text2 = "[[patches]]\nname = \"a\"\n[[patches]]\nname = \"b\"\nconditions = [ { u = 2.0, curve = \"x\" } ]\n";
+        assert_eq!(locate(text2, "patches[1].conditions[0].u"), Some((5, 18)));
+        assert_eq!(locate(text2, "patches[1].name"), Some((4, 1)));
+    }
+}

@@ -1,0 +1,527 @@
+//! The serde types of the design file. Every table refuses unknown keys; `pdeshape schema` prints
+//! the JSON schema derived from these types. The meaning of every key is documented in
+//! `docs/design-file.md`.
+
+use schemars::JsonSchema;
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// A point or vector `[x, y, z]`.
+pub type V3 = [f64; 3];
+
+/// A whole design file.
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DesignSpec {
+    /// A name for the design (shown by `pdeshape check`).
+    #[serde(default)]
+    pub title: Option<String>,
+    /// The elliptic operator of every patch that does not override it (default: polyharmonic,
+    /// order 2, a = 1).
+    #[serde(default, deserialize_with = "deserialize_operator")]
+    pub operator: Option<OperatorSpec>,
+    /// Options of the analytic solver.
+    #[serde(default)]
+    pub solver: SolverSpec,
+    /// Named curves, referenced by name from conditions and from other curves.
+    #[serde(default)]
+    pub curves: BTreeMap<String, CurveSpec>,
+    /// The conditions of a single-patch design (exclusive with `patches`).
+    #[serde(default)]
+    pub conditions: Option<Vec<ConditionSpec>>,
+    /// The patches of a multi-patch design (exclusive with `conditions`).
+    #[serde(default)]
+    pub patches: Option<Vec<PatchSpec>>,
+    /// Defaults for the command-line tool.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(tag = "kind")]
+pub enum OperatorSpec {
+    /// `(∂²/∂u² + a² ∂²/∂v²)^N` (book Eqs. 4.1, 4.10, 4.35).
+    #[serde(rename = "polyharmonic")]
+    Polyharmonic {
+        /// `N`, 1 to 20: the PDE has order `2N` and takes `2N` conditions (default 2).
+        #[serde(default = "default_order")]
+        order: usize,
+        /// The smoothing parameter `a > 0` (default 1).
+        #[serde(default = "default_a")]
+        a: f64,
+    },
+    /// `a ∂u⁶ + b ∂u⁴∂v² + c ∂u²∂v⁴ + d ∂v⁶` (Eq. 4.54); here `a` is a coefficient, not the
+    /// smoothing parameter.
+    #[serde(rename = "sixth-order")]
+    SixthOrder { a: f64, b: f64, c: f64, d: f64 },
+    /// `Σ_{k=0}^{N} c_k ∂u^{2N−2k} ∂v^{2k}` from `coefficients = [c_0, …, c_N]`; must be elliptic.
+    #[serde(rename = "general")]
+    General { coefficients: Vec<f64> },
+}
+
+fn default_order() -> usize {
+    2
+}
+fn default_a() -> f64 {
+    1.0
+}
+
+impl Default for OperatorSpec {
+    fn default() -> Self {
+        OperatorSpec::Polyharmonic { order: 2, a: 1.0 }
+    }
+}
+
+/// Solver options.
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Fourier modes solved analytically, 1 to 256 (default 12).
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Add the spectral remainder (Eqs. 4.45–4.53) so that curves which are not finite Fourier
+    /// series are met exactly (default true).
+    #[serde(default = "default_true")]
+    pub remainder: bool,
+    /// Samples per curve for the FFT; 0 chooses automatically, otherwise at least `2·modes + 1`.
+    #[serde(default)]
+    pub samples: usize,
+}
+
+fn default_modes() -> usize {
+    12
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for SolverSpec {
+    fn default() -> Self {
+        SolverSpec {
+            modes: 12,
+            remainder: true,
+            samples: 0,
+        }
+    }
+}
+
+/// Defaults for the command-line tool.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Grid rows (values of u), default 64.
+    #[serde(default)]
+    pub nu: Option<usize>,
+    /// Grid columns (values of v), default 128.
+    #[serde(default)]
+    pub nv: Option<usize>,
+}
+
+/// One patch of a multi-patch design.
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PatchSpec {
+    /// Unique name of the patch.
+    pub name: String,
+    /// Overrides the design's operator for this patch.
+    #[serde(default, deserialize_with = "deserialize_operator")]
+    pub operator: Option<OperatorSpec>,
+    /// The patch's conditions (`2N` of them).
+    pub conditions: Vec<ConditionSpec>,
+}
+
+/// `∂ᵈX/∂uᵈ (u, v) = curve(v)` for all v.
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConditionSpec {
+    /// Where the condition holds, `0 ≤ u ≤ 1`.
+    pub u: f64,
+    /// 0 (default) for a position curve, `d` for the `d`-th u-derivative (`d < 2N`).
+    #[serde(default)]
+    pub derivative: usize,
+    /// The curve: the name of a curve in `[curves]`, or an inline curve table.
+    pub curve: CurveRef,
+}
+
+/// A curve given by name or inline.
+#[derive(Clone, Debug, JsonSchema)]
+#[serde(untagged)]
+pub enum CurveRef {
+    /// The name of a curve in `[curves]`.
+    Name(String),
+    /// An inline curve table.
+    Inline(Box<CurveSpec>),
+}
+
+impl<'de> Deserialize<'de> for CurveRef {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = CurveRef;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a curve name or an inline curve table")
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<CurveRef, E> {
+                Ok(CurveRef::Name(s.to_string()))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<CurveRef, A::Error> {
+                CurveSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(|c| CurveRef::Inline(Box::new(c)))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A curve: its kind and the modifiers every kind accepts.
+#[derive(Clone, Debug)]
+pub struct CurveSpec {
+    pub kind: CurveKind,
+    /// Affine maps applied in order (§6.1).
+    pub transform: Vec<TransformStep>,
+    /// `C̃(v) = C(v + v_origin)`, radians (§6.4); periodic curves only.
+    pub v_origin: f64,
+    /// Reparametrise by arc length (§5.1).
+    pub arc_length: bool,
+}
+
+const COMMON_KEYS: [&str; 3] = ["transform", "v_origin", "arc_length"];
+
+/// Marks the path of an error found inside a curve table: custom serde errors cannot extend the
+/// path that `serde_path_to_error` tracks outside, so the inner path travels in the message and
+/// [`split_path_marker`] moves it back into the error's place.
+const PATH_MARK: char = '\u{1}';
+
+fn with_path(inner: &str, message: &str) -> String {
+    if inner.is_empty() {
+        return message.to_string();
+    }
+    // A nested curve's message may carry a path already: join the two.
+    match split_path_marker(message) {
+        (Some(deeper), rest) => {
+            let sep = if deeper.starts_with('[') { "" } else { "." };
+            format!("{PATH_MARK}{inner}{sep}{deeper}{PATH_MARK}{rest}")
+        }
+        (None, rest) => format!("{PATH_MARK}{inner}{PATH_MARK}{rest}"),
+    }
+}
+
+/// `(inner path, message)` of a message made by [`with_path`].
+pub(crate) fn split_path_marker(message: &str) -> (Option<&str>, &str) {
+    if let Some(rest) = message.strip_prefix(PATH_MARK) {
+        if let Some((path, msg)) = rest.split_once(PATH_MARK) {
+            return (Some(path), msg);
+        }
+    }
+    (None, message)
+}
+
+/// Reads a table whose variant is chosen by the key `tag` (`type`, `kind`) as the externally
+/// tagged `{ <variant> = { … } }`, so that errors inside the table keep their path (serde's
+/// internally tagged enums buffer the table and lose it). `hint` is appended to "unknown field"
+/// messages.
+fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
+    mut table: toml::Table,
+    tag: &str,
+    hint: &str,
+) -> Result<T, E> {
+    let variant = match table.remove(tag) {
+        Some(toml::Value::String(t)) => t,
+        Some(other) => {
+            return Err(E::custom(with_path(
+                tag,
+                &format!("expected a string, found {}", other.type_str()),
+            )))
+        }
+        None => return Err(E::custom(format!("missing field `{tag}`"))),
+    };
+    let mut wrapped = toml::Table::new();
+    wrapped.insert(variant, toml::Value::Table(table));
+    serde_path_to_error::deserialize::<_, T>(toml::Value::Table(wrapped)).map_err(|e| {
+        let path = e.path().to_string();
+        // Drop the variant name (first segment) from the path.
+        let inner = match path.find(['.', '[']) {
+            Some(i) if path.as_bytes()[i] == b'.' => path[i + 1..].to_string(),
+            Some(i) => path[i..].to_string(),
+            None => String::new(),
+        };
+        let m = e.inner().message().to_string();
+        let inner = if inner.is_empty() && m.starts_with("unknown variant") {
+            tag.to_string()
+        } else {
+            inner
+        };
+        let m = if m.starts_with("unknown field") && !hint.is_empty() {
+            format!("{m} {hint}")
+        } else {
+            m
+        };
+        E::custom(with_path(&inner, &m))
+    })
+}
+
+fn deserialize_operator<'de, D: Deserializer<'de>>(d: D) -> Result<Option<OperatorSpec>, D::Error> {
+    let table = toml::Table::deserialize(d)?;
+    deserialize_tagged(table, "kind", "").map(Some)
+}
+
+impl<'de> Deserialize<'de> for CurveSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let mut table = toml::Table::deserialize(d)?;
+        let take = |t: &mut toml::Table, k: &str| t.remove(k);
+        let transform = match take(&mut table, "transform") {
+            Some(v) => {
+                serde_path_to_error::deserialize::<_, Vec<TransformStep>>(v).map_err(|e| {
+                    let path = e.path().to_string();
+                    let inner = if path == "." || path.is_empty() {
+                        "transform".to_string()
+                    } else if path.starts_with('[') {
+                        format!("transform{path}")
+                    } else {
+                        format!("transform.{path}")
+                    };
+                    de::Error::custom(with_path(&inner, e.inner().message()))
+                })?
+            }
+            None => Vec::new(),
+        };
+        let v_origin = match take(&mut table, "v_origin") {
+            Some(v) => f64::deserialize(v)
+                .map_err(|e| de::Error::custom(format!("v_origin: {}", e.message())))?,
+            None => 0.0,
+        };
+        let arc_length = match take(&mut table, "arc_length") {
+            Some(v) => bool::deserialize(v)
+                .map_err(|e| de::Error::custom(format!("arc_length: {}", e.message())))?,
+            None => false,
+        };
+        // `type` picks the variant; errors inside the table keep their path.
+        let hint = format!("(or one of {})", COMMON_KEYS.join(", "));
+        let kind: CurveKind = deserialize_tagged(table, "type", &hint)?;
+        Ok(CurveSpec {
+            kind,
+            transform,
+            v_origin,
+            arc_length,
+        })
+    }
+}
+
+impl JsonSchema for CurveSpec {
+    fn schema_name() -> String {
+        "CurveSpec".to_string()
+    }
+    fn json_schema(gen: &mut schemars::gen::SchemaGenerator) -> schemars::schema::Schema {
+        // The schema of the kind (one object per `type`), with the common modifiers added to
+        // every variant's properties.
+        let kind = CurveKind::json_schema(gen);
+        let transform = gen.subschema_for::<Vec<TransformStep>>();
+        let mut value = serde_json::to_value(&kind).unwrap_or_default();
+        let common = serde_json::json!({
+            "transform": {
+                "description": "Affine maps applied in order after the curve is built (§6.1).",
+                "allOf": [serde_json::to_value(&transform).unwrap_or_default()]
+            },
+            "v_origin": {
+                "description": "Shift of the v = 0 point in radians (§6.4): C'(v) = C(v + v_origin).",
+                "type": "number", "default": 0.0
+            },
+            "arc_length": {
+                "description": "Reparametrise by arc length (§5.1).",
+                "type": "boolean", "default": false
+            }
+        });
+        if let Some(variants) = value.get_mut("oneOf").and_then(|v| v.as_array_mut()) {
+            for variant in variants {
+                if let Some(props) = variant
+                    .get_mut("properties")
+                    .and_then(|p| p.as_object_mut())
+                {
+                    for (k, v) in common.as_object().into_iter().flatten() {
+                        props.insert(k.clone(), v.clone());
+                    }
+                }
+            }
+        }
+        serde_json::from_value(value).unwrap_or(kind)
+    }
+}
+
+/// The curve kinds, chosen by `type`. (Serde reads the externally tagged form that
+/// `CurveSpec`'s deserializer builds from `type`; the schema shows the file's form.)
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(tag = "type")]
+pub enum CurveKind {
+    /// `center + r (cos v e₁ + sin v e₂)` in the plane normal to `normal`; v = 0 lies along the
+    /// projection of +x on that plane (+y if the normal is along x).
+    #[serde(rename = "circle")]
+    Circle {
+        center: V3,
+        radius: f64,
+        #[serde(default = "default_normal")]
+        normal: V3,
+    },
+    /// Either `center + cos v · axis1 + sin v · axis2`, or semi-axes `rx` (along the circle's
+    /// start direction) and `ry` in the plane normal to `normal`.
+    #[serde(rename = "ellipse")]
+    Ellipse {
+        center: V3,
+        #[serde(default)]
+        axis1: Option<V3>,
+        #[serde(default)]
+        axis2: Option<V3>,
+        #[serde(default)]
+        rx: Option<f64>,
+        #[serde(default)]
+        ry: Option<f64>,
+        #[serde(default)]
+        normal: Option<V3>,
+    },
+    /// A constant curve (closes the surface to a pole).
+    #[serde(rename = "point")]
+    Point { at: V3 },
+    /// A B-spline. Periodic (default): `knots` are the `control.len() + 1` increasing breakpoints
+    /// (mapped onto [0, 2π]); open: the full clamped knot vector.
+    #[serde(rename = "bspline")]
+    BSpline {
+        degree: usize,
+        control: Vec<V3>,
+        #[serde(default)]
+        knots: Option<Vec<f64>>,
+        #[serde(default = "default_true")]
+        periodic: bool,
+    },
+    /// A Bézier curve on [0, 1] (open: for drawing, not as a condition).
+    #[serde(rename = "bezier")]
+    Bezier { control: Vec<V3> },
+    /// A cubic Hermite curve on [0, 1] (Eq. 5.4; open).
+    #[serde(rename = "hermite")]
+    Hermite { p0: V3, p1: V3, d0: V3, d1: V3 },
+    /// `a0 + Σ_{n=1}^{M} [cos[n−1] cos nv + sin[n−1] sin nv]`.
+    #[serde(rename = "fourier")]
+    Fourier {
+        a0: V3,
+        #[serde(default)]
+        cos: Vec<V3>,
+        #[serde(default)]
+        sin: Vec<V3>,
+    },
+    /// Closed point samples interpolated by a periodic cubic spline.
+    #[serde(rename = "samples")]
+    Samples {
+        points: Vec<V3>,
+        #[serde(default)]
+        param: ParamSpec,
+    },
+    /// Three formulas in `v`, e.g. `x = "2*cos(v)"`.
+    #[serde(rename = "formula")]
+    Formula {
+        x: String,
+        y: String,
+        z: String,
+        #[serde(default)]
+        domain: DomainSpec,
+    },
+    /// The book's derivative curve (Eq. 5.2, sign chosen so it points where the surface heads):
+    /// `X_u = scale · (direction − position)`.
+    #[serde(rename = "derivative")]
+    Derivative {
+        position: CurveRef,
+        direction: CurveRef,
+        #[serde(default = "default_a")]
+        scale: f64,
+    },
+}
+
+fn default_normal() -> V3 {
+    [0.0, 0.0, 1.0]
+}
+
+/// Parametrisation of closed point samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum ParamSpec {
+    Uniform,
+    #[default]
+    Chord,
+    Centripetal,
+}
+
+/// `"periodic"` or `[t0, t1]`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum DomainSpec {
+    /// `"periodic"`: v on [0, 2π).
+    #[default]
+    Periodic,
+    /// An open interval `[t0, t1]`.
+    Interval([f64; 2]),
+}
+
+impl JsonSchema for DomainSpec {
+    fn schema_name() -> String {
+        "DomainSpec".to_string()
+    }
+    fn json_schema(_gen: &mut schemars::gen::SchemaGenerator) -> schemars::schema::Schema {
+        let value = serde_json::json!({
+            "description": "\"periodic\" (v on [0, 2π), the default) or an interval [t0, t1].",
+            "oneOf": [
+                { "type": "string", "enum": ["periodic"] },
+                { "type": "array", "items": { "type": "number" }, "minItems": 2, "maxItems": 2 }
+            ]
+        });
+        serde_json::from_value(value).unwrap_or(schemars::schema::Schema::Bool(true))
+    }
+}
+
+impl<'de> Deserialize<'de> for DomainSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = DomainSpec;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("\"periodic\" or [t0, t1]")
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> Result<DomainSpec, E> {
+                if s == "periodic" {
+                    Ok(DomainSpec::Periodic)
+                } else {
+                    Err(E::custom(format!(
+                        "unknown domain '{s}', expected \"periodic\" or [t0, t1]"
+                    )))
+                }
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, seq: A) -> Result<DomainSpec, A::Error> {
+                <[f64; 2]>::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(DomainSpec::Interval)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// One affine step: `{ translate = [..] }`, `{ rotate = {..} }` or `{ scale = {..} }`.
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum TransformStep {
+    /// Translation by a vector.
+    Translate(V3),
+    /// Rotation (right-handed, angle in degrees) about the line through `about` along `axis`.
+    Rotate {
+        axis: V3,
+        /// Degrees.
+        angle: f64,
+        #[serde(default)]
+        about: V3,
+    },
+    /// Uniform scaling by `factor ≠ 0` about the point `about`.
+    Scale {
+        factor: f64,
+        #[serde(default)]
+        about: V3,
+    },
+}
