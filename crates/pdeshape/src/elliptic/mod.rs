@@ -334,7 +334,7 @@ fn solve_mode(
     }
     let (basis, a, cond) =
         best.ok_or_else(|| Error::not_unique(format!("Fourier mode {n} has no usable basis")))?;
-    if !(cond <= SINGULAR) {
+    if cond.is_nan() || cond > SINGULAR {
         let which = if n == 0 {
             "the spine (mode 0)".to_string()
         } else {

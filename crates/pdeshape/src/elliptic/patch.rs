@@ -249,14 +249,15 @@ impl Surface for PdePatch {
             for (d, wd) in w.iter_mut().enumerate() {
                 r.cardinal.eval(u, d, wd);
             }
-            for i in 0..k {
+            for (i, ((&w0, &w1), &w2)) in w[0].iter().zip(&w[1]).zip(&w[2]).enumerate() {
                 let [dl, dl1, dl2] = r.delta(&self.conditions, i, v);
-                p.x += dl * w[0][i];
-                p.xu += dl * w[1][i];
-                p.xuu += dl * w[2][i];
-                p.xv += dl1 * w[0][i];
-                p.xuv += dl1 * w[1][i];
-                p.xvv += dl2 * w[0][i];
+                let w = [w0, w1, w2];
+                p.x += dl * w[0];
+                p.xu += dl * w[1];
+                p.xuu += dl * w[2];
+                p.xv += dl1 * w[0];
+                p.xuv += dl1 * w[1];
+                p.xvv += dl2 * w[0];
             }
         }
         p
@@ -296,7 +297,7 @@ impl<'a> PdeRows<'a> {
     fn new(patch: &'a PdePatch, vs: &'a [f64]) -> Self {
         let m = patch.modes();
         let nv = vs.len();
-        let symmetric = nv % 4 == 0
+        let symmetric = nv.is_multiple_of(4)
             && nv >= 8
             && vs
                 .iter()
@@ -361,48 +362,40 @@ impl<'a> PdeRows<'a> {
     }
 }
 
-/// `acc[q][j] += Σ_n alpha[n][q]·cos_n[j] + beta[n][q]·sin_n[j]` over one block of columns, the
-/// sums split by the parity of `n` when `split` (even into `acc[0..Q]`, odd into `acc[Q..2Q]`,
-/// cosine and sine parts apart: four groups of `Q`).
-#[inline(always)]
-fn accumulate_block(
-    alpha: &[f64],
-    beta: &[f64],
-    cos: &[f64],
-    sin: &[f64],
+/// The per-row coefficients and per-column tables one accumulation works on.
+struct Sums<'t> {
+    /// `alpha[n·Q + q]`, `beta[n·Q + q]`: cosine and sine coefficients of quantity `q`, mode `n`.
+    alpha: &'t [f64],
+    beta: &'t [f64],
+    /// `cos[(n−1)·cols + j]`, `sin[(n−1)·cols + j]`.
+    cos: &'t [f64],
+    sin: &'t [f64],
     cols: usize,
-    j0: usize,
-    len: usize,
-    acc: &mut [[f64; BLOCK]],
-) {
-    let m = alpha.len() / Q - 1;
+}
+
+/// `acc[q][j] += Σ_n alpha[n][q]·cos_n[j] + beta[n][q]·sin_n[j]` over columns `j0..j0+len`. With
+/// `4Q` accumulators the sums are split by the parity of `n` and into cosine and sine parts
+/// (even cos, odd cos, even sin, odd sin); with `Q` they are not split.
+#[inline(always)]
+fn accumulate_block(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
+    let m = t.alpha.len() / Q - 1;
+    let split = acc.len() == 4 * Q;
     for n in 1..=m {
-        let c = &cos[(n - 1) * cols + j0..(n - 1) * cols + j0 + len];
-        let s = &sin[(n - 1) * cols + j0..(n - 1) * cols + j0 + len];
+        let c = &t.cos[(n - 1) * t.cols + j0..(n - 1) * t.cols + j0 + len];
+        let s = &t.sin[(n - 1) * t.cols + j0..(n - 1) * t.cols + j0 + len];
         let parity = n % 2;
         for q in 0..Q {
-            let (an, bn) = (alpha[n * Q + q], beta[n * Q + q]);
-            let (ac, asn) = if acc.len() == Q {
-                // Not split: one accumulator for both parts (cos and sin share it).
-                (q, q)
-            } else {
-                (parity * Q + q, 2 * Q + parity * Q + q)
-            };
-            if ac == asn {
-                let row = &mut acc[ac][..len];
-                for j in 0..len {
-                    row[j] += an * c[j] + bn * s[j];
+            let (an, bn) = (t.alpha[n * Q + q], t.beta[n * Q + q]);
+            if split {
+                for (a, x) in acc[parity * Q + q][..len].iter_mut().zip(c) {
+                    *a += an * x;
+                }
+                for (a, x) in acc[2 * Q + parity * Q + q][..len].iter_mut().zip(s) {
+                    *a += bn * x;
                 }
             } else {
-                {
-                    let row = &mut acc[ac][..len];
-                    for j in 0..len {
-                        row[j] += an * c[j];
-                    }
-                }
-                let row = &mut acc[asn][..len];
-                for j in 0..len {
-                    row[j] += bn * s[j];
+                for ((a, x), y) in acc[q][..len].iter_mut().zip(c).zip(s) {
+                    *a += an * x + bn * y;
                 }
             }
         }
@@ -411,35 +404,18 @@ fn accumulate_block(
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn accumulate_block_avx2(
-    alpha: &[f64],
-    beta: &[f64],
-    cos: &[f64],
-    sin: &[f64],
-    cols: usize,
-    j0: usize,
-    len: usize,
-    acc: &mut [[f64; BLOCK]],
-) {
-    accumulate_block(alpha, beta, cos, sin, cols, j0, len, acc)
+unsafe fn accumulate_block_avx2(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
+    accumulate_block(t, j0, len, acc)
 }
 
-fn accumulate(
-    alpha: &[f64],
-    beta: &[f64],
-    cos: &[f64],
-    sin: &[f64],
-    cols: usize,
-    j0: usize,
-    len: usize,
-    acc: &mut [[f64; BLOCK]],
-) {
+/// [`accumulate_block`], compiled for AVX2 where the processor has it.
+fn accumulate(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU supports the features the function was compiled for.
-        return unsafe { accumulate_block_avx2(alpha, beta, cos, sin, cols, j0, len, acc) };
+        // SAFETY: the processor supports the features the function was compiled for.
+        return unsafe { accumulate_block_avx2(t, j0, len, acc) };
     }
-    accumulate_block(alpha, beta, cos, sin, cols, j0, len, acc)
+    accumulate_block(t, j0, len, acc)
 }
 
 /// Unit normal `X_u × X_v / |X_u × X_v|`, or `None` where it degenerates (a pole).
@@ -482,9 +458,14 @@ impl RowEvaluator for PdeRows<'_> {
                 // The mean (n = 0) belongs to the even cosine sums.
                 a[..len].fill(if g < Q { alpha[g] } else { 0.0 });
             }
-            accumulate(
-                &alpha, &beta, &self.cos, &self.sin, self.cols, j0, len, &mut acc,
-            );
+            let sums = Sums {
+                alpha: &alpha,
+                beta: &beta,
+                cos: &self.cos,
+                sin: &self.sin,
+                cols: self.cols,
+            };
+            accumulate(&sums, j0, len, &mut acc);
             // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four columns
             // j, nv/2 − j, nv/2 + j, nv − j.
             let targets: &[[f64; 4]] = if self.symmetric {
@@ -498,6 +479,7 @@ impl RowEvaluator for PdeRows<'_> {
                 &[[1.0, 0.0, 0.0, 0.0]]
             };
             for (t, sg) in targets.iter().enumerate() {
+                #[allow(clippy::needless_range_loop)] // jj indexes the 36 accumulator rows
                 for jj in 0..len {
                     let j = j0 + jj;
                     let col = match t {
@@ -623,7 +605,7 @@ mod row_tests {
             for nv in [16usize, 15] {
                 let vs: Vec<f64> = (0..nv).map(|j| TAU * j as f64 / nv as f64).collect();
                 let rows = PdeRows::new(&patch, &vs);
-                assert_eq!(rows.symmetric, nv % 4 == 0);
+                assert_eq!(rows.symmetric, nv.is_multiple_of(4));
                 let mut pos = vec![Vec3::zeros(); nv];
                 let mut nrm = vec![Vec3::zeros(); nv];
                 for &u in &[0.0, 0.3, 1.0] {
