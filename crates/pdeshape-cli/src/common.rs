@@ -148,6 +148,16 @@ impl Output {
     /// Flushes and renames the temporary file onto the target.
     pub fn commit(self) -> Result<(), CliError> {
         let shown = self.path.display().to_string();
+        // Temporary files are private (0600); the result gets the usual permissions of a new
+        // file (rw-r--r--).
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            self.temp
+                .as_file()
+                .set_permissions(std::fs::Permissions::from_mode(0o644))
+                .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        }
         self.temp
             .as_file()
             .sync_all()

@@ -125,18 +125,26 @@ pub fn overlays(built: &BuiltDesign) -> Vec<Polyline> {
     lines
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
-    let shown = args.output.display().to_string();
-    let is_png = args
-        .output
+/// Refuses picture paths that do not end in `.png`.
+pub fn check_png_path(path: &std::path::Path) -> Result<(), CliError> {
+    let is_png = path
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !is_png {
-        return Err(CliError::input(format!(
-            "-o {shown}: the picture must be a .png file"
-        )));
+    if is_png {
+        Ok(())
+    } else {
+        Err(CliError::input(format!(
+            "{}: the picture must be a .png file",
+            path.display()
+        )))
     }
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    check_png_path(&args.output)
+        .map_err(|_| CliError::input(format!("-o {shown}: the picture must be a .png file")))?;
     let (width, height) = parse_size(&args.size)?;
     let view = args.view.as_deref().map(parse_view).transpose()?;
     let design = common::load(&args.design)?;

@@ -22,6 +22,10 @@ pub struct Args {
     /// Print one JSON line with the solve, tessellate and write times (ms) on stderr.
     #[arg(long)]
     pub timings: bool,
+    /// Also draw the surface (with its boundary curves and spine) into this PNG file, as
+    /// `pdeshape render` does with its default view and size.
+    #[arg(long)]
+    pub picture: Option<PathBuf>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -35,7 +39,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let design = common::load(&args.design)?;
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
+    if let Some(pic) = &args.picture {
+        crate::render::check_png_path(pic)?;
+    }
     let mut out = Output::create(&args.output)?;
+    let mut picture_out = args
+        .picture
+        .as_ref()
+        .map(|p| Output::create(p))
+        .transpose()?;
 
     let t = Instant::now();
     let built = design.build()?;
@@ -83,8 +95,27 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         drop(w);
         write_ms = ms(t);
     }
+    // The picture is drawn before anything is committed, so a failure leaves neither file.
+    if let Some(pic) = picture_out.as_mut() {
+        let meshes = built
+            .patches
+            .iter()
+            .map(|p| mesh::tessellate(&p.surface, nu, nv))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| CliError::input(e.to_string()))?;
+        let png = pdeshape::render::render_png(
+            &meshes,
+            &crate::render::overlays(&built),
+            &pdeshape::render::RenderOptions::default(),
+        )
+        .map_err(|e| CliError::input(e.to_string()))?;
+        pic.write_all(&png)?;
+    }
     let t = Instant::now();
     out.commit()?;
+    if let Some(pic) = picture_out {
+        pic.commit()?;
+    }
     let write_ms = write_ms + ms(t);
     if args.timings {
         eprintln!(
