@@ -52,7 +52,19 @@ impl Loaded {
         let (nu_file, nv_file) = (self.spec.output.nu, self.spec.output.nv);
         let nu_v = nu.or(nu_file).unwrap_or(DEFAULT_NU);
         let nv_v = nv.or(nv_file).unwrap_or(DEFAULT_NV);
-        match spec::check_grid(nu_v, nv_v) {
+        // The vertex limit holds for the whole design: every patch gets its own grid.
+        let patches = self.spec.patches.as_ref().map_or(1, |p| p.len().max(1));
+        let checked = spec::check_grid(nu_v, nv_v).and_then(|()| {
+            match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(patches)) {
+                Some(n) if n <= pdeshape::mesh::MAX_VERTICES => Ok(()),
+                _ => Err(pdeshape::Error::invalid(format!(
+                    "{patches} patches of {nu_v} × {nv_v} vertices exceed {} vertices in all; refusing to allocate them",
+                    pdeshape::mesh::MAX_VERTICES
+                ))
+                .at("nu × nv")),
+            }
+        });
+        match checked {
             Ok(()) => Ok((nu_v, nv_v)),
             Err(e) => {
                 let from_cli = match e.place() {

@@ -79,7 +79,11 @@ fn main() -> ExitCode {
     match std::panic::catch_unwind(move || run(cli)) {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) => {
-            eprintln!("error: {}", e.message);
+            // One line, whatever a message quotes from the input.
+            eprintln!(
+                "error: {}",
+                e.message.replace('\r', "\\r").replace('\n', "\\n")
+            );
             ExitCode::from(e.status)
         }
         Err(payload) => {

@@ -104,16 +104,64 @@ impl Basis {
             return Some(Basis::Chebyshev { series });
         }
         let gammas = op.mode_gammas_x(n);
-        // Growth rate in x is n|s|/2; Chebyshev coefficients of e^{zx} decay like I_k(z).
+        // Growth rate in x is n|s|/2; Chebyshev coefficients of e^{zx} decay like I_k(z). Beyond
+        // z ≈ 16 the tail system loses its digits (the layer basis is the right tool there).
         let z = n as f64 * op.root_scale() / 2.0;
+        if z > MAX_CHEBYSHEV_RATE {
+            return None;
+        }
         let mut m = two_n + (z + 8.0 * z.sqrt()).ceil() as usize + 24 + 2 * two_n;
         while m <= MAX_CHEBYSHEV {
             if let Some(series) = chebyshev_tail(&gammas, two_n, m) {
-                return Some(Basis::Chebyshev { series });
+                let basis = Basis::Chebyshev { series };
+                // A posteriori: every ψ_k must solve the mode equation.
+                return (basis.mode_residual(&gammas) <= 1e-9).then_some(basis);
             }
             m = m * 3 / 2;
         }
         None
+    }
+
+    /// The largest relative residual of the mode equation `f^{(2N)} + Σ γ_j f^{(2N−2j)} = 0`
+    /// (in `x`) over the Chebyshev basis functions, at the ends and the middle of `[−1, 1]`.
+    fn mode_residual(&self, gammas: &[f64]) -> f64 {
+        let Basis::Chebyshev { series } = self else {
+            return 0.0;
+        };
+        let nn = gammas.len();
+        let mut worst = 0.0f64;
+        for s in series {
+            // Derivatives 0, 2, …, 2N of the series.
+            let mut derivs = vec![s.clone()];
+            for _ in 0..2 * nn {
+                let next = cheb_diff(derivs.last().expect("non-empty"));
+                derivs.push(next);
+            }
+            for &x in &[-1.0, 0.0, 1.0] {
+                let mut sum = clenshaw(&derivs[2 * nn], x);
+                let mut size = sum.abs();
+                for (j, g) in gammas.iter().enumerate() {
+                    let term = g * clenshaw(&derivs[2 * nn - 2 * (j + 1)], x);
+                    sum += term;
+                    size += term.abs();
+                }
+                if size > 0.0 {
+                    worst = worst.max(sum.abs() / size);
+                }
+            }
+        }
+        worst
+    }
+
+    /// Values and first u-derivatives of every basis function at `u`.
+    pub fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
+        match self {
+            Basis::Chebyshev { .. } => {
+                self.eval(u, 0, out0);
+                self.eval(u, 1, out1);
+            }
+            Basis::Layers(l) => l.eval01(u, out0, out1),
+        }
     }
 
     /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
@@ -131,6 +179,8 @@ impl Basis {
 
 /// Largest Chebyshev truncation tried.
 const MAX_CHEBYSHEV: usize = 640;
+/// Largest growth rate `n|s|/2` (in `x = 2u − 1`) for which the Chebyshev basis is built.
+const MAX_CHEBYSHEV_RATE: f64 = 16.0;
 
 /// Chebyshev integration `J` (zero constant), truncated to the length of `a`.
 fn integrate(a: &[f64], out: &mut [f64]) {
@@ -250,35 +300,90 @@ fn cheb_derivative_at(a: &[f64], x: f64, d: usize) -> f64 {
 }
 
 impl LayerBasis {
-    /// `d`-th u-derivatives of every layer function at `u`.
+    /// `d`-th u-derivatives of every layer function at `u`. The functions come in runs sharing
+    /// a root and a side (`k = 0..m`, real and imaginary parts): the exponential and the
+    /// Laguerre values are computed once per run.
     fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
-        let mut lag = [0.0f64; 24];
-        let mut coef = [Complex::new(0.0, 0.0); 24];
-        for (slot, &(g, side, k, imag)) in self.funcs.iter().enumerate() {
+        let mut lag = [0.0f64; 2 * super::MAX_HALF_ORDER];
+        let mut coef = [Complex::new(0.0, 0.0); 2 * super::MAX_HALF_ORDER];
+        let mut slot = 0;
+        while slot < self.funcs.len() {
+            let (g, side, _, _) = self.funcs[slot];
             let group = &self.groups[g];
             let m = group.multiplicity;
             let t = if side { 1.0 - u } else { u };
             let lambda = group.s * self.n;
             let alpha2 = 2.0 * lambda.re;
-            let x = alpha2 * t;
-            laguerre(x, &mut lag[..m]);
-            // Laguerre coefficients of the d-th t-derivative of e^{−λt} L_k(x), divided by e^{−λt}.
-            for (j, c) in coef[..m].iter_mut().enumerate() {
-                *c = Complex::new(if j == k { 1.0 } else { 0.0 }, 0.0);
-            }
-            for _ in 0..d {
-                // q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j, with α, β the parts of λ.
-                let mut suffix = Complex::new(0.0, 0.0);
-                for j in (0..=k).rev() {
-                    let p = coef[j];
-                    coef[j] = (-suffix - p * 0.5) * alpha2 - Complex::new(0.0, lambda.im) * p;
-                    suffix += p;
+            laguerre(alpha2 * t, &mut lag[..m]);
+            let e = if lambda.im == 0.0 {
+                Complex::new((-lambda.re * t).exp(), 0.0)
+            } else {
+                (-lambda * t).exp()
+            };
+            let sign = if side && d % 2 == 1 { -1.0 } else { 1.0 };
+            for k in 0..m {
+                // Laguerre coefficients of the d-th t-derivative of e^{−λt} L_k(x), divided by
+                // e^{−λt}: q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j per derivative.
+                for (j, c) in coef[..=k].iter_mut().enumerate() {
+                    *c = Complex::new(if j == k { 1.0 } else { 0.0 }, 0.0);
+                }
+                for _ in 0..d {
+                    let mut suffix = Complex::new(0.0, 0.0);
+                    for j in (0..=k).rev() {
+                        let p = coef[j];
+                        coef[j] = (-suffix - p * 0.5) * alpha2 - Complex::new(0.0, lambda.im) * p;
+                        suffix += p;
+                    }
+                }
+                let sum: Complex<f64> = (0..=k).map(|j| coef[j] * lag[j]).sum();
+                let value = e * sum * sign;
+                out[slot] = value.re;
+                slot += 1;
+                if group.is_complex() {
+                    out[slot] = value.im;
+                    slot += 1;
                 }
             }
-            let sum: Complex<f64> = (0..=k).map(|j| coef[j] * lag[j]).sum();
-            let value = (-lambda * t).exp() * sum;
-            let sign = if side && d % 2 == 1 { -1.0 } else { 1.0 };
-            out[slot] = sign * if imag { value.im } else { value.re };
+        }
+    }
+}
+
+impl LayerBasis {
+    /// Values and first u-derivatives of every layer function (the hot path of grid rows):
+    /// `d/dt [e^{−λt} Σ p_j L_j(x)] = e^{−λt} Σ q_j L_j(x)`, `q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j`.
+    fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
+        let mut lag = [0.0f64; 2 * super::MAX_HALF_ORDER];
+        let mut slot = 0;
+        while slot < self.funcs.len() {
+            let (g, side, _, _) = self.funcs[slot];
+            let group = &self.groups[g];
+            let m = group.multiplicity;
+            let t = if side { 1.0 - u } else { u };
+            let lambda = group.s * self.n;
+            let alpha2 = 2.0 * lambda.re;
+            laguerre(alpha2 * t, &mut lag[..m]);
+            let e = if lambda.im == 0.0 {
+                Complex::new((-lambda.re * t).exp(), 0.0)
+            } else {
+                (-lambda * t).exp()
+            };
+            let sign = if side { -1.0 } else { 1.0 };
+            let mut below = 0.0; // Σ_{j<k} L_j(x)
+            for &lk in &lag[..m] {
+                // p = e_k: q_j = −2α for j < k, q_k = −α − iβ.
+                let sum1 = Complex::new(-alpha2 * below - 0.5 * alpha2 * lk, -lambda.im * lk);
+                let v0 = e * lk;
+                let v1 = e * sum1 * sign;
+                out0[slot] = v0.re;
+                out1[slot] = v1.re;
+                slot += 1;
+                if group.is_complex() {
+                    out0[slot] = v0.im;
+                    out1[slot] = v1.im;
+                    slot += 1;
+                }
+                below += lk;
+            }
         }
     }
 }
@@ -336,6 +441,33 @@ mod tests {
                             basis.kind()
                         );
                     }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn first_derivatives_in_one_pass_match_the_general_path() {
+        for op in [
+            Operator::polyharmonic(3, 1.2).unwrap(),
+            Operator::sixth_order(1.0, 2.0, 2.0, 1.0).unwrap(),
+        ] {
+            let basis = Basis::layers(&op, 5);
+            let k = basis.len();
+            let (mut a0, mut a1, mut b0, mut b1) =
+                (vec![0.0; k], vec![0.0; k], vec![0.0; k], vec![0.0; k]);
+            for &u in &[0.0, 0.3, 0.77, 1.0] {
+                basis.eval01(u, &mut a0, &mut a1);
+                basis.eval(u, 0, &mut b0);
+                basis.eval(u, 1, &mut b1);
+                for j in 0..k {
+                    assert!((a0[j] - b0[j]).abs() <= 1e-15 * (1.0 + b0[j].abs()));
+                    assert!(
+                        (a1[j] - b1[j]).abs() <= 1e-13 * (1.0 + b1[j].abs()),
+                        "u={u} j={j}: {} vs {}",
+                        a1[j],
+                        b1[j]
+                    );
                 }
             }
         }

@@ -128,6 +128,28 @@ impl ModeFn {
         self.coef.ncols()
     }
 
+    /// Values and first u-derivatives of every column at `u` (one basis evaluation for both).
+    fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
+        if self.series.is_some() {
+            self.eval(u, 0, out0);
+            self.eval(u, 1, out1);
+            return;
+        }
+        let mut buf = [0.0; 4 * MAX_HALF_ORDER];
+        let k = self.basis.len();
+        let (b0, b1) = buf.split_at_mut(2 * MAX_HALF_ORDER);
+        self.basis.eval01(u, &mut b0[..k], &mut b1[..k]);
+        for c in 0..self.ncols() {
+            let (mut s0, mut s1) = (0.0, 0.0);
+            for j in 0..k {
+                s0 += b0[j] * self.coef[(j, c)];
+                s1 += b1[j] * self.coef[(j, c)];
+            }
+            out0[c] = s0;
+            out1[c] = s1;
+        }
+    }
+
     /// `d`-th u-derivative of every column at `u` into `out[c]`.
     fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         if let (Some(series), true) = (&self.series, d <= 2) {
@@ -217,6 +239,11 @@ pub fn solve(
             !exact || series_distance(s, f) > 1e-15 * series_size(s)
         })
         .collect();
+    let distances: Vec<f64> = series
+        .iter()
+        .zip(&fitted)
+        .map(|(s, f)| series_distance(s, f))
+        .collect();
     let remainder = if options.remainder && active.iter().any(|&a| a) {
         let (cardinal, report) =
             solve_mode(operator, m + 1, &at, DMatrix::identity(2 * nn, 2 * nn))?;
@@ -224,18 +251,61 @@ pub fn solve(
         Some(patch::Remainder {
             cardinal,
             fitted,
-            active,
+            active: active.clone(),
         })
     } else {
         None
     };
-    Ok(PdePatch::new(
-        operator.clone(),
-        conditions,
-        modes,
-        remainder,
-        reports,
-    ))
+    let has_remainder = remainder.is_some();
+    let patch = PdePatch::new(operator.clone(), conditions, modes, remainder, reports);
+    check_a_posteriori(&patch, &distances, &active, has_remainder)?;
+    Ok(patch)
+}
+
+/// Relative condition error above which a solution is refused: the mode systems were too
+/// ill-conditioned for double precision (e.g. intermediate curves with high modes and a large
+/// `a`, whose exact solutions are as large as `e^{a n u}`).
+const MAX_CONDITION_ERROR: f64 = 1e-5;
+
+/// Checks the solution meets its conditions. Conditions outside the remainder are bounded by
+/// the coefficient distance `Σ |ĝ − ∂ᵈX̃|` of their Fourier series (free); those in the remainder
+/// are sampled.
+fn check_a_posteriori(
+    patch: &PdePatch,
+    distances: &[f64],
+    active: &[bool],
+    has_remainder: bool,
+) -> Result<()> {
+    let sampled = if has_remainder {
+        patch
+            .condition_errors_where(16, |i| active[i])
+            .into_iter()
+            .map(|e| e.absolute)
+            .collect()
+    } else {
+        vec![0.0; distances.len()]
+    };
+    for (i, c) in patch.conditions().iter().enumerate() {
+        let err = if has_remainder && active[i] {
+            sampled[i]
+        } else {
+            distances[i]
+        };
+        let rel = err / patch.scale();
+        if rel.is_nan() || rel > MAX_CONDITION_ERROR {
+            let worst = patch
+                .mode_reports()
+                .iter()
+                .map(|r| r.condition_number)
+                .fold(0.0, f64::max);
+            return Err(Error::invalid(format!(
+                "the solution misses this condition by {rel:.1e} (relative): the mode systems are too ill-conditioned for double precision (largest condition number {worst:.1e}); intermediate curves with high modes and a large a ask for surfaces as large as e^(a·n·u) — use fewer modes, a smaller a, or move the curve (u = {})",
+                c.u
+            ))
+            .at(&format!("conditions[{i}]")));
+        }
+    }
+    Ok(())
 }
 
 /// `Σ |coefficient differences|` of two series with the same number of modes.
@@ -341,7 +411,7 @@ fn solve_mode(
             format!("Fourier mode {n}")
         };
         return Err(Error::not_unique(format!(
-            "the system for {which} is singular (condition number {cond:.1e}); check that the conditions fix the surface, e.g. at least one position curve"
+            "the system for {which} is singular or numerically singular (condition number {cond:.1e}); check that the conditions fix the surface (e.g. at least one position curve) and that derivative orders are modest"
         )));
     }
     let coef = solve_equilibrated(&a, &rhs)

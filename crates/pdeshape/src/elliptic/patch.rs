@@ -137,11 +137,29 @@ impl PdePatch {
 
     /// The error of every condition on `samples` equally spaced `v` (at least 1).
     pub fn condition_errors(&self, samples: usize) -> Vec<ConditionError> {
+        self.condition_errors_where(samples, |_| true)
+    }
+
+    /// [`Self::condition_errors`] for the conditions `pick` selects (zero for the others).
+    pub(crate) fn condition_errors_where(
+        &self,
+        samples: usize,
+        pick: impl Fn(usize) -> bool,
+    ) -> Vec<ConditionError> {
         let samples = samples.max(1);
         let k = self.conditions.len();
         self.conditions
             .iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(ci, c)| {
+                if !pick(ci) {
+                    return ConditionError {
+                        u: c.u,
+                        derivative: c.derivative,
+                        absolute: 0.0,
+                        relative: 0.0,
+                    };
+                }
                 let fitted = fitted_series(&self.modes, c.u, c.derivative);
                 let mut w = vec![0.0; k];
                 if let Some(r) = &self.remainder {
@@ -342,8 +360,7 @@ impl<'a> PdeRows<'a> {
         let mut o0 = [0.0; 6];
         let mut o1 = [0.0; 6];
         for (n, mode) in self.patch.modes.iter().enumerate() {
-            mode.eval(u, 0, &mut o0);
-            mode.eval(u, 1, &mut o1);
+            mode.eval01(u, &mut o0, &mut o1);
             let nf = n as f64;
             let (a, b) = (
                 &mut alpha[n * Q..(n + 1) * Q],
@@ -402,20 +419,23 @@ fn accumulate_block(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn accumulate_block_avx2(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
-    accumulate_block(t, j0, len, acc)
-}
-
-/// [`accumulate_block`], compiled for AVX2 where the processor has it.
-fn accumulate(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-        // SAFETY: the processor supports the features the function was compiled for.
-        return unsafe { accumulate_block_avx2(t, j0, len, acc) };
+/// Unit normals of a block: `unit[0..3][j]` from `X_u = vals[3..6][j]`, `X_v = vals[6..9][j]`;
+/// `unit[3][j]` is 1 where the normal is defined and 0 where it degenerates (a pole).
+#[inline(always)]
+fn normals_block(vals: &[[f64; BLOCK]; Q], len: usize, unit: &mut [[f64; BLOCK]; 4]) {
+    for j in 0..len {
+        let (ax, ay, az) = (vals[3][j], vals[4][j], vals[5][j]);
+        let (bx, by, bz) = (vals[6][j], vals[7][j], vals[8][j]);
+        let (nx, ny, nz) = (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx);
+        let len2 = nx * nx + ny * ny + nz * nz;
+        let size2 = (ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz);
+        let ok = len2 > 1e-20 * size2 && len2 > 0.0;
+        let inv = if ok { 1.0 / len2.sqrt() } else { 0.0 };
+        unit[0][j] = nx * inv;
+        unit[1][j] = ny * inv;
+        unit[2][j] = nz * inv;
+        unit[3][j] = if ok { 1.0 } else { 0.0 };
     }
-    accumulate_block(t, j0, len, acc)
 }
 
 /// Unit normal `X_u × X_v / |X_u × X_v|`, or `None` where it degenerates (a pole).
@@ -439,6 +459,26 @@ fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
 
 impl RowEvaluator for PdeRows<'_> {
     fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            // SAFETY: the processor supports the features the function was compiled for.
+            return unsafe { self.eval_row_avx2(u, pos, nrm) };
+        }
+        self.eval_row_generic(u, pos, nrm)
+    }
+}
+
+impl PdeRows<'_> {
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn eval_row_avx2(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+        self.eval_row_generic(u, pos, nrm)
+    }
+
+    /// The row: mode coefficients at `u`, block-wise sums over the modes, the symmetric
+    /// combination into columns, remainder, unit normals.
+    #[inline(always)]
+    fn eval_row_generic(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
         let nv = self.vs.len();
         let nm = self.patch.modes.len();
         let mut alpha = vec![0.0; nm * Q];
@@ -451,6 +491,7 @@ impl RowEvaluator for PdeRows<'_> {
         let mut degenerate = Vec::new();
         let groups = if self.symmetric { 4 * Q } else { Q };
         let mut acc = vec![[0.0; BLOCK]; groups];
+        let mut vals = [[0.0; BLOCK]; Q];
         let mut j0 = 0;
         while j0 < self.cols {
             let len = BLOCK.min(self.cols - j0);
@@ -465,7 +506,7 @@ impl RowEvaluator for PdeRows<'_> {
                 sin: &self.sin,
                 cols: self.cols,
             };
-            accumulate(&sums, j0, len, &mut acc);
+            accumulate_block(&sums, j0, len, &mut acc);
             // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four columns
             // j, nv/2 − j, nv/2 + j, nv − j.
             let targets: &[[f64; 4]] = if self.symmetric {
@@ -479,35 +520,46 @@ impl RowEvaluator for PdeRows<'_> {
                 &[[1.0, 0.0, 0.0, 0.0]]
             };
             for (t, sg) in targets.iter().enumerate() {
-                #[allow(clippy::needless_range_loop)] // jj indexes the 36 accumulator rows
-                for jj in 0..len {
+                // The nine quantities of this block's target columns, then their normals, in
+                // vectorisable loops over the block.
+                for (q, vq) in vals.iter_mut().enumerate() {
+                    if self.symmetric {
+                        let (p, o, e, d) = (&acc[q], &acc[Q + q], &acc[2 * Q + q], &acc[3 * Q + q]);
+                        for jj in 0..len {
+                            vq[jj] = sg[0] * p[jj] + sg[1] * o[jj] + sg[2] * e[jj] + sg[3] * d[jj];
+                        }
+                    } else {
+                        vq[..len].copy_from_slice(&acc[q][..len]);
+                    }
+                }
+                let col = |jj: usize| {
                     let j = j0 + jj;
-                    let col = match t {
+                    match t {
                         0 => j,
                         1 => nv / 2 - j,
                         2 => nv / 2 + j,
                         _ => (nv - j) % nv,
-                    };
-                    let mut v = [0.0; Q];
-                    for (q, vq) in v.iter_mut().enumerate() {
-                        *vq = if self.symmetric {
-                            sg[0] * acc[q][jj]
-                                + sg[1] * acc[Q + q][jj]
-                                + sg[2] * acc[2 * Q + q][jj]
-                                + sg[3] * acc[3 * Q + q][jj]
-                        } else {
-                            acc[q][jj]
-                        };
                     }
-                    pos[col] = Vec3::new(v[0], v[1], v[2]);
-                    if with_remainder {
-                        xu[col] = Vec3::new(v[3], v[4], v[5]);
-                        xv[col] = Vec3::new(v[6], v[7], v[8]);
+                };
+                if with_remainder {
+                    #[allow(clippy::needless_range_loop)] // jj indexes nine rows of `vals`
+                    for jj in 0..len {
+                        let c = col(jj);
+                        pos[c] = Vec3::new(vals[0][jj], vals[1][jj], vals[2][jj]);
+                        xu[c] = Vec3::new(vals[3][jj], vals[4][jj], vals[5][jj]);
+                        xv[c] = Vec3::new(vals[6][jj], vals[7][jj], vals[8][jj]);
+                    }
+                    continue;
+                }
+                let mut unit = [[0.0; BLOCK]; 4];
+                normals_block(&vals, len, &mut unit);
+                for jj in 0..len {
+                    let c = col(jj);
+                    pos[c] = Vec3::new(vals[0][jj], vals[1][jj], vals[2][jj]);
+                    if unit[3][jj] > 0.0 {
+                        nrm[c] = Vec3::new(unit[0][jj], unit[1][jj], unit[2][jj]);
                     } else {
-                        match unit_normal([v[3], v[4], v[5]], [v[6], v[7], v[8]]) {
-                            Some(n) => nrm[col] = n,
-                            None => degenerate.push(col),
-                        }
+                        degenerate.push(c);
                     }
                 }
             }

@@ -508,3 +508,111 @@ fn basis_choice_follows_the_regime() {
     assert_eq!(reports[1].basis, "chebyshev");
     assert_eq!(reports[64].basis, "exponential layers");
 }
+
+/// Relative residual of mode `n`'s equation `Σ_k c_k (−n²)^k f^{(2N−2k)}(u)` for both `Aₙ` and
+/// `Bₙ`, relative to the size of its terms.
+fn mode_equation_residual(patch: &PdePatch, n: usize, u: f64) -> f64 {
+    let op = patch.operator();
+    let nn = op.half_order();
+    let (mut ra, mut rb, mut size) = (Vec3::zeros(), Vec3::zeros(), 0.0);
+    for (k, &c) in op.coefficients().iter().enumerate() {
+        let (a, b) = patch.mode(n, u, 2 * nn - 2 * k);
+        let w = c * (-((n * n) as f64)).powi(k as i32);
+        ra += a * w;
+        rb += b * w;
+        size += (a.norm() + b.norm()) * w.abs();
+    }
+    (ra.norm() + rb.norm()) / size.max(1e-300)
+}
+
+/// Intermediate position curves with many modes and large `a` are where the bases are pushed
+/// hardest: every solution returned must solve the PDE mode by mode and meet its conditions;
+/// where double precision cannot, the solver must refuse rather than return a wrong surface.
+#[test]
+fn solutions_are_pde_solutions_or_refused() {
+    let mut solved = 0;
+    for nn in [2usize, 5] {
+        for &a in &[1.0, 3.0, 10.0] {
+            for &m in &[12usize, 64] {
+                let op = Operator::polyharmonic(nn, a).unwrap();
+                let conds = (0..2 * nn)
+                    .map(|i| {
+                        cond(
+                            i as f64 / (2 * nn - 1) as f64,
+                            0,
+                            Arc::new(series(60 + i as u64, m, 1.0)) as SharedCurve,
+                        )
+                    })
+                    .collect();
+                match solve(
+                    &op,
+                    conds,
+                    &SolveOptions {
+                        modes: m,
+                        ..Default::default()
+                    },
+                ) {
+                    Ok(patch) => {
+                        solved += 1;
+                        assert!(
+                            max_relative_condition_error(&patch) < 1e-5,
+                            "N={nn} a={a} M={m}"
+                        );
+                        for n in 0..=m {
+                            for &u in &[0.0, 0.37, 1.0] {
+                                let r = mode_equation_residual(&patch, n, u);
+                                assert!(
+                                    r < 1e-8,
+                                    "N={nn} a={a} M={m}: mode {n} residual {r:e} at u={u}"
+                                );
+                            }
+                        }
+                    }
+                    Err(e) => {
+                        let text = e.to_string();
+                        assert!(
+                            text.contains("ill-conditioned") || text.contains("singular"),
+                            "{text}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    assert!(solved >= 4, "only {solved} of the designs were solved");
+}
+
+/// The Klein bottle's layout with many modes (N = 20, 40 evenly spaced sections, 64 modes):
+/// modes beyond the Chebyshev regime must not come back with a wrong basis.
+#[test]
+fn high_order_with_many_modes_is_a_solution_or_refused() {
+    let op = Operator::polyharmonic(20, 1.0).unwrap();
+    let conds = (0..40)
+        .map(|i| {
+            cond(
+                i as f64 / 39.0,
+                0,
+                Arc::new(series(200 + i as u64, 64, 1.0)) as SharedCurve,
+            )
+        })
+        .collect();
+    match solve(
+        &op,
+        conds,
+        &SolveOptions {
+            modes: 64,
+            ..Default::default()
+        },
+    ) {
+        Ok(patch) => {
+            for n in [1usize, 10, 38, 64] {
+                let r = mode_equation_residual(&patch, n, 0.5);
+                assert!(r < 1e-8, "mode {n}: residual {r:e}");
+            }
+        }
+        Err(e) => assert!(
+            e.to_string().contains("ill-conditioned") || e.to_string().contains("singular"),
+            "{e}"
+        ),
+    }
+}

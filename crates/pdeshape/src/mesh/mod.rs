@@ -140,24 +140,28 @@ pub fn evaluate_grid<T: GridScalar>(
         // is zero-filled first.
         let pos_rows = positions.spare_capacity_mut()[..n].par_chunks_mut(nv);
         let nrm_rows = normals.spare_capacity_mut()[..n].par_chunks_mut(nv);
-        pos_rows.zip(nrm_rows).zip(us.par_iter()).for_each_init(
-            || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
-            |(pos, nrm), ((prow, nrow), &u)| {
-                rows.eval_row(u, pos, nrm);
-                for j in 0..nv {
-                    prow[j].write([
-                        T::from_f64(pos[j].x),
-                        T::from_f64(pos[j].y),
-                        T::from_f64(pos[j].z),
-                    ]);
-                    nrow[j].write([
-                        T::from_f64(nrm[j].x),
-                        T::from_f64(nrm[j].y),
-                        T::from_f64(nrm[j].z),
-                    ]);
-                }
-            },
-        );
+        pos_rows
+            .zip(nrm_rows)
+            .zip(us.par_iter())
+            .with_min_len(4)
+            .for_each_init(
+                || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
+                |(pos, nrm), ((prow, nrow), &u)| {
+                    rows.eval_row(u, pos, nrm);
+                    for j in 0..nv {
+                        prow[j].write([
+                            T::from_f64(pos[j].x),
+                            T::from_f64(pos[j].y),
+                            T::from_f64(pos[j].z),
+                        ]);
+                        nrow[j].write([
+                            T::from_f64(nrm[j].x),
+                            T::from_f64(nrm[j].y),
+                            T::from_f64(nrm[j].z),
+                        ]);
+                    }
+                },
+            );
     }
     // SAFETY: the loop above wrote all `n = nu·nv` elements of both buffers: every row chunk of
     // `nv` elements is visited once and written in full.
