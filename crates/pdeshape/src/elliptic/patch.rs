@@ -4,7 +4,7 @@
 use super::{Condition, ConditionError, ModeFn, ModeReport, Operator};
 use crate::curve::Curve;
 use crate::fourier::FourierSeries;
-use crate::surface::{Partials, RowEvaluator, Surface, VDomain};
+use crate::surface::{Partials, RowBuf, RowEvaluator, Surface, VDomain};
 use crate::{Vec3, TAU};
 
 /// A solved Bloor–Wilson patch `X(u,v) = A₀(u) + Σ [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`
@@ -393,8 +393,12 @@ struct Sums<'t> {
 /// `acc[q][j] += Σ_n alpha[n][q]·cos_n[j] + beta[n][q]·sin_n[j]` over columns `j0..j0+len`. With
 /// `4Q` accumulators the sums are split by the parity of `n` and into cosine and sine parts
 /// (even cos, odd cos, even sin, odd sin); with `Q` they are not split.
+///
+/// `FMA` selects fused multiply–adds (one rounding instead of two), used where the processor
+/// has them.
 #[inline(always)]
-fn accumulate_block(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
+fn accumulate_block<const FMA: bool>(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
+    let madd = |a: f64, x: f64, acc: f64| if FMA { a.mul_add(x, acc) } else { acc + a * x };
     let m = t.alpha.len() / Q - 1;
     let split = acc.len() == 4 * Q;
     for n in 1..=m {
@@ -405,14 +409,14 @@ fn accumulate_block(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
             let (an, bn) = (t.alpha[n * Q + q], t.beta[n * Q + q]);
             if split {
                 for (a, x) in acc[parity * Q + q][..len].iter_mut().zip(c) {
-                    *a += an * x;
+                    *a = madd(an, *x, *a);
                 }
                 for (a, x) in acc[2 * Q + parity * Q + q][..len].iter_mut().zip(s) {
-                    *a += bn * x;
+                    *a = madd(bn, *x, *a);
                 }
             } else {
                 for ((a, x), y) in acc[q][..len].iter_mut().zip(c).zip(s) {
-                    *a += an * x + bn * y;
+                    *a = madd(bn, *y, madd(an, *x, *a));
                 }
             }
         }
@@ -458,40 +462,71 @@ fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
 }
 
 impl RowEvaluator for PdeRows<'_> {
-    fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    fn eval_row(&self, u: f64, row: &mut RowBuf) {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
             // SAFETY: the processor supports the features the function was compiled for.
-            return unsafe { self.eval_row_avx2(u, pos, nrm) };
+            return unsafe { self.eval_row_avx2(u, row) };
         }
-        self.eval_row_generic(u, pos, nrm)
+        self.eval_row_generic::<false>(u, row)
+    }
+}
+
+/// Writes `src[jj]` to `dst[col]` for the columns target `t` of a block starting at `j0` covers:
+/// `j` (t = 0), `nv/2 − j` (1), `nv/2 + j` (2), `nv − j mod nv` (3): contiguous runs, two of them
+/// reversed.
+#[inline(always)]
+fn store(dst: &mut [f64], t: usize, j0: usize, src: &[f64]) {
+    let (nv, len, h) = (dst.len(), src.len(), dst.len() / 2);
+    match t {
+        0 => dst[j0..j0 + len].copy_from_slice(src),
+        2 => dst[h + j0..h + j0 + len].copy_from_slice(src),
+        1 => {
+            for (d, s) in dst[h + 1 - j0 - len..=h - j0].iter_mut().rev().zip(src) {
+                *d = *s;
+            }
+        }
+        _ => {
+            // nv − j for j = j0 + jj; j = 0 wraps to column 0.
+            let (first, rest) = if j0 == 0 { (1, &src[1..]) } else { (0, src) };
+            if first == 1 {
+                dst[0] = src[0];
+            }
+            let hi = nv - j0 - first;
+            for (d, s) in dst[hi + 1 - rest.len()..=hi].iter_mut().rev().zip(rest) {
+                *d = *s;
+            }
+        }
     }
 }
 
 impl PdeRows<'_> {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn eval_row_avx2(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
-        self.eval_row_generic(u, pos, nrm)
+    unsafe fn eval_row_avx2(&self, u: f64, row: &mut RowBuf) {
+        self.eval_row_generic::<true>(u, row)
     }
 
     /// The row: mode coefficients at `u`, block-wise sums over the modes, the symmetric
     /// combination into columns, remainder, unit normals.
     #[inline(always)]
-    fn eval_row_generic(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    fn eval_row_generic<const FMA: bool>(&self, u: f64, row: &mut RowBuf) {
         let nv = self.vs.len();
         let nm = self.patch.modes.len();
         let mut alpha = vec![0.0; nm * Q];
         let mut beta = vec![0.0; nm * Q];
         self.row_coefficients(u, &mut alpha, &mut beta);
-        // With a remainder, X_u and X_v are kept until it has been added.
+        // With a remainder, X_u and X_v are kept (as x, y, z columns) until it has been added.
         let with_remainder = self.patch.remainder.is_some();
-        let mut xu = vec![Vec3::zeros(); if with_remainder { nv } else { 0 }];
-        let mut xv = vec![Vec3::zeros(); if with_remainder { nv } else { 0 }];
-        let mut degenerate = Vec::new();
+        let mut deriv = if with_remainder {
+            vec![vec![0.0; nv]; 6]
+        } else {
+            Vec::new()
+        };
         let groups = if self.symmetric { 4 * Q } else { Q };
         let mut acc = vec![[0.0; BLOCK]; groups];
         let mut vals = [[0.0; BLOCK]; Q];
+        let mut unit = [[0.0; BLOCK]; 4];
         let mut j0 = 0;
         while j0 < self.cols {
             let len = BLOCK.min(self.cols - j0);
@@ -506,61 +541,49 @@ impl PdeRows<'_> {
                 sin: &self.sin,
                 cols: self.cols,
             };
-            accumulate_block(&sums, j0, len, &mut acc);
-            // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four columns
-            // j, nv/2 − j, nv/2 + j, nv − j.
-            let targets: &[[f64; 4]] = if self.symmetric {
-                &[
-                    [1.0, 1.0, 1.0, 1.0],
-                    [1.0, -1.0, -1.0, 1.0],
-                    [1.0, -1.0, 1.0, -1.0],
-                    [1.0, 1.0, -1.0, -1.0],
-                ]
-            } else {
-                &[[1.0, 0.0, 0.0, 0.0]]
-            };
-            for (t, sg) in targets.iter().enumerate() {
-                // The nine quantities of this block's target columns, then their normals, in
-                // vectorisable loops over the block.
+            accumulate_block::<FMA>(&sums, j0, len, &mut acc);
+            let targets = if self.symmetric { 4 } else { 1 };
+            for t in 0..targets {
+                // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four
+                // columns j, nv/2 − j, nv/2 + j, nv − j with the signs (+ + + +), (+ − − +),
+                // (+ − + −), (+ + − −).
                 for (q, vq) in vals.iter_mut().enumerate() {
                     if self.symmetric {
                         let (p, o, e, d) = (&acc[q], &acc[Q + q], &acc[2 * Q + q], &acc[3 * Q + q]);
-                        for jj in 0..len {
-                            vq[jj] = sg[0] * p[jj] + sg[1] * o[jj] + sg[2] * e[jj] + sg[3] * d[jj];
+                        let (p, o, e, d) = (&p[..len], &o[..len], &e[..len], &d[..len]);
+                        let out = &mut vq[..len];
+                        match t {
+                            0 => {
+                                (0..len).for_each(|jj| out[jj] = (p[jj] + o[jj]) + (e[jj] + d[jj]))
+                            }
+                            1 => {
+                                (0..len).for_each(|jj| out[jj] = (p[jj] - o[jj]) + (d[jj] - e[jj]))
+                            }
+                            2 => {
+                                (0..len).for_each(|jj| out[jj] = (p[jj] - o[jj]) + (e[jj] - d[jj]))
+                            }
+                            _ => {
+                                (0..len).for_each(|jj| out[jj] = (p[jj] + o[jj]) - (e[jj] + d[jj]))
+                            }
                         }
                     } else {
                         vq[..len].copy_from_slice(&acc[q][..len]);
                     }
                 }
-                let col = |jj: usize| {
-                    let j = j0 + jj;
-                    match t {
-                        0 => j,
-                        1 => nv / 2 - j,
-                        2 => nv / 2 + j,
-                        _ => (nv - j) % nv,
-                    }
-                };
+                let cols = [&mut row.x, &mut row.y, &mut row.z];
+                for (k, dst) in cols.into_iter().enumerate() {
+                    store(dst, t, j0, &vals[k][..len]);
+                }
                 if with_remainder {
-                    #[allow(clippy::needless_range_loop)] // jj indexes nine rows of `vals`
-                    for jj in 0..len {
-                        let c = col(jj);
-                        pos[c] = Vec3::new(vals[0][jj], vals[1][jj], vals[2][jj]);
-                        xu[c] = Vec3::new(vals[3][jj], vals[4][jj], vals[5][jj]);
-                        xv[c] = Vec3::new(vals[6][jj], vals[7][jj], vals[8][jj]);
+                    for (k, dst) in deriv.iter_mut().enumerate() {
+                        store(dst, t, j0, &vals[3 + k][..len]);
                     }
                     continue;
                 }
-                let mut unit = [[0.0; BLOCK]; 4];
                 normals_block(&vals, len, &mut unit);
-                for jj in 0..len {
-                    let c = col(jj);
-                    pos[c] = Vec3::new(vals[0][jj], vals[1][jj], vals[2][jj]);
-                    if unit[3][jj] > 0.0 {
-                        nrm[c] = Vec3::new(unit[0][jj], unit[1][jj], unit[2][jj]);
-                    } else {
-                        degenerate.push(c);
-                    }
+                let cols = [&mut row.nx, &mut row.ny, &mut row.nz];
+                for (k, dst) in cols.into_iter().enumerate() {
+                    store(dst, t, j0, &unit[k][..len]);
                 }
             }
             j0 += len;
@@ -575,20 +598,28 @@ impl PdeRows<'_> {
                 let d0 = &self.delta[(2 * i) * nv..(2 * i + 1) * nv];
                 let d1 = &self.delta[(2 * i + 1) * nv..(2 * i + 2) * nv];
                 for j in 0..nv {
-                    pos[j] += d0[j] * w0[i];
-                    xu[j] += d0[j] * w1[i];
-                    xv[j] += d1[j] * w0[i];
+                    row.x[j] += d0[j].x * w0[i];
+                    row.y[j] += d0[j].y * w0[i];
+                    row.z[j] += d0[j].z * w0[i];
+                    for c in 0..3 {
+                        deriv[c][j] += d0[j][c] * w1[i];
+                        deriv[3 + c][j] += d1[j][c] * w0[i];
+                    }
                 }
             }
             for j in 0..nv {
-                match unit_normal(xu[j].into(), xv[j].into()) {
-                    Some(n) => nrm[j] = n,
-                    None => degenerate.push(j),
-                }
+                let xu = [deriv[0][j], deriv[1][j], deriv[2][j]];
+                let xv = [deriv[3][j], deriv[4][j], deriv[5][j]];
+                let n = unit_normal(xu, xv).unwrap_or_else(Vec3::zeros);
+                (row.nx[j], row.ny[j], row.nz[j]) = (n.x, n.y, n.z);
             }
         }
-        for j in degenerate {
-            nrm[j] = self.patch.partials(u, self.vs[j]).normal();
+        // Where X_u × X_v vanishes (a pole) the normal is the limit one.
+        for j in 0..nv {
+            if row.nx[j] == 0.0 && row.ny[j] == 0.0 && row.nz[j] == 0.0 {
+                let n = self.patch.partials(u, self.vs[j]).normal();
+                (row.nx[j], row.ny[j], row.nz[j]) = (n.x, n.y, n.z);
+            }
         }
     }
 }
@@ -654,18 +685,17 @@ mod row_tests {
             )
             .unwrap();
             assert_eq!(patch.has_remainder(), modes == 2);
-            for nv in [16usize, 15] {
+            for nv in [16usize, 15, 8, 4 * BLOCK + 8, 4 * BLOCK] {
                 let vs: Vec<f64> = (0..nv).map(|j| TAU * j as f64 / nv as f64).collect();
                 let rows = PdeRows::new(&patch, &vs);
                 assert_eq!(rows.symmetric, nv.is_multiple_of(4));
-                let mut pos = vec![Vec3::zeros(); nv];
-                let mut nrm = vec![Vec3::zeros(); nv];
+                let mut row = RowBuf::new(nv);
                 for &u in &[0.0, 0.3, 1.0] {
-                    rows.eval_row(u, &mut pos, &mut nrm);
+                    rows.eval_row(u, &mut row);
                     for j in 0..nv {
                         let p = patch.partials(u, vs[j]);
-                        assert!((pos[j] - p.x).norm() < 1e-14, "nv={nv} u={u} j={j}");
-                        assert!((nrm[j] - p.normal()).norm() < 1e-12);
+                        assert!((row.point(j) - p.x).norm() < 1e-14, "nv={nv} u={u} j={j}");
+                        assert!((row.normal(j) - p.normal()).norm() < 1e-12);
                     }
                 }
             }

@@ -7,8 +7,8 @@ mod writers;
 
 pub use writers::{write_csv, write_glb, write_obj, write_ply, write_stl, Format};
 
-use crate::surface::{Surface, VDomain};
-use crate::{Error, Result, Vec3, TAU};
+use crate::surface::{RowBuf, Surface, VDomain};
+use crate::{Error, Result, TAU};
 use rayon::prelude::*;
 
 /// Largest number of grid vertices we agree to allocate (per patch).
@@ -145,19 +145,19 @@ pub fn evaluate_grid<T: GridScalar>(
             .zip(us.par_iter())
             .with_min_len(4)
             .for_each_init(
-                || (vec![Vec3::zeros(); nv], vec![Vec3::zeros(); nv]),
-                |(pos, nrm), ((prow, nrow), &u)| {
-                    rows.eval_row(u, pos, nrm);
-                    for j in 0..nv {
-                        prow[j].write([
-                            T::from_f64(pos[j].x),
-                            T::from_f64(pos[j].y),
-                            T::from_f64(pos[j].z),
+                || RowBuf::new(nv),
+                |row, ((prow, nrow), &u)| {
+                    rows.eval_row(u, row);
+                    for (j, (p, n)) in prow.iter_mut().zip(nrow.iter_mut()).enumerate() {
+                        p.write([
+                            T::from_f64(row.x[j]),
+                            T::from_f64(row.y[j]),
+                            T::from_f64(row.z[j]),
                         ]);
-                        nrow[j].write([
-                            T::from_f64(nrm[j].x),
-                            T::from_f64(nrm[j].y),
-                            T::from_f64(nrm[j].z),
+                        n.write([
+                            T::from_f64(row.nx[j]),
+                            T::from_f64(row.ny[j]),
+                            T::from_f64(row.nz[j]),
                         ]);
                     }
                 },

@@ -64,10 +64,58 @@ pub trait Surface: Send + Sync {
     }
 }
 
+/// One grid row in structure-of-arrays form: positions `(x, y, z)` and unit normals
+/// `(nx, ny, nz)` of every column.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RowBuf {
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    pub z: Vec<f64>,
+    pub nx: Vec<f64>,
+    pub ny: Vec<f64>,
+    pub nz: Vec<f64>,
+}
+
+impl RowBuf {
+    /// A row of `nv` columns, zeroed.
+    pub fn new(nv: usize) -> Self {
+        let v = vec![0.0; nv];
+        RowBuf {
+            x: v.clone(),
+            y: v.clone(),
+            z: v.clone(),
+            nx: v.clone(),
+            ny: v.clone(),
+            nz: v,
+        }
+    }
+    /// Number of columns.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+    /// True for a row without columns.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+    /// Sets column `j`.
+    pub fn set(&mut self, j: usize, p: Vec3, n: Vec3) {
+        (self.x[j], self.y[j], self.z[j]) = (p.x, p.y, p.z);
+        (self.nx[j], self.ny[j], self.nz[j]) = (n.x, n.y, n.z);
+    }
+    /// Position of column `j`.
+    pub fn point(&self, j: usize) -> Vec3 {
+        Vec3::new(self.x[j], self.y[j], self.z[j])
+    }
+    /// Unit normal of column `j`.
+    pub fn normal(&self, j: usize) -> Vec3 {
+        Vec3::new(self.nx[j], self.ny[j], self.nz[j])
+    }
+}
+
 /// Evaluates positions and unit normals along one grid row `u = const`.
 pub trait RowEvaluator: Send + Sync {
-    /// Fills `pos[j] = X(u, v_j)` and `nrm[j] = n(u, v_j)` for every column `j`.
-    fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]);
+    /// Fills `row` (of `vs.len()` columns) with `X(u, v_j)` and `n(u, v_j)` for every column `j`.
+    fn eval_row(&self, u: f64, row: &mut RowBuf);
 }
 
 struct PointwiseRows<'a, S: Surface + ?Sized> {
@@ -76,11 +124,10 @@ struct PointwiseRows<'a, S: Surface + ?Sized> {
 }
 
 impl<S: Surface + ?Sized> RowEvaluator for PointwiseRows<'_, S> {
-    fn eval_row(&self, u: f64, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    fn eval_row(&self, u: f64, row: &mut RowBuf) {
         for (j, &v) in self.vs.iter().enumerate() {
             let p = self.surface.partials(u, v);
-            pos[j] = p.x;
-            nrm[j] = p.normal();
+            row.set(j, p.x, p.normal());
         }
     }
 }
