@@ -607,6 +607,7 @@ impl PdeRows<'_> {
                     }
                 }
             }
+            #[allow(clippy::needless_range_loop)] // j indexes nine columns
             for j in 0..nv {
                 let xu = [deriv[0][j], deriv[1][j], deriv[2][j]];
                 let xv = [deriv[3][j], deriv[4][j], deriv[5][j]];
@@ -692,8 +693,8 @@ mod row_tests {
                 let mut row = RowBuf::new(nv);
                 for &u in &[0.0, 0.3, 1.0] {
                     rows.eval_row(u, &mut row);
-                    for j in 0..nv {
-                        let p = patch.partials(u, vs[j]);
+                    for (j, &v) in vs.iter().enumerate() {
+                        let p = patch.partials(u, v);
                         assert!((row.point(j) - p.x).norm() < 1e-14, "nv={nv} u={u} j={j}");
                         assert!((row.normal(j) - p.normal()).norm() < 1e-12);
                     }
