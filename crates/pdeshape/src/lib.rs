@@ -34,3 +34,8 @@ pub type Vec3 = nalgebra::Vector3<f64>;
 
 /// 2π: periodic curves live on `[0, 2π)`.
 pub const TAU: f64 = std::f64::consts::TAU;
+
+/// The README's code runs as a doc test.
+#[doc = include_str!("../../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
