@@ -187,3 +187,17 @@ pub fn print_stdout(text: &str) {
     let _ = out.write_all(text.as_bytes());
     let _ = out.flush();
 }
+
+/// Tessellates every patch of a design (f32 meshes, as every mesh format and picture stores).
+pub fn meshes(
+    built: &pdeshape::spec::BuiltDesign,
+    nu: usize,
+    nv: usize,
+) -> Result<Vec<pdeshape::mesh::GridMesh>, CliError> {
+    built
+        .patches
+        .iter()
+        .map(|p| pdeshape::mesh::tessellate(&p.surface, nu, nv))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| CliError::input(e.to_string()))
+}

@@ -2,7 +2,6 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::curve::{Curve, Domain};
-use pdeshape::mesh;
 use pdeshape::render::{render_png, Polyline, RenderOptions};
 use pdeshape::spec::BuiltDesign;
 use pdeshape::{Vec3, TAU};
@@ -152,12 +151,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     let mut out = Output::create(&args.output)?;
     let built = design.build()?;
-    let meshes = built
-        .patches
-        .iter()
-        .map(|p| mesh::tessellate(&p.surface, nu, nv))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| CliError::input(e.to_string()))?;
+    let meshes = common::meshes(&built, nu, nv)?;
     let options = RenderOptions {
         width,
         height,

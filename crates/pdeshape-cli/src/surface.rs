@@ -73,12 +73,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         write_ms = ms(t);
     } else {
         let t = Instant::now();
-        let meshes = built
-            .patches
-            .iter()
-            .map(|p| mesh::tessellate(&p.surface, nu, nv))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| CliError::input(e.to_string()))?;
+        let meshes = common::meshes(&built, nu, nv)?;
         tessellate_ms = ms(t);
         let t = Instant::now();
         let mut w = out.writer();
@@ -97,12 +92,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     // The picture is drawn before anything is committed, so a failure leaves neither file.
     if let Some(pic) = picture_out.as_mut() {
-        let meshes = built
-            .patches
-            .iter()
-            .map(|p| mesh::tessellate(&p.surface, nu, nv))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| CliError::input(e.to_string()))?;
+        let meshes = common::meshes(&built, nu, nv)?;
         let png = pdeshape::render::render_png(
             &meshes,
             &crate::render::overlays(&built),

@@ -299,13 +299,25 @@ fn cheb_derivative_at(a: &[f64], x: f64, d: usize) -> f64 {
     clenshaw(&s, x)
 }
 
+/// One run of layer functions sharing a root and a side, evaluated at one `u`.
+struct Run<'a> {
+    /// Index of the run's first function.
+    slot: usize,
+    group: &'a RootGroup,
+    /// `λ = n s`, `2 Re λ`, `e^{−λt}`, and `−1` on the side `t = 1 − u` (else `1`).
+    lambda: Complex<f64>,
+    alpha2: f64,
+    e: Complex<f64>,
+    side_sign: f64,
+    /// `L_0(x) … L_{m−1}(x)` at `x = 2 Re λ · t`.
+    lag: &'a [f64],
+}
+
 impl LayerBasis {
-    /// `d`-th u-derivatives of every layer function at `u`. The functions come in runs sharing
-    /// a root and a side (`k = 0..m`, real and imaginary parts): the exponential and the
-    /// Laguerre values are computed once per run.
-    fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+    /// Calls `f` for each run of functions (`k = 0..m`, real and imaginary parts) that share a
+    /// root and a side: the exponential and the Laguerre values are computed once per run.
+    fn for_each_run(&self, u: f64, mut f: impl FnMut(&Run)) {
         let mut lag = [0.0f64; 2 * super::MAX_HALF_ORDER];
-        let mut coef = [Complex::new(0.0, 0.0); 2 * super::MAX_HALF_ORDER];
         let mut slot = 0;
         while slot < self.funcs.len() {
             let (g, side, _, _) = self.funcs[slot];
@@ -320,8 +332,27 @@ impl LayerBasis {
             } else {
                 (-lambda * t).exp()
             };
-            let sign = if side && d % 2 == 1 { -1.0 } else { 1.0 };
-            for k in 0..m {
+            let side_sign = if side { -1.0 } else { 1.0 };
+            f(&Run {
+                slot,
+                group,
+                lambda,
+                alpha2,
+                e,
+                side_sign,
+                lag: &lag[..m],
+            });
+            slot += m * if group.is_complex() { 2 } else { 1 };
+        }
+    }
+
+    /// `d`-th u-derivatives of every layer function at `u`.
+    fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+        let mut coef = [Complex::new(0.0, 0.0); 2 * super::MAX_HALF_ORDER];
+        self.for_each_run(u, |r| {
+            let sign = if d % 2 == 1 { r.side_sign } else { 1.0 };
+            let mut slot = r.slot;
+            for k in 0..r.lag.len() {
                 // Laguerre coefficients of the d-th t-derivative of e^{−λt} L_k(x), divided by
                 // e^{−λt}: q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j per derivative.
                 for (j, c) in coef[..=k].iter_mut().enumerate() {
@@ -331,60 +362,44 @@ impl LayerBasis {
                     let mut suffix = Complex::new(0.0, 0.0);
                     for j in (0..=k).rev() {
                         let p = coef[j];
-                        coef[j] = (-suffix - p * 0.5) * alpha2 - Complex::new(0.0, lambda.im) * p;
+                        coef[j] =
+                            (-suffix - p * 0.5) * r.alpha2 - Complex::new(0.0, r.lambda.im) * p;
                         suffix += p;
                     }
                 }
-                let sum: Complex<f64> = (0..=k).map(|j| coef[j] * lag[j]).sum();
-                let value = e * sum * sign;
+                let sum: Complex<f64> = (0..=k).map(|j| coef[j] * r.lag[j]).sum();
+                let value = r.e * sum * sign;
                 out[slot] = value.re;
                 slot += 1;
-                if group.is_complex() {
+                if r.group.is_complex() {
                     out[slot] = value.im;
                     slot += 1;
                 }
             }
-        }
+        });
     }
-}
 
-impl LayerBasis {
     /// Values and first u-derivatives of every layer function (the hot path of grid rows):
-    /// `d/dt [e^{−λt} Σ p_j L_j(x)] = e^{−λt} Σ q_j L_j(x)`, `q_j = 2α(−Σ_{i>j} p_i − p_j/2) − iβ p_j`.
+    /// for `p = e_k` the derivative's Laguerre coefficients are `q_j = −2α` (`j < k`) and
+    /// `q_k = −α − iβ`.
     fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
-        let mut lag = [0.0f64; 2 * super::MAX_HALF_ORDER];
-        let mut slot = 0;
-        while slot < self.funcs.len() {
-            let (g, side, _, _) = self.funcs[slot];
-            let group = &self.groups[g];
-            let m = group.multiplicity;
-            let t = if side { 1.0 - u } else { u };
-            let lambda = group.s * self.n;
-            let alpha2 = 2.0 * lambda.re;
-            laguerre(alpha2 * t, &mut lag[..m]);
-            let e = if lambda.im == 0.0 {
-                Complex::new((-lambda.re * t).exp(), 0.0)
-            } else {
-                (-lambda * t).exp()
-            };
-            let sign = if side { -1.0 } else { 1.0 };
+        self.for_each_run(u, |r| {
+            let mut slot = r.slot;
             let mut below = 0.0; // Σ_{j<k} L_j(x)
-            for &lk in &lag[..m] {
-                // p = e_k: q_j = −2α for j < k, q_k = −α − iβ.
-                let sum1 = Complex::new(-alpha2 * below - 0.5 * alpha2 * lk, -lambda.im * lk);
-                let v0 = e * lk;
-                let v1 = e * sum1 * sign;
+            for &lk in r.lag {
+                let sum1 = Complex::new(-r.alpha2 * below - 0.5 * r.alpha2 * lk, -r.lambda.im * lk);
+                let (v0, v1) = (r.e * lk, r.e * sum1 * r.side_sign);
                 out0[slot] = v0.re;
                 out1[slot] = v1.re;
                 slot += 1;
-                if group.is_complex() {
+                if r.group.is_complex() {
                     out0[slot] = v0.im;
                     out1[slot] = v1.im;
                     slot += 1;
                 }
                 below += lk;
             }
-        }
+        });
     }
 }
 
