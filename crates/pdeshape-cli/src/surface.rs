@@ -55,6 +55,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 
     let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
     let (tessellate_ms, write_ms);
+    let mut meshes = None;
     if format == Format::Csv {
         let t = Instant::now();
         let samples = built
@@ -73,18 +74,19 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         write_ms = ms(t);
     } else {
         let t = Instant::now();
-        let meshes = common::meshes(&built, nu, nv)?;
+        let m = common::meshes(&built, nu, nv)?;
         tessellate_ms = ms(t);
         let t = Instant::now();
         let mut w = out.writer();
         match format {
-            Format::Obj => mesh::write_obj(&meshes, &mut w),
-            Format::Stl => mesh::write_stl(&meshes, &mut w),
-            Format::Ply => mesh::write_ply(&meshes, &mut w),
-            Format::Glb => mesh::write_glb(&meshes, &mut w),
+            Format::Obj => mesh::write_obj(&m, &mut w),
+            Format::Stl => mesh::write_stl(&m, &mut w),
+            Format::Ply => mesh::write_ply(&m, &mut w),
+            Format::Glb => mesh::write_glb(&m, &mut w),
             Format::Csv => unreachable!("handled above"),
         }
         .map_err(io_err)?;
+        meshes = Some(m);
         w.flush()
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         drop(w);
@@ -92,7 +94,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     // The picture is drawn before anything is committed, so a failure leaves neither file.
     if let Some(pic) = picture_out.as_mut() {
-        let meshes = common::meshes(&built, nu, nv)?;
+        let meshes = match meshes {
+            Some(m) => m,
+            None => common::meshes(&built, nu, nv)?,
+        };
         let png = pdeshape::render::render_png(
             &meshes,
             &crate::render::overlays(&built),
