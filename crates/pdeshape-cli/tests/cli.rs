@@ -736,3 +736,33 @@ fn conditions_that_do_not_determine_a_surface() {
                 [curves.c]\ntype = \"circle\"\ncenter = [0, 0, 1]\nradius = 1\n";
     bad_design(text, &["conditions", "unique"]);
 }
+
+/// `surface --picture` writes the mesh and the PNG, or neither.
+#[test]
+fn surface_with_a_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    let (o, png) = (dir.path().join("out.ply"), dir.path().join("shape.png"));
+    let out = pdeshape(&["surface", s(&d), "-o", s(&o), "--picture", s(&png)]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(std::fs::metadata(&o).unwrap().len() > 0);
+    std::fs::remove_file(&o).unwrap();
+    std::fs::remove_file(&png).unwrap();
+    let out = pdeshape(&[
+        "surface",
+        s(&d),
+        "-o",
+        s(&o),
+        "--picture",
+        s(&dir.path().join("shape.jpg")),
+    ]);
+    assert_bad(&out, &["shape.jpg", "png"]);
+    assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
+}
