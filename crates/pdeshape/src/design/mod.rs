@@ -42,11 +42,18 @@ pub fn edge_mismatch(
     for j in 0..samples {
         let v = TAU * j as f64 / samples as f64;
         let (pa, pb) = (a.partials(ua, v), b.partials(ub, v));
-        g0 = g0.max((pa.x - pb.x).norm());
+        let d = (pa.x - pb.x).norm();
+        // NaN must show, not vanish in max().
+        if d.is_nan() || d > g0 {
+            g0 = d;
+        }
         let (na, nb) = (pa.normal(), pb.normal());
         if na.norm() > 0.5 && nb.norm() > 0.5 {
             // Angle between lines: atan2(|na × nb|, |na · nb|), accurate for tiny angles.
-            g1 = g1.max(na.cross(&nb).norm().atan2(na.dot(&nb).abs()));
+            let angle = na.cross(&nb).norm().atan2(na.dot(&nb).abs());
+            if angle.is_nan() || angle > g1 {
+                g1 = angle;
+            }
         }
     }
     (g0, g1)

@@ -19,12 +19,21 @@ impl Partials {
     /// position curve shrunk to a point, so `X_v = 0`), the limit normal `X_u × X_uv` is used, and
     /// `X_uv × X_v` where `X_u` vanishes; zero if all of these vanish.
     pub fn normal(&self) -> Vec3 {
-        let scale = (self.xu.norm() + self.xv.norm()).max(f64::MIN_POSITIVE);
-        let n = self.xu.cross(&self.xv);
-        if n.norm() > 1e-12 * scale * scale {
+        // Scaled first, so huge or tiny coordinates neither overflow nor underflow.
+        let unit = |a: &Vec3| {
+            let m = a.amax();
+            if m > 0.0 && m.is_finite() {
+                a / m
+            } else {
+                *a
+            }
+        };
+        let (xu, xv, xuv) = (unit(&self.xu), unit(&self.xv), unit(&self.xuv));
+        let n = xu.cross(&xv);
+        if n.norm() > 1e-12 * xu.norm() * xv.norm() {
             return n.normalize();
         }
-        for m in [self.xu.cross(&self.xuv), self.xuv.cross(&self.xv)] {
+        for m in [xu.cross(&xuv), xuv.cross(&xv)] {
             let s = m.norm();
             if s > 1e-300 {
                 return m / s;
@@ -129,5 +138,40 @@ impl<S: Surface + ?Sized> RowEvaluator for PointwiseRows<'_, S> {
             let p = self.surface.partials(u, v);
             row.set(j, p.x, p.normal());
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn normals_are_unit_robust_and_have_a_pole_limit() {
+        let p = Partials {
+            xu: Vec3::new(2.0, 0.0, 0.0),
+            xv: Vec3::new(0.0, 3.0, 0.0),
+            ..Default::default()
+        };
+        assert_eq!(p.normal(), Vec3::new(0.0, 0.0, 1.0));
+        // Huge and tiny scales neither overflow nor underflow.
+        for s in [1e300, 1e-300] {
+            let q = Partials {
+                xu: p.xu * s,
+                xv: p.xv * s,
+                ..Default::default()
+            };
+            assert!(
+                (q.normal() - Vec3::new(0.0, 0.0, 1.0)).norm() < 1e-15,
+                "scale {s}"
+            );
+        }
+        // A pole (X_v = 0): the limit normal X_u × X_uv.
+        let pole = Partials {
+            xu: Vec3::new(1.0, 0.0, 0.0),
+            xuv: Vec3::new(0.0, 1.0, 0.0),
+            ..Default::default()
+        };
+        assert_eq!(pole.normal(), Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(Partials::default().normal(), Vec3::zeros());
     }
 }
