@@ -432,8 +432,10 @@ fn normals_block(vals: &[[f64; BLOCK]; Q], len: usize, unit: &mut [[f64; BLOCK];
         let (bx, by, bz) = (vals[6][j], vals[7][j], vals[8][j]);
         let (nx, ny, nz) = (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx);
         let len2 = nx * nx + ny * ny + nz * nz;
-        let size2 = (ax * ax + ay * ay + az * az) * (bx * bx + by * by + bz * bz);
-        let ok = len2 > 1e-20 * size2 && len2 > 0.0;
+        // Degenerate where the cross product is rounding noise next to |X_u|² + |X_v|² (a
+        // pole, where X_v vanishes up to rounding), as in `Partials::normal`.
+        let size = ax * ax + ay * ay + az * az + bx * bx + by * by + bz * bz;
+        let ok = len2 > 1e-20 * size * size && len2 > 0.0;
         let inv = if ok { 1.0 / len2.sqrt() } else { 0.0 };
         unit[0][j] = nx * inv;
         unit[1][j] = ny * inv;
@@ -451,9 +453,13 @@ fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
         xu[0] * xv[1] - xu[1] * xv[0],
     ];
     let len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    let size2 = (xu[0] * xu[0] + xu[1] * xu[1] + xu[2] * xu[2])
-        * (xv[0] * xv[0] + xv[1] * xv[1] + xv[2] * xv[2]);
-    if len2 > 1e-20 * size2 && len2 > 0.0 {
+    let size = xu[0] * xu[0]
+        + xu[1] * xu[1]
+        + xu[2] * xu[2]
+        + xv[0] * xv[0]
+        + xv[1] * xv[1]
+        + xv[2] * xv[2];
+    if len2 > 1e-20 * size * size && len2 > 0.0 {
         let inv = 1.0 / len2.sqrt();
         Some(Vec3::new(n[0] * inv, n[1] * inv, n[2] * inv))
     } else {
@@ -524,7 +530,10 @@ impl PdeRows<'_> {
             Vec::new()
         };
         let groups = if self.symmetric { 4 * Q } else { Q };
-        let mut acc = vec![[0.0; BLOCK]; groups];
+        // Every accumulator a block uses is filled before it is read.
+        let mut acc_store = [[0.0; BLOCK]; 4 * Q];
+        let acc = &mut acc_store[..groups];
+        let mut poles = with_remainder;
         let mut vals = [[0.0; BLOCK]; Q];
         let mut unit = [[0.0; BLOCK]; 4];
         let mut j0 = 0;
@@ -541,7 +550,7 @@ impl PdeRows<'_> {
                 sin: &self.sin,
                 cols: self.cols,
             };
-            accumulate_block::<FMA>(&sums, j0, len, &mut acc);
+            accumulate_block::<FMA>(&sums, j0, len, acc);
             let targets = if self.symmetric { 4 } else { 1 };
             for t in 0..targets {
                 // P, Q, R, S (even cos, odd cos, even sin, odd sin) combine into the four
@@ -581,6 +590,7 @@ impl PdeRows<'_> {
                     continue;
                 }
                 normals_block(&vals, len, &mut unit);
+                poles |= unit[3][..len].contains(&0.0);
                 let cols = [&mut row.nx, &mut row.ny, &mut row.nz];
                 for (k, dst) in cols.into_iter().enumerate() {
                     store(dst, t, j0, &unit[k][..len]);
@@ -616,10 +626,12 @@ impl PdeRows<'_> {
             }
         }
         // Where X_u × X_v vanishes (a pole) the normal is the limit one.
-        for j in 0..nv {
-            if row.nx[j] == 0.0 && row.ny[j] == 0.0 && row.nz[j] == 0.0 {
-                let n = self.patch.partials(u, self.vs[j]).normal();
-                (row.nx[j], row.ny[j], row.nz[j]) = (n.x, n.y, n.z);
+        if poles {
+            for j in 0..nv {
+                if row.nx[j] == 0.0 && row.ny[j] == 0.0 && row.nz[j] == 0.0 {
+                    let n = self.patch.partials(u, self.vs[j]).normal();
+                    (row.nx[j], row.ny[j], row.nz[j]) = (n.x, n.y, n.z);
+                }
             }
         }
     }
@@ -631,6 +643,60 @@ mod row_tests {
     use crate::elliptic::{solve, Condition, SolveOptions};
     use crate::fourier::FourierSeries;
     use std::sync::Arc;
+
+    /// At a pole (a position curve shrunk to a point) rows carry the limit normal.
+    #[test]
+    fn rows_at_a_pole_have_the_limit_normal() {
+        let op = Operator::polyharmonic(2, 1.0).unwrap();
+        let series = |a0: Vec3, r: f64| {
+            Arc::new(FourierSeries {
+                a0,
+                cos: vec![Vec3::new(r, 0.0, 0.0)],
+                sin: vec![Vec3::new(0.0, r, 0.0)],
+            }) as crate::curve::SharedCurve
+        };
+        let conds = vec![
+            Condition {
+                u: 0.0,
+                derivative: 0,
+                curve: series(Vec3::zeros(), 0.0),
+            },
+            Condition {
+                u: 0.0,
+                derivative: 1,
+                curve: series(Vec3::zeros(), 2.0),
+            },
+            Condition {
+                u: 1.0,
+                derivative: 0,
+                curve: series(Vec3::new(0.0, 0.0, 1.0), 1.0),
+            },
+            Condition {
+                u: 1.0,
+                derivative: 1,
+                curve: series(Vec3::new(0.0, 0.0, 1.0), 0.0),
+            },
+        ];
+        let patch = solve(
+            &op,
+            conds,
+            &SolveOptions {
+                modes: 1,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let vs: Vec<f64> = (0..16).map(|j| TAU * j as f64 / 16.0).collect();
+        let mut row = RowBuf::new(16);
+        PdeRows::new(&patch, &vs).eval_row(0.0, &mut row);
+        for (j, &v) in vs.iter().enumerate() {
+            let n = row.normal(j);
+            assert!((n.norm() - 1.0).abs() < 1e-12, "column {j}: {n}");
+            assert!((n - patch.partials(0.0, v).normal()).norm() < 1e-12);
+            // The pole's normal is the axis (the surface leaves the point radially, X_u ⟂ z).
+            assert!(n.z.abs() > 1.0 - 1e-9, "column {j}: {n}");
+        }
+    }
 
     /// The fast row evaluator (symmetric and general paths, with and without remainder) agrees
     /// with pointwise evaluation.

@@ -19,18 +19,18 @@ impl Partials {
     /// position curve shrunk to a point, so `X_v = 0`), the limit normal `X_u × X_uv` is used, and
     /// `X_uv × X_v` where `X_u` vanishes; zero if all of these vanish.
     pub fn normal(&self) -> Vec3 {
-        // Scaled first, so huge or tiny coordinates neither overflow nor underflow.
-        let unit = |a: &Vec3| {
-            let m = a.amax();
-            if m > 0.0 && m.is_finite() {
-                a / m
-            } else {
-                *a
-            }
+        // One common scale, so huge or tiny coordinates neither overflow nor underflow and the
+        // relative sizes of the derivatives are kept.
+        let m = self.xu.amax().max(self.xv.amax()).max(self.xuv.amax());
+        let (xu, xv, xuv) = if m > 0.0 && m.is_finite() {
+            (self.xu / m, self.xv / m, self.xuv / m)
+        } else {
+            (self.xu, self.xv, self.xuv)
         };
-        let (xu, xv, xuv) = (unit(&self.xu), unit(&self.xv), unit(&self.xuv));
+        // Degenerate where X_u × X_v is rounding noise next to the derivatives themselves (at a
+        // pole X_v is zero up to rounding, and its direction is meaningless).
         let n = xu.cross(&xv);
-        if n.norm() > 1e-12 * xu.norm() * xv.norm() {
+        if n.norm() > 1e-10 * (xu.norm_squared() + xv.norm_squared()) {
             return n.normalize();
         }
         for m in [xu.cross(&xuv), xuv.cross(&xv)] {
