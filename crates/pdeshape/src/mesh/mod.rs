@@ -10,6 +10,7 @@ pub use writers::{write_csv, write_glb, write_obj, write_ply, write_stl, Format}
 use crate::surface::{RowBuf, Surface, VDomain};
 use crate::{Error, Result, TAU};
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 
 /// Largest number of grid vertices we agree to allocate (per patch).
 pub const MAX_VERTICES: usize = 1 << 26;
@@ -148,18 +149,7 @@ pub fn evaluate_grid<T: GridScalar>(
                 || RowBuf::new(nv),
                 |row, ((prow, nrow), &u)| {
                     rows.eval_row(u, row);
-                    for (j, (p, n)) in prow.iter_mut().zip(nrow.iter_mut()).enumerate() {
-                        p.write([
-                            T::from_f64(row.x[j]),
-                            T::from_f64(row.y[j]),
-                            T::from_f64(row.z[j]),
-                        ]);
-                        n.write([
-                            T::from_f64(row.nx[j]),
-                            T::from_f64(row.ny[j]),
-                            T::from_f64(row.nz[j]),
-                        ]);
-                    }
+                    store_row(row, prow, nrow);
                 },
             );
     }
@@ -178,6 +168,51 @@ pub fn evaluate_grid<T: GridScalar>(
         positions,
         normals,
     })
+}
+
+/// Interleaves a row into the output buffers (converting to `T`).
+#[inline(always)]
+fn store_row_generic<T: GridScalar>(
+    row: &RowBuf,
+    prow: &mut [MaybeUninit<[T; 3]>],
+    nrow: &mut [MaybeUninit<[T; 3]>],
+) {
+    for (j, (p, n)) in prow.iter_mut().zip(nrow.iter_mut()).enumerate() {
+        p.write([
+            T::from_f64(row.x[j]),
+            T::from_f64(row.y[j]),
+            T::from_f64(row.z[j]),
+        ]);
+        n.write([
+            T::from_f64(row.nx[j]),
+            T::from_f64(row.ny[j]),
+            T::from_f64(row.nz[j]),
+        ]);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn store_row_avx2<T: GridScalar>(
+    row: &RowBuf,
+    prow: &mut [MaybeUninit<[T; 3]>],
+    nrow: &mut [MaybeUninit<[T; 3]>],
+) {
+    store_row_generic(row, prow, nrow)
+}
+
+/// [`store_row_generic`], compiled for AVX2 where the processor has it.
+fn store_row<T: GridScalar>(
+    row: &RowBuf,
+    prow: &mut [MaybeUninit<[T; 3]>],
+    nrow: &mut [MaybeUninit<[T; 3]>],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor supports the features the function was compiled for.
+        return unsafe { store_row_avx2(row, prow, nrow) };
+    }
+    store_row_generic(row, prow, nrow)
 }
 
 /// f32 mesh of a surface on an `nu × nv` grid.
