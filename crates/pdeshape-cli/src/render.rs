@@ -62,11 +62,14 @@ fn parse_view(s: &str) -> Result<Vec3, CliError> {
     if parts.len() != 3 || parts.iter().any(|x| !x.is_finite()) {
         return Err(bad());
     }
+    // Only the direction matters: scale by the largest component so neither 1e308 nor 1e-320
+    // overflows or underflows.
     let v = Vec3::new(parts[0], parts[1], parts[2]);
-    if v.norm() == 0.0 {
+    let m = v.amax();
+    if m == 0.0 {
         return Err(CliError::input("--view: must not be the zero vector"));
     }
-    Ok(v)
+    Ok(v / m)
 }
 
 /// `CURVE_POINTS` points of a curve: over [0, 2π) for a periodic curve (drawn closed), over its

@@ -766,3 +766,39 @@ fn surface_with_a_picture() {
     assert_bad(&out, &["shape.jpg", "png"]);
     assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
 }
+
+/// `--view` takes any non-zero direction, however large or small its numbers.
+#[test]
+fn view_directions_of_any_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    for view in ["1e308,1e308,0", "1e-320,0,0", "0,-1,0.5"] {
+        let png = dir.path().join("v.png");
+        let out = pdeshape(&[
+            "render",
+            s(&d),
+            "-o",
+            s(&png),
+            "--size",
+            "64x48",
+            "--view",
+            view,
+        ]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{view}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::remove_file(&png).unwrap();
+    }
+    let out = pdeshape(&[
+        "render",
+        s(&d),
+        "-o",
+        s(&dir.path().join("v.png")),
+        "--view",
+        "0,0,0",
+    ]);
+    assert_bad(&out, &["--view", "zero"]);
+}
