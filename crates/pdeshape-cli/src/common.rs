@@ -194,10 +194,62 @@ pub fn meshes(
     nu: usize,
     nv: usize,
 ) -> Result<Vec<pdeshape::mesh::GridMesh>, CliError> {
-    built
-        .patches
-        .iter()
-        .map(|p| pdeshape::mesh::tessellate(&p.surface, nu, nv))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| CliError::input(e.to_string()))
+    grids(built, nu, nv, pdeshape::mesh::tessellate)
+}
+
+/// Full-precision samples of every patch (CSV).
+pub fn samples(
+    built: &pdeshape::spec::BuiltDesign,
+    nu: usize,
+    nv: usize,
+) -> Result<Vec<pdeshape::mesh::Samples>, CliError> {
+    grids(built, nu, nv, pdeshape::mesh::sample)
+}
+
+/// Evaluates every patch on the grid and refuses a surface that is not finite somewhere, naming
+/// the condition curve that is not finite there (formula curves are checked at sample points
+/// only when they are read, so a NaN between them shows up here).
+fn grids<T: Copy + Into<f64>>(
+    built: &pdeshape::spec::BuiltDesign,
+    nu: usize,
+    nv: usize,
+    eval: impl Fn(
+        &dyn pdeshape::surface::Surface,
+        usize,
+        usize,
+    ) -> pdeshape::Result<pdeshape::mesh::Grid<T>>,
+) -> Result<Vec<pdeshape::mesh::Grid<T>>, CliError> {
+    let mut out = Vec::with_capacity(built.patches.len());
+    for (k, p) in built.patches.iter().enumerate() {
+        let g = eval(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
+        let bad = g
+            .positions
+            .iter()
+            .zip(&g.normals)
+            .position(|(a, b)| a.iter().chain(b).any(|x| !(*x).into().is_finite()));
+        if let Some(at) = bad {
+            let (i, j) = (at / g.nv, at % g.nv);
+            let (u, v) = (g.u[i], g.v[j]);
+            let culprit = built.conditions[k].iter().enumerate().find(|(_, c)| {
+                !(0..3).all(|d| c.curve.derivative(v, d).iter().all(|x| x.is_finite()))
+            });
+            let place = if built.multi_patch {
+                format!("patches[{k}].")
+            } else {
+                String::new()
+            };
+            return Err(CliError::input(match culprit {
+                Some((ci, c)) => format!(
+                    "{place}conditions[{ci}].curve{}: not finite at v = {v} (or its derivatives are not)",
+                    c.curve_name.as_deref().map(|n| format!(" ('{n}')")).unwrap_or_default()
+                ),
+                None => format!(
+                    "{place}the surface '{}' is not finite at u = {u}, v = {v}",
+                    p.name
+                ),
+            }));
+        }
+        out.push(g);
+    }
+    Ok(out)
 }

@@ -58,12 +58,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut meshes = None;
     if format == Format::Csv {
         let t = Instant::now();
-        let samples = built
-            .patches
-            .iter()
-            .map(|p| mesh::sample(&p.surface, nu, nv))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(|e| CliError::input(e.to_string()))?;
+        let samples = common::samples(&built, nu, nv)?;
         tessellate_ms = ms(t);
         let t = Instant::now();
         let mut w = out.writer();

@@ -802,3 +802,21 @@ fn view_directions_of_any_size() {
     ]);
     assert_bad(&out, &["--view", "zero"]);
 }
+
+/// A formula that is NaN only between the points where it was checked: the error names the
+/// curve and the parameter, not the output file.
+#[test]
+fn nan_between_checked_points_names_the_curve() {
+    let text = GOOD.replace(
+        "[curves.rim]\ntype = \"ellipse\"\ncenter = [0.0, 0.0, 2.0]\nrx = 1.5\nry = 1.0",
+        "[curves.rim]\ntype = \"formula\"\nx = \"1.5*cos(v) + 0*sqrt((v-1)^2 - 0.000001)\"\ny = \"sin(v)\"\nz = \"2\"",
+    );
+    assert_ne!(text, GOOD);
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", &text);
+    let o = dir.path().join("out.obj");
+    let out = pdeshape(&["surface", s(&d), "-o", s(&o), "--nv", "44"]);
+    let line = assert_bad(&out, &["conditions[2].curve ('rim')", "not finite at v = "]);
+    assert!(!line.contains("-o"), "{line}");
+    assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
+}
