@@ -231,12 +231,15 @@ pub fn solve(
         .iter()
         .map(|c| patch::fitted_series(&modes, c.u, c.derivative))
         .collect();
+    // Measured against the larger of the curve's own size and the design's (a point curve at
+    // the origin has size 0).
+    let design_size = series.iter().map(series_size).fold(0.0, f64::max);
     let active: Vec<bool> = conditions
         .iter()
         .zip(series.iter().zip(&fitted))
         .map(|(c, (s, f))| {
             let exact = c.curve.fourier().is_some_and(|f| f.modes() <= m);
-            !exact || series_distance(s, f) > 1e-15 * series_size(s)
+            !exact || series_distance(s, f) > ROUNDING_LEFTOVER * series_size(s).max(design_size)
         })
         .collect();
     let distances: Vec<f64> = series
@@ -261,6 +264,11 @@ pub fn solve(
     check_a_posteriori(&patch, &distances, &active, has_remainder)?;
     Ok(patch)
 }
+
+/// Leftover of a condition (relative to the size of its Fourier coefficients) below which it
+/// stays out of the remainder: well below the 1e-10 the conditions must meet, and above the
+/// rounding of well-conditioned mode systems, so the remainder is not switched on for nothing.
+const ROUNDING_LEFTOVER: f64 = 1e-13;
 
 /// Relative condition error above which a solution is refused: the mode systems were too
 /// ill-conditioned for double precision (e.g. intermediate curves with high modes and a large
