@@ -3,7 +3,7 @@
 //!
 //! The solution of `L X = 0` periodic in `v` is (Eqs. 4.11, 4.36)
 //! `X(u,v) = A₀(u) + Σ_{n=1}^{M} [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`, where each `Aₙ, Bₙ`
-//! solves its mode equation exactly (see [`basis`]) and meets the Fourier coefficients of the `2N`
+//! solves its mode equation exactly (in a bounded basis, see `basis.rs`) and meets the Fourier coefficients of the `2N`
 //! conditions, and `R` is the spectral remainder (Eqs. 4.45–4.53) that takes up what the `M`
 //! modes leave of the conditions, so they hold to rounding for any periodic curves.
 
