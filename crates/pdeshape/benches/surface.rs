@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::curve::{FourierSeries, SharedCurve};
 use pdeshape::elliptic::{solve, Condition, Operator, SolveOptions};
-use pdeshape::mesh::tessellate;
+use pdeshape::mesh::{tessellate, tessellate_into};
 use pdeshape::Vec3;
 use std::hint::black_box;
 use std::sync::Arc;
@@ -73,6 +73,17 @@ fn bench(c: &mut Criterion) {
             b.iter_with_large_drop(|| {
                 let patch = solve(&op, conds.clone(), &opts).unwrap();
                 tessellate(&patch, nu, nv).unwrap()
+            })
+        });
+    }
+    // The interactive case: re-solve and tessellate into the mesh of the previous frame.
+    for (nu, nv) in [(256usize, 512usize), (1024, 1024)] {
+        let mut mesh = tessellate(&solve(&op, conds.clone(), &opts).unwrap(), nu, nv).unwrap();
+        group.bench_function(format!("{nu}x{nv}_into_existing_mesh"), |b| {
+            b.iter(|| {
+                let patch = solve(&op, conds.clone(), &opts).unwrap();
+                tessellate_into(&patch, nu, nv, &mut mesh).unwrap();
+                black_box(mesh.positions.len())
             })
         });
     }

@@ -128,11 +128,37 @@ pub fn evaluate_grid<T: GridScalar>(
     nu: usize,
     nv: usize,
 ) -> Result<Grid<T>> {
+    let mut grid = Grid {
+        nu: 0,
+        nv: 0,
+        periodic_v: false,
+        u: Vec::new(),
+        v: Vec::new(),
+        positions: Vec::new(),
+        normals: Vec::new(),
+    };
+    evaluate_grid_into(surface, nu, nv, &mut grid)?;
+    Ok(grid)
+}
+
+/// [`evaluate_grid`] into an existing grid, reusing its buffers: re-solving while a curve is
+/// dragged then writes into memory that is already mapped. On error the grid is left empty.
+pub fn evaluate_grid_into<T: GridScalar>(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+    grid: &mut Grid<T>,
+) -> Result<()> {
+    grid.positions.clear();
+    grid.normals.clear();
+    (grid.nu, grid.nv) = (0, 0);
     let domain = surface.v_domain();
     let (us, vs) = grid_parameters(domain, nu, nv)?;
     let n = nu * nv;
-    let mut positions: Vec<[T; 3]> = Vec::with_capacity(n);
-    let mut normals: Vec<[T; 3]> = Vec::with_capacity(n);
+    let positions = &mut grid.positions;
+    let normals = &mut grid.normals;
+    positions.reserve(n);
+    normals.reserve(n);
     {
         let rows = surface.row_evaluator(&vs);
         let rows = &*rows;
@@ -159,15 +185,9 @@ pub fn evaluate_grid<T: GridScalar>(
         positions.set_len(n);
         normals.set_len(n);
     }
-    Ok(Grid {
-        nu,
-        nv,
-        periodic_v: domain == VDomain::Periodic,
-        u: us,
-        v: vs,
-        positions,
-        normals,
-    })
+    (grid.nu, grid.nv, grid.periodic_v, grid.u, grid.v) =
+        (nu, nv, domain == VDomain::Periodic, us, vs);
+    Ok(())
 }
 
 /// Interleaves a row into the output buffers (converting to `T`).
@@ -220,7 +240,67 @@ pub fn tessellate(surface: &dyn Surface, nu: usize, nv: usize) -> Result<GridMes
     evaluate_grid(surface, nu, nv)
 }
 
+/// [`tessellate`] into an existing mesh, reusing its buffers (the interactive case).
+pub fn tessellate_into(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+    mesh: &mut GridMesh,
+) -> Result<()> {
+    evaluate_grid_into(surface, nu, nv, mesh)
+}
+
 /// Full-precision samples of a surface on an `nu × nv` grid.
 pub fn sample(surface: &dyn Surface, nu: usize, nv: usize) -> Result<Samples> {
     evaluate_grid(surface, nu, nv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::Partials;
+    use crate::Vec3;
+
+    /// The unit cylinder `(cos v, sin v, u)`.
+    struct Cylinder;
+
+    impl Surface for Cylinder {
+        fn v_domain(&self) -> VDomain {
+            VDomain::Periodic
+        }
+        fn partials(&self, u: f64, v: f64) -> Partials {
+            let (s, c) = v.sin_cos();
+            Partials {
+                x: Vec3::new(c, s, u),
+                xu: Vec3::new(0.0, 0.0, 1.0),
+                xv: Vec3::new(-s, c, 0.0),
+                xvv: Vec3::new(-c, -s, 0.0),
+                ..Default::default()
+            }
+        }
+    }
+
+    #[test]
+    fn grids_follow_the_conventions_and_reuse_buffers() {
+        let mesh = tessellate(&Cylinder, 3, 8).unwrap();
+        assert_eq!((mesh.nu, mesh.nv, mesh.periodic_v), (3, 8, true));
+        assert_eq!(mesh.u, vec![0.0, 0.5, 1.0]);
+        assert_eq!(mesh.v[2], TAU * 2.0 / 8.0);
+        // u-major, v_j = 2πj/nv without a repeated seam column; outward normals X_u × X_v.
+        let p = mesh.positions[mesh.index(1, 2)];
+        assert!((p[0] as f64 - (TAU / 4.0).cos()).abs() < 1e-7 && (p[2] - 0.5).abs() < 1e-7);
+        let n = mesh.normals[mesh.index(1, 0)];
+        assert!((n[0] + 1.0).abs() < 1e-7, "{n:?}");
+        assert_eq!(mesh.quads().count(), 2 * 8);
+        // Re-tessellating into the mesh gives the same values in the same memory.
+        let mut again = mesh.clone();
+        again.positions.reserve(64);
+        let ptr = again.positions.as_ptr();
+        tessellate_into(&Cylinder, 3, 8, &mut again).unwrap();
+        assert_eq!(again, mesh);
+        assert_eq!(again.positions.as_ptr(), ptr);
+        // A refused grid leaves it empty, not stale.
+        assert!(tessellate_into(&Cylinder, 1, 8, &mut again).is_err());
+        assert!(again.is_empty() && again.positions.is_empty());
+    }
 }
