@@ -426,7 +426,7 @@ fn accumulate_block<const FMA: bool>(t: &Sums, j0: usize, len: usize, acc: &mut 
 /// Unit normals of a block: `unit[0..3][j]` from `X_u = vals[3..6][j]`, `X_v = vals[6..9][j]`;
 /// `unit[3][j]` is 1 where the normal is defined and 0 where it degenerates (a pole).
 #[inline(always)]
-fn normals_block(vals: &[[f64; BLOCK]; Q], len: usize, unit: &mut [[f64; BLOCK]; 4]) {
+fn normals_block(vals: &[[f64; BLOCK]], len: usize, unit: &mut [[f64; BLOCK]]) {
     for j in 0..len {
         let (ax, ay, az) = (vals[3][j], vals[4][j], vals[5][j]);
         let (bx, by, bz) = (vals[6][j], vals[7][j], vals[8][j]);
@@ -519,9 +519,16 @@ impl PdeRows<'_> {
     fn eval_row_generic<const FMA: bool>(&self, u: f64, row: &mut RowBuf) {
         let nv = self.vs.len();
         let nm = self.patch.modes.len();
-        let mut alpha = vec![0.0; nm * Q];
-        let mut beta = vec![0.0; nm * Q];
-        self.row_coefficients(u, &mut alpha, &mut beta);
+        // Scratch kept in the row buffer between rows: coefficients, then the accumulators.
+        let mut scratch = std::mem::take(&mut row.scratch);
+        let need = 2 * nm * Q + (5 * Q + 4) * BLOCK;
+        if scratch.len() < need {
+            scratch.resize(need, 0.0);
+        }
+        let (coefs, acc_flat) = scratch.split_at_mut(2 * nm * Q);
+        let (alpha, beta) = coefs.split_at_mut(nm * Q);
+        self.row_coefficients(u, alpha, beta);
+        let (alpha, beta) = (&*alpha, &*beta);
         // With a remainder, X_u and X_v are kept (as x, y, z columns) until it has been added.
         let with_remainder = self.patch.remainder.is_some();
         let mut deriv = if with_remainder {
@@ -531,11 +538,12 @@ impl PdeRows<'_> {
         };
         let groups = if self.symmetric { 4 * Q } else { Q };
         // Every accumulator a block uses is filled before it is read.
-        let mut acc_store = [[0.0; BLOCK]; 4 * Q];
-        let acc = &mut acc_store[..groups];
+        let blocks: &mut [[f64; BLOCK]] = acc_flat.as_chunks_mut::<BLOCK>().0;
+        let (acc, rest) = blocks.split_at_mut(4 * Q);
+        let acc = &mut acc[..groups];
+        let (vals, unit) = rest.split_at_mut(Q);
+        let unit = &mut unit[..4];
         let mut poles = with_remainder;
-        let mut vals = [[0.0; BLOCK]; Q];
-        let mut unit = [[0.0; BLOCK]; 4];
         let mut j0 = 0;
         while j0 < self.cols {
             let len = BLOCK.min(self.cols - j0);
@@ -544,8 +552,8 @@ impl PdeRows<'_> {
                 a[..len].fill(if g < Q { alpha[g] } else { 0.0 });
             }
             let sums = Sums {
-                alpha: &alpha,
-                beta: &beta,
+                alpha,
+                beta,
                 cos: &self.cos,
                 sin: &self.sin,
                 cols: self.cols,
@@ -589,7 +597,7 @@ impl PdeRows<'_> {
                     }
                     continue;
                 }
-                normals_block(&vals, len, &mut unit);
+                normals_block(vals, len, unit);
                 poles |= unit[3][..len].contains(&0.0);
                 let cols = [&mut row.nx, &mut row.ny, &mut row.nz];
                 for (k, dst) in cols.into_iter().enumerate() {
@@ -634,6 +642,7 @@ impl PdeRows<'_> {
                 }
             }
         }
+        row.scratch = scratch;
     }
 }
 

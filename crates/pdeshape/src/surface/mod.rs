@@ -74,7 +74,8 @@ pub trait Surface: Send + Sync {
 }
 
 /// One grid row in structure-of-arrays form: positions `(x, y, z)` and unit normals
-/// `(nx, ny, nz)` of every column.
+/// `(nx, ny, nz)` of every column, plus scratch space an evaluator may keep between the rows it
+/// fills (a row buffer lives for many rows on one thread).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RowBuf {
     pub x: Vec<f64>,
@@ -83,6 +84,7 @@ pub struct RowBuf {
     pub nx: Vec<f64>,
     pub ny: Vec<f64>,
     pub nz: Vec<f64>,
+    pub scratch: Vec<f64>,
 }
 
 impl RowBuf {
@@ -96,6 +98,7 @@ impl RowBuf {
             nx: v.clone(),
             ny: v.clone(),
             nz: v,
+            scratch: Vec::new(),
         }
     }
     /// Number of columns.
