@@ -9,6 +9,9 @@ use crate::{Vec3, TAU};
 
 /// A solved Bloor–Wilson patch `X(u,v) = A₀(u) + Σ [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`
 /// (Eqs. 4.36, 4.53). Evaluation is cheap and every partial derivative is exact.
+///
+/// The patch is defined for `u ∈ [0, 1]`; outside, the same formulas extrapolate (modes in the
+/// Chebyshev basis quickly grow without meaning there), so callers should stay inside.
 #[derive(Debug)]
 pub struct PdePatch {
     operator: Operator,
