@@ -42,6 +42,7 @@
 //! formulas themselves, independent of the conditioning (`~ Δt² d / h⁴`) of the interior system.
 
 pub mod band;
+pub mod interp;
 pub mod ode;
 
 use std::sync::Arc;
