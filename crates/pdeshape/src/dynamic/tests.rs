@@ -184,3 +184,63 @@ fn bad_input_is_an_error() {
     };
     assert!(curve.solve(grid).is_err());
 }
+
+/// Static limit: a damped dynamic curve with `b = 0`, `d = 1` and a constant force settles on the
+/// ODE curve (Eq. 1) with the same end data, computed independently by [`ode::OdeCurve`]. The
+/// exact curve is a quartic, for which δ⁴ is exact, so only the third-order one-sided end rows
+/// err: the discrete steady state must approach the ODE curve at order 3 in `h`.
+#[test]
+fn damped_curve_settles_on_the_ode_curve() {
+    use crate::curve::{Curve, Hermite};
+    use crate::Vec3;
+    let force = Vec3::new(24.0, -48.0, 360.0);
+    let (c0, c1) = (Vec3::new(0.0, 1.0, -1.0), Vec3::new(2.0, 0.5, 0.0));
+    let (t0, t1) = (Vec3::new(1.0, 0.0, 3.0), Vec3::new(-2.0, 1.0, 0.5));
+    let ode = ode::OdeCurve::new(
+        c0,
+        c1,
+        t0,
+        t1,
+        std::sync::Arc::new(Hermite::new(force, force, Vec3::zeros(), Vec3::zeros())),
+    )
+    .unwrap();
+    let hermite = Hermite::new(c0, c1, t0, t1);
+    let mut errors = Vec::new();
+    for jn in [20usize, 40] {
+        let comps: Vec<Component> = (0..3)
+            .map(|c| {
+                let hm = hermite.clone();
+                Component {
+                    a: constant_field(45.0),
+                    b: constant_field(0.0),
+                    d: constant_field(1.0),
+                    f: constant_field(force[c]),
+                    start: constant(c0[c]),
+                    end: constant(c1[c]),
+                    start_slope: constant(t0[c]),
+                    end_slope: constant(t1[c]),
+                    position: scalar(move |u| hm.point(u)[c]),
+                    velocity: constant(0.0),
+                }
+            })
+            .collect();
+        let grid = TimeGrid {
+            intervals: jn,
+            steps: 6000,
+            t_end: 6.0,
+        };
+        let x = DynamicCurve { components: comps }.solve(grid).unwrap();
+        let mut err: f64 = 0.0;
+        for (j, u) in grid.nodes().into_iter().enumerate() {
+            let p = ode.point(u);
+            for c in 0..3 {
+                err = err.max((x[c][j] - p[c]).abs());
+            }
+        }
+        errors.push(err);
+    }
+    let order = (errors[0] / errors[1]).log2();
+    eprintln!("static limit: errors {errors:?}, order {order:.3}");
+    assert!(order >= 2.8, "order {order}, errors {errors:?}");
+    assert!(errors[1] < 1e-3, "{errors:?}");
+}
