@@ -114,6 +114,18 @@ pub struct Interpolated {
     pub bending_energy: f64,
 }
 
+impl Interpolated {
+    /// The settled curve as a core curve: the clamped C² cubic spline through the nodes with the
+    /// end tangents of the problem (usable as a boundary curve of a surface).
+    pub fn to_curve(&self, problem: &Interpolation) -> Result<super::spline::NodalCurve> {
+        super::spline::NodalCurve::new(
+            self.nodes.clone(),
+            problem.start_tangent,
+            problem.end_tangent,
+        )
+    }
+}
+
 impl Interpolation {
     fn validate(&self) -> Result<()> {
         let pos = [
@@ -382,5 +394,11 @@ mod tests {
             / (6.0 * h);
         assert!((t0 - problem.start_tangent).amax() < 1e-10, "{t0:?}");
         assert!((t1 - problem.end_tangent).amax() < 1e-10, "{t1:?}");
+        // The core curve passes through the points at their parameters.
+        use crate::curve::Curve;
+        let curve = r.to_curve(&problem).unwrap();
+        for ((p, u), d) in problem.points.iter().zip(&r.params).zip(&r.distances) {
+            assert!(((curve.point(*u) - p).norm() - d).abs() < 1e-9);
+        }
     }
 }

@@ -44,6 +44,7 @@
 pub mod band;
 pub mod interp;
 pub mod ode;
+pub mod spline;
 
 use std::sync::Arc;
 
