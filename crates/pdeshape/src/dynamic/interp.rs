@@ -159,6 +159,13 @@ impl Interpolation {
         if self.points.is_empty() {
             return Err(Error::invalid("no interior points").at("points"));
         }
+        if self.intervals < 5 {
+            return Err(Error::invalid(format!(
+                "J = {} intervals; at least 5 are needed",
+                self.intervals
+            ))
+            .at("intervals"));
+        }
         Ok(())
     }
 
@@ -377,6 +384,21 @@ mod tests {
                 "curvature at {m}: {curv_l} {curv_r}"
             );
         }
+    }
+
+    #[test]
+    fn bad_parameters_are_errors() {
+        let mut p = Interpolation::paper_example();
+        p.intervals = 3;
+        assert!(p.solve().unwrap_err().to_string().contains("intervals"));
+        let mut p = Interpolation::paper_example();
+        p.eps = -1.0;
+        assert!(p.solve().unwrap_err().to_string().contains("eps"));
+        let mut p = Interpolation::paper_example();
+        p.damping = 0.0;
+        p.max_steps = 2000;
+        // Undamped, the curve never settles: the run ends with an error naming the distances.
+        assert!(p.solve().unwrap_err().to_string().contains("distances"));
     }
 
     #[test]
