@@ -19,6 +19,7 @@
 
 pub mod curve;
 pub mod design;
+pub mod dynamic;
 pub mod elliptic;
 mod error;
 pub mod fourier;

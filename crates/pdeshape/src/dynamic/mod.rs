@@ -1,0 +1,529 @@
+//! Dynamic PDE curves (X.-Z. Liu, X. Cui, G.-Q. Zheng, J.-H. Yong, J.-G. Sun, *Dynamic PDE
+//! parametric curves*, J. Comput. Appl. Math. 2008).
+//!
+//! A planar or space curve `C(u, t) = (x(u, t), y(u, t)[, z(u, t)])`, `u ∈ [0, 1]`, moves under
+//! one fourth-order hyperbolic equation per component (paper Eqs. 3 and 5):
+//!
+//! ```text
+//! x_tt + a(u,t,x) x_t − (b(u,t,x) x_u)_u + (d(u,t,x) x_uu)_uu = f(u,t,x),
+//! x(u,0) = x₀(u),  x_t(u,0) = v₀(u),
+//! x(0,t) = p₀(t),  x(1,t) = p₁(t),  x_u(0,t) = s₀(t),  x_u(1,t) = s₁(t),
+//! ```
+//!
+//! `a` is damping, `b` tension, `d` bending stiffness, `f` the external force. The components do not
+//! interact through the equation, so each is advanced on its own by the three-level scheme (6)
+//! ([`Scheme`]).
+//!
+//! # The grid and the end conditions
+//!
+//! `u_j = j h`, `h = 1/J`, `t_n = n Δt`, `Δt = T/L`. At every level the `J + 1` values are fixed by
+//!
+//! * row 0 and row `J`: the positions, `X_0 = p₀(t)`, `X_J = p₁(t)`;
+//! * row 1 and row `J − 1`: the derivative conditions, imposed by the third-order one-sided
+//!   differences `(−11X_0 + 18X_1 − 9X_2 + 2X_3)/(6h) = s₀(t)` and
+//!   `(11X_J − 18X_{J−1} + 9X_{J−2} − 2X_{J−3})/(6h) = s₁(t)`;
+//! * rows `2 ..= J − 2`: the difference equation (6), whose five-point stencil `j − 2 ..= j + 2`
+//!   then stays inside the grid.
+//!
+//! This is the paper's own arrangement (it prescribes `X_1` and `X_{J−1}` and writes equation (6)
+//! for `j = 2 ..= J − 2` in its analysis), with the first-order `X_1 = X_0 + h s₀` replaced by a
+//! one-sided difference of third order so the boundary rows do not limit the `O(h² + Δt²)`
+//! accuracy for non-zero slopes (the row couples `X_0 ..= X_3`, still inside the pentadiagonal
+//! band). We deliberately do not use ghost points (equation (6) at `j = 1` with a fictitious
+//! `X_{−1} = X_1 − 2h s₀`): there the ghost value enters only through the term `d_0 δ²X_0`, and in the
+//! paper's own experiment (§3.3, `d = x`, which vanishes at the ends) `d_0 = 0`, so the slope
+//! condition would silently drop out of the discrete problem.
+//!
+//! In each step the end rows are eliminated exactly (`X_0`, `X_J` are known, `X_1`, `X_{J−1}` are
+//! the one-sided formulas solved for them), which leaves one banded system with two sub- and two
+//! super-diagonals for `X_2 ..= X_{J−2}` per component ([`band::BandMatrix`], LU with partial
+//! pivoting inside the band); the cost is `O(J)` per step. Eliminating rather than solving the end
+//! rows together with the stiff interior rows keeps the end conditions satisfied to rounding of the
+//! formulas themselves, independent of the conditioning (`~ Δt² d / h⁴`) of the interior system.
+
+pub mod band;
+pub mod interp;
+pub mod ode;
+pub mod spline;
+
+use std::sync::Arc;
+
+use crate::{Error, Result};
+use band::BandMatrix;
+
+/// A coefficient or force `φ(u, t, x)` of one component (paper §3: `a, b, d, f`).
+pub type Field = Arc<dyn Fn(f64, f64, f64) -> f64 + Send + Sync>;
+
+/// A function of one variable: an end condition of `t` or an initial profile of `u`.
+pub type Scalar = Arc<dyn Fn(f64) -> f64 + Send + Sync>;
+
+/// Wraps a closure `(u, t, x) ↦ φ` as a [`Field`].
+pub fn field(f: impl Fn(f64, f64, f64) -> f64 + Send + Sync + 'static) -> Field {
+    Arc::new(f)
+}
+
+/// The constant field `φ ≡ c`.
+pub fn constant_field(c: f64) -> Field {
+    Arc::new(move |_, _, _| c)
+}
+
+/// Wraps a closure of one variable as a [`Scalar`].
+pub fn scalar(f: impl Fn(f64) -> f64 + Send + Sync + 'static) -> Scalar {
+    Arc::new(f)
+}
+
+/// The constant function `≡ c`.
+pub fn constant(c: f64) -> Scalar {
+    Arc::new(move |_| c)
+}
+
+/// One component `x(u, t)` of a dynamic PDE curve: Eq. (5) with non-zero, time-dependent end
+/// conditions (Eq. 4 with the §3.3 generalisation `x_u(0,t) = s₀(t)`).
+#[derive(Clone)]
+pub struct Component {
+    /// Damping `a(u, t, x)`.
+    pub a: Field,
+    /// Tension `b(u, t, x)`.
+    pub b: Field,
+    /// Bending stiffness `d(u, t, x)`.
+    pub d: Field,
+    /// External force `f(u, t, x)`.
+    pub f: Field,
+    /// `p₀(t) = x(0, t)`.
+    pub start: Scalar,
+    /// `p₁(t) = x(1, t)`.
+    pub end: Scalar,
+    /// `s₀(t) = x_u(0, t)`.
+    pub start_slope: Scalar,
+    /// `s₁(t) = x_u(1, t)`.
+    pub end_slope: Scalar,
+    /// Initial position `x₀(u) = x(u, 0)`.
+    pub position: Scalar,
+    /// Initial velocity `v₀(u) = x_t(u, 0)`.
+    pub velocity: Scalar,
+}
+
+impl Component {
+    /// Checks that `a ≥ 0`, `b ≥ 0` and `d > 0` (the lower bounds the paper's theory assumes, with
+    /// its remark that `a` or `b` may vanish) at the nodes `u_j = j/samples`, times
+    /// `t = k T / samples`, evaluated along the initial profile. Reports the first violation.
+    pub fn check_positivity(&self, t_end: f64, samples: usize) -> Result<()> {
+        let samples = samples.max(1);
+        for k in 0..=samples {
+            let t = t_end * k as f64 / samples as f64;
+            for j in 0..=samples {
+                let u = j as f64 / samples as f64;
+                let x = (self.position)(u);
+                let checks = [
+                    ("a", (self.a)(u, t, x), false),
+                    ("b", (self.b)(u, t, x), false),
+                    ("d", (self.d)(u, t, x), true),
+                ];
+                for (name, v, strict) in checks {
+                    let bad = !v.is_finite() || v < 0.0 || (strict && v == 0.0);
+                    if bad {
+                        return Err(Error::invalid(format!(
+                            "{name}(u = {u}, t = {t}, x = {x}) = {v}; the theory needs {}",
+                            if strict { "> 0" } else { ">= 0" }
+                        ))
+                        .at(name));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The space–time grid of the scheme: `J` intervals in `u`, `L` steps up to `t = T`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeGrid {
+    /// `J ≥ 5`, the number of intervals of `[0, 1]`.
+    pub intervals: usize,
+    /// `L ≥ 1`, the number of time steps.
+    pub steps: usize,
+    /// `T > 0`, the final time.
+    pub t_end: f64,
+}
+
+impl TimeGrid {
+    /// Checks `J ≥ 5`, `L ≥ 1`, `T` finite and positive.
+    pub fn validate(&self) -> Result<()> {
+        if self.intervals < 5 {
+            return Err(Error::invalid(format!(
+                "J = {} intervals; the stencil and the one-sided end rows need at least 5",
+                self.intervals
+            ))
+            .at("intervals"));
+        }
+        if self.steps == 0 {
+            return Err(Error::invalid("L = 0 steps; at least one is needed").at("steps"));
+        }
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return Err(
+                Error::invalid(format!("T = {}; must be finite and > 0", self.t_end)).at("t_end"),
+            );
+        }
+        Ok(())
+    }
+
+    /// `h = 1/J`.
+    pub fn h(&self) -> f64 {
+        1.0 / self.intervals as f64
+    }
+
+    /// `Δt = T/L`.
+    pub fn dt(&self) -> f64 {
+        self.t_end / self.steps as f64
+    }
+
+    /// The nodes `u_j = j h`, `j = 0 ..= J`.
+    pub fn nodes(&self) -> Vec<f64> {
+        (0..=self.intervals)
+            .map(|j| j as f64 / self.intervals as f64)
+            .collect()
+    }
+}
+
+/// The discrete `L²` norm of the paper, `‖φ‖ = (Σ_{j=0}^{J} φ_j² h)^{1/2}`.
+pub fn l2_norm(values: &[f64], h: f64) -> f64 {
+    (values.iter().map(|v| v * v).sum::<f64>() * h).sqrt()
+}
+
+/// The five weights `w_{−2..=2}` of the spatial operator of (6) at row `j`:
+/// `(Λ X)_j = −(1/h)[b_{j+1/2} δX_j − b_{j−1/2} δX_{j−1}]
+///           + (1/h²)[d_{j+1} δ²X_{j+1} − 2 d_j δ²X_j + d_{j−1} δ²X_{j−1}] = Σ_k w_k X_{j+k}`.
+fn stencil(bh: &[f64], d: &[f64], j: usize, h: f64) -> [f64; 5] {
+    let h2 = h * h;
+    let h4 = h2 * h2;
+    let (bm, bp) = (bh[j - 1], bh[j]);
+    let (dm, d0, dp) = (d[j - 1], d[j], d[j + 1]);
+    [
+        dm / h4,
+        -bm / h2 + (-2.0 * d0 - 2.0 * dm) / h4,
+        (bm + bp) / h2 + (dp + 4.0 * d0 + dm) / h4,
+        -bp / h2 + (-2.0 * dp - 2.0 * d0) / h4,
+        dp / h4,
+    ]
+}
+
+fn apply(w: &[f64; 5], x: &[f64], j: usize) -> f64 {
+    w[0] * x[j - 2] + w[1] * x[j - 1] + w[2] * x[j] + w[3] * x[j + 1] + w[4] * x[j + 2]
+}
+
+/// Coefficients at level `n` (paper §3.1 notation): `a_j^n, d_j^n, f_j^n` at the nodes with
+/// `X_j^n`, and `b_{j+1/2}^n` at the midpoints with `(X_j^n + X_{j+1}^n)/2`.
+struct Level {
+    a: Vec<f64>,
+    bh: Vec<f64>,
+    d: Vec<f64>,
+    f: Vec<f64>,
+}
+
+fn finite_or_err(name: &str, v: f64, u: f64, t: f64, x: f64) -> Result<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(Error::invalid(format!(
+            "{name}(u = {u}, t = {t}, x = {x}) = {v} is not finite"
+        ))
+        .at(name))
+    }
+}
+
+impl Level {
+    fn evaluate(comp: &Component, x: &[f64], t: f64, h: f64) -> Result<Level> {
+        let n = x.len();
+        let mut level = Level {
+            a: Vec::with_capacity(n),
+            bh: Vec::with_capacity(n - 1),
+            d: Vec::with_capacity(n),
+            f: Vec::with_capacity(n),
+        };
+        for (j, &xj) in x.iter().enumerate() {
+            let u = j as f64 * h;
+            level
+                .a
+                .push(finite_or_err("a", (comp.a)(u, t, xj), u, t, xj)?);
+            level
+                .d
+                .push(finite_or_err("d", (comp.d)(u, t, xj), u, t, xj)?);
+            level
+                .f
+                .push(finite_or_err("f", (comp.f)(u, t, xj), u, t, xj)?);
+        }
+        for j in 0..n - 1 {
+            let u = (j as f64 + 0.5) * h;
+            let xm = 0.5 * (x[j] + x[j + 1]);
+            level
+                .bh
+                .push(finite_or_err("b", (comp.b)(u, t, xm), u, t, xm)?);
+        }
+        Ok(level)
+    }
+}
+
+/// The three-level finite-difference scheme (6) for one component.
+///
+/// With `X̄^n = (X^{n+1} + X^{n−1})/2`, `∂_t X^n = (X^{n+1} − X^{n−1})/(2Δt)` and
+/// `∂_tt X^n = (X^{n+1} − 2X^n + X^{n−1})/Δt²`, row `j = 2 ..= J − 2` reads
+///
+/// ```text
+/// ∂_tt X_j^n + a_j^n ∂_t X_j^n + (Λ^n X̄^n)_j = f_j^n,
+/// ```
+///
+/// where `Λ^n` is the operator of (6) with coefficients frozen at level `n`. Because the unknown
+/// `X^{n+1}` enters only through the averages, each step is the linear pentadiagonal system
+///
+/// ```text
+/// (1 + a_j Δt/2) X_j^{n+1} + (Δt²/2)(Λ X^{n+1})_j
+///     = 2X_j^n − (1 − a_j Δt/2) X_j^{n−1} − (Δt²/2)(Λ X^{n−1})_j + Δt² f_j^n,
+/// ```
+///
+/// completed by the end rows described in the [module documentation](self), all at `t_{n+1}`.
+///
+/// The second level comes from the Taylor start of §3.1,
+/// `X_j^1 = X_j^0 + Δt v₀(u_j) + (Δt²/2) x_tt(u_j, 0)`, where `x_tt(·, 0) = f − a v₀ − Λ x₀` is the
+/// PDE evaluated at `t = 0` (the paper prints `x_t0` for this `x_tt0`); `Λ x₀` is the discrete
+/// operator applied to the initial profile (second-order accurate). Rows 0, 1, `J−1`, `J` of level 1
+/// come from the end conditions at `t = Δt`.
+pub struct Scheme<'a> {
+    comp: &'a Component,
+    grid: TimeGrid,
+    h: f64,
+    dt: f64,
+    level: usize,
+    previous: Vec<f64>,
+    current: Vec<f64>,
+    matrix: BandMatrix,
+    rhs: Vec<f64>,
+}
+
+impl<'a> Scheme<'a> {
+    /// Sets up levels 0 and 1 (the scheme is then at `n = 1`, `t = Δt`).
+    pub fn new(comp: &'a Component, grid: TimeGrid) -> Result<Self> {
+        grid.validate()?;
+        let h = grid.h();
+        let dt = grid.dt();
+        let jn = grid.intervals;
+        let mut x0 = Vec::with_capacity(jn + 1);
+        let mut v0 = Vec::with_capacity(jn + 1);
+        for j in 0..=jn {
+            let u = j as f64 * h;
+            let p = (comp.position)(u);
+            let v = (comp.velocity)(u);
+            if !p.is_finite() {
+                return Err(
+                    Error::invalid(format!("x(u = {u}, 0) = {p} is not finite")).at("position")
+                );
+            }
+            if !v.is_finite() {
+                return Err(
+                    Error::invalid(format!("x_t(u = {u}, 0) = {v} is not finite")).at("velocity"),
+                );
+            }
+            x0.push(p);
+            v0.push(v);
+        }
+        let lv = Level::evaluate(comp, &x0, 0.0, h)?;
+        let mut x1 = vec![0.0; jn + 1];
+        for j in 2..=jn - 2 {
+            let w = stencil(&lv.bh, &lv.d, j, h);
+            let xtt = lv.f[j] - lv.a[j] * v0[j] - apply(&w, &x0, j);
+            x1[j] = x0[j] + dt * v0[j] + 0.5 * dt * dt * xtt;
+        }
+        let mut scheme = Scheme {
+            comp,
+            grid,
+            h,
+            dt,
+            level: 1,
+            previous: x0,
+            current: Vec::new(),
+            matrix: BandMatrix::zeros(jn - 3, 2, 2),
+            rhs: vec![0.0; jn - 3],
+        };
+        scheme.impose_ends(&mut x1, dt)?;
+        scheme.current = x1;
+        Ok(scheme)
+    }
+
+    /// Fills rows 0, 1, `J−1`, `J` of a level from the end conditions at time `t`, given rows
+    /// `2 ..= J−2`: the positions, and `X_1`, `X_{J−1}` solved from the third-order one-sided
+    /// differences `6h·s₀ = −11X_0 + 18X_1 − 9X_2 + 2X_3` (and its mirror at `u = 1`), which are
+    /// exact for cubics.
+    fn impose_ends(&self, x: &mut [f64], t: f64) -> Result<()> {
+        let (p0, p1, s0, s1) = self.ends(t)?;
+        let jn = self.grid.intervals;
+        let h = self.h;
+        x[0] = p0;
+        x[jn] = p1;
+        x[1] = (6.0 * h * s0 + 11.0 * p0 + 9.0 * x[2] - 2.0 * x[3]) / 18.0;
+        x[jn - 1] = (11.0 * p1 + 9.0 * x[jn - 2] - 2.0 * x[jn - 3] - 6.0 * h * s1) / 18.0;
+        Ok(())
+    }
+
+    fn ends(&self, t: f64) -> Result<(f64, f64, f64, f64)> {
+        let c = self.comp;
+        let vals = [
+            ("start", (c.start)(t)),
+            ("end", (c.end)(t)),
+            ("start_slope", (c.start_slope)(t)),
+            ("end_slope", (c.end_slope)(t)),
+        ];
+        for (name, v) in vals {
+            if !v.is_finite() {
+                return Err(
+                    Error::invalid(format!("{name}(t = {t}) = {v} is not finite")).at(name),
+                );
+            }
+        }
+        Ok((vals[0].1, vals[1].1, vals[2].1, vals[3].1))
+    }
+
+    /// The current level `n`.
+    pub fn level(&self) -> usize {
+        self.level
+    }
+
+    /// The current time `t_n = n Δt`.
+    pub fn time(&self) -> f64 {
+        self.level as f64 * self.dt
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> TimeGrid {
+        self.grid
+    }
+
+    /// `X^n`, the values at the nodes `u_j = j h`.
+    pub fn values(&self) -> &[f64] {
+        &self.current
+    }
+
+    /// `X^{n−1}`.
+    pub fn previous(&self) -> &[f64] {
+        &self.previous
+    }
+
+    /// Whether the final level `L` has been reached.
+    pub fn finished(&self) -> bool {
+        self.level >= self.grid.steps
+    }
+
+    /// Advances from level `n` to `n + 1` (one pentadiagonal solve).
+    pub fn step(&mut self) -> Result<()> {
+        self.step_with_force(None)
+    }
+
+    /// Advances one level with an additional force `g_j` added to `f_j^n` at every node (used when
+    /// the force depends on the whole curve, as the attraction forces of §4 do).
+    pub fn step_with_force(&mut self, extra: Option<&[f64]>) -> Result<()> {
+        let jn = self.grid.intervals;
+        if let Some(g) = extra {
+            if g.len() != jn + 1 {
+                return Err(Error::invalid(format!(
+                    "extra force has {} values, the grid has {}",
+                    g.len(),
+                    jn + 1
+                )));
+            }
+        }
+        let (h, dt) = (self.h, self.dt);
+        let t_n = self.time();
+        let t_next = t_n + dt;
+        let lv = Level::evaluate(self.comp, &self.current, t_n, h)?;
+        let (p0, p1, s0, s1) = self.ends(t_next)?;
+        let m = &mut self.matrix;
+        m.clear();
+        let rhs = &mut self.rhs;
+        let half = 0.5 * dt * dt;
+        // Unknowns X_2 ..= X_{J−2} (index j − 2). The end rows are eliminated exactly:
+        // X_0 = p₀, X_J = p₁ and, from the one-sided slope rows,
+        // X_1 = (6h s₀ + 11 X_0 + 9 X_2 − 2 X_3)/18, X_{J−1} = (11 X_J + 9 X_{J−2} − 2 X_{J−3} − 6h s₁)/18.
+        let left = (6.0 * h * s0 + 11.0 * p0) / 18.0;
+        let right = (11.0 * p1 - 6.0 * h * s1) / 18.0;
+        for j in 2..=jn - 2 {
+            let w = stencil(&lv.bh, &lv.d, j, h);
+            let ad = 0.5 * lv.a[j] * dt;
+            let force = lv.f[j] + extra.map_or(0.0, |g| g[j]);
+            let mut r = 2.0 * self.current[j]
+                - (1.0 - ad) * self.previous[j]
+                - half * apply(&w, &self.previous, j)
+                + dt * dt * force;
+            for (k, wk) in w.iter().enumerate() {
+                let c = j + k - 2;
+                let val = if k == 2 { 1.0 + ad } else { 0.0 } + half * wk;
+                if c == 0 {
+                    r -= val * p0;
+                } else if c == jn {
+                    r -= val * p1;
+                } else if c == 1 {
+                    r -= val * left;
+                    m.add(j - 2, 0, val * 0.5);
+                    m.add(j - 2, 1, -val / 9.0);
+                } else if c == jn - 1 {
+                    r -= val * right;
+                    m.add(j - 2, jn - 4, val * 0.5);
+                    m.add(j - 2, jn - 5, -val / 9.0);
+                } else {
+                    m.add(j - 2, c - 2, val);
+                }
+            }
+            rhs[j - 2] = r;
+        }
+        m.factorize()?;
+        m.solve_in_place(rhs);
+        if let Some((i, v)) = rhs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::invalid(format!(
+                "the solution became non-finite ({v} at u = {}, t = {t_next})",
+                (i + 2) as f64 * h
+            )));
+        }
+        let mut next = std::mem::take(&mut self.previous);
+        next[2..=jn - 2].copy_from_slice(rhs);
+        self.impose_ends(&mut next, t_next)?;
+        self.previous = std::mem::replace(&mut self.current, next);
+        self.level += 1;
+        Ok(())
+    }
+
+    /// Advances to the final level `L`.
+    pub fn run(&mut self) -> Result<()> {
+        while !self.finished() {
+            self.step()?;
+        }
+        Ok(())
+    }
+}
+
+/// A dynamic PDE curve: two (planar) or three (space) independent components.
+#[derive(Clone)]
+pub struct DynamicCurve {
+    /// `x, y[, z]`.
+    pub components: Vec<Component>,
+}
+
+impl DynamicCurve {
+    /// Solves every component up to `t = T` and returns `X^L`, one vector of `J + 1` nodal values
+    /// per component.
+    pub fn solve(&self, grid: TimeGrid) -> Result<Vec<Vec<f64>>> {
+        if !(2..=3).contains(&self.components.len()) {
+            return Err(Error::invalid(format!(
+                "a curve has 2 or 3 components, got {}",
+                self.components.len()
+            ))
+            .at("components"));
+        }
+        let mut out = Vec::with_capacity(self.components.len());
+        for (i, comp) in self.components.iter().enumerate() {
+            let mut s = Scheme::new(comp, grid).map_err(|e| e.at(["x", "y", "z"][i]))?;
+            s.run().map_err(|e| e.at(["x", "y", "z"][i]))?;
+            out.push(s.values().to_vec());
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests;
