@@ -33,11 +33,6 @@ impl BandMatrix {
         }
     }
 
-    /// The order `n`.
-    pub fn order(&self) -> usize {
-        self.n
-    }
-
     /// Resets every entry to zero (keeps the shape).
     pub fn clear(&mut self) {
         self.data.iter_mut().for_each(|v| *v = 0.0);

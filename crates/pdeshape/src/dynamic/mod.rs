@@ -36,12 +36,12 @@
 //!
 //! In each step the end rows are eliminated exactly (`X_0`, `X_J` are known, `X_1`, `X_{J−1}` are
 //! the one-sided formulas solved for them), which leaves one banded system with two sub- and two
-//! super-diagonals for `X_2 ..= X_{J−2}` per component ([`band::BandMatrix`], LU with partial
+//! super-diagonals for `X_2 ..= X_{J−2}` per component (`band::BandMatrix`, LU with partial
 //! pivoting inside the band); the cost is `O(J)` per step. Eliminating rather than solving the end
 //! rows together with the stiff interior rows keeps the end conditions satisfied to rounding of the
 //! formulas themselves, independent of the conditioning (`~ Δt² d / h⁴`) of the interior system.
 
-pub mod band;
+pub(crate) mod band;
 pub mod interp;
 pub mod ode;
 pub mod spline;
