@@ -234,18 +234,18 @@ pub fn solve(
     // Measured against the larger of the curve's own size and the design's (a point curve at
     // the origin has size 0).
     let design_size = series.iter().map(series_size).fold(0.0, f64::max);
-    let active: Vec<bool> = conditions
-        .iter()
-        .zip(series.iter().zip(&fitted))
-        .map(|(c, (s, f))| {
-            let exact = c.curve.fourier().is_some_and(|f| f.modes() <= m);
-            !exact || series_distance(s, f) > ROUNDING_LEFTOVER * series_size(s).max(design_size)
-        })
-        .collect();
     let distances: Vec<f64> = series
         .iter()
         .zip(&fitted)
         .map(|(s, f)| series_distance(s, f))
+        .collect();
+    let active: Vec<bool> = conditions
+        .iter()
+        .zip(series.iter().zip(&distances))
+        .map(|(c, (s, &dist))| {
+            let exact = c.curve.fourier().is_some_and(|f| f.modes() <= m);
+            !exact || dist > ROUNDING_LEFTOVER * series_size(s).max(design_size)
+        })
         .collect();
     let remainder = if options.remainder && active.iter().any(|&a| a) {
         let (cardinal, report) =

@@ -281,6 +281,18 @@ fn seam_columns<T>(g: &Grid<T>) -> usize {
 // OBJ
 // ---------------------------------------------------------------------------------------------
 
+/// One OBJ record `prefix x y z`.
+fn obj_vec3(out: &mut Sink, prefix: &[u8], v: &[f32; 3]) -> Result<()> {
+    out.bytes(prefix);
+    out.f32_text(v[0]);
+    out.bytes(b" ");
+    out.f32_text(v[1]);
+    out.bytes(b" ");
+    out.f32_text(v[2]);
+    out.bytes(b"\n");
+    out.tick()
+}
+
 /// Wavefront OBJ with `v`, `vt`, `vn` and quad faces `f v/vt/vn`.
 ///
 /// Each patch `k` is an object `o patch<k>` with its `nu·nv` positions and normals (vertex
@@ -304,14 +316,7 @@ pub fn write_obj(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
         out.uint_text(k as u64);
         out.bytes(b"\n");
         for p in &g.positions {
-            out.bytes(b"v ");
-            out.f32_text(p[0]);
-            out.bytes(b" ");
-            out.f32_text(p[1]);
-            out.bytes(b" ");
-            out.f32_text(p[2]);
-            out.bytes(b"\n");
-            out.tick()?;
+            obj_vec3(&mut out, b"v ", p)?;
         }
         let ts: Vec<f32> = (0..tw).map(|j| tex_t(g, j)).collect();
         for &u in &g.u {
@@ -326,14 +331,7 @@ pub fn write_obj(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
             }
         }
         for n in &g.normals {
-            out.bytes(b"vn ");
-            out.f32_text(n[0]);
-            out.bytes(b" ");
-            out.f32_text(n[1]);
-            out.bytes(b" ");
-            out.f32_text(n[2]);
-            out.bytes(b"\n");
-            out.tick()?;
+            obj_vec3(&mut out, b"vn ", n)?;
         }
         let cols = if g.periodic_v { nv } else { nv - 1 };
         for i in 0..nu - 1 {
