@@ -21,9 +21,11 @@ pub use arclength::ArcLength;
 pub use bezier::Bezier;
 pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
+pub(crate) use formula::unary_minus_before_power;
 pub use formula::Formula;
 pub use hermite::Hermite;
 pub use samples::{PointSamples, SampleParam};
+pub(crate) use taylor::Literal as NumberLiteral;
 pub use transform::{Affine, Combination, OriginShift, Transformed};
 
 pub use crate::fourier::FourierSeries;

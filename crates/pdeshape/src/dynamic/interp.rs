@@ -21,9 +21,13 @@
 //! roughly halve it, and the slowest mode then shrinks by only about 8 % per update (19 updates
 //! reach 1e-3 of the data size; tighter tolerances need many more, a larger `k` speeds this up).
 //!
-//! The parameters `u_i` are fixed (chord length of the data polygon), rounded to grid nodes so
+//! The parameters `u_i` start from the chord length of the data polygon, rounded to grid nodes so
 //! that `C(u_i, t)` is a nodal value of the scheme and the reported distances are exact for the
-//! discrete curve.
+//! discrete curve. [`ParamMode`] chooses whether they stay fixed or follow the paper's
+//! definition (Eq. 10: `u_p` is the parameter of the point of the curve closest to `p`), taken
+//! as the closest grid node `u_j`, `2 ≤ j ≤ J − 2`, of the current curve, either after every
+//! time step or only when the curve has settled and the forces are updated. The offsets `q_i`
+//! belong to the point, not to the node, and are kept when its node changes.
 
 use super::{constant, constant_field, scalar, Component, Scheme, TimeGrid};
 use crate::{Error, Result, Vec3};
@@ -46,6 +50,18 @@ pub fn kernel(u: f64, up: f64, eps: f64) -> f64 {
     } else {
         1.0 - 4.5 * a * a * a
     }
+}
+
+/// How the parameters `u_i` of the interior points are chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamMode {
+    /// Chord length of the data polygon, fixed for the whole run.
+    Fixed,
+    /// The closest node of the current curve, re-chosen after every time step.
+    ClosestEachStep,
+    /// The closest node of the current curve, re-chosen each time the curve has settled (before
+    /// the forces are updated from the misfit).
+    ClosestEachUpdate,
 }
 
 /// The interpolation problem of §4 and the parameters of the dynamics.
@@ -79,6 +95,8 @@ pub struct Interpolation {
     pub speed: f64,
     /// Largest number of steps.
     pub max_steps: usize,
+    /// How the parameters `u_i` are chosen.
+    pub params: ParamMode,
 }
 
 impl Interpolation {
@@ -104,6 +122,7 @@ impl Interpolation {
             dt: 0.01,
             speed: 1e-4,
             max_steps: 200_000,
+            params: ParamMode::Fixed,
         }
     }
 }
@@ -173,6 +192,17 @@ impl Interpolation {
     /// `tolerance · size` (see the module documentation). Fails, naming the distances, if
     /// `max_steps` is reached first.
     pub fn solve(&self) -> Result<Interpolated> {
+        self.solve_observed(0, &mut |_, _, _| {})
+    }
+
+    /// As [`Interpolation::solve`], calling `observer(n, t_n, nodes)` after every level `n`
+    /// (from 0); `nodes` (the points `C(u_j, t_n)`) is given at `n = 0`, at every `every`-th
+    /// level and at the last level, `None` otherwise.
+    pub fn solve_observed(
+        &self,
+        every: usize,
+        observer: &mut super::Observer<'_>,
+    ) -> Result<Interpolated> {
         self.validate()?;
         let jn = self.intervals;
         let h = 1.0 / jn as f64;
@@ -198,15 +228,13 @@ impl Interpolation {
             let j = ((acc / total) * jn as f64).round() as usize;
             idx.push(j.clamp(2, jn - 2));
         }
-        let params: Vec<f64> = idx.iter().map(|&j| j as f64 * h).collect();
-        let weights: Vec<Vec<f64>> = params
-            .iter()
-            .map(|&up| {
-                (0..=jn)
-                    .map(|j| kernel(j as f64 * h, up, self.eps))
-                    .collect()
-            })
-            .collect();
+        let weight_row = |j0: usize| -> Vec<f64> {
+            let up = j0 as f64 * h;
+            (0..=jn)
+                .map(|j| kernel(j as f64 * h, up, self.eps))
+                .collect()
+        };
+        let mut weights: Vec<Vec<f64>> = idx.iter().map(|&j| weight_row(j)).collect();
         let hermite =
             crate::curve::Hermite::new(self.start, self.end, self.start_tangent, self.end_tangent);
         use crate::curve::Curve;
@@ -243,6 +271,38 @@ impl Interpolation {
         let at = |s: &[Scheme], j: usize| {
             Vec3::new(s[0].values()[j], s[1].values()[j], s[2].values()[j])
         };
+        // Re-chooses every point's node as the closest node of the current curve.
+        let reselect = |s: &[Scheme], idx: &mut Vec<usize>, weights: &mut Vec<Vec<f64>>| {
+            for (i, p) in self.points.iter().enumerate() {
+                let best = (2..=jn - 2)
+                    .min_by(|&a, &b| {
+                        (p - at(s, a))
+                            .norm_squared()
+                            .total_cmp(&(p - at(s, b)).norm_squared())
+                    })
+                    .unwrap_or(idx[i]);
+                if best != idx[i] {
+                    idx[i] = best;
+                    weights[i] = weight_row(best);
+                }
+            }
+        };
+        if self.params != ParamMode::Fixed {
+            reselect(&schemes, &mut idx, &mut weights);
+        }
+        {
+            let prev: Vec<Vec3> = (0..=jn)
+                .map(|j| {
+                    Vec3::new(
+                        schemes[0].previous()[j],
+                        schemes[1].previous()[j],
+                        schemes[2].previous()[j],
+                    )
+                })
+                .collect();
+            observer(0, 0.0, Some(&prev));
+        }
+        let frame = |s: &[Scheme]| -> Vec<Vec3> { (0..=jn).map(|j| at(s, j)).collect() };
         loop {
             if schemes[0].finished() {
                 let d: Vec<f64> = self
@@ -273,6 +333,9 @@ impl Interpolation {
                 }
                 s.step_with_force(Some(&force))?;
             }
+            if self.params == ParamMode::ClosestEachStep {
+                reselect(&schemes, &mut idx, &mut weights);
+            }
             let speed = schemes
                 .iter()
                 .flat_map(|s| {
@@ -283,7 +346,28 @@ impl Interpolation {
                 })
                 .fold(0.0, f64::max)
                 / self.dt;
-            if speed < self.speed * size {
+            let n = schemes[0].level();
+            let t = schemes[0].time();
+            let settled = speed < self.speed * size;
+            if settled && self.params == ParamMode::ClosestEachUpdate {
+                reselect(&schemes, &mut idx, &mut weights);
+            }
+            let misfit_now: Vec<f64> = if settled {
+                self.points
+                    .iter()
+                    .zip(&idx)
+                    .map(|(p, &j)| (p - at(&schemes, j)).norm())
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let done = settled && misfit_now.iter().all(|d| *d < tol);
+            if done || (every > 0 && n.is_multiple_of(every)) {
+                observer(n, t, Some(&frame(&schemes)));
+            } else {
+                observer(n, t, None);
+            }
+            if settled {
                 let misfit: Vec<Vec3> = self
                     .points
                     .iter()
@@ -302,7 +386,7 @@ impl Interpolation {
                         * h;
                     return Ok(Interpolated {
                         distances: misfit.iter().map(|m| m.norm()).collect(),
-                        params,
+                        params: idx.iter().map(|&j| j as f64 * h).collect(),
                         steps: schemes[0].level(),
                         updates,
                         bending_energy,
@@ -431,6 +515,45 @@ mod tests {
         let curve = r.to_curve(&problem).unwrap();
         for ((p, u), d) in problem.points.iter().zip(&r.params).zip(&r.distances) {
             assert!(((curve.point(*u) - p).norm() - d).abs() < 1e-9);
+        }
+    }
+
+    /// `u_p` as the closest point of the current curve (Eq. 10), re-chosen after every step or
+    /// at every force update: the run still ends within the tolerance, the reported node is the
+    /// closest node of the final curve, and no point of the final core curve (sampled finely) is
+    /// closer to `p_i` than the reported distance by more than the spline's deviation between
+    /// nodes.
+    #[test]
+    fn closest_point_parameters() {
+        use crate::curve::Curve;
+        for mode in [ParamMode::ClosestEachStep, ParamMode::ClosestEachUpdate] {
+            let mut problem = Interpolation::paper_example();
+            problem.params = mode;
+            let r = problem.solve().unwrap();
+            eprintln!(
+                "{mode:?}: steps {}, updates {}, params {:?}, distances {:?}",
+                r.steps, r.updates, r.params, r.distances
+            );
+            let n = r.nodes.len() - 1;
+            let tol = problem.tolerance * 300.0;
+            let curve = r.to_curve(&problem).unwrap();
+            for ((p, u), d) in problem.points.iter().zip(&r.params).zip(&r.distances) {
+                assert!(*d < tol, "{mode:?}: distance {d}");
+                let j = (u * n as f64).round() as usize;
+                assert!(((r.nodes[j] - p).norm() - d).abs() < 1e-12);
+                for (k, q) in r.nodes.iter().enumerate().take(n - 1).skip(2) {
+                    assert!(
+                        (q - p).norm() >= *d,
+                        "{mode:?}: node {k} is closer than {j}"
+                    );
+                }
+                // The spline through the nodes: nowhere much closer than the node (a curve
+                // passing within d of p cannot come closer than 0).
+                let closest = (0..=20 * n)
+                    .map(|i| (curve.point(i as f64 / (20 * n) as f64) - p).norm())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(closest <= *d + 1e-12 && closest >= 0.0);
+            }
         }
     }
 }

@@ -42,6 +42,7 @@
 //! formulas themselves, independent of the conditioning (`~ Δt² d / h⁴`) of the interior system.
 
 pub(crate) mod band;
+pub mod formula;
 pub mod interp;
 pub mod ode;
 pub mod spline;
@@ -56,6 +57,10 @@ pub type Field = Arc<dyn Fn(f64, f64, f64) -> f64 + Send + Sync>;
 
 /// A function of one variable: an end condition of `t` or an initial profile of `u`.
 pub type Scalar = Arc<dyn Fn(f64) -> f64 + Send + Sync>;
+
+/// Watches a run: called after every level `n` with `t_n` and, on the levels asked for, the nodal
+/// points `C(u_j, t_n)`.
+pub type Observer<'a> = dyn FnMut(usize, f64, Option<&[crate::Vec3]>) + 'a;
 
 /// Wraps a closure `(u, t, x) ↦ φ` as a [`Field`].
 pub fn field(f: impl Fn(f64, f64, f64) -> f64 + Send + Sync + 'static) -> Field {
@@ -232,34 +237,76 @@ fn finite_or_err(name: &str, v: f64, u: f64, t: f64, x: f64) -> Result<f64> {
 }
 
 impl Level {
-    fn evaluate(comp: &Component, x: &[f64], t: f64, h: f64) -> Result<Level> {
+    fn empty() -> Level {
+        Level {
+            a: Vec::new(),
+            bh: Vec::new(),
+            d: Vec::new(),
+            f: Vec::new(),
+        }
+    }
+
+    /// Evaluates the coefficients of level `n` at time `t` into the buffers of `self`. With
+    /// `positivity`, refuses `a < 0`, `b < 0` or `d ≤ 0` at any node (midpoint for `b`).
+    fn evaluate(
+        &mut self,
+        comp: &Component,
+        x: &[f64],
+        t: f64,
+        h: f64,
+        positivity: bool,
+    ) -> Result<()> {
         let n = x.len();
-        let mut level = Level {
-            a: Vec::with_capacity(n),
-            bh: Vec::with_capacity(n - 1),
-            d: Vec::with_capacity(n),
-            f: Vec::with_capacity(n),
-        };
+        self.a.clear();
+        self.bh.clear();
+        self.d.clear();
+        self.f.clear();
         for (j, &xj) in x.iter().enumerate() {
             let u = j as f64 * h;
-            level
-                .a
+            self.a
                 .push(finite_or_err("a", (comp.a)(u, t, xj), u, t, xj)?);
-            level
-                .d
+            self.d
                 .push(finite_or_err("d", (comp.d)(u, t, xj), u, t, xj)?);
-            level
-                .f
+            self.f
                 .push(finite_or_err("f", (comp.f)(u, t, xj), u, t, xj)?);
         }
         for j in 0..n - 1 {
             let u = (j as f64 + 0.5) * h;
             let xm = 0.5 * (x[j] + x[j + 1]);
-            level
-                .bh
+            self.bh
                 .push(finite_or_err("b", (comp.b)(u, t, xm), u, t, xm)?);
         }
-        Ok(level)
+        if positivity {
+            self.check_positivity(x, t, h)?;
+        }
+        Ok(())
+    }
+
+    fn check_positivity(&self, x: &[f64], t: f64, h: f64) -> Result<()> {
+        let bad = |name: &str, v: f64, u: f64, xv: f64, strict: bool| {
+            Error::invalid(format!(
+                "{name}(u = {u}, t = {t}, x = {xv}) = {v}; the theory of the scheme needs \
+                 {name} {} (check_positivity is on)",
+                if strict { "> 0" } else { ">= 0" }
+            ))
+            .at(name)
+        };
+        for (j, &xj) in x.iter().enumerate() {
+            let u = j as f64 * h;
+            if self.a[j] < 0.0 {
+                return Err(bad("a", self.a[j], u, xj, false));
+            }
+            if self.d[j] <= 0.0 {
+                return Err(bad("d", self.d[j], u, xj, true));
+            }
+        }
+        for (j, &b) in self.bh.iter().enumerate() {
+            if b < 0.0 {
+                let xm = 0.5 * (x[j] + x[j + 1]);
+                return Err(bad("b", b, (j as f64 + 0.5) * h, xm, false));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -297,11 +344,21 @@ pub struct Scheme<'a> {
     current: Vec<f64>,
     matrix: BandMatrix,
     rhs: Vec<f64>,
+    coefficients: Level,
+    positivity: bool,
 }
 
 impl<'a> Scheme<'a> {
     /// Sets up levels 0 and 1 (the scheme is then at `n = 1`, `t = Δt`).
     pub fn new(comp: &'a Component, grid: TimeGrid) -> Result<Self> {
+        Self::with_positivity(comp, grid, false)
+    }
+
+    /// As [`Scheme::new`]; with `positivity`, every level's coefficients are checked for the
+    /// lower bounds the paper's theory assumes (`a ≥ 0`, `b ≥ 0` at the midpoints, `d > 0` at the
+    /// nodes, evaluated on the current solution, as the scheme uses them), and the first
+    /// violation is an error naming `u, t, x` and the value.
+    pub fn with_positivity(comp: &'a Component, grid: TimeGrid, positivity: bool) -> Result<Self> {
         grid.validate()?;
         let h = grid.h();
         let dt = grid.dt();
@@ -325,7 +382,8 @@ impl<'a> Scheme<'a> {
             x0.push(p);
             v0.push(v);
         }
-        let lv = Level::evaluate(comp, &x0, 0.0, h)?;
+        let mut lv = Level::empty();
+        lv.evaluate(comp, &x0, 0.0, h, positivity)?;
         let mut x1 = vec![0.0; jn + 1];
         for j in 2..=jn - 2 {
             let w = stencil(&lv.bh, &lv.d, j, h);
@@ -342,6 +400,8 @@ impl<'a> Scheme<'a> {
             current: Vec::new(),
             matrix: BandMatrix::zeros(jn - 3, 2, 2),
             rhs: vec![0.0; jn - 3],
+            coefficients: lv,
+            positivity,
         };
         scheme.impose_ends(&mut x1, dt)?;
         scheme.current = x1;
@@ -432,7 +492,11 @@ impl<'a> Scheme<'a> {
         let (h, dt) = (self.h, self.dt);
         let t_n = self.time();
         let t_next = t_n + dt;
-        let lv = Level::evaluate(self.comp, &self.current, t_n, h)?;
+        let mut lv = std::mem::replace(&mut self.coefficients, Level::empty());
+        let evaluated = lv.evaluate(self.comp, &self.current, t_n, h, self.positivity);
+        self.coefficients = lv;
+        evaluated?;
+        let lv = &self.coefficients;
         let (p0, p1, s0, s1) = self.ends(t_next)?;
         let m = &mut self.matrix;
         m.clear();
@@ -508,20 +572,69 @@ impl DynamicCurve {
     /// Solves every component up to `t = T` and returns `X^L`, one vector of `J + 1` nodal values
     /// per component.
     pub fn solve(&self, grid: TimeGrid) -> Result<Vec<Vec<f64>>> {
-        if !(2..=3).contains(&self.components.len()) {
+        self.solve_observed(grid, false, 0, &mut |_, _, _| {})
+    }
+
+    /// As [`DynamicCurve::solve`], advancing the components in lockstep. `observer(n, t_n, nodes)`
+    /// is called after every level `n = 0 ..= L`; `nodes` (the points `C(u_j, t_n)`, missing
+    /// components zero) is given at `n = 0`, at every `every`-th level and at `n = L`, `None`
+    /// otherwise (`every = 0`: first and last level only). With `positivity` the coefficients are
+    /// checked at every level ([`Scheme::with_positivity`]).
+    pub fn solve_observed(
+        &self,
+        grid: TimeGrid,
+        positivity: bool,
+        every: usize,
+        observer: &mut Observer<'_>,
+    ) -> Result<Vec<Vec<f64>>> {
+        if !(1..=3).contains(&self.components.len()) {
             return Err(Error::invalid(format!(
-                "a curve has 2 or 3 components, got {}",
+                "a curve has 1 to 3 components, got {}",
                 self.components.len()
             ))
             .at("components"));
         }
-        let mut out = Vec::with_capacity(self.components.len());
+        const NAMES: [&str; 3] = ["x", "y", "z"];
+        let mut schemes = Vec::with_capacity(self.components.len());
         for (i, comp) in self.components.iter().enumerate() {
-            let mut s = Scheme::new(comp, grid).map_err(|e| e.at(["x", "y", "z"][i]))?;
-            s.run().map_err(|e| e.at(["x", "y", "z"][i]))?;
-            out.push(s.values().to_vec());
+            schemes
+                .push(Scheme::with_positivity(comp, grid, positivity).map_err(|e| e.at(NAMES[i]))?);
         }
-        Ok(out)
+        let nodes = |previous: bool, schemes: &[Scheme]| -> Vec<crate::Vec3> {
+            (0..=grid.intervals)
+                .map(|j| {
+                    let mut p = crate::Vec3::zeros();
+                    for (c, s) in schemes.iter().enumerate() {
+                        p[c] = if previous {
+                            s.previous()[j]
+                        } else {
+                            s.values()[j]
+                        };
+                    }
+                    p
+                })
+                .collect()
+        };
+        let wants = |n: usize| n == 0 || n == grid.steps || (every > 0 && n.is_multiple_of(every));
+        let first = nodes(true, &schemes);
+        observer(0, 0.0, Some(&first));
+        loop {
+            let n = schemes[0].level();
+            let t = schemes[0].time();
+            if wants(n) {
+                let now = nodes(false, &schemes);
+                observer(n, t, Some(&now));
+            } else {
+                observer(n, t, None);
+            }
+            if schemes[0].finished() {
+                break;
+            }
+            for (i, s) in schemes.iter_mut().enumerate() {
+                s.step().map_err(|e| e.at(NAMES[i]))?;
+            }
+        }
+        Ok(schemes.iter().map(|s| s.values().to_vec()).collect())
     }
 }
 

@@ -179,9 +179,7 @@ fn bad_input_is_an_error() {
     assert!(err.contains('d'), "{err}");
     // The §3.3 coefficients vanish at the ends: the positivity check says so.
     assert!(experiment().check_positivity(15.0, 10).is_err());
-    let curve = DynamicCurve {
-        components: vec![experiment()],
-    };
+    let curve = DynamicCurve { components: vec![] };
     assert!(curve.solve(grid).is_err());
 }
 
@@ -243,4 +241,34 @@ fn damped_curve_settles_on_the_ode_curve() {
     eprintln!("static limit: errors {errors:?}, order {order:.3}");
     assert!(order >= 2.8, "order {order}, errors {errors:?}");
     assert!(errors[1] < 1e-3, "{errors:?}");
+}
+
+/// The positivity check during the run: the §3.3 coefficients `b = x/2`, `d = x` vanish at the
+/// ends (`x = 0` there), which the check reports with the place and values; a variant with
+/// `d = x + 1`, `b = x/2 + 1` (positive along the solution, which stays in `[0, 2]`) passes.
+#[test]
+fn positivity_is_checked_along_the_solution() {
+    let grid = TimeGrid {
+        intervals: 20,
+        steps: 30,
+        t_end: 1.0,
+    };
+    let err = Scheme::with_positivity(&experiment(), grid, true)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.starts_with("d: d(u = 0, t = 0, x = 0) = 0"), "{err}");
+    let mut shifted = experiment();
+    shifted.d = field(|_, _, x| x + 1.0);
+    shifted.b = field(|_, _, x| 0.5 * x + 1.0);
+    let mut s = Scheme::with_positivity(&shifted, grid, true).unwrap();
+    s.run().unwrap();
+    // Negative damping appears at t > 0.5: caught at the first level where it is used.
+    let mut late = experiment();
+    late.d = shifted.d.clone();
+    late.b = shifted.b.clone();
+    late.a = field(|_, t, _| 0.5 - t);
+    let mut s = Scheme::with_positivity(&late, grid, true).unwrap();
+    let err = s.run().unwrap_err().to_string();
+    assert!(err.starts_with("a: a(u = 0, t = 0.5333"), "{err}");
 }

@@ -1,0 +1,198 @@
+//! Coefficients, forces, end conditions and initial data of a dynamic curve given as formula
+//! strings, e.g. `d = "x"`, `f = "(1 + exp(-t))^2 * (sin(pi*u)^2 - cos(pi*u)^2)"`.
+//!
+//! The syntax is that of the curve formulas ([`crate::curve::Formula`]), parsed by `exmex` and
+//! evaluated in `f64`: numbers, `+ - * / ^`, unary minus, parentheses, the functions `sin cos tan
+//! asin acos atan sinh cosh tanh exp ln log2 log10 sqrt cbrt abs …`, and the constants `pi`/`π`,
+//! `TAU`/`τ`, `E`/`e`. A unary minus directly in front of a power (`-u^2`) is refused as
+//! ambiguous, as for curves. The variables allowed depend on the role: `u, t, x` for the fields
+//! `a, b, d, f`; `t` for the end conditions; `u` for the initial position and velocity; `u, t` for
+//! an exact solution.
+
+use super::{Field, Scalar};
+use crate::curve::NumberLiteral;
+use crate::{Error, Result};
+use exmex::{Express, FlatEx, FloatOpsFactory};
+
+type Expr = FlatEx<f64, FloatOpsFactory<f64>, NumberLiteral>;
+use std::sync::Arc;
+
+/// A parsed formula in a fixed list of allowed variables.
+#[derive(Clone, Debug)]
+pub struct Expression {
+    /// The formula as given.
+    pub text: String,
+    expr: Expr,
+    /// For each variable of the expression (in exmex's order), its index in the allowed list.
+    slots: Vec<usize>,
+    /// The value, if the formula uses no variable.
+    constant: Option<f64>,
+}
+
+/// Replaces the identifiers `pi` by `π` and `e` by `E` (exmex's names of the constants).
+fn normalise(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let chars: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let after_digit = i > 0 && (chars[i - 1].is_ascii_digit() || chars[i - 1] == '.');
+        if (c.is_alphabetic() || c == '_') && !after_digit {
+            let start = i;
+            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let word: String = chars[start..i].iter().collect();
+            match word.as_str() {
+                "pi" => out.push('π'),
+                "e" => out.push('E'),
+                _ => out.push_str(&word),
+            }
+        } else {
+            out.push(c);
+            i += 1;
+        }
+    }
+    out
+}
+
+impl Expression {
+    /// Parses `text`, which may use the variables `allowed` (e.g. `["u", "t", "x"]`). Errors name
+    /// the text and, for an unknown variable, the variables allowed.
+    pub fn parse(text: &str, allowed: &[&str]) -> Result<Self> {
+        if text.trim().is_empty() {
+            return Err(Error::invalid("the formula is empty"));
+        }
+        let norm = normalise(text);
+        if let Some(at) = crate::curve::unary_minus_before_power(&norm) {
+            return Err(Error::invalid(format!(
+                "'{text}': the minus at character {} is applied before the power; write \
+                 -(…^…) or (-…)^… explicitly",
+                at + 1
+            )));
+        }
+        let expr = Expr::parse(&norm)
+            .map_err(|e| Error::invalid(format!("cannot parse '{text}': {e}")))?;
+        let mut slots = Vec::new();
+        for name in expr.var_names() {
+            match allowed.iter().position(|a| a == name) {
+                Some(i) => slots.push(i),
+                None => {
+                    return Err(Error::invalid(format!(
+                        "'{text}': unknown variable '{name}'; this formula may use {}",
+                        allowed.join(", ")
+                    )))
+                }
+            }
+        }
+        let constant = if slots.is_empty() {
+            let v = expr
+                .eval(&[])
+                .map_err(|e| Error::invalid(format!("cannot evaluate '{text}': {e}")))?;
+            if !v.is_finite() {
+                return Err(Error::invalid(format!("'{text}' evaluates to {v}")));
+            }
+            Some(v)
+        } else {
+            None
+        };
+        Ok(Expression {
+            text: text.to_string(),
+            expr,
+            slots,
+            constant,
+        })
+    }
+
+    /// The value at `values` (one per allowed variable, in the order given to
+    /// [`Expression::parse`]); NaN if evaluation fails.
+    pub fn eval(&self, values: &[f64]) -> f64 {
+        if let Some(c) = self.constant {
+            return c;
+        }
+        let mut buf = [0.0; 4];
+        for (b, &s) in buf.iter_mut().zip(&self.slots) {
+            *b = values[s];
+        }
+        self.expr.eval(&buf[..self.slots.len()]).unwrap_or(f64::NAN)
+    }
+
+    /// The constant value, if the formula uses no variable.
+    pub fn constant(&self) -> Option<f64> {
+        self.constant
+    }
+
+    /// Whether the formula uses the allowed variable with index `slot`.
+    pub fn uses(&self, slot: usize) -> bool {
+        self.slots.contains(&slot)
+    }
+}
+
+/// A field `φ(u, t, x)` from a formula in `u, t, x`.
+pub fn field_formula(text: &str) -> Result<Field> {
+    let e = Expression::parse(text, &["u", "t", "x"])?;
+    Ok(match e.constant() {
+        Some(c) => super::constant_field(c),
+        None => Arc::new(move |u, t, x| e.eval(&[u, t, x])),
+    })
+}
+
+/// A function of one variable `var` (`"t"` for end conditions, `"u"` for initial data).
+pub fn scalar_formula(text: &str, var: &str) -> Result<Scalar> {
+    let e = Expression::parse(text, &[var])?;
+    Ok(match e.constant() {
+        Some(c) => super::constant(c),
+        None => Arc::new(move |s| e.eval(&[s])),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn fields_evaluate_in_u_t_x() {
+        let f = field_formula("(1 + exp(-t))^2 * (sin(pi*u)^2 - cos(pi*u)^2) + x/2").unwrap();
+        for &(u, t, x) in &[
+            (0.1f64, 0.0f64, 1.0f64),
+            (0.37, 2.5, -3.0),
+            (0.9, 15.0, 0.25),
+        ] {
+            let want = (1.0 + (-t).exp()).powi(2)
+                * ((PI * u).sin().powi(2) - (PI * u).cos().powi(2))
+                + x / 2.0;
+            let got = f(u, t, x);
+            assert!(
+                (got - want).abs() <= 1e-14 * (1.0 + want.abs()),
+                "{got} {want}"
+            );
+        }
+        let c = field_formula("2*e - E + 1e-3").unwrap();
+        assert_eq!(c(0.3, 1.0, 2.0), std::f64::consts::E + 1e-3);
+        let s = scalar_formula("pi*(1 + exp(-t))", "t").unwrap();
+        assert!((s(0.0) - 2.0 * PI).abs() < 1e-15);
+        let p = scalar_formula("2*sin(π*u)", "u").unwrap();
+        assert!((p(0.5) - 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bad_formulas_are_errors() {
+        let e = scalar_formula("sin(u)", "t").err().unwrap().to_string();
+        assert!(
+            e.contains("unknown variable 'u'") && e.contains("may use t"),
+            "{e}"
+        );
+        let e = field_formula("x*y").err().unwrap().to_string();
+        assert!(e.contains("'y'"), "{e}");
+        assert!(field_formula("").is_err());
+        assert!(field_formula("sin(").is_err());
+        let e = field_formula("-u^2").err().unwrap().to_string();
+        assert!(e.contains("minus"), "{e}");
+        let e = field_formula("1/0").err().unwrap().to_string();
+        assert!(e.contains("inf"), "{e}");
+        // A formula that fails only at some values gives NaN there (caught by the scheme).
+        let f = field_formula("sqrt(x)").unwrap();
+        assert!(f(0.0, 0.0, -1.0).is_nan());
+    }
+}
