@@ -156,7 +156,9 @@ impl Interpolated {
 }
 
 impl Interpolation {
-    fn validate(&self) -> Result<()> {
+    /// Checks the parameters (positive `stiffness, k, eps, tolerance, dt, speed`, non-negative
+    /// `tension, damping`, at least one interior point, `J ≥ 5`).
+    pub fn validate(&self) -> Result<()> {
         let pos = [
             ("stiffness", self.stiffness),
             ("k", self.k),

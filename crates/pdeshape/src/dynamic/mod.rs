@@ -45,6 +45,7 @@ pub(crate) mod band;
 pub mod formula;
 pub mod interp;
 pub mod ode;
+pub mod output;
 pub mod spline;
 
 use std::sync::Arc;
@@ -188,6 +189,31 @@ impl TimeGrid {
             .map(|j| j as f64 / self.intervals as f64)
             .collect()
     }
+}
+
+/// The discrete bending energy `Σ_{j=1}^{J−1} |δ²C_j|² h` of nodal points `C_j = C(j/J)` (the
+/// square of the paper's `‖δ²C‖`), a measure of fairness.
+pub fn bending_energy(nodes: &[crate::Vec3]) -> f64 {
+    if nodes.len() < 3 {
+        return 0.0;
+    }
+    let jn = nodes.len() - 1;
+    let h = 1.0 / jn as f64;
+    (1..jn)
+        .map(|j| ((nodes[j + 1] - nodes[j] * 2.0 + nodes[j - 1]) / (h * h)).norm_squared())
+        .sum::<f64>()
+        * h
+}
+
+/// The end slopes `C_u(0)`, `C_u(1)` of nodal points as the scheme imposes them: the third-order
+/// one-sided differences `(−11C_0 + 18C_1 − 9C_2 + 2C_3)/(6h)` and its mirror. Needs `J ≥ 3`.
+pub fn end_slopes(nodes: &[crate::Vec3]) -> (crate::Vec3, crate::Vec3) {
+    let n = nodes.len() - 1;
+    let h = 1.0 / n as f64;
+    let s0 = (nodes[1] * 18.0 - nodes[0] * 11.0 - nodes[2] * 9.0 + nodes[3] * 2.0) / (6.0 * h);
+    let s1 = (nodes[n] * 11.0 - nodes[n - 1] * 18.0 + nodes[n - 2] * 9.0 - nodes[n - 3] * 2.0)
+        / (6.0 * h);
+    (s0, s1)
 }
 
 /// The discrete `L²` norm of the paper, `‖φ‖ = (Σ_{j=0}^{J} φ_j² h)^{1/2}`.
@@ -569,6 +595,33 @@ pub struct DynamicCurve {
 }
 
 impl DynamicCurve {
+    /// The nodal values `values` (one vector per component, as [`DynamicCurve::solve`] returns
+    /// them) at time `t` as a core curve: the clamped C² cubic spline through the nodes whose end
+    /// derivatives are the slope conditions `s₀(t)`, `s₁(t)` (missing components zero).
+    pub fn to_curve(&self, values: &[Vec<f64>], t: f64) -> Result<spline::NodalCurve> {
+        if values.len() != self.components.len() || values.is_empty() {
+            return Err(Error::invalid(format!(
+                "{} value vectors for {} components",
+                values.len(),
+                self.components.len()
+            )));
+        }
+        let n = values[0].len();
+        if values.iter().any(|v| v.len() != n) {
+            return Err(Error::invalid("value vectors of different lengths"));
+        }
+        let mut nodes = vec![crate::Vec3::zeros(); n];
+        let (mut d0, mut d1) = (crate::Vec3::zeros(), crate::Vec3::zeros());
+        for (c, (comp, v)) in self.components.iter().zip(values).enumerate() {
+            for (p, x) in nodes.iter_mut().zip(v) {
+                p[c] = *x;
+            }
+            d0[c] = (comp.start_slope)(t);
+            d1[c] = (comp.end_slope)(t);
+        }
+        spline::NodalCurve::new(nodes, d0, d1)
+    }
+
     /// Solves every component up to `t = T` and returns `X^L`, one vector of `J + 1` nodal values
     /// per component.
     pub fn solve(&self, grid: TimeGrid) -> Result<Vec<Vec<f64>>> {

@@ -272,3 +272,42 @@ fn positivity_is_checked_along_the_solution() {
     let err = s.run().unwrap_err().to_string();
     assert!(err.starts_with("a: a(u = 0, t = 0.5333"), "{err}");
 }
+
+/// The final §3.3 values as a core curve: between the nodes the spline follows the exact solution
+/// to the accuracy of the run (the spline itself adds O(h⁴)), and its end derivatives are the
+/// slope conditions at T.
+#[test]
+fn final_values_as_a_core_curve() {
+    use crate::curve::Curve;
+    let curve = DynamicCurve {
+        components: vec![experiment()],
+    };
+    let grid = TimeGrid {
+        intervals: 60,
+        steps: 900,
+        t_end: 15.0,
+    };
+    let values = curve.solve(grid).unwrap();
+    let c = curve.to_curve(&values, 15.0).unwrap();
+    let mut worst: f64 = 0.0;
+    for i in 0..=600 {
+        let u = i as f64 / 600.0;
+        let p = c.point(u);
+        worst = worst.max((p.x - exact(u, 15.0)).abs());
+        assert_eq!((p.y, p.z), (0.0, 0.0));
+    }
+    // The L² error at J = 60 is 3.0e-4 (see the convergence test); pointwise a few times that.
+    assert!(worst < 1e-3, "{worst}");
+    let want = PI * (1.0 + (-15.0f64).exp());
+    assert!((c.derivative(0.0, 1).x - want).abs() < 1e-12);
+    assert!((c.derivative(1.0, 1).x + want).abs() < 1e-12);
+    // Bending energy of sin(πu)(1 + e^{-T}): ∫ π⁴ sin² = π⁴/2 times the squared amplitude.
+    let nodes: Vec<crate::Vec3> = values[0]
+        .iter()
+        .map(|x| crate::Vec3::new(*x, 0.0, 0.0))
+        .collect();
+    let e = bending_energy(&nodes);
+    let amp = 1.0 + (-15.0f64).exp();
+    let want = PI.powi(4) / 2.0 * amp * amp;
+    assert!((e - want).abs() < 0.01 * want, "{e} vs {want}");
+}

@@ -660,6 +660,10 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "a design has either top-level conditions (one patch) or [[patches]], not both",
         )
         .at("conditions")),
+        (None, None) if spec.dynamic.is_some() => Err(Error::invalid(
+            "this is a curve design ([dynamic] without conditions or patches): run `pdeshape curve` on it",
+        )
+        .at("dynamic")),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),
@@ -708,7 +712,9 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
 /// Validates a design without building any curve or solving anything: numbers finite and in
 /// range, curve references known and acyclic, the operator's parameters, condition counts (`2N`),
 /// `u ∈ [0, 1]`, derivative orders `< 2N`, no two conditions of the same order at the same `u`,
-/// condition curves periodic, solver options and the `[output]` grid.
+/// condition curves periodic, solver options and the `[output]` grid; and the `[dynamic]` section
+/// if there is one (a design with `[dynamic]` and no conditions is a valid curve design, which
+/// [`build_design`] refuses with a message pointing to `pdeshape curve`).
 pub fn validate_design(spec: &DesignSpec) -> Result<()> {
     check_solver(&spec.solver)?;
     output_grid(&spec.output)?;
@@ -716,6 +722,13 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
+    if let Some(d) = &spec.dynamic {
+        super::dynamic::build_dynamic(d)?;
+        if spec.conditions.is_none() && spec.patches.is_none() {
+            // A curve design (`pdeshape curve`): nothing else to check.
+            return Ok(());
+        }
+    }
     for p in plan(spec)? {
         check_operator_values(p.operator, &p.operator_place)?;
         check_conditions(

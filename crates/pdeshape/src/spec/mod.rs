@@ -11,12 +11,17 @@
 //! column, and [`describe_error`] formats `file:line:col: path: message`.
 
 mod build;
+mod dynamic;
 mod locate;
 mod types;
 
 pub use build::{
     build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
     NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
+};
+pub use dynamic::{
+    build_dynamic, BuiltDynamic, ComponentSpec, DynamicPlan, DynamicRun, DynamicSpec, FormulaText,
+    ParamsSpec,
 };
 pub use locate::{describe_error, locate};
 pub use types::{

@@ -37,6 +37,9 @@ pub struct DesignSpec {
     /// Defaults for the command-line tool.
     #[serde(default)]
     pub output: OutputSpec,
+    /// A dynamic PDE curve (`pdeshape curve`); see `docs/design-file.md`.
+    #[serde(default)]
+    pub dynamic: Option<super::dynamic::DynamicSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.

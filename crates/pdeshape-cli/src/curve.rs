@@ -1,0 +1,333 @@
+//! `pdeshape curve DESIGN -o curve.csv [--frames frames.csv] [--picture curve.svg]`: run the
+//! `[dynamic]` section of a design (a general run of the scheme or an interpolation) and write the
+//! final curve, the frames of its evolution and a picture.
+
+use crate::common::{self, CliError, Output};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pdeshape::dynamic::output::{self, Frame};
+use pdeshape::dynamic::{bending_energy, end_slopes, l2_norm};
+use pdeshape::spec::{self, DynamicPlan};
+use pdeshape::Vec3;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML) with a [dynamic] section.
+    pub design: PathBuf,
+    /// The final curve as CSV (`u,x[,y[,z]]`, one row per grid node, full precision).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also write the frames of the evolution as CSV (`step,t,u,x[,y[,z]]`), every
+    /// `frames_every`-th level of the run.
+    #[arg(long)]
+    pub frames: Option<PathBuf>,
+    /// Also draw the initial, some intermediate and the final curve with the data points as an
+    /// SVG picture.
+    #[arg(long)]
+    pub picture: Option<PathBuf>,
+}
+
+/// Frames kept for the picture: at most this many (thinned by halves beyond).
+const PICTURE_FRAMES: usize = 64;
+/// Intermediate curves drawn.
+const PICTURE_INTERMEDIATE: usize = 4;
+const PICTURE_SIZE: (u32, u32) = (900, 600);
+
+fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
+    let ok = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    if ok {
+        Ok(())
+    } else {
+        Err(CliError::input(format!(
+            "{flag} {}: the file must end in .{ext}",
+            path.display()
+        )))
+    }
+}
+
+/// Keeps at most `PICTURE_FRAMES` frames, evenly thinned, always with the first.
+fn keep_for_picture(kept: &mut Vec<Frame>, frame: Frame) {
+    kept.push(frame);
+    if kept.len() > PICTURE_FRAMES {
+        let mut i = 0;
+        kept.retain(|_| {
+            i += 1;
+            (i - 1) % 2 == 0
+        });
+    }
+}
+
+fn progress(total: u64, what: &str) -> ProgressBar {
+    let pb = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} steps {msg} ({elapsed})")
+    {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb.set_prefix(what.to_string());
+    pb
+}
+
+fn fmt(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
+        format!("{x:.6}")
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    check_extension(&args.output, "-o", "csv")?;
+    if let Some(f) = &args.frames {
+        check_extension(f, "--frames", "csv")?;
+    }
+    if let Some(p) = &args.picture {
+        check_extension(p, "--picture", "svg")?;
+    }
+    let design = common::load(&args.design)?;
+    let Some(section) = design.spec.dynamic.as_ref() else {
+        return Err(CliError::input(format!(
+            "{}: the design has no [dynamic] section: `pdeshape curve` runs dynamic curves \
+             (for the surface of this design use `pdeshape surface`)",
+            design.file
+        )));
+    };
+    let built = spec::build_dynamic(section).map_err(|e| design.error(&e))?;
+    let every = built.frames_every;
+
+    let mut out = Output::create(&args.output)?;
+    let mut frames_out = args.frames.as_deref().map(Output::create).transpose()?;
+    let mut picture_out = args.picture.as_deref().map(Output::create).transpose()?;
+
+    let dim = match &built.plan {
+        DynamicPlan::Run(r) => r.curve.components.len(),
+        DynamicPlan::Interpolate { dim, .. } => *dim,
+    };
+    let frames_shown = args
+        .frames
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    let frames_err = |e: pdeshape::Error| CliError::input(format!("--frames {frames_shown}: {e}"));
+    let mut frames_writer = frames_out.as_mut().map(|o| o.writer());
+    if let Some(w) = frames_writer.as_mut() {
+        output::write_frames_header(dim, w).map_err(frames_err)?;
+    }
+    let mut write_error: Option<pdeshape::Error> = None;
+    let mut kept: Vec<Frame> = Vec::new();
+    let mut last_frame: Option<Frame> = None;
+    let want_picture = picture_out.is_some();
+    let (total, label) = match &built.plan {
+        DynamicPlan::Run(r) => (r.grid.steps as u64, "curve"),
+        DynamicPlan::Interpolate { problem, .. } => (problem.max_steps as u64, "interpolate"),
+    };
+    let pb = progress(total, label);
+    let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {
+        if n.is_multiple_of(256) {
+            pb.set_position(n as u64);
+        }
+        if let Some(nodes) = nodes {
+            let frame = Frame {
+                step: n,
+                time: t,
+                nodes: nodes.to_vec(),
+            };
+            if let (Some(w), None) = (frames_writer.as_mut(), &write_error) {
+                if let Err(e) = output::write_frame_rows(&frame, dim, w) {
+                    write_error = Some(e);
+                }
+            }
+            if want_picture {
+                keep_for_picture(&mut kept, frame.clone());
+            }
+            last_frame = Some(frame);
+        }
+    };
+
+    let start = Instant::now();
+    let mut report = String::new();
+    let nodes: Vec<Vec3>;
+    let mut data_points: Vec<Vec3> = Vec::new();
+    let mut end_points: Vec<Vec3> = Vec::new();
+    match &built.plan {
+        DynamicPlan::Run(r) => {
+            let values = r
+                .curve
+                .solve_observed(r.grid, r.positivity, every, &mut observer)
+                .map_err(|e| design.error(&e.at("dynamic")))?;
+            let wall = start.elapsed().as_secs_f64();
+            let t_end = r.grid.t_end;
+            let jn = r.grid.intervals;
+            nodes = (0..=jn)
+                .map(|j| {
+                    let mut p = Vec3::zeros();
+                    for (c, v) in values.iter().enumerate() {
+                        p[c] = v[j];
+                    }
+                    p
+                })
+                .collect();
+            report.push_str(&format!(
+                "dynamic curve: {dim} component{}, J = {jn}, L = {}, T = {}\n",
+                if dim == 1 { "" } else { "s" },
+                r.grid.steps,
+                fmt(t_end)
+            ));
+            report.push_str(&format!(
+                "steps: {} to t = {} in {} s\n",
+                r.grid.steps,
+                fmt(t_end),
+                fmt(wall)
+            ));
+            let (s0, s1) = end_slopes(&nodes);
+            let names = ["x", "y", "z"];
+            for (c, comp) in r.curve.components.iter().enumerate() {
+                let errs = [
+                    (nodes[0][c] - (comp.start)(t_end)).abs(),
+                    (nodes[jn][c] - (comp.end)(t_end)).abs(),
+                    (s0[c] - (comp.start_slope)(t_end)).abs(),
+                    (s1[c] - (comp.end_slope)(t_end)).abs(),
+                ];
+                report.push_str(&format!(
+                    "end conditions {} at T: start {}, end {}, start slope {}, end slope {}\n",
+                    names[c],
+                    fmt(errs[0]),
+                    fmt(errs[1]),
+                    fmt(errs[2]),
+                    fmt(errs[3])
+                ));
+                if let Some(ex) = &r.exact[c] {
+                    let h = r.grid.h();
+                    let diff: Vec<f64> = values[c]
+                        .iter()
+                        .enumerate()
+                        .map(|(j, x)| x - ex.eval(&[j as f64 * h, t_end]))
+                        .collect();
+                    let max = diff.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+                    report.push_str(&format!(
+                        "exact {}: L2 error {}, max error {}\n",
+                        names[c],
+                        fmt(l2_norm(&diff, h)),
+                        fmt(max)
+                    ));
+                }
+            }
+            report.push_str(&format!(
+                "bending energy: {}\n",
+                fmt(bending_energy(&nodes))
+            ));
+        }
+        DynamicPlan::Interpolate { problem, .. } => {
+            let result = problem
+                .solve_observed(every, &mut observer)
+                .map_err(|e| design.error(&e.at("dynamic")))?;
+            let wall = start.elapsed().as_secs_f64();
+            nodes = result.nodes.clone();
+            let size = {
+                let mut all = vec![problem.start, problem.end];
+                all.extend(problem.points.iter().copied());
+                let (mut lo, mut hi) = (all[0], all[0]);
+                for p in &all {
+                    lo = lo.inf(p);
+                    hi = hi.sup(p);
+                }
+                (hi - lo).amax()
+            };
+            report.push_str(&format!(
+                "interpolating curve: {} points, J = {}, {} steps (t = {}), {} force updates, {} s\n",
+                problem.points.len(),
+                problem.intervals,
+                result.steps,
+                fmt(result.steps as f64 * problem.dt),
+                result.updates,
+                fmt(wall)
+            ));
+            for (i, ((p, u), d)) in problem
+                .points
+                .iter()
+                .zip(&result.params)
+                .zip(&result.distances)
+                .enumerate()
+            {
+                let coords: Vec<String> = p.iter().take(dim).map(|x| fmt(*x)).collect();
+                report.push_str(&format!(
+                    "point {i} ({}): u = {}, distance {}\n",
+                    coords.join(", "),
+                    fmt(*u),
+                    fmt(*d)
+                ));
+            }
+            report.push_str(&format!(
+                "tolerance: {} ({} of the data size {})\n",
+                fmt(problem.tolerance * size),
+                fmt(problem.tolerance),
+                fmt(size)
+            ));
+            let jn = nodes.len() - 1;
+            let (s0, s1) = end_slopes(&nodes);
+            report.push_str(&format!(
+                "end conditions: start {}, end {}, start tangent {}, end tangent {}\n",
+                fmt((nodes[0] - problem.start).norm()),
+                fmt((nodes[jn] - problem.end).norm()),
+                fmt((s0 - problem.start_tangent).norm()),
+                fmt((s1 - problem.end_tangent).norm())
+            ));
+            report.push_str(&format!("bending energy: {}\n", fmt(result.bending_energy)));
+            data_points = problem.points.clone();
+            end_points = vec![problem.start, problem.end];
+        }
+    }
+    pb.finish_and_clear();
+    if let Some(e) = write_error {
+        return Err(frames_err(e));
+    }
+    if let Some(w) = frames_writer.as_mut() {
+        w.flush()
+            .map_err(|e| CliError::input(format!("--frames {frames_shown}: {e}")))?;
+    }
+    drop(frames_writer);
+    let shown = args.output.display().to_string();
+    {
+        let mut w = out.writer();
+        output::write_curve_csv(&nodes, dim, &mut w)
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    }
+    if let Some(pic) = picture_out.as_mut() {
+        if let Some(last) = last_frame {
+            if kept.last().map(|f| f.step) != Some(last.step) {
+                kept.push(last);
+            }
+        }
+        let picked = output::pick_frames(&kept, PICTURE_INTERMEDIATE);
+        let svg = output::svg_picture(
+            &picked,
+            &data_points,
+            &end_points,
+            dim,
+            PICTURE_SIZE.0,
+            PICTURE_SIZE.1,
+        )
+        .map_err(|e| CliError::input(format!("--picture: {e}")))?;
+        pic.write_all(svg.as_bytes())?;
+    }
+    out.commit()?;
+    if let Some(f) = frames_out {
+        f.commit()?;
+    }
+    if let Some(p) = picture_out {
+        p.commit()?;
+    }
+    report.push_str(&format!("wrote {shown}: {} nodes\n", nodes.len()));
+    common::print_stdout(&report);
+    Ok(())
+}
