@@ -33,11 +33,6 @@ impl BandMatrix {
         }
     }
 
-    /// Resets every entry to zero (keeps the shape).
-    pub fn clear(&mut self) {
-        self.data.iter_mut().for_each(|v| *v = 0.0);
-    }
-
     #[inline]
     fn index(&self, i: usize, c: usize) -> usize {
         debug_assert!(c + self.kl >= i && c <= i + self.ku + self.kl);
@@ -52,16 +47,6 @@ impl BandMatrix {
         );
         let k = self.index(i, c);
         self.data[k] = value;
-    }
-
-    /// Adds `value` to the entry `(i, c)`; `c` must lie in the band `i − kl ..= i + ku`.
-    pub fn add(&mut self, i: usize, c: usize, value: f64) {
-        assert!(
-            i < self.n && c < self.n && c + self.kl >= i && c <= i + self.ku,
-            "entry ({i}, {c}) outside the band"
-        );
-        let k = self.index(i, c);
-        self.data[k] += value;
     }
 
     /// Factorises in place (`P A = L U`), with partial pivoting within the band.
@@ -133,6 +118,110 @@ impl BandMatrix {
     }
 }
 
+/// The pentadiagonal case (`kl = ku = 2`) of [`BandMatrix`], with fixed-width rows so that the
+/// inner loops have constant bounds: row `i` keeps the columns `i − 2 ..= i + 4` (offset
+/// `c + 2 − i`; the last two receive fill-in). Two zero rows and four zero columns of padding
+/// past the end remove every bound test from the loops. Same algorithm (LU with partial pivoting
+/// within the band), same results as [`BandMatrix`].
+#[derive(Debug, Clone)]
+pub struct Penta {
+    n: usize,
+    rows: Vec<[f64; 7]>,
+    pivots: Vec<usize>,
+    scratch: Vec<f64>,
+}
+
+impl Penta {
+    /// A zero `n × n` pentadiagonal matrix.
+    pub fn zeros(n: usize) -> Self {
+        Penta {
+            n,
+            rows: vec![[0.0; 7]; n + 2],
+            pivots: vec![0; n],
+            scratch: vec![0.0; n + 4],
+        }
+    }
+
+    /// Resets every entry to zero.
+    pub fn clear(&mut self) {
+        self.rows.iter_mut().for_each(|r| *r = [0.0; 7]);
+    }
+
+    /// Adds `value` to the entry `(i, c)`, `|c − i| ≤ 2`, both `< n`.
+    #[inline]
+    pub fn add(&mut self, i: usize, c: usize, value: f64) {
+        debug_assert!(i < self.n && c < self.n && c + 2 >= i && c <= i + 2);
+        self.rows[i][c + 2 - i] += value;
+    }
+
+    /// Factorises in place (`P A = L U`); fails on a zero or non-finite pivot.
+    pub fn factorize(&mut self) -> Result<()> {
+        let rows = &mut self.rows;
+        for k in 0..self.n {
+            let cand = [rows[k][2].abs(), rows[k + 1][1].abs(), rows[k + 2][0].abs()];
+            let mut p = 0;
+            if cand[1] > cand[p] {
+                p = 1;
+            }
+            if cand[2] > cand[p] {
+                p = 2;
+            }
+            let best = cand[p];
+            if best == 0.0 || !best.is_finite() {
+                return Err(Error::invalid(format!(
+                    "the banded system is singular (pivot {best} in column {k})"
+                )));
+            }
+            self.pivots[k] = k + p;
+            if p != 0 {
+                // Columns k ..= k + 4: offset c + 2 in row k, c + 2 − p in row k + p.
+                let (head, tail) = rows.split_at_mut(k + p);
+                let (rk, rp) = (&mut head[k], &mut tail[0]);
+                for c in 0..5 {
+                    std::mem::swap(&mut rk[c + 2], &mut rp[c + 2 - p]);
+                }
+            }
+            let pivot_row = rows[k];
+            let pivot = pivot_row[2];
+            for i in 1..3 {
+                let r = &mut rows[k + i];
+                let m = r[2 - i] / pivot;
+                r[2 - i] = m;
+                if m != 0.0 {
+                    for c in 1..5 {
+                        r[c + 2 - i] -= m * pivot_row[c + 2];
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place with the factors of [`Penta::factorize`].
+    pub fn solve_in_place(&mut self, b: &mut [f64]) {
+        let n = self.n;
+        assert_eq!(b.len(), n, "right-hand side of the wrong length");
+        let x = &mut self.scratch;
+        x[..n].copy_from_slice(b);
+        x[n..].iter_mut().for_each(|v| *v = 0.0);
+        for k in 0..n {
+            x.swap(k, self.pivots[k]);
+            let xk = x[k];
+            x[k + 1] -= self.rows[k + 1][1] * xk;
+            x[k + 2] -= self.rows[k + 2][0] * xk;
+        }
+        // The padding rows' multipliers are zero, so x[n], x[n + 1] stay 0.
+        x[n] = 0.0;
+        x[n + 1] = 0.0;
+        for i in (0..n).rev() {
+            let r = &self.rows[i];
+            let s = x[i] - r[3] * x[i + 1] - r[4] * x[i + 2] - r[5] * x[i + 3] - r[6] * x[i + 4];
+            x[i] = s / r[2];
+        }
+        b.copy_from_slice(&x[..n]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,5 +279,40 @@ mod tests {
         // Column 1 and row 2 stay zero.
         band.set(2, 0, 1.0);
         assert!(band.factorize().is_err());
+    }
+
+    /// The pentadiagonal solver gives the same numbers as the general band solver (same
+    /// operations in the same order) on matrices that need pivoting.
+    #[test]
+    fn penta_matches_band() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(11);
+        for n in [1usize, 2, 3, 5, 9, 40] {
+            let mut band = BandMatrix::zeros(n, 2, 2);
+            let mut penta = Penta::zeros(n);
+            for i in 0..n {
+                for c in i.saturating_sub(2)..=(i + 2).min(n - 1) {
+                    let v: f64 = if c == i {
+                        rng.gen_range(-0.1..0.1)
+                    } else {
+                        rng.gen_range(-1.0..1.0)
+                    };
+                    band.set(i, c, v);
+                    penta.add(i, c, v);
+                }
+            }
+            let b: Vec<f64> = (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect();
+            let (mut x, mut y) = (b.clone(), b.clone());
+            band.factorize().unwrap();
+            band.solve_in_place(&mut x);
+            penta.factorize().unwrap();
+            penta.solve_in_place(&mut y);
+            assert_eq!(x, y, "n = {n}");
+        }
+        let mut p = Penta::zeros(3);
+        p.add(0, 0, 1.0);
+        p.add(1, 0, 1.0);
+        p.add(2, 0, 1.0);
+        assert!(p.factorize().is_err());
     }
 }

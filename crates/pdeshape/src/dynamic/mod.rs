@@ -51,7 +51,7 @@ pub mod spline;
 use std::sync::Arc;
 
 use crate::{Error, Result};
-use band::BandMatrix;
+use band::Penta;
 
 /// A coefficient or force `φ(u, t, x)` of one component (paper §3: `a, b, d, f`).
 pub type Field = Arc<dyn Fn(f64, f64, f64) -> f64 + Send + Sync>;
@@ -224,20 +224,21 @@ pub fn l2_norm(values: &[f64], h: f64) -> f64 {
 /// The five weights `w_{−2..=2}` of the spatial operator of (6) at row `j`:
 /// `(Λ X)_j = −(1/h)[b_{j+1/2} δX_j − b_{j−1/2} δX_{j−1}]
 ///           + (1/h²)[d_{j+1} δ²X_{j+1} − 2 d_j δ²X_j + d_{j−1} δ²X_{j−1}] = Σ_k w_k X_{j+k}`.
-fn stencil(bh: &[f64], d: &[f64], j: usize, h: f64) -> [f64; 5] {
-    let h2 = h * h;
-    let h4 = h2 * h2;
+/// `ih2 = 1/h²`, `ih4 = 1/h⁴`.
+#[inline]
+fn stencil(bh: &[f64], d: &[f64], j: usize, ih2: f64, ih4: f64) -> [f64; 5] {
     let (bm, bp) = (bh[j - 1], bh[j]);
     let (dm, d0, dp) = (d[j - 1], d[j], d[j + 1]);
     [
-        dm / h4,
-        -bm / h2 + (-2.0 * d0 - 2.0 * dm) / h4,
-        (bm + bp) / h2 + (dp + 4.0 * d0 + dm) / h4,
-        -bp / h2 + (-2.0 * dp - 2.0 * d0) / h4,
-        dp / h4,
+        dm * ih4,
+        -bm * ih2 - 2.0 * (d0 + dm) * ih4,
+        (bm + bp) * ih2 + (dp + 4.0 * d0 + dm) * ih4,
+        -bp * ih2 - 2.0 * (dp + d0) * ih4,
+        dp * ih4,
     ]
 }
 
+#[inline]
 fn apply(w: &[f64; 5], x: &[f64], j: usize) -> f64 {
     w[0] * x[j - 2] + w[1] * x[j - 1] + w[2] * x[j] + w[3] * x[j + 1] + w[4] * x[j + 2]
 }
@@ -368,7 +369,7 @@ pub struct Scheme<'a> {
     level: usize,
     previous: Vec<f64>,
     current: Vec<f64>,
-    matrix: BandMatrix,
+    matrix: Penta,
     rhs: Vec<f64>,
     coefficients: Level,
     positivity: bool,
@@ -412,7 +413,7 @@ impl<'a> Scheme<'a> {
         lv.evaluate(comp, &x0, 0.0, h, positivity)?;
         let mut x1 = vec![0.0; jn + 1];
         for j in 2..=jn - 2 {
-            let w = stencil(&lv.bh, &lv.d, j, h);
+            let w = stencil(&lv.bh, &lv.d, j, 1.0 / (h * h), 1.0 / (h * h * h * h));
             let xtt = lv.f[j] - lv.a[j] * v0[j] - apply(&w, &x0, j);
             x1[j] = x0[j] + dt * v0[j] + 0.5 * dt * dt * xtt;
         }
@@ -424,7 +425,7 @@ impl<'a> Scheme<'a> {
             level: 1,
             previous: x0,
             current: Vec::new(),
-            matrix: BandMatrix::zeros(jn - 3, 2, 2),
+            matrix: Penta::zeros(jn - 3),
             rhs: vec![0.0; jn - 3],
             coefficients: lv,
             positivity,
@@ -533,14 +534,24 @@ impl<'a> Scheme<'a> {
         // X_1 = (6h s₀ + 11 X_0 + 9 X_2 − 2 X_3)/18, X_{J−1} = (11 X_J + 9 X_{J−2} − 2 X_{J−3} − 6h s₁)/18.
         let left = (6.0 * h * s0 + 11.0 * p0) / 18.0;
         let right = (11.0 * p1 - 6.0 * h * s1) / 18.0;
+        let (ih2, ih4) = (1.0 / (h * h), 1.0 / (h * h * h * h));
         for j in 2..=jn - 2 {
-            let w = stencil(&lv.bh, &lv.d, j, h);
+            let w = stencil(&lv.bh, &lv.d, j, ih2, ih4);
             let ad = 0.5 * lv.a[j] * dt;
             let force = lv.f[j] + extra.map_or(0.0, |g| g[j]);
             let mut r = 2.0 * self.current[j]
                 - (1.0 - ad) * self.previous[j]
                 - half * apply(&w, &self.previous, j)
                 + dt * dt * force;
+            if j >= 4 && j + 4 <= jn {
+                // Interior row: every column is an unknown.
+                for (k, wk) in w.iter().enumerate() {
+                    let val = if k == 2 { 1.0 + ad } else { 0.0 } + half * wk;
+                    m.add(j - 2, j + k - 4, val);
+                }
+                rhs[j - 2] = r;
+                continue;
+            }
             for (k, wk) in w.iter().enumerate() {
                 let c = j + k - 2;
                 let val = if k == 2 { 1.0 + ad } else { 0.0 } + half * wk;
