@@ -71,6 +71,15 @@ pub trait Surface: Send + Sync {
     fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
         Box::new(PointwiseRows { surface: self, vs })
     }
+
+    /// `X` and its partials up to second order along the row `u = const` at every `v_j` of `vs`:
+    /// `out[j] = partials(u, vs[j])` (`out` has the length of `vs`). Surfaces with structure
+    /// override this with a faster path that gives the same values up to rounding.
+    fn partials_row(&self, u: f64, vs: &[f64], out: &mut [Partials]) {
+        for (o, &v) in out.iter_mut().zip(vs) {
+            *o = self.partials(u, v);
+        }
+    }
 }
 
 /// One grid row in structure-of-arrays form: positions `(x, y, z)` and unit normals
