@@ -61,12 +61,18 @@ const CURVE_NODES: usize = 512;
 /// Boundary rows closer than this (relative to the design's size) are the same curve.
 const SAME_CURVE: f64 = 1e-8;
 
-/// The integrals of a solved design ([`integrate_surfaces`] of its patches).
+/// The integrals of a solved design: [`integrate_surfaces`] of its PDE patches followed by its
+/// `[[parametric]]` surfaces, in that order.
 pub fn integrate_design(d: &BuiltDesign, q: &Quadrature) -> Result<DesignIntegrals> {
     let surfaces: Vec<(&str, &dyn Surface)> = d
         .patches
         .iter()
         .map(|p| (p.name.as_str(), &p.surface as &dyn Surface))
+        .chain(
+            d.parametric
+                .iter()
+                .map(|p| (p.name.as_str(), &p.surface as &dyn Surface)),
+        )
         .collect();
     // Named shared position curves at u ∈ {0, 1}.
     let edges: Vec<(usize, f64, usize, f64)> = d

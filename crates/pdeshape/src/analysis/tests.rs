@@ -401,3 +401,122 @@ fn bad_quadrature_settings_are_errors() {
         .to_string()
         .contains("not finite"));
 }
+
+/// A design of `[[parametric]]` surfaces.
+fn parametric_design(body: &str) -> crate::spec::BuiltDesign {
+    build_design(&parse_design(body).unwrap()).unwrap()
+}
+
+#[test]
+fn sphere_cylinder_torus_as_design_surfaces_match_closed_forms() {
+    // Sphere of radius 1.7 about (1, 2, 3), outward as written.
+    let r = 1.7f64;
+    let d = parametric_design(
+        r#"
+[[parametric]]
+name = "ball"
+x = "1 + 1.7*sin(pi*u)*cos(v)"
+y = "2 + 1.7*sin(pi*u)*sin(v)"
+z = "3 + 1.7*cos(pi*u)"
+"#,
+    );
+    let di = integrate_design(&d, &Quadrature::default()).unwrap();
+    assert!(di.closed && di.caps.is_empty(), "{di:?}");
+    assert_eq!(di.orientation, vec![1.0]);
+    let t = di.total;
+    assert!(rel(t.area, 4.0 * PI * r * r) < 1e-12, "{t:?}");
+    assert!(rel(t.volume, 4.0 / 3.0 * PI * r.powi(3)) < 1e-12, "{t:?}");
+    assert!(rel(t.mean, -4.0 * PI * r) < 1e-12, "{t:?}");
+    assert!(rel(t.gauss, 4.0 * PI) < 1e-12, "{t:?}");
+    assert!(rel(t.willmore(), 16.0 * PI) < 1e-12, "{t:?}");
+    let a = &di.analyses[0];
+    assert!(
+        rel(a.gauss_range.0, 1.0 / (r * r)) < 1e-12 && rel(a.gauss_range.1, 1.0 / (r * r)) < 1e-12
+    );
+    assert!(rel(a.mean_range.0, -1.0 / r) < 1e-12 && rel(a.mean_range.1, -1.0 / r) < 1e-12);
+
+    // Cylinder of radius 0.8 and height 3 (inward as written: turned outward), open: two caps;
+    // and a torus R = 2, r = 0.5, written with v along the tube (inward normal again).
+    let d = parametric_design(
+        r#"
+[[parametric]]
+name = "tube"
+x = "0.8*cos(v)"
+y = "0.8*sin(v)"
+z = "3*u"
+
+[[parametric]]
+name = "ring"
+x = "(2 + 0.5*cos(2*pi*u))*cos(v) + 10"
+y = "(2 + 0.5*cos(2*pi*u))*sin(v)"
+z = "0.5*sin(2*pi*u)"
+"#,
+    );
+    let di = integrate_design(&d, &Quadrature::default()).unwrap();
+    assert!(!di.closed);
+    assert_eq!(di.orientation, vec![-1.0, -1.0]);
+    let (c, t) = (di.patches[0], di.patches[1]);
+    let (rc, h) = (0.8f64, 3.0);
+    assert!(rel(c.area, 2.0 * PI * rc * h) < 1e-12, "{c:?}");
+    assert!(rel(c.mean, -PI * h) < 1e-12, "{c:?}");
+    assert!(rel(c.mean_sq, PI * h / (2.0 * rc)) < 1e-12, "{c:?}");
+    assert!(c.gauss.abs() < 1e-12, "{c:?}");
+    let (big, small) = (2.0f64, 0.5f64);
+    assert!(rel(t.area, 4.0 * PI * PI * big * small) < 1e-12, "{t:?}");
+    assert!(
+        rel(t.volume, 2.0 * PI * PI * big * small * small) < 1e-12,
+        "{t:?}"
+    );
+    assert!(rel(t.mean, -2.0 * PI * PI * big) < 1e-12, "{t:?}");
+    let w = PI * PI * big * big / (small * (big * big - small * small).sqrt());
+    assert!(rel(t.mean_sq, w) < 1e-10, "{t:?}");
+    assert!(t.gauss.abs() < 1e-10, "{t:?}");
+    // The enclosed volumes: the capped cylinder plus the torus.
+    assert_eq!(di.caps.len(), 2);
+    assert!(
+        rel(
+            di.total.volume,
+            PI * rc * rc * h + 2.0 * PI * PI * big * small * small
+        ) < 1e-12,
+        "{di:?}"
+    );
+    // Pointwise curvature of the torus on its outer equator (u = 0, v = 0), inward normal:
+    // κ = 1/r along the tube and 1/(R + r) along the parallel.
+    let c = curvature(&d.parametric[1].surface.partials(0.0, 0.0)).unwrap();
+    assert!(rel(c.k1, 1.0 / small) < 1e-13 && rel(c.k2, 1.0 / (big + small)) < 1e-13);
+}
+
+#[test]
+fn parametric_errors_are_located() {
+    let text =
+        "title = \"t\"\n[[parametric]]\nname = \"s\"\nx = \"cos(v)\"\ny = \"w\"\nz = \"0\"\n";
+    let e = build_design(&parse_design(text).unwrap()).unwrap_err();
+    assert_eq!(
+        crate::spec::describe_error("d.toml", text, &e),
+        "d.toml:5:1: parametric[0].y: unknown variable 'w'; formulas use u and v"
+    );
+    let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ndomain = [1, 0]\n";
+    let e = crate::spec::validate_design(&parse_design(text).unwrap()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "parametric[0].domain: must be an interval [v0, v1] with v0 < v1 (got [1, 0])"
+    );
+    let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ncolour = 1\n";
+    assert!(parse_design(text)
+        .unwrap_err()
+        .to_string()
+        .contains("unknown field `colour`"));
+    let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ndomain = [0, 1]\n\
+                [[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"1\"\ndomain = [0, 1]\n";
+    let e = crate::spec::validate_design(&parse_design(text).unwrap()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "parametric[1].name: 's' is already the name of parametric[0]"
+    );
+    // An open sheet: area only, no volume meaning, not closed.
+    let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ndomain = [0, 2]\n";
+    let d = build_design(&parse_design(text).unwrap()).unwrap();
+    let di = integrate_design(&d, &Quadrature::default()).unwrap();
+    assert!(!di.closed && di.caps.is_empty());
+    assert!(rel(di.total.area, 2.0) < 1e-14 && di.total.mean_sq == 0.0);
+}

@@ -3,6 +3,9 @@
 
 use crate::Vec3;
 
+mod parametric;
+pub use parametric::ParametricSurface;
+
 /// `X` and its partial derivatives up to second order at one `(u, v)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Partials {
