@@ -32,7 +32,7 @@ pub struct Formula {
 const NAMES: [&str; 3] = ["x", "y", "z"];
 
 /// Replaces the identifier `pi` by `π` (exmex knows `PI` and `π` only).
-fn normalise(text: &str) -> String {
+pub(crate) fn normalise(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let chars: Vec<char> = text.chars().collect();
     let mut i = 0;

@@ -23,6 +23,7 @@ pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
 pub(crate) use formula::unary_minus_before_power;
 pub use formula::Formula;
+pub(crate) use formula::{normalise as normalise_formula, unary_minus_before_power};
 pub use hermite::Hermite;
 pub use samples::{PointSamples, SampleParam};
 pub(crate) use taylor::Literal as NumberLiteral;

@@ -13,6 +13,7 @@
 mod build;
 mod dynamic;
 mod locate;
+mod parametric;
 mod types;
 
 pub use build::{
@@ -24,6 +25,7 @@ pub use dynamic::{
     ParamsSpec,
 };
 pub use locate::{describe_error, locate};
+pub use parametric::{ParametricPatch, ParametricSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,
