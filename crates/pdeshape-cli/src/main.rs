@@ -3,6 +3,7 @@
 
 mod check;
 mod common;
+mod optimize;
 mod render;
 mod schema;
 mod surface;
@@ -26,6 +27,9 @@ enum Command {
     Render(render::Args),
     /// Validate and solve a design and print a report (modes, condition errors, shared edges).
     Check(check::Args),
+    /// Search the design parameters of [optimize] (simulated annealing, then Nelder–Mead) and
+    /// write the optimised design file, its mesh, picture and the search log.
+    Optimize(optimize::Args),
     /// Print the JSON schema of the design file.
     Schema,
 }
@@ -35,6 +39,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Surface(args) => surface::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Optimize(args) => optimize::run(&args),
         Command::Schema => schema::run(),
     }
 }
@@ -51,7 +56,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check or schema \
+                        "error: a subcommand is required: surface, render, check, optimize or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

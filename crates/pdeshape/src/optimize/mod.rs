@@ -28,14 +28,16 @@
 //! §7.4.2 (see [`anneal`]).
 
 pub mod anneal;
+mod measure;
 mod params;
 mod spec;
 
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
+pub use measure::measure;
 pub use params::{ParamKind, Parameter, Parameters};
 pub use spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 
-use crate::spec::{build_design, BuiltDesign, DesignSpec};
+use crate::spec::{build_design, DesignSpec};
 use crate::{Error, Result};
 use exmex::Express;
 
@@ -84,13 +86,6 @@ impl Totals {
             c0_abs,
         ]
     }
-}
-
-/// The integrals of a built design with `qu` Gauss–Legendre points in `u` and `qv` trapezoid
-/// points in `v` per patch.
-pub fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Totals> {
-    let _ = (built, qu, qv);
-    Err(Error::invalid("the integrals are not available yet"))
 }
 
 /// A formula over [`VARIABLES`], parsed.
@@ -340,7 +335,12 @@ impl Problem {
     pub fn evaluate_totals(&self, totals: &Totals) -> Evaluation {
         let variables = totals.variables(self.spontaneous_curvature);
         let objective = self.objective.eval(&variables);
-        let penalty = self.constraints.iter().map(|c| c.penalty(&variables)).sum();
+        let penalty = 0.0
+            + self
+                .constraints
+                .iter()
+                .map(|c| c.penalty(&variables))
+                .sum::<f64>();
         Evaluation {
             objective,
             penalty,

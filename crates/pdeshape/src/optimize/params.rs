@@ -154,9 +154,23 @@ fn design_a(spec: &DesignSpec) -> Option<f64> {
         .find_map(|p| poly_a(&p.operator))
 }
 
-/// Mean point of a curve over its domain (512 samples of the periodic domain, or the
-/// midpoint rule on an open interval).
+/// Mean point of a curve over its domain: the mean term `a₀` of its exact Fourier series where
+/// it has one, else 512 samples of the periodic domain or the midpoint rule on an open interval.
+/// Coordinates below 10⁻¹³ of the largest are rounding noise and set to 0.
 fn centroid(curve: &dyn crate::curve::Curve) -> Vec3 {
+    let mut c = curve
+        .fourier()
+        .map_or_else(|| sampled_mean(curve), |f| f.a0);
+    let big = c.amax();
+    for x in c.iter_mut() {
+        if x.abs() < 1e-13 * big {
+            *x = 0.0;
+        }
+    }
+    c
+}
+
+fn sampled_mean(curve: &dyn crate::curve::Curve) -> Vec3 {
     const S: usize = 512;
     let (t0, t1, offset) = match curve.domain() {
         Domain::Periodic => (0.0, crate::TAU, 0.0),

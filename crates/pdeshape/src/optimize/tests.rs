@@ -454,3 +454,114 @@ fn formulas_and_penalties() {
     let h = e.variables[7];
     assert!((h - 0.5 * 1.5f64.powi(2) * 4.0 * pi).abs() < 1e-13, "{h}");
 }
+
+// ---- integrals ----
+
+#[test]
+fn gauss_legendre_rule_is_exact_to_degree_2n_minus_1() {
+    let (x, w) = measure::gauss_legendre01(6);
+    for k in 0..12 {
+        let q: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(k)).sum();
+        assert!((q - 1.0 / (k + 1) as f64).abs() < 1e-15, "k = {k}: {q}");
+    }
+}
+
+/// A torus with radii (R, r) or, with R = 0 and the u-range [0, π], a sphere of radius r:
+/// X = ((R + r sin θ) cos v, (R + r sin θ) sin v, r cos θ), θ = span·u.
+struct Torus {
+    big: f64,
+    r: f64,
+    span: f64,
+}
+
+impl crate::surface::Surface for Torus {
+    fn v_domain(&self) -> crate::surface::VDomain {
+        crate::surface::VDomain::Periodic
+    }
+    fn partials(&self, u: f64, v: f64) -> crate::surface::Partials {
+        let (k, r, big) = (self.span, self.r, self.big);
+        let (st, ct) = (k * u).sin_cos();
+        let (sv, cv) = v.sin_cos();
+        let rho = big + r * st;
+        crate::surface::Partials {
+            x: Vec3::new(rho * cv, rho * sv, r * ct),
+            xu: Vec3::new(r * k * ct * cv, r * k * ct * sv, -r * k * st),
+            xv: Vec3::new(-rho * sv, rho * cv, 0.0),
+            xuu: Vec3::new(-r * k * k * st * cv, -r * k * k * st * sv, -r * k * k * ct),
+            xuv: Vec3::new(-r * k * ct * sv, r * k * ct * cv, 0.0),
+            xvv: Vec3::new(-rho * cv, -rho * sv, 0.0),
+        }
+    }
+}
+
+#[test]
+fn sphere_and_torus_integrals_match_closed_forms() {
+    let pi = std::f64::consts::PI;
+    // Sphere of radius 2 (u from the north pole to the south pole).
+    let r = 2.0;
+    let t = measure::totals(
+        &[&Torus {
+            big: 0.0,
+            r,
+            span: pi,
+        }],
+        24,
+        8,
+    )
+    .unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12 * b.abs().max(1.0);
+    assert!(close(t.area, 4.0 * pi * r * r), "{t:?}");
+    assert!(close(t.volume, 4.0 / 3.0 * pi * r.powi(3)), "{t:?}");
+    assert!(close(t.mean, 4.0 * pi * r), "{t:?}");
+    assert!(close(t.mean_sq, 4.0 * pi), "{t:?}");
+    assert!(close(t.gauss, 4.0 * pi), "{t:?}");
+    let v = t.variables(0.0);
+    assert!(close(v[7], 8.0 * pi) && close(v[8], 1.0), "{v:?}");
+    // Torus R = 3, r = 1 (u once around the tube): A = 4π²Rr, V = 2π²Rr², ∫H dA = 2π²R, ∫K = 0.
+    let (big, r) = (3.0, 1.0);
+    let t = measure::totals(
+        &[&Torus {
+            big,
+            r,
+            span: crate::TAU,
+        }],
+        48,
+        16,
+    )
+    .unwrap();
+    assert!(close(t.area, 4.0 * pi * pi * big * r), "{t:?}");
+    assert!(close(t.volume, 2.0 * pi * pi * big * r * r), "{t:?}");
+    assert!(t.gauss.abs() < 1e-12, "{t:?}");
+    assert!(close(t.mean, 2.0 * pi * pi * big), "{t:?}");
+    // The Willmore energy of this torus is π² c² / √(c² − 1), c = R/r (2π² for the Clifford
+    // torus c = √2).
+    let c = big / r;
+    assert!(
+        close(t.mean_sq, pi * pi * c * c / (c * c - 1.0).sqrt()),
+        "{t:?}"
+    );
+}
+
+#[test]
+fn vesicle_start_is_closed_smooth_and_converged() {
+    let p = problem_of(VESICLE);
+    let built = crate::spec::build_design(&p.design(&p.parameters.initial())).unwrap();
+    let fine = measure(&built, 64, 64).unwrap();
+    let coarse = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
+    // Gauss–Bonnet for a closed smooth genus-0 surface: ∫K dA = 4π (an independent check of
+    // the smoothness at the poles and the tangent continuity at the equator).
+    let pi = std::f64::consts::PI;
+    assert!((fine.gauss - 4.0 * pi).abs() < 1e-9, "{fine:?}");
+    // The search's coarse rule agrees with the fine one.
+    for (a, b) in [
+        (coarse.area, fine.area),
+        (coarse.volume, fine.volume),
+        (coarse.mean_sq, fine.mean_sq),
+    ] {
+        assert!((a - b).abs() < 1e-8 * b.abs(), "{a} vs {b}");
+    }
+    let v = fine.variables(0.0);
+    // Isoperimetric and Willmore inequalities.
+    assert!(v[8] < 1.0 && v[8] > 0.5, "nu = {}", v[8]);
+    assert!(v[7] > 8.0 * pi, "helfrich = {}", v[7]);
+}
