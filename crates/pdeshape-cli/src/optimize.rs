@@ -124,9 +124,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     );
     let report = |done: usize, best: f64| {
         bar.set_position(done as u64);
-        if done % 8 == 0 || done as u64 >= total {
-            bar.set_message(format!("{best:.6}"));
-        }
+        bar.set_message(format!("{best:.6}"));
     };
     let outcome = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
