@@ -32,7 +32,7 @@ pub struct Formula {
 const NAMES: [&str; 3] = ["x", "y", "z"];
 
 /// Replaces the identifier `pi` by `π` (exmex knows `PI` and `π` only).
-fn normalise(text: &str) -> String {
+pub(crate) fn normalise(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let chars: Vec<char> = text.chars().collect();
     let mut i = 0;
@@ -60,7 +60,7 @@ fn normalise(text: &str) -> String {
 /// Finds a unary minus whose operand is raised to a power (`-v^2`, `2*-v^2`): exmex binds that
 /// minus first (`(-v)^2`), against the usual convention, so such input is refused as ambiguous.
 /// Returns the byte offset of the minus.
-fn unary_minus_before_power(text: &str) -> Option<usize> {
+pub(crate) fn unary_minus_before_power(text: &str) -> Option<usize> {
     let b: Vec<(usize, char)> = text.char_indices().collect();
     let skip_ws = |mut i: usize| {
         while i < b.len() && b[i].1.is_whitespace() {

@@ -72,6 +72,8 @@ pub struct BuiltDesign {
     pub options: SolveOptions,
     /// The design used `[[patches]]`.
     pub multi_patch: bool,
+    /// The `[[parametric]]` surfaces, in file order.
+    pub parametric: Vec<super::parametric::ParametricPatch>,
 }
 
 /// A TOML key as it appears in a path: bare if it can be, quoted otherwise.
@@ -669,6 +671,7 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "a design has either top-level conditions (one patch) or [[patches]], not both",
         )
         .at("conditions")),
+        (None, None) if !spec.parametric.is_empty() => Ok(Vec::new()),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),
@@ -725,7 +728,10 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
-    for p in plan(spec)? {
+    let plans = plan(spec)?;
+    let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
+    super::parametric::validate_parametric(&spec.parametric, &names)?;
+    for p in plans {
         check_operator_values(p.operator, &p.operator_place)?;
         check_conditions(
             p.conditions,
@@ -1009,6 +1015,7 @@ pub fn build_design(spec: &DesignSpec) -> Result<BuiltDesign> {
         all_conditions.push(infos);
     }
     let edges = shared_edges(&patches, &all_conditions);
+    let parametric = super::parametric::build_parametric(&spec.parametric)?;
     Ok(BuiltDesign {
         title: spec.title.clone(),
         patches,
@@ -1017,6 +1024,7 @@ pub fn build_design(spec: &DesignSpec) -> Result<BuiltDesign> {
         edges,
         options,
         multi_patch: spec.patches.is_some(),
+        parametric,
     })
 }
 

@@ -12,6 +12,7 @@
 
 mod build;
 mod locate;
+mod parametric;
 mod types;
 
 pub use build::{
@@ -19,6 +20,7 @@ pub use build::{
     NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
 };
 pub use locate::{describe_error, locate};
+pub use parametric::{ParametricPatch, ParametricSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,

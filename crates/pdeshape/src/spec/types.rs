@@ -34,6 +34,10 @@ pub struct DesignSpec {
     /// The patches of a multi-patch design (exclusive with `conditions`).
     #[serde(default)]
     pub patches: Option<Vec<PatchSpec>>,
+    /// Surfaces given by formulas in `u` and `v` (`[[parametric]]`), alongside or instead of
+    /// the PDE patches.
+    #[serde(default)]
+    pub parametric: Vec<super::parametric::ParametricSpec>,
     /// Defaults for the command-line tool.
     #[serde(default)]
     pub output: OutputSpec,

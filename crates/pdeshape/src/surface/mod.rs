@@ -3,6 +3,9 @@
 
 use crate::Vec3;
 
+mod parametric;
+pub use parametric::ParametricSurface;
+
 /// `X` and its partial derivatives up to second order at one `(u, v)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Partials {
@@ -70,6 +73,15 @@ pub trait Surface: Send + Sync {
     /// grid is a few small matrix products.
     fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
         Box::new(PointwiseRows { surface: self, vs })
+    }
+
+    /// `X` and its partials up to second order along the row `u = const` at every `v_j` of `vs`:
+    /// `out[j] = partials(u, vs[j])` (`out` has the length of `vs`). Surfaces with structure
+    /// override this with a faster path that gives the same values up to rounding.
+    fn partials_row(&self, u: f64, vs: &[f64], out: &mut [Partials]) {
+        for (o, &v) in out.iter_mut().zip(vs) {
+            *o = self.partials(u, v);
+        }
     }
 }
 

@@ -1,0 +1,317 @@
+//! Surfaces given by three formulas in `u` and `v` (spheres, cylinders, tori, … — shapes the PDE
+//! method cannot produce exactly), with exact partial derivatives from symbolic differentiation.
+
+use super::{Partials, Surface, VDomain};
+use crate::curve::{normalise_formula, unary_minus_before_power};
+use crate::{Error, Result, Vec3, TAU};
+use exmex::prelude::*;
+use exmex::Differentiate;
+
+type Expr = FlatEx<f64>;
+
+const NAMES: [&str; 3] = ["x", "y", "z"];
+
+/// One component and its partials: `f, f_u, f_v, f_uu, f_uv, f_vv` (`None`: identically zero
+/// because the formula does not use the variable).
+#[derive(Clone, Debug)]
+struct Component {
+    /// On the heap: a parsed expression is a few kilobytes.
+    exprs: [Option<Box<Expr>>; 6],
+    /// For each variable of the expressions (exmex sorts them by name): 0 for `u`, 1 for `v`.
+    vars: Vec<usize>,
+}
+
+impl Component {
+    fn eval(&self, k: usize, uv: [f64; 2]) -> f64 {
+        let Some(e) = &self.exprs[k] else {
+            return 0.0;
+        };
+        let mut args = [0.0; 2];
+        for (a, &i) in args.iter_mut().zip(&self.vars) {
+            *a = uv[i];
+        }
+        e.eval(&args[..self.vars.len()]).unwrap_or(f64::NAN)
+    }
+}
+
+/// `X(u, v) = (x(u, v), y(u, v), z(u, v))` for `u ∈ [0, 1]` and `v` in a periodic (`[0, 2π)`) or
+/// interval domain. The partials are the formulas' symbolic derivatives (exmex), exact up to
+/// rounding. Formula syntax is that of [`crate::curve::Formula`], with the variables `u` and `v`.
+#[derive(Clone, Debug)]
+pub struct ParametricSurface {
+    /// The formulas as given.
+    pub text: [String; 3],
+    domain: VDomain,
+    comps: Vec<Component>,
+}
+
+/// Six significant digits.
+fn short(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    s.to_string()
+}
+
+impl ParametricSurface {
+    /// Parses and checks the formulas. Errors name the component (`x`, `y`, `z`) whose formula
+    /// does not parse, uses a variable other than `u` and `v`, or is not finite (value or a
+    /// partial up to second order) on a 33 × 33 grid of the domain (ends included). A periodic
+    /// domain also requires `X` and `X_v` to repeat after 2π in `v` (at four `u` and four `v`, to
+    /// `10⁻⁹` of their size); an interval must be finite with start < end.
+    pub fn new(x: &str, y: &str, z: &str, domain: VDomain) -> Result<Self> {
+        if let VDomain::Interval(a, b) = domain {
+            if !(a.is_finite() && b.is_finite() && a < b) {
+                return Err(Error::invalid(format!(
+                    "the interval [{a}, {b}] must be finite with start < end"
+                ))
+                .at("domain"));
+            }
+        }
+        let mut comps = Vec::with_capacity(3);
+        for (c, given) in [x, y, z].into_iter().enumerate() {
+            comps.push(parse_component(given).map_err(|e| e.at(NAMES[c]))?);
+        }
+        let s = ParametricSurface {
+            text: [x.to_string(), y.to_string(), z.to_string()],
+            domain,
+            comps,
+        };
+        s.check_finite()?;
+        if domain == VDomain::Periodic {
+            s.check_periodic()?;
+        }
+        Ok(s)
+    }
+
+    fn values(&self, k: usize, u: f64, v: f64) -> Vec3 {
+        Vec3::new(
+            self.comps[0].eval(k, [u, v]),
+            self.comps[1].eval(k, [u, v]),
+            self.comps[2].eval(k, [u, v]),
+        )
+    }
+
+    fn check_finite(&self) -> Result<()> {
+        let (a, b) = match self.domain {
+            VDomain::Periodic => (0.0, TAU),
+            VDomain::Interval(a, b) => (a, b),
+        };
+        const WHAT: [&str; 6] = [
+            "evaluates to",
+            "has ∂/∂u",
+            "has ∂/∂v",
+            "has ∂²/∂u²",
+            "has ∂²/∂u∂v",
+            "has ∂²/∂v²",
+        ];
+        let n = 32;
+        for i in 0..=n {
+            let u = i as f64 / n as f64;
+            for j in 0..=n {
+                let v = if j == n {
+                    b
+                } else {
+                    a + (b - a) * j as f64 / n as f64
+                };
+                for (c, comp) in self.comps.iter().enumerate() {
+                    for (k, what) in WHAT.iter().enumerate() {
+                        let value = comp.eval(k, [u, v]);
+                        if !value.is_finite() {
+                            return Err(Error::invalid(format!(
+                                "{what} {value} at u = {}, v = {}",
+                                short(u),
+                                short(v)
+                            ))
+                            .at(NAMES[c]));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_periodic(&self) -> Result<()> {
+        for &u in &[0.0, 0.3, 0.7, 1.0] {
+            let mut size = [0.0f64; 2];
+            for j in 0..64 {
+                let v = TAU * j as f64 / 64.0;
+                size[0] = size[0].max(self.values(0, u, v).amax());
+                size[1] = size[1].max(self.values(2, u, v).amax());
+            }
+            for &v in &[0.0, 0.7, 2.1, 4.4] {
+                for (i, k) in [0usize, 2].into_iter().enumerate() {
+                    let (p, q) = (self.values(k, u, v), self.values(k, u, v + TAU));
+                    for c in 0..3 {
+                        if (p[c] - q[c]).abs() > 1e-9 * size[i].max(f64::MIN_POSITIVE) {
+                            let d = if k == 2 { "_v" } else { "" };
+                            return Err(Error::invalid(format!(
+                                "not periodic in v: {name}{d}({}, {}) = {}, {name}{d}({}, {} + 2π) = {} \
+                                 (use domain = [v0, v1] for an open surface)",
+                                short(u),
+                                short(v),
+                                short(p[c]),
+                                short(u),
+                                short(v),
+                                short(q[c]),
+                                name = NAMES[c],
+                            ))
+                            .at(NAMES[c]));
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Parses one formula and differentiates it symbolically.
+fn parse_component(given: &str) -> Result<Component> {
+    let text = normalise_formula(given);
+    if text.trim().is_empty() {
+        return Err(Error::invalid("the formula is empty"));
+    }
+    if let Some(at) = unary_minus_before_power(&text) {
+        return Err(Error::invalid(format!(
+            "'{given}': the minus at character {} is applied before the power; write -(…^…) or \
+             (-…)^… explicitly",
+            at + 1
+        )));
+    }
+    let expr: Expr =
+        Expr::parse(&text).map_err(|e| Error::invalid(format!("cannot parse '{given}': {e}")))?;
+    let mut vars = Vec::new();
+    for name in expr.var_names() {
+        match name.as_str() {
+            "u" => vars.push(0),
+            "v" => vars.push(1),
+            other => {
+                return Err(Error::invalid(format!(
+                    "unknown variable '{other}'; formulas use u and v"
+                )))
+            }
+        }
+    }
+    let idx = |var: usize| vars.iter().position(|&i| i == var);
+    let diff = |e: &Option<Box<Expr>>, var: usize| -> Result<Option<Box<Expr>>> {
+        match (e, idx(var)) {
+            (Some(e), Some(i)) => (**e)
+                .clone()
+                .partial(i)
+                .map(|d| Some(Box::new(d)))
+                .map_err(|err| Error::invalid(format!("cannot differentiate '{given}': {err}"))),
+            _ => Ok(None),
+        }
+    };
+    let f = Some(Box::new(expr));
+    let fu = diff(&f, 0)?;
+    let fv = diff(&f, 1)?;
+    let fuu = diff(&fu, 0)?;
+    let fuv = diff(&fu, 1)?;
+    let fvv = diff(&fv, 1)?;
+    Ok(Component {
+        exprs: [f, fu, fv, fuu, fuv, fvv],
+        vars,
+    })
+}
+
+impl Surface for ParametricSurface {
+    fn v_domain(&self) -> VDomain {
+        self.domain
+    }
+
+    fn partials(&self, u: f64, v: f64) -> Partials {
+        Partials {
+            x: self.values(0, u, v),
+            xu: self.values(1, u, v),
+            xv: self.values(2, u, v),
+            xuu: self.values(3, u, v),
+            xuv: self.values(4, u, v),
+            xvv: self.values(5, u, v),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn partials_are_exact() {
+        let s = ParametricSurface::new(
+            "(2 + cos(2*pi*u))*cos(v)",
+            "(2 + cos(2*pi*u))*sin(v)",
+            "sin(2*pi*u) + u^2*v",
+            VDomain::Interval(0.0, 1.0),
+        )
+        .unwrap();
+        let (u, v) = (0.3, 0.8);
+        let p = s.partials(u, v);
+        let k = 2.0 * std::f64::consts::PI;
+        let w = 2.0 + (k * u).cos();
+        let want = Partials {
+            x: Vec3::new(w * v.cos(), w * v.sin(), (k * u).sin() + u * u * v),
+            xu: Vec3::new(
+                -k * (k * u).sin() * v.cos(),
+                -k * (k * u).sin() * v.sin(),
+                k * (k * u).cos() + 2.0 * u * v,
+            ),
+            xv: Vec3::new(-w * v.sin(), w * v.cos(), u * u),
+            xuu: Vec3::new(
+                -k * k * (k * u).cos() * v.cos(),
+                -k * k * (k * u).cos() * v.sin(),
+                -k * k * (k * u).sin() + 2.0 * v,
+            ),
+            xuv: Vec3::new(
+                k * (k * u).sin() * v.sin(),
+                -k * (k * u).sin() * v.cos(),
+                2.0 * u,
+            ),
+            xvv: Vec3::new(-w * v.cos(), -w * v.sin(), 0.0),
+        };
+        for (a, b) in [
+            (p.x, want.x),
+            (p.xu, want.xu),
+            (p.xv, want.xv),
+            (p.xuu, want.xuu),
+            (p.xuv, want.xuv),
+            (p.xvv, want.xvv),
+        ] {
+            assert!((a - b).norm() < 1e-13 * b.norm().max(1.0), "{a} {b}");
+        }
+        // Constants and one-variable formulas.
+        let c = ParametricSurface::new("3", "u", "2*v", VDomain::Interval(0.0, 1.0)).unwrap();
+        let p = c.partials(0.5, 0.25);
+        assert_eq!(p.x, Vec3::new(3.0, 0.5, 0.5));
+        assert_eq!(p.xu, Vec3::new(0.0, 1.0, 0.0));
+        assert_eq!(p.xv, Vec3::new(0.0, 0.0, 2.0));
+        assert_eq!(p.xuu + p.xuv + p.xvv, Vec3::zeros());
+    }
+
+    #[test]
+    fn bad_formulas_are_named() {
+        let err = |x: &str, y: &str, d: VDomain| {
+            ParametricSurface::new(x, y, "0", d)
+                .unwrap_err()
+                .to_string()
+        };
+        let per = VDomain::Periodic;
+        assert_eq!(
+            err("cos(v)", "w*u", per),
+            "y: unknown variable 'w'; formulas use u and v"
+        );
+        assert!(err("cos(v", "0", per).starts_with("x: cannot parse 'cos(v'"));
+        assert!(err("-u^2", "0", per).starts_with("x: '-u^2': the minus"));
+        assert!(err("", "0", per).starts_with("x: the formula is empty"));
+        assert!(
+            err("1/u", "0", per).starts_with("x: evaluates to inf at u = 0, v = 0"),
+            "{}",
+            err("1/u", "0", per)
+        );
+        assert!(err("sqrt(u)", "0", per).starts_with("x: has ∂/∂u inf at u = 0"));
+        assert!(err("v", "0", per).starts_with("x: not periodic in v"));
+        assert!(err("v", "0", VDomain::Interval(1.0, 1.0)).starts_with("domain: the interval"));
+        ParametricSurface::new("v", "u", "0", VDomain::Interval(-1.0, 2.0)).unwrap();
+    }
+}
