@@ -4,6 +4,7 @@
 mod check;
 mod common;
 mod curve;
+mod optimize;
 mod render;
 mod schema;
 mod surface;
@@ -30,6 +31,9 @@ enum Command {
     /// Run the [dynamic] section of a design (a dynamic PDE curve) and write the final curve
     /// (csv), optionally its frames (csv) and a picture (svg).
     Curve(curve::Args),
+    /// Search the design parameters of [optimize] (simulated annealing, then Nelder–Mead) and
+    /// write the optimised design file, its mesh, picture and the search log.
+    Optimize(optimize::Args),
     /// Print the JSON schema of the design file.
     Schema,
 }
@@ -40,6 +44,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Render(args) => render::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Curve(args) => curve::run(&args),
+        Command::Optimize(args) => optimize::run(&args),
         Command::Schema => schema::run(),
     }
 }
@@ -56,7 +61,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, curve or schema \
+                        "error: a subcommand is required: surface, render, check, curve, optimize or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

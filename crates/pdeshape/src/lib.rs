@@ -25,6 +25,7 @@ pub mod elliptic;
 mod error;
 pub mod fourier;
 pub mod mesh;
+pub mod optimize;
 pub mod render;
 pub mod spec;
 pub mod surface;

@@ -60,6 +60,22 @@ impl Affine {
             shift: about * (1.0 - factor),
         })
     }
+    /// Scaling by `factors = (f_x, f_y, f_z)`, each finite and non-zero, along the coordinate
+    /// axes about the point `about`: `x ↦ diag(f) (x − about) + about`.
+    pub fn dilation(factors: Vec3, about: Vec3) -> Result<Self> {
+        check_finite("about", &about)?;
+        if factors.iter().any(|f| !f.is_finite() || *f == 0.0) {
+            return Err(Error::invalid(format!(
+                "factors = ({}, {}, {}) must be finite and non-zero",
+                factors.x, factors.y, factors.z
+            )));
+        }
+        let linear = nalgebra::Matrix3::from_diagonal(&factors);
+        Ok(Affine {
+            linear,
+            shift: about - linear * about,
+        })
+    }
     /// `self` followed by `next`.
     pub fn then(&self, next: &Affine) -> Affine {
         Affine {

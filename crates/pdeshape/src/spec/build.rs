@@ -438,6 +438,15 @@ fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
                 }
                 finite3(about, &format!("{p}.scale.about"))?;
             }
+            TransformStep::Dilate { factors, about } => {
+                finite3(factors, &format!("{p}.dilate.factors"))?;
+                if let Some(i) = factors.iter().position(|f| *f == 0.0) {
+                    return Err(
+                        Error::invalid("must not be 0").at(&format!("{p}.dilate.factors[{i}]"))
+                    );
+                }
+                finite3(about, &format!("{p}.dilate.about"))?;
+            }
         }
     }
     finite(c.v_origin, &format!("{place}.v_origin"))?;
@@ -929,6 +938,10 @@ impl CurveBuilder<'_> {
                     TransformStep::Scale { factor, about } => {
                         Affine::scaling(*factor, v3(about))
                             .map_err(|e| e.at(&format!("{p}.scale")))?
+                    }
+                    TransformStep::Dilate { factors, about } => {
+                        Affine::dilation(v3(factors), v3(about))
+                            .map_err(|e| e.at(&format!("{p}.dilate")))?
                     }
                 };
                 map = map.then(&next);

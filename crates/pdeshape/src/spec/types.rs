@@ -44,6 +44,9 @@ pub struct DesignSpec {
     /// A dynamic PDE curve (`pdeshape curve`); see `docs/design-file.md`.
     #[serde(default)]
     pub dynamic: Option<super::dynamic::DynamicSpec>,
+    /// Design parameters, objective and search options of `pdeshape optimize` (§7.3–7.5).
+    #[serde(default)]
+    pub optimize: Option<crate::optimize::OptimizeSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
@@ -528,6 +531,13 @@ pub enum TransformStep {
     /// Uniform scaling by `factor ≠ 0` about the point `about`.
     Scale {
         factor: f64,
+        #[serde(default)]
+        about: V3,
+    },
+    /// Scaling by `factors = [fx, fy, fz]` (each non-zero) along the axes about the point
+    /// `about`: the dilations `d_kD_i` of §7.5.
+    Dilate {
+        factors: V3,
         #[serde(default)]
         about: V3,
     },

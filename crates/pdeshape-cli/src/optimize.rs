@@ -1,0 +1,234 @@
+//! `pdeshape optimize DESIGN -o BEST.toml`: search the design parameters of `[optimize]` by
+//! simulated annealing and a Nelder–Mead polish (book §7.3–7.5), then write the optimised design
+//! file (the original text with the parameters applied), its mesh (`BEST.obj`), its picture
+//! (`BEST.png`) and the log of the search (`BEST.csv`).
+
+use crate::common::{self, CliError, Output};
+use pdeshape::mesh;
+use pdeshape::optimize::{Problem, VARIABLES};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML) with an [optimize] section.
+    pub design: PathBuf,
+    /// The optimised design file to write (.toml); the mesh (.obj), picture (.png) and search
+    /// log (.csv) go beside it with the same stem.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Seed of the random numbers (default from [optimize], else 1).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Annealing evaluations, all chains together (default from [optimize], else 2000).
+    #[arg(long)]
+    pub evaluations: Option<usize>,
+    /// Independent annealing chains (default from [optimize], else 4).
+    #[arg(long)]
+    pub chains: Option<usize>,
+    /// Nelder–Mead polish evaluations (default from [optimize], else 200).
+    #[arg(long)]
+    pub polish: Option<usize>,
+    /// Worker threads (default: all cores). The result does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Grid rows of the mesh and picture (default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns of the mesh and picture (default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+}
+
+/// `dir/stem.ext` for the companion files of `-o`.
+fn beside(path: &Path, ext: &str) -> PathBuf {
+    path.with_extension(ext)
+}
+
+fn csv_number(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x}")
+    } else if x > 0.0 {
+        "inf".to_string()
+    } else if x < 0.0 {
+        "-inf".to_string()
+    } else {
+        "nan".to_string()
+    }
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    if args.output.extension().and_then(|e| e.to_str()) != Some("toml") {
+        return Err(CliError::input(format!(
+            "-o {shown}: the optimised design file must end in .toml"
+        )));
+    }
+    let design = common::load(&args.design)?;
+    let mut problem = Problem::new(&design.spec).map_err(|e| design.error(&e))?;
+    let (nu, nv) = design.grid(args.nu, args.nv)?;
+    let o = &mut problem.options;
+    if let Some(s) = args.seed {
+        o.seed = s;
+    }
+    if let Some(n) = args.evaluations {
+        o.evaluations = n;
+    }
+    if let Some(n) = args.chains {
+        o.chains = n;
+    }
+    if let Some(n) = args.polish {
+        o.polish = n;
+    }
+    if let Err(e) = problem.options.check() {
+        let flag = e.place().trim_start_matches("optimize.").to_string();
+        return Err(CliError::input(format!(
+            "--{flag}: {}",
+            common::message_of(&e)
+        )));
+    }
+    if args.threads == Some(0) {
+        return Err(CliError::input("--threads: must be at least 1 (got 0)"));
+    }
+    let paths = [
+        args.output.clone(),
+        beside(&args.output, "obj"),
+        beside(&args.output, "png"),
+        beside(&args.output, "csv"),
+    ];
+    for p in &paths[1..] {
+        if p == &args.design {
+            return Err(CliError::input(format!(
+                "-o {shown}: would overwrite the design file {}",
+                p.display()
+            )));
+        }
+    }
+    if args.output == args.design {
+        return Err(CliError::input(format!(
+            "-o {shown}: would overwrite the design file"
+        )));
+    }
+    let mut outs = paths
+        .iter()
+        .map(|p| Output::create(p))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    let total = (problem.options.evaluations + problem.options.polish) as u64;
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} evaluations, best {msg}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let report = |done: usize, best: f64| {
+        bar.set_position(done as u64);
+        bar.set_message(format!("{best:.6}"));
+    };
+    let outcome = match args.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| CliError::input(format!("--threads: {e}")))?
+            .install(|| problem.run(&report)),
+        None => problem.run(&report),
+    };
+    bar.finish_and_clear();
+    let outcome = outcome.map_err(|e| design.error(&e))?;
+    let (best_x, best) = &outcome.best;
+
+    // The optimised design file, then its mesh and picture from the re-read file (so what is
+    // written is what `pdeshape surface` will build).
+    let text = problem
+        .parameters
+        .apply_to_text(&design.text, &design.spec, best_x)
+        .map_err(|e| design.error(&e))?;
+    let reread = pdeshape::spec::parse_design(&text)
+        .and_then(|s| pdeshape::spec::build_design(&s))
+        .map_err(|e| CliError::input(format!("-o {shown}: the optimised design fails: {e}")))?;
+    outs[0].write_all(text.as_bytes())?;
+    let meshes = common::meshes(&reread, nu, nv)?;
+    {
+        let mut w = outs[1].writer();
+        mesh::write_obj(&meshes, &mut w)
+            .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
+    }
+    let png = pdeshape::render::render_png(
+        &meshes,
+        &crate::render::overlays(&reread),
+        &pdeshape::render::RenderOptions::default(),
+    )
+    .map_err(|e| CliError::input(format!("-o {}: {e}", paths[2].display())))?;
+    outs[2].write_all(&png)?;
+    {
+        let names: Vec<&str> = problem
+            .parameters
+            .list
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect();
+        let mut w = outs[3].writer();
+        let io = |e: std::io::Error| CliError::input(format!("-o {}: {e}", paths[3].display()));
+        writeln!(
+            w,
+            "phase,chain,level,temperature,value,accepted,best,{}",
+            names.join(",")
+        )
+        .map_err(io)?;
+        for r in &outcome.search.log {
+            let xs: Vec<String> = r.x.iter().map(|x| csv_number(*x)).collect();
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{},{}",
+                r.phase,
+                r.chain,
+                r.level,
+                csv_number(r.temperature),
+                csv_number(r.value),
+                u8::from(r.accepted),
+                csv_number(r.best),
+                xs.join(",")
+            )
+            .map_err(io)?;
+        }
+        w.flush().map_err(io)?;
+    }
+    for o in outs {
+        o.commit()?;
+    }
+
+    let mut report = String::new();
+    let start_value = outcome
+        .start
+        .1
+        .as_ref()
+        .map_or("failed".to_string(), |e| format!("{:.9}", e.total()));
+    report.push_str(&format!(
+        "objective {}: start {start_value}, best {:.9} (penalty {:.3e}) after {} evaluations\n",
+        problem.objective_text(),
+        best.total(),
+        best.penalty,
+        outcome.search.evaluations
+    ));
+    report.push_str("parameter        initial          best\n");
+    for (p, x) in problem.parameters.list.iter().zip(best_x) {
+        report.push_str(&format!("{:<12} {:>12.6} {:>13.6}\n", p.name, p.initial, x));
+    }
+    let vars: Vec<String> = VARIABLES
+        .iter()
+        .zip(best.variables)
+        .map(|(n, v)| format!("{n} = {v:.9}"))
+        .collect();
+    report.push_str(&format!("{}\n", vars.join(", ")));
+    report.push_str(&format!(
+        "wrote {shown}, {}, {}, {}\n",
+        paths[1].display(),
+        paths[2].display(),
+        paths[3].display()
+    ));
+    common::print_stdout(&report);
+    Ok(())
+}

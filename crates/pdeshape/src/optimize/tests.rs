@@ -1,0 +1,567 @@
+use super::*;
+
+/// Ackley's function: global minimum f(0) = 0; a local minimum near every integer point, each
+/// at least ≈ 2.6 above it (the nearest, (±1, 0), is at f ≈ 3.57).
+fn ackley(x: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let r2 = x.iter().map(|xi| xi * xi).sum::<f64>() / n;
+    let c = x.iter().map(|xi| (crate::TAU * xi).cos()).sum::<f64>() / n;
+    -20.0 * (-0.2 * r2.sqrt()).exp() - c.exp() + std::f64::consts::E + 20.0
+}
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+fn opts(seed: u64, evaluations: usize, chains: usize, polish: usize) -> SearchOptions {
+    SearchOptions {
+        seed,
+        evaluations,
+        chains,
+        polish,
+        ..SearchOptions::default()
+    }
+}
+
+#[test]
+fn ackley_global_minimum_found_and_repeatable_across_thread_counts() {
+    // Ackley's function has ~10ⁿ local minima on the box; the global one is f(0) = 0. Starting
+    // far away near the local minimum (4, −3, 2), annealing must cross the barriers.
+    let bounds = [(-5.0, 5.0); 3];
+    let start = [4.0, -3.0, 2.0];
+    let o = opts(7, 6000, 4, 300);
+    let one = in_pool(1, || {
+        minimize(&ackley, &bounds, &start, &o, &|_, _| {}).unwrap()
+    });
+    let two = in_pool(2, || {
+        minimize(&ackley, &bounds, &start, &o, &|_, _| {}).unwrap()
+    });
+    assert_eq!(one.x, two.x, "result depends on the thread count");
+    assert_eq!(one.value.to_bits(), two.value.to_bits());
+    assert_eq!(one.log, two.log);
+    assert!(one.start_value > 9.0, "start {}", one.start_value);
+    // Near the minimum f ≈ 4/√3 |x| (a cone), so f < 1e-6 means |x| < 5e-7.
+    assert!(one.value < 1e-6, "f = {} at {:?}", one.value, one.x);
+    for xi in &one.x {
+        assert!(xi.abs() < 1e-6, "x = {:?}", one.x);
+    }
+    assert!(one.evaluations <= 6000 + 300);
+    // Another seed is another search (and finds the minimum too).
+    let other = minimize(&ackley, &bounds, &start, &opts(8, 6000, 4, 300), &|_, _| {}).unwrap();
+    assert_ne!(other.log, one.log);
+    assert!(other.value < 1e-6, "f = {}", other.value);
+}
+
+#[test]
+fn rosenbrock_polished_to_the_valley_floor() {
+    // The curved valley defeats annealing's coarse steps; Nelder–Mead finishes at (1, 1).
+    let f = |x: &[f64]| (1.0 - x[0]).powi(2) + 100.0 * (x[1] - x[0] * x[0]).powi(2);
+    let r = minimize(
+        &f,
+        &[(-2.0, 2.0), (-1.0, 3.0)],
+        &[-1.5, 2.5],
+        &opts(3, 1500, 2, 600),
+        &|_, _| {},
+    )
+    .unwrap();
+    assert!(r.value < 1e-12, "f = {} at {:?}", r.value, r.x);
+    assert!(
+        (r.x[0] - 1.0).abs() < 1e-5 && (r.x[1] - 1.0).abs() < 1e-5,
+        "{:?}",
+        r.x
+    );
+    assert!(r.log.iter().any(|l| l.phase == "polish"));
+}
+
+#[test]
+fn minimum_on_a_bound_and_bounds_never_evaluated() {
+    // min (x − 3)² + (y + 1)² over [0, 2] × [0, 1]: at (2, 0), value 2.
+    let outside = std::sync::atomic::AtomicUsize::new(0);
+    let f = |x: &[f64]| {
+        if !(0.0..=2.0).contains(&x[0]) || !(0.0..=1.0).contains(&x[1]) {
+            outside.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+        (x[0] - 3.0).powi(2) + (x[1] + 1.0).powi(2)
+    };
+    let r = minimize(
+        &f,
+        &[(0.0, 2.0), (0.0, 1.0)],
+        &[1.0, 0.5],
+        &opts(1, 800, 2, 200),
+        &|_, _| {},
+    )
+    .unwrap();
+    assert_eq!(outside.load(std::sync::atomic::Ordering::Relaxed), 0);
+    assert!((r.value - 2.0).abs() < 1e-7, "f = {} at {:?}", r.value, r.x);
+    assert!(
+        (r.x[0] - 2.0).abs() < 1e-7 && r.x[1].abs() < 1e-7,
+        "{:?}",
+        r.x
+    );
+}
+
+#[test]
+fn failed_evaluations_are_infeasible_not_fatal() {
+    // The objective "fails" (NaN) on half the box, including the unconstrained minimum's side.
+    let f = |x: &[f64]| {
+        if x[0] < 0.0 {
+            f64::NAN
+        } else {
+            (x[0] + 1.0).powi(2) + x[1] * x[1]
+        }
+    };
+    let r = minimize(
+        &f,
+        &[(-2.0, 2.0), (-2.0, 2.0)],
+        &[1.5, 1.5],
+        &opts(5, 1000, 3, 200),
+        &|_, _| {},
+    )
+    .unwrap();
+    assert!(r.value.is_finite());
+    assert!(
+        r.x[0] >= 0.0 && r.x[0] < 1e-6 && r.x[1].abs() < 1e-6,
+        "{:?}",
+        r.x
+    );
+    assert!(r.log.iter().any(|l| l.value.is_infinite()));
+}
+
+#[test]
+fn progress_reports_every_evaluation_and_the_best_so_far() {
+    let calls = std::sync::Mutex::new(Vec::new());
+    let f = |x: &[f64]| x[0] * x[0];
+    let r = minimize(
+        &f,
+        &[(-1.0, 1.0)],
+        &[0.9],
+        &opts(2, 100, 2, 20),
+        &|n, best| {
+            calls.lock().unwrap().push((n, best));
+        },
+    )
+    .unwrap();
+    let calls = calls.into_inner().unwrap();
+    assert_eq!(calls.len(), r.evaluations);
+    assert_eq!(calls.iter().map(|c| c.0).max(), Some(r.evaluations));
+    assert_eq!(calls.last().map(|c| c.1 <= 0.81), Some(true));
+    assert!(calls.iter().all(|c| c.1 >= r.value));
+}
+
+#[test]
+fn nelder_mead_quadratic_and_budget() {
+    let g = |x: &[f64]| (x[0] - 0.3).powi(2) + 4.0 * (x[1] + 0.2).powi(2) + x[0] * x[1];
+    // Minimum: ∇ = (2(x−0.3) + y, 8(y+0.2) + x) = 0 → x = (4.8+1.6)/15·…; solve exactly.
+    let (a, b, c, d) = (2.0, 1.0, 1.0, 8.0);
+    let (r0, r1) = (0.6, -1.6);
+    let det = a * d - b * c;
+    let (xs, ys) = ((r0 * d - b * r1) / det, (a * r1 - c * r0) / det);
+    let mut used = 0;
+    let (x, v, log) = nelder_mead(&g, &[1.0, 1.0], g(&[1.0, 1.0]), &[0.1, 0.1], 500, &mut used);
+    assert!(used <= 500 && log.len() == used);
+    assert!(
+        (x[0] - xs).abs() < 1e-6 && (x[1] - ys).abs() < 1e-6,
+        "{x:?} vs ({xs}, {ys})"
+    );
+    assert!((v - g(&[xs, ys])).abs() < 1e-12);
+    let mut used = 0;
+    let _ = nelder_mead(&g, &[1.0, 1.0], g(&[1.0, 1.0]), &[0.1, 0.1], 7, &mut used);
+    assert!(used <= 7);
+}
+
+#[test]
+fn options_are_checked() {
+    let f = |x: &[f64]| x[0];
+    let e = minimize(&f, &[(0.0, 1.0)], &[0.5], &opts(1, 10, 0, 0), &|_, _| {}).unwrap_err();
+    assert_eq!(e.place(), "optimize.chains");
+    let mut o = opts(1, 10, 1, 0);
+    o.cooling = Some(1.0);
+    let e = minimize(&f, &[(0.0, 1.0)], &[0.5], &o, &|_, _| {}).unwrap_err();
+    assert_eq!(e.place(), "optimize.cooling");
+    let e = minimize(&f, &[(0.0, 1.0)], &[2.0], &opts(1, 10, 1, 0), &|_, _| {}).unwrap_err();
+    assert!(e.to_string().contains("outside"), "{e}");
+}
+
+// ---- design parameters ----
+
+use crate::spec::{build_curves, parse_design};
+use crate::Vec3;
+
+const CURVATURE: &str = include_str!("../../../../examples/optimize_curvature.toml");
+const VESICLE: &str = include_str!("../../../../examples/vesicle.toml");
+
+fn curve_points(spec: &DesignSpec, name: &str) -> Vec<Vec3> {
+    let curves = build_curves(spec).unwrap();
+    let c = &curves.iter().find(|c| c.name == name).unwrap().curve;
+    (0..16)
+        .map(|k| c.point(crate::TAU * k as f64 / 16.0))
+        .collect()
+}
+
+fn problem_of(text: &str) -> Problem {
+    Problem::new(&parse_design(text).unwrap()).unwrap()
+}
+
+#[test]
+fn parameters_read_in_the_books_notation() {
+    let p = problem_of(CURVATURE);
+    assert_eq!(p.parameters.len(), 19);
+    assert_eq!(
+        p.parameters.list[0].kind,
+        ParamKind::Translate {
+            curve: "d1".into(),
+            axis: 0
+        }
+    );
+    assert_eq!(
+        p.parameters.list[17].kind,
+        ParamKind::Dilate {
+            curve: "d2".into(),
+            axis: 2
+        }
+    );
+    assert_eq!(p.parameters.list[18].kind, ParamKind::Smoothing);
+    // Neutral initial values: 0 for T and R, 1 for D, the design's a = 0.5 (Table 7.2).
+    let x0 = p.parameters.initial();
+    assert_eq!(&x0[..12], &[0.0; 12]);
+    assert_eq!(&x0[12..18], &[1.0; 6]);
+    assert_eq!(x0[18], 0.5);
+    // At the initial values the design is the file's design.
+    let applied = p.design(&x0);
+    for name in ["d1", "d2", "p1"] {
+        let (a, b) = (curve_points(&applied, name), curve_points(&p.base, name));
+        for (x, y) in a.iter().zip(&b) {
+            assert!((x - y).norm() < 1e-14, "{name}: {x} vs {y}");
+        }
+    }
+}
+
+#[test]
+fn parameters_move_curves_as_stated() {
+    let p = problem_of(CURVATURE);
+    let base = curve_points(&p.base, "d1");
+    // d1 is the circle of radius 1.6 about (0, 0.6, 0) in the plane y = 0.6.
+    let centre = Vec3::new(0.0, 0.6, 0.0);
+    let mut x = p.parameters.initial();
+    x[0] = 0.3; // d1Tx
+    x[4] = 0.2; // d1Ty
+    x[7] = 0.5; // d1Ry (radians)
+    x[12] = 2.0; // d1Dx
+    x[14] = 0.5; // d1Dz
+    let moved = curve_points(&p.design(&x), "d1");
+    let (s, c) = 0.5f64.sin_cos();
+    for (b, m) in base.iter().zip(&moved) {
+        let r = b - centre;
+        let d = Vec3::new(2.0 * r.x, r.y, 0.5 * r.z);
+        // Rotation about +y: (x, z) ↦ (x cos + z sin, −x sin + z cos).
+        let rot = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+        let want = centre + rot + Vec3::new(0.3, 0.2, 0.0);
+        assert!((m - want).norm() < 1e-13, "{m} vs {want}");
+    }
+    // d2 is untouched; a is set.
+    assert_eq!(
+        curve_points(&p.design(&x), "d2"),
+        curve_points(&p.base, "d2")
+    );
+    x[18] = 2.5;
+    assert_eq!(
+        p.design(&x).operator,
+        Some(crate::spec::OperatorSpec::Polyharmonic { order: 2, a: 2.5 })
+    );
+}
+
+#[test]
+fn edited_text_builds_the_same_design_and_keeps_the_layout() {
+    let p = problem_of(CURVATURE);
+    let mut x = p.parameters.initial();
+    for (i, xi) in x.iter_mut().enumerate() {
+        let (lo, hi) = (p.parameters.list[i].min, p.parameters.list[i].max);
+        *xi = lo + (hi - lo) * (0.3 + 0.03 * i as f64);
+    }
+    let text = p.parameters.apply_to_text(CURVATURE, &p.base, &x).unwrap();
+    assert!(text.contains("# A biharmonic patch between two fixed position curves"));
+    assert!(text.contains("dilate = {"), "{text}");
+    let reread = parse_design(&text).unwrap();
+    let direct = p.design(&x);
+    for name in ["d1", "d2", "p1", "p2", "t1", "t2"] {
+        let (a, b) = (curve_points(&reread, name), curve_points(&direct, name));
+        for (u, w) in a.iter().zip(&b) {
+            assert!((u - w).norm() < 1e-13, "{name}: {u} vs {w}");
+        }
+    }
+    assert_eq!(reread.operator, direct.operator);
+    // The rewritten file still carries the [optimize] section and re-reads as a problem whose
+    // parameters now act on top of the applied design.
+    assert!(Problem::new(&reread).is_ok());
+}
+
+#[test]
+fn control_offsets_alternate_along_the_polygon_normal() {
+    let text = r#"
+conditions = [{ u = 0, curve = "ring" }, { u = 1, curve = "top" }]
+[curves.ring]
+type = "bspline"
+degree = 3
+control = [[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]]
+[curves.top]
+type = "circle"
+center = [0, 0, 1]
+radius = 1.0
+[operator]
+kind = "polyharmonic"
+order = 1
+[optimize]
+objective = "area"
+parameters = [{ name = "ringcT", min = -0.3, max = 0.3 }]
+"#;
+    let p = problem_of(text);
+    let spec = p.design(&[0.2]);
+    let Some(crate::spec::CurveSpec {
+        kind: crate::spec::CurveKind::BSpline { control, .. },
+        ..
+    }) = spec.curves.get("ring")
+    else {
+        panic!("not a bspline")
+    };
+    // Outward normals of this square polygon are the radial directions.
+    assert_eq!(control[0], [1.2, 0.0, 0.0]);
+    assert!((control[1][1] - 0.8).abs() < 1e-15 && control[1][0].abs() < 1e-15);
+    assert!((control[2][0] + 1.2).abs() < 1e-15);
+    assert!((control[3][1] + 0.8).abs() < 1e-15);
+    let edited = p.parameters.apply_to_text(text, &p.base, &[0.2]).unwrap();
+    let reread = parse_design(&edited).unwrap();
+    assert_eq!(
+        curve_points(&reread, "ring"),
+        curve_points(&spec, "ring"),
+        "{edited}"
+    );
+}
+
+fn error_of(text: &str) -> crate::Error {
+    Problem::new(&parse_design(text).unwrap()).unwrap_err()
+}
+
+#[test]
+fn bad_parameters_are_refused_with_their_place() {
+    let with = |params: &str| {
+        CURVATURE.replace(
+            r#"  { name = "a", min = 0.01, max = 9.0 },"#,
+            &format!("  {params},"),
+        )
+    };
+    let cases = [
+        (
+            r#"{ name = "d3Dx", min = 0.5, max = 2 }"#,
+            "optimize.parameters[18].name",
+            "'d3'",
+        ),
+        (
+            r#"{ name = "d1Qx", min = 0.5, max = 2 }"#,
+            "optimize.parameters[18].name",
+            "unknown parameter",
+        ),
+        (
+            r#"{ name = "d1cT", min = -1, max = 1 }"#,
+            "optimize.parameters[18].name",
+            "bspline",
+        ),
+        (
+            r#"{ name = "d1Dz", min = 0.5, max = 2 }"#,
+            "optimize.parameters[18].name",
+            "twice",
+        ),
+        (
+            r#"{ name = "a", min = 2, max = 1 }"#,
+            "optimize.parameters[18].max",
+            "greater",
+        ),
+        (
+            r#"{ name = "a", min = 0, max = 1 }"#,
+            "optimize.parameters[18].min",
+            "positive",
+        ),
+        (
+            r#"{ name = "d1Rx", min = 0.1, max = 1 }"#,
+            "optimize.parameters[18].min",
+            "outside",
+        ),
+        (
+            r#"{ name = "d1Rx", min = -1, max = 1, initial = 3 }"#,
+            "optimize.parameters[18].initial",
+            "outside",
+        ),
+    ];
+    for (param, place, words) in cases {
+        let e = error_of(&with(param));
+        assert_eq!(e.place(), place, "{param}: {e}");
+        assert!(e.to_string().contains(words), "{param}: {e}");
+    }
+    let e = error_of(&CURVATURE.replace("d1Dx", "d1Dy").replace(
+        r#"{ name = "d1Dy", min = 0.01"#,
+        r#"{ name = "d1Dy", min = -0.01"#,
+    ));
+    assert!(e.to_string().contains("must not contain 0"), "{e}");
+    let e = error_of(&CURVATURE.replace(r#"objective = "bending""#, r#"objective = "bend + 1""#));
+    assert_eq!(e.place(), "optimize.objective");
+    assert!(e.to_string().contains("unknown variable 'bend'"), "{e}");
+    let e = error_of(&VESICLE.replace("equal = 0.8", "equal = 0.8, max = 2"));
+    assert_eq!(e.place(), "optimize.constraints[0]");
+    let e = error_of(&VESICLE.replace("weight = 1e5", "weight = -1"));
+    assert_eq!(e.place(), "optimize.constraints[0].weight");
+    let e = error_of(&VESICLE.replace("chains = 4", "chains = 0"));
+    assert_eq!(e.place(), "optimize.chains");
+    let e = error_of(&VESICLE.replace("quadrature_v = 16", "quadrature_v = 1"));
+    assert_eq!(e.place(), "optimize.quadrature_v");
+    let e = Problem::new(
+        &parse_design("[curves.c]\ntype = \"circle\"\ncenter = [0,0,0]\nradius = 1\n").unwrap(),
+    )
+    .unwrap_err();
+    assert_eq!(e.place(), "optimize");
+}
+
+#[test]
+fn formulas_and_penalties() {
+    let p = problem_of(&VESICLE.replace(
+        r#"objective = "helfrich""#,
+        r#"objective = "helfrich / (8*pi) + 0*area""#,
+    ));
+    // A unit sphere's integrals: A = 4π, V = 4π/3, ∫H = 4π (H = 1), ∫H² = 4π, ∫K = 4π.
+    let pi = std::f64::consts::PI;
+    let t = Totals {
+        area: 4.0 * pi,
+        volume: 4.0 * pi / 3.0,
+        mean: 4.0 * pi,
+        mean_sq: 4.0 * pi,
+        gauss: 4.0 * pi,
+    };
+    let e = p.evaluate_totals(&t);
+    assert!((e.objective - 1.0).abs() < 1e-15, "{}", e.objective);
+    let v = |name: &str| e.variables[VARIABLES.iter().position(|n| *n == name).unwrap()];
+    assert!((v("bending") - 8.0 * pi).abs() < 1e-13);
+    assert!((v("nu") - 1.0).abs() < 1e-15);
+    assert!((v("helfrich") - 8.0 * pi).abs() < 1e-13);
+    // ν = 1 against the target 0.8 with weight 1e5: penalty 1e5 · 0.2².
+    assert!((e.penalty - 1e5 * 0.04).abs() < 1e-8, "{}", e.penalty);
+    // Helfrich with C0: ½∫(2H − C0)² dA on the unit sphere = ½ (2 − C0)² 4π.
+    let mut q = p.clone();
+    q.spontaneous_curvature = 0.5;
+    let e = q.evaluate_totals(&t);
+    assert!((v("C0") - 0.0).abs() == 0.0);
+    let h = e.variables[7];
+    assert!((h - 0.5 * 1.5f64.powi(2) * 4.0 * pi).abs() < 1e-13, "{h}");
+}
+
+// ---- integrals ----
+
+#[test]
+fn gauss_legendre_rule_is_exact_to_degree_2n_minus_1() {
+    let (x, w) = measure::gauss_legendre01(6);
+    for k in 0..12 {
+        let q: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(k)).sum();
+        assert!((q - 1.0 / (k + 1) as f64).abs() < 1e-15, "k = {k}: {q}");
+    }
+}
+
+/// A torus with radii (R, r) or, with R = 0 and the u-range [0, π], a sphere of radius r:
+/// X = ((R + r sin θ) cos v, (R + r sin θ) sin v, r cos θ), θ = span·u.
+struct Torus {
+    big: f64,
+    r: f64,
+    span: f64,
+}
+
+impl crate::surface::Surface for Torus {
+    fn v_domain(&self) -> crate::surface::VDomain {
+        crate::surface::VDomain::Periodic
+    }
+    fn partials(&self, u: f64, v: f64) -> crate::surface::Partials {
+        let (k, r, big) = (self.span, self.r, self.big);
+        let (st, ct) = (k * u).sin_cos();
+        let (sv, cv) = v.sin_cos();
+        let rho = big + r * st;
+        crate::surface::Partials {
+            x: Vec3::new(rho * cv, rho * sv, r * ct),
+            xu: Vec3::new(r * k * ct * cv, r * k * ct * sv, -r * k * st),
+            xv: Vec3::new(-rho * sv, rho * cv, 0.0),
+            xuu: Vec3::new(-r * k * k * st * cv, -r * k * k * st * sv, -r * k * k * ct),
+            xuv: Vec3::new(-r * k * ct * sv, r * k * ct * cv, 0.0),
+            xvv: Vec3::new(-rho * cv, -rho * sv, 0.0),
+        }
+    }
+}
+
+#[test]
+fn sphere_and_torus_integrals_match_closed_forms() {
+    let pi = std::f64::consts::PI;
+    // Sphere of radius 2 (u from the north pole to the south pole).
+    let r = 2.0;
+    let t = measure::totals(
+        &[&Torus {
+            big: 0.0,
+            r,
+            span: pi,
+        }],
+        24,
+        8,
+    )
+    .unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12 * b.abs().max(1.0);
+    assert!(close(t.area, 4.0 * pi * r * r), "{t:?}");
+    assert!(close(t.volume, 4.0 / 3.0 * pi * r.powi(3)), "{t:?}");
+    assert!(close(t.mean, 4.0 * pi * r), "{t:?}");
+    assert!(close(t.mean_sq, 4.0 * pi), "{t:?}");
+    assert!(close(t.gauss, 4.0 * pi), "{t:?}");
+    let v = t.variables(0.0);
+    assert!(close(v[7], 8.0 * pi) && close(v[8], 1.0), "{v:?}");
+    // Torus R = 3, r = 1 (u once around the tube): A = 4π²Rr, V = 2π²Rr², ∫H dA = 2π²R, ∫K = 0.
+    let (big, r) = (3.0, 1.0);
+    let t = measure::totals(
+        &[&Torus {
+            big,
+            r,
+            span: crate::TAU,
+        }],
+        48,
+        16,
+    )
+    .unwrap();
+    assert!(close(t.area, 4.0 * pi * pi * big * r), "{t:?}");
+    assert!(close(t.volume, 2.0 * pi * pi * big * r * r), "{t:?}");
+    assert!(t.gauss.abs() < 1e-12, "{t:?}");
+    assert!(close(t.mean, 2.0 * pi * pi * big), "{t:?}");
+    // The Willmore energy of this torus is π² c² / √(c² − 1), c = R/r (2π² for the Clifford
+    // torus c = √2).
+    let c = big / r;
+    assert!(
+        close(t.mean_sq, pi * pi * c * c / (c * c - 1.0).sqrt()),
+        "{t:?}"
+    );
+}
+
+#[test]
+fn vesicle_start_is_closed_smooth_and_converged() {
+    let p = problem_of(VESICLE);
+    let built = crate::spec::build_design(&p.design(&p.parameters.initial())).unwrap();
+    let fine = measure(&built, 64, 64).unwrap();
+    let coarse = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
+    // Gauss–Bonnet for a closed smooth genus-0 surface: ∫K dA = 4π (an independent check of
+    // the smoothness at the poles and the tangent continuity at the equator).
+    let pi = std::f64::consts::PI;
+    assert!((fine.gauss - 4.0 * pi).abs() < 1e-9, "{fine:?}");
+    // The search's coarse rule agrees with the fine one.
+    for (a, b) in [
+        (coarse.area, fine.area),
+        (coarse.volume, fine.volume),
+        (coarse.mean_sq, fine.mean_sq),
+    ] {
+        assert!((a - b).abs() < 1e-8 * b.abs(), "{a} vs {b}");
+    }
+    let v = fine.variables(0.0);
+    // Isoperimetric and Willmore inequalities.
+    assert!(v[8] < 1.0 && v[8] > 0.5, "nu = {}", v[8]);
+    assert!(v[7] > 8.0 * pi, "helfrich = {}", v[7]);
+}
