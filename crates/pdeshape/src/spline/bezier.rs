@@ -1,7 +1,7 @@
 //! Tensor-product Bézier surfaces on `[0, 1]²`.
 
 use super::bspline::{check_control, BSplineSurface};
-use crate::surface::{Partials, Surface, VDomain};
+use crate::surface::{Partials, RowEvaluator, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 
 /// Tensor-product Bézier patch of degrees `[n, m]` on `[0, 1]²`:
@@ -18,6 +18,9 @@ use crate::{Error, Result, Vec3};
 pub struct BezierSurface {
     degree: [usize; 2],
     control: Vec<Vec3>,
+    /// The same patch as a one-span B-spline: `Surface::partials` and the grid rows use its
+    /// basis tables (the Cox–de Boor basis on `0^{n+1} 1^{n+1}` is the Bernstein basis).
+    spline: BSplineSurface,
 }
 
 impl BezierSurface {
@@ -35,7 +38,23 @@ impl BezierSurface {
             )));
         }
         check_control(&control, m + 1)?;
-        Ok(BezierSurface { degree, control })
+        Ok(Self::build(degree, control))
+    }
+
+    fn build(degree: [usize; 2], control: Vec<Vec3>) -> Self {
+        let [n, m] = degree;
+        let knots = |d: usize| {
+            let mut k = vec![0.0; d + 1];
+            k.extend(std::iter::repeat_n(1.0, d + 1));
+            k
+        };
+        let spline = BSplineSurface::new(degree, knots(n), knots(m), control.clone())
+            .expect("a valid Bézier net is a valid single-span B-spline net");
+        BezierSurface {
+            degree,
+            control,
+            spline,
+        }
     }
 
     /// Degrees `[n, m]`.
@@ -115,10 +134,7 @@ impl BezierSurface {
                 out[i * w + j] = lo * a + hi * (1.0 - a);
             }
         }
-        BezierSurface {
-            degree: [n + 1, m],
-            control: out,
-        }
+        Self::build([n + 1, m], out)
     }
 
     /// The same patch written with degree `m + 1` in `v`.
@@ -135,23 +151,13 @@ impl BezierSurface {
                 control.push(self.control[i * (m + 1) + j]);
             }
         }
-        BezierSurface {
-            degree: [m, n],
-            control,
-        }
+        Self::build([m, n], control)
     }
 
     /// The patch as a B-spline surface with one span: knots `0` and `1` each repeated
     /// `degree + 1` times, the same control net.
     pub fn to_bspline(&self) -> BSplineSurface {
-        let [n, m] = self.degree;
-        let knots = |d: usize| {
-            let mut k = vec![0.0; d + 1];
-            k.extend(std::iter::repeat_n(1.0, d + 1));
-            k
-        };
-        BSplineSurface::new(self.degree, knots(n), knots(m), self.control.clone())
-            .expect("a valid Bézier net is a valid single-span B-spline net")
+        self.spline.clone()
     }
 }
 
@@ -188,14 +194,12 @@ impl Surface for BezierSurface {
         VDomain::Interval(0.0, 1.0)
     }
 
+    /// From the Bernstein basis values and derivatives (the one-span B-spline's tables).
     fn partials(&self, u: f64, v: f64) -> Partials {
-        Partials {
-            x: self.point_at(u, v),
-            xu: self.derivative(u, v, 1, 0),
-            xv: self.derivative(u, v, 0, 1),
-            xuu: self.derivative(u, v, 2, 0),
-            xuv: self.derivative(u, v, 1, 1),
-            xvv: self.derivative(u, v, 0, 2),
-        }
+        self.spline.partials(u, v)
+    }
+
+    fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
+        self.spline.row_evaluator(vs)
     }
 }

@@ -471,10 +471,24 @@ fn surface_impls_agree_with_derivative_and_rows() {
     }
     let z = rand_bezier(&mut rng, 3, 4);
     assert_eq!(z.v_domain(), VDomain::Interval(0.0, 1.0));
-    let p = z.partials(0.3, 0.6);
-    assert_eq!(p.xuv, z.derivative(0.3, 0.6, 1, 1));
-    assert_eq!(p.xvv, z.derivative(0.3, 0.6, 0, 2));
-    assert_eq!(p.x, z.point_at(0.3, 0.6));
+    // Bernstein tables (partials, rows) against de Casteljau on forward differences.
+    let close = |x: Vec3, y: Vec3| (x - y).amax() <= 1e-13 * y.amax().max(1.0);
+    for &(u, v) in &[(0.3, 0.6), (0.0, 1.0), (0.9, 0.05)] {
+        let p = z.partials(u, v);
+        assert!(close(p.x, z.point_at(u, v)));
+        assert!(close(p.xu, z.derivative(u, v, 1, 0)));
+        assert!(close(p.xv, z.derivative(u, v, 0, 1)));
+        assert!(close(p.xuu, z.derivative(u, v, 2, 0)));
+        assert!(close(p.xuv, z.derivative(u, v, 1, 1)));
+        assert!(close(p.xvv, z.derivative(u, v, 0, 2)));
+    }
+    let vs = [0.0, 0.25, 0.5, 1.0];
+    let mut row = RowBuf::new(4);
+    z.row_evaluator(&vs).eval_row(0.4, &mut row);
+    for (j, &v) in vs.iter().enumerate() {
+        assert!(close(row.point(j), z.point_at(0.4, v)));
+        assert!((row.normal(j) - z.partials(0.4, v).normal()).amax() < 1e-12);
+    }
 }
 
 #[test]
