@@ -28,6 +28,7 @@ pub mod mesh;
 pub mod optimize;
 pub mod render;
 pub mod spec;
+pub mod spline;
 pub mod surface;
 
 pub use error::{Error, Result};
