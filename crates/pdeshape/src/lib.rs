@@ -26,6 +26,7 @@ pub mod fourier;
 pub mod mesh;
 pub mod render;
 pub mod spec;
+pub mod splinepde;
 pub mod surface;
 
 pub use error::{Error, Result};
