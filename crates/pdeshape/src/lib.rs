@@ -26,6 +26,7 @@ pub mod fourier;
 pub mod mesh;
 pub mod render;
 pub mod spec;
+pub mod spline;
 pub mod splinepde;
 pub mod surface;
 
