@@ -118,6 +118,17 @@ impl<T: Scalar> Direction<T> {
                 run = 1;
             }
         }
+        // Inside the domain a knot of multiplicity p + 1 would break the surface apart.
+        let n = self.count();
+        for i in p + 1..n {
+            let mult = self.knots.iter().filter(|k| **k == self.knots[i]).count();
+            if mult > p {
+                return Err(Error::invalid(format!(
+                    "knots_{name}: the interior knot {} is repeated {mult} times; at most p = {p} inside the domain",
+                    self.knots[i].to_text()
+                )));
+            }
+        }
         let (a, b) = self.domain();
         if (b - a).to_f64().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(Error::invalid(format!(

@@ -560,6 +560,23 @@ impl<T: Scalar> SplineNet<T> {
     }
 }
 
+impl<T: Scalar> SplineNet<T> {
+    /// The solved surface as a [`crate::spline::BSplineSurface`] (control points rounded to
+    /// `f64` in exact mode): evaluation, meshes, knot insertion and degree elevation.
+    pub fn to_bspline(&self) -> Result<crate::spline::BSplineSurface> {
+        let f = self.to_f64();
+        crate::spline::BSplineSurface::new(
+            [f.u.degree, f.v.degree],
+            f.u.knots.clone(),
+            f.v.knots.clone(),
+            f.control
+                .iter()
+                .map(|p| Vec3::new(p[0], p[1], p[2]))
+                .collect(),
+        )
+    }
+}
+
 impl SplineNet<f64> {
     /// Control point `(i, j)` as a vector.
     pub fn vec3(&self, i: usize, j: usize) -> Vec3 {

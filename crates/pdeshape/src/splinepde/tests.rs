@@ -1,5 +1,6 @@
 use super::export::{iges_timestamp, to_iges, to_json, IgesOptions};
 use super::*;
+use crate::Vec3;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 type Q = BigRational;
@@ -112,6 +113,15 @@ fn random_solution<T: Solve>(
 /// rounding in the evaluation is a modest multiple of ε times it.
 fn relative_residual(net: &SplineNet<f64>, u: f64, v: f64) -> f64 {
     let r = net.residual(&u, &v);
+    let mut scale = net.operator.rhs().amax();
+    for (w, o) in net.operator.terms() {
+        scale += w.abs() * natural_scale(net, o);
+    }
+    r.iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale.max(f64::MIN_POSITIVE)
+}
+
+/// `max|P| · (p/h_min,u)^α (q/h_min,v)^β`: a bound on the size of `∂u^α ∂v^β x`.
+fn natural_scale(net: &SplineNet<f64>, o: [usize; 2]) -> f64 {
     let hmin = |d: &Direction<f64>| {
         d.knots
             .windows(2)
@@ -125,14 +135,8 @@ fn relative_residual(net: &SplineNet<f64>, u: f64, v: f64) -> f64 {
         .iter()
         .flatten()
         .fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut scale = net.operator.rhs().amax();
-    for (w, o) in net.operator.terms() {
-        scale += w.abs()
-            * pmax
-            * (net.u.degree as f64 / hu).powi(o[0] as i32)
-            * (net.v.degree as f64 / hv).powi(o[1] as i32);
-    }
-    r.iter().fold(0.0f64, |m, x| m.max(x.abs())) / scale.max(f64::MIN_POSITIVE)
+    pmax * (net.u.degree as f64 / hu).powi(o[0] as i32)
+        * (net.v.degree as f64 / hv).powi(o[1] as i32)
 }
 
 #[test]
@@ -943,4 +947,80 @@ fn surface_partials_and_tessellation() {
     assert_eq!(mesh.len(), 63);
     let corner = net.derivative(&net.u.domain().0, &v0, 0, 0);
     assert!((mesh.positions[0][0] as f64 - corner[0]).abs() < 1e-5 * scale);
+}
+
+/// Knot insertion and degree elevation (of `spline::BSplineSurface`) leave solutions solutions:
+/// the refined surface has the same residual (zero) at random points, evaluated by the B-spline
+/// surface's own derivatives, which also agree with the net's evaluator before refinement.
+#[test]
+fn knot_insertion_and_degree_elevation_keep_solutions() {
+    let mut rng = StdRng::seed_from_u64(10);
+    for case in 0..8 {
+        let fourth = case % 2 == 1;
+        let (p, qd) = if fourth { (4, 3) } else { (3, 2) };
+        let u: Direction<f64> = random_direction(&mut rng, p, 1 + case % 3);
+        let v: Direction<f64> = random_direction(&mut rng, qd, 1 + (case / 3) % 2);
+        let op = random_operator(&mut rng, fourth);
+        let Some(truth) = random_solution(&mut rng, &u, &v, &op) else {
+            continue;
+        };
+        let nv = v.count();
+        let fixed = ring_indices([u.count() - 1, nv - 1], if fourth { 2 } else { 1 })
+            .into_iter()
+            .map(|[i, j]| ([i, j], truth[i * nv + j]))
+            .collect();
+        let net = solve(&SplineProblem {
+            u: u.clone(),
+            v: v.clone(),
+            operator: op.clone(),
+            fixed,
+        })
+        .unwrap();
+        let bs = net.to_bspline().unwrap();
+        let (u0, u1) = u.domain();
+        let (v0, v1) = v.domain();
+        let tu = u0 + (u1 - u0) * rng.gen_range(0.1..0.9);
+        let tv = v0 + (v1 - v0) * rng.gen_range(0.1..0.9);
+        let refined = bs
+            .insert_knot_u(tu)
+            .and_then(|s| s.insert_knot_v(tv))
+            .and_then(|s| s.elevate_degree_u())
+            .and_then(|s| s.elevate_degree_v())
+            .unwrap();
+        assert_eq!(refined.degree(), [p + 1, qd + 1]);
+        // The refined net as a net of the refined space: its residual, by our evaluator.
+        let rnet = SplineNet {
+            u: Direction {
+                degree: p + 1,
+                knots: refined.knots_u().to_vec(),
+            },
+            v: Direction {
+                degree: qd + 1,
+                knots: refined.knots_v().to_vec(),
+            },
+            operator: op.clone(),
+            control: refined.control().iter().map(|x| [x.x, x.y, x.z]).collect(),
+            report: net.report.clone(),
+        };
+        for _ in 0..10 {
+            let (s, t) = (rng.gen_range(u0..=u1), rng.gen_range(v0..=v1));
+            for (_, o) in op.terms() {
+                let a = bs.derivative(s, t, o[0], o[1]);
+                let b = net.derivative(&s, &t, o[0], o[1]);
+                let c = refined.derivative(s, t, o[0], o[1]);
+                // Natural size of this derivative (see `relative_residual`).
+                let scale = natural_scale(&net, o);
+                assert!(
+                    (a - Vec3::new(b[0], b[1], b[2])).amax() <= 1e-12 * scale,
+                    "case {case}: evaluators differ"
+                );
+                assert!(
+                    (a - c).amax() <= 1e-12 * scale,
+                    "case {case}: refinement changed the surface: {a} {c} {scale}"
+                );
+            }
+            let r = relative_residual(&rnet, s, t);
+            assert!(r <= 1e-10, "case {case}: refined residual {r:e}");
+        }
+    }
 }
