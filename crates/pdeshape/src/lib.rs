@@ -29,6 +29,7 @@ pub mod optimize;
 pub mod render;
 pub mod spec;
 pub mod spline;
+pub mod splinepde;
 pub mod surface;
 
 pub use error::{Error, Result};

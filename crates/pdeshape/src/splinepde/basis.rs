@@ -1,0 +1,277 @@
+//! B-spline basis functions as polynomials on each knot span, and at single points.
+//!
+//! On a non-empty span `[u_k, u_{k+1})` of a knot vector `U = {u_0, …, u_{n+p+1}}` only
+//! `N_{k−p,p}, …, N_{k,p}` are non-zero, and each is a polynomial of degree `p`. We write it in the
+//! local variable `s = (u − u_k)/h`, `h = u_{k+1} − u_k`, so that `s ∈ [0, 1]`, and build it with
+//! the Cox–de Boor recursion (seed 003 §3)
+//! `N_{i,r}(u) = (u − u_i)/(u_{i+r} − u_i) N_{i,r−1}(u) + (u_{i+r+1} − u)/(u_{i+r+1} − u_{i+1}) N_{i+1,r−1}(u)`
+//! carried out on polynomial coefficients (a quotient with a zero denominator counts as 0).
+
+use super::scalar::Scalar;
+use crate::{Error, Result};
+
+/// Polynomial coefficients `c_0 + c_1 s + …` in a local variable.
+pub type Poly<T> = Vec<T>;
+
+/// `d^k/ds^k` of a polynomial.
+pub fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
+    if k >= p.len() {
+        return Vec::new();
+    }
+    (k..p.len())
+        .map(|n| {
+            // n (n−1) … (n−k+1)
+            let f: i64 = ((n - k + 1)..=n).map(|x| x as i64).product();
+            p[n].clone() * T::from_i64(f)
+        })
+        .collect()
+}
+
+/// `∫_0^1 p(s) q(s) ds`, exactly as far as the scalar allows.
+pub fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
+    let mut acc = T::zero();
+    for (a, pa) in p.iter().enumerate() {
+        if pa.is_zero() {
+            continue;
+        }
+        for (b, qb) in q.iter().enumerate() {
+            if qb.is_zero() {
+                continue;
+            }
+            acc = acc + pa.clone() * qb.clone() / T::from_i64((a + b + 1) as i64);
+        }
+    }
+    acc
+}
+
+/// One direction of a tensor-product spline space: degree and knot vector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Direction<T> {
+    pub degree: usize,
+    pub knots: Vec<T>,
+}
+
+/// The basis of one non-empty knot span.
+#[derive(Clone, Debug)]
+pub struct Span<T> {
+    /// Index `k` of the span `[u_k, u_{k+1})`.
+    pub k: usize,
+    /// `h = u_{k+1} − u_k > 0`.
+    pub h: T,
+    /// `polys[r]` is `N_{k−p+r,p}` in the local variable `s`.
+    pub polys: Vec<Poly<T>>,
+}
+
+impl<T: Scalar> Direction<T> {
+    /// Number of control points `n + 1 = #knots − p − 1`.
+    pub fn count(&self) -> usize {
+        self.knots.len() - self.degree - 1
+    }
+
+    /// The parameter domain `[u_p, u_{n+1}]`.
+    pub fn domain(&self) -> (T, T) {
+        (
+            self.knots[self.degree].clone(),
+            self.knots[self.count()].clone(),
+        )
+    }
+
+    /// Checks: at least `p + 1` control points, knots finite and non-decreasing, no knot repeated
+    /// more than `p + 1` times, and a domain of positive length. `name` is `u` or `v`.
+    pub fn check(&self, name: &str) -> Result<()> {
+        let p = self.degree;
+        if p == 0 || p > 20 {
+            return Err(Error::invalid(format!(
+                "degree in {name} must be between 1 and 20 (got {p})"
+            )));
+        }
+        if self.knots.len() < 2 * (p + 1) {
+            return Err(Error::invalid(format!(
+                "knots_{name}: degree {p} needs at least {} knots (p + 1 control points), got {}",
+                2 * (p + 1),
+                self.knots.len()
+            )));
+        }
+        for (i, w) in self.knots.windows(2).enumerate() {
+            if w[1].to_f64() < w[0].to_f64() || (w[1].clone() - w[0].clone()).to_f64() < 0.0 {
+                return Err(Error::invalid(format!(
+                    "knots_{name}: knot {} ({}) is smaller than knot {i} ({}); knots must not decrease",
+                    i + 1,
+                    w[1].to_text(),
+                    w[0].to_text()
+                )));
+            }
+        }
+        let mut run = 1;
+        for i in 1..self.knots.len() {
+            if self.knots[i] == self.knots[i - 1] {
+                run += 1;
+                if run > p + 1 {
+                    return Err(Error::invalid(format!(
+                        "knots_{name}: knot {} ({}) is repeated more than p + 1 = {} times",
+                        i,
+                        self.knots[i].to_text(),
+                        p + 1
+                    )));
+                }
+            } else {
+                run = 1;
+            }
+        }
+        // Inside the domain a knot of multiplicity p + 1 would break the surface apart.
+        let n = self.count();
+        for i in p + 1..n {
+            let mult = self.knots.iter().filter(|k| **k == self.knots[i]).count();
+            if mult > p {
+                return Err(Error::invalid(format!(
+                    "knots_{name}: the interior knot {} is repeated {mult} times; at most p = {p} inside the domain",
+                    self.knots[i].to_text()
+                )));
+            }
+        }
+        let (a, b) = self.domain();
+        if (b - a).to_f64().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err(Error::invalid(format!(
+                "knots_{name}: the domain [u_p, u_(n+1)] has zero length"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The basis polynomials of every non-empty span of the domain.
+    pub fn spans(&self) -> Vec<Span<T>> {
+        let p = self.degree;
+        let u = &self.knots;
+        (p..self.count())
+            .filter(|&k| u[k] != u[k + 1])
+            .map(|k| {
+                let h = u[k + 1].clone() - u[k].clone();
+                // Degree 0: N_{k,0} = 1 on the span. table[r] = N_{k−d+r, d}, r = 0..=d.
+                let mut table: Vec<Poly<T>> = vec![vec![T::one()]];
+                for d in 1..=p {
+                    let mut next = Vec::with_capacity(d + 1);
+                    for r in 0..=d {
+                        let i = k + r - d; // N_{i,d}
+                        let mut acc: Poly<T> = vec![T::zero(); d + 1];
+                        // (u − u_i)/(u_{i+d} − u_i) N_{i,d−1}; N_{i,d−1} = table[r − 1] when r ≥ 1.
+                        if r >= 1 {
+                            let den = u[i + d].clone() - u[i].clone();
+                            if !den.is_zero() {
+                                let c0 = (u[k].clone() - u[i].clone()) / den.clone();
+                                let c1 = h.clone() / den;
+                                add_linear_times(&mut acc, &c0, &c1, &table[r - 1]);
+                            }
+                        }
+                        // (u_{i+d+1} − u)/(u_{i+d+1} − u_{i+1}) N_{i+1,d−1} = table[r] when r < d.
+                        if r < d {
+                            let den = u[i + d + 1].clone() - u[i + 1].clone();
+                            if !den.is_zero() {
+                                let c0 = (u[i + d + 1].clone() - u[k].clone()) / den.clone();
+                                let c1 = -(h.clone() / den);
+                                add_linear_times(&mut acc, &c0, &c1, &table[r]);
+                            }
+                        }
+                        next.push(acc);
+                    }
+                    table = next;
+                }
+                Span { k, h, polys: table }
+            })
+            .collect()
+    }
+
+    /// The index `k` of the span holding `u` (the last non-empty span for `u` at the end of the
+    /// domain). `u` must lie in the domain.
+    pub fn find_span(&self, u: &T) -> usize {
+        let p = self.degree;
+        let n = self.count();
+        let uf = u.to_f64();
+        let mut k = p;
+        for i in p..n {
+            if self.knots[i] != self.knots[i + 1] && self.knots[i].to_f64() <= uf {
+                k = i;
+            }
+        }
+        k
+    }
+
+    /// `N_{i,p}^{(d)}(u)` for `i = k−p..=k` and `d = 0..=nd`, by the triangular table of the
+    /// Cox–de Boor recursion and the derivative formula
+    /// `N'_{i,p} = p/(u_{i+p} − u_i) N_{i,p−1} − p/(u_{i+p+1} − u_{i+1}) N_{i+1,p−1}` applied
+    /// repeatedly (seed 003 §3). Independent of [`Direction::spans`]. Returns `(k, ders)` with
+    /// `ders[d][r]` for `N_{k−p+r}`.
+    pub fn basis_derivatives_at(&self, u: &T, nd: usize) -> (usize, Vec<Vec<T>>) {
+        let p = self.degree;
+        let k = self.find_span(u);
+        let kn = &self.knots;
+        // lower[d][r] = N_{k−d+r, d}(u), r = 0..=d.
+        let mut lower: Vec<Vec<T>> = vec![vec![T::one()]];
+        for d in 1..=p {
+            let prev = &lower[d - 1];
+            let mut row = Vec::with_capacity(d + 1);
+            for r in 0..=d {
+                let i = k + r - d;
+                let mut acc = T::zero();
+                if r >= 1 {
+                    let den = kn[i + d].clone() - kn[i].clone();
+                    if !den.is_zero() {
+                        acc = acc + (u.clone() - kn[i].clone()) / den * prev[r - 1].clone();
+                    }
+                }
+                if r < d {
+                    let den = kn[i + d + 1].clone() - kn[i + 1].clone();
+                    if !den.is_zero() {
+                        acc = acc + (kn[i + d + 1].clone() - u.clone()) / den * prev[r].clone();
+                    }
+                }
+                row.push(acc);
+            }
+            lower.push(row);
+        }
+        // D^j N_{i,d} from D^{j−1} of degree d−1 functions: D^j N_{i,d} = d [D^{j−1}N_{i,d−1}/(u_{i+d}−u_i)
+        // − D^{j−1}N_{i+1,d−1}/(u_{i+d+1}−u_{i+1})].
+        // der[d][j][r] = D^j N_{k−d+r, d}(u).
+        let mut der: Vec<Vec<Vec<T>>> = lower.iter().map(|row| vec![row.clone()]).collect();
+        for j in 1..=nd {
+            for d in 0..=p {
+                let row: Vec<T> = if j > d {
+                    vec![T::zero(); d + 1]
+                } else {
+                    (0..=d)
+                        .map(|r| {
+                            let i = k + r - d;
+                            let prev = &der[d - 1][j - 1];
+                            let mut acc = T::zero();
+                            if r >= 1 {
+                                let den = kn[i + d].clone() - kn[i].clone();
+                                if !den.is_zero() {
+                                    acc = acc + prev[r - 1].clone() / den;
+                                }
+                            }
+                            if r < d {
+                                let den = kn[i + d + 1].clone() - kn[i + 1].clone();
+                                if !den.is_zero() {
+                                    acc = acc - prev[r].clone() / den;
+                                }
+                            }
+                            acc * T::from_i64(d as i64)
+                        })
+                        .collect()
+                };
+                der[d].push(row);
+            }
+        }
+        (k, der.pop().unwrap_or_default())
+    }
+}
+
+/// `acc += (c0 + c1 s) · q`.
+fn add_linear_times<T: Scalar>(acc: &mut [T], c0: &T, c1: &T, q: &[T]) {
+    for (n, qn) in q.iter().enumerate() {
+        if qn.is_zero() {
+            continue;
+        }
+        acc[n] = acc[n].clone() + c0.clone() * qn.clone();
+        acc[n + 1] = acc[n + 1].clone() + c1.clone() * qn.clone();
+    }
+}

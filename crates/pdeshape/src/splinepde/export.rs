@@ -1,0 +1,275 @@
+//! Exports of a solved net: JSON (degrees, knots, control points, rank and free points) and
+//! IGES 5.3 (one rational B-spline surface, entity 128, all weights 1).
+
+use super::engine::SplineNet;
+use super::scalar::Scalar;
+use crate::{Error, Result};
+use serde_json::{json, Value};
+
+/// The net as JSON: `degree`, `counts`, `knots_u`, `knots_v`, `control` (row-major rows of
+/// `[x, y, z]`, `control[i][j]` with `i` along u), the operator, and the solve report. In exact
+/// mode `control_exact` and `knots_*_exact` repeat the values as fraction strings `"p/q"`.
+pub fn to_json<T: Scalar>(net: &SplineNet<T>) -> Value {
+    let (nu, nv) = (net.u.count(), net.v.count());
+    let f = |x: &T| x.to_f64();
+    let control: Vec<Vec<[f64; 3]>> = (0..nu)
+        .map(|i| {
+            (0..nv)
+                .map(|j| {
+                    let p = net.control_point(i, j);
+                    [f(&p[0]), f(&p[1]), f(&p[2])]
+                })
+                .collect()
+        })
+        .collect();
+    let r = &net.report;
+    let mut out = json!({
+        "degree": [net.u.degree, net.v.degree],
+        "counts": [nu, nv],
+        "knots_u": net.u.knots.iter().map(f).collect::<Vec<_>>(),
+        "knots_v": net.v.knots.iter().map(f).collect::<Vec<_>>(),
+        "control": control,
+        "operator": net.operator.describe(),
+        "exact": T::is_exact(),
+        "report": {
+            "equations": r.equations,
+            "pde_rank": r.pde_rank,
+            "rank": r.rank,
+            "unknowns": r.unknowns,
+            "freedom": r.freedom,
+            "fixed": r.fixed,
+            "determined": r.determined,
+            "free": r.free,
+            "chosen_by": r.chosen_by,
+        },
+    });
+    if T::is_exact() {
+        let t = |x: &T| x.to_text();
+        let exact: Vec<Vec<[String; 3]>> = (0..nu)
+            .map(|i| {
+                (0..nv)
+                    .map(|j| {
+                        let p = net.control_point(i, j);
+                        [t(&p[0]), t(&p[1]), t(&p[2])]
+                    })
+                    .collect()
+            })
+            .collect();
+        out["control_exact"] = json!(exact);
+        out["knots_u_exact"] = json!(net.u.knots.iter().map(t).collect::<Vec<_>>());
+        out["knots_v_exact"] = json!(net.v.knots.iter().map(t).collect::<Vec<_>>());
+    }
+    out
+}
+
+/// An IGES real: shortest round-trip digits, always with a decimal point, exponent `E`.
+fn real(x: f64) -> String {
+    let s = format!("{x:?}");
+    let (mant, exp) = match s.find(['e', 'E']) {
+        Some(k) => (&s[..k], Some(&s[k + 1..])),
+        None => (s.as_str(), None),
+    };
+    let mant = if mant.contains('.') {
+        mant.to_string()
+    } else {
+        format!("{mant}.0")
+    };
+    match exp {
+        Some(e) => format!("{mant}E{e}"),
+        None => mant,
+    }
+}
+
+/// A Hollerith string `nHtext`.
+fn hollerith(s: &str) -> String {
+    format!("{}H{s}", s.len())
+}
+
+/// Lays tokens (each ending with its delimiter) out in lines of at most `width` characters
+/// without splitting a token.
+fn pack(tokens: &[String], width: usize) -> Vec<String> {
+    let mut lines = Vec::new();
+    let mut cur = String::new();
+    for t in tokens {
+        if !cur.is_empty() && cur.len() + t.len() > width {
+            lines.push(std::mem::take(&mut cur));
+        }
+        cur.push_str(t);
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    lines
+}
+
+/// Options of the IGES header.
+#[derive(Clone, Debug)]
+pub struct IgesOptions {
+    /// The file name recorded in the Global section.
+    pub file_name: String,
+    /// Creation time `YYYYMMDD.HHNNSS` (UTC).
+    pub timestamp: String,
+}
+
+/// `YYYYMMDD.HHNNSS` for seconds since 1970-01-01 UTC.
+pub fn iges_timestamp(unix_seconds: u64) -> String {
+    let days = (unix_seconds / 86_400) as i64;
+    let rem = unix_seconds % 86_400;
+    // Civil date from days since the epoch (proleptic Gregorian calendar).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let y = yoe + era * 400;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = if m <= 2 { y + 1 } else { y };
+    format!(
+        "{y:04}{m:02}{d:02}.{:02}{:02}{:02}",
+        rem / 3600,
+        (rem / 60) % 60,
+        rem % 60
+    )
+}
+
+/// The net as an IGES 5.3 file with one entity 128 (rational B-spline surface, polynomial:
+/// all weights 1), in the fixed 80-column format: Start, Global, Directory Entry, Parameter Data
+/// and Terminate sections, ASCII, lines ending in `\n`. Parameter `s` of the entity is our `u`
+/// (first control-point index), `t` is `v`; control points are listed with `s` varying fastest.
+pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<String> {
+    let net = net.to_f64();
+    let (nu, nv) = (net.u.count(), net.v.count());
+    if net
+        .control
+        .iter()
+        .flatten()
+        .chain(&net.u.knots)
+        .chain(&net.v.knots)
+        .any(|x| !x.is_finite())
+    {
+        return Err(Error::invalid("the net has a value that is not finite"));
+    }
+    let bad = |s: &str| s.chars().any(|c| !c.is_ascii() || c.is_ascii_control());
+    if bad(&opts.file_name) || bad(&opts.timestamp) {
+        return Err(Error::invalid(
+            "IGES strings must be printable ASCII (file name or timestamp)",
+        ));
+    }
+    let line = |text: &str, letter: char, seq: usize| format!("{text:<72}{letter}{seq:>7}\n");
+    let mut out = String::new();
+    // Start section.
+    let start = ["pdeshape: a B-spline solution of a PDE, IGES entity 128"];
+    for (k, s) in start.iter().enumerate() {
+        out.push_str(&line(s, 'S', k + 1));
+    }
+    // Global section.
+    let maxc = net
+        .control
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let g: Vec<String> = vec![
+        "1H,".into(),
+        "1H;".into(),
+        hollerith("pdeshape"),
+        hollerith(&opts.file_name),
+        hollerith("pdeshape"),
+        hollerith(env!("CARGO_PKG_VERSION")),
+        "32".into(),
+        "38".into(),
+        "6".into(),
+        "308".into(),
+        "15".into(),
+        hollerith("pdeshape"),
+        real(1.0),
+        "2".into(),
+        hollerith("MM"),
+        "1".into(),
+        real(1.0),
+        hollerith(&opts.timestamp),
+        real(1e-9),
+        real(maxc.max(1.0)),
+        hollerith("unknown"),
+        hollerith("unknown"),
+        "11".into(),
+        "0".into(),
+        hollerith(&opts.timestamp),
+    ];
+    let n_g = g.len();
+    let gtokens: Vec<String> = g
+        .into_iter()
+        .enumerate()
+        .map(|(k, t)| format!("{t}{}", if k + 1 == n_g { ';' } else { ',' }))
+        .collect();
+    let glines = pack(&gtokens, 72);
+    for (k, l) in glines.iter().enumerate() {
+        out.push_str(&line(l, 'G', k + 1));
+    }
+    // Parameter data of entity 128.
+    let (p, q) = (net.u.degree, net.v.degree);
+    let mut params: Vec<String> = vec![
+        "128".into(),
+        (nu - 1).to_string(),
+        (nv - 1).to_string(),
+        p.to_string(),
+        q.to_string(),
+        "0".into(), // PROP1: not closed in s
+        "0".into(), // PROP2: not closed in t
+        "1".into(), // PROP3: polynomial
+        "0".into(), // PROP4: not periodic in s
+        "0".into(), // PROP5: not periodic in t
+    ];
+    params.extend(net.u.knots.iter().map(|&x| real(x)));
+    params.extend(net.v.knots.iter().map(|&x| real(x)));
+    params.extend((0..nu * nv).map(|_| real(1.0)));
+    for j in 0..nv {
+        for i in 0..nu {
+            let c = net.control_point(i, j);
+            params.extend(c.iter().map(|&x| real(x)));
+        }
+    }
+    let (u0, u1) = net.u.domain();
+    let (v0, v1) = net.v.domain();
+    params.extend([real(u0), real(u1), real(v0), real(v1)]);
+    let n_p = params.len();
+    let ptokens: Vec<String> = params
+        .into_iter()
+        .enumerate()
+        .map(|(k, t)| format!("{t}{}", if k + 1 == n_p { ';' } else { ',' }))
+        .collect();
+    let plines = pack(&ptokens, 64);
+    // Directory entry: two lines, nine 8-column fields each plus the sequence field.
+    let de = 1usize;
+    let d1 = format!(
+        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+        128, 1, 0, 0, 0, 0, 0, 0, "00000000"
+    );
+    let d2 = format!(
+        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+        128,
+        0,
+        0,
+        plines.len(),
+        0,
+        "",
+        "",
+        "SURFACE",
+        0
+    );
+    out.push_str(&line(&d1, 'D', 1));
+    out.push_str(&line(&d2, 'D', 2));
+    for (k, l) in plines.iter().enumerate() {
+        out.push_str(&format!("{l:<64}{de:>8}P{:>7}\n", k + 1));
+    }
+    let t = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        start.len(),
+        glines.len(),
+        2,
+        plines.len()
+    );
+    out.push_str(&line(&t, 'T', 1));
+    Ok(out)
+}
