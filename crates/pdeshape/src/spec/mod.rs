@@ -18,10 +18,11 @@ pub use build::{
     build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
     NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
 };
+pub(crate) use build::{patch_specs, planned_patches};
 pub use locate::{describe_error, locate};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
-    OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,
+    OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,
 };
 
 use crate::{Error, Result};
