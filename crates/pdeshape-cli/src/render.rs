@@ -74,7 +74,7 @@ fn parse_view(s: &str) -> Result<Vec3, CliError> {
 
 /// `CURVE_POINTS` points of a curve: over [0, 2π) for a periodic curve (drawn closed), over its
 /// whole interval otherwise.
-fn curve_polyline(curve: &dyn Curve) -> Polyline {
+pub(crate) fn curve_polyline(curve: &dyn Curve) -> Polyline {
     let (points, closed) = match curve.domain() {
         Domain::Periodic => (
             (0..CURVE_POINTS)

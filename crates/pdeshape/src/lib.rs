@@ -23,6 +23,7 @@ pub mod design;
 pub mod dynamic;
 pub mod elliptic;
 mod error;
+pub mod fd;
 pub mod fourier;
 pub mod mesh;
 pub mod optimize;

@@ -754,6 +754,7 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
             &operator_words(p.operator),
         )?;
     }
+    crate::fd::design::check(spec)?;
     Ok(())
 }
 
@@ -1077,4 +1078,71 @@ fn shared_edges(patches: &[Patch], conditions: &[Vec<ConditionInfo>]) -> Vec<Sha
         }
     }
     edges
+}
+
+/// One patch of a design with its conditions built, not solved (for solvers other than the
+/// analytic one).
+pub(crate) struct PlannedPatch {
+    pub name: String,
+    /// Where its conditions are (`conditions` or `patches[i].conditions`).
+    pub place: String,
+    pub operator: OperatorSpec,
+    pub conditions: Vec<ConditionInfo>,
+}
+
+/// Validates the design and builds the curves and conditions of every patch without solving.
+pub(crate) fn planned_patches(spec: &DesignSpec) -> Result<(Vec<NamedCurve>, Vec<PlannedPatch>)> {
+    validate_design(spec)?;
+    let mut builder = CurveBuilder {
+        specs: &spec.curves,
+        built: HashMap::new(),
+    };
+    let curves = named_curves(&mut builder)?;
+    let mut out = Vec::new();
+    for p in plan(spec)? {
+        let mut conditions = Vec::new();
+        for (i, c) in p.conditions.iter().enumerate() {
+            let place = format!("{}[{i}].curve", p.place);
+            let curve = builder.reference(&c.curve, &place)?;
+            let (curve_name, kind) = match &c.curve {
+                CurveRef::Name(n) => (
+                    Some(n.clone()),
+                    spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
+                ),
+                CurveRef::Inline(s) => (None, kind_name(&s.kind)),
+            };
+            conditions.push(ConditionInfo {
+                u: c.u,
+                derivative: c.derivative,
+                curve_name,
+                kind,
+                curve,
+            });
+        }
+        out.push(PlannedPatch {
+            name: p.name,
+            place: p.place,
+            operator: p.operator.clone(),
+            conditions,
+        });
+    }
+    Ok((curves, out))
+}
+
+/// A patch as `(conditions place, operator place, operator, conditions)`.
+pub(crate) type PatchSpecView = (String, String, OperatorSpec, Vec<ConditionSpec>);
+
+/// The patches of a design, unvalidated.
+pub(crate) fn patch_specs(spec: &DesignSpec) -> Result<Vec<PatchSpecView>> {
+    Ok(plan(spec)?
+        .into_iter()
+        .map(|p| {
+            (
+                p.place,
+                p.operator_place,
+                p.operator.clone(),
+                p.conditions.to_vec(),
+            )
+        })
+        .collect())
 }

@@ -24,11 +24,12 @@ pub use dynamic::{
     build_dynamic, BuiltDynamic, ComponentSpec, DynamicPlan, DynamicRun, DynamicSpec, FormulaText,
     ParamsSpec,
 };
+pub(crate) use build::{patch_specs, planned_patches};
 pub use locate::{describe_error, locate};
 pub use parametric::{ParametricPatch, ParametricSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
-    OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,
+    OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,
 };
 
 use crate::{Error, Result};

@@ -22,8 +22,9 @@ pub struct DesignSpec {
     /// order 2, a = 1).
     #[serde(default, deserialize_with = "deserialize_operator")]
     pub operator: Option<OperatorSpec>,
-    /// Options of the analytic solver.
-    #[serde(default)]
+    /// Options of the solver: a table, or just the method's name (`solver = "fd"`).
+    #[serde(default, deserialize_with = "deserialize_solver")]
+    #[schemars(with = "SolverForm")]
     pub solver: SolverSpec,
     /// Named curves, referenced by name from conditions and from other curves.
     #[serde(default)]
@@ -100,6 +101,57 @@ pub struct SolverSpec {
     /// Samples per curve for the FFT; 0 chooses automatically, otherwise at least `2·modes + 1`.
     #[serde(default)]
     pub samples: usize,
+    /// `"analytic"` (default): the Fourier-mode solution; `"fd"`: finite differences on a
+    /// `(u, v)` grid (polyharmonic operators with N ≤ 3, conditions at u = 0 and 1 only).
+    #[serde(default)]
+    pub method: SolverMethod,
+    /// The finite-difference grid `[nu, nv]`: intervals in u and nodes around v (default
+    /// `[64, 128]`); only with `method = "fd"`.
+    #[serde(default)]
+    pub grid: Option<[usize; 2]>,
+}
+
+/// How a design's patches are solved.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverMethod {
+    /// The analytic Fourier-mode solution with the spectral remainder.
+    #[default]
+    Analytic,
+    /// Finite differences on a `(u, v)` grid.
+    Fd,
+}
+
+/// The two forms of `solver` (for the schema): a method's name or the table.
+#[derive(JsonSchema)]
+#[serde(untagged)]
+#[allow(dead_code)]
+enum SolverForm {
+    /// `solver = "fd"` or `solver = "analytic"`: that method with default options.
+    Method(SolverMethod),
+    /// The `[solver]` table.
+    Table(SolverSpec),
+}
+
+fn deserialize_solver<'de, D: Deserializer<'de>>(d: D) -> Result<SolverSpec, D::Error> {
+    struct V;
+    impl<'de> Visitor<'de> for V {
+        type Value = SolverSpec;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("\"analytic\", \"fd\" or a [solver] table")
+        }
+        fn visit_str<E: de::Error>(self, s: &str) -> Result<SolverSpec, E> {
+            let method = SolverMethod::deserialize(de::value::StrDeserializer::<E>::new(s))?;
+            Ok(SolverSpec {
+                method,
+                ..SolverSpec::default()
+            })
+        }
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<SolverSpec, A::Error> {
+            SolverSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    d.deserialize_any(V)
 }
 
 fn default_modes() -> usize {
@@ -115,6 +167,8 @@ impl Default for SolverSpec {
             modes: 12,
             remainder: true,
             samples: 0,
+            method: SolverMethod::Analytic,
+            grid: None,
         }
     }
 }
