@@ -17,6 +17,7 @@
 //!                Grid (positions, normals, uv) ──▶ obj, stl, ply, glb, csv, png
 //! ```
 
+pub mod bfs;
 pub mod curve;
 pub mod design;
 pub mod dynamic;
