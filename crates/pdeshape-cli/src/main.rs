@@ -1,6 +1,7 @@
 //! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
+mod blend;
 mod check;
 mod common;
 mod render;
@@ -28,6 +29,9 @@ enum Command {
     Check(check::Args),
     /// Print the JSON schema of the design file.
     Schema,
+    /// Solve a [blend] design (a smoothing PDE spline joining two surfaces) and write it (obj,
+    /// stl, ply, glb, csv, or json for the control net), reporting the G0/G1 mismatch.
+    Blend(blend::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -36,6 +40,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Render(args) => render::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Schema => schema::run(),
+        Command::Blend(args) => blend::run(&args),
     }
 }
 
@@ -51,7 +56,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check or schema \
+                        "error: a subcommand is required: surface, render, check, schema or blend \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

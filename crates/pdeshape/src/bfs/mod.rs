@@ -34,6 +34,7 @@
 mod blend;
 mod element;
 mod primitives;
+pub mod spec;
 mod surface;
 mod system;
 

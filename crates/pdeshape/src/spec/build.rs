@@ -660,6 +660,11 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "a design has either top-level conditions (one patch) or [[patches]], not both",
         )
         .at("conditions")),
+        (None, None) if spec.blend.is_some() => Err(Error::invalid(
+            "this is a blend design ([blend] without conditions or patches): \
+             solve it with `pdeshape blend`",
+        )
+        .at("blend")),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),
@@ -716,6 +721,13 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
+    if let Some(blend) = &spec.blend {
+        crate::bfs::spec::validate_blend(blend)?;
+        if spec.conditions.is_none() && spec.patches.is_none() {
+            // A blend design: no analytic patches to check (`pdeshape blend` solves it).
+            return Ok(());
+        }
+    }
     for p in plan(spec)? {
         check_operator_values(p.operator, &p.operator_place)?;
         check_conditions(
