@@ -210,6 +210,12 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let design = common::load(&args.design)?;
+    if design.spec.blend.is_some()
+        && design.spec.conditions.is_none()
+        && design.spec.patches.is_none()
+    {
+        return crate::blend::check(&design);
+    }
     let built = design.build()?;
     let (text, warnings) = report(&design.file, &design.spec, &built);
     let mut text = text;

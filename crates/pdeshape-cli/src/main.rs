@@ -1,6 +1,7 @@
 //! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
+mod blend;
 mod check;
 mod common;
 mod curve;
@@ -36,6 +37,9 @@ enum Command {
     Optimize(optimize::Args),
     /// Print the JSON schema of the design file.
     Schema,
+    /// Solve a [blend] design (a smoothing PDE spline joining two surfaces) and write it (obj,
+    /// stl, ply, glb, csv, or json for the control net), reporting the G0/G1 mismatch.
+    Blend(blend::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -46,6 +50,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Curve(args) => curve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
         Command::Schema => schema::run(),
+        Command::Blend(args) => blend::run(&args),
     }
 }
 
@@ -61,7 +66,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, curve, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, curve, blend, optimize or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -18,6 +18,7 @@
 //! ```
 
 pub mod analysis;
+pub mod bfs;
 pub mod curve;
 pub mod design;
 pub mod dynamic;

@@ -676,6 +676,11 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "this is a curve design ([dynamic] without conditions or patches): run `pdeshape curve` on it",
         )
         .at("dynamic")),
+        (None, None) if spec.blend.is_some() => Err(Error::invalid(
+            "this is a blend design ([blend] without conditions or patches): \
+             solve it with `pdeshape blend`",
+        )
+        .at("blend")),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),
@@ -734,10 +739,19 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
+    let no_patches =
+        spec.conditions.is_none() && spec.patches.is_none() && spec.parametric.is_empty();
     if let Some(d) = &spec.dynamic {
         super::dynamic::build_dynamic(d)?;
-        if spec.conditions.is_none() && spec.patches.is_none() && spec.parametric.is_empty() {
+        if no_patches {
             // A curve design (`pdeshape curve`): nothing else to check.
+            return Ok(());
+        }
+    }
+    if let Some(blend) = &spec.blend {
+        crate::bfs::spec::validate_blend(blend)?;
+        if no_patches {
+            // A blend design: no analytic patches to check (`pdeshape blend` solves it).
             return Ok(());
         }
     }

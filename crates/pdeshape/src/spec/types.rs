@@ -48,6 +48,10 @@ pub struct DesignSpec {
     /// Design parameters, objective and search options of `pdeshape optimize` (§7.3–7.5).
     #[serde(default)]
     pub optimize: Option<crate::optimize::OptimizeSpec>,
+    /// A blending surface between two primary surfaces (`pdeshape blend`; see
+    /// [`crate::bfs::spec`]).
+    #[serde(default)]
+    pub blend: Option<crate::bfs::spec::BlendSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
@@ -288,7 +292,7 @@ pub(crate) fn split_path_marker(message: &str) -> (Option<&str>, &str) {
 /// tagged `{ <variant> = { … } }`, so that errors inside the table keep their path (serde's
 /// internally tagged enums buffer the table and lose it). `hint` is appended to "unknown field"
 /// messages.
-fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
+pub(crate) fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
     mut table: toml::Table,
     tag: &str,
     hint: &str,

@@ -1,0 +1,178 @@
+//! `pdeshape blend DESIGN -o OUT`: solve the `[blend]` section (a smoothing PDE spline on BFS
+//! elements joining two primary surfaces), write it (obj, stl, ply, glb, csv or the .json control
+//! net) and report the G0/G1 mismatch along both joins and the distance to every data point.
+
+use crate::common::{self, CliError, Loaded, Output};
+use pdeshape::bfs::{spec::solve_blend, Blend};
+use pdeshape::mesh::{self, Format};
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML) with a [blend] section.
+    pub design: PathBuf,
+    /// Output file; the extension picks the format: obj, stl, ply, glb, csv, or json (the Bézier
+    /// and B-spline control nets).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Grid rows (values of x, along the joins; default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns (values of y, across; default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+    /// Print one JSON line with the solve and write times (ms) on stderr.
+    #[arg(long)]
+    pub timings: bool,
+}
+
+/// Solves the design's blend (errors located in the file).
+pub fn solve(design: &Loaded) -> Result<Blend, CliError> {
+    let Some(spec) = &design.spec.blend else {
+        return Err(design.error(&pdeshape::Error::invalid(
+            "the design has no [blend] section (pdeshape blend solves blends; use `pdeshape \
+             surface` for conditions and patches)",
+        )));
+    };
+    solve_blend(spec).map_err(|e| design.error(&e))
+}
+
+/// The report: settings, both joins, the data points, the seam.
+pub fn report(design: &Loaded, b: &Blend) -> String {
+    let mut t = String::new();
+    let Some(spec) = &design.spec.blend else {
+        return t;
+    };
+    let [nx, ny] = spec.elements;
+    let _ = writeln!(
+        t,
+        "blend: {nx} × {ny} BFS elements{}, ε = {}, L = {}",
+        if spec.periodic { ", periodic in x" } else { "" },
+        spec.epsilon,
+        spec.energy.describe()
+    );
+    let r = &b.report;
+    let _ = writeln!(
+        t,
+        "condition errors along the joins ({} samples each): G0 = max |blend − primary|, \
+         G1 = max angle between normals, C1 = max |∂y blend − cross derivative|",
+        r.start.samples
+    );
+    for (name, j) in [("start (y = 0)", &r.start), ("end (y = 1)", &r.end)] {
+        let _ = writeln!(
+            t,
+            "  {name}: G0 {:.3e}, G1 {:.3e} rad, C1 {:.3e}",
+            j.g0, j.g1, j.cross
+        );
+    }
+    if !r.point_distances.is_empty() {
+        let _ = writeln!(t, "distance to the data points:");
+        for (p, d) in spec.points.iter().zip(&r.point_distances) {
+            let _ = writeln!(t, "  at [{}, {}]: {d:.3e}", p.at[0], p.at[1]);
+        }
+        let max = r.point_distances.iter().cloned().fold(0.0, f64::max);
+        let rms = (r.point_distances.iter().map(|d| d * d).sum::<f64>()
+            / r.point_distances.len() as f64)
+            .sqrt();
+        let _ = writeln!(t, "  max {max:.3e}, rms {rms:.3e}");
+    }
+    if let Some(g) = r.seam_gap {
+        let _ = writeln!(
+            t,
+            "seam gap between x = 0 and x = 1: {g:.3e} (the joins are closed; periodic = true closes the blend)"
+        );
+    }
+    t
+}
+
+/// `pdeshape check` on a blend design: solve and report.
+pub fn check(design: &Loaded) -> Result<(), CliError> {
+    let b = solve(design)?;
+    let mut text = format!("design {}\n", design.file);
+    if let Some(title) = &design.spec.title {
+        let _ = writeln!(text, "title: {title}");
+    }
+    text.push_str(&report(design, &b));
+    text.push_str("OK\n");
+    common::print_stdout(&text);
+    Ok(())
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    let is_json = args
+        .output
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let format = if is_json {
+        None
+    } else {
+        Some(Format::from_path(&args.output).map_err(|e| {
+            CliError::input(format!(
+                "-o {shown}: {} (or json for the control net)",
+                common::message_of(&e)
+            ))
+        })?)
+    };
+    let design = common::load(&args.design)?;
+    let (nu, nv) = if format.is_some() {
+        design.grid(args.nu, args.nv)?
+    } else {
+        (0, 0)
+    };
+    let t = Instant::now();
+    let blend = solve(&design)?;
+    let solve_ms = ms(t);
+    let mut out = Output::create(&args.output)?;
+    let t = Instant::now();
+    let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
+    match format {
+        None => out.write_all(blend.surface.control_net_json().as_bytes())?,
+        Some(Format::Csv) => {
+            let samples = mesh::sample(&blend.surface, nu, nv).map_err(io_err)?;
+            let mut w = out.writer();
+            mesh::write_csv(&[samples], &mut w).map_err(io_err)?;
+            w.flush()
+                .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        }
+        Some(f) => {
+            let m = [mesh::tessellate(&blend.surface, nu, nv).map_err(io_err)?];
+            let mut w = out.writer();
+            match f {
+                Format::Obj => mesh::write_obj(&m, &mut w),
+                Format::Stl => mesh::write_stl(&m, &mut w),
+                Format::Ply => mesh::write_ply(&m, &mut w),
+                Format::Glb => mesh::write_glb(&m, &mut w),
+                Format::Csv => unreachable!("handled above"),
+            }
+            .map_err(io_err)?;
+            w.flush()
+                .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        }
+    }
+    out.commit()?;
+    let write_ms = ms(t);
+    if args.timings {
+        eprintln!(
+            "{}",
+            serde_json::json!({ "solve_ms": solve_ms, "write_ms": write_ms })
+        );
+    }
+    let mut text = report(&design, &blend);
+    let what = if format.is_some() {
+        format!("{nu} × {nv} grid")
+    } else {
+        "Bézier and B-spline control nets".to_string()
+    };
+    let _ = writeln!(text, "wrote {shown}: {what}");
+    common::print_stdout(&text);
+    Ok(())
+}
