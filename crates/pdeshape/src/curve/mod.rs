@@ -21,7 +21,6 @@ pub use arclength::ArcLength;
 pub use bezier::Bezier;
 pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
-pub(crate) use formula::unary_minus_before_power;
 pub use formula::Formula;
 pub(crate) use formula::{normalise as normalise_formula, unary_minus_before_power};
 pub use hermite::Hermite;
