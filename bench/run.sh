@@ -8,3 +8,8 @@ echo "== pdeshape (cargo bench)"
 cargo bench -p pdeshape --bench surface -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^solve_tessellate|time:"
 echo "== NumPy peer"
 python3 bench/peers/numpy_surface.py 60
+echo "== B-spline grid: pdeshape (cargo bench)"
+cargo bench -p pdeshape --bench spline -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^bspline|^X\[|time:"
+echo "== B-spline grid: SciPy peer (BLAS threads as installed, then one thread)"
+python3 bench/peers/scipy_bspline_grid.py 60
+OPENBLAS_NUM_THREADS=1 python3 bench/peers/scipy_bspline_grid.py 60 | head -1

@@ -469,6 +469,30 @@ fn surface_impls_agree_with_derivative_and_rows() {
             }
         }
     }
+    // A pole: the first row of the net collapsed to one point, so X_v = 0 at u = 0 and the
+    // rows must fall back to the limit normal of `Partials::normal`.
+    let mut s = rand_bspline(&mut rng, 3, 3);
+    let nv = s.counts()[1];
+    let apex = Vec3::new(0.1, 0.2, 0.3);
+    let mut ctrl = s.control().to_vec();
+    ctrl[..nv].fill(apex);
+    s = BSplineSurface::new(s.degree(), s.knots_u().to_vec(), s.knots_v().to_vec(), ctrl).unwrap();
+    let [_, [c, d]] = s.domain();
+    let vs: Vec<f64> = (0..9).map(|j| c + (d - c) * j as f64 / 8.0).collect();
+    let mut row = RowBuf::new(vs.len());
+    s.row_evaluator(&vs).eval_row(0.0, &mut row);
+    for (j, &v) in vs.iter().enumerate() {
+        let p = s.partials(0.0, v);
+        assert!(p.xv.amax() < 1e-15, "X_v is rounding noise at the pole");
+        assert!((row.point(j) - apex).amax() < 1e-15);
+        let n = p.normal();
+        assert!((n.norm() - 1.0).abs() < 1e-12, "limit normal exists");
+        assert!(
+            (row.normal(j) - n).amax() < 1e-12,
+            "{:?} vs {n:?}",
+            row.normal(j)
+        );
+    }
     let z = rand_bezier(&mut rng, 3, 4);
     assert_eq!(z.v_domain(), VDomain::Interval(0.0, 1.0));
     // Bernstein tables (partials, rows) against de Casteljau on forward differences.
