@@ -40,17 +40,17 @@ impl BSplineSurface {
         control: Vec<Vec3>,
     ) -> Result<Self> {
         let [p, q] = degree;
-        if knots_u.len() < 2 * (p + 1) {
+        if knots_u.len() / 2 <= p {
             return Err(Error::invalid(format!(
-                "knots_u: degree {p} needs at least {} knots (p + 1 control points), got {}",
-                2 * (p + 1),
+                "knots_u: degree {p} needs at least 2·({p} + 1) knots (p + 1 control points), \
+                 got {}",
                 knots_u.len()
             )));
         }
-        if knots_v.len() < 2 * (q + 1) {
+        if knots_v.len() / 2 <= q {
             return Err(Error::invalid(format!(
-                "knots_v: degree {q} needs at least {} knots (q + 1 control points), got {}",
-                2 * (q + 1),
+                "knots_v: degree {q} needs at least 2·({q} + 1) knots (q + 1 control points), \
+                 got {}",
                 knots_v.len()
             )));
         }
@@ -83,10 +83,9 @@ impl BSplineSurface {
         control: Vec<Vec3>,
     ) -> Result<Self> {
         let mk = |p: usize, n: usize, name: &str| -> Result<Vec<f64>> {
-            if n < p + 1 {
+            if n <= p {
                 return Err(Error::invalid(format!(
-                    "{name}: degree {p} needs at least {} control points, got {n}",
-                    p + 1
+                    "{name}: degree {p} needs at least {p} + 1 control points, got {n}"
                 )));
             }
             let spans = n - p;
