@@ -42,6 +42,7 @@ pub use dual::{
     binomial_sums, box_control_from_derivatives, box_dual, forward_differences,
     simplex_control_from_derivatives, simplex_dual,
 };
+pub use knots::bspline_basis;
 pub use scalar::{rational_from_f64, IndexSet, Scalar, MAX_INDEX_BOX, MAX_VARS};
 pub use simplex::{simplex_coordinates, simplex_direction, SimplexBezier};
 pub use tensor::TensorBezier;
