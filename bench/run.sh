@@ -13,3 +13,8 @@ echo "== pdeshape dynamic curves (cargo bench; the CPU line is this thread's CPU
 cargo bench -p pdeshape --bench dynamic -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^J =|^dynamic|time:"
 echo "== NumPy/SciPy peer of the dynamic scheme"
 python3 bench/peers/numpy_dynamic.py 11
+echo "== B-spline grid: pdeshape (cargo bench)"
+cargo bench -p pdeshape --bench spline -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^bspline|^X\[|time:"
+echo "== B-spline grid: SciPy peer (BLAS threads as installed, then one thread)"
+python3 bench/peers/scipy_bspline_grid.py 60
+OPENBLAS_NUM_THREADS=1 python3 bench/peers/scipy_bspline_grid.py 60 | head -1

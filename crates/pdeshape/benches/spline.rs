@@ -40,6 +40,15 @@ fn bench(c: &mut Criterion) {
     let vs: Vec<f64> = (0..nv)
         .map(|j| a + (b - a) * j as f64 / (nv - 1) as f64)
         .collect();
+    // The grid values the SciPy peer prints too (bench/peers/scipy_bspline_grid.py).
+    let mesh = pdeshape::mesh::sample(&s, nu, nv).unwrap();
+    for (i, j) in [(0usize, 0usize), (100, 300), (511, 511), (257, 33)] {
+        let (p, n) = (mesh.positions[i * nv + j], mesh.normals[i * nv + j]);
+        println!(
+            "X[{i},{j}] = {:.17e} {:.17e} {:.17e}  n = {:.17e} {:.17e} {:.17e}",
+            p[0], p[1], p[2], n[0], n[1], n[2]
+        );
+    }
     let mut group = c.benchmark_group("bspline_bicubic_20x20");
     group.bench_function("512x512_rows_one_thread", |bch| {
         let mut row = RowBuf::new(nv);

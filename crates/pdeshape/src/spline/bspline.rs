@@ -40,17 +40,17 @@ impl BSplineSurface {
         control: Vec<Vec3>,
     ) -> Result<Self> {
         let [p, q] = degree;
-        if knots_u.len() < 2 * (p + 1) {
+        if knots_u.len() / 2 <= p {
             return Err(Error::invalid(format!(
-                "knots_u: degree {p} needs at least {} knots (p + 1 control points), got {}",
-                2 * (p + 1),
+                "knots_u: degree {p} needs at least 2·({p} + 1) knots (p + 1 control points), \
+                 got {}",
                 knots_u.len()
             )));
         }
-        if knots_v.len() < 2 * (q + 1) {
+        if knots_v.len() / 2 <= q {
             return Err(Error::invalid(format!(
-                "knots_v: degree {q} needs at least {} knots (q + 1 control points), got {}",
-                2 * (q + 1),
+                "knots_v: degree {q} needs at least 2·({q} + 1) knots (q + 1 control points), \
+                 got {}",
                 knots_v.len()
             )));
         }
@@ -83,10 +83,9 @@ impl BSplineSurface {
         control: Vec<Vec3>,
     ) -> Result<Self> {
         let mk = |p: usize, n: usize, name: &str| -> Result<Vec<f64>> {
-            if n < p + 1 {
+            if n <= p {
                 return Err(Error::invalid(format!(
-                    "{name}: degree {p} needs at least {} control points, got {n}",
-                    p + 1
+                    "{name}: degree {p} needs at least {p} + 1 control points, got {n}"
                 )));
             }
             let spans = n - p;
@@ -346,6 +345,87 @@ impl<'a> BSplineRows<'a> {
     }
 }
 
+impl BSplineRows<'_> {
+    /// The vertices of one row from the collapsed row net `r0` (values) and `r1` (`u`
+    /// derivatives), `W = q + 1` known at compile time.
+    #[inline(always)]
+    fn columns<const W: usize>(&self, r0: &[f64], r1: &[f64], row: &mut RowBuf) {
+        for j in 0..row.len() {
+            let o = 3 * self.start[j];
+            let m = &self.basis[j * 2 * W..(j + 1) * 2 * W];
+            let (m_0, m_1) = m.split_at(W);
+            let c0: &[f64] = &r0[o..o + 3 * W];
+            let c1: &[f64] = &r1[o..o + 3 * W];
+            let mut acc = [0.0; 12];
+            for c in 0..W {
+                let (m0, m1) = (m_0[c], m_1[c]);
+                for k in 0..3 {
+                    let (a, b) = (c0[3 * c + k], c1[3 * c + k]);
+                    acc[k] += m0 * a;
+                    acc[3 + k] += m0 * b;
+                    acc[6 + k] += m1 * a;
+                    acc[9 + k] += m1 * b;
+                }
+            }
+            store_vertex(row, j, &acc);
+        }
+    }
+
+    fn columns_any(&self, w: usize, r0: &[f64], r1: &[f64], row: &mut RowBuf) {
+        for j in 0..row.len() {
+            let o = 3 * self.start[j];
+            let m = &self.basis[j * 2 * w..(j + 1) * 2 * w];
+            let mut acc = [0.0; 12];
+            for c in 0..w {
+                let (m0, m1) = (m[c], m[w + c]);
+                for k in 0..3 {
+                    let (a, b) = (r0[o + 3 * c + k], r1[o + 3 * c + k]);
+                    acc[k] += m0 * a;
+                    acc[3 + k] += m0 * b;
+                    acc[6 + k] += m1 * a;
+                    acc[9 + k] += m1 * b;
+                }
+            }
+            store_vertex(row, j, &acc);
+        }
+    }
+}
+
+/// Writes `X` and the unit normal of column `j` from `acc = [X, X_u, X_v, X_uv]`. The normal is
+/// `X_u × X_v` normalised where that is clearly non-degenerate (the test of
+/// [`Partials::normal`]), else [`Partials::normal`] with its pole limits.
+#[inline(always)]
+fn store_vertex(row: &mut RowBuf, j: usize, acc: &[f64; 12]) {
+    let (xu, xv) = (&acc[3..6], &acc[6..9]);
+    let n = [
+        xu[1] * xv[2] - xu[2] * xv[1],
+        xu[2] * xv[0] - xu[0] * xv[2],
+        xu[0] * xv[1] - xu[1] * xv[0],
+    ];
+    let s2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    let t = xu[0] * xu[0]
+        + xu[1] * xu[1]
+        + xu[2] * xu[2]
+        + xv[0] * xv[0]
+        + xv[1] * xv[1]
+        + xv[2] * xv[2];
+    (row.x[j], row.y[j], row.z[j]) = (acc[0], acc[1], acc[2]);
+    if s2 > 1e-20 * t * t && s2 > 1e-290 && s2 < 1e290 {
+        let r = 1.0 / s2.sqrt();
+        (row.nx[j], row.ny[j], row.nz[j]) = (n[0] * r, n[1] * r, n[2] * r);
+    } else {
+        let p = Partials {
+            x: Vec3::new(acc[0], acc[1], acc[2]),
+            xu: Vec3::new(xu[0], xu[1], xu[2]),
+            xv: Vec3::new(xv[0], xv[1], xv[2]),
+            xuv: Vec3::new(acc[9], acc[10], acc[11]),
+            ..Default::default()
+        };
+        let nn = p.normal();
+        (row.nx[j], row.ny[j], row.nz[j]) = (nn.x, nn.y, nn.z);
+    }
+}
+
 impl RowEvaluator for BSplineRows<'_> {
     fn eval_row(&self, u: f64, row: &mut RowBuf) {
         let s = self.surface;
@@ -379,32 +459,15 @@ impl RowEvaluator for BSplineRows<'_> {
                 }
             }
         }
-        let w = q + 1;
-        for j in 0..row.len() {
-            let st = self.start[j];
-            let m = &self.basis[j * 2 * w..(j + 1) * 2 * w];
-            let mut x = [0.0; 3];
-            let mut xu = [0.0; 3];
-            let mut xv = [0.0; 3];
-            let mut xuv = [0.0; 3];
-            for c in 0..w {
-                let (m0, m1) = (m[c], m[w + c]);
-                let o = 3 * (st + c);
-                for k in 0..3 {
-                    x[k] += m0 * r0[o + k];
-                    xu[k] += m0 * r1[o + k];
-                    xv[k] += m1 * r0[o + k];
-                    xuv[k] += m1 * r1[o + k];
-                }
-            }
-            let pa = Partials {
-                x: Vec3::from(x),
-                xu: Vec3::from(xu),
-                xv: Vec3::from(xv),
-                xuv: Vec3::from(xuv),
-                ..Default::default()
-            };
-            row.set(j, pa.x, pa.normal());
+        let (r0, r1) = (&*r0, &*r1);
+        match q + 1 {
+            1 => self.columns::<1>(r0, r1, row),
+            2 => self.columns::<2>(r0, r1, row),
+            3 => self.columns::<3>(r0, r1, row),
+            4 => self.columns::<4>(r0, r1, row),
+            5 => self.columns::<5>(r0, r1, row),
+            6 => self.columns::<6>(r0, r1, row),
+            w => self.columns_any(w, r0, r1, row),
         }
         row.scratch = scratch;
     }

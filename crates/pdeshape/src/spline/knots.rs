@@ -325,3 +325,27 @@ pub(crate) fn elevate(
     }
     (new_knots, out)
 }
+
+/// The B-splines of degree `p` on `knots` that are alive at `t`, with derivatives: returns the
+/// span `s` (`p ≤ s < n`, `n = knots.len() − p − 1`, the span whose polynomial piece evaluates
+/// `t`, as in [`super::BSplineSurface::derivative`]) and `out[k·(p+1) + r] = N⁽ᵏ⁾_{s−p+r,p}(t)`
+/// for `k = 0..=order`. The knot vector is checked as by [`super::BSplineSurface::new`].
+pub fn bspline_basis(knots: &[f64], p: usize, t: f64, order: usize) -> Result<(usize, Vec<f64>)> {
+    if knots.len() / 2 <= p {
+        return Err(Error::invalid(format!(
+            "knots: degree {p} needs at least 2·({p} + 1) knots, got {}",
+            knots.len()
+        )));
+    }
+    let n = knots.len() - p - 1;
+    check_knots("knots", p, n, knots)?;
+    let len = order
+        .checked_add(1)
+        .and_then(|o| o.checked_mul(p + 1))
+        .filter(|&l| l <= 1 << 24)
+        .ok_or_else(|| Error::invalid(format!("order = {order} is too large")))?;
+    let s = find_span(knots, p, n, t);
+    let mut out = vec![0.0; len];
+    basis_derivatives(knots, p, s, t, order, &mut out);
+    Ok((s, out))
+}

@@ -2,12 +2,14 @@
 //! dual bases.
 //!
 //! - [`BSplineSurface`]: tensor-product B-spline surfaces of any degrees and knot vectors
-//!   (Cox–de Boor with derivatives of any order, Boehm knot insertion, exact degree elevation).
+//!   (Cox–de Boor with derivatives of any order, Boehm knot insertion, exact degree elevation);
+//!   [`bspline_basis`] gives the basis functions alive at a parameter, with derivatives.
 //! - [`BezierSurface`]: tensor-product Bézier patches on `[0, 1]²` (de Casteljau, exact
 //!   derivatives from forward differences of the net, degree elevation).
 //! - [`TensorBezier`] and [`SimplexBezier`]: Bézier patches on the box `[0, 1]^m` and on a
 //!   simplex in R^m with values in R^dim, generic over the [`Scalar`] (`f64` or exact
-//!   [`num_rational::BigRational`]).
+//!   [`num_rational::BigRational`]); [`simplex_coordinates`] and [`simplex_direction`] map
+//!   points and directions of a simplex in R^m to the patch's coordinates `λ`.
 //! - The difference-equation theorem and dual bases of seed 001 (Feng, Tong, Chen):
 //!   [`forward_differences`] / [`binomial_sums`] (Theorem 1), [`box_dual`] (Theorem 2,
 //!   Corollary 2.1), [`simplex_dual`] (Theorem 3, Corollary 3.1), and the all-at-once
@@ -42,6 +44,7 @@ pub use dual::{
     binomial_sums, box_control_from_derivatives, box_dual, forward_differences,
     simplex_control_from_derivatives, simplex_dual,
 };
-pub use scalar::{rational_from_f64, IndexSet, Scalar, MAX_INDEX_BOX};
-pub use simplex::SimplexBezier;
+pub use knots::bspline_basis;
+pub use scalar::{rational_from_f64, IndexSet, Scalar, MAX_INDEX_BOX, MAX_VARS};
+pub use simplex::{simplex_coordinates, simplex_direction, SimplexBezier};
 pub use tensor::TensorBezier;

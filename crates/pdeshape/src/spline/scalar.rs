@@ -8,6 +8,8 @@ use std::ops::Neg;
 
 /// A field the generic code computes in: `+ − × ÷`, integers, and a float view.
 pub trait Scalar: Clone + PartialEq + Debug + Num + Neg<Output = Self> + Send + Sync {
+    /// True for exact arithmetic (no rounding).
+    const EXACT: bool;
     /// The integer `n`, exactly (for `f64`: exact up to 2⁵³).
     fn int(n: i64) -> Self;
     /// The nearest `f64`.
@@ -19,6 +21,7 @@ pub trait Scalar: Clone + PartialEq + Debug + Num + Neg<Output = Self> + Send + 
 }
 
 impl Scalar for f64 {
+    const EXACT: bool = false;
     fn int(n: i64) -> Self {
         n as f64
     }
@@ -28,6 +31,7 @@ impl Scalar for f64 {
 }
 
 impl Scalar for BigRational {
+    const EXACT: bool = true;
     fn int(n: i64) -> Self {
         BigRational::from_i64(n).expect("every i64 is a rational")
     }
@@ -80,6 +84,9 @@ pub struct IndexSet {
     lookup: Vec<usize>,
 }
 
+/// Most variables `m` accepted for an index set.
+pub const MAX_VARS: usize = 32;
+
 /// Largest bounding box accepted for an index set (entries).
 pub const MAX_INDEX_BOX: usize = 1 << 22;
 
@@ -91,11 +98,21 @@ impl IndexSet {
 
     /// The simplex `{α ∈ Z₊ᵐ : |α| ≤ n}` (`C(n+m, m)` members), `m ≥ 1`.
     pub fn simplex(m: usize, n: usize) -> crate::Result<Self> {
+        if m > MAX_VARS {
+            return Err(crate::Error::invalid(format!(
+                "m = {m}: at most {MAX_VARS} variables"
+            )));
+        }
         Self::build(vec![n; m], |a: &[usize]| a.iter().sum::<usize>() <= n)
     }
 
     fn build(extent: Vec<usize>, keep: impl Fn(&[usize]) -> bool) -> crate::Result<Self> {
         let m = extent.len();
+        if m > MAX_VARS {
+            return Err(crate::Error::invalid(format!(
+                "m = {m}: at most {MAX_VARS} variables"
+            )));
+        }
         if m == 0 {
             return Err(crate::Error::invalid(
                 "the number of variables m must be at least 1",

@@ -96,6 +96,10 @@ impl<T: Scalar> SimplexBezier<T> {
                 self.vars()
             )));
         }
+        if sigma.iter().fold(0usize, |a, s| a.saturating_add(*s)) > self.n {
+            self.check_lambda(lambda)?;
+            return Ok(vec![T::zero(); self.dim]);
+        }
         let mut dirs = Vec::new();
         for (i, &s) in sigma.iter().enumerate() {
             let mut e = vec![T::zero(); self.vars()];
@@ -209,4 +213,125 @@ impl<T: Scalar> SimplexBezier<T> {
         }
         Ok(())
     }
+}
+
+/// The coordinates `λ = (λ_1, …, λ_m)` of the point `x ∈ R^m` with respect to the simplex
+/// `⟨V^{(1)}, …, V^{(m+1)}⟩` (`vertices`, `m + 1` points of `m` coordinates): the solution of
+/// `Σ_{i≤m} λ_i (V^{(i)} − V^{(m+1)}) = x − V^{(m+1)}`, so `x = Σ_{i≤m} λ_i V^{(i)} + λ_{m+1} V^{(m+1)}`
+/// with `λ_{m+1} = 1 − |λ|`. Gaussian elimination with partial pivoting (exact in rationals).
+/// A degenerate simplex is an error (in `f64`: a pivot below `1e-13·m` times the largest edge
+/// coordinate).
+pub fn simplex_coordinates<T: Scalar>(vertices: &[Vec<T>], x: &[T]) -> Result<Vec<T>> {
+    let m = check_vertices(vertices)?;
+    if x.len() != m {
+        return Err(Error::invalid(format!(
+            "x: expected {m} coordinates, got {}",
+            x.len()
+        )));
+    }
+    let rhs: Vec<T> = (0..m)
+        .map(|r| x[r].clone() - vertices[m][r].clone())
+        .collect();
+    solve_edges(vertices, rhs)
+}
+
+/// The λ-coordinates of a direction `w ∈ R^m`: `Σ_{i≤m} d_i (V^{(i)} − V^{(m+1)}) = w`. The
+/// derivative of a patch along `w` in the domain's own coordinates is then
+/// [`SimplexBezier::directional`] along `d` (chain rule: `λ` is an affine function of `x`).
+pub fn simplex_direction<T: Scalar>(vertices: &[Vec<T>], w: &[T]) -> Result<Vec<T>> {
+    let m = check_vertices(vertices)?;
+    if w.len() != m {
+        return Err(Error::invalid(format!(
+            "w: expected {m} coordinates, got {}",
+            w.len()
+        )));
+    }
+    solve_edges(vertices, w.to_vec())
+}
+
+fn check_vertices<T: Scalar>(vertices: &[Vec<T>]) -> Result<usize> {
+    if vertices.len() < 2 {
+        return Err(Error::invalid(format!(
+            "vertices: a simplex in R^m needs m + 1 ≥ 2 vertices, got {}",
+            vertices.len()
+        )));
+    }
+    let m = vertices.len() - 1;
+    for (i, v) in vertices.iter().enumerate() {
+        if v.len() != m {
+            return Err(Error::invalid(format!(
+                "vertices[{i}]: expected {m} coordinates, got {}",
+                v.len()
+            )));
+        }
+        if v.iter().any(|c| !c.to_f64().is_finite()) {
+            return Err(Error::invalid(format!(
+                "vertices[{i}] = {v:?} is not finite"
+            )));
+        }
+    }
+    Ok(m)
+}
+
+/// Solves `A d = rhs` with the columns `A_i = V^{(i)} − V^{(m+1)}`.
+fn solve_edges<T: Scalar>(vertices: &[Vec<T>], mut rhs: Vec<T>) -> Result<Vec<T>> {
+    let m = vertices.len() - 1;
+    // a[r][c] = V^{(c)}_r − V^{(m+1)}_r
+    let mut a: Vec<Vec<T>> = (0..m)
+        .map(|r| {
+            (0..m)
+                .map(|c| vertices[c][r].clone() - vertices[m][r].clone())
+                .collect()
+        })
+        .collect();
+    let scale = a
+        .iter()
+        .flatten()
+        .map(|x| x.to_f64().abs())
+        .fold(0.0, f64::max);
+    let degenerate = || {
+        Error::invalid(format!(
+            "vertices: the simplex is degenerate (its {m} edges from the last vertex are \
+             linearly dependent)"
+        ))
+    };
+    for col in 0..m {
+        let piv = (col..m)
+            .max_by(|&i, &j| {
+                a[i][col]
+                    .to_f64()
+                    .abs()
+                    .total_cmp(&a[j][col].to_f64().abs())
+            })
+            .expect("non-empty range");
+        // Exact zero (rationals), or a pivot at the rounding level of the edges (f64).
+        if a[piv][col] == T::zero()
+            || (!T::EXACT && a[piv][col].to_f64().abs() <= 1e-13 * scale * (m as f64))
+        {
+            return Err(degenerate());
+        }
+        a.swap(col, piv);
+        rhs.swap(col, piv);
+        for r in col + 1..m {
+            let f = a[r][col].clone() / a[col][col].clone();
+            if f == T::zero() {
+                continue;
+            }
+            let pivot_row = a[col].clone();
+            for (x, p) in a[r][col..].iter_mut().zip(&pivot_row[col..]) {
+                *x = x.clone() - f.clone() * p.clone();
+            }
+            let v = rhs[r].clone() - f * rhs[col].clone();
+            rhs[r] = v;
+        }
+    }
+    let mut d = vec![T::zero(); m];
+    for r in (0..m).rev() {
+        let mut acc = rhs[r].clone();
+        for c in r + 1..m {
+            acc = acc - a[r][c].clone() * d[c].clone();
+        }
+        d[r] = acc / a[r][r].clone();
+    }
+    Ok(d)
 }

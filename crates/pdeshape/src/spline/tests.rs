@@ -469,6 +469,30 @@ fn surface_impls_agree_with_derivative_and_rows() {
             }
         }
     }
+    // A pole: the first row of the net collapsed to one point, so X_v = 0 at u = 0 and the
+    // rows must fall back to the limit normal of `Partials::normal`.
+    let mut s = rand_bspline(&mut rng, 3, 3);
+    let nv = s.counts()[1];
+    let apex = Vec3::new(0.1, 0.2, 0.3);
+    let mut ctrl = s.control().to_vec();
+    ctrl[..nv].fill(apex);
+    s = BSplineSurface::new(s.degree(), s.knots_u().to_vec(), s.knots_v().to_vec(), ctrl).unwrap();
+    let [_, [c, d]] = s.domain();
+    let vs: Vec<f64> = (0..9).map(|j| c + (d - c) * j as f64 / 8.0).collect();
+    let mut row = RowBuf::new(vs.len());
+    s.row_evaluator(&vs).eval_row(0.0, &mut row);
+    for (j, &v) in vs.iter().enumerate() {
+        let p = s.partials(0.0, v);
+        assert!(p.xv.amax() < 1e-15, "X_v is rounding noise at the pole");
+        assert!((row.point(j) - apex).amax() < 1e-15);
+        let n = p.normal();
+        assert!((n.norm() - 1.0).abs() < 1e-12, "limit normal exists");
+        assert!(
+            (row.normal(j) - n).amax() < 1e-12,
+            "{:?} vs {n:?}",
+            row.normal(j)
+        );
+    }
     let z = rand_bezier(&mut rng, 3, 4);
     assert_eq!(z.v_domain(), VDomain::Interval(0.0, 1.0));
     // Bernstein tables (partials, rows) against de Casteljau on forward differences.
@@ -528,4 +552,52 @@ fn bad_input_is_rejected_with_the_value_named() {
     let mut inf = k4.clone();
     inf[7] = f64::INFINITY;
     assert!(BSplineSurface::new([3, 3], k4, inf, c(16)).is_err());
+}
+
+/// The public basis: partition of unity, derivatives summing to zero, values against the
+/// recursive definition, and the derivative recurrence
+/// `N'_{i,p} = p (N_{i,p−1}/(t_{i+p} − t_i) − N_{i+1,p−1}/(t_{i+p+1} − t_{i+1}))`
+/// evaluated with the recursive lower-degree functions.
+#[test]
+fn public_basis_matches_the_definitions() {
+    let mut rng = StdRng::seed_from_u64(9);
+    for _ in 0..30 {
+        let p = rng.gen_range(1..=5);
+        let n = p + 1 + rng.gen_range(0..5);
+        let clamped = rng.gen_bool(0.5);
+        let k = rand_knots(&mut rng, p, n, clamped);
+        let (a, b) = (k[p], k[n]);
+        let t = rng.gen_range(a..b);
+        let (s, out) = bspline_basis(&k, p, t, p + 1).unwrap();
+        assert!(k[s] <= t && t < k[s + 1]);
+        let w = p + 1;
+        let sum: f64 = out[..w].iter().sum();
+        assert!((sum - 1.0).abs() < 1e-14);
+        for ord in 1..=p + 1 {
+            let d: f64 = out[ord * w..(ord + 1) * w].iter().sum();
+            let mag: f64 = out[ord * w..(ord + 1) * w].iter().map(|x| x.abs()).sum();
+            assert!(d.abs() <= 1e-13 * mag.max(1.0), "order {ord}: Σ = {d}");
+        }
+        for r in 0..w {
+            let i = s - p + r;
+            assert!((out[r] - cox_de_boor(&k, i, p, t, b)).abs() < 1e-14);
+            let mut want = 0.0;
+            let d1 = k[i + p] - k[i];
+            if d1 > 0.0 {
+                want += p as f64 / d1 * cox_de_boor(&k, i, p - 1, t, b);
+            }
+            let d2 = k[i + p + 1] - k[i + 1];
+            if d2 > 0.0 {
+                want -= p as f64 / d2 * cox_de_boor(&k, i + 1, p - 1, t, b);
+            }
+            assert!((out[w + r] - want).abs() <= 1e-13 * want.abs().max(1.0));
+        }
+        assert!(out[(p + 1) * w..].iter().all(|&x| x == 0.0));
+    }
+    assert!(bspline_basis(&[0.0, 1.0], 1, 0.5, 1).is_err());
+    assert!(bspline_basis(&[0.0, 0.0, 1.0, 1.0], 1, 0.5, usize::MAX).is_err());
+    let e = bspline_basis(&[0.0, 0.0, 1.0, 0.5], 1, 0.5, 1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("knots[3] = 0.5"), "{e}");
 }

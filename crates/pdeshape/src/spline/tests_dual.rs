@@ -404,3 +404,76 @@ fn dual_bases_reject_bad_input() {
     assert!(z.eval(&[0.0]).is_err());
     assert!(z.directional(&[0.0, 0.0], &[vec![1.0]]).is_err());
 }
+
+/// Simplex coordinates in a random non-degenerate simplex: exact in rationals; the geometric
+/// directional derivative through `simplex_direction` against a finite difference of the
+/// patch along a straight line in the domain (the patch is a polynomial of degree `n` along
+/// the line, so the central difference's error is `Σ_{odd j≥3} h^{j−1}/j! |f⁽ʲ⁾|`, bounded
+/// here with the exact third derivative (doubled for the tail), plus rounding).
+#[test]
+fn simplex_coordinates_and_geometric_directions() {
+    let mut rng = StdRng::seed_from_u64(16);
+    for m in 1..=3 {
+        let verts: Vec<Vec<Q>> = (0..=m)
+            .map(|_| (0..m).map(|_| rand_q(&mut rng)).collect())
+            .collect();
+        let lambda: Vec<Q> = (0..m).map(|_| rand_q(&mut rng) / Q::int(50)).collect();
+        let last = lambda.iter().fold(Q::int(1), |a, l| a - l);
+        let x: Vec<Q> = (0..m)
+            .map(|r| {
+                (0..m).fold(last.clone() * verts[m][r].clone(), |a, i| {
+                    a + lambda[i].clone() * verts[i][r].clone()
+                })
+            })
+            .collect();
+        match simplex_coordinates(&verts, &x) {
+            Ok(l) => assert_eq!(l, lambda),
+            Err(e) => panic!("random simplex degenerate? {e}"),
+        }
+    }
+    // Degenerate: three collinear vertices in the plane.
+    let flat = vec![vec![0.0, 0.0], vec![1.0, 1.0], vec![2.0, 2.0]];
+    let e = simplex_coordinates(&flat, &[0.5, 0.5])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("degenerate"), "{e}");
+    let flat_q: Vec<Vec<Q>> = flat
+        .iter()
+        .map(|v| v.iter().map(|&c| rational_from_f64(c).unwrap()).collect())
+        .collect();
+    assert!(simplex_direction(&flat_q, &[Q::int(1), Q::int(0)]).is_err());
+    // A triangle in f64: D_w b = lim (b(λ(x + h w)) − b(λ(x − h w)))/2h.
+    let tri = vec![vec![0.3, 0.1], vec![2.0, 0.4], vec![0.7, 1.9]];
+    let n = 4;
+    let count = IndexSet::simplex(2, n).unwrap().len();
+    let z = SimplexBezier::new(
+        2,
+        n,
+        3,
+        rand_values(&mut rng, count * 3, |r| r.gen_range(-1.0..1.0)),
+    )
+    .unwrap();
+    let x = [0.9, 0.7];
+    let w = [0.6, -0.8];
+    let d = simplex_direction(&tri, &w).unwrap();
+    let lam = simplex_coordinates(&tri, &x).unwrap();
+    let exact = z.directional(&lam, std::slice::from_ref(&d)).unwrap();
+    let h = 1e-3;
+    let at = |t: f64| {
+        let p = [x[0] + t * w[0], x[1] + t * w[1]];
+        z.eval(&simplex_coordinates(&tri, &p).unwrap()).unwrap()
+    };
+    let (fp, fm) = (at(h), at(-h));
+    let third = z
+        .directional(&lam, &[d.clone(), d.clone(), d.clone()])
+        .unwrap();
+    for k in 0..3 {
+        let fd = (fp[k] - fm[k]) / (2.0 * h);
+        let tol = 2.0 * h * h / 6.0 * third[k].abs() + 64.0 * f64::EPSILON / h;
+        assert!(
+            (fd - exact[k]).abs() <= tol,
+            "{fd} vs {}, tol {tol}",
+            exact[k]
+        );
+    }
+}
