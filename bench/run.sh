@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the surface benchmark and its NumPy peer one after the other, on the same machine, for
-# BENCHMARKS.md. Needs numpy (pip install numpy); not part of the test suite.
+# BENCHMARKS.md. Needs the packages in bench/peers/requirements.txt (pip install -r); not part
+# of the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== machine"; nproc; grep -m1 "model name" /proc/cpuinfo || true; date -u
@@ -8,3 +9,6 @@ echo "== pdeshape (cargo bench)"
 cargo bench -p pdeshape --bench surface -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^solve_tessellate|time:"
 echo "== NumPy peer"
 python3 bench/peers/numpy_surface.py 60
+echo "== finite differences: 256 x 256 biharmonic patch (cargo bench), then libigl on the same grid"
+cargo bench -p pdeshape --bench fd -- --warm-up-time 1 --measurement-time 10 2>&1 | grep -E "^fd |time:"
+python3 bench/peers/libigl_biharmonic.py 256 5
