@@ -2,6 +2,8 @@
 # Runs the surface benchmark and its NumPy peer one after the other, on the same machine, for
 # BENCHMARKS.md. Needs numpy (pip install numpy) and, for the dynamic peer, scipy; not part of
 # the test suite.
+# BENCHMARKS.md. Needs the packages in bench/peers/requirements.txt (pip install -r); not part
+# of the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== machine"; nproc; grep -m1 "model name" /proc/cpuinfo || true; date -u
@@ -18,3 +20,6 @@ cargo bench -p pdeshape --bench spline -- --warm-up-time 2 --measurement-time 8 
 echo "== B-spline grid: SciPy peer (BLAS threads as installed, then one thread)"
 python3 bench/peers/scipy_bspline_grid.py 60
 OPENBLAS_NUM_THREADS=1 python3 bench/peers/scipy_bspline_grid.py 60 | head -1
+echo "== finite differences: 256 x 256 biharmonic patch (cargo bench), then libigl on the same grid"
+cargo bench -p pdeshape --bench fd -- --warm-up-time 1 --measurement-time 10 2>&1 | grep -E "^fd |time:"
+python3 bench/peers/libigl_biharmonic.py 256 5
