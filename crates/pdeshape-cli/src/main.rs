@@ -1,6 +1,7 @@
 //! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
+mod analyze;
 mod check;
 mod common;
 mod render;
@@ -28,6 +29,8 @@ enum Command {
     Check(check::Args),
     /// Print the JSON schema of the design file.
     Schema,
+    /// Area, enclosed volume, curvature integrals and bending energies, per patch and in total.
+    Analyze(analyze::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -36,6 +39,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Render(args) => render::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Schema => schema::run(),
+        Command::Analyze(args) => analyze::run(&args),
     }
 }
 
@@ -51,7 +55,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check or schema \
+                        "error: a subcommand is required: surface, render, check, schema or analyze \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)
