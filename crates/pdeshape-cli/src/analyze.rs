@@ -199,3 +199,100 @@ fn table(title: &Option<String>, d: &DesignIntegrals) -> String {
     );
     s
 }
+
+/// sRGB colours per vertex, one list per mesh.
+pub type MeshColors = Vec<Vec<[u8; 3]>>;
+
+/// What `pdeshape render --color` colours by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorBy {
+    /// Gaussian curvature K.
+    Gauss,
+    /// Mean curvature H (outward normal).
+    Mean,
+}
+
+impl ColorBy {
+    pub fn word(self) -> &'static str {
+        match self {
+            ColorBy::Gauss => "Gaussian",
+            ColorBy::Mean => "mean",
+        }
+    }
+}
+
+/// `LO,HI` with finite `LO < HI`.
+pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
+    let bad = || {
+        CliError::input(format!(
+            "--range: expected two numbers LO,HI with LO < HI (got '{s}')"
+        ))
+    };
+    let (a, b) = s.split_once(',').ok_or_else(bad)?;
+    let lo: f64 = a.trim().parse().map_err(|_| bad())?;
+    let hi: f64 = b.trim().parse().map_err(|_| bad())?;
+    if lo.is_finite() && hi.is_finite() && lo < hi {
+        Ok((lo, hi))
+    } else {
+        Err(bad())
+    }
+}
+
+/// Per-vertex colours of every mesh (PDE patches, then parametric surfaces, as
+/// `common::meshes` orders them) by `K` or `H`, and the range used: `range`, or symmetric about
+/// zero with the largest finite magnitude on the grids (`±1` if all are zero). `H` is taken with
+/// the design's outward orientation.
+pub fn curvature_colors(
+    built: &pdeshape::spec::BuiltDesign,
+    meshes: &[pdeshape::mesh::GridMesh],
+    by: ColorBy,
+    range: Option<(f64, f64)>,
+) -> Result<(MeshColors, f64, f64), CliError> {
+    use pdeshape::surface::Surface;
+    let surfaces: Vec<&dyn Surface> = built
+        .patches
+        .iter()
+        .map(|p| &p.surface as &dyn Surface)
+        .chain(built.parametric.iter().map(|p| &p.surface as &dyn Surface))
+        .collect();
+    let orientation = match by {
+        ColorBy::Gauss => vec![1.0; surfaces.len()],
+        ColorBy::Mean => {
+            integrate_design(built, &Quadrature::default())
+                .map_err(|e| CliError::input(e.to_string()))?
+                .orientation
+        }
+    };
+    let values: Vec<Vec<f64>> = surfaces
+        .iter()
+        .zip(meshes)
+        .zip(&orientation)
+        .map(|((s, m), sign)| {
+            let (k, h) = pdeshape::analysis::curvature_grid(*s, &m.u, &m.v);
+            match by {
+                ColorBy::Gauss => k,
+                ColorBy::Mean => h.into_iter().map(|x| x * sign).collect(),
+            }
+        })
+        .collect();
+    let (lo, hi) = match range {
+        Some(r) => r,
+        None => {
+            let m = values
+                .iter()
+                .flatten()
+                .filter(|x| x.is_finite())
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            if m > 0.0 {
+                (-m, m)
+            } else {
+                (-1.0, 1.0)
+            }
+        }
+    };
+    let colors = values
+        .iter()
+        .map(|v| pdeshape::render::diverging_colors(v, lo, hi))
+        .collect();
+    Ok((colors, lo, hi))
+}

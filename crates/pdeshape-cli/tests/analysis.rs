@@ -148,3 +148,68 @@ fn parametric_designs_write_meshes() {
         assert!((r - 2.0).abs() < 1e-6, "{v:?}");
     }
 }
+
+#[test]
+fn render_colours_by_curvature() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "ball.toml", SPHERE);
+    let png = dir.path().join("k.png");
+    let o = pdeshape(&[
+        "render",
+        s(&f),
+        "-o",
+        s(&png),
+        "--color",
+        "gauss",
+        "--size",
+        "80x60",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    // K = 1/4 everywhere: the symmetric range is ±0.25.
+    assert!(
+        out.contains("Gaussian curvature from -2.500000e-1 (blue) to 2.500000e-1 (red)"),
+        "{out}"
+    );
+    assert!(std::fs::metadata(&png).unwrap().len() > 100);
+    let o = pdeshape(&[
+        "render",
+        s(&f),
+        "-o",
+        s(&png),
+        "--color",
+        "mean",
+        "--range",
+        "-1,0",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8(o.stdout)
+        .unwrap()
+        .contains("mean curvature from -1.000000e0 (blue) to 0.000000e0 (red)"));
+    // Bad ranges, and a range without a colouring, leave no picture behind.
+    let none = dir.path().join("none.png");
+    for (args, want) in [
+        (
+            vec!["--color", "mean", "--range", "1,1"],
+            "error: --range: expected two numbers LO,HI with LO < HI (got '1,1')\n",
+        ),
+        (
+            vec!["--range", "0,1"],
+            "error: --range: needs --color gauss or --color mean\n",
+        ),
+    ] {
+        let mut all = vec!["render", s(&f), "-o", s(&none)];
+        all.extend(args);
+        let o = pdeshape(&all);
+        assert_eq!(o.status.code(), Some(2));
+        assert_eq!(stderr(&o), want);
+        assert!(!none.exists());
+    }
+    let o = pdeshape(&["render", s(&f), "-o", s(&none), "--color", "area"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).starts_with("error: invalid value 'area' for '--color"),
+        "{}",
+        stderr(&o)
+    );
+}

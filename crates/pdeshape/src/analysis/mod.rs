@@ -386,5 +386,34 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
     }
 }
 
+/// `K` and `H` (with respect to `X_u × X_v`) at every grid point `(u_i, v_j)`, row-major
+/// (`i·vs.len() + j`), from the surface's rows of partials; at degenerate points (poles) the
+/// limit of [`curvature_at`], NaN where even that fails.
+pub fn curvature_grid(s: &dyn Surface, us: &[f64], vs: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let eval = s.partials_rows(vs);
+    let rows: Vec<(Vec<f64>, Vec<f64>)> =
+        us.par_iter()
+            .map(|&u| {
+                let mut buf = vec![Partials::default(); vs.len()];
+                eval.eval_row(u, &mut buf);
+                buf.iter()
+                    .zip(vs)
+                    .map(|(p, &v)| match geometry::core(p) {
+                        Some(c) => (c.gauss, c.mean),
+                        None => curvature_at(s, u, v)
+                            .map_or((f64::NAN, f64::NAN), |c| (c.gauss, c.mean)),
+                    })
+                    .unzip()
+            })
+            .collect();
+    let mut k = Vec::with_capacity(us.len() * vs.len());
+    let mut h = Vec::with_capacity(us.len() * vs.len());
+    for (rk, rh) in rows {
+        k.extend(rk);
+        h.extend(rh);
+    }
+    (k, h)
+}
+
 #[cfg(test)]
 mod tests;
