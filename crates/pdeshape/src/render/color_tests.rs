@@ -45,7 +45,7 @@ fn colored_surfaces_show_their_colour_and_bad_lists_are_refused() {
         up: crate::Vec3::new(0.0, 1.0, 0.0),
     };
     let red = vec![[200u8, 0, 0]; mesh.len()];
-    let png = render_png_colored(&[mesh.clone()], &[red], &[], &options).unwrap();
+    let png = render_png_colored(std::slice::from_ref(&mesh), &[red], &[], &options).unwrap();
     let decoder = png::Decoder::new(std::io::Cursor::new(png));
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size()];
@@ -55,7 +55,7 @@ fn colored_surfaces_show_their_colour_and_bad_lists_are_refused() {
     let px = &buf[3 * (y * 64 + x)..3 * (y * 64 + x) + 3];
     assert!(px[0] > 2 * px[1].max(px[2]) && px[0] > 60, "{px:?}");
     let short = vec![[0u8; 3]; 3];
-    let e = render_png_colored(&[mesh.clone()], &[short], &[], &options).unwrap_err();
+    let e = render_png_colored(std::slice::from_ref(&mesh), &[short], &[], &options).unwrap_err();
     assert_eq!(
         e.to_string(),
         format!("mesh 0 has {} vertices but 3 colours", mesh.len())
