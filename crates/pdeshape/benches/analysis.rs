@@ -73,15 +73,19 @@ fn bench(c: &mut Criterion) {
     group.bench_function("256x512", |b| {
         b.iter(|| black_box(analyze_surface(&patch, &fixed).unwrap()))
     });
-    group.bench_function("256x512_pointwise_partials", |b| {
-        b.iter(|| black_box(analyze_surface(&Pointwise(&patch), &fixed).unwrap()))
-    });
     let adaptive = analyze_surface(&patch, &Quadrature::default()).unwrap();
     group.bench_function(
         format!("adaptive_default_{}x{}", adaptive.u_nodes, adaptive.v_nodes),
         |b| b.iter(|| black_box(analyze_surface(&patch, &Quadrature::default()).unwrap())),
     );
     group.finish();
+    // About 1.5 s per run: few samples.
+    let mut slow = c.benchmark_group("analysis_slow");
+    slow.sample_size(10);
+    slow.bench_function("256x512_pointwise_partials", |b| {
+        b.iter(|| black_box(analyze_surface(&Pointwise(&patch), &fixed).unwrap()))
+    });
+    slow.finish();
 }
 
 criterion_group!(benches, bench);
