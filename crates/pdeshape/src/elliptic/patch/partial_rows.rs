@@ -9,14 +9,15 @@ use crate::Vec3;
 /// Quantities per vertex: `X, X_u, X_v, X_uu, X_uv, X_vv` (x, y, z each).
 const Q: usize = 18;
 /// Columns per block (the block's accumulators stay in L1).
-const BLOCK: usize = 64;
+const BLOCK: usize = 32;
 
 pub(super) struct PdePartialRows<'a> {
     patch: &'a PdePatch,
     nv: usize,
-    /// On the standard periodic grid `v_j = 2πj/nv` (`nv` even) the tables cover the columns
-    /// `0..=nv/2` only: `cos n(2π − v) = cos nv` and `sin n(2π − v) = −sin nv` give column
-    /// `nv − j` from the cosine and sine sums of column `j`.
+    /// On the standard periodic grid `v_j = 2πj/nv` with `4 | nv` the tables cover the columns
+    /// `0..=nv/4` only: with the sums split by the parity of `n`, `cos n(π ∓ v) = (−1)ⁿ cos nv`,
+    /// `sin n(π ∓ v) = ∓(−1)ⁿ sin nv` and `v ↦ 2π − v` give the columns `nv/2 ∓ j` and `nv − j`
+    /// from the even and odd cosine and sine sums of column `j`.
     symmetric: bool,
     /// Columns of the tables.
     cols: usize,
@@ -31,13 +32,13 @@ impl<'a> PdePartialRows<'a> {
     pub(super) fn new(patch: &'a PdePatch, vs: &[f64]) -> Self {
         let m = patch.modes();
         let nv = vs.len();
-        let symmetric = nv >= 4
-            && nv.is_multiple_of(2)
+        let symmetric = nv >= 8
+            && nv.is_multiple_of(4)
             && vs
                 .iter()
                 .enumerate()
                 .all(|(j, &v)| v == crate::TAU * j as f64 / nv as f64);
-        let cols = if symmetric { nv / 2 + 1 } else { nv };
+        let cols = if symmetric { nv / 4 + 1 } else { nv };
         let mut cos = vec![0.0; m * cols];
         let mut sin = vec![0.0; m * cols];
         for n in 1..=m {
@@ -103,6 +104,20 @@ impl<'a> PdePartialRows<'a> {
     }
 }
 
+/// The 18 quantities in the order of [`PdePartialRows::coefficients`] as [`Partials`].
+#[inline(always)]
+fn to_partials(v: &[f64; Q]) -> Partials {
+    let v3 = |q: usize| Vec3::new(v[q], v[q + 1], v[q + 2]);
+    Partials {
+        x: v3(0),
+        xu: v3(3),
+        xv: v3(6),
+        xuu: v3(9),
+        xuv: v3(12),
+        xvv: v3(15),
+    }
+}
+
 impl PartialsRows for PdePartialRows<'_> {
     fn eval_row(&self, u: f64, out: &mut [Partials]) {
         #[cfg(target_arch = "x86_64")]
@@ -126,9 +141,10 @@ impl PdePartialRows<'_> {
         self.eval_row_generic::<true>(u, out);
     }
 
-    /// The row: cosine sums `C_q(v_j) = Σₙ αₙ,q cos nv_j` and sine sums `S_q(v_j)` per block of
-    /// table columns, then `out[j] = C + S` (and `out[nv − j] = C − S` on the symmetric grid),
-    /// then the remainder. `FMA` selects fused multiply–adds where the processor has them.
+    /// The row: cosine sums `C_q(v_j) = Σₙ αₙ,q cos nv_j` and sine sums `S_q(v_j)` (each split
+    /// into even and odd `n`) per block of table columns, then `out[j] = C + S` and, on the
+    /// symmetric grid, the three mirrored columns; then the remainder. `FMA` selects fused
+    /// multiply–adds where the processor has them.
     #[inline(always)]
     fn eval_row_generic<const FMA: bool>(&self, u: f64, out: &mut [Partials]) {
         let madd = |a: f64, x: f64, acc: f64| if FMA { a.mul_add(x, acc) } else { acc + a * x };
@@ -137,46 +153,61 @@ impl PdePartialRows<'_> {
         let mut alpha = vec![0.0; (m + 1) * Q];
         let mut beta = vec![0.0; (m + 1) * Q];
         self.coefficients(u, &mut alpha, &mut beta);
-        let mut cacc = [[0.0f64; BLOCK]; Q];
-        let mut sacc = [[0.0f64; BLOCK]; Q];
-        let cols = self.cols.min(if self.symmetric { nv / 2 + 1 } else { nv });
+        // [parity][q][column]
+        let mut cacc = [[[0.0f64; BLOCK]; Q]; 2];
+        let mut sacc = [[[0.0f64; BLOCK]; Q]; 2];
+        let symmetric = self.symmetric && nv == self.nv;
+        let cols = if symmetric { self.cols } else { nv };
+        let quarter = nv / 4;
         let mut j0 = 0;
         while j0 < cols {
             let len = BLOCK.min(cols - j0);
-            // Mode 0 is constant in v.
+            // Mode 0 (even, constant in v).
             for q in 0..Q {
-                cacc[q][..len].fill(alpha[q]);
-                sacc[q][..len].fill(0.0);
+                cacc[0][q][..len].fill(alpha[q]);
+                cacc[1][q][..len].fill(0.0);
+                sacc[0][q][..len].fill(0.0);
+                sacc[1][q][..len].fill(0.0);
             }
             for n in 1..=m {
                 let at = (n - 1) * self.cols + j0;
                 let c = &self.cos[at..at + len];
                 let s = &self.sin[at..at + len];
+                let p = n % 2;
                 for q in 0..Q {
                     let (an, bn) = (alpha[n * Q + q], beta[n * Q + q]);
-                    for (a, x) in cacc[q][..len].iter_mut().zip(c) {
+                    for (a, x) in cacc[p][q][..len].iter_mut().zip(c) {
                         *a = madd(an, *x, *a);
                     }
-                    for (a, x) in sacc[q][..len].iter_mut().zip(s) {
+                    for (a, x) in sacc[p][q][..len].iter_mut().zip(s) {
                         *a = madd(bn, *x, *a);
                     }
                 }
             }
             for t in 0..len {
                 let j = j0 + t;
-                let c3 = |q: usize| Vec3::new(cacc[q][t], cacc[q + 1][t], cacc[q + 2][t]);
-                let s3 = |q: usize| Vec3::new(sacc[q][t], sacc[q + 1][t], sacc[q + 2][t]);
-                let make = |sign: f64| Partials {
-                    x: c3(0) + s3(0) * sign,
-                    xu: c3(3) + s3(3) * sign,
-                    xv: c3(6) + s3(6) * sign,
-                    xuu: c3(9) + s3(9) * sign,
-                    xuv: c3(12) + s3(12) * sign,
-                    xvv: c3(15) + s3(15) * sign,
-                };
-                out[j] = make(1.0);
-                if self.symmetric && j > 0 && 2 * j < nv {
-                    out[nv - j] = make(-1.0);
+                // Columns j, nv − j, nv/2 − j, nv/2 + j: Ce ± Co ± Se ± So.
+                let mut four = [[0.0f64; Q]; 4];
+                for q in 0..Q {
+                    let (ce, co) = (cacc[0][q][t], cacc[1][q][t]);
+                    let (se, so) = (sacc[0][q][t], sacc[1][q][t]);
+                    let (a, b, c, d) = (ce + co, ce - co, se + so, se - so);
+                    four[0][q] = a + c;
+                    four[1][q] = a - c;
+                    four[2][q] = b - d;
+                    four[3][q] = b + d;
+                }
+                out[j] = to_partials(&four[0]);
+                if symmetric {
+                    if j > 0 {
+                        out[nv - j] = to_partials(&four[1]);
+                    }
+                    if j < quarter {
+                        out[nv / 2 - j] = to_partials(&four[2]);
+                        if j > 0 {
+                            out[nv / 2 + j] = to_partials(&four[3]);
+                        }
+                    }
                 }
             }
             j0 += len;
@@ -243,6 +274,9 @@ modes = 6
             assert_eq!(p.has_remainder(), remainder);
             // Offset 0: the standard grid (the symmetric path for even nv); 0.3: the general one.
             for (nv, offset) in [
+                (8, 0.0),
+                (12, 0.0),
+                (512, 0.0),
                 (1usize, 0.0),
                 (7, 0.0),
                 (64, 0.0),
