@@ -2,6 +2,7 @@
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
 mod blend;
+mod analyze;
 mod check;
 mod common;
 mod curve;
@@ -40,6 +41,8 @@ enum Command {
     /// Solve a [blend] design (a smoothing PDE spline joining two surfaces) and write it (obj,
     /// stl, ply, glb, csv, or json for the control net), reporting the G0/G1 mismatch.
     Blend(blend::Args),
+    /// Area, enclosed volume, curvature integrals and bending energies, per patch and in total.
+    Analyze(analyze::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -51,6 +54,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Optimize(args) => optimize::run(&args),
         Command::Schema => schema::run(),
         Command::Blend(args) => blend::run(&args),
+        Command::Analyze(args) => analyze::run(&args),
     }
 }
 
@@ -66,7 +70,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, curve, blend, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)
