@@ -4,6 +4,7 @@
 # the test suite.
 # BENCHMARKS.md. Needs the packages in bench/peers/requirements.txt (pip install -r); not part
 # of the test suite.
+# BENCHMARKS.md. Needs the packages of bench/peers/requirements.txt; not part of the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== machine"; nproc; grep -m1 "model name" /proc/cpuinfo || true; date -u
@@ -25,3 +26,7 @@ cargo bench -p pdeshape --bench fd -- --warm-up-time 1 --measurement-time 10 2>&
 python3 bench/peers/libigl_biharmonic.py 256 5
 echo "== pdeshape analysis (cargo bench)"
 cargo bench -p pdeshape --bench analysis -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^analysis|time:"
+echo "== pdeshape BFS splines and the section-6 blend (cargo bench)"
+cargo bench -p pdeshape --bench bfs -- --warm-up-time 2 --measurement-time 10 2>&1 | grep -E "^bfs_|^blend_|time:"
+echo "== scikit-fem peer (ElementQuadBFS; pip install scikit-fem)"
+python3 bench/peers/skfem_bfs.py 32 64 128

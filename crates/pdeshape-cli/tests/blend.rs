@@ -191,6 +191,11 @@ fn bad_blend_designs_are_located_and_leave_no_file() {
         &["blend.elements[0]"],
     );
     bad(
+        &edit(&text, "elements = [8, 4]", "elements = [4096, 4096]"),
+        "o.obj",
+        &["blend.elements", "refusing to allocate"],
+    );
+    bad(
         &edit(&text, "at = [0.0, 0.5]", "at = [0.0, 1.5]"),
         "o.obj",
         &["blend.points[0].at", "[0, 1]²"],

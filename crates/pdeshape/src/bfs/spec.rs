@@ -214,10 +214,11 @@ fn checked(spec: &BlendSpec) -> Result<Checked> {
             .at(&format!("blend.elements[{k}]")));
         }
     }
-    // 4 dofs per node; refuse systems beyond a few million unknowns before allocating.
-    if (nx + 1) * (ny + 1) > 1 << 20 {
+    // 4 dofs per node and about 1 kB of assembly map per element: refuse systems beyond
+    // 2¹⁷ nodes (half a million unknowns) before allocating.
+    if (nx + 1) * (ny + 1) > 1 << 17 {
         return Err(Error::invalid(format!(
-            "{nx} × {ny} elements exceed 2²⁰ nodes; refusing to allocate the system"
+            "{nx} × {ny} elements exceed 2¹⁷ nodes; refusing to allocate the system"
         ))
         .at("blend.elements"));
     }
