@@ -121,13 +121,16 @@ impl BandMatrix {
 /// The pentadiagonal case (`kl = ku = 2`) of [`BandMatrix`], with fixed-width rows so that the
 /// inner loops have constant bounds: row `i` keeps the columns `i − 2 ..= i + 4` (offset
 /// `c + 2 − i`; the last two receive fill-in). Two zero rows and four zero columns of padding
-/// past the end remove every bound test from the loops. Same algorithm (LU with partial pivoting
-/// within the band), same results as [`BandMatrix`].
+/// past the end remove every bound test from the loops. Same algorithm as [`BandMatrix`] (LU with
+/// partial pivoting within the band), with divisions by the pivots replaced by multiplications
+/// with their reciprocals (results agree to rounding).
 #[derive(Debug, Clone)]
 pub struct Penta {
     n: usize,
     rows: Vec<[f64; 7]>,
     pivots: Vec<usize>,
+    /// `1/U_kk`: one division per row in the factorisation, none in the solve.
+    inverse: Vec<f64>,
     scratch: Vec<f64>,
 }
 
@@ -138,6 +141,7 @@ impl Penta {
             n,
             rows: vec![[0.0; 7]; n + 2],
             pivots: vec![0; n],
+            inverse: vec![0.0; n],
             scratch: vec![0.0; n + 4],
         }
     }
@@ -182,10 +186,11 @@ impl Penta {
                 }
             }
             let pivot_row = rows[k];
-            let pivot = pivot_row[2];
+            let inv = 1.0 / pivot_row[2];
+            self.inverse[k] = inv;
             for i in 1..3 {
                 let r = &mut rows[k + i];
-                let m = r[2 - i] / pivot;
+                let m = r[2 - i] * inv;
                 r[2 - i] = m;
                 if m != 0.0 {
                     for c in 1..5 {
@@ -216,7 +221,7 @@ impl Penta {
         for i in (0..n).rev() {
             let r = &self.rows[i];
             let s = x[i] - r[3] * x[i + 1] - r[4] * x[i + 2] - r[5] * x[i + 3] - r[6] * x[i + 4];
-            x[i] = s / r[2];
+            x[i] = s * self.inverse[i];
         }
         b.copy_from_slice(&x[..n]);
     }
@@ -281,8 +286,8 @@ mod tests {
         assert!(band.factorize().is_err());
     }
 
-    /// The pentadiagonal solver gives the same numbers as the general band solver (same
-    /// operations in the same order) on matrices that need pivoting.
+    /// The pentadiagonal solver agrees with the general band solver to rounding (the same
+    /// operations, with reciprocals of the pivots) on matrices that need pivoting.
     #[test]
     fn penta_matches_band() {
         use rand::{Rng, SeedableRng};
@@ -307,7 +312,10 @@ mod tests {
             band.solve_in_place(&mut x);
             penta.factorize().unwrap();
             penta.solve_in_place(&mut y);
-            assert_eq!(x, y, "n = {n}");
+            let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for (a, b) in x.iter().zip(&y) {
+                assert!((a - b).abs() <= 1e-13 * scale, "n = {n}: {a} vs {b}");
+            }
         }
         let mut p = Penta::zeros(3);
         p.add(0, 0, 1.0);
