@@ -51,12 +51,34 @@ fn l2_error(x: &[f64]) -> f64 {
     l2_norm(&e, h)
 }
 
+/// CPU time of this thread in seconds (Linux: utime + stime of /proc/thread-self/stat, in clock
+/// ticks of 10 ms), so that figures taken on a loaded machine can be told apart from waiting.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    Some((utime + stime) / 100.0)
+}
+
 fn bench(c: &mut Criterion) {
     let comp = experiment();
-    for (j, l) in [(30usize, 450usize), (2000, 30000)] {
+    for (j, l, reps) in [(30usize, 450usize, 500usize), (2000, 30000, 1)] {
+        let wall = std::time::Instant::now();
+        let cpu = cpu_seconds();
+        let mut x = Vec::new();
+        for _ in 0..reps {
+            x = run(&comp, j, l);
+        }
+        let per_wall = wall.elapsed().as_secs_f64() / reps as f64;
+        let per_cpu = cpu
+            .zip(cpu_seconds())
+            .map(|(a, b)| format!("{:.4e} s", (b - a) / reps as f64))
+            .unwrap_or_else(|| "n/a".to_string());
         eprintln!(
-            "J = {j}, L = {l}: L2 error at T = 15: {:.6e}",
-            l2_error(&run(&comp, j, l))
+            "J = {j}, L = {l}: L2 error at T = 15: {:.6e}; per run: wall {per_wall:.4e} s, CPU {per_cpu}",
+            l2_error(&x)
         );
     }
     let mut g = c.benchmark_group("dynamic_section33");
