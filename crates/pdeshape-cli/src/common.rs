@@ -53,7 +53,12 @@ impl Loaded {
         let nu_v = nu.or(nu_file).unwrap_or(DEFAULT_NU);
         let nv_v = nv.or(nv_file).unwrap_or(DEFAULT_NV);
         // The vertex limit holds for the whole design: every patch gets its own grid.
-        let patches = self.spec.patches.as_ref().map_or(1, |p| p.len().max(1));
+        let patches = match (&self.spec.patches, &self.spec.conditions) {
+            (Some(p), _) => p.len(),
+            (None, Some(_)) => 1,
+            (None, None) => 0,
+        } + self.spec.parametric.len();
+        let patches = patches.max(1);
         let checked = spec::check_grid(nu_v, nv_v).and_then(|()| {
             match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(patches)) {
                 Some(n) if n <= pdeshape::mesh::MAX_VERTICES => Ok(()),
@@ -249,6 +254,10 @@ fn grids<T: Copy + Into<f64>>(
                 ),
             }));
         }
+        out.push(g);
+    }
+    for p in &built.parametric {
+        let g = eval(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
         out.push(g);
     }
     Ok(out)

@@ -1,6 +1,7 @@
 //! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
+mod analyze;
 mod check;
 mod common;
 mod optimize;
@@ -32,6 +33,8 @@ enum Command {
     Optimize(optimize::Args),
     /// Print the JSON schema of the design file.
     Schema,
+    /// Area, enclosed volume, curvature integrals and bending energies, per patch and in total.
+    Analyze(analyze::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -41,6 +44,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Check(args) => check::run(&args),
         Command::Optimize(args) => optimize::run(&args),
         Command::Schema => schema::run(),
+        Command::Analyze(args) => analyze::run(&args),
     }
 }
 
@@ -56,7 +60,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, analyze, optimize or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -26,6 +26,14 @@ pub struct Args {
     /// Grid columns (values of v; default from [output] or 128).
     #[arg(long)]
     pub nv: Option<usize>,
+    /// Colour the surface by Gaussian (`gauss`) or mean (`mean`, outward normal) curvature:
+    /// blue low, grey middle, red high.
+    #[arg(long, value_enum)]
+    pub color: Option<crate::analyze::ColorBy>,
+    /// The curvature range of the colour map, LO,HI (default: symmetric about 0, ± the largest
+    /// magnitude on the grid).
+    #[arg(long, allow_hyphen_values = true)]
+    pub range: Option<String>,
 }
 
 /// Largest picture side we agree to render.
@@ -149,6 +157,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map_err(|_| CliError::input(format!("-o {shown}: the picture must be a .png file")))?;
     let (width, height) = parse_size(&args.size)?;
     let view = args.view.as_deref().map(parse_view).transpose()?;
+    let range = args
+        .range
+        .as_deref()
+        .map(crate::analyze::parse_range)
+        .transpose()?;
+    if range.is_some() && args.color.is_none() {
+        return Err(CliError::input(
+            "--range: needs --color gauss or --color mean",
+        ));
+    }
     let design = common::load(&args.design)?;
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
@@ -161,10 +179,25 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         view,
         ..RenderOptions::default()
     };
-    let png = render_png(&meshes, &overlays(&built), &options)
-        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    let (png, note) = match args.color {
+        None => (
+            render_png(&meshes, &overlays(&built), &options),
+            String::new(),
+        ),
+        Some(by) => {
+            let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
+            (
+                pdeshape::render::render_png_colored(&meshes, &colors, &overlays(&built), &options),
+                format!(
+                    ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red)",
+                    by.word()
+                ),
+            )
+        }
+    };
+    let png = png.map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(&png)?;
     out.commit()?;
-    crate::common::print_stdout(&format!("wrote {shown}: {width}x{height}\n"));
+    crate::common::print_stdout(&format!("wrote {shown}: {width}x{height}{note}\n"));
     Ok(())
 }

@@ -54,6 +54,44 @@ const DEGENERATE: f64 = 1e-10;
 /// degenerate (`|X_u × X_v| ≤ 1e-10 (|X_u|² + |X_v|²)`, e.g. at a pole) or not finite. See
 /// [`curvature_at`] for the limit at a pole.
 pub fn curvature(p: &Partials) -> Option<Curvature> {
+    let Core {
+        normal: n,
+        jac,
+        forms,
+        gauss,
+        mean,
+    } = core(p)?;
+    let disc = (mean * mean - gauss).max(0.0).sqrt();
+    let (k1, k2) = (mean + disc, mean - disc);
+    let d1 = principal_direction(&forms, k1, p.xu, p.xv)
+        .unwrap_or_else(|| p.xu / p.xu.norm().max(f64::MIN_POSITIVE));
+    let d2 = n.cross(&d1);
+    Some(Curvature {
+        normal: n,
+        forms,
+        jacobian: jac,
+        gauss,
+        mean,
+        k1,
+        k2,
+        d1,
+        d2,
+    })
+}
+
+/// What the integrals need at one point.
+pub(crate) struct Core {
+    pub normal: Vec3,
+    pub jac: f64,
+    pub forms: FundamentalForms,
+    pub gauss: f64,
+    pub mean: f64,
+}
+
+/// Normal, area element, fundamental forms, `K` and `H` (the book's formulas), or `None` at a
+/// degenerate or non-finite point.
+#[inline]
+pub(crate) fn core(p: &Partials) -> Option<Core> {
     let cross = p.xu.cross(&p.xv);
     let jac = cross.norm();
     let size = p.xu.norm_squared() + p.xv.norm_squared();
@@ -70,29 +108,19 @@ pub fn curvature(p: &Partials) -> Option<Curvature> {
     if !gauss.is_finite() || !mean.is_finite() {
         return None;
     }
-    let disc = (mean * mean - gauss).max(0.0).sqrt();
-    let (k1, k2) = (mean + disc, mean - disc);
-    let forms = FundamentalForms {
-        e,
-        f,
-        g,
-        l,
-        m,
-        n: nn,
-    };
-    let d1 = principal_direction(&forms, k1, p.xu, p.xv)
-        .unwrap_or_else(|| p.xu / p.xu.norm().max(f64::MIN_POSITIVE));
-    let d2 = n.cross(&d1);
-    Some(Curvature {
+    Some(Core {
         normal: n,
-        forms,
-        jacobian: jac,
+        jac,
+        forms: FundamentalForms {
+            e,
+            f,
+            g,
+            l,
+            m,
+            n: nn,
+        },
         gauss,
         mean,
-        k1,
-        k2,
-        d1,
-        d2,
     })
 }
 

@@ -271,11 +271,11 @@ fn accumulate(p: &Partials, w: f64, s: &mut Sums) {
     }
     // Volume: (1/3) X·(X_u × X_v) du dv, defined even where the normal is not.
     s.i.volume += w * p.x.dot(&cross) / 3.0;
-    let Some(c) = curvature(p) else {
+    let Some(c) = geometry::core(p) else {
         s.degenerate += 1;
         return;
     };
-    let wa = w * c.jacobian;
+    let wa = w * c.jac;
     s.i.area += wa;
     s.i.mean += wa * c.mean;
     s.i.mean_sq += wa * c.mean * c.mean;
@@ -287,6 +287,7 @@ fn accumulate(p: &Partials, w: f64, s: &mut Sums) {
 /// One level: rows in parallel, summed in row order (the result does not depend on the
 /// number of threads).
 fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule) -> Sums {
+    let eval = s.partials_rows(&rv.nodes);
     let rows: Vec<Sums> = ru
         .nodes
         .par_iter()
@@ -294,7 +295,7 @@ fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule) -> Sums {
         .map_init(
             || vec![Partials::default(); rv.nodes.len()],
             |buf, (&u, &wu)| {
-                s.partials_row(u, &rv.nodes, buf);
+                eval.eval_row(u, buf);
                 let mut sums = Sums::default();
                 for (p, &wv) in buf.iter().zip(&rv.weights) {
                     accumulate(p, wu * wv, &mut sums);
@@ -383,6 +384,35 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
         prev = cur;
         k += 1;
     }
+}
+
+/// `K` and `H` (with respect to `X_u × X_v`) at every grid point `(u_i, v_j)`, row-major
+/// (`i·vs.len() + j`), from the surface's rows of partials; at degenerate points (poles) the
+/// limit of [`curvature_at`], NaN where even that fails.
+pub fn curvature_grid(s: &dyn Surface, us: &[f64], vs: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let eval = s.partials_rows(vs);
+    let rows: Vec<(Vec<f64>, Vec<f64>)> =
+        us.par_iter()
+            .map(|&u| {
+                let mut buf = vec![Partials::default(); vs.len()];
+                eval.eval_row(u, &mut buf);
+                buf.iter()
+                    .zip(vs)
+                    .map(|(p, &v)| match geometry::core(p) {
+                        Some(c) => (c.gauss, c.mean),
+                        None => curvature_at(s, u, v)
+                            .map_or((f64::NAN, f64::NAN), |c| (c.gauss, c.mean)),
+                    })
+                    .unzip()
+            })
+            .collect();
+    let mut k = Vec::with_capacity(us.len() * vs.len());
+    let mut h = Vec::with_capacity(us.len() * vs.len());
+    for (rk, rh) in rows {
+        k.extend(rk);
+        h.extend(rh);
+    }
+    (k, h)
 }
 
 #[cfg(test)]

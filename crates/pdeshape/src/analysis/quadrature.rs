@@ -68,7 +68,8 @@ pub(crate) fn composite_gauss(a: f64, b: f64, panels: usize, order: usize) -> Ru
 pub(crate) fn periodic_trapezoid(n: usize) -> Rule {
     let h = crate::TAU / n as f64;
     Rule {
-        nodes: (0..n).map(|j| j as f64 * h).collect(),
+        // 2πj/n exactly as written, so row evaluators recognise the standard periodic grid.
+        nodes: (0..n).map(|j| crate::TAU * j as f64 / n as f64).collect(),
         weights: vec![h; n],
     }
 }

@@ -520,3 +520,26 @@ fn parametric_errors_are_located() {
     assert!(!di.closed && di.caps.is_empty());
     assert!(rel(di.total.area, 2.0) < 1e-14 && di.total.mean_sq == 0.0);
 }
+
+#[test]
+fn pde_pole_has_a_finite_curvature_limit() {
+    // The cup's base closes at a point at u = 0: the pointwise formulas are 0/0 there.
+    let d = cup();
+    let s = &d.patches[0].surface;
+    assert!(curvature(&s.partials(0.0, 0.4)).is_none());
+    let pole = curvature_at(s, 0.0, 0.4).unwrap();
+    assert!(pole.gauss.is_finite() && pole.mean.is_finite(), "{pole:?}");
+    // The limit continues the values just inside (which change by O(u) there).
+    let near = curvature(&s.partials(1e-5, 0.4)).unwrap();
+    assert!(
+        (pole.gauss - near.gauss).abs() < 1e-3 * near.gauss.abs(),
+        "{pole:?} {near:?}"
+    );
+    assert!(
+        (pole.mean - near.mean).abs() < 1e-3 * near.mean.abs(),
+        "{pole:?} {near:?}"
+    );
+    // Axisymmetric: the same limit from every direction v.
+    let other = curvature_at(s, 0.0, 2.9).unwrap();
+    assert!((other.gauss - pole.gauss).abs() < 1e-6 * pole.gauss.abs());
+}

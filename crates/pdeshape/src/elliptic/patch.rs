@@ -4,7 +4,9 @@
 use super::{Condition, ConditionError, ModeFn, ModeReport, Operator};
 use crate::curve::Curve;
 use crate::fourier::FourierSeries;
-use crate::surface::{Partials, RowBuf, RowEvaluator, Surface, VDomain};
+use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Surface, VDomain};
+
+mod partial_rows;
 use crate::{Vec3, TAU};
 
 /// A solved Bloor–Wilson patch `X(u,v) = A₀(u) + Σ [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`
@@ -286,6 +288,10 @@ impl Surface for PdePatch {
 
     fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
         Box::new(PdeRows::new(self, vs))
+    }
+
+    fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
+        Box::new(partial_rows::PdePartialRows::new(self, vs))
     }
 }
 

@@ -12,6 +12,8 @@
 //! Polylines are drawn over the surface with analytic coverage; where the surface hides them they
 //! are still drawn, faded and dashed.
 
+#[cfg(test)]
+mod color_tests;
 mod raster;
 #[cfg(test)]
 mod tests;
@@ -99,6 +101,70 @@ pub fn render_rgb(
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;
     Ok(raster::draw(meshes, overlays, &camera))
+}
+
+/// [`render_png`] with every surface vertex coloured: `colors[k][i]` is the sRGB colour of vertex
+/// `i` of `meshes[k]` (for instance [`diverging_colors`] of a curvature), interpolated across the
+/// triangles and lit like the plain surface; the side the normals point away from is drawn 25 %
+/// darker. Refuses colour lists whose lengths do not match the meshes.
+pub fn render_png_colored(
+    meshes: &[GridMesh],
+    colors: &[Vec<[u8; 3]>],
+    overlays: &[Polyline],
+    options: &RenderOptions,
+) -> Result<Vec<u8>> {
+    if colors.len() != meshes.len() {
+        return Err(Error::invalid(format!(
+            "{} colour lists for {} meshes",
+            colors.len(),
+            meshes.len()
+        )));
+    }
+    for (k, (c, m)) in colors.iter().zip(meshes).enumerate() {
+        if c.len() != m.len() {
+            return Err(Error::invalid(format!(
+                "mesh {k} has {} vertices but {} colours",
+                m.len(),
+                c.len()
+            )));
+        }
+    }
+    let (w, h) = (options.width, options.height);
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(Error::invalid(format!(
+            "picture size {w} × {h}: each side must be between 1 and {MAX_SIDE} pixels"
+        ))
+        .at("size"));
+    }
+    validate(meshes, overlays)?;
+    let camera = Camera::fit(meshes, overlays, options)?;
+    let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
+    encode_png(w, h, &rgb)
+}
+
+/// The cool–warm diverging colour map: `lo` blue `(59, 76, 192)`, the middle of `[lo, hi]` light
+/// grey `(221, 221, 221)`, `hi` red `(180, 4, 38)`, linear in between (in sRGB bytes); values
+/// outside `[lo, hi]` take the end colours and non-finite values a neutral grey
+/// `(128, 128, 128)`. Assumes `lo < hi`.
+pub fn diverging_colors(values: &[f64], lo: f64, hi: f64) -> Vec<[u8; 3]> {
+    const LOW: [f64; 3] = [59.0, 76.0, 192.0];
+    const MID: [f64; 3] = [221.0, 221.0, 221.0];
+    const HIGH: [f64; 3] = [180.0, 4.0, 38.0];
+    values
+        .iter()
+        .map(|&x| {
+            if !x.is_finite() {
+                return [128, 128, 128];
+            }
+            let t = ((x - lo) / (hi - lo)).clamp(0.0, 1.0);
+            let (a, b, s) = if t < 0.5 {
+                (LOW, MID, 2.0 * t)
+            } else {
+                (MID, HIGH, 2.0 * t - 1.0)
+            };
+            [0, 1, 2].map(|k| (a[k] + (b[k] - a[k]) * s).round() as u8)
+        })
+        .collect()
 }
 
 /// Encodes `3 · width · height` bytes of RGB8 pixels as a PNG.

@@ -37,6 +37,8 @@ struct Vert {
     y: i64,
     z: f32,
     n: [f32; 3],
+    /// Linear base colour (per-vertex colouring only).
+    c: [f32; 3],
 }
 
 /// A triangle ready to fill: counter-clockwise on screen (y down), which side faces the eye, a
@@ -136,8 +138,12 @@ impl Lights {
 
     /// Linear colour of a surface sample with normal `n` (towards the visible side).
     fn shade(&self, n: [f32; 3], back: bool) -> [f32; 3] {
+        self.shade_base(n, if back { self.back } else { self.front })
+    }
+
+    /// Linear colour of a surface sample of base colour `base` with normal `n`.
+    fn shade_base(&self, n: [f32; 3], base: [f32; 3]) -> [f32; 3] {
         let n = normalize3(n);
-        let base = if back { self.back } else { self.front };
         let kd = dot3(n, self.key).max(0.0);
         let fd = dot3(n, self.fill).max(0.0);
         let ambient = 0.17 + 0.07 * n[1];
@@ -157,13 +163,24 @@ impl Lights {
 
 /// Draws everything into sRGB bytes of `camera.width/ss × camera.height/ss` pixels.
 pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) -> Vec<u8> {
+    draw_colored(meshes, None, overlays, camera)
+}
+
+/// [`draw`] with per-vertex sRGB colours (`colors[k][i]` for vertex `i` of mesh `k`) instead of
+/// the two side colours; the back side is drawn 25 % darker.
+pub(crate) fn draw_colored(
+    meshes: &[GridMesh],
+    colors: Option<&[Vec<[u8; 3]>]>,
+    overlays: &[Polyline],
+    camera: &Camera,
+) -> Vec<u8> {
     let ss = camera.supersample;
     let (sw, sh) = (camera.width, camera.height);
     let (ow, oh) = (sw / ss, sh / ss);
 
     // Vertices of all meshes, projected.
     let mut verts: Vec<Vert> = Vec::with_capacity(meshes.iter().map(|m| m.len()).sum());
-    for m in meshes {
+    for (k, m) in meshes.iter().enumerate() {
         let start = verts.len();
         verts.resize(
             start + m.len(),
@@ -172,12 +189,15 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                 y: 0,
                 z: 0.0,
                 n: [0.0; 3],
+                c: [0.0; 3],
             },
         );
+        let mesh_colors = colors.and_then(|c| c.get(k)).filter(|c| c.len() == m.len());
         verts[start..]
             .par_iter_mut()
             .zip(m.positions.par_iter().zip(m.normals.par_iter()))
-            .for_each(|(v, (p, n))| {
+            .enumerate()
+            .for_each(|(i, (v, (p, n)))| {
                 let [x, y, z] = camera.project(Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
                 let nc = if n.iter().all(|c| c.is_finite()) {
                     camera.to_camera(Vec3::new(n[0] as f64, n[1] as f64, n[2] as f64))
@@ -189,6 +209,7 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                     y: (y as f64 * SUB as f64).round() as i64,
                     z,
                     n: nc,
+                    c: mesh_colors.map_or([0.0; 3], |c| linear3(c[i])),
                 };
             });
     }
@@ -238,7 +259,16 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
             scratch.clear(sw * (rows + 2));
             let (lo, hi) = (y0.saturating_sub(1), (y0 + rows + 1).min(sh));
             for &k in &bins[band] {
-                fill(&tris[k as usize], &verts, scratch, y0, lo, hi, sw);
+                fill(
+                    &tris[k as usize],
+                    &verts,
+                    scratch,
+                    y0,
+                    lo,
+                    hi,
+                    sw,
+                    colors.is_some(),
+                );
             }
             // Shading and background.
             for r in 0..rows {
@@ -254,7 +284,12 @@ pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) 
                     let i = row + x;
                     let d = scratch.depth[i];
                     scratch.color[i] = if d > 0.0 {
-                        let c = lights.shade(scratch.normal[i], scratch.back[i]);
+                        let c = if colors.is_some() {
+                            let k = if scratch.back[i] { 0.75 } else { 1.0 };
+                            lights.shade_base(scratch.normal[i], scratch.base[i].map(|x| x * k))
+                        } else {
+                            lights.shade(scratch.normal[i], scratch.back[i])
+                        };
                         // Outline: a neighbour sample shows the background or a surface
                         // much farther away.
                         // 1/e > 1/d + edge, for depths e ≥ 0 (0 being the background).
@@ -308,6 +343,8 @@ struct Scratch {
     back: Vec<bool>,
     color: Vec<[f32; 3]>,
     cover: Vec<f32>,
+    /// Interpolated base colours (per-vertex colouring only).
+    base: Vec<[f32; 3]>,
 }
 
 impl Scratch {
@@ -318,6 +355,7 @@ impl Scratch {
             back: vec![false; n],
             color: vec![[0.0; 3]; n],
             cover: vec![0.0; n],
+            base: vec![[0.0; 3]; n],
         }
     }
 
@@ -387,7 +425,16 @@ fn setup(
 /// Fills one triangle into the sample rows `[lo, hi)` of the band starting at row `y0` (row `y`
 /// of the picture is row `y + 1 − y0` of the band's buffers).
 #[allow(clippy::too_many_arguments)]
-fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, y0: usize, lo: usize, hi: usize, sw: usize) {
+fn fill(
+    t: &Tri,
+    verts: &[Vert],
+    s: &mut Scratch,
+    y0: usize,
+    lo: usize,
+    hi: usize,
+    sw: usize,
+    colored: bool,
+) {
     let ylo = (t.y0 as usize).max(lo);
     let yhi = (t.y1 as usize).min(hi - 1);
     if ylo > yhi {
@@ -420,6 +467,9 @@ fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, y0: usize, lo: usize, hi: usiz
                     }
                     s.normal[i] = n;
                     s.back[i] = t.back;
+                    if colored {
+                        s.base[i] = [0, 1, 2].map(|k| wa * a.c[k] + wb * b.c[k] + wc * c.c[k]);
+                    }
                 }
             }
             e0 += d0;

@@ -75,12 +75,29 @@ pub trait Surface: Send + Sync {
         Box::new(PointwiseRows { surface: self, vs })
     }
 
-    /// `X` and its partials up to second order along the row `u = const` at every `v_j` of `vs`:
-    /// `out[j] = partials(u, vs[j])` (`out` has the length of `vs`). Surfaces with structure
-    /// override this with a faster path that gives the same values up to rounding.
-    fn partials_row(&self, u: f64, vs: &[f64], out: &mut [Partials]) {
-        for (o, &v) in out.iter_mut().zip(vs) {
-            *o = self.partials(u, v);
+    /// An evaluator of `X` and its partials up to second order along whole rows `u = const`
+    /// at the given `v` values (for quadrature and analysis). Surfaces with structure override
+    /// this with per-column tables; the values are those of [`Surface::partials`] up to rounding.
+    fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
+        Box::new(PointwisePartials { surface: self, vs })
+    }
+}
+
+/// Evaluates [`Partials`] along one grid row `u = const`.
+pub trait PartialsRows: Send + Sync {
+    /// `out[j] = partials(u, v_j)` for every column `j` (`out` has one entry per `v`).
+    fn eval_row(&self, u: f64, out: &mut [Partials]);
+}
+
+struct PointwisePartials<'a, S: Surface + ?Sized> {
+    surface: &'a S,
+    vs: &'a [f64],
+}
+
+impl<S: Surface + ?Sized> PartialsRows for PointwisePartials<'_, S> {
+    fn eval_row(&self, u: f64, out: &mut [Partials]) {
+        for (o, &v) in out.iter_mut().zip(self.vs) {
+            *o = self.surface.partials(u, v);
         }
     }
 }
