@@ -5,6 +5,8 @@
 # BENCHMARKS.md. Needs the packages in bench/peers/requirements.txt (pip install -r); not part
 # of the test suite.
 # BENCHMARKS.md. Needs the packages of bench/peers/requirements.txt; not part of the test suite.
+# BENCHMARKS.md. Needs numpy and scipy (pip install -r bench/peers/requirements.txt); not part of
+# the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== machine"; nproc; grep -m1 "model name" /proc/cpuinfo || true; date -u
@@ -30,3 +32,7 @@ echo "== pdeshape BFS splines and the section-6 blend (cargo bench)"
 cargo bench -p pdeshape --bench bfs -- --warm-up-time 2 --measurement-time 10 2>&1 | grep -E "^bfs_|^blend_|time:"
 echo "== scikit-fem peer (ElementQuadBFS; pip install scikit-fem)"
 python3 bench/peers/skfem_bfs.py 32 64 128
+echo "== optimisation of 5000 evaluations, 1 and 2 threads (cargo bench)"
+cargo bench -p pdeshape --bench optimize 2>&1 | grep -E "^optimize_5000|time:"
+echo "== vesicle reference minima (SciPy)"
+python3 bench/peers/vesicle_reference.py

@@ -12,17 +12,18 @@
 //!   each level `δ_i` grows when more than 60 % of the level's moves were accepted and shrinks
 //!   when fewer than 40 % were (Corana et al. 1987), within `[10⁻⁹, 1] · (max_i − min_i)`;
 //! - `L = max(10, 2n)` moves per level for `n` parameters; unless `s` is given, it is chosen so
-//!   that the last level of the budget runs at `c_0 · 10⁻⁴`;
-//! - unless given, `c_0 = ⟨Δf⁺⟩ / ln(1/0.8)` from `max(n, 5)` trial moves around the start, so
-//!   that an average uphill move is accepted with probability 0.8 at first;
+//!   that the last level of the budget runs at `c_0 · 10⁻⁵`;
+//! - unless given, `c_0 = median(Δf⁺) / ln(1/0.8)` from `max(n, 5)` trial moves around the
+//!   start, so that a typical uphill move is accepted with probability 0.8 at first (the median,
+//!   not the mean, so that a few moves into a penalised region do not make it hot);
 //! - bounds (§7.4.2): a point outside the box is not evaluated; its value is the crude penalty
 //!   `P (1 + Σ_i violation_i / (max_i − min_i))` with `P = 10¹⁵`, which the Metropolis criterion
 //!   never accepts and which tells Nelder–Mead the way back. Such points do not count as
 //!   evaluations (they cost nothing), but they count as moves;
 //! - an objective that returns NaN or +∞ (a design the solver refuses) is infeasible: treated as
 //!   +∞, never accepted;
-//! - chain 0 starts at the given start point, chain `k > 0` at a point drawn uniformly in the box;
-//!   chain `k` draws its random numbers from ChaCha8 seeded with `seed`, stream `k`, so every chain
+//! - every chain starts at the given start point (the designer's choice, as in §7.5.2); chain `k`
+//!   draws its random numbers from ChaCha8 seeded with `seed`, stream `k`, so every chain
 //!   and the whole result are the same whatever the number of threads.
 
 use crate::{Error, Result};
@@ -350,7 +351,7 @@ fn run_chain<F: Fn(&[f64]) -> f64>(
         Some(c) => c,
         None => {
             let trials = n.max(5).min(budget.saturating_sub(evaluations) / 4);
-            let (mut sum, mut count) = (0.0, 0usize);
+            let mut uphill = Vec::new();
             let mut tried = 0;
             while tried < trials && evaluations < budget && moves < max_moves {
                 let y = propose(&x, &step, &mut rng);
@@ -362,8 +363,7 @@ fn run_chain<F: Fn(&[f64]) -> f64>(
                 tried += 1;
                 let d = fy - fx;
                 if d.is_finite() && d > 0.0 {
-                    sum += d;
-                    count += 1;
+                    uphill.push(d);
                 }
                 let accepted = fy < fx;
                 if accepted {
@@ -385,8 +385,15 @@ fn run_chain<F: Fn(&[f64]) -> f64>(
                     best,
                 });
             }
-            if count > 0 {
-                sum / count as f64 / (1.0f64 / 0.8).ln()
+            if !uphill.is_empty() {
+                uphill.sort_by(f64::total_cmp);
+                let m = uphill.len();
+                let median = if m % 2 == 1 {
+                    uphill[m / 2]
+                } else {
+                    0.5 * (uphill[m / 2 - 1] + uphill[m / 2])
+                };
+                median / (1.0f64 / 0.8).ln()
             } else {
                 0.1 * fx.abs().max(1.0)
             }
@@ -396,7 +403,7 @@ fn run_chain<F: Fn(&[f64]) -> f64>(
     let levels = ((budget.saturating_sub(evaluations)) / per_level).max(1);
     let s = opts
         .cooling
-        .unwrap_or_else(|| 1.0 + (1e-4f64).ln() / levels as f64);
+        .unwrap_or_else(|| 1.0 + (1e-5f64).ln() / levels as f64);
     let mut m = 0usize;
     while evaluations < budget && moves < max_moves {
         let c = c0 * ((s - 1.0) * m as f64).exp();

@@ -1,4 +1,4 @@
-//! The integrals the objectives use, by a tensor quadrature over each patch: Gauss–Legendre in
+//! An independent check of `analysis` (tests only): the integrals by a plain tensor quadrature over each patch: Gauss–Legendre in
 //! `u` (nodes inside `(0, 1)`, so a pole at `u = 0` or `1` is never evaluated) and the
 //! trapezoid rule in periodic `v` (spectrally accurate for smooth periodic integrands), Gauss–
 //! Legendre in an open `v` interval.
@@ -16,7 +16,7 @@ use crate::spec::BuiltDesign;
 use crate::surface::{Surface, VDomain};
 use crate::{Error, Result};
 
-use super::Totals;
+use crate::analysis::Integrals as Totals;
 
 /// Gauss–Legendre nodes and weights on `[0, 1]` (Newton's iteration on `P_n`).
 pub(crate) fn gauss_legendre01(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -93,7 +93,7 @@ fn integrate(s: &dyn Surface, qu: usize, qv: usize) -> [f64; 5] {
 
 /// The integrals of a built design, all patches together, with `qu × qv` nodes per patch (see
 /// the module documentation). A non-finite result is an error.
-pub fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Totals> {
+pub(crate) fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Totals> {
     let surfaces: Vec<&dyn Surface> = built.patches.iter().map(|p| &p.surface as _).collect();
     totals(&surfaces, qu, qv)
 }

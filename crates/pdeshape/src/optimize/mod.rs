@@ -8,18 +8,21 @@
 //!     anneal::minimize(f) ──▶ best x ──Parameters::apply_to_text──▶ the optimised design file
 //! ```
 //!
-//! The variables of the objective and constraint formulas, for the whole design (all patches):
+//! The variables of the objective and constraint formulas are the integrals of the whole design
+//! (all patches; [`crate::analysis::integrate_design`], whose conventions they keep: `H` with
+//! respect to the outward normal, so `H = −1/R` on a sphere):
 //!
 //! | name | value |
 //! |---|---|
 //! | `area` | `A = ∫ dA` |
-//! | `volume` | `V`, the enclosed volume (divergence theorem; see `analysis`) |
+//! | `volume` | `V`, the enclosed volume (open boundaries closed by caps) |
 //! | `mean` | `∫ H dA` |
-//! | `mean_sq`, `willmore` | `∫ H² dA` |
+//! | `mean_sq` | `∫ H² dA` |
 //! | `gauss` | `∫ K dA` |
 //! | `bending` | `∫ (κ₁² + κ₂²) dA = ∫ (4H² − 2K) dA` (§7.5) |
-//! | `helfrich` | `½ ∫ (C₁ + C₂ − C₀)² dA` (Eq. 7.8 with its squares restored, bending rigidity 1, without the constant Gaussian term): `8π` for any sphere at `C₀ = 0` |
-//! | `nu` | reduced volume `ν = |V| / (4π R₀³ / 3)`, `R₀ = √(A / 4π)` (Eq. 7.9 corrected) |
+//! | `willmore` | `∫ (2H)² dA` (16π for any sphere) |
+//! | `helfrich` | `∫ (C₁ + C₂ − C₀)² dA` (Eq. 7.8 with its square restored, without the constant Gaussian term; 16π for any sphere at `C₀ = 0`) |
+//! | `nu` | reduced volume `ν = V / (4π R₀³ / 3)`, `R₀ = √(A / 4π)` (Eq. 7.9 corrected) |
 //! | `c0` | reduced spontaneous curvature `c₀ = C₀ R₀` (Eq. 7.10) |
 //! | `C0` | the spontaneous curvature `C₀` of `[optimize]` |
 //!
@@ -28,16 +31,17 @@
 //! §7.4.2 (see [`anneal`]).
 
 pub mod anneal;
+#[cfg(test)]
 mod measure;
 mod params;
 mod spec;
 
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
-pub use measure::measure;
 pub use params::{ParamKind, Parameter, Parameters};
 pub use spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 
-use crate::spec::{build_design, DesignSpec};
+use crate::analysis::{integrate_design, Integrals, Quadrature};
+use crate::spec::{build_design, BuiltDesign, DesignSpec};
 use crate::{Error, Result};
 use exmex::Express;
 
@@ -52,39 +56,40 @@ pub const VARIABLES: [&str; 11] = [
 /// Most quadrature points per direction for the search.
 const MAX_QUADRATURE: usize = 4096;
 
-/// The raw integrals of a design (all patches together).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Totals {
-    pub area: f64,
-    pub volume: f64,
-    /// `∫ H dA`.
-    pub mean: f64,
-    /// `∫ H² dA`.
-    pub mean_sq: f64,
-    /// `∫ K dA`.
-    pub gauss: f64,
+/// The values of [`VARIABLES`] for the integrals `t` of a design and the spontaneous curvature
+/// `c0_abs` (`C₀`).
+pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; 11] {
+    [
+        t.area,
+        t.volume,
+        t.mean,
+        t.mean_sq,
+        t.gauss,
+        t.bending_energy(),
+        t.willmore(),
+        t.helfrich(c0_abs),
+        t.reduced_volume(),
+        t.reduced_spontaneous_curvature(c0_abs),
+        c0_abs,
+    ]
 }
 
-impl Totals {
-    /// The values of [`VARIABLES`] for spontaneous curvature `c0_abs` (`C₀`).
-    pub fn variables(&self, c0_abs: f64) -> [f64; 11] {
-        let r0 = (self.area / (4.0 * std::f64::consts::PI)).sqrt();
-        let nu = self.volume.abs() / (4.0 * std::f64::consts::PI / 3.0 * r0.powi(3));
-        let helfrich =
-            0.5 * (4.0 * self.mean_sq - 4.0 * c0_abs * self.mean + c0_abs * c0_abs * self.area);
-        [
-            self.area,
-            self.volume,
-            self.mean,
-            self.mean_sq,
-            self.gauss,
-            4.0 * self.mean_sq - 2.0 * self.gauss,
-            self.mean_sq,
-            helfrich,
-            nu,
-            c0_abs * r0,
-            c0_abs,
-        ]
+/// The integrals of a built design with `qu` Gauss–Legendre nodes in `u` (rounded up to a
+/// multiple of 8) and `qv` trapezoid nodes in a periodic `v`, one fixed level
+/// ([`Quadrature::fixed`]): cheap and, for the smooth patches of a search, accurate (see the
+/// tests).
+pub fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Integrals> {
+    let t = integrate_design(built, &Quadrature::fixed(qu, qv))?.total;
+    if [t.area, t.volume, t.mean, t.mean_sq, t.gauss]
+        .iter()
+        .all(|x| x.is_finite())
+    {
+        Ok(t)
+    } else {
+        Err(Error::invalid(format!(
+            "the design's integrals are not finite (area {}, volume {}, ∫H² dA {})",
+            t.area, t.volume, t.mean_sq
+        )))
     }
 }
 
@@ -332,8 +337,8 @@ impl Problem {
     }
 
     /// The objective and penalties for given integrals.
-    pub fn evaluate_totals(&self, totals: &Totals) -> Evaluation {
-        let variables = totals.variables(self.spontaneous_curvature);
+    pub fn evaluate_totals(&self, totals: &Integrals) -> Evaluation {
+        let variables = variables(totals, self.spontaneous_curvature);
         let objective = self.objective.eval(&variables);
         let penalty = 0.0
             + self

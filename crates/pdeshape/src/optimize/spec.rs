@@ -34,11 +34,11 @@ pub struct OptimizeSpec {
     #[serde(default = "default_polish")]
     pub polish: usize,
     /// `s` of the annealing schedule `c_m = c_0 e^{(s−1)m}` (Eq. 7.3), `0 < s < 1`; by default
-    /// chosen so that the last level is at `c_0 · 10⁻⁴`.
+    /// chosen so that the last level is at `c_0 · 10⁻⁵`.
     #[serde(default)]
     pub cooling: Option<f64>,
-    /// The initial control parameter `c_0`; by default estimated from trial moves so that about
-    /// 80 % of uphill moves are accepted at the start.
+    /// The initial control parameter `c_0`; by default estimated from trial moves so that a typical
+    /// uphill move is accepted with probability 0.8 at the start.
     #[serde(default)]
     pub temperature: Option<f64>,
     /// Gauss–Legendre points in `u` per patch for the integrals of the search (default 24).

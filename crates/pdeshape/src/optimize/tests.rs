@@ -410,7 +410,7 @@ fn bad_parameters_are_refused_with_their_place() {
     assert!(e.to_string().contains("unknown variable 'bend'"), "{e}");
     let e = error_of(&VESICLE.replace("equal = 0.8", "equal = 0.8, max = 2"));
     assert_eq!(e.place(), "optimize.constraints[0]");
-    let e = error_of(&VESICLE.replace("weight = 1e5", "weight = -1"));
+    let e = error_of(&VESICLE.replace("weight = 1e6", "weight = -1"));
     assert_eq!(e.place(), "optimize.constraints[0].weight");
     let e = error_of(&VESICLE.replace("chains = 4", "chains = 0"));
     assert_eq!(e.place(), "optimize.chains");
@@ -427,14 +427,15 @@ fn bad_parameters_are_refused_with_their_place() {
 fn formulas_and_penalties() {
     let p = problem_of(&VESICLE.replace(
         r#"objective = "helfrich""#,
-        r#"objective = "helfrich / (8*pi) + 0*area""#,
+        r#"objective = "helfrich / (16*pi) + 0*area""#,
     ));
-    // A unit sphere's integrals: A = 4π, V = 4π/3, ∫H = 4π (H = 1), ∫H² = 4π, ∫K = 4π.
+    // A unit sphere's integrals: A = 4π, V = 4π/3, ∫H = −4π (H = −1 for the outward normal),
+    // ∫H² = 4π, ∫K = 4π.
     let pi = std::f64::consts::PI;
-    let t = Totals {
+    let t = crate::analysis::Integrals {
         area: 4.0 * pi,
         volume: 4.0 * pi / 3.0,
-        mean: 4.0 * pi,
+        mean: -4.0 * pi,
         mean_sq: 4.0 * pi,
         gauss: 4.0 * pi,
     };
@@ -443,16 +444,17 @@ fn formulas_and_penalties() {
     let v = |name: &str| e.variables[VARIABLES.iter().position(|n| *n == name).unwrap()];
     assert!((v("bending") - 8.0 * pi).abs() < 1e-13);
     assert!((v("nu") - 1.0).abs() < 1e-15);
-    assert!((v("helfrich") - 8.0 * pi).abs() < 1e-13);
-    // ν = 1 against the target 0.8 with weight 1e5: penalty 1e5 · 0.2².
-    assert!((e.penalty - 1e5 * 0.04).abs() < 1e-8, "{}", e.penalty);
-    // Helfrich with C0: ½∫(2H − C0)² dA on the unit sphere = ½ (2 − C0)² 4π.
+    assert!((v("helfrich") - 16.0 * pi).abs() < 1e-13);
+    assert!((v("willmore") - 16.0 * pi).abs() < 1e-13);
+    // ν = 1 against the target 0.8 with weight 1e6: penalty 1e6 · 0.2².
+    assert!((e.penalty - 1e6 * 0.04).abs() < 1e-7, "{}", e.penalty);
+    // Helfrich with C0: ∫(C1 + C2 − C0)² dA on the unit sphere = (2 − C0)² 4π.
     let mut q = p.clone();
     q.spontaneous_curvature = 0.5;
     let e = q.evaluate_totals(&t);
     assert!((v("C0") - 0.0).abs() == 0.0);
     let h = e.variables[7];
-    assert!((h - 0.5 * 1.5f64.powi(2) * 4.0 * pi).abs() < 1e-13, "{h}");
+    assert!((h - 1.5f64.powi(2) * 4.0 * pi).abs() < 1e-13, "{h}");
 }
 
 // ---- integrals ----
@@ -515,8 +517,8 @@ fn sphere_and_torus_integrals_match_closed_forms() {
     assert!(close(t.mean, 4.0 * pi * r), "{t:?}");
     assert!(close(t.mean_sq, 4.0 * pi), "{t:?}");
     assert!(close(t.gauss, 4.0 * pi), "{t:?}");
-    let v = t.variables(0.0);
-    assert!(close(v[7], 8.0 * pi) && close(v[8], 1.0), "{v:?}");
+    let v = variables(&t, 0.0);
+    assert!(close(v[7], 16.0 * pi) && close(v[8], 1.0), "{v:?}");
     // Torus R = 3, r = 1 (u once around the tube): A = 4π²Rr, V = 2π²Rr², ∫H dA = 2π²R, ∫K = 0.
     let (big, r) = (3.0, 1.0);
     let t = measure::totals(
@@ -546,13 +548,13 @@ fn sphere_and_torus_integrals_match_closed_forms() {
 fn vesicle_start_is_closed_smooth_and_converged() {
     let p = problem_of(VESICLE);
     let built = crate::spec::build_design(&p.design(&p.parameters.initial())).unwrap();
-    let fine = measure(&built, 64, 64).unwrap();
+    let fine = measure::measure(&built, 64, 64).unwrap();
     let coarse = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
     // Gauss–Bonnet for a closed smooth genus-0 surface: ∫K dA = 4π (an independent check of
     // the smoothness at the poles and the tangent continuity at the equator).
     let pi = std::f64::consts::PI;
     assert!((fine.gauss - 4.0 * pi).abs() < 1e-9, "{fine:?}");
-    // The search's coarse rule agrees with the fine one.
+    // The search's coarse rule (the library's integrals) agrees with a fine independent one.
     for (a, b) in [
         (coarse.area, fine.area),
         (coarse.volume, fine.volume),
@@ -560,8 +562,205 @@ fn vesicle_start_is_closed_smooth_and_converged() {
     ] {
         assert!((a - b).abs() < 1e-8 * b.abs(), "{a} vs {b}");
     }
-    let v = fine.variables(0.0);
+    assert!((coarse.mean.abs() - fine.mean).abs() < 1e-8 * fine.mean);
+    let v = variables(&coarse, 0.0);
     // Isoperimetric and Willmore inequalities.
     assert!(v[8] < 1.0 && v[8] > 0.5, "nu = {}", v[8]);
-    assert!(v[7] > 8.0 * pi, "helfrich = {}", v[7]);
+    assert!(v[7] > 16.0 * pi, "helfrich = {}", v[7]);
+}
+
+// ---- the examples of §7.5 ----
+
+#[test]
+fn curvature_example_lowers_the_bending_energy_repeatably() {
+    let mut p = problem_of(CURVATURE);
+    p.options.evaluations = 400;
+    p.options.polish = 60;
+    p.options.chains = 2;
+    let one = in_pool(1, || p.run(&|_, _| {}).unwrap());
+    let two = in_pool(2, || p.run(&|_, _| {}).unwrap());
+    assert_eq!(one.best.0, two.best.0, "result depends on the thread count");
+    assert_eq!(one.search.log, two.search.log);
+    let start = one.start.1.as_ref().unwrap().total();
+    let best = one.best.1.total();
+    // The start (Table 7.2's initial values) has ∫(κ1² + κ2²) dA ≈ 42.1; the search must cut it
+    // by a fifth at least.
+    assert!(best < 0.8 * start, "start {start}, best {best}");
+    for (x, q) in one.best.0.iter().zip(&p.parameters.list) {
+        assert!((q.min..=q.max).contains(x), "{} = {x}", q.name);
+    }
+    // The optimised file, re-read and rebuilt, has the energy reported.
+    let text = p
+        .parameters
+        .apply_to_text(CURVATURE, &p.base, &one.best.0)
+        .unwrap();
+    let built = crate::spec::build_design(&parse_design(&text).unwrap()).unwrap();
+    let again = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
+    assert!((again.bending_energy() - best).abs() < 1e-9 * best);
+    // The search's coarse quadrature (24 × 48 nodes) is accurate enough for the optimum: a fine
+    // independent rule agrees to 10⁻⁴ (3·10⁻⁵ observed), far below the differences the search
+    // resolves.
+    let fine = measure::measure(&built, 96, 128).unwrap();
+    let b = 4.0 * fine.mean_sq - 2.0 * fine.gauss;
+    assert!((b - best).abs() < 1e-4 * best, "{b} vs {best}");
+}
+
+/// `F/8π = helfrich/16π` of the axisymmetric minimum (prolate branch) at reduced volume `nu`,
+/// interpolated linearly in the table of bench/peers/vesicle_reference.py (Ritz minima over 14
+/// Legendre modes of a star-shaped profile; the 8-mode values differ by ≤ 1e-3 for ν ≥ 0.8).
+fn prolate_reference(nu: f64) -> f64 {
+    const T: [(f64, f64); 5] = [
+        (0.75, 1.50229),
+        (0.80, 1.38752),
+        (0.85, 1.28568),
+        (0.90, 1.18964),
+        (0.95, 1.09556),
+    ];
+    interpolate(&T, nu)
+}
+
+/// The same for the oblate branch (same source).
+fn oblate_reference(nu: f64) -> f64 {
+    const T: [(f64, f64); 5] = [
+        (0.75, 1.57565),
+        (0.80, 1.45269),
+        (0.85, 1.33356),
+        (0.90, 1.21786),
+        (0.95, 1.10611),
+    ];
+    interpolate(&T, nu)
+}
+
+fn interpolate(table: &[(f64, f64)], nu: f64) -> f64 {
+    // Linear in each interval; the end intervals also serve 0.005 beyond the table (the penalty
+    // leaves ν that close to its target).
+    let (first, last) = (table[0].0, table[table.len() - 1].0);
+    if !(first - 0.005..=last + 0.005).contains(&nu) {
+        return f64::NAN;
+    }
+    let k = table
+        .windows(2)
+        .position(|w| nu <= w[1].0)
+        .unwrap_or(table.len() - 2);
+    let ((x0, y0), (x1, y1)) = (table[k], table[k + 1]);
+    y0 + (y1 - y0) * (nu - x0) / (x1 - x0)
+}
+
+/// Extent of a design along z and its largest distance from the z axis, from a 32 × 64 grid.
+fn extents(spec: &DesignSpec) -> (f64, f64) {
+    let built = crate::spec::build_design(spec).unwrap();
+    let (mut zmin, mut zmax, mut rmax) = (f64::MAX, f64::MIN, 0.0f64);
+    for p in &built.patches {
+        for i in 0..=32 {
+            for j in 0..64 {
+                let x = crate::surface::Surface::point(
+                    &p.surface,
+                    i as f64 / 32.0,
+                    crate::TAU * j as f64 / 64.0,
+                );
+                zmin = zmin.min(x.z);
+                zmax = zmax.max(x.z);
+                rmax = rmax.max(x.x.hypot(x.y));
+            }
+        }
+    }
+    (zmax - zmin, rmax)
+}
+
+#[test]
+fn vesicle_at_reduced_volume_0_8_is_prolate_and_not_below_the_minimum() {
+    // The prolate branch: the equator radius at most the half-distance of the poles. (Unbounded,
+    // this short search may settle on the oblate branch, a local minimum ≈ 5 % higher.)
+    let text = VESICLE.replace(
+        "min = 0.3, max = 3.0, initial = 0.6",
+        "min = 0.3, max = 1.0, initial = 0.6",
+    );
+    let p = problem_of(&text);
+    let out = p.run(&|_, _| {}).unwrap();
+    let v = &out.best.1.variables;
+    let (nu, f) = (v[8], v[7] / (16.0 * std::f64::consts::PI));
+    assert!((nu - 0.8).abs() < 2e-3, "nu = {nu}");
+    // Closed and smooth: Gauss–Bonnet, with a fine independent rule; the search's coarse rule
+    // (24 × 16 nodes) agrees with it to 10⁻⁴ on the energy.
+    let built = crate::spec::build_design(&p.design(&out.best.0)).unwrap();
+    let fine = measure::measure(&built, 64, 128).unwrap();
+    assert!(
+        (fine.gauss - 4.0 * std::f64::consts::PI).abs() < 1e-9,
+        "∫K = {}",
+        fine.gauss
+    );
+    assert!(
+        (4.0 * fine.mean_sq - v[7]).abs() < 1e-4 * v[7],
+        "{} vs {}",
+        4.0 * fine.mean_sq,
+        v[7]
+    );
+    // At or above the axisymmetric minimum (less the reference's own uncertainty), and not far
+    // from it: the two-patch family and the example's search (2000 + 300 evaluations) come
+    // within 20 % (16 % observed).
+    let reference = prolate_reference(nu);
+    assert!(
+        f >= reference - 2e-3,
+        "F/8π = {f} below the minimum {reference} at ν = {nu}"
+    );
+    assert!(
+        f <= 1.20 * reference,
+        "F/8π = {f}, minimum {reference} at ν = {nu}"
+    );
+    // Prolate: longer along the axis than across.
+    let (height, radius) = extents(&p.design(&out.best.0));
+    assert!(
+        height > 2.0 * radius * 1.2,
+        "height {height}, radius {radius}"
+    );
+}
+
+/// The table of §7.5.2 for c0 = 0: reduced volumes 0.95 down to 0.6 by continuation (each search
+/// starts at the previous optimum, as the book does), with the reference minima. About a minute
+/// in release mode: `cargo test --release -p pdeshape --lib vesicle_table -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn vesicle_table() {
+    let mut p = problem_of(VESICLE);
+    p.options.evaluations = 2000;
+    p.options.polish = 400;
+    println!("| target ν | ν found | F/8π found | prolate minimum | oblate minimum | shape (height / diameter) | evaluations |");
+    println!("|---|---|---|---|---|---|---|");
+    for target in [0.95, 0.9, 0.85, 0.8, 0.75, 0.7, 0.65, 0.6] {
+        let text = VESICLE.replace("equal = 0.8", &format!("equal = {target}"));
+        let mut q = problem_of(&text);
+        q.options = p.options.clone();
+        for (dst, src) in q.parameters.list.iter_mut().zip(&p.parameters.list) {
+            dst.initial = src.initial;
+        }
+        let out = q.run(&|_, _| {}).unwrap();
+        let v = &out.best.1.variables;
+        let (nu, f) = (v[8], v[7] / (16.0 * std::f64::consts::PI));
+        let (height, radius) = extents(&q.design(&out.best.0));
+        let reference = prolate_reference(nu);
+        let show = |r: f64| {
+            if r.is_nan() {
+                "—".to_string()
+            } else {
+                format!("{r:.4}")
+            }
+        };
+        let kind = if height > 2.0 * radius {
+            "prolate"
+        } else {
+            "oblate"
+        };
+        println!(
+            "| {target} | {nu:.4} | {f:.4} | {} | {} | {:.3} ({kind}) | {} |",
+            show(reference),
+            show(oblate_reference(nu)),
+            height / (2.0 * radius),
+            out.search.evaluations
+        );
+        assert!(reference.is_nan() || f >= reference - 2e-3);
+        assert!(f >= 1.0);
+        for (dst, x) in p.parameters.list.iter_mut().zip(&out.best.0) {
+            dst.initial = *x;
+        }
+    }
 }
