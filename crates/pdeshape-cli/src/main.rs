@@ -5,6 +5,7 @@ mod check;
 mod common;
 mod render;
 mod schema;
+mod spline;
 mod surface;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +29,9 @@ enum Command {
     Check(check::Args),
     /// Print the JSON schema of the design file.
     Schema,
+    /// Solve the [spline] section (B-spline/Bézier surface of a linear PDE) and write its net
+    /// (json), an IGES surface (igs) or a mesh; prints rank and free control points.
+    Spline(spline::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -36,6 +40,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Render(args) => render::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Schema => schema::run(),
+        Command::Spline(args) => spline::run(&args),
     }
 }
 
@@ -51,7 +56,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check or schema \
+                        "error: a subcommand is required: surface, render, check, schema or spline \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -660,6 +660,9 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "a design has either top-level conditions (one patch) or [[patches]], not both",
         )
         .at("conditions")),
+        (None, None) if spec.spline.is_some() => Err(Error::invalid(
+            "the design has a [spline] section and no PDE conditions: solve it with `pdeshape spline`",
+        )),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),

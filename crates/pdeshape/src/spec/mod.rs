@@ -19,6 +19,7 @@ pub use build::{
     NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
 };
 pub use locate::{describe_error, locate};
+pub(crate) use types::deserialize_tagged;
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverSpec, TransformStep, V3,

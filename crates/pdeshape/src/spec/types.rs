@@ -37,6 +37,10 @@ pub struct DesignSpec {
     /// Defaults for the command-line tool.
     #[serde(default)]
     pub output: OutputSpec,
+    /// A B-spline or Bézier surface solving a linear PDE from fixed control points (read by
+    /// `pdeshape spline`; such a design needs no conditions).
+    #[serde(default)]
+    pub spline: Option<crate::splinepde::spec::SplineSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
@@ -224,7 +228,7 @@ pub(crate) fn split_path_marker(message: &str) -> (Option<&str>, &str) {
 /// tagged `{ <variant> = { … } }`, so that errors inside the table keep their path (serde's
 /// internally tagged enums buffer the table and lose it). `hint` is appended to "unknown field"
 /// messages.
-fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
+pub(crate) fn deserialize_tagged<T: serde::de::DeserializeOwned, E: de::Error>(
     mut table: toml::Table,
     tag: &str,
     hint: &str,

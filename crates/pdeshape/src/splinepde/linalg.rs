@@ -1,5 +1,5 @@
 //! Dense linear algebra for the constraint systems: the affine solution set `x0 + N y` of
-//! `A x = B`, rank-revealing in `f64` (QR, then SVD of the triangular factor) and exact over the
+//! `A x = B`, rank-revealing in `f64` (SVD of the row-scaled system) and exact over the
 //! rationals (Gauss–Jordan).
 
 use super::scalar::Scalar;
@@ -195,8 +195,7 @@ pub fn rank_tolerance(m: usize, n: usize) -> f64 {
 pub const DETERMINED_TOL: f64 = 1e-8;
 
 impl Solve for f64 {
-    /// Rows divided by their scales; thin QR when there are more rows than unknowns, then the
-    /// SVD of the (square, zero-padded) factor; singular values below [`rank_tolerance`] · σ_max
+    /// Rows divided by their scales, then the SVD (a wide system padded with zero rows); singular values below [`rank_tolerance`] · σ_max
     /// are zero. `x0` is the minimum-norm least-squares solution; rows whose scaled residual
     /// exceeds `1e-8 · max(|B|, |x0|, value_scale)` (scaled `B`; rounding of unit rows is
     /// `κ·ε` times the values, so this leaves room for condition numbers up to 10⁷ and is far
@@ -246,11 +245,10 @@ impl Solve for f64 {
                 bm[(i, j)] = b.at(i, j) * s;
             }
         }
-        // Reduce to a square n × n system with the same null space and least-squares solution.
-        let (r, qtb) = if m > n {
-            let qr = am.clone().qr();
-            let qtb = qr.q().transpose() * &bm;
-            (qr.r(), qtb)
+        // A tall system is decomposed as it is (its thin SVD has the full V); a wide one is
+        // padded with zero rows to n × n so that V is complete.
+        let (r, qtb) = if m >= n {
+            (am.clone(), bm.clone())
         } else {
             let mut r = DMatrix::<f64>::zeros(n, n);
             r.view_mut((0, 0), (m, n)).copy_from(&am);
