@@ -263,10 +263,26 @@ impl Solve for f64 {
         let keep: Vec<usize> = (0..n)
             .filter(|&i| svd.singular_values[i] > tol && smax > 0.0)
             .collect();
-        let mut x = DMatrix::<f64>::zeros(n, c);
-        for &i in &keep {
-            let coef = u.column(i).transpose() * &qtb / svd.singular_values[i];
-            x += vt.row(i).transpose() * coef;
+        // x = V Σ⁺ Uᵀ b over the kept singular values, then two steps of iterative refinement
+        // (x += V Σ⁺ Uᵀ (b − A x)) against the rounding of the decomposition itself.
+        let pinv = |rhs: &DMatrix<f64>| {
+            let mut x = DMatrix::<f64>::zeros(n, c);
+            for &i in &keep {
+                let coef = u.column(i).transpose() * rhs / svd.singular_values[i];
+                x += vt.row(i).transpose() * coef;
+            }
+            x
+        };
+        let mut x = pinv(&qtb);
+        for _ in 0..2 {
+            let r = if m >= n {
+                &bm - &am * &x
+            } else {
+                let mut r = DMatrix::<f64>::zeros(n, c);
+                r.view_mut((0, 0), (m, c)).copy_from(&(&bm - &am * &x));
+                r
+            };
+            x += pinv(&r);
         }
         let nulls: Vec<usize> = (0..n).filter(|i| !keep.contains(i)).collect();
         let mut null = Mat::zeros(n, nulls.len());
