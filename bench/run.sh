@@ -8,3 +8,5 @@ echo "== pdeshape (cargo bench)"
 cargo bench -p pdeshape --bench surface -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^solve_tessellate|time:"
 echo "== NumPy peer"
 python3 bench/peers/numpy_surface.py 60
+echo "== splinepde (cargo bench)"
+cargo bench -p pdeshape --bench splinepde -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^splinepde|time:|20x20"
