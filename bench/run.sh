@@ -36,3 +36,5 @@ echo "== optimisation of 5000 evaluations, 1 and 2 threads (cargo bench)"
 cargo bench -p pdeshape --bench optimize 2>&1 | grep -E "^optimize_5000|time:"
 echo "== vesicle reference minima (SciPy)"
 python3 bench/peers/vesicle_reference.py
+echo "== splinepde (cargo bench)"
+cargo bench -p pdeshape --bench splinepde -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^splinepde|time:|20x20"

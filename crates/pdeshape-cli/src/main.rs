@@ -9,6 +9,7 @@ mod curve;
 mod optimize;
 mod render;
 mod schema;
+mod spline;
 mod surface;
 
 use clap::{Parser, Subcommand};
@@ -43,6 +44,9 @@ enum Command {
     Blend(blend::Args),
     /// Area, enclosed volume, curvature integrals and bending energies, per patch and in total.
     Analyze(analyze::Args),
+    /// Solve the [spline] section (B-spline/Bézier surface of a linear PDE) and write its net
+    /// (json), an IGES surface (igs) or a mesh; prints rank and free control points.
+    Spline(spline::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -55,6 +59,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Schema => schema::run(),
         Command::Blend(args) => blend::run(&args),
         Command::Analyze(args) => analyze::run(&args),
+        Command::Spline(args) => spline::run(&args),
     }
 }
 

@@ -681,6 +681,9 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
              solve it with `pdeshape blend`",
         )
         .at("blend")),
+        (None, None) if spec.spline.is_some() => Err(Error::invalid(
+            "the design has a [spline] section and no PDE conditions: solve it with `pdeshape spline`",
+        )),
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),

@@ -27,6 +27,7 @@ pub use dynamic::{
 pub(crate) use build::{patch_specs, planned_patches};
 pub use locate::{describe_error, locate};
 pub use parametric::{ParametricPatch, ParametricSpec};
+pub(crate) use types::deserialize_tagged;
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,

@@ -52,6 +52,10 @@ pub struct DesignSpec {
     /// [`crate::bfs::spec`]).
     #[serde(default)]
     pub blend: Option<crate::bfs::spec::BlendSpec>,
+    /// A B-spline or Bézier surface solving a linear PDE from fixed control points (read by
+    /// `pdeshape spline`; such a design needs no conditions).
+    #[serde(default)]
+    pub spline: Option<crate::splinepde::spec::SplineSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.

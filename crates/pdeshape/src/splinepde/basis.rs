@@ -78,16 +78,24 @@ impl<T: Scalar> Direction<T> {
 
     /// Checks: at least `p + 1` control points, knots finite and non-decreasing, no knot repeated
     /// more than `p + 1` times, and a domain of positive length. `name` is `u` or `v`.
+    /// Errors name their place: `degree` or `knots_u`/`knots_v`.
     pub fn check(&self, name: &str) -> Result<()> {
         let p = self.degree;
         if p == 0 || p > 20 {
             return Err(Error::invalid(format!(
                 "degree in {name} must be between 1 and 20 (got {p})"
-            )));
+            ))
+            .at("degree"));
         }
+        self.check_knots()
+            .map_err(|e| e.at(&format!("knots_{name}")))
+    }
+
+    fn check_knots(&self) -> Result<()> {
+        let p = self.degree;
         if self.knots.len() < 2 * (p + 1) {
             return Err(Error::invalid(format!(
-                "knots_{name}: degree {p} needs at least {} knots (p + 1 control points), got {}",
+                "degree {p} needs at least {} knots (p + 1 control points), got {}",
                 2 * (p + 1),
                 self.knots.len()
             )));
@@ -95,7 +103,7 @@ impl<T: Scalar> Direction<T> {
         for (i, w) in self.knots.windows(2).enumerate() {
             if w[1].to_f64() < w[0].to_f64() || (w[1].clone() - w[0].clone()).to_f64() < 0.0 {
                 return Err(Error::invalid(format!(
-                    "knots_{name}: knot {} ({}) is smaller than knot {i} ({}); knots must not decrease",
+                    "knot {} ({}) is smaller than knot {i} ({}); knots must not decrease",
                     i + 1,
                     w[1].to_text(),
                     w[0].to_text()
@@ -108,7 +116,7 @@ impl<T: Scalar> Direction<T> {
                 run += 1;
                 if run > p + 1 {
                     return Err(Error::invalid(format!(
-                        "knots_{name}: knot {} ({}) is repeated more than p + 1 = {} times",
+                        "knot {} ({}) is repeated more than p + 1 = {} times",
                         i,
                         self.knots[i].to_text(),
                         p + 1
@@ -124,16 +132,14 @@ impl<T: Scalar> Direction<T> {
             let mult = self.knots.iter().filter(|k| **k == self.knots[i]).count();
             if mult > p {
                 return Err(Error::invalid(format!(
-                    "knots_{name}: the interior knot {} is repeated {mult} times; at most p = {p} inside the domain",
+                    "the interior knot {} is repeated {mult} times; at most p = {p} inside the domain",
                     self.knots[i].to_text()
                 )));
             }
         }
         let (a, b) = self.domain();
         if (b - a).to_f64().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return Err(Error::invalid(format!(
-                "knots_{name}: the domain [u_p, u_(n+1)] has zero length"
-            )));
+            return Err(Error::invalid("the domain [u_p, u_(n+1)] has zero length"));
         }
         Ok(())
     }

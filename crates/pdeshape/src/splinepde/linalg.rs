@@ -1,5 +1,5 @@
 //! Dense linear algebra for the constraint systems: the affine solution set `x0 + N y` of
-//! `A x = B`, rank-revealing in `f64` (QR, then SVD of the triangular factor) and exact over the
+//! `A x = B`, rank-revealing in `f64` (SVD of the row-scaled system) and exact over the
 //! rationals (Gauss–Jordan).
 
 use super::scalar::Scalar;
@@ -195,8 +195,7 @@ pub fn rank_tolerance(m: usize, n: usize) -> f64 {
 pub const DETERMINED_TOL: f64 = 1e-8;
 
 impl Solve for f64 {
-    /// Rows divided by their scales; thin QR when there are more rows than unknowns, then the
-    /// SVD of the (square, zero-padded) factor; singular values below [`rank_tolerance`] · σ_max
+    /// Rows divided by their scales, then the SVD (a wide system padded with zero rows); singular values below [`rank_tolerance`] · σ_max
     /// are zero. `x0` is the minimum-norm least-squares solution; rows whose scaled residual
     /// exceeds `1e-8 · max(|B|, |x0|, value_scale)` (scaled `B`; rounding of unit rows is
     /// `κ·ε` times the values, so this leaves room for condition numbers up to 10⁷ and is far
@@ -246,11 +245,10 @@ impl Solve for f64 {
                 bm[(i, j)] = b.at(i, j) * s;
             }
         }
-        // Reduce to a square n × n system with the same null space and least-squares solution.
-        let (r, qtb) = if m > n {
-            let qr = am.clone().qr();
-            let qtb = qr.q().transpose() * &bm;
-            (qr.r(), qtb)
+        // A tall system is decomposed as it is (its thin SVD has the full V); a wide one is
+        // padded with zero rows to n × n so that V is complete.
+        let (r, qtb) = if m >= n {
+            (am.clone(), bm.clone())
         } else {
             let mut r = DMatrix::<f64>::zeros(n, n);
             r.view_mut((0, 0), (m, n)).copy_from(&am);
@@ -265,10 +263,26 @@ impl Solve for f64 {
         let keep: Vec<usize> = (0..n)
             .filter(|&i| svd.singular_values[i] > tol && smax > 0.0)
             .collect();
-        let mut x = DMatrix::<f64>::zeros(n, c);
-        for &i in &keep {
-            let coef = u.column(i).transpose() * &qtb / svd.singular_values[i];
-            x += vt.row(i).transpose() * coef;
+        // x = V Σ⁺ Uᵀ b over the kept singular values, then two steps of iterative refinement
+        // (x += V Σ⁺ Uᵀ (b − A x)) against the rounding of the decomposition itself.
+        let pinv = |rhs: &DMatrix<f64>| {
+            let mut x = DMatrix::<f64>::zeros(n, c);
+            for &i in &keep {
+                let coef = u.column(i).transpose() * rhs / svd.singular_values[i];
+                x += vt.row(i).transpose() * coef;
+            }
+            x
+        };
+        let mut x = pinv(&qtb);
+        for _ in 0..2 {
+            let r = if m >= n {
+                &bm - &am * &x
+            } else {
+                let mut r = DMatrix::<f64>::zeros(n, c);
+                r.view_mut((0, 0), (m, c)).copy_from(&(&bm - &am * &x));
+                r
+            };
+            x += pinv(&r);
         }
         let nulls: Vec<usize> = (0..n).filter(|i| !keep.contains(i)).collect();
         let mut null = Mat::zeros(n, nulls.len());

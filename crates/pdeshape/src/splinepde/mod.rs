@@ -36,6 +36,7 @@ pub mod export;
 mod linalg;
 mod operator;
 mod scalar;
+pub mod spec;
 
 pub use basis::{Direction, Span};
 pub use bezier::{

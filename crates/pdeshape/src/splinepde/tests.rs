@@ -1024,3 +1024,41 @@ fn knot_insertion_and_degree_elevation_keep_solutions() {
         }
     }
 }
+
+/// Which degrees let an arbitrary boundary ring determine a biharmonic Bézier patch (existence and
+/// uniqueness), and the f64 solve agrees with the exact one on such a patch (5 × 5).
+#[test]
+fn biharmonic_bezier_from_an_arbitrary_boundary() {
+    let mut rng = StdRng::seed_from_u64(11);
+    for n in 3..=7usize {
+        for m in 3..=7usize {
+            let ring = random_points_q(&mut rng, (n + 1) * (m + 1));
+            let r = bezier_from_rings([n, m], Operator::biharmonic(), 1, &ring);
+            let bad = (n.min(m) <= 4) && (n.max(m) >= 6);
+            match r {
+                Ok(net) => {
+                    assert!(!bad, "{n} × {m}");
+                    assert_eq!(net.report.freedom, 0);
+                }
+                Err(e) => assert!(bad, "{n} × {m}: {e}"),
+            }
+        }
+    }
+    let ring: Vec<Point<f64>> = (0..36)
+        .map(|_| [(); 3].map(|_| rng.gen_range(-1.0..1.0)))
+        .collect();
+    let ringq: Vec<Point<Q>> = ring
+        .iter()
+        .map(|p| p.map(|x| Q::from_float(x).unwrap()))
+        .collect();
+    let exact = bezier_from_rings([5, 5], Operator::biharmonic(), 1, &ringq)
+        .unwrap()
+        .to_f64();
+    let float = bezier_from_rings([5, 5], Operator::biharmonic(), 1, &ring).unwrap();
+    for (a, b) in float.control.iter().zip(&exact.control) {
+        for d in 0..3 {
+            // κ ≈ 2·10⁴ for this system: agreement to 1e-10 leaves a margin of 100.
+            assert!((a[d] - b[d]).abs() < 1e-10, "{} vs {}", a[d], b[d]);
+        }
+    }
+}

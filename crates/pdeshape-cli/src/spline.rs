@@ -1,0 +1,189 @@
+//! `pdeshape spline DESIGN -o OUT`: solve the `[spline]` section (a B-spline or Bézier surface
+//! solving a linear PDE from fixed control points), report rank and free points, and write the
+//! control net (json), the surface as IGES 5.3 (igs, iges), or a mesh/samples (obj, stl, ply,
+//! glb, csv).
+
+use crate::common::{self, CliError, Output};
+use pdeshape::mesh::{self, Format};
+use pdeshape::splinepde::export::{iges_timestamp, to_iges, IgesOptions};
+use pdeshape::splinepde::spec::{solve_spec, SolvedSpline};
+use std::io::Write;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML) with a [spline] section.
+    pub design: PathBuf,
+    /// Output file; the extension picks the format: json (control net and report), igs or iges
+    /// (IGES 5.3 B-spline surface), obj, stl, ply, glb or csv (grid of the surface).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Grid rows for meshes (values of u; default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns for meshes (values of v; default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+}
+
+enum Kind {
+    Json,
+    Iges,
+    Grid(Format),
+}
+
+fn kind(path: &std::path::Path) -> Result<Kind, CliError> {
+    let shown = path.display();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("json") => Ok(Kind::Json),
+        Some("igs") | Some("iges") => Ok(Kind::Iges),
+        Some(_) => Format::from_path(path).map(Kind::Grid).map_err(|_| {
+            CliError::input(format!(
+                "-o {shown}: unknown output extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
+            ))
+        }),
+        None => Err(CliError::input(format!(
+            "-o {shown}: no extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
+        ))),
+    }
+}
+
+/// The solve report as text for stdout.
+fn report_text(s: &SolvedSpline) -> String {
+    let net = s.to_f64();
+    let r = s.report();
+    let list = |v: &[[usize; 2]]| {
+        if v.is_empty() {
+            "none".to_string()
+        } else {
+            v.iter()
+                .map(|[i, j]| format!("[{i},{j}]"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        }
+    };
+    let mut out = format!(
+        "PDE: {}\nnet: {} × {} control points, degree [{}, {}], {} arithmetic\n",
+        net.operator.describe(),
+        r.counts[0],
+        r.counts[1],
+        net.u.degree,
+        net.v.degree,
+        if matches!(s, SolvedSpline::Exact(_)) {
+            "exact rational"
+        } else {
+            "f64"
+        }
+    );
+    out += &format!(
+        "equations: {} residual coefficients, rank {} (PDE alone: rank {} in {} control points)\n",
+        r.equations,
+        r.rank,
+        r.pde_rank,
+        r.counts[0] * r.counts[1]
+    );
+    out += &format!(
+        "fixed: {}, unknown: {}, determined: {}, free: {} (solution set of dimension {})\n",
+        r.fixed.len(),
+        r.unknowns,
+        r.determined.len(),
+        r.free.len(),
+        r.freedom
+    );
+    out += &format!("determined points: {}\n", list(&r.determined));
+    out += &format!("free points: {}\n", list(&r.free));
+    if !r.chosen_by.is_empty() {
+        out += &format!(
+            "free points chosen by minimising: {}\n",
+            r.chosen_by.join("; then ")
+        );
+    }
+    out
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.output.display().to_string();
+    let kind = kind(&args.output)?;
+    let design = common::load(&args.design)?;
+    let Some(spec) = design.spec.spline.as_ref() else {
+        return Err(CliError::input(format!(
+            "{}: the design has no [spline] section (pdeshape spline solves a B-spline/Bézier PDE surface; use pdeshape surface for conditions)",
+            design.file
+        )));
+    };
+    let grid = match kind {
+        Kind::Grid(_) => Some(design.grid(args.nu, args.nv)?),
+        _ => None,
+    };
+    let mut out = Output::create(&args.output)?;
+    let solved = solve_spec(spec).map_err(|e| design.error(&e))?;
+    let io = |e: std::io::Error| CliError::input(format!("-o {shown}: {e}"));
+    match kind {
+        Kind::Json => {
+            let text = serde_json::to_string_pretty(&solved.to_json())
+                .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+            out.write_all(text.as_bytes())?;
+            out.write_all(b"\n")?;
+        }
+        Kind::Iges => {
+            let seconds = std::env::var("SOURCE_DATE_EPOCH")
+                .ok()
+                .and_then(|s| s.parse::<u64>().ok())
+                .unwrap_or_else(|| {
+                    std::time::SystemTime::now()
+                        .duration_since(std::time::UNIX_EPOCH)
+                        .map(|d| d.as_secs())
+                        .unwrap_or(0)
+                });
+            let name = args
+                .output
+                .file_name()
+                .map(|n| n.to_string_lossy().to_string())
+                .unwrap_or_default();
+            let name: String = name
+                .chars()
+                .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+                .collect();
+            let text = to_iges(
+                &solved.to_f64(),
+                &IgesOptions {
+                    file_name: name,
+                    timestamp: iges_timestamp(seconds),
+                },
+            )
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+            out.write_all(text.as_bytes())?;
+        }
+        Kind::Grid(format) => {
+            let (nu, nv) = grid.unwrap_or((pdeshape::spec::DEFAULT_NU, pdeshape::spec::DEFAULT_NV));
+            let surface = solved
+                .to_f64()
+                .to_bspline()
+                .map_err(|e| design.error(&e.at("spline")))?;
+            let err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
+            let mut w = out.writer();
+            if format == Format::Csv {
+                let s = mesh::sample(&surface, nu, nv).map_err(err)?;
+                mesh::write_csv(&[s], &mut w).map_err(err)?;
+            } else {
+                let m = mesh::tessellate(&surface, nu, nv).map_err(err)?;
+                let ms = [m];
+                match format {
+                    Format::Obj => mesh::write_obj(&ms, &mut w),
+                    Format::Stl => mesh::write_stl(&ms, &mut w),
+                    Format::Ply => mesh::write_ply(&ms, &mut w),
+                    Format::Glb => mesh::write_glb(&ms, &mut w),
+                    Format::Csv => unreachable!("handled above"),
+                }
+                .map_err(err)?;
+            }
+            w.flush().map_err(io)?;
+        }
+    }
+    out.commit()?;
+    common::print_stdout(&format!("{}wrote {shown}\n", report_text(&solved)));
+    Ok(())
+}
