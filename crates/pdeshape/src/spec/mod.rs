@@ -34,7 +34,6 @@ pub use types::{
 };
 
 use crate::{Error, Result};
-pub(crate) use types::deserialize_tagged;
 
 /// Parses a design file: TOML syntax and the schema (unknown keys, wrong types, missing keys).
 /// The error's place is the path of the offending key (`curves.rim` for an unknown key inside the
