@@ -1,8 +1,8 @@
 //! The `pdeshape` command-line tool: design files (TOML) in, meshes, samples, pictures and
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
-mod blend;
 mod analyze;
+mod blend;
 mod check;
 mod common;
 mod curve;

@@ -20,11 +20,11 @@ pub use build::{
     build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
     NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
 };
+pub(crate) use build::{patch_specs, planned_patches};
 pub use dynamic::{
     build_dynamic, BuiltDynamic, ComponentSpec, DynamicPlan, DynamicRun, DynamicSpec, FormulaText,
     ParamsSpec,
 };
-pub(crate) use build::{patch_specs, planned_patches};
 pub use locate::{describe_error, locate};
 pub use parametric::{ParametricPatch, ParametricSpec};
 pub(crate) use types::deserialize_tagged;
