@@ -1,12 +1,7 @@
 #!/usr/bin/env bash
-# Runs the surface benchmark and its NumPy peer one after the other, on the same machine, for
-# BENCHMARKS.md. Needs numpy (pip install numpy) and, for the dynamic peer, scipy; not part of
-# the test suite.
-# BENCHMARKS.md. Needs the packages in bench/peers/requirements.txt (pip install -r); not part
-# of the test suite.
-# BENCHMARKS.md. Needs the packages of bench/peers/requirements.txt; not part of the test suite.
-# BENCHMARKS.md. Needs numpy and scipy (pip install -r bench/peers/requirements.txt); not part of
-# the test suite.
+# Runs every benchmark and its peer (NumPy, SciPy, libigl, scikit-fem) one after the other, on
+# the same machine, for BENCHMARKS.md. Needs the packages of bench/peers/requirements.txt
+# (pip install -r bench/peers/requirements.txt); not part of the test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 echo "== machine"; nproc; grep -m1 "model name" /proc/cpuinfo || true; date -u
