@@ -1,24 +1,7 @@
 //! End-to-end tests of `pdeshape analyze` and of designs with `[[parametric]]` surfaces.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pdeshape(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
-        .args(args)
-        .output()
-        .expect("the pdeshape binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::*;
 
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).to_string()

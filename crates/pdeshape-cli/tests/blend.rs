@@ -1,19 +1,8 @@
 //! End-to-end tests of `pdeshape blend`: the §6 example, every output kind, the report, and bad
 //! input (exit status 2, one located `error:` line, no output file).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn pdeshape(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
-        .args(args)
-        .output()
-        .expect("the pdeshape binary runs")
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+mod common;
+use common::*;
 
 fn example() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/blend_cylinders.toml")
@@ -21,21 +10,6 @@ fn example() -> PathBuf {
 
 fn example_text() -> String {
     std::fs::read_to_string(example()).unwrap()
-}
-
-/// Replaces exactly one occurrence of `from` in `text`.
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once");
-    text.replace(from, to)
-}
-
-fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Runs `blend` on a bad design: status 2, one `error:` line with every needle, no output.

@@ -2,59 +2,13 @@
 //! files, checked numerically from the written files; every class of bad input gives exit
 //! status 2, one `error:` line naming the place, and no output file.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::*;
 
 const EXAMPLES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
 
 fn example(name: &str) -> String {
     std::fs::read_to_string(format!("{EXAMPLES}/{name}")).unwrap()
-}
-
-fn pdeshape(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
-        .args(args)
-        .output()
-        .expect("the pdeshape binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
-/// Replaces exactly one occurrence of `from` in `text`.
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once");
-    text.replace(from, to)
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// Status 2, exactly one stderr line `error: …` containing every `needle`, nothing on stdout.
-fn assert_bad(out: &Output, needles: &[&str]) -> String {
-    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
-    assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "one line expected on stderr, got: {stderr}");
-    assert!(lines[0].starts_with("error: "), "{stderr}");
-    for n in needles {
-        assert!(lines[0].contains(n), "'{n}' not in: {stderr}");
-    }
-    assert!(out.stdout.is_empty());
-    lines[0].to_string()
-}
-
-fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Runs `curve` with all three outputs on a bad design; checks the error and that nothing but the

@@ -2,8 +2,8 @@
 //! re-runs), its mesh, picture and search log; bad input gives status 2, one located error line
 //! and no files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::*;
 
 /// A small biharmonic design with two parameters on the derivative curve d1 and `a`.
 const DESIGN: &str = r#"title = "optimise me"
@@ -63,37 +63,6 @@ parameters = [
   { name = "a", min = 0.3, max = 3.0 },
 ]
 "#;
-
-fn pdeshape(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
-        .args(args)
-        .output()
-        .expect("the pdeshape binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
-fn edit(text: &str, from: &str, to: &str) -> String {
-    assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once");
-    text.replace(from, to)
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
-}
 
 /// Status 2, one stderr line `error: …` with every needle, nothing on stdout, and no file but
 /// the design left in the directory.

@@ -1,8 +1,8 @@
 //! End-to-end tests of `pdeshape spline`: the control net as JSON (exact fractions), IGES, meshes,
 //! the report on stdout, and bad input (exit 2, one located `error:` line, no output file).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+use common::*;
 
 /// Seed 003 Example 1 with the printed boundary points, exact arithmetic.
 const EXAMPLE1: &str = r#"title = "example 1"
@@ -37,32 +37,6 @@ net = [
 nu = 5
 nv = 6
 "#;
-
-fn pdeshape(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
-        .args(args)
-        .output()
-        .expect("the pdeshape binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
-        .collect();
-    v.sort();
-    v
-}
 
 /// Runs `spline` on a bad design: status 2, one `error:` line with every needle, no output file.
 fn bad(text: &str, out_name: &str, needles: &[&str]) -> String {

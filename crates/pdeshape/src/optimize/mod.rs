@@ -126,7 +126,16 @@ impl Formula {
         if text.trim().is_empty() {
             return Err(Error::invalid("the formula is empty").at(place));
         }
-        let expr = exmex::parse::<f64>(&normalise(text))
+        let normalised = normalise(text);
+        if let Some(at) = crate::curve::unary_minus_before_power(&normalised) {
+            return Err(Error::invalid(format!(
+                "'{text}': the minus at character {} is applied before the power; write \
+                 -(…^…) or (-…)^… explicitly",
+                at + 1
+            ))
+            .at(place));
+        }
+        let expr = exmex::parse::<f64>(&normalised)
             .map_err(|e| Error::invalid(format!("cannot parse '{text}': {e}")).at(place))?;
         let mut slots = Vec::new();
         for name in expr.var_names() {
