@@ -102,31 +102,12 @@ struct Formula {
     slots: Vec<usize>,
 }
 
-/// `pi` → `π` (exmex knows `PI` and `π`).
-fn normalise(text: &str) -> String {
-    let mut out = String::new();
-    let mut word = String::new();
-    for ch in text.chars().chain(std::iter::once(' ')) {
-        if ch.is_alphanumeric() || ch == '_' {
-            word.push(ch);
-        } else {
-            if !word.is_empty() {
-                out.push_str(if word == "pi" { "π" } else { &word });
-                word.clear();
-            }
-            out.push(ch);
-        }
-    }
-    out.pop();
-    out
-}
-
 impl Formula {
     fn parse(text: &str, place: &str) -> Result<Formula> {
         if text.trim().is_empty() {
             return Err(Error::invalid("the formula is empty").at(place));
         }
-        let normalised = normalise(text);
+        let normalised = crate::curve::normalise_formula(text);
         if let Some(at) = crate::curve::unary_minus_before_power(&normalised) {
             return Err(Error::invalid(format!(
                 "'{text}': the minus at character {} is applied before the power; write \
