@@ -125,10 +125,14 @@ impl BandMatrix {
 /// partial pivoting within the band), with divisions by the pivots replaced by multiplications
 /// with their reciprocals (results agree to rounding).
 ///
-/// For the systems of scheme (6) it also offers [`Penta::solve_system`]: the matrix is assembled
-/// into a second buffer ([`Penta::next_row`], [`Penta::add_next`], [`Penta::commit`]), factorised
-/// without pivoting when that is provably backward stable (see [`GROWTH`]) and otherwise with
-/// partial pivoting, and the factors are kept while the assembled matrix stays bit-for-bit the same.
+/// For the systems of scheme (6) it also offers a streaming solve: [`Penta::begin`], then one
+/// [`Penta::push`] per row in order, then [`Penta::finish`]. Each pushed row is factorised without
+/// pivoting and forward-substituted at once, so the caller can assemble the next row while the
+/// serial chain of pivots of this one is still in flight (the factorisation's latency hides behind
+/// the assembly's arithmetic). The unpivoted factors are accepted when they pass the a-posteriori
+/// stability test of [`GROWTH`]; otherwise [`Penta::finish`] solves with partial pivoting. Row `i`
+/// of the unpivoted factors depends only on rows `0 ..= i`, so while the pushed rows equal, bit for
+/// bit, the rows of the last accepted factorisation, its factors are reused row by row.
 #[derive(Debug, Clone)]
 pub struct Penta {
     n: usize,
@@ -137,18 +141,50 @@ pub struct Penta {
     /// `1/U_kk`: one division per row in the factorisation, none in the solve.
     inverse: Vec<f64>,
     scratch: Vec<f64>,
-    /// The matrix being assembled for the next solve (same layout as `rows`).
-    next: Vec<[f64; 7]>,
-    /// Unpivoted factors of `rows`, row `i` at index `i + 2` (two zero rows in front):
-    /// `[L_{i,i−2}, L_{i,i−1}, U_{i,i+1}, U_{i,i+2}]`.
-    factors: Vec<[f64; 4]>,
-    /// `1/U_ii` of the unpivoted factors, at index `i + 2` (zeros in front).
-    factor_inverse: Vec<f64>,
-    /// Whether `factors`/`factor_inverse` are the valid unpivoted factors of `rows`.
+    /// The right-hand side pushed with the rows (kept for the pivoting fallback).
+    rhs: Vec<f64>,
+    /// The unpivoted factors of `rows`, one entry per row.
+    factors: Vec<FactorRow>,
+    /// `[U_{i,i+1}/U_ii, U_{i,i+2}/U_ii]`: the rows of the unit upper factor, for the back
+    /// substitution.
+    unit_upper: Vec<[f64; 2]>,
+    /// `y_i/U_ii`, `y` the forward substitution's result.
+    scaled: Vec<f64>,
+    /// Whether `factors` are the valid unpivoted factors of all of `rows`.
     factored: bool,
-    /// Number of solves that needed the pivoting fallback, and that reused the factors.
+    /// Number of solves that needed the pivoting fallback, and that reused every factor row.
     pivoted_solves: usize,
     reused_solves: usize,
+}
+
+/// Row `i` of the unpivoted factors `A = L U`.
+#[derive(Debug, Clone, Copy, Default)]
+struct FactorRow {
+    /// `L_{i,i−2}`, `L_{i,i−1}`.
+    lower: [f64; 2],
+    /// The pivot's pass through the chain: `U_{i,i+1}`, `U_{i,i+2}`, `1/U_ii` and
+    /// `|U_ii| + |U_{i,i+1}| + |U_{i,i+2}|`.
+    pivot: Pivot,
+}
+
+/// What row `i + 1` and `i + 2` of the factorisation need of row `i`.
+#[derive(Debug, Clone, Copy, Default)]
+struct Pivot {
+    upper: [f64; 2],
+    inverse: f64,
+    norm: f64,
+}
+
+/// The state of a streaming solve between two [`Penta::push`]es: the last two rows' pivots and
+/// forward-substitution values (zero before the first row), and the flags of the rows so far.
+#[derive(Debug, Clone, Copy)]
+pub struct Stream {
+    pivots: [Pivot; 2],
+    y: [f64; 2],
+    /// Whether every row so far equals the stored one while the stored factors are valid.
+    same: bool,
+    /// Whether every row so far passed the stability test.
+    stable: bool,
 }
 
 /// The bound `γ` of the a-posteriori stability test of the unpivoted LU: the factors are accepted
@@ -170,157 +206,121 @@ impl Penta {
             pivots: vec![0; n],
             inverse: vec![0.0; n],
             scratch: vec![0.0; n + 4],
-            next: vec![[0.0; 7]; n + 2],
-            factors: vec![[0.0; 4]; n + 2],
-            factor_inverse: vec![0.0; n + 2],
+            rhs: vec![0.0; n],
+            factors: vec![FactorRow::default(); n],
+            unit_upper: vec![[0.0; 2]; n],
+            scaled: vec![0.0; n],
             factored: false,
             pivoted_solves: 0,
             reused_solves: 0,
         }
     }
 
-    /// Row `i < n` of the matrix being assembled: `[A_{i,i−2}, …, A_{i,i+2}, 0, 0]` (entries
-    /// outside the matrix must stay zero).
-    #[inline]
-    pub fn next_row(&mut self, i: usize) -> &mut [f64; 7] {
-        &mut self.next[i]
-    }
-
-    /// Adds `value` to the entry `(i, c)`, `|c − i| ≤ 2`, both `< n`, of the matrix being
-    /// assembled.
-    #[inline]
-    pub fn add_next(&mut self, i: usize, c: usize, value: f64) {
-        debug_assert!(i < self.n && c < self.n && c + 2 >= i && c <= i + 2);
-        self.next[i][c + 2 - i] += value;
-    }
-
-    /// Makes the assembled matrix the current one. If it equals the current matrix bit for bit
-    /// (compared as numbers), the factors already computed remain valid and are kept.
-    pub fn commit(&mut self) {
-        if self.next[..self.n] != self.rows[..self.n] {
-            std::mem::swap(&mut self.next, &mut self.rows);
-            self.factored = false;
-        }
+    #[cfg(test)]
+    /// Adds `value` to `A_{i,c}` (`|i − c| ≤ 2`) and forgets the factors.
+    pub fn add(&mut self, i: usize, c: usize, value: f64) {
+        self.rows[i][c + 2 - i] += value;
+        self.factored = false;
     }
 
     #[cfg(test)]
-    /// How many solves of [`Penta::solve_system`] fell back to partial pivoting.
+    /// How many solves fell back to partial pivoting.
     pub fn pivoted_solves(&self) -> usize {
         self.pivoted_solves
     }
 
     #[cfg(test)]
-    /// How many solves of [`Penta::solve_system`] reused the factors of the previous one.
+    /// How many solves reused every row of the factors of the previous one.
     pub fn reused_solves(&self) -> usize {
         self.reused_solves
     }
 
-    /// LU factorisation of the current matrix without pivoting, fused with the forward
-    /// substitution `L y = b` (`y` into `scratch[2..n+2]`). Returns whether the factors pass the
-    /// stability test of [`GROWTH`]; `rows` is not modified.
-    fn factor_unpivoted(&mut self, b: &[f64]) -> bool {
-        let n = self.n;
-        let rows = &self.rows[..n];
-        let fac = &mut self.factors[..n + 2];
-        let inv = &mut self.factor_inverse[..n + 2];
-        let y = &mut self.scratch[..n + 2];
-        fac[0] = [0.0; 4];
-        fac[1] = [0.0; 4];
-        inv[0] = 0.0;
-        inv[1] = 0.0;
-        y[0] = 0.0;
-        y[1] = 0.0;
-        // 1-norms of the rows of U (zero for the two padding rows).
-        let (mut norm2, mut norm1) = (0.0f64, 0.0f64);
-        let mut ok = true;
-        for (i, (a, &bi)) in rows.iter().zip(b).enumerate() {
-            let k = i + 2;
-            let (f2, f1) = (fac[k - 2], fac[k - 1]);
-            let l2 = a[0] * inv[k - 2];
-            let e1 = a[1] - l2 * f2[2];
-            let l1 = e1 * inv[k - 1];
-            let diag = a[2] - l2 * f2[3] - l1 * f1[2];
-            let s1 = a[3] - l1 * f1[3];
-            let s2 = a[4];
+    /// Starts a streaming solve: rows `0, 1, …, n − 1` follow through [`Penta::push`], which
+    /// carries the returned state from row to row.
+    pub fn begin(&self) -> Stream {
+        Stream {
+            pivots: [Pivot::default(); 2],
+            y: [0.0; 2],
+            same: self.factored,
+            stable: true,
+        }
+    }
+
+    /// Pushes row `i` (the rows come in order `0, 1, …`): `a = [A_{i,i−2}, …, A_{i,i+2}]` (entries
+    /// outside the matrix must be zero) and the right-hand side `b_i`. Factorises the row without
+    /// pivoting (or reuses its stored factors) and does its step of the forward substitution.
+    #[inline(always)]
+    pub fn push(&mut self, s: &mut Stream, i: usize, a: [f64; 5], b: f64) {
+        self.rhs[i] = b;
+        let [p2, p1] = s.pivots;
+        let [y2, y1] = s.y;
+        let stored = &mut self.rows[i];
+        let (pivot, y) = if s.same && stored[..5] == a {
+            let f = self.factors[i];
+            let y = b - f.lower[0] * y2 - f.lower[1] * y1;
+            (f.pivot, y)
+        } else {
+            s.same = false;
+            *stored = [a[0], a[1], a[2], a[3], a[4], 0.0, 0.0];
+            let l2 = a[0] * p2.inverse;
+            let e1 = a[1] - l2 * p2.upper[0];
+            let l1 = e1 * p1.inverse;
+            let diag = a[2] - l2 * p2.upper[1] - l1 * p1.upper[0];
+            let s1 = a[3] - l1 * p1.upper[1];
             let r = 1.0 / diag;
-            fac[k] = [l2, l1, s1, s2];
-            inv[k] = r;
-            y[k] = bi - l2 * y[k - 2] - l1 * y[k - 1];
-            let norm = diag.abs() + s1.abs() + s2.abs();
-            let lu = norm + l1.abs() * norm1 + l2.abs() * norm2;
+            let norm = diag.abs() + s1.abs() + a[4].abs();
+            let pivot = Pivot {
+                upper: [s1, a[4]],
+                inverse: r,
+                norm,
+            };
+            self.factors[i] = FactorRow {
+                lower: [l2, l1],
+                pivot,
+            };
+            self.unit_upper[i] = [s1 * r, a[4] * r];
+            let lu = norm + l1.abs() * p1.norm + l2.abs() * p2.norm;
             let asum = a[0].abs() + a[1].abs() + a[2].abs() + a[3].abs() + a[4].abs();
-            ok &= (lu <= GROWTH * asum) & (r.abs() < f64::INFINITY) & (r != 0.0);
-            norm2 = norm1;
-            norm1 = norm;
-        }
-        ok
+            s.stable &= (lu <= GROWTH * asum) & (r.abs() < f64::INFINITY) & (r != 0.0);
+            (pivot, b - l2 * y2 - l1 * y1)
+        };
+        self.scaled[i] = y * pivot.inverse;
+        s.pivots = [p1, pivot];
+        s.y = [y1, y];
     }
 
-    /// Forward substitution `L y = b` with the stored unpivoted factors.
-    fn forward_unpivoted(&mut self, b: &[f64]) {
-        let n = self.n;
-        let fac = &self.factors[2..n + 2];
-        let y = &mut self.scratch[..n + 2];
-        y[0] = 0.0;
-        y[1] = 0.0;
-        let (mut y2, mut y1) = (0.0, 0.0);
-        for (i, (f, &bi)) in fac.iter().zip(b).enumerate() {
-            let v = bi - f[0] * y2 - f[1] * y1;
-            y[i + 2] = v;
-            y2 = y1;
-            y1 = v;
-        }
-    }
-
-    /// Back substitution `U x = y` with the unpivoted factors, `y` in `scratch[2..n+2]`.
-    fn back_unpivoted(&self, x: &mut [f64]) {
-        let n = self.n;
-        let fac = &self.factors[2..n + 2];
-        let inv = &self.factor_inverse[2..n + 2];
-        let y = &self.scratch[2..n + 2];
-        let (mut x1, mut x2) = (0.0, 0.0);
-        for i in (0..n).rev() {
-            let f = &fac[i];
-            let v = (y[i] - f[2] * x1 - f[3] * x2) * inv[i];
-            x[i] = v;
-            x2 = x1;
-            x1 = v;
-        }
-    }
-
-    /// Solves `A x = b` in place for the matrix made current by [`Penta::commit`]: with the kept
-    /// factors if the matrix did not change, else by LU without pivoting if it passes the
-    /// stability test of [`GROWTH`], else by LU with partial pivoting ([`Penta::factorize`], on a
-    /// copy, so that the matrix stays available for comparison). Fails on a singular matrix.
-    pub fn solve_system(&mut self, b: &mut [f64]) -> Result<()> {
-        assert_eq!(b.len(), self.n, "right-hand side of the wrong length");
-        if self.factored {
+    /// Ends a streaming solve: the solution of `A x = b` for the pushed rows into `x` (length
+    /// `n`), by back substitution with the unpivoted factors if every row passed the stability
+    /// test, else by LU with partial pivoting ([`Penta::factorize`] on a copy, so that the
+    /// pushed matrix stays available for the next comparison). Fails on a singular matrix.
+    pub fn finish(&mut self, s: Stream, x: &mut [f64]) -> Result<()> {
+        assert_eq!(x.len(), self.n, "solution of the wrong length");
+        if s.same {
             self.reused_solves += 1;
-            self.forward_unpivoted(b);
-            self.back_unpivoted(b);
-            return Ok(());
         }
-        if self.factor_unpivoted(b) {
+        if s.stable {
             self.factored = true;
-            self.back_unpivoted(b);
+            // U x = y as x_i = y_i/U_ii − (U_{i,i+1}/U_ii) x_{i+1} − (U_{i,i+2}/U_ii) x_{i+2}:
+            // one product and one subtraction on the serial chain per row.
+            let (mut x1, mut x2) = (0.0, 0.0);
+            for ((xi, &yi), u) in x.iter_mut().zip(&self.scaled).zip(&self.unit_upper).rev() {
+                let v = yi - u[1] * x2 - u[0] * x1;
+                *xi = v;
+                x2 = x1;
+                x1 = v;
+            }
             return Ok(());
         }
+        self.factored = false;
         self.pivoted_solves += 1;
         let saved = self.rows.clone();
         let result = self.factorize();
         if result.is_ok() {
-            self.solve_in_place(b);
+            x.copy_from_slice(&self.rhs);
+            self.solve_in_place(x);
         }
         self.rows = saved;
         result
-    }
-
-    #[cfg(test)]
-    /// Adds `value` to the entry `(i, c)`, `|c − i| ≤ 2`, both `< n`.
-    #[inline]
-    pub fn add(&mut self, i: usize, c: usize, value: f64) {
-        debug_assert!(i < self.n && c < self.n && c + 2 >= i && c <= i + 2);
-        self.rows[i][c + 2 - i] += value;
     }
 
     /// Factorises in place (`P A = L U`); fails on a zero or non-finite pivot.
@@ -483,11 +483,18 @@ mod tests {
             }
         }
         let mut p = Penta::zeros(3);
-        p.add_next(0, 0, 1.0);
-        p.add_next(1, 0, 1.0);
-        p.add_next(2, 0, 1.0);
-        p.commit();
-        assert!(p.solve_system(&mut [1.0, 2.0, 3.0]).is_err());
+        let mut st = p.begin();
+        for (i, row) in [
+            [0.0, 0.0, 1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0, 0.0, 0.0],
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            p.push(&mut st, i, row, 1.0);
+        }
+        assert!(p.finish(st, &mut [0.0; 3]).is_err());
         let mut p = Penta::zeros(3);
         p.add(0, 0, 1.0);
         p.add(1, 0, 1.0);
@@ -554,17 +561,23 @@ mod tests {
                     let c = i as isize + k as isize - 2;
                     if c >= 0 && (c as usize) < n {
                         band.set(i, c as usize, v);
-                        penta.add_next(i, c as usize, v);
                     }
                 }
             }
-            penta.commit();
             band.factorize().unwrap();
+            let stream = |penta: &mut Penta, entries: &[[f64; 5]], b: &[f64]| {
+                let mut st = penta.begin();
+                for (i, (e, &bi)) in entries.iter().zip(b).enumerate() {
+                    penta.push(&mut st, i, *e, bi);
+                }
+                let mut x = vec![0.0; b.len()];
+                penta.finish(st, &mut x).map(|_| x)
+            };
             for round in 0..2 {
                 let b: Vec<f64> = (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect();
-                let (mut x, mut y) = (b.clone(), b.clone());
+                let mut x = b.clone();
                 band.solve_in_place(&mut x);
-                penta.solve_system(&mut y).unwrap();
+                let y = stream(&mut penta, &entries, &b).unwrap();
                 if case == 1 {
                     // The same pivoted algorithm: equal to rounding.
                     let scale = x.iter().fold(1.0f64, |m, v| m.max(v.abs()));
@@ -604,20 +617,22 @@ mod tests {
                     penta.pivoted_solves(),
                     if case == 0 { 0 } else { round + 1 }
                 );
+                // The same matrix again in the next round: the factors stay valid.
                 assert_eq!(penta.reused_solves(), if case == 0 { round } else { 0 });
-                // The same matrix again (the factors stay valid).
-                for (i, e) in entries.iter().enumerate() {
-                    *penta.next_row(i) = [e[0], e[1], e[2], e[3], e[4], 0.0, 0.0];
-                }
-                penta.commit();
             }
             if case == 0 {
-                // A changed matrix is factorised anew.
-                penta.next_row(0)[2] += 1.0;
-                penta.commit();
-                let mut y = vec![1.0; n];
-                penta.solve_system(&mut y).unwrap();
-                assert_eq!(penta.reused_solves(), 1);
+                // A matrix changed in its last row keeps the factors of the rows before it and
+                // solves correctly; one changed in its first row is factorised anew.
+                for (shift, changed) in [(1.0, n - 1), (2.0, 0)] {
+                    let mut other = entries.clone();
+                    other[changed][2] += shift;
+                    let b = vec![1.0; n];
+                    let y = stream(&mut penta, &other, &b).unwrap();
+                    let mut fresh = Penta::zeros(n);
+                    let z = stream(&mut fresh, &other, &b).unwrap();
+                    assert_eq!(y, z, "n = {n}, row {changed} changed");
+                    assert_eq!(penta.reused_solves(), 1);
+                }
             }
         }
     }

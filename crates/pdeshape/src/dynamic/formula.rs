@@ -133,7 +133,7 @@ pub fn field_formula(text: &str) -> Result<Field> {
     let e = Expression::parse(text, &["u", "t", "x"])?;
     Ok(match e.constant() {
         Some(c) => super::constant_field(c),
-        None => Arc::new(move |u, t, x| e.eval(&[u, t, x])),
+        None => super::field(move |u, t, x| e.eval(&[u, t, x])),
     })
 }
 
@@ -162,14 +162,14 @@ mod tests {
             let want = (1.0 + (-t).exp()).powi(2)
                 * ((PI * u).sin().powi(2) - (PI * u).cos().powi(2))
                 + x / 2.0;
-            let got = f(u, t, x);
+            let got = f.at(u, t, x);
             assert!(
                 (got - want).abs() <= 1e-14 * (1.0 + want.abs()),
                 "{got} {want}"
             );
         }
         let c = field_formula("2*e - E + 1e-3").unwrap();
-        assert_eq!(c(0.3, 1.0, 2.0), std::f64::consts::E + 1e-3);
+        assert_eq!(c.at(0.3, 1.0, 2.0), std::f64::consts::E + 1e-3);
         let s = scalar_formula("pi*(1 + exp(-t))", "t").unwrap();
         assert!((s(0.0) - 2.0 * PI).abs() < 1e-15);
         let p = scalar_formula("2*sin(π*u)", "u").unwrap();
@@ -193,6 +193,6 @@ mod tests {
         assert!(e.contains("inf"), "{e}");
         // A formula that fails only at some values gives NaN there (caught by the scheme).
         let f = field_formula("sqrt(x)").unwrap();
-        assert!(f(0.0, 0.0, -1.0).is_nan());
+        assert!(f.at(0.0, 0.0, -1.0).is_nan());
     }
 }

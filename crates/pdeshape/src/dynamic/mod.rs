@@ -36,11 +36,20 @@
 //!
 //! In each step the end rows are eliminated exactly (`X_0`, `X_J` are known, `X_1`, `X_{J−1}` are
 //! the one-sided formulas solved for them), which leaves one banded system with two sub- and two
-//! super-diagonals for `X_2 ..= X_{J−2}` per component (`band::Penta`: LU without pivoting when
-//! an a-posteriori growth test certifies it backward stable, else LU with partial pivoting inside
-//! the band; factors kept while the matrix does not change); the cost is `O(J)` per step. Eliminating rather than solving the end
-//! rows together with the stiff interior rows keeps the end conditions satisfied to rounding of the
-//! formulas themselves, independent of the conditioning (`~ Δt² d / h⁴`) of the interior system.
+//! super-diagonals for `X_2 ..= X_{J−2}` per component; the cost is `O(J)` per step. Eliminating
+//! rather than solving the end rows together with the stiff interior rows keeps the end conditions
+//! satisfied to rounding of the formulas themselves, independent of the conditioning
+//! (`~ Δt² d / h⁴`) of the interior system.
+//!
+//! # Cost of a step
+//!
+//! A step evaluates the four fields over the whole level ([`Field::fill`]: one loop per field, in
+//! which a closure's body is inlined), then assembles the rows in order and hands each to the
+//! streaming solver `band::Penta`, which factorises it without pivoting as it arrives, so the
+//! serial chain of pivots overlaps the assembly. The unpivoted factors are used when an
+//! a-posteriori growth test certifies them backward stable, else the step is solved again by LU
+//! with partial pivoting inside the band; factor rows are reused while the rows equal the previous
+//! step's (constant coefficients).
 
 pub(crate) mod band;
 pub mod formula;
@@ -54,8 +63,57 @@ use std::sync::Arc;
 use crate::{Error, Result};
 use band::Penta;
 
-/// A coefficient or force `φ(u, t, x)` of one component (paper §3: `a, b, d, f`).
-pub type Field = Arc<dyn Fn(f64, f64, f64) -> f64 + Send + Sync>;
+/// A coefficient or force `φ(u, t, x)` of one component (paper §3: `a, b, d, f`), shared (cheap
+/// to clone). Made by [`field`] from a closure or by [`constant_field`]. The scheme evaluates a
+/// whole level at once through [`Field::fill`], whose loop over the nodes is compiled for each
+/// closure, so the closure's body is inlined there rather than called through a pointer per node.
+#[derive(Clone)]
+pub struct Field(Arc<dyn FieldFn>);
+
+/// What a [`Field`] holds: a closure or a constant.
+trait FieldFn: Send + Sync {
+    fn at(&self, u: f64, t: f64, x: f64) -> f64;
+    fn fill(&self, offset: f64, h: f64, t: f64, x: &[f64], out: &mut [f64]);
+}
+
+struct Closure<F>(F);
+
+impl<F: Fn(f64, f64, f64) -> f64 + Send + Sync> FieldFn for Closure<F> {
+    fn at(&self, u: f64, t: f64, x: f64) -> f64 {
+        (self.0)(u, t, x)
+    }
+
+    fn fill(&self, offset: f64, h: f64, t: f64, x: &[f64], out: &mut [f64]) {
+        for (k, (o, &xk)) in out.iter_mut().zip(x).enumerate() {
+            *o = (self.0)((k as f64 + offset) * h, t, xk);
+        }
+    }
+}
+
+struct Constant(f64);
+
+impl FieldFn for Constant {
+    fn at(&self, _: f64, _: f64, _: f64) -> f64 {
+        self.0
+    }
+
+    fn fill(&self, _: f64, _: f64, _: f64, _: &[f64], out: &mut [f64]) {
+        out.fill(self.0);
+    }
+}
+
+impl Field {
+    /// `φ(u, t, x)`.
+    pub fn at(&self, u: f64, t: f64, x: f64) -> f64 {
+        self.0.at(u, t, x)
+    }
+
+    /// `out[k] = φ((k + offset) h, t, x[k])` for every `k` (`x` and `out` of equal length).
+    pub fn fill(&self, offset: f64, h: f64, t: f64, x: &[f64], out: &mut [f64]) {
+        assert_eq!(x.len(), out.len(), "Field::fill needs one x per output");
+        self.0.fill(offset, h, t, x, out);
+    }
+}
 
 /// A function of one variable: an end condition of `t` or an initial profile of `u`.
 pub type Scalar = Arc<dyn Fn(f64) -> f64 + Send + Sync>;
@@ -66,12 +124,12 @@ pub type Observer<'a> = dyn FnMut(usize, f64, Option<&[crate::Vec3]>) + 'a;
 
 /// Wraps a closure `(u, t, x) ↦ φ` as a [`Field`].
 pub fn field(f: impl Fn(f64, f64, f64) -> f64 + Send + Sync + 'static) -> Field {
-    Arc::new(f)
+    Field(Arc::new(Closure(f)))
 }
 
 /// The constant field `φ ≡ c`.
 pub fn constant_field(c: f64) -> Field {
-    Arc::new(move |_, _, _| c)
+    Field(Arc::new(Constant(c)))
 }
 
 /// Wraps a closure of one variable as a [`Scalar`].
@@ -122,9 +180,9 @@ impl Component {
                 let u = j as f64 / samples as f64;
                 let x = (self.position)(u);
                 let checks = [
-                    ("a", (self.a)(u, t, x), false),
-                    ("b", (self.b)(u, t, x), false),
-                    ("d", (self.d)(u, t, x), true),
+                    ("a", self.a.at(u, t, x), false),
+                    ("b", self.b.at(u, t, x), false),
+                    ("d", self.d.at(u, t, x), true),
                 ];
                 for (name, v, strict) in checks {
                     let bad = !v.is_finite() || v < 0.0 || (strict && v == 0.0);
@@ -226,7 +284,7 @@ pub fn l2_norm(values: &[f64], h: f64) -> f64 {
 /// `(Λ X)_j = −(1/h)[b_{j+1/2} δX_j − b_{j−1/2} δX_{j−1}]
 ///           + (1/h²)[d_{j+1} δ²X_{j+1} − 2 d_j δ²X_j + d_{j−1} δ²X_{j−1}] = Σ_k w_k X_{j+k}`.
 /// `ih2 = 1/h²`, `ih4 = 1/h⁴`.
-#[inline]
+#[inline(always)]
 fn stencil(bh: &[f64], d: &[f64], j: usize, ih2: f64, ih4: f64) -> [f64; 5] {
     let (bm, bp) = (bh[j - 1], bh[j]);
     let (dm, d0, dp) = (d[j - 1], d[j], d[j + 1]);
@@ -239,18 +297,55 @@ fn stencil(bh: &[f64], d: &[f64], j: usize, ih2: f64, ih4: f64) -> [f64; 5] {
     ]
 }
 
-#[inline]
+#[inline(always)]
 fn apply(w: &[f64; 5], x: &[f64], j: usize) -> f64 {
     w[0] * x[j - 2] + w[1] * x[j - 1] + w[2] * x[j] + w[3] * x[j + 1] + w[4] * x[j + 2]
 }
 
+/// Row `j ∈ {2, 3, J − 3, J − 2}` of the step's system with the end values eliminated:
+/// `row = [A_{j,j−2}, …, A_{j,j+2}]` over `X_{j−2} ..= X_{j+2}` and its right-hand side `r`
+/// become the row over the unknowns `X_2 ..= X_{J−2}` (same offsets, relative to the unknown
+/// `j − 2`). `ends = [p₀, left, right, p₁]`: `X_0 = p₀`, `X_J = p₁`,
+/// `X_1 = left + X_2/2 − X_3/9`, `X_{J−1} = right + X_{J−2}/2 − X_{J−3}/9`.
+fn eliminate_ends(
+    row: [f64; 5],
+    mut r: f64,
+    j: usize,
+    jn: usize,
+    ends: [f64; 4],
+) -> ([f64; 5], f64) {
+    let [p0, left, right, p1] = ends;
+    let mut out = [0.0; 5];
+    // Column c of the grid is offset c + 2 − j; the unknown X_c sits at the same offset.
+    for (k, &val) in row.iter().enumerate() {
+        let c = j + k - 2;
+        if c == 0 {
+            r -= val * p0;
+        } else if c == jn {
+            r -= val * p1;
+        } else if c == 1 {
+            r -= val * left;
+            out[4 - j] += val * 0.5;
+            out[5 - j] -= val / 9.0;
+        } else if c == jn - 1 {
+            r -= val * right;
+            out[jn - j] += val * 0.5;
+            out[jn - j - 1] -= val / 9.0;
+        } else {
+            out[k] += val;
+        }
+    }
+    (out, r)
+}
+
 /// Coefficients at level `n` (paper §3.1 notation): `a_j^n, d_j^n, f_j^n` at the nodes with
-/// `X_j^n`, and `b_{j+1/2}^n` at the midpoints with `(X_j^n + X_{j+1}^n)/2`.
+/// `X_j^n`, and `b_{j+1/2}^n` at the midpoints with `(X_j^n + X_{j+1}^n)/2` (kept in `xm`).
 struct Level {
     a: Vec<f64>,
     bh: Vec<f64>,
     d: Vec<f64>,
     f: Vec<f64>,
+    xm: Vec<f64>,
 }
 
 fn finite_or_err(name: &str, v: f64, u: f64, t: f64, x: f64) -> Result<f64> {
@@ -264,6 +359,10 @@ fn finite_or_err(name: &str, v: f64, u: f64, t: f64, x: f64) -> Result<f64> {
     }
 }
 
+fn all_finite(v: &[f64]) -> bool {
+    v.iter().fold(true, |ok, v| ok & v.is_finite())
+}
+
 impl Level {
     fn empty() -> Level {
         Level {
@@ -271,11 +370,13 @@ impl Level {
             bh: Vec::new(),
             d: Vec::new(),
             f: Vec::new(),
+            xm: Vec::new(),
         }
     }
 
-    /// Evaluates the coefficients of level `n` at time `t` into the buffers of `self`. With
-    /// `positivity`, refuses `a < 0`, `b < 0` or `d ≤ 0` at any node (midpoint for `b`).
+    /// Evaluates the coefficients of level `n` at time `t` into the buffers of `self`, one field
+    /// at a time over the whole level. With `positivity`, refuses `a < 0`, `b < 0` or `d ≤ 0` at
+    /// any node (midpoint for `b`).
     fn evaluate(
         &mut self,
         comp: &Component,
@@ -285,31 +386,25 @@ impl Level {
         positivity: bool,
     ) -> Result<()> {
         let n = x.len();
-        self.a.resize(n, 0.0);
-        self.d.resize(n, 0.0);
-        self.f.resize(n, 0.0);
+        for v in [&mut self.a, &mut self.d, &mut self.f] {
+            v.resize(n, 0.0);
+        }
         self.bh.resize(n - 1, 0.0);
-        // All values first, then one test for finiteness; the slow path below finds the first
-        // offending value in the order a, d, f per node, then b per midpoint.
-        let mut finite = true;
-        for (j, (((&xj, a), d), f)) in x
-            .iter()
-            .zip(&mut self.a)
-            .zip(&mut self.d)
-            .zip(&mut self.f)
-            .enumerate()
-        {
-            let u = j as f64 * h;
-            *a = (comp.a)(u, t, xj);
-            *d = (comp.d)(u, t, xj);
-            *f = (comp.f)(u, t, xj);
-            finite &= a.is_finite() & d.is_finite() & f.is_finite();
-        }
-        for (j, (b, w)) in self.bh.iter_mut().zip(x.windows(2)).enumerate() {
-            let u = (j as f64 + 0.5) * h;
-            *b = (comp.b)(u, t, 0.5 * (w[0] + w[1]));
-            finite &= b.is_finite();
-        }
+        self.xm.clear();
+        self.xm.extend(x.windows(2).map(|w| 0.5 * (w[0] + w[1])));
+        comp.a.fill(0.0, h, t, x, &mut self.a);
+        comp.d.fill(0.0, h, t, x, &mut self.d);
+        comp.f.fill(0.0, h, t, x, &mut self.f);
+        comp.b.fill(0.5, h, t, &self.xm, &mut self.bh);
+        let finite =
+            all_finite(&self.a) & all_finite(&self.d) & all_finite(&self.f) & all_finite(&self.bh);
+        self.validate(finite, x, t, h, positivity)
+    }
+
+    /// After all values of a level were evaluated (`finite`: whether all are finite): the first
+    /// non-finite value in the order `a, d, f` per node, then `b` per midpoint, is an error; with
+    /// `positivity`, so is the first violation of the lower bounds.
+    fn validate(&self, finite: bool, x: &[f64], t: f64, h: f64, positivity: bool) -> Result<()> {
         if !finite {
             for (j, &xj) in x.iter().enumerate() {
                 let u = j as f64 * h;
@@ -317,8 +412,7 @@ impl Level {
                 finite_or_err("d", self.d[j], u, t, xj)?;
                 finite_or_err("f", self.f[j], u, t, xj)?;
             }
-            for (j, &b) in self.bh.iter().enumerate() {
-                let xm = 0.5 * (x[j] + x[j + 1]);
+            for (j, (&b, &xm)) in self.bh.iter().zip(&self.xm).enumerate() {
                 finite_or_err("b", b, (j as f64 + 0.5) * h, t, xm)?;
             }
         }
@@ -389,7 +483,7 @@ pub struct Scheme<'a> {
     previous: Vec<f64>,
     current: Vec<f64>,
     matrix: Penta,
-    rhs: Vec<f64>,
+    solution: Vec<f64>,
     coefficients: Level,
     positivity: bool,
 }
@@ -445,7 +539,7 @@ impl<'a> Scheme<'a> {
             previous: x0,
             current: Vec::new(),
             matrix: Penta::zeros(jn - 3),
-            rhs: vec![0.0; jn - 3],
+            solution: vec![0.0; jn - 3],
             coefficients: lv,
             positivity,
         };
@@ -538,14 +632,18 @@ impl<'a> Scheme<'a> {
         let (h, dt) = (self.h, self.dt);
         let t_n = self.time();
         let t_next = t_n + dt;
-        let mut lv = std::mem::replace(&mut self.coefficients, Level::empty());
-        let evaluated = lv.evaluate(self.comp, &self.current, t_n, h, self.positivity);
-        self.coefficients = lv;
-        evaluated?;
-        let lv = &self.coefficients;
-        let (p0, p1, s0, s1) = self.ends(t_next)?;
+        let (p0, p1, s0, s1) = match self.ends(t_next) {
+            Ok(ends) => ends,
+            Err(e) => {
+                // Report a broken coefficient of this level before a broken end condition.
+                let mut lv = Level::empty();
+                lv.evaluate(self.comp, &self.current, t_n, h, self.positivity)?;
+                return Err(e);
+            }
+        };
+        let comp = self.comp;
+        let lv = &mut self.coefficients;
         let m = &mut self.matrix;
-        let rhs = &mut self.rhs;
         let half = 0.5 * dt * dt;
         // Unknowns X_2 ..= X_{J−2} (index j − 2). The end rows are eliminated exactly:
         // X_0 = p₀, X_J = p₁ and, from the one-sided slope rows,
@@ -555,69 +653,40 @@ impl<'a> Scheme<'a> {
         let (ih2, ih4) = (1.0 / (h * h), 1.0 / (h * h * h * h));
         let dt2 = dt * dt;
         let (cur, prev) = (&self.current[..=jn], &self.previous[..=jn]);
-        // Interior rows j = 4 ..= J − 4: every column is an unknown.
-        for j in 4..=jn.saturating_sub(4) {
+        // The coefficients of level n (user code, called in one pass of its own), then one pass
+        // over the rows that assembles row j and does its step of the factorisation: the serial
+        // chain of pivots runs alongside the assembly's arithmetic.
+        lv.evaluate(comp, cur, t_n, h, self.positivity)?;
+        let mut stream = m.begin();
+        for j in 2..=jn - 2 {
             let w = stencil(&lv.bh, &lv.d, j, ih2, ih4);
             let ad = 0.5 * lv.a[j] * dt;
             let force = lv.f[j] + extra.map_or(0.0, |g| g[j]);
-            rhs[j - 2] =
-                2.0 * cur[j] - (1.0 - ad) * prev[j] - half * apply(&w, prev, j) + dt2 * force;
-            *m.next_row(j - 2) = [
+            let r = 2.0 * cur[j] - (1.0 - ad) * prev[j] - half * apply(&w, prev, j) + dt2 * force;
+            let row = [
                 half * w[0],
                 half * w[1],
                 1.0 + ad + half * w[2],
                 half * w[3],
                 half * w[4],
-                0.0,
-                0.0,
             ];
-        }
-        // Rows next to the ends, with X_0, X_1, X_{J−1}, X_J eliminated.
-        let edge = [2, 3, jn - 3, jn - 2];
-        for &j in &edge {
-            *m.next_row(j - 2) = [0.0; 7];
-        }
-        for (e, &j) in edge.iter().enumerate() {
-            if e >= 2 && j <= 3 {
-                // J = 5 or 6: the row was already assembled from the front of `edge`.
-                continue;
+            if j >= 4 && j + 4 <= jn {
+                m.push(&mut stream, j - 2, row, r);
+            } else {
+                let (row, r) = eliminate_ends(row, r, j, jn, [p0, left, right, p1]);
+                m.push(&mut stream, j - 2, row, r);
             }
-            let w = stencil(&lv.bh, &lv.d, j, ih2, ih4);
-            let ad = 0.5 * lv.a[j] * dt;
-            let force = lv.f[j] + extra.map_or(0.0, |g| g[j]);
-            let mut r =
-                2.0 * cur[j] - (1.0 - ad) * prev[j] - half * apply(&w, prev, j) + dt2 * force;
-            for (k, wk) in w.iter().enumerate() {
-                let c = j + k - 2;
-                let val = if k == 2 { 1.0 + ad } else { 0.0 } + half * wk;
-                if c == 0 {
-                    r -= val * p0;
-                } else if c == jn {
-                    r -= val * p1;
-                } else if c == 1 {
-                    r -= val * left;
-                    m.add_next(j - 2, 0, val * 0.5);
-                    m.add_next(j - 2, 1, -val / 9.0);
-                } else if c == jn - 1 {
-                    r -= val * right;
-                    m.add_next(j - 2, jn - 4, val * 0.5);
-                    m.add_next(j - 2, jn - 5, -val / 9.0);
-                } else {
-                    m.add_next(j - 2, c - 2, val);
-                }
-            }
-            rhs[j - 2] = r;
         }
-        m.commit();
-        m.solve_system(rhs)?;
-        if let Some((i, v)) = rhs.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        let solution = &mut self.solution;
+        m.finish(stream, solution)?;
+        if let Some((i, v)) = solution.iter().enumerate().find(|(_, v)| !v.is_finite()) {
             return Err(Error::invalid(format!(
                 "the solution became non-finite ({v} at u = {}, t = {t_next})",
                 (i + 2) as f64 * h
             )));
         }
         let mut next = std::mem::take(&mut self.previous);
-        next[2..=jn - 2].copy_from_slice(rhs);
+        next[2..=jn - 2].copy_from_slice(solution);
         self.impose_ends(&mut next, t_next)?;
         self.previous = std::mem::replace(&mut self.current, next);
         self.level += 1;

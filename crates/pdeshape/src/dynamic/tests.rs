@@ -311,3 +311,24 @@ fn final_values_as_a_core_curve() {
     let want = PI.powi(4) / 2.0 * amp * amp;
     assert!((e - want).abs() < 0.01 * want, "{e} vs {want}");
 }
+
+/// `Field::fill` is `Field::at` at `u_k = (k + offset) h`, bit for bit, for closures and constants.
+#[test]
+fn fill_evaluates_at_the_shifted_nodes() {
+    let h = 1.0 / 7.0;
+    let x: Vec<f64> = (0..8).map(|k| (k as f64 * 0.3).cos()).collect();
+    let fields = [
+        field(|u, t, x| u * u - 3.0 * t + x.sin()),
+        constant_field(-2.5),
+    ];
+    for f in &fields {
+        for offset in [0.0, 0.5] {
+            let mut out = vec![f64::NAN; x.len()];
+            f.fill(offset, h, 0.75, &x, &mut out);
+            for (k, (&o, &xk)) in out.iter().zip(&x).enumerate() {
+                let want = f.at((k as f64 + offset) * h, 0.75, xk);
+                assert_eq!(o.to_bits(), want.to_bits(), "k = {k}, offset = {offset}");
+            }
+        }
+    }
+}
