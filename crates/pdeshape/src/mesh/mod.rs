@@ -159,6 +159,8 @@ pub fn evaluate_grid_into<T: GridScalar>(
     let normals = &mut grid.normals;
     positions.reserve(n);
     normals.reserve(n);
+    advise_huge_pages(positions.spare_capacity_mut());
+    advise_huge_pages(normals.spare_capacity_mut());
     {
         let rows = surface.row_evaluator(&vs);
         let rows = &*rows;
@@ -188,6 +190,33 @@ pub fn evaluate_grid_into<T: GridScalar>(
     (grid.nu, grid.nv, grid.periodic_v, grid.u, grid.v) =
         (nu, nv, domain == VDomain::Periodic, us, vs);
     Ok(())
+}
+
+/// Asks the kernel to back the 2 MiB-aligned part of a large, not yet touched buffer with
+/// transparent huge pages, where the system allows it (`madvise` mode): a fresh 1024 × 1024 mesh
+/// then costs a dozen page faults instead of six thousand. Only a hint; without effect elsewhere.
+fn advise_huge_pages<T>(buf: &mut [T]) {
+    #[cfg(target_os = "linux")]
+    {
+        const HUGE: usize = 2 << 20;
+        let start = buf.as_mut_ptr() as usize;
+        let end = start + std::mem::size_of_val(buf);
+        let first = start.next_multiple_of(HUGE);
+        let last = end / HUGE * HUGE;
+        if last >= first + 2 * HUGE {
+            // SAFETY: the range lies inside `buf`, which this function borrows mutably;
+            // MADV_HUGEPAGE changes only how the pages are backed, never their contents.
+            unsafe {
+                libc::madvise(
+                    first as *mut libc::c_void,
+                    last - first,
+                    libc::MADV_HUGEPAGE,
+                );
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = buf;
 }
 
 /// Interleaves a row into the output buffers (converting to `T`).
