@@ -332,3 +332,48 @@ fn fill_evaluates_at_the_shifted_nodes() {
         }
     }
 }
+
+/// On the smallest grids (J = 5 ..= 9) the rows next to both ends overlap and share eliminated
+/// columns. A cubic that meets the end conditions is a steady state of the discrete problem
+/// (`b = 0`, constant `d`: δ⁴ and the one-sided end rows are exact for cubics), so starting at
+/// rest on it the scheme must stay on it to rounding (`~ ε |x| 16/h⁴ · Δt²`, far below 1e-11),
+/// whatever the damping; a wrongly eliminated end column moves the solution off it.
+#[test]
+fn cubic_stays_put_on_the_smallest_grids() {
+    let cubic = |u: f64| 1.0 + 0.5 * u + 2.5 * u * u - 2.0 * u.powi(3);
+    let comp = Component {
+        a: field(|u, _, _| 1.0 + u),
+        b: constant_field(0.0),
+        d: constant_field(0.3),
+        f: constant_field(0.0),
+        start: constant(cubic(0.0)),
+        end: constant(cubic(1.0)),
+        start_slope: constant(0.5),
+        end_slope: constant(0.5 + 5.0 - 6.0),
+        position: scalar(cubic),
+        velocity: constant(0.0),
+    };
+    for jn in 5..=9 {
+        let grid = TimeGrid {
+            intervals: jn,
+            steps: 30,
+            t_end: 3.0,
+        };
+        let mut s = Scheme::new(&comp, grid).unwrap();
+        loop {
+            for (j, x) in s.values().iter().enumerate() {
+                let u = j as f64 * grid.h();
+                assert!(
+                    (x - cubic(u)).abs() < 1e-11,
+                    "J = {jn}, level {}, u = {u}: {x} vs {}",
+                    s.level(),
+                    cubic(u)
+                );
+            }
+            if s.finished() {
+                break;
+            }
+            s.step().unwrap();
+        }
+    }
+}
