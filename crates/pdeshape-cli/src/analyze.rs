@@ -243,7 +243,7 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
 /// zero with the largest finite magnitude on the grids (`±1` if all are zero). `H` is taken with
 /// the design's outward orientation.
 pub fn curvature_colors(
-    built: &pdeshape::spec::BuiltDesign,
+    built: &pdeshape::design::BuiltDesign,
     meshes: &[pdeshape::mesh::GridMesh],
     by: ColorBy,
     range: Option<(f64, f64)>,

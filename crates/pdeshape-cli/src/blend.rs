@@ -3,7 +3,8 @@
 //! net) and report the G0/G1 mismatch along both joins and the distance to every data point.
 
 use crate::common::{self, CliError, Loaded, Output};
-use pdeshape::bfs::{spec::solve_blend, Blend};
+use pdeshape::bfs::Blend;
+use pdeshape::design::solve_blend;
 use pdeshape::mesh::{self, Format};
 use std::fmt::Write as _;
 use std::io::Write;

@@ -1,7 +1,8 @@
 //! `pdeshape check DESIGN`: validate, solve and report.
 
 use crate::common::{self, CliError};
-use pdeshape::spec::{BuiltDesign, DesignSpec, OperatorSpec};
+use pdeshape::design::BuiltDesign;
+use pdeshape::spec::{DesignSpec, OperatorSpec};
 use std::fmt::Write;
 use std::path::PathBuf;
 
@@ -23,7 +24,7 @@ const WARN_EXCURSION: f64 = 10.0;
 /// curves' bounding box, over a 257 × 64 sample of the patch and over its position curves.
 fn excursion(
     patch: &pdeshape::design::Patch,
-    conds: &[pdeshape::spec::ConditionInfo],
+    conds: &[pdeshape::design::ConditionInfo],
 ) -> (f64, f64) {
     use pdeshape::Vec3;
     let mut pts = Vec::new();

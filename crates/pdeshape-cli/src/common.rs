@@ -1,7 +1,8 @@
 //! What the subcommands share: loading a design with located errors, choosing the grid, and
 //! writing an output file atomically.
 
-use pdeshape::spec::{self, BuiltDesign, DesignSpec, DEFAULT_NU, DEFAULT_NV};
+use pdeshape::design::{self, BuiltDesign, DEFAULT_NU, DEFAULT_NV};
+use pdeshape::spec::{self, DesignSpec};
 use pdeshape::Error;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -38,12 +39,12 @@ impl Loaded {
 
     /// Validates, builds and solves the design.
     pub fn build(&self) -> Result<BuiltDesign, CliError> {
-        spec::build_design(&self.spec).map_err(|e| self.error(&e))
+        design::build_design(&self.spec).map_err(|e| self.error(&e))
     }
 
     /// Validates the design without solving it.
     pub fn validate(&self) -> Result<(), CliError> {
-        spec::validate_design(&self.spec).map_err(|e| self.error(&e))
+        design::validate_design(&self.spec).map_err(|e| self.error(&e))
     }
 
     /// The grid: the command line's `--nu`/`--nv`, else `[output]`, else 64 × 128; refused
@@ -59,7 +60,7 @@ impl Loaded {
             (None, None) => 0,
         } + self.spec.parametric.len();
         let patches = patches.max(1);
-        let checked = spec::check_grid(nu_v, nv_v).and_then(|()| {
+        let checked = design::check_grid(nu_v, nv_v).and_then(|()| {
             match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(patches)) {
                 Some(n) if n <= pdeshape::mesh::MAX_VERTICES => Ok(()),
                 _ => Err(pdeshape::Error::invalid(format!(
@@ -195,7 +196,7 @@ pub fn print_stdout(text: &str) {
 
 /// Tessellates every patch of a design (f32 meshes, as every mesh format and picture stores).
 pub fn meshes(
-    built: &pdeshape::spec::BuiltDesign,
+    built: &pdeshape::design::BuiltDesign,
     nu: usize,
     nv: usize,
 ) -> Result<Vec<pdeshape::mesh::GridMesh>, CliError> {
@@ -204,7 +205,7 @@ pub fn meshes(
 
 /// Full-precision samples of every patch (CSV).
 pub fn samples(
-    built: &pdeshape::spec::BuiltDesign,
+    built: &pdeshape::design::BuiltDesign,
     nu: usize,
     nv: usize,
 ) -> Result<Vec<pdeshape::mesh::Samples>, CliError> {
@@ -215,7 +216,7 @@ pub fn samples(
 /// the condition curve that is not finite there (formula curves are checked at sample points
 /// only when they are read, so a NaN between them shows up here).
 fn grids<T: Copy + Into<f64>>(
-    built: &pdeshape::spec::BuiltDesign,
+    built: &pdeshape::design::BuiltDesign,
     nu: usize,
     nv: usize,
     eval: impl Fn(

@@ -4,9 +4,9 @@
 
 use crate::common::{self, CliError, Output};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pdeshape::design::{self, DynamicPlan};
 use pdeshape::dynamic::output::{self, Frame};
 use pdeshape::dynamic::{bending_energy, end_slopes, l2_norm};
-use pdeshape::spec::{self, DynamicPlan};
 use pdeshape::Vec3;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -100,7 +100,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             design.file
         )));
     };
-    let built = spec::build_dynamic(section).map_err(|e| design.error(&e))?;
+    let built = design::build_dynamic(section).map_err(|e| design.error(&e))?;
     let every = built.frames_every;
 
     let mut out = Output::create(&args.output)?;

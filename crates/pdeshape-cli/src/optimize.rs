@@ -145,7 +145,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .apply_to_text(&design.text, &design.spec, best_x)
         .map_err(|e| design.error(&e))?;
     let reread = pdeshape::spec::parse_design(&text)
-        .and_then(|s| pdeshape::spec::build_design(&s))
+        .and_then(|s| pdeshape::design::build_design(&s))
         .map_err(|e| CliError::input(format!("-o {shown}: the optimised design fails: {e}")))?;
     outs[0].write_all(text.as_bytes())?;
     let meshes = common::meshes(&reread, nu, nv)?;

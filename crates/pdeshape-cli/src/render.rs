@@ -2,8 +2,8 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::curve::{Curve, Domain};
+use pdeshape::design::BuiltDesign;
 use pdeshape::render::{render_png, Polyline, RenderOptions};
-use pdeshape::spec::BuiltDesign;
 use pdeshape::{Vec3, TAU};
 use std::path::PathBuf;
 

@@ -4,9 +4,9 @@
 //! glb, csv).
 
 use crate::common::{self, CliError, Output};
+use pdeshape::design::{solve_spec, SolvedSpline};
 use pdeshape::mesh::{self, Format};
 use pdeshape::splinepde::export::{iges_timestamp, to_iges, IgesOptions};
-use pdeshape::splinepde::spec::{solve_spec, SolvedSpline};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -158,7 +158,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             out.write_all(text.as_bytes())?;
         }
         Kind::Grid(format) => {
-            let (nu, nv) = grid.unwrap_or((pdeshape::spec::DEFAULT_NU, pdeshape::spec::DEFAULT_NV));
+            let (nu, nv) =
+                grid.unwrap_or((pdeshape::design::DEFAULT_NU, pdeshape::design::DEFAULT_NV));
             let surface = solved
                 .to_f64()
                 .to_bspline()

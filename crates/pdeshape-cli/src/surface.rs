@@ -129,7 +129,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 }
 
 /// `surface` with `solver = "fd"`: every patch solved by finite differences
-/// ([`pdeshape::fd::build_fd_design`]), then tessellated, written and drawn like the analytic
+/// ([`pdeshape::design::build_fd_design`]), then tessellated, written and drawn like the analytic
 /// patches (the picture shows the position curves; finite-difference patches have no spine).
 fn run_fd(
     args: &Args,
@@ -142,7 +142,7 @@ fn run_fd(
 ) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     let t = Instant::now();
-    let built = pdeshape::fd::build_fd_design(&design.spec).map_err(|e| design.error(&e))?;
+    let built = pdeshape::design::build_fd_design(&design.spec).map_err(|e| design.error(&e))?;
     let solve_ms = ms(t);
     let bad = |name: &str| {
         CliError::input(format!(

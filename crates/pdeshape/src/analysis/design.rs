@@ -3,7 +3,7 @@
 
 use super::quadrature::periodic_trapezoid;
 use super::{analyze_surface, Integrals, Quadrature, SurfaceAnalysis};
-use crate::spec::BuiltDesign;
+use crate::design::BuiltDesign;
 use crate::surface::{Surface, VDomain};
 use crate::{Result, Vec3};
 

@@ -1,5 +1,6 @@
 use super::*;
-use crate::spec::{build_design, parse_design};
+use crate::design::build_design;
+use crate::spec::parse_design;
 use crate::surface::{Partials, Surface, VDomain};
 use crate::Vec3;
 use std::f64::consts::PI;
@@ -252,7 +253,7 @@ fn hemispheres_are_oriented_consistently_across_the_shared_equator() {
     );
 }
 
-fn cup() -> crate::spec::BuiltDesign {
+fn cup() -> crate::design::BuiltDesign {
     let text = include_str!("../../../../examples/cup.toml");
     build_design(&parse_design(text).unwrap()).unwrap()
 }
@@ -403,7 +404,7 @@ fn bad_quadrature_settings_are_errors() {
 }
 
 /// A design of `[[parametric]]` surfaces.
-fn parametric_design(body: &str) -> crate::spec::BuiltDesign {
+fn parametric_design(body: &str) -> crate::design::BuiltDesign {
     build_design(&parse_design(body).unwrap()).unwrap()
 }
 
@@ -496,7 +497,7 @@ fn parametric_errors_are_located() {
         "d.toml:5:1: parametric[0].y: unknown variable 'w'; formulas use u and v"
     );
     let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ndomain = [1, 0]\n";
-    let e = crate::spec::validate_design(&parse_design(text).unwrap()).unwrap_err();
+    let e = crate::design::validate_design(&parse_design(text).unwrap()).unwrap_err();
     assert_eq!(
         e.to_string(),
         "parametric[0].domain: must be an interval [v0, v1] with v0 < v1 (got [1, 0])"
@@ -508,7 +509,7 @@ fn parametric_errors_are_located() {
         .contains("unknown field `colour`"));
     let text = "[[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"0\"\ndomain = [0, 1]\n\
                 [[parametric]]\nname = \"s\"\nx = \"u\"\ny = \"v\"\nz = \"1\"\ndomain = [0, 1]\n";
-    let e = crate::spec::validate_design(&parse_design(text).unwrap()).unwrap_err();
+    let e = crate::design::validate_design(&parse_design(text).unwrap()).unwrap_err();
     assert_eq!(
         e.to_string(),
         "parametric[1].name: 's' is already the name of parametric[0]"

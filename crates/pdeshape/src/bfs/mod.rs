@@ -34,7 +34,6 @@
 mod blend;
 mod element;
 mod primitives;
-pub mod spec;
 mod surface;
 mod system;
 

@@ -1,60 +1,24 @@
-//! Designs of several patches sharing curves (the book's cup, §4.6), and the mismatch along
-//! shared edges.
+//! The design layer: a parsed design file ([`crate::spec::DesignSpec`]) planned, validated,
+//! built into curves and conditions, and dispatched to the solver each part asks for.
 
-use crate::elliptic::PdePatch;
-use crate::surface::Surface;
-use crate::TAU;
+mod blend;
+mod build;
+mod dynamic;
+mod edges;
+mod fd;
+mod parametric;
+mod spline;
 
-/// A named patch of a design.
-#[derive(Debug)]
-pub struct Patch {
-    pub name: String,
-    pub surface: PdePatch,
-}
+pub use blend::{solve_blend, validate_blend};
+pub use build::{
+    build_curves, build_design, check_grid, validate_design, BuiltDesign, ConditionInfo,
+    NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
+};
+pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTERVALS};
+pub use edges::{edge_mismatch, EdgeReport, Patch};
+pub use fd::{build_fd_design, FdDesign, FdPatch, DEFAULT_GRID};
+pub use parametric::ParametricPatch;
+pub use spline::{build_problem, solve_spec, SolvedSpline};
 
-/// Position and normal mismatch along an edge shared by two patches.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EdgeReport {
-    /// Patch indices and the `u` of the edge on each.
-    pub a: usize,
-    pub ua: f64,
-    pub b: usize,
-    pub ub: f64,
-    /// G0 error: `max_v |X_a(ua, v) − X_b(ub, v)|`.
-    pub g0: f64,
-    /// G1 error: the largest angle (radians) between the unit normals (up to orientation).
-    pub g1: f64,
-}
-
-/// The G0 and G1 mismatch of two surfaces along `u = ua` on the first and `u = ub` on the second,
-/// on `samples` equally spaced `v ∈ [0, 2π)`: `(max |X_a − X_b|, max angle between normals)`.
-/// Normals are compared up to orientation (two patches may run in opposite directions); points
-/// where either normal is undefined (a pole) are skipped for G1.
-pub fn edge_mismatch(
-    a: &dyn Surface,
-    ua: f64,
-    b: &dyn Surface,
-    ub: f64,
-    samples: usize,
-) -> (f64, f64) {
-    let samples = samples.max(1);
-    let (mut g0, mut g1) = (0.0f64, 0.0f64);
-    for j in 0..samples {
-        let v = TAU * j as f64 / samples as f64;
-        let (pa, pb) = (a.partials(ua, v), b.partials(ub, v));
-        let d = (pa.x - pb.x).norm();
-        // NaN must show, not vanish in max().
-        if d.is_nan() || d > g0 {
-            g0 = d;
-        }
-        let (na, nb) = (pa.normal(), pb.normal());
-        if na.norm() > 0.5 && nb.norm() > 0.5 {
-            // Angle between lines: atan2(|na × nb|, |na · nb|), accurate for tiny angles.
-            let angle = na.cross(&nb).norm().atan2(na.dot(&nb).abs());
-            if angle.is_nan() || angle > g1 {
-                g1 = angle;
-            }
-        }
-    }
-    (g0, g1)
-}
+#[cfg(test)]
+mod tests;

@@ -35,7 +35,6 @@
 //! The result ([`FdSurface`]) interpolates the node values by a bicubic spline (periodic in `v`
 //! where the grid is), so it meshes, renders and analyses like any [`Surface`].
 
-pub mod design;
 mod spline;
 #[cfg(test)]
 mod tests;
@@ -45,8 +44,6 @@ use crate::{Error, Result, Vec3, TAU};
 use faer::prelude::*;
 use faer::sparse::{SparseColMat, Triplet};
 use spline::NodeSpline;
-
-pub use design::{build_fd_design, FdDesign, FdPatch};
 
 /// Largest `N` supported: `(∂uu + a²∂vv)^N` up to the triharmonic operator.
 pub const MAX_ORDER: usize = 3;

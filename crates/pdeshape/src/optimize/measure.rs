@@ -12,7 +12,7 @@
 //! parametrisation's direction). Patches must be oriented alike (as two patches that continue
 //! one another in `u` with the same `v` are).
 
-use crate::spec::BuiltDesign;
+use crate::design::BuiltDesign;
 use crate::surface::{Surface, VDomain};
 use crate::{Error, Result};
 

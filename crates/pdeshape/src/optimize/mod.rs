@@ -34,14 +34,14 @@ pub mod anneal;
 #[cfg(test)]
 mod measure;
 mod params;
-mod spec;
 
+pub use crate::spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
 pub use params::{ParamKind, Parameter, Parameters};
-pub use spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 
 use crate::analysis::{integrate_design, Integrals, Quadrature};
-use crate::spec::{build_design, BuiltDesign, DesignSpec};
+use crate::design::{build_design, BuiltDesign};
+use crate::spec::DesignSpec;
 use crate::{Error, Result};
 use exmex::Express;
 
@@ -267,7 +267,7 @@ impl Problem {
             .optimize
             .as_ref()
             .ok_or_else(|| Error::invalid("the design has no [optimize] section").at("optimize"))?;
-        crate::spec::validate_design(spec)?;
+        crate::design::validate_design(spec)?;
         let parameters = Parameters::new(spec, opt)?;
         let objective = Formula::parse(&opt.objective, "optimize.objective")?;
         let constraints = opt

@@ -5,10 +5,11 @@
 //! curve, `a` replaced, control points moved), so the design is rebuilt exactly as a design file
 //! with those edits would be.
 
-use super::spec::{OptimizeSpec, ParameterSpec};
 use crate::curve::Domain;
+use crate::design::build_curves;
 use crate::spec::{
-    build_curves, key_path, CurveKind, CurveSpec, DesignSpec, OperatorSpec, TransformStep, V3,
+    key_path, CurveKind, CurveSpec, DesignSpec, OperatorSpec, OptimizeSpec, ParameterSpec,
+    TransformStep, V3,
 };
 use crate::{Error, Result, Vec3};
 use std::collections::BTreeMap;

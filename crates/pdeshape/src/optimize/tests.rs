@@ -188,7 +188,8 @@ fn options_are_checked() {
 
 // ---- design parameters ----
 
-use crate::spec::{build_curves, parse_design};
+use crate::design::build_curves;
+use crate::spec::parse_design;
 use crate::Vec3;
 
 const CURVATURE: &str = include_str!("../../../../examples/optimize_curvature.toml");
@@ -551,7 +552,7 @@ fn sphere_and_torus_integrals_match_closed_forms() {
 #[test]
 fn vesicle_start_is_closed_smooth_and_converged() {
     let p = problem_of(VESICLE);
-    let built = crate::spec::build_design(&p.design(&p.parameters.initial())).unwrap();
+    let built = crate::design::build_design(&p.design(&p.parameters.initial())).unwrap();
     let fine = measure::measure(&built, 64, 64).unwrap();
     let coarse = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
     // Gauss–Bonnet for a closed smooth genus-0 surface: ∫K dA = 4π (an independent check of
@@ -598,7 +599,7 @@ fn curvature_example_lowers_the_bending_energy_repeatably() {
         .parameters
         .apply_to_text(CURVATURE, &p.base, &one.best.0)
         .unwrap();
-    let built = crate::spec::build_design(&parse_design(&text).unwrap()).unwrap();
+    let built = crate::design::build_design(&parse_design(&text).unwrap()).unwrap();
     let again = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
     assert!((again.bending_energy() - best).abs() < 1e-9 * best);
     // The search's coarse quadrature (24 × 48 nodes) is accurate enough for the optimum: a fine
@@ -652,7 +653,7 @@ fn interpolate(table: &[(f64, f64)], nu: f64) -> f64 {
 
 /// Extent of a design along z and its largest distance from the z axis, from a 32 × 64 grid.
 fn extents(spec: &DesignSpec) -> (f64, f64) {
-    let built = crate::spec::build_design(spec).unwrap();
+    let built = crate::design::build_design(spec).unwrap();
     let (mut zmin, mut zmax, mut rmax) = (f64::MAX, f64::MIN, 0.0f64);
     for p in &built.patches {
         for i in 0..=32 {
@@ -686,7 +687,7 @@ fn vesicle_at_reduced_volume_0_8_is_prolate_and_not_below_the_minimum() {
     assert!((nu - 0.8).abs() < 2e-3, "nu = {nu}");
     // Closed and smooth: Gauss–Bonnet, with a fine independent rule; the search's coarse rule
     // (24 × 16 nodes) agrees with it to 10⁻⁴ on the energy.
-    let built = crate::spec::build_design(&p.design(&out.best.0)).unwrap();
+    let built = crate::design::build_design(&p.design(&out.best.0)).unwrap();
     let fine = measure::measure(&built, 64, 128).unwrap();
     assert!(
         (fine.gauss - 4.0 * std::f64::consts::PI).abs() < 1e-9,

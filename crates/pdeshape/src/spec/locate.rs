@@ -1,6 +1,5 @@
 //! From error paths back to lines and columns of the design file.
 
-use super::build::key_path;
 use crate::{Error, Result};
 use toml_edit::{ImDocument, Item, Value};
 
@@ -165,6 +164,19 @@ pub fn describe_error(file: &str, text: &str, err: &Error) -> String {
     match position {
         Some((line, col)) => format!("{file}:{line}:{col}: {err}"),
         None => format!("{file}: {err}"),
+    }
+}
+
+/// A TOML key as it appears in a path: bare if it can be, quoted otherwise.
+pub fn key_path(key: &str) -> String {
+    if !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
+        key.to_string()
+    } else {
+        format!("{key:?}")
     }
 }
 

@@ -1,33 +1,28 @@
-//! The design file (TOML): schema, parsing with error paths, validation, and the construction of
-//! curves, operators, conditions and solved patches from it.
+//! The design file (TOML): its types (serde and JSON schema), parsing with error paths, and
+//! error locations. A leaf: it imports no solver; [`crate::design`] compiles what it parses.
 //!
 //! ```text
-//! text ──parse_design──▶ DesignSpec ──build_design──▶ BuiltDesign (solved patches, named curves,
-//!                                                      shared edges with their G0/G1 mismatch)
+//! text ──parse_design──▶ DesignSpec ──design::compile──▶ a solved design
 //! ```
 //!
 //! Every error names its place as a path into the file (`curves.rim.radius`,
 //! `conditions[2].curve`, `patches[1].operator.a`); [`locate`] turns such a path into a line and
 //! column, and [`describe_error`] formats `file:line:col: path: message`.
 
-mod build;
+mod blend;
 mod dynamic;
 mod locate;
+mod optimize;
 mod parametric;
+mod spline;
 mod types;
 
-pub use build::{
-    build_curves, build_design, check_grid, key_path, validate_design, BuiltDesign, ConditionInfo,
-    NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
-};
-pub(crate) use build::{patch_specs, planned_patches};
-pub use dynamic::{
-    build_dynamic, BuiltDynamic, ComponentSpec, DynamicPlan, DynamicRun, DynamicSpec, FormulaText,
-    ParamsSpec,
-};
-pub use locate::{describe_error, locate};
-pub use parametric::{ParametricPatch, ParametricSpec};
-pub(crate) use types::deserialize_tagged;
+pub use blend::{BlendSpec, EnergySpec, JoinSpec, PointSpec, SurfaceSpec};
+pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
+pub use locate::{describe_error, key_path, locate};
+pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
+pub use parametric::ParametricSpec;
+pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,
@@ -78,6 +73,3 @@ fn one_line(s: &str) -> String {
         .collect::<Vec<_>>()
         .join("; ")
 }
-
-#[cfg(test)]
-mod tests;

@@ -47,15 +47,15 @@ pub struct DesignSpec {
     pub dynamic: Option<super::dynamic::DynamicSpec>,
     /// Design parameters, objective and search options of `pdeshape optimize` (§7.3–7.5).
     #[serde(default)]
-    pub optimize: Option<crate::optimize::OptimizeSpec>,
+    pub optimize: Option<super::optimize::OptimizeSpec>,
     /// A blending surface between two primary surfaces (`pdeshape blend`; see
-    /// [`crate::bfs::spec`]).
+    /// [`super::blend`]).
     #[serde(default)]
-    pub blend: Option<crate::bfs::spec::BlendSpec>,
+    pub blend: Option<super::blend::BlendSpec>,
     /// A B-spline or Bézier surface solving a linear PDE from fixed control points (read by
     /// `pdeshape spline`; such a design needs no conditions).
     #[serde(default)]
-    pub spline: Option<crate::splinepde::spec::SplineSpec>,
+    pub spline: Option<super::spline::SplineSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.

@@ -36,7 +36,6 @@ pub mod export;
 mod linalg;
 mod operator;
 mod scalar;
-pub mod spec;
 
 pub use basis::{Direction, Span};
 pub use bezier::{

@@ -235,7 +235,8 @@ impl PdePartialRows<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::spec::{build_design, parse_design};
+    use crate::design::build_design;
+    use crate::spec::parse_design;
     use crate::surface::{Partials, Surface};
     use crate::TAU;
 

@@ -1,6 +1,7 @@
-//! Parsing and validation of design files.
+//! Parsing, validation and building of design files.
 
 use super::*;
+use crate::spec::*;
 
 const CUP_LIKE: &str = r#"
 title = "test"

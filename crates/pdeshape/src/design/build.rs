@@ -1,16 +1,16 @@
 //! Validation of a [`DesignSpec`] and construction of the library objects from it.
 
-use super::types::*;
+use super::edges::{edge_mismatch, EdgeReport, Patch};
 use crate::curve::Affine;
 use crate::curve::{
     ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
     OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
 };
-use crate::design::{edge_mismatch, EdgeReport, Patch};
 use crate::elliptic::{self, Condition, Operator, SolveOptions};
 #[cfg(doc)]
 use crate::mesh::grid_parameters;
 use crate::mesh::MAX_VERTICES;
+use crate::spec::*;
 use crate::{Error, Result, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
@@ -74,19 +74,6 @@ pub struct BuiltDesign {
     pub multi_patch: bool,
     /// The `[[parametric]]` surfaces, in file order.
     pub parametric: Vec<super::parametric::ParametricPatch>,
-}
-
-/// A TOML key as it appears in a path: bare if it can be, quoted otherwise.
-pub fn key_path(key: &str) -> String {
-    if !key.is_empty()
-        && key
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    {
-        key.to_string()
-    } else {
-        format!("{key:?}")
-    }
 }
 
 fn curve_place(name: &str) -> String {
@@ -752,7 +739,7 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
         }
     }
     if let Some(blend) = &spec.blend {
-        crate::bfs::spec::validate_blend(blend)?;
+        super::blend::validate_blend(blend)?;
         if no_patches {
             // A blend design: no analytic patches to check (`pdeshape blend` solves it).
             return Ok(());
@@ -771,7 +758,7 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
             &operator_words(p.operator),
         )?;
     }
-    crate::fd::design::check(spec)?;
+    super::fd::check(spec)?;
     Ok(())
 }
 

@@ -2,9 +2,9 @@
 //! design file's periodic patches, each `(∂uu + a²∂vv)^N X = 0` with `N ≤ 3` and its conditions
 //! at `u = 0` and `u = 1` (orders `0 … N−1` at each end), solved on the grid `solver.grid`.
 
-use super::{solve_periodic, EdgeFn, FdSurface, PeriodicProblem, MAX_ORDER, MAX_UNKNOWNS};
-use crate::spec::{patch_specs, planned_patches};
-use crate::spec::{ConditionInfo, DesignSpec, NamedCurve, OperatorSpec, SolverMethod};
+use super::build::{patch_specs, planned_patches, ConditionInfo, NamedCurve};
+use crate::fd::{solve_periodic, EdgeFn, FdSurface, PeriodicProblem, MAX_ORDER, MAX_UNKNOWNS};
+use crate::spec::{DesignSpec, OperatorSpec, SolverMethod};
 use crate::{Error, Result, Vec3};
 
 /// Default finite-difference grid: intervals in `u`, nodes around `v`.
@@ -196,7 +196,8 @@ pub fn build_fd_design(spec: &DesignSpec) -> Result<FdDesign> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::spec::{build_design, parse_design, validate_design};
+    use crate::design::{build_design, validate_design};
+    use crate::spec::parse_design;
     use crate::surface::Surface;
 
     const CURVES: &str = r#"

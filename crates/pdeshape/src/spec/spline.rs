@@ -1,0 +1,125 @@
+//! The `[spline]` section of a design file: a B-spline or Bézier surface solving a linear PDE
+//! (see `docs/design-file.md`, section "[spline]").
+
+use super::types::V3;
+use schemars::JsonSchema;
+use serde::{Deserialize, Deserializer};
+
+/// `[spline]`: degrees, knots, the PDE, and the control points the designer fixes.
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SplineSpec {
+    /// Degrees `[p, q]` in u and v, each 1 to 20.
+    pub degree: [usize; 2],
+    /// Spans `[s_u, s_v]` of clamped uniform knot vectors on `[0, 1]` (default `[1, 1]`: a
+    /// Bézier patch). Not allowed together with `knots_u`/`knots_v`.
+    #[serde(default)]
+    pub spans: Option<[usize; 2]>,
+    /// The full knot vector in u (`n_u + p + 1` non-decreasing values); with `knots_v`.
+    #[serde(default)]
+    pub knots_u: Option<Vec<f64>>,
+    /// The full knot vector in v (`n_v + q + 1` values); with `knots_u`.
+    #[serde(default)]
+    pub knots_v: Option<Vec<f64>>,
+    /// The PDE (a table with `kind`).
+    #[serde(deserialize_with = "deserialize_spline_operator")]
+    #[schemars(with = "SplineOperatorSpec")]
+    pub operator: SplineOperatorSpec,
+    /// Solve in exact rational arithmetic (every number of the file taken at its exact binary
+    /// value) instead of `f64` (default false).
+    #[serde(default)]
+    pub exact: bool,
+    /// A whole control net, `n_u` rows of `n_v` points `[x, y, z]` (row `i` along u), from
+    /// which `fix` takes the fixed points.
+    #[serde(default)]
+    pub net: Option<Vec<Vec<V3>>>,
+    /// Which points of `net` are fixed: "boundary" (the outer ring), "two-rings" (boundary and
+    /// the ring inside it), "first-last-rows" (rows `i = 0` and `i = n_u − 1`), or "all".
+    #[serde(default)]
+    pub fix: Option<FixSpec>,
+    /// Individually fixed control points (added to those of `net`/`fix`).
+    #[serde(default)]
+    pub fixed: Vec<FixedPointSpec>,
+}
+
+/// Which points of `net` are fixed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, JsonSchema)]
+pub enum FixSpec {
+    #[serde(rename = "boundary")]
+    Boundary,
+    #[serde(rename = "two-rings")]
+    TwoRings,
+    #[serde(rename = "first-last-rows")]
+    FirstLastRows,
+    #[serde(rename = "all")]
+    All,
+}
+
+/// One fixed control point.
+#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FixedPointSpec {
+    /// `[i, j]`: `i` along u, `j` along v, from 0.
+    pub index: [usize; 2],
+    /// `[x, y, z]`.
+    pub point: V3,
+}
+
+/// The PDE of a `[spline]` section.
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+#[schemars(tag = "kind")]
+pub enum SplineOperatorSpec {
+    /// `a x_uu + b x_uv + c x_vv + d x_u + e x_v + f x = g` (coefficients default 0).
+    #[serde(rename = "second-order")]
+    Second {
+        #[serde(default)]
+        a: f64,
+        #[serde(default)]
+        b: f64,
+        #[serde(default)]
+        c: f64,
+        #[serde(default)]
+        d: f64,
+        #[serde(default)]
+        e: f64,
+        #[serde(default)]
+        f: f64,
+        /// Constant right-hand side (default `[0, 0, 0]`).
+        #[serde(default)]
+        g: Option<V3>,
+    },
+    /// `a x_uuuu + b x_uuuv + c x_uuvv + d x_uvvv + e x_vvvv = 0` (coefficients default 0).
+    #[serde(rename = "fourth-order")]
+    Fourth {
+        #[serde(default)]
+        a: f64,
+        #[serde(default)]
+        b: f64,
+        #[serde(default)]
+        c: f64,
+        #[serde(default)]
+        d: f64,
+        #[serde(default)]
+        e: f64,
+    },
+    /// `x_uu + x_vv = 0`.
+    #[serde(rename = "laplace")]
+    Laplace {},
+    /// `x_uuuu + 2 x_uuvv + x_vvvv = 0` (`L_{1,0,2,0,1}`).
+    #[serde(rename = "biharmonic")]
+    Biharmonic {},
+    /// `x_uuvv = 0` (`L_{0,0,1,0,0}`, the Coons functional).
+    #[serde(rename = "coons")]
+    Coons {},
+    /// `x_uuuu + 2a² x_uuvv + a⁴ x_vvvv = 0` (`F_a = L_{1,0,2a²,0,a⁴}`).
+    #[serde(rename = "modified-biharmonic")]
+    ModifiedBiharmonic { a: f64 },
+}
+
+fn deserialize_spline_operator<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<SplineOperatorSpec, D::Error> {
+    let table = toml::Table::deserialize(d)?;
+    super::types::deserialize_tagged(table, "kind", "")
+}
