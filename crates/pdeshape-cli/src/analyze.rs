@@ -243,18 +243,13 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
 /// zero with the largest finite magnitude on the grids (`±1` if all are zero). `H` is taken with
 /// the design's outward orientation.
 pub fn curvature_colors(
-    built: &pdeshape::design::BuiltDesign,
+    built: &pdeshape::design::SolvedDesign,
     meshes: &[pdeshape::mesh::GridMesh],
     by: ColorBy,
     range: Option<(f64, f64)>,
 ) -> Result<(MeshColors, f64, f64), CliError> {
     use pdeshape::surface::Surface;
-    let surfaces: Vec<&dyn Surface> = built
-        .patches
-        .iter()
-        .map(|p| &p.surface as &dyn Surface)
-        .chain(built.parametric.iter().map(|p| &p.surface as &dyn Surface))
-        .collect();
+    let surfaces: Vec<&dyn Surface> = built.surfaces.iter().map(|s| s.surface()).collect();
     let orientation = match by {
         ColorBy::Gauss => vec![1.0; surfaces.len()],
         ColorBy::Mean => {

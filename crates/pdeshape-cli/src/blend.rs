@@ -4,7 +4,7 @@
 
 use crate::common::{self, CliError, Loaded, Output};
 use pdeshape::bfs::Blend;
-use pdeshape::design::solve_blend;
+use pdeshape::design::SurfaceKind;
 use pdeshape::mesh::{self, Format};
 use std::fmt::Write as _;
 use std::io::Write;
@@ -30,15 +30,24 @@ pub struct Args {
     pub timings: bool,
 }
 
-/// Solves the design's blend (errors located in the file).
-pub fn solve(design: &Loaded) -> Result<Blend, CliError> {
-    let Some(spec) = &design.spec.blend else {
+/// Solves the design's blend (errors located in the file); its primary surfaces may be
+/// surfaces of the design.
+pub fn solve(design: &Loaded) -> Result<std::sync::Arc<Blend>, CliError> {
+    if design.spec.blend.is_none() {
         return Err(design.error(&pdeshape::Error::invalid(
             "the design has no [blend] section (pdeshape blend solves blends; use `pdeshape \
              surface` for conditions and patches)",
         )));
-    };
-    solve_blend(spec).map_err(|e| design.error(&e))
+    }
+    let solved = design.build()?;
+    solved
+        .surfaces
+        .iter()
+        .find_map(|s| match &s.kind {
+            SurfaceKind::Blend(b) => Some(b.clone()),
+            _ => None,
+        })
+        .ok_or_else(|| CliError::input("the design's blend was not solved"))
 }
 
 /// The report: settings, both joins, the data points, the seam.
@@ -87,19 +96,6 @@ pub fn report(design: &Loaded, b: &Blend) -> String {
         );
     }
     t
-}
-
-/// `pdeshape check` on a blend design: solve and report.
-pub fn check(design: &Loaded) -> Result<(), CliError> {
-    let b = solve(design)?;
-    let mut text = format!("design {}\n", design.file);
-    if let Some(title) = &design.spec.title {
-        let _ = writeln!(text, "title: {title}");
-    }
-    text.push_str(&report(design, &b));
-    text.push_str("OK\n");
-    common::print_stdout(&text);
-    Ok(())
 }
 
 fn ms(t: Instant) -> f64 {

@@ -1,8 +1,8 @@
 //! `pdeshape check DESIGN`: validate, solve and report.
 
-use crate::common::{self, CliError};
-use pdeshape::design::BuiltDesign;
-use pdeshape::spec::{DesignSpec, OperatorSpec};
+use crate::common::{self, CliError, Loaded};
+use pdeshape::design::{ConditionInfo, SolvedDesign, SurfaceKind};
+use pdeshape::spec::OperatorSpec;
 use std::fmt::Write;
 use std::path::PathBuf;
 
@@ -23,7 +23,7 @@ const WARN_EXCURSION: f64 = 10.0;
 /// `(surface extent, curve extent)`: the largest distance from the centre of the position
 /// curves' bounding box, over a 257 × 64 sample of the patch and over its position curves.
 fn excursion(
-    patch: &pdeshape::design::Patch,
+    surface: &dyn pdeshape::surface::Surface,
     conds: &[pdeshape::design::ConditionInfo],
 ) -> (f64, f64) {
     use pdeshape::Vec3;
@@ -44,7 +44,7 @@ fn excursion(
     }
     let centre: Vec3 = (lo + hi) / 2.0;
     let curves = pts.iter().map(|p| (p - centre).norm()).fold(0.0, f64::max);
-    let surface = match pdeshape::mesh::sample(&patch.surface, 257, 64) {
+    let surface = match pdeshape::mesh::sample(surface, 257, 64) {
         Ok(grid) => grid
             .positions
             .iter()
@@ -74,15 +74,6 @@ fn describe_operator(op: &OperatorSpec) -> String {
     }
 }
 
-fn patch_operator(spec: &DesignSpec, i: usize) -> OperatorSpec {
-    spec.patches
-        .as_ref()
-        .and_then(|p| p.get(i))
-        .and_then(|p| p.operator.clone())
-        .or_else(|| spec.operator.clone())
-        .unwrap_or_default()
-}
-
 fn derivative_name(d: usize) -> String {
     match d {
         0 => "position".to_string(),
@@ -92,13 +83,30 @@ fn derivative_name(d: usize) -> String {
     }
 }
 
+/// `max_v |X(u, v) − C(v)|` of a position condition on a surface, absolute and relative to the
+/// curve's size (for solvers without their own condition report).
+fn position_error(s: &dyn pdeshape::surface::Surface, c: &ConditionInfo) -> (f64, f64) {
+    let (mut err, mut size) = (0.0f64, 0.0f64);
+    for k in 0..ERROR_SAMPLES {
+        let v = pdeshape::TAU * k as f64 / ERROR_SAMPLES as f64;
+        let p = c.curve.point(v);
+        let d = (s.point(c.u, v) - p).norm();
+        if d.is_nan() || d > err {
+            err = d;
+        }
+        size = size.max(p.norm());
+    }
+    (err, err / size.max(f64::MIN_POSITIVE))
+}
+
 /// The report for a solved design; the second value lists what deserves a warning.
-pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Vec<String>) {
+pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
     let mut s = String::new();
     let mut warnings = Vec::new();
     let _ = writeln!(
         s,
-        "design: {file}{}",
+        "design: {}{}",
+        design.file,
         built
             .title
             .as_ref()
@@ -106,28 +114,52 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
             .unwrap_or_default()
     );
     let o = &built.options;
-    let _ = writeln!(
-        s,
-        "solver: {} Fourier modes, spectral remainder {}, {} samples per curve",
-        o.modes,
-        if o.remainder { "on" } else { "off" },
-        if o.samples == 0 {
-            "automatic".to_string()
-        } else {
-            o.samples.to_string()
+    match built.fd_grid {
+        Some([gu, gv]) => {
+            let _ = writeln!(
+                s,
+                "solver: finite differences on a {gu} × {gv} grid (second order)"
+            );
         }
-    );
+        None => {
+            let _ = writeln!(
+                s,
+                "solver: {} Fourier modes, spectral remainder {}, {} samples per curve",
+                o.modes,
+                if o.remainder { "on" } else { "off" },
+                if o.samples == 0 {
+                    "automatic".to_string()
+                } else {
+                    o.samples.to_string()
+                }
+            );
+        }
+    }
     let _ = writeln!(s, "curves: {}", built.curves.len());
     for c in &built.curves {
         let _ = writeln!(s, "  {} ({})", c.name, c.kind);
     }
-    for (i, (patch, conds)) in built.patches.iter().zip(&built.conditions).enumerate() {
+    for (i, patch) in built.surfaces.iter().enumerate() {
+        match &patch.kind {
+            SurfaceKind::Blend(b) => {
+                s.push_str(&crate::blend::report(design, b));
+                continue;
+            }
+            SurfaceKind::Spline(net, _) => {
+                s.push_str(&crate::spline::report_text(net));
+                continue;
+            }
+            SurfaceKind::Parametric(_) => {
+                let _ = writeln!(s, "surface {i} '{}': {}", patch.name, patch.kind.word());
+                continue;
+            }
+            SurfaceKind::Pde(_) | SurfaceKind::Fd(_) => {}
+        }
+        let conds = &patch.conditions;
         let _ = writeln!(s, "patch {i} '{}':", patch.name);
-        let _ = writeln!(
-            s,
-            "  operator: {}",
-            describe_operator(&patch_operator(spec, i))
-        );
+        if let Some(op) = &patch.operator {
+            let _ = writeln!(s, "  operator: {}", describe_operator(op));
+        }
         let _ = writeln!(s, "  conditions:");
         for (k, c) in conds.iter().enumerate() {
             let name = c
@@ -143,15 +175,31 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
                 c.kind
             );
         }
-        let _ = writeln!(s, "  modes:");
-        let _ = writeln!(s, "    {:>4}  {:>12}  basis", "n", "condition");
-        for m in patch.surface.mode_reports() {
-            let _ = writeln!(
-                s,
-                "    {:>4}  {:>12.3e}  {}",
-                m.n, m.condition_number, m.basis
-            );
-        }
+        let errors: Vec<(f64, usize, f64, f64)> = match patch.pde() {
+            Some(pde) => {
+                let _ = writeln!(s, "  modes:");
+                let _ = writeln!(s, "    {:>4}  {:>12}  basis", "n", "condition");
+                for m in pde.mode_reports() {
+                    let _ = writeln!(
+                        s,
+                        "    {:>4}  {:>12.3e}  {}",
+                        m.n, m.condition_number, m.basis
+                    );
+                }
+                pde.condition_errors(ERROR_SAMPLES)
+                    .iter()
+                    .map(|e| (e.u, e.derivative, e.absolute, e.relative))
+                    .collect()
+            }
+            None => conds
+                .iter()
+                .filter(|c| c.derivative == 0)
+                .map(|c| {
+                    let (a, r) = position_error(patch.surface(), c);
+                    (c.u, 0, a, r)
+                })
+                .collect(),
+        };
         let _ = writeln!(
             s,
             "  condition errors (max over {ERROR_SAMPLES} values of v):"
@@ -161,28 +209,34 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
             "    {:<8} {:<9} {:>12}  {:>12}",
             "u", "condition", "absolute", "relative"
         );
-        for e in patch.surface.condition_errors(ERROR_SAMPLES) {
+        // Finite differences meet their conditions only to the grid's accuracy.
+        let warn_at = if patch.pde().is_some() {
+            WARN_RELATIVE
+        } else {
+            f64::INFINITY
+        };
+        for (u, d, absolute, relative) in errors {
             let _ = writeln!(
                 s,
                 "    {:<8} {:<9} {:>12.3e}  {:>12.3e}",
-                e.u,
-                derivative_name(e.derivative),
-                e.absolute,
-                e.relative
+                u,
+                derivative_name(d),
+                absolute,
+                relative
             );
-            if e.relative > WARN_RELATIVE || e.relative.is_nan() {
+            if relative > warn_at || relative.is_nan() {
                 warnings.push(format!(
                     "patch '{}': the {} condition at u = {} is met only to {:.3e} (relative)",
                     patch.name,
-                    derivative_name(e.derivative),
-                    e.u,
-                    e.relative
+                    derivative_name(d),
+                    u,
+                    relative
                 ));
             }
         }
     }
-    for (patch, conds) in built.patches.iter().zip(&built.conditions) {
-        let (surface, curves) = excursion(patch, conds);
+    for patch in built.surfaces.iter().filter(|p| p.is_patch()) {
+        let (surface, curves) = excursion(patch.surface(), &patch.conditions);
         if curves > 0.0 && surface > WARN_EXCURSION * curves {
             warnings.push(format!(
                 "patch '{}': the surface reaches {surface:.3e} from the centre of its position \
@@ -194,15 +248,15 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
     }
     if built.multi_patch {
         let _ = writeln!(s, "shared edges:");
-        if built.edges.is_empty() {
+        if built.edges().is_empty() {
             let _ = writeln!(s, "  none (no named position curve is used by two patches)");
         }
-        for e in &built.edges {
+        for e in built.edges() {
             let r = &e.report;
             let _ = writeln!(
                 s,
                 "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {:.3e}  G1 = {:.3e} rad",
-                built.patches[r.a].name, r.ua, built.patches[r.b].name, r.ub, e.curve, r.g0, r.g1
+                built.surfaces[r.a].name, r.ua, built.surfaces[r.b].name, r.ub, e.curve, r.g0, r.g1
             );
         }
     }
@@ -211,14 +265,8 @@ pub fn report(file: &str, spec: &DesignSpec, built: &BuiltDesign) -> (String, Ve
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let design = common::load(&args.design)?;
-    if design.spec.blend.is_some()
-        && design.spec.conditions.is_none()
-        && design.spec.patches.is_none()
-    {
-        return crate::blend::check(&design);
-    }
     let built = design.build()?;
-    let (text, warnings) = report(&design.file, &design.spec, &built);
+    let (text, warnings) = report(&design, &built);
     let mut text = text;
     for w in &warnings {
         let _ = writeln!(text, "warning: {w}");

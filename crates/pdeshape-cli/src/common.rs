@@ -1,7 +1,7 @@
 //! What the subcommands share: loading a design with located errors, choosing the grid, and
 //! writing an output file atomically.
 
-use pdeshape::design::{self, BuiltDesign, DEFAULT_NU, DEFAULT_NV};
+use pdeshape::design::{self, SolvedDesign};
 use pdeshape::spec::{self, DesignSpec};
 use pdeshape::Error;
 use std::io::Write;
@@ -37,9 +37,9 @@ impl Loaded {
         CliError::input(spec::describe_error(&self.file, &self.text, e))
     }
 
-    /// Validates, builds and solves the design.
-    pub fn build(&self) -> Result<BuiltDesign, CliError> {
-        design::build_design(&self.spec).map_err(|e| self.error(&e))
+    /// Compiles and solves the design (every kind, with the solver it asks for).
+    pub fn build(&self) -> Result<SolvedDesign, CliError> {
+        design::solve_design(&self.spec).map_err(|e| self.error(&e))
     }
 
     /// Validates the design without solving it.
@@ -47,49 +47,21 @@ impl Loaded {
         design::validate_design(&self.spec).map_err(|e| self.error(&e))
     }
 
-    /// The grid: the command line's `--nu`/`--nv`, else `[output]`, else 64 × 128; refused
-    /// (before anything is solved or allocated) beyond the library's grid limits.
+    /// The grid ([`design::grid`]): the command line's `--nu`/`--nv`, else `[output]`, else
+    /// 64 × 128, refused before anything is solved or allocated beyond the grid limits.
     pub fn grid(&self, nu: Option<usize>, nv: Option<usize>) -> Result<(usize, usize), CliError> {
-        let (nu_file, nv_file) = (self.spec.output.nu, self.spec.output.nv);
-        let nu_v = nu.or(nu_file).unwrap_or(DEFAULT_NU);
-        let nv_v = nv.or(nv_file).unwrap_or(DEFAULT_NV);
-        // The vertex limit holds for the whole design: every patch gets its own grid.
-        let patches = match (&self.spec.patches, &self.spec.conditions) {
-            (Some(p), _) => p.len(),
-            (None, Some(_)) => 1,
-            (None, None) => 0,
-        } + self.spec.parametric.len();
-        let patches = patches.max(1);
-        let checked = design::check_grid(nu_v, nv_v).and_then(|()| {
-            match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(patches)) {
-                Some(n) if n <= pdeshape::mesh::MAX_VERTICES => Ok(()),
-                _ => Err(pdeshape::Error::invalid(format!(
-                    "{patches} patches of {nu_v} × {nv_v} vertices exceed {} vertices in all; refusing to allocate them",
-                    pdeshape::mesh::MAX_VERTICES
-                ))
-                .at("nu × nv")),
-            }
-        });
-        match checked {
-            Ok(()) => Ok((nu_v, nv_v)),
-            Err(e) => {
-                let from_cli = match e.place() {
-                    "nu" => nu.is_some(),
-                    "nv" => nv.is_some(),
-                    _ => nu.is_some() || nv.is_some(),
+        design::grid(&self.spec, nu, nv).map_err(|e| {
+            if e.place().starts_with("output") {
+                self.error(&e)
+            } else {
+                let place = match e.place() {
+                    "nu" => "--nu".to_string(),
+                    "nv" => "--nv".to_string(),
+                    _ => "--nu × --nv".to_string(),
                 };
-                if from_cli {
-                    let place = match e.place() {
-                        "nu" => "--nu".to_string(),
-                        "nv" => "--nv".to_string(),
-                        _ => "--nu × --nv".to_string(),
-                    };
-                    Err(CliError::input(format!("{place}: {}", message_of(&e))))
-                } else {
-                    Err(self.error(&e.at("output")))
-                }
+                CliError::input(format!("{place}: {}", message_of(&e)))
             }
-        }
+        })
     }
 }
 
@@ -192,74 +164,4 @@ pub fn print_stdout(text: &str) {
     let mut out = std::io::stdout().lock();
     let _ = out.write_all(text.as_bytes());
     let _ = out.flush();
-}
-
-/// Tessellates every patch of a design (f32 meshes, as every mesh format and picture stores).
-pub fn meshes(
-    built: &pdeshape::design::BuiltDesign,
-    nu: usize,
-    nv: usize,
-) -> Result<Vec<pdeshape::mesh::GridMesh>, CliError> {
-    grids(built, nu, nv, pdeshape::mesh::tessellate)
-}
-
-/// Full-precision samples of every patch (CSV).
-pub fn samples(
-    built: &pdeshape::design::BuiltDesign,
-    nu: usize,
-    nv: usize,
-) -> Result<Vec<pdeshape::mesh::Samples>, CliError> {
-    grids(built, nu, nv, pdeshape::mesh::sample)
-}
-
-/// Evaluates every patch on the grid and refuses a surface that is not finite somewhere, naming
-/// the condition curve that is not finite there (formula curves are checked at sample points
-/// only when they are read, so a NaN between them shows up here).
-fn grids<T: Copy + Into<f64>>(
-    built: &pdeshape::design::BuiltDesign,
-    nu: usize,
-    nv: usize,
-    eval: impl Fn(
-        &dyn pdeshape::surface::Surface,
-        usize,
-        usize,
-    ) -> pdeshape::Result<pdeshape::mesh::Grid<T>>,
-) -> Result<Vec<pdeshape::mesh::Grid<T>>, CliError> {
-    let mut out = Vec::with_capacity(built.patches.len());
-    for (k, p) in built.patches.iter().enumerate() {
-        let g = eval(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
-        let bad = g
-            .positions
-            .iter()
-            .zip(&g.normals)
-            .position(|(a, b)| a.iter().chain(b).any(|x| !(*x).into().is_finite()));
-        if let Some(at) = bad {
-            let (i, j) = (at / g.nv, at % g.nv);
-            let (u, v) = (g.u[i], g.v[j]);
-            let culprit = built.conditions[k].iter().enumerate().find(|(_, c)| {
-                !(0..3).all(|d| c.curve.derivative(v, d).iter().all(|x| x.is_finite()))
-            });
-            let place = if built.multi_patch {
-                format!("patches[{k}].")
-            } else {
-                String::new()
-            };
-            return Err(CliError::input(match culprit {
-                Some((ci, c)) => format!(
-                    "{place}conditions[{ci}].curve{}: not finite at v = {v} (or its derivatives are not)",
-                    c.curve_name.as_deref().map(|n| format!(" ('{n}')")).unwrap_or_default()
-                ),
-                None => format!(
-                    "{place}the surface '{}' is not finite at u = {u}, v = {v}",
-                    p.name
-                ),
-            }));
-        }
-        out.push(g);
-    }
-    for p in &built.parametric {
-        let g = eval(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
-        out.push(g);
-    }
-    Ok(out)
 }

@@ -145,10 +145,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .apply_to_text(&design.text, &design.spec, best_x)
         .map_err(|e| design.error(&e))?;
     let reread = pdeshape::spec::parse_design(&text)
-        .and_then(|s| pdeshape::design::build_design(&s))
+        .and_then(|s| pdeshape::design::solve_design(&s))
         .map_err(|e| CliError::input(format!("-o {shown}: the optimised design fails: {e}")))?;
     outs[0].write_all(text.as_bytes())?;
-    let meshes = common::meshes(&reread, nu, nv)?;
+    let meshes = reread
+        .meshes(nu, nv)
+        .map_err(|e| CliError::input(e.to_string()))?;
     {
         let mut w = outs[1].writer();
         mesh::write_obj(&meshes, &mut w)
@@ -158,7 +160,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let png = pdeshape::render::render_png(
         &meshes,
-        &crate::render::overlays(&reread),
+        &reread.overlays(),
         &pdeshape::render::RenderOptions::default(),
     )
     .map_err(|e| CliError::input(format!("-o {}: {e}", paths[2].display())))?;

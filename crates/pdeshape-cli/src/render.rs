@@ -1,10 +1,8 @@
 //! `pdeshape render DESIGN -o shape.png`: the shaded surface with its position curves and spine.
 
 use crate::common::{self, CliError, Output};
-use pdeshape::curve::{Curve, Domain};
-use pdeshape::design::BuiltDesign;
-use pdeshape::render::{render_png, Polyline, RenderOptions};
-use pdeshape::{Vec3, TAU};
+use pdeshape::render::{render_png, RenderOptions};
+use pdeshape::Vec3;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -38,11 +36,6 @@ pub struct Args {
 
 /// Largest picture side we agree to render.
 const MAX_SIDE: u32 = 8192;
-/// Points per drawn curve and along the spine.
-const CURVE_POINTS: usize = 256;
-const CURVE_COLOR: [u8; 3] = [210, 40, 30];
-const SPINE_COLOR: [u8; 3] = [20, 70, 200];
-
 fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
     let bad = || {
         CliError::input(format!(
@@ -78,61 +71,6 @@ fn parse_view(s: &str) -> Result<Vec3, CliError> {
         return Err(CliError::input("--view: must not be the zero vector"));
     }
     Ok(v / m)
-}
-
-/// `CURVE_POINTS` points of a curve: over [0, 2π) for a periodic curve (drawn closed), over its
-/// whole interval otherwise.
-pub(crate) fn curve_polyline(curve: &dyn Curve) -> Polyline {
-    let (points, closed) = match curve.domain() {
-        Domain::Periodic => (
-            (0..CURVE_POINTS)
-                .map(|k| curve.point(TAU * k as f64 / CURVE_POINTS as f64))
-                .collect(),
-            true,
-        ),
-        Domain::Interval(a, b) => (
-            (0..CURVE_POINTS)
-                .map(|k| curve.point(a + (b - a) * k as f64 / (CURVE_POINTS - 1) as f64))
-                .collect(),
-            false,
-        ),
-    };
-    Polyline {
-        points,
-        color: CURVE_COLOR,
-        width: 2.0,
-        closed,
-    }
-}
-
-/// The position curves of every patch (each shared curve once) and every patch's spine.
-pub fn overlays(built: &BuiltDesign) -> Vec<Polyline> {
-    let mut lines = Vec::new();
-    let mut drawn: Vec<String> = Vec::new();
-    for conds in &built.conditions {
-        for c in conds.iter().filter(|c| c.derivative == 0) {
-            if let Some(name) = &c.curve_name {
-                if drawn.contains(name) {
-                    continue;
-                }
-                drawn.push(name.clone());
-            }
-            lines.push(curve_polyline(&*c.curve));
-        }
-    }
-    for p in &built.patches {
-        let points = (0..CURVE_POINTS)
-            .map(|k| p.surface.spine(k as f64 / (CURVE_POINTS - 1) as f64, 0))
-            .collect();
-        lines.push(Polyline {
-            points,
-            color: SPINE_COLOR,
-            width: 2.0,
-            closed: false,
-        });
-    }
-    lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
-    lines
 }
 
 /// Refuses picture paths that do not end in `.png`.
@@ -172,7 +110,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     let mut out = Output::create(&args.output)?;
     let built = design.build()?;
-    let meshes = common::meshes(&built, nu, nv)?;
+    let meshes = built.meshes(nu, nv).map_err(|e| design.error(&e))?;
     let options = RenderOptions {
         width,
         height,
@@ -181,13 +119,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     };
     let (png, note) = match args.color {
         None => (
-            render_png(&meshes, &overlays(&built), &options),
+            render_png(&meshes, &built.overlays(), &options),
             String::new(),
         ),
         Some(by) => {
             let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
             (
-                pdeshape::render::render_png_colored(&meshes, &colors, &overlays(&built), &options),
+                pdeshape::render::render_png_colored(&meshes, &colors, &built.overlays(), &options),
                 format!(
                     ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red)",
                     by.word()

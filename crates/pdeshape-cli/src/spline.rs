@@ -52,7 +52,7 @@ fn kind(path: &std::path::Path) -> Result<Kind, CliError> {
 }
 
 /// The solve report as text for stdout.
-fn report_text(s: &SolvedSpline) -> String {
+pub fn report_text(s: &SolvedSpline) -> String {
     let net = s.to_f64();
     let r = s.report();
     let list = |v: &[[usize; 2]]| {

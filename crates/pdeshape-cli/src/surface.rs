@@ -49,56 +49,50 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map(|p| Output::create(p))
         .transpose()?;
 
-    if design.spec.solver.method == pdeshape::spec::SolverMethod::Fd {
-        return run_fd(args, &design, format, nu, nv, out, picture_out);
-    }
     let t = Instant::now();
-    let built = design.build()?;
+    let solved = design.build()?;
     let solve_ms = ms(t);
-
-    let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
-    let (tessellate_ms, write_ms);
-    let mut meshes = None;
-    if format == Format::Csv {
-        let t = Instant::now();
-        let samples = common::samples(&built, nu, nv)?;
-        tessellate_ms = ms(t);
-        let t = Instant::now();
-        let mut w = out.writer();
-        mesh::write_csv(&samples, &mut w).map_err(io_err)?;
-        w.flush()
-            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-        drop(w);
-        write_ms = ms(t);
-    } else {
-        let t = Instant::now();
-        let m = common::meshes(&built, nu, nv)?;
-        tessellate_ms = ms(t);
-        let t = Instant::now();
-        let mut w = out.writer();
-        match format {
-            Format::Obj => mesh::write_obj(&m, &mut w),
-            Format::Stl => mesh::write_stl(&m, &mut w),
-            Format::Ply => mesh::write_ply(&m, &mut w),
-            Format::Glb => mesh::write_glb(&m, &mut w),
-            Format::Csv => unreachable!("handled above"),
-        }
-        .map_err(io_err)?;
-        meshes = Some(m);
-        w.flush()
-            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-        drop(w);
-        write_ms = ms(t);
+    if solved.surfaces.is_empty() {
+        return Err(design.error(&pdeshape::Error::invalid(
+            "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
+        )));
     }
+    // A grid-evaluation error names a condition curve of the design: locate it in the file.
+    let located = |e: pdeshape::Error| {
+        if e.place().is_empty() {
+            CliError::input(format!("-o {shown}: {e}"))
+        } else {
+            design.error(&e)
+        }
+    };
+    let t = Instant::now();
+    let (meshes, samples) = if format == Format::Csv {
+        (None, Some(solved.samples(nu, nv).map_err(located)?))
+    } else {
+        (Some(solved.meshes(nu, nv).map_err(located)?), None)
+    };
+    let tessellate_ms = ms(t);
+    let t = Instant::now();
+    let mut w = out.writer();
+    match (&meshes, &samples) {
+        (_, Some(samples)) => mesh::write_csv(samples, &mut w),
+        (Some(meshes), _) => mesh::write(format, meshes, &mut w),
+        (None, None) => unreachable!("one of the two was made"),
+    }
+    .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    w.flush()
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    drop(w);
+    let write_ms = ms(t);
     // The picture is drawn before anything is committed, so a failure leaves neither file.
     if let Some(pic) = picture_out.as_mut() {
         let meshes = match meshes {
             Some(m) => m,
-            None => common::meshes(&built, nu, nv)?,
+            None => solved.meshes(nu, nv).map_err(located)?,
         };
         let png = pdeshape::render::render_png(
             &meshes,
-            &crate::render::overlays(&built),
+            &solved.overlays(),
             &pdeshape::render::RenderOptions::default(),
         )
         .map_err(|e| CliError::input(e.to_string()))?;
@@ -120,119 +114,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             })
         );
     }
-    crate::common::print_stdout(&format!(
-        "wrote {shown}: {} patch{}, {nu} × {nv} grid\n",
-        built.patches.len(),
-        if built.patches.len() == 1 { "" } else { "es" }
-    ));
-    Ok(())
-}
-
-/// `surface` with `solver = "fd"`: every patch solved by finite differences
-/// ([`pdeshape::design::build_fd_design`]), then tessellated, written and drawn like the analytic
-/// patches (the picture shows the position curves; finite-difference patches have no spine).
-fn run_fd(
-    args: &Args,
-    design: &common::Loaded,
-    format: Format,
-    nu: usize,
-    nv: usize,
-    mut out: Output,
-    mut picture_out: Option<Output>,
-) -> Result<(), CliError> {
-    let shown = args.output.display().to_string();
-    let t = Instant::now();
-    let built = pdeshape::design::build_fd_design(&design.spec).map_err(|e| design.error(&e))?;
-    let solve_ms = ms(t);
-    let bad = |name: &str| {
-        CliError::input(format!(
-            "the finite-difference surface '{name}' is not finite somewhere"
-        ))
+    let n = solved.surfaces.len();
+    let fd = match solved.fd_grid {
+        Some([gu, gv]) => format!(" (finite differences on {gu} × {gv})"),
+        None => String::new(),
     };
-    let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
-    let t = Instant::now();
-    let mut meshes = Vec::new();
-    let mut samples = Vec::new();
-    for p in &built.patches {
-        if format == Format::Csv {
-            let g = mesh::sample(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
-            if !g
-                .positions
-                .iter()
-                .chain(&g.normals)
-                .flatten()
-                .all(|x| x.is_finite())
-            {
-                return Err(bad(&p.name));
-            }
-            samples.push(g);
-        }
-        if format != Format::Csv || picture_out.is_some() {
-            let g =
-                mesh::tessellate(&p.surface, nu, nv).map_err(|e| CliError::input(e.to_string()))?;
-            if !g
-                .positions
-                .iter()
-                .chain(&g.normals)
-                .flatten()
-                .all(|x| x.is_finite())
-            {
-                return Err(bad(&p.name));
-            }
-            meshes.push(g);
-        }
-    }
-    let tessellate_ms = ms(t);
-    let t = Instant::now();
-    let mut w = out.writer();
-    match format {
-        Format::Obj => mesh::write_obj(&meshes, &mut w),
-        Format::Stl => mesh::write_stl(&meshes, &mut w),
-        Format::Ply => mesh::write_ply(&meshes, &mut w),
-        Format::Glb => mesh::write_glb(&meshes, &mut w),
-        Format::Csv => mesh::write_csv(&samples, &mut w),
-    }
-    .map_err(io_err)?;
-    w.flush()
-        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-    drop(w);
-    if let Some(pic) = picture_out.as_mut() {
-        let mut lines: Vec<pdeshape::render::Polyline> = built
-            .conditions
-            .iter()
-            .flatten()
-            .filter(|c| c.derivative == 0)
-            .map(|c| crate::render::curve_polyline(&*c.curve))
-            .collect();
-        lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
-        let png = pdeshape::render::render_png(
-            &meshes,
-            &lines,
-            &pdeshape::render::RenderOptions::default(),
-        )
-        .map_err(|e| CliError::input(e.to_string()))?;
-        pic.write_all(&png)?;
-    }
-    out.commit()?;
-    if let Some(pic) = picture_out {
-        pic.commit()?;
-    }
-    let write_ms = ms(t);
-    if args.timings {
-        eprintln!(
-            "{}",
-            serde_json::json!({
-                "solve_ms": solve_ms,
-                "tessellate_ms": tessellate_ms,
-                "write_ms": write_ms,
-            })
-        );
-    }
-    let [gu, gv] = built.grid;
     crate::common::print_stdout(&format!(
-        "wrote {shown}: {} patch{}, {nu} × {nv} grid (finite differences on {gu} × {gv})\n",
-        built.patches.len(),
-        if built.patches.len() == 1 { "" } else { "es" }
+        "wrote {shown}: {n} patch{}, {nu} × {nv} grid{fd}\n",
+        if n == 1 { "" } else { "es" }
     ));
     Ok(())
 }

@@ -223,10 +223,4 @@ fn bad_blend_designs_are_located_and_leave_no_file() {
     // An unknown output extension, and a design without [blend].
     bad(&text, "o.xyz", &["-o"]);
     bad("title = \"x\"\n", "o.obj", &["no [blend] section"]);
-    // The other commands point at `pdeshape blend`.
-    let dir = tempfile::tempdir().unwrap();
-    let out = pdeshape(&["surface", s(&example()), "-o", s(&dir.path().join("x.obj"))]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("pdeshape blend"));
-    assert!(files(dir.path()).is_empty());
 }

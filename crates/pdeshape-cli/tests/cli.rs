@@ -705,7 +705,15 @@ fn nan_between_checked_points_names_the_curve() {
     let d = write(dir.path(), "d.toml", &text);
     let o = dir.path().join("out.obj");
     let out = pdeshape(&["surface", s(&d), "-o", s(&o), "--nv", "44"]);
-    let line = assert_bad(&out, &["conditions[2].curve ('rim')", "not finite at v = "]);
+    let line = assert_bad(
+        &out,
+        &[
+            "d.toml:",
+            "conditions[2].curve",
+            "curve 'rim'",
+            "not finite at v = ",
+        ],
+    );
     assert!(!line.contains("-o"), "{line}");
     assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
 }

@@ -199,15 +199,3 @@ fn bad_spline_designs_are_located_and_leave_nothing() {
     bad(EXAMPLE1, "o.txt", &["-o", "unknown output extension"]);
     bad("title = \"x\"\n", "o.json", &["no [spline] section"]);
 }
-
-#[test]
-fn surface_on_a_spline_design_says_what_to_do() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = write(dir.path(), "d.toml", EXAMPLE1);
-    let o = dir.path().join("o.obj");
-    let out = pdeshape(&["surface", s(&d), "-o", s(&o)]);
-    assert_eq!(out.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(stderr.contains("pdeshape spline"), "{stderr}");
-    assert!(!o.exists());
-}

@@ -3,7 +3,7 @@
 
 use super::quadrature::periodic_trapezoid;
 use super::{analyze_surface, Integrals, Quadrature, SurfaceAnalysis};
-use crate::design::BuiltDesign;
+use crate::design::SolvedDesign;
 use crate::surface::{Surface, VDomain};
 use crate::{Result, Vec3};
 
@@ -61,22 +61,17 @@ const CURVE_NODES: usize = 512;
 /// Boundary rows closer than this (relative to the design's size) are the same curve.
 const SAME_CURVE: f64 = 1e-8;
 
-/// The integrals of a solved design: [`integrate_surfaces`] of its PDE patches followed by its
-/// `[[parametric]]` surfaces, in that order.
-pub fn integrate_design(d: &BuiltDesign, q: &Quadrature) -> Result<DesignIntegrals> {
+/// The integrals of a solved design: [`integrate_surfaces`] of all its surfaces (PDE patches,
+/// then `[[parametric]]` surfaces, the blend and the spline surface), in that order.
+pub fn integrate_design(d: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegrals> {
     let surfaces: Vec<(&str, &dyn Surface)> = d
-        .patches
+        .surfaces
         .iter()
-        .map(|p| (p.name.as_str(), &p.surface as &dyn Surface))
-        .chain(
-            d.parametric
-                .iter()
-                .map(|p| (p.name.as_str(), &p.surface as &dyn Surface)),
-        )
+        .map(|s| (s.name.as_str(), s.surface()))
         .collect();
     // Named shared position curves at u ∈ {0, 1}.
     let edges: Vec<(usize, f64, usize, f64)> = d
-        .edges
+        .edges()
         .iter()
         .map(|e| (e.report.a, e.report.ua, e.report.b, e.report.ub))
         .collect();

@@ -1,5 +1,5 @@
 use super::*;
-use crate::design::build_design;
+use crate::design::solve_design as build_design;
 use crate::spec::parse_design;
 use crate::surface::{Partials, Surface, VDomain};
 use crate::Vec3;
@@ -253,7 +253,7 @@ fn hemispheres_are_oriented_consistently_across_the_shared_equator() {
     );
 }
 
-fn cup() -> crate::design::BuiltDesign {
+fn cup() -> crate::design::SolvedDesign {
     let text = include_str!("../../../../examples/cup.toml");
     build_design(&parse_design(text).unwrap()).unwrap()
 }
@@ -262,7 +262,7 @@ fn cup() -> crate::design::BuiltDesign {
 #[test]
 fn pde_patch_curvature_matches_finite_differences() {
     let d = cup();
-    let s = &d.patches[1].surface;
+    let s = d.surfaces[1].pde().unwrap();
     let h = 1e-4;
     for (u, v) in [(0.2, 0.3), (0.5, 1.7), (0.8, 4.0)] {
         let x = |du: f64, dv: f64| s.point(u + du * h, v + dv * h);
@@ -289,7 +289,7 @@ fn pde_patch_curvature_matches_finite_differences() {
 #[test]
 fn quadrature_converges_fast_on_a_pde_patch() {
     let d = cup();
-    let s = &d.patches[1].surface;
+    let s = d.surfaces[1].pde().unwrap();
     let reference = analyze_surface(s, &Quadrature::default()).unwrap();
     assert!(
         reference.converged && reference.error < 1e-10,
@@ -329,9 +329,9 @@ fn cup_totals_orientation_and_volume() {
     // profiles (ρ(u) = |X(u, 0)_xy|), up to the rim's plane.
     let gl = quadrature::composite_gauss(0.0, 1.0, 32, 8);
     let mut v = 0.0;
-    for p in &d.patches {
+    for p in &d.surfaces {
         for (u, w) in gl.nodes.iter().zip(&gl.weights) {
-            let q = p.surface.partials(*u, 0.0);
+            let q = p.surface().partials(*u, 0.0);
             let rho2 = q.x.x * q.x.x + q.x.y * q.x.y;
             v += w * PI * rho2 * q.xu.z;
         }
@@ -404,7 +404,7 @@ fn bad_quadrature_settings_are_errors() {
 }
 
 /// A design of `[[parametric]]` surfaces.
-fn parametric_design(body: &str) -> crate::design::BuiltDesign {
+fn parametric_design(body: &str) -> crate::design::SolvedDesign {
     build_design(&parse_design(body).unwrap()).unwrap()
 }
 
@@ -483,7 +483,7 @@ z = "0.5*sin(2*pi*u)"
     );
     // Pointwise curvature of the torus on its outer equator (u = 0, v = 0), inward normal:
     // κ = 1/r along the tube and 1/(R + r) along the parallel.
-    let c = curvature(&d.parametric[1].surface.partials(0.0, 0.0)).unwrap();
+    let c = curvature(&d.surfaces[1].surface().partials(0.0, 0.0)).unwrap();
     assert!(rel(c.k1, 1.0 / small) < 1e-13 && rel(c.k2, 1.0 / (big + small)) < 1e-13);
 }
 
@@ -526,7 +526,7 @@ fn parametric_errors_are_located() {
 fn pde_pole_has_a_finite_curvature_limit() {
     // The cup's base closes at a point at u = 0: the pointwise formulas are 0/0 there.
     let d = cup();
-    let s = &d.patches[0].surface;
+    let s = d.surfaces[0].pde().unwrap();
     assert!(curvature(&s.partials(0.0, 0.4)).is_none());
     let pole = curvature_at(s, 0.0, 0.4).unwrap();
     assert!(pole.gauss.is_finite() && pole.mean.is_finite(), "{pole:?}");

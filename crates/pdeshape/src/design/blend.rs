@@ -11,13 +11,45 @@ fn v3(a: [f64; 3]) -> Vec3 {
     Vec3::new(a[0], a[1], a[2])
 }
 
-fn build_surface(s: &SurfaceSpec) -> Result<Box<dyn Surface>> {
+/// Finds a surface of the design by name: its identity and the surface.
+pub(crate) type Lookup<'a> = dyn Fn(&str) -> Option<(usize, &'a dyn Surface)> + 'a;
+
+/// A primary surface: built from its table, or a surface of the design.
+enum Primary<'a> {
+    Own(Box<dyn Surface>),
+    Design(&'a dyn Surface),
+}
+
+impl Primary<'_> {
+    fn surface(&self) -> &dyn Surface {
+        match self {
+            Primary::Own(s) => s.as_ref(),
+            Primary::Design(s) => *s,
+        }
+    }
+}
+
+/// Where a primary surface that is a design surface is missing: the error at its `name`.
+fn unknown_surface(name: &str) -> Error {
+    Error::invalid(format!(
+        "the design has no surface named '{name}' (a patch or a [[parametric]] surface)"
+    ))
+    .at("name")
+}
+
+fn build_surface<'a>(s: &SurfaceSpec, lookup: Option<&Lookup<'a>>) -> Result<Primary<'a>> {
     Ok(match s {
+        SurfaceSpec::Patch { name } => match lookup {
+            Some(find) => Primary::Design(find(name).ok_or_else(|| unknown_surface(name))?.1),
+            // Checked without the design's surfaces: a stand-in (names are checked when the
+            // design is compiled).
+            None => Primary::Own(Box::new(Plane::new(Vec3::zeros(), Vec3::x(), Vec3::y())?)),
+        },
         SurfaceSpec::Cylinder { base, axis, radius } => {
-            Box::new(Cylinder::new(v3(*base), v3(*axis), *radius)?)
+            Primary::Own(Box::new(Cylinder::new(v3(*base), v3(*axis), *radius)?))
         }
         SurfaceSpec::Plane { origin, du, dv } => {
-            Box::new(Plane::new(v3(*origin), v3(*du), v3(*dv))?)
+            Primary::Own(Box::new(Plane::new(v3(*origin), v3(*du), v3(*dv))?))
         }
     })
 }
@@ -76,13 +108,27 @@ impl EnergySpec {
 /// Checks a `[blend]` section without solving: element counts, ε, the energy, the primary
 /// surfaces and the data sites. Errors carry their place in the file.
 pub fn validate_blend(spec: &BlendSpec) -> Result<()> {
-    checked(spec).map(|_| ())
+    checked(spec, None).map(|_| ())
+}
+
+/// The identities of the design surfaces a blend joins (`type = "patch"`), in order; errors at
+/// `blend.start.surface.name` for an unknown name.
+pub(crate) fn design_sources(spec: &BlendSpec, lookup: &Lookup<'_>) -> Result<Vec<usize>> {
+    let mut ids = Vec::new();
+    for (end, j) in [("start", &spec.start), ("end", &spec.end)] {
+        if let SurfaceSpec::Patch { name } = &j.surface {
+            let (id, _) = lookup(name)
+                .ok_or_else(|| unknown_surface(name).at(&format!("blend.{end}.surface")))?;
+            ids.push(id);
+        }
+    }
+    Ok(ids)
 }
 
 /// The validated parts of a blend: energy and the two primary surfaces.
-type Checked = (Energy, Box<dyn Surface>, Box<dyn Surface>);
+type Checked<'a> = (Energy, Primary<'a>, Primary<'a>);
 
-fn checked(spec: &BlendSpec) -> Result<Checked> {
+fn checked<'a>(spec: &BlendSpec, lookup: Option<&Lookup<'a>>) -> Result<Checked<'a>> {
     let [nx, ny] = spec.elements;
     for (n, k) in [(nx, 0), (ny, 1)] {
         if n == 0 || n > MAX_ELEMENTS_PER_SIDE {
@@ -109,8 +155,9 @@ fn checked(spec: &BlendSpec) -> Result<Checked> {
         .at("blend.epsilon"));
     }
     let energy = spec.energy.build().map_err(|e| e.at("blend.energy"))?;
-    let start = build_surface(&spec.start.surface).map_err(|e| e.at("blend.start.surface"))?;
-    let end = build_surface(&spec.end.surface).map_err(|e| e.at("blend.end.surface"))?;
+    let start =
+        build_surface(&spec.start.surface, lookup).map_err(|e| e.at("blend.start.surface"))?;
+    let end = build_surface(&spec.end.surface, lookup).map_err(|e| e.at("blend.end.surface"))?;
     for (k, p) in spec.points.iter().enumerate() {
         let [x, y] = p.at;
         if !((0.0..=1.0).contains(&x) && (0.0..=1.0).contains(&y)) {
@@ -123,14 +170,20 @@ fn checked(spec: &BlendSpec) -> Result<Checked> {
     Ok((energy, start, end))
 }
 
-/// Builds and solves the blend of a `[blend]` section. Errors carry their place in the file
-/// (`blend.start.surface.radius`, `blend.points[2]`, `blend.energy`, …).
+/// Builds and solves the blend of a `[blend]` section whose primary surfaces are built-in
+/// (cylinders and planes). Errors carry their place in the file (`blend.start.surface.radius`,
+/// `blend.points[2]`, `blend.energy`, …).
 pub fn solve_blend(spec: &BlendSpec) -> Result<Blend> {
-    let (energy, start, end) = checked(spec)?;
+    solve_blend_with(spec, &|_| None)
+}
+
+/// [`solve_blend`] with the design's surfaces found by `lookup` (for `type = "patch"`).
+pub(crate) fn solve_blend_with(spec: &BlendSpec, lookup: &Lookup<'_>) -> Result<Blend> {
+    let (energy, start, end) = checked(spec, Some(lookup))?;
     let [nx, ny] = spec.elements;
     let problem = BlendProblem {
-        start: Join::new(start.as_ref(), &spec.start),
-        end: Join::new(end.as_ref(), &spec.end),
+        start: Join::new(start.surface(), &spec.start),
+        end: Join::new(end.surface(), &spec.end),
         nx,
         ny,
         periodic: spec.periodic,

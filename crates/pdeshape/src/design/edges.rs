@@ -1,16 +1,7 @@
-//! Designs of several patches sharing curves (the book's cup, §4.6), and the mismatch along
-//! shared edges.
+//! The mismatch of two surfaces along an edge they share (the book's cup, §4.6).
 
-use crate::elliptic::PdePatch;
 use crate::surface::Surface;
 use crate::TAU;
-
-/// A named patch of a design.
-#[derive(Debug)]
-pub struct Patch {
-    pub name: String,
-    pub surface: PdePatch,
-}
 
 /// Position and normal mismatch along an edge shared by two patches.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,35 +2,14 @@
 //! design file's periodic patches, each `(∂uu + a²∂vv)^N X = 0` with `N ≤ 3` and its conditions
 //! at `u = 0` and `u = 1` (orders `0 … N−1` at each end), solved on the grid `solver.grid`.
 
-use super::build::{patch_specs, planned_patches, ConditionInfo, NamedCurve};
+use super::solved::ConditionInfo;
+use super::validate::patch_specs;
 use crate::fd::{solve_periodic, EdgeFn, FdSurface, PeriodicProblem, MAX_ORDER, MAX_UNKNOWNS};
 use crate::spec::{DesignSpec, OperatorSpec, SolverMethod};
 use crate::{Error, Result, Vec3};
 
 /// Default finite-difference grid: intervals in `u`, nodes around `v`.
 pub const DEFAULT_GRID: [usize; 2] = [64, 128];
-
-/// A patch solved by finite differences.
-#[derive(Debug)]
-pub struct FdPatch {
-    pub name: String,
-    pub surface: FdSurface,
-}
-
-/// A design with every patch solved by finite differences.
-#[derive(Debug)]
-pub struct FdDesign {
-    pub title: Option<String>,
-    pub patches: Vec<FdPatch>,
-    /// `conditions[i]` are the conditions of `patches[i]`, in file order.
-    pub conditions: Vec<Vec<ConditionInfo>>,
-    /// The named curves, sorted by name.
-    pub curves: Vec<NamedCurve>,
-    /// The grid `[nu, nv]` used.
-    pub grid: [usize; 2],
-    /// The design used `[[patches]]`.
-    pub multi_patch: bool,
-}
 
 /// The smallest grid `(nu, nv)` the scheme takes for half order `n`.
 fn min_grid(n: usize) -> (usize, usize) {
@@ -107,98 +86,83 @@ pub(crate) fn check(spec: &DesignSpec) -> Result<()> {
     Ok(())
 }
 
-/// Validates the design (with [`check`]), builds its curves and conditions, and solves every
-/// patch by [`solve_periodic`] on the grid `solver.grid` (default [`DEFAULT_GRID`]). Errors name
-/// their place in the design file.
-pub fn build_fd_design(spec: &DesignSpec) -> Result<FdDesign> {
-    if spec.solver.method != SolverMethod::Fd {
-        return Err(Error::invalid(
-            "the design does not ask for the finite-difference solver (method = \"fd\")",
-        )
-        .at("solver"));
-    }
-    let (curves, planned) = planned_patches(spec)?;
-    let [nu, nv] = spec.solver.grid.unwrap_or(DEFAULT_GRID);
-    let mut patches = Vec::new();
-    let mut conditions = Vec::new();
-    for p in planned {
-        let (n, a) = match p.operator {
-            OperatorSpec::Polyharmonic { order, a } => (order, a),
-            _ => unreachable!("checked by validate_design"),
-        };
-        // Condition index of (end, derivative order).
-        let index = |u: f64, d: usize| {
-            p.conditions
-                .iter()
-                .position(|c| c.u == u && c.derivative == d)
-                .expect("checked by validate_design")
-        };
-        let fns: Vec<Box<dyn Fn(f64) -> Vec3 + Sync>> = p
-            .conditions
+/// Solves one patch by [`solve_periodic`] on the grid `[nu, nv]`: `(∂uu + a²∂vv)^N X = 0` with the
+/// patch's conditions (checked by [`check`]: orders `0 … N−1` at `u = 0` and at `u = 1`).
+/// `place` is where the patch's conditions are (`conditions`, `patches[2].conditions`); errors
+/// name the condition curve or the grid.
+pub(crate) fn solve_patch(
+    order: usize,
+    a: f64,
+    [nu, nv]: [usize; 2],
+    conditions: &[ConditionInfo],
+    place: &str,
+) -> Result<FdSurface> {
+    let n = order;
+    // Condition index of (end, derivative order).
+    let index = |u: f64, d: usize| {
+        conditions
             .iter()
-            .map(|c| {
-                let curve = c.curve.clone();
-                Box::new(move |v: f64| curve.point(v)) as Box<dyn Fn(f64) -> Vec3 + Sync>
-            })
-            .collect();
-        let pick = |u: f64| -> Vec<EdgeFn<'_>> { (0..n).map(|d| &*fns[index(u, d)]).collect() };
-        let surface = solve_periodic(&PeriodicProblem {
-            order: n,
-            a,
-            nu,
-            nv,
-            start: pick(0.0),
-            end: pick(1.0),
-            source: None,
+            .position(|c| c.u == u && c.derivative == d)
+            .expect("checked by validate_design")
+    };
+    let fns: Vec<Box<dyn Fn(f64) -> Vec3 + Sync>> = conditions
+        .iter()
+        .map(|c| {
+            let curve = c.curve.clone();
+            Box::new(move |v: f64| curve.point(v)) as Box<dyn Fn(f64) -> Vec3 + Sync>
         })
-        .map_err(|e| {
-            let place = e.place().to_string();
-            let at = |u: f64, rest: &str| {
-                rest.trim_start_matches('[')
-                    .trim_end_matches(']')
-                    .parse::<usize>()
-                    .map(|d| format!("{}[{}].curve", p.place, index(u, d)))
-                    .unwrap_or_else(|_| p.place.clone())
-            };
-            let outer = if let Some(rest) = place.strip_prefix("start") {
-                at(0.0, rest)
-            } else if let Some(rest) = place.strip_prefix("end") {
-                at(1.0, rest)
-            } else {
-                match place.as_str() {
-                    "nu" => "solver.grid[0]".to_string(),
-                    "nv" => "solver.grid[1]".to_string(),
-                    "nu × nv" => "solver.grid".to_string(),
-                    _ => p.place.clone(),
-                }
-            };
-            match e {
-                Error::Invalid { message, .. } => Error::invalid(message).at(&outer),
-                other => other,
+        .collect();
+    let pick = |u: f64| -> Vec<EdgeFn<'_>> { (0..n).map(|d| &*fns[index(u, d)]).collect() };
+    solve_periodic(&PeriodicProblem {
+        order: n,
+        a,
+        nu,
+        nv,
+        start: pick(0.0),
+        end: pick(1.0),
+        source: None,
+    })
+    .map_err(|e| {
+        let inner = e.place().to_string();
+        let at = |u: f64, rest: &str| {
+            rest.trim_start_matches('[')
+                .trim_end_matches(']')
+                .parse::<usize>()
+                .map(|d| format!("{place}[{}].curve", index(u, d)))
+                .unwrap_or_else(|_| place.to_string())
+        };
+        let outer = if let Some(rest) = inner.strip_prefix("start") {
+            at(0.0, rest)
+        } else if let Some(rest) = inner.strip_prefix("end") {
+            at(1.0, rest)
+        } else {
+            match inner.as_str() {
+                "nu" => "solver.grid[0]".to_string(),
+                "nv" => "solver.grid[1]".to_string(),
+                "nu × nv" => "solver.grid".to_string(),
+                _ => place.to_string(),
             }
-        })?;
-        patches.push(FdPatch {
-            name: p.name,
-            surface,
-        });
-        conditions.push(p.conditions);
-    }
-    Ok(FdDesign {
-        title: spec.title.clone(),
-        patches,
-        conditions,
-        curves,
-        grid: [nu, nv],
-        multi_patch: spec.patches.is_some(),
+        };
+        match e {
+            Error::Invalid { message, .. } => Error::invalid(message).at(&outer),
+            other => other,
+        }
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::{build_design, validate_design};
+    use crate::design::{compile, validate_design, SurfaceKind};
     use crate::spec::parse_design;
-    use crate::surface::Surface;
+
+    /// The finite-difference surface `k` of a compiled design.
+    fn fd_surface(d: &crate::design::CompiledDesign, k: usize) -> &crate::fd::FdSurface {
+        match &d.solved().surfaces[k].kind {
+            SurfaceKind::Fd(s) => s,
+            _ => panic!("surface {k} is not a finite-difference surface"),
+        }
+    }
 
     const CURVES: &str = r#"
 [curves.base]
@@ -253,14 +217,14 @@ sin = [[0, -0.3, 0], [0.1, 0, 0]]
     #[test]
     fn converges_to_the_analytic_surface_at_second_order() {
         for (n, a) in [(1, 1.0), (2, 1.2), (3, 0.8)] {
-            let exact = build_design(&parse_design(&text(n, a, "")).unwrap()).unwrap();
-            let exact = &exact.patches[0].surface;
+            let exact = compile(&parse_design(&text(n, a, "")).unwrap()).unwrap();
+            let exact = exact.solved().surfaces[0].surface();
             let errors: Vec<f64> = [16, 32, 64]
                 .iter()
                 .map(|&k| {
                     let solver = format!("solver = {{ method = \"fd\", grid = [{k}, {}] }}", 2 * k);
-                    let fd = build_fd_design(&parse_design(&text(n, a, &solver)).unwrap()).unwrap();
-                    let s = &fd.patches[0].surface;
+                    let fd = compile(&parse_design(&text(n, a, &solver)).unwrap()).unwrap();
+                    let s = fd_surface(&fd, 0);
                     let mut e: f64 = 0.0;
                     for i in 0..=s.nu() {
                         for j in 0..s.nodes_v() {
@@ -285,9 +249,9 @@ sin = [[0, -0.3, 0], [0.1, 0, 0]]
         let s = parse_design(&text(2, 1.0, "solver = \"fd\"")).unwrap();
         assert_eq!(s.solver.method, SolverMethod::Fd);
         assert_eq!(s.solver.modes, 12);
-        let d = build_fd_design(&s).unwrap();
-        assert_eq!(d.grid, DEFAULT_GRID);
-        assert_eq!(d.patches[0].surface.nu(), 64);
+        let d = compile(&s).unwrap();
+        assert_eq!(d.solved().fd_grid, Some(DEFAULT_GRID));
+        assert_eq!(fd_surface(&d, 0).nu(), 64);
         let s = parse_design(&text(2, 1.0, "solver = \"analytic\"")).unwrap();
         assert_eq!(s.solver.method, SolverMethod::Analytic);
         let e = parse_design(&text(2, 1.0, "solver = \"fem\"")).unwrap_err();
@@ -301,7 +265,7 @@ sin = [[0, -0.3, 0], [0.1, 0, 0]]
         let spec = parse_design(text).unwrap();
         let e = validate_design(&spec).unwrap_err();
         // The same error from the builder.
-        assert_eq!(build_fd_design(&spec).unwrap_err().place(), e.place());
+        assert_eq!(compile(&spec).unwrap_err().place(), e.place());
         e.place().to_string()
     }
 
@@ -359,9 +323,10 @@ sin = [[0, -0.3, 0], [0.1, 0, 0]]
             "conditions = [{ u = 0.0, derivative = 3, curve = \"s0\" }, { u = 1.0, derivative = 3, curve = \"s1\" }, ",
         );
         assert_eq!(place(&conds_of_4), "operator.order");
-        // Not asking for the finite-difference solver.
+        // Without the finite-difference method, the same design is solved analytically.
         let spec = parse_design(&text(2, 1.0, "")).unwrap();
-        assert_eq!(build_fd_design(&spec).unwrap_err().place(), "solver");
+        let d = compile(&spec).unwrap();
+        assert!(matches!(d.solved().surfaces[0].kind, SurfaceKind::Pde(_)));
     }
 
     /// A curve that is not finite somewhere is refused, at the curve (where the curve's own
@@ -373,7 +338,9 @@ sin = [[0, -0.3, 0], [0.1, 0, 0]]
             "[curves.t1]\ntype = \"formula\"\nx = \"1/(v - 0.7853981633974483)\"\ny = \"0\"\nz = \"0\"",
         );
         let spec = parse_design(&t).unwrap();
-        let e = build_fd_design(&spec).unwrap_err();
+        let e = compile(&spec)
+            .and_then(|d| d.solved().meshes(8, 16).map(|_| ()))
+            .unwrap_err();
         assert!(
             e.place().starts_with("conditions[3]") || e.place().starts_with("curves.t1"),
             "{e}"

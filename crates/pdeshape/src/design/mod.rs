@@ -1,24 +1,39 @@
-//! The design layer: a parsed design file ([`crate::spec::DesignSpec`]) planned, validated,
-//! built into curves and conditions, and dispatched to the solver each part asks for.
+//! The design layer: a parsed design file ([`crate::spec::DesignSpec`]) compiled once (planned,
+//! validated, its curves built, every part dispatched to the solver it asks for) into a
+//! [`CompiledDesign`] that holds a [`SolvedDesign`]; edits ([`Edit`]) re-solve only what they
+//! touch.
+//!
+//! ```text
+//! DesignSpec ──compile──▶ CompiledDesign ──solved()──▶ SolvedDesign (named surfaces, curves,
+//!                 ▲             │                      conditions, spines, shared edges)
+//!                 └──── apply(Edit) (re-solves what changed; returns the undo edit)
+//! ```
 
 mod blend;
-mod build;
+mod compile;
+mod curves;
 mod dynamic;
 mod edges;
+mod edit;
 mod fd;
 mod parametric;
+mod solved;
 mod spline;
+mod validate;
 
 pub use blend::{solve_blend, validate_blend};
-pub use build::{
-    build_curves, build_design, check_grid, validate_design, BuiltDesign, ConditionInfo,
-    NamedCurve, SharedEdge, DEFAULT_NU, DEFAULT_NV,
-};
+pub use compile::{compile, solve_design, CompiledDesign};
+pub use curves::build_curves;
 pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTERVALS};
-pub use edges::{edge_mismatch, EdgeReport, Patch};
-pub use fd::{build_fd_design, FdDesign, FdPatch, DEFAULT_GRID};
-pub use parametric::ParametricPatch;
+pub use edges::{edge_mismatch, EdgeReport};
+pub use edit::{Edit, PatchRef};
+pub use fd::DEFAULT_GRID;
+pub use solved::{
+    curve_polyline, grid, ConditionInfo, DesignSurface, NamedCurve, SharedEdge, SolvedDesign,
+    SurfaceKind,
+};
 pub use spline::{build_problem, solve_spec, SolvedSpline};
+pub use validate::{check_grid, validate_design, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]
 mod tests;

@@ -4,13 +4,6 @@ use crate::spec::{DomainSpec, ParametricSpec};
 use crate::surface::{ParametricSurface, VDomain};
 use crate::{Error, Result};
 
-/// A `[[parametric]]` surface of a design, built.
-#[derive(Clone, Debug)]
-pub struct ParametricPatch {
-    pub name: String,
-    pub surface: ParametricSurface,
-}
-
 /// The v domain of a spec, checked. `place` is `parametric[i]`.
 fn domain(p: &ParametricSpec, place: &str) -> Result<VDomain> {
     match p.domain {
@@ -59,19 +52,10 @@ pub(crate) fn validate_parametric(specs: &[ParametricSpec], taken: &[String]) ->
     Ok(())
 }
 
-/// Builds the surfaces (parsing and differentiating the formulas; errors at `parametric[i].x`).
-pub(crate) fn build_parametric(specs: &[ParametricSpec]) -> Result<Vec<ParametricPatch>> {
-    specs
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let place = format!("parametric[{i}]");
-            let d = domain(p, &place)?;
-            let surface = ParametricSurface::new(&p.x, &p.y, &p.z, d).map_err(|e| e.at(&place))?;
-            Ok(ParametricPatch {
-                name: p.name.clone(),
-                surface,
-            })
-        })
-        .collect()
+/// Builds the surface of `parametric[i]` (parsing and differentiating the formulas; errors at
+/// `parametric[i].x`).
+pub(crate) fn build_parametric(p: &ParametricSpec, i: usize) -> Result<ParametricSurface> {
+    let place = format!("parametric[{i}]");
+    let d = domain(p, &place)?;
+    ParametricSurface::new(&p.x, &p.y, &p.z, d).map_err(|e| e.at(&place))
 }

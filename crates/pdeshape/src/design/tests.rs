@@ -555,7 +555,7 @@ fn huge_numbers_are_written_compactly() {
         err_of(&text),
         "conditions[2].u: must lie in [0, 1] (got 1e300)"
     );
-    assert_eq!(build::num(0.25), "0.25");
-    assert_eq!(build::num(-3.0), "-3");
-    assert_eq!(build::num(1e-7), "1e-7");
+    assert_eq!(validate::num(0.25), "0.25");
+    assert_eq!(validate::num(-3.0), "-3");
+    assert_eq!(validate::num(1e-7), "1e-7");
 }

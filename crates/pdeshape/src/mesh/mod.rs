@@ -5,7 +5,7 @@
 
 mod writers;
 
-pub use writers::{write_csv, write_glb, write_obj, write_ply, write_stl, Format};
+pub use writers::{write, write_csv, write_glb, write_obj, write_ply, write_stl, Format};
 
 use crate::surface::{RowBuf, Surface, VDomain};
 use crate::{Error, Result, TAU};

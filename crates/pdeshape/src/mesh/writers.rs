@@ -66,6 +66,20 @@ impl Format {
     }
 }
 
+/// Writes meshes in a mesh format (obj, stl, ply, glb); CSV, which stores full-precision
+/// samples, is written by [`write_csv`].
+pub fn write(format: Format, meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
+    match format {
+        Format::Obj => write_obj(meshes, w),
+        Format::Stl => write_stl(meshes, w),
+        Format::Ply => write_ply(meshes, w),
+        Format::Glb => write_glb(meshes, w),
+        Format::Csv => Err(Error::invalid(
+            "csv stores full-precision samples: write them with write_csv",
+        )),
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Input checks
 // ---------------------------------------------------------------------------------------------

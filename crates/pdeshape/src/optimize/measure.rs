@@ -12,7 +12,7 @@
 //! parametrisation's direction). Patches must be oriented alike (as two patches that continue
 //! one another in `u` with the same `v` are).
 
-use crate::design::BuiltDesign;
+use crate::design::SolvedDesign;
 use crate::surface::{Surface, VDomain};
 use crate::{Error, Result};
 
@@ -93,8 +93,13 @@ fn integrate(s: &dyn Surface, qu: usize, qv: usize) -> [f64; 5] {
 
 /// The integrals of a built design, all patches together, with `qu × qv` nodes per patch (see
 /// the module documentation). A non-finite result is an error.
-pub(crate) fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Totals> {
-    let surfaces: Vec<&dyn Surface> = built.patches.iter().map(|p| &p.surface as _).collect();
+pub(crate) fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Totals> {
+    let surfaces: Vec<&dyn Surface> = built
+        .surfaces
+        .iter()
+        .filter(|s| s.is_patch())
+        .map(|s| s.surface())
+        .collect();
     totals(&surfaces, qu, qv)
 }
 

@@ -4,7 +4,7 @@
 //!
 //! ```text
 //! DesignSpec + [optimize] ──Problem::new──▶ parameters x (bounds), objective, constraints
-//!     x ──Parameters::apply──▶ DesignSpec ──build_design──▶ BuiltDesign ──integrals──▶ f(x)
+//!     x ──Parameters::apply──▶ DesignSpec ──build_design──▶ SolvedDesign ──integrals──▶ f(x)
 //!     anneal::minimize(f) ──▶ best x ──Parameters::apply_to_text──▶ the optimised design file
 //! ```
 //!
@@ -40,7 +40,7 @@ pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
 pub use params::{ParamKind, Parameter, Parameters};
 
 use crate::analysis::{integrate_design, Integrals, Quadrature};
-use crate::design::{build_design, BuiltDesign};
+use crate::design::{solve_design, SolvedDesign};
 use crate::spec::DesignSpec;
 use crate::{Error, Result};
 use exmex::Express;
@@ -78,7 +78,7 @@ pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; 11] {
 /// multiple of 8) and `qv` trapezoid nodes in a periodic `v`, one fixed level
 /// ([`Quadrature::fixed`]): cheap and, for the smooth patches of a search, accurate (see the
 /// tests).
-pub fn measure(built: &BuiltDesign, qu: usize, qv: usize) -> Result<Integrals> {
+pub fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Integrals> {
     let t = integrate_design(built, &Quadrature::fixed(qu, qv))?.total;
     if [t.area, t.volume, t.mean, t.mean_sq, t.gauss]
         .iter()
@@ -321,7 +321,7 @@ impl Problem {
 
     /// Builds the design at `x`, integrates it and evaluates the objective and the penalties.
     pub fn evaluate(&self, x: &[f64]) -> Result<Evaluation> {
-        let built = build_design(&self.design(x))?;
+        let built = solve_design(&self.design(x))?;
         let totals = measure(&built, self.quadrature.0, self.quadrature.1)?;
         Ok(self.evaluate_totals(&totals))
     }

@@ -552,7 +552,7 @@ fn sphere_and_torus_integrals_match_closed_forms() {
 #[test]
 fn vesicle_start_is_closed_smooth_and_converged() {
     let p = problem_of(VESICLE);
-    let built = crate::design::build_design(&p.design(&p.parameters.initial())).unwrap();
+    let built = crate::design::solve_design(&p.design(&p.parameters.initial())).unwrap();
     let fine = measure::measure(&built, 64, 64).unwrap();
     let coarse = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
     // Gauss–Bonnet for a closed smooth genus-0 surface: ∫K dA = 4π (an independent check of
@@ -599,7 +599,7 @@ fn curvature_example_lowers_the_bending_energy_repeatably() {
         .parameters
         .apply_to_text(CURVATURE, &p.base, &one.best.0)
         .unwrap();
-    let built = crate::design::build_design(&parse_design(&text).unwrap()).unwrap();
+    let built = crate::design::solve_design(&parse_design(&text).unwrap()).unwrap();
     let again = measure(&built, p.quadrature.0, p.quadrature.1).unwrap();
     assert!((again.bending_energy() - best).abs() < 1e-9 * best);
     // The search's coarse quadrature (24 × 48 nodes) is accurate enough for the optimum: a fine
@@ -653,13 +653,13 @@ fn interpolate(table: &[(f64, f64)], nu: f64) -> f64 {
 
 /// Extent of a design along z and its largest distance from the z axis, from a 32 × 64 grid.
 fn extents(spec: &DesignSpec) -> (f64, f64) {
-    let built = crate::design::build_design(spec).unwrap();
+    let built = crate::design::solve_design(spec).unwrap();
     let (mut zmin, mut zmax, mut rmax) = (f64::MAX, f64::MIN, 0.0f64);
-    for p in &built.patches {
+    for p in built.surfaces.iter().filter(|s| s.is_patch()) {
         for i in 0..=32 {
             for j in 0..64 {
                 let x = crate::surface::Surface::point(
-                    &p.surface,
+                    p.surface(),
                     i as f64 / 32.0,
                     crate::TAU * j as f64 / 64.0,
                 );
@@ -687,7 +687,7 @@ fn vesicle_at_reduced_volume_0_8_is_prolate_and_not_below_the_minimum() {
     assert!((nu - 0.8).abs() < 2e-3, "nu = {nu}");
     // Closed and smooth: Gauss–Bonnet, with a fine independent rule; the search's coarse rule
     // (24 × 16 nodes) agrees with it to 10⁻⁴ on the energy.
-    let built = crate::design::build_design(&p.design(&out.best.0)).unwrap();
+    let built = crate::design::solve_design(&p.design(&out.best.0)).unwrap();
     let fine = measure::measure(&built, 64, 128).unwrap();
     assert!(
         (fine.gauss - 4.0 * std::f64::consts::PI).abs() < 1e-9,

@@ -8,7 +8,7 @@ use serde::{Deserialize, Deserializer};
 
 /// `[blend]`: a discrete smoothing PDE spline on `[0, 1]²` whose edge `y = 0` joins `start` and
 /// whose edge `y = 1` joins `end`.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BlendSpec {
     /// `[nx, ny]`: elements along the joins (`x`) and across (`y`), default `[8, 4]`.
@@ -81,7 +81,7 @@ fn deserialize_surface<'de, D: Deserializer<'de>>(d: D) -> Result<SurfaceSpec, D
 /// Where the blend meets a primary surface `S`: the blend's edge `x ∈ [0, 1]` runs along the
 /// line from `from` to `to` in `S`'s `(u, v)` parameters, and the blend's cross derivative is
 /// `S`'s derivative along `cross` (pointing out of `S`, the way the blend continues it).
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct JoinSpec {
     /// The primary surface.
@@ -115,10 +115,14 @@ pub enum SurfaceSpec {
         du: [f64; 3],
         dv: [f64; 3],
     },
+    /// A surface of this design by name: a PDE patch (`[[patches]]` name, or the single
+    /// patch's name) or a `[[parametric]]` surface, in its own `(u, v)` parameters.
+    #[serde(rename = "patch")]
+    Patch { name: String },
 }
 
 /// A data point: the site `at` in `[0, 1]²` and the point `value` in space.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
     pub at: [f64; 2],

@@ -25,7 +25,7 @@ impl FormulaText {
 }
 
 /// One component of a general run: Eq. (5) with its end conditions and initial data.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ComponentSpec {
     /// Damping `a(u, t, x)` (default 0).
@@ -72,7 +72,7 @@ pub enum ParamsSpec {
 }
 
 /// The `[dynamic]` section.
-#[derive(Clone, Debug, Default, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicSpec {
     /// Grid intervals `J ≥ 5` (run: required; interpolation: default 200).

@@ -7,7 +7,7 @@ use serde::Deserialize;
 /// A surface `X(u, v) = (x, y, z)` given by three formulas in `u ∈ [0, 1]` and `v`, for shapes
 /// the PDE method cannot produce exactly (a sphere, a cylinder, a torus). Partial derivatives
 /// are symbolic, so analysis and normals are exact.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParametricSpec {
     /// Unique name of the surface (shared with the names of `[[patches]]`).

@@ -6,7 +6,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer};
 
 /// `[spline]`: degrees, knots, the PDE, and the control points the designer fixes.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SplineSpec {
     /// Degrees `[p, q]` in u and v, each 1 to 20.
@@ -56,7 +56,7 @@ pub enum FixSpec {
 }
 
 /// One fixed control point.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FixedPointSpec {
     /// `[i, j]`: `i` along u, `j` along v, from 0.

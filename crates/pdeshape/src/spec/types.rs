@@ -12,7 +12,7 @@ use std::fmt;
 pub type V3 = [f64; 3];
 
 /// A whole design file.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignSpec {
     /// A name for the design (shown by `pdeshape check`).
@@ -194,7 +194,7 @@ pub struct OutputSpec {
 }
 
 /// One patch of a multi-patch design.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PatchSpec {
     /// Unique name of the patch.
@@ -207,7 +207,7 @@ pub struct PatchSpec {
 }
 
 /// `∂ᵈX/∂uᵈ (u, v) = curve(v)` for all v.
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ConditionSpec {
     /// Where the condition holds, `0 ≤ u ≤ 1`.
@@ -220,7 +220,7 @@ pub struct ConditionSpec {
 }
 
 /// A curve given by name or inline.
-#[derive(Clone, Debug, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, JsonSchema)]
 #[serde(untagged)]
 pub enum CurveRef {
     /// The name of a curve in `[curves]`.
@@ -250,7 +250,7 @@ impl<'de> Deserialize<'de> for CurveRef {
 }
 
 /// A curve: its kind and the modifiers every kind accepts.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CurveSpec {
     pub kind: CurveKind,
     /// Affine maps applied in order (§6.1).
@@ -425,7 +425,7 @@ impl JsonSchema for CurveSpec {
 
 /// The curve kinds, chosen by `type`. (Serde reads the externally tagged form that
 /// `CurveSpec`'s deserializer builds from `type`; the schema shows the file's form.)
-#[derive(Clone, Debug, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "type")]
 pub enum CurveKind {

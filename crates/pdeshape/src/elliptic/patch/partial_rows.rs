@@ -235,7 +235,7 @@ impl PdePartialRows<'_> {
 
 #[cfg(test)]
 mod tests {
-    use crate::design::build_design;
+    use crate::design::solve_design;
     use crate::spec::parse_design;
     use crate::surface::{Partials, Surface};
     use crate::TAU;
@@ -270,8 +270,8 @@ modes = 6
 "#;
         for remainder in [true, false] {
             let t = text.replace("modes = 6", &format!("modes = 6\nremainder = {remainder}"));
-            let d = build_design(&parse_design(&t).unwrap()).unwrap();
-            let p = &d.patches[0].surface;
+            let d = solve_design(&parse_design(&t).unwrap()).unwrap();
+            let p = d.surfaces[0].pde().unwrap();
             assert_eq!(p.has_remainder(), remainder);
             // Offset 0: the standard grid (the symmetric path for even nv); 0.3: the general one.
             for (nv, offset) in [

@@ -1,82 +1,25 @@
-//! Validation of a [`DesignSpec`] and construction of the library objects from it.
+//! Validation of a [`DesignSpec`] without building anything: numbers finite and in range, curve
+//! references known and acyclic, operators, condition counts and orders, solver options, the
+//! output grid; and the plan of a design's PDE patches.
 
-use super::edges::{edge_mismatch, EdgeReport, Patch};
-use crate::curve::Affine;
-use crate::curve::{
-    ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
-    OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
-};
-use crate::elliptic::{self, Condition, Operator, SolveOptions};
+use crate::elliptic::{Operator, SolveOptions};
 #[cfg(doc)]
 use crate::mesh::grid_parameters;
 use crate::mesh::MAX_VERTICES;
 use crate::spec::*;
 use crate::{Error, Result, Vec3};
 use std::collections::{BTreeMap, HashMap};
-use std::sync::Arc;
 
-/// Default grid rows when neither the command line nor `[output]` gives `nu`.
+/// Default grid rows when neither the caller nor `[output]` gives `nu`.
 pub const DEFAULT_NU: usize = 64;
-/// Default grid columns when neither the command line nor `[output]` gives `nv`.
+/// Default grid columns when neither the caller nor `[output]` gives `nv`.
 pub const DEFAULT_NV: usize = 128;
 /// Most Fourier modes the design file may ask for.
 const MAX_MODES: usize = 256;
 /// Most FFT samples per curve the design file may ask for.
 const MAX_SAMPLES: usize = 1 << 16;
-/// Samples of `v` used to measure the mismatch along shared edges.
-const EDGE_SAMPLES: usize = 512;
 
-/// A named curve of the design, built.
-#[derive(Clone, Debug)]
-pub struct NamedCurve {
-    pub name: String,
-    /// The curve kind as written in the file (`circle`, `bspline`, …).
-    pub kind: &'static str,
-    pub curve: SharedCurve,
-}
-
-/// One condition of a patch as the design file gave it.
-#[derive(Clone, Debug)]
-pub struct ConditionInfo {
-    pub u: f64,
-    pub derivative: usize,
-    /// The curve's name, `None` for an inline curve table.
-    pub curve_name: Option<String>,
-    /// The curve kind (`circle`, `derivative`, …).
-    pub kind: &'static str,
-    pub curve: SharedCurve,
-}
-
-/// An edge shared by two patches: the same named curve is a position condition of both.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SharedEdge {
-    /// The shared curve's name.
-    pub curve: String,
-    /// Patch indices, the edge's `u` on each, and the G0/G1 mismatch.
-    pub report: EdgeReport,
-}
-
-/// A design with every patch solved.
-#[derive(Debug)]
-pub struct BuiltDesign {
-    pub title: Option<String>,
-    /// The patches (one, named after the title or `surface`, for a single-patch design).
-    pub patches: Vec<Patch>,
-    /// `conditions[i]` are the conditions of `patches[i]`, in file order.
-    pub conditions: Vec<Vec<ConditionInfo>>,
-    /// The named curves, sorted by name.
-    pub curves: Vec<NamedCurve>,
-    /// Edges shared between patches with their G0/G1 mismatch.
-    pub edges: Vec<SharedEdge>,
-    /// The solver options used.
-    pub options: SolveOptions,
-    /// The design used `[[patches]]`.
-    pub multi_patch: bool,
-    /// The `[[parametric]]` surfaces, in file order.
-    pub parametric: Vec<super::parametric::ParametricPatch>,
-}
-
-fn curve_place(name: &str) -> String {
+pub(crate) fn curve_place(name: &str) -> String {
     format!("curves.{}", key_path(name))
 }
 
@@ -148,7 +91,7 @@ pub(crate) fn kind_name(kind: &CurveKind) -> &'static str {
 }
 
 /// Checks an operator's parameters and builds it. `place` is where it came from (`operator`).
-fn build_operator(spec: &OperatorSpec, place: &str) -> Result<Operator> {
+pub(crate) fn build_operator(spec: &OperatorSpec, place: &str) -> Result<Operator> {
     check_operator_values(spec, place)?;
     match spec {
         OperatorSpec::Polyharmonic { order, a } => Operator::polyharmonic(*order, *a),
@@ -159,7 +102,7 @@ fn build_operator(spec: &OperatorSpec, place: &str) -> Result<Operator> {
 }
 
 /// The half order `N` of an operator spec (checked later by [`build_operator`]).
-fn half_order(spec: &OperatorSpec) -> usize {
+pub(crate) fn half_order(spec: &OperatorSpec) -> usize {
     match spec {
         OperatorSpec::Polyharmonic { order, .. } => *order,
         OperatorSpec::SixthOrder { .. } => 3,
@@ -167,7 +110,7 @@ fn half_order(spec: &OperatorSpec) -> usize {
     }
 }
 
-fn check_solver(s: &SolverSpec) -> Result<SolveOptions> {
+pub(crate) fn check_solver(s: &SolverSpec) -> Result<SolveOptions> {
     if !(1..=MAX_MODES).contains(&s.modes) {
         return Err(Error::invalid(format!(
             "must be between 1 and {MAX_MODES} (got {})",
@@ -222,7 +165,7 @@ pub(crate) fn output_grid(o: &OutputSpec) -> Result<(usize, usize)> {
 }
 
 /// Checks the numbers of one curve table (everything that does not need the curve built).
-fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
+pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
     let at = |e: Error| e.at(place);
     match &c.kind {
         CurveKind::Circle {
@@ -441,7 +384,7 @@ fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
 }
 
 /// Names of the curves a curve refers to, with the place of each reference.
-fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)>) {
+pub(crate) fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)>) {
     if let CurveKind::Derivative {
         position,
         direction,
@@ -457,7 +400,11 @@ fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)
     }
 }
 
-fn unknown_curve(name: &str, curves: &BTreeMap<String, CurveSpec>, place: &str) -> Error {
+pub(crate) fn unknown_curve(
+    name: &str,
+    curves: &BTreeMap<String, CurveSpec>,
+    place: &str,
+) -> Error {
     let known: Vec<&str> = curves.keys().map(String::as_str).collect();
     let known = if known.is_empty() {
         "no curves are defined".to_string()
@@ -642,15 +589,17 @@ fn operator_words(spec: &OperatorSpec) -> String {
 }
 
 /// One patch after validation, before solving.
-struct PatchPlan<'a> {
-    name: String,
-    place: String,
-    operator: &'a OperatorSpec,
-    operator_place: String,
-    conditions: &'a [ConditionSpec],
+pub(crate) struct PatchPlan<'a> {
+    pub name: String,
+    /// Where the conditions are: `conditions` or `patches[i].conditions`.
+    pub place: String,
+    pub operator: &'a OperatorSpec,
+    pub operator_place: String,
+    pub conditions: &'a [ConditionSpec],
 }
 
-fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
+/// The PDE patches of a design (none for a design of other parts only).
+pub(crate) fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
     static DEFAULT_OP: OperatorSpec = OperatorSpec::Polyharmonic { order: 2, a: 1.0 };
     let top_op = spec.operator.as_ref().unwrap_or(&DEFAULT_OP);
     match (&spec.conditions, &spec.patches) {
@@ -658,19 +607,14 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             "a design has either top-level conditions (one patch) or [[patches]], not both",
         )
         .at("conditions")),
-        (None, None) if !spec.parametric.is_empty() => Ok(Vec::new()),
-        (None, None) if spec.dynamic.is_some() => Err(Error::invalid(
-            "this is a curve design ([dynamic] without conditions or patches): run `pdeshape curve` on it",
-        )
-        .at("dynamic")),
-        (None, None) if spec.blend.is_some() => Err(Error::invalid(
-            "this is a blend design ([blend] without conditions or patches): \
-             solve it with `pdeshape blend`",
-        )
-        .at("blend")),
-        (None, None) if spec.spline.is_some() => Err(Error::invalid(
-            "the design has a [spline] section and no PDE conditions: solve it with `pdeshape spline`",
-        )),
+        (None, None)
+            if !spec.parametric.is_empty()
+                || spec.dynamic.is_some()
+                || spec.blend.is_some()
+                || spec.spline.is_some() =>
+        {
+            Ok(Vec::new())
+        }
         (None, None) => Err(Error::invalid(
             "the design has no conditions: give `conditions = [...]` or [[patches]]",
         )),
@@ -719,32 +663,27 @@ fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
 /// Validates a design without building any curve or solving anything: numbers finite and in
 /// range, curve references known and acyclic, the operator's parameters, condition counts (`2N`),
 /// `u ∈ [0, 1]`, derivative orders `< 2N`, no two conditions of the same order at the same `u`,
-/// condition curves periodic, solver options and the `[output]` grid; and the `[dynamic]` section
-/// if there is one (a design with `[dynamic]` and no conditions is a valid curve design, which
-/// [`build_design`] refuses with a message pointing to `pdeshape curve`).
+/// condition curves periodic, solver options and the `[output]` grid; and the `[dynamic]` and
+/// `[blend]` sections if there are any.
 pub fn validate_design(spec: &DesignSpec) -> Result<()> {
+    if let Some(d) = &spec.dynamic {
+        super::dynamic::build_dynamic(d)?;
+    }
+    if let Some(blend) = &spec.blend {
+        super::blend::validate_blend(blend)?;
+    }
+    validate_patches(spec)
+}
+
+/// [`validate_design`] but for the `[dynamic]` and `[blend]` sections, which
+/// [`super::compile`] checks as it builds them.
+pub(crate) fn validate_patches(spec: &DesignSpec) -> Result<()> {
     check_solver(&spec.solver)?;
     output_grid(&spec.output)?;
     for (name, c) in &spec.curves {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
-    let no_patches =
-        spec.conditions.is_none() && spec.patches.is_none() && spec.parametric.is_empty();
-    if let Some(d) = &spec.dynamic {
-        super::dynamic::build_dynamic(d)?;
-        if no_patches {
-            // A curve design (`pdeshape curve`): nothing else to check.
-            return Ok(());
-        }
-    }
-    if let Some(blend) = &spec.blend {
-        super::blend::validate_blend(blend)?;
-        if no_patches {
-            // A blend design: no analytic patches to check (`pdeshape blend` solves it).
-            return Ok(());
-        }
-    }
     let plans = plan(spec)?;
     let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
     super::parametric::validate_parametric(&spec.parametric, &names)?;
@@ -794,343 +733,6 @@ fn check_operator_values(spec: &OperatorSpec, place: &str) -> Result<()> {
             Ok(())
         }
     }
-}
-
-/// Builds curves by name, each once, following references.
-struct CurveBuilder<'a> {
-    specs: &'a BTreeMap<String, CurveSpec>,
-    built: HashMap<String, SharedCurve>,
-}
-
-impl CurveBuilder<'_> {
-    fn named(&mut self, name: &str, place: &str) -> Result<SharedCurve> {
-        if let Some(c) = self.built.get(name) {
-            return Ok(c.clone());
-        }
-        let Some(spec) = self.specs.get(name) else {
-            return Err(unknown_curve(name, self.specs, place));
-        };
-        let c = self.build(spec, &curve_place(name))?;
-        self.built.insert(name.to_string(), c.clone());
-        Ok(c)
-    }
-
-    fn reference(&mut self, r: &CurveRef, place: &str) -> Result<SharedCurve> {
-        match r {
-            CurveRef::Name(n) => self.named(n, place),
-            CurveRef::Inline(spec) => self.build(spec, place),
-        }
-    }
-
-    /// Builds one curve: its kind, then arc length, `v_origin`, and the transforms in order.
-    fn build(&mut self, spec: &CurveSpec, place: &str) -> Result<SharedCurve> {
-        check_curve(spec, place)?;
-        let at = |e: Error| e.at(place);
-        let v3 = |v: &V3| Vec3::new(v[0], v[1], v[2]);
-        let pts = |v: &[V3]| v.iter().map(v3).collect::<Vec<_>>();
-        let mut curve: SharedCurve = match &spec.kind {
-            CurveKind::Circle {
-                center,
-                radius,
-                normal,
-            } => Arc::new(Ellipse::circle(v3(center), *radius, v3(normal)).map_err(at)?),
-            CurveKind::Ellipse {
-                center,
-                axis1,
-                axis2,
-                rx,
-                ry,
-                normal,
-            } => Arc::new(
-                match (axis1, axis2, rx, ry) {
-                    (Some(a1), Some(a2), _, _) => Ellipse::new(v3(center), v3(a1), v3(a2)),
-                    (_, _, Some(rx), Some(ry)) => Ellipse::with_radii(
-                        v3(center),
-                        *rx,
-                        *ry,
-                        normal.as_ref().map_or(Vec3::z(), v3),
-                    ),
-                    _ => Err(Error::invalid("give either axis1 and axis2, or rx and ry")),
-                }
-                .map_err(at)?,
-            ),
-            CurveKind::Point { at: p } => Arc::new(Point::new(v3(p))),
-            CurveKind::BSpline {
-                degree,
-                control,
-                knots,
-                periodic,
-            } => Arc::new(
-                if *periodic {
-                    BSpline::periodic(*degree, pts(control), knots.clone())
-                } else {
-                    BSpline::clamped(*degree, pts(control), knots.clone())
-                }
-                .map_err(at)?,
-            ),
-            CurveKind::Bezier { control } => Arc::new(Bezier::new(pts(control)).map_err(at)?),
-            CurveKind::Hermite { p0, p1, d0, d1 } => {
-                Arc::new(Hermite::new(v3(p0), v3(p1), v3(d0), v3(d1)))
-            }
-            CurveKind::Fourier { a0, cos, sin } => {
-                // The shorter of `cos` and `sin` is padded with zeros.
-                let m = cos.len().max(sin.len());
-                let pad = |v: &[V3]| {
-                    let mut out = pts(v);
-                    out.resize(m, Vec3::zeros());
-                    out
-                };
-                Arc::new(FourierSeries {
-                    a0: v3(a0),
-                    cos: pad(cos),
-                    sin: pad(sin),
-                })
-            }
-            CurveKind::Samples { points, param } => {
-                let param = match param {
-                    ParamSpec::Uniform => SampleParam::Uniform,
-                    ParamSpec::Chord => SampleParam::Chord,
-                    ParamSpec::Centripetal => SampleParam::Centripetal,
-                };
-                Arc::new(PointSamples::closed(pts(points), param).map_err(at)?)
-            }
-            CurveKind::Formula { x, y, z, domain } => {
-                let domain = match domain {
-                    DomainSpec::Periodic => Domain::Periodic,
-                    DomainSpec::Interval([t0, t1]) => Domain::Interval(*t0, *t1),
-                };
-                Arc::new(Formula::new(x, y, z, domain).map_err(at)?)
-            }
-            CurveKind::Derivative {
-                position,
-                direction,
-                scale,
-            } => {
-                let p = self.reference(position, &format!("{place}.position"))?;
-                let d = self.reference(direction, &format!("{place}.direction"))?;
-                if p.domain() != d.domain() {
-                    return Err(Error::invalid(format!(
-                        "position and direction curves have different domains ({:?} and {:?})",
-                        p.domain(),
-                        d.domain()
-                    ))
-                    .at(place));
-                }
-                // X_u = s (d − p): points from the position curve towards the direction curve.
-                Arc::new(Combination::new(vec![(*scale, d), (-*scale, p)]).map_err(at)?)
-            }
-        };
-        if spec.arc_length {
-            curve =
-                Arc::new(ArcLength::new(curve).map_err(|e| e.at(&format!("{place}.arc_length")))?);
-        }
-        if spec.v_origin != 0.0 {
-            curve = Arc::new(
-                OriginShift::new(curve, spec.v_origin)
-                    .map_err(|e| e.at(&format!("{place}.v_origin")))?,
-            );
-        }
-        if !spec.transform.is_empty() {
-            let mut map = Affine::identity();
-            for (i, step) in spec.transform.iter().enumerate() {
-                let p = format!("{place}.transform[{i}]");
-                let next = match step {
-                    TransformStep::Translate(d) => Affine::translation(v3(d)),
-                    TransformStep::Rotate { axis, angle, about } => {
-                        Affine::rotation(v3(axis), angle.to_radians(), v3(about))
-                            .map_err(|e| e.at(&format!("{p}.rotate")))?
-                    }
-                    TransformStep::Scale { factor, about } => {
-                        Affine::scaling(*factor, v3(about))
-                            .map_err(|e| e.at(&format!("{p}.scale")))?
-                    }
-                    TransformStep::Dilate { factors, about } => {
-                        Affine::dilation(v3(factors), v3(about))
-                            .map_err(|e| e.at(&format!("{p}.dilate")))?
-                    }
-                };
-                map = map.then(&next);
-            }
-            curve = Arc::new(Transformed::new(curve, map));
-        }
-        Ok(curve)
-    }
-}
-
-fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCurve>> {
-    let specs = builder.specs;
-    let mut curves = Vec::new();
-    for (name, c) in specs {
-        let curve = builder.named(name, &curve_place(name))?;
-        curves.push(NamedCurve {
-            name: name.clone(),
-            kind: kind_name(&c.kind),
-            curve,
-        });
-    }
-    Ok(curves)
-}
-
-/// Validates the design and builds its named curves (sorted by name), without solving: what a
-/// viewer needs to draw the design's curves.
-pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
-    validate_design(spec)?;
-    named_curves(&mut CurveBuilder {
-        specs: &spec.curves,
-        built: HashMap::new(),
-    })
-}
-
-/// Validates the design ([`validate_design`]), builds its curves (errors at `curves.<name>` or
-/// `conditions[i].curve`), its operators and conditions, solves every patch with
-/// [`elliptic::solve`], and measures the G0/G1 mismatch ([`edge_mismatch`]) of every shared edge:
-/// a named curve that is a position condition of two patches.
-pub fn build_design(spec: &DesignSpec) -> Result<BuiltDesign> {
-    validate_design(spec)?;
-    let options = check_solver(&spec.solver)?;
-    let mut builder = CurveBuilder {
-        specs: &spec.curves,
-        built: HashMap::new(),
-    };
-    let curves = named_curves(&mut builder)?;
-    let plans = plan(spec)?;
-    let mut patches = Vec::new();
-    let mut all_conditions = Vec::new();
-    for p in &plans {
-        let op = build_operator(p.operator, &p.operator_place)?;
-        let mut infos = Vec::new();
-        for (i, c) in p.conditions.iter().enumerate() {
-            let place = format!("{}[{i}].curve", p.place);
-            let curve = builder.reference(&c.curve, &place)?;
-            let (curve_name, kind) = match &c.curve {
-                CurveRef::Name(n) => (
-                    Some(n.clone()),
-                    spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
-                ),
-                CurveRef::Inline(s) => (None, kind_name(&s.kind)),
-            };
-            infos.push(ConditionInfo {
-                u: c.u,
-                derivative: c.derivative,
-                curve_name,
-                kind,
-                curve,
-            });
-        }
-        let conds = infos
-            .iter()
-            .map(|c| Condition {
-                u: c.u,
-                derivative: c.derivative,
-                curve: c.curve.clone(),
-            })
-            .collect();
-        let surface = elliptic::solve(&op, conds, &options).map_err(|e| e.at(&p.place))?;
-        patches.push(Patch {
-            name: p.name.clone(),
-            surface,
-        });
-        all_conditions.push(infos);
-    }
-    let edges = shared_edges(&patches, &all_conditions);
-    let parametric = super::parametric::build_parametric(&spec.parametric)?;
-    Ok(BuiltDesign {
-        title: spec.title.clone(),
-        patches,
-        conditions: all_conditions,
-        curves,
-        edges,
-        options,
-        multi_patch: spec.patches.is_some(),
-        parametric,
-    })
-}
-
-/// Every pair of patches that share a named position curve, with the G0/G1 mismatch there.
-fn shared_edges(patches: &[Patch], conditions: &[Vec<ConditionInfo>]) -> Vec<SharedEdge> {
-    let mut edges = Vec::new();
-    for a in 0..patches.len() {
-        for b in a + 1..patches.len() {
-            for ca in conditions[a].iter().filter(|c| c.derivative == 0) {
-                for cb in conditions[b].iter().filter(|c| c.derivative == 0) {
-                    let (Some(na), Some(nb)) = (&ca.curve_name, &cb.curve_name) else {
-                        continue;
-                    };
-                    if na != nb {
-                        continue;
-                    }
-                    let (g0, g1) = edge_mismatch(
-                        &patches[a].surface,
-                        ca.u,
-                        &patches[b].surface,
-                        cb.u,
-                        EDGE_SAMPLES,
-                    );
-                    edges.push(SharedEdge {
-                        curve: na.clone(),
-                        report: EdgeReport {
-                            a,
-                            ua: ca.u,
-                            b,
-                            ub: cb.u,
-                            g0,
-                            g1,
-                        },
-                    });
-                }
-            }
-        }
-    }
-    edges
-}
-
-/// One patch of a design with its conditions built, not solved (for solvers other than the
-/// analytic one).
-pub(crate) struct PlannedPatch {
-    pub name: String,
-    /// Where its conditions are (`conditions` or `patches[i].conditions`).
-    pub place: String,
-    pub operator: OperatorSpec,
-    pub conditions: Vec<ConditionInfo>,
-}
-
-/// Validates the design and builds the curves and conditions of every patch without solving.
-pub(crate) fn planned_patches(spec: &DesignSpec) -> Result<(Vec<NamedCurve>, Vec<PlannedPatch>)> {
-    validate_design(spec)?;
-    let mut builder = CurveBuilder {
-        specs: &spec.curves,
-        built: HashMap::new(),
-    };
-    let curves = named_curves(&mut builder)?;
-    let mut out = Vec::new();
-    for p in plan(spec)? {
-        let mut conditions = Vec::new();
-        for (i, c) in p.conditions.iter().enumerate() {
-            let place = format!("{}[{i}].curve", p.place);
-            let curve = builder.reference(&c.curve, &place)?;
-            let (curve_name, kind) = match &c.curve {
-                CurveRef::Name(n) => (
-                    Some(n.clone()),
-                    spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
-                ),
-                CurveRef::Inline(s) => (None, kind_name(&s.kind)),
-            };
-            conditions.push(ConditionInfo {
-                u: c.u,
-                derivative: c.derivative,
-                curve_name,
-                kind,
-                curve,
-            });
-        }
-        out.push(PlannedPatch {
-            name: p.name,
-            place: p.place,
-            operator: p.operator.clone(),
-            conditions,
-        });
-    }
-    Ok((curves, out))
 }
 
 /// A patch as `(conditions place, operator place, operator, conditions)`.

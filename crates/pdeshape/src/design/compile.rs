@@ -1,0 +1,372 @@
+//! Compiling a design: plan, validate once, build curves, dispatch every part to its solver,
+//! and collect a [`SolvedDesign`]. A [`CompiledDesign`] keeps what it built, so compiling an
+//! edited design re-solves only the parts whose inputs changed; everything else is reused as
+//! the very object an earlier compile made, so the result is the same, bit for bit, as
+//! compiling the edited design from scratch.
+
+use super::blend::solve_blend_with;
+use super::curves::{curve_id, named_curves, CurveBuilder, CurveCache};
+use super::dynamic::build_dynamic;
+use super::edit::Edit;
+use super::parametric::build_parametric;
+use super::solved::{ConditionInfo, DesignSurface, SolvedDesign, SurfaceKind};
+use super::spline::solve_spec;
+use super::validate::{build_operator, check_solver, kind_name, plan, validate_patches};
+use crate::elliptic::{self, Condition, SolveOptions};
+use crate::mesh::GridMesh;
+use crate::spec::{
+    BlendSpec, CurveRef, DesignSpec, OperatorSpec, ParametricSpec, SolverMethod, SplineSpec,
+};
+use crate::{Error, Result};
+use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
+
+/// What a PDE patch's solution depends on: equal keys give equal surfaces.
+#[derive(Clone, Debug, PartialEq)]
+struct PatchKey {
+    operator: OperatorSpec,
+    method: SolverMethod,
+    options: SolveOptions,
+    fd_grid: Option<[usize; 2]>,
+    /// `(u, derivative order, curve identity)` of every condition, in order.
+    conditions: Vec<(u64, usize, usize)>,
+}
+
+/// A solved PDE patch with the key it was solved from. (The solved design's conditions keep the
+/// key's curves alive, so a curve identity cannot be taken by another curve while the patch is
+/// cached.)
+#[derive(Clone)]
+struct CachedPatch {
+    key: PatchKey,
+    kind: SurfaceKind,
+}
+
+/// A PDE patch of the design with its conditions built, before solving.
+struct Planned {
+    name: String,
+    /// Where its conditions are: `conditions` or `patches[i].conditions`.
+    place: String,
+    operator: OperatorSpec,
+    operator_place: String,
+    conditions: Vec<ConditionInfo>,
+    key: PatchKey,
+}
+
+/// The meshes of the last tessellation and the surfaces they were made from.
+#[derive(Default)]
+struct MeshCache {
+    sources: Vec<SurfaceKind>,
+    meshes: Vec<GridMesh>,
+}
+
+/// A design compiled and solved, ready to be edited and re-solved incrementally.
+pub struct CompiledDesign {
+    spec: DesignSpec,
+    solved: SolvedDesign,
+    curves: CurveCache,
+    patches: Vec<CachedPatch>,
+    parametric: Vec<(ParametricSpec, Arc<crate::surface::ParametricSurface>)>,
+    blend: Option<(BlendSpec, Vec<usize>, SurfaceKind)>,
+    spline: Option<(SplineSpec, SurfaceKind)>,
+    meshes: MeshCache,
+}
+
+impl std::fmt::Debug for CompiledDesign {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CompiledDesign")
+            .field("solved", &self.solved)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Compiles and solves a design: validates it once, builds its curves, solves every PDE patch
+/// with the solver the design asks for (analytic or finite differences), builds its
+/// `[[parametric]]` surfaces, solves its `[blend]` and `[spline]` sections and builds its
+/// `[dynamic]` curve. Errors name their place in the design file.
+pub fn compile(spec: &DesignSpec) -> Result<CompiledDesign> {
+    let mut d = CompiledDesign {
+        spec: spec.clone(),
+        solved: SolvedDesign::empty(),
+        curves: CurveCache::default(),
+        patches: Vec::new(),
+        parametric: Vec::new(),
+        blend: None,
+        spline: None,
+        meshes: MeshCache::default(),
+    };
+    d.rebuild(spec.clone())?;
+    Ok(d)
+}
+
+/// [`compile`], keeping only the solved design.
+pub fn solve_design(spec: &DesignSpec) -> Result<SolvedDesign> {
+    compile(spec).map(CompiledDesign::into_solved)
+}
+
+impl CompiledDesign {
+    /// The design as it stands (after every applied edit).
+    pub fn spec(&self) -> &DesignSpec {
+        &self.spec
+    }
+
+    /// The solved design.
+    pub fn solved(&self) -> &SolvedDesign {
+        &self.solved
+    }
+
+    /// The solved design, without the caches.
+    pub fn into_solved(self) -> SolvedDesign {
+        self.solved
+    }
+
+    /// Replaces the design by `spec` and re-solves what changed. On an error the compiled
+    /// design is left as it was.
+    pub fn set_spec(&mut self, spec: DesignSpec) -> Result<()> {
+        self.rebuild(spec)
+    }
+
+    /// Applies an edit and re-solves what it touched; returns the edit that undoes it. On an
+    /// error (an edit that does not apply, or a design that no longer solves) nothing changes.
+    pub fn apply(&mut self, edit: &Edit) -> Result<Edit> {
+        let mut spec = self.spec.clone();
+        let undo = edit.apply(&mut spec)?;
+        self.rebuild(spec)?;
+        Ok(undo)
+    }
+
+    /// The meshes of every surface on an `nu × nv` grid, re-tessellating into the previous
+    /// meshes only the surfaces that changed since the last call (or all, for another grid).
+    pub fn meshes(&mut self, nu: usize, nv: usize) -> Result<&[GridMesh]> {
+        let sources = &self.meshes.sources;
+        let surfaces = &self.solved.surfaces;
+        let fresh = |k: usize| {
+            sources
+                .get(k)
+                .is_none_or(|s| s.id() != surfaces[k].kind.id())
+        };
+        let result = self
+            .solved
+            .meshes_into(nu, nv, &mut self.meshes.meshes, fresh);
+        if let Err(e) = result {
+            // Meshes half rewritten: forget them.
+            self.meshes = MeshCache::default();
+            return Err(e);
+        }
+        self.meshes.sources = surfaces.iter().map(|s| s.kind.clone()).collect();
+        Ok(&self.meshes.meshes)
+    }
+
+    /// Builds and solves `spec`, reusing what the caches hold; swaps everything in only when
+    /// all of it succeeded.
+    fn rebuild(&mut self, spec: DesignSpec) -> Result<()> {
+        validate_patches(&spec)?;
+        let options = check_solver(&spec.solver)?;
+        let method = spec.solver.method;
+        let fd_grid = (method == SolverMethod::Fd)
+            .then(|| spec.solver.grid.unwrap_or(super::fd::DEFAULT_GRID));
+        let mut builder = CurveBuilder::new(&spec.curves, &self.curves);
+        let curves = named_curves(&mut builder)?;
+
+        // PDE patches: conditions built, then every patch whose key is new solved (in
+        // parallel; each solve is deterministic, so the order does not matter).
+        let mut planned = Vec::new();
+        for p in plan(&spec)? {
+            let mut conditions = Vec::with_capacity(p.conditions.len());
+            for (i, c) in p.conditions.iter().enumerate() {
+                let place = format!("{}[{i}].curve", p.place);
+                let curve = builder.reference(&c.curve, &place)?;
+                let (curve_name, kind) = match &c.curve {
+                    CurveRef::Name(n) => (
+                        Some(n.clone()),
+                        spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
+                    ),
+                    CurveRef::Inline(s) => (None, kind_name(&s.kind)),
+                };
+                conditions.push(ConditionInfo {
+                    u: c.u,
+                    derivative: c.derivative,
+                    curve_name,
+                    kind,
+                    curve,
+                });
+            }
+            let key = PatchKey {
+                operator: p.operator.clone(),
+                method,
+                options: options.clone(),
+                fd_grid,
+                conditions: conditions
+                    .iter()
+                    .map(|c| (c.u.to_bits(), c.derivative, curve_id(&c.curve)))
+                    .collect(),
+            };
+            planned.push(Planned {
+                name: p.name,
+                place: p.place,
+                operator: p.operator.clone(),
+                operator_place: p.operator_place,
+                conditions,
+                key,
+            });
+        }
+        let curve_cache = builder.into_cache();
+        let solved: Vec<Result<SurfaceKind>> = planned
+            .par_iter()
+            .map(|p| {
+                if let Some(c) = self.patches.iter().find(|c| c.key == p.key) {
+                    return Ok(c.kind.clone());
+                }
+                solve_patch(p, &p.key)
+            })
+            .collect();
+        let mut surfaces = Vec::new();
+        let mut patches = Vec::new();
+        for (p, kind) in planned.into_iter().zip(solved) {
+            let kind = kind?;
+            patches.push(CachedPatch {
+                key: p.key,
+                kind: kind.clone(),
+            });
+            let place = match p.place.strip_suffix(".conditions") {
+                Some(patch) => patch.to_string(),
+                None => p.place,
+            };
+            surfaces.push(DesignSurface {
+                name: p.name,
+                place,
+                kind,
+                operator: Some(p.operator),
+                conditions: p.conditions,
+            });
+        }
+
+        // [[parametric]]: rebuilt only if the table changed.
+        let mut parametric = Vec::with_capacity(spec.parametric.len());
+        for (i, p) in spec.parametric.iter().enumerate() {
+            let surface = match self.parametric.iter().find(|(s, _)| s == p) {
+                Some((_, built)) => built.clone(),
+                None => Arc::new(build_parametric(p, i)?),
+            };
+            surfaces.push(DesignSurface {
+                name: p.name.clone(),
+                place: format!("parametric[{i}]"),
+                kind: SurfaceKind::Parametric(surface.clone()),
+                operator: None,
+                conditions: Vec::new(),
+            });
+            parametric.push((p.clone(), surface));
+        }
+
+        // [blend]: its primary surfaces may be surfaces of this design.
+        let blend = match &spec.blend {
+            None => None,
+            Some(b) => {
+                let (kind, sources) = {
+                    let by_name = |name: &str| {
+                        surfaces
+                            .iter()
+                            .find(|s| s.name == name)
+                            .map(|s| (s.kind.id(), s.kind.surface()))
+                    };
+                    let ids = super::blend::design_sources(b, &by_name)?;
+                    match &self.blend {
+                        Some((old, old_ids, kind)) if old == b && *old_ids == ids => {
+                            (kind.clone(), ids)
+                        }
+                        _ => (
+                            SurfaceKind::Blend(Arc::new(solve_blend_with(b, &by_name)?)),
+                            ids,
+                        ),
+                    }
+                };
+                surfaces.push(DesignSurface {
+                    name: "blend".to_string(),
+                    place: "blend".to_string(),
+                    kind: kind.clone(),
+                    operator: None,
+                    conditions: Vec::new(),
+                });
+                Some((b.clone(), sources, kind))
+            }
+        };
+
+        // [spline].
+        let spline = match &spec.spline {
+            None => None,
+            Some(s) => {
+                let kind = match &self.spline {
+                    Some((old, kind)) if old == s => kind.clone(),
+                    _ => {
+                        let solved = solve_spec(s)?;
+                        let net = solved.to_f64();
+                        SurfaceKind::Spline(Arc::new(solved), Arc::new(net))
+                    }
+                };
+                surfaces.push(DesignSurface {
+                    name: "spline".to_string(),
+                    place: "spline".to_string(),
+                    kind: kind.clone(),
+                    operator: None,
+                    conditions: Vec::new(),
+                });
+                Some((s.clone(), kind))
+            }
+        };
+
+        let dynamic = spec.dynamic.as_ref().map(build_dynamic).transpose()?;
+        if surfaces.is_empty() && dynamic.is_none() {
+            return Err(Error::invalid(
+                "the design has no conditions: give `conditions = [...]` or [[patches]]",
+            ));
+        }
+
+        self.solved = SolvedDesign {
+            title: spec.title.clone(),
+            surfaces,
+            curves,
+            options,
+            method,
+            fd_grid,
+            multi_patch: spec.patches.is_some(),
+            dynamic,
+            edges: OnceLock::new(),
+        };
+        self.curves = curve_cache;
+        self.patches = patches;
+        self.parametric = parametric;
+        self.blend = blend;
+        self.spline = spline;
+        self.spec = spec;
+        Ok(())
+    }
+}
+
+/// Solves one planned PDE patch with the solver its key names; errors name their place in the
+/// design file.
+fn solve_patch(p: &Planned, key: &PatchKey) -> Result<SurfaceKind> {
+    match key.fd_grid {
+        Some(grid) => {
+            let (order, a) = match p.operator {
+                OperatorSpec::Polyharmonic { order, a } => (order, a),
+                _ => unreachable!("checked by validate_design"),
+            };
+            super::fd::solve_patch(order, a, grid, &p.conditions, &p.place)
+                .map(|s| SurfaceKind::Fd(Arc::new(s)))
+        }
+        None => {
+            let op = build_operator(&p.operator, &p.operator_place)?;
+            let conds = p
+                .conditions
+                .iter()
+                .map(|c| Condition {
+                    u: c.u,
+                    derivative: c.derivative,
+                    curve: c.curve.clone(),
+                })
+                .collect();
+            elliptic::solve(&op, conds, &key.options)
+                .map(|s| SurfaceKind::Pde(Arc::new(s)))
+                .map_err(|e| e.at(&p.place))
+        }
+    }
+}

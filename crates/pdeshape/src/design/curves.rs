@@ -1,0 +1,273 @@
+//! Building a design's curves from their specs, each once, following references; curves whose
+//! spec and dependencies did not change since the last build are reused as they are.
+
+use super::solved::NamedCurve;
+use super::validate::{curve_place, kind_name, references, unknown_curve, validate_design};
+use crate::curve::{
+    Affine, ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries,
+    Hermite, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
+};
+use crate::spec::*;
+use crate::{Error, Result, Vec3};
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+/// A curve as last built: the spec it came from and the curves it referred to, so that a later
+/// build can tell whether it would come out the same.
+#[derive(Clone)]
+struct Built {
+    spec: CurveSpec,
+    deps: Vec<SharedCurve>,
+    curve: SharedCurve,
+}
+
+/// The curves of the last build: named curves by name, inline curves by their place
+/// (`patches[2].conditions[1].curve`).
+#[derive(Clone, Default)]
+pub(crate) struct CurveCache {
+    named: HashMap<String, Built>,
+    inline: HashMap<String, Built>,
+}
+
+/// The address of a shared curve (its identity: equal addresses are the same built curve).
+pub(crate) fn curve_id(c: &SharedCurve) -> usize {
+    Arc::as_ptr(c) as *const () as usize
+}
+
+/// Builds curves by name, each once, following references, reusing the curves of the previous
+/// build whose spec and dependencies are unchanged (a reused curve is the very object a fresh
+/// build would have recomputed, so results are identical).
+pub(crate) struct CurveBuilder<'a> {
+    specs: &'a BTreeMap<String, CurveSpec>,
+    built: HashMap<String, SharedCurve>,
+    previous: &'a CurveCache,
+    next: CurveCache,
+}
+
+impl<'a> CurveBuilder<'a> {
+    pub(crate) fn new(specs: &'a BTreeMap<String, CurveSpec>, previous: &'a CurveCache) -> Self {
+        CurveBuilder {
+            specs,
+            built: HashMap::new(),
+            previous,
+            next: CurveCache::default(),
+        }
+    }
+
+    /// The cache of this build, for the next one.
+    pub(crate) fn into_cache(self) -> CurveCache {
+        self.next
+    }
+
+    pub(crate) fn named(&mut self, name: &str, place: &str) -> Result<SharedCurve> {
+        if let Some(c) = self.built.get(name) {
+            return Ok(c.clone());
+        }
+        let (specs, previous) = (self.specs, self.previous);
+        let Some(spec) = specs.get(name) else {
+            return Err(unknown_curve(name, specs, place));
+        };
+        let old = previous.named.get(name);
+        let built = self.cached(spec, &curve_place(name), old)?;
+        self.built.insert(name.to_string(), built.curve.clone());
+        self.next.named.insert(name.to_string(), built.clone());
+        Ok(built.curve)
+    }
+
+    /// A condition's curve: a named curve, or an inline table cached under its place.
+    pub(crate) fn reference(&mut self, r: &CurveRef, place: &str) -> Result<SharedCurve> {
+        match r {
+            CurveRef::Name(n) => self.named(n, place),
+            CurveRef::Inline(spec) => {
+                let previous = self.previous;
+                let old = previous.inline.get(place);
+                let built = self.cached(spec, place, old)?;
+                self.next.inline.insert(place.to_string(), built.clone());
+                Ok(built.curve)
+            }
+        }
+    }
+
+    /// The curve of `spec`: the previous one if the spec is equal and every curve it refers to
+    /// is the same object as last time, else a fresh build.
+    fn cached(&mut self, spec: &CurveSpec, place: &str, old: Option<&Built>) -> Result<Built> {
+        let mut names = Vec::new();
+        references(spec, place, &mut names);
+        let mut deps = Vec::with_capacity(names.len());
+        for (n, p) in names {
+            deps.push(self.named(n, &p)?);
+        }
+        if let Some(old) = old {
+            let same_deps = old.deps.len() == deps.len()
+                && old
+                    .deps
+                    .iter()
+                    .zip(&deps)
+                    .all(|(a, b)| curve_id(a) == curve_id(b));
+            if same_deps && old.spec == *spec {
+                return Ok(old.clone());
+            }
+        }
+        let curve = self.build(spec, place)?;
+        Ok(Built {
+            spec: spec.clone(),
+            deps,
+            curve,
+        })
+    }
+
+    /// Builds one curve: its kind, then arc length, `v_origin`, and the transforms in order.
+    fn build(&mut self, spec: &CurveSpec, place: &str) -> Result<SharedCurve> {
+        let at = |e: Error| e.at(place);
+        let v3 = |v: &V3| Vec3::new(v[0], v[1], v[2]);
+        let pts = |v: &[V3]| v.iter().map(v3).collect::<Vec<_>>();
+        let mut curve: SharedCurve = match &spec.kind {
+            CurveKind::Circle {
+                center,
+                radius,
+                normal,
+            } => Arc::new(Ellipse::circle(v3(center), *radius, v3(normal)).map_err(at)?),
+            CurveKind::Ellipse {
+                center,
+                axis1,
+                axis2,
+                rx,
+                ry,
+                normal,
+            } => Arc::new(
+                match (axis1, axis2, rx, ry) {
+                    (Some(a1), Some(a2), _, _) => Ellipse::new(v3(center), v3(a1), v3(a2)),
+                    (_, _, Some(rx), Some(ry)) => Ellipse::with_radii(
+                        v3(center),
+                        *rx,
+                        *ry,
+                        normal.as_ref().map_or(Vec3::z(), v3),
+                    ),
+                    _ => Err(Error::invalid("give either axis1 and axis2, or rx and ry")),
+                }
+                .map_err(at)?,
+            ),
+            CurveKind::Point { at: p } => Arc::new(Point::new(v3(p))),
+            CurveKind::BSpline {
+                degree,
+                control,
+                knots,
+                periodic,
+            } => Arc::new(
+                if *periodic {
+                    BSpline::periodic(*degree, pts(control), knots.clone())
+                } else {
+                    BSpline::clamped(*degree, pts(control), knots.clone())
+                }
+                .map_err(at)?,
+            ),
+            CurveKind::Bezier { control } => Arc::new(Bezier::new(pts(control)).map_err(at)?),
+            CurveKind::Hermite { p0, p1, d0, d1 } => {
+                Arc::new(Hermite::new(v3(p0), v3(p1), v3(d0), v3(d1)))
+            }
+            CurveKind::Fourier { a0, cos, sin } => {
+                // The shorter of `cos` and `sin` is padded with zeros.
+                let m = cos.len().max(sin.len());
+                let pad = |v: &[V3]| {
+                    let mut out = pts(v);
+                    out.resize(m, Vec3::zeros());
+                    out
+                };
+                Arc::new(FourierSeries {
+                    a0: v3(a0),
+                    cos: pad(cos),
+                    sin: pad(sin),
+                })
+            }
+            CurveKind::Samples { points, param } => {
+                let param = match param {
+                    ParamSpec::Uniform => SampleParam::Uniform,
+                    ParamSpec::Chord => SampleParam::Chord,
+                    ParamSpec::Centripetal => SampleParam::Centripetal,
+                };
+                Arc::new(PointSamples::closed(pts(points), param).map_err(at)?)
+            }
+            CurveKind::Formula { x, y, z, domain } => {
+                let domain = match domain {
+                    DomainSpec::Periodic => Domain::Periodic,
+                    DomainSpec::Interval([t0, t1]) => Domain::Interval(*t0, *t1),
+                };
+                Arc::new(Formula::new(x, y, z, domain).map_err(at)?)
+            }
+            CurveKind::Derivative {
+                position,
+                direction,
+                scale,
+            } => {
+                let p = self.reference(position, &format!("{place}.position"))?;
+                let d = self.reference(direction, &format!("{place}.direction"))?;
+                if p.domain() != d.domain() {
+                    return Err(Error::invalid(format!(
+                        "position and direction curves have different domains ({:?} and {:?})",
+                        p.domain(),
+                        d.domain()
+                    ))
+                    .at(place));
+                }
+                // X_u = s (d − p): points from the position curve towards the direction curve.
+                Arc::new(Combination::new(vec![(*scale, d), (-*scale, p)]).map_err(at)?)
+            }
+        };
+        if spec.arc_length {
+            curve =
+                Arc::new(ArcLength::new(curve).map_err(|e| e.at(&format!("{place}.arc_length")))?);
+        }
+        if spec.v_origin != 0.0 {
+            curve = Arc::new(
+                OriginShift::new(curve, spec.v_origin)
+                    .map_err(|e| e.at(&format!("{place}.v_origin")))?,
+            );
+        }
+        if !spec.transform.is_empty() {
+            let mut map = Affine::identity();
+            for (i, step) in spec.transform.iter().enumerate() {
+                let p = format!("{place}.transform[{i}]");
+                let next = match step {
+                    TransformStep::Translate(d) => Affine::translation(v3(d)),
+                    TransformStep::Rotate { axis, angle, about } => {
+                        Affine::rotation(v3(axis), angle.to_radians(), v3(about))
+                            .map_err(|e| e.at(&format!("{p}.rotate")))?
+                    }
+                    TransformStep::Scale { factor, about } => {
+                        Affine::scaling(*factor, v3(about))
+                            .map_err(|e| e.at(&format!("{p}.scale")))?
+                    }
+                    TransformStep::Dilate { factors, about } => {
+                        Affine::dilation(v3(factors), v3(about))
+                            .map_err(|e| e.at(&format!("{p}.dilate")))?
+                    }
+                };
+                map = map.then(&next);
+            }
+            curve = Arc::new(Transformed::new(curve, map));
+        }
+        Ok(curve)
+    }
+}
+
+/// Every named curve of the design, sorted by name.
+pub(crate) fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCurve>> {
+    let specs = builder.specs;
+    let mut curves = Vec::new();
+    for (name, c) in specs {
+        let curve = builder.named(name, &curve_place(name))?;
+        curves.push(NamedCurve {
+            name: name.clone(),
+            kind: kind_name(&c.kind),
+            curve,
+        });
+    }
+    Ok(curves)
+}
+
+/// Validates the design and builds its named curves (sorted by name), without solving: what a
+/// viewer needs to draw the design's curves.
+pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
+    validate_design(spec)?;
+    named_curves(&mut CurveBuilder::new(&spec.curves, &CurveCache::default()))
+}

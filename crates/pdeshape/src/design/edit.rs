@@ -1,0 +1,332 @@
+//! Edits of a design, as values: what a designer does to a design after the first solve (move a
+//! control point, transform a curve, change `a`, the order or the modes, add or remove curves,
+//! conditions and patches). An edit applies to a [`DesignSpec`] and returns the edit that undoes
+//! it; [`super::CompiledDesign::apply`] re-solves only what it touched. Edits serialise (JSON or
+//! TOML) so a server, an undo stack and the optimiser can share them.
+
+use crate::spec::{
+    ConditionSpec, CurveKind, CurveSpec, DesignSpec, OperatorSpec, PatchSpec, SolverSpec,
+    TransformStep, V3,
+};
+use crate::{Error, Result};
+use serde::Deserialize;
+
+/// A patch of a design: `None` for the single patch of a design with top-level `conditions`,
+/// else the name of one of its `[[patches]]`.
+pub type PatchRef = Option<String>;
+
+/// One edit of a design.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(tag = "edit", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Edit {
+    /// Sets the named curve to `curve` (adding it if there is none), or removes it (`None`).
+    SetCurve {
+        name: String,
+        curve: Option<CurveSpec>,
+    },
+    /// Moves control point `index` of a B-spline, Bézier or closed-samples curve to `point`.
+    MoveControlPoint {
+        name: String,
+        index: usize,
+        point: V3,
+    },
+    /// Appends an affine step to a curve's transform (§6.1).
+    Transform { name: String, step: TransformStep },
+    /// Sets the operator of a patch (`patch`) or of the design (`design = true`; `None`
+    /// removes an override or the design's operator).
+    SetOperator {
+        #[serde(default)]
+        patch: PatchRef,
+        operator: Option<OperatorSpec>,
+    },
+    /// Sets the smoothing parameter `a` of a polyharmonic operator (the patch's own if it has
+    /// one, else the design's).
+    SetSmoothing {
+        #[serde(default)]
+        patch: PatchRef,
+        a: f64,
+    },
+    /// Sets the half order `N` of a polyharmonic operator (the patch's own if it has one, else
+    /// the design's).
+    SetOrder {
+        #[serde(default)]
+        patch: PatchRef,
+        order: usize,
+    },
+    /// Sets the number of Fourier modes of the analytic solver.
+    SetModes { modes: usize },
+    /// Replaces the solver options.
+    SetSolver { solver: SolverSpec },
+    /// Replaces condition `index` of a patch.
+    SetCondition {
+        #[serde(default)]
+        patch: PatchRef,
+        index: usize,
+        condition: ConditionSpec,
+    },
+    /// Inserts a condition at `index` of a patch's conditions.
+    InsertCondition {
+        #[serde(default)]
+        patch: PatchRef,
+        index: usize,
+        condition: ConditionSpec,
+    },
+    /// Removes condition `index` of a patch.
+    RemoveCondition {
+        #[serde(default)]
+        patch: PatchRef,
+        index: usize,
+    },
+    /// Inserts a patch at `index` of `[[patches]]`.
+    InsertPatch { index: usize, patch: PatchSpec },
+    /// Removes the named patch.
+    RemovePatch { name: String },
+}
+
+fn no_patch(name: &str) -> Error {
+    Error::invalid(format!("the design has no patch named '{name}'")).at("patch")
+}
+
+/// The conditions of a patch.
+fn conditions<'a>(
+    spec: &'a mut DesignSpec,
+    patch: &PatchRef,
+) -> Result<&'a mut Vec<ConditionSpec>> {
+    match patch {
+        None => spec.conditions.as_mut().ok_or_else(|| {
+            Error::invalid("the design has no top-level conditions: name a patch").at("patch")
+        }),
+        Some(name) => spec
+            .patches
+            .iter_mut()
+            .flatten()
+            .find(|p| &p.name == name)
+            .map(|p| &mut p.conditions)
+            .ok_or_else(|| no_patch(name)),
+    }
+}
+
+/// The operator slot an edit of `patch` changes: the patch's own if it has one, else the
+/// design's.
+fn operator_slot<'a>(
+    spec: &'a mut DesignSpec,
+    patch: &PatchRef,
+) -> Result<&'a mut Option<OperatorSpec>> {
+    match patch {
+        None => Ok(&mut spec.operator),
+        Some(name) => {
+            let p = spec
+                .patches
+                .iter_mut()
+                .flatten()
+                .find(|p| &p.name == name)
+                .ok_or_else(|| no_patch(name))?;
+            if p.operator.is_some() {
+                Ok(&mut p.operator)
+            } else {
+                Ok(&mut spec.operator)
+            }
+        }
+    }
+}
+
+/// Which slot [`operator_slot`] picks, as a patch reference for the undo edit.
+fn slot_ref(spec: &DesignSpec, patch: &PatchRef) -> PatchRef {
+    patch.as_ref().and_then(|name| {
+        spec.patches
+            .iter()
+            .flatten()
+            .find(|p| &p.name == name && p.operator.is_some())
+            .map(|p| p.name.clone())
+    })
+}
+
+fn curve_mut<'a>(spec: &'a mut DesignSpec, name: &str) -> Result<&'a mut CurveSpec> {
+    spec.curves
+        .get_mut(name)
+        .ok_or_else(|| Error::invalid(format!("the design has no curve named '{name}'")).at("name"))
+}
+
+fn index_error(index: usize, len: usize, what: &str) -> Error {
+    Error::invalid(format!("{what} {index} does not exist (there are {len})")).at("index")
+}
+
+impl Edit {
+    /// Applies the edit to `spec` and returns the edit that undoes it. Nothing changes on an
+    /// error (a missing curve, patch or index). The edited design is checked when it is
+    /// compiled.
+    pub fn apply(&self, spec: &mut DesignSpec) -> Result<Edit> {
+        match self {
+            Edit::SetCurve { name, curve } => {
+                let old = match curve {
+                    Some(c) => spec.curves.insert(name.clone(), c.clone()),
+                    None => spec.curves.remove(name),
+                };
+                Ok(Edit::SetCurve {
+                    name: name.clone(),
+                    curve: old,
+                })
+            }
+            Edit::MoveControlPoint { name, index, point } => {
+                let c = curve_mut(spec, name)?;
+                let points = match &mut c.kind {
+                    CurveKind::BSpline { control, .. } | CurveKind::Bezier { control } => control,
+                    CurveKind::Samples { points, .. } => points,
+                    _ => {
+                        return Err(Error::invalid(
+                            "only B-spline, Bézier and samples curves have control points",
+                        )
+                        .at("name"))
+                    }
+                };
+                let len = points.len();
+                let slot = points
+                    .get_mut(*index)
+                    .ok_or_else(|| index_error(*index, len, "control point"))?;
+                let old = std::mem::replace(slot, *point);
+                Ok(Edit::MoveControlPoint {
+                    name: name.clone(),
+                    index: *index,
+                    point: old,
+                })
+            }
+            Edit::Transform { name, step } => {
+                let c = curve_mut(spec, name)?;
+                let old = c.clone();
+                c.transform.push(step.clone());
+                Ok(Edit::SetCurve {
+                    name: name.clone(),
+                    curve: Some(old),
+                })
+            }
+            Edit::SetOperator { patch, operator } => {
+                let slot = match patch {
+                    None => &mut spec.operator,
+                    Some(name) => {
+                        &mut spec
+                            .patches
+                            .iter_mut()
+                            .flatten()
+                            .find(|p| &p.name == name)
+                            .ok_or_else(|| no_patch(name))?
+                            .operator
+                    }
+                };
+                let old = std::mem::replace(slot, operator.clone());
+                Ok(Edit::SetOperator {
+                    patch: patch.clone(),
+                    operator: old,
+                })
+            }
+            Edit::SetSmoothing { patch, a } => {
+                let undo_ref = slot_ref(spec, patch);
+                let slot = operator_slot(spec, patch)?;
+                let old = slot.clone();
+                match slot.get_or_insert_with(OperatorSpec::default) {
+                    OperatorSpec::Polyharmonic { a: value, .. } => *value = *a,
+                    _ => {
+                        return Err(Error::invalid(
+                            "only the polyharmonic operator has a smoothing parameter a",
+                        )
+                        .at("a"))
+                    }
+                }
+                Ok(Edit::SetOperator {
+                    patch: undo_ref,
+                    operator: old,
+                })
+            }
+            Edit::SetOrder { patch, order } => {
+                let undo_ref = slot_ref(spec, patch);
+                let slot = operator_slot(spec, patch)?;
+                let old = slot.clone();
+                match slot.get_or_insert_with(OperatorSpec::default) {
+                    OperatorSpec::Polyharmonic { order: value, .. } => *value = *order,
+                    _ => {
+                        return Err(Error::invalid(
+                            "only the polyharmonic operator has an order to set",
+                        )
+                        .at("order"))
+                    }
+                }
+                Ok(Edit::SetOperator {
+                    patch: undo_ref,
+                    operator: old,
+                })
+            }
+            Edit::SetModes { modes } => {
+                let old = spec.solver.clone();
+                spec.solver.modes = *modes;
+                Ok(Edit::SetSolver { solver: old })
+            }
+            Edit::SetSolver { solver } => Ok(Edit::SetSolver {
+                solver: std::mem::replace(&mut spec.solver, solver.clone()),
+            }),
+            Edit::SetCondition {
+                patch,
+                index,
+                condition,
+            } => {
+                let conds = conditions(spec, patch)?;
+                let len = conds.len();
+                let slot = conds
+                    .get_mut(*index)
+                    .ok_or_else(|| index_error(*index, len, "condition"))?;
+                let old = std::mem::replace(slot, condition.clone());
+                Ok(Edit::SetCondition {
+                    patch: patch.clone(),
+                    index: *index,
+                    condition: old,
+                })
+            }
+            Edit::InsertCondition {
+                patch,
+                index,
+                condition,
+            } => {
+                let conds = conditions(spec, patch)?;
+                if *index > conds.len() {
+                    return Err(index_error(*index, conds.len(), "condition"));
+                }
+                conds.insert(*index, condition.clone());
+                Ok(Edit::RemoveCondition {
+                    patch: patch.clone(),
+                    index: *index,
+                })
+            }
+            Edit::RemoveCondition { patch, index } => {
+                let conds = conditions(spec, patch)?;
+                if *index >= conds.len() {
+                    return Err(index_error(*index, conds.len(), "condition"));
+                }
+                let old = conds.remove(*index);
+                Ok(Edit::InsertCondition {
+                    patch: patch.clone(),
+                    index: *index,
+                    condition: old,
+                })
+            }
+            Edit::InsertPatch { index, patch } => {
+                let patches = spec.patches.as_mut().ok_or_else(|| {
+                    Error::invalid("the design has no [[patches]] to insert into").at("index")
+                })?;
+                if *index > patches.len() {
+                    return Err(index_error(*index, patches.len(), "patch"));
+                }
+                patches.insert(*index, patch.clone());
+                Ok(Edit::RemovePatch {
+                    name: patch.name.clone(),
+                })
+            }
+            Edit::RemovePatch { name } => {
+                let patches = spec.patches.as_mut().ok_or_else(|| no_patch(name))?;
+                let index = patches
+                    .iter()
+                    .position(|p| &p.name == name)
+                    .ok_or_else(|| no_patch(name))?;
+                let old = patches.remove(index);
+                Ok(Edit::InsertPatch { index, patch: old })
+            }
+        }
+    }
+}
