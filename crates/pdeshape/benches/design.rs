@@ -1,0 +1,61 @@
+//! The interactive loop of the design layer: a one-curve edit, re-solve and re-tessellation into
+//! the previous meshes (64 × 128 per patch), beside compiling and tessellating from scratch, for
+//! the cup (2 patches), the wine glass and the 39-patch Klein bottle.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use pdeshape::design::{compile, Edit};
+use pdeshape::spec::{parse_design, DesignSpec, TransformStep};
+use std::hint::black_box;
+
+fn example(name: &str) -> DesignSpec {
+    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    parse_design(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn bench(c: &mut Criterion) {
+    let (nu, nv) = (64, 128);
+    let mut group = c.benchmark_group("design");
+    for (file, curve) in [
+        ("cup.toml", "rim"),
+        ("wine_glass.toml", "rim"),
+        ("klein_bottle_patches.toml", "s05"),
+    ] {
+        let spec = example(file);
+        assert!(spec.curves.contains_key(curve), "{file}: {curve}");
+        let label = file.trim_end_matches(".toml");
+        group.bench_function(format!("{label}/compile_from_scratch"), |b| {
+            b.iter(|| {
+                let mut d = compile(black_box(&spec)).unwrap();
+                black_box(d.meshes(nu, nv).unwrap().len())
+            })
+        });
+        // A drag: the curve moves up and back down, each step one edit re-solved and
+        // re-tessellated into the meshes of the previous step.
+        let low = spec.curves[curve].clone();
+        let mut high = low.clone();
+        high.transform
+            .push(TransformStep::Translate([0.0, 0.0, 0.01]));
+        let edits = [low, high].map(|c| Edit::SetCurve {
+            name: curve.to_string(),
+            curve: Some(c),
+        });
+        let mut d = compile(&spec).unwrap();
+        d.meshes(nu, nv).unwrap();
+        let mut k = 0;
+        group.bench_function(format!("{label}/edit_resolve_retessellate"), |b| {
+            b.iter(|| {
+                k ^= 1;
+                d.apply(&edits[k]).unwrap();
+                black_box(d.meshes(nu, nv).unwrap().len())
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).measurement_time(std::time::Duration::from_secs(3));
+    targets = bench
+}
+criterion_main!(benches);
