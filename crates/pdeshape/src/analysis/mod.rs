@@ -5,8 +5,9 @@
 //!
 //! Quadrature: composite Gauss–Legendre in `u` (and in an interval `v`), the trapezoid rule in a
 //! periodic `v`; both converge fast on smooth integrands, and [`Quadrature`] refines until two
-//! successive levels agree to a tolerance. Gauss nodes are interior, so a pole at `u = 0` or
-//! `u = 1` (where `X_u × X_v = 0`) is never evaluated.
+//! successive levels agree to a tolerance. `u` runs over the surface's `u` range
+//! ([`Surface::u_range`]). Gauss nodes are interior, so a pole at either end of it (where
+//! `X_u × X_v = 0`) is never evaluated.
 
 mod design;
 mod geometry;
@@ -15,7 +16,7 @@ mod quadrature;
 pub use design::{integrate_design, integrate_surfaces, Cap, DesignIntegrals};
 pub use geometry::{curvature, curvature_at, Curvature, FundamentalForms};
 
-use crate::surface::{Partials, Surface, VDomain};
+use crate::surface::{Interval, Partials, Surface, VDomain};
 use crate::{Error, Result};
 use quadrature::{composite_gauss, periodic_trapezoid, Rule};
 use rayon::prelude::*;
@@ -192,10 +193,10 @@ impl Quadrature {
         Ok(())
     }
 
-    /// The rules of level `k`.
-    fn rules(&self, domain: VDomain, k: u32) -> (Rule, Rule) {
+    /// The rules of level `k` over the `u` range and the `v` domain.
+    fn rules(&self, u: Interval, domain: VDomain, k: u32) -> (Rule, Rule) {
         let f = 1usize << k;
-        let ru = composite_gauss(0.0, 1.0, self.u_panels * f, self.order);
+        let ru = composite_gauss(u.start, u.end, self.u_panels * f, self.order);
         let rv = match domain {
             VDomain::Periodic => periodic_trapezoid(self.v_nodes * f),
             VDomain::Interval(a, b) => composite_gauss(a, b, self.v_panels * f, self.order),
@@ -328,7 +329,8 @@ fn relative_change(a: &Integrals, b: &Integrals) -> f64 {
         .fold(0.0, |m, c| if c.is_nan() { c } else { m.max(c) })
 }
 
-/// The integrals of `s` over `u ∈ [0, 1]` and its `v` domain (see [`analyze_surface`]).
+/// The integrals of `s` over its `u` range ([`Surface::u_range`], `[0, 1]` for nearly every
+/// surface) and its `v` domain (see [`analyze_surface`]).
 pub fn integrate_surface(s: &dyn Surface, q: &Quadrature) -> Result<Integrals> {
     analyze_surface(s, q).map(|a| a.integrals)
 }
@@ -339,6 +341,13 @@ pub fn integrate_surface(s: &dyn Surface, q: &Quadrature) -> Result<Integrals> {
 pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysis> {
     q.check()?;
     let domain = s.v_domain();
+    let u_range = s.u_range();
+    if !u_range.is_valid() {
+        return Err(Error::invalid(format!(
+            "the surface's u range [{}, {}] is not a finite interval",
+            u_range.start, u_range.end
+        )));
+    }
     if let VDomain::Interval(a, b) = domain {
         if !(a.is_finite() && b.is_finite() && a < b) {
             return Err(Error::invalid(format!(
@@ -363,7 +372,7 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
             degenerate_nodes: sums.degenerate,
         })
     };
-    let (ru, rv) = q.rules(domain, 0);
+    let (ru, rv) = q.rules(u_range, domain, 0);
     let mut prev = integrate_grid(s, &ru, &rv);
     if !q.adaptive {
         return finish(prev, &ru, &rv, 0.0, true);
@@ -373,7 +382,7 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
     }
     let mut k = 1;
     loop {
-        let (ru, rv) = q.rules(domain, k);
+        let (ru, rv) = q.rules(u_range, domain, k);
         let cur = integrate_grid(s, &ru, &rv);
         let change = relative_change(&prev.i, &cur.i);
         let converged = change <= q.tolerance;

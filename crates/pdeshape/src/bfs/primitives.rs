@@ -1,6 +1,6 @@
 //! Primary surfaces for blends: cylinders and planes with exact partials.
 
-use crate::surface::{Partials, Surface, VDomain};
+use crate::surface::{Closest, ClosestOptions, Partials, Surface, SurfaceNearest, VDomain};
 use crate::{Error, Result, Vec3, TAU};
 
 /// The cylinder `S(u, v) = base + v·axis + r (cos 2πu e₁ + sin 2πu e₂)` for `u, v ∈ [0, 1]`,
@@ -61,6 +61,10 @@ impl Surface for Cylinder {
     fn v_domain(&self) -> VDomain {
         VDomain::Interval(0.0, 1.0)
     }
+    /// `u` is the angle over `2πu`: closed.
+    fn u_periodic(&self) -> bool {
+        true
+    }
     fn partials(&self, u: f64, v: f64) -> Partials {
         let (s, c) = (TAU * u).sin_cos();
         let r = self.radius;
@@ -109,5 +113,84 @@ impl Surface for Plane {
             xv: self.dv,
             ..Default::default()
         }
+    }
+}
+
+/// In closed form: `v` is the clamped projection of `p − base` on the axis and `u` the angle
+/// of its part normal to the axis (`u = 0` for a point on the axis, where every `u` is as
+/// close). The options are not used.
+impl SurfaceNearest for Cylinder {
+    fn nearest(&self, p: Vec3, _opts: &ClosestOptions) -> Option<Closest> {
+        if !p.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        let q = p - self.base;
+        let along = q.dot(&self.axis) / self.axis.norm_squared();
+        let radial = q - self.axis * along;
+        let (x, y) = (radial.dot(&self.e1), radial.dot(&self.e2));
+        let u = if x == 0.0 && y == 0.0 {
+            0.0
+        } else {
+            let a = y.atan2(x) / TAU;
+            if a < 0.0 {
+                (a + 1.0).min(1.0 - f64::EPSILON / 2.0)
+            } else {
+                a
+            }
+        };
+        let v = along.clamp(0.0, 1.0);
+        let point = self.partials(u, v).x;
+        Some(Closest {
+            u,
+            v,
+            point,
+            distance: (point - p).norm(),
+            converged: true,
+        })
+    }
+}
+
+/// In closed form: the orthogonal projection on the plane if its parameters lie in
+/// `[0, 1]²`, else the nearest of the four sides' clamped projections (the parallelogram is
+/// convex, so its closest point is on the boundary when the projection is outside). The options
+/// are not used.
+impl SurfaceNearest for Plane {
+    fn nearest(&self, p: Vec3, _opts: &ClosestOptions) -> Option<Closest> {
+        if !p.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        let q = p - self.origin;
+        let (a, b, c) = (
+            self.du.norm_squared(),
+            self.du.dot(&self.dv),
+            self.dv.norm_squared(),
+        );
+        let (r, s) = (q.dot(&self.du), q.dot(&self.dv));
+        let det = a * c - b * b;
+        let (u, v) = ((c * r - b * s) / det, (a * s - b * r) / det);
+        let at = |u: f64, v: f64| {
+            let point = self.origin + self.du * u + self.dv * v;
+            Closest {
+                u,
+                v,
+                point,
+                distance: (point - p).norm(),
+                converged: true,
+            }
+        };
+        if (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v) {
+            return Some(at(u, v));
+        }
+        let sides = [
+            // v = 0 and v = 1: u from the projection on du.
+            at(((r) / a).clamp(0.0, 1.0), 0.0),
+            at(((r - b) / a).clamp(0.0, 1.0), 1.0),
+            // u = 0 and u = 1.
+            at(0.0, (s / c).clamp(0.0, 1.0)),
+            at(1.0, ((s - b) / c).clamp(0.0, 1.0)),
+        ];
+        sides
+            .into_iter()
+            .min_by(|x, y| x.distance.total_cmp(&y.distance))
     }
 }

@@ -231,6 +231,10 @@ impl Surface for BfsSurface {
     fn v_domain(&self) -> VDomain {
         VDomain::Interval(0.0, 1.0)
     }
+    /// Closed in `u = x` when the partition is periodic in `x` (a tube).
+    fn u_periodic(&self) -> bool {
+        self.partition.periodic_x()
+    }
     fn partials(&self, u: f64, v: f64) -> Partials {
         self.evaluate(u, v)
     }

@@ -137,9 +137,10 @@ impl DesignSurface {
         }
     }
 
-    /// `A₀(u)` (or its `order`-th u-derivative) for surfaces that have a spine.
+    /// `A₀(u)` (or its `order`-th u-derivative) for surfaces that have a spine
+    /// ([`crate::surface::Spine`]: PDE patches, periodic finite-difference patches).
     pub fn spine(&self, u: f64, order: usize) -> Option<Vec3> {
-        self.pde().map(|p| p.spine(u, order))
+        self.surface().as_spine().map(|s| s.spine(u, order))
     }
 
     /// True for the surfaces of PDE conditions (analytic or finite differences).

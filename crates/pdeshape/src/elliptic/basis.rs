@@ -164,6 +164,19 @@ impl Basis {
         }
     }
 
+    /// [`Basis::eval`] for `d = 0, 1, 2` into `out[d]`, the same values bit for bit (the layer
+    /// basis shares its exponentials and Laguerre values between the three).
+    pub fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
+        match self {
+            Basis::Chebyshev { .. } => {
+                for (d, o) in out.into_iter().enumerate() {
+                    self.eval(u, d, o);
+                }
+            }
+            Basis::Layers(l) => l.eval012(u, out),
+        }
+    }
+
     /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
     pub fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         match self {
@@ -287,6 +300,34 @@ pub(crate) fn clenshaw(a: &[f64], x: f64) -> f64 {
     x * b1 - b2 + a.first().copied().unwrap_or(0.0)
 }
 
+/// [`clenshaw`] of several series of one length at once: `out[l] = Σ_m a_l[m] T_m(x)`. The
+/// recurrences are interleaved (independent chains, so the processor overlaps their latencies)
+/// and every lane performs exactly the operations of [`clenshaw`], so the values are the same
+/// bit for bit. Series of other lengths and lanes beyond eight go through [`clenshaw`].
+pub(crate) fn clenshaw_lanes(series: &[Vec<f64>], x: f64, scale: f64, out: &mut [f64]) {
+    const LANES: usize = 8;
+    let n = series.len().min(out.len());
+    let len = series.first().map_or(0, Vec::len);
+    if n > LANES || series[..n].iter().any(|s| s.len() != len) {
+        for (o, s) in out.iter_mut().zip(series) {
+            *o = clenshaw(s, x) * scale;
+        }
+        return;
+    }
+    let (mut b1, mut b2) = ([0.0; LANES], [0.0; LANES]);
+    for k in (1..len).rev() {
+        for l in 0..n {
+            let b0 = 2.0 * x * b1[l] - b2[l] + series[l][k];
+            b2[l] = b1[l];
+            b1[l] = b0;
+        }
+    }
+    for l in 0..n {
+        let a0 = series[l].first().copied().unwrap_or(0.0);
+        out[l] = (x * b1[l] - b2[l] + a0) * scale;
+    }
+}
+
 /// `d`-th x-derivative of `Σ a_m T_m` at `x`.
 fn cheb_derivative_at(a: &[f64], x: f64, d: usize) -> f64 {
     if d == 0 {
@@ -379,6 +420,42 @@ impl LayerBasis {
         });
     }
 
+    /// [`Self::eval`] for `d = 0, 1, 2` at once: one pass over the runs (one exponential and
+    /// one set of Laguerre values per run instead of three), and the second derivative's
+    /// coefficients continue from the first's. Every value is computed by the operations
+    /// [`Self::eval`] performs, so it is the same bit for bit.
+    fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
+        let mut coef = [Complex::new(0.0, 0.0); 2 * super::MAX_HALF_ORDER];
+        let [o0, o1, o2] = out;
+        self.for_each_run(u, |r| {
+            let mut slot = r.slot;
+            for k in 0..r.lag.len() {
+                for (j, c) in coef[..=k].iter_mut().enumerate() {
+                    *c = Complex::new(if j == k { 1.0 } else { 0.0 }, 0.0);
+                }
+                for (d, o) in [&mut *o0, &mut *o1, &mut *o2].into_iter().enumerate() {
+                    if d > 0 {
+                        let mut suffix = Complex::new(0.0, 0.0);
+                        for j in (0..=k).rev() {
+                            let p = coef[j];
+                            coef[j] =
+                                (-suffix - p * 0.5) * r.alpha2 - Complex::new(0.0, r.lambda.im) * p;
+                            suffix += p;
+                        }
+                    }
+                    let sign = if d % 2 == 1 { r.side_sign } else { 1.0 };
+                    let sum: Complex<f64> = (0..=k).map(|j| coef[j] * r.lag[j]).sum();
+                    let value = r.e * sum * sign;
+                    o[slot] = value.re;
+                    if r.group.is_complex() {
+                        o[slot + 1] = value.im;
+                    }
+                }
+                slot += if r.group.is_complex() { 2 } else { 1 };
+            }
+        });
+    }
+
     /// Values and first u-derivatives of every layer function (the hot path of grid rows):
     /// for `p = e_k` the derivative's Laguerre coefficients are `q_j = −2α` (`j < k`) and
     /// `q_k = −α − iβ`.
@@ -421,6 +498,40 @@ fn laguerre(x: f64, out: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn interleaved_clenshaw_is_bit_identical() {
+        let mut state = 99u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        for len in [0usize, 1, 2, 3, 17, 64] {
+            for lanes in [1usize, 6, 8, 9] {
+                let series: Vec<Vec<f64>> = (0..lanes)
+                    .map(|l| {
+                        (0..len)
+                            .map(|k| if (k + l) % 5 == 0 { 0.0 } else { next() * 1e3 })
+                            .collect()
+                    })
+                    .collect();
+                for x in [-1.0, -0.73, -0.0, 0.0, 0.31, 1.0] {
+                    let mut out = vec![0.0; lanes];
+                    clenshaw_lanes(&series, x, 4.0, &mut out);
+                    for (o, s) in out.iter().zip(&series) {
+                        assert_eq!(o.to_bits(), (clenshaw(s, x) * 4.0).to_bits());
+                    }
+                }
+            }
+        }
+        // Unequal lengths take the scalar path.
+        let series = vec![vec![1.0, 2.0, 3.0], vec![4.0, 5.0]];
+        let mut out = [0.0; 2];
+        clenshaw_lanes(&series, 0.5, 1.0, &mut out);
+        assert_eq!(out, [clenshaw(&series[0], 0.5), clenshaw(&series[1], 0.5)]);
+    }
 
     /// Residual of the mode equation `Σ_k c_k (−n²)^k f^{(2N−2k)}(u)` for basis function `k`,
     /// relative to the size of its terms.

@@ -150,14 +150,49 @@ impl ModeFn {
         }
     }
 
+    /// [`Self::eval`] for `d = 0, 1, 2` into `out[d]`, the same values bit for bit, with one
+    /// basis evaluation for the three.
+    fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
+        if self.series.is_some() {
+            for (d, o) in out.into_iter().enumerate() {
+                self.eval(u, d, o);
+            }
+            return;
+        }
+        // Small operators have few basis functions: a small buffer saves clearing a large one.
+        if self.basis.len() <= 8 {
+            self.eval012_buffered::<8>(u, out);
+        } else {
+            self.eval012_buffered::<{ 2 * MAX_HALF_ORDER }>(u, out);
+        }
+    }
+
+    /// [`Self::eval012`] of the layer basis with buffers of `B ≥ basis.len()` entries: the
+    /// products with the coefficient columns are those of [`Self::eval`] (same terms, same
+    /// order).
+    fn eval012_buffered<const B: usize>(&self, u: f64, out: [&mut [f64]; 3]) {
+        let mut buf = [[0.0; B]; 3];
+        let k = self.basis.len();
+        let [b0, b1, b2] = &mut buf;
+        self.basis
+            .eval012(u, [&mut b0[..k], &mut b1[..k], &mut b2[..k]]);
+        let rows = self.coef.nrows();
+        let coef = self.coef.as_slice();
+        for (b, out) in buf.iter().zip(out) {
+            let b = &b[..k];
+            for (c, o) in out.iter_mut().enumerate().take(self.ncols()) {
+                let col = &coef[c * rows..c * rows + k];
+                *o = b.iter().zip(col).map(|(x, y)| x * y).sum();
+            }
+        }
+    }
+
     /// `d`-th u-derivative of every column at `u` into `out[c]`.
     fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         if let (Some(series), true) = (&self.series, d <= 2) {
             let x = 2.0 * u - 1.0;
             let scale = 2f64.powi(d as i32);
-            for (o, s) in out.iter_mut().zip(&series[d]) {
-                *o = basis::clenshaw(s, x) * scale;
-            }
+            basis::clenshaw_lanes(&series[d], x, scale, out);
             return;
         }
         let mut buf = [0.0; 2 * MAX_HALF_ORDER];

@@ -4,7 +4,7 @@
 use super::{Condition, ConditionError, ModeFn, ModeReport, Operator};
 use crate::curve::Curve;
 use crate::fourier::FourierSeries;
-use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Surface, VDomain};
+use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
 
 mod partial_rows;
 use crate::{Vec3, TAU};
@@ -23,7 +23,7 @@ pub struct PdePatch {
     /// The remainder `R(u,v) = Σ_i w_i(u) Δ_i(v)`: `w_i` are the cardinal functions of mode
     /// `M + 1` (`w_i^{(d_k)}(u_k) = δ_ik`), and `Δ_i(v) = g_i(v) − ∂ᵈX̃(u_i, v)` the part of
     /// condition `i` the `M` modes leave (Eqs. 4.50–4.52).
-    remainder: Option<Remainder>,
+    pub(super) remainder: Option<Remainder>,
     reports: Vec<ModeReport>,
     scale: f64,
 }
@@ -246,13 +246,17 @@ impl Surface for PdePatch {
         VDomain::Periodic
     }
 
+    /// The mode-0 solution `A₀(u)` ([`PdePatch::spine`]).
+    fn as_spine(&self) -> Option<&dyn Spine> {
+        Some(self)
+    }
+
     fn partials(&self, u: f64, v: f64) -> Partials {
         let mut p = Partials::default();
         let mut o = [[0.0; 6]; 3];
         for (n, mode) in self.modes.iter().enumerate() {
-            for (d, od) in o.iter_mut().enumerate() {
-                mode.eval(u, d, od);
-            }
+            let [o0, o1, o2] = &mut o;
+            mode.eval012(u, [o0, o1, o2]);
             let nf = n as f64;
             let (s, c) = (nf * v).sin_cos();
             let (a, b) = (
@@ -269,9 +273,8 @@ impl Surface for PdePatch {
         if let Some(r) = &self.remainder {
             let k = self.conditions.len();
             let mut w = [vec![0.0; k], vec![0.0; k], vec![0.0; k]];
-            for (d, wd) in w.iter_mut().enumerate() {
-                r.cardinal.eval(u, d, wd);
-            }
+            let [w0, w1, w2] = &mut w;
+            r.cardinal.eval012(u, [w0, w1, w2]);
             for (i, ((&w0, &w1), &w2)) in w[0].iter().zip(&w[1]).zip(&w[2]).enumerate() {
                 let [dl, dl1, dl2] = r.delta(&self.conditions, i, v);
                 let w = [w0, w1, w2];
@@ -292,6 +295,16 @@ impl Surface for PdePatch {
 
     fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
         Box::new(partial_rows::PdePartialRows::new(self, vs))
+    }
+}
+
+/// The spine is the mode-0 solution `A₀(u)` (§5.3). The modes `n ≥ 1` average to zero over
+/// `v`; the remainder averages to the difference between each condition curve's mean and the
+/// sampled mean its mode 0 was fitted to, a sampling error, so `A₀` is the mean of `X` over `v`
+/// up to that.
+impl Spine for PdePatch {
+    fn spine(&self, u: f64, order: usize) -> Vec3 {
+        PdePatch::spine(self, u, order)
     }
 }
 

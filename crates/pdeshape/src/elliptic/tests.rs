@@ -607,3 +607,64 @@ fn high_order_with_many_modes_is_a_solution_or_refused() {
         ),
     }
 }
+
+/// The joint evaluation of orders 0, 1, 2 that `partials` uses gives the values of three
+/// separate evaluations bit for bit, in both bases, for the modes and the remainder.
+#[test]
+fn joint_derivative_evaluation_is_bit_identical() {
+    let mut kinds = Vec::new();
+    for (nn, a, m, bumpy) in [
+        (2usize, 2.0, 12usize, false),
+        (3, 0.3, 8, false),
+        (2, 1.0, 3, true),
+    ] {
+        let op = Operator::polyharmonic(nn, a).unwrap();
+        let conds: Vec<Condition> = (0..2 * nn)
+            .map(|i| {
+                let u = i as f64 / (2 * nn - 1) as f64;
+                let curve: SharedCurve = if bumpy {
+                    Arc::new(Bumpy {
+                        r: 1.0 + 0.3 * i as f64,
+                        h: u,
+                        b: 0.2,
+                    })
+                } else {
+                    Arc::new(series(70 + i as u64, m, 1.0))
+                };
+                cond(u, 0, curve)
+            })
+            .collect();
+        let patch = solve(
+            &op,
+            conds,
+            &SolveOptions {
+                modes: m,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut fns: Vec<&ModeFn> = patch.modes.iter().collect();
+        if let Some(r) = &patch.remainder {
+            fns.push(&r.cardinal);
+        }
+        for f in fns {
+            kinds.push(f.basis.kind());
+            let n = f.ncols();
+            for u in [0.0, 1e-3, 0.27, 0.5, 0.999, 1.0] {
+                let mut joint = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+                let [a, b, c] = &mut joint;
+                f.eval012(u, [a, b, c]);
+                for (d, got) in joint.iter().enumerate() {
+                    let mut want = vec![0.0; n];
+                    f.eval(u, d, &mut want);
+                    let same = got
+                        .iter()
+                        .zip(&want)
+                        .all(|(x, y)| x.to_bits() == y.to_bits());
+                    assert!(same, "u = {u}, d = {d}: {got:?} vs {want:?}");
+                }
+            }
+        }
+    }
+    assert!(kinds.contains(&BasisKind::Layers) && kinds.contains(&BasisKind::Chebyshev));
+}

@@ -35,11 +35,12 @@
 //! The result ([`FdSurface`]) interpolates the node values by a bicubic spline (periodic in `v`
 //! where the grid is), so it meshes, renders and analyses like any [`Surface`].
 
+mod spine;
 mod spline;
 #[cfg(test)]
 mod tests;
 
-use crate::surface::{Partials, Surface, VDomain};
+use crate::surface::{Partials, Spine, Surface, VDomain};
 use crate::{Error, Result, Vec3, TAU};
 use faer::prelude::*;
 use faer::sparse::{SparseColMat, Triplet};
@@ -169,6 +170,15 @@ impl Surface for FdSurface {
     }
     fn partials(&self, u: f64, v: f64) -> Partials {
         self.spline.partials(u, v)
+    }
+    /// On a grid periodic in `v`, the mean of the interpolant over `v` (see the [`Spine`]
+    /// implementation); `None` for a four-sided patch, which has no spine.
+    fn as_spine(&self) -> Option<&dyn Spine> {
+        if self.spline.periodic {
+            Some(self)
+        } else {
+            None
+        }
     }
 }
 

@@ -1,13 +1,14 @@
 //! Tessellation of surfaces on `nu × nv` grids, and writers for mesh and sample formats.
 //!
-//! Grids are u-major: vertex `(i, j)` sits at index `i·nv + j`, with `u_i = i/(nu−1)` and, for a
+//! Grids are u-major: vertex `(i, j)` sits at index `i·nv + j`, with `u_i = i/(nu−1)` (evenly
+//! spaced over the surface's [`Surface::u_range`], `[0, 1]` for nearly all surfaces) and, for a
 //! periodic `v`, `v_j = 2πj/nv` (no repeated seam column: faces wrap from column `nv−1` to 0).
 
 mod writers;
 
 pub use writers::{write, write_csv, write_glb, write_obj, write_ply, write_stl, Format};
 
-use crate::surface::{RowBuf, Surface, VDomain};
+use crate::surface::{Interval, RowBuf, Surface, VDomain};
 use crate::{Error, Result, TAU};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -83,6 +84,25 @@ impl<T> Grid<T> {
 /// spaced over the interval including both ends. Refuses `nu < 2`, `nv < 3` (periodic) or
 /// `nv < 2`, and grids over [`MAX_VERTICES`], before allocating anything.
 pub fn grid_parameters(domain: VDomain, nu: usize, nv: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    grid_parameters_in(Interval::UNIT, domain, nu, nv)
+}
+
+/// [`grid_parameters`] with `u` over `u_range`: `u_i = u₀ + (u₁ − u₀)·i/(nu−1)` with the last
+/// exactly `u₁` (for `[0, 1]` these are the numbers of [`grid_parameters`], bit for bit). Also
+/// refuses a `u` range that is not finite with start < end.
+pub fn grid_parameters_in(
+    u_range: Interval,
+    domain: VDomain,
+    nu: usize,
+    nv: usize,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    if !u_range.is_valid() {
+        return Err(Error::invalid(format!(
+            "the u range [{}, {}] must be finite with start < end",
+            u_range.start, u_range.end
+        ))
+        .at("u range"));
+    }
     if nu < 2 {
         return Err(Error::invalid(format!("must be at least 2 (got {nu})")).at("nu"));
     }
@@ -96,7 +116,16 @@ pub fn grid_parameters(domain: VDomain, nu: usize, nv: usize) -> Result<(Vec<f64
         ))
         .at("nu × nv"));
     }
-    let us = (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect();
+    let (a, b) = (u_range.start, u_range.end);
+    let us = (0..nu)
+        .map(|i| {
+            if i + 1 == nu {
+                b
+            } else {
+                a + (b - a) * i as f64 / (nu - 1) as f64
+            }
+        })
+        .collect();
     let vs = match domain {
         VDomain::Periodic => (0..nv).map(|j| TAU * j as f64 / nv as f64).collect(),
         VDomain::Interval(a, b) => (0..nv)
@@ -153,7 +182,7 @@ pub fn evaluate_grid_into<T: GridScalar>(
     grid.normals.clear();
     (grid.nu, grid.nv) = (0, 0);
     let domain = surface.v_domain();
-    let (us, vs) = grid_parameters(domain, nu, nv)?;
+    let (us, vs) = grid_parameters_in(surface.u_range(), domain, nu, nv)?;
     let n = nu * nv;
     let positions = &mut grid.positions;
     let normals = &mut grid.normals;
@@ -331,5 +360,40 @@ mod tests {
         // A refused grid leaves it empty, not stale.
         assert!(tessellate_into(&Cylinder, 1, 8, &mut again).is_err());
         assert!(again.is_empty() && again.positions.is_empty());
+    }
+
+    /// The cylinder `(cos v, sin v, u)` on `u ∈ [−1, 2]`.
+    struct Tall;
+
+    impl Surface for Tall {
+        fn v_domain(&self) -> VDomain {
+            VDomain::Periodic
+        }
+        fn u_range(&self) -> Interval {
+            Interval::new(-1.0, 2.0)
+        }
+        fn partials(&self, u: f64, v: f64) -> Partials {
+            Cylinder.partials(u, v)
+        }
+    }
+
+    #[test]
+    fn grids_honour_the_u_range() {
+        // On [0, 1] the numbers are those of i/(nu − 1), bit for bit.
+        for nu in [2usize, 3, 7, 10, 33, 100, 1000, 1025] {
+            let (us, _) = grid_parameters(VDomain::Periodic, nu, 4).unwrap();
+            let old: Vec<f64> = (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect();
+            assert!(us.iter().zip(&old).all(|(a, b)| a.to_bits() == b.to_bits()));
+        }
+        let mesh = sample(&Tall, 4, 8).unwrap();
+        assert_eq!(mesh.u, vec![-1.0, 0.0, 1.0, 2.0]);
+        for i in 0..4 {
+            assert_eq!(mesh.positions[mesh.index(i, 0)], [1.0, 0.0, mesh.u[i]]);
+        }
+        let bad = grid_parameters_in(Interval::new(1.0, f64::NAN), VDomain::Periodic, 4, 8);
+        assert_eq!(
+            bad.unwrap_err().to_string(),
+            "u range: the u range [1, NaN] must be finite with start < end"
+        );
     }
 }

@@ -1,10 +1,21 @@
 //! The [`Surface`] trait: every solver returns something that evaluates anywhere with exact
 //! partial derivatives, so tessellation, export, analysis and pictures work on all of them alike.
+//!
+//! Beside it, small abilities: the parameter domain ([`Surface::parameter_domain`],
+//! [`ParameterDomain`]), the spine of a surface periodic in `v` ([`Spine`],
+//! [`Surface::as_spine`]) and the closest point to a point in space ([`closest_point`],
+//! [`ClosestPointIndex`], [`SurfaceNearest`]).
 
 use crate::Vec3;
 
+mod closest;
+mod domain;
 mod parametric;
+mod spine;
+pub use closest::{closest_point, Closest, ClosestOptions, ClosestPointIndex, SurfaceNearest};
+pub use domain::{Interval, ParameterDomain};
 pub use parametric::ParametricSurface;
+pub use spine::Spine;
 
 /// `X` and its partial derivatives up to second order at one `(u, v)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -55,10 +66,41 @@ pub enum VDomain {
     Interval(f64, f64),
 }
 
-/// A parametric surface `X(u, v)` with `u ∈ [0, 1]`.
+/// A parametric surface `X(u, v)` with `u` in [`Surface::u_range`] (`[0, 1]` unless the surface
+/// says otherwise) and `v` in [`Surface::v_domain`].
 pub trait Surface: Send + Sync {
-    /// The `v` domain (`u` always runs over `[0, 1]`).
+    /// The `v` domain.
     fn v_domain(&self) -> VDomain;
+
+    /// The interval `u` runs over: `[0, 1]` unless the surface overrides it. Surfaces whose own
+    /// parameter lives on another range (knot domains, partitions, formula domains) may report
+    /// it here instead of mapping it onto `[0, 1]`; `partials` then takes `u` in that range.
+    fn u_range(&self) -> Interval {
+        Interval::UNIT
+    }
+
+    /// True if the surface is closed in `u`: the sides `u = start` and `u = end` of
+    /// [`Surface::u_range`] are the same curve and the surface continues across it (a cylinder
+    /// parametrised by angle in `u`). False unless the surface overrides it.
+    fn u_periodic(&self) -> bool {
+        false
+    }
+
+    /// The whole parameter domain: [`Surface::u_range`], [`Surface::u_periodic`] and
+    /// [`Surface::v_domain`] together.
+    fn parameter_domain(&self) -> ParameterDomain {
+        ParameterDomain {
+            u: self.u_range(),
+            u_periodic: self.u_periodic(),
+            v: self.v_domain(),
+        }
+    }
+
+    /// The surface's spine `A₀(u)` if it has one (see [`Spine`]); `None` unless the surface
+    /// overrides it.
+    fn as_spine(&self) -> Option<&dyn Spine> {
+        None
+    }
 
     /// `X` and exact partials up to second order.
     fn partials(&self, u: f64, v: f64) -> Partials;
@@ -207,3 +249,6 @@ mod tests {
         assert_eq!(Partials::default().normal(), Vec3::zeros());
     }
 }
+
+#[cfg(test)]
+mod tests_abilities;

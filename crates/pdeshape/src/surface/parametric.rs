@@ -1,7 +1,7 @@
 //! Surfaces given by three formulas in `u` and `v` (spheres, cylinders, tori, … — shapes the PDE
 //! method cannot produce exactly), with exact partial derivatives from symbolic differentiation.
 
-use super::{Partials, Surface, VDomain};
+use super::{Interval, Partials, Surface, VDomain};
 use crate::curve::{normalise_formula, unary_minus_before_power};
 use crate::{Error, Result, Vec3, TAU};
 use exmex::prelude::*;
@@ -34,13 +34,14 @@ impl Component {
     }
 }
 
-/// `X(u, v) = (x(u, v), y(u, v), z(u, v))` for `u ∈ [0, 1]` and `v` in a periodic (`[0, 2π)`) or
-/// interval domain. The partials are the formulas' symbolic derivatives (exmex), exact up to
+/// `X(u, v) = (x(u, v), y(u, v), z(u, v))` for `u ∈ [0, 1]` (or the range given to
+/// [`ParametricSurface::with_u_range`]) and `v` in a periodic (`[0, 2π)`) or interval domain. The partials are the formulas' symbolic derivatives (exmex), exact up to
 /// rounding. Formula syntax is that of [`crate::curve::Formula`], with the variables `u` and `v`.
 #[derive(Clone, Debug)]
 pub struct ParametricSurface {
     /// The formulas as given.
     pub text: [String; 3],
+    u_range: Interval,
     domain: VDomain,
     comps: Vec<Component>,
 }
@@ -59,6 +60,27 @@ impl ParametricSurface {
     /// domain also requires `X` and `X_v` to repeat after 2π in `v` (at four `u` and four `v`, to
     /// `10⁻⁹` of their size); an interval must be finite with start < end.
     pub fn new(x: &str, y: &str, z: &str, domain: VDomain) -> Result<Self> {
+        Self::with_u_range(x, y, z, Interval::UNIT, domain)
+    }
+
+    /// [`ParametricSurface::new`] with `u` over `u_range` instead of `[0, 1]` (a sphere in
+    /// latitude and longitude, `u ∈ [−π/2, π/2]`): the surface reports that range
+    /// ([`Surface::u_range`]) and the checks run over it. The range must be finite with
+    /// start < end.
+    pub fn with_u_range(
+        x: &str,
+        y: &str,
+        z: &str,
+        u_range: Interval,
+        domain: VDomain,
+    ) -> Result<Self> {
+        if !u_range.is_valid() {
+            return Err(Error::invalid(format!(
+                "the u range [{}, {}] must be finite with start < end",
+                u_range.start, u_range.end
+            ))
+            .at("u_range"));
+        }
         if let VDomain::Interval(a, b) = domain {
             if !(a.is_finite() && b.is_finite() && a < b) {
                 return Err(Error::invalid(format!(
@@ -73,6 +95,7 @@ impl ParametricSurface {
         }
         let s = ParametricSurface {
             text: [x.to_string(), y.to_string(), z.to_string()],
+            u_range,
             domain,
             comps,
         };
@@ -106,7 +129,11 @@ impl ParametricSurface {
         ];
         let n = 32;
         for i in 0..=n {
-            let u = i as f64 / n as f64;
+            let u = if i == n {
+                self.u_range.end
+            } else {
+                self.u_range.lerp(i as f64 / n as f64)
+            };
             for j in 0..=n {
                 let v = if j == n {
                     b
@@ -132,7 +159,8 @@ impl ParametricSurface {
     }
 
     fn check_periodic(&self) -> Result<()> {
-        for &u in &[0.0, 0.3, 0.7, 1.0] {
+        for &s in &[0.0, 0.3, 0.7, 1.0] {
+            let u = self.u_range.lerp(s);
             let mut size = [0.0f64; 2];
             for j in 0..64 {
                 let v = TAU * j as f64 / 64.0;
@@ -219,6 +247,10 @@ fn parse_component(given: &str) -> Result<Component> {
 impl Surface for ParametricSurface {
     fn v_domain(&self) -> VDomain {
         self.domain
+    }
+
+    fn u_range(&self) -> Interval {
+        self.u_range
     }
 
     fn partials(&self, u: f64, v: f64) -> Partials {
