@@ -29,6 +29,7 @@ pub mod fourier;
 pub mod mesh;
 pub mod optimize;
 pub mod render;
+pub mod scalar;
 pub mod spec;
 pub mod spline;
 pub mod splinepde;

@@ -22,7 +22,7 @@ pub fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
         .map(|n| {
             // n (n−1) … (n−k+1)
             let f: i64 = ((n - k + 1)..=n).map(|x| x as i64).product();
-            p[n].clone() * T::from_i64(f)
+            p[n].clone() * T::int(f)
         })
         .collect()
 }
@@ -38,7 +38,7 @@ pub fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
             if qb.is_zero() {
                 continue;
             }
-            acc = acc + pa.clone() * qb.clone() / T::from_i64((a + b + 1) as i64);
+            acc = acc + pa.clone() * qb.clone() / T::int((a + b + 1) as i64);
         }
     }
     acc
@@ -260,7 +260,7 @@ impl<T: Scalar> Direction<T> {
                                     acc = acc - prev[r].clone() / den;
                                 }
                             }
-                            acc * T::from_i64(d as i64)
+                            acc * T::int(d as i64)
                         })
                         .collect()
                 };

@@ -1,6 +1,7 @@
 use super::export::{iges_timestamp, to_iges, to_json, IgesOptions};
 use super::*;
 use crate::Vec3;
+use num_traits::Zero;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 type Q = BigRational;
@@ -10,14 +11,14 @@ fn q(n: i64, d: i64) -> Q {
 }
 
 fn zero_q(x: &Q) -> bool {
-    Scalar::is_zero(x)
+    Zero::is_zero(x)
 }
 
 /// Unclamped uniform knots `0, 1, …` (seed 003 Examples 1 and 2, h = 1).
 fn uniform<T: Scalar>(p: usize, count: usize) -> Direction<T> {
     Direction {
         degree: p,
-        knots: (0..count + p + 1).map(|k| T::from_i64(k as i64)).collect(),
+        knots: (0..count + p + 1).map(|k| T::int(k as i64)).collect(),
     }
 }
 
@@ -27,7 +28,7 @@ fn random_direction<T: Scalar>(rng: &mut StdRng, p: usize, spans: usize) -> Dire
     let clamped = rng.gen_bool(0.5);
     let mut knots = Vec::new();
     let mut t = 0i64;
-    let push = |knots: &mut Vec<T>, t: i64| knots.push(T::from_i64(t) / T::from_i64(8));
+    let push = |knots: &mut Vec<T>, t: i64| knots.push(T::int(t) / T::int(8));
     if clamped {
         for _ in 0..p {
             push(&mut knots, 0);
@@ -89,7 +90,7 @@ fn random_solution<T: Solve>(
     let n = a.cols;
     let mut net = Vec::with_capacity(n);
     let ys: Vec<[T; 3]> = (0..aff.null.cols)
-        .map(|_| [(); 3].map(|_| T::from_i64(rng.gen_range(-16..=16)) / T::from_i64(2)))
+        .map(|_| [(); 3].map(|_| T::int(rng.gen_range(-16..=16)) / T::int(2)))
         .collect();
     for c in 0..n {
         let mut p = [
