@@ -19,6 +19,7 @@
 
 pub mod analysis;
 pub mod bfs;
+mod check;
 pub mod curve;
 pub mod design;
 pub mod dynamic;

@@ -1,7 +1,8 @@
 //! The one number abstraction of the exact-or-rounded code: `f64`, and exact rationals
 //! ([`BigRational`]) so that fractions (dual bases, B-spline PDE solutions) can be reproduced
-//! exactly. The multivariate Bézier patches and dual bases ([`crate::spline`]) and the B-spline
-//! PDE engine ([`crate::splinepde`]) compute in a `T: Scalar`.
+//! exactly. The multivariate Bézier patches and dual bases ([`crate::spline`]), the B-spline
+//! basis and knot checks ([`crate::spline::bspline_basis`]) and the constraint engine of
+//! [`crate::splinepde`] all compute in a `T: Scalar`.
 
 use num_rational::BigRational;
 use num_traits::{FromPrimitive, Num, Signed, ToPrimitive};
