@@ -1,7 +1,7 @@
 //! Tensor-product B-spline surfaces.
 
 use super::knots::{basis_derivatives, elevate, find_span, insert_knot, KnotRule};
-use crate::surface::{Partials, RowBuf, RowEvaluator, Surface, VDomain};
+use crate::surface::{normal_degenerates, Partials, RowBuf, RowEvaluator, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 
 /// Tensor-product B-spline surface
@@ -384,8 +384,9 @@ impl BSplineRows<'_> {
 }
 
 /// Writes `X` and the unit normal of column `j` from `acc = [X, X_u, X_v, X_uv]`. The normal is
-/// `X_u × X_v` normalised where that is clearly non-degenerate (the test of
-/// [`Partials::normal`]), else [`Partials::normal`] with its pole limits.
+/// `X_u × X_v` normalised where that does not degenerate ([`normal_degenerates`], the rule of
+/// [`Partials::normal`]) and its size is safely inside the range of `f64`, else
+/// [`Partials::normal`] with its scaling and pole limits.
 #[inline(always)]
 fn store_vertex(row: &mut RowBuf, j: usize, acc: &[f64; 12]) {
     let (xu, xv) = (&acc[3..6], &acc[6..9]);
@@ -402,8 +403,9 @@ fn store_vertex(row: &mut RowBuf, j: usize, acc: &[f64; 12]) {
         + xv[1] * xv[1]
         + xv[2] * xv[2];
     (row.x[j], row.y[j], row.z[j]) = (acc[0], acc[1], acc[2]);
-    if s2 > 1e-20 * t * t && s2 > 1e-290 && s2 < 1e290 {
-        let r = 1.0 / s2.sqrt();
+    let len = s2.sqrt();
+    if !normal_degenerates(len, t) && s2 > 1e-290 && s2 < 1e290 {
+        let r = 1.0 / len;
         (row.nx[j], row.ny[j], row.nz[j]) = (n[0] * r, n[1] * r, n[2] * r);
     } else {
         let p = Partials {
