@@ -3,6 +3,7 @@
 //! `f(v) = a₀ + Σₙ₌₁ᴹ [aₙ cos nv + bₙ sin nv]`. The mean is `a₀ = (1/S) Σ g_k` over `S` equally
 //! spaced samples (the book's Eq. 4.21 prints a wrong factor 2/π; see docs/errata.md).
 
+use crate::check::{finite3, finite_points};
 use crate::curve::{Curve, Domain};
 use crate::{Error, Result, Vec3, TAU};
 
@@ -20,6 +21,19 @@ pub struct FourierSeries {
 }
 
 impl FourierSeries {
+    /// The series `a0 + Σ cos[n-1]·cos(nv) + sin[n-1]·sin(nv)`; the shorter of `cos` and `sin`
+    /// is padded with zeros. Every coefficient must be finite; errors are placed as in the
+    /// design file's `fourier` table: `a0[c]`, `cos[n][c]`, `sin[n][c]`.
+    pub fn new(a0: Vec3, mut cos: Vec<Vec3>, mut sin: Vec<Vec3>) -> Result<Self> {
+        finite3(&a0, "a0")?;
+        finite_points(&cos, "cos")?;
+        finite_points(&sin, "sin")?;
+        let m = cos.len().max(sin.len());
+        cos.resize(m, Vec3::zeros());
+        sin.resize(m, Vec3::zeros());
+        Ok(FourierSeries { a0, cos, sin })
+    }
+
     /// Number of modes `M`.
     pub fn modes(&self) -> usize {
         self.cos.len()
@@ -415,5 +429,23 @@ mod tests {
         assert_eq!(f.modes(), 3);
         assert_eq!(f.cos[0], e.axis1);
         assert_eq!(f.cos[2], Vec3::zeros());
+    }
+
+    #[test]
+    fn new_pads_and_refuses_non_finite_coefficients() {
+        let f = FourierSeries::new(Vec3::x(), vec![Vec3::y()], vec![]).unwrap();
+        assert_eq!(f.sin, vec![Vec3::zeros()]);
+        assert_eq!(f.modes(), 1);
+        let bad = Vec3::new(0.0, f64::INFINITY, 0.0);
+        let e = |a0, cos, sin| FourierSeries::new(a0, cos, sin).unwrap_err().to_string();
+        assert_eq!(e(bad, vec![], vec![]), "a0[1]: must be finite (got inf)");
+        assert_eq!(
+            e(Vec3::x(), vec![Vec3::x(), bad], vec![]),
+            "cos[1][1]: must be finite (got inf)"
+        );
+        assert_eq!(
+            e(Vec3::x(), vec![], vec![bad]),
+            "sin[0][1]: must be finite (got inf)"
+        );
     }
 }

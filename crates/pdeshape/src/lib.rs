@@ -19,16 +19,19 @@
 
 pub mod analysis;
 pub mod bfs;
+mod check;
 pub mod curve;
 pub mod design;
 pub mod dynamic;
 pub mod elliptic;
 mod error;
 pub mod fd;
+mod formula;
 pub mod fourier;
 pub mod mesh;
 pub mod optimize;
 pub mod render;
+pub mod scalar;
 pub mod spec;
 pub mod spline;
 pub mod splinepde;

@@ -8,7 +8,7 @@
 //! negates `H`, `κ₁`, `κ₂` and leaves `K` unchanged. A sphere with the outward normal has
 //! `H = −1/R` and `κ₁ = κ₂ = −1/R`; with the inward normal, `H = +1/R`.
 
-use crate::surface::{Partials, Surface};
+use crate::surface::{normal_degenerates, Partials, Surface};
 use crate::Vec3;
 
 /// Both fundamental forms at one point: `I = E du² + 2F du dv + G dv²`,
@@ -46,12 +46,9 @@ pub struct Curvature {
     pub d2: Vec3,
 }
 
-/// The relative size below which `|X_u × X_v|` counts as zero (the same test as
-/// [`Partials::normal`]): the point is degenerate, e.g. a pole where `X_v = 0`.
-const DEGENERATE: f64 = 1e-10;
-
 /// The curvature at a point from the exact partials `p`, or `None` where the parametrisation is
-/// degenerate (`|X_u × X_v| ≤ 1e-10 (|X_u|² + |X_v|²)`, e.g. at a pole) or not finite. See
+/// degenerate (`|X_u × X_v| ≤ 1e-10 (|X_u|² + |X_v|²)`, the rule of
+/// [`crate::surface::normal_degenerates`], e.g. at a pole) or not finite. See
 /// [`curvature_at`] for the limit at a pole.
 pub fn curvature(p: &Partials) -> Option<Curvature> {
     let Core {
@@ -95,7 +92,7 @@ pub(crate) fn core(p: &Partials) -> Option<Core> {
     let cross = p.xu.cross(&p.xv);
     let jac = cross.norm();
     let size = p.xu.norm_squared() + p.xv.norm_squared();
-    if jac.is_nan() || jac <= DEGENERATE * size || !jac.is_finite() {
+    if normal_degenerates(jac, size) || !jac.is_finite() {
         return None;
     }
     let n = cross / jac;

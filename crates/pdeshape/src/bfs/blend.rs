@@ -208,12 +208,13 @@ fn nan_max(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Angle between two lines with directions `a`, `b` (0 if either vanishes).
-fn line_angle(a: Vec3, b: Vec3) -> f64 {
-    if a.norm() == 0.0 || b.norm() == 0.0 {
-        return 0.0;
+/// Angle between the normal lines of two surfaces at a point (0 where either has no normal):
+/// `atan2(|a × b|, |a · b|)`, accurate for tiny angles.
+fn normal_angle(p: &Partials, q: &Partials) -> f64 {
+    match (p.normal_or_none(), q.normal_or_none()) {
+        (Some(a), Some(b)) => a.cross(&b).norm().atan2(a.dot(&b).abs()),
+        _ => 0.0,
     }
-    a.cross(&b).norm().atan2(a.dot(&b).abs())
 }
 
 fn join_report(s: &BfsSurface, j: &Join, y: f64, samples: usize) -> JoinReport {
@@ -228,7 +229,7 @@ fn join_report(s: &BfsSurface, j: &Join, y: f64, samples: usize) -> JoinReport {
         let q = j
             .surface
             .partials(j.from[0] + x * t[0], j.from[1] + x * t[1]);
-        g1 = nan_max(g1, line_angle(b.normal(), q.normal()));
+        g1 = nan_max(g1, normal_angle(&b, &q));
     }
     JoinReport {
         g0,

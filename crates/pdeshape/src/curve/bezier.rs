@@ -1,4 +1,5 @@
-use super::{check_finite, Curve, Domain};
+use super::{Curve, Domain};
+use crate::check::finite_points;
 use crate::{Error, Result, Vec3};
 
 /// Bézier curve of any degree `n` on `[0, 1]`: `B(t) = Σ_{i=0}^{n} P_i C(n,i) tⁱ (1 − t)ⁿ⁻ⁱ`,
@@ -13,16 +14,16 @@ pub struct Bezier {
 }
 
 impl Bezier {
-    /// At least two control points, all finite.
+    /// At least two control points, all finite. Errors are placed as in a `bezier` table of the
+    /// design file: `control[i][c]`, `control`.
     pub fn new(control: Vec<Vec3>) -> Result<Self> {
+        finite_points(&control, "control")?;
         if control.len() < 2 {
             return Err(Error::invalid(format!(
-                "control: a Bézier curve needs at least 2 control points, got {}",
+                "needs at least 2 control points (got {})",
                 control.len()
-            )));
-        }
-        for (i, p) in control.iter().enumerate() {
-            check_finite(&format!("control[{i}]"), p)?;
+            ))
+            .at("control"));
         }
         let n = control.len() - 1;
         let mut hodographs = vec![control.clone()];
@@ -130,5 +131,23 @@ mod tests {
             .to_string();
         assert!(e.contains("control[1]"), "{e}");
         assert!(Bezier::new(vec![Vec3::x(), Vec3::new(0.0, f64::INFINITY, 0.0)]).is_err());
+    }
+
+    #[test]
+    fn refusals_are_placed_and_worded_as_in_the_design_file() {
+        let err = |c: Vec<Vec3>| Bezier::new(c).unwrap_err().to_string();
+        assert_eq!(
+            err(vec![Vec3::x()]),
+            "control: needs at least 2 control points (got 1)"
+        );
+        assert_eq!(
+            err(vec![Vec3::x(), Vec3::new(0.0, 0.0, f64::NAN)]),
+            "control[1][2]: must be finite (got NaN)"
+        );
+        // Finite points are checked before their count, as in the design file.
+        assert_eq!(
+            err(vec![Vec3::new(f64::INFINITY, 0.0, 0.0)]),
+            "control[0][0]: must be finite (got inf)"
+        );
     }
 }

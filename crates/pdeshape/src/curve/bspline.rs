@@ -1,4 +1,6 @@
-use super::{check_finite, Curve, Domain};
+use super::{Curve, Domain};
+use crate::check::finite_points;
+use crate::spline::knots::{find_span, KnotRule};
 use crate::{Error, Result, Vec3, TAU};
 
 /// B-spline curve of any degree: clamped/open on a knot vector, or periodic on `[0, 2π)`.
@@ -23,19 +25,16 @@ pub struct BSpline {
 /// Highest degree accepted.
 pub const MAX_DEGREE: usize = 30;
 
-fn bad(msg: String) -> Error {
-    Error::invalid(msg)
-}
-
 impl BSpline {
     /// Open B-spline with the full knot vector (`control.len() + degree + 1` non-decreasing knots);
     /// `None` gives the uniform clamped knot vector on `[0, 1]`. Domain `[t_p, t_n]`.
     ///
-    /// Requirements (else an error naming the value): `1 ≤ degree ≤ MAX_DEGREE` (30); at least `degree + 1` finite
-    /// control points; finite, non-decreasing knots; `t_p < t_n`; no knot value repeated more than
-    /// `degree + 1` times, and none strictly inside `(t_p, t_n)` more than `degree` times (which
-    /// would make the curve discontinuous). Knots need not be clamped (unclamped open knot vectors
-    /// are fine).
+    /// Requirements: `1 ≤ degree ≤ MAX_DEGREE` (30); at least `degree + 1` finite control points;
+    /// finite, non-decreasing knots; `t_p < t_n`; no knot value repeated more than `degree + 1`
+    /// times, and none strictly inside `(t_p, t_n)` more than `degree` times (which would make
+    /// the curve discontinuous). Knots need not be clamped (unclamped open knot vectors are
+    /// fine). Errors are placed as in a curve table of the design file: `degree`, `control`,
+    /// `control[i][c]`, `knots`, `knots[i]`.
     pub fn clamped(degree: usize, control: Vec<Vec3>, knots: Option<Vec<f64>>) -> Result<Self> {
         check_degree_and_control(degree, &control)?;
         let n = control.len();
@@ -50,53 +49,13 @@ impl BSpline {
             }
             Some(k) => k,
         };
-        if knots.len() != n + p + 1 {
-            return Err(bad(format!(
-                "knots: expected control.len() + degree + 1 = {} values, got {}",
-                n + p + 1,
-                knots.len()
-            )));
+        KnotRule::Open {
+            degree,
+            count: Some(n),
         }
-        for (i, k) in knots.iter().enumerate() {
-            if !k.is_finite() {
-                return Err(bad(format!("knots[{i}] = {k} is not finite")));
-            }
-            if i > 0 && *k < knots[i - 1] {
-                return Err(bad(format!(
-                    "knots[{i}] = {k} is smaller than knots[{}] = {}; knots must not decrease",
-                    i - 1,
-                    knots[i - 1]
-                )));
-            }
-        }
-        let (a, b) = (knots[p], knots[n]);
-        if a >= b {
-            return Err(bad(format!(
-                "knots: the domain [knots[{p}], knots[{n}]] = [{a}, {b}] is empty"
-            )));
-        }
-        let mut i = 0;
-        while i < knots.len() {
-            let mut j = i;
-            while j + 1 < knots.len() && knots[j + 1] == knots[i] {
-                j += 1;
-            }
-            let mult = j - i + 1;
-            let interior = knots[i] > a && knots[i] < b;
-            if mult > p + 1 || (interior && mult > p) {
-                return Err(bad(format!(
-                    "knots[{i}] = {} is repeated {mult} times; at most {} allowed {}",
-                    knots[i],
-                    if interior { p } else { p + 1 },
-                    if interior {
-                        "inside the domain"
-                    } else {
-                        "at the ends"
-                    }
-                )));
-            }
-            i = j + 1;
-        }
+        .check(&knots)
+        .map_err(|f| f.at_place("knots"))?;
+        check_max_degree(degree)?;
         Ok(BSpline {
             degree,
             control,
@@ -105,56 +64,41 @@ impl BSpline {
         })
     }
 
-    /// Periodic (closed) B-spline; `breakpoints` (`control.len() + 1` increasing values, mapped
-    /// linearly onto `[0, 2π]`) default to uniform.
+    /// Periodic (closed) B-spline; `knots` are the breakpoints (`control.len() + 1` increasing
+    /// values, mapped linearly onto `[0, 2π]`), uniform by default.
     ///
     /// With the breakpoints `u_0 = 0 < u_1 < … < u_n = 2π` (n = `control.len()` ≥ degree + 1),
     /// the knots are extended periodically (`u_{j+n} = u_j + 2π`) and the control points wrapped
     /// (`P_{j+n} = P_j`); the curve is `C^{p−1}` everywhere, including across `v = 0`. On
-    /// `[u_j, u_{j+1}]` the curve depends on `P_j … P_{j+p}` (indices modulo n).
-    pub fn periodic(
-        degree: usize,
-        control: Vec<Vec3>,
-        breakpoints: Option<Vec<f64>>,
-    ) -> Result<Self> {
+    /// `[u_j, u_{j+1}]` the curve depends on `P_j … P_{j+p}` (indices modulo n). Errors are
+    /// placed as in a curve table of the design file: `degree`, `control`, `control[i][c]`,
+    /// `knots`, `knots[i]`.
+    pub fn periodic(degree: usize, control: Vec<Vec3>, knots: Option<Vec<f64>>) -> Result<Self> {
         check_degree_and_control(degree, &control)?;
         let n = control.len();
         let p = degree;
-        let u: Vec<f64> = match breakpoints {
+        if let Some(b) = &knots {
+            KnotRule::Breakpoints { degree, count: n }
+                .check(b)
+                .map_err(|f| f.at_place("knots"))?;
+        }
+        check_max_degree(degree)?;
+        let u: Vec<f64> = match knots {
             None => (0..=n).map(|i| TAU * i as f64 / n as f64).collect(),
             Some(b) => {
-                if b.len() != n + 1 {
-                    return Err(bad(format!(
-                        "breakpoints: expected control.len() + 1 = {} values, got {}",
-                        n + 1,
-                        b.len()
-                    )));
-                }
-                for (i, x) in b.iter().enumerate() {
-                    if !x.is_finite() {
-                        return Err(bad(format!("breakpoints[{i}] = {x} is not finite")));
-                    }
-                    if i > 0 && *x <= b[i - 1] {
-                        return Err(bad(format!(
-                            "breakpoints[{i}] = {x} is not larger than breakpoints[{}] = {}; \
-                             breakpoints must increase strictly",
-                            i - 1,
-                            b[i - 1]
-                        )));
-                    }
-                }
                 let (b0, bn) = (b[0], b[n]);
                 let mut u: Vec<f64> = b.iter().map(|x| TAU * (x - b0) / (bn - b0)).collect();
                 u[0] = 0.0;
                 u[n] = TAU;
                 for i in 1..=n {
                     if u[i] <= u[i - 1] {
-                        return Err(bad(format!(
-                            "breakpoints[{i}] = {} is too close to breakpoints[{}] = {}",
-                            b[i],
+                        return Err(Error::invalid(format!(
+                            "is too close to knots[{}] = {} (the breakpoints are scaled to \
+                             [0, 2π])",
                             i - 1,
                             b[i - 1]
-                        )));
+                        ))
+                        .at(&format!("knots[{i}]")));
                     }
                 }
                 u
@@ -219,61 +163,31 @@ impl BSpline {
         let n = self.control.len();
         (self.knots[self.degree], self.knots[n])
     }
-
-    /// The span `s` (`t_s < t_{s+1}`, `p ≤ s < n`) whose polynomial piece evaluates `t`.
-    fn span(&self, t: f64) -> usize {
-        let p = self.degree;
-        let n = self.control.len();
-        let k = &self.knots;
-        // Last s in [p, n) with k[s] ≤ t and a non-empty span; first non-empty one if t < k[p].
-        let mut lo = p;
-        let mut hi = n; // invariant: answer in [lo, hi)
-        if t >= k[p] {
-            // largest s < n with k[s] <= t
-            while hi - lo > 1 {
-                let mid = (lo + hi) / 2;
-                if k[mid] <= t {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let mut s = lo;
-            while s > p && k[s] >= k[s + 1] {
-                s -= 1;
-            }
-            if k[s] >= k[s + 1] {
-                s = self.first_span();
-            }
-            s
-        } else {
-            self.first_span()
-        }
-    }
-
-    fn first_span(&self) -> usize {
-        let p = self.degree;
-        (p..self.control.len())
-            .find(|&s| self.knots[s] < self.knots[s + 1])
-            .unwrap_or(p)
-    }
 }
 
+/// The checks of a B-spline table of the design file, in its order: the degree is at least 1,
+/// the control points are finite, and there are at least `degree + 1` of them.
 fn check_degree_and_control(degree: usize, control: &[Vec3]) -> Result<()> {
-    if degree == 0 || degree > MAX_DEGREE {
-        return Err(bad(format!(
-            "degree = {degree}: the degree must be between 1 and {MAX_DEGREE}"
-        )));
+    if degree < 1 {
+        return Err(Error::invalid(format!("must be at least 1 (got {degree})")).at("degree"));
     }
+    finite_points(control, "control")?;
     if control.len() < degree + 1 {
-        return Err(bad(format!(
-            "control: degree {degree} needs at least {} control points, got {}",
+        return Err(Error::invalid(format!(
+            "a degree-{degree} B-spline needs at least {} control points (got {})",
             degree + 1,
             control.len()
-        )));
+        ))
+        .at("control"));
     }
-    for (i, p) in control.iter().enumerate() {
-        check_finite(&format!("control[{i}]"), p)?;
+    Ok(())
+}
+
+fn check_max_degree(degree: usize) -> Result<()> {
+    if degree > MAX_DEGREE {
+        return Err(
+            Error::invalid(format!("must be at most {MAX_DEGREE} (got {degree})")).at("degree"),
+        );
     }
     Ok(())
 }
@@ -294,7 +208,7 @@ impl Curve for BSpline {
             t
         };
         let p = self.degree;
-        let s = self.span(t);
+        let s = find_span(&self.knots, p, self.control.len(), &t);
         let u = &self.knots;
         // Local control points L⁽⁰⁾_r = P_{s−p+r}, r = 0..=p.
         let mut l = [Vec3::zeros(); MAX_DEGREE + 1];
@@ -333,27 +247,7 @@ impl Curve for BSpline {
 mod tests {
     use super::super::testutil::{assert_close, check_fd, jet};
     use super::*;
-
-    /// Cox–de Boor recursion, independent of the evaluator.
-    fn basis(knots: &[f64], i: usize, p: usize, t: f64) -> f64 {
-        if p == 0 {
-            return if knots[i] <= t && t < knots[i + 1] {
-                1.0
-            } else {
-                0.0
-            };
-        }
-        let mut v = 0.0;
-        let d1 = knots[i + p] - knots[i];
-        if d1 > 0.0 {
-            v += (t - knots[i]) / d1 * basis(knots, i, p - 1, t);
-        }
-        let d2 = knots[i + p + 1] - knots[i + 1];
-        if d2 > 0.0 {
-            v += (knots[i + p + 1] - t) / d2 * basis(knots, i + 1, p - 1, t);
-        }
-        v
-    }
+    use crate::spline::knots::cox_de_boor;
 
     fn ctrl(n: usize) -> Vec<Vec3> {
         (0..n)
@@ -383,7 +277,7 @@ mod tests {
                 let mut sum = 0.0;
                 let mut want = Vec3::zeros();
                 for (i, cp) in c.iter().enumerate() {
-                    let b = basis(&knots, i, p, t);
+                    let b = cox_de_boor(&knots, i, p, t, 2.0);
                     sum += b;
                     want += cp * b;
                 }
@@ -413,7 +307,7 @@ mod tests {
         assert_eq!(s.domain(), Domain::Interval(3.0, 7.0));
         for &t in &[3.0f64, 3.4, 4.5, 6.9, 7.0] {
             let want = c.iter().enumerate().fold(Vec3::zeros(), |acc, (i, cp)| {
-                acc + cp * basis(&knots, i, p, t.min(6.999_999_999_999))
+                acc + cp * cox_de_boor(&knots, i, p, t.min(6.999_999_999_999), 7.0)
             });
             assert_close(&s.point(t), &want, 1e-11, "unclamped");
         }
@@ -581,5 +475,98 @@ mod tests {
         assert!(
             BSpline::periodic(3, c.clone(), Some(vec![0., 1., 2., 3., 4., f64::INFINITY])).is_err()
         );
+    }
+
+    #[test]
+    fn refusals_are_placed_and_worded_as_in_the_design_file() {
+        let k = |v: &[f64]| Some(v.to_vec());
+        let mut nan1 = ctrl(5);
+        nan1[1].z = f64::NAN;
+        let cases = [
+            (
+                BSpline::clamped(0, ctrl(5), None),
+                "degree: must be at least 1 (got 0)",
+            ),
+            (
+                BSpline::periodic(0, ctrl(5), None),
+                "degree: must be at least 1 (got 0)",
+            ),
+            (
+                BSpline::clamped(31, ctrl(32), None),
+                "degree: must be at most 30 (got 31)",
+            ),
+            (
+                BSpline::clamped(3, ctrl(2), None),
+                "control: a degree-3 B-spline needs at least 4 control points (got 2)",
+            ),
+            (
+                BSpline::clamped(3, nan1.clone(), None),
+                "control[1][2]: must be finite (got NaN)",
+            ),
+            // Finite control points are checked before their count, as in the design file.
+            (
+                BSpline::periodic(3, nan1[..2].to_vec(), None),
+                "control[1][2]: must be finite (got NaN)",
+            ),
+            (
+                BSpline::clamped(3, ctrl(5), Some(vec![0.0; 8])),
+                "knots: needs 9 non-decreasing knots for 5 control points of degree 3 (got 8)",
+            ),
+            (
+                BSpline::clamped(3, ctrl(5), k(&[0., 0., 0., 0., f64::NAN, 1., 1., 1., 1.])),
+                "knots[4]: must be finite (got NaN)",
+            ),
+            (
+                BSpline::clamped(3, ctrl(5), k(&[0., 0., 0., 0., 0.5, 0.4, 1., 1., 1.])),
+                "knots[5]: must be non-decreasing (got 0.4 after 0.5)",
+            ),
+            (
+                BSpline::clamped(1, ctrl(2), k(&[0., 1., 1., 2.])),
+                "knots: the domain [knots[1], knots[2]] = [1, 1] is empty",
+            ),
+            (
+                BSpline::clamped(
+                    3,
+                    ctrl(8),
+                    k(&[0., 0., 0., 0., 0.5, 0.5, 0.5, 0.5, 1., 1., 1., 1.]),
+                ),
+                "knots[4]: 0.5 is repeated 4 times; at most 3 allowed inside the domain (the \
+                 spline would break apart there)",
+            ),
+            (
+                BSpline::clamped(1, ctrl(3), k(&[0., 0., 0., 1., 1.])),
+                "knots[0]: 0 is repeated 3 times; at most 2 allowed at or outside the ends of the \
+                 domain",
+            ),
+            (
+                BSpline::periodic(3, ctrl(4), k(&[0., 1., 2.])),
+                "knots: needs 5 increasing breakpoints for 4 control points of degree 3 (got 3)",
+            ),
+            (
+                BSpline::periodic(3, ctrl(4), k(&[0., 2., 1., 3., 4.])),
+                "knots[2]: must be increasing (got 1 after 2)",
+            ),
+            (
+                BSpline::periodic(3, ctrl(4), k(&[0., 1., 1., 3., 4.])),
+                "knots[2]: must be increasing (got 1 after 1)",
+            ),
+            (
+                BSpline::periodic(3, ctrl(4), k(&[0., 1., 2., f64::INFINITY, 4.])),
+                "knots[3]: must be finite (got inf)",
+            ),
+            // Increasing, but the first two coincide once scaled to [0, 2π].
+            (
+                BSpline::periodic(3, ctrl(4), k(&[0., 5e-324, 1e-323, 1.5e-323, 1e300])),
+                "knots[1]: is too close to knots[0] = 0 (the breakpoints are scaled to [0, 2π])",
+            ),
+        ];
+        for (i, (r, want)) in cases.into_iter().enumerate() {
+            assert_eq!(r.unwrap_err().to_string(), want, "case {i}");
+        }
+        // Under a curve table the places get the table's prefix.
+        let e = BSpline::periodic(3, ctrl(4), k(&[0., 2., 1., 3., 4.]))
+            .unwrap_err()
+            .at("curves.rim");
+        assert_eq!(e.place(), "curves.rim.knots[2]");
     }
 }

@@ -1,4 +1,5 @@
-use super::{check_finite, Curve, Domain, FourierSeries};
+use super::{Curve, Domain, FourierSeries};
+use crate::check::{finite3, nonzero_vector, positive};
 use crate::{Error, Result, Vec3};
 
 /// A constant curve: the degenerate "curve" that closes a surface to a pole.
@@ -10,6 +11,13 @@ pub struct Point {
 impl Point {
     pub fn new(p: Vec3) -> Self {
         Point { p }
+    }
+
+    /// [`Point::new`], refusing a point that is not finite (place `at[c]`, as in the design
+    /// file's `point` table).
+    pub fn try_new(p: Vec3) -> Result<Self> {
+        finite3(&p, "at")?;
+        Ok(Point { p })
     }
 }
 
@@ -55,42 +63,27 @@ fn start_direction(n: &Vec3) -> Vec3 {
     }
 }
 
+/// `normal` scaled to unit length; checked as in the design file (place `normal`).
 fn unit_normal(normal: &Vec3) -> Result<Vec3> {
-    check_finite("normal", normal)?;
+    nonzero_vector(normal, "normal")?;
     // Scale first so that huge or tiny normals neither overflow nor underflow.
-    let big = normal.amax();
-    if big == 0.0 {
-        return Err(Error::invalid(format!(
-            "normal = ({}, {}, {}) must be a non-zero vector",
-            normal.x, normal.y, normal.z
-        )));
-    }
-    Ok((normal / big).normalize())
-}
-
-fn check_radius(name: &str, r: f64) -> Result<()> {
-    if r.is_finite() && r > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(format!(
-            "{name} = {r} must be a positive finite number"
-        )))
-    }
+    Ok((normal / normal.amax()).normalize())
 }
 
 impl Ellipse {
-    /// General ellipse from its two (conjugate) semi-axis vectors; they must be independent
-    /// (`|a₁ × a₂| > 10⁻¹² |a₁||a₂|`) and finite.
+    /// General ellipse from its two (conjugate) semi-axis vectors; they must be finite, non-zero
+    /// and independent (`|a₁ × a₂| > 10⁻¹² |a₁||a₂|`). Errors are placed as in an `ellipse`
+    /// table of the design file: `center[c]`, `axis1`, `axis2`.
     pub fn new(center: Vec3, axis1: Vec3, axis2: Vec3) -> Result<Self> {
-        check_finite("center", &center)?;
-        check_finite("axis1", &axis1)?;
-        check_finite("axis2", &axis2)?;
+        finite3(&center, "center")?;
+        nonzero_vector(&axis1, "axis1")?;
+        nonzero_vector(&axis2, "axis2")?;
         let cross = axis1.cross(&axis2).norm();
         if cross <= DEPENDENT_TOL * axis1.norm() * axis2.norm() {
-            return Err(Error::invalid(format!(
-                "axis1 = ({}, {}, {}) and axis2 = ({}, {}, {}) are linearly dependent",
-                axis1.x, axis1.y, axis1.z, axis2.x, axis2.y, axis2.z
-            )));
+            return Err(
+                Error::invalid("axis1 and axis2 are parallel: the ellipse is degenerate")
+                    .at("axis2"),
+            );
         }
         Ok(Ellipse {
             center,
@@ -101,16 +94,19 @@ impl Ellipse {
     /// Circle of `radius > 0` about `center` in the plane normal to `normal`, starting (v = 0)
     /// along the projection of +x on that plane (+y if the normal is along x). With that unit
     /// start direction `e`: `a₁ = r e`, `a₂ = r n̂ × e`, so the circle runs counter-clockwise
-    /// about the normal.
+    /// about the normal. Errors are placed as in a `circle` table: `center[c]`, `radius`,
+    /// `normal`.
     pub fn circle(center: Vec3, radius: f64, normal: Vec3) -> Result<Self> {
-        check_radius("radius", radius)?;
+        finite3(&center, "center")?;
+        positive(radius, "radius")?;
         Self::with_radii(center, radius, radius, normal)
     }
     /// Axis-aligned ellipse with semi-axes `rx` (along the circle's start direction) and `ry`.
+    /// Errors are placed as in an `ellipse` table: `center[c]`, `rx`, `ry`, `normal`.
     pub fn with_radii(center: Vec3, rx: f64, ry: f64, normal: Vec3) -> Result<Self> {
-        check_finite("center", &center)?;
-        check_radius("rx", rx)?;
-        check_radius("ry", ry)?;
+        finite3(&center, "center")?;
+        positive(rx, "rx")?;
+        positive(ry, "ry")?;
         let n = unit_normal(&normal)?;
         let e = start_direction(&n);
         Ok(Ellipse {
@@ -238,7 +234,7 @@ mod tests {
         assert_close(&tiny.axis2, &Vec3::y(), 1e-15, "tiny normal");
         assert!(Ellipse::circle(nan, 1.0, Vec3::z()).is_err());
         let e = Ellipse::circle(z, -2.0, Vec3::z()).unwrap_err().to_string();
-        assert!(e.contains("radius = -2"), "{e}");
+        assert!(e.contains("radius: must be positive (got -2)"), "{e}");
         assert!(Ellipse::with_radii(z, 1.0, 0.0, Vec3::z()).is_err());
         assert!(Ellipse::new(z, Vec3::x(), Vec3::x() * 2.0).is_err());
         assert!(Ellipse::new(z, Vec3::x(), z).is_err());
@@ -247,6 +243,70 @@ mod tests {
         let e = Ellipse::new(z, Vec3::x(), -Vec3::x())
             .unwrap_err()
             .to_string();
-        assert!(e.contains("dependent"), "{e}");
+        assert!(e.contains("parallel"), "{e}");
+    }
+
+    #[test]
+    fn refusals_are_placed_and_worded_as_in_the_design_file() {
+        let err = |r: Result<Ellipse>| r.unwrap_err().to_string();
+        let (z, x, y) = (Vec3::zeros(), Vec3::x(), Vec3::y());
+        let nan = Vec3::new(0.0, f64::NAN, 0.0);
+        assert_eq!(
+            err(Ellipse::circle(nan, 1.0, Vec3::z())),
+            "center[1]: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(Ellipse::circle(z, -1.0, Vec3::z())),
+            "radius: must be positive (got -1)"
+        );
+        assert_eq!(
+            err(Ellipse::circle(z, -1e-300, Vec3::z())),
+            "radius: must be positive (got -1e-300)"
+        );
+        assert_eq!(
+            err(Ellipse::circle(z, f64::INFINITY, Vec3::z())),
+            "radius: must be finite (got inf)"
+        );
+        assert_eq!(
+            err(Ellipse::circle(z, 1.0, z)),
+            "normal: must not be the zero vector"
+        );
+        assert_eq!(
+            err(Ellipse::circle(z, 1.0, nan)),
+            "normal[1]: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(Ellipse::with_radii(z, 0.0, 1.0, Vec3::z())),
+            "rx: must be positive (got 0)"
+        );
+        assert_eq!(
+            err(Ellipse::with_radii(z, 1.0, f64::NAN, Vec3::z())),
+            "ry: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(Ellipse::with_radii(z, 1.0, 2.0, z)),
+            "normal: must not be the zero vector"
+        );
+        assert_eq!(
+            err(Ellipse::new(nan, x, y)),
+            "center[1]: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(Ellipse::new(z, z, y)),
+            "axis1: must not be the zero vector"
+        );
+        assert_eq!(
+            err(Ellipse::new(z, x, nan)),
+            "axis2[1]: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(Ellipse::new(z, x, x * -3.0)),
+            "axis2: axis1 and axis2 are parallel: the ellipse is degenerate"
+        );
+        let e = Ellipse::new(z, x, x).unwrap_err().at("curves.rim");
+        assert_eq!(e.place(), "curves.rim.axis2");
+        let e = Point::try_new(Vec3::new(1.0, 2.0, f64::INFINITY)).unwrap_err();
+        assert_eq!(e.to_string(), "at[2]: must be finite (got inf)");
+        assert_eq!(Point::try_new(x).unwrap().p, x);
     }
 }

@@ -1,10 +1,12 @@
 use super::series::{factorial, LEN};
-use super::taylor::{Literal, Taylor, TaylorOps};
+use super::taylor::{Taylor, TaylorOps};
 use super::{Curve, Domain};
+use crate::check::finite;
+use crate::formula::{self, short, Variables};
 use crate::{Error, Result, Vec3, TAU};
-use exmex::{Express, FlatEx};
+use exmex::Express;
 
-type Expr = FlatEx<Taylor, TaylorOps, Literal>;
+type Expr = formula::Expr<Taylor, TaylorOps>;
 
 /// A curve given by three formulas in the parameter `v`, e.g. `x = "2*cos(v)"`. Derivatives are
 /// exact: each formula is evaluated on truncated Taylor series (`v + ε`), which yields all
@@ -31,171 +33,40 @@ pub struct Formula {
 
 const NAMES: [&str; 3] = ["x", "y", "z"];
 
-/// Replaces the identifier `pi` by `π` (exmex knows `PI` and `π` only).
-pub(crate) fn normalise(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let chars: Vec<char> = text.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        if c.is_alphabetic() || c == '_' {
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            let word: String = chars[start..i].iter().collect();
-            if word == "pi" {
-                out.push('π');
-            } else {
-                out.push_str(&word);
-            }
-        } else {
-            out.push(c);
-            i += 1;
-        }
-    }
-    out
-}
-
-/// Finds a unary minus whose operand is raised to a power (`-v^2`, `2*-v^2`): exmex binds that
-/// minus first (`(-v)^2`), against the usual convention, so such input is refused as ambiguous.
-/// Returns the byte offset of the minus.
-pub(crate) fn unary_minus_before_power(text: &str) -> Option<usize> {
-    let b: Vec<(usize, char)> = text.char_indices().collect();
-    let skip_ws = |mut i: usize| {
-        while i < b.len() && b[i].1.is_whitespace() {
-            i += 1;
-        }
-        i
-    };
-    let group_end = |mut i: usize| {
-        // b[i] is '('; returns the index after the matching ')'.
-        let mut depth = 0usize;
-        while i < b.len() {
-            match b[i].1 {
-                '(' => depth += 1,
-                ')' => {
-                    depth -= 1;
-                    if depth == 0 {
-                        return i + 1;
-                    }
-                }
-                _ => {}
-            }
-            i += 1;
-        }
-        i
-    };
-    let mut prev: Option<char> = None;
-    for i in 0..b.len() {
-        let c = b[i].1;
-        if c.is_whitespace() {
-            continue;
-        }
-        let unary =
-            c == '-' && matches!(prev, None | Some('(' | ',' | '+' | '-' | '*' | '/' | '^'));
-        prev = Some(c);
-        if !unary {
-            continue;
-        }
-        let mut j = skip_ws(i + 1);
-        if j >= b.len() {
-            return None;
-        }
-        let d = b[j].1;
-        if d.is_ascii_digit() || d == '.' {
-            while j < b.len() && (b[j].1.is_ascii_digit() || b[j].1 == '.') {
-                j += 1;
-            }
-            if j < b.len() && (b[j].1 == 'e' || b[j].1 == 'E') {
-                let mut k = j + 1;
-                if k < b.len() && (b[k].1 == '+' || b[k].1 == '-') {
-                    k += 1;
-                }
-                if k < b.len() && b[k].1.is_ascii_digit() {
-                    j = k;
-                    while j < b.len() && b[j].1.is_ascii_digit() {
-                        j += 1;
-                    }
-                }
-            }
-        } else if d.is_alphabetic() || d == '_' {
-            while j < b.len() && (b[j].1.is_alphanumeric() || b[j].1 == '_') {
-                j += 1;
-            }
-            let k = skip_ws(j);
-            if k < b.len() && b[k].1 == '(' {
-                j = group_end(k);
-            }
-        } else if d == '(' {
-            j = group_end(j);
-        } else {
-            continue;
-        }
-        let k = skip_ws(j);
-        if k < b.len() && b[k].1 == '^' {
-            return Some(b[i].0);
-        }
-    }
-    None
-}
-
-/// Six significant digits, trailing zeros trimmed.
-fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let digits = (5 - v.abs().log10().floor() as i32).clamp(0, 17) as usize;
-    let s = format!("{v:.digits$}");
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
-}
+/// The one variable of curve formulas.
+const V: Variables = Variables::every(&["v"]);
 
 impl Formula {
-    /// Errors name the component (`x`, `y` or `z`) whose formula does not parse, uses a variable
-    /// other than `v`, or evaluates to a non-finite number on the domain.
+    /// Errors name their place as in a curve table of the design file: the component (`x`, `y`
+    /// or `z`) whose formula is empty, does not parse, uses a variable other than `v`, or
+    /// evaluates to a non-finite number on the domain; `domain[0]`, `domain[1]` or `domain` for
+    /// an interval that is not finite or not increasing.
     ///
     /// Checks: the domain is `Periodic` or a finite interval `[a, b]` with `a < b`; value and
     /// first two derivatives are finite at 257 equally spaced parameters of the domain (ends
     /// included); a periodic formula repeats after 2π (value and first derivative at
     /// `v = 0, 0.7, 2.1, 4.4` against `v + 2π`, to `10⁻⁹` of the curve's size).
     pub fn new(x: &str, y: &str, z: &str, domain: Domain) -> Result<Self> {
-        if let Domain::Interval(a, b) = domain {
-            if !(a.is_finite() && b.is_finite() && a < b) {
-                return Err(Error::invalid(format!(
-                    "domain: the interval [{a}, {b}] must be finite with start < end"
-                )));
+        for (name, f) in NAMES.iter().zip([x, y, z]) {
+            if f.trim().is_empty() {
+                return Err(Error::invalid("is empty").at(name));
             }
         }
-        let parse = |c: usize, given: &str| -> Result<Expr> {
-            let name = NAMES[c];
-            let text = normalise(given);
-            if text.trim().is_empty() {
-                return Err(Error::invalid("the formula is empty").at(name));
-            }
-            if let Some(at) = unary_minus_before_power(&text) {
+        if let Domain::Interval(t0, t1) = domain {
+            finite(t0, "domain[0]")?;
+            finite(t1, "domain[1]")?;
+            if t0 >= t1 {
                 return Err(Error::invalid(format!(
-                    "'{given}': the minus at character {} is applied before the power; write \
-                     -(…^…) or (-…)^… explicitly",
-                    at + 1
+                    "must be an interval [t0, t1] with t0 < t1 (got [{t0}, {t1}])"
                 ))
-                .at(name));
+                .at("domain"));
             }
-            let expr = Expr::parse(&text)
-                .map_err(|e| Error::invalid(format!("cannot parse '{given}': {e}")).at(name))?;
-            if let Some(bad) = expr.var_names().iter().find(|n| n.as_str() != "v") {
-                return Err(
-                    Error::invalid(format!("unknown variable '{bad}'; formulas use v")).at(name),
-                );
-            }
-            Ok(expr)
-        };
+        }
         let mut exprs = Vec::with_capacity(3);
-        for (c, given) in [x, y, z].into_iter().enumerate() {
-            exprs.push(parse(c, given)?);
+        for (name, given) in NAMES.iter().zip([x, y, z]) {
+            let parsed: formula::Parsed<Taylor, TaylorOps> =
+                formula::parse(given, &V).map_err(|e| e.at(name))?;
+            exprs.push(parsed.expr);
         }
         let f = Formula {
             text: [x.to_string(), y.to_string(), z.to_string()],
@@ -382,7 +253,6 @@ mod tests {
         assert!((j[3].y - 2.0 / 1.3f64.powi(3)).abs() < 1e-14);
         assert!((j[2].z + 0.25 * 1.3f64.powf(-1.5)).abs() < 1e-14);
         check_fd(&f, &[1.2, 1.5, 1.8], 1e-4, 5, 10.0);
-        assert_eq!(normalise("pi*spin + pi2 - 2*pi"), "π*spin + pi2 - 2*π");
         let f = Formula::new("1.5e-1*v", "2E+1", ".5", Domain::Interval(0.0, 1.0)).unwrap();
         assert_close(&f.point(2.0), &Vec3::new(0.3, 20.0, 0.5), 1e-15, "literals");
     }
@@ -428,28 +298,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("y: '-v^2': the minus at character 1"), "{e}");
-        for ok in [
-            "0 - v^2",
-            "-(v^2)",
-            "(-v)^2",
-            "2^-1",
-            "-sin(v)",
-            "1 - 2e-3^2",
-            "v*-2",
-        ] {
-            assert_eq!(unary_minus_before_power(ok), None, "{ok}");
-        }
-        for amb in [
-            "-v^2",
-            "2*-v^2",
-            "(-sin(v)^2)",
-            "2^-v^2",
-            "- 3 ^ 2",
-            "-(v)^2",
-            "-1e-3^2",
-        ] {
-            assert!(unary_minus_before_power(amb).is_some(), "{amb}");
-        }
         let f = Formula::new(
             "0 - v^2",
             "-(v^2)",

@@ -1,5 +1,6 @@
 use super::{poly_jet, Curve, Domain};
-use crate::Vec3;
+use crate::check::finite3;
+use crate::{Result, Vec3};
 
 /// Cubic Hermite curve on `[0, 1]` from end points and end tangents (book Eq. 5.4):
 /// `H(t) = p₀ h₀₀(t) + p₁ h₀₁(t) + d₀ h₁₀(t) + d₁ h₁₁(t)` with `h₀₀ = 2t³ − 3t² + 1`,
@@ -16,6 +17,15 @@ pub struct Hermite {
 impl Hermite {
     pub fn new(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3) -> Self {
         Hermite { p0, p1, d0, d1 }
+    }
+
+    /// [`Hermite::new`], refusing end points or tangents that are not finite (places `p0[c]`,
+    /// `p1[c]`, `d0[c]`, `d1[c]`, as in the design file's `hermite` table).
+    pub fn try_new(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3) -> Result<Self> {
+        for (name, v) in [("p0", &p0), ("p1", &p1), ("d0", &d0), ("d1", &d1)] {
+            finite3(v, name)?;
+        }
+        Ok(Hermite { p0, p1, d0, d1 })
     }
 
     /// Power-form coefficients `H(t) = c₀ + c₁ t + c₂ t² + c₃ t³`.
@@ -81,5 +91,19 @@ mod tests {
             }
         }
         check_fd(&h, &[0.1, 0.5, 0.8], 1e-4, 5, 10.0);
+    }
+
+    #[test]
+    fn refusals_are_placed_and_worded_as_in_the_design_file() {
+        let (z, x) = (Vec3::zeros(), Vec3::x());
+        let bad = Vec3::new(0.0, 0.0, f64::NAN);
+        let e = Hermite::try_new(z, x, bad, z).unwrap_err();
+        assert_eq!(e.to_string(), "d0[2]: must be finite (got NaN)");
+        let e = Hermite::try_new(z, bad, bad, z).unwrap_err();
+        assert_eq!(e.to_string(), "p1[2]: must be finite (got NaN)");
+        let e = Hermite::try_new(z, x, z, bad).unwrap_err().at("curves.h");
+        assert_eq!(e.place(), "curves.h.d1[2]");
+        let h = Hermite::try_new(z, x, x, x).unwrap();
+        assert_eq!(h.point(1.0), x);
     }
 }

@@ -22,10 +22,8 @@ pub use bezier::Bezier;
 pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
 pub use formula::Formula;
-pub(crate) use formula::{normalise as normalise_formula, unary_minus_before_power};
 pub use hermite::Hermite;
 pub use samples::{PointSamples, SampleParam};
-pub(crate) use taylor::Literal as NumberLiteral;
 pub use transform::{Affine, Combination, OriginShift, Transformed};
 
 pub use crate::fourier::FourierSeries;

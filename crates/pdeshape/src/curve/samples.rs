@@ -1,4 +1,5 @@
-use super::{check_finite, poly_jet, Curve, Domain};
+use super::{poly_jet, Curve, Domain};
+use crate::check::finite_points;
 use crate::{Error, Result, Vec3, TAU};
 
 /// How closed point samples are spread over `[0, 2π)`.
@@ -33,14 +34,19 @@ pub struct PointSamples {
 }
 
 impl PointSamples {
-    /// At least 3 points; consecutive points (and last/first) must differ.
+    /// At least 3 finite points; consecutive points (and last/first) must differ.
     ///
     /// The sequence is closed implicitly: the last point must not repeat the first. If it does
     /// (within `10⁻¹²` of the size of the point set), it is dropped. Two consecutive points closer
-    /// than that are an error naming both (`points[4]: equals points[3]`).
+    /// than that are an error naming both (`points[4]: equals points[3]`). Errors are placed as
+    /// in a `samples` table of the design file: `points[i][c]`, `points[i]`, `points`.
     pub fn closed(points: Vec<Vec3>, param: SampleParam) -> Result<Self> {
-        for (i, p) in points.iter().enumerate() {
-            check_finite(&format!("points[{i}]"), p)?;
+        finite_points(&points, "points")?;
+        if points.len() < 3 {
+            return Err(
+                Error::invalid(format!("needs at least 3 points (got {})", points.len()))
+                    .at("points"),
+            );
         }
         let scale = points.iter().map(|p| p.amax()).fold(0.0, f64::max);
         let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
@@ -58,8 +64,9 @@ impl PointSamples {
         let n = points.len();
         if n < 3 {
             return Err(Error::invalid(format!(
-                "points: a closed curve needs at least 3 distinct points, got {n}"
-            )));
+                "a closed curve needs at least 3 distinct points (got {n})"
+            ))
+            .at("points"));
         }
         let steps: Vec<f64> = (0..n)
             .map(|i| {
@@ -81,9 +88,9 @@ impl PointSamples {
         params.push(TAU);
         let h: Vec<f64> = (0..n).map(|i| params[i + 1] - params[i]).collect();
         if h.iter().any(|&x| x <= 0.0 || !x.is_finite()) {
-            return Err(Error::invalid(
-                "points: the parameter steps underflow (chords too uneven)",
-            ));
+            return Err(
+                Error::invalid("the parameter steps underflow (chords too uneven)").at("points"),
+            );
         }
         // Cyclic tridiagonal system for M.
         let sub: Vec<f64> = (0..n).map(|i| h[(i + n - 1) % n]).collect();
@@ -281,5 +288,29 @@ mod tests {
         let mut pts = star(5);
         pts[1].x = f64::NEG_INFINITY;
         assert!(PointSamples::closed(pts, SampleParam::Centripetal).is_err());
+    }
+
+    #[test]
+    fn refusals_are_placed_and_worded_as_in_the_design_file() {
+        let err = |p: Vec<Vec3>| {
+            PointSamples::closed(p, SampleParam::Chord)
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            err(vec![Vec3::x(), Vec3::y()]),
+            "points: needs at least 3 points (got 2)"
+        );
+        assert_eq!(
+            err(vec![Vec3::x(), Vec3::new(0.0, f64::NAN, 0.0)]),
+            "points[1][1]: must be finite (got NaN)"
+        );
+        assert_eq!(
+            err(vec![Vec3::x(), Vec3::y(), Vec3::x()]),
+            "points: a closed curve needs at least 3 distinct points (got 2)"
+        );
+        let mut pts = star(4);
+        pts[2] = pts[1];
+        assert_eq!(err(pts), "points[2]: equals points[1]");
     }
 }

@@ -209,42 +209,6 @@ fn abs(a: Taylor) -> Taylor {
     }
 }
 
-/// Number literals: `12`, `1.5`, `.5`, `2.`, with an optional exponent `e-3`/`E+4`.
-#[derive(Clone, Debug)]
-pub(crate) struct Literal;
-
-impl exmex::MatchLiteral for Literal {
-    fn is_literal(text: &str) -> Option<&str> {
-        let b = text.as_bytes();
-        let digits = |mut i: usize| {
-            while i < b.len() && b[i].is_ascii_digit() {
-                i += 1;
-            }
-            i
-        };
-        let int_end = digits(0);
-        let mut end = int_end;
-        if end < b.len() && b[end] == b'.' {
-            end = digits(end + 1);
-        }
-        // At least one digit.
-        if int_end == 0 && end <= 1 {
-            return None;
-        }
-        if end < b.len() && (b[end] == b'e' || b[end] == b'E') {
-            let mut j = end + 1;
-            if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
-                j += 1;
-            }
-            let k = digits(j);
-            if k > j {
-                end = k;
-            }
-        }
-        Some(&text[..end])
-    }
-}
-
 /// The operators available in formulas.
 #[derive(Clone, Debug)]
 pub(crate) struct TaylorOps;
@@ -446,19 +410,6 @@ mod tests {
             "cbrt³ negative",
         );
         assert!(pow(Taylor::variable(-1.0), Taylor::constant(0.5)).0[0].is_nan());
-    }
-
-    #[test]
-    fn literals() {
-        use exmex::MatchLiteral;
-        assert_eq!(Literal::is_literal("12+v"), Some("12"));
-        assert_eq!(Literal::is_literal("1.5e-3*v"), Some("1.5e-3"));
-        assert_eq!(Literal::is_literal(".5"), Some(".5"));
-        assert_eq!(Literal::is_literal("2.E4"), Some("2.E4"));
-        assert_eq!(Literal::is_literal("2e"), Some("2"));
-        assert_eq!(Literal::is_literal("2*e"), Some("2"));
-        assert_eq!(Literal::is_literal("."), None);
-        assert_eq!(Literal::is_literal("e"), None);
     }
 
     const FRAC: f64 = std::f64::consts::FRAC_PI_2;

@@ -10,11 +10,9 @@
 //! an exact solution.
 
 use super::{Field, Scalar};
-use crate::curve::NumberLiteral;
+use crate::formula::{self, Parsed, Variables};
 use crate::{Error, Result};
-use exmex::{Express, FlatEx, FloatOpsFactory};
-
-type Expr = FlatEx<f64, FloatOpsFactory<f64>, NumberLiteral>;
+use exmex::FloatOpsFactory;
 use std::sync::Arc;
 
 /// A parsed formula in a fixed list of allowed variables.
@@ -22,71 +20,19 @@ use std::sync::Arc;
 pub struct Expression {
     /// The formula as given.
     pub text: String,
-    expr: Expr,
-    /// For each variable of the expression (in exmex's order), its index in the allowed list.
-    slots: Vec<usize>,
+    parsed: Parsed<f64, FloatOpsFactory<f64>>,
     /// The value, if the formula uses no variable.
     constant: Option<f64>,
-}
-
-/// Replaces the identifiers `pi` by `π` and `e` by `E` (exmex's names of the constants).
-fn normalise(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let chars: Vec<char> = text.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let after_digit = i > 0 && (chars[i - 1].is_ascii_digit() || chars[i - 1] == '.');
-        if (c.is_alphabetic() || c == '_') && !after_digit {
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            let word: String = chars[start..i].iter().collect();
-            match word.as_str() {
-                "pi" => out.push('π'),
-                "e" => out.push('E'),
-                _ => out.push_str(&word),
-            }
-        } else {
-            out.push(c);
-            i += 1;
-        }
-    }
-    out
 }
 
 impl Expression {
     /// Parses `text`, which may use the variables `allowed` (e.g. `["u", "t", "x"]`). Errors name
     /// the text and, for an unknown variable, the variables allowed.
     pub fn parse(text: &str, allowed: &[&str]) -> Result<Self> {
-        if text.trim().is_empty() {
-            return Err(Error::invalid("the formula is empty"));
-        }
-        let norm = normalise(text);
-        if let Some(at) = crate::curve::unary_minus_before_power(&norm) {
-            return Err(Error::invalid(format!(
-                "'{text}': the minus at character {} is applied before the power; write \
-                 -(…^…) or (-…)^… explicitly",
-                at + 1
-            )));
-        }
-        let expr = Expr::parse(&norm)
-            .map_err(|e| Error::invalid(format!("cannot parse '{text}': {e}")))?;
-        let mut slots = Vec::new();
-        for name in expr.var_names() {
-            match allowed.iter().position(|a| a == name) {
-                Some(i) => slots.push(i),
-                None => {
-                    return Err(Error::invalid(format!(
-                        "'{text}': unknown variable '{name}'; this formula may use {}",
-                        allowed.join(", ")
-                    )))
-                }
-            }
-        }
-        let constant = if slots.is_empty() {
-            let v = expr
+        let parsed: Parsed<f64, FloatOpsFactory<f64>> =
+            formula::parse(text, &Variables::this(allowed))?;
+        let constant = if parsed.slots.is_empty() {
+            let v = parsed
                 .eval(&[])
                 .map_err(|e| Error::invalid(format!("cannot evaluate '{text}': {e}")))?;
             if !v.is_finite() {
@@ -98,8 +44,7 @@ impl Expression {
         };
         Ok(Expression {
             text: text.to_string(),
-            expr,
-            slots,
+            parsed,
             constant,
         })
     }
@@ -110,11 +55,7 @@ impl Expression {
         if let Some(c) = self.constant {
             return c;
         }
-        let mut buf = [0.0; 4];
-        for (b, &s) in buf.iter_mut().zip(&self.slots) {
-            *b = values[s];
-        }
-        self.expr.eval(&buf[..self.slots.len()]).unwrap_or(f64::NAN)
+        self.parsed.eval(values).unwrap_or(f64::NAN)
     }
 
     /// The constant value, if the formula uses no variable.
@@ -124,7 +65,7 @@ impl Expression {
 
     /// Whether the formula uses the allowed variable with index `slot`.
     pub fn uses(&self, slot: usize) -> bool {
-        self.slots.contains(&slot)
+        self.parsed.slots.contains(&slot)
     }
 }
 

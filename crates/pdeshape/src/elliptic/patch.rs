@@ -4,7 +4,9 @@
 use super::{Condition, ConditionError, ModeFn, ModeReport, Operator};
 use crate::curve::Curve;
 use crate::fourier::FourierSeries;
-use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
+use crate::surface::{
+    normal_degenerates, Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain,
+};
 
 mod partial_rows;
 use crate::{Vec3, TAU};
@@ -453,12 +455,11 @@ fn normals_block(vals: &[[f64; BLOCK]], len: usize, unit: &mut [[f64; BLOCK]]) {
         let (ax, ay, az) = (vals[3][j], vals[4][j], vals[5][j]);
         let (bx, by, bz) = (vals[6][j], vals[7][j], vals[8][j]);
         let (nx, ny, nz) = (ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx);
-        let len2 = nx * nx + ny * ny + nz * nz;
-        // Degenerate where the cross product is rounding noise next to |X_u|² + |X_v|² (a
-        // pole, where X_v vanishes up to rounding), as in `Partials::normal`.
+        let len = (nx * nx + ny * ny + nz * nz).sqrt();
+        // Degenerate (a pole) by the rule of `Partials::normal`.
         let size = ax * ax + ay * ay + az * az + bx * bx + by * by + bz * bz;
-        let ok = len2 > 1e-20 * size * size && len2 > 0.0;
-        let inv = if ok { 1.0 / len2.sqrt() } else { 0.0 };
+        let ok = !normal_degenerates(len, size) && len > 0.0;
+        let inv = if ok { 1.0 / len } else { 0.0 };
         unit[0][j] = nx * inv;
         unit[1][j] = ny * inv;
         unit[2][j] = nz * inv;
@@ -466,7 +467,8 @@ fn normals_block(vals: &[[f64; BLOCK]], len: usize, unit: &mut [[f64; BLOCK]]) {
     }
 }
 
-/// Unit normal `X_u × X_v / |X_u × X_v|`, or `None` where it degenerates (a pole).
+/// Unit normal `X_u × X_v / |X_u × X_v|`, or `None` where it degenerates (a pole) by the rule
+/// of `Partials::normal`.
 #[inline(always)]
 fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
     let n = [
@@ -474,15 +476,15 @@ fn unit_normal(xu: [f64; 3], xv: [f64; 3]) -> Option<Vec3> {
         xu[2] * xv[0] - xu[0] * xv[2],
         xu[0] * xv[1] - xu[1] * xv[0],
     ];
-    let len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     let size = xu[0] * xu[0]
         + xu[1] * xu[1]
         + xu[2] * xu[2]
         + xv[0] * xv[0]
         + xv[1] * xv[1]
         + xv[2] * xv[2];
-    if len2 > 1e-20 * size * size && len2 > 0.0 {
-        let inv = 1.0 / len2.sqrt();
+    if !normal_degenerates(len, size) && len > 0.0 {
+        let inv = 1.0 / len;
         Some(Vec3::new(n[0] * inv, n[1] * inv, n[2] * inv))
     } else {
         None

@@ -41,11 +41,10 @@ pub use params::{ParamKind, Parameter, Parameters};
 
 use crate::analysis::{integrate_design, Integrals, Quadrature};
 use crate::design::{solve_design, SolvedDesign};
+use crate::formula::{self, Parsed, Variables};
 use crate::spec::DesignSpec;
 use crate::{Error, Result};
-use exmex::Express;
-
-type Expr = exmex::FlatEx<f64>;
+use exmex::FloatOpsFactory;
 
 /// The variables formulas may use, in this order in [`Evaluation::variables`].
 pub const VARIABLES: [&str; 11] = [
@@ -97,50 +96,20 @@ pub fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Integrals> 
 #[derive(Clone, Debug)]
 struct Formula {
     text: String,
-    expr: Expr,
-    /// Index into [`VARIABLES`] of each of the expression's variables, in exmex's order.
-    slots: Vec<usize>,
+    parsed: Parsed<f64, FloatOpsFactory<f64>>,
 }
 
 impl Formula {
     fn parse(text: &str, place: &str) -> Result<Formula> {
-        if text.trim().is_empty() {
-            return Err(Error::invalid("the formula is empty").at(place));
-        }
-        let normalised = crate::curve::normalise_formula(text);
-        if let Some(at) = crate::curve::unary_minus_before_power(&normalised) {
-            return Err(Error::invalid(format!(
-                "'{text}': the minus at character {} is applied before the power; write \
-                 -(…^…) or (-…)^… explicitly",
-                at + 1
-            ))
-            .at(place));
-        }
-        let expr = exmex::parse::<f64>(&normalised)
-            .map_err(|e| Error::invalid(format!("cannot parse '{text}': {e}")).at(place))?;
-        let mut slots = Vec::new();
-        for name in expr.var_names() {
-            match VARIABLES.iter().position(|v| v == name) {
-                Some(i) => slots.push(i),
-                None => {
-                    return Err(Error::invalid(format!(
-                        "unknown variable '{name}' in '{text}' (known: {})",
-                        VARIABLES.join(", ")
-                    ))
-                    .at(place))
-                }
-            }
-        }
+        let parsed = formula::parse(text, &Variables::this(&VARIABLES)).map_err(|e| e.at(place))?;
         Ok(Formula {
             text: text.to_string(),
-            expr,
-            slots,
+            parsed,
         })
     }
 
     fn eval(&self, vars: &[f64; 11]) -> f64 {
-        let args: Vec<f64> = self.slots.iter().map(|&i| vars[i]).collect();
-        self.expr.eval(&args).unwrap_or(f64::NAN)
+        self.parsed.eval(vars).unwrap_or(f64::NAN)
     }
 }
 

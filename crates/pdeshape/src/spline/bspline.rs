@@ -1,7 +1,7 @@
 //! Tensor-product B-spline surfaces.
 
-use super::knots::{basis_derivatives, check_knots, elevate, find_span, insert_knot};
-use crate::surface::{Partials, RowBuf, RowEvaluator, Surface, VDomain};
+use super::knots::{basis_derivatives, elevate, find_span, insert_knot, KnotRule};
+use crate::surface::{normal_degenerates, Partials, RowBuf, RowEvaluator, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 
 /// Tensor-product B-spline surface
@@ -40,24 +40,16 @@ impl BSplineSurface {
         control: Vec<Vec3>,
     ) -> Result<Self> {
         let [p, q] = degree;
-        if knots_u.len() / 2 <= p {
-            return Err(Error::invalid(format!(
-                "knots_u: degree {p} needs at least 2·({p} + 1) knots (p + 1 control points), \
-                 got {}",
-                knots_u.len()
-            )));
-        }
-        if knots_v.len() / 2 <= q {
-            return Err(Error::invalid(format!(
-                "knots_v: degree {q} needs at least 2·({q} + 1) knots (q + 1 control points), \
-                 got {}",
-                knots_v.len()
-            )));
+        for (name, p, knots) in [("knots_u", p, &knots_u), ("knots_v", q, &knots_v)] {
+            KnotRule::Open {
+                degree: p,
+                count: None,
+            }
+            .check(knots)
+            .map_err(|f| f.named(name))?;
         }
         let nu = knots_u.len() - p - 1;
         let nv = knots_v.len() - q - 1;
-        check_knots("knots_u", p, nu, &knots_u)?;
-        check_knots("knots_v", q, nv, &knots_v)?;
         if control.len() != nu * nv {
             return Err(Error::invalid(format!(
                 "control: the knot vectors ask for {nu} × {nv} = {} control points, got {}",
@@ -138,12 +130,12 @@ impl BSplineSurface {
             return Vec3::zeros();
         }
         let [nu, nv] = self.counts;
-        let su = find_span(&self.knots_u, p, nu, u);
-        let sv = find_span(&self.knots_v, q, nv, v);
+        let su = find_span(&self.knots_u, p, nu, &u);
+        let sv = find_span(&self.knots_v, q, nv, &v);
         let mut bu = vec![0.0; (ku + 1) * (p + 1)];
         let mut bv = vec![0.0; (kv + 1) * (q + 1)];
-        basis_derivatives(&self.knots_u, p, su, u, ku, &mut bu);
-        basis_derivatives(&self.knots_v, q, sv, v, kv, &mut bv);
+        basis_derivatives(&self.knots_u, p, su, &u, ku, &mut bu);
+        basis_derivatives(&self.knots_v, q, sv, &v, kv, &mut bv);
         let (bu, bv) = (&bu[ku * (p + 1)..], &bv[kv * (q + 1)..]);
         let mut x = Vec3::zeros();
         for (r, nu_r) in bu.iter().enumerate() {
@@ -161,13 +153,13 @@ impl BSplineSurface {
     fn partials_knot(&self, u: f64, v: f64) -> Partials {
         let [p, q] = self.degree;
         let [nu, nv] = self.counts;
-        let su = find_span(&self.knots_u, p, nu, u);
-        let sv = find_span(&self.knots_v, q, nv, v);
+        let su = find_span(&self.knots_u, p, nu, &u);
+        let sv = find_span(&self.knots_v, q, nv, &v);
         let (wu, wv) = (p + 1, q + 1);
         let mut bu = vec![0.0; 3 * wu];
         let mut bv = vec![0.0; 3 * wv];
-        basis_derivatives(&self.knots_u, p, su, u, 2, &mut bu);
-        basis_derivatives(&self.knots_v, q, sv, v, 2, &mut bv);
+        basis_derivatives(&self.knots_u, p, su, &u, 2, &mut bu);
+        basis_derivatives(&self.knots_v, q, sv, &v, 2, &mut bv);
         let mut out = Partials::default();
         for r in 0..wu {
             let row = (su - p + r) * nv + sv - q;
@@ -326,13 +318,13 @@ impl<'a> BSplineRows<'a> {
         let mut start = Vec::with_capacity(vs.len());
         let mut basis = vec![0.0; vs.len() * 2 * w];
         for (j, &v) in vs.iter().enumerate() {
-            let s = find_span(&surface.knots_v, q, nv, v);
+            let s = find_span(&surface.knots_v, q, nv, &v);
             start.push(s - q);
             basis_derivatives(
                 &surface.knots_v,
                 q,
                 s,
-                v,
+                &v,
                 1,
                 &mut basis[j * 2 * w..(j + 1) * 2 * w],
             );
@@ -392,8 +384,9 @@ impl BSplineRows<'_> {
 }
 
 /// Writes `X` and the unit normal of column `j` from `acc = [X, X_u, X_v, X_uv]`. The normal is
-/// `X_u × X_v` normalised where that is clearly non-degenerate (the test of
-/// [`Partials::normal`]), else [`Partials::normal`] with its pole limits.
+/// `X_u × X_v` normalised where that does not degenerate ([`normal_degenerates`], the rule of
+/// [`Partials::normal`]) and its size is safely inside the range of `f64`, else
+/// [`Partials::normal`] with its scaling and pole limits.
 #[inline(always)]
 fn store_vertex(row: &mut RowBuf, j: usize, acc: &[f64; 12]) {
     let (xu, xv) = (&acc[3..6], &acc[6..9]);
@@ -410,8 +403,9 @@ fn store_vertex(row: &mut RowBuf, j: usize, acc: &[f64; 12]) {
         + xv[1] * xv[1]
         + xv[2] * xv[2];
     (row.x[j], row.y[j], row.z[j]) = (acc[0], acc[1], acc[2]);
-    if s2 > 1e-20 * t * t && s2 > 1e-290 && s2 < 1e290 {
-        let r = 1.0 / s2.sqrt();
+    let len = s2.sqrt();
+    if !normal_degenerates(len, t) && s2 > 1e-290 && s2 < 1e290 {
+        let r = 1.0 / len;
         (row.nx[j], row.ny[j], row.nz[j]) = (n[0] * r, n[1] * r, n[2] * r);
     } else {
         let p = Partials {
@@ -434,7 +428,7 @@ impl RowEvaluator for BSplineRows<'_> {
         let [[a, b], _] = s.domain();
         let h = b - a;
         let t = a + h * u;
-        let su = find_span(&s.knots_u, p, nu, t);
+        let su = find_span(&s.knots_u, p, nu, &t);
         let mut bu = [0.0; 64];
         let mut bu_heap;
         let bu: &mut [f64] = if 2 * (p + 1) <= bu.len() {
@@ -443,7 +437,7 @@ impl RowEvaluator for BSplineRows<'_> {
             bu_heap = vec![0.0; 2 * (p + 1)];
             &mut bu_heap
         };
-        basis_derivatives(&s.knots_u, p, su, t, 1, bu);
+        basis_derivatives(&s.knots_u, p, su, &t, 1, bu);
         // R_l (value) and R'_l (u derivative, already scaled to the [0, 1] parameter).
         let mut scratch = std::mem::take(&mut row.scratch);
         scratch.clear();

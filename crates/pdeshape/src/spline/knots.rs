@@ -1,77 +1,276 @@
-//! Knot vectors: validation, span search, the Cox–de Boor basis with derivatives, blossoms,
-//! knot insertion (Boehm) and degree elevation of one B-spline direction.
+//! Knot vectors: the one validator of every B-spline in the crate (curves, surfaces, the
+//! B-spline PDE engine), span search, the Cox–de Boor basis with derivatives (generic over
+//! [`Scalar`], so exact in rationals), blossoms, knot insertion (Boehm) and degree elevation of
+//! one B-spline direction.
 
+use crate::scalar::Scalar;
 use crate::{Error, Result};
 
-/// Checks a knot vector for `count` control points of degree `p`: `count + p + 1` finite,
-/// non-decreasing values, a non-empty domain `[t_p, t_count]`, no value repeated more than
-/// `p + 1` times and none strictly inside the domain more than `p` times. `name` prefixes the
-/// messages (`knots_u`).
-pub(crate) fn check_knots(name: &str, p: usize, count: usize, knots: &[f64]) -> Result<()> {
-    if knots.len() != count + p + 1 {
-        return Err(Error::invalid(format!(
-            "{name}: expected control count + degree + 1 = {} + {p} + 1 = {} values, got {}",
-            count,
-            count + p + 1,
-            knots.len()
-        )));
-    }
-    for (i, k) in knots.iter().enumerate() {
-        if !k.is_finite() {
-            return Err(Error::invalid(format!("{name}[{i}] = {k} is not finite")));
+/// What a knot vector must satisfy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum KnotRule {
+    /// The full knot vector of an open spline of degree `degree` with `count` control points:
+    /// `count + degree + 1` finite, non-decreasing values (with `count: None`, as many control
+    /// points as the knots make, `len − degree − 1`, at least `degree + 1`), a non-empty domain
+    /// `[t_degree, t_count]`, no value repeated more than `degree + 1` times and none strictly
+    /// inside the domain more than `degree` times (the spline would break apart there).
+    Open { degree: usize, count: Option<usize> },
+    /// The `count + 1` finite, strictly increasing breakpoints of a periodic spline of degree
+    /// `degree` with `count` control points.
+    Breakpoints { degree: usize, count: usize },
+}
+
+/// The first thing wrong with a knot vector under a [`KnotRule`], with the values it names
+/// already written out (`Scalar::to_text`). Turned into an [`Error`] by
+/// [`KnotFault::at_place`] (design-file wording) or [`KnotFault::named`] (library wording).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct KnotFault {
+    rule: KnotRule,
+    len: usize,
+    kind: FaultKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum FaultKind {
+    /// The length is not the one the rule asks for.
+    Count { want: usize },
+    /// Fewer than `2(degree + 1)` knots where the control-point count follows from the knots.
+    TooFew,
+    /// Value `at` is NaN or infinite.
+    NotFinite { at: usize, value: String },
+    /// Value `at` is below (breakpoints: not above) the one before it.
+    Decreasing {
+        at: usize,
+        value: String,
+        prev: String,
+    },
+    /// `t_degree ≥ t_count`.
+    EmptyDomain { a: String, b: String },
+    /// The run of values equal to value `at` is `mult` long, more than allowed.
+    Repeated {
+        at: usize,
+        value: String,
+        mult: usize,
+        interior: bool,
+    },
+}
+
+impl KnotRule {
+    fn degree(self) -> usize {
+        match self {
+            KnotRule::Open { degree, .. } | KnotRule::Breakpoints { degree, .. } => degree,
         }
-        if i > 0 && *k < knots[i - 1] {
-            return Err(Error::invalid(format!(
-                "{name}[{i}] = {k} is smaller than {name}[{}] = {}; knots must not decrease",
-                i - 1,
-                knots[i - 1]
-            )));
+    }
+
+    /// The control-point count the knots are for (`None` if they are too few to make one).
+    fn count(self, len: usize) -> Option<usize> {
+        match self {
+            KnotRule::Open { count: Some(n), .. } | KnotRule::Breakpoints { count: n, .. } => {
+                Some(n)
+            }
+            KnotRule::Open {
+                degree,
+                count: None,
+            } => len.checked_sub(degree + 1).filter(|&n| n > degree),
         }
     }
-    let (a, b) = (knots[p], knots[count]);
-    if a >= b {
-        return Err(Error::invalid(format!(
-            "{name}: the domain [{name}[{p}], {name}[{count}]] = [{a}, {b}] is empty"
-        )));
-    }
-    let mut i = 0;
-    while i < knots.len() {
-        let mut j = i;
-        while j + 1 < knots.len() && knots[j + 1] == knots[i] {
-            j += 1;
+
+    /// The first fault of `knots`, in this order: length, finiteness (all values), order (all
+    /// values), then for open knot vectors the domain and the multiplicities.
+    pub(crate) fn check<T: Scalar>(self, knots: &[T]) -> Result<(), KnotFault> {
+        let len = knots.len();
+        let fault = |kind| KnotFault {
+            rule: self,
+            len,
+            kind,
+        };
+        let p = self.degree();
+        let Some(n) = self.count(len) else {
+            return Err(fault(FaultKind::TooFew));
+        };
+        let (want, strict) = match self {
+            KnotRule::Open { .. } => (n + p + 1, false),
+            KnotRule::Breakpoints { .. } => (n + 1, true),
+        };
+        if len != want {
+            return Err(fault(FaultKind::Count { want }));
         }
-        let mult = j - i + 1;
-        let interior = knots[i] > a && knots[i] < b;
-        let max = if interior { p } else { p + 1 };
-        if mult > max {
-            return Err(Error::invalid(format!(
-                "{name}[{i}] = {} is repeated {mult} times; at most {max} allowed {}",
-                knots[i],
-                if interior {
-                    "inside the domain (the surface would break apart)"
-                } else {
-                    "at or outside the ends of the domain"
+        if let Some(at) = knots.iter().position(|k| !k.is_finite()) {
+            let value = knots[at].to_text();
+            return Err(fault(FaultKind::NotFinite { at, value }));
+        }
+        for at in 1..len {
+            let (k, prev) = (&knots[at], &knots[at - 1]);
+            if if strict { k <= prev } else { k < prev } {
+                let (value, prev) = (k.to_text(), prev.to_text());
+                return Err(fault(FaultKind::Decreasing { at, value, prev }));
+            }
+        }
+        if strict {
+            return Ok(());
+        }
+        let (a, b) = (&knots[p], &knots[n]);
+        if a >= b {
+            let (a, b) = (a.to_text(), b.to_text());
+            return Err(fault(FaultKind::EmptyDomain { a, b }));
+        }
+        let mut i = 0;
+        while i < len {
+            let j = (i..len).take_while(|&j| knots[j] == knots[i]).count() + i - 1;
+            let mult = j - i + 1;
+            let interior = &knots[i] > a && &knots[i] < b;
+            if mult > if interior { p } else { p + 1 } {
+                let value = knots[i].to_text();
+                return Err(fault(FaultKind::Repeated {
+                    at: i,
+                    value,
+                    mult,
+                    interior,
+                }));
+            }
+            i = j + 1;
+        }
+        Ok(())
+    }
+}
+
+impl KnotFault {
+    /// The design-file wording: a short message at the place of the offending value, relative
+    /// to the knot vector `name` (`knots: needs 9 non-decreasing knots for 5 control points of
+    /// degree 3 (got 8)`, `knots[2]: must be increasing (got 1 after 2)`).
+    pub(crate) fn at_place(&self, name: &str) -> Error {
+        let (p, len) = (self.rule.degree(), self.len);
+        let n = self.rule.count(len).unwrap_or(0);
+        let what = match self.rule {
+            KnotRule::Open { .. } => "non-decreasing knots",
+            KnotRule::Breakpoints { .. } => "increasing breakpoints",
+        };
+        let at = |i: usize| format!("{name}[{i}]");
+        match &self.kind {
+            FaultKind::Count { want } => Error::invalid(format!(
+                "needs {want} {what} for {n} control points of degree {p} (got {len})"
+            ))
+            .at(name),
+            FaultKind::TooFew => Error::invalid(format!(
+                "degree {p} needs at least {} {what} (got {len})",
+                2 * (p + 1)
+            ))
+            .at(name),
+            FaultKind::NotFinite { at: i, value } => {
+                Error::invalid(format!("must be finite (got {value})")).at(&at(*i))
+            }
+            FaultKind::Decreasing { at: i, value, prev } => Error::invalid(format!(
+                "must be {} (got {value} after {prev})",
+                match self.rule {
+                    KnotRule::Open { .. } => "non-decreasing",
+                    KnotRule::Breakpoints { .. } => "increasing",
                 }
-            )));
+            ))
+            .at(&at(*i)),
+            FaultKind::EmptyDomain { a, b } => Error::invalid(format!(
+                "the domain [{name}[{p}], {name}[{n}]] = [{a}, {b}] is empty"
+            ))
+            .at(name),
+            FaultKind::Repeated {
+                at: i,
+                value,
+                mult,
+                interior,
+            } => Error::invalid(format!("{value} {}", self.repeated(*mult, *interior))).at(&at(*i)),
         }
-        i = j + 1;
     }
-    Ok(())
+
+    /// `is repeated 4 times; at most 3 allowed inside the domain (…)`.
+    fn repeated(&self, mult: usize, interior: bool) -> String {
+        let p = self.rule.degree();
+        if interior {
+            format!(
+                "is repeated {mult} times; at most {p} allowed inside the domain (the spline \
+                 would break apart there)"
+            )
+        } else {
+            format!(
+                "is repeated {mult} times; at most {} allowed at or outside the ends of the domain",
+                p + 1
+            )
+        }
+    }
+
+    /// The library wording: the message names the values (`knots_v[5] = 0.25 is smaller than
+    /// knots_v[4] = 0.5; knots must not decrease`); the place is `name`.
+    pub(crate) fn named(&self, name: &str) -> Error {
+        let (p, len) = (self.rule.degree(), self.len);
+        let n = self.rule.count(len).unwrap_or(0);
+        let msg = match &self.kind {
+            FaultKind::Count { want } => match self.rule {
+                KnotRule::Open { .. } => format!(
+                    "expected control count + degree + 1 = {n} + {p} + 1 = {want} values, got {len}"
+                ),
+                KnotRule::Breakpoints { .. } => {
+                    format!("expected control count + 1 = {want} values, got {len}")
+                }
+            },
+            FaultKind::TooFew => format!(
+                "degree {p} needs at least 2·({p} + 1) knots ({p} + 1 control points), got {len}"
+            ),
+            FaultKind::NotFinite { at, value } => format!("{name}[{at}] = {value} is not finite"),
+            FaultKind::Decreasing { at, value, prev } => match self.rule {
+                KnotRule::Open { .. } => format!(
+                    "{name}[{at}] = {value} is smaller than {name}[{}] = {prev}; knots must not \
+                     decrease",
+                    at - 1
+                ),
+                KnotRule::Breakpoints { .. } => format!(
+                    "{name}[{at}] = {value} is not larger than {name}[{}] = {prev}; breakpoints \
+                     must increase strictly",
+                    at - 1
+                ),
+            },
+            // Worded alike: the message names the knots either way.
+            FaultKind::EmptyDomain { .. } => return self.at_place(name),
+            FaultKind::Repeated {
+                at,
+                value,
+                mult,
+                interior,
+            } => format!("{name}[{at}] = {value} {}", self.repeated(*mult, *interior)),
+        };
+        Error::invalid(msg).at(name)
+    }
+}
+
+/// Checks a knot vector for `count` control points of degree `p` ([`KnotRule::Open`]); errors
+/// in the library wording at the place `name` (`knots_u`).
+pub(crate) fn check_knots<T: Scalar>(
+    name: &str,
+    p: usize,
+    count: usize,
+    knots: &[T],
+) -> Result<()> {
+    KnotRule::Open {
+        degree: p,
+        count: Some(count),
+    }
+    .check(knots)
+    .map_err(|f| f.named(name))
 }
 
 /// The span `s` (`p ≤ s < count`, `t_s < t_{s+1}`) whose polynomial piece evaluates `t`: the
-/// last non-empty span with `t_s ≤ t`, the first one for `t` before the domain. At the domain's
-/// end `t = t_count` this is the last non-empty span.
-pub(crate) fn find_span(knots: &[f64], p: usize, count: usize, t: f64) -> usize {
+/// last non-empty span with `t_s ≤ t`, the first one for `t` before the domain (or NaN). At the
+/// domain's end `t = t_count` this is the last non-empty span.
+pub(crate) fn find_span<T: Scalar>(knots: &[T], p: usize, count: usize, t: &T) -> usize {
     let first = (p..count).find(|&s| knots[s] < knots[s + 1]).unwrap_or(p);
-    if t.is_nan() || t < knots[first + 1] {
+    if !matches!(
+        t.partial_cmp(&knots[first + 1]),
+        Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+    ) {
         return first;
     }
     // Largest s in [p, count) with knots[s] <= t.
     let (mut lo, mut hi) = (p, count);
     while hi - lo > 1 {
         let mid = (lo + hi) / 2;
-        if knots[mid] <= t {
+        if &knots[mid] <= t {
             lo = mid;
         } else {
             hi = mid;
@@ -86,7 +285,7 @@ pub(crate) fn find_span(knots: &[f64], p: usize, count: usize, t: f64) -> usize 
 
 /// Values and derivatives of the `p + 1` B-splines of degree `p` that live on span `s`, at `t`:
 /// `out[k·(p+1) + r] = N⁽ᵏ⁾_{s−p+r,p}(t)` for `k = 0..=order`. Outside `[t_s, t_{s+1}]` the
-/// polynomial pieces of span `s` are extended.
+/// polynomial pieces of span `s` are extended. Exact in exact arithmetic.
 ///
 /// The values come from the Cox–de Boor recursion
 /// `N_{i,d} = (t − t_i)/(t_{i+d} − t_i) N_{i,d−1} + (t_{i+d+1} − t)/(t_{i+d+1} − t_{i+1}) N_{i+1,d−1}`
@@ -94,72 +293,88 @@ pub(crate) fn find_span(knots: &[f64], p: usize, count: usize, t: f64) -> usize 
 /// `N'_{i,d} = d (N_{i,d−1}/(t_{i+d} − t_i) − N_{i+1,d−1}/(t_{i+d+1} − t_{i+1}))` unrolled:
 /// `N⁽ᵏ⁾_{i,p} = p!/(p−k)! Σ_{j=0}^{k} c_j N_{i+j,p−k}` with
 /// `c⁽ᵏ⁾_j = (c⁽ᵏ⁻¹⁾_j − c⁽ᵏ⁻¹⁾_{j−1}) / (t_{i+j+p−k+1} − t_{i+j})`. Orders above `p` are zero.
-pub(crate) fn basis_derivatives(
-    knots: &[f64],
+pub(crate) fn basis_derivatives<T: Scalar>(
+    knots: &[T],
     p: usize,
     s: usize,
-    t: f64,
+    t: &T,
     order: usize,
-    out: &mut [f64],
+    out: &mut [T],
 ) {
     let w = p + 1;
+    let zero = T::zero();
     debug_assert!(out.len() >= (order + 1) * w);
     // table[d][r] = N_{s−d+r, d}(t), r = 0..=d, stored in a (p+1)×(p+1) square.
-    let mut table = vec![0.0; w * w];
-    table[0] = 1.0;
+    let mut table = vec![zero.clone(); w * w];
+    table[0] = T::one();
     for d in 1..=p {
         for r in 0..=d {
             let i = s + r - d;
-            let mut v = 0.0;
+            let mut v = zero.clone();
             if r >= 1 {
-                let den = knots[i + d] - knots[i];
-                if den > 0.0 {
-                    v += (t - knots[i]) / den * table[(d - 1) * w + r - 1];
+                let den = knots[i + d].clone() - knots[i].clone();
+                if den > zero {
+                    v = v
+                        + (t.clone() - knots[i].clone()) / den * table[(d - 1) * w + r - 1].clone();
                 }
             }
             if r < d {
-                let den = knots[i + d + 1] - knots[i + 1];
-                if den > 0.0 {
-                    v += (knots[i + d + 1] - t) / den * table[(d - 1) * w + r];
+                let den = knots[i + d + 1].clone() - knots[i + 1].clone();
+                if den > zero {
+                    v = v
+                        + (knots[i + d + 1].clone() - t.clone()) / den
+                            * table[(d - 1) * w + r].clone();
                 }
             }
             table[d * w + r] = v;
         }
     }
-    out[..w].copy_from_slice(&table[p * w..p * w + w]);
-    let mut c = vec![0.0; w + 1];
-    let mut prev = vec![0.0; w + 1];
+    out[..w].clone_from_slice(&table[p * w..p * w + w]);
+    let mut c = vec![zero.clone(); w + 1];
+    let mut prev = vec![zero.clone(); w + 1];
     for k in 1..=order {
         let row = &mut out[k * w..(k + 1) * w];
         if k > p {
-            row.fill(0.0);
+            row.fill(zero.clone());
             continue;
         }
         let q = p - k;
         // p!/(p−k)!
-        let factor: f64 = (q + 1..=p).map(|x| x as f64).product();
+        let factor = (q + 1..=p).fold(T::one(), |f, x| f * T::int(x as i64));
         for (r, o) in row.iter_mut().enumerate() {
             let i = s + r - p;
-            prev[..=k].fill(0.0);
-            prev[0] = 1.0;
+            prev[..=k].fill(zero.clone());
+            prev[0] = T::one();
             for kk in 1..=k {
                 let qq = p - kk;
                 for j in 0..=kk {
-                    let a = if j < kk { prev[j] } else { 0.0 };
-                    let b = if j >= 1 { prev[j - 1] } else { 0.0 };
-                    let den = knots[i + j + qq + 1] - knots[i + j];
-                    c[j] = if den > 0.0 { (a - b) / den } else { 0.0 };
+                    let a = if j < kk {
+                        prev[j].clone()
+                    } else {
+                        zero.clone()
+                    };
+                    let b = if j >= 1 {
+                        prev[j - 1].clone()
+                    } else {
+                        zero.clone()
+                    };
+                    let den = knots[i + j + qq + 1].clone() - knots[i + j].clone();
+                    c[j] = if den > zero {
+                        (a - b) / den
+                    } else {
+                        zero.clone()
+                    };
                 }
-                prev[..=kk].copy_from_slice(&c[..=kk]);
+                prev[..=kk].clone_from_slice(&c[..=kk]);
             }
             // Σ_j c_j N_{i+j, q}; N_{i+j,q} sits at table[q][r + j − k] when 0 ≤ r+j−k ≤ q.
-            let mut v = 0.0;
+            let mut v = zero.clone();
             for (j, cj) in prev[..=k].iter().enumerate() {
                 if r + j >= k && r + j - k <= q {
-                    v += cj * table[q * w + r + j - k];
+                    v = v + cj.clone() * table[q * w + r + j - k].clone();
                 }
             }
-            *o = factor * v;
+            *o = factor.clone() * v;
         }
     }
 }
@@ -304,7 +519,7 @@ pub(crate) fn elevate(
             });
         // The original span with the same interval.
         let mid = 0.5 * (new_knots[j] + new_knots[j + 1]);
-        let s = find_span(knots, p, count, mid);
+        let s = find_span(knots, p, count, &mid);
         let slot = &mut out[i * dim..(i + 1) * dim];
         for omit in 0..q {
             let mut n = 0;
@@ -329,23 +544,54 @@ pub(crate) fn elevate(
 /// The B-splines of degree `p` on `knots` that are alive at `t`, with derivatives: returns the
 /// span `s` (`p ≤ s < n`, `n = knots.len() − p − 1`, the span whose polynomial piece evaluates
 /// `t`, as in [`super::BSplineSurface::derivative`]) and `out[k·(p+1) + r] = N⁽ᵏ⁾_{s−p+r,p}(t)`
-/// for `k = 0..=order`. The knot vector is checked as by [`super::BSplineSurface::new`].
-pub fn bspline_basis(knots: &[f64], p: usize, t: f64, order: usize) -> Result<(usize, Vec<f64>)> {
-    if knots.len() / 2 <= p {
-        return Err(Error::invalid(format!(
-            "knots: degree {p} needs at least 2·({p} + 1) knots, got {}",
-            knots.len()
-        )));
+/// for `k = 0..=order`. The knot vector is checked as by [`super::BSplineSurface::new`]. Works in
+/// any [`Scalar`]: in exact rationals the values are exact.
+pub fn bspline_basis<T: Scalar>(
+    knots: &[T],
+    p: usize,
+    t: T,
+    order: usize,
+) -> Result<(usize, Vec<T>)> {
+    KnotRule::Open {
+        degree: p,
+        count: None,
     }
+    .check(knots)
+    .map_err(|f| f.named("knots"))?;
     let n = knots.len() - p - 1;
-    check_knots("knots", p, n, knots)?;
     let len = order
         .checked_add(1)
         .and_then(|o| o.checked_mul(p + 1))
         .filter(|&l| l <= 1 << 24)
         .ok_or_else(|| Error::invalid(format!("order = {order} is too large")))?;
-    let s = find_span(knots, p, n, t);
-    let mut out = vec![0.0; len];
-    basis_derivatives(knots, p, s, t, order, &mut out);
+    let s = find_span(knots, p, n, &t);
+    let mut out = vec![T::zero(); len];
+    basis_derivatives(knots, p, s, &t, order, &mut out);
     Ok((s, out))
+}
+
+/// The B-spline `N_{i,p}(t)` by the recursive definition, independent of the evaluators: the
+/// reference the tests check them against. `b` is the end of the domain, where the last
+/// non-empty degree-0 function is taken as closed.
+#[cfg(test)]
+pub(crate) fn cox_de_boor(knots: &[f64], i: usize, p: usize, t: f64, b: f64) -> f64 {
+    if p == 0 {
+        let (lo, hi) = (knots[i], knots[i + 1]);
+        let inside = if t == b {
+            lo < hi && hi == b
+        } else {
+            lo <= t && t < hi
+        };
+        return if inside { 1.0 } else { 0.0 };
+    }
+    let mut v = 0.0;
+    let d1 = knots[i + p] - knots[i];
+    if d1 > 0.0 {
+        v += (t - knots[i]) / d1 * cox_de_boor(knots, i, p - 1, t, b);
+    }
+    let d2 = knots[i + p + 1] - knots[i + 1];
+    if d2 > 0.0 {
+        v += (knots[i + p + 1] - t) / d2 * cox_de_boor(knots, i + 1, p - 1, t, b);
+    }
+    v
 }

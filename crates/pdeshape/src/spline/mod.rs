@@ -29,7 +29,7 @@
 mod bezier;
 mod bspline;
 mod dual;
-mod knots;
+pub(crate) mod knots;
 mod scalar;
 mod simplex;
 mod tensor;

@@ -1,49 +1,13 @@
-//! The scalars the multivariate Bézier patches and dual bases run on: `f64`, and exact rationals
-//! ([`BigRational`]) so fractions can be reproduced exactly.
+//! Index sets of the multivariate Bézier patches and dual bases, and the small integer
+//! functions they need, over the crate's [`Scalar`] (`f64` or exact [`BigRational`]).
 
+pub use crate::scalar::Scalar;
 use num_rational::BigRational;
-use num_traits::{FromPrimitive, Num, ToPrimitive};
-use std::fmt::Debug;
-use std::ops::Neg;
-
-/// A field the generic code computes in: `+ − × ÷`, integers, and a float view.
-pub trait Scalar: Clone + PartialEq + Debug + Num + Neg<Output = Self> + Send + Sync {
-    /// True for exact arithmetic (no rounding).
-    const EXACT: bool;
-    /// The integer `n`, exactly (for `f64`: exact up to 2⁵³).
-    fn int(n: i64) -> Self;
-    /// The nearest `f64`.
-    fn to_f64(&self) -> f64;
-    /// `num / den`.
-    fn ratio(num: i64, den: i64) -> Self {
-        Self::int(num) / Self::int(den)
-    }
-}
-
-impl Scalar for f64 {
-    const EXACT: bool = false;
-    fn int(n: i64) -> Self {
-        n as f64
-    }
-    fn to_f64(&self) -> f64 {
-        *self
-    }
-}
-
-impl Scalar for BigRational {
-    const EXACT: bool = true;
-    fn int(n: i64) -> Self {
-        BigRational::from_i64(n).expect("every i64 is a rational")
-    }
-    fn to_f64(&self) -> f64 {
-        ToPrimitive::to_f64(self).unwrap_or(f64::NAN)
-    }
-}
 
 /// The exact rational equal to a finite `f64` (every finite float is a dyadic rational); `None`
 /// for NaN and infinities.
 pub fn rational_from_f64(x: f64) -> Option<BigRational> {
-    BigRational::from_float(x)
+    <BigRational as Scalar>::from_f64(x)
 }
 
 /// `n!/(n−k)! = n (n−1) ⋯ (n−k+1)` (1 for `k = 0`; requires `k ≤ n`).

@@ -8,28 +8,7 @@ use crate::Vec3;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
-/// The recursive Cox–de Boor definition (half-open spans; the last span closed at `b`).
-fn cox_de_boor(knots: &[f64], i: usize, p: usize, t: f64, b: f64) -> f64 {
-    if p == 0 {
-        let (lo, hi) = (knots[i], knots[i + 1]);
-        let inside = if t == b {
-            lo < hi && hi == b
-        } else {
-            lo <= t && t < hi
-        };
-        return if inside { 1.0 } else { 0.0 };
-    }
-    let mut v = 0.0;
-    let d1 = knots[i + p] - knots[i];
-    if d1 > 0.0 {
-        v += (t - knots[i]) / d1 * cox_de_boor(knots, i, p - 1, t, b);
-    }
-    let d2 = knots[i + p + 1] - knots[i + 1];
-    if d2 > 0.0 {
-        v += (knots[i + p + 1] - t) / d2 * cox_de_boor(knots, i + 1, p - 1, t, b);
-    }
-    v
-}
+use super::knots::cox_de_boor;
 
 fn binom(n: usize, k: usize) -> f64 {
     (0..k).fold(1.0, |b, i| b * (n - i) as f64 / (i + 1) as f64)

@@ -8,6 +8,7 @@
 //! carried out on polynomial coefficients (a quotient with a zero denominator counts as 0).
 
 use super::scalar::Scalar;
+use crate::spline::knots::{basis_derivatives, find_span, KnotRule};
 use crate::{Error, Result};
 
 /// Polynomial coefficients `c_0 + c_1 s + …` in a local variable.
@@ -22,7 +23,7 @@ pub fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
         .map(|n| {
             // n (n−1) … (n−k+1)
             let f: i64 = ((n - k + 1)..=n).map(|x| x as i64).product();
-            p[n].clone() * T::from_i64(f)
+            p[n].clone() * T::int(f)
         })
         .collect()
 }
@@ -38,7 +39,7 @@ pub fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
             if qb.is_zero() {
                 continue;
             }
-            acc = acc + pa.clone() * qb.clone() / T::from_i64((a + b + 1) as i64);
+            acc = acc + pa.clone() * qb.clone() / T::int((a + b + 1) as i64);
         }
     }
     acc
@@ -76,9 +77,11 @@ impl<T: Scalar> Direction<T> {
         )
     }
 
-    /// Checks: at least `p + 1` control points, knots finite and non-decreasing, no knot repeated
-    /// more than `p + 1` times, and a domain of positive length. `name` is `u` or `v`.
-    /// Errors name their place: `degree` or `knots_u`/`knots_v`.
+    /// Checks: degree 1 to 20 and the knot vector by the crate's one knot rule
+    /// ([`crate::spline::bspline_basis`] checks the same): at least `p + 1` control points,
+    /// finite non-decreasing knots, a domain of positive length, no knot repeated more than
+    /// `p + 1` times nor more than `p` times inside the domain. `name` is `u` or `v`. Errors
+    /// name their place: `degree` or `knots_u`/`knots_v`.
     pub fn check(&self, name: &str) -> Result<()> {
         let p = self.degree;
         if p == 0 || p > 20 {
@@ -87,61 +90,12 @@ impl<T: Scalar> Direction<T> {
             ))
             .at("degree"));
         }
-        self.check_knots()
-            .map_err(|e| e.at(&format!("knots_{name}")))
-    }
-
-    fn check_knots(&self) -> Result<()> {
-        let p = self.degree;
-        if self.knots.len() < 2 * (p + 1) {
-            return Err(Error::invalid(format!(
-                "degree {p} needs at least {} knots (p + 1 control points), got {}",
-                2 * (p + 1),
-                self.knots.len()
-            )));
+        KnotRule::Open {
+            degree: p,
+            count: None,
         }
-        for (i, w) in self.knots.windows(2).enumerate() {
-            if w[1].to_f64() < w[0].to_f64() || (w[1].clone() - w[0].clone()).to_f64() < 0.0 {
-                return Err(Error::invalid(format!(
-                    "knot {} ({}) is smaller than knot {i} ({}); knots must not decrease",
-                    i + 1,
-                    w[1].to_text(),
-                    w[0].to_text()
-                )));
-            }
-        }
-        let mut run = 1;
-        for i in 1..self.knots.len() {
-            if self.knots[i] == self.knots[i - 1] {
-                run += 1;
-                if run > p + 1 {
-                    return Err(Error::invalid(format!(
-                        "knot {} ({}) is repeated more than p + 1 = {} times",
-                        i,
-                        self.knots[i].to_text(),
-                        p + 1
-                    )));
-                }
-            } else {
-                run = 1;
-            }
-        }
-        // Inside the domain a knot of multiplicity p + 1 would break the surface apart.
-        let n = self.count();
-        for i in p + 1..n {
-            let mult = self.knots.iter().filter(|k| **k == self.knots[i]).count();
-            if mult > p {
-                return Err(Error::invalid(format!(
-                    "the interior knot {} is repeated {mult} times; at most p = {p} inside the domain",
-                    self.knots[i].to_text()
-                )));
-            }
-        }
-        let (a, b) = self.domain();
-        if (b - a).to_f64().partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return Err(Error::invalid("the domain [u_p, u_(n+1)] has zero length"));
-        }
-        Ok(())
+        .check(&self.knots)
+        .map_err(|f| f.named(&format!("knots_{name}")))
     }
 
     /// The basis polynomials of every non-empty span of the domain.
@@ -189,85 +143,19 @@ impl<T: Scalar> Direction<T> {
     /// The index `k` of the span holding `u` (the last non-empty span for `u` at the end of the
     /// domain). `u` must lie in the domain.
     pub fn find_span(&self, u: &T) -> usize {
-        let p = self.degree;
-        let n = self.count();
-        let uf = u.to_f64();
-        let mut k = p;
-        for i in p..n {
-            if self.knots[i] != self.knots[i + 1] && self.knots[i].to_f64() <= uf {
-                k = i;
-            }
-        }
-        k
+        find_span(&self.knots, self.degree, self.count(), u)
     }
 
-    /// `N_{i,p}^{(d)}(u)` for `i = k−p..=k` and `d = 0..=nd`, by the triangular table of the
-    /// Cox–de Boor recursion and the derivative formula
-    /// `N'_{i,p} = p/(u_{i+p} − u_i) N_{i,p−1} − p/(u_{i+p+1} − u_{i+1}) N_{i+1,p−1}` applied
-    /// repeatedly (seed 003 §3). Independent of [`Direction::spans`]. Returns `(k, ders)` with
-    /// `ders[d][r]` for `N_{k−p+r}`.
+    /// `N_{i,p}^{(d)}(u)` for `i = k−p..=k` and `d = 0..=nd`, by the crate's one B-spline basis
+    /// (the Cox–de Boor table and the unrolled derivative formula of
+    /// [`crate::spline::bspline_basis`], exact in rationals). Independent of
+    /// [`Direction::spans`]. Returns `(k, ders)` with `ders[d][r]` for `N_{k−p+r}`.
     pub fn basis_derivatives_at(&self, u: &T, nd: usize) -> (usize, Vec<Vec<T>>) {
-        let p = self.degree;
+        let w = self.degree + 1;
         let k = self.find_span(u);
-        let kn = &self.knots;
-        // lower[d][r] = N_{k−d+r, d}(u), r = 0..=d.
-        let mut lower: Vec<Vec<T>> = vec![vec![T::one()]];
-        for d in 1..=p {
-            let prev = &lower[d - 1];
-            let mut row = Vec::with_capacity(d + 1);
-            for r in 0..=d {
-                let i = k + r - d;
-                let mut acc = T::zero();
-                if r >= 1 {
-                    let den = kn[i + d].clone() - kn[i].clone();
-                    if !den.is_zero() {
-                        acc = acc + (u.clone() - kn[i].clone()) / den * prev[r - 1].clone();
-                    }
-                }
-                if r < d {
-                    let den = kn[i + d + 1].clone() - kn[i + 1].clone();
-                    if !den.is_zero() {
-                        acc = acc + (kn[i + d + 1].clone() - u.clone()) / den * prev[r].clone();
-                    }
-                }
-                row.push(acc);
-            }
-            lower.push(row);
-        }
-        // D^j N_{i,d} from D^{j−1} of degree d−1 functions: D^j N_{i,d} = d [D^{j−1}N_{i,d−1}/(u_{i+d}−u_i)
-        // − D^{j−1}N_{i+1,d−1}/(u_{i+d+1}−u_{i+1})].
-        // der[d][j][r] = D^j N_{k−d+r, d}(u).
-        let mut der: Vec<Vec<Vec<T>>> = lower.iter().map(|row| vec![row.clone()]).collect();
-        for j in 1..=nd {
-            for d in 0..=p {
-                let row: Vec<T> = if j > d {
-                    vec![T::zero(); d + 1]
-                } else {
-                    (0..=d)
-                        .map(|r| {
-                            let i = k + r - d;
-                            let prev = &der[d - 1][j - 1];
-                            let mut acc = T::zero();
-                            if r >= 1 {
-                                let den = kn[i + d].clone() - kn[i].clone();
-                                if !den.is_zero() {
-                                    acc = acc + prev[r - 1].clone() / den;
-                                }
-                            }
-                            if r < d {
-                                let den = kn[i + d + 1].clone() - kn[i + 1].clone();
-                                if !den.is_zero() {
-                                    acc = acc - prev[r].clone() / den;
-                                }
-                            }
-                            acc * T::from_i64(d as i64)
-                        })
-                        .collect()
-                };
-                der[d].push(row);
-            }
-        }
-        (k, der.pop().unwrap_or_default())
+        let mut flat = vec![T::zero(); (nd + 1) * w];
+        basis_derivatives(&self.knots, self.degree, k, u, nd, &mut flat);
+        (k, flat.chunks(w).map(<[T]>::to_vec).collect())
     }
 }
 

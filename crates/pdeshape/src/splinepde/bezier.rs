@@ -21,7 +21,7 @@ pub fn bezier_direction<T: Scalar>(n: usize) -> Direction<T> {
 pub fn clamped_uniform<T: Scalar>(p: usize, spans: usize) -> Direction<T> {
     let mut knots = vec![T::zero(); p + 1];
     for k in 1..spans {
-        knots.push(T::from_i64(k as i64) / T::from_i64(spans as i64));
+        knots.push(T::int(k as i64) / T::int(spans as i64));
     }
     knots.extend(vec![T::one(); p + 1]);
     Direction { degree: p, knots }
@@ -151,7 +151,7 @@ fn axpy<T: Scalar>(acc: &mut Point<T>, w: i64, p: &Point<T>) {
     if w == 0 {
         return;
     }
-    let w = T::from_i64(w);
+    let w = T::int(w);
     for d in 0..3 {
         acc[d] = acc[d].clone() + w.clone() * p[d].clone();
     }

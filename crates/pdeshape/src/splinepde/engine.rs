@@ -225,7 +225,7 @@ pub fn functional_matrix<T: Scalar>(
     let (su, sv) = (u.spans(), v.spans());
     let n = nu * nv;
     let mut h: Mat<T> = Mat::zeros(n, n);
-    let half = T::one() / T::from_i64(2);
+    let half = T::one() / T::int(2);
     for term in terms {
         let w: T = coef::<T>(term.w) * half.clone();
         // Both orders of the inner product, so H is symmetric.

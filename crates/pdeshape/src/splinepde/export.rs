@@ -30,7 +30,7 @@ pub fn to_json<T: Scalar>(net: &SplineNet<T>) -> Value {
         "knots_v": net.v.knots.iter().map(f).collect::<Vec<_>>(),
         "control": control,
         "operator": net.operator.describe(),
-        "exact": T::is_exact(),
+        "exact": T::EXACT,
         "report": {
             "equations": r.equations,
             "pde_rank": r.pde_rank,
@@ -43,7 +43,7 @@ pub fn to_json<T: Scalar>(net: &SplineNet<T>) -> Value {
             "chosen_by": r.chosen_by,
         },
     });
-    if T::is_exact() {
+    if T::EXACT {
         let t = |x: &T| x.to_text();
         let exact: Vec<Vec<[String; 3]>> = (0..nu)
             .map(|i| {

@@ -4,6 +4,7 @@
 
 use super::scalar::Scalar;
 use num_rational::BigRational;
+use num_traits::{One, Zero};
 
 /// A dense row-major matrix.
 #[derive(Clone, Debug, PartialEq)]
@@ -129,7 +130,7 @@ impl Solve for BigRational {
             if r == m {
                 break;
             }
-            let Some(p) = (r..m).find(|&i| !Scalar::is_zero(&rows[i][col])) else {
+            let Some(p) = (r..m).find(|&i| !Zero::is_zero(&rows[i][col])) else {
                 continue;
             };
             rows.swap(r, p);
@@ -140,12 +141,12 @@ impl Solve for BigRational {
             }
             let pivot_row = rows[r].clone();
             for (i, row) in rows.iter_mut().enumerate() {
-                if i == r || Scalar::is_zero(&row[col]) {
+                if i == r || Zero::is_zero(&row[col]) {
                     continue;
                 }
                 let f = row[col].clone();
                 for j in col..w {
-                    if !Scalar::is_zero(&pivot_row[j]) {
+                    if !Zero::is_zero(&pivot_row[j]) {
                         row[j] = row[j].clone() - f.clone() * pivot_row[j].clone();
                     }
                 }
@@ -155,7 +156,7 @@ impl Solve for BigRational {
         }
         let rank = pivots.len();
         let inconsistent: Vec<usize> = (rank..m)
-            .filter(|&i| rows[i][n..].iter().any(|x| !Scalar::is_zero(x)))
+            .filter(|&i| rows[i][n..].iter().any(|x| !Zero::is_zero(x)))
             .map(|i| origin[i])
             .collect();
         let mut x0 = Mat::zeros(n, c);
@@ -167,7 +168,7 @@ impl Solve for BigRational {
         let free: Vec<usize> = (0..n).filter(|j| !pivots.contains(j)).collect();
         let mut null = Mat::zeros(n, free.len());
         for (k, &f) in free.iter().enumerate() {
-            *null.at_mut(f, k) = Scalar::one();
+            *null.at_mut(f, k) = One::one();
             for (pr, &pc) in pivots.iter().enumerate() {
                 *null.at_mut(pc, k) = -rows[pr][f].clone();
             }
@@ -181,7 +182,7 @@ impl Solve for BigRational {
     }
 
     fn row_is_zero(null: &Mat<Self>, r: usize) -> bool {
-        (0..null.cols).all(|k| Scalar::is_zero(null.at(r, k)))
+        (0..null.cols).all(|k| Zero::is_zero(null.at(r, k)))
     }
 }
 

@@ -35,7 +35,10 @@ mod engine;
 pub mod export;
 mod linalg;
 mod operator;
-mod scalar;
+/// The crate's one scalar trait, under the path the engine's modules import it from.
+mod scalar {
+    pub use crate::scalar::Scalar;
+}
 
 pub use basis::{Direction, Span};
 pub use bezier::{

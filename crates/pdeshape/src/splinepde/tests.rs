@@ -1,6 +1,8 @@
 use super::export::{iges_timestamp, to_iges, to_json, IgesOptions};
 use super::*;
+use crate::spline::knots::cox_de_boor;
 use crate::Vec3;
+use num_traits::Zero;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 
 type Q = BigRational;
@@ -10,14 +12,14 @@ fn q(n: i64, d: i64) -> Q {
 }
 
 fn zero_q(x: &Q) -> bool {
-    Scalar::is_zero(x)
+    Zero::is_zero(x)
 }
 
 /// Unclamped uniform knots `0, 1, …` (seed 003 Examples 1 and 2, h = 1).
 fn uniform<T: Scalar>(p: usize, count: usize) -> Direction<T> {
     Direction {
         degree: p,
-        knots: (0..count + p + 1).map(|k| T::from_i64(k as i64)).collect(),
+        knots: (0..count + p + 1).map(|k| T::int(k as i64)).collect(),
     }
 }
 
@@ -27,7 +29,7 @@ fn random_direction<T: Scalar>(rng: &mut StdRng, p: usize, spans: usize) -> Dire
     let clamped = rng.gen_bool(0.5);
     let mut knots = Vec::new();
     let mut t = 0i64;
-    let push = |knots: &mut Vec<T>, t: i64| knots.push(T::from_i64(t) / T::from_i64(8));
+    let push = |knots: &mut Vec<T>, t: i64| knots.push(T::int(t) / T::int(8));
     if clamped {
         for _ in 0..p {
             push(&mut knots, 0);
@@ -89,7 +91,7 @@ fn random_solution<T: Solve>(
     let n = a.cols;
     let mut net = Vec::with_capacity(n);
     let ys: Vec<[T; 3]> = (0..aff.null.cols)
-        .map(|_| [(); 3].map(|_| T::from_i64(rng.gen_range(-16..=16)) / T::from_i64(2)))
+        .map(|_| [(); 3].map(|_| T::int(rng.gen_range(-16..=16)) / T::int(2)))
         .collect();
     for c in 0..n {
         let mut p = [
@@ -720,25 +722,6 @@ fn inconsistent_and_bad_input_is_reported_with_its_place() {
     assert!(e.to_string().contains("every coefficient is zero"), "{e}");
 }
 
-/// A naive Cox–de Boor recursion (the definition), for the IGES check.
-fn naive_basis(knots: &[f64], i: usize, p: usize, u: f64, last: bool) -> f64 {
-    if p == 0 {
-        let inside = knots[i] <= u && u < knots[i + 1];
-        let at_end = last && u == knots[i + 1] && knots[i] < knots[i + 1];
-        return if inside || at_end { 1.0 } else { 0.0 };
-    }
-    let mut s = 0.0;
-    let d1 = knots[i + p] - knots[i];
-    if d1 > 0.0 {
-        s += (u - knots[i]) / d1 * naive_basis(knots, i, p - 1, u, last);
-    }
-    let d2 = knots[i + p + 1] - knots[i + 1];
-    if d2 > 0.0 {
-        s += (knots[i + p + 1] - u) / d2 * naive_basis(knots, i + 1, p - 1, u, last);
-    }
-    s
-}
-
 /// Reads an IGES file with fixed columns and returns the entity-128 parameters.
 fn parse_iges(text: &str) -> Vec<String> {
     let lines: Vec<&str> = text.lines().collect();
@@ -850,9 +833,9 @@ fn iges_round_trip_by_an_independent_reader() {
         let (s, t) = (rng.gen_range(u0..=u1), rng.gen_range(v0..=v1));
         let mut x = [0.0; 3];
         for i in 0..=k1 {
-            let bi = naive_basis(&ks, i, m1, s, s == u1);
+            let bi = cox_de_boor(&ks, i, m1, s, u1);
             for j in 0..=k2 {
-                let b = bi * naive_basis(&kt, j, m2, t, t == v1);
+                let b = bi * cox_de_boor(&kt, j, m2, t, v1);
                 // IGES lists control points with the first index fastest.
                 let c = pts[j * (k1 + 1) + i];
                 for d in 0..3 {

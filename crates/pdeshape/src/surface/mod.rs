@@ -28,11 +28,28 @@ pub struct Partials {
     pub xvv: Vec3,
 }
 
+/// The one rule for where a surface's normal degenerates: `|X_u × X_v| ≤ 10⁻¹⁰ (|X_u|² + |X_v|²)`,
+/// i.e. the cross product is rounding noise next to the derivatives themselves (at a pole `X_v`
+/// is zero up to rounding and its direction is meaningless). `cross` is `|X_u × X_v|`, `size` is
+/// `|X_u|² + |X_v|²` (both scale alike, so any common scaling of `X_u`, `X_v` may be applied
+/// first); NaN counts as degenerate. Every place that decides whether `X_u × X_v` gives the
+/// normal (normals, row evaluators, curvature) asks this function.
+#[inline(always)]
+pub fn normal_degenerates(cross: f64, size: f64) -> bool {
+    cross.partial_cmp(&(1e-10 * size)) != Some(std::cmp::Ordering::Greater)
+}
+
 impl Partials {
-    /// Unit normal `X_u × X_v / |X_u × X_v|`. Where that cross product vanishes (a pole: a
-    /// position curve shrunk to a point, so `X_v = 0`), the limit normal `X_u × X_uv` is used, and
-    /// `X_uv × X_v` where `X_u` vanishes; zero if all of these vanish.
+    /// Unit normal `X_u × X_v / |X_u × X_v|`. Where that degenerates ([`normal_degenerates`]: a
+    /// pole, a position curve shrunk to a point, so `X_v = 0`), the limit normal `X_u × X_uv` is
+    /// used, and `X_uv × X_v` where `X_u` vanishes; zero if all of these vanish.
     pub fn normal(&self) -> Vec3 {
+        self.normal_or_none().unwrap_or_else(Vec3::zeros)
+    }
+
+    /// [`Partials::normal`], or `None` where it does not exist (`X_u × X_v` degenerates and so do
+    /// both pole limits).
+    pub fn normal_or_none(&self) -> Option<Vec3> {
         // One common scale, so huge or tiny coordinates neither overflow nor underflow and the
         // relative sizes of the derivatives are kept.
         let m = self.xu.amax().max(self.xv.amax()).max(self.xuv.amax());
@@ -41,19 +58,15 @@ impl Partials {
         } else {
             (self.xu, self.xv, self.xuv)
         };
-        // Degenerate where X_u × X_v is rounding noise next to the derivatives themselves (at a
-        // pole X_v is zero up to rounding, and its direction is meaningless).
         let n = xu.cross(&xv);
-        if n.norm() > 1e-10 * (xu.norm_squared() + xv.norm_squared()) {
-            return n.normalize();
+        let len = n.norm();
+        if !normal_degenerates(len, xu.norm_squared() + xv.norm_squared()) {
+            return Some(n / len);
         }
-        for m in [xu.cross(&xuv), xuv.cross(&xv)] {
+        [xu.cross(&xuv), xuv.cross(&xv)].into_iter().find_map(|m| {
             let s = m.norm();
-            if s > 1e-300 {
-                return m / s;
-            }
-        }
-        Vec3::zeros()
+            (s > 1e-300).then(|| m / s)
+        })
     }
 }
 
@@ -247,6 +260,25 @@ mod tests {
         };
         assert_eq!(pole.normal(), Vec3::new(0.0, 0.0, 1.0));
         assert_eq!(Partials::default().normal(), Vec3::zeros());
+        assert_eq!(Partials::default().normal_or_none(), None);
+        assert_eq!(pole.normal_or_none(), Some(Vec3::new(0.0, 0.0, 1.0)));
+    }
+
+    #[test]
+    fn the_degeneracy_rule_is_relative_and_refuses_nan() {
+        assert!(!normal_degenerates(2e-10, 1.0));
+        assert!(normal_degenerates(1e-10, 1.0));
+        assert!(!normal_degenerates(2e-30, 1e-20));
+        assert!(normal_degenerates(f64::NAN, 1.0));
+        assert!(normal_degenerates(0.0, 0.0));
+        // A nearly parallel pair: X_u × X_v below the rule gives the pole limit instead.
+        let p = Partials {
+            xu: Vec3::new(1.0, 0.0, 0.0),
+            xv: Vec3::new(1.0, 1e-11, 0.0),
+            xuv: Vec3::new(0.0, 0.0, 1.0),
+            ..Default::default()
+        };
+        assert_eq!(p.normal(), Vec3::new(0.0, -1.0, 0.0));
     }
 }
 

@@ -2,12 +2,15 @@
 //! method cannot produce exactly), with exact partial derivatives from symbolic differentiation.
 
 use super::{Interval, Partials, Surface, VDomain};
-use crate::curve::{normalise_formula, unary_minus_before_power};
+use crate::formula::{self, short, Parsed, Variables};
 use crate::{Error, Result, Vec3, TAU};
 use exmex::prelude::*;
-use exmex::Differentiate;
+use exmex::{Differentiate, FloatOpsFactory};
 
-type Expr = FlatEx<f64>;
+type Expr = formula::Expr<f64, FloatOpsFactory<f64>>;
+
+/// The variables of surface formulas: `u` (slot 0) and `v` (slot 1).
+const UV: Variables = Variables::every(&["u", "v"]);
 
 const NAMES: [&str; 3] = ["x", "y", "z"];
 
@@ -44,13 +47,6 @@ pub struct ParametricSurface {
     u_range: Interval,
     domain: VDomain,
     comps: Vec<Component>,
-}
-
-/// Six significant digits.
-fn short(v: f64) -> String {
-    let s = format!("{v:.6}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    s.to_string()
 }
 
 impl ParametricSurface {
@@ -196,31 +192,7 @@ impl ParametricSurface {
 
 /// Parses one formula and differentiates it symbolically.
 fn parse_component(given: &str) -> Result<Component> {
-    let text = normalise_formula(given);
-    if text.trim().is_empty() {
-        return Err(Error::invalid("the formula is empty"));
-    }
-    if let Some(at) = unary_minus_before_power(&text) {
-        return Err(Error::invalid(format!(
-            "'{given}': the minus at character {} is applied before the power; write -(…^…) or \
-             (-…)^… explicitly",
-            at + 1
-        )));
-    }
-    let expr: Expr =
-        Expr::parse(&text).map_err(|e| Error::invalid(format!("cannot parse '{given}': {e}")))?;
-    let mut vars = Vec::new();
-    for name in expr.var_names() {
-        match name.as_str() {
-            "u" => vars.push(0),
-            "v" => vars.push(1),
-            other => {
-                return Err(Error::invalid(format!(
-                    "unknown variable '{other}'; formulas use u and v"
-                )))
-            }
-        }
-    }
+    let Parsed { expr, slots: vars } = formula::parse(given, &UV)?;
     let idx = |var: usize| vars.iter().position(|&i| i == var);
     let diff = |e: &Option<Box<Expr>>, var: usize| -> Result<Option<Box<Expr>>> {
         match (e, idx(var)) {
