@@ -9,14 +9,14 @@ use crate::spec::{
     TransformStep, V3,
 };
 use crate::{Error, Result};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A patch of a design: `None` for the single patch of a design with top-level `conditions`,
 /// else the name of one of its `[[patches]]`.
 pub type PatchRef = Option<String>;
 
 /// One edit of a design.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "edit", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Edit {
     /// Sets the named curve to `curve` (adding it if there is none), or removes it (`None`).

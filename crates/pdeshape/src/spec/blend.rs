@@ -3,32 +3,38 @@
 //! `docs/design-file.md` ("Blends").
 
 use super::types::deserialize_tagged;
+use super::write::{is_false, is_zero, never, serialize_kind, serialize_type};
 use schemars::JsonSchema;
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// `[blend]`: a discrete smoothing PDE spline on `[0, 1]²` whose edge `y = 0` joins `start` and
 /// whose edge `y = 1` joins `end`.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BlendSpec {
     /// `[nx, ny]`: elements along the joins (`x`) and across (`y`), default `[8, 4]`.
     #[serde(default = "default_elements")]
     pub elements: [usize; 2],
     /// Identify the edges `x = 0` and `x = 1` (a closed tube; both joins must be closed lines).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_false")]
+    #[schemars(skip_serializing_if = "never")]
     pub periodic: bool,
     /// The weight ε of the energy in Eq. 6 (default 1).
     #[serde(default = "default_one")]
     pub epsilon: f64,
     /// The energy `(u, v)_L` (default `{ kind = "section6", a = 1 }`).
-    #[serde(default = "default_energy", deserialize_with = "deserialize_energy")]
+    #[serde(
+        default = "default_energy",
+        deserialize_with = "deserialize_energy",
+        serialize_with = "serialize_kind"
+    )]
     pub energy: EnergySpec,
     /// The join of the edge `y = 0`.
     pub start: JoinSpec,
     /// The join of the edge `y = 1`.
     pub end: JoinSpec,
     /// Data points the blend should pass near (the paper's `A` and `β`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<PointSpec>,
 }
 
@@ -43,7 +49,7 @@ fn default_energy() -> EnergySpec {
 }
 
 /// The energy, chosen by `kind`.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "kind")]
 pub enum EnergySpec {
@@ -57,13 +63,16 @@ pub enum EnergySpec {
     #[serde(rename = "general")]
     General {
         a: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         b: f64,
         c: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         d: f64,
         e: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         mixed: f64,
     },
 }
@@ -81,11 +90,14 @@ fn deserialize_surface<'de, D: Deserializer<'de>>(d: D) -> Result<SurfaceSpec, D
 /// Where the blend meets a primary surface `S`: the blend's edge `x ∈ [0, 1]` runs along the
 /// line from `from` to `to` in `S`'s `(u, v)` parameters, and the blend's cross derivative is
 /// `S`'s derivative along `cross` (pointing out of `S`, the way the blend continues it).
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct JoinSpec {
     /// The primary surface.
-    #[serde(deserialize_with = "deserialize_surface")]
+    #[serde(
+        deserialize_with = "deserialize_surface",
+        serialize_with = "serialize_type"
+    )]
     pub surface: SurfaceSpec,
     /// `(u, v)` on `S` of the blend's `x = 0`.
     pub from: [f64; 2],
@@ -96,7 +108,7 @@ pub struct JoinSpec {
 }
 
 /// A primary surface, chosen by `type`.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "type")]
 pub enum SurfaceSpec {
@@ -122,7 +134,7 @@ pub enum SurfaceSpec {
 }
 
 /// A data point: the site `at` in `[0, 1]²` and the point `value` in space.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
     pub at: [f64; 2],

@@ -3,6 +3,7 @@
 //!
 //! ```text
 //! text ──parse_design──▶ DesignSpec ──design::compile──▶ a solved design
+//!      ◀──write_design──
 //! ```
 //!
 //! Every error names its place as a path into the file (`curves.rim.radius`,
@@ -16,6 +17,7 @@ mod optimize;
 mod parametric;
 mod spline;
 mod types;
+mod write;
 
 pub use blend::{BlendSpec, EnergySpec, JoinSpec, PointSpec, SurfaceSpec};
 pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
@@ -27,6 +29,7 @@ pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,
 };
+pub use write::write_design;
 
 use crate::{Error, Result};
 

@@ -2,11 +2,12 @@
 //! the objective, constraints and the options of the search. Documented key by key in
 //! `docs/design-file.md`.
 
+use super::write::{is_zero, never};
 use schemars::JsonSchema;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// `[optimize]`: what `pdeshape optimize` varies, what it minimises, and how it searches.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OptimizeSpec {
     /// The quantity to minimise: a formula in the variables of the design's integrals (`area`,
@@ -14,12 +15,13 @@ pub struct OptimizeSpec {
     /// `C0`), e.g. `"bending"` or `"helfrich / (8*pi)"`.
     pub objective: String,
     /// The spontaneous curvature `C0` used by `helfrich` and `c0` (default 0).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero")]
+    #[schemars(skip_serializing_if = "never")]
     pub spontaneous_curvature: f64,
     /// The design parameters, each with bounds.
     pub parameters: Vec<ParameterSpec>,
     /// Equality and inequality constraints on formulas of the same variables.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub constraints: Vec<ConstraintSpec>,
     /// Seed of the random numbers: the same seed gives the same result (default 1).
     #[serde(default = "default_seed")]
@@ -35,11 +37,11 @@ pub struct OptimizeSpec {
     pub polish: usize,
     /// `s` of the annealing schedule `c_m = c_0 e^{(s−1)m}` (Eq. 7.3), `0 < s < 1`; by default
     /// chosen so that the last level is at `c_0 · 10⁻⁵`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cooling: Option<f64>,
     /// The initial control parameter `c_0`; by default estimated from trial moves so that a typical
     /// uphill move is accepted with probability 0.8 at the start.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub temperature: Option<f64>,
     /// Gauss–Legendre points in `u` per patch for the integrals of the search (default 24).
     #[serde(default = "default_quad_u")]
@@ -69,7 +71,7 @@ fn default_quad_v() -> usize {
 }
 
 /// One design parameter.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParameterSpec {
     /// In the book's notation (§7.5): `<curve><T|R|D><x|y|z>` for a translation (length), a
@@ -83,25 +85,25 @@ pub struct ParameterSpec {
     pub max: f64,
     /// Start value (default: the neutral value, 0 for translations, rotations and `cT`, 1 for
     /// dilations, the design's own `a` for `a`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<f64>,
 }
 
 /// A constraint `expr = equal`, `expr ≥ min` or `expr ≤ max`, enforced by the quadratic penalty
 /// `weight · violation²` added to the objective.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ConstraintSpec {
     /// A formula in the same variables as the objective, e.g. `"nu"` or `"volume"`.
     pub expr: String,
     /// Target value of an equality constraint.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub equal: Option<f64>,
     /// Lower bound of an inequality constraint.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min: Option<f64>,
     /// Upper bound of an inequality constraint.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max: Option<f64>,
     /// Penalty weight (default 10⁴).
     #[serde(default = "default_weight")]

@@ -2,12 +2,12 @@
 
 use super::types::DomainSpec;
 use schemars::JsonSchema;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// A surface `X(u, v) = (x, y, z)` given by three formulas in `u ∈ [0, 1]` and `v`, for shapes
 /// the PDE method cannot produce exactly (a sphere, a cylinder, a torus). Partial derivatives
 /// are symbolic, so analysis and normals are exact.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParametricSpec {
     /// Unique name of the surface (shared with the names of `[[patches]]`).
@@ -18,6 +18,6 @@ pub struct ParametricSpec {
     pub z: String,
     /// The `v` domain: `"periodic"` (`v ∈ [0, 2π)`, the default; the formulas must repeat
     /// after 2π) or an interval `[v0, v1]`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "DomainSpec::is_periodic")]
     pub domain: DomainSpec,
 }

@@ -2,48 +2,53 @@
 //! (see `docs/design-file.md`, section "[spline]").
 
 use super::types::V3;
+use super::write::{is_false, is_zero, never, serialize_kind};
 use schemars::JsonSchema;
-use serde::{Deserialize, Deserializer};
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// `[spline]`: degrees, knots, the PDE, and the control points the designer fixes.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SplineSpec {
     /// Degrees `[p, q]` in u and v, each 1 to 20.
     pub degree: [usize; 2],
     /// Spans `[s_u, s_v]` of clamped uniform knot vectors on `[0, 1]` (default `[1, 1]`: a
     /// Bézier patch). Not allowed together with `knots_u`/`knots_v`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spans: Option<[usize; 2]>,
     /// The full knot vector in u (`n_u + p + 1` non-decreasing values); with `knots_v`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub knots_u: Option<Vec<f64>>,
     /// The full knot vector in v (`n_v + q + 1` values); with `knots_u`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub knots_v: Option<Vec<f64>>,
     /// The PDE (a table with `kind`).
-    #[serde(deserialize_with = "deserialize_spline_operator")]
+    #[serde(
+        deserialize_with = "deserialize_spline_operator",
+        serialize_with = "serialize_kind"
+    )]
     #[schemars(with = "SplineOperatorSpec")]
     pub operator: SplineOperatorSpec,
     /// Solve in exact rational arithmetic (every number of the file taken at its exact binary
     /// value) instead of `f64` (default false).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_false")]
+    #[schemars(skip_serializing_if = "never")]
     pub exact: bool,
     /// A whole control net, `n_u` rows of `n_v` points `[x, y, z]` (row `i` along u), from
     /// which `fix` takes the fixed points.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub net: Option<Vec<Vec<V3>>>,
     /// Which points of `net` are fixed: "boundary" (the outer ring), "two-rings" (boundary and
     /// the ring inside it), "first-last-rows" (rows `i = 0` and `i = n_u − 1`), or "all".
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fix: Option<FixSpec>,
     /// Individually fixed control points (added to those of `net`/`fix`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fixed: Vec<FixedPointSpec>,
 }
 
 /// Which points of `net` are fixed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, JsonSchema)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 pub enum FixSpec {
     #[serde(rename = "boundary")]
     Boundary,
@@ -56,7 +61,7 @@ pub enum FixSpec {
 }
 
 /// One fixed control point.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FixedPointSpec {
     /// `[i, j]`: `i` along u, `j` along v, from 0.
@@ -66,41 +71,52 @@ pub struct FixedPointSpec {
 }
 
 /// The PDE of a `[spline]` section.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "kind")]
 pub enum SplineOperatorSpec {
     /// `a x_uu + b x_uv + c x_vv + d x_u + e x_v + f x = g` (coefficients default 0).
     #[serde(rename = "second-order")]
     Second {
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         a: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         b: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         c: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         d: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         e: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         f: f64,
         /// Constant right-hand side (default `[0, 0, 0]`).
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         g: Option<V3>,
     },
     /// `a x_uuuu + b x_uuuv + c x_uuvv + d x_uvvv + e x_vvvv = 0` (coefficients default 0).
     #[serde(rename = "fourth-order")]
     Fourth {
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         a: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         b: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         c: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         d: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
         e: f64,
     },
     /// `x_uu + x_vv = 0`.

@@ -4,62 +4,80 @@
 
 use schemars::JsonSchema;
 use serde::de::{self, Deserializer, MapAccess, Visitor};
-use serde::Deserialize;
+use serde::ser::Serializer;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
+
+use super::write::{
+    is_default_solver, is_false, is_z_axis, is_zero, is_zero3, is_zero_usize, never,
+    serialize_kind_option, serialize_solver, Tagged,
+};
 
 /// A point or vector `[x, y, z]`.
 pub type V3 = [f64; 3];
 
 /// A whole design file.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignSpec {
     /// A name for the design (shown by `pdeshape check`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
     /// The elliptic operator of every patch that does not override it (default: polyharmonic,
     /// order 2, a = 1).
-    #[serde(default, deserialize_with = "deserialize_operator")]
+    #[serde(
+        default,
+        deserialize_with = "deserialize_operator",
+        serialize_with = "serialize_kind_option",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub operator: Option<OperatorSpec>,
     /// Options of the solver: a table, or just the method's name (`solver = "fd"`).
-    #[serde(default, deserialize_with = "deserialize_solver")]
+    #[serde(
+        default,
+        deserialize_with = "deserialize_solver",
+        serialize_with = "serialize_solver",
+        skip_serializing_if = "is_default_solver"
+    )]
     #[schemars(with = "SolverForm")]
     pub solver: SolverSpec,
     /// Named curves, referenced by name from conditions and from other curves.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub curves: BTreeMap<String, CurveSpec>,
     /// The conditions of a single-patch design (exclusive with `patches`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conditions: Option<Vec<ConditionSpec>>,
     /// The patches of a multi-patch design (exclusive with `conditions`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub patches: Option<Vec<PatchSpec>>,
     /// Surfaces given by formulas in `u` and `v` (`[[parametric]]`), alongside or instead of
     /// the PDE patches.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parametric: Vec<super::parametric::ParametricSpec>,
     /// Defaults for the command-line tool.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "OutputSpec::is_default")]
     pub output: OutputSpec,
     /// A dynamic PDE curve (`pdeshape curve`); see `docs/design-file.md`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dynamic: Option<super::dynamic::DynamicSpec>,
     /// Design parameters, objective and search options of `pdeshape optimize` (§7.3–7.5).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub optimize: Option<super::optimize::OptimizeSpec>,
     /// A blending surface between two primary surfaces (`pdeshape blend`; see
     /// [`super::blend`]).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub blend: Option<super::blend::BlendSpec>,
     /// A B-spline or Bézier surface solving a linear PDE from fixed control points (read by
     /// `pdeshape spline`; such a design needs no conditions).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spline: Option<super::spline::SplineSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+// Serde reads and writes the externally tagged `{ polyharmonic = { … } }`; the file's
+// `{ kind = "polyharmonic", … }` is read by `deserialize_tagged` and written by `write::Tagged`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "kind")]
 pub enum OperatorSpec {
@@ -96,31 +114,38 @@ impl Default for OperatorSpec {
 }
 
 /// Solver options.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+// Written without the keys that hold their defaults.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
     /// Fourier modes solved analytically, 1 to 256 (default 12).
-    #[serde(default = "default_modes")]
+    #[serde(default = "default_modes", skip_serializing_if = "is_default_modes")]
+    #[schemars(skip_serializing_if = "never")]
     pub modes: usize,
     /// Add the spectral remainder (Eqs. 4.45–4.53) so that curves which are not finite Fourier
     /// series are met exactly (default true).
-    #[serde(default = "default_true")]
+    #[serde(
+        default = "default_true",
+        skip_serializing_if = "super::write::is_true"
+    )]
+    #[schemars(skip_serializing_if = "never")]
     pub remainder: bool,
     /// Samples per curve for the FFT; 0 chooses automatically, otherwise at least `2·modes + 1`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero_usize")]
+    #[schemars(skip_serializing_if = "never")]
     pub samples: usize,
     /// `"analytic"` (default): the Fourier-mode solution; `"fd"`: finite differences on a
     /// `(u, v)` grid (polyharmonic operators with N ≤ 3, conditions at u = 0 and 1 only).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "SolverMethod::is_analytic")]
     pub method: SolverMethod,
     /// The finite-difference grid `[nu, nv]`: intervals in u and nodes around v (default
     /// `[64, 128]`); only with `method = "fd"`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grid: Option<[usize; 2]>,
 }
 
 /// How a design's patches are solved.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum SolverMethod {
     /// The analytic Fourier-mode solution with the spectral remainder.
@@ -128,6 +153,12 @@ pub enum SolverMethod {
     Analytic,
     /// Finite differences on a `(u, v)` grid.
     Fd,
+}
+
+impl SolverMethod {
+    fn is_analytic(&self) -> bool {
+        *self == SolverMethod::Analytic
+    }
 }
 
 /// The two forms of `solver` (for the schema): a method's name or the table.
@@ -165,6 +196,9 @@ fn deserialize_solver<'de, D: Deserializer<'de>>(d: D) -> Result<SolverSpec, D::
 fn default_modes() -> usize {
     12
 }
+fn is_default_modes(n: &usize) -> bool {
+    *n == default_modes()
+}
 fn default_true() -> bool {
     true
 }
@@ -182,45 +216,58 @@ impl Default for SolverSpec {
 }
 
 /// Defaults for the command-line tool.
-#[derive(Clone, Debug, Default, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Grid rows (values of u), default 64.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nu: Option<usize>,
     /// Grid columns (values of v), default 128.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nv: Option<usize>,
 }
 
+impl OutputSpec {
+    fn is_default(&self) -> bool {
+        *self == OutputSpec::default()
+    }
+}
+
 /// One patch of a multi-patch design.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PatchSpec {
     /// Unique name of the patch.
     pub name: String,
     /// Overrides the design's operator for this patch.
-    #[serde(default, deserialize_with = "deserialize_operator")]
+    #[serde(
+        default,
+        deserialize_with = "deserialize_operator",
+        serialize_with = "serialize_kind_option",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub operator: Option<OperatorSpec>,
     /// The patch's conditions (`2N` of them).
     pub conditions: Vec<ConditionSpec>,
 }
 
 /// `∂ᵈX/∂uᵈ (u, v) = curve(v)` for all v.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ConditionSpec {
     /// Where the condition holds, `0 ≤ u ≤ 1`.
     pub u: f64,
     /// 0 (default) for a position curve, `d` for the `d`-th u-derivative (`d < 2N`).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_zero_usize")]
+    #[schemars(skip_serializing_if = "never")]
     pub derivative: usize,
     /// The curve: the name of a curve in `[curves]`, or an inline curve table.
     pub curve: CurveRef,
 }
 
 /// A curve given by name or inline.
-#[derive(Clone, Debug, PartialEq, JsonSchema)]
+// Written as the name's string or as the curve's table.
+#[derive(Clone, Debug, PartialEq, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum CurveRef {
     /// The name of a curve in `[curves]`.
@@ -383,6 +430,34 @@ impl<'de> Deserialize<'de> for CurveSpec {
     }
 }
 
+/// The file's form: `type` and the kind's keys, then the modifiers that differ from their
+/// defaults (no transform, `v_origin = 0`, `arc_length = false`).
+impl Serialize for CurveSpec {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(Serialize)]
+        struct Flat<'a> {
+            #[serde(flatten)]
+            kind: Tagged<'a, CurveKind>,
+            #[serde(skip_serializing_if = "<[TransformStep]>::is_empty")]
+            transform: &'a [TransformStep],
+            #[serde(skip_serializing_if = "is_zero")]
+            v_origin: f64,
+            #[serde(skip_serializing_if = "is_false")]
+            arc_length: bool,
+        }
+        Flat {
+            kind: Tagged {
+                tag: "type",
+                value: &self.kind,
+            },
+            transform: &self.transform,
+            v_origin: self.v_origin,
+            arc_length: self.arc_length,
+        }
+        .serialize(s)
+    }
+}
+
 impl JsonSchema for CurveSpec {
     fn schema_name() -> String {
         "CurveSpec".to_string()
@@ -425,7 +500,8 @@ impl JsonSchema for CurveSpec {
 
 /// The curve kinds, chosen by `type`. (Serde reads the externally tagged form that
 /// `CurveSpec`'s deserializer builds from `type`; the schema shows the file's form.)
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+// `CurveSpec`'s serializer flattens the externally tagged form back into `type = "…"`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 #[schemars(tag = "type")]
 pub enum CurveKind {
@@ -435,7 +511,8 @@ pub enum CurveKind {
     Circle {
         center: V3,
         radius: f64,
-        #[serde(default = "default_normal")]
+        #[serde(default = "default_normal", skip_serializing_if = "is_z_axis")]
+        #[schemars(skip_serializing_if = "never")]
         normal: V3,
     },
     /// Either `center + cos v · axis1 + sin v · axis2`, or semi-axes `rx` (along the circle's
@@ -443,15 +520,15 @@ pub enum CurveKind {
     #[serde(rename = "ellipse")]
     Ellipse {
         center: V3,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         axis1: Option<V3>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         axis2: Option<V3>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         rx: Option<f64>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         ry: Option<f64>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         normal: Option<V3>,
     },
     /// A constant curve (closes the surface to a pole).
@@ -463,7 +540,7 @@ pub enum CurveKind {
     BSpline {
         degree: usize,
         control: Vec<V3>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Option::is_none")]
         knots: Option<Vec<f64>>,
         #[serde(default = "default_true")]
         periodic: bool,
@@ -478,9 +555,11 @@ pub enum CurveKind {
     #[serde(rename = "fourier")]
     Fourier {
         a0: V3,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        #[schemars(skip_serializing_if = "never")]
         cos: Vec<V3>,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        #[schemars(skip_serializing_if = "never")]
         sin: Vec<V3>,
     },
     /// Closed point samples interpolated by a periodic cubic spline.
@@ -496,7 +575,7 @@ pub enum CurveKind {
         x: String,
         y: String,
         z: String,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "DomainSpec::is_periodic")]
         domain: DomainSpec,
     },
     /// The book's derivative curve (Eq. 5.2, sign chosen so it points where the surface heads):
@@ -515,7 +594,7 @@ fn default_normal() -> V3 {
 }
 
 /// Parametrisation of closed point samples.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum ParamSpec {
     Uniform,
@@ -532,6 +611,23 @@ pub enum DomainSpec {
     Periodic,
     /// An open interval `[t0, t1]`.
     Interval([f64; 2]),
+}
+
+impl DomainSpec {
+    /// True for the default, `"periodic"`.
+    pub fn is_periodic(&self) -> bool {
+        *self == DomainSpec::Periodic
+    }
+}
+
+/// `"periodic"` or `[t0, t1]`, as read.
+impl Serialize for DomainSpec {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            DomainSpec::Periodic => s.serialize_str("periodic"),
+            DomainSpec::Interval(t) => t.serialize(s),
+        }
+    }
 }
 
 impl JsonSchema for DomainSpec {
@@ -577,7 +673,7 @@ impl<'de> Deserialize<'de> for DomainSpec {
 }
 
 /// One affine step: `{ translate = [..] }`, `{ rotate = {..} }` or `{ scale = {..} }`.
-#[derive(Clone, Debug, PartialEq, Deserialize, JsonSchema)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase", deny_unknown_fields)]
 pub enum TransformStep {
     /// Translation by a vector.
@@ -587,20 +683,23 @@ pub enum TransformStep {
         axis: V3,
         /// Degrees.
         angle: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero3")]
+        #[schemars(skip_serializing_if = "never")]
         about: V3,
     },
     /// Uniform scaling by `factor ≠ 0` about the point `about`.
     Scale {
         factor: f64,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero3")]
+        #[schemars(skip_serializing_if = "never")]
         about: V3,
     },
     /// Scaling by `factors = [fx, fy, fz]` (each non-zero) along the axes about the point
     /// `about`: the dilations `d_kD_i` of §7.5.
     Dilate {
         factors: V3,
-        #[serde(default)]
+        #[serde(default, skip_serializing_if = "is_zero3")]
+        #[schemars(skip_serializing_if = "never")]
         about: V3,
     },
 }
