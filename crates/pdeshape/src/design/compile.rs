@@ -169,46 +169,7 @@ impl CompiledDesign {
 
         // PDE patches: conditions built, then every patch whose key is new solved (in
         // parallel; each solve is deterministic, so the order does not matter).
-        let mut planned = Vec::new();
-        for p in plan(&spec)? {
-            let mut conditions = Vec::with_capacity(p.conditions.len());
-            for (i, c) in p.conditions.iter().enumerate() {
-                let place = format!("{}[{i}].curve", p.place);
-                let curve = builder.reference(&c.curve, &place)?;
-                let (curve_name, kind) = match &c.curve {
-                    CurveRef::Name(n) => (
-                        Some(n.clone()),
-                        spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
-                    ),
-                    CurveRef::Inline(s) => (None, kind_name(&s.kind)),
-                };
-                conditions.push(ConditionInfo {
-                    u: c.u,
-                    derivative: c.derivative,
-                    curve_name,
-                    kind,
-                    curve,
-                });
-            }
-            let key = PatchKey {
-                operator: p.operator.clone(),
-                method,
-                options: options.clone(),
-                fd_grid,
-                conditions: conditions
-                    .iter()
-                    .map(|c| (c.u.to_bits(), c.derivative, curve_id(&c.curve)))
-                    .collect(),
-            };
-            planned.push(Planned {
-                name: p.name,
-                place: p.place,
-                operator: p.operator.clone(),
-                operator_place: p.operator_place,
-                conditions,
-                key,
-            });
-        }
+        let planned = plan_patches(&spec, &mut builder, method, &options, fd_grid)?;
         let curve_cache = builder.into_cache();
         let solved: Vec<Result<SurfaceKind>> = planned
             .par_iter()
@@ -339,6 +300,76 @@ impl CompiledDesign {
         self.spec = spec;
         Ok(())
     }
+}
+
+/// The PDE patches of a design with their condition curves built (errors at
+/// `conditions[i].curve`), each with the key of its solution.
+fn plan_patches(
+    spec: &DesignSpec,
+    builder: &mut CurveBuilder<'_>,
+    method: SolverMethod,
+    options: &SolveOptions,
+    fd_grid: Option<[usize; 2]>,
+) -> Result<Vec<Planned>> {
+    let mut planned = Vec::new();
+    for p in plan(spec)? {
+        let mut conditions = Vec::with_capacity(p.conditions.len());
+        for (i, c) in p.conditions.iter().enumerate() {
+            let place = format!("{}[{i}].curve", p.place);
+            let curve = builder.reference(&c.curve, &place)?;
+            let (curve_name, kind) = match &c.curve {
+                CurveRef::Name(n) => (
+                    Some(n.clone()),
+                    spec.curves.get(n).map_or("?", |s| kind_name(&s.kind)),
+                ),
+                CurveRef::Inline(s) => (None, kind_name(&s.kind)),
+            };
+            conditions.push(ConditionInfo {
+                u: c.u,
+                derivative: c.derivative,
+                curve_name,
+                kind,
+                curve,
+            });
+        }
+        let key = PatchKey {
+            operator: p.operator.clone(),
+            method,
+            options: options.clone(),
+            fd_grid,
+            conditions: conditions
+                .iter()
+                .map(|c| (c.u.to_bits(), c.derivative, curve_id(&c.curve)))
+                .collect(),
+        };
+        planned.push(Planned {
+            name: p.name,
+            place: p.place,
+            operator: p.operator.clone(),
+            operator_place: p.operator_place,
+            conditions,
+            key,
+        });
+    }
+    Ok(planned)
+}
+
+/// Validates a design without solving anything: [`validate_patches`] (numbers, references,
+/// operators, conditions, solver options, the output grid), the `[dynamic]` and `[blend]`
+/// sections, and every curve built (its constructor checks its values).
+pub fn validate_design(spec: &DesignSpec) -> Result<()> {
+    if let Some(d) = &spec.dynamic {
+        build_dynamic(d)?;
+    }
+    if let Some(blend) = &spec.blend {
+        super::blend::validate_blend(blend)?;
+    }
+    validate_patches(spec)?;
+    let options = check_solver(&spec.solver)?;
+    let cache = CurveCache::default();
+    let mut builder = CurveBuilder::new(&spec.curves, &cache);
+    named_curves(&mut builder)?;
+    plan_patches(spec, &mut builder, spec.solver.method, &options, None).map(|_| ())
 }
 
 /// Solves one planned PDE patch with the solver its key names; errors name their place in the

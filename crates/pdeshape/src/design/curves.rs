@@ -2,7 +2,7 @@
 //! spec and dependencies did not change since the last build are reused as they are.
 
 use super::solved::NamedCurve;
-use super::validate::{curve_place, kind_name, references, unknown_curve, validate_design};
+use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
 use crate::curve::{
     Affine, ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries,
     Hermite, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
@@ -147,7 +147,7 @@ impl<'a> CurveBuilder<'a> {
                 }
                 .map_err(at)?,
             ),
-            CurveKind::Point { at: p } => Arc::new(Point::new(v3(p))),
+            CurveKind::Point { at: p } => Arc::new(Point::try_new(v3(p)).map_err(at)?),
             CurveKind::BSpline {
                 degree,
                 control,
@@ -163,21 +163,10 @@ impl<'a> CurveBuilder<'a> {
             ),
             CurveKind::Bezier { control } => Arc::new(Bezier::new(pts(control)).map_err(at)?),
             CurveKind::Hermite { p0, p1, d0, d1 } => {
-                Arc::new(Hermite::new(v3(p0), v3(p1), v3(d0), v3(d1)))
+                Arc::new(Hermite::try_new(v3(p0), v3(p1), v3(d0), v3(d1)).map_err(at)?)
             }
             CurveKind::Fourier { a0, cos, sin } => {
-                // The shorter of `cos` and `sin` is padded with zeros.
-                let m = cos.len().max(sin.len());
-                let pad = |v: &[V3]| {
-                    let mut out = pts(v);
-                    out.resize(m, Vec3::zeros());
-                    out
-                };
-                Arc::new(FourierSeries {
-                    a0: v3(a0),
-                    cos: pad(cos),
-                    sin: pad(sin),
-                })
+                Arc::new(FourierSeries::new(v3(a0), pts(cos), pts(sin)).map_err(at)?)
             }
             CurveKind::Samples { points, param } => {
                 let param = match param {
@@ -265,9 +254,9 @@ pub(crate) fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCu
     Ok(curves)
 }
 
-/// Validates the design and builds its named curves (sorted by name), without solving: what a
-/// viewer needs to draw the design's curves.
+/// Validates the design's patches and builds its named curves (sorted by name), without
+/// solving: what a viewer needs to draw the design's curves.
 pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
-    validate_design(spec)?;
+    validate_patches(spec)?;
     named_curves(&mut CurveBuilder::new(&spec.curves, &CurveCache::default()))
 }

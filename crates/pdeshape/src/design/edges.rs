@@ -38,8 +38,7 @@ pub fn edge_mismatch(
         if d.is_nan() || d > g0 {
             g0 = d;
         }
-        let (na, nb) = (pa.normal(), pb.normal());
-        if na.norm() > 0.5 && nb.norm() > 0.5 {
+        if let (Some(na), Some(nb)) = (pa.normal_or_none(), pb.normal_or_none()) {
             // Angle between lines: atan2(|na × nb|, |na · nb|), accurate for tiny angles.
             let angle = na.cross(&nb).norm().atan2(na.dot(&nb).abs());
             if angle.is_nan() || angle > g1 {

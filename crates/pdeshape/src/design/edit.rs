@@ -151,6 +151,33 @@ fn index_error(index: usize, len: usize, what: &str) -> Error {
     Error::invalid(format!("{what} {index} does not exist (there are {len})")).at("index")
 }
 
+/// Changes the polyharmonic operator of a patch (its own if it has one, else the design's,
+/// the default operator if there is none) with `change(order, a)`; returns the undo edit.
+/// `key` names what changes, for the error on another kind of operator.
+fn set_polyharmonic(
+    spec: &mut DesignSpec,
+    patch: &PatchRef,
+    key: &str,
+    change: impl FnOnce(&mut usize, &mut f64),
+) -> Result<Edit> {
+    let undo_ref = slot_ref(spec, patch);
+    let slot = operator_slot(spec, patch)?;
+    let old = slot.clone();
+    match slot.get_or_insert_with(OperatorSpec::default) {
+        OperatorSpec::Polyharmonic { order, a } => change(order, a),
+        _ => {
+            return Err(Error::invalid(format!(
+                "only the polyharmonic operator has `{key}` to set"
+            ))
+            .at(key))
+        }
+    }
+    Ok(Edit::SetOperator {
+        patch: undo_ref,
+        operator: old,
+    })
+}
+
 impl Edit {
     /// Applies the edit to `spec` and returns the edit that undoes it. Nothing changes on an
     /// error (a missing curve, patch or index). The edited design is checked when it is
@@ -219,40 +246,10 @@ impl Edit {
                 })
             }
             Edit::SetSmoothing { patch, a } => {
-                let undo_ref = slot_ref(spec, patch);
-                let slot = operator_slot(spec, patch)?;
-                let old = slot.clone();
-                match slot.get_or_insert_with(OperatorSpec::default) {
-                    OperatorSpec::Polyharmonic { a: value, .. } => *value = *a,
-                    _ => {
-                        return Err(Error::invalid(
-                            "only the polyharmonic operator has a smoothing parameter a",
-                        )
-                        .at("a"))
-                    }
-                }
-                Ok(Edit::SetOperator {
-                    patch: undo_ref,
-                    operator: old,
-                })
+                set_polyharmonic(spec, patch, "a", |_, value| *value = *a)
             }
             Edit::SetOrder { patch, order } => {
-                let undo_ref = slot_ref(spec, patch);
-                let slot = operator_slot(spec, patch)?;
-                let old = slot.clone();
-                match slot.get_or_insert_with(OperatorSpec::default) {
-                    OperatorSpec::Polyharmonic { order: value, .. } => *value = *order,
-                    _ => {
-                        return Err(Error::invalid(
-                            "only the polyharmonic operator has an order to set",
-                        )
-                        .at("order"))
-                    }
-                }
-                Ok(Edit::SetOperator {
-                    patch: undo_ref,
-                    operator: old,
-                })
+                set_polyharmonic(spec, patch, "order", |value, _| *value = *order)
             }
             Edit::SetModes { modes } => {
                 let old = spec.solver.clone();

@@ -22,7 +22,7 @@ mod spline;
 mod validate;
 
 pub use blend::{solve_blend, validate_blend};
-pub use compile::{compile, solve_design, CompiledDesign};
+pub use compile::{compile, solve_design, validate_design, CompiledDesign};
 pub use curves::build_curves;
 pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTERVALS};
 pub use edges::{edge_mismatch, EdgeReport};
@@ -33,7 +33,7 @@ pub use solved::{
     SurfaceKind,
 };
 pub use spline::{build_problem, solve_spec, SolvedSpline};
-pub use validate::{check_grid, validate_design, DEFAULT_NU, DEFAULT_NV};
+pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]
 mod tests;

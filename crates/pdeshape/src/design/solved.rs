@@ -331,9 +331,22 @@ impl SolvedDesign {
     /// f32 meshes of every surface on an `nu × nv` grid (as every mesh format and picture
     /// stores them), each checked finite.
     pub fn meshes(&self, nu: usize, nv: usize) -> Result<Vec<GridMesh>> {
+        self.grids(|s| mesh::tessellate(s, nu, nv))
+    }
+
+    /// Full-precision samples of every surface (CSV), each checked finite.
+    pub fn samples(&self, nu: usize, nv: usize) -> Result<Vec<Samples>> {
+        self.grids(|s| mesh::sample(s, nu, nv))
+    }
+
+    /// `eval` of every surface, each grid checked finite.
+    fn grids<T: Copy + Into<f64>>(
+        &self,
+        eval: impl Fn(&dyn Surface) -> Result<mesh::Grid<T>>,
+    ) -> Result<Vec<mesh::Grid<T>>> {
         let mut out = Vec::with_capacity(self.surfaces.len());
         for (k, s) in self.surfaces.iter().enumerate() {
-            let g = mesh::tessellate(s.surface(), nu, nv)?;
+            let g = eval(s.surface())?;
             self.check_finite(k, &g)?;
             out.push(g);
         }
@@ -361,17 +374,6 @@ impl SolvedDesign {
             }
         }
         Ok(())
-    }
-
-    /// Full-precision samples of every surface (CSV), each checked finite.
-    pub fn samples(&self, nu: usize, nv: usize) -> Result<Vec<Samples>> {
-        let mut out = Vec::with_capacity(self.surfaces.len());
-        for (k, s) in self.surfaces.iter().enumerate() {
-            let g = mesh::sample(s.surface(), nu, nv)?;
-            self.check_finite(k, &g)?;
-            out.push(g);
-        }
-        Ok(out)
     }
 
     /// Tessellates (or samples, for CSV) every surface on an `nu × nv` grid and writes them in

@@ -784,3 +784,70 @@ fn blends_join_surfaces_of_their_design() {
     assert_eq!(e.place(), "blend.start.surface.name", "{e}");
     assert!(e.to_string().contains("'tub'"), "{e}");
 }
+
+/// Edits that do not apply are refused with their place, and leave the design as it was.
+#[test]
+fn edits_that_do_not_apply_are_refused() {
+    use crate::design::{compile, Edit};
+    let spec = parse_design(&design(FOUR, "")).unwrap();
+    let mut d = compile(&spec).unwrap();
+    let general = Edit::SetOperator {
+        patch: None,
+        operator: Some(OperatorSpec::General {
+            coefficients: vec![1.0, 2.0, 1.0],
+        }),
+    };
+    let undo = d.apply(&general).unwrap();
+    let cases = [
+        (
+            Edit::SetSmoothing {
+                patch: None,
+                a: 2.0,
+            },
+            "a",
+        ),
+        (
+            Edit::SetOrder {
+                patch: None,
+                order: 3,
+            },
+            "order",
+        ),
+        (
+            Edit::MoveControlPoint {
+                name: "rim".into(),
+                index: 0,
+                point: [0.0; 3],
+            },
+            "name",
+        ),
+        (
+            Edit::RemoveCondition {
+                patch: None,
+                index: 9,
+            },
+            "index",
+        ),
+        (
+            Edit::RemovePatch {
+                name: "nothing".into(),
+            },
+            "patch",
+        ),
+        (
+            Edit::Transform {
+                name: "nothing".into(),
+                step: TransformStep::Translate([0.0; 3]),
+            },
+            "name",
+        ),
+    ];
+    for (edit, place) in cases {
+        let before = d.spec().clone();
+        let e = d.apply(&edit).unwrap_err();
+        assert_eq!(e.place(), place, "{edit:?}: {e}");
+        assert_eq!(d.spec(), &before, "{edit:?}");
+    }
+    d.apply(&undo).unwrap();
+    assert_eq!(d.spec(), &spec);
+}

@@ -23,55 +23,17 @@ pub(crate) fn curve_place(name: &str) -> String {
     format!("curves.{}", key_path(name))
 }
 
-/// A number for a message: plain for moderate magnitudes, scientific otherwise (`1e308`, not 309
-/// digits).
-pub(crate) fn num(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+pub(crate) use crate::check::num;
+use crate::check::{finite, positive};
+
+/// `crate::check::finite3` of a file's `[x, y, z]`.
+fn finite3(v: &V3, place: &str) -> Result<()> {
+    crate::check::finite3(&Vec3::from(*v), place)
 }
 
-fn finite(x: f64, place: &str) -> Result<()> {
-    if x.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::invalid(format!("must be finite (got {x})")).at(place))
-    }
-}
-
-fn finite3(v: &V3, place: &str) -> Result<Vec3> {
-    for (i, x) in v.iter().enumerate() {
-        finite(*x, &format!("{place}[{i}]"))?;
-    }
-    Ok(Vec3::new(v[0], v[1], v[2]))
-}
-
-fn finite_points(points: &[V3], place: &str) -> Result<Vec<Vec3>> {
-    points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| finite3(p, &format!("{place}[{i}]")))
-        .collect()
-}
-
-fn positive(x: f64, place: &str) -> Result<()> {
-    finite(x, place)?;
-    if x > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::invalid(format!("must be positive (got {})", num(x))).at(place))
-    }
-}
-
-fn nonzero_vector(v: &V3, place: &str) -> Result<Vec3> {
-    let w = finite3(v, place)?;
-    if w.norm() > 0.0 {
-        Ok(w)
-    } else {
-        Err(Error::invalid("must not be the zero vector").at(place))
-    }
+/// `crate::check::nonzero_vector` of a file's `[x, y, z]`.
+fn nonzero_vector(v: &V3, place: &str) -> Result<()> {
+    crate::check::nonzero_vector(&Vec3::from(*v), place)
 }
 
 /// The kind name as written in the file.
@@ -167,173 +129,30 @@ pub(crate) fn output_grid(o: &OutputSpec) -> Result<(usize, usize)> {
 /// Checks the numbers of one curve table (everything that does not need the curve built).
 pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
     let at = |e: Error| e.at(place);
+    // The values of each kind are checked by the curve's constructor when it is built (with
+    // the place inside the curve's table); here only what needs the file's keys.
     match &c.kind {
-        CurveKind::Circle {
-            center,
-            radius,
-            normal,
-        } => {
-            finite3(center, "center").map_err(at)?;
-            positive(*radius, "radius").map_err(at)?;
-            nonzero_vector(normal, "normal").map_err(at)?;
-        }
         CurveKind::Ellipse {
-            center,
             axis1,
             axis2,
             rx,
             ry,
             normal,
-        } => {
-            finite3(center, "center").map_err(at)?;
-            match (axis1, axis2, rx, ry) {
-                (Some(a1), Some(a2), None, None) => {
-                    if normal.is_some() {
-                        return Err(at(Error::invalid(
-                            "is only used with rx and ry (the axes already fix the plane)",
-                        )
-                        .at("normal")));
-                    }
-                    let a1 = nonzero_vector(a1, "axis1").map_err(at)?;
-                    let a2 = nonzero_vector(a2, "axis2").map_err(at)?;
-                    let area = a1.cross(&a2).norm();
-                    if area <= 1e-12 * a1.norm() * a2.norm() {
-                        return Err(at(Error::invalid(
-                            "axis1 and axis2 are parallel: the ellipse is degenerate",
-                        )
-                        .at("axis2")));
-                    }
-                }
-                (None, None, Some(rx), Some(ry)) => {
-                    positive(*rx, "rx").map_err(at)?;
-                    positive(*ry, "ry").map_err(at)?;
-                    if let Some(n) = normal {
-                        nonzero_vector(n, "normal").map_err(at)?;
-                    }
-                }
-                _ => {
-                    return Err(at(Error::invalid(
-                        "give either axis1 and axis2, or rx and ry (with an optional normal)",
-                    )))
-                }
+            ..
+        } => match (axis1, axis2, rx, ry) {
+            (Some(_), Some(_), None, None) if normal.is_some() => {
+                return Err(at(Error::invalid(
+                    "is only used with rx and ry (the axes already fix the plane)",
+                )
+                .at("normal")))
             }
-        }
-        CurveKind::Point { at: p } => {
-            finite3(p, "at").map_err(at)?;
-        }
-        CurveKind::BSpline {
-            degree,
-            control,
-            knots,
-            periodic,
-        } => {
-            if *degree < 1 {
-                return Err(at(Error::invalid("must be at least 1 (got 0)").at("degree")));
+            (Some(_), Some(_), None, None) | (None, None, Some(_), Some(_)) => {}
+            _ => {
+                return Err(at(Error::invalid(
+                    "give either axis1 and axis2, or rx and ry (with an optional normal)",
+                )))
             }
-            finite_points(control, "control").map_err(at)?;
-            if control.len() < degree + 1 {
-                return Err(at(Error::invalid(format!(
-                    "a degree-{degree} B-spline needs at least {} control points (got {})",
-                    degree + 1,
-                    control.len()
-                ))
-                .at("control")));
-            }
-            if let Some(k) = knots {
-                let (want, strict, what) = if *periodic {
-                    (control.len() + 1, true, "increasing breakpoints")
-                } else {
-                    (control.len() + degree + 1, false, "non-decreasing knots")
-                };
-                if k.len() != want {
-                    return Err(at(Error::invalid(format!(
-                        "needs {want} {what} for {} control points of degree {degree} (got {})",
-                        control.len(),
-                        k.len()
-                    ))
-                    .at("knots")));
-                }
-                for (i, x) in k.iter().enumerate() {
-                    finite(*x, &format!("knots[{i}]")).map_err(at)?;
-                }
-                for i in 1..k.len() {
-                    let bad = if strict {
-                        k[i] <= k[i - 1]
-                    } else {
-                        k[i] < k[i - 1]
-                    };
-                    if bad {
-                        return Err(at(Error::invalid(format!(
-                            "must be {} (got {} after {})",
-                            if strict {
-                                "increasing"
-                            } else {
-                                "non-decreasing"
-                            },
-                            k[i],
-                            k[i - 1]
-                        ))
-                        .at(&format!("knots[{i}]"))));
-                    }
-                }
-                if !strict && k[*degree] >= k[control.len()] {
-                    return Err(at(Error::invalid(format!(
-                        "the domain [knots[{degree}], knots[{}]] = [{}, {}] is empty",
-                        control.len(),
-                        k[*degree],
-                        k[control.len()]
-                    ))
-                    .at("knots")));
-                }
-            }
-        }
-        CurveKind::Bezier { control } => {
-            finite_points(control, "control").map_err(at)?;
-            if control.len() < 2 {
-                return Err(at(Error::invalid(format!(
-                    "needs at least 2 control points (got {})",
-                    control.len()
-                ))
-                .at("control")));
-            }
-        }
-        CurveKind::Hermite { p0, p1, d0, d1 } => {
-            for (name, v) in [("p0", p0), ("p1", p1), ("d0", d0), ("d1", d1)] {
-                finite3(v, name).map_err(at)?;
-            }
-        }
-        CurveKind::Fourier { a0, cos, sin } => {
-            finite3(a0, "a0").map_err(at)?;
-            finite_points(cos, "cos").map_err(at)?;
-            finite_points(sin, "sin").map_err(at)?;
-        }
-        CurveKind::Samples { points, .. } => {
-            finite_points(points, "points").map_err(at)?;
-            if points.len() < 3 {
-                return Err(at(Error::invalid(format!(
-                    "needs at least 3 points (got {})",
-                    points.len()
-                ))
-                .at("points")));
-            }
-        }
-        CurveKind::Formula { x, y, z, domain } => {
-            for (name, f) in [("x", x), ("y", y), ("z", z)] {
-                if f.trim().is_empty() {
-                    return Err(at(Error::invalid("is empty").at(name)));
-                }
-            }
-            if let DomainSpec::Interval([t0, t1]) = domain {
-                finite(*t0, "domain[0]").map_err(at)?;
-                finite(*t1, "domain[1]").map_err(at)?;
-                if t0 >= t1 {
-                    return Err(at(Error::invalid(format!(
-                        "must be an interval [t0, t1] with t0 < t1 (got [{t0}, {t1}])"
-                    ))
-                    .at("domain")));
-                }
-            }
-        }
+        },
         CurveKind::Derivative {
             position,
             direction,
@@ -349,6 +168,7 @@ pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
                 }
             }
         }
+        _ => {}
     }
     for (i, step) in c.transform.iter().enumerate() {
         let p = format!("{place}.transform[{i}]");
@@ -660,23 +480,11 @@ pub(crate) fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
     }
 }
 
-/// Validates a design without building any curve or solving anything: numbers finite and in
-/// range, curve references known and acyclic, the operator's parameters, condition counts (`2N`),
+/// Validates a design's PDE patches without building any curve: numbers finite and in range,
+/// curve references known and acyclic, the operator's parameters, condition counts (`2N`),
 /// `u ∈ [0, 1]`, derivative orders `< 2N`, no two conditions of the same order at the same `u`,
-/// condition curves periodic, solver options and the `[output]` grid; and the `[dynamic]` and
-/// `[blend]` sections if there are any.
-pub fn validate_design(spec: &DesignSpec) -> Result<()> {
-    if let Some(d) = &spec.dynamic {
-        super::dynamic::build_dynamic(d)?;
-    }
-    if let Some(blend) = &spec.blend {
-        super::blend::validate_blend(blend)?;
-    }
-    validate_patches(spec)
-}
-
-/// [`validate_design`] but for the `[dynamic]` and `[blend]` sections, which
-/// [`super::compile`] checks as it builds them.
+/// condition curves periodic, solver options and the `[output]` grid. The curves' own values
+/// are checked by their constructors when they are built.
 pub(crate) fn validate_patches(spec: &DesignSpec) -> Result<()> {
     check_solver(&spec.solver)?;
     output_grid(&spec.output)?;
