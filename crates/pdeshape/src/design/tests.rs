@@ -851,3 +851,36 @@ fn edits_that_do_not_apply_are_refused() {
     d.apply(&undo).unwrap();
     assert_eq!(d.spec(), &spec);
 }
+
+/// `SolvedDesign::write` writes the meshes of every surface in a mesh format, and full-precision
+/// samples for CSV, as the writers do with the design's own meshes and samples.
+#[test]
+fn solved_designs_write_every_format() {
+    use crate::design::solve_design;
+    use crate::mesh::{self, Format};
+    let solved = solve_design(&parse_design(&design(FOUR, "")).unwrap()).unwrap();
+    for format in [
+        Format::Obj,
+        Format::Stl,
+        Format::Ply,
+        Format::Glb,
+        Format::Csv,
+    ] {
+        let mut written = Vec::new();
+        let meshes = solved.write(format, 5, 12, &mut written).unwrap();
+        let mut expected = Vec::new();
+        if format == Format::Csv {
+            assert!(meshes.is_none());
+            mesh::write_csv(&solved.samples(5, 12).unwrap(), &mut expected).unwrap();
+        } else {
+            let m = solved.meshes(5, 12).unwrap();
+            assert_eq!(meshes.as_deref(), Some(&m[..]));
+            mesh::write(format, &m, &mut expected).unwrap();
+        }
+        assert!(!written.is_empty());
+        assert_eq!(written, expected, "{format:?}");
+    }
+    // CSV is not a mesh format.
+    let e = mesh::write(Format::Csv, &[], &mut Vec::new()).unwrap_err();
+    assert!(e.to_string().contains("write_csv"), "{e}");
+}
