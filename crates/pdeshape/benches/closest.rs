@@ -4,54 +4,16 @@
 //! its own index. One `partials` evaluation is timed for scale, and the mean number of
 //! evaluations per query is printed once.
 
+mod common;
+use common::bench_conditions;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pdeshape::curve::{FourierSeries, SharedCurve};
-use pdeshape::elliptic::{solve, Condition, Operator, PdePatch, SolveOptions};
+use pdeshape::elliptic::{solve, Operator, PdePatch, SolveOptions};
 use pdeshape::surface::{
     closest_point, ClosestOptions, ClosestPointIndex, Partials, RowEvaluator, Surface, VDomain,
 };
 use pdeshape::{Vec3, TAU};
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
-
-/// The boundary data of the surface benchmark (benches/surface.rs): four curves with 12 modes
-/// and 1/n² decay from the same linear congruential sequence.
-fn bench_conditions() -> Vec<Condition> {
-    let mut state: u64 = 12345;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    };
-    let mut curve = |base: Vec3, radius: f64| -> SharedCurve {
-        let (mut cos, mut sin) = (Vec::new(), Vec::new());
-        for n in 1..=12usize {
-            let s = 0.2 / (n * n) as f64;
-            let mut c = Vec3::new(next() * s, next() * s, next() * s);
-            let mut d = Vec3::new(next() * s, next() * s, next() * s);
-            if n == 1 {
-                c.x += radius;
-                d.y += radius;
-            }
-            cos.push(c);
-            sin.push(d);
-        }
-        Arc::new(FourierSeries { a0: base, cos, sin })
-    };
-    let cond = |u: f64, derivative: usize, curve: SharedCurve| Condition {
-        u,
-        derivative,
-        curve,
-    };
-    vec![
-        cond(0.0, 0, curve(Vec3::new(0.0, 0.0, 0.0), 1.0)),
-        cond(0.0, 1, curve(Vec3::new(0.0, 0.0, 2.0), 0.5)),
-        cond(1.0, 0, curve(Vec3::new(0.0, 0.0, 1.0), 0.6)),
-        cond(1.0, 1, curve(Vec3::new(0.0, 0.0, 2.0), -0.3)),
-    ]
-}
 
 /// A fixed pseudo-random sequence in `[0, 1)`.
 fn uniform(seed: u64) -> impl FnMut() -> f64 {
