@@ -43,6 +43,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
+/// The `--json` report of a solved design (also the designer's analysis panel).
+pub fn design_json(built: &pdeshape::design::SolvedDesign) -> Result<String, CliError> {
+    let di = integrate_design(built, &Quadrature::default())
+        .map_err(|e| CliError::input(e.to_string()))?;
+    Ok(json(&built.title, &di))
+}
+
 /// A number for JSON: finite numbers as they are, others as null.
 fn num(x: f64) -> serde_json::Value {
     serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, serde_json::Value::Number)

@@ -9,6 +9,7 @@ mod curve;
 mod optimize;
 mod render;
 mod schema;
+mod serve;
 mod spline;
 mod surface;
 
@@ -47,6 +48,9 @@ enum Command {
     /// Solve the [spline] section (B-spline/Bézier surface of a linear PDE) and write its net
     /// (json), an IGES surface (igs) or a mesh; prints rank and free control points.
     Spline(spline::Args),
+    /// Start the browser designer on a local web server and print its URL (with a per-launch
+    /// token): drag curves and watch the surface re-solve.
+    Serve(serve::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -60,6 +64,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Blend(args) => blend::run(&args),
         Command::Analyze(args) => analyze::run(&args),
         Command::Spline(args) => spline::run(&args),
+        Command::Serve(args) => serve::run(&args),
     }
 }
 
@@ -75,7 +80,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -1,0 +1,158 @@
+//! Files of the designer, confined to the directory the server was started in: a path is
+//! relative, has no `..` (nor `.`, nor a root or drive), names a `.toml` file, and — once
+//! symlinks are resolved — still lies inside the start directory. Saves are atomic (a
+//! temporary file beside the target, renamed over it).
+
+use super::error::ApiError;
+use crate::common::Loaded;
+use std::path::{Component, Path, PathBuf};
+
+/// Largest design file the designer reads.
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
+/// Design files listed at most, and how deep the listing looks.
+const MAX_LISTED: usize = 500;
+const MAX_DEPTH: usize = 4;
+
+/// Checks the shape of `rel` (relative, plain components, `.toml`) and joins it to `root`.
+fn checked_join(root: &Path, rel: &str) -> Result<PathBuf, ApiError> {
+    let bad = |m: &str| ApiError::forbidden(format!("'{rel}': {m}"), "path");
+    if rel.is_empty() {
+        return Err(ApiError::bad_request("must not be empty", "path"));
+    }
+    if rel.contains('\0') || rel.contains('\\') {
+        return Err(bad("must not contain NUL or backslashes"));
+    }
+    let path = Path::new(rel);
+    if path.is_absolute() || rel.starts_with('/') {
+        return Err(bad(
+            "must be relative to the directory the server was started in",
+        ));
+    }
+    for c in path.components() {
+        match c {
+            Component::Normal(_) => {}
+            Component::ParentDir => return Err(bad("must not contain '..'")),
+            _ => return Err(bad("must be a plain relative path (no '.', root or drive)")),
+        }
+    }
+    let is_toml = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e == "toml");
+    if !is_toml {
+        return Err(ApiError::bad_request(
+            format!("'{rel}': design files end in .toml"),
+            "path",
+        ));
+    }
+    Ok(root.join(path))
+}
+
+/// `path` with symlinks resolved must stay inside `root` (itself canonical).
+fn inside(root: &Path, rel: &str, resolved: &Path) -> Result<(), ApiError> {
+    if resolved.starts_with(root) {
+        Ok(())
+    } else {
+        Err(ApiError::forbidden(
+            format!("'{rel}': leads outside the directory the server was started in"),
+            "path",
+        ))
+    }
+}
+
+/// Reads and parses the design file `rel` inside `root`; returns the path as shown and the
+/// loaded design. Parse errors are located as `file:line:col`.
+pub fn load_design(root: &Path, rel: &str) -> Result<(String, Loaded), ApiError> {
+    let path = checked_join(root, rel)?;
+    let resolved = path.canonicalize().map_err(|e| {
+        ApiError::not_found(format!("'{rel}': cannot open the design file: {e}"), "path")
+    })?;
+    inside(root, rel, &resolved)?;
+    let meta = std::fs::metadata(&resolved)
+        .map_err(|e| ApiError::not_found(format!("'{rel}': {e}"), "path"))?;
+    if !meta.is_file() {
+        return Err(ApiError::not_found(format!("'{rel}': not a file"), "path"));
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(ApiError::unprocessable(
+            format!("'{rel}': larger than {MAX_FILE_BYTES} bytes"),
+            "path",
+        ));
+    }
+    let loaded = crate::common::load(&resolved).map_err(|e| {
+        ApiError::unprocessable(e.message.replace(&*resolved.to_string_lossy(), rel), "path")
+    })?;
+    Ok((rel.to_string(), loaded))
+}
+
+/// Writes `text` to `rel` inside `root` atomically; returns `rel`.
+pub fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, ApiError> {
+    let path = checked_join(root, rel)?;
+    let parent = path.parent().unwrap_or(root);
+    let parent_resolved = parent
+        .canonicalize()
+        .map_err(|e| ApiError::not_found(format!("'{rel}': no such directory: {e}"), "path"))?;
+    inside(root, rel, &parent_resolved)?;
+    let target = parent_resolved.join(path.file_name().unwrap_or_default());
+    // An existing target (or a symlink, dangling or not) must resolve inside too.
+    if std::fs::symlink_metadata(&target).is_ok() {
+        match target.canonicalize() {
+            Ok(resolved) => {
+                inside(root, rel, &resolved)?;
+                if resolved.is_dir() {
+                    return Err(ApiError::bad_request(
+                        format!("'{rel}': is a directory"),
+                        "path",
+                    ));
+                }
+            }
+            Err(_) => {
+                return Err(ApiError::forbidden(
+                    format!("'{rel}': is a symlink to nowhere"),
+                    "path",
+                ))
+            }
+        }
+    }
+    let mut out = crate::common::Output::create(&target)
+        .map_err(|e| ApiError::internal(e.message.replace(&*target.to_string_lossy(), rel)))?;
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.commit())
+        .map_err(|e| ApiError::internal(e.message.replace(&*target.to_string_lossy(), rel)))?;
+    Ok(rel.to_string())
+}
+
+/// The design files (`*.toml`) under `root`, relative, sorted; hidden folders and `target` are
+/// skipped and symlinked folders are not followed.
+pub fn list(root: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![(root.to_path_buf(), 0usize)];
+    while let Some((dir, depth)) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let name = name.to_string_lossy();
+            if name.starts_with('.') || name == "target" || name == "node_modules" {
+                continue;
+            }
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            let path = entry.path();
+            if kind.is_dir() && depth < MAX_DEPTH {
+                stack.push((path, depth + 1));
+            } else if kind.is_file() && name.ends_with(".toml") && name != "Cargo.toml" {
+                if let Ok(rel) = path.strip_prefix(root) {
+                    out.push(rel.to_string_lossy().into_owned());
+                }
+            }
+            if out.len() >= MAX_LISTED {
+                break;
+            }
+        }
+    }
+    out.sort();
+    out
+}

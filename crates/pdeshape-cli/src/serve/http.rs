@@ -1,0 +1,550 @@
+//! The designer's HTTP API (axum): every `/api/` request carries the per-launch token in the
+//! `x-pdeshape-token` header; every request's Host must name this server by an IP literal or
+//! `localhost` (or the `--host` name) with its port, and an Origin, when sent, must be this
+//! server's own. Bodies are limited; design work runs on a blocking thread behind one lock.
+//!
+//! | request | answer |
+//! |---|---|
+//! | `GET /?token=T` | the page |
+//! | `GET /app.js`, `/view.js`, … | the page's modules |
+//! | `GET /api/frame?nu&nv&color` | a frame (scene JSON + meshes, [`super::scene`]) |
+//! | `POST /api/edit?nu&nv&color` `{"edit": Edit, "group": n?, "world": bool?}` | a frame |
+//! | `POST /api/convert` `{"name": curve}` | a frame (the circle or ellipse as a B-spline) |
+//! | `POST /api/undo`, `/api/redo` | a frame |
+//! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
+//! | `POST /api/new` | a frame (the starting design) |
+//! | `GET /api/files` | `{"files": [...]}` |
+//! | `GET /api/check`, `GET /api/analyze` | the `check` report, the `analyze --json` numbers |
+//! | `GET /api/download?format=obj\|stl\|ply\|glb\|png&nu&nv&view&size` | the file |
+
+use super::assets;
+use super::error::ApiError;
+use super::library;
+use super::scene;
+use super::session::{Coloring, Session};
+use axum::body::{Body, Bytes};
+use axum::extract::{DefaultBodyLimit, Query, Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use axum::Router;
+use pdeshape::design::Edit;
+use pdeshape::mesh::Format;
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::Instant;
+use tokio::sync::Mutex;
+
+/// Largest request body.
+pub const MAX_BODY: usize = 256 * 1024;
+/// Largest picture side for downloads.
+const MAX_PICTURE: u32 = 4096;
+pub const TOKEN_HEADER: &str = "x-pdeshape-token";
+
+/// What every handler shares.
+#[derive(Clone)]
+pub struct AppState {
+    pub session: Arc<Mutex<Session>>,
+    pub token: Arc<str>,
+    /// The port the server listens on (Host and Origin must name it).
+    pub port: u16,
+    /// A host name given with `--host` (accepted in Host besides IP literals and localhost).
+    pub host_name: Option<String>,
+}
+
+/// The router of the designer.
+pub fn router(state: AppState) -> Router {
+    let api = Router::new()
+        .route("/frame", get(frame))
+        .route("/edit", post(edit))
+        .route("/convert", post(convert))
+        .route("/undo", post(undo))
+        .route("/redo", post(redo))
+        .route("/load", post(load))
+        .route("/save", post(save))
+        .route("/new", post(new_design))
+        .route("/files", get(files))
+        .route("/check", get(check))
+        .route("/analyze", get(analyze))
+        .route("/download", get(download))
+        .fallback(|| async { ApiError::not_found("no such API request", "") })
+        .layer(middleware::from_fn_with_state(state.clone(), api_guard));
+    Router::new()
+        .route("/", get(page))
+        .route("/{file}", get(asset))
+        .nest("/api", api)
+        .layer(middleware::from_fn_with_state(state.clone(), host_guard))
+        .layer(DefaultBodyLimit::max(MAX_BODY))
+        .with_state(state)
+}
+
+/// `a == b` in time independent of where they differ.
+fn same_secret(a: &[u8], b: &[u8]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
+}
+
+/// True for a Host (or an Origin's host part) naming this server: an IP literal or `localhost`
+/// (or the `--host` name) with our port. A DNS name that resolves here (DNS rebinding) fails.
+fn host_ok(state: &AppState, host: &str) -> bool {
+    let Some((name, port)) = host.rsplit_once(':') else {
+        return false;
+    };
+    if port.parse::<u16>().ok() != Some(state.port) {
+        return false;
+    }
+    let bare = name
+        .strip_prefix('[')
+        .and_then(|n| n.strip_suffix(']'))
+        .unwrap_or(name);
+    bare.eq_ignore_ascii_case("localhost")
+        || bare.parse::<std::net::IpAddr>().is_ok()
+        || state
+            .host_name
+            .as_deref()
+            .is_some_and(|h| h.eq_ignore_ascii_case(bare))
+}
+
+/// Host and Origin checks for every request.
+async fn host_guard(State(state): State<AppState>, request: Request, next: Next) -> Response {
+    let headers = request.headers();
+    let host = headers.get(header::HOST).and_then(|h| h.to_str().ok());
+    match host {
+        Some(h) if host_ok(&state, h) => {}
+        _ => return ApiError::forbidden(
+            "the Host header does not name this server (open the URL printed by pdeshape serve)",
+            "Host",
+        )
+        .into_response(),
+    }
+    if let Some(origin) = headers.get(header::ORIGIN) {
+        let ok = origin
+            .to_str()
+            .ok()
+            .and_then(|o| o.strip_prefix("http://"))
+            .is_some_and(|o| Some(o) == host);
+        if !ok {
+            return ApiError::forbidden("requests from another origin are refused", "Origin")
+                .into_response();
+        }
+    }
+    next.run(request).await
+}
+
+/// The token check of every API request.
+async fn api_guard(State(state): State<AppState>, request: Request, next: Next) -> Response {
+    let given = request
+        .headers()
+        .get(TOKEN_HEADER)
+        .map(|h| h.as_bytes().to_vec());
+    match given {
+        Some(t) if same_secret(&t, state.token.as_bytes()) => next.run(request).await,
+        Some(_) => ApiError::forbidden("wrong token", TOKEN_HEADER).into_response(),
+        None => ApiError::forbidden(
+            "missing token (open the URL printed by pdeshape serve)",
+            TOKEN_HEADER,
+        )
+        .into_response(),
+    }
+}
+
+async fn page(State(state): State<AppState>, Query(q): Query<HashMap<String, String>>) -> Response {
+    match q.get("token") {
+        Some(t) if same_secret(t.as_bytes(), state.token.as_bytes()) => assets::page(),
+        _ => ApiError::forbidden(
+            "missing or wrong token: open the URL printed by pdeshape serve",
+            "token",
+        )
+        .into_response(),
+    }
+}
+
+async fn asset(axum::extract::Path(file): axum::extract::Path<String>) -> Response {
+    assets::file(&file)
+        .unwrap_or_else(|| ApiError::not_found(format!("no file '{file}'"), "").into_response())
+}
+
+/// Runs `f` on the session on a blocking thread; a panic becomes a 500 with its message.
+async fn with_session<T: Send + 'static>(
+    state: &AppState,
+    f: impl FnOnce(&mut Session) -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let mut guard = state.session.clone().lock_owned().await;
+    let joined = tokio::task::spawn_blocking(move || {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(&mut guard)))
+    })
+    .await;
+    match joined {
+        Ok(Ok(result)) => result,
+        Ok(Err(payload)) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            Err(ApiError::internal(format!("internal error: {what}")))
+        }
+        Err(e) => Err(ApiError::internal(format!("internal error: {e}"))),
+    }
+}
+
+/// Grid and colouring of a frame.
+#[derive(Clone, Copy)]
+struct View {
+    grid: (usize, usize),
+    color: Coloring,
+}
+
+fn parse_usize(q: &HashMap<String, String>, key: &str, default: usize) -> Result<usize, ApiError> {
+    match q.get(key) {
+        None => Ok(default),
+        Some(s) => s.parse().map_err(|_| {
+            ApiError::bad_request(format!("expected a whole number (got '{s}')"), key)
+        }),
+    }
+}
+
+fn view_of(q: &HashMap<String, String>) -> Result<View, ApiError> {
+    let grid = (parse_usize(q, "nu", 64)?, parse_usize(q, "nv", 128)?);
+    let color = match q.get("color").map(String::as_str) {
+        None | Some("") | Some("none") => Coloring::Shaded,
+        Some("gauss") => Coloring::Gauss,
+        Some("mean") => Coloring::Mean,
+        Some(other) => {
+            return Err(ApiError::bad_request(
+                format!("expected none, gauss or mean (got '{other}')"),
+                "color",
+            ))
+        }
+    };
+    Ok(View { grid, color })
+}
+
+/// The frame of the session as it stands.
+fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, ApiError> {
+    s.meshes(view.grid)?;
+    let colors = s.colors(view.grid, view.color)?;
+    let mut json = scene::scene(s.spec(), s.design().solved());
+    json["version"] = s.version().into();
+    json["file"] = s.file().into();
+    json["can_undo"] = s.can_undo().into();
+    json["can_redo"] = s.can_redo().into();
+    json["grid"] = serde_json::json!([view.grid.0, view.grid.1]);
+    if let Some((_, lo, hi)) = &colors {
+        json["color_range"] = serde_json::json!([lo, hi]);
+    }
+    json["server_ms"] = (started.elapsed().as_secs_f64() * 1e3).into();
+    let meshes = s.meshes(view.grid)?;
+    Ok(scene::frame(
+        &json,
+        meshes,
+        colors.as_ref().map(|c| c.0.as_slice()),
+    ))
+}
+
+fn binary(bytes: Vec<u8>) -> Response {
+    (
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/octet-stream"),
+        )],
+        bytes,
+    )
+        .into_response()
+}
+
+/// A JSON body of type `T`, or a 400 naming what is wrong (line:col in the body).
+fn parse_body<T: for<'de> Deserialize<'de>>(body: &Bytes) -> Result<T, ApiError> {
+    serde_json::from_slice(body).map_err(|e| {
+        ApiError::bad_request(
+            format!("malformed request body: {e}"),
+            &format!("body:{}:{}", e.line(), e.column()),
+        )
+    })
+}
+
+async fn frame(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let bytes = with_session(&state, move |s| make_frame(s, view, started)).await?;
+    Ok(binary(bytes))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EditRequest {
+    edit: Edit,
+    #[serde(default)]
+    group: Option<u64>,
+    /// A moved control point is given where it is drawn (through the curve's transform).
+    #[serde(default)]
+    world: bool,
+}
+
+async fn edit(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: EditRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        let mut edit = request.edit;
+        if request.world {
+            if let Edit::MoveControlPoint { name, point, .. } = &mut edit {
+                let cs = s.spec().curves.get(name).ok_or_else(|| {
+                    ApiError::unprocessable(
+                        format!("the design has no curve named '{name}'"),
+                        "name",
+                    )
+                })?;
+                *point = library::spec_point(cs, *point).ok_or_else(|| {
+                    ApiError::unprocessable("the curve's transform cannot be inverted", "point")
+                })?;
+            }
+        }
+        s.apply(&edit, request.group, view.grid)?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NameRequest {
+    name: String,
+}
+
+async fn convert(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: NameRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        let name = request.name;
+        let kind = s.spec().curves.get(&name).map(|c| &c.kind);
+        let is_ellipse = matches!(
+            kind,
+            Some(pdeshape::spec::CurveKind::Circle { .. })
+                | Some(pdeshape::spec::CurveKind::Ellipse { .. })
+        );
+        if !is_ellipse {
+            return Err(ApiError::unprocessable(
+                format!("only a circle or an ellipse can be made a B-spline ('{name}' is not one)"),
+                "name",
+            ));
+        }
+        let curve = s
+            .design()
+            .solved()
+            .curves
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.curve.clone())
+            .ok_or_else(|| ApiError::unprocessable(format!("no curve '{name}'"), "name"))?;
+        let spec = library::bspline_from_ellipse(&*curve)
+            .ok_or_else(|| ApiError::unprocessable("the curve is not a closed ellipse", "name"))?;
+        s.apply(
+            &Edit::SetCurve {
+                name,
+                curve: Some(spec),
+            },
+            None,
+            view.grid,
+        )?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+async fn undo(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let bytes = with_session(&state, move |s| {
+        if !s.undo(view.grid)? {
+            return Err(ApiError::unprocessable("nothing to undo", "undo"));
+        }
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+async fn redo(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let bytes = with_session(&state, move |s| {
+        if !s.redo(view.grid)? {
+            return Err(ApiError::unprocessable("nothing to redo", "redo"));
+        }
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PathRequest {
+    path: String,
+}
+
+async fn load(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: PathRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        s.load(&request.path)?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+async fn new_design(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let bytes = with_session(&state, move |s| {
+        s.reset()?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+async fn save(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+    let request: PathRequest = parse_body(&body)?;
+    let saved = with_session(&state, move |s| s.save(&request.path)).await?;
+    Ok(axum::Json(serde_json::json!({ "saved": saved })).into_response())
+}
+
+async fn files(State(state): State<AppState>) -> Result<Response, ApiError> {
+    let list = with_session(&state, |s| Ok(super::files::list(s.root()))).await?;
+    Ok(axum::Json(serde_json::json!({ "files": list })).into_response())
+}
+
+async fn check(State(state): State<AppState>) -> Result<Response, ApiError> {
+    let (text, warnings) = with_session(&state, |s| Ok(s.check())).await?;
+    Ok(axum::Json(serde_json::json!({ "report": text, "warnings": warnings })).into_response())
+}
+
+async fn analyze(State(state): State<AppState>) -> Result<Response, ApiError> {
+    let text = with_session(&state, |s| s.analyze()).await?;
+    Ok((
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/json"),
+        )],
+        text,
+    )
+        .into_response())
+}
+
+fn parse_triple(s: &str, key: &str) -> Result<pdeshape::Vec3, ApiError> {
+    let bad = || ApiError::bad_request(format!("expected x,y,z (got '{s}')"), key);
+    let parts: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    if parts.len() != 3 || parts.iter().any(|x| !x.is_finite()) {
+        return Err(bad());
+    }
+    let v = pdeshape::Vec3::new(parts[0], parts[1], parts[2]);
+    let m = v.amax();
+    if m == 0.0 {
+        return Err(ApiError::bad_request("must not be the zero vector", key));
+    }
+    Ok(v / m)
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), ApiError> {
+    let bad = || {
+        ApiError::bad_request(
+            format!("expected WIDTHxHEIGHT, each 1 to {MAX_PICTURE} (got '{s}')"),
+            "size",
+        )
+    };
+    let (w, h) = s.split_once('x').ok_or_else(bad)?;
+    let w: u32 = w.parse().map_err(|_| bad())?;
+    let h: u32 = h.parse().map_err(|_| bad())?;
+    if !(1..=MAX_PICTURE).contains(&w) || !(1..=MAX_PICTURE).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
+}
+
+async fn download(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let view = view_of(&q)?;
+    let word = q
+        .get("format")
+        .ok_or_else(|| ApiError::bad_request("missing (obj, stl, ply, glb or png)", "format"))?
+        .clone();
+    let (bytes, mime) = if word == "png" {
+        let size = parse_size(q.get("size").map(String::as_str).unwrap_or("800x600"))?;
+        let dir = q.get("view").map(|v| parse_triple(v, "view")).transpose()?;
+        let png = with_session(&state, move |s| s.picture(view.grid, size, dir)).await?;
+        (png, "image/png")
+    } else {
+        let format = match word.as_str() {
+            "obj" => Format::Obj,
+            "stl" => Format::Stl,
+            "ply" => Format::Ply,
+            "glb" => Format::Glb,
+            other => {
+                return Err(ApiError::bad_request(
+                    format!("expected obj, stl, ply, glb or png (got '{other}')"),
+                    "format",
+                ))
+            }
+        };
+        let bytes = with_session(&state, move |s| s.download(format, view.grid)).await?;
+        (bytes, "application/octet-stream")
+    };
+    let name = with_session(&state, |s| {
+        Ok(std::path::Path::new(s.file())
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "design".to_string()))
+    })
+    .await?;
+    let disposition = format!(
+        "attachment; filename=\"{}.{word}\"",
+        name.replace(
+            |c: char| !c.is_ascii_alphanumeric() && c != '_' && c != '-',
+            "_"
+        )
+    );
+    let mut headers = HeaderMap::new();
+    headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(mime));
+    if let Ok(v) = HeaderValue::from_str(&disposition) {
+        headers.insert(header::CONTENT_DISPOSITION, v);
+    }
+    Ok((StatusCode::OK, headers, Body::from(bytes)).into_response())
+}

@@ -1,0 +1,126 @@
+//! `pdeshape serve [DESIGN]`: the browser designer. A local web server (axum on tokio) serves an
+//! embedded page (plain ES modules, WebGL2) that shows the design's surfaces, curves, derivative
+//! vectors and spines, and sends edits (drags of control points, transforms, `a`, order, modes,
+//! curves and patches) as the library's edit values; the compiled design re-solves what changed
+//! and the meshes come back in a binary frame.
+
+mod assets;
+mod error;
+mod files;
+mod http;
+mod library;
+mod scene;
+mod session;
+#[cfg(test)]
+mod tests;
+
+use crate::common::CliError;
+use std::net::{IpAddr, SocketAddr};
+use std::sync::Arc;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file to start from (relative to the current directory, inside it); without
+    /// it, a small starting design.
+    pub design: Option<String>,
+    /// Port to listen on (0: any free port).
+    #[arg(long, default_value_t = 8737)]
+    pub port: u16,
+    /// Address to listen on. Anything but loopback lets other machines reach the designer
+    /// (they still need the token).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    /// Open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+}
+
+/// A fresh random token (128 bits from the operating system's generator, hex).
+fn new_token() -> String {
+    use rand::RngCore;
+    let mut bytes = [0u8; 16];
+    rand::rngs::OsRng.fill_bytes(&mut bytes);
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let root = std::env::current_dir()
+        .map_err(|e| CliError::input(format!("cannot read the current directory: {e}")))?;
+    let session = session::Session::open(root, args.design.as_deref()).map_err(|e| {
+        let place = if e.place.is_empty() || e.message.contains(&e.place) {
+            String::new()
+        } else {
+            format!("{}: ", e.place)
+        };
+        CliError::input(format!("{place}{}", e.message))
+    })?;
+    let (ip, host_name): (IpAddr, Option<String>) = match args.host.parse::<IpAddr>() {
+        Ok(ip) => (ip, None),
+        Err(_) if args.host.eq_ignore_ascii_case("localhost") => {
+            (IpAddr::from([127, 0, 0, 1]), None)
+        }
+        Err(_) => {
+            return Err(CliError::input(format!(
+                "--host: expected an IP address such as 127.0.0.1 or ::1 (got '{}')",
+                args.host
+            )))
+        }
+    };
+    if !ip.is_loopback() {
+        eprintln!(
+            "warning: listening on {ip}, not on loopback: other machines can reach the designer \
+             (every request still needs the token in the printed URL)"
+        );
+    }
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| CliError::input(format!("cannot start the server: {e}")))?;
+    runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::bind(SocketAddr::new(ip, args.port))
+            .await
+            .map_err(|e| {
+                CliError::input(format!("--port {}: cannot listen on {ip}: {e}", args.port))
+            })?;
+        let port = listener
+            .local_addr()
+            .map_err(|e| CliError::input(format!("cannot read the listening address: {e}")))?
+            .port();
+        let token = new_token();
+        let shown = if ip.is_unspecified() || ip.is_loopback() {
+            if ip.is_ipv6() {
+                "[::1]".to_string()
+            } else {
+                "127.0.0.1".to_string()
+            }
+        } else if ip.is_ipv6() {
+            format!("[{ip}]")
+        } else {
+            ip.to_string()
+        };
+        let url = format!("http://{shown}:{port}/?token={token}");
+        let state = http::AppState {
+            session: Arc::new(tokio::sync::Mutex::new(session)),
+            token: token.into(),
+            port,
+            host_name,
+        };
+        println!("pdeshape designer: {url}");
+        println!("(Ctrl-C stops it)");
+        if args.open {
+            if let Err(e) = std::process::Command::new("xdg-open").arg(&url).spawn() {
+                eprintln!("warning: --open: cannot start a browser ({e}); open the URL above");
+            }
+        }
+        axum::serve(listener, http::router(state))
+            .with_graceful_shutdown(async {
+                let _ = tokio::signal::ctrl_c().await;
+                eprintln!("stopping");
+            })
+            .await
+            .map_err(|e| CliError::input(format!("the server stopped: {e}")))
+    })?;
+    // Blocking work still queued is not waited for beyond a moment.
+    runtime.shutdown_timeout(std::time::Duration::from_secs(2));
+    Ok(())
+}

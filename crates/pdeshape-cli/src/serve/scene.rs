@@ -1,0 +1,246 @@
+//! What the page draws, sent after every change: a JSON scene (curves, control points,
+//! derivative vectors, spines, `v = 0` marks, shared edges, patches and their operators) and the
+//! meshes in a compact binary frame.
+//!
+//! Frame layout (little-endian): `b"PDSF"`, `u32` JSON length, the JSON (UTF-8) padded with
+//! spaces to a multiple of 4, `u32` surface count; then per surface `u32 nu, u32 nv, u32 flags`
+//! (bit 0: periodic in v, bit 1: colours follow), positions `f32 × 3 × nu·nv`, normals
+//! `i16 × 3 × nu·nv` (unit vectors scaled by 32767), colours `u8 × 3 × nu·nv` if present, each
+//! block padded to a multiple of 4 bytes. Faces are implied by the grid (quads
+//! `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when periodic).
+
+use super::library;
+use pdeshape::curve::{Curve, Domain};
+use pdeshape::design::SolvedDesign;
+use pdeshape::mesh::GridMesh;
+use pdeshape::spec::{CurveKind, DesignSpec, OperatorSpec};
+use serde_json::{json, Value};
+use std::collections::BTreeSet;
+
+/// Points per drawn curve.
+const CURVE_POINTS: usize = 128;
+/// Derivative vectors drawn per derivative condition.
+const VECTORS: usize = 24;
+
+fn p3(p: &pdeshape::Vec3) -> [f64; 3] {
+    [p.x, p.y, p.z]
+}
+
+/// Finite points only (JSON has no NaN).
+fn finite(p: &pdeshape::Vec3) -> bool {
+    p.iter().all(|x| x.is_finite())
+}
+
+/// Points along a curve: over `[0, 2π)` (closed) or its interval.
+fn polyline(c: &dyn Curve) -> (Vec<[f64; 3]>, bool) {
+    let (a, b, closed, n) = match c.domain() {
+        Domain::Periodic => (0.0, pdeshape::TAU, true, CURVE_POINTS as f64),
+        Domain::Interval(a, b) => (a, b, false, (CURVE_POINTS - 1) as f64),
+    };
+    let points = (0..CURVE_POINTS)
+        .map(|k| c.point(a + (b - a) * k as f64 / n))
+        .filter(finite)
+        .map(|p| p3(&p))
+        .collect();
+    (points, closed)
+}
+
+fn operator_json(op: &Option<OperatorSpec>) -> Value {
+    match op {
+        Some(OperatorSpec::Polyharmonic { order, a }) => {
+            json!({ "kind": "polyharmonic", "order": order, "a": a })
+        }
+        Some(other) => json!({ "kind": "other", "text": format!("{other:?}") }),
+        None => Value::Null,
+    }
+}
+
+/// The scene of a solved design.
+pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
+    // Curves used as derivative conditions hold vectors, not points: they are drawn as vectors
+    // from the position curve of the same patch at the same u.
+    let derivative_curves: BTreeSet<&str> = solved
+        .surfaces
+        .iter()
+        .flat_map(|s| &s.conditions)
+        .filter(|c| c.derivative > 0)
+        .filter_map(|c| c.curve_name.as_deref())
+        .collect();
+    let position_curves: BTreeSet<&str> = solved
+        .surfaces
+        .iter()
+        .flat_map(|s| &s.conditions)
+        .filter(|c| c.derivative == 0)
+        .filter_map(|c| c.curve_name.as_deref())
+        .collect();
+    let curves: Vec<Value> = solved
+        .curves
+        .iter()
+        .map(|c| {
+            let cs = spec.curves.get(&c.name);
+            let is_vector = derivative_curves.contains(c.name.as_str());
+            let (points, closed) = if is_vector {
+                (Vec::new(), false)
+            } else {
+                polyline(&*c.curve)
+            };
+            let v0 = (!is_vector && c.curve.domain() == Domain::Periodic)
+                .then(|| (c.curve.point(0.0), c.curve.derivative(0.0, 1)))
+                .filter(|(p, d)| finite(p) && finite(d))
+                .map(|(p, d)| json!({ "point": p3(&p), "tangent": p3(&d) }));
+            let control = cs.and_then(library::world_control_points);
+            let role = if position_curves.contains(c.name.as_str()) {
+                "position"
+            } else if is_vector {
+                "derivative"
+            } else {
+                "other"
+            };
+            let scale = cs.and_then(|s| match &s.kind {
+                CurveKind::Derivative { scale, .. } => Some(*scale),
+                _ => None,
+            });
+            json!({
+                "name": c.name,
+                "kind": c.kind,
+                "role": role,
+                "spec": cs,
+                "points": points,
+                "closed": closed,
+                "control": control,
+                "v0": v0,
+                "scale": scale,
+                "v_origin": cs.map(|s| s.v_origin),
+                "centroid": centroid(&*c.curve).map(|p| p3(&p)),
+            })
+        })
+        .collect();
+    let mut vectors = Vec::new();
+    let mut surfaces = Vec::new();
+    for s in &solved.surfaces {
+        for c in s.conditions.iter().filter(|c| c.derivative == 1) {
+            let base = s
+                .conditions
+                .iter()
+                .find(|p| p.derivative == 0 && p.u == c.u)
+                .map(|p| p.curve.clone());
+            let segments: Vec<[[f64; 3]; 2]> = (0..VECTORS)
+                .filter_map(|k| {
+                    let v = pdeshape::TAU * k as f64 / VECTORS as f64;
+                    let from = base.as_ref().map(|b| b.point(v))?;
+                    let d = c.curve.point(v);
+                    // Fig. 5.2 draws X_u at a third of its length to keep the picture legible.
+                    let to = from + d / 3.0;
+                    (finite(&from) && finite(&to)).then(|| [p3(&from), p3(&to)])
+                })
+                .collect();
+            vectors.push(json!({
+                "patch": s.name, "u": c.u, "curve": c.curve_name, "segments": segments,
+            }));
+        }
+        let spine: Vec<[f64; 3]> = (0..CURVE_POINTS)
+            .filter_map(|k| s.spine(k as f64 / (CURVE_POINTS - 1) as f64, 0))
+            .filter(finite)
+            .map(|p| p3(&p))
+            .collect();
+        surfaces.push(json!({
+            "name": s.name,
+            "kind": s.kind.word(),
+            "place": s.place,
+            "operator": operator_json(&s.operator),
+            "own_operator": spec.patches.iter().flatten().any(|p| p.name == s.name && p.operator.is_some()),
+            "conditions": s.conditions.iter().map(|c| json!({
+                "u": c.u, "derivative": c.derivative, "curve": c.curve_name, "kind": c.kind,
+            })).collect::<Vec<_>>(),
+            "spine": spine,
+        }));
+    }
+    let edges: Vec<Value> = solved
+        .edges()
+        .iter()
+        .map(|e| {
+            let r = &e.report;
+            json!({
+                "curve": e.curve,
+                "a": solved.surfaces[r.a].name, "ua": r.ua,
+                "b": solved.surfaces[r.b].name, "ub": r.ub,
+                "g0": num(r.g0), "g1": num(r.g1),
+            })
+        })
+        .collect();
+    json!({
+        "title": solved.title,
+        "modes": spec.solver.modes,
+        "method": format!("{:?}", spec.solver.method).to_lowercase(),
+        "operator": operator_json(&spec.operator),
+        "has_patches": spec.patches.is_some(),
+        "curves": curves,
+        "vectors": vectors,
+        "surfaces": surfaces,
+        "edges": edges,
+    })
+}
+
+fn num(x: f64) -> Value {
+    serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
+}
+
+/// The mean of a curve's drawn points: the default centre of rotations and scalings.
+fn centroid(c: &dyn Curve) -> Option<pdeshape::Vec3> {
+    let (points, _) = polyline(c);
+    if points.is_empty() {
+        return None;
+    }
+    let n = points.len() as f64;
+    let s = points.iter().fold(pdeshape::Vec3::zeros(), |acc, p| {
+        acc + pdeshape::Vec3::new(p[0], p[1], p[2])
+    });
+    Some(s / n)
+}
+
+fn pad4(out: &mut Vec<u8>, fill: u8) {
+    while !out.len().is_multiple_of(4) {
+        out.push(fill);
+    }
+}
+
+/// The binary frame of `json` and `meshes` (with optional per-vertex colours).
+pub fn frame(json: &Value, meshes: &[GridMesh], colors: Option<&[Vec<[u8; 3]>]>) -> Vec<u8> {
+    let text = json.to_string();
+    let vertices: usize = meshes.iter().map(|m| m.len()).sum();
+    let mut out = Vec::with_capacity(16 + text.len() + meshes.len() * 12 + vertices * 24);
+    out.extend_from_slice(b"PDSF");
+    let mut json_bytes = text.into_bytes();
+    while !json_bytes.len().is_multiple_of(4) {
+        json_bytes.push(b' ');
+    }
+    out.extend_from_slice(&(json_bytes.len() as u32).to_le_bytes());
+    out.extend_from_slice(&json_bytes);
+    out.extend_from_slice(&(meshes.len() as u32).to_le_bytes());
+    for (k, m) in meshes.iter().enumerate() {
+        let col = colors.and_then(|c| c.get(k)).filter(|c| c.len() == m.len());
+        let flags = u32::from(m.periodic_v) | (u32::from(col.is_some()) << 1);
+        for x in [m.nu as u32, m.nv as u32, flags] {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+        for p in &m.positions {
+            for x in p {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        for n in &m.normals {
+            for x in n {
+                let q = (x.clamp(-1.0, 1.0) * 32767.0).round() as i16;
+                out.extend_from_slice(&q.to_le_bytes());
+            }
+        }
+        pad4(&mut out, 0);
+        if let Some(c) = col {
+            for rgb in c {
+                out.extend_from_slice(rgb);
+            }
+            pad4(&mut out, 0);
+        }
+    }
+    out
+}

@@ -1,0 +1,655 @@
+//! API tests, in-process: requests through the router as the page sends them.
+
+use super::http::{router, AppState, MAX_BODY, TOKEN_HEADER};
+use super::session::{starting_design, Session};
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use http_body_util::BodyExt;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use tower::ServiceExt;
+
+const PORT: u16 = 8737;
+const TOKEN: &str = "0123456789abcdef0123456789abcdef";
+const HOST: &str = "127.0.0.1:8737";
+
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// A start directory with the cup and the wine glass in `examples/`.
+fn root() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("examples")).unwrap();
+    for f in ["cup.toml", "wine_glass.toml"] {
+        std::fs::copy(examples().join(f), dir.path().join("examples").join(f)).unwrap();
+    }
+    dir
+}
+
+fn app(root: &Path, design: Option<&str>) -> axum::Router {
+    let session = Session::open(root.to_path_buf(), design).unwrap();
+    router(AppState {
+        session: Arc::new(tokio::sync::Mutex::new(session)),
+        token: TOKEN.into(),
+        port: PORT,
+        host_name: None,
+    })
+}
+
+struct Answer {
+    status: StatusCode,
+    body: Vec<u8>,
+}
+
+impl Answer {
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body)
+            .unwrap_or_else(|_| panic!("not JSON: {}", String::from_utf8_lossy(&self.body)))
+    }
+    fn error(&self) -> (String, String) {
+        let v = self.json();
+        (
+            v["error"].as_str().unwrap_or("").to_string(),
+            v["place"].as_str().unwrap_or("").to_string(),
+        )
+    }
+}
+
+/// Sends a request; `headers` replace the defaults (Host, token) where named.
+async fn send(
+    app: &axum::Router,
+    method: &str,
+    uri: &str,
+    body: Option<Vec<u8>>,
+    headers: &[(&str, &str)],
+) -> Answer {
+    let mut b = Request::builder().method(method).uri(uri);
+    let mut defaults = vec![("host", HOST), (TOKEN_HEADER, TOKEN)];
+    defaults.retain(|(k, _)| !headers.iter().any(|(h, _)| h == k));
+    for (k, v) in defaults
+        .iter()
+        .chain(headers)
+        .filter(|(_, v)| !v.is_empty())
+    {
+        b = b.header(*k, *v);
+    }
+    let request = b
+        .body(body.map(Body::from).unwrap_or_else(Body::empty))
+        .unwrap();
+    let response = app.clone().oneshot(request).await.unwrap();
+    let status = response.status();
+    let body = response
+        .into_body()
+        .collect()
+        .await
+        .unwrap()
+        .to_bytes()
+        .to_vec();
+    Answer { status, body }
+}
+
+async fn post(app: &axum::Router, uri: &str, body: Value) -> Answer {
+    send(app, "POST", uri, Some(body.to_string().into_bytes()), &[]).await
+}
+
+/// A decoded frame: the scene and, per surface, `(nu, nv, positions)`.
+struct Frame {
+    scene: Value,
+    surfaces: Vec<(usize, usize, Vec<f32>)>,
+}
+
+fn u32_at(b: &[u8], at: usize) -> usize {
+    u32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as usize
+}
+
+fn decode(a: &Answer) -> Frame {
+    assert_eq!(
+        a.status,
+        StatusCode::OK,
+        "{}",
+        String::from_utf8_lossy(&a.body)
+    );
+    let b = &a.body;
+    assert_eq!(&b[..4], b"PDSF");
+    let len = u32_at(b, 4);
+    assert_eq!(len % 4, 0);
+    let scene: Value = serde_json::from_slice(&b[8..8 + len]).unwrap();
+    let mut at = 8 + len;
+    let count = u32_at(b, at);
+    at += 4;
+    let mut surfaces = Vec::new();
+    for _ in 0..count {
+        let (nu, nv, flags) = (u32_at(b, at), u32_at(b, at + 4), u32_at(b, at + 8));
+        at += 12;
+        let n = nu * nv;
+        let positions: Vec<f32> = b[at..at + 12 * n]
+            .chunks(4)
+            .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+            .collect();
+        at += 12 * n;
+        // Normals: unit length to the i16 quantisation.
+        for k in (0..n).step_by(97) {
+            let q: Vec<f64> = (0..3)
+                .map(|c| {
+                    let o = at + 6 * k + 2 * c;
+                    i16::from_le_bytes([b[o], b[o + 1]]) as f64 / 32767.0
+                })
+                .collect();
+            let len = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-3, "normal length {len}");
+        }
+        at += (6 * n).div_ceil(4) * 4;
+        if flags & 2 != 0 {
+            at += (3 * n).div_ceil(4) * 4;
+        }
+        surfaces.push((nu, nv, positions));
+    }
+    assert_eq!(at, b.len(), "frame length");
+    Frame { scene, surfaces }
+}
+
+fn curve<'a>(scene: &'a Value, name: &str) -> &'a Value {
+    scene["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("no curve {name}"))
+}
+
+fn move_rim(index: usize, point: [f64; 3], group: Option<u64>) -> Value {
+    json!({
+        "edit": { "edit": "move_control_point", "name": "rim", "index": index, "point": point },
+        "group": group,
+    })
+}
+
+const GRID: &str = "nu=16&nv=32";
+
+#[tokio::test]
+async fn starting_design_is_served_with_control_points() {
+    assert!(starting_design().is_ok());
+    let dir = root();
+    let app = app(dir.path(), None);
+    let f = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    assert_eq!(f.surfaces.len(), 1);
+    assert_eq!((f.surfaces[0].0, f.surfaces[0].1), (16, 32));
+    let rim = curve(&f.scene, "rim");
+    assert_eq!(rim["control"].as_array().unwrap().len(), 8);
+    assert_eq!(rim["role"], "position");
+    assert_eq!(curve(&f.scene, "rim_tangent")["role"], "derivative");
+    assert_eq!(f.scene["vectors"].as_array().unwrap().len(), 2);
+    // The v = 0 mark of the rim is on the +x axis (the B-spline was laid out for that).
+    let v0 = &rim["v0"]["point"];
+    assert!(v0[1].as_f64().unwrap().abs() < 1e-12, "{v0}");
+    assert!(v0[0].as_f64().unwrap() > 0.9);
+    // The page itself, with the token.
+    let page = send(&app, "GET", &format!("/?token={TOKEN}"), None, &[]).await;
+    assert_eq!(page.status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&page.body).contains("app.js"));
+    let js = send(&app, "GET", "/app.js", None, &[]).await;
+    assert_eq!(js.status, StatusCode::OK);
+}
+
+#[tokio::test]
+async fn drag_edits_undo_and_redo() {
+    let dir = root();
+    let app = app(dir.path(), None);
+    let before = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    // A drag: three moves of one control point in one group.
+    let mut last = None;
+    for (k, x) in [1.2, 1.4, 1.6].iter().enumerate() {
+        let a = post(
+            &app,
+            &format!("/api/edit?{GRID}"),
+            move_rim(1, [*x, 0.0, 2.0 + 0.1 * k as f64], Some(7)),
+        )
+        .await;
+        last = Some(decode(&a));
+    }
+    let after = last.unwrap();
+    assert_ne!(
+        before.surfaces[0].2, after.surfaces[0].2,
+        "the surface moved"
+    );
+    assert_eq!(after.scene["version"], 3);
+    assert_eq!(
+        curve(&after.scene, "rim")["control"][1],
+        json!([1.6, 0.0, 2.2])
+    );
+    assert_eq!(after.scene["can_undo"], true);
+    // One undo takes the whole drag back, bit for bit.
+    let undone = decode(&post(&app, &format!("/api/undo?{GRID}"), json!(null)).await);
+    assert_eq!(undone.surfaces[0].2, before.surfaces[0].2);
+    assert_eq!(undone.scene["can_undo"], false);
+    assert_eq!(undone.scene["can_redo"], true);
+    let nothing = post(&app, &format!("/api/undo?{GRID}"), json!(null)).await;
+    assert_eq!(nothing.status, StatusCode::UNPROCESSABLE_ENTITY);
+    let redone = decode(&post(&app, &format!("/api/redo?{GRID}"), json!(null)).await);
+    assert_eq!(redone.surfaces[0].2, after.surfaces[0].2);
+    // Edits without a group are separate undo steps.
+    for x in [1.0, 0.9] {
+        decode(
+            &post(
+                &app,
+                &format!("/api/edit?{GRID}"),
+                move_rim(2, [x, x, 2.0], None),
+            )
+            .await,
+        );
+    }
+    let one = decode(&post(&app, &format!("/api/undo?{GRID}"), json!(null)).await);
+    assert_eq!(
+        curve(&one.scene, "rim")["control"][2],
+        json!([1.0, 1.0, 2.0])
+    );
+}
+
+#[tokio::test]
+async fn bad_edits_answer_422_and_keep_the_last_good_surface() {
+    let dir = root();
+    let app = app(dir.path(), None);
+    let before = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    let cases = [
+        (move_rim(99, [0.0, 0.0, 0.0], None), "index"),
+        (
+            json!({ "edit": { "edit": "set_smoothing", "patch": "body", "a": 0.0 } }),
+            "operator.a",
+        ),
+        (
+            json!({ "edit": { "edit": "set_curve", "name": "rim", "curve": {
+                "type": "circle", "center": [0.0, 0.0, 2.0], "radius": -1.0 } } }),
+            "curves.rim.radius",
+        ),
+        (
+            json!({ "edit": { "edit": "set_order", "patch": "body", "order": 3 } }),
+            "patches[0].conditions",
+        ),
+    ];
+    for (edit, place) in cases {
+        let a = post(&app, &format!("/api/edit?{GRID}"), edit.clone()).await;
+        assert_eq!(a.status, StatusCode::UNPROCESSABLE_ENTITY, "{edit}");
+        let (message, got) = a.error();
+        assert!(!message.is_empty());
+        assert!(
+            got.starts_with(place),
+            "{edit}: place {got}, message {message}"
+        );
+    }
+    let after = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    assert_eq!(after.surfaces[0].2, before.surfaces[0].2);
+    assert_eq!(after.scene["version"], 0);
+    assert_eq!(after.scene["can_undo"], false);
+}
+
+#[tokio::test]
+async fn malformed_requests_answer_4xx() {
+    let dir = root();
+    let app = app(dir.path(), None);
+    let raw = |s: &str| Some(s.as_bytes().to_vec());
+    let cases: Vec<(&str, &str, Option<Vec<u8>>, StatusCode)> = vec![
+        (
+            "POST",
+            "/api/edit",
+            raw("{not json"),
+            StatusCode::BAD_REQUEST,
+        ),
+        ("POST", "/api/edit", raw(""), StatusCode::BAD_REQUEST),
+        (
+            "POST",
+            "/api/edit",
+            raw(r#"{"edit":{"edit":"fly"}}"#),
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "POST",
+            "/api/edit",
+            raw(r#"{"edit":{"edit":"set_modes","modes":4},"x":1}"#),
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "POST",
+            "/api/edit?nu=abc",
+            raw("{}"),
+            StatusCode::BAD_REQUEST,
+        ),
+        ("GET", "/api/frame?nu=100000", None, StatusCode::BAD_REQUEST),
+        ("GET", "/api/frame?nv=1", None, StatusCode::BAD_REQUEST),
+        (
+            "GET",
+            "/api/frame?color=plaid",
+            None,
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "GET",
+            "/api/download?format=exe",
+            None,
+            StatusCode::BAD_REQUEST,
+        ),
+        ("GET", "/api/download", None, StatusCode::BAD_REQUEST),
+        (
+            "GET",
+            "/api/download?format=png&size=0x5",
+            None,
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "GET",
+            "/api/download?format=png&view=0,0,0",
+            None,
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "POST",
+            "/api/save",
+            raw(r#"{"path": 3}"#),
+            StatusCode::BAD_REQUEST,
+        ),
+        (
+            "POST",
+            "/api/convert",
+            raw(r#"{"name": "rim"}"#),
+            StatusCode::UNPROCESSABLE_ENTITY,
+        ),
+        ("GET", "/api/nothing", None, StatusCode::NOT_FOUND),
+        ("GET", "/nothing.js", None, StatusCode::NOT_FOUND),
+        ("GET", "/api/edit", None, StatusCode::METHOD_NOT_ALLOWED),
+        (
+            "POST",
+            "/api/edit",
+            Some(vec![b' '; MAX_BODY + 1]),
+            StatusCode::PAYLOAD_TOO_LARGE,
+        ),
+    ];
+    for (method, uri, body, want) in cases {
+        let a = send(&app, method, uri, body, &[]).await;
+        assert_eq!(
+            a.status,
+            want,
+            "{method} {uri}: {}",
+            String::from_utf8_lossy(&a.body)
+        );
+    }
+    // Refused requests changed nothing, and the server still answers.
+    let f = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    assert_eq!(f.scene["version"], 0);
+}
+
+#[tokio::test]
+async fn token_host_and_origin_are_checked() {
+    let dir = root();
+    let app = app(dir.path(), None);
+    let uri = format!("/api/frame?{GRID}");
+    let forbidden = [
+        vec![(TOKEN_HEADER, "")],
+        vec![(TOKEN_HEADER, "0123456789abcdef0123456789abcdee")],
+        vec![(TOKEN_HEADER, "short")],
+        vec![("host", "evil.example:8737")],
+        vec![("host", "127.0.0.1:9999")],
+        vec![("host", "")],
+        vec![("origin", "http://evil.example")],
+        vec![("origin", "http://localhost:8737")],
+        vec![("origin", "null")],
+    ];
+    for headers in forbidden {
+        let a = send(&app, "GET", &uri, None, &headers).await;
+        assert_eq!(a.status, StatusCode::FORBIDDEN, "{headers:?}");
+        assert!(!a.error().0.is_empty());
+    }
+    let a = send(
+        &app,
+        "POST",
+        "/api/edit",
+        Some(move_rim(1, [2.0, 0.0, 2.0], None).to_string().into_bytes()),
+        &[("origin", "http://evil.example")],
+    )
+    .await;
+    assert_eq!(a.status, StatusCode::FORBIDDEN);
+    let allowed = [
+        vec![],
+        vec![("host", "localhost:8737")],
+        vec![("host", "[::1]:8737")],
+        vec![("origin", "http://127.0.0.1:8737")],
+    ];
+    for headers in allowed {
+        let a = send(&app, "GET", &uri, None, &headers).await;
+        assert_eq!(a.status, StatusCode::OK, "{headers:?}");
+    }
+    // The page needs the token in its URL.
+    for uri in ["/", "/?token=nope"] {
+        assert_eq!(
+            send(&app, "GET", uri, None, &[]).await.status,
+            StatusCode::FORBIDDEN
+        );
+    }
+    // The refused edit did nothing.
+    let f = decode(&send(&app, "GET", &uri, None, &[]).await);
+    assert_eq!(f.scene["version"], 0);
+}
+
+/// Meshes of a design file solved from scratch, as `pdeshape surface` does.
+fn meshes_of_file(path: &Path, nu: usize, nv: usize) -> Vec<Vec<f32>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let spec = pdeshape::spec::parse_design(&text).unwrap();
+    let solved = pdeshape::design::solve_design(&spec).unwrap();
+    solved
+        .meshes(nu, nv)
+        .unwrap()
+        .iter()
+        .map(|m| m.positions.iter().flatten().copied().collect())
+        .collect()
+}
+
+#[tokio::test]
+async fn save_and_load_round_trip() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/cup.toml"));
+    let f = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    assert_eq!(f.surfaces.len(), 2);
+    assert_eq!(f.scene["file"], "examples/cup.toml");
+    assert_eq!(f.scene["edges"].as_array().unwrap().len(), 1);
+    // Make the belly a B-spline and drag one of its points; save; the file solves to the same
+    // surfaces.
+    let c = decode(
+        &post(
+            &app,
+            &format!("/api/convert?{GRID}"),
+            json!({"name": "belly"}),
+        )
+        .await,
+    );
+    assert_eq!(
+        curve(&c.scene, "belly")["control"]
+            .as_array()
+            .unwrap()
+            .len(),
+        8
+    );
+    let moved = json!({ "edit": { "edit": "move_control_point", "name": "belly", "index": 3,
+        "point": [0.2, 1.9, 1.0] }, "group": 1 });
+    let e = decode(&post(&app, &format!("/api/edit?{GRID}"), moved).await);
+    let saved = post(&app, "/api/save", json!({"path": "mine.toml"})).await;
+    assert_eq!(saved.status, StatusCode::OK);
+    assert_eq!(saved.json()["saved"], "mine.toml");
+    let from_file = meshes_of_file(&dir.path().join("mine.toml"), 16, 32);
+    for (k, m) in from_file.iter().enumerate() {
+        assert_eq!(m, &e.surfaces[k].2, "surface {k}");
+    }
+    let text = std::fs::read_to_string(dir.path().join("mine.toml")).unwrap();
+    assert!(text.contains("[0.2, 1.9, 1.0]"), "{text}");
+    // No temporary file is left beside it.
+    let names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
+    // Load another file, then the saved one back: the same surfaces.
+    let w = decode(
+        &post(
+            &app,
+            &format!("/api/load?{GRID}"),
+            json!({"path": "examples/wine_glass.toml"}),
+        )
+        .await,
+    );
+    assert_eq!(w.surfaces.len(), 3);
+    assert_eq!(w.scene["can_undo"], false);
+    let back = decode(
+        &post(
+            &app,
+            &format!("/api/load?{GRID}"),
+            json!({"path": "mine.toml"}),
+        )
+        .await,
+    );
+    for (k, m) in from_file.iter().enumerate() {
+        assert_eq!(m, &back.surfaces[k].2);
+    }
+    let list = send(&app, "GET", "/api/files", None, &[]).await.json();
+    assert_eq!(
+        list["files"],
+        json!(["examples/cup.toml", "examples/wine_glass.toml", "mine.toml"])
+    );
+}
+
+#[tokio::test]
+async fn paths_stay_inside_the_start_directory() {
+    let dir = root();
+    let outside = tempfile::tempdir().unwrap();
+    std::fs::copy(examples().join("cup.toml"), outside.path().join("cup.toml")).unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(outside.path(), dir.path().join("away")).unwrap();
+        std::os::unix::fs::symlink(
+            outside.path().join("cup.toml"),
+            dir.path().join("link.toml"),
+        )
+        .unwrap();
+        std::os::unix::fs::symlink(
+            outside.path().join("new.toml"),
+            dir.path().join("dangling.toml"),
+        )
+        .unwrap();
+        std::os::unix::fs::symlink(
+            dir.path().join("examples/cup.toml"),
+            dir.path().join("inside.toml"),
+        )
+        .unwrap();
+    }
+    let app = app(dir.path(), None);
+    let refused = [
+        ("../x.toml", StatusCode::FORBIDDEN),
+        ("examples/../../x.toml", StatusCode::FORBIDDEN),
+        ("/etc/x.toml", StatusCode::FORBIDDEN),
+        ("./cup.toml", StatusCode::FORBIDDEN),
+        ("away/cup.toml", StatusCode::FORBIDDEN),
+        ("link.toml", StatusCode::FORBIDDEN),
+        ("dangling.toml", StatusCode::FORBIDDEN),
+        ("examples/cup.txt", StatusCode::BAD_REQUEST),
+        ("", StatusCode::BAD_REQUEST),
+    ];
+    for (path, want) in refused {
+        for verb in ["load", "save"] {
+            let a = post(
+                &app,
+                &format!("/api/{verb}?{GRID}"),
+                json!({ "path": path }),
+            )
+            .await;
+            // A dangling link cannot be loaded (nothing is there): 404 or 403 both refuse it.
+            let ok = a.status == want
+                || (verb == "load" && path == "dangling.toml" && a.status == StatusCode::NOT_FOUND);
+            assert!(
+                ok,
+                "{verb} {path}: {} {}",
+                a.status,
+                String::from_utf8_lossy(&a.body)
+            );
+            assert_eq!(a.error().1, "path");
+        }
+    }
+    assert_eq!(
+        post(
+            &app,
+            &format!("/api/load?{GRID}"),
+            json!({"path": "missing.toml"})
+        )
+        .await
+        .status,
+        StatusCode::NOT_FOUND
+    );
+    // Nothing was written outside, and the dangling link still dangles.
+    assert!(!outside.path().join("new.toml").exists());
+    assert!(!outside.path().join("x.toml").exists());
+    // A link that stays inside is fine.
+    let f = decode(
+        &post(
+            &app,
+            &format!("/api/load?{GRID}"),
+            json!({"path": "inside.toml"}),
+        )
+        .await,
+    );
+    assert_eq!(f.surfaces.len(), 2);
+    // A design file with a mistake: located, 422.
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        "title = \"x\"\n[operator]\nkind = 3\n",
+    )
+    .unwrap();
+    let a = post(
+        &app,
+        &format!("/api/load?{GRID}"),
+        json!({"path": "bad.toml"}),
+    )
+    .await;
+    assert_eq!(a.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(a.error().0.starts_with("bad.toml:3:"), "{}", a.error().0);
+}
+
+#[tokio::test]
+async fn reports_and_downloads() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/cup.toml"));
+    let check = send(&app, "GET", "/api/check", None, &[]).await.json();
+    let report = check["report"].as_str().unwrap();
+    assert!(
+        report.contains("condition errors") && report.contains("G0 ="),
+        "{report}"
+    );
+    let analyze = send(&app, "GET", "/api/analyze", None, &[]).await.json();
+    assert!(analyze["total"]["area"].as_f64().unwrap() > 0.0);
+    for (format, magic) in [
+        ("obj", &b"# "[..]),
+        ("stl", &b""[..]),
+        ("ply", &b"ply"[..]),
+        ("glb", &b"glTF"[..]),
+        ("png", &b"\x89PNG"[..]),
+    ] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/download?format={format}&{GRID}&size=64x48"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::OK, "{format}");
+        assert!(a.body.len() > 100 && a.body.starts_with(magic), "{format}");
+    }
+    // Curvature colouring comes with its range.
+    let a = send(
+        &app,
+        "GET",
+        &format!("/api/frame?{GRID}&color=gauss"),
+        None,
+        &[],
+    )
+    .await;
+    let f = decode(&a);
+    let range = f.scene["color_range"].as_array().unwrap();
+    assert!(range[0].as_f64().unwrap() < range[1].as_f64().unwrap());
+}

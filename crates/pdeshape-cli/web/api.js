@@ -1,0 +1,87 @@
+// The designer's API: every request carries the token from the page's URL; frames (scene JSON
+// and meshes) are decoded from the server's binary layout (see serve/scene.rs).
+
+const token = new URLSearchParams(location.search).get('token') || '';
+
+export class ApiError extends Error {
+  constructor(status, message, place) {
+    super(message);
+    this.status = status;
+    this.place = place || '';
+  }
+}
+
+async function request(method, path, body) {
+  const init = { method, headers: { 'x-pdeshape-token': token } };
+  if (body !== undefined) {
+    init.body = JSON.stringify(body);
+    init.headers['content-type'] = 'application/json';
+  }
+  const started = performance.now();
+  const response = await fetch('/api/' + path, init);
+  if (!response.ok) {
+    let message = response.statusText;
+    let place = '';
+    try {
+      const j = await response.json();
+      message = j.error || message;
+      place = j.place || '';
+    } catch (_) { /* not JSON */ }
+    throw new ApiError(response.status, message, place);
+  }
+  return { response, started };
+}
+
+export function decodeFrame(buffer) {
+  const view = new DataView(buffer);
+  const magic = String.fromCharCode(...new Uint8Array(buffer, 0, 4));
+  if (magic !== 'PDSF') throw new ApiError(0, 'not a frame', '');
+  const jsonLen = view.getUint32(4, true);
+  const scene = JSON.parse(new TextDecoder().decode(new Uint8Array(buffer, 8, jsonLen)));
+  let at = 8 + jsonLen;
+  const count = view.getUint32(at, true);
+  at += 4;
+  const surfaces = [];
+  for (let s = 0; s < count; s++) {
+    const nu = view.getUint32(at, true);
+    const nv = view.getUint32(at + 4, true);
+    const flags = view.getUint32(at + 8, true);
+    at += 12;
+    const n = nu * nv;
+    const positions = new Float32Array(buffer, at, 3 * n);
+    at += 12 * n;
+    const normals = new Int16Array(buffer, at, 3 * n);
+    at += Math.ceil((6 * n) / 4) * 4;
+    let colors = null;
+    if (flags & 2) {
+      colors = new Uint8Array(buffer, at, 3 * n);
+      at += Math.ceil((3 * n) / 4) * 4;
+    }
+    surfaces.push({ nu, nv, periodic: (flags & 1) !== 0, positions, normals, colors });
+  }
+  return { scene, surfaces };
+}
+
+async function frameOf(method, path, body) {
+  const { response, started } = await request(method, path, body);
+  const buffer = await response.arrayBuffer();
+  const frame = decodeFrame(buffer);
+  frame.roundTripMs = performance.now() - started;
+  frame.bytes = buffer.byteLength;
+  return frame;
+}
+
+export const api = {
+  frame: (q) => frameOf('GET', 'frame?' + q),
+  edit: (q, body) => frameOf('POST', 'edit?' + q, body),
+  convert: (q, name) => frameOf('POST', 'convert?' + q, { name }),
+  undo: (q) => frameOf('POST', 'undo?' + q),
+  redo: (q) => frameOf('POST', 'redo?' + q),
+  reset: (q) => frameOf('POST', 'new?' + q),
+  load: (q, path) => frameOf('POST', 'load?' + q, { path }),
+  save: async (path) => (await (await request('POST', 'save', { path })).response.json()),
+  files: async () => (await (await request('GET', 'files')).response.json()),
+  check: async () => (await (await request('GET', 'check')).response.json()),
+  analyze: async () => (await (await request('GET', 'analyze')).response.json()),
+  download: async (q) => (await request('GET', 'download?' + q)).response.blob(),
+};

@@ -1,0 +1,134 @@
+// The side panels: the lists of curves and patches, the shared-edge table, the check report and
+// the analyze numbers, and error messages beside the control that caused them.
+
+import { COLORS } from './view.js';
+
+const $ = (id) => document.getElementById(id);
+
+export function showError(area, message) {
+  const el = document.querySelector(`.err[data-for="${area}"]`);
+  if (el) el.textContent = message || '';
+}
+
+export function clearErrors() {
+  for (const el of document.querySelectorAll('.err')) el.textContent = '';
+}
+
+function fillSelect(sel, names, keep) {
+  const old = keep ? sel.value : null;
+  sel.replaceChildren(...names.map((n) => {
+    const o = document.createElement('option');
+    o.value = n; o.textContent = n;
+    return o;
+  }));
+  if (old && names.includes(old)) sel.value = old;
+}
+
+// Text from the design file, safe inside HTML.
+const esc = (s) => String(s).replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`);
+
+const rgb = (c) => `rgb(${c.map((x) => Math.round(x * 255)).join(',')})`;
+
+// The legend (built with DOM calls: the page's content security policy allows no inline styles).
+export function legend(scene) {
+  const box = $('legend');
+  const row = (color, text, swatch = 'line') => {
+    const div = document.createElement('div');
+    const sw = document.createElement('span');
+    sw.className = `sw ${swatch}`;
+    sw.style.background = color;
+    div.append(sw, text);
+    return div;
+  };
+  const rows = scene.surfaces.map((s, k) =>
+    row(rgb(COLORS.patches[k % COLORS.patches.length]), `patch ${s.name} (${s.kind})`, 'patch'));
+  rows.push(row(rgb(COLORS.position), 'position curves'));
+  rows.push(row(rgb(COLORS.other), 'other curves (derivative directions)'));
+  rows.push(row(rgb(COLORS.vector), 'X_u vectors (1/3 length)'));
+  rows.push(row(rgb(COLORS.spine), 'spines'));
+  rows.push(row(rgb(COLORS.edge), 'shared edges'));
+  rows.push(row('#000', 'v = 0 marks (tick: increasing v)'));
+  rows.push(row(rgb(COLORS.control), 'control points (drag them)', 'dot'));
+  if (scene.color_range) {
+    const [lo, hi] = scene.color_range.map((x) => x.toExponential(2));
+    const div = document.createElement('div');
+    const bar = document.createElement('span');
+    bar.className = 'bar';
+    div.append(`${lo} `, bar, ` ${hi}`);
+    rows.push(div);
+  }
+  box.replaceChildren(...rows);
+}
+
+export function fill(scene) {
+  $('file-name').textContent = scene.file + (scene.title ? ` — ${scene.title}` : '');
+  $('undo').disabled = !scene.can_undo;
+  $('redo').disabled = !scene.can_redo;
+  const curves = scene.curves.map((c) => c.name);
+  fillSelect($('curve'), curves, true);
+  const positions = scene.curves.filter((c) => c.role !== 'derivative').map((c) => c.name);
+  fillSelect($('from'), positions, true);
+  fillSelect($('to'), positions, true);
+  fillSelect($('patch'), scene.surfaces.map((s) => s.name), true);
+  $('modes').value = scene.modes;
+  curvePanel(scene);
+  patchPanel(scene);
+  edges(scene);
+  legend(scene);
+}
+
+export function selectedCurve(scene) {
+  return scene.curves.find((c) => c.name === $('curve').value);
+}
+
+export function selectedPatch(scene) {
+  return scene.surfaces.find((s) => s.name === $('patch').value);
+}
+
+export function curvePanel(scene) {
+  const c = selectedCurve(scene);
+  if (!c) return;
+  $('curve-kind').textContent = `${c.kind}, ${c.role}` + (c.control ? `, ${c.control.length} control points` : '');
+  $('convert').disabled = !(c.kind === 'circle' || c.kind === 'ellipse');
+  $('v0-row').style.display = c.v0 ? '' : 'none';
+  $('v-origin').value = c.v_origin || 0;
+  $('v-origin-value').textContent = (c.v_origin || 0).toFixed(2);
+  $('s-row').style.display = c.scale != null ? '' : 'none';
+  if (c.scale != null) {
+    $('dscale').value = c.scale;
+    $('dscale-value').textContent = c.scale.toFixed(2);
+  }
+}
+
+export function patchPanel(scene) {
+  const s = selectedPatch(scene);
+  if (!s) return;
+  const op = s.operator;
+  if (op && op.kind === 'polyharmonic') {
+    $('patch-op').textContent = `polyharmonic N = ${op.order}, a = ${op.a}`;
+    $('a').value = op.a;
+    $('a-value').textContent = Number(op.a).toFixed(2);
+    $('order').value = op.order;
+  } else {
+    $('patch-op').textContent = op ? op.text || op.kind : s.kind;
+  }
+}
+
+function edges(scene) {
+  const t = $('edges');
+  if (!scene.edges.length) {
+    t.innerHTML = '<tr><td>none (no position curve shared by two patches)</td></tr>';
+    return;
+  }
+  t.innerHTML = '<tr><th>edge</th><th>along</th><th>G0</th><th>G1 (rad)</th></tr>' + scene.edges.map((e) =>
+    `<tr><td>${esc(e.a)} u=${e.ua} | ${esc(e.b)} u=${e.ub}</td><td>${esc(e.curve)}</td>` +
+    `<td>${e.g0 == null ? 'NaN' : e.g0.toExponential(2)}</td><td>${e.g1 == null ? 'NaN' : e.g1.toExponential(2)}</td></tr>`).join('');
+}
+
+export function reports(check, analyze) {
+  $('check').textContent = check.report + check.warnings.map((w) => `warning: ${w}\n`).join('');
+  const keys = ['area', 'volume', 'bending_energy', 'willmore', 'gauss_integral', 'mean_integral'];
+  const row = (name, v) => `<tr><td>${esc(name)}</td>${keys.map((k) => `<td>${v[k] == null ? '–' : Number(v[k]).toPrecision(6)}</td>`).join('')}</tr>`;
+  $('analyze').innerHTML = `<tr><th></th>${keys.map((k) => `<th>${k.replace('_integral', ' ∫').replace('_', ' ')}</th>`).join('')}</tr>` +
+    analyze.patches.map((p) => row(p.name, p)).join('') + row('total', analyze.total);
+}
