@@ -165,11 +165,45 @@ test('an example loads, and a circle becomes a B-spline to drag', async () => {
   });
   const scene = await page.evaluate(() => window.__pdeshape.state());
   assert.equal(scene.surfaces.length, 2);
-  assert.equal(scene.edges.length, 1);
+  assert.deepEqual(scene.shared_curves, ['belly']);
+  // The G0/G1 table follows once the reports are fetched.
+  await page.waitForFunction(() => document.getElementById('edges').textContent.includes('belly'));
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, 'cup.png') });
   const s = await shading();
   assert.ok(s.levels > 30);
+});
+
+test('curve and patch controls: translate, the a slider, a library curve', async () => {
+  const centroid = async (name) => page.evaluate((n) => window.__pdeshape.state().curves.find((c) => c.name === n).centroid, name);
+  const version = async () => page.evaluate(() => window.__pdeshape.state().version);
+  await page.selectOption('#curve', 'belly');
+  const z0 = (await centroid('belly'))[2];
+  let v = await version();
+  await page.fill('#tz', '0.25');
+  await page.click('#translate');
+  await page.waitForFunction((x) => window.__pdeshape.state().version > x, v);
+  assert.ok(Math.abs((await centroid('belly'))[2] - z0 - 0.25) < 1e-9);
+  // The a slider re-solves the selected patch.
+  v = await version();
+  await page.selectOption('#patch', 'bowl');
+  await page.fill('#a', '2');
+  await page.waitForFunction((x) => window.__pdeshape.state().version > x, v);
+  const op = await page.evaluate(() => window.__pdeshape.state().surfaces.find((s) => s.name === 'bowl').operator);
+  assert.equal(op.a, 2);
+  // A B-spline from the library.
+  v = await version();
+  await page.selectOption('#new-kind', 'bspline');
+  await page.fill('#new-name', 'lid');
+  await page.fill('#new-center', '0,0,3');
+  await page.click('#add-curve');
+  await page.waitForFunction(() => {
+    const c = window.__pdeshape.state().curves.find((x) => x.name === 'lid');
+    return c && c.control && c.control.length === 8;
+  });
+  assert.equal(await page.textContent('.err[data-for="add"]'), '');
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: path.join(shots, 'controls.png') });
 });
 
 test('the API refuses requests without the token', async () => {

@@ -12,7 +12,13 @@ the finite differences see, X + h dX/dn (first-order in h), and reports both err
 Timed: the `igl.harmonic` call (assembly, factorisation and solve for the three columns);
 reported: the median and minimum of the runs and the largest vertex error.
 
-Usage: python3 bench/peers/libigl_biharmonic.py [n] [runs]
+With --periodic: the patch periodic in v of benches/fd.rs, on [0, 1] x [0, 2 pi), with
+Y(u, v) = (e^u cos v, u e^{2u} sin 2v, u^3 - u^2 + cosh u cos v) (biharmonic for a = 1). The
+grid of n x n squares is wrapped around v into the cylinder of radius 1 (x, y) = (cos v, sin v),
+z = u: intrinsically the flat strip, so libigl's cotangent biharmonic is the same operator; the
+rings u = 0, h and u = 1 - h, 1 are fixed (exact, and from Y + h dY/du).
+
+Usage: python3 bench/peers/libigl_biharmonic.py [n] [runs] [--periodic]
 """
 import sys
 import time
@@ -83,9 +89,70 @@ def grid(n):
     return V, F, bidx
 
 
+def periodic_exact(u, v):
+    return np.stack(
+        [np.exp(u) * np.cos(v), u * np.exp(2 * u) * np.sin(2 * v),
+         u ** 3 - u * u + np.cosh(u) * np.cos(v)],
+        axis=1,
+    )
+
+
+def periodic_exact_u(u, v):
+    return np.stack(
+        [np.exp(u) * np.cos(v), (1 + 2 * u) * np.exp(2 * u) * np.sin(2 * v),
+         3 * u * u - 2 * u + np.sinh(u) * np.cos(v)],
+        axis=1,
+    )
+
+
+def periodic_main(n, runs):
+    """n intervals in u, n nodes around v; vertex (i, j) is i * n + j."""
+    u = np.repeat(np.arange(n + 1) / n, n)
+    v = np.tile(np.arange(n) * 2 * np.pi / n, n + 1)
+    V = np.stack([np.cos(v), np.sin(v), u], axis=1)
+    idx = np.arange((n + 1) * n).reshape(n + 1, n)
+    nxt = np.roll(idx, -1, axis=1)
+    a, b, c, d = idx[:-1].ravel(), idx[1:].ravel(), nxt[1:].ravel(), nxt[:-1].ravel()
+    F = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)]).astype(np.int64)
+    i = np.arange((n + 1) * n) // n
+    b_idx = np.nonzero(np.minimum(i, n - i) <= 1)[0].astype(np.int64)
+    truth = periodic_exact(u, v)
+    bc = truth[b_idx]
+    times = []
+    W = None
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        W = igl.harmonic(V, F, b_idx, bc, 2)
+        times.append(time.perf_counter() - t0)
+    err = np.max(np.linalg.norm(W - truth, axis=1))
+    # The second rings from the data the finite differences see: Y and dY/du at u = 0, 1.
+    bc2 = bc.copy()
+    h = 1.0 / n
+    ib = i[b_idx]
+    vb = v[b_idx]
+    first = ib == 1
+    last = ib == n - 1
+    bc2[first] = periodic_exact(np.zeros(first.sum()), vb[first]) + h * periodic_exact_u(
+        np.zeros(first.sum()), vb[first])
+    bc2[last] = periodic_exact(np.ones(last.sum()), vb[last]) - h * periodic_exact_u(
+        np.ones(last.sum()), vb[last])
+    W2 = igl.harmonic(V, F, b_idx, bc2, 2)
+    err2 = np.max(np.linalg.norm(W2 - truth, axis=1))
+    times.sort()
+    print(
+        f"libigl harmonic k=2 periodic {n}x{n} (cylinder): median {1e3 * times[len(times) // 2]:.1f} ms, "
+        f"min {1e3 * times[0]:.1f} ms, max vertex error {err:.3e} (exact second ring), "
+        f"{err2:.3e} (second ring from Y and dY/du)"
+    )
+
+
 def main():
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 256
-    runs = int(sys.argv[2]) if len(sys.argv) > 2 else 5
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    n = int(args[0]) if len(args) > 0 else 256
+    runs = int(args[1]) if len(args) > 1 else 5
+    if "--periodic" in sys.argv[1:]:
+        periodic_main(n, runs)
+        return
     V, F, b = grid(n)
     truth = exact(V[:, 0], V[:, 1])
     bc = truth[b]

@@ -73,7 +73,6 @@ export function fill(scene) {
   $('modes').value = scene.modes;
   curvePanel(scene);
   patchPanel(scene);
-  edges(scene);
   legend(scene);
 }
 
@@ -114,18 +113,19 @@ export function patchPanel(scene) {
   }
 }
 
-function edges(scene) {
+function edges(list) {
   const t = $('edges');
-  if (!scene.edges.length) {
+  if (!list.length) {
     t.innerHTML = '<tr><td>none (no position curve shared by two patches)</td></tr>';
     return;
   }
-  t.innerHTML = '<tr><th>edge</th><th>along</th><th>G0</th><th>G1 (rad)</th></tr>' + scene.edges.map((e) =>
+  t.innerHTML = '<tr><th>edge</th><th>along</th><th>G0</th><th>G1 (rad)</th></tr>' + list.map((e) =>
     `<tr><td>${esc(e.a)} u=${e.ua} | ${esc(e.b)} u=${e.ub}</td><td>${esc(e.curve)}</td>` +
     `<td>${e.g0 == null ? 'NaN' : e.g0.toExponential(2)}</td><td>${e.g1 == null ? 'NaN' : e.g1.toExponential(2)}</td></tr>`).join('');
 }
 
 export function reports(check, analyze) {
+  edges(check.edges);
   $('check').textContent = check.report + check.warnings.map((w) => `warning: ${w}\n`).join('');
   const keys = ['area', 'volume', 'bending_energy', 'willmore', 'gauss_integral', 'mean_integral'];
   const row = (name, v) => `<tr><td>${esc(name)}</td>${keys.map((k) => `<td>${v[k] == null ? '–' : Number(v[k]).toPrecision(6)}</td>`).join('')}</tr>`;

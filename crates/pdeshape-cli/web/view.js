@@ -202,7 +202,7 @@ export class View {
       if (closed && points.length > 2) line(points[points.length - 1], points[0], c);
     };
     // Curves along shared edges are drawn in the edge colour.
-    const edgeCurves = new Set(this.show.edges ? scene.edges.map((e) => e.curve) : []);
+    const edgeCurves = new Set(this.show.edges ? scene.shared_curves : []);
     if (this.show.curves) {
       for (const c of scene.curves) {
         if (!c.points.length) continue;

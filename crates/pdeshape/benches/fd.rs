@@ -2,9 +2,15 @@
 //! `[0, 1]²` with a manufactured biharmonic solution, clamped (X and the cross-boundary
 //! derivative on all four sides). Peer: `bench/peers/libigl_biharmonic.py` (same grid, same
 //! solution). Prints the largest node error once, then times assembly + factorisation + solve.
+//! Also the biharmonic patch periodic in `v` (issue 19), 256 × 256 on `[0, 1] × [0, 2π)`, by the
+//! FFT-banded solver and by the sparse reference; peer: the same script with `--periodic` (libigl
+//! on the cylinder mesh of the same grid).
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use pdeshape::fd::{solve_four_sided, FdSurface, FourSidedProblem};
+use pdeshape::fd::{
+    solve_four_sided, solve_periodic, solve_periodic_sparse, FdSurface, FourSidedProblem,
+    PeriodicProblem,
+};
 use pdeshape::Vec3;
 use std::time::Duration;
 
@@ -72,6 +78,57 @@ fn solve(n: usize) -> FdSurface {
     .expect("solves")
 }
 
+/// `Y = (eᵘ cos v, u e²ᵘ sin 2v, u³ − u² + cosh u cos v)`: periodic in `v`, each component
+/// biharmonic for `a = 1` (`eᵘ cos v` and `cosh u cos v` are harmonic, `u` times a harmonic
+/// function is biharmonic, and so is the cubic).
+fn periodic_exact(u: f64, v: f64) -> Vec3 {
+    Vec3::new(
+        u.exp() * v.cos(),
+        u * (2.0 * u).exp() * (2.0 * v).sin(),
+        u.powi(3) - u * u + u.cosh() * v.cos(),
+    )
+}
+fn periodic_exact_u(u: f64, v: f64) -> Vec3 {
+    Vec3::new(
+        u.exp() * v.cos(),
+        (1.0 + 2.0 * u) * (2.0 * u).exp() * (2.0 * v).sin(),
+        3.0 * u * u - 2.0 * u + u.sinh() * v.cos(),
+    )
+}
+
+type Solver = fn(&PeriodicProblem<'_>) -> pdeshape::Result<FdSurface>;
+
+fn solve_cylinder(n: usize, solver: Solver) -> FdSurface {
+    let (a0, a1) = (
+        |v: f64| periodic_exact(0.0, v),
+        |v: f64| periodic_exact_u(0.0, v),
+    );
+    let (b0, b1) = (
+        |v: f64| periodic_exact(1.0, v),
+        |v: f64| periodic_exact_u(1.0, v),
+    );
+    solver(&PeriodicProblem {
+        order: 2,
+        a: 1.0,
+        nu: n,
+        nv: n,
+        start: vec![&a0, &a1],
+        end: vec![&b0, &b1],
+        source: None,
+    })
+    .expect("solves")
+}
+
+fn periodic_error(s: &FdSurface) -> f64 {
+    let mut e: f64 = 0.0;
+    for i in 0..=s.nu() {
+        for j in 0..s.nodes_v() {
+            e = e.max((s.node(i, j) - periodic_exact(s.u_node(i), s.v_node(j))).norm());
+        }
+    }
+    e
+}
+
 fn max_error(s: &FdSurface) -> f64 {
     let mut e: f64 = 0.0;
     for i in 0..=s.nu() {
@@ -102,11 +159,25 @@ fn bench(c: &mut Criterion) {
         "fd laplace 256x256 (one Poisson-type solve): {:.1} ms per solve",
         t.elapsed().as_secs_f64() * 1e3 / runs as f64
     );
+    for n in [64, 128, 256] {
+        let s = solve_cylinder(n, solve_periodic);
+        println!(
+            "fd periodic biharmonic {n}x{n}: {} unknowns, max node error {:.3e}",
+            s.stats().unknowns,
+            periodic_error(&s)
+        );
+    }
     let mut g = c.benchmark_group("fd");
     g.sample_size(10);
     g.warm_up_time(Duration::from_secs(1));
     g.measurement_time(Duration::from_secs(10));
     g.bench_function("fd_biharmonic_256x256", |b| b.iter(|| solve(256)));
+    g.bench_function("fd_periodic_biharmonic_256x256_fft", |b| {
+        b.iter(|| solve_cylinder(256, solve_periodic))
+    });
+    g.bench_function("fd_periodic_biharmonic_256x256_sparse", |b| {
+        b.iter(|| solve_cylinder(256, solve_periodic_sparse))
+    });
     g.finish();
 }
 

@@ -14,7 +14,7 @@
 //! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
 //! | `POST /api/new` | a frame (the starting design) |
 //! | `GET /api/files` | `{"files": [...]}` |
-//! | `GET /api/check`, `GET /api/analyze` | the `check` report, the `analyze --json` numbers |
+//! | `GET /api/check`, `GET /api/analyze` | the `check` report with the G0/G1 of shared edges, the `analyze --json` numbers |
 //! | `GET /api/download?format=obj\|stl\|ply\|glb\|png&nu&nv&view&size` | the file |
 
 use super::assets;
@@ -447,8 +447,15 @@ async fn files(State(state): State<AppState>) -> Result<Response, ApiError> {
 }
 
 async fn check(State(state): State<AppState>) -> Result<Response, ApiError> {
-    let (text, warnings) = with_session(&state, |s| Ok(s.check())).await?;
-    Ok(axum::Json(serde_json::json!({ "report": text, "warnings": warnings })).into_response())
+    let (text, warnings, edges) = with_session(&state, |s| {
+        let (text, warnings) = s.check();
+        Ok((text, warnings, scene::edges(s.design().solved())))
+    })
+    .await?;
+    Ok(
+        axum::Json(serde_json::json!({ "report": text, "warnings": warnings, "edges": edges }))
+            .into_response(),
+    )
 }
 
 async fn analyze(State(state): State<AppState>) -> Result<Response, ApiError> {

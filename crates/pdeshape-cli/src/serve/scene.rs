@@ -1,6 +1,7 @@
 //! What the page draws, sent after every change: a JSON scene (curves, control points,
 //! derivative vectors, spines, `v = 0` marks, shared edges, patches and their operators) and the
-//! meshes in a compact binary frame.
+//! meshes in a compact binary frame. The G0/G1 of shared edges is measured on request
+//! ([`edges`]), not in every frame of a drag.
 //!
 //! Frame layout (little-endian): `b"PDSF"`, `u32` JSON length, the JSON (UTF-8) padded with
 //! spaces to a multiple of 4, `u32` surface count; then per surface `u32 nu, u32 nv, u32 flags`
@@ -155,6 +156,37 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             "spine": spine,
         }));
     }
+    // Curves shared as positions by two patches (their G0/G1 is measured on request: `edges`).
+    let mut shared: Vec<&str> = Vec::new();
+    for name in &position_curves {
+        let users = solved
+            .surfaces
+            .iter()
+            .filter(|s| {
+                s.conditions
+                    .iter()
+                    .any(|c| c.derivative == 0 && c.curve_name.as_deref() == Some(*name))
+            })
+            .count();
+        if users > 1 {
+            shared.push(name);
+        }
+    }
+    json!({
+        "title": solved.title,
+        "modes": spec.solver.modes,
+        "method": format!("{:?}", spec.solver.method).to_lowercase(),
+        "operator": operator_json(&spec.operator),
+        "has_patches": spec.patches.is_some(),
+        "curves": curves,
+        "vectors": vectors,
+        "surfaces": surfaces,
+        "shared_curves": shared,
+    })
+}
+
+/// The G0/G1 mismatch along every shared edge (measured by the library on 512 values of v).
+pub fn edges(solved: &SolvedDesign) -> Value {
     let edges: Vec<Value> = solved
         .edges()
         .iter()
@@ -168,17 +200,7 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             })
         })
         .collect();
-    json!({
-        "title": solved.title,
-        "modes": spec.solver.modes,
-        "method": format!("{:?}", spec.solver.method).to_lowercase(),
-        "operator": operator_json(&spec.operator),
-        "has_patches": spec.patches.is_some(),
-        "curves": curves,
-        "vectors": vectors,
-        "surfaces": surfaces,
-        "edges": edges,
-    })
+    Value::Array(edges)
 }
 
 fn num(x: f64) -> Value {

@@ -450,7 +450,7 @@ async fn save_and_load_round_trip() {
     let f = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
     assert_eq!(f.surfaces.len(), 2);
     assert_eq!(f.scene["file"], "examples/cup.toml");
-    assert_eq!(f.scene["edges"].as_array().unwrap().len(), 1);
+    assert_eq!(f.scene["shared_curves"], json!(["belly"]));
     // Make the belly a B-spline and drag one of its points; save; the file solves to the same
     // surfaces.
     let c = decode(
@@ -652,4 +652,155 @@ async fn reports_and_downloads() {
     let f = decode(&a);
     let range = f.scene["color_range"].as_array().unwrap();
     assert!(range[0].as_f64().unwrap() < range[1].as_f64().unwrap());
+}
+
+#[tokio::test]
+async fn transforms_sliders_and_library_curves() {
+    let dir = root();
+    let app = app(dir.path(), None);
+    let q = format!("/api/edit?{GRID}");
+    let before = decode(&send(&app, "GET", &format!("/api/frame?{GRID}"), None, &[]).await);
+    let p1 = curve(&before.scene, "rim")["control"][1].clone();
+    // Translate the rim (§6.1): its control points are drawn moved; the spec keeps them.
+    let t = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "transform", "name": "rim", "step": { "translate": [0.0, 0.0, 0.5] } } }),
+        )
+        .await,
+    );
+    let rim = curve(&t.scene, "rim");
+    assert_eq!(
+        rim["control"][1][2].as_f64().unwrap(),
+        p1[2].as_f64().unwrap() + 0.5
+    );
+    assert_eq!(rim["spec"]["control"][1], p1);
+    // A drag in world coordinates on the transformed curve lands where it was dropped.
+    let d = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "move_control_point", "name": "rim", "index": 1,
+                "point": [1.3, 0.0, 2.7] }, "world": true }),
+        )
+        .await,
+    );
+    let rim = curve(&d.scene, "rim");
+    assert_eq!(rim["control"][1], json!([1.3, 0.0, 2.7]));
+    assert_eq!(rim["spec"]["control"][1], json!([1.3, 0.0, 2.2]));
+    // A slider gesture of `a` is one undo step; each value re-solves.
+    let mut surfaces = Vec::new();
+    for a in [1.5, 2.0, 2.5] {
+        let f = decode(
+            &post(
+                &app,
+                &q,
+                json!({ "edit": { "edit": "set_smoothing", "patch": "body", "a": a }, "group": 42 }),
+            )
+            .await,
+        );
+        assert_eq!(f.scene["surfaces"][0]["operator"]["a"], a);
+        surfaces.push(f.surfaces[0].2.clone());
+    }
+    assert_ne!(surfaces[0], surfaces[2]);
+    let u = decode(&post(&app, &format!("/api/undo?{GRID}"), json!(null)).await);
+    assert_eq!(u.scene["surfaces"][0]["operator"]["a"], 1.0);
+    assert_eq!(u.surfaces[0].2, d.surfaces[0].2);
+    // The v = 0 point of a circle (§6.4) and the derivative scale s.
+    let mut base = curve(&u.scene, "base")["spec"].clone();
+    base["v_origin"] = json!(0.5);
+    let v = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "set_curve", "name": "base", "curve": base } }),
+        )
+        .await,
+    );
+    let mark = &curve(&v.scene, "base")["v0"]["point"];
+    assert!(
+        (mark[0].as_f64().unwrap() - 0.5f64.cos()).abs() < 1e-12,
+        "{mark}"
+    );
+    let mut tangent = curve(&v.scene, "rim_tangent")["spec"].clone();
+    assert_eq!(curve(&v.scene, "rim_tangent")["scale"], 1.0);
+    tangent["scale"] = json!(2.0);
+    let s = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "set_curve", "name": "rim_tangent", "curve": tangent } }),
+        )
+        .await,
+    );
+    assert_eq!(curve(&s.scene, "rim_tangent")["scale"], 2.0);
+    assert_ne!(s.surfaces[0].2, v.surfaces[0].2);
+    // A curve from the library made a B-spline, and a patch between two curves; then deleted.
+    decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "set_curve", "name": "top",
+        "curve": { "type": "circle", "center": [0.0, 0.0, 3.5], "radius": 0.5 } } }),
+        )
+        .await,
+    );
+    let c = decode(
+        &post(
+            &app,
+            &format!("/api/convert?{GRID}"),
+            json!({ "name": "top" }),
+        )
+        .await,
+    );
+    assert_eq!(curve(&c.scene, "top")["kind"], "bspline");
+    let patch = json!({ "name": "lid", "conditions": [
+        { "u": 0.0, "curve": "rim" },
+        { "u": 0.0, "derivative": 1, "curve": { "type": "derivative", "position": "rim", "direction": "top", "scale": 1.0 } },
+        { "u": 1.0, "curve": "top" },
+        { "u": 1.0, "derivative": 1, "curve": { "type": "derivative", "position": "rim", "direction": "top", "scale": 1.0 } },
+    ]});
+    let p = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "insert_patch", "index": 1, "patch": patch } }),
+        )
+        .await,
+    );
+    assert_eq!(p.surfaces.len(), 2);
+    assert_eq!(p.scene["shared_curves"], json!(["rim"]));
+    let r = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "remove_patch", "name": "lid" } }),
+        )
+        .await,
+    );
+    assert_eq!(r.surfaces.len(), 1);
+    assert_eq!(r.surfaces[0].2, s.surfaces[0].2);
+    // Deleting a curve a patch uses is refused with its place; an unused one goes.
+    let a = post(
+        &app,
+        &q,
+        json!({ "edit": { "edit": "set_curve", "name": "rim", "curve": null } }),
+    )
+    .await;
+    assert_eq!(a.status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert!(a.error().0.contains("rim"), "{:?}", a.error());
+    let g = decode(
+        &post(
+            &app,
+            &q,
+            json!({ "edit": { "edit": "set_curve", "name": "top", "curve": null } }),
+        )
+        .await,
+    );
+    assert!(g.scene["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|c| c["name"] != "top"));
 }

@@ -29,12 +29,16 @@
 //! `W = Δ_a X` on the boundary, which the Bloor–Wilson conditions do not give: they give `X` and
 //! `X_u`, a clamped plate, so `W` has no boundary condition of its own and the two solves are
 //! coupled through the boundary. The full `(2N+1)²`-point stencil with ghost nodes is solved
-//! as one sparse system instead (sparse LU with a fill-reducing column ordering, faer); the three
-//! components of `X` share that one factorisation.
+//! as one sparse system instead (sparse LU with a fill-reducing column ordering, faer, and one
+//! step of iterative refinement); the three components of `X` share that one factorisation.
+//! Periodic in `v`, the system is block circulant, and [`solve_periodic`] solves it by a real FFT
+//! in `v` and one banded solve per Fourier mode in `u` (module `periodic`), with the sparse form
+//! ([`solve_periodic_sparse`]) kept as its reference.
 //!
 //! The result ([`FdSurface`]) interpolates the node values by a bicubic spline (periodic in `v`
 //! where the grid is), so it meshes, renders and analyses like any [`Surface`].
 
+mod periodic;
 mod spine;
 mod spline;
 #[cfg(test)]
@@ -348,7 +352,22 @@ fn solve_system(layout: &Layout, rows: Vec<Row>) -> Result<(Vec<Vec3>, SystemSta
     let lu = a
         .sp_lu()
         .map_err(|e| Error::invalid(format!("the difference system is singular: {e:?}")))?;
+    let b = rhs.clone();
     lu.solve_in_place(rhs.as_mut());
+    // One step of iterative refinement: the residual in working precision, solved again with the
+    // same factors, brings the solution from `κ ε` of the data to about `ε` (for `κ ε ≪ 1`).
+    let mut r = b;
+    for t in &triplets {
+        for k in 0..3 {
+            r[(t.row, k)] -= t.val * rhs[(t.col, k)];
+        }
+    }
+    lu.solve_in_place(r.as_mut());
+    for k in 0..3 {
+        for i in 0..n {
+            rhs[(i, k)] += r[(i, k)];
+        }
+    }
     let mut x = Vec::with_capacity((layout.nu + 1) * layout.mv);
     for i in 0..=layout.nu {
         for j in 0..layout.mv {
@@ -413,8 +432,43 @@ fn pde_row(
     }
 }
 
-/// Solves a [`PeriodicProblem`].
+/// Solves a [`PeriodicProblem`]: a real FFT in `v` and one banded solve per Fourier mode in `u`
+/// (module `periodic`); the same discrete solution as the sparse system of
+/// [`solve_periodic_sparse`], to rounding, in a small fraction of its time.
 pub fn solve_periodic(p: &PeriodicProblem<'_>) -> Result<FdSurface> {
+    let layout = periodic_layout(p)?;
+    let x = periodic::solve_modes(p)?;
+    let hv = TAU / p.nv as f64;
+    // The size of the system the modes solve together (that of the sparse form).
+    let st = stencil(p.order, p.a, 1.0 / p.nu as f64, hv);
+    let mut distinct: Vec<(isize, isize)> = st
+        .iter()
+        .map(|e| (e.0, e.1.rem_euclid(p.nv as isize)))
+        .collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    let g = layout.gu;
+    let mut per_column = (p.nu - 1) * distinct.len();
+    for k in 0..=g {
+        let width = if k == 0 {
+            1
+        } else {
+            derivative_stencil(k, p.order == 3).len()
+        };
+        per_column += if k == 0 { 2 } else { 2 * width };
+    }
+    Ok(FdSurface {
+        spline: NodeSpline::new(x, p.nu, p.nv, true, 0.0, hv),
+        order: p.order,
+        a: p.a,
+        stats: SystemStats {
+            unknowns: layout.len(),
+            nonzeros: per_column * p.nv,
+        },
+    })
+}
+
+fn periodic_layout(p: &PeriodicProblem<'_>) -> Result<Layout> {
     let n = p.order;
     check_operator(n, p.a)?;
     check_intervals(p.nu, (2 * n).max(4), "nu")?;
@@ -429,6 +483,14 @@ pub fn solve_periodic(p: &PeriodicProblem<'_>) -> Result<FdSurface> {
         periodic: true,
     };
     check_size(&layout)?;
+    Ok(layout)
+}
+
+/// Solves a [`PeriodicProblem`] as one sparse system (sparse LU, faer): the reference that
+/// [`solve_periodic`] is tested against.
+pub fn solve_periodic_sparse(p: &PeriodicProblem<'_>) -> Result<FdSurface> {
+    let n = p.order;
+    let layout = periodic_layout(p)?;
     let hu = 1.0 / p.nu as f64;
     let hv = TAU / p.nv as f64;
     let st = stencil(n, p.a, hu, hv);

@@ -1,0 +1,78 @@
+// Latency of a drag in the real browser: from the pointer event to the new surface drawn (after
+// gl.finish()), for the cup and the wine glass at 64 × 128 per patch. Prints p50/p95 of the
+// whole, of the server's share (its own timing of re-solve + tessellation + frame) and of the
+// round trip; the browser's share is the rest (event handling, decode, upload, draw).
+// Usage: node latency.mjs [moves]   (a benchmark: not part of the tests)
+
+import { startDir, startServer, stopServer, launchBrowser, openPage, percentile } from './harness.mjs';
+
+const moves = Number(process.argv[2] || 150);
+const cases = [
+  { file: 'examples/cup.toml', curve: 'rim', index: 3 },
+  { file: 'examples/wine_glass.toml', curve: 'belly', index: 3 },
+];
+
+const dir = startDir();
+const server = await startServer(dir);
+const { context } = await launchBrowser();
+const { page } = await openPage(context, server.url);
+await page.evaluate(() => {
+  // Count the GPU's work in: the surface is drawn when gl.finish() returns.
+  const gl = window.__pdeshape.view.gl;
+  const perf = window.__pdeshape.perf;
+  const push = perf.latencies.push.bind(perf.latencies);
+  perf.latencies.push = (x) => { const t0 = performance.now() - x; gl.finish(); return push(performance.now() - t0); };
+});
+const rows = [];
+for (const c of cases) {
+  await page.selectOption('#files', c.file);
+  await page.click('#load');
+  await page.waitForFunction((f) => window.__pdeshape.state().file === f, c.file);
+  await page.selectOption('#curve', c.curve);
+  await page.click('#convert');
+  await page.waitForFunction((n) => {
+    const x = window.__pdeshape.state().curves.find((k) => k.name === n);
+    return x && x.control;
+  }, c.curve);
+  await page.waitForTimeout(1500);
+  await page.evaluate(() => {
+    const p = window.__pdeshape.perf;
+    p.latencies.length = 0; p.server.length = 0; p.roundTrips.length = 0;
+    p.sent = 0; p.coalesced = 0;
+  });
+  const [x, y] = await page.evaluate(([curve, index]) => {
+    const { view, state } = window.__pdeshape;
+    const p = state().curves.find((k) => k.name === curve).control[index];
+    const s = view.project(p);
+    const r = view.canvas.getBoundingClientRect();
+    return [s[0] + r.left, s[1] + r.top];
+  }, [c.curve, c.index]);
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let k = 1; k <= moves; k++) {
+    const a = (k / moves) * 2 * Math.PI;
+    await page.mouse.move(x + 40 * Math.sin(a), y - 25 * Math.sin(2 * a));
+    await page.waitForTimeout(16);
+  }
+  await page.mouse.up();
+  await page.waitForTimeout(500);
+  const p = await page.evaluate(() => window.__pdeshape.perf);
+  const s = await page.evaluate(() => window.__pdeshape.state());
+  const browser = p.latencies.map((l, i) => l - p.roundTrips[i]);
+  const vertices = s.surfaces.length * s.grid[0] * s.grid[1];
+  rows.push({
+    design: c.file, patches: s.surfaces.length, grid: s.grid.join('x'), vertices, moves,
+    requests: p.sent, coalesced: p.coalesced, frames: p.latencies.length,
+    p50: percentile(p.latencies, 50), p95: percentile(p.latencies, 95),
+    server_p50: percentile(p.server, 50), server_p95: percentile(p.server, 95),
+    roundtrip_p50: percentile(p.roundTrips, 50), roundtrip_p95: percentile(p.roundTrips, 95),
+    browser_p50: percentile(browser, 50), browser_p95: percentile(browser, 95),
+  });
+}
+await context.close();
+await stopServer(server);
+for (const r of rows) {
+  const f = (x) => x.toFixed(1);
+  console.log(`${r.design}: ${r.patches} patches ${r.grid}, ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);
+  console.log(`  pointer→drawn p50 ${f(r.p50)} ms p95 ${f(r.p95)} ms | server p50 ${f(r.server_p50)} p95 ${f(r.server_p95)} | round trip p50 ${f(r.roundtrip_p50)} p95 ${f(r.roundtrip_p95)} | browser p50 ${f(r.browser_p50)} p95 ${f(r.browser_p95)}`);
+}
