@@ -54,6 +54,8 @@ function run(area, call, onDrawn) {
       show(frame, onDrawn);
     } catch (e) {
       panels.showError(area, message(e));
+      // The controls show the design as it stands (the refused value is not kept).
+      if (scene) panels.fill(scene);
     }
   });
   return busy;
