@@ -54,6 +54,8 @@ function run(area, call, onDrawn) {
       show(frame, onDrawn);
     } catch (e) {
       panels.showError(area, message(e));
+      // The controls show the design as it stands (the refused value is not kept).
+      if (scene) panels.fill(scene);
     }
   });
   return busy;
@@ -177,8 +179,12 @@ const selectedCurve = () => $('curve').value;
 const selectedPatch = () => $('patch').value;
 const patchRef = () => (scene && scene.has_patches ? selectedPatch() : null);
 
+// The centre of rotations and scalings: the picked control point of the curve, else the
+// curve's centroid.
 function curveCentre() {
   const c = scene.curves.find((x) => x.name === selectedCurve());
+  const sel = view.selected;
+  if (c && c.control && sel && sel.curve === c.name && c.control[sel.index]) return c.control[sel.index];
   return (c && c.centroid) || [0, 0, 0];
 }
 

@@ -35,6 +35,12 @@ pub struct Args {
     pub open: bool,
 }
 
+/// A line on stderr; a closed stderr is ignored (the server goes on).
+fn note(text: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{text}");
+}
+
 /// A fresh random token (128 bits from the operating system's generator, hex).
 fn new_token() -> String {
     use rand::RngCore;
@@ -67,10 +73,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     };
     if !ip.is_loopback() {
-        eprintln!(
+        note(&format!(
             "warning: listening on {ip}, not on loopback: other machines can reach the designer \
              (every request still needs the token in the printed URL)"
-        );
+        ));
     }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -105,17 +111,19 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             port,
             host_name,
         };
-        println!("pdeshape designer: {url}");
-        println!("(Ctrl-C stops it)");
+        // A closed stdout (`pdeshape serve | head -1`) must not stop the server.
+        crate::common::print_stdout(&format!("pdeshape designer: {url}\n(Ctrl-C stops it)\n"));
         if args.open {
             if let Err(e) = std::process::Command::new("xdg-open").arg(&url).spawn() {
-                eprintln!("warning: --open: cannot start a browser ({e}); open the URL above");
+                note(&format!(
+                    "warning: --open: cannot start a browser ({e}); open the URL above"
+                ));
             }
         }
         axum::serve(listener, http::router(state))
             .with_graceful_shutdown(async {
                 let _ = tokio::signal::ctrl_c().await;
-                eprintln!("stopping");
+                note("stopping");
             })
             .await
             .map_err(|e| CliError::input(format!("the server stopped: {e}")))
