@@ -64,7 +64,7 @@ impl LocalEdit {
             }
             (from, to - from)
         };
-        if !(len > 1e-9) || (periodic && from == to) {
+        if len.is_nan() || len <= 1e-9 || (periodic && from == to) {
             return Err(Error::invalid("the interval from `from` to `to` is empty").at("to"));
         }
         let t3 = match at {
@@ -108,7 +108,7 @@ impl LocalEdit {
         let x3 = edit.base.point(v1 + t3);
         let chord = x2 - x1;
         let [along, across, normal] = displacement;
-        if !(chord.norm() > 0.0) {
+        if chord.norm().is_nan() || chord.norm() <= 0.0 {
             return Err(Error::invalid("the points X1 and X2 coincide: no direction e1").at("to"));
         }
         let e1 = chord.normalize();

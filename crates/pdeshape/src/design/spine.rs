@@ -249,7 +249,8 @@ impl SpineEdited {
                 let u = k as f64 / FRAME_STEPS as f64;
                 let (jo, jn) = (old_jet(&base, u), bezier_jet(&spine, u));
                 for (j, which) in [(&jo, "solved"), (&jn, "new")] {
-                    if !(j[1].norm() > tiny) {
+                    let speed = j[1].norm();
+                    if speed.is_nan() || speed <= tiny {
                         return Err(Error::invalid(format!(
                             "the {which} spine has no tangent at u = {u} (speed {:.3e}): the \
                              sections cannot turn with it; use carry = \"translate\"",

@@ -169,10 +169,11 @@ pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
                 }
             }
         }
-        CurveKind::Local { curve, .. } => {
-            if let CurveRef::Inline(inner) = curve {
-                check_curve(inner, &format!("{place}.curve"))?;
-            }
+        CurveKind::Local {
+            curve: CurveRef::Inline(inner),
+            ..
+        } => {
+            check_curve(inner, &format!("{place}.curve"))?;
         }
         _ => {}
     }
