@@ -153,7 +153,7 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
                 let _ = writeln!(s, "surface {i} '{}': {}", patch.name, patch.kind.word());
                 continue;
             }
-            SurfaceKind::Pde(_) | SurfaceKind::Fd(_) => {}
+            SurfaceKind::Pde(_) | SurfaceKind::Fd(_) | SurfaceKind::SpineEdited(_) => {}
         }
         let conds = &patch.conditions;
         let _ = writeln!(s, "patch {i} '{}':", patch.name);
@@ -175,6 +175,7 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
                 c.kind
             );
         }
+        spine_lines(&mut s, patch);
         let errors: Vec<(f64, usize, f64, f64)> = match patch.pde() {
             Some(pde) => {
                 let _ = writeln!(s, "  modes:");
@@ -274,4 +275,42 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     text.push_str("OK\n");
     common::print_stdout(&text);
     Ok(())
+}
+
+/// The spine of a PDE patch (§5.3): its Bézier control points, the Hermite form of a cubic
+/// spine, and the `[[spine]]` edit if there is one.
+fn spine_lines(s: &mut String, patch: &pdeshape::design::DesignSurface) {
+    let Some(r) = patch.spine_report() else {
+        return;
+    };
+    let pt = |p: &pdeshape::Vec3| format!("({:.6}, {:.6}, {:.6})", p.x, p.y, p.z);
+    let list = |ps: &[pdeshape::Vec3]| ps.iter().map(pt).collect::<Vec<_>>().join(" ");
+    let degree = r.solved.len().saturating_sub(1);
+    let _ = writeln!(
+        s,
+        "  spine A0 (Bézier, degree {degree}): {}",
+        list(&r.solved)
+    );
+    if degree == 3 {
+        let [p0, p1, p2, p3] = [r.solved[0], r.solved[1], r.solved[2], r.solved[3]];
+        let _ = writeln!(
+            s,
+            "    Hermite form: p0 = {}  p1 = {}  d0 = {}  d1 = {}",
+            pt(&p0),
+            pt(&p3),
+            pt(&((p1 - p0) * 3.0)),
+            pt(&((p3 - p2) * 3.0))
+        );
+    }
+    if let Some((carry, control)) = &r.edited {
+        let _ = writeln!(
+            s,
+            "  spine edit ({}): {}",
+            match carry {
+                pdeshape::spec::SpineCarry::Frame => "sections turn with the spine's frame",
+                pdeshape::spec::SpineCarry::Translate => "sections translated",
+            },
+            list(control)
+        );
+    }
 }

@@ -484,6 +484,7 @@ fn empty_design() -> DesignSpec {
         optimize: None,
         blend: None,
         spline: None,
+        spine: Vec::new(),
     }
 }
 
@@ -1043,6 +1044,7 @@ impl Gen {
             optimize: self.opt(Self::optimize),
             blend: self.opt(Self::blend),
             spline: self.opt(Self::spline),
+            spine: Vec::new(),
         }
     }
 }

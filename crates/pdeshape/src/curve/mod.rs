@@ -10,6 +10,7 @@ mod bspline;
 mod conic;
 mod formula;
 mod hermite;
+mod local;
 mod samples;
 mod series;
 mod taylor;
@@ -23,6 +24,7 @@ pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
 pub use formula::Formula;
 pub use hermite::Hermite;
+pub use local::LocalEdit;
 pub use samples::{PointSamples, SampleParam};
 pub use transform::{Affine, Combination, OriginShift, Transformed};
 

@@ -68,6 +68,8 @@ pub struct CompiledDesign {
     parametric: Vec<(ParametricSpec, Arc<crate::surface::ParametricSurface>)>,
     blend: Option<(BlendSpec, Vec<usize>, SurfaceKind)>,
     spline: Option<(SplineSpec, SurfaceKind)>,
+    /// `[[spine]]` edits with the identity of the patch each was applied to.
+    spines: Vec<(crate::spec::SpineSpec, usize, SurfaceKind)>,
     meshes: MeshCache,
 }
 
@@ -92,6 +94,7 @@ pub fn compile(spec: &DesignSpec) -> Result<CompiledDesign> {
         parametric: Vec::new(),
         blend: None,
         spline: None,
+        spines: Vec::new(),
         meshes: MeshCache::default(),
     };
     d.rebuild(spec.clone())?;
@@ -201,6 +204,15 @@ impl CompiledDesign {
             });
         }
 
+        // [[spine]]: edited patches replace their solved ones (before anything refers to them).
+        let mut spines = self.spines.clone();
+        super::spine::apply_spines(
+            &spec.spine,
+            &mut surfaces,
+            spec.patches.is_none(),
+            &mut spines,
+        )?;
+
         // [[parametric]]: rebuilt only if the table changed.
         let mut parametric = Vec::with_capacity(spec.parametric.len());
         for (i, p) in spec.parametric.iter().enumerate() {
@@ -297,6 +309,7 @@ impl CompiledDesign {
         self.parametric = parametric;
         self.blend = blend;
         self.spline = spline;
+        self.spines = spines;
         self.spec = spec;
         Ok(())
     }

@@ -5,7 +5,7 @@ use super::solved::NamedCurve;
 use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
 use crate::curve::{
     Affine, ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries,
-    Hermite, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
+    Hermite, LocalEdit, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
 };
 use crate::spec::*;
 use crate::{Error, Result, Vec3};
@@ -200,6 +200,21 @@ impl<'a> CurveBuilder<'a> {
                 }
                 // X_u = s (d − p): points from the position curve towards the direction curve.
                 Arc::new(Combination::new(vec![(*scale, d), (-*scale, p)]).map_err(at)?)
+            }
+            CurveKind::Local {
+                curve,
+                from,
+                to,
+                at: handle,
+                along,
+                across,
+                normal,
+            } => {
+                let base = self.reference(curve, &format!("{place}.curve"))?;
+                Arc::new(
+                    LocalEdit::new(base, *from, *to, *handle, [*along, *across, *normal])
+                        .map_err(at)?,
+                )
             }
         };
         if spec.arc_length {

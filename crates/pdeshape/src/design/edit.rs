@@ -81,6 +81,30 @@ pub enum Edit {
     InsertPatch { index: usize, patch: PatchSpec },
     /// Removes the named patch.
     RemovePatch { name: String },
+    /// Sets the `[[spine]]` edit of a patch (§5.3): replaces its table, adds one, or removes
+    /// it (`None`).
+    SetSpine {
+        #[serde(default)]
+        patch: PatchRef,
+        spine: Option<crate::spec::SpineSpec>,
+    },
+    /// Replaces every `[[spine]]` table (the undo of a removed one keeps the order).
+    SetSpines { spines: Vec<crate::spec::SpineSpec> },
+    /// A local edit of the named curve between `from` and `to` (§6.2): the curve becomes a
+    /// `local` curve around its old table, so everything that refers to it follows.
+    LocalEdit {
+        name: String,
+        from: f64,
+        to: f64,
+        #[serde(default)]
+        at: Option<f64>,
+        #[serde(default)]
+        along: f64,
+        #[serde(default)]
+        across: f64,
+        #[serde(default)]
+        normal: f64,
+    },
 }
 
 fn no_patch(name: &str) -> Error {
@@ -324,6 +348,40 @@ impl Edit {
                 let old = patches.remove(index);
                 Ok(Edit::InsertPatch { index, patch: old })
             }
+            Edit::SetSpine { patch, spine } => super::spine::set_spine(spec, patch, spine),
+            Edit::LocalEdit {
+                name,
+                from,
+                to,
+                at,
+                along,
+                across,
+                normal,
+            } => {
+                let c = curve_mut(spec, name)?;
+                let old = c.clone();
+                *c = CurveSpec {
+                    kind: CurveKind::Local {
+                        curve: crate::spec::CurveRef::Inline(Box::new(old.clone())),
+                        from: *from,
+                        to: *to,
+                        at: *at,
+                        along: *along,
+                        across: *across,
+                        normal: *normal,
+                    },
+                    transform: Vec::new(),
+                    v_origin: 0.0,
+                    arc_length: false,
+                };
+                Ok(Edit::SetCurve {
+                    name: name.clone(),
+                    curve: Some(old),
+                })
+            }
+            Edit::SetSpines { spines } => Ok(Edit::SetSpines {
+                spines: std::mem::replace(&mut spec.spine, spines.clone()),
+            }),
         }
     }
 }

@@ -18,6 +18,7 @@ mod edit;
 mod fd;
 mod parametric;
 mod solved;
+mod spine;
 mod spline;
 mod validate;
 
@@ -32,8 +33,13 @@ pub use solved::{
     curve_polyline, grid, ConditionInfo, DesignSurface, NamedCurve, SharedEdge, SolvedDesign,
     SurfaceKind,
 };
+pub use spine::{spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport};
 pub use spline::{build_problem, solve_spec, SolvedSpline};
 pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_local;
+#[cfg(test)]
+mod tests_spine;

@@ -70,6 +70,8 @@ pub enum SurfaceKind {
     Blend(Arc<Blend>),
     /// The `[spline]` net, as solved (maybe exact) and in `f64`.
     Spline(Arc<SolvedSpline>, Arc<SplineNet<f64>>),
+    /// An analytic PDE patch whose spine a `[[spine]]` table replaced (§5.3).
+    SpineEdited(Arc<super::spine::SpineEdited>),
 }
 
 impl SurfaceKind {
@@ -81,6 +83,7 @@ impl SurfaceKind {
             SurfaceKind::Parametric(s) => &**s,
             SurfaceKind::Blend(b) => &b.surface,
             SurfaceKind::Spline(_, n) => &**n,
+            SurfaceKind::SpineEdited(s) => &**s,
         }
     }
 
@@ -92,6 +95,7 @@ impl SurfaceKind {
             SurfaceKind::Parametric(_) => "parametric surface",
             SurfaceKind::Blend(_) => "blend (BFS smoothing spline)",
             SurfaceKind::Spline(..) => "spline PDE surface",
+            SurfaceKind::SpineEdited(_) => "PDE patch (analytic) with an edited spine",
         }
     }
 
@@ -103,6 +107,7 @@ impl SurfaceKind {
             SurfaceKind::Parametric(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Blend(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Spline(_, n) => Arc::as_ptr(n) as usize,
+            SurfaceKind::SpineEdited(s) => Arc::as_ptr(s) as usize,
         }
     }
 }
@@ -145,7 +150,10 @@ impl DesignSurface {
 
     /// True for the surfaces of PDE conditions (analytic or finite differences).
     pub fn is_patch(&self) -> bool {
-        matches!(self.kind, SurfaceKind::Pde(_) | SurfaceKind::Fd(_))
+        matches!(
+            self.kind,
+            SurfaceKind::Pde(_) | SurfaceKind::Fd(_) | SurfaceKind::SpineEdited(_)
+        )
     }
 }
 

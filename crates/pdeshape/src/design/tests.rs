@@ -351,12 +351,13 @@ fn the_schema_is_json_and_lists_the_curve_kinds() {
         "formula",
         "derivative",
         "samples",
+        "local",
     ] {
         assert!(s.contains(&format!("\"{kind}\"")), "{kind}");
     }
     // The common modifiers are part of every curve kind.
     let variants = v["definitions"]["CurveSpec"]["oneOf"].as_array().unwrap();
-    assert_eq!(variants.len(), 10);
+    assert_eq!(variants.len(), 11);
     for variant in variants {
         assert!(variant["properties"]["transform"].is_object());
         assert!(variant["properties"]["v_origin"].is_object());

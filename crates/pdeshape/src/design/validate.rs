@@ -49,6 +49,7 @@ pub(crate) fn kind_name(kind: &CurveKind) -> &'static str {
         CurveKind::Samples { .. } => "samples",
         CurveKind::Formula { .. } => "formula",
         CurveKind::Derivative { .. } => "derivative",
+        CurveKind::Local { .. } => "local",
     }
 }
 
@@ -168,6 +169,12 @@ pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
                 }
             }
         }
+        CurveKind::Local {
+            curve: CurveRef::Inline(inner),
+            ..
+        } => {
+            check_curve(inner, &format!("{place}.curve"))?;
+        }
         _ => {}
     }
     for (i, step) in c.transform.iter().enumerate() {
@@ -205,6 +212,12 @@ pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
 
 /// Names of the curves a curve refers to, with the place of each reference.
 pub(crate) fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)>) {
+    if let CurveKind::Local { curve, .. } = &c.kind {
+        match curve {
+            CurveRef::Name(n) => out.push((n.as_str(), format!("{place}.curve"))),
+            CurveRef::Inline(inner) => references(inner, &format!("{place}.curve"), out),
+        }
+    }
     if let CurveKind::Derivative {
         position,
         direction,
@@ -302,6 +315,12 @@ fn is_periodic(c: &CurveSpec, curves: &BTreeMap<String, CurveSpec>, depth: usize
         CurveKind::BSpline { periodic, .. } => *periodic,
         CurveKind::Bezier { .. } | CurveKind::Hermite { .. } => false,
         CurveKind::Formula { domain, .. } => *domain == DomainSpec::Periodic,
+        CurveKind::Local { curve, .. } => match curve {
+            CurveRef::Name(n) => curves
+                .get(n)
+                .is_some_and(|p| is_periodic(p, curves, depth + 1)),
+            CurveRef::Inline(p) => is_periodic(p, curves, depth + 1),
+        },
         CurveKind::Derivative { position, .. } => match position {
             CurveRef::Name(n) => curves
                 .get(n)

@@ -15,6 +15,7 @@ mod dynamic;
 mod locate;
 mod optimize;
 mod parametric;
+mod spine;
 mod spline;
 mod types;
 mod write;
@@ -24,6 +25,7 @@ pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
 pub use locate::{describe_error, key_path, locate};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
+pub use spine::{SpineCarry, SpineHermite, SpineMove, SpineSpec};
 pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,

@@ -72,6 +72,9 @@ pub struct DesignSpec {
     /// `pdeshape spline`; such a design needs no conditions).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spline: Option<super::spline::SplineSpec>,
+    /// Edits of the spines of PDE patches (`[[spine]]`, §5.3), at most one per patch.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub spine: Vec<super::spine::SpineSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
@@ -586,6 +589,28 @@ pub enum CurveKind {
         direction: CurveRef,
         #[serde(default = "default_a")]
         scale: f64,
+    },
+    /// A local edit of another curve (§6.2): `curve` unchanged outside `from < v < to` (on a
+    /// periodic curve `to < from` is the interval across v = 0), a cubic B-spline bump inside
+    /// that moves the handle `X₃ = C(at)` (default the middle) by `along` (from `X₁ = C(from)`
+    /// towards `X₂ = C(to)`), `across` (in the plane of `X₁X₂X₃`, towards `X₃`) and `normal`
+    /// (perpendicular to that plane).
+    #[serde(rename = "local")]
+    Local {
+        curve: CurveRef,
+        from: f64,
+        to: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        at: Option<f64>,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
+        along: f64,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
+        across: f64,
+        #[serde(default, skip_serializing_if = "is_zero")]
+        #[schemars(skip_serializing_if = "never")]
+        normal: f64,
     },
 }
 

@@ -393,7 +393,7 @@ const SECTIONS: [&str; 7] = [
     "operator", "solver", "output", "dynamic", "optimize", "blend", "spline",
 ];
 /// Top-level arrays written as `[[name]]` tables.
-const ARRAYS_OF_TABLES: [&str; 2] = ["patches", "parametric"];
+const ARRAYS_OF_TABLES: [&str; 3] = ["patches", "parametric", "spine"];
 /// Sub-tables of sections written as `[section.key]` tables.
 const SUBSECTIONS: [(&str, &str); 5] = [
     ("dynamic", "x"),

@@ -1,0 +1,277 @@
+//! Local edits of a curve (book §6.2): a B-spline perturbation between two points.
+
+use super::{reduce_periodic, Curve, Domain, SharedCurve};
+use crate::{Error, Result, Vec3};
+
+/// A curve changed only between the parameters `v₁ < v₂` (book §6.2, Eqs. 6.1–6.2):
+/// `C̃(v) = C(v) + δ(v)` for `v₁ < v < v₂` and `C̃(v) = C(v)`, the very same values, elsewhere.
+///
+/// The perturbation is one cubic B-spline, `δ(v) = d · N(v)/N(v₃)`, where `N` is the cubic
+/// B-spline basis function on the five simple knots `v₁, (v₁ + v₃)/2, v₃, (v₃ + v₂)/2, v₂` and
+/// `v₃ ∈ (v₁, v₂)` the parameter of the handle `X₃ = C(v₃)`: the handle moves by exactly `d`,
+/// and `N` is C² at every knot, so the edited curve joins the original at `X₁ = C(v₁)` and
+/// `X₂ = C(v₂)` with equal position, tangent and second derivative (C², wherever the original
+/// curve is C²). The book's construction (triple control points at the neighbours of `X₁`, `X₂`)
+/// reaches C¹ only.
+///
+/// The displacement is given in the frame of the three points (the book moves `X₃` in the plane
+/// of `X₁X₂X₃` or perpendicular to it): `d = along·e₁ + across·e₂ + normal·e₃` with
+/// `e₁ = (X₂ − X₁)/|X₂ − X₁|`, `e₃ = e₁ × (X₃ − X₁)` normalised, `e₂ = e₃ × e₁` (towards `X₃`).
+///
+/// On a periodic curve `v₂ < v₁` means the interval that crosses `v = 0` (`v₂ + 2π`).
+#[derive(Clone, Debug)]
+pub struct LocalEdit {
+    base: SharedCurve,
+    /// `v₁`, and the knots relative to it (`t₀ = 0 < t₁ < t₂ < t₃ < t₄ = v₂ − v₁`).
+    v1: f64,
+    knots: [f64; 5],
+    /// `1/ω'(tᵢ) = 1/Π_{j≠i}(tᵢ − tⱼ)`, times `t₄ − t₀` and the scale of `d / N(v₃)`.
+    weights: [f64; 5],
+    offset: Vec3,
+    periodic: bool,
+}
+
+impl LocalEdit {
+    /// `from = v₁`, `to = v₂`, `at = v₃` (default the midpoint) and the handle's displacement
+    /// `[along, across, normal]`. Errors are placed at the keys of a `local` curve table.
+    pub fn new(
+        base: SharedCurve,
+        from: f64,
+        to: f64,
+        at: Option<f64>,
+        displacement: [f64; 3],
+    ) -> Result<Self> {
+        for (v, name) in [(from, "from"), (to, "to")] {
+            crate::check::finite(v, name)?;
+        }
+        for (v, name) in displacement.iter().zip(["along", "across", "normal"]) {
+            crate::check::finite(*v, name)?;
+        }
+        let periodic = base.domain() == Domain::Periodic;
+        let (v1, len) = if periodic {
+            let (a, b) = (reduce_periodic(from), reduce_periodic(to));
+            let len = if b > a { b - a } else { b + crate::TAU - a };
+            (a, len)
+        } else {
+            let Domain::Interval(lo, hi) = base.domain() else {
+                unreachable!()
+            };
+            if !(lo <= from && from < to && to <= hi) {
+                return Err(Error::invalid(format!(
+                    "needs {lo} ≤ from < to ≤ {hi} (got from = {from}, to = {to})"
+                ))
+                .at("to"));
+            }
+            (from, to - from)
+        };
+        if len.is_nan() || len <= 1e-9 || (periodic && from == to) {
+            return Err(Error::invalid("the interval from `from` to `to` is empty").at("to"));
+        }
+        let t3 = match at {
+            None => 0.5 * len,
+            Some(v) => {
+                crate::check::finite(v, "at")?;
+                let s = if periodic {
+                    reduce_periodic(v - v1)
+                } else {
+                    v - v1
+                };
+                if !(s > 0.0 && s < len) {
+                    return Err(Error::invalid(format!(
+                        "must lie strictly between from = {from} and to = {to} (got {v})"
+                    ))
+                    .at("at"));
+                }
+                s
+            }
+        };
+        let knots = [0.0, 0.5 * t3, t3, 0.5 * (t3 + len), len];
+        let mut weights = [0.0; 5];
+        for (i, w) in weights.iter_mut().enumerate() {
+            let prod: f64 = (0..5)
+                .filter(|&j| j != i)
+                .map(|j| knots[i] - knots[j])
+                .product();
+            *w = len / prod;
+        }
+        let mut edit = LocalEdit {
+            base,
+            v1,
+            knots,
+            weights,
+            offset: Vec3::zeros(),
+            periodic,
+        };
+        // The frame of X₁, X₂, X₃.
+        let x1 = edit.base.point(v1);
+        let x2 = edit.base.point(v1 + len);
+        let x3 = edit.base.point(v1 + t3);
+        let chord = x2 - x1;
+        let [along, across, normal] = displacement;
+        if chord.norm().is_nan() || chord.norm() <= 0.0 {
+            return Err(Error::invalid("the points X1 and X2 coincide: no direction e1").at("to"));
+        }
+        let e1 = chord.normalize();
+        let n = e1.cross(&(x3 - x1));
+        let (e2, e3) = if n.norm() > 1e-12 * (x3 - x1).norm().max(chord.norm()) {
+            let e3 = n.normalize();
+            (e3.cross(&e1), e3)
+        } else if across == 0.0 && normal == 0.0 {
+            (Vec3::zeros(), Vec3::zeros())
+        } else {
+            return Err(Error::invalid(
+                "X1, X2 and X3 are collinear: no plane for `across` and `normal`",
+            )
+            .at("at"));
+        };
+        let peak = edit.bump(t3, 0);
+        edit.offset = (e1 * along + e2 * across + e3 * normal) / peak;
+        Ok(edit)
+    }
+
+    /// `v₁` and `v₂` (on a periodic curve `v₂` may exceed 2π).
+    pub fn interval(&self) -> (f64, f64) {
+        (self.v1, self.v1 + self.knots[4])
+    }
+
+    /// `dᵏN/dsᵏ (s)` (times `t₄ − t₀`) at `s = v − v₁ ∈ (t₀, t₄)`, from the truncated powers on
+    /// the nearer side, so the value near either end is a single small term (no cancellation).
+    fn bump(&self, s: f64, k: usize) -> f64 {
+        if k > 3 {
+            return 0.0;
+        }
+        let fall = [1.0, 3.0, 6.0, 6.0][k];
+        let mut sum = 0.0;
+        if s < self.knots[2] {
+            for i in 0..5 {
+                if self.knots[i] < s {
+                    sum += self.weights[i] * fall * (s - self.knots[i]).powi(3 - k as i32);
+                }
+            }
+        } else {
+            let sign = if k % 2 == 1 { -1.0 } else { 1.0 };
+            for i in 0..5 {
+                if self.knots[i] > s {
+                    sum += sign * self.weights[i] * fall * (self.knots[i] - s).powi(3 - k as i32);
+                }
+            }
+        }
+        sum
+    }
+
+    /// `v − v₁` if `v` lies strictly inside the edited interval.
+    fn inside(&self, t: f64) -> Option<f64> {
+        let s = if self.periodic {
+            reduce_periodic(t - self.v1)
+        } else {
+            t - self.v1
+        };
+        (s > 0.0 && s < self.knots[4]).then_some(s)
+    }
+}
+
+impl Curve for LocalEdit {
+    fn domain(&self) -> Domain {
+        self.base.domain()
+    }
+
+    fn jet(&self, t: f64, out: &mut [Vec3]) {
+        self.base.jet(t, out);
+        if let Some(s) = self.inside(t) {
+            for (k, o) in out.iter_mut().enumerate() {
+                *o += self.offset * self.bump(s, k);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve::{BSpline, Ellipse};
+    use std::sync::Arc;
+
+    fn rim() -> SharedCurve {
+        Arc::new(Ellipse::circle(Vec3::new(0.0, 0.0, 2.0), 1.5, Vec3::z()).unwrap())
+    }
+
+    /// Outside `[v₁, v₂]` the edited curve is the original bit for bit; the handle moves by
+    /// exactly the displacement; at `X₁` and `X₂` value, tangent and second derivative are
+    /// continuous (one-sided limits agree to rounding), the third is not (C², not C³).
+    #[test]
+    fn local_edit_is_local_and_c2_at_the_ends() {
+        let periodic: SharedCurve = Arc::new(
+            BSpline::periodic(
+                3,
+                (0..8)
+                    .map(|k| {
+                        let a = crate::TAU * k as f64 / 8.0;
+                        Vec3::new(
+                            a.cos() * (1.0 + 0.2 * (k % 2) as f64),
+                            a.sin(),
+                            0.1 * k as f64,
+                        )
+                    })
+                    .collect(),
+                None,
+            )
+            .unwrap(),
+        );
+        // Plain, wrapping across v = 0, and with the handle off-centre.
+        for (base, from, to, at) in [
+            (rim(), 1.0, 2.2, None),
+            (rim(), 5.8, 0.7, Some(0.2)),
+            (periodic.clone(), 2.0, 3.5, Some(2.4)),
+        ] {
+            let e = LocalEdit::new(base.clone(), from, to, at, [0.1, 0.3, -0.2]).unwrap();
+            let (v1, v2) = e.interval();
+            // Bit for bit outside.
+            for k in 0..4000 {
+                let v = crate::TAU * k as f64 / 4000.0;
+                if e.inside(v).is_none() {
+                    let (mut a, mut b) = ([Vec3::zeros(); 4], [Vec3::zeros(); 4]);
+                    base.jet(v, &mut a);
+                    e.jet(v, &mut b);
+                    assert!(a.iter().zip(&b).all(|(x, y)| x
+                        .iter()
+                        .zip(y.iter())
+                        .all(|(p, q)| p.to_bits() == q.to_bits())));
+                }
+            }
+            // The handle.
+            let v3 = at.unwrap_or(0.5 * (v1 + v2));
+            let moved = e.point(v3) - base.point(v3);
+            assert!((moved.norm() - (0.1f64 * 0.1 + 0.09 + 0.04).sqrt()).abs() < 1e-14);
+            assert!(moved.norm() > 0.3);
+            // Continuity at both ends: the jump between one-sided limits at distance h shrinks
+            // like h^(3−k) for the k-th derivative.
+            for end in [v1, v2] {
+                for k in 0..3 {
+                    let h = 1e-6;
+                    let jump = (e.derivative(end + h, k) - e.derivative(end - h, k)).norm();
+                    let base_jump =
+                        (base.derivative(end + h, k) - base.derivative(end - h, k)).norm();
+                    // |δ⁽ᵏ⁾(h)| ≤ |d/N(v₃)| Σ|wᵢ| 3!/(3−k)! h^(3−k) on the edited side.
+                    let w: f64 = e.weights.iter().map(|w| w.abs()).sum();
+                    let bound =
+                        e.offset.norm() * w * 6.0 * h.powi(3 - k as i32) + base_jump + 1e-12;
+                    assert!(jump <= bound, "end {end}, derivative {k}: jump {jump}");
+                }
+                let h = 1e-6;
+                let j3 = (e.derivative(end + h, 3) - e.derivative(end - h, 3)).norm();
+                let b3 = (base.derivative(end + h, 3) - base.derivative(end - h, 3)).norm();
+                assert!(j3 > b3 + 1e-3, "the third derivative should jump at {end}");
+            }
+        }
+    }
+
+    #[test]
+    fn bad_local_edits_are_refused_with_their_place() {
+        let e = LocalEdit::new(rim(), 1.0, 2.0, Some(3.0), [0.0, 0.1, 0.0]).unwrap_err();
+        assert_eq!(e.place(), "at");
+        let e = LocalEdit::new(rim(), 1.0, 1.0, None, [0.0, 0.1, 0.0]).unwrap_err();
+        assert_eq!(e.place(), "to");
+        let e = LocalEdit::new(rim(), 1.0, f64::NAN, None, [0.0, 0.1, 0.0]).unwrap_err();
+        assert_eq!(e.place(), "to");
+    }
+}

@@ -1,0 +1,555 @@
+//! Editing the spine of a PDE patch (book §5.3, Figs. 5.12–5.13).
+//!
+//! A solved patch is `X(u, v) = A₀(u) + D(u, v)` with the spine `A₀` (the mode-0 solution, a
+//! polynomial of degree `2N − 1`: mode 0 of `(∂²/∂u² + a²∂²/∂v²)^N` is `A₀^{(2N)} = 0`) and the
+//! radial part `D = Σ Aₙ cos nv + Bₙ sin nv (+ the remainder)`. A spine edit keeps `D` and
+//! replaces `A₀` by a new polynomial `Ã₀` given by Bézier control points:
+//!
+//! * `carry = "translate"` (the book's reading): `X̃ = Ã₀ + D`; every section `v ↦ X(u, v)` is
+//!   translated by `Ã₀(u) − A₀(u)`.
+//! * `carry = "frame"` (the default): `X̃ = Ã₀ + R(u) D`, with `R(u) = F̃(u) F(u)ᵀ` the rotation
+//!   from the rotation-minimising frame `F = [T r s]` of the old spine to that of the new one
+//!   (Bishop frames: `F' = [ω]ₓ F`, `ω = T × T'`, no turn about the tangent). A section that
+//!   lay across the old spine's tangent lies across the new one's: a bent spine bends the
+//!   tube instead of shearing it (translated sections stay parallel to themselves, so a spine
+//!   bent by 90° flattens the tube where the spine runs along the old sections). That is why
+//!   it is the default; `translate` is the book's method and keeps section planes fixed.
+//!
+//! The frames come from the double-reflection method (Wang, Jüttler, Zheng, Liu 2008, fourth
+//! order) on `FRAME_STEPS` steps of `u` and one further step to any `u`; `R'` and `R''` follow
+//! the frame equation exactly (`R' = [ω̃]ₓ R − R [ω]ₓ`), so the partial derivatives are those of
+//! the surface up to the frames' discretisation error (about 10⁻¹³ of the design's size for
+//! smooth spines).
+
+use super::solved::{DesignSurface, SurfaceKind};
+use crate::curve::{Bezier, Curve};
+use crate::elliptic::PdePatch;
+use crate::spec::{SpineCarry, SpineSpec};
+use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
+use crate::{Error, Result, Vec3};
+use nalgebra::Matrix3;
+use std::sync::Arc;
+
+/// Steps of the precomputed rotation-minimising frames on `u ∈ [0, 1]`.
+const FRAME_STEPS: usize = 1024;
+/// A spine speed `|A₀'|` below this fraction of the design's size has no tangent direction.
+const MIN_SPEED: f64 = 1e-9;
+
+/// The Bézier control points `P_0 … P_d` (`d = 2N − 1`) of a patch's spine `A₀` on `[0, 1]`.
+///
+/// For the cubic spine of a biharmonic patch they come from the end values and speeds,
+/// `[A₀(0), A₀(0) + A₀'(0)/3, A₀(1) − A₀'(1)/3, A₀(1)]` (the Hermite form of Eq. 5.4 with the
+/// corrected Eqs. 5.5–5.8 of `docs/errata.md`); for other degrees by collocation at the `d + 1`
+/// Chebyshev–Lobatto points of `[0, 1]` (LU with full pivoting). The collocation matrix of the
+/// Bernstein basis grows ill-conditioned with the degree (about 10 for `d = 3`, 10⁴ for
+/// `d = 11`): beyond `N ≈ 10` the control points carry correspondingly fewer digits.
+pub fn spine_control_points(patch: &PdePatch) -> Vec<Vec3> {
+    let d = patch.conditions().len().max(2) - 1;
+    if d == 3 {
+        let [p0, p1, d0, d1] = spine_hermite_of(patch);
+        return vec![p0, p0 + d0 / 3.0, p1 - d1 / 3.0, p1];
+    }
+    let nodes: Vec<f64> = (0..=d)
+        .map(|i| 0.5 * (1.0 - (std::f64::consts::PI * i as f64 / d as f64).cos()))
+        .collect();
+    let m = nalgebra::DMatrix::from_fn(d + 1, d + 1, |i, j| bernstein(d, j, nodes[i]));
+    let rhs = nalgebra::DMatrix::from_fn(d + 1, 3, |i, c| patch.spine(nodes[i], 0)[c]);
+    let sol = m.full_piv_lu().solve(&rhs).unwrap_or(rhs);
+    (0..=d)
+        .map(|i| Vec3::new(sol[(i, 0)], sol[(i, 1)], sol[(i, 2)]))
+        .collect()
+}
+
+/// `[p0, p1, d0, d1]`: the spine's end positions and end speeds (its Hermite form, Eq. 5.4).
+pub fn spine_hermite_of(patch: &PdePatch) -> [Vec3; 4] {
+    [
+        patch.spine(0.0, 0),
+        patch.spine(1.0, 0),
+        patch.spine(0.0, 1),
+        patch.spine(1.0, 1),
+    ]
+}
+
+fn bernstein(d: usize, j: usize, t: f64) -> f64 {
+    let binom = (0..j).fold(1.0, |b, i| b * (d - i) as f64 / (i + 1) as f64);
+    binom * t.powi(j as i32) * (1.0 - t).powi((d - j) as i32)
+}
+
+/// The control points of the new spine a `[[spine]]` table asks for, from the solved patch's
+/// own; errors are placed inside the table (`control`, `moves[1].index`, `hermite`).
+pub fn spine_target(patch: &PdePatch, spec: &SpineSpec) -> Result<Vec<Vec3>> {
+    let solved = spine_control_points(patch);
+    let n = solved.len();
+    let v3 = |v: &[f64; 3]| Vec3::new(v[0], v[1], v[2]);
+    let given = spec.control.is_some() as usize
+        + !spec.moves.is_empty() as usize
+        + spec.hermite.is_some() as usize;
+    if given != 1 {
+        return Err(Error::invalid(format!(
+            "give exactly one of `control`, `moves` and `hermite` (got {given})"
+        )));
+    }
+    if let Some(control) = &spec.control {
+        if control.len() != n {
+            return Err(Error::invalid(format!(
+                "the spine of this patch has degree {} and needs {n} control points (got {})",
+                n - 1,
+                control.len()
+            ))
+            .at("control"));
+        }
+        return Ok(control.iter().map(v3).collect());
+    }
+    if let Some(h) = &spec.hermite {
+        if n != 4 {
+            return Err(Error::invalid(format!(
+                "a Hermite spine is cubic; the spine of this patch has degree {}: give `control`",
+                n - 1
+            ))
+            .at("hermite"));
+        }
+        let (p0, p1, d0, d1) = (v3(&h.p0), v3(&h.p1), v3(&h.d0), v3(&h.d1));
+        return Ok(vec![p0, p0 + d0 / 3.0, p1 - d1 / 3.0, p1]);
+    }
+    let mut control = solved;
+    for (i, m) in spec.moves.iter().enumerate() {
+        let slot = control.get_mut(m.index).ok_or_else(|| {
+            Error::invalid(format!(
+                "control point {} does not exist (the spine has {n})",
+                m.index
+            ))
+            .at(&format!("moves[{i}].index"))
+        })?;
+        *slot += v3(&m.by);
+    }
+    Ok(control)
+}
+
+/// A PDE patch whose spine was replaced: `X̃ = Ã₀ + D` or `Ã₀ + R D` (see the module's text).
+#[derive(Debug)]
+pub struct SpineEdited {
+    base: Arc<PdePatch>,
+    spine: Bezier,
+    carry: SpineCarry,
+    /// `(F(u_k), F̃(u_k))` at `u_k = k / FRAME_STEPS` (frame mode only).
+    frames: Vec<(Matrix3<f64>, Matrix3<f64>)>,
+}
+
+/// `A` and its first three derivatives at `u`.
+type Jet = [Vec3; 4];
+
+fn old_jet(p: &PdePatch, u: f64) -> Jet {
+    [p.spine(u, 0), p.spine(u, 1), p.spine(u, 2), p.spine(u, 3)]
+}
+
+fn bezier_jet(b: &Bezier, u: f64) -> Jet {
+    let mut out = [Vec3::zeros(); 4];
+    b.jet(u, &mut out);
+    out
+}
+
+/// `(T, ω, ω')` of a curve from its jet: `T = A'/|A'|`, `ω = T × T'`, `ω' = T × T''`.
+fn angular(j: &Jet) -> (Vec3, Vec3, Vec3) {
+    let g = j[1].norm();
+    if g == 0.0 {
+        return (Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+    }
+    let t = j[1] / g;
+    let g1 = t.dot(&j[2]);
+    let t1 = (j[2] - t * g1) / g;
+    let g2 = t1.dot(&j[2]) + t.dot(&j[3]);
+    let t2 = (j[3] - t1 * (2.0 * g1) - t * g2) / g;
+    (t, t.cross(&t1), t.cross(&t2))
+}
+
+fn skew(w: &Vec3) -> Matrix3<f64> {
+    Matrix3::new(0.0, -w.z, w.y, w.z, 0.0, -w.x, -w.y, w.x, 0.0)
+}
+
+/// The rotation taking unit `a` to unit `b` about `a × b` (a half turn about some axis normal
+/// to `a` when they are opposite).
+fn min_rotation(a: &Vec3, b: &Vec3) -> Matrix3<f64> {
+    let c = a.dot(b);
+    let axis = a.cross(b);
+    let s = axis.norm();
+    if s < 1e-12 {
+        if c > 0.0 {
+            return Matrix3::identity();
+        }
+        let helper = if a.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        };
+        let k = a.cross(&helper).normalize();
+        return Matrix3::identity() * -1.0 + k * k.transpose() * 2.0;
+    }
+    let k = axis / s;
+    Matrix3::identity() * c + skew(&k) * s + k * k.transpose() * (1.0 - c)
+}
+
+/// A frame `[T r s]` with first column `t`.
+fn frame_from(t: &Vec3) -> Matrix3<f64> {
+    let helper = if t.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let r = (helper - t * t.dot(&helper)).normalize();
+    let s = t.cross(&r);
+    Matrix3::from_columns(&[*t, r, s])
+}
+
+/// One double-reflection step of a frame `f` (columns `T, r, s`) from the point `x0` to `x1`
+/// with the unit tangent `t1` there.
+fn reflect(f: &Matrix3<f64>, x0: &Vec3, x1: &Vec3, t1: &Vec3) -> Matrix3<f64> {
+    let (t0, r0): (Vec3, Vec3) = (f.column(0).into(), f.column(1).into());
+    let v1 = x1 - x0;
+    let c1 = v1.dot(&v1);
+    let (rl, tl) = if c1 > 0.0 {
+        (
+            r0 - v1 * (2.0 / c1 * v1.dot(&r0)),
+            t0 - v1 * (2.0 / c1 * v1.dot(&t0)),
+        )
+    } else {
+        (r0, t0)
+    };
+    let v2 = t1 - tl;
+    let c2 = v2.dot(&v2);
+    let r1 = if c2 > 0.0 {
+        rl - v2 * (2.0 / c2 * v2.dot(&rl))
+    } else {
+        rl
+    };
+    // Re-orthonormalise against rounding drift.
+    let r1 = (r1 - t1 * t1.dot(&r1)).normalize();
+    Matrix3::from_columns(&[*t1, r1, t1.cross(&r1)])
+}
+
+impl SpineEdited {
+    /// The patch `base` with its spine replaced by the Bézier curve of `control` (degree
+    /// `2N − 1`, as many points as the patch has conditions). In frame mode the old and the
+    /// new spine need a tangent everywhere: a spine whose speed falls below 10⁻⁹ of the
+    /// design's size at a frame node is refused (use `carry = "translate"`).
+    pub fn new(base: Arc<PdePatch>, control: Vec<Vec3>, carry: SpineCarry) -> Result<Self> {
+        let n = base.conditions().len();
+        if control.len() != n {
+            return Err(Error::invalid(format!(
+                "the spine needs {n} control points (got {})",
+                control.len()
+            ))
+            .at("control"));
+        }
+        let spine = Bezier::new(control)?;
+        let mut frames = Vec::new();
+        if carry == SpineCarry::Frame {
+            let tiny = MIN_SPEED * base.scale();
+            let mut prev: Option<(Jet, Jet, Matrix3<f64>, Matrix3<f64>)> = None;
+            for k in 0..=FRAME_STEPS {
+                let u = k as f64 / FRAME_STEPS as f64;
+                let (jo, jn) = (old_jet(&base, u), bezier_jet(&spine, u));
+                for (j, which) in [(&jo, "solved"), (&jn, "new")] {
+                    let speed = j[1].norm();
+                    if speed.is_nan() || speed <= tiny {
+                        return Err(Error::invalid(format!(
+                            "the {which} spine has no tangent at u = {u} (speed {:.3e}): the \
+                             sections cannot turn with it; use carry = \"translate\"",
+                            j[1].norm()
+                        ))
+                        .at("carry"));
+                    }
+                }
+                let (to, tn) = (jo[1].normalize(), jn[1].normalize());
+                let (fo, f_n) = match &prev {
+                    None => {
+                        let fo = frame_from(&to);
+                        (fo, min_rotation(&to, &tn) * fo)
+                    }
+                    Some((po, pn, fo, f_n)) => (
+                        reflect(fo, &po[0], &jo[0], &to),
+                        reflect(f_n, &pn[0], &jn[0], &tn),
+                    ),
+                };
+                frames.push((fo, f_n));
+                prev = Some((jo, jn, fo, f_n));
+            }
+        }
+        Ok(SpineEdited {
+            base,
+            spine,
+            carry,
+            frames,
+        })
+    }
+
+    /// The patch before the edit.
+    pub fn base(&self) -> &Arc<PdePatch> {
+        &self.base
+    }
+
+    /// The new spine's control points.
+    pub fn control(&self) -> &[Vec3] {
+        &self.spine.control
+    }
+
+    /// How the sections follow the spine.
+    pub fn carry(&self) -> SpineCarry {
+        self.carry
+    }
+
+    /// The unit tangent of the new spine at `u` (zero where it has none).
+    pub fn tangent(&self, u: f64) -> Vec3 {
+        angular(&bezier_jet(&self.spine, u)).0
+    }
+
+    /// `(R, R', R'')` at `u` (frame mode).
+    fn rotation(&self, u: f64, jo: &Jet, jn: &Jet) -> [Matrix3<f64>; 3] {
+        let k = ((u * FRAME_STEPS as f64).floor().max(0.0) as usize).min(FRAME_STEPS - 1);
+        let uk = k as f64 / FRAME_STEPS as f64;
+        let (fo, f_n) = &self.frames[k];
+        let (to, wo, wo1) = angular(jo);
+        let (tn, wn, wn1) = angular(jn);
+        let (fo, f_n) = if u == uk || to == Vec3::zeros() || tn == Vec3::zeros() {
+            (*fo, *f_n)
+        } else {
+            (
+                reflect(fo, &self.base.spine(uk, 0), &jo[0], &to),
+                reflect(f_n, &self.spine.point(uk), &jn[0], &tn),
+            )
+        };
+        let r = f_n * fo.transpose();
+        let (so, sn) = (skew(&wo), skew(&wn));
+        let r1 = sn * r - r * so;
+        let r2 = skew(&wn1) * r + sn * r1 - r1 * so - r * skew(&wo1);
+        [r, r1, r2]
+    }
+
+    /// The edited partials from the base patch's partials `p` at `u`.
+    fn edit(
+        &self,
+        u: f64,
+        p: &Partials,
+        jo: &Jet,
+        jn: &Jet,
+        rot: &Option<[Matrix3<f64>; 3]>,
+    ) -> Partials {
+        let (d, du, duu) = (p.x - jo[0], p.xu - jo[1], p.xuu - jo[2]);
+        match rot {
+            None => Partials {
+                x: jn[0] + d,
+                xu: jn[1] + du,
+                xuu: jn[2] + duu,
+                ..*p
+            },
+            Some([r, r1, r2]) => {
+                let _ = u;
+                Partials {
+                    x: jn[0] + r * d,
+                    xu: jn[1] + r1 * d + r * du,
+                    xuu: jn[2] + r2 * d + r1 * du * 2.0 + r * duu,
+                    xv: r * p.xv,
+                    xuv: r1 * p.xv + r * p.xuv,
+                    xvv: r * p.xvv,
+                }
+            }
+        }
+    }
+
+    /// Everything that depends on `u` only.
+    fn row_setup(&self, u: f64) -> (Jet, Jet, Option<[Matrix3<f64>; 3]>) {
+        let (jo, jn) = (old_jet(&self.base, u), bezier_jet(&self.spine, u));
+        let rot = (self.carry == SpineCarry::Frame).then(|| self.rotation(u, &jo, &jn));
+        (jo, jn, rot)
+    }
+}
+
+impl Spine for SpineEdited {
+    /// The new spine `Ã₀(u)`.
+    fn spine(&self, u: f64, order: usize) -> Vec3 {
+        self.spine.derivative(u, order)
+    }
+}
+
+impl Surface for SpineEdited {
+    fn v_domain(&self) -> VDomain {
+        VDomain::Periodic
+    }
+
+    fn as_spine(&self) -> Option<&dyn Spine> {
+        Some(self)
+    }
+
+    fn partials(&self, u: f64, v: f64) -> Partials {
+        let (jo, jn, rot) = self.row_setup(u);
+        self.edit(u, &self.base.partials(u, v), &jo, &jn, &rot)
+    }
+
+    fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
+        Box::new(EditedRows {
+            surface: self,
+            rows: self.base.partials_rows(vs),
+            nv: vs.len(),
+        })
+    }
+
+    fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
+        Box::new(EditedRows {
+            surface: self,
+            rows: self.base.partials_rows(vs),
+            nv: vs.len(),
+        })
+    }
+}
+
+/// Grid rows of an edited patch: the base patch's rows of partials, edited column by column.
+struct EditedRows<'a> {
+    surface: &'a SpineEdited,
+    rows: Box<dyn PartialsRows + 'a>,
+    nv: usize,
+}
+
+impl PartialsRows for EditedRows<'_> {
+    fn eval_row(&self, u: f64, out: &mut [Partials]) {
+        self.rows.eval_row(u, out);
+        let (jo, jn, rot) = self.surface.row_setup(u);
+        for p in out.iter_mut() {
+            *p = self.surface.edit(u, p, &jo, &jn, &rot);
+        }
+    }
+}
+
+impl RowEvaluator for EditedRows<'_> {
+    fn eval_row(&self, u: f64, row: &mut RowBuf) {
+        let mut parts = vec![Partials::default(); self.nv];
+        PartialsRows::eval_row(self, u, &mut parts);
+        for (j, p) in parts.iter().enumerate() {
+            row.set(j, p.x, p.normal());
+        }
+    }
+}
+
+/// Replaces the PDE patches that a `[[spine]]` table edits by their edited surfaces. `cache`
+/// holds the edits of the last compile with the identity of their base patch, and is replaced
+/// by this compile's; an edit whose table and base patch did not change is reused.
+pub(crate) fn apply_spines(
+    specs: &[SpineSpec],
+    surfaces: &mut [DesignSurface],
+    single_patch: bool,
+    cache: &mut Vec<(SpineSpec, usize, SurfaceKind)>,
+) -> Result<()> {
+    let mut next = Vec::with_capacity(specs.len());
+    for (i, spec) in specs.iter().enumerate() {
+        let place = format!("spine[{i}]");
+        let index = match (&spec.patch, single_patch) {
+            (None, true) => surfaces.first().filter(|s| s.is_patch()).map(|_| 0),
+            (None, false) => {
+                return Err(Error::invalid("the design has [[patches]]: name the patch").at(&place))
+            }
+            (Some(name), _) => surfaces
+                .iter()
+                .position(|s| s.is_patch() && &s.name == name),
+        }
+        .ok_or_else(|| {
+            Error::invalid(format!(
+                "the design has no PDE patch named '{}'",
+                spec.patch.as_deref().unwrap_or_default()
+            ))
+            .at(&format!("{place}.patch"))
+        })?;
+        if specs[..i].iter().any(|s| s.patch == spec.patch) {
+            return Err(Error::invalid("this patch's spine is edited twice").at(&place));
+        }
+        let surface = &mut surfaces[index];
+        let base = match &surface.kind {
+            SurfaceKind::Pde(p) => p.clone(),
+            _ => {
+                return Err(Error::invalid(
+                    "spine edits need the analytic solver (solver = \"analytic\")",
+                )
+                .at(&place))
+            }
+        };
+        let base_id = Arc::as_ptr(&base) as usize;
+        let kind = match cache.iter().find(|(s, id, _)| s == spec && *id == base_id) {
+            Some((_, _, kind)) => kind.clone(),
+            None => {
+                let control = spine_target(&base, spec).map_err(|e| e.at(&place))?;
+                SurfaceKind::SpineEdited(Arc::new(
+                    SpineEdited::new(base, control, spec.carry).map_err(|e| e.at(&place))?,
+                ))
+            }
+        };
+        surface.kind = kind.clone();
+        next.push((spec.clone(), base_id, kind));
+    }
+    *cache = next;
+    Ok(())
+}
+
+/// A patch's spine as `pdeshape check` reports it.
+#[derive(Clone, Debug)]
+pub struct SpineReport {
+    /// The Bézier control points of the solved spine `A₀`.
+    pub solved: Vec<Vec3>,
+    /// The edited spine's control points and how the sections follow it, if it was edited.
+    pub edited: Option<(SpineCarry, Vec<Vec3>)>,
+}
+
+impl DesignSurface {
+    /// The spine of an analytic PDE patch in Bézier form, solved and (if edited) as edited.
+    pub fn spine_report(&self) -> Option<SpineReport> {
+        match &self.kind {
+            SurfaceKind::Pde(p) => Some(SpineReport {
+                solved: spine_control_points(p),
+                edited: None,
+            }),
+            SurfaceKind::SpineEdited(e) => Some(SpineReport {
+                solved: spine_control_points(e.base()),
+                edited: Some((e.carry(), e.control().to_vec())),
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// [`super::Edit::SetSpine`]: sets, adds or removes the `[[spine]]` table of `patch`; returns
+/// the undo edit. A table given with another `patch` than the edit's is refused.
+pub(crate) fn set_spine(
+    spec: &mut crate::spec::DesignSpec,
+    patch: &super::PatchRef,
+    spine: &Option<SpineSpec>,
+) -> Result<super::Edit> {
+    use super::Edit;
+    if let Some(s) = spine {
+        if &s.patch != patch {
+            return Err(Error::invalid(format!(
+                "the spine table names the patch {:?}, the edit {:?}",
+                s.patch, patch
+            ))
+            .at("patch"));
+        }
+    }
+    let at = spec.spine.iter().position(|s| &s.patch == patch);
+    match (at, spine) {
+        (Some(i), Some(s)) => Ok(Edit::SetSpine {
+            patch: patch.clone(),
+            spine: Some(std::mem::replace(&mut spec.spine[i], s.clone())),
+        }),
+        (Some(i), None) => {
+            let old = spec.spine.clone();
+            spec.spine.remove(i);
+            Ok(Edit::SetSpines { spines: old })
+        }
+        (None, Some(s)) => {
+            spec.spine.push(s.clone());
+            Ok(Edit::SetSpine {
+                patch: patch.clone(),
+                spine: None,
+            })
+        }
+        (None, None) => Ok(Edit::SetSpine {
+            patch: patch.clone(),
+            spine: None,
+        }),
+    }
+}
