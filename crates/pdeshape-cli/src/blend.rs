@@ -25,6 +25,12 @@ pub struct Args {
     /// Grid columns (values of y, across; default from [output] or 128).
     #[arg(long)]
     pub nv: Option<usize>,
+    /// Multiply every position by this factor (finite, positive) before writing a mesh.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// The up axis of an OBJ, STL or PLY file: z (as designed) or y. glTF is always +Y up.
+    #[arg(long, value_enum)]
+    pub up: Option<crate::surface::UpAxis>,
     /// Print one JSON line with the solve and write times (ms) on stderr.
     #[arg(long)]
     pub timings: bool,
@@ -119,6 +125,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             ))
         })?)
     };
+    let export = match format {
+        Some(f) => Some(crate::surface::export_options(
+            f, args.scale, args.up, false,
+        )?),
+        None => None,
+    };
     let design = common::load(&args.design)?;
     let (nu, nv) = if format.is_some() {
         design.grid(args.nu, args.nv)?
@@ -141,16 +153,19 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         }
         Some(f) => {
+            // The blend alone, welded (a periodic blend's seam columns become one), named
+            // `blend`, with the design's title and units.
             let m = [mesh::tessellate(&blend.surface, nu, nv).map_err(io_err)?];
+            let welded = mesh::weld(&m, &["blend"], mesh::WeldOptions::default());
+            let export = export.unwrap_or_default();
+            let info = mesh::MeshInfo {
+                title: design.spec.title.clone(),
+                units: design.spec.units.unwrap_or_default(),
+                scale: export.scale,
+                up: export.up,
+            };
             let mut w = out.writer();
-            match f {
-                Format::Obj => mesh::write_obj(&m, &mut w),
-                Format::Stl => mesh::write_stl(&m, &mut w),
-                Format::Ply => mesh::write_ply(&m, &mut w),
-                Format::Glb => mesh::write_glb(&m, &mut w),
-                Format::Csv => unreachable!("handled above"),
-            }
-            .map_err(io_err)?;
+            mesh::write_mesh(f, &welded, &info, &mut w).map_err(io_err)?;
             w.flush()
                 .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         }

@@ -153,7 +153,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map_err(|e| CliError::input(e.to_string()))?;
     {
         let mut w = outs[1].writer();
-        mesh::write_obj(&meshes, &mut w)
+        mesh::write(mesh::Format::Obj, &meshes, &mut w)
             .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
         w.flush()
             .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;

@@ -171,15 +171,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 mesh::write_csv(&[s], &mut w).map_err(err)?;
             } else {
                 let m = mesh::tessellate(&surface, nu, nv).map_err(err)?;
-                let ms = [m];
-                match format {
-                    Format::Obj => mesh::write_obj(&ms, &mut w),
-                    Format::Stl => mesh::write_stl(&ms, &mut w),
-                    Format::Ply => mesh::write_ply(&ms, &mut w),
-                    Format::Glb => mesh::write_glb(&ms, &mut w),
-                    Format::Csv => unreachable!("handled above"),
-                }
-                .map_err(err)?;
+                mesh::write(format, &[m], &mut w).map_err(err)?;
             }
             w.flush().map_err(io)?;
         }

@@ -1,7 +1,8 @@
 //! `pdeshape surface DESIGN -o OUT`: solve, tessellate, write (obj, stl, ply, glb, csv).
 
 use crate::common::{self, CliError, Output};
-use pdeshape::mesh::{self, Format};
+use pdeshape::design::Export;
+use pdeshape::mesh::{self, Format, Up};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -22,10 +23,57 @@ pub struct Args {
     /// Print one JSON line with the solve, tessellate and write times (ms) on stderr.
     #[arg(long)]
     pub timings: bool,
+    /// Multiply every position by this factor (finite, positive) before writing a mesh.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// The up axis of an OBJ, STL or PLY file: z (as designed) or y (the design's +Z turned to
+    /// +Y). glTF is always +Y up.
+    #[arg(long, value_enum)]
+    pub up: Option<UpAxis>,
+    /// Keep the patches apart: each is welded (poles, seams) and oriented on its own instead of
+    /// joining patches that share an edge into one mesh.
+    #[arg(long)]
+    pub separate_patches: bool,
     /// Also draw the surface (with its boundary curves and spine) into this PNG file, as
     /// `pdeshape render` does with its default view and size.
     #[arg(long)]
     pub picture: Option<PathBuf>,
+}
+
+/// The `--up` values.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpAxis {
+    Z,
+    Y,
+}
+
+/// The export options of `--scale`, `--up` and `--separate-patches` for `format`, refused with
+/// the flag's name.
+pub fn export_options(
+    format: Format,
+    scale: f64,
+    up: Option<UpAxis>,
+    separate_patches: bool,
+) -> Result<Export, CliError> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(CliError::input(format!(
+            "--scale: must be finite and positive (got {scale})"
+        )));
+    }
+    let up = match (format, up) {
+        (Format::Glb, Some(UpAxis::Z)) => {
+            return Err(CliError::input(
+                "--up z: glTF is +Y up by definition (the design's +Z is turned to +Y); --up applies to obj, stl and ply",
+            ))
+        }
+        (_, Some(UpAxis::Y)) => Up::Y,
+        _ => Up::Z,
+    };
+    Ok(Export {
+        separate_patches,
+        scale,
+        up,
+    })
 }
 
 fn ms(t: Instant) -> f64 {
@@ -36,6 +84,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     let format = Format::from_path(&args.output)
         .map_err(|e| CliError::input(format!("-o {shown}: {}", common::message_of(&e))))?;
+    let export = export_options(format, args.scale, args.up, args.separate_patches)?;
     let design = common::load(&args.design)?;
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
@@ -76,7 +125,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut w = out.writer();
     match (&meshes, &samples) {
         (_, Some(samples)) => mesh::write_csv(samples, &mut w),
-        (Some(meshes), _) => mesh::write(format, meshes, &mut w),
+        (Some(meshes), _) => mesh::write_mesh(
+            format,
+            &solved.weld(meshes, &export),
+            &solved.mesh_info(&export),
+            &mut w,
+        ),
         (None, None) => unreachable!("one of the two was made"),
     }
     .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;

@@ -87,7 +87,14 @@ fn every_command_honours_the_finite_difference_solver() {
     assert!(out.status.success(), "{out:?}");
     assert!(String::from_utf8_lossy(&out.stdout).contains("finite differences on 8 × 16"));
     let mut expected = Vec::new();
-    pdeshape::mesh::write(pdeshape::mesh::Format::Obj, &meshes, &mut expected).unwrap();
+    solved
+        .write(
+            pdeshape::mesh::Format::Obj,
+            meshes[0].nu,
+            meshes[0].nv,
+            &mut expected,
+        )
+        .unwrap();
     assert_eq!(std::fs::read(&obj).unwrap(), expected);
 }
 
@@ -132,7 +139,14 @@ fn blend_and_spline_designs_render_and_analyze() {
         let out = pdeshape(&["surface", s(&path), "-o", s(&obj)]);
         assert!(out.status.success(), "{file}: {out:?}");
         let mut expected = Vec::new();
-        pdeshape::mesh::write(pdeshape::mesh::Format::Obj, &meshes, &mut expected).unwrap();
+        solved
+            .write(
+                pdeshape::mesh::Format::Obj,
+                meshes[0].nu,
+                meshes[0].nv,
+                &mut expected,
+            )
+            .unwrap();
         assert_eq!(std::fs::read(&obj).unwrap(), expected, "{file}");
     }
 }

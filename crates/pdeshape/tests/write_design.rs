@@ -473,6 +473,7 @@ fn point(at: V3) -> CurveSpec {
 fn empty_design() -> DesignSpec {
     DesignSpec {
         title: None,
+        units: None,
         operator: None,
         solver: SolverSpec::default(),
         curves: BTreeMap::new(),
@@ -1014,6 +1015,7 @@ impl Gen {
     fn design(&mut self) -> DesignSpec {
         DesignSpec {
             title: self.opt(Self::s),
+            units: self.opt(|_| pdeshape::spec::Units::Inch),
             operator: self.opt(Self::operator),
             solver: if self.chance(0.5) {
                 SolverSpec::default()

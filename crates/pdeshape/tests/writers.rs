@@ -1,7 +1,8 @@
 //! Writers read back with independent parsers (tobj, stl_io, ply-rs, gltf, csv).
 
 use pdeshape::mesh::{
-    write_csv, write_glb, write_obj, write_ply, write_stl, Format, Grid, GridMesh, Samples,
+    report, weld, write, write_csv, write_glb, write_obj, write_ply, write_stl, Format, Grid,
+    GridMesh, MeshInfo, Samples, TriMesh, Units, Up, WeldOptions,
 };
 use pdeshape::{Error, TAU};
 use std::io::Cursor;
@@ -139,37 +140,6 @@ fn bits3(a: [f32; 3]) -> [u32; 3] {
     a.map(f32::to_bits)
 }
 
-/// Expected texture coordinate t of column `j` (`j == nv` only for the periodic seam copy).
-fn expected_t(g: &GridMesh, j: usize) -> f32 {
-    if g.periodic_v {
-        if j == g.nv {
-            1.0
-        } else {
-            (g.v[j] / TAU) as f32
-        }
-    } else {
-        ((g.v[j] - g.v[0]) / (g.v[g.nv - 1] - g.v[0])) as f32
-    }
-}
-
-/// The quads of a grid as `(i, j)` corners, with the seam column written as `nv` (unwrapped).
-fn quad_corners(g: &GridMesh) -> Vec<[(usize, usize); 4]> {
-    let cols = if g.periodic_v { g.nv } else { g.nv - 1 };
-    let mut out = Vec::new();
-    for i in 0..g.nu - 1 {
-        for j in 0..cols {
-            out.push([(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]);
-        }
-    }
-    // Same connectivity as the grid's own iterator, once wrapped.
-    let wrapped: Vec<[u32; 4]> = out
-        .iter()
-        .map(|q| q.map(|(i, j)| (i * g.nv + j % g.nv) as u32))
-        .collect();
-    assert_eq!(wrapped, g.quads().collect::<Vec<_>>());
-    out
-}
-
 // ------------------------------------------------------------------------------------------
 // Format::from_path
 // ------------------------------------------------------------------------------------------
@@ -212,84 +182,101 @@ fn format_from_path_by_extension() {
 }
 
 // ------------------------------------------------------------------------------------------
+// Meshes to write
+// ------------------------------------------------------------------------------------------
+
+/// Each case welded (parts named with spaces, which formats without spaces turn into `_`), and
+/// each case's grids as they are, with texture coordinates (the awkward numbers only here: a
+/// weld tolerance scaled to 1e30 would join them all).
+fn meshes() -> Vec<(String, TriMesh)> {
+    let mut out = Vec::new();
+    for (name, grids) in cases() {
+        let g: Vec<GridMesh> = grids.iter().map(to_f32).collect();
+        let names: Vec<String> = (0..g.len()).map(|k| format!("{name} part {k}")).collect();
+        let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+        if !name.contains("awkward") {
+            out.push((name.to_string(), weld(&g, &refs, WeldOptions::default())));
+        }
+        let mut m = TriMesh::default();
+        for (k, gg) in g.iter().enumerate() {
+            m.append(&TriMesh::from_grid(gg, &format!("p{k}")));
+        }
+        out.push((format!("{name} (grid, uv)"), m));
+    }
+    out
+}
+
+fn info() -> MeshInfo {
+    MeshInfo {
+        title: Some("A test\nwith two lines".to_string()),
+        ..MeshInfo::default()
+    }
+}
+
+fn token(s: &str) -> String {
+    s.replace(' ', "_")
+}
+
+/// The facet normal computed here, independently of the writer, in f64.
+fn facet(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [f64; 3] {
+    let [a, b, c] = [a, b, c].map(|p| p.map(f64::from));
+    let e = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let f = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let x = [
+        e[1] * f[2] - e[2] * f[1],
+        e[2] * f[0] - e[0] * f[2],
+        e[0] * f[1] - e[1] * f[0],
+    ];
+    let n = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    x.map(|c| c / n)
+}
+
+// ------------------------------------------------------------------------------------------
 // OBJ via tobj
 // ------------------------------------------------------------------------------------------
 
 #[test]
 fn obj_reads_back_exactly() {
-    for (name, samples) in cases() {
-        let meshes: Vec<GridMesh> = samples.iter().map(to_f32).collect();
+    for (name, m) in meshes() {
         let mut bytes = Vec::new();
-        write_obj(&meshes, &mut bytes).unwrap();
+        write_obj(&m, &info(), &mut bytes).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        assert!(text.starts_with("# pdeshape "), "{name}");
+        assert!(text.contains("# title: A test with two lines\n"), "{name}");
+        assert!(
+            text.contains("# units: mm (1 unit = 0.001 m); up: +Z\n"),
+            "{name}"
+        );
         let opts = tobj::LoadOptions {
             single_index: false,
             triangulate: false,
-            ignore_points: true,
-            ignore_lines: true,
+            ..Default::default()
         };
         let (models, _) =
-            tobj::load_obj_buf(&mut Cursor::new(&bytes), &opts, |_| Ok(Default::default()))
-                .unwrap();
-        assert_eq!(models.len(), meshes.len(), "{name}");
-        for (k, (model, g)) in models.iter().zip(&meshes).enumerate() {
-            assert_eq!(model.name, format!("patch{k}"));
-            let m = &model.mesh;
-            let quads = quad_corners(g);
-            assert_eq!(m.face_arities, vec![4; quads.len()], "{name} patch {k}");
-            assert_eq!(m.indices.len(), 4 * quads.len());
-            // Every grid vertex is used, every texture column (with the seam copy) too.
-            assert_eq!(m.positions.len(), 3 * g.nu * g.nv);
-            assert_eq!(m.normals.len(), 3 * g.nu * g.nv);
-            let tw = g.nv + usize::from(g.periodic_v);
-            assert_eq!(m.texcoords.len(), 2 * g.nu * tw);
-            // Shared vertices stay shared: grid vertex -> one reader index, and back.
-            let mut seen = std::collections::HashMap::new();
-            let mut seen_back = std::collections::HashMap::new();
-            for (f, q) in quads.iter().enumerate() {
-                for (c, &(i, j)) in q.iter().enumerate() {
-                    let at = 4 * f + c;
-                    let gi = i * g.nv + j % g.nv;
-                    let (pi, ni, ti) = (
-                        m.indices[at] as usize,
-                        m.normal_indices[at] as usize,
-                        m.texcoord_indices[at] as usize,
-                    );
-                    assert_eq!(*seen.entry(gi).or_insert(pi), pi);
-                    assert_eq!(*seen_back.entry(pi).or_insert(gi), gi);
-                    let p = [0, 1, 2].map(|d| m.positions[3 * pi + d]);
-                    let n = [0, 1, 2].map(|d| m.normals[3 * ni + d]);
-                    let t = [m.texcoords[2 * ti], m.texcoords[2 * ti + 1]];
-                    assert_eq!(bits3(p), bits3(g.positions[gi]), "{name} {k} ({i},{j})");
-                    assert_eq!(bits3(n), bits3(g.normals[gi]), "{name} {k} ({i},{j})");
-                    assert_eq!(
-                        t.map(f32::to_bits),
-                        [g.u[i] as f32, expected_t(g, j)].map(f32::to_bits),
-                        "{name} {k} ({i},{j})"
-                    );
+            tobj::load_obj_buf(&mut Cursor::new(&bytes), &opts, |_| unreachable!()).unwrap();
+        assert_eq!(models.len(), m.parts.len(), "{name}");
+        for (model, part) in models.iter().zip(&m.parts) {
+            assert_eq!(model.name, token(&part.name), "{name}");
+            let t = &model.mesh;
+            assert_eq!(t.indices.len(), 3 * part.triangles.len(), "{name}");
+            assert_eq!(t.texcoord_indices.is_empty(), m.uv.is_empty(), "{name}");
+            for (k, tri) in m.triangles[part.triangles.clone()].iter().enumerate() {
+                for (c, &i) in tri.iter().enumerate() {
+                    let i = i as usize;
+                    let pi = t.indices[3 * k + c] as usize;
+                    let ni = t.normal_indices[3 * k + c] as usize;
+                    let p = [0, 1, 2].map(|a| t.positions[3 * pi + a]);
+                    let n = [0, 1, 2].map(|a| t.normals[3 * ni + a]);
+                    assert_eq!(bits3(p), bits3(m.positions[i]), "{name}");
+                    assert_eq!(bits3(n), bits3(m.normals[i]), "{name}");
+                    if !m.uv.is_empty() {
+                        let ti = t.texcoord_indices[3 * k + c] as usize;
+                        assert_eq!(t.texcoords[2 * ti], m.uv[i][0], "{name}");
+                    }
                 }
             }
         }
     }
-}
-
-#[test]
-fn obj_text_is_well_formed() {
-    let g = to_f32(&torus(3, 3));
-    let mut bytes = Vec::new();
-    write_obj(&[g], &mut bytes).unwrap();
-    let text = String::from_utf8(bytes).unwrap();
-    let count = |p: &str| text.lines().filter(|l| l.starts_with(p)).count();
-    assert_eq!(count("v "), 9);
-    assert_eq!(count("vt "), 12);
-    assert_eq!(count("vn "), 9);
-    assert_eq!(count("f "), 6);
-    assert_eq!(count("o "), 1);
-    // First seam face: corners (0,2),(1,2),(1,0),(0,0); texture column 3 = the seam copy.
-    assert!(
-        text.lines().any(|l| l == "f 3/3/3 6/7/6 4/8/4 1/4/1"),
-        "{text}"
-    );
-    assert!(text.lines().any(|l| l == "vt 0.0 1.0"));
 }
 
 // ------------------------------------------------------------------------------------------
@@ -297,91 +284,34 @@ fn obj_text_is_well_formed() {
 // ------------------------------------------------------------------------------------------
 
 #[test]
-fn stl_reads_back_exactly() {
-    for (name, samples) in cases() {
-        let meshes: Vec<GridMesh> = samples.iter().map(to_f32).collect();
+fn stl_reads_back_with_facet_normals() {
+    for (name, m) in meshes() {
         let mut bytes = Vec::new();
-        write_stl(&meshes, &mut bytes).unwrap();
-        assert!(!bytes.starts_with(b"solid"));
-        let tris: Vec<stl_io::Triangle> = stl_io::create_stl_reader(&mut Cursor::new(&bytes))
-            .unwrap()
-            .collect::<std::io::Result<_>>()
-            .unwrap();
-        let header_count = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
-        assert_eq!(bytes.len(), 84 + 50 * header_count);
-        assert_eq!(tris.len(), header_count);
-        let mut expected = Vec::new();
-        let mut skipped = 0;
-        for g in &meshes {
-            for t in g.triangles() {
-                let p = t.map(|i| g.positions[i as usize]);
-                if p[0] == p[1] || p[1] == p[2] || p[0] == p[2] {
-                    skipped += 1;
-                    continue;
-                }
-                expected.push((g, t));
+        write_stl(&m, &info(), &mut bytes).unwrap();
+        let header = String::from_utf8_lossy(&bytes[..80]).to_string();
+        assert!(!header.starts_with("solid"), "{name}");
+        assert!(header.contains("units mm; up +Z; parts"), "{header}");
+        assert!(header.contains(&token(&m.parts[0].name)), "{header}");
+        let stl = stl_io::read_stl(&mut Cursor::new(&bytes)).unwrap();
+        assert_eq!(stl.faces.len(), m.triangles.len(), "{name}");
+        for (f, t) in stl.faces.iter().zip(&m.triangles) {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            for (k, p) in [a, b, c].iter().enumerate() {
+                let v = stl.vertices[f.vertices[k]];
+                assert_eq!(bits3([v[0], v[1], v[2]]), bits3(*p), "{name}");
+            }
+            // The facet's own normal (to f32 rounding), not the smooth vertex normals; zero for a
+            // triangle without area (an unwelded pole).
+            let want = facet(a, b, c);
+            let want = if want.iter().all(|x| x.is_finite()) {
+                want
+            } else {
+                [0.0; 3]
+            };
+            for (got, want) in [f.normal[0], f.normal[1], f.normal[2]].iter().zip(want) {
+                assert!((*got as f64 - want).abs() < 1e-6, "{name}: {f:?}");
             }
         }
-        // Only the cap has coincident corners: one triangle per quad touching the pole.
-        let cap_skips = if name.starts_with("cap") { 7 } else { 0 };
-        assert_eq!(skipped, cap_skips, "{name}");
-        assert_eq!(tris.len(), expected.len(), "{name}");
-        for (tri, (g, t)) in tris.iter().zip(&expected) {
-            for (vertex, &i) in tri.vertices.iter().zip(t) {
-                assert_eq!(bits3(vertex.0), bits3(g.positions[i as usize]), "{name}");
-            }
-            let n = tri.normal.0.map(f64::from);
-            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            assert!((len - 1.0).abs() < 2e-7, "{name}: |n| = {len}");
-            // The normalised mean of the vertex normals, to f32 rounding.
-            let mut mean = [0.0f64; 3];
-            for &i in t {
-                for (m, c) in mean.iter_mut().zip(g.normals[i as usize]) {
-                    *m += c as f64;
-                }
-            }
-            let ml = (mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]).sqrt();
-            for d in 0..3 {
-                assert!((n[d] - mean[d] / ml).abs() < 1e-7, "{name}");
-            }
-            // Counter-clockwise seen from the normal side.
-            let p = t.map(|i| g.positions[i as usize].map(f64::from));
-            let e1 = [0, 1, 2].map(|d| p[1][d] - p[0][d]);
-            let e2 = [0, 1, 2].map(|d| p[2][d] - p[0][d]);
-            let x = [
-                e1[1] * e2[2] - e1[2] * e2[1],
-                e1[2] * e2[0] - e1[0] * e2[2],
-                e1[0] * e2[1] - e1[1] * e2[0],
-            ];
-            if !name.contains("awkward") {
-                assert!(x[0] * n[0] + x[1] * n[1] + x[2] * n[2] > 0.0, "{name}");
-            }
-        }
-    }
-}
-
-#[test]
-fn stl_falls_back_to_geometric_normal() {
-    // Zero vertex normals: the facet normal comes from the corners instead.
-    let mut g = to_f32(&cylinder(2, 2));
-    // (0,0) = (0,0,0), (0,1) = (1,0,0), (1,0) = (0,1,0), (1,1) = (1,1,0): the quad runs
-    // clockwise seen from +z, so both triangles face -z.
-    g.positions = vec![
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [1.0, 1.0, 0.0],
-    ];
-    g.normals = vec![[0.0, 0.0, 0.0]; 4];
-    let mut bytes = Vec::new();
-    write_stl(&[g], &mut bytes).unwrap();
-    let tris: Vec<stl_io::Triangle> = stl_io::create_stl_reader(&mut Cursor::new(&bytes))
-        .unwrap()
-        .collect::<std::io::Result<_>>()
-        .unwrap();
-    assert_eq!(tris.len(), 2);
-    for t in tris {
-        assert_eq!(t.normal.0, [0.0, 0.0, -1.0]);
     }
 }
 
@@ -392,53 +322,43 @@ fn stl_falls_back_to_geometric_normal() {
 #[test]
 fn ply_reads_back_exactly() {
     use ply_rs::ply::Property;
-    for (name, samples) in cases() {
-        let meshes: Vec<GridMesh> = samples.iter().map(to_f32).collect();
+    let float = |p: &Property| match p {
+        Property::Float(x) => *x,
+        other => panic!("{other:?}"),
+    };
+    for (name, m) in meshes() {
         let mut bytes = Vec::new();
-        write_ply(&meshes, &mut bytes).unwrap();
+        write_ply(&m, &info(), &mut bytes).unwrap();
         let parser = ply_rs::parser::Parser::<ply_rs::ply::DefaultElement>::new();
         let ply = parser.read_ply(&mut Cursor::new(&bytes)).unwrap();
-        assert_eq!(
-            ply.header.encoding,
-            ply_rs::ply::Encoding::BinaryLittleEndian
-        );
-        let verts = &ply.payload["vertex"];
-        let faces = &ply.payload["face"];
-        let f = |e: &ply_rs::ply::DefaultElement, key: &str| match e[key] {
-            Property::Float(x) => x,
-            ref other => panic!("{key}: {other:?}"),
-        };
-        let total: usize = meshes.iter().map(|g| g.nu * g.nv).sum();
-        assert_eq!(verts.len(), total, "{name}");
-        let mut base = 0;
-        let mut face_at = 0;
-        for g in &meshes {
-            for i in 0..g.nu {
-                for j in 0..g.nv {
-                    let e = &verts[base + i * g.nv + j];
-                    let gi = i * g.nv + j;
-                    let p = [f(e, "x"), f(e, "y"), f(e, "z")];
-                    let n = [f(e, "nx"), f(e, "ny"), f(e, "nz")];
-                    assert_eq!(bits3(p), bits3(g.positions[gi]), "{name}");
-                    assert_eq!(bits3(n), bits3(g.normals[gi]), "{name}");
-                    assert_eq!(f(e, "u").to_bits(), (g.u[i] as f32).to_bits());
-                    assert_eq!(f(e, "v").to_bits(), expected_t(g, j).to_bits());
-                }
-            }
-            for q in quad_corners(g) {
-                let want: Vec<u32> = q
-                    .iter()
-                    .map(|&(i, j)| (base + i * g.nv + j % g.nv) as u32)
-                    .collect();
-                match &faces[face_at]["vertex_indices"] {
-                    Property::ListUInt(ix) => assert_eq!(ix, &want, "{name}"),
-                    other => panic!("{other:?}"),
-                }
-                face_at += 1;
-            }
-            base += g.nu * g.nv;
+        let comments = ply.header.comments.join("\n");
+        assert!(comments.contains("units: mm"), "{comments}");
+        for p in &m.parts {
+            let line = format!(
+                "part {} faces {} {}",
+                token(&p.name),
+                p.triangles.start,
+                p.triangles.len()
+            );
+            assert!(comments.contains(&line), "{name}: {comments}");
         }
-        assert_eq!(faces.len(), face_at, "{name}");
+        let vs = &ply.payload["vertex"];
+        assert_eq!(vs.len(), m.positions.len(), "{name}");
+        for (k, v) in vs.iter().enumerate() {
+            let p = [float(&v["x"]), float(&v["y"]), float(&v["z"])];
+            let n = [float(&v["nx"]), float(&v["ny"]), float(&v["nz"])];
+            assert_eq!(bits3(p), bits3(m.positions[k]), "{name}");
+            assert_eq!(bits3(n), bits3(m.normals[k]), "{name}");
+            assert_eq!(v.contains_key("u"), !m.uv.is_empty(), "{name}");
+        }
+        let fs = &ply.payload["face"];
+        assert_eq!(fs.len(), m.triangles.len(), "{name}");
+        for (f, t) in fs.iter().zip(&m.triangles) {
+            match &f["vertex_indices"] {
+                Property::ListUInt(ix) => assert_eq!(ix[..], t[..], "{name}"),
+                other => panic!("{other:?}"),
+            }
+        }
     }
 }
 
@@ -446,118 +366,125 @@ fn ply_reads_back_exactly() {
 // GLB via gltf
 // ------------------------------------------------------------------------------------------
 
+/// A sphere of radius 1.3 (poles at rows 0 and nu − 1), wound inward: closed once welded.
+fn sphere(nu: usize, nv: usize) -> Samples {
+    let us = (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect();
+    build(nu, nv, true, us, periodic_vs(nv), |u, v| {
+        let th = std::f64::consts::PI * u;
+        let n = [th.sin() * v.cos(), th.sin() * v.sin(), th.cos()];
+        (n.map(|c| 1.3 * c), n.map(|c| -c))
+    })
+}
+
 #[test]
-fn glb_reads_back_exactly() {
-    for (name, samples) in cases() {
-        let meshes: Vec<GridMesh> = samples.iter().map(to_f32).collect();
-        let mut bytes = Vec::new();
-        write_glb(&meshes, &mut bytes).unwrap();
-        check_glb_layout(&bytes, &meshes);
-        let (doc, buffers, _) = gltf::import_slice(&bytes).unwrap();
-        assert_eq!(doc.meshes().count(), 1);
-        assert_eq!(doc.nodes().count(), 1);
-        let mesh = doc.meshes().next().unwrap();
-        assert_eq!(mesh.primitives().count(), meshes.len(), "{name}");
-        for (prim, g) in mesh.primitives().zip(&meshes) {
-            assert_eq!(prim.mode(), gltf::mesh::Mode::Triangles);
-            let reader = prim.reader(|b| Some(&buffers[b.index()].0[..]));
-            let pos: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
-            let nrm: Vec<[f32; 3]> = reader.read_normals().unwrap().collect();
-            let uv: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
-            let idx: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
-            let w = g.nv + usize::from(g.periodic_v);
-            assert_eq!(pos.len(), g.nu * w, "{name}");
-            assert_eq!(nrm.len(), pos.len());
-            assert_eq!(uv.len(), pos.len());
-            for i in 0..g.nu {
-                for j in 0..w {
-                    let gi = i * g.nv + j % g.nv;
-                    let k = i * w + j;
-                    assert_eq!(bits3(pos[k]), bits3(g.positions[gi]), "{name}");
-                    assert_eq!(bits3(nrm[k]), bits3(g.normals[gi]), "{name}");
-                    assert_eq!(
-                        uv[k].map(f32::to_bits),
-                        [g.u[i] as f32, expected_t(g, j)].map(f32::to_bits)
-                    );
+fn glb_is_y_up_in_metres_with_named_meshes_and_a_fitting_material() {
+    let closed = weld(&[to_f32(&sphere(9, 12))], &["ball"], WeldOptions::default());
+    let mut cases = meshes();
+    cases.push(("sphere".to_string(), closed));
+    for (name, m) in cases {
+        let is_closed = report(&m).boundary_edges == 0;
+        for (units, metres) in [(Units::Millimetre, 1e-3), (Units::Inch, 0.0254)] {
+            let info = MeshInfo {
+                units,
+                scale: 2.0,
+                ..info()
+            };
+            let mut bytes = Vec::new();
+            write_glb(&m, &info, &mut bytes).unwrap();
+            let (doc, buffers, _) = gltf::import_slice(&bytes).unwrap();
+            let asset = doc.as_json().asset.clone();
+            assert_eq!(
+                asset.generator.as_deref(),
+                Some(concat!("pdeshape ", env!("CARGO_PKG_VERSION")))
+            );
+            let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+            let json: serde_json::Value =
+                serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
+            let extras = &json["asset"]["extras"];
+            assert_eq!(extras["title"], "A test\nwith two lines");
+            assert_eq!(extras["design_units"], units.as_str());
+            assert_eq!(extras["scale"], 2.0);
+            let scene = doc.default_scene().unwrap();
+            let root = scene.nodes().next().unwrap();
+            assert_eq!(root.name(), Some("A test\nwith two lines"));
+            // No node transform: the data themselves are +Y up.
+            assert_eq!(
+                root.transform().matrix(),
+                gltf::scene::Transform::Decomposed {
+                    translation: [0.0; 3],
+                    rotation: [0.0, 0.0, 0.0, 1.0],
+                    scale: [1.0; 3],
+                }
+                .matrix()
+            );
+            let children: Vec<_> = root.children().collect();
+            assert_eq!(children.len(), m.parts.len(), "{name}");
+            for (node, part) in children.iter().zip(&m.parts) {
+                assert_eq!(node.name(), Some(part.name.as_str()));
+                let mesh = node.mesh().unwrap();
+                assert_eq!(mesh.name(), Some(part.name.as_str()));
+                let prim = mesh.primitives().next().unwrap();
+                assert_eq!(prim.material().double_sided(), !is_closed, "{name}");
+                assert_eq!(
+                    prim.get(&gltf::Semantic::TexCoords(0)).is_some(),
+                    !m.uv.is_empty()
+                );
+                let reader = prim.reader(|b| Some(&buffers[b.index()]));
+                let pos: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+                let nrm: Vec<[f32; 3]> = reader.read_normals().unwrap().collect();
+                let idx: Vec<u32> = reader.read_indices().unwrap().into_u32().collect();
+                assert_eq!(idx.len(), 3 * part.triangles.len());
+                for (k, t) in m.triangles[part.triangles.clone()].iter().enumerate() {
+                    for c in 0..3 {
+                        let [x, y, z] = m.positions[t[c] as usize].map(f64::from);
+                        let k2 = 2.0 * metres;
+                        let want = [x * k2, z * k2, -y * k2].map(|c| c as f32);
+                        let got = pos[idx[3 * k + c] as usize];
+                        assert_eq!(bits3(got), bits3(want), "{name}");
+                        let [nx, ny, nz] = m.normals[t[c] as usize];
+                        assert_eq!(nrm[idx[3 * k + c] as usize], [nx, nz, -ny]);
+                    }
                 }
             }
-            // The grid's triangles, with the seam corners moved to the copied column.
-            let mut want = Vec::new();
-            for q in quad_corners(g) {
-                let q = q.map(|(i, j)| (i * w + j) as u32);
-                want.extend([q[0], q[1], q[2], q[0], q[2], q[3]]);
-            }
-            assert_eq!(idx, want, "{name}");
-            assert_eq!(idx.len(), 3 * g.triangles().count());
-            // Continuous uvs: no triangle spans more than one column step in t.
-            for t in idx.chunks(3) {
-                let ts = [0, 1, 2].map(|c| uv[t[c] as usize][1]);
-                let spread = ts.iter().cloned().fold(f32::MIN, f32::max)
-                    - ts.iter().cloned().fold(f32::MAX, f32::min);
-                assert!(spread <= 1.0 / (g.nv - 1) as f32 + 1e-6, "{name}: {spread}");
-            }
-            let b = prim.bounding_box();
-            let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-            for p in &g.positions {
-                for d in 0..3 {
-                    lo[d] = lo[d].min(p[d]);
-                    hi[d] = hi[d].max(p[d]);
-                }
-            }
-            assert_eq!(b.min, lo);
-            assert_eq!(b.max, hi);
         }
     }
 }
 
-/// Container and JSON checks of the glTF 2.0 binary layout.
-fn check_glb_layout(bytes: &[u8], meshes: &[GridMesh]) {
-    let u32_at = |o: usize| u32::from_le_bytes(bytes[o..o + 4].try_into().unwrap()) as usize;
-    assert_eq!(&bytes[0..4], b"glTF");
-    assert_eq!(u32_at(4), 2);
-    assert_eq!(u32_at(8), bytes.len());
-    let json_len = u32_at(12);
-    assert_eq!(&bytes[16..20], b"JSON");
-    assert_eq!(json_len % 4, 0);
-    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
-    let bin_at = 20 + json_len;
-    let bin_len = u32_at(bin_at);
-    assert_eq!(&bytes[bin_at + 4..bin_at + 8], b"BIN\0");
-    assert_eq!(bin_len % 4, 0);
-    assert_eq!(bin_at + 8 + bin_len, bytes.len());
-    assert_eq!(json["asset"]["version"], "2.0");
-    let buffer_len = json["buffers"][0]["byteLength"].as_u64().unwrap() as usize;
-    assert!(buffer_len <= bin_len && bin_len - buffer_len < 4);
-    let views = json["bufferViews"].as_array().unwrap();
-    assert_eq!(views.len(), 4 * meshes.len());
-    let mut end = 0;
-    for (k, v) in views.iter().enumerate() {
-        let off = v["byteOffset"].as_u64().unwrap() as usize;
-        let len = v["byteLength"].as_u64().unwrap() as usize;
-        assert_eq!(off % 4, 0);
-        assert_eq!(off, end, "views are packed in order");
-        end = off + len;
-        let target = v["target"].as_u64().unwrap();
-        if k % 4 == 3 {
-            assert_eq!(target, 34963);
-            assert!(v.get("byteStride").is_none());
-        } else {
-            assert_eq!(target, 34962);
-            let stride = v["byteStride"].as_u64().unwrap();
-            assert_eq!(stride, if k % 4 == 2 { 8 } else { 12 });
-        }
+#[test]
+fn scale_and_up_turn_and_scale_the_text_formats() {
+    let m = weld(&[to_f32(&torus(5, 8))], &["t"], WeldOptions::default());
+    let plain = MeshInfo::default();
+    let turned = MeshInfo {
+        scale: 3.0,
+        up: Up::Y,
+        ..MeshInfo::default()
+    };
+    let mut a = Vec::new();
+    let mut b = Vec::new();
+    write_ply(&m, &plain, &mut a).unwrap();
+    write_ply(&m, &turned, &mut b).unwrap();
+    let parser = ply_rs::parser::Parser::<ply_rs::ply::DefaultElement>::new();
+    let pa = parser.read_ply(&mut Cursor::new(&a)).unwrap();
+    let pb = parser.read_ply(&mut Cursor::new(&b)).unwrap();
+    assert!(pb.header.comments.iter().any(|c| c.contains("up: +Y")));
+    let f = |p: &ply_rs::ply::Property| match p {
+        ply_rs::ply::Property::Float(x) => *x as f64,
+        _ => panic!(),
+    };
+    for (va, vb) in pa.payload["vertex"].iter().zip(&pb.payload["vertex"]) {
+        assert_eq!(f(&vb["x"]), (3.0 * f(&va["x"])) as f32 as f64);
+        assert_eq!(f(&vb["y"]), (3.0 * f(&va["z"])) as f32 as f64);
+        assert_eq!(f(&vb["z"]), (-3.0 * f(&va["y"])) as f32 as f64);
     }
-    assert_eq!(end, buffer_len);
-    for (k, a) in json["accessors"].as_array().unwrap().iter().enumerate() {
-        let (ct, ty) = match k % 4 {
-            0 | 1 => (5126, "VEC3"),
-            2 => (5126, "VEC2"),
-            _ => (5125, "SCALAR"),
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let info = MeshInfo {
+            scale: bad,
+            ..MeshInfo::default()
         };
-        assert_eq!(a["componentType"], ct);
-        assert_eq!(a["type"], ty);
-        assert_eq!(a["bufferView"], k);
-        assert_eq!(a.get("min").is_some(), k % 4 == 0);
+        let mut bytes = Vec::new();
+        let e = write_stl(&m, &info, &mut bytes).unwrap_err();
+        assert_eq!(e.place(), "scale");
+        assert!(bytes.is_empty());
     }
 }
 
@@ -626,15 +553,16 @@ fn csv_keeps_every_digit() {
 // Refused input and failing destinations
 // ------------------------------------------------------------------------------------------
 
-type MeshWriter = fn(&[GridMesh], &mut dyn std::io::Write) -> pdeshape::Result<()>;
+type MeshWriter = Box<dyn Fn(&[GridMesh], &mut dyn std::io::Write) -> pdeshape::Result<()>>;
 
-fn mesh_writers() -> [(&'static str, MeshWriter); 4] {
-    [
-        ("obj", write_obj),
-        ("stl", write_stl),
-        ("ply", write_ply),
-        ("glb", write_glb),
-    ]
+fn mesh_writers() -> Vec<(&'static str, MeshWriter)> {
+    [Format::Obj, Format::Stl, Format::Ply, Format::Glb]
+        .into_iter()
+        .map(|f| {
+            let w: MeshWriter = Box::new(move |g, out| write(f, g, out));
+            (f.extension(), w)
+        })
+        .collect()
 }
 
 #[test]
@@ -750,32 +678,4 @@ fn io_errors_are_reported() {
     }
     let e = write_csv(&[torus(3, 4)], &mut Broken).unwrap_err();
     assert!(matches!(e, Error::Io { .. }), "{e:?}");
-}
-
-// ------------------------------------------------------------------------------------------
-// Speed (run with `cargo test --release -p pdeshape --test writers -- --ignored --nocapture`)
-// ------------------------------------------------------------------------------------------
-
-#[test]
-#[ignore]
-fn write_speed_1024() {
-    let s = torus(1024, 1024);
-    let m = to_f32(&s);
-    let time = |name: &str, f: &dyn Fn(&mut Vec<u8>)| {
-        let mut bytes = Vec::with_capacity(1 << 28);
-        let t0 = std::time::Instant::now();
-        f(&mut bytes);
-        let dt = t0.elapsed().as_secs_f64();
-        println!(
-            "{name}: {:.1} MB in {:.3} s ({:.0} MB/s)",
-            bytes.len() as f64 / 1e6,
-            dt,
-            bytes.len() as f64 / 1e6 / dt
-        );
-    };
-    time("obj", &|b| write_obj(std::slice::from_ref(&m), b).unwrap());
-    time("stl", &|b| write_stl(std::slice::from_ref(&m), b).unwrap());
-    time("ply", &|b| write_ply(std::slice::from_ref(&m), b).unwrap());
-    time("glb", &|b| write_glb(std::slice::from_ref(&m), b).unwrap());
-    time("csv", &|b| write_csv(std::slice::from_ref(&s), b).unwrap());
 }

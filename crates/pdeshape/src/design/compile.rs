@@ -295,6 +295,7 @@ impl CompiledDesign {
 
         self.solved = SolvedDesign {
             title: spec.title.clone(),
+            units: spec.units.unwrap_or_default(),
             surfaces,
             curves,
             options,

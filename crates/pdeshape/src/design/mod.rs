@@ -30,8 +30,8 @@ pub use edges::{edge_mismatch, EdgeReport};
 pub use edit::{Edit, PatchRef};
 pub use fd::DEFAULT_GRID;
 pub use solved::{
-    curve_polyline, grid, ConditionInfo, DesignSurface, NamedCurve, SharedEdge, SolvedDesign,
-    SurfaceKind,
+    curve_polyline, grid, ConditionInfo, DesignSurface, Export, NamedCurve, SharedEdge,
+    SolvedDesign, SurfaceKind,
 };
 pub use spine::{spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport};
 pub use spline::{build_problem, solve_spec, SolvedSpline};

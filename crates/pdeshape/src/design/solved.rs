@@ -11,9 +11,11 @@ use crate::bfs::Blend;
 use crate::curve::{Curve, Domain, SharedCurve};
 use crate::elliptic::{PdePatch, SolveOptions};
 use crate::fd::FdSurface;
-use crate::mesh::{self, Format, GridMesh, Samples, MAX_VERTICES};
+use crate::mesh::{
+    self, Format, GridMesh, MeshInfo, Samples, TriMesh, Up, WeldOptions, MAX_VERTICES,
+};
 use crate::render::Polyline;
-use crate::spec::{DesignSpec, OperatorSpec, SolverMethod};
+use crate::spec::{DesignSpec, OperatorSpec, SolverMethod, Units};
 use crate::splinepde::SplineNet;
 use crate::surface::{ParametricSurface, Surface};
 use crate::{Error, Result, Vec3, TAU};
@@ -157,9 +159,33 @@ impl DesignSurface {
     }
 }
 
+/// How a design is exported to a mesh file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Export {
+    /// Keep every surface apart (welded and oriented on its own) instead of joining surfaces
+    /// that share an edge into one mesh.
+    pub separate_patches: bool,
+    /// A factor applied to every position (finite, positive).
+    pub scale: f64,
+    /// The up axis of OBJ, STL and PLY files (glTF is always `+Y` up).
+    pub up: Up,
+}
+
+impl Default for Export {
+    fn default() -> Self {
+        Export {
+            separate_patches: false,
+            scale: 1.0,
+            up: Up::Z,
+        }
+    }
+}
+
 /// A design with every part solved: the result of [`super::compile`].
 pub struct SolvedDesign {
     pub title: Option<String>,
+    /// The length unit of the coordinates (`units`, default millimetres).
+    pub units: Units,
     /// Every surface: the PDE patches in file order, then the `[[parametric]]` surfaces, the
     /// `[blend]` and the `[spline]` surface.
     pub surfaces: Vec<DesignSurface>,
@@ -267,6 +293,7 @@ impl SolvedDesign {
     pub(crate) fn empty() -> Self {
         SolvedDesign {
             title: None,
+            units: Units::default(),
             surfaces: Vec::new(),
             curves: Vec::new(),
             options: SolveOptions::default(),
@@ -385,7 +412,9 @@ impl SolvedDesign {
     }
 
     /// Tessellates (or samples, for CSV) every surface on an `nu × nv` grid and writes them in
-    /// `format`. Returns the meshes when it made them (for a picture of the same grid).
+    /// `format` with the default [`Export`] options: patches joined, as designed (`+Z` up, or
+    /// `+Y` for glTF), scale 1. Returns the grids when it made them (for a picture of the same
+    /// grid).
     pub fn write(
         &self,
         format: Format,
@@ -393,13 +422,50 @@ impl SolvedDesign {
         nv: usize,
         w: &mut dyn Write,
     ) -> Result<Option<Vec<GridMesh>>> {
+        self.write_with(format, nu, nv, &Export::default(), w)
+    }
+
+    /// [`SolvedDesign::write`] with export options.
+    pub fn write_with(
+        &self,
+        format: Format,
+        nu: usize,
+        nv: usize,
+        export: &Export,
+        w: &mut dyn Write,
+    ) -> Result<Option<Vec<GridMesh>>> {
         if format == Format::Csv {
             mesh::write_csv(&self.samples(nu, nv)?, w)?;
             Ok(None)
         } else {
-            let meshes = self.meshes(nu, nv)?;
-            mesh::write(format, &meshes, w)?;
-            Ok(Some(meshes))
+            let grids = self.meshes(nu, nv)?;
+            let mesh = self.weld(&grids, export);
+            mesh::write_mesh(format, &mesh, &self.mesh_info(export), w)?;
+            Ok(Some(grids))
+        }
+    }
+
+    /// The design's grids as one [`TriMesh`] (see [`mesh::weld`]), one part per surface named
+    /// after it.
+    pub fn weld(&self, grids: &[GridMesh], export: &Export) -> TriMesh {
+        let names = self.names();
+        mesh::weld(
+            grids,
+            &names,
+            WeldOptions {
+                join_patches: !export.separate_patches,
+            },
+        )
+    }
+
+    /// What a mesh file records about this design: its title and units, with the export's
+    /// scale and up axis.
+    pub fn mesh_info(&self, export: &Export) -> MeshInfo {
+        MeshInfo {
+            title: self.title.clone(),
+            units: self.units,
+            scale: export.scale,
+            up: export.up,
         }
     }
 

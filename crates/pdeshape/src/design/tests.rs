@@ -876,7 +876,12 @@ fn solved_designs_write_every_format() {
         } else {
             let m = solved.meshes(5, 12).unwrap();
             assert_eq!(meshes.as_deref(), Some(&m[..]));
-            mesh::write(format, &m, &mut expected).unwrap();
+            let export = super::Export::default();
+            let welded = solved.weld(&m, &export);
+            // One part per surface, named after it.
+            let names: Vec<&str> = welded.parts.iter().map(|p| p.name.as_str()).collect();
+            assert_eq!(names, solved.names());
+            mesh::write_mesh(format, &welded, &solved.mesh_info(&export), &mut expected).unwrap();
         }
         assert!(!written.is_empty());
         assert_eq!(written, expected, "{format:?}");

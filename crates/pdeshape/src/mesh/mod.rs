@@ -5,10 +5,15 @@
 //! periodic `v`, `v_j = 2πj/nv` (no repeated seam column: faces wrap from column `nv−1` to 0).
 
 mod trimesh;
+pub mod weld;
 mod writers;
 
 pub use trimesh::{Part, TriMesh};
-pub use writers::{write, write_csv, write_glb, write_obj, write_ply, write_stl, Format};
+pub use weld::{report, weld, MeshReport, WeldOptions};
+pub use writers::{
+    write, write_csv, write_glb, write_mesh, write_obj, write_ply, write_stl, Format, MeshInfo,
+    Units, Up,
+};
 
 use crate::surface::{Interval, RowBuf, Surface, VDomain};
 use crate::{Error, Result, TAU};

@@ -1,17 +1,17 @@
-//! Writers. Each takes the patches of a design (one grid each) and writes them one after another.
+//! Writers. Mesh formats (OBJ, STL, PLY, GLB) are written from one indexed [`TriMesh`] (see
+//! [`super::weld`] for how a design's grids become one) with a [`MeshInfo`]: the title, the
+//! length unit, a scale and the up axis; CSV is written from full-precision grids.
 //!
-//! Every writer first checks all of its input (at least one patch, consistent array lengths, finite
-//! positions, normals and parameter values, index ranges that fit the format) and only then writes,
-//! so a refused input never leaves a truncated or broken file behind. The bytes are assembled in a
-//! chunk buffer of about a megabyte that is handed to the destination with `write_all`, so the
-//! destination needs no buffering of its own.
-//!
-//! Texture coordinates are `(s, t)` with `s = u_i` and `t = v_j/2π` for a periodic `v` (the seam
-//! column gets `t = 1` where a format duplicates it), or `t = (v_j − v_0)/(v_{nv−1} − v_0)` for an
-//! interval.
+//! Every writer first checks all of its input (at least one triangle or patch, consistent array
+//! lengths, finite values, index ranges that fit the format) and only then writes, so a refused
+//! input never leaves a truncated or broken file behind. The bytes are assembled in a chunk
+//! buffer of about a megabyte that is handed to the destination with `write_all`, in one pass,
+//! so the destination needs no buffering of its own.
 
-use super::{Grid, GridMesh, Samples};
-use crate::{Error, Result, TAU};
+use super::weld::{weld, WeldOptions};
+use super::{Grid, GridMesh, Part, Samples, TriMesh};
+pub use crate::spec::Units;
+use crate::{Error, Result};
 use std::io::Write;
 
 /// Output formats, chosen by file extension.
@@ -59,25 +59,42 @@ impl Format {
         }
     }
 
-    /// True for the mesh formats (written from f32 [`GridMesh`]es); false for CSV, which is
+    /// True for the mesh formats (written from a [`TriMesh`]); false for CSV, which is
     /// written from full-precision [`Samples`].
     pub fn is_mesh(self) -> bool {
         self != Format::Csv
     }
 }
 
-/// Writes meshes in a mesh format (obj, stl, ply, glb); CSV, which stores full-precision
+/// Writes a mesh in a mesh format (obj, stl, ply, glb); CSV, which stores full-precision
 /// samples, is written by [`write_csv`].
-pub fn write(format: Format, meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
+pub fn write_mesh(
+    format: Format,
+    mesh: &TriMesh,
+    info: &MeshInfo,
+    w: &mut dyn Write,
+) -> Result<()> {
     match format {
-        Format::Obj => write_obj(meshes, w),
-        Format::Stl => write_stl(meshes, w),
-        Format::Ply => write_ply(meshes, w),
-        Format::Glb => write_glb(meshes, w),
+        Format::Obj => write_obj(mesh, info, w),
+        Format::Stl => write_stl(mesh, info, w),
+        Format::Ply => write_ply(mesh, info, w),
+        Format::Glb => write_glb(mesh, info, w),
         Format::Csv => Err(Error::invalid(
             "csv stores full-precision samples: write them with write_csv",
         )),
     }
+}
+
+/// Writes grids (patches `patch0`, `patch1`, …) in a mesh format: checked, then welded and
+/// oriented by [`weld`] with the default options, then [`write_mesh`] with the default
+/// [`MeshInfo`].
+pub fn write(format: Format, meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
+    if format == Format::Csv {
+        return write_mesh(format, &TriMesh::default(), &MeshInfo::default(), w);
+    }
+    check_grids(meshes, true)?;
+    let mesh = weld(meshes, &[], WeldOptions::default());
+    write_mesh(format, &mesh, &MeshInfo::default(), w)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -267,28 +284,201 @@ impl<'a> Sink<'a> {
     }
 }
 
-/// Texture coordinate `t` of column `j` (`j == nv` is the duplicated seam of a periodic grid).
-fn tex_t<T>(g: &Grid<T>, j: usize) -> f32 {
-    if g.periodic_v {
-        if j >= g.nv {
-            1.0
-        } else {
-            (g.v[j] / TAU) as f32
-        }
-    } else {
-        let (v0, v1) = (g.v[0], g.v[g.nv - 1]);
-        let span = v1 - v0;
-        if span != 0.0 && span.is_finite() {
-            ((g.v[j] - v0) / span) as f32
-        } else {
-            0.0
+// ---------------------------------------------------------------------------------------------
+// What a file says about its mesh
+// ---------------------------------------------------------------------------------------------
+
+/// The axis that points up in a written file. Designs are modelled `+Z` up.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    /// As designed (the default for OBJ, STL and PLY).
+    #[default]
+    Z,
+    /// Turned so that the design's `+Z` becomes `+Y`: `(x, y, z) → (x, z, −y)` (a rotation, so
+    /// orientation and volume are kept). glTF is always written this way.
+    Y,
+}
+
+impl Up {
+    /// `+Z` or `+Y`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Up::Z => "+Z",
+            Up::Y => "+Y",
         }
     }
 }
 
-/// Columns of a grid with the seam duplicated when `v` is periodic.
-fn seam_columns<T>(g: &Grid<T>) -> usize {
-    g.nv + usize::from(g.periodic_v)
+/// What the writers record beside the triangles: the design's title, its length unit, a scale
+/// and the up axis of the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshInfo {
+    pub title: Option<String>,
+    /// The unit of the design's coordinates (times `scale`).
+    pub units: Units,
+    /// A factor applied to every position (finite and positive).
+    pub scale: f64,
+    /// The up axis of OBJ, STL and PLY files (glTF is always `+Y` up).
+    pub up: Up,
+}
+
+impl Default for MeshInfo {
+    fn default() -> Self {
+        MeshInfo {
+            title: None,
+            units: Units::default(),
+            scale: 1.0,
+            up: Up::Z,
+        }
+    }
+}
+
+/// The generator named in every file.
+const GENERATOR: &str = concat!("pdeshape ", env!("CARGO_PKG_VERSION"));
+
+/// A position and normal map `p → k·R p`, `n → R n`.
+#[derive(Clone, Copy)]
+struct Frame {
+    k: f64,
+    y_up: bool,
+}
+
+impl Frame {
+    fn new(info: &MeshInfo, format: Format) -> Result<Frame> {
+        if !(info.scale.is_finite() && info.scale > 0.0) {
+            return Err(Error::invalid(format!(
+                "must be finite and positive (got {})",
+                info.scale
+            ))
+            .at("scale"));
+        }
+        Ok(match format {
+            // glTF: metres, +Y up.
+            Format::Glb => Frame {
+                k: info.scale * info.units.metres(),
+                y_up: true,
+            },
+            _ => Frame {
+                k: info.scale,
+                y_up: info.up == Up::Y,
+            },
+        })
+    }
+
+    #[inline(always)]
+    fn turn(&self, p: [f64; 3]) -> [f64; 3] {
+        if self.y_up {
+            [p[0], p[2], -p[1]]
+        } else {
+            p
+        }
+    }
+
+    #[inline(always)]
+    fn point(&self, p: [f32; 3]) -> [f32; 3] {
+        if self.k == 1.0 && !self.y_up {
+            return p;
+        }
+        self.turn(p.map(f64::from)).map(|c| (c * self.k) as f32)
+    }
+
+    #[inline(always)]
+    fn normal(&self, n: [f32; 3]) -> [f32; 3] {
+        if self.y_up {
+            [n[0], n[2], -n[1]]
+        } else {
+            n
+        }
+    }
+}
+
+/// A part's name as one token (whitespace and control characters become `_`; empty names
+/// `part<k>`).
+fn token(name: &str, k: usize) -> String {
+    let t: String = name
+        .chars()
+        .map(|c| {
+            if c.is_whitespace() || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if t.is_empty() {
+        format!("part{k}")
+    } else {
+        t
+    }
+}
+
+/// A text on one line (line breaks become spaces).
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
+/// The parts of a mesh: its own, or one unnamed part with every triangle.
+fn parts_of(mesh: &TriMesh) -> Vec<Part> {
+    if mesh.parts.is_empty() {
+        vec![Part {
+            name: "mesh".to_string(),
+            triangles: 0..mesh.triangles.len(),
+        }]
+    } else {
+        mesh.parts.clone()
+    }
+}
+
+/// Checks a mesh before anything is written: structure ([`TriMesh::check`]), at least one
+/// triangle, finite positions, normals and texture coordinates.
+fn check_mesh(mesh: &TriMesh) -> Result<()> {
+    mesh.check().map_err(|e| Error::invalid(e).at("mesh"))?;
+    if mesh.triangles.is_empty() {
+        return Err(Error::invalid(
+            "no triangles to write: the design produced no surface",
+        ));
+    }
+    for (name, data) in [("position", &mesh.positions), ("normal", &mesh.normals)] {
+        if let Some(idx) = data.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+            let p = data[idx];
+            return Err(Error::invalid(format!(
+                "non-finite {name} [{}, {}, {}] at vertex {idx}",
+                p[0], p[1], p[2]
+            ))
+            .at("mesh"));
+        }
+    }
+    if let Some(idx) = mesh
+        .uv
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(Error::invalid(format!("non-finite uv at vertex {idx}")).at("mesh"));
+    }
+    Ok(())
+}
+
+/// The unit line every text header carries.
+fn units_text(info: &MeshInfo) -> String {
+    format!(
+        "units: {} (1 unit = {} m); up: {}",
+        info.units.as_str(),
+        info.units.metres(),
+        info.up.label()
+    )
+}
+
+/// `(b − a) × (c − a)` normalised, or zero for a triangle without area.
+fn facet_normal(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [f32; 3] {
+    let x = super::weld::facet_cross(&[a, b, c], [0, 1, 2]);
+    let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    if len > 0.0 && len.is_finite() {
+        x.map(|c| (c / len) as f32)
+    } else {
+        [0.0; 3]
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -307,74 +497,61 @@ fn obj_vec3(out: &mut Sink, prefix: &[u8], v: &[f32; 3]) -> Result<()> {
     out.tick()
 }
 
-/// Wavefront OBJ with `v`, `vt`, `vn` and quad faces `f v/vt/vn`.
-///
-/// Each patch `k` is an object `o patch<k>` with its `nu·nv` positions and normals (vertex
-/// `(i, j)` is number `i·nv + j + 1` after the previous patches) and texture coordinates
-/// `(u_i, t_j)`. A periodic patch gets one extra texture column `t = 1` so that the faces across
-/// the seam (column `nv−1` to column 0) use it while sharing the seam's positions and normals.
-/// Faces are the quads of [`Grid::quads`], counter-clockwise seen from the normals. Numbers are
-/// the shortest text that reads back to the identical `f32`.
-pub fn write_obj(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
-    check_grids(meshes, true)?;
+/// Wavefront OBJ: comments with the generator, title, units and up axis; every vertex `v` and
+/// normal `vn` (and `vt` when the mesh has texture coordinates), numbered alike; then each part
+/// as an object `o <name>` with its triangles `f a//a b//b c//c` (or `a/a/a`), counter-clockwise
+/// seen from the normals. Numbers are the shortest text that reads back to the identical `f32`.
+pub fn write_obj(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
+    check_mesh(mesh)?;
+    let frame = Frame::new(info, Format::Obj)?;
+    let parts = parts_of(mesh);
     let mut out = Sink::new(w, "OBJ");
-    out.bytes(b"# pdeshape OBJ: ");
-    out.uint_text(meshes.len() as u64);
-    out.bytes(b" patch(es), quads, v/vt/vn\n");
-    let mut pos_base: u64 = 1;
-    let mut tex_base: u64 = 1;
-    for (k, g) in meshes.iter().enumerate() {
-        let (nu, nv) = (g.nu, g.nv);
-        let tw = seam_columns(g);
-        out.bytes(b"o patch");
-        out.uint_text(k as u64);
+    out.bytes(format!("# {GENERATOR} OBJ\n").as_bytes());
+    if let Some(t) = &info.title {
+        out.bytes(format!("# title: {}\n", one_line(t)).as_bytes());
+    }
+    out.bytes(format!("# {}\n", units_text(info)).as_bytes());
+    let names: Vec<String> = parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| token(&p.name, k))
+        .collect();
+    out.bytes(format!("# parts: {}\n", names.join(" ")).as_bytes());
+    for p in &mesh.positions {
+        obj_vec3(&mut out, b"v ", &frame.point(*p))?;
+    }
+    for n in &mesh.normals {
+        obj_vec3(&mut out, b"vn ", &frame.normal(*n))?;
+    }
+    let with_uv = !mesh.uv.is_empty();
+    for t in &mesh.uv {
+        out.bytes(b"vt ");
+        out.f32_text(t[0]);
+        out.bytes(b" ");
+        out.f32_text(t[1]);
         out.bytes(b"\n");
-        for p in &g.positions {
-            obj_vec3(&mut out, b"v ", p)?;
-        }
-        let ts: Vec<f32> = (0..tw).map(|j| tex_t(g, j)).collect();
-        for &u in &g.u {
-            let s = u as f32;
-            for &t in &ts {
-                out.bytes(b"vt ");
-                out.f32_text(s);
+        out.tick()?;
+    }
+    for (part, name) in parts.iter().zip(&names) {
+        out.bytes(b"o ");
+        out.bytes(name.as_bytes());
+        out.bytes(b"\n");
+        for t in &mesh.triangles[part.triangles.clone()] {
+            out.bytes(b"f");
+            for &i in t {
+                let i = u64::from(i) + 1;
                 out.bytes(b" ");
-                out.f32_text(t);
-                out.bytes(b"\n");
-                out.tick()?;
-            }
-        }
-        for n in &g.normals {
-            obj_vec3(&mut out, b"vn ", n)?;
-        }
-        let cols = if g.periodic_v { nv } else { nv - 1 };
-        for i in 0..nu - 1 {
-            for j in 0..cols {
-                let j1 = (j + 1) % nv;
-                // Corners (i,j), (i+1,j), (i+1,j+1), (i,j+1) as in `Grid::quads`; the texture
-                // column of the last corner pair is j+1 without wrapping.
-                let corners = [
-                    (i * nv + j, i * tw + j),
-                    ((i + 1) * nv + j, (i + 1) * tw + j),
-                    ((i + 1) * nv + j1, (i + 1) * tw + j + 1),
-                    (i * nv + j1, i * tw + j + 1),
-                ];
-                out.bytes(b"f");
-                for (p, t) in corners {
-                    let p = pos_base + p as u64;
-                    out.bytes(b" ");
-                    out.uint_text(p);
+                out.uint_text(i);
+                out.bytes(if with_uv { b"/" } else { b"//" });
+                if with_uv {
+                    out.uint_text(i);
                     out.bytes(b"/");
-                    out.uint_text(tex_base + t as u64);
-                    out.bytes(b"/");
-                    out.uint_text(p);
                 }
-                out.bytes(b"\n");
-                out.tick()?;
+                out.uint_text(i);
             }
+            out.bytes(b"\n");
+            out.tick()?;
         }
-        pos_base += (nu * nv) as u64;
-        tex_base += (nu * tw) as u64;
     }
     out.finish()
 }
@@ -383,83 +560,44 @@ pub fn write_obj(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
 // STL
 // ---------------------------------------------------------------------------------------------
 
-/// True when two corners of the triangle are the same point (as at a pole, where a whole grid row
-/// collapses): such a triangle has no area and no facet direction.
-fn degenerate(p: &[[f32; 3]], t: [u32; 3]) -> bool {
-    let [a, b, c] = t.map(|i| p[i as usize]);
-    a == b || b == c || a == c
-}
-
-/// Facet normal: the normalised mean of the three vertex normals, or the normalised geometric
-/// normal `(b−a)×(c−a)` if that mean (nearly) vanishes, or zero if both vanish.
-fn facet_normal(g: &GridMesh, t: [u32; 3]) -> [f32; 3] {
-    let f = |a: [f32; 3]| a.map(f64::from);
-    let [na, nb, nc] = t.map(|i| f(g.normals[i as usize]));
-    let s = [
-        na[0] + nb[0] + nc[0],
-        na[1] + nb[1] + nc[1],
-        na[2] + nb[2] + nc[2],
-    ];
-    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-    if len > 1e-6 {
-        return s.map(|c| (c / len) as f32);
-    }
-    let [a, b, c] = t.map(|i| f(g.positions[i as usize]));
-    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let x = [
-        e1[1] * e2[2] - e1[2] * e2[1],
-        e1[2] * e2[0] - e1[0] * e2[2],
-        e1[0] * e2[1] - e1[1] * e2[0],
-    ];
-    let len = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-    if len > 0.0 {
-        x.map(|c| (c / len) as f32)
-    } else {
-        [0.0; 3]
-    }
-}
-
-/// Binary STL (triangles, facet normals from the vertex normals).
-///
-/// An 80-byte header, the triangle count, then per triangle the facet normal (see below), the
-/// three corners (counter-clockwise seen from the normal) and a zero attribute word. The triangles
-/// are those of [`Grid::triangles`] for each patch in turn, except that triangles with two
-/// coincident corners (bit-equal positions, as at a pole) are left out; the count in the header
-/// is the number actually written. The facet normal is the normalised mean of the three vertex
-/// normals, falling back to the normalised geometric normal if the mean vanishes.
-pub fn write_stl(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
-    check_grids(meshes, true)?;
-    let mut count: u128 = 0;
-    for g in meshes {
-        count += g
-            .triangles()
-            .filter(|&t| !degenerate(&g.positions, t))
-            .count() as u128;
-    }
-    let count = check_u32(count, "triangles", "STL")?;
-    let mut out = Sink::new(w, "STL");
+/// Binary STL. The 80-byte header names the generator, units, up axis and parts (cut at 80
+/// bytes; it never begins with `solid`); then the triangle count and per triangle the facet
+/// normal computed from the facet, `(b − a) × (c − a)` normalised (zero for a triangle without
+/// area), the three corners counter-clockwise seen from it, and a zero attribute word.
+pub fn write_stl(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
+    check_mesh(mesh)?;
+    let frame = Frame::new(info, Format::Stl)?;
+    let count = check_u32(mesh.triangles.len() as u128, "triangles", "STL")?;
+    let parts = parts_of(mesh);
+    let names: Vec<String> = parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| token(&p.name, k))
+        .collect();
+    let text = format!(
+        "{GENERATOR} binary STL; units {}; up {}; parts {}",
+        info.units.as_str(),
+        info.up.label(),
+        names.join(",")
+    );
     let mut header = [b' '; 80];
-    let text = b"pdeshape binary STL";
-    header[..text.len()].copy_from_slice(text);
+    let n = text.len().min(80);
+    header[..n].copy_from_slice(&text.as_bytes()[..n]);
+    let mut out = Sink::new(w, "STL");
     out.bytes(&header);
     out.u32_le(count);
-    for g in meshes {
-        for t in g.triangles() {
-            if degenerate(&g.positions, t) {
-                continue;
-            }
-            for c in facet_normal(g, t) {
-                out.f32_le(c);
-            }
-            for i in t {
-                for c in g.positions[i as usize] {
-                    out.f32_le(c);
-                }
-            }
-            out.bytes(&[0, 0]);
-            out.tick()?;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| frame.point(mesh.positions[i as usize]));
+        for x in facet_normal(a, b, c) {
+            out.f32_le(x);
         }
+        for p in [a, b, c] {
+            for x in p {
+                out.f32_le(x);
+            }
+        }
+        out.bytes(&[0, 0]);
+        out.tick()?;
     }
     out.finish()
 }
@@ -468,71 +606,60 @@ pub fn write_stl(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
 // PLY
 // ---------------------------------------------------------------------------------------------
 
-/// Binary little-endian PLY with positions, normals, uv and faces.
-///
-/// Element `vertex` holds `x y z nx ny nz u v` as floats for the `nu·nv` vertices of each patch in
-/// turn (texture coordinates `(u_i, t_j)`, no seam duplication: a periodic patch's last column has
-/// `t = v_{nv−1}/2π < 1`); element `face` holds the quads of [`Grid::quads`] as
-/// `list uchar uint vertex_indices`, offset by the vertices of the previous patches.
-pub fn write_ply(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
-    check_grids(meshes, true)?;
-    let vertices: u128 = meshes.iter().map(|g| g.len() as u128).sum();
-    let faces: u128 = meshes.iter().map(|g| quad_count(g) as u128).sum();
-    let vertices = check_u32(vertices, "vertices", "PLY")?;
-    let faces = check_u32(faces, "faces", "PLY")?;
-    let mut out = Sink::new(w, "PLY");
-    out.bytes(b"ply\nformat binary_little_endian 1.0\ncomment pdeshape: ");
-    out.uint_text(meshes.len() as u64);
-    out.bytes(b" patch(es)\nelement vertex ");
-    out.uint_text(vertices.into());
-    out.bytes(
-        b"\nproperty float x\nproperty float y\nproperty float z\n\
-          property float nx\nproperty float ny\nproperty float nz\n\
-          property float u\nproperty float v\nelement face ",
-    );
-    out.uint_text(faces.into());
-    out.bytes(b"\nproperty list uchar uint vertex_indices\nend_header\n");
-    for g in meshes {
-        let ts: Vec<f32> = (0..g.nv).map(|j| tex_t(g, j)).collect();
-        for i in 0..g.nu {
-            let s = g.u[i] as f32;
-            for (j, &t) in ts.iter().enumerate() {
-                let idx = i * g.nv + j;
-                for c in g.positions[idx] {
-                    out.f32_le(c);
-                }
-                for c in g.normals[idx] {
-                    out.f32_le(c);
-                }
-                out.f32_le(s);
-                out.f32_le(t);
-                out.tick()?;
-            }
-        }
+/// Binary little-endian PLY. Comments name the generator, title, units, up axis and each part
+/// with its range of faces (`comment part <name> faces <first> <count>`); element `vertex` holds
+/// `x y z nx ny nz` as floats (and `u v` when the mesh has texture coordinates); element `face`
+/// holds the triangles as `list uchar uint vertex_indices`, parts one after another.
+pub fn write_ply(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
+    check_mesh(mesh)?;
+    let frame = Frame::new(info, Format::Ply)?;
+    let vertices = check_u32(mesh.positions.len() as u128, "vertices", "PLY")?;
+    let faces = check_u32(mesh.triangles.len() as u128, "faces", "PLY")?;
+    let with_uv = !mesh.uv.is_empty();
+    let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
+    head += &format!("comment {GENERATOR}\n");
+    if let Some(t) = &info.title {
+        head += &format!("comment title {}\n", one_line(t));
     }
-    let mut base: u32 = 0;
-    for g in meshes {
-        for q in g.quads() {
-            out.bytes(&[4]);
-            for i in q {
-                out.u32_le(base + i);
-            }
-            out.tick()?;
+    head += &format!("comment {}\n", units_text(info));
+    for (k, p) in parts_of(mesh).iter().enumerate() {
+        head += &format!(
+            "comment part {} faces {} {}\n",
+            token(&p.name, k),
+            p.triangles.start,
+            p.triangles.len()
+        );
+    }
+    head += &format!("element vertex {vertices}\n");
+    head += "property float x\nproperty float y\nproperty float z\n\
+             property float nx\nproperty float ny\nproperty float nz\n";
+    if with_uv {
+        head += "property float u\nproperty float v\n";
+    }
+    head += &format!("element face {faces}\nproperty list uchar uint vertex_indices\nend_header\n");
+    let mut out = Sink::new(w, "PLY");
+    out.bytes(head.as_bytes());
+    for (k, (p, n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+        for c in frame.point(*p) {
+            out.f32_le(c);
         }
-        // Fits: the total vertex count was checked above.
-        base += g.len() as u32;
+        for c in frame.normal(*n) {
+            out.f32_le(c);
+        }
+        if with_uv {
+            out.f32_le(mesh.uv[k][0]);
+            out.f32_le(mesh.uv[k][1]);
+        }
+        out.tick()?;
+    }
+    for t in &mesh.triangles {
+        out.bytes(&[3]);
+        for &i in t {
+            out.u32_le(i);
+        }
+        out.tick()?;
     }
     out.finish()
-}
-
-/// Number of quads (half the number of triangles) of a grid, as [`Grid::quads`] yields them.
-fn quad_count<T>(g: &Grid<T>) -> usize {
-    let cols = if g.periodic_v {
-        g.nv
-    } else {
-        g.nv.saturating_sub(1)
-    };
-    g.nu.saturating_sub(1) * cols
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -547,71 +674,96 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_INT: u32 = 5125;
 
-/// Byte sizes of one patch's data in the binary chunk (every one a multiple of 4).
-struct GlbPatch {
-    vertices: usize,
-    triangles: usize,
+/// The vertices one part uses, in first-use order, and its triangles in that numbering.
+struct GlbPart {
+    vertices: Vec<u32>,
+    triangles: std::ops::Range<usize>,
+    local: Vec<u32>,
 }
 
-impl GlbPatch {
-    fn of(g: &GridMesh) -> Self {
-        let w = seam_columns(g);
-        GlbPatch {
-            vertices: g.nu * w,
-            triangles: 2 * (g.nu - 1) * (w - 1),
-        }
-    }
-    fn bytes(&self) -> u128 {
-        // positions 12, normals 12, uv 8 bytes per vertex; 12 bytes per triangle.
-        self.vertices as u128 * 32 + self.triangles as u128 * 12
-    }
+/// True when every edge of the mesh is used by exactly two triangles.
+fn is_closed(mesh: &TriMesh) -> bool {
+    let r = super::weld::report(mesh);
+    r.boundary_edges == 0 && r.nonmanifold_edges == 0
 }
 
-/// glTF 2.0 binary (`.glb`), one mesh primitive per patch.
+/// glTF 2.0 binary (`.glb`) in glTF's conventions: `+Y` up (the design's `+Z` turned to `+Y`,
+/// `(x, y, z) → (x, z, −y)`) and metres (positions times `scale` and the metres per unit).
 ///
-/// One scene with one node and one mesh; the mesh has one triangle primitive (mode 4) per patch
-/// with attributes `POSITION` (with its min/max), `NORMAL` and `TEXCOORD_0` and `u32` indices. A
-/// periodic patch repeats its seam column as column `nv` (same position and normal, `t = 1`), so
-/// it has `nu·(nv+1)` vertices and continuous texture coordinates; vertex `(i, j)` is
-/// `i·W + j` with `W = nv` or `nv+1`, and the triangles are those of [`Grid::triangles`] in the
-/// same order. All data sit in one buffer (the BIN chunk), one buffer view per attribute and patch,
-/// every offset a multiple of 4.
-pub fn write_glb(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
+/// One scene with a root node named after the design's title, with one child node and one mesh
+/// per part, both named after the part; each mesh has one triangle primitive (mode 4) with
+/// `POSITION` (with min/max), `NORMAL`, `TEXCOORD_0` only when the mesh has texture coordinates,
+/// and `u32` indices, using one material: double-sided when the mesh is open (has edges used by
+/// one triangle), so both sides of an open surface show. Each part has its own vertices (a
+/// vertex on a shared edge is written once per part, at the same position). `asset` names the
+/// generator (with pdeshape's version) and carries the title, units and scale in `extras`.
+pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
     use serde_json::{json, Value};
-    check_grids(meshes, true)?;
-    let patches: Vec<GlbPatch> = meshes.iter().map(GlbPatch::of).collect();
-    for (k, p) in patches.iter().enumerate() {
-        check_u32(3 * p.triangles as u128, "triangle indices", "glTF")
-            .map_err(|e| e.at(&format!("patches[{k}]")))?;
+    check_mesh(mesh)?;
+    let frame = Frame::new(info, Format::Glb)?;
+    let with_uv = !mesh.uv.is_empty();
+    let all = parts_of(mesh);
+    // Vertex numbering per part.
+    let mut glb_parts: Vec<GlbPart> = Vec::with_capacity(all.len());
+    let mut slot = vec![u32::MAX; mesh.positions.len()];
+    for p in &all {
+        let mut vertices = Vec::new();
+        let mut local = Vec::with_capacity(3 * p.triangles.len());
+        for t in &mesh.triangles[p.triangles.clone()] {
+            for &i in t {
+                let s = &mut slot[i as usize];
+                if *s == u32::MAX {
+                    *s = vertices.len() as u32;
+                    vertices.push(i);
+                }
+                local.push(*s);
+            }
+        }
+        for &i in &vertices {
+            slot[i as usize] = u32::MAX;
+        }
+        glb_parts.push(GlbPart {
+            vertices,
+            triangles: p.triangles.clone(),
+            local,
+        });
     }
-    let bin_len: u128 = patches.iter().map(GlbPatch::bytes).sum();
-
+    let vertex_bytes: u128 = if with_uv { 32 } else { 24 };
     let mut views: Vec<Value> = Vec::new();
     let mut accessors: Vec<Value> = Vec::new();
-    let mut primitives: Vec<Value> = Vec::new();
+    let mut meshes: Vec<Value> = Vec::new();
+    let mut nodes: Vec<Value> = Vec::new();
     let mut offset: u128 = 0;
-    for (g, p) in meshes.iter().zip(&patches) {
+    for (k, (p, gp)) in all.iter().zip(&glb_parts).enumerate() {
+        if gp.vertices.is_empty() {
+            continue;
+        }
+        check_u32(gp.local.len() as u128, "triangle indices", "glTF")
+            .map_err(|e| e.at(&format!("parts[{k}]")))?;
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
-        for q in &g.positions {
+        for &i in &gp.vertices {
+            let q = frame.point(mesh.positions[i as usize]);
             for c in 0..3 {
                 lo[c] = lo[c].min(q[c]);
                 hi[c] = hi[c].max(q[c]);
             }
         }
-        let n = p.vertices as u128;
-        let parts: [(u128, Option<u32>, u32); 4] = [
+        let n = gp.vertices.len() as u128;
+        let mut layout: Vec<(u128, Option<u32>, u32)> = vec![
             (n * 12, Some(12), ARRAY_BUFFER),
             (n * 12, Some(12), ARRAY_BUFFER),
-            (n * 8, Some(8), ARRAY_BUFFER),
-            (p.triangles as u128 * 12, None, ELEMENT_ARRAY_BUFFER),
         ];
+        if with_uv {
+            layout.push((n * 8, Some(8), ARRAY_BUFFER));
+        }
+        layout.push((gp.local.len() as u128 * 4, None, ELEMENT_ARRAY_BUFFER));
         let first = accessors.len();
-        for (len, stride, target) in parts {
+        for (len, stride, target) in &layout {
             let mut view = json!({
                 "buffer": 0,
                 "byteOffset": offset as u64,
-                "byteLength": len as u64,
+                "byteLength": *len as u64,
                 "target": target,
             });
             if let Some(s) = stride {
@@ -621,32 +773,66 @@ pub fn write_glb(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
             offset += len;
         }
         accessors.push(json!({
-            "bufferView": first, "componentType": FLOAT, "count": p.vertices, "type": "VEC3",
-            "min": lo, "max": hi,
+            "bufferView": first, "componentType": FLOAT, "count": gp.vertices.len(),
+            "type": "VEC3", "min": lo, "max": hi,
         }));
         accessors.push(json!({
-            "bufferView": first + 1, "componentType": FLOAT, "count": p.vertices, "type": "VEC3",
+            "bufferView": first + 1, "componentType": FLOAT, "count": gp.vertices.len(),
+            "type": "VEC3",
         }));
+        let mut attributes = json!({ "POSITION": first, "NORMAL": first + 1 });
+        let mut next = first + 2;
+        if with_uv {
+            accessors.push(json!({
+                "bufferView": next, "componentType": FLOAT, "count": gp.vertices.len(),
+                "type": "VEC2",
+            }));
+            attributes["TEXCOORD_0"] = json!(next);
+            next += 1;
+        }
         accessors.push(json!({
-            "bufferView": first + 2, "componentType": FLOAT, "count": p.vertices, "type": "VEC2",
-        }));
-        accessors.push(json!({
-            "bufferView": first + 3, "componentType": UNSIGNED_INT, "count": 3 * p.triangles,
+            "bufferView": next, "componentType": UNSIGNED_INT, "count": gp.local.len(),
             "type": "SCALAR",
         }));
-        primitives.push(json!({
-            "attributes": { "POSITION": first, "NORMAL": first + 1, "TEXCOORD_0": first + 2 },
-            "indices": first + 3,
-            "mode": 4,
+        let name = if p.name.is_empty() {
+            format!("part{k}")
+        } else {
+            p.name.clone()
+        };
+        meshes.push(json!({
+            "name": name,
+            "primitives": [{ "attributes": attributes, "indices": next, "mode": 4, "material": 0 }],
         }));
+        nodes.push(json!({ "name": name, "mesh": meshes.len() - 1 }));
     }
-    debug_assert_eq!(offset, bin_len);
+    let bin_len = offset;
+    let title = info.title.clone().unwrap_or_else(|| "pdeshape".to_string());
+    let children: Vec<usize> = (1..=nodes.len()).collect();
+    let mut all_nodes = vec![json!({ "name": title, "children": children })];
+    all_nodes.extend(nodes);
+    let mut extras = json!({
+        "units": "m",
+        "design_units": info.units.as_str(),
+        "scale": info.scale,
+    });
+    if let Some(t) = &info.title {
+        extras["title"] = json!(t);
+    }
     let doc = json!({
-        "asset": { "version": "2.0", "generator": "pdeshape" },
+        "asset": { "version": "2.0", "generator": GENERATOR, "extras": extras },
         "scene": 0,
-        "scenes": [ { "nodes": [0] } ],
-        "nodes": [ { "mesh": 0, "name": "pdeshape" } ],
-        "meshes": [ { "name": "pdeshape", "primitives": primitives } ],
+        "scenes": [ { "name": title, "nodes": [0] } ],
+        "nodes": all_nodes,
+        "meshes": meshes,
+        "materials": [ {
+            "name": "pdeshape surface",
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.6,
+            },
+            "doubleSided": !is_closed(mesh),
+        } ],
         "accessors": accessors,
         "bufferViews": views,
         "buffers": [ { "byteLength": bin_len as u64 } ],
@@ -659,6 +845,7 @@ pub fn write_glb(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
     let bin_padded = bin_len.next_multiple_of(4);
     let total = 12 + 8 + json_bytes.len() as u128 + 8 + bin_padded;
     let total = check_u32(total, "bytes", "GLB")?;
+    let _ = vertex_bytes;
 
     let mut out = Sink::new(w, "GLB");
     out.u32_le(GLB_MAGIC);
@@ -669,53 +856,43 @@ pub fn write_glb(meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
     out.bytes(&json_bytes);
     out.u32_le(bin_padded as u32);
     out.u32_le(GLB_BIN);
-    for (g, p) in meshes.iter().zip(&patches) {
-        let (nu, nv) = (g.nu, g.nv);
-        let width = seam_columns(g);
-        // Vertex (i, j) of the written patch is grid vertex (i, j mod nv).
-        let source = |i: usize, j: usize| i * nv + j % nv;
-        for i in 0..nu {
-            for j in 0..width {
-                for c in g.positions[source(i, j)] {
+    for gp in &glb_parts {
+        if gp.vertices.is_empty() {
+            continue;
+        }
+        for chunk in gp.vertices.chunks(4096) {
+            for &i in chunk {
+                for c in frame.point(mesh.positions[i as usize]) {
                     out.f32_le(c);
                 }
             }
             out.tick()?;
         }
-        for i in 0..nu {
-            for j in 0..width {
-                for c in g.normals[source(i, j)] {
+        for chunk in gp.vertices.chunks(4096) {
+            for &i in chunk {
+                for c in frame.normal(mesh.normals[i as usize]) {
                     out.f32_le(c);
                 }
             }
             out.tick()?;
         }
-        let ts: Vec<f32> = (0..width).map(|j| tex_t(g, j)).collect();
-        for i in 0..nu {
-            let s = g.u[i] as f32;
-            for &t in &ts {
-                out.f32_le(s);
-                out.f32_le(t);
-            }
-            out.tick()?;
-        }
-        let mut written = 0usize;
-        for i in 0..nu - 1 {
-            for j in 0..width - 1 {
-                let a = (i * width + j) as u32;
-                let b = ((i + 1) * width + j) as u32;
-                let c = b + 1;
-                let d = a + 1;
-                for x in [a, b, c, a, c, d] {
-                    out.u32_le(x);
+        if with_uv {
+            for chunk in gp.vertices.chunks(4096) {
+                for &i in chunk {
+                    out.f32_le(mesh.uv[i as usize][0]);
+                    out.f32_le(mesh.uv[i as usize][1]);
                 }
-                written += 2;
+                out.tick()?;
+            }
+        }
+        debug_assert_eq!(gp.local.len(), 3 * gp.triangles.len());
+        for chunk in gp.local.chunks(8192) {
+            for &x in chunk {
+                out.u32_le(x);
             }
             out.tick()?;
         }
-        debug_assert_eq!(written, p.triangles);
     }
-    // The binary parts are all multiples of 4 bytes; pad anyway should that ever change.
     for _ in bin_len..bin_padded {
         out.bytes(&[0]);
     }

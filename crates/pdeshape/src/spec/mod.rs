@@ -29,7 +29,7 @@ pub use spine::{SpineCarry, SpineHermite, SpineMove, SpineSpec};
 pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
-    OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,
+    OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, Units, V3,
 };
 pub use write::write_design;
 

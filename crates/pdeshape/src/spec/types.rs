@@ -24,6 +24,11 @@ pub struct DesignSpec {
     /// A name for the design (shown by `pdeshape check`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub title: Option<String>,
+    /// The length unit of the design's coordinates: `mm` (the default), `cm`, `m` or `in`.
+    /// Mesh files state it (glTF, which is in metres, is converted; OBJ, STL and PLY carry it
+    /// in a comment or header).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<Units>,
     /// The elliptic operator of every patch that does not override it (default: polyharmonic,
     /// order 2, a = 1).
     #[serde(
@@ -75,6 +80,46 @@ pub struct DesignSpec {
     /// Edits of the spines of PDE patches (`[[spine]]`, §5.3), at most one per patch.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub spine: Vec<super::spine::SpineSpec>,
+}
+
+/// A length unit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
+pub enum Units {
+    /// Millimetres (the default).
+    #[default]
+    #[serde(rename = "mm")]
+    Millimetre,
+    /// Centimetres.
+    #[serde(rename = "cm")]
+    Centimetre,
+    /// Metres.
+    #[serde(rename = "m")]
+    Metre,
+    /// Inches (25.4 mm).
+    #[serde(rename = "in")]
+    Inch,
+}
+
+impl Units {
+    /// Metres per unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            Units::Millimetre => 1e-3,
+            Units::Centimetre => 1e-2,
+            Units::Metre => 1.0,
+            Units::Inch => 0.0254,
+        }
+    }
+
+    /// The unit's symbol as the design file writes it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Units::Millimetre => "mm",
+            Units::Centimetre => "cm",
+            Units::Metre => "m",
+            Units::Inch => "in",
+        }
+    }
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.

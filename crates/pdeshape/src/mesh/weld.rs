@@ -1,0 +1,450 @@
+//! The patches of a design as one welded, consistently oriented triangle mesh.
+//!
+//! A design's grids repeat points: a pole row collapses to one point, the seam of a surface that
+//! closes on itself appears twice (the `[blend]` surface's first and last columns), and two
+//! patches that share a position curve both carry its points. [`weld`] joins every such pair of
+//! boundary vertices (rows `0` and `nu−1`, the end columns of a non-periodic grid, and any row
+//! that collapsed to one point) that lie within `10⁻⁶` of the design's bounding-box diagonal of
+//! each other, drops the triangles that welding left with two equal corners (the pole fans keep
+//! one vertex per pole), and orients the result:
+//!
+//! * patches that share an edge are turned to agree along it (a patch is flipped as a whole);
+//! * a closed group of patches (every edge shared by two triangles) is turned outward: its
+//!   signed volume is positive;
+//! * an open group that encloses a volume once its boundary is closed by a cone from the
+//!   centroid of its boundary vertices (a cup, a glass: [`OPEN_VOLUME_FRACTION`]) is turned so
+//!   that this capped volume is positive, the normals pointing away from the inside;
+//! * any other open group (a sheet) keeps the side its first patch's normals `X_u × X_v` point
+//!   to.
+//!
+//! Only boundary vertices are welded, so the interior of a self-intersecting surface (the Klein
+//! bottle) is never stitched to itself. Vertex normals are the exact surface normals (the
+//! normalised mean of the welded copies, after the flips), except where that mean vanishes or
+//! points against the triangles around the vertex, where the mean of their facet normals is
+//! taken; texture coordinates are dropped, since a welded vertex has several.
+
+use super::{GridMesh, Part, TriMesh};
+use std::collections::HashMap;
+
+/// Relative weld tolerance: a fraction of the bounding-box diagonal (far above `f32` rounding of
+/// the same point, far below any grid spacing).
+pub const WELD_TOLERANCE: f64 = 1e-6;
+
+/// An open group of patches is turned to a positive capped volume only when that volume exceeds
+/// this fraction of the cube of the bounding-box diagonal; below it the group is a sheet and
+/// keeps the side of its first patch.
+pub const OPEN_VOLUME_FRACTION: f64 = 1e-3;
+
+/// How [`weld`] joins the patches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WeldOptions {
+    /// Join patches that share an edge into one connected mesh (the default). When false, every
+    /// patch is welded (poles, seams) and oriented on its own and shares no vertex with another.
+    pub join_patches: bool,
+}
+
+impl Default for WeldOptions {
+    fn default() -> Self {
+        WeldOptions { join_patches: true }
+    }
+}
+
+/// Union–find with the parity of a patch's orientation relative to its group's root.
+struct Parity {
+    parent: Vec<usize>,
+    flip: Vec<bool>,
+    conflict: Vec<bool>,
+}
+
+impl Parity {
+    fn new(n: usize) -> Self {
+        Parity {
+            parent: (0..n).collect(),
+            flip: vec![false; n],
+            conflict: vec![false; n],
+        }
+    }
+
+    /// Root of `a` and the parity of `a` relative to it.
+    fn find(&mut self, a: usize) -> (usize, bool) {
+        let mut parity = false;
+        let mut x = a;
+        while self.parent[x] != x {
+            parity ^= self.flip[x];
+            x = self.parent[x];
+        }
+        (x, parity)
+    }
+
+    /// Records that `a` and `b` must differ in orientation by `differ`.
+    fn join(&mut self, a: usize, b: usize, differ: bool) {
+        let (ra, pa) = self.find(a);
+        let (rb, pb) = self.find(b);
+        if ra == rb {
+            if pa ^ pb != differ {
+                self.conflict[ra] = true;
+            }
+            return;
+        }
+        // Attach the larger index's root under the smaller's, so a group's root is its first
+        // patch.
+        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+        self.parent[hi] = lo;
+        self.flip[hi] = pa ^ pb ^ differ;
+        if self.conflict[hi] {
+            self.conflict[lo] = true;
+        }
+    }
+}
+
+/// True for the vertices that may coincide with another: the grid's boundary and its collapsed
+/// rows.
+fn weld_candidates(g: &GridMesh) -> Vec<bool> {
+    let (nu, nv) = (g.nu, g.nv);
+    let mut c = vec![false; nu * nv];
+    for i in 0..nu {
+        let row = &g.positions[i * nv..(i + 1) * nv];
+        let collapsed = row.iter().all(|p| p == &row[0]);
+        let end_row = i == 0 || i + 1 == nu;
+        for j in 0..nv {
+            let end_col = !g.periodic_v && (j == 0 || j + 1 == nv);
+            c[i * nv + j] = end_row || end_col || collapsed;
+        }
+    }
+    c
+}
+
+/// The grids of a design welded into one oriented [`TriMesh`] with one part per grid, named
+/// `names[k]` (or `patch<k>` where `names` is short). See the module documentation.
+pub fn weld(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> TriMesh {
+    // Tolerance from the bounding box of everything.
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in grids.iter().flat_map(|g| &g.positions) {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c] as f64);
+            hi[c] = hi[c].max(p[c] as f64);
+        }
+    }
+    let diag = (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt();
+    let tol = if diag.is_finite() && diag > 0.0 {
+        WELD_TOLERANCE * diag
+    } else {
+        f64::MIN_POSITIVE
+    };
+    let tol2 = tol * tol;
+    let cell = |p: [f32; 3]| p.map(|x| (x as f64 / tol).floor() as i64);
+
+    // Welded vertex of every grid vertex; representatives keep the first copy's position.
+    let mut positions: Vec<[f32; 3]> = Vec::new();
+    let mut source: Vec<Vec<u32>> = Vec::with_capacity(grids.len());
+    let mut buckets: HashMap<([i64; 3], usize), Vec<u32>> = HashMap::new();
+    for (k, g) in grids.iter().enumerate() {
+        let group = if options.join_patches { 0 } else { k };
+        let cand = weld_candidates(g);
+        let mut map = Vec::with_capacity(g.positions.len());
+        for (idx, &p) in g.positions.iter().enumerate() {
+            if !cand[idx] {
+                map.push(positions.len() as u32);
+                positions.push(p);
+                continue;
+            }
+            let c = cell(p);
+            let mut found = None;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let key = ([c[0] + dx, c[1] + dy, c[2] + dz], group);
+                        if let Some(list) = buckets.get(&key) {
+                            for &w in list {
+                                let q = positions[w as usize];
+                                let d2: f64 =
+                                    (0..3).map(|a| (p[a] as f64 - q[a] as f64).powi(2)).sum();
+                                if d2 <= tol2 {
+                                    found = Some(w);
+                                    break 'search;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            let w = match found {
+                Some(w) => w,
+                None => {
+                    let w = positions.len() as u32;
+                    positions.push(p);
+                    buckets.entry((c, group)).or_default().push(w);
+                    w
+                }
+            };
+            map.push(w);
+        }
+        source.push(map);
+    }
+
+    // Triangles per patch, re-indexed, without the ones welding collapsed.
+    let mut tris: Vec<Vec<[u32; 3]>> = grids
+        .iter()
+        .zip(&source)
+        .map(|(g, map)| {
+            g.triangles()
+                .map(|t| t.map(|i| map[i as usize]))
+                .filter(|[a, b, c]| a != b && b != c && a != c)
+                .collect()
+        })
+        .collect();
+
+    // Directed edges → (patch, count); patches meeting along an edge agree in orientation when
+    // they run along it in opposite directions.
+    let mut edges: HashMap<(u32, u32), (usize, u32, bool)> = HashMap::new();
+    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+    for (k, ts) in tris.iter().enumerate() {
+        for t in ts {
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                let key = (a.min(b), a.max(b));
+                *uses.entry(key).or_default() += 1;
+                edges.entry(key).or_insert((k, a, a < b));
+            }
+        }
+    }
+    let mut parity = Parity::new(grids.len());
+    for (k, ts) in tris.iter().enumerate() {
+        for t in ts {
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                let key = (a.min(b), a.max(b));
+                let (first, _, forward) = edges[&key];
+                if first != k && uses[&key] == 2 {
+                    // Same direction along the shared edge: opposite orientations.
+                    parity.join(first, k, forward == (a < b));
+                }
+            }
+        }
+    }
+
+    // Orientation of each patch relative to its group's root, then the group's own turn.
+    let relative: Vec<(usize, bool)> = (0..grids.len()).map(|k| parity.find(k)).collect();
+    let mut group_flip: HashMap<usize, bool> = HashMap::new();
+    for &(root, _) in &relative {
+        if group_flip.contains_key(&root) || parity.conflict[root] {
+            continue;
+        }
+        let members: Vec<usize> = (0..grids.len())
+            .filter(|&k| relative[k].0 == root)
+            .collect();
+        let closed = members.iter().all(|&k| {
+            tris[k].iter().all(|t| {
+                (0..3).all(|e| {
+                    let (a, b) = (t[e], t[(e + 1) % 3]);
+                    uses[&(a.min(b), a.max(b))] == 2
+                })
+            })
+        });
+        // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid of
+        // the boundary vertices (what `analyze` calls the capped volume).
+        let apex = if closed {
+            [0.0; 3]
+        } else {
+            let mut sum = [0.0f64; 3];
+            let mut count = 0usize;
+            for &k in &members {
+                for t in &tris[k] {
+                    for e in 0..3 {
+                        let (a, b) = (t[e], t[(e + 1) % 3]);
+                        if uses[&(a.min(b), a.max(b))] == 1 {
+                            let p = positions[a as usize];
+                            for c in 0..3 {
+                                sum[c] += p[c] as f64;
+                            }
+                            count += 1;
+                        }
+                    }
+                }
+            }
+            sum.map(|x| x / count.max(1) as f64)
+        };
+        let mut volume = 0.0f64;
+        for &k in &members {
+            let sign = if relative[k].1 { -1.0 } else { 1.0 };
+            volume += sign * signed_volume_about(&positions, &tris[k], apex);
+        }
+        // An open group that encloses next to nothing (a sheet) keeps its first patch's side.
+        let encloses = closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
+        let flip = encloses && volume < 0.0;
+        group_flip.insert(root, flip);
+    }
+    let flipped: Vec<bool> = relative
+        .iter()
+        .map(|&(root, rel)| rel ^ group_flip.get(&root).copied().unwrap_or(false))
+        .collect();
+
+    // Normals: the mean of the welded copies, each turned with its patch.
+    let mut sums = vec![[0.0f64; 3]; positions.len()];
+    for (k, g) in grids.iter().enumerate() {
+        let s = if flipped[k] { -1.0 } else { 1.0 };
+        for (idx, n) in g.normals.iter().enumerate() {
+            let w = source[k][idx] as usize;
+            for c in 0..3 {
+                sums[w][c] += s * n[c] as f64;
+            }
+        }
+    }
+    for (k, ts) in tris.iter_mut().enumerate() {
+        if flipped[k] {
+            for t in ts.iter_mut() {
+                t.swap(1, 2);
+            }
+        }
+    }
+    let mut normals: Vec<[f32; 3]> = sums
+        .iter()
+        .map(|s| {
+            let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+            if len > 1e-3 {
+                s.map(|c| (c / len) as f32)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    // Where the copies' normals cancel (a crease turned back on itself) or point against the
+    // triangles around the vertex (the limit normal at a pole closing a patch at its end u,
+    // whose sign is that of the other end's), the mean of the facet normals around the vertex.
+    let mut acc = vec![[0.0f64; 3]; positions.len()];
+    for t in tris.iter().flatten() {
+        let f = facet_cross(&positions, *t);
+        for &i in t {
+            for c in 0..3 {
+                acc[i as usize][c] += f[c];
+            }
+        }
+    }
+    for (n, a) in normals.iter_mut().zip(&acc) {
+        let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
+        if dot <= 0.0 {
+            let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            if len > 0.0 {
+                *n = a.map(|c| (c / len) as f32);
+            }
+        }
+    }
+
+    let mut mesh = TriMesh {
+        positions,
+        normals,
+        uv: Vec::new(),
+        triangles: Vec::new(),
+        parts: Vec::new(),
+    };
+    for (k, ts) in tris.into_iter().enumerate() {
+        let start = mesh.triangles.len();
+        mesh.triangles.extend(ts);
+        mesh.parts.push(Part {
+            name: names
+                .get(k)
+                .map(|s| s.to_string())
+                .unwrap_or_else(|| format!("patch{k}")),
+            triangles: start..mesh.triangles.len(),
+        });
+    }
+    mesh
+}
+
+/// `(b − a) × (c − a)` in f64.
+pub(crate) fn facet_cross(p: &[[f32; 3]], t: [u32; 3]) -> [f64; 3] {
+    let [a, b, c] = t.map(|i| p[i as usize].map(f64::from));
+    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ]
+}
+
+/// `Σ a · (b × c) / 6` over the triangles: the enclosed volume of a closed, outward mesh.
+fn signed_volume_of(p: &[[f32; 3]], tris: &[[u32; 3]]) -> f64 {
+    signed_volume_about(p, tris, [0.0; 3])
+}
+
+/// `Σ (a − o) · ((b − o) × (c − o)) / 6`: the signed volume of the triangles closed by cones to
+/// `o` (for a closed mesh, the enclosed volume whatever `o`).
+fn signed_volume_about(p: &[[f32; 3]], tris: &[[u32; 3]], o: [f64; 3]) -> f64 {
+    tris.iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| {
+                let q = p[i as usize];
+                [q[0] as f64 - o[0], q[1] as f64 - o[1], q[2] as f64 - o[2]]
+            });
+            let bc = [
+                b[1] * c[2] - b[2] * c[1],
+                b[2] * c[0] - b[0] * c[2],
+                b[0] * c[1] - b[1] * c[0],
+            ];
+            (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0
+        })
+        .sum()
+}
+
+/// Topology and volume of a triangle mesh, as a repair tool would count them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshReport {
+    /// Edges used by one triangle only (holes, or the rim of an open surface).
+    pub boundary_edges: usize,
+    /// Edges used by more than two triangles.
+    pub nonmanifold_edges: usize,
+    /// Edges used twice in the same direction (neighbours wound against each other).
+    pub misoriented_edges: usize,
+    /// Triangles with two equal corner indices or positions, or zero area.
+    pub degenerate_triangles: usize,
+    /// `Σ a · (b × c) / 6`: the enclosed volume when the mesh is closed and outward.
+    pub signed_volume: f64,
+}
+
+impl MeshReport {
+    /// Every edge shared by exactly two triangles running along it in opposite directions.
+    pub fn is_closed_and_oriented(&self) -> bool {
+        self.boundary_edges == 0 && self.nonmanifold_edges == 0 && self.misoriented_edges == 0
+    }
+}
+
+/// Counts the mesh's boundary, non-manifold and misoriented edges and degenerate triangles, and
+/// its signed volume.
+pub fn report(mesh: &TriMesh) -> MeshReport {
+    let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+    let mut degenerate = 0;
+    for &t in &mesh.triangles {
+        let [a, b, c] = t;
+        let f = facet_cross(&mesh.positions, t);
+        if a == b || b == c || a == c || f == [0.0; 3] {
+            degenerate += 1;
+        }
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let entry = uses.entry((a.min(b), a.max(b))).or_default();
+            if a < b {
+                entry.0 += 1;
+            } else {
+                entry.1 += 1;
+            }
+        }
+    }
+    let mut r = MeshReport {
+        boundary_edges: 0,
+        nonmanifold_edges: 0,
+        misoriented_edges: 0,
+        degenerate_triangles: degenerate,
+        signed_volume: signed_volume_of(&mesh.positions, &mesh.triangles),
+    };
+    for &(f, b) in uses.values() {
+        match f + b {
+            1 => r.boundary_edges += 1,
+            2 if f != 1 => r.misoriented_edges += 1,
+            2 => {}
+            _ => r.nonmanifold_edges += 1,
+        }
+    }
+    r
+}
