@@ -21,6 +21,7 @@ OPENBLAS_NUM_THREADS=1 python3 bench/peers/scipy_bspline_grid.py 60 | head -1
 echo "== finite differences: 256 x 256 biharmonic patch (cargo bench), then libigl on the same grid"
 cargo bench -p pdeshape --bench fd -- --warm-up-time 1 --measurement-time 10 2>&1 | grep -E "^fd |time:"
 python3 bench/peers/libigl_biharmonic.py 256 5
+python3 bench/peers/libigl_biharmonic.py 256 3 --periodic
 echo "== pdeshape analysis (cargo bench)"
 cargo bench -p pdeshape --bench analysis -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^analysis|time:"
 echo "== pdeshape BFS splines and the section-6 blend (cargo bench)"
