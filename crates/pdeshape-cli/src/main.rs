@@ -6,6 +6,7 @@ mod blend;
 mod check;
 mod common;
 mod curve;
+mod fit;
 mod optimize;
 mod render;
 mod schema;
@@ -47,6 +48,9 @@ enum Command {
     /// Solve the [spline] section (B-spline/Bézier surface of a linear PDE) and write its net
     /// (json), an IGES surface (igs) or a mesh; prints rank and free control points.
     Spline(spline::Args),
+    /// Fit PDE patches to a closed triangle mesh (obj, stl, ply) and write the design (toml),
+    /// with the two-sided distances and the compression ratio.
+    Fit(fit::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -60,6 +64,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Blend(args) => blend::run(&args),
         Command::Analyze(args) => analyze::run(&args),
         Command::Spline(args) => spline::run(&args),
+        Command::Fit(args) => fit::run(&args),
     }
 }
 
@@ -75,7 +80,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)
