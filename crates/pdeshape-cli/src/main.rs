@@ -6,6 +6,7 @@ mod blend;
 mod check;
 mod common;
 mod curve;
+mod fit;
 mod optimize;
 mod render;
 mod schema;
@@ -51,6 +52,9 @@ enum Command {
     /// Start the browser designer on a local web server and print its URL (with a per-launch
     /// token): drag curves and watch the surface re-solve.
     Serve(serve::Args),
+    /// Fit PDE patches to a closed triangle mesh (obj, stl, ply) and write the design (toml),
+    /// with the two-sided distances and the compression ratio.
+    Fit(fit::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -65,6 +69,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Analyze(args) => analyze::run(&args),
         Command::Spline(args) => spline::run(&args),
         Command::Serve(args) => serve::run(&args),
+        Command::Fit(args) => fit::run(&args),
     }
 }
 
@@ -80,7 +85,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, schema or serve \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -26,6 +26,7 @@ pub mod dynamic;
 pub mod elliptic;
 mod error;
 pub mod fd;
+pub mod fit;
 mod formula;
 pub mod fourier;
 pub mod mesh;

@@ -1,0 +1,510 @@
+//! Triangle meshes read from OBJ, STL and PLY files (through `tobj`, `stl_io` and `ply-rs`), and
+//! the checks the fitting needs: finite coordinates, valid indices, a size limit, edge
+//! manifoldness, closedness and connectedness.
+
+use crate::{Error, Result, Vec3};
+use std::collections::HashMap;
+use std::io::Cursor;
+
+/// Largest number of triangles read: a mesh beyond it is refused before its triangles are stored
+/// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
+pub const MAX_TRIANGLES: usize = 4_000_000;
+
+/// An indexed triangle mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriMesh {
+    pub positions: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// What [`TriMesh::topology`] finds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Topology {
+    /// Edges used by exactly one triangle.
+    pub boundary_edges: usize,
+    /// Edges used by three or more triangles.
+    pub nonmanifold_edges: usize,
+    /// Connected components (through shared vertices) of the triangles.
+    pub components: usize,
+    /// Triangles with a repeated vertex index.
+    pub degenerate: usize,
+}
+
+/// Mesh file formats, by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeshFormat {
+    Obj,
+    Stl,
+    Ply,
+}
+
+impl MeshFormat {
+    /// The format named by a file extension (`obj`, `stl`, `ply`, any case).
+    pub fn from_extension(ext: &str) -> Option<Self> {
+        match ext.to_ascii_lowercase().as_str() {
+            "obj" => Some(MeshFormat::Obj),
+            "stl" => Some(MeshFormat::Stl),
+            "ply" => Some(MeshFormat::Ply),
+            _ => None,
+        }
+    }
+}
+
+impl TriMesh {
+    /// A mesh from positions and triangles, checked: at least one triangle, finite coordinates
+    /// (the error names the vertex), indices in range (naming the triangle), at most
+    /// [`MAX_TRIANGLES`].
+    pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self> {
+        if triangles.is_empty() {
+            return Err(Error::invalid("the mesh has no triangles"));
+        }
+        check_count(triangles.len())?;
+        if let Some(k) = positions
+            .iter()
+            .position(|p| !p.iter().all(|c| c.is_finite()))
+        {
+            let p = positions[k];
+            return Err(Error::invalid(format!(
+                "vertex {} is not finite: ({}, {}, {})",
+                k + 1,
+                p.x,
+                p.y,
+                p.z
+            )));
+        }
+        let n = positions.len();
+        if let Some(k) = triangles
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= n))
+        {
+            return Err(Error::invalid(format!(
+                "triangle {} refers to vertex {} but the mesh has {n} vertices",
+                k + 1,
+                triangles[k].iter().max().map_or(0, |&i| i as usize + 1)
+            )));
+        }
+        Ok(TriMesh {
+            positions,
+            triangles,
+        })
+    }
+
+    /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ or PLY file are
+    /// split into fans of triangles; coincident STL corners are merged into one vertex.
+    pub fn read(bytes: &[u8], format: MeshFormat) -> Result<Self> {
+        let (positions, triangles) = match format {
+            MeshFormat::Obj => read_obj(bytes)?,
+            MeshFormat::Stl => read_stl(bytes)?,
+            MeshFormat::Ply => read_ply(bytes)?,
+        };
+        TriMesh::new(positions, triangles)
+    }
+
+    /// The corners of triangle `t`.
+    pub fn corners(&self, t: usize) -> [Vec3; 3] {
+        self.triangles[t].map(|i| self.positions[i as usize])
+    }
+
+    /// The length of the bounding box's diagonal.
+    pub fn diagonal(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        (hi - lo).norm()
+    }
+
+    /// The corners of the bounding box of the vertices used by triangles.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+        for t in &self.triangles {
+            for &i in t {
+                let p = self.positions[i as usize];
+                lo = lo.inf(&p);
+                hi = hi.sup(&p);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The size of the mesh in binary: `f32` coordinates and `u32` triangle indices, `12·V + 12·T`
+    /// bytes.
+    pub fn binary_size(&self) -> usize {
+        12 * self.positions.len() + 12 * self.triangles.len()
+    }
+
+    /// Boundary and non-manifold edges, connected components and degenerate triangles.
+    pub fn topology(&self) -> Topology {
+        let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(self.triangles.len() * 2);
+        let mut degenerate = 0;
+        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
+        for t in &self.triangles {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                degenerate += 1;
+            }
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                union(&mut parent, a, b);
+            }
+        }
+        let boundary_edges = edges.values().filter(|&&c| c == 1).count();
+        let nonmanifold_edges = edges.values().filter(|&&c| c > 2).count();
+        let mut roots: Vec<u32> = self
+            .triangles
+            .iter()
+            .map(|t| find(&mut parent, t[0]))
+            .collect();
+        roots.sort_unstable();
+        roots.dedup();
+        Topology {
+            boundary_edges,
+            nonmanifold_edges,
+            components: roots.len(),
+            degenerate,
+        }
+    }
+
+    /// Refuses a mesh that is not one closed, edge-manifold surface, with a message that says
+    /// what was found.
+    pub fn require_closed(&self) -> Result<Topology> {
+        let t = self.topology();
+        if t.nonmanifold_edges > 0 {
+            return Err(Error::invalid(format!(
+                "the mesh is not manifold: {} edges are shared by three or more triangles",
+                t.nonmanifold_edges
+            )));
+        }
+        if t.components > 1 {
+            return Err(Error::invalid(format!(
+                "the mesh has {} separate components; fit each on its own",
+                t.components
+            )));
+        }
+        if t.boundary_edges > 0 {
+            return Err(Error::invalid(format!(
+                "the mesh is open ({} boundary edges): the automatic mode fits closed bodies",
+                t.boundary_edges
+            )));
+        }
+        Ok(t)
+    }
+}
+
+fn find(parent: &mut [u32], mut a: u32) -> u32 {
+    while parent[a as usize] != a {
+        let g = parent[parent[a as usize] as usize];
+        parent[a as usize] = g;
+        a = g;
+    }
+    a
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb) as usize] = ra.min(rb);
+    }
+}
+
+fn check_count(triangles: usize) -> Result<()> {
+    if triangles > MAX_TRIANGLES {
+        return Err(Error::invalid(format!(
+            "the mesh has {triangles} triangles, more than the {MAX_TRIANGLES} a fit reads; \
+             decimate it first"
+        )));
+    }
+    Ok(())
+}
+
+/// Splits a polygon of `n ≥ 3` corners into a fan.
+fn fan(out: &mut Vec<[u32; 3]>, corners: &[u32]) {
+    for k in 1..corners.len().saturating_sub(1) {
+        out.push([corners[0], corners[k], corners[k + 1]]);
+    }
+}
+
+fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
+    // Count faces before parsing, so a huge file is refused before it is stored.
+    let faces = bytes
+        .split(|&b| b == b'\n')
+        .filter(|l| l.starts_with(b"f ") || l.starts_with(b"f\t"))
+        .count();
+    check_count(faces)?;
+    let opts = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, _) =
+        tobj::load_obj_buf(&mut Cursor::new(bytes), &opts, |_| Ok(Default::default()))
+            .map_err(|e| Error::invalid(format!("not a readable OBJ file: {e}")))?;
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        if m.positions.len() % 3 != 0 {
+            return Err(Error::invalid(
+                "OBJ vertex with fewer than three coordinates",
+            ));
+        }
+        let base = positions.len() as u32;
+        positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64)),
+        );
+        let mut at = 0;
+        let arities: Vec<u32> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.clone()
+        };
+        for a in arities {
+            let a = a as usize;
+            if at + a > m.indices.len() {
+                return Err(Error::invalid("OBJ face list ends early"));
+            }
+            let corners: Vec<u32> = m.indices[at..at + a].iter().map(|&i| i + base).collect();
+            if a >= 3 {
+                fan(&mut triangles, &corners);
+            }
+            at += a;
+        }
+    }
+    Ok((positions, triangles))
+}
+
+fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
+    // A binary STL states its triangle count at byte 80; refuse a huge one before reading it.
+    let ascii = bytes.starts_with(b"solid") && bytes.len() >= 84 && {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        84 + 50 * n != bytes.len()
+    };
+    if !ascii && bytes.len() >= 84 {
+        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
+        check_count(n)?;
+        if 84 + 50 * n > bytes.len() {
+            return Err(Error::invalid(format!(
+                "the STL file is truncated: it announces {n} triangles ({} bytes) but has {} bytes",
+                84 + 50 * n,
+                bytes.len()
+            )));
+        }
+    }
+    let mut cursor = Cursor::new(bytes);
+    let reader = stl_io::create_stl_reader(&mut cursor)
+        .map_err(|e| Error::invalid(format!("not a readable STL file: {e}")))?;
+    let mut index: HashMap<[u32; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut triangles = Vec::new();
+    for (k, tri) in reader.enumerate() {
+        let tri = tri.map_err(|e| Error::invalid(format!("STL triangle {}: {e}", k + 1)))?;
+        if triangles.len() >= MAX_TRIANGLES {
+            check_count(triangles.len() + 1)?;
+        }
+        let mut t = [0u32; 3];
+        for (c, v) in tri.vertices.iter().enumerate() {
+            let p = [v[0], v[1], v[2]];
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(Error::invalid(format!(
+                    "STL triangle {}: corner {} is not finite: ({}, {}, {})",
+                    k + 1,
+                    c + 1,
+                    p[0],
+                    p[1],
+                    p[2]
+                )));
+            }
+            // +0 and −0 are the same point.
+            let key = p.map(|x| (x + 0.0).to_bits());
+            let next = positions.len() as u32;
+            let i = *index.entry(key).or_insert_with(|| {
+                positions.push(Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+                next
+            });
+            t[c] = i;
+        }
+        triangles.push(t);
+    }
+    Ok((positions, triangles))
+}
+
+fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
+    use ply_rs::ply::{DefaultElement, Property};
+    let bad = |e: std::io::Error| Error::invalid(format!("not a readable PLY file: {e}"));
+    let vertex_parser = ply_rs::parser::Parser::<DefaultElement>::new();
+    let mut cursor = Cursor::new(bytes);
+    let header = vertex_parser.read_header(&mut cursor).map_err(bad)?;
+    let faces = header.elements.get("face").map_or(0, |e| e.count);
+    check_count(faces)?;
+    let payload = vertex_parser
+        .read_payload(&mut cursor, &header)
+        .map_err(bad)?;
+    let scalar = |p: &Property| -> Option<f64> {
+        Some(match *p {
+            Property::Float(x) => x as f64,
+            Property::Double(x) => x,
+            Property::Char(x) => x as f64,
+            Property::UChar(x) => x as f64,
+            Property::Short(x) => x as f64,
+            Property::UShort(x) => x as f64,
+            Property::Int(x) => x as f64,
+            Property::UInt(x) => x as f64,
+            _ => return None,
+        })
+    };
+    let empty = Vec::new();
+    let verts = payload.get("vertex").unwrap_or(&empty);
+    let mut positions = Vec::with_capacity(verts.len());
+    for (k, v) in verts.iter().enumerate() {
+        let mut p = [0.0; 3];
+        for (c, key) in ["x", "y", "z"].iter().enumerate() {
+            p[c] = v.get(*key).and_then(scalar).ok_or_else(|| {
+                Error::invalid(format!("PLY vertex {}: no numeric '{key}'", k + 1))
+            })?;
+        }
+        positions.push(Vec3::new(p[0], p[1], p[2]));
+    }
+    let mut triangles = Vec::new();
+    for (k, f) in payload.get("face").unwrap_or(&empty).iter().enumerate() {
+        let list = f.get("vertex_indices").or_else(|| f.get("vertex_index"));
+        let corners: Vec<i64> = match list {
+            Some(Property::ListChar(x)) => x.iter().map(|&i| i as i64).collect(),
+            Some(Property::ListUChar(x)) => x.iter().map(|&i| i as i64).collect(),
+            Some(Property::ListShort(x)) => x.iter().map(|&i| i as i64).collect(),
+            Some(Property::ListUShort(x)) => x.iter().map(|&i| i as i64).collect(),
+            Some(Property::ListInt(x)) => x.iter().map(|&i| i as i64).collect(),
+            Some(Property::ListUInt(x)) => x.iter().map(|&i| i as i64).collect(),
+            _ => {
+                return Err(Error::invalid(format!(
+                    "PLY face {}: no integer list 'vertex_indices'",
+                    k + 1
+                )))
+            }
+        };
+        if corners.iter().any(|&i| i < 0 || i > u32::MAX as i64) {
+            return Err(Error::invalid(format!(
+                "PLY face {}: a negative or too large vertex index",
+                k + 1
+            )));
+        }
+        let corners: Vec<u32> = corners.iter().map(|&i| i as u32).collect();
+        fan(&mut triangles, &corners);
+    }
+    Ok((positions, triangles))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetra() -> TriMesh {
+        TriMesh::new(
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+            ],
+            vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn closed_tetrahedron_passes_and_its_parts_are_refused() {
+        let t = tetra();
+        assert_eq!(t.require_closed().unwrap().components, 1);
+        let mut open = t.clone();
+        open.triangles.pop();
+        let e = open.require_closed().unwrap_err().to_string();
+        assert!(e.contains("open (3 boundary edges)"), "{e}");
+        let mut two = t.clone();
+        let n = two.positions.len() as u32;
+        two.positions
+            .extend(t.positions.iter().map(|p| p + Vec3::x() * 5.0));
+        two.triangles
+            .extend(t.triangles.iter().map(|tr| tr.map(|i| i + n)));
+        let e = two.require_closed().unwrap_err().to_string();
+        assert!(e.contains("2 separate components"), "{e}");
+        let mut fin = t.clone();
+        fin.positions.push(Vec3::new(1.0, 1.0, 1.0));
+        fin.triangles.push([0, 1, 4]);
+        let e = fin.require_closed().unwrap_err().to_string();
+        assert!(e.contains("not manifold: 1 edges"), "{e}");
+    }
+
+    #[test]
+    fn bad_values_are_refused_with_their_place() {
+        let e = TriMesh::new(vec![], vec![]).unwrap_err().to_string();
+        assert!(e.contains("no triangles"), "{e}");
+        let mut p = tetra().positions;
+        p[2].y = f64::NAN;
+        let e = TriMesh::new(p, tetra().triangles).unwrap_err().to_string();
+        assert!(e.contains("vertex 3 is not finite"), "{e}");
+        let e = TriMesh::new(tetra().positions, vec![[0, 1, 7]])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("triangle 1 refers to vertex 8"), "{e}");
+    }
+
+    #[test]
+    fn the_three_formats_read_the_same_tetrahedron() {
+        let t = tetra();
+        let mut obj = String::new();
+        for p in &t.positions {
+            obj += &format!("v {} {} {}\n", p.x, p.y, p.z);
+        }
+        for tr in &t.triangles {
+            obj += &format!("f {} {} {}\n", tr[0] + 1, tr[1] + 1, tr[2] + 1);
+        }
+        let from_obj = TriMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(from_obj, t);
+        let mut ply = String::from(
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+             property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+        );
+        for p in &t.positions {
+            ply += &format!("{} {} {}\n", p.x, p.y, p.z);
+        }
+        for tr in &t.triangles {
+            ply += &format!("3 {} {} {}\n", tr[0], tr[1], tr[2]);
+        }
+        assert_eq!(TriMesh::read(ply.as_bytes(), MeshFormat::Ply).unwrap(), t);
+        let tris: Vec<stl_io::Triangle> = (0..4)
+            .map(|k| stl_io::Triangle {
+                normal: stl_io::Normal::new([0.0; 3]),
+                vertices: t
+                    .corners(k)
+                    .map(|p| stl_io::Vertex::new([p.x as f32, p.y as f32, p.z as f32])),
+            })
+            .collect();
+        let mut stl = Vec::new();
+        stl_io::write_stl(&mut stl, tris.iter()).unwrap();
+        let from_stl = TriMesh::read(&stl, MeshFormat::Stl).unwrap();
+        assert_eq!(from_stl, t);
+        // Truncated: the announced count does not fit.
+        let e = TriMesh::read(&stl[..stl.len() - 7], MeshFormat::Stl)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("truncated"), "{e}");
+        // A count beyond the limit is refused before anything is read.
+        let mut huge = stl[..84].to_vec();
+        huge[80..84].copy_from_slice(&10_000_000u32.to_le_bytes());
+        let e = TriMesh::read(&huge, MeshFormat::Stl)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("10000000 triangles"), "{e}");
+        let e = TriMesh::read(
+            b"ply\nformat ascii 1.0\nelement vertex 4\n",
+            MeshFormat::Ply,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("PLY"), "{e}");
+        let e = TriMesh::read(b"v 0 0 0\nv 1 0 0\nf 1 2 3\n", MeshFormat::Obj)
+            .unwrap_err()
+            .to_string();
+        assert!(!e.is_empty());
+    }
+}
