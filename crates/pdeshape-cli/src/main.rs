@@ -3,6 +3,7 @@
 
 mod analyze;
 mod blend;
+mod cad;
 mod check;
 mod common;
 mod curve;
@@ -47,6 +48,9 @@ enum Command {
     /// Solve the [spline] section (B-spline/Bézier surface of a linear PDE) and write its net
     /// (json), an IGES surface (igs) or a mesh; prints rank and free control points.
     Spline(spline::Args),
+    /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
+    /// design's (the largest deviation per surface).
+    Roundtrip(cad::RoundtripArgs),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -60,6 +64,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Blend(args) => blend::run(&args),
         Command::Analyze(args) => analyze::run(&args),
         Command::Spline(args) => spline::run(&args),
+        Command::Roundtrip(args) => cad::roundtrip(&args),
     }
 }
 
@@ -75,7 +80,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize or schema \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, roundtrip or schema \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)
