@@ -3,6 +3,7 @@
 
 mod analyze;
 mod blend;
+mod cad;
 mod check;
 mod common;
 mod curve;
@@ -55,6 +56,9 @@ enum Command {
     /// Fit PDE patches to a closed triangle mesh (obj, stl, ply) and write the design (toml),
     /// with the two-sided distances and the compression ratio.
     Fit(fit::Args),
+    /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
+    /// design's (the largest deviation per surface).
+    Roundtrip(cad::RoundtripArgs),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -70,6 +74,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Spline(args) => spline::run(&args),
         Command::Serve(args) => serve::run(&args),
         Command::Fit(args) => fit::run(&args),
+        Command::Roundtrip(args) => cad::roundtrip(&args),
     }
 }
 
@@ -85,7 +90,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, schema or serve \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

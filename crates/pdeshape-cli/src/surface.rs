@@ -11,7 +11,8 @@ use std::time::Instant;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
-    /// Output file; the extension picks the format: obj, stl, ply, glb or csv.
+    /// Output file; the extension picks the format: obj, stl, ply, glb, csv, or step/stp and
+    /// igs/iges (B-spline surfaces with their deviation).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Grid rows (values of u; default from [output] or 64).
@@ -38,6 +39,13 @@ pub struct Args {
     /// `pdeshape render` does with its default view and size.
     #[arg(long)]
     pub picture: Option<PathBuf>,
+    /// STEP/IGES: the largest deviation of the B-splines from the surfaces (design units;
+    /// default 10⁻⁴ of the design's size).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// STEP/IGES: the length unit the file declares (mm, cm, m or in).
+    #[arg(long, default_value = "mm")]
+    pub units: String,
 }
 
 /// The `--up` values.
@@ -81,6 +89,9 @@ fn ms(t: Instant) -> f64 {
 }
 
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if let Some(cad) = crate::cad::CadFormat::from_path(&args.output) {
+        return crate::cad::write(&args.design, &args.output, cad, args.tolerance, &args.units);
+    }
     let shown = args.output.display().to_string();
     let format = Format::from_path(&args.output)
         .map_err(|e| CliError::input(format!("-o {shown}: {}", common::message_of(&e))))?;

@@ -19,6 +19,7 @@
 
 pub mod analysis;
 pub mod bfs;
+pub mod cad;
 mod check;
 pub mod curve;
 pub mod design;

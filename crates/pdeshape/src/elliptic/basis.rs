@@ -177,6 +177,15 @@ impl Basis {
         }
     }
 
+    /// The layer basis's bounds of `sup_{[0, 1]} |ψ_k^{(d)}|` ([`LayerBasis::derivative_sups`]);
+    /// `None` for the Chebyshev basis (bounded through its series instead).
+    pub fn layer_derivative_sups(&self, d: usize) -> Option<Vec<f64>> {
+        match self {
+            Basis::Chebyshev { .. } => None,
+            Basis::Layers(l) => Some(l.derivative_sups(d)),
+        }
+    }
+
     /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
     pub fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         match self {
@@ -385,6 +394,44 @@ impl LayerBasis {
             });
             slot += m * if group.is_complex() { 2 } else { 1 };
         }
+    }
+
+    /// Bounds of `sup_{u ∈ [0, 1]} |ψ^{(d)}(u)|` for every layer function `ψ` (in the order of
+    /// [`Self::eval`]). The `d`-th derivative is `e^{−λt} Σ_j q_j L_j(2αt)` (`α = Re λ > 0`,
+    /// the coefficients `q_j` of [`Self::eval`]), and `|L_j(x)| ≤ e^{x/2}` for `x ≥ 0`
+    /// (Szegő), so `|e^{−λt} L_j(2αt)| ≤ 1` and the derivative is at most `Σ_j |q_j|` (its real
+    /// and imaginary parts too).
+    pub(super) fn derivative_sups(&self, d: usize) -> Vec<f64> {
+        let mut out = vec![0.0; self.funcs.len()];
+        let mut coef = [Complex::new(0.0, 0.0); 2 * super::MAX_HALF_ORDER];
+        let mut slot = 0;
+        while slot < self.funcs.len() {
+            let (g, _, _, _) = self.funcs[slot];
+            let group = &self.groups[g];
+            let lambda = group.s * self.n;
+            let alpha2 = 2.0 * lambda.re;
+            for k in 0..group.multiplicity {
+                for (j, c) in coef[..=k].iter_mut().enumerate() {
+                    *c = Complex::new(if j == k { 1.0 } else { 0.0 }, 0.0);
+                }
+                for _ in 0..d {
+                    let mut suffix = Complex::new(0.0, 0.0);
+                    for j in (0..=k).rev() {
+                        let p = coef[j];
+                        coef[j] = (-suffix - p * 0.5) * alpha2 - Complex::new(0.0, lambda.im) * p;
+                        suffix += p;
+                    }
+                }
+                let sup: f64 = coef[..=k].iter().map(|c| c.norm()).sum();
+                out[slot] = sup;
+                slot += 1;
+                if group.is_complex() {
+                    out[slot] = sup;
+                    slot += 1;
+                }
+            }
+        }
+        out
     }
 
     /// `d`-th u-derivatives of every layer function at `u`.

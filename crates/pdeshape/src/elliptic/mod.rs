@@ -8,6 +8,7 @@
 //! modes leave of the conditions, so they hold to rounding for any periodic curves.
 
 mod basis;
+mod bounds;
 mod operator;
 mod patch;
 

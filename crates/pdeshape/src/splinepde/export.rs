@@ -134,22 +134,97 @@ pub fn iges_timestamp(unix_seconds: u64) -> String {
     )
 }
 
+/// One tensor B-spline surface for [`iges_surfaces`]: degrees, full knot vectors, control
+/// points row-major (`i` along `u`, index `i·n_v + j`), closed flags `[u, v]`, a label of at
+/// most eight characters.
+#[derive(Clone, Debug)]
+pub struct IgesSurface {
+    pub degree: [usize; 2],
+    pub knots_u: Vec<f64>,
+    pub knots_v: Vec<f64>,
+    pub control: Vec<[f64; 3]>,
+    pub closed: [bool; 2],
+    pub label: String,
+}
+
+/// The model's length unit in the Global section: IGES unit flag and name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct IgesUnit {
+    pub flag: u32,
+    pub name: &'static str,
+}
+
+impl IgesUnit {
+    pub const MILLIMETRE: IgesUnit = IgesUnit {
+        flag: 2,
+        name: "MM",
+    };
+    pub const CENTIMETRE: IgesUnit = IgesUnit {
+        flag: 10,
+        name: "CM",
+    };
+    pub const METRE: IgesUnit = IgesUnit { flag: 6, name: "M" };
+    pub const INCH: IgesUnit = IgesUnit {
+        flag: 1,
+        name: "INCH",
+    };
+}
+
 /// The net as an IGES 5.3 file with one entity 128 (rational B-spline surface, polynomial:
-/// all weights 1), in the fixed 80-column format: Start, Global, Directory Entry, Parameter Data
-/// and Terminate sections, ASCII, lines ending in `\n`. Parameter `s` of the entity is our `u`
-/// (first control-point index), `t` is `v`; control points are listed with `s` varying fastest.
+/// all weights 1), in millimetres ([`iges_surfaces`]).
 pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<String> {
     let net = net.to_f64();
     let (nu, nv) = (net.u.count(), net.v.count());
-    if net
-        .control
-        .iter()
-        .flatten()
-        .chain(&net.u.knots)
-        .chain(&net.v.knots)
-        .any(|x| !x.is_finite())
-    {
-        return Err(Error::invalid("the net has a value that is not finite"));
+    let surface = IgesSurface {
+        degree: [net.u.degree, net.v.degree],
+        knots_u: net.u.knots.clone(),
+        knots_v: net.v.knots.clone(),
+        control: (0..nu * nv)
+            .map(|k| {
+                let c = net.control_point(k / nv, k % nv);
+                [c[0], c[1], c[2]]
+            })
+            .collect(),
+        closed: [false, false],
+        label: "SURFACE".into(),
+    };
+    iges_surfaces(
+        &[surface],
+        opts,
+        IgesUnit::MILLIMETRE,
+        "pdeshape: a B-spline solution of a PDE, IGES entity 128",
+    )
+}
+
+/// Surfaces as an IGES 5.3 file with one entity 128 each (rational B-spline surface,
+/// polynomial: all weights 1), in the fixed 80-column format: Start, Global, Directory Entry,
+/// Parameter Data and Terminate sections, ASCII, lines ending in `\n`. Parameter `s` of an
+/// entity is our `u` (first control-point index), `t` is `v`; control points are listed with
+/// `s` varying fastest; the parameter range is the knot domain.
+pub fn iges_surfaces(
+    surfaces: &[IgesSurface],
+    opts: &IgesOptions,
+    unit: IgesUnit,
+    start_text: &str,
+) -> Result<String> {
+    for s in surfaces {
+        let [p, q] = s.degree;
+        let nu = s.knots_u.len().saturating_sub(p + 1);
+        let nv = s.knots_v.len().saturating_sub(q + 1);
+        if nu <= p || nv <= q || s.control.len() != nu * nv {
+            return Err(Error::invalid(
+                "a surface's knots and control points do not fit together",
+            ));
+        }
+        if s.control
+            .iter()
+            .flatten()
+            .chain(&s.knots_u)
+            .chain(&s.knots_v)
+            .any(|x| !x.is_finite())
+        {
+            return Err(Error::invalid("the net has a value that is not finite"));
+        }
     }
     let bad = |s: &str| s.chars().any(|c| !c.is_ascii() || c.is_ascii_control());
     if bad(&opts.file_name) || bad(&opts.timestamp) {
@@ -160,15 +235,14 @@ pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<Stri
     let line = |text: &str, letter: char, seq: usize| format!("{text:<72}{letter}{seq:>7}\n");
     let mut out = String::new();
     // Start section.
-    let start = ["pdeshape: a B-spline solution of a PDE, IGES entity 128"];
+    let start = [start_text];
     for (k, s) in start.iter().enumerate() {
         out.push_str(&line(s, 'S', k + 1));
     }
     // Global section.
-    let maxc = net
-        .control
+    let maxc = surfaces
         .iter()
-        .flatten()
+        .flat_map(|s| s.control.iter().flatten())
         .fold(0.0f64, |m, x| m.max(x.abs()));
     let g: Vec<String> = vec![
         "1H,".into(),
@@ -184,8 +258,8 @@ pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<Stri
         "15".into(),
         hollerith("pdeshape"),
         real(1.0),
-        "2".into(),
-        hollerith("MM"),
+        unit.flag.to_string(),
+        hollerith(unit.name),
         "1".into(),
         real(1.0),
         hollerith(&opts.timestamp),
@@ -207,68 +281,95 @@ pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<Stri
     for (k, l) in glines.iter().enumerate() {
         out.push_str(&line(l, 'G', k + 1));
     }
-    // Parameter data of entity 128.
-    let (p, q) = (net.u.degree, net.v.degree);
-    let mut params: Vec<String> = vec![
-        "128".into(),
-        (nu - 1).to_string(),
-        (nv - 1).to_string(),
-        p.to_string(),
-        q.to_string(),
-        "0".into(), // PROP1: not closed in s
-        "0".into(), // PROP2: not closed in t
-        "1".into(), // PROP3: polynomial
-        "0".into(), // PROP4: not periodic in s
-        "0".into(), // PROP5: not periodic in t
-    ];
-    params.extend(net.u.knots.iter().map(|&x| real(x)));
-    params.extend(net.v.knots.iter().map(|&x| real(x)));
-    params.extend((0..nu * nv).map(|_| real(1.0)));
-    for j in 0..nv {
-        for i in 0..nu {
-            let c = net.control_point(i, j);
-            params.extend(c.iter().map(|&x| real(x)));
+    let mut directory = String::new();
+    let mut parameters = String::new();
+    let mut p_lines = 0usize;
+    for (e, s) in surfaces.iter().enumerate() {
+        // Parameter data of entity 128.
+        let [p, q] = s.degree;
+        let nu = s.knots_u.len() - p - 1;
+        let nv = s.knots_v.len() - q - 1;
+        let flag = |b: bool| if b { "1" } else { "0" };
+        let mut params: Vec<String> = vec![
+            "128".into(),
+            (nu - 1).to_string(),
+            (nv - 1).to_string(),
+            p.to_string(),
+            q.to_string(),
+            flag(s.closed[0]).into(), // PROP1: closed in s
+            flag(s.closed[1]).into(), // PROP2: closed in t
+            "1".into(),               // PROP3: polynomial
+            "0".into(),               // PROP4: not periodic in s
+            "0".into(),               // PROP5: not periodic in t
+        ];
+        params.extend(s.knots_u.iter().map(|&x| real(x)));
+        params.extend(s.knots_v.iter().map(|&x| real(x)));
+        params.extend((0..nu * nv).map(|_| real(1.0)));
+        for j in 0..nv {
+            for i in 0..nu {
+                params.extend(s.control[i * nv + j].iter().map(|&x| real(x)));
+            }
+        }
+        params.extend([
+            real(s.knots_u[p]),
+            real(s.knots_u[nu]),
+            real(s.knots_v[q]),
+            real(s.knots_v[nv]),
+        ]);
+        let n_p = params.len();
+        let ptokens: Vec<String> = params
+            .into_iter()
+            .enumerate()
+            .map(|(k, t)| format!("{t}{}", if k + 1 == n_p { ';' } else { ',' }))
+            .collect();
+        let plines = pack(&ptokens, 64);
+        // Directory entry: two lines, nine 8-column fields each plus the sequence field.
+        let de = 2 * e + 1;
+        let d1 = format!(
+            "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+            128,
+            p_lines + 1,
+            0,
+            0,
+            0,
+            0,
+            0,
+            0,
+            "00000000"
+        );
+        let label: String = s
+            .label
+            .chars()
+            .filter(|c| c.is_ascii_graphic())
+            .take(8)
+            .collect();
+        let d2 = format!(
+            "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
+            128,
+            0,
+            0,
+            plines.len(),
+            0,
+            "",
+            "",
+            label,
+            if surfaces.len() == 1 { 0 } else { e + 1 }
+        );
+        directory.push_str(&line(&d1, 'D', de));
+        directory.push_str(&line(&d2, 'D', de + 1));
+        for l in &plines {
+            p_lines += 1;
+            parameters.push_str(&format!("{l:<64}{de:>8}P{p_lines:>7}\n"));
         }
     }
-    let (u0, u1) = net.u.domain();
-    let (v0, v1) = net.v.domain();
-    params.extend([real(u0), real(u1), real(v0), real(v1)]);
-    let n_p = params.len();
-    let ptokens: Vec<String> = params
-        .into_iter()
-        .enumerate()
-        .map(|(k, t)| format!("{t}{}", if k + 1 == n_p { ';' } else { ',' }))
-        .collect();
-    let plines = pack(&ptokens, 64);
-    // Directory entry: two lines, nine 8-column fields each plus the sequence field.
-    let de = 1usize;
-    let d1 = format!(
-        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-        128, 1, 0, 0, 0, 0, 0, 0, "00000000"
-    );
-    let d2 = format!(
-        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-        128,
-        0,
-        0,
-        plines.len(),
-        0,
-        "",
-        "",
-        "SURFACE",
-        0
-    );
-    out.push_str(&line(&d1, 'D', 1));
-    out.push_str(&line(&d2, 'D', 2));
-    for (k, l) in plines.iter().enumerate() {
-        out.push_str(&format!("{l:<64}{de:>8}P{:>7}\n", k + 1));
-    }
+    out.push_str(&directory);
+    out.push_str(&parameters);
     let t = format!(
         "S{:>7}G{:>7}D{:>7}P{:>7}",
         start.len(),
         glines.len(),
-        2,
-        plines.len()
+        2 * surfaces.len(),
+        p_lines
     );
     out.push_str(&line(&t, 'T', 1));
     Ok(out)

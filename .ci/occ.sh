@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# STEP and IGES files of every example checked by OpenCascade (cadquery-ocp, pinned in
+# .ci/occ-requirements.txt, installed into a venv here). Fails when the bindings are missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv="${OCC_VENV:-.ci/.venv-occ}"
+if [ ! -x "$venv/bin/python" ]; then
+  python3.11 -m venv "$venv" || python3 -m venv "$venv"
+fi
+"$venv/bin/pip" install -q -r .ci/occ-requirements.txt
+cargo build --release -p pdeshape-cli
+bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
+"$venv/bin/python" bench/peers/occ_check.py "$bin" examples

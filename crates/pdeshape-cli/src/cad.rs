@@ -1,0 +1,180 @@
+//! `pdeshape surface DESIGN -o part.step|part.igs [--tolerance T] [--units U]`: every surface
+//! as a B-spline with its deviation; `pdeshape roundtrip DESIGN FILE`: read a written STEP or
+//! IGES file back and measure it against the design.
+
+use crate::common::{self, CliError, Output};
+use pdeshape::cad::{self, read, step};
+use std::path::{Path, PathBuf};
+
+/// The CAD formats, by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CadFormat {
+    Step,
+    Iges,
+}
+
+impl CadFormat {
+    /// `.step`/`.stp` or `.igs`/`.iges` (any case); `None` for anything else.
+    pub fn from_path(path: &Path) -> Option<CadFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "step" | "stp" => Some(CadFormat::Step),
+            "igs" | "iges" => Some(CadFormat::Iges),
+            _ => None,
+        }
+    }
+}
+
+fn now() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0)
+}
+
+/// Writes the design's surfaces as STEP or IGES.
+pub fn write(
+    design_path: &Path,
+    output: &Path,
+    format: CadFormat,
+    tolerance: Option<f64>,
+    units: &str,
+) -> Result<(), CliError> {
+    let unit = step::LengthUnit::parse(units)
+        .map_err(|e| CliError::input(format!("--units: {}", common::message_of(&e))))?;
+    if let Some(t) = tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(CliError::input(format!(
+                "--tolerance: must be a positive number (got {t})"
+            )));
+        }
+    }
+    let design = common::load(design_path)?;
+    design.validate()?;
+    let mut out = Output::create(output)?;
+    let solved = design.build()?;
+    if solved.surfaces.is_empty() {
+        return Err(design.error(&pdeshape::Error::invalid(
+            "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
+        )));
+    }
+    let size = cad::design_size(&solved);
+    let tolerance = tolerance.unwrap_or(1e-4 * size);
+    let shown = output.display().to_string();
+    let model = cad::approximate_design(&solved, tolerance).map_err(|e| {
+        if e.place().is_empty() || e.place() == "tolerance" {
+            CliError::input(format!("--tolerance: {}", common::message_of(&e)))
+        } else {
+            design.error(&e)
+        }
+    })?;
+    let file_name = output
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let text = match format {
+        CadFormat::Step => step::to_step(
+            &model,
+            &step::StepOptions {
+                unit,
+                file_name,
+                timestamp: step::step_timestamp(now()),
+            },
+        ),
+        CadFormat::Iges => cad::to_iges(&model, unit, &file_name, now()),
+    }
+    .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    out.write_all(text.as_bytes())?;
+    out.commit()?;
+    let mut report = format!(
+        "wrote {shown}: {} B-spline surface(s), tolerance {tolerance:.3e} ({:.1e} of the design size {size:.4}), unit {}\n",
+        model.surfaces.len(),
+        tolerance / size,
+        unit.name()
+    );
+    for s in &model.surfaces {
+        let [nu, nv] = s.approx.net.counts();
+        report.push_str(&format!(
+            "  {}: {nu} × {nv} control points, deviation ≤ {:.3e} ({})\n",
+            s.name,
+            s.approx.deviation,
+            s.approx.certificate.word()
+        ));
+    }
+    common::print_stdout(&report);
+    Ok(())
+}
+
+#[derive(clap::Args, Debug)]
+pub struct RoundtripArgs {
+    /// The design file (TOML).
+    pub design: PathBuf,
+    /// A STEP (.step, .stp) or IGES (.igs, .iges) file written by `pdeshape surface`.
+    pub file: PathBuf,
+    /// The largest deviation allowed (default: the certified deviation of each surface at the
+    /// tolerance of the file is not known here, so the default is 10⁻⁴ of the design size,
+    /// the default of `pdeshape surface`).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+}
+
+/// Reads the file back and compares each surface with the design's (status 1 if any deviates by
+/// more than the tolerance).
+pub fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
+    let shown = args.file.display().to_string();
+    let format = CadFormat::from_path(&args.file).ok_or_else(|| {
+        CliError::input(format!(
+            "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
+        ))
+    })?;
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = match format {
+        CadFormat::Step => read::read_step(&text),
+        CadFormat::Iges => read::read_iges(&text),
+    }
+    .map_err(|e| CliError::input(format!("{shown}: {}", common::message_of(&e))))?;
+    let design = common::load(&args.design)?;
+    let solved = design.build()?;
+    if read.len() != solved.surfaces.len() {
+        return Err(CliError::input(format!(
+            "{shown}: {} surfaces, the design has {}",
+            read.len(),
+            solved.surfaces.len()
+        )));
+    }
+    let tolerance = args.tolerance.unwrap_or(1e-4 * cad::design_size(&solved));
+    let mut report = String::new();
+    let mut worst = 0.0f64;
+    for (r, s) in read.iter().zip(&solved.surfaces) {
+        let surface = s.kind.surface();
+        if !read::same_domain(surface, &r.net) {
+            return Err(CliError::input(format!(
+                "{shown}: surface `{}` has a parameter domain other than `{}`'s",
+                r.name, s.name
+            )));
+        }
+        let d = read::read_back_deviation(surface, &r.net, 9);
+        worst = worst.max(d);
+        let [nu, nv] = r.net.counts();
+        report.push_str(&format!(
+            "  {}: {nu} × {nv} control points, deviation {d:.3e} on a 9 × 9 lattice per knot cell\n",
+            s.name
+        ));
+    }
+    let verdict = if worst <= tolerance { "ok" } else { "FAILED" };
+    common::print_stdout(&format!(
+        "{shown}: {} surface(s) read back, largest deviation {worst:.3e} (tolerance {tolerance:.3e}): {verdict}\n{report}",
+        read.len()
+    ));
+    if worst <= tolerance {
+        Ok(())
+    } else {
+        Err(CliError {
+            message: format!(
+                "{shown}: read-back deviation {worst:.3e} exceeds the tolerance {tolerance:.3e}"
+            ),
+            status: 1,
+        })
+    }
+}

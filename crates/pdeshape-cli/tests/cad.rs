@@ -1,0 +1,57 @@
+//! End-to-end tests of STEP/IGES output (`pdeshape surface -o x.step|x.igs`) and `roundtrip`.
+
+mod common;
+use common::*;
+
+#[test]
+fn step_and_iges_are_written_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    for name in ["part.step", "part.igs"] {
+        let out_path = dir.path().join(name);
+        let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance", "1e-4"]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(stdout.contains("(certified)"), "{stdout}");
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path), "--tolerance", "1e-4"]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{stdout}");
+        assert!(stdout.contains(": ok"), "{stdout}");
+        // A tolerance far below the file's deviation fails with status 1.
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path), "--tolerance", "1e-12"]);
+        assert_eq!(out.status.code(), Some(1));
+    }
+}
+
+#[test]
+fn bad_flags_name_the_flag_and_leave_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    let out_path = dir.path().join("part.step");
+    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--units", "furlong"]);
+    assert_bad(&out, &["--units", "furlong"]);
+    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance", "-1"]);
+    assert_bad(&out, &["--tolerance"]);
+    let out = pdeshape(&[
+        "surface",
+        s(&d),
+        "-o",
+        s(&out_path),
+        "--tolerance",
+        "1e-300",
+    ]);
+    assert_bad(&out, &["--tolerance"]);
+    assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
+    // A broken file read back: located error, status 2.
+    let broken = write(
+        dir.path(),
+        "b.step",
+        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,x));\n",
+    );
+    let out = pdeshape(&["roundtrip", s(&d), s(&broken)]);
+    assert_bad(&out, &["b.step", "line 3"]);
+}

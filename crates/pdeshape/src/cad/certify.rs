@@ -1,0 +1,340 @@
+//! Tensor B-spline approximations of every kind of design surface, each with the largest
+//! deviation it may have from the surface and how that number is known ([`Certificate`]).
+//!
+//! # The bound for the analytic PDE patch
+//!
+//! The approximant is the bicubic Hermite interpolant `H = H_u H_v` on a uniform grid of steps
+//! `h_u`, `h_v` ([`super::hermite`]). In one variable, for `t ∈ [t_0, t_1]`,
+//! `f(t) − H f(t) = (t − t_0)²(t − t_1)² f[t_0, t_0, t_1, t_1, t]`, and by the Hermite–Genocchi
+//! formula the divided difference is a mean of `f⁗/24` with a non-negative weight of integral
+//! one, so `|f − H f| ≤ h⁴/384 · sup|f⁗|` for vector-valued `f` in the Euclidean norm. On the
+//! tensor grid, `X − H_u H_v X = (X − H_u X) + H_u (X − H_v X)`; the cubic Hermite interpolant
+//! of `e` is bounded by `max|e| + h_u/4 · max|e_u|` over the nodes (its value weights are
+//! non-negative and sum to one; its slope weights are `t(1 − t)²` and `t²(1 − t)`, of total
+//! size `t(1 − t) ≤ 1/4`, times `h_u`), and `e_u = X_u − H_v X_u`. Hence
+//!
+//! `|X − H X| ≤ h_u⁴/384 · sup|∂_u⁴X| + h_v⁴/384 · (sup|∂_v⁴X| + h_u/4 · sup|∂_u∂_v⁴X|)`.
+//!
+//! For `X = A₀(u) + Σ Aₙ(u) cos nv + Bₙ(u) sin nv`, `|a cos θ + b sin θ| ≤ (|a|² + |b|²)^{1/2}`
+//! gives `sup|∂_u^d ∂_v^k X| ≤ Σ_n n^k (αₙ² + βₙ²)^{1/2}` with `αₙ, βₙ` the bounds of
+//! `sup|Aₙ^{(d)}|, sup|Bₙ^{(d)}|` over `u ∈ [0, 1]` from the stored series
+//! (`PdePatch::mode_derivative_bounds`). The steps are chosen so that each of the two terms is at
+//! most half the tolerance; a rounding allowance of `ROUNDING` times the size of the patch is
+//! added (the nodal data and the control points are computed in floating point).
+//!
+//! # Exact kinds
+//!
+//! The finite-difference surface and the BFS blend are C¹ piecewise bicubics with nodal data
+//! `X, X_u, X_v, X_uv`: their Hermite interpolant on their own nodes is themselves. A spline
+//! net is a B-spline already (its `u` knots mapped onto `[0, 1]` as its [`Surface`] does). Their
+//! bound is the rounding allowance.
+//!
+//! # Sampled kinds
+//!
+//! Formula surfaces and PDE patches with an active spectral remainder carry no derivative
+//! bounds. They are interpolated on grids refined until the deviation on a dense sample (a 5 × 5
+//! lattice in every cell, corners included) is at most half the tolerance; the reported figure
+//! is that sampled maximum, marked [`Certificate::Sampled`]: an estimate, not a bound.
+
+use super::hermite::{hermite_interpolant, uniform_nodes};
+use crate::design::SurfaceKind;
+use crate::elliptic::PdePatch;
+use crate::spline::BSplineSurface;
+use crate::surface::{Surface, VDomain};
+use crate::{Error, Result, Vec3, TAU};
+
+/// Relative rounding allowance added to every bound.
+pub const ROUNDING: f64 = 1e-12;
+/// The most nodes per direction an approximation may use.
+pub const MAX_NODES: usize = 4096;
+
+/// How the deviation of an approximation is known.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Certificate {
+    /// The surface is piecewise polynomial and reproduced exactly (up to rounding).
+    Exact,
+    /// A proven bound from bounds of the surface's derivatives (the analytic PDE patch).
+    Derivatives {
+        /// `sup|∂_u⁴X|`, `sup|∂_v⁴X|`, `sup|∂_u∂_v⁴X|`.
+        m_u4: f64,
+        m_v4: f64,
+        m_u1v4: f64,
+    },
+    /// The largest deviation on a dense sample: an estimate, not a bound.
+    Sampled,
+}
+
+impl Certificate {
+    /// A word for reports.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Certificate::Exact => "exact",
+            Certificate::Derivatives { .. } => "certified",
+            Certificate::Sampled => "sampled (not certified)",
+        }
+    }
+    /// True if the deviation is proven to hold everywhere on the surface.
+    pub fn is_certified(&self) -> bool {
+        !matches!(self, Certificate::Sampled)
+    }
+}
+
+/// A B-spline approximation of one surface, in the surface's own parameters.
+#[derive(Clone, Debug)]
+pub struct Approximation {
+    pub net: BSplineSurface,
+    /// Closed in `[u, v]`: the first and last control rows are the same points.
+    pub closed: [bool; 2],
+    /// The largest deviation `|X − S|` over the whole patch (see `certificate`).
+    pub deviation: f64,
+    pub certificate: Certificate,
+}
+
+/// The derivative sums of the analytic bound: `sup|∂_u⁴X|`, `sup|∂_v⁴X|`, `sup|∂_u∂_v⁴X|` and
+/// the size `Σ_n (αₙ² + βₙ²)^{1/2}` of the patch. `None` with an active remainder.
+pub fn pde_derivative_bounds(patch: &PdePatch) -> Option<[f64; 4]> {
+    let b0 = patch.mode_derivative_bounds(0)?;
+    let b1 = patch.mode_derivative_bounds(1)?;
+    let b4 = patch.mode_derivative_bounds(4)?;
+    let sum = |b: &[[f64; 2]], k: i32| -> f64 {
+        b.iter()
+            .enumerate()
+            .map(|(n, [a, c])| (n as f64).powi(k) * a.hypot(*c))
+            .sum()
+    };
+    Some([sum(&b4, 0), sum(&b0, 4), sum(&b1, 4), sum(&b0, 0)])
+}
+
+/// The analytic bound for steps `hu`, `hv`.
+pub fn hermite_bound(m: [f64; 3], hu: f64, hv: f64) -> f64 {
+    let [mu4, mv4, mu1v4] = m;
+    hu.powi(4) / 384.0 * mu4 + hv.powi(4) / 384.0 * (mv4 + hu / 4.0 * mu1v4)
+}
+
+/// Intervals needed on `[0, length]` so that `h⁴/384 · m ≤ budget`.
+fn intervals_for(length: f64, m: f64, budget: f64) -> Result<usize> {
+    let n = if m <= 0.0 {
+        1.0
+    } else {
+        (length * (m / (384.0 * budget)).powf(0.25)).ceil().max(1.0)
+    };
+    if n.is_nan() || n > MAX_NODES as f64 {
+        return Err(Error::invalid(format!(
+            "the tolerance {budget:e} needs more than {MAX_NODES} nodes in one direction"
+        ))
+        .at("tolerance"));
+    }
+    Ok(n as usize)
+}
+
+/// The grid the analytic bound asks for: `(m, n, bound)` with `m` intervals in `u` and `n` in
+/// `v` (`n` at least `min_v`).
+pub fn pde_grid(patch: &PdePatch, tolerance: f64, min_v: usize) -> Option<Result<(usize, usize)>> {
+    let [mu4, mv4, mu1v4, size] = pde_derivative_bounds(patch)?;
+    let budget = 0.5 * (tolerance - ROUNDING * size);
+    if budget <= 0.0 {
+        return Some(Err(Error::invalid(format!(
+            "the tolerance {tolerance:e} is below the rounding allowance of the patch"
+        ))
+        .at("tolerance")));
+    }
+    Some((|| {
+        let m = intervals_for(1.0, mu4, budget)?;
+        let hu = 1.0 / m as f64;
+        let n = intervals_for(TAU, mv4 + hu / 4.0 * mu1v4, budget)?.max(min_v);
+        Ok((m, n))
+    })())
+}
+
+/// The analytic patch interpolated on `m × n` intervals with its certified deviation.
+pub fn approximate_pde(patch: &PdePatch, m: usize, n: usize) -> Result<Approximation> {
+    let [mu4, mv4, mu1v4, size] = pde_derivative_bounds(patch)
+        .ok_or_else(|| Error::invalid("the patch has an active spectral remainder"))?;
+    let us = uniform_nodes(0.0, 1.0, m);
+    let vs = uniform_nodes(0.0, TAU, n);
+    let net = hermite_interpolant(patch, &us, &vs, [false, true])?;
+    let m3 = [mu4, mv4, mu1v4];
+    let deviation = hermite_bound(m3, 1.0 / m as f64, TAU / n as f64) + ROUNDING * size;
+    Ok(Approximation {
+        net,
+        closed: [false, true],
+        deviation,
+        certificate: Certificate::Derivatives {
+            m_u4: mu4,
+            m_v4: mv4,
+            m_u1v4: mu1v4,
+        },
+    })
+}
+
+/// The `v` interval of a surface (`[0, 2π]` when periodic) and whether it closes.
+fn v_interval(s: &dyn Surface) -> (f64, f64, bool) {
+    match s.v_domain() {
+        VDomain::Periodic => (0.0, TAU, true),
+        VDomain::Interval(a, b) => (a, b, false),
+    }
+}
+
+/// The size of a net: the largest control point's distance from the origin (at least 1).
+fn net_size(net: &BSplineSurface) -> f64 {
+    net.control().iter().fold(1.0f64, |m, p| m.max(p.norm()))
+}
+
+/// The largest `|X − S|` on a `k × k` lattice in every cell of the net's knot grid.
+pub fn sampled_deviation(surface: &dyn Surface, net: &BSplineSurface, k: usize) -> f64 {
+    let distinct = |knots: &[f64]| {
+        let mut d: Vec<f64> = knots.to_vec();
+        d.dedup();
+        d
+    };
+    let (ku, kv) = (distinct(net.knots_u()), distinct(net.knots_v()));
+    let mut worst = 0.0f64;
+    for cu in ku.windows(2) {
+        for a in 0..k {
+            let u = cu[0] + (cu[1] - cu[0]) * a as f64 / (k - 1) as f64;
+            for cv in kv.windows(2) {
+                for b in 0..k {
+                    let v = cv[0] + (cv[1] - cv[0]) * b as f64 / (k - 1) as f64;
+                    let d = (surface.point(u, v) - net.derivative(u, v, 0, 0)).norm();
+                    if d.is_nan() || d > worst {
+                        worst = d;
+                    }
+                }
+            }
+        }
+    }
+    worst
+}
+
+/// Any surface interpolated on uniform grids refined until the sampled deviation is at most
+/// half the tolerance ([`Certificate::Sampled`]).
+pub fn approximate_sampled(
+    surface: &dyn Surface,
+    tolerance: f64,
+    min_v: usize,
+) -> Result<Approximation> {
+    let u = surface.u_range();
+    let (v0, v1, v_closed) = v_interval(surface);
+    let closed = [surface.u_periodic(), v_closed];
+    let (mut m, mut n) = (8usize, min_v.max(8));
+    loop {
+        let us = uniform_nodes(u.start, u.end, m);
+        let vs = uniform_nodes(v0, v1, n);
+        let net = hermite_interpolant(surface, &us, &vs, closed)?;
+        let dev = sampled_deviation(surface, &net, 5);
+        if !dev.is_finite() {
+            return Err(Error::invalid("the surface has a value that is not finite"));
+        }
+        if dev <= 0.5 * tolerance {
+            return Ok(Approximation {
+                net,
+                closed,
+                deviation: dev + ROUNDING * net_size_of(surface, &us, &vs),
+                certificate: Certificate::Sampled,
+            });
+        }
+        if m >= MAX_NODES && n >= MAX_NODES {
+            return Err(Error::invalid(format!(
+                "the tolerance {tolerance:e} needs more than {MAX_NODES} nodes in one direction"
+            ))
+            .at("tolerance"));
+        }
+        // Refine the direction whose halving helps most: compare the sampled error with each
+        // direction refined alone on the next pass (cheap heuristics would do as well).
+        m = (m * 2).min(MAX_NODES);
+        n = (n * 2).min(MAX_NODES);
+    }
+}
+
+fn net_size_of(surface: &dyn Surface, us: &[f64], vs: &[f64]) -> f64 {
+    let mut s = 1.0f64;
+    for &u in us {
+        for &v in vs {
+            s = s.max(surface.point(u, v).norm());
+        }
+    }
+    s
+}
+
+/// The exact B-spline of a surface that is one already or a Hermite bicubic on known nodes.
+fn exact(net: BSplineSurface, closed: [bool; 2]) -> Approximation {
+    let deviation = ROUNDING * net_size(&net);
+    Approximation {
+        net,
+        closed,
+        deviation,
+        certificate: Certificate::Exact,
+    }
+}
+
+/// The approximation of a design surface at `tolerance`; periodic analytic PDE patches use at
+/// least `min_v` intervals in `v` (so that patches meeting along an edge can share it).
+pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<Approximation> {
+    match kind {
+        SurfaceKind::Pde(p) => match pde_grid(p, tolerance, min_v) {
+            Some(grid) => {
+                let (m, n) = grid?;
+                approximate_pde(p, m, n)
+            }
+            None => approximate_sampled(&**p, tolerance, min_v),
+        },
+        SurfaceKind::Fd(f) => {
+            let us: Vec<f64> = (0..=f.nu()).map(|i| f.u_node(i)).collect();
+            let periodic = f.periodic();
+            let cols = f.nodes_v() + usize::from(periodic);
+            let vs: Vec<f64> = (0..cols).map(|j| f.v_node(j)).collect();
+            Ok(exact(
+                hermite_interpolant(&**f, &us, &vs, [false, periodic])?,
+                [false, periodic],
+            ))
+        }
+        SurfaceKind::Blend(b) => {
+            let part = b.surface.partition();
+            let closed = [part.periodic_x(), false];
+            Ok(exact(
+                hermite_interpolant(&b.surface, part.xs(), part.ys(), closed)?,
+                closed,
+            ))
+        }
+        SurfaceKind::Spline(_, net) => {
+            let b = clamp_u(&clamp_u(&net.to_bspline()?)?.transposed())?.transposed();
+            let [[a, e], _] = b.domain();
+            let ku: Vec<f64> = b.knots_u().iter().map(|k| (k - a) / (e - a)).collect();
+            let b =
+                BSplineSurface::new(b.degree(), ku, b.knots_v().to_vec(), b.control().to_vec())?;
+            Ok(exact(b, [false, false]))
+        }
+        SurfaceKind::Parametric(p) => approximate_sampled(&**p, tolerance, 8),
+    }
+}
+
+/// The largest distance between two rows of points.
+pub(crate) fn row_distance(a: &[Vec3], b: &[Vec3]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).norm())
+        .fold(0.0, f64::max)
+}
+
+/// The same surface on a knot vector in `u` clamped at the domain's ends (end knots of
+/// multiplicity `p + 1`, by knot insertion), so its boundary rows are its boundary curves.
+fn clamp_u(net: &BSplineSurface) -> Result<BSplineSurface> {
+    let p = net.degree()[0];
+    let [[a, b], _] = net.domain();
+    let mult = |n: &BSplineSurface, x: f64| n.knots_u().iter().filter(|&&k| k == x).count();
+    let mut n = net.clone();
+    while mult(&n, a) < p + 1 {
+        n = n.insert_knot_u(a)?;
+    }
+    while mult(&n, b) < p + 1 {
+        n = n.insert_knot_u(b)?;
+    }
+    let k = n.knots_u();
+    let i0 = k.iter().position(|&x| x == a).unwrap_or(0);
+    let i1 = k.iter().rposition(|&x| x == b).unwrap_or(k.len() - 1);
+    let knots = k[i0..=i1].to_vec();
+    let count = knots.len() - p - 1;
+    let nv = n.counts()[1];
+    let control = n.control()[i0 * nv..(i0 + count) * nv].to_vec();
+    BSplineSurface::new(n.degree(), knots, n.knots_v().to_vec(), control)
+}

@@ -1,0 +1,270 @@
+//! Tests of the CAD approximations, the STEP and IGES writers and the read-back.
+
+use super::read::{read_iges, read_step};
+use super::step::{to_step, LengthUnit, StepOptions};
+use super::*;
+use crate::design::solve_design;
+use crate::spec::parse_design;
+
+fn solve(text: &str) -> SolvedDesign {
+    solve_design(&parse_design(text).unwrap()).unwrap()
+}
+
+fn example(name: &str) -> SolvedDesign {
+    let text = match name {
+        "laplace_blend" => include_str!("../../../../examples/laplace_blend.toml"),
+        "cup" => include_str!("../../../../examples/cup.toml"),
+        "wine_glass" => include_str!("../../../../examples/wine_glass.toml"),
+        "vesicle" => include_str!("../../../../examples/vesicle.toml"),
+        "blend_cylinders" => include_str!("../../../../examples/blend_cylinders.toml"),
+        _ => unreachable!(),
+    };
+    solve(text)
+}
+
+/// The closed form of the Laplace blend of examples/laplace_blend.toml: `X_uu + X_vv = 0` with
+/// `X(0, v) = (2 cos v, 2 sin v, 0)` and `X(1, v) = (cos v, sin v, 1)` is
+/// `(r(u) cos v, r(u) sin v, u)` with `r'' = r`: `r = 2 cosh u + (1 − 2 cosh 1)/sinh 1 · sinh u`.
+fn laplace_exact(u: f64, v: f64) -> Vec3 {
+    let c = (1.0 - 2.0 * 1f64.cosh()) / 1f64.sinh();
+    let r = 2.0 * u.cosh() + c * u.sinh();
+    Vec3::new(r * v.cos(), r * v.sin(), u)
+}
+
+/// The true largest deviation of a net from `f`: a 9 × 9 lattice in every knot cell, then
+/// local maximisation (coordinate-wise golden sections, shrinking steps) from the 8 largest.
+fn true_max_deviation(net: &BSplineSurface, f: &dyn Fn(f64, f64) -> Vec3) -> f64 {
+    let [[u0, u1], [v0, v1]] = net.domain();
+    let dev = |u: f64, v: f64| {
+        let (u, v) = (u.clamp(u0, u1), v.clamp(v0, v1));
+        (f(u, v) - net.derivative(u, v, 0, 0)).norm()
+    };
+    let mut ku = net.knots_u().to_vec();
+    ku.dedup();
+    let mut kv = net.knots_v().to_vec();
+    kv.dedup();
+    let mut samples = Vec::new();
+    for cu in ku.windows(2) {
+        for cv in kv.windows(2) {
+            for a in 0..9 {
+                for b in 0..9 {
+                    let u = cu[0] + (cu[1] - cu[0]) * a as f64 / 8.0;
+                    let v = cv[0] + (cv[1] - cv[0]) * b as f64 / 8.0;
+                    samples.push((
+                        dev(u, v),
+                        u,
+                        v,
+                        (cu[1] - cu[0]) / 8.0,
+                        (cv[1] - cv[0]) / 8.0,
+                    ));
+                }
+            }
+        }
+    }
+    samples.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut best = samples[0].0;
+    for &(d0, mut u, mut v, mut hu, mut hv) in samples.iter().take(8) {
+        let mut d = d0;
+        for _ in 0..60 {
+            let mut moved = false;
+            for (du, dv) in [(hu, 0.0), (-hu, 0.0), (0.0, hv), (0.0, -hv)] {
+                let e = dev(u + du, v + dv);
+                if e > d {
+                    (d, u, v, moved) = (e, u + du, v + dv, true);
+                }
+            }
+            if !moved {
+                hu *= 0.5;
+                hv *= 0.5;
+            }
+        }
+        best = best.max(d);
+    }
+    best
+}
+
+/// The certified bound holds against the closed form of the Laplace blend, at every
+/// tolerance, and is within a factor 10 of the true largest deviation.
+#[test]
+fn laplace_blend_bound_holds_and_is_tight() {
+    let design = example("laplace_blend");
+    let size = design_size(&design);
+    for rel in [1e-2, 1e-3, 1e-4, 1e-6] {
+        let model = approximate_design(&design, rel * size).unwrap();
+        let s = &model.surfaces[0].approx;
+        assert!(matches!(s.certificate, Certificate::Derivatives { .. }));
+        assert!(s.deviation <= rel * size, "bound above the tolerance");
+        let truth = true_max_deviation(&s.net, &laplace_exact);
+        assert!(
+            truth <= s.deviation,
+            "tolerance {rel:e}: true deviation {truth:e} exceeds the bound {:e}",
+            s.deviation
+        );
+        assert!(
+            s.deviation <= 10.0 * truth,
+            "tolerance {rel:e}: bound {:e} looser than 10 × the true deviation {truth:e}",
+            s.deviation
+        );
+    }
+}
+
+/// The bound also holds for the multi-patch examples (against pdeshape's own evaluation), with
+/// fourth-order convergence: halving the tolerance's fourth root halves the steps.
+#[test]
+fn bounds_hold_on_the_examples() {
+    for name in ["cup", "wine_glass", "vesicle"] {
+        let design = example(name);
+        let size = design_size(&design);
+        let model = approximate_design(&design, 1e-4 * size).unwrap();
+        for (s, d) in model.surfaces.iter().zip(&design.surfaces) {
+            let surface = d.kind.surface();
+            let truth = true_max_deviation(&s.approx.net, &|u, v| surface.point(u, v));
+            assert!(
+                truth <= s.approx.deviation,
+                "{name}/{}: {truth:e} > bound {:e}",
+                s.name,
+                s.approx.deviation
+            );
+            assert!(s.approx.deviation <= 1e-4 * size);
+        }
+    }
+}
+
+/// Halving the steps divides the deviation by about 16 (the interpolant is fourth order).
+#[test]
+fn hermite_interpolant_is_fourth_order() {
+    let design = example("laplace_blend");
+    let SurfaceKind::Pde(p) = &design.surfaces[0].kind else {
+        panic!("an analytic patch")
+    };
+    let errs: Vec<f64> = [8usize, 16, 32]
+        .iter()
+        .map(|&m| {
+            let a = certify::approximate_pde(p, m, 4 * m).unwrap();
+            true_max_deviation(&a.net, &laplace_exact)
+        })
+        .collect();
+    for w in errs.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!(
+            (12.0..20.0).contains(&ratio),
+            "ratio {ratio} (errors {errs:?})"
+        );
+    }
+}
+
+/// Piecewise bicubic surfaces are reproduced exactly: the BFS blend.
+#[test]
+fn blend_is_exact() {
+    let design = example("blend_cylinders");
+    let model = approximate_design(&design, 1e-3).unwrap();
+    for (s, d) in model.surfaces.iter().zip(&design.surfaces) {
+        assert_eq!(s.approx.certificate, Certificate::Exact);
+        let dev = sampled_deviation(d.kind.surface(), &s.approx.net, 7);
+        assert!(dev <= 1e-12 * 10.0, "{}: {dev:e}", s.name);
+        assert!(dev <= s.approx.deviation);
+    }
+}
+
+/// The finite-difference surface is reproduced exactly.
+#[test]
+fn fd_surface_is_exact() {
+    let text = include_str!("../../../../examples/cup.toml").replace(
+        "[operator]",
+        "solver = { method = \"fd\", grid = [16, 32] }\n\n[operator]",
+    );
+    let design = solve(&text);
+    let model = approximate_design(&design, 1e-3).unwrap();
+    for (s, d) in model.surfaces.iter().zip(&design.surfaces) {
+        assert!(matches!(d.kind, SurfaceKind::Fd(_)));
+        assert_eq!(s.approx.certificate, Certificate::Exact);
+        let dev = sampled_deviation(d.kind.surface(), &s.approx.net, 7);
+        assert!(dev <= s.approx.deviation, "{}: {dev:e}", s.name);
+    }
+}
+
+/// Patches that share a curve get the same boundary row, closed directions no seam gap.
+#[test]
+fn shared_edges_are_identical_and_seams_closed() {
+    let model = approximate_design(&example("cup"), 1e-4).unwrap();
+    let (base, bowl) = (&model.surfaces[0].approx.net, &model.surfaces[1].approx.net);
+    let [nu, nv] = base.counts();
+    assert_eq!(base.knots_v(), bowl.knots_v());
+    assert_eq!(&base.control()[(nu - 1) * nv..], &bowl.control()[..nv]);
+    for net in [base, bowl] {
+        let [nu, nv] = net.counts();
+        for i in 0..nu {
+            assert_eq!(net.control()[i * nv], net.control()[i * nv + nv - 1]);
+        }
+    }
+}
+
+fn opts() -> StepOptions {
+    StepOptions {
+        unit: LengthUnit::Millimetre,
+        file_name: "x.step".into(),
+        timestamp: "2026-01-01T00:00:00".into(),
+    }
+}
+
+/// STEP: the nets read back bit for bit; the shell of the cup is open, the vesicle's closed; the
+/// shared edge is one EDGE_CURVE.
+#[test]
+fn step_round_trip_and_topology() {
+    for (name, closed) in [("cup", false), ("vesicle", true)] {
+        let model = approximate_design(&example(name), 1e-4).unwrap();
+        let text = to_step(&model, &opts()).unwrap();
+        assert_eq!(text.contains("CLOSED_SHELL"), closed, "{name}");
+        assert_eq!(text.contains("OPEN_SHELL"), !closed, "{name}");
+        let read = read_step(&text).unwrap();
+        assert_eq!(read.len(), model.surfaces.len());
+        for (r, s) in read.iter().zip(&model.surfaces) {
+            assert_eq!(r.name, s.name);
+            assert_eq!(&r.net, &s.approx.net);
+        }
+        // Cup: 2 seams + bottom pole left out + belly shared + rim = 4 edges.
+        if name == "cup" {
+            assert_eq!(text.matches("EDGE_CURVE(").count(), 4);
+        }
+    }
+}
+
+#[test]
+fn step_units() {
+    let model = approximate_design(&example("laplace_blend"), 1e-3).unwrap();
+    let mut o = opts();
+    o.unit = LengthUnit::Inch;
+    let text = to_step(&model, &o).unwrap();
+    assert!(text.contains("CONVERSION_BASED_UNIT('INCH'"));
+    o.unit = LengthUnit::Metre;
+    assert!(to_step(&model, &o).unwrap().contains("SI_UNIT($,.METRE.)"));
+    assert!(LengthUnit::parse("furlong").is_err());
+}
+
+/// IGES: one entity 128 per surface, read back bit for bit.
+#[test]
+fn iges_round_trip() {
+    let model = approximate_design(&example("wine_glass"), 1e-3).unwrap();
+    let text = to_iges(&model, LengthUnit::Millimetre, "w.igs", 0).unwrap();
+    assert!(text.lines().all(|l| l.len() == 80));
+    let read = read_iges(&text).unwrap();
+    assert_eq!(read.len(), 3);
+    for (r, s) in read.iter().zip(&model.surfaces) {
+        assert_eq!(&r.net, &s.approx.net);
+    }
+}
+
+/// Bad files give located errors, not panics.
+#[test]
+fn bad_files_are_refused_with_a_line() {
+    let model = approximate_design(&example("laplace_blend"), 1e-3).unwrap();
+    let text = to_step(&model, &opts()).unwrap();
+    let broken = text.replacen("CARTESIAN_POINT('',(", "CARTESIAN_POINT('',(x", 1);
+    let e = read_step(&broken).unwrap_err().to_string();
+    assert!(e.contains("line "), "{e}");
+    assert!(read_step("ISO-10303-21;").is_err());
+    let truncated = &text[..text.len() / 2];
+    assert!(read_step(truncated).is_err());
+    assert!(approximate_design(&example("laplace_blend"), -1.0).is_err());
+    assert!(approximate_design(&example("laplace_blend"), f64::NAN).is_err());
+}

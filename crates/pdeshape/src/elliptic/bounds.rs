@@ -1,0 +1,150 @@
+//! Bounds of the mode functions' u-derivatives over the whole patch `u ∈ [0, 1]`, the input of
+//! certified error bounds (`cad`: spline approximations whose deviation holds everywhere).
+//!
+//! - Chebyshev basis: a column is `Σ_m c_m T_m(x)`, `x = 2u − 1`, so its `d`-th u-derivative is
+//!   `2^d Σ_m c^{(d)}_m T_m(x)` with the differentiated series `c^{(d)}`, and `|T_m| ≤ 1` on
+//!   `[−1, 1]`: the sum of the coefficients' sizes bounds it (Euclidean sizes of the `(x, y, z)`
+//!   coefficient vectors for a vector-valued column).
+//! - Layer basis: `|Σ_k c_k ψ_k^{(d)}| ≤ Σ_k |c_k| sup|ψ_k^{(d)}|` with the bounds of
+//!   `LayerBasis::derivative_sups`.
+//!
+//! Both are exact statements about the stored series; the only other error is rounding in
+//! evaluating them (the Chebyshev tails are continued to rounding level when the basis is built).
+
+use super::basis::{cheb_diff, Basis};
+use super::{ModeFn, PdePatch};
+
+impl ModeFn {
+    /// A bound of `sup_{u ∈ [0, 1]} |g^{(d)}(u)|` for the vector `g` of columns
+    /// `first .. first + 3` (zero if the function has fewer columns).
+    fn sup_bound(&self, d: usize, first: usize) -> f64 {
+        if first + 3 > self.ncols() {
+            return 0.0;
+        }
+        match &self.basis {
+            Basis::Chebyshev { series } => {
+                let len = series.iter().map(Vec::len).max().unwrap_or(0);
+                let cols: Vec<Vec<f64>> = (first..first + 3)
+                    .map(|c| {
+                        let mut s = vec![0.0; len];
+                        for (k, sk) in series.iter().enumerate() {
+                            let w = self.coef[(k, c)];
+                            for (a, b) in s.iter_mut().zip(sk) {
+                                *a += w * b;
+                            }
+                        }
+                        for _ in 0..d {
+                            s = cheb_diff(&s);
+                        }
+                        s
+                    })
+                    .collect();
+                let m = cols.iter().map(Vec::len).max().unwrap_or(0);
+                let at = |c: &Vec<f64>, j: usize| c.get(j).copied().unwrap_or(0.0);
+                let sum: f64 = (0..m)
+                    .map(|j| {
+                        let (a, b, c) = (at(&cols[0], j), at(&cols[1], j), at(&cols[2], j));
+                        (a * a + b * b + c * c).sqrt()
+                    })
+                    .sum();
+                sum * 2f64.powi(d as i32)
+            }
+            Basis::Layers(_) => {
+                let sups = self.basis.layer_derivative_sups(d).unwrap_or_default();
+                sups.iter()
+                    .enumerate()
+                    .map(|(k, s)| {
+                        let (a, b, c) = (
+                            self.coef[(k, first)],
+                            self.coef[(k, first + 1)],
+                            self.coef[(k, first + 2)],
+                        );
+                        (a * a + b * b + c * c).sqrt() * s
+                    })
+                    .sum()
+            }
+        }
+    }
+}
+
+impl PdePatch {
+    /// For every mode `n = 0 … M`, bounds `[a, b]` of `sup_{u ∈ [0, 1]} |Aₙ^{(d)}(u)|` and
+    /// `|Bₙ^{(d)}(u)|` (Euclidean norms of the vectors), from the stored series (module docs).
+    /// `None` when the spectral remainder is active: its `v`-dependence comes from the condition
+    /// curves themselves, which carry no derivative bounds.
+    pub fn mode_derivative_bounds(&self, d: usize) -> Option<Vec<[f64; 2]>> {
+        if self.remainder.is_some() {
+            return None;
+        }
+        Some(
+            self.modes
+                .iter()
+                .map(|m| [m.sup_bound(d, 0), m.sup_bound(d, 3)])
+                .collect(),
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::curve::{Ellipse, SharedCurve};
+    use crate::elliptic::{solve, Condition, Operator, SolveOptions};
+    use crate::Vec3;
+    use std::sync::Arc;
+
+    /// The bounds are upper bounds of the derivatives on a dense sample (both bases: the
+    /// biharmonic patch with a = 3 puts mode 3+ in the layer basis).
+    #[test]
+    fn mode_bounds_hold_on_a_dense_sample() {
+        for a in [1.0, 3.0] {
+            let op = Operator::polyharmonic(2, a).unwrap();
+            let circle = |z: f64, r: f64| -> SharedCurve {
+                let (a1, a2) = (Vec3::new(r, 0.0, 0.1), Vec3::new(0.0, 0.8 * r, 0.0));
+                Arc::new(Ellipse::new(Vec3::new(0.1, 0.0, z), a1, a2).unwrap())
+            };
+            let conds = vec![
+                Condition {
+                    u: 0.0,
+                    derivative: 0,
+                    curve: circle(0.0, 1.0),
+                },
+                Condition {
+                    u: 0.0,
+                    derivative: 1,
+                    curve: circle(0.5, 0.3),
+                },
+                Condition {
+                    u: 1.0,
+                    derivative: 0,
+                    curve: circle(2.0, 0.6),
+                },
+                Condition {
+                    u: 1.0,
+                    derivative: 1,
+                    curve: circle(1.0, -0.2),
+                },
+            ];
+            let patch = solve(&op, conds, &SolveOptions::default()).unwrap();
+            for d in 0..6 {
+                let bounds = patch.mode_derivative_bounds(d).unwrap();
+                for (n, b) in bounds.iter().enumerate() {
+                    let mut worst = [0.0f64; 2];
+                    for i in 0..=2000 {
+                        let u = i as f64 / 2000.0;
+                        let (an, bn) = patch.mode(n, u, d);
+                        worst[0] = worst[0].max(an.norm());
+                        worst[1] = worst[1].max(bn.norm());
+                    }
+                    for s in 0..2 {
+                        assert!(
+                            worst[s] <= b[s] * (1.0 + 1e-12) + 1e-12,
+                            "a = {a}, d = {d}, mode {n}: sampled {} above the bound {}",
+                            worst[s],
+                            b[s]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
