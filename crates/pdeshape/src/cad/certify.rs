@@ -305,6 +305,7 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
             Ok(exact(b, [false, false]))
         }
         SurfaceKind::Parametric(p) => approximate_sampled(&**p, tolerance, 8),
+        SurfaceKind::SpineEdited(s) => approximate_sampled(&**s, tolerance, min_v),
     }
 }
 

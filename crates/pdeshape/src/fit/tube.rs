@@ -28,8 +28,8 @@ use super::basis::weights;
 use super::mesh::TriMesh;
 use super::section::{fourier, Frame, Section, Slicer};
 use crate::spec::{
-    ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, OperatorSpec, OutputSpec, PatchSpec,
-    SolverSpec, V3,
+    ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, OperatorSpec, PatchSpec, SolverSpec,
+    V3,
 };
 use crate::{Error, Result, Vec3, TAU};
 use nalgebra::{DMatrix, Matrix3, SymmetricEigen};
@@ -610,14 +610,8 @@ impl<'s> Chain<'s> {
                 ..SolverSpec::default()
             },
             curves,
-            conditions: None,
             patches: Some(patches),
-            parametric: Vec::new(),
-            output: OutputSpec::default(),
-            dynamic: None,
-            optimize: None,
-            blend: None,
-            spline: None,
+            ..DesignSpec::default()
         }
     }
 }

@@ -17,8 +17,8 @@ use super::write::{
 /// A point or vector `[x, y, z]`.
 pub type V3 = [f64; 3];
 
-/// A whole design file.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
+/// A whole design file. `DesignSpec::default()` is the empty design (no curves, no surfaces).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DesignSpec {
     /// A name for the design (shown by `pdeshape check`).
