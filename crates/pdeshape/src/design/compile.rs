@@ -281,6 +281,7 @@ impl CompiledDesign {
             ));
         }
 
+        let trims = super::trim::build_trims(&spec, &surfaces)?;
         self.solved = SolvedDesign {
             title: spec.title.clone(),
             surfaces,
@@ -290,6 +291,7 @@ impl CompiledDesign {
             fd_grid,
             multi_patch: spec.patches.is_some(),
             dynamic,
+            trims,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;

@@ -19,6 +19,7 @@ mod fd;
 mod parametric;
 mod solved;
 mod spline;
+mod trim;
 mod validate;
 
 pub use blend::{solve_blend, validate_blend};
@@ -33,6 +34,7 @@ pub use solved::{
     SurfaceKind,
 };
 pub use spline::{build_problem, solve_spec, SolvedSpline};
+pub use trim::{trim_curve, trim_method, SurfaceTrim};
 pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]

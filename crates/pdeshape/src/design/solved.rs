@@ -167,6 +167,8 @@ pub struct SolvedDesign {
     pub multi_patch: bool,
     /// The `[dynamic]` section, built (a dynamic PDE curve to run).
     pub dynamic: Option<BuiltDynamic>,
+    /// The `[[trims]]`: holes cut out of surfaces (see [`super::trim`]).
+    pub trims: Vec<super::trim::SurfaceTrim>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -266,6 +268,7 @@ impl SolvedDesign {
             fd_grid: None,
             multi_patch: false,
             dynamic: None,
+            trims: Vec::new(),
             edges: OnceLock::new(),
         }
     }
@@ -385,7 +388,17 @@ impl SolvedDesign {
         nv: usize,
         w: &mut dyn Write,
     ) -> Result<Option<Vec<GridMesh>>> {
-        if format == Format::Csv {
+        if !self.trims.is_empty() {
+            if format == Format::Csv {
+                return Err(Error::invalid(
+                    "csv stores full grids of samples; a trimmed design is written as a mesh \
+                     (obj, stl, ply, glb)",
+                )
+                .at("trims"));
+            }
+            mesh::write_trimesh(format, &self.tri_mesh(nu, nv)?, w)?;
+            Ok(None)
+        } else if format == Format::Csv {
             mesh::write_csv(&self.samples(nu, nv)?, w)?;
             Ok(None)
         } else {
@@ -428,6 +441,7 @@ impl SolvedDesign {
                 closed: false,
             });
         }
+        lines.extend(self.trim_overlays());
         lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
         lines
     }

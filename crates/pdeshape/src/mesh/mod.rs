@@ -4,9 +4,11 @@
 //! spaced over the surface's [`Surface::u_range`], `[0, 1]` for nearly all surfaces) and, for a
 //! periodic `v`, `v_j = 2πj/nv` (no repeated seam column: faces wrap from column `nv−1` to 0).
 
+mod tri_write;
 mod trimesh;
 mod writers;
 
+pub use tri_write::write_trimesh;
 pub use trimesh::{Part, TriMesh};
 pub use writers::{write, write_csv, write_glb, write_obj, write_ply, write_stl, Format};
 

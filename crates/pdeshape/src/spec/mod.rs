@@ -16,6 +16,7 @@ mod locate;
 mod optimize;
 mod parametric;
 mod spline;
+mod trim;
 mod types;
 mod write;
 
@@ -25,6 +26,7 @@ pub use locate::{describe_error, key_path, locate};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
 pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
+pub use trim::{TrimCurveSpec, TrimMethodSpec, TrimSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, V3,

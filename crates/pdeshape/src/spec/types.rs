@@ -72,6 +72,9 @@ pub struct DesignSpec {
     /// `pdeshape spline`; such a design needs no conditions).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spline: Option<super::spline::SplineSpec>,
+    /// Holes cut out of surfaces by closed curves in their `(u, v)` planes (§5.2).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trims: Vec<super::trim::TrimSpec>,
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.
