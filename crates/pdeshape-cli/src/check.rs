@@ -261,6 +261,53 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
             );
         }
     }
+    if !built.trims.is_empty() {
+        let _ = writeln!(s, "trims:");
+        let (nu, nv) = (pdeshape::design::DEFAULT_NU, pdeshape::design::DEFAULT_NV);
+        let params = built.param_meshes(nu, nv);
+        for (k, t) in built.trims.iter().enumerate() {
+            let name = &built.surfaces[t.surface].name;
+            let _ = writeln!(
+                s,
+                "  {}: surface '{name}', {} curve(s), method {}",
+                t.place,
+                t.curves.len(),
+                t.method.word()
+            );
+            for c in &t.curves {
+                let _ = writeln!(s, "    {} enclosing {:.6e} of (u, v)", c.kind(), c.area());
+            }
+            if let Ok(p) = &params {
+                if let Some(pm) = &p[t.surface] {
+                    let du =
+                        built.surfaces[t.surface].surface().u_range().length() / (nu - 1) as f64;
+                    let dv = match built.surfaces[t.surface].surface().v_domain() {
+                        pdeshape::surface::VDomain::Periodic => pdeshape::TAU / nv as f64,
+                        pdeshape::surface::VDomain::Interval(a, b) => (b - a) / (nv - 1) as f64,
+                    };
+                    let periodic = built.surfaces[t.surface].surface().v_domain().is_periodic();
+                    let pts: Vec<[f64; 3]> = (pm.grid_triangles..pm.triangles.len())
+                        .flat_map(|k| pm.triangle_uv(k, periodic))
+                        .map(|p| [p[0] / du, p[1] / dv, 0.0])
+                        .collect();
+                    let tris: Vec<[u32; 3]> = (0..(pts.len() / 3) as u32)
+                        .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                        .collect();
+                    let q = pdeshape::trim::quality(&pts, &tris, None);
+                    let _ = writeln!(
+                        s,
+                        "    re-meshed on {nu} × {nv}: {} triangles, smallest angle {:.1}°, \
+                         largest aspect ratio {:.2} (in grid cells), {} inverted",
+                        q.triangles, q.min_angle_deg, q.max_aspect, q.inverted
+                    );
+                    if q.inverted > 0 {
+                        warnings.push(format!("{}: {} inverted triangles", t.place, q.inverted));
+                    }
+                }
+            }
+            let _ = k;
+        }
+    }
     (s, warnings)
 }
 

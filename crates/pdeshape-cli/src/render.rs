@@ -110,6 +110,29 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     let mut out = Output::create(&args.output)?;
     let built = design.build()?;
+    if !built.trims.is_empty() {
+        if args.color.is_some() {
+            return Err(CliError::input(
+                "--color: curvature colours are not drawn on trimmed designs yet",
+            ));
+        }
+        let m = built.tri_mesh(nu, nv).map_err(|e| design.error(&e))?;
+        let options = RenderOptions {
+            width,
+            height,
+            view,
+            ..RenderOptions::default()
+        };
+        let png = pdeshape::render::render_png_tri(&m, &built.overlays(), &options)
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        out.write_all(&png)?;
+        out.commit()?;
+        crate::common::print_stdout(&format!(
+            "wrote {shown}: {width}x{height}, {} triangles (trimmed)\n",
+            m.triangles.len()
+        ));
+        return Ok(());
+    }
     let meshes = built.meshes(nu, nv).map_err(|e| design.error(&e))?;
     let options = RenderOptions {
         width,

@@ -125,6 +125,19 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             design.error(&e)
         }
     };
+    if !solved.trims.is_empty() {
+        return write_trimmed(
+            &solved,
+            format,
+            nu,
+            nv,
+            &export,
+            out,
+            picture_out,
+            &shown,
+            &located,
+        );
+    }
     let t = Instant::now();
     let (meshes, samples) = if format == Format::Csv {
         (None, Some(solved.samples(nu, nv).map_err(located)?))
@@ -188,5 +201,49 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         "wrote {shown}: {n} patch{}, {nu} × {nv} grid{fd}\n",
         if n == 1 { "" } else { "es" }
     ));
+    Ok(())
+}
+
+/// A design with `[[trims]]`: one indexed triangle mesh (the trimmed surfaces re-meshed around
+/// their holes), written in a mesh format, and its picture.
+#[allow(clippy::too_many_arguments)]
+fn write_trimmed(
+    solved: &pdeshape::design::SolvedDesign,
+    format: Format,
+    nu: usize,
+    nv: usize,
+    export: &Export,
+    mut out: Output,
+    picture_out: Option<Output>,
+    shown: &str,
+    located: &dyn Fn(pdeshape::Error) -> CliError,
+) -> Result<(), CliError> {
+    if format == Format::Csv {
+        return Err(CliError::input(format!(
+            "-o {shown}: csv stores full grids of samples; a design with [[trims]] is written \
+             as obj, stl, ply or glb"
+        )));
+    }
+    let m = solved.tri_mesh(nu, nv).map_err(located)?;
+    let mut w = out.writer();
+    mesh::write_mesh(format, &m, &solved.mesh_info(export), &mut w)
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    w.flush()
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    drop(w);
+    let mut picture_out = picture_out;
+    if let Some(pic) = picture_out.as_mut() {
+        let png = pdeshape::render::render_png_tri(
+            &m,
+            &solved.overlays(),
+            &pdeshape::render::RenderOptions::default(),
+        )
+        .map_err(|e| CliError::input(e.to_string()))?;
+        pic.write_all(&png)?;
+    }
+    out.commit()?;
+    if let Some(pic) = picture_out {
+        pic.commit()?;
+    }
     Ok(())
 }

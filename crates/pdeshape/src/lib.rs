@@ -38,6 +38,7 @@ pub mod spec;
 pub mod spline;
 pub mod splinepde;
 pub mod surface;
+pub mod trim;
 
 pub use error::{Error, Result};
 

@@ -6,7 +6,7 @@ use pdeshape::spec::{
     CurveRef, CurveSpec, DesignSpec, DomainSpec, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec,
     FormulaText, JoinSpec, OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec,
     ParametricSpec, ParamsSpec, PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec,
-    SplineSpec, SurfaceSpec, TransformStep, V3,
+    SplineSpec, SurfaceSpec, TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -486,6 +486,7 @@ fn empty_design() -> DesignSpec {
         blend: None,
         spline: None,
         spine: Vec::new(),
+        trims: Vec::new(),
     }
 }
 
@@ -1047,6 +1048,35 @@ impl Gen {
             blend: self.opt(Self::blend),
             spline: self.opt(Self::spline),
             spine: Vec::new(),
+            trims: self.vec(2, Self::trim),
+        }
+    }
+    fn trim(&mut self) -> TrimSpec {
+        TrimSpec {
+            surface: self.opt(Self::s),
+            method: [
+                TrimMethodSpec::Cdt,
+                TrimMethodSpec::Bilinear,
+                TrimMethodSpec::Laplace,
+            ][self.0.gen_range(0..3)],
+            curves: self.vec(3, |g| match g.0.gen_range(0..4) {
+                0 => TrimCurveSpec::Circle {
+                    center: g.v2(),
+                    radius: g.f(),
+                },
+                1 => TrimCurveSpec::Ellipse {
+                    center: g.v2(),
+                    radii: g.v2(),
+                    angle: g.f(),
+                },
+                2 => TrimCurveSpec::Polyline {
+                    points: g.vec(4, Self::v2),
+                },
+                _ => TrimCurveSpec::Bspline {
+                    degree: g.0.gen_range(0..6),
+                    points: g.vec(4, Self::v2),
+                },
+            }),
         }
     }
 }

@@ -12,9 +12,13 @@
 mod design;
 mod geometry;
 mod quadrature;
+mod trimmed;
 
 pub use design::{integrate_design, integrate_surfaces, Cap, DesignIntegrals};
 pub use geometry::{curvature, curvature_at, Curvature, FundamentalForms};
+#[cfg(test)]
+pub(crate) use quadrature::gauss_legendre;
+pub use trimmed::{integrate_trimmed, integrate_trimmed_design, TrimmedIntegrals};
 
 use crate::surface::{Interval, Partials, Surface, VDomain};
 use crate::{Error, Result};

@@ -293,6 +293,7 @@ impl CompiledDesign {
             ));
         }
 
+        let trims = super::trim::build_trims(&spec, &surfaces)?;
         self.solved = SolvedDesign {
             title: spec.title.clone(),
             units: spec.units.unwrap_or_default(),
@@ -303,6 +304,7 @@ impl CompiledDesign {
             fd_grid,
             multi_patch: spec.patches.is_some(),
             dynamic,
+            trims,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;

@@ -6,7 +6,7 @@
 
 use crate::spec::{
     ConditionSpec, CurveKind, CurveSpec, DesignSpec, OperatorSpec, PatchSpec, SolverSpec,
-    TransformStep, V3,
+    TransformStep, TrimCurveSpec, TrimSpec, V3,
 };
 use crate::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -105,6 +105,23 @@ pub enum Edit {
         #[serde(default)]
         normal: f64,
     },
+    /// Replaces `[[trims]]` entry `index`.
+    SetTrim { index: usize, trim: TrimSpec },
+    /// Inserts a `[[trims]]` entry at `index`.
+    InsertTrim { index: usize, trim: TrimSpec },
+    /// Removes `[[trims]]` entry `index`.
+    RemoveTrim { index: usize },
+    /// Moves trim curve `curve` of `[[trims]]` entry `index` by `offset = [Δu, Δv]` in the
+    /// surface's parameter plane (the hole slides over the surface, §5.2.1).
+    MoveTrimCurve {
+        index: usize,
+        curve: usize,
+        offset: [f64; 2],
+    },
+}
+
+fn no_trim(index: usize, len: usize) -> Error {
+    Error::invalid(format!("the design has {len} [[trims]] entries")).at(&format!("trims[{index}]"))
 }
 
 fn no_patch(name: &str) -> Error {
@@ -382,6 +399,67 @@ impl Edit {
             Edit::SetSpines { spines } => Ok(Edit::SetSpines {
                 spines: std::mem::replace(&mut spec.spine, spines.clone()),
             }),
+            Edit::SetTrim { index, trim } => {
+                let len = spec.trims.len();
+                let slot = spec
+                    .trims
+                    .get_mut(*index)
+                    .ok_or_else(|| no_trim(*index, len))?;
+                let old = std::mem::replace(slot, trim.clone());
+                Ok(Edit::SetTrim {
+                    index: *index,
+                    trim: old,
+                })
+            }
+            Edit::InsertTrim { index, trim } => {
+                if *index > spec.trims.len() {
+                    return Err(no_trim(*index, spec.trims.len()));
+                }
+                spec.trims.insert(*index, trim.clone());
+                Ok(Edit::RemoveTrim { index: *index })
+            }
+            Edit::RemoveTrim { index } => {
+                if *index >= spec.trims.len() {
+                    return Err(no_trim(*index, spec.trims.len()));
+                }
+                let old = spec.trims.remove(*index);
+                Ok(Edit::InsertTrim {
+                    index: *index,
+                    trim: old,
+                })
+            }
+            Edit::MoveTrimCurve {
+                index,
+                curve,
+                offset,
+            } => {
+                let len = spec.trims.len();
+                let t = spec
+                    .trims
+                    .get_mut(*index)
+                    .ok_or_else(|| no_trim(*index, len))?;
+                let old = t.clone();
+                let n = t.curves.len();
+                let c = t.curves.get_mut(*curve).ok_or_else(|| {
+                    Error::invalid(format!("the entry has {n} curves"))
+                        .at(&format!("trims[{index}].curves[{curve}]"))
+                })?;
+                let shift = |p: &mut [f64; 2]| {
+                    p[0] += offset[0];
+                    p[1] += offset[1];
+                };
+                match c {
+                    TrimCurveSpec::Circle { center, .. }
+                    | TrimCurveSpec::Ellipse { center, .. } => shift(center),
+                    TrimCurveSpec::Polyline { points } | TrimCurveSpec::Bspline { points, .. } => {
+                        points.iter_mut().for_each(shift)
+                    }
+                }
+                Ok(Edit::SetTrim {
+                    index: *index,
+                    trim: old,
+                })
+            }
         }
     }
 }

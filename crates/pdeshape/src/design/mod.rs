@@ -20,6 +20,7 @@ mod parametric;
 mod solved;
 mod spine;
 mod spline;
+mod trim;
 mod validate;
 
 pub use blend::{solve_blend, validate_blend};
@@ -35,6 +36,7 @@ pub use solved::{
 };
 pub use spine::{spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport};
 pub use spline::{build_problem, solve_spec, SolvedSpline};
+pub use trim::{trim_curve, trim_method, SurfaceTrim};
 pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]

@@ -201,6 +201,8 @@ pub struct SolvedDesign {
     pub multi_patch: bool,
     /// The `[dynamic]` section, built (a dynamic PDE curve to run).
     pub dynamic: Option<BuiltDynamic>,
+    /// The `[[trims]]`: holes cut out of surfaces (see [`super::trim`]).
+    pub trims: Vec<super::trim::SurfaceTrim>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -301,6 +303,7 @@ impl SolvedDesign {
             fd_grid: None,
             multi_patch: false,
             dynamic: None,
+            trims: Vec::new(),
             edges: OnceLock::new(),
         }
     }
@@ -425,7 +428,9 @@ impl SolvedDesign {
         self.write_with(format, nu, nv, &Export::default(), w)
     }
 
-    /// [`SolvedDesign::write`] with export options.
+    /// [`SolvedDesign::write`] with export options. A design with `[[trims]]` is written as its
+    /// trimmed triangle mesh ([`SolvedDesign::tri_mesh`]); CSV, which stores full grids, is
+    /// refused for it.
     pub fn write_with(
         &self,
         format: Format,
@@ -434,7 +439,17 @@ impl SolvedDesign {
         export: &Export,
         w: &mut dyn Write,
     ) -> Result<Option<Vec<GridMesh>>> {
-        if format == Format::Csv {
+        if !self.trims.is_empty() {
+            if format == Format::Csv {
+                return Err(Error::invalid(
+                    "csv stores full grids of samples; a trimmed design is written as a mesh \
+                     (obj, stl, ply, glb)",
+                )
+                .at("trims"));
+            }
+            mesh::write_mesh(format, &self.tri_mesh(nu, nv)?, &self.mesh_info(export), w)?;
+            Ok(None)
+        } else if format == Format::Csv {
             mesh::write_csv(&self.samples(nu, nv)?, w)?;
             Ok(None)
         } else {
@@ -502,6 +517,7 @@ impl SolvedDesign {
                 closed: false,
             });
         }
+        lines.extend(self.trim_overlays());
         lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
         lines
     }

@@ -18,7 +18,7 @@ mod raster;
 #[cfg(test)]
 mod tests;
 
-use crate::mesh::GridMesh;
+use crate::mesh::{GridMesh, TriMesh};
 use crate::{Error, Result, Vec3};
 
 /// A polyline drawn over the shaded surface.
@@ -196,40 +196,108 @@ pub fn encode_png(width: u32, height: u32, rgb: &[u8]) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
-fn validate(meshes: &[GridMesh], overlays: &[Polyline]) -> Result<()> {
+/// What the rasteriser draws: vertices with normals, and triangles over them (a grid's or an
+/// indexed mesh's).
+pub trait Drawable: Sync {
+    /// Vertex positions.
+    fn positions(&self) -> &[[f32; 3]];
+    /// Vertex normals.
+    fn normals(&self) -> &[[f32; 3]];
+    /// The triangles, counter-clockwise seen from the normals.
+    fn triangle_list(&self) -> Vec<[u32; 3]>;
+    /// Structural problems (array lengths, indices), if any.
+    fn structure(&self) -> std::result::Result<(), String>;
+    /// How a message names vertex `i`.
+    fn vertex_name(&self, i: usize) -> String {
+        i.to_string()
+    }
+}
+
+impl Drawable for GridMesh {
+    fn positions(&self) -> &[[f32; 3]] {
+        &self.positions
+    }
+    fn normals(&self) -> &[[f32; 3]] {
+        &self.normals
+    }
+    fn triangle_list(&self) -> Vec<[u32; 3]> {
+        self.triangles().collect()
+    }
+    fn structure(&self) -> std::result::Result<(), String> {
+        let n = self.nu.checked_mul(self.nv);
+        if n != Some(self.positions.len()) || self.normals.len() != self.positions.len() {
+            return Err(format!(
+                "{} positions and {} normals for a {} × {} grid",
+                self.positions.len(),
+                self.normals.len(),
+                self.nu,
+                self.nv
+            ));
+        }
+        Ok(())
+    }
+    fn vertex_name(&self, i: usize) -> String {
+        format!("({}, {})", i / self.nv.max(1), i % self.nv.max(1))
+    }
+}
+
+impl Drawable for TriMesh {
+    fn positions(&self) -> &[[f32; 3]] {
+        &self.positions
+    }
+    fn normals(&self) -> &[[f32; 3]] {
+        &self.normals
+    }
+    fn triangle_list(&self) -> Vec<[u32; 3]> {
+        self.triangles.clone()
+    }
+    fn structure(&self) -> std::result::Result<(), String> {
+        self.check()
+    }
+}
+
+/// [`render_png`] of an indexed triangle mesh (a trimmed design).
+pub fn render_png_tri(
+    mesh: &TriMesh,
+    overlays: &[Polyline],
+    options: &RenderOptions,
+) -> Result<Vec<u8>> {
+    let (w, h) = (options.width, options.height);
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        return Err(Error::invalid(format!(
+            "picture size {w} × {h}: each side must be between 1 and {MAX_SIDE} pixels"
+        ))
+        .at("size"));
+    }
+    let meshes = std::slice::from_ref(mesh);
+    validate(meshes, overlays)?;
+    let camera = Camera::fit(meshes, overlays, options)?;
+    let rgb = raster::draw(meshes, overlays, &camera);
+    encode_png(w, h, &rgb)
+}
+
+fn validate<M: Drawable>(meshes: &[M], overlays: &[Polyline]) -> Result<()> {
     for (k, m) in meshes.iter().enumerate() {
         let place = format!("meshes[{k}]");
-        let n = m.nu.checked_mul(m.nv);
-        if n != Some(m.positions.len()) || m.normals.len() != m.positions.len() {
-            return Err(Error::invalid(format!(
-                "{} positions and {} normals for a {} × {} grid",
-                m.positions.len(),
-                m.normals.len(),
-                m.nu,
-                m.nv
-            ))
-            .at(&place));
-        }
-        if n.is_some_and(|n| n > u32::MAX as usize / 2) {
-            return Err(
-                Error::invalid(format!("{} vertices are too many to draw", m.len())).at(&place),
-            );
+        m.structure().map_err(|e| Error::invalid(e).at(&place))?;
+        let n = m.positions().len();
+        if n > u32::MAX as usize / 2 {
+            return Err(Error::invalid(format!("{n} vertices are too many to draw")).at(&place));
         }
         if let Some(i) = m
-            .positions
+            .positions()
             .iter()
             .position(|p| !p.iter().all(|c| c.is_finite()))
         {
             return Err(Error::invalid(format!(
-                "non-finite position {:?} at vertex ({}, {})",
-                m.positions[i],
-                i / m.nv.max(1),
-                i % m.nv.max(1)
+                "non-finite position {:?} at vertex {}",
+                m.positions()[i],
+                m.vertex_name(i)
             ))
             .at(&format!("{place}.positions[{i}]")));
         }
     }
-    let total: usize = meshes.iter().map(|m| m.positions.len()).sum();
+    let total: usize = meshes.iter().map(|m| m.positions().len()).sum();
     if total > u32::MAX as usize / 2 {
         return Err(Error::invalid(format!("{total} vertices are too many to draw")).at("meshes"));
     }
@@ -280,7 +348,11 @@ pub(crate) struct Camera {
 }
 
 impl Camera {
-    fn fit(meshes: &[GridMesh], overlays: &[Polyline], options: &RenderOptions) -> Result<Camera> {
+    fn fit<M: Drawable>(
+        meshes: &[M],
+        overlays: &[Polyline],
+        options: &RenderOptions,
+    ) -> Result<Camera> {
         let view = match options.view {
             None => default_view(),
             Some(v) => {
@@ -383,7 +455,7 @@ impl Camera {
             vmax = vmax.max(v);
         };
         for m in meshes {
-            for p in &m.positions {
+            for p in m.positions() {
                 extend(cam.plane(Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64)));
             }
         }
@@ -462,10 +534,10 @@ impl Camera {
     }
 }
 
-fn mesh_box(m: &GridMesh) -> (Vec3, Vec3) {
+fn mesh_box<M: Drawable>(m: &M) -> (Vec3, Vec3) {
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
-    for p in &m.positions {
+    for p in m.positions() {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);

@@ -3,8 +3,8 @@
 //! to sRGB bytes. Screen coordinates are snapped to 1/16 of a sample and edge functions are exact
 //! integers, so neighbouring triangles never leave cracks.
 
+use super::Drawable;
 use super::{Camera, Polyline};
-use crate::mesh::GridMesh;
 use crate::Vec3;
 use rayon::prelude::*;
 
@@ -162,14 +162,14 @@ impl Lights {
 }
 
 /// Draws everything into sRGB bytes of `camera.width/ss × camera.height/ss` pixels.
-pub(crate) fn draw(meshes: &[GridMesh], overlays: &[Polyline], camera: &Camera) -> Vec<u8> {
+pub(crate) fn draw<M: Drawable>(meshes: &[M], overlays: &[Polyline], camera: &Camera) -> Vec<u8> {
     draw_colored(meshes, None, overlays, camera)
 }
 
 /// [`draw`] with per-vertex sRGB colours (`colors[k][i]` for vertex `i` of mesh `k`) instead of
 /// the two side colours; the back side is drawn 25 % darker.
-pub(crate) fn draw_colored(
-    meshes: &[GridMesh],
+pub(crate) fn draw_colored<M: Drawable>(
+    meshes: &[M],
     colors: Option<&[Vec<[u8; 3]>]>,
     overlays: &[Polyline],
     camera: &Camera,
@@ -179,11 +179,11 @@ pub(crate) fn draw_colored(
     let (ow, oh) = (sw / ss, sh / ss);
 
     // Vertices of all meshes, projected.
-    let mut verts: Vec<Vert> = Vec::with_capacity(meshes.iter().map(|m| m.len()).sum());
+    let mut verts: Vec<Vert> = Vec::with_capacity(meshes.iter().map(|m| m.positions().len()).sum());
     for (k, m) in meshes.iter().enumerate() {
         let start = verts.len();
         verts.resize(
-            start + m.len(),
+            start + m.positions().len(),
             Vert {
                 x: 0,
                 y: 0,
@@ -192,10 +192,12 @@ pub(crate) fn draw_colored(
                 c: [0.0; 3],
             },
         );
-        let mesh_colors = colors.and_then(|c| c.get(k)).filter(|c| c.len() == m.len());
+        let mesh_colors = colors
+            .and_then(|c| c.get(k))
+            .filter(|c| c.len() == m.positions().len());
         verts[start..]
             .par_iter_mut()
-            .zip(m.positions.par_iter().zip(m.normals.par_iter()))
+            .zip(m.positions().par_iter().zip(m.normals().par_iter()))
             .enumerate()
             .for_each(|(i, (v, (p, n)))| {
                 let [x, y, z] = camera.project(Vec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
@@ -218,15 +220,15 @@ pub(crate) fn draw_colored(
     let mut tris: Vec<Tri> = Vec::new();
     let mut offset = 0u32;
     for m in meshes {
-        let idx: Vec<[u32; 3]> = m.triangles().collect();
+        let idx: Vec<[u32; 3]> = m.triangle_list();
         let verts = &verts;
-        let pos = &m.positions;
+        let pos = m.positions();
         let base = offset;
         tris.par_extend(
             idx.into_par_iter()
                 .filter_map(move |t| setup(t, base, verts, pos, camera, sw, sh)),
         );
-        offset += m.len() as u32;
+        offset += m.positions().len() as u32;
     }
 
     // Bins of triangles per band.

@@ -17,6 +17,7 @@ mod optimize;
 mod parametric;
 mod spine;
 mod spline;
+mod trim;
 mod types;
 mod write;
 
@@ -27,6 +28,7 @@ pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
 pub use spine::{SpineCarry, SpineHermite, SpineMove, SpineSpec};
 pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
+pub use trim::{TrimCurveSpec, TrimMethodSpec, TrimSpec};
 pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, Units, V3,

@@ -80,6 +80,9 @@ pub struct DesignSpec {
     /// Edits of the spines of PDE patches (`[[spine]]`, §5.3), at most one per patch.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub spine: Vec<super::spine::SpineSpec>,
+    /// Holes cut out of surfaces by closed curves in their `(u, v)` planes (§5.2).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub trims: Vec<super::trim::TrimSpec>,
 }
 
 /// A length unit.

@@ -1,0 +1,358 @@
+//! Closed trim curves in a patch's `(u, v)` parameter plane (§5.2) and their sampling.
+
+use crate::{Error, Result, TAU};
+
+/// A closed curve `c(t)`, `t ∈ [0, 1)`, in the `(u, v)` parameter plane of a surface. Its
+/// inside is removed from the surface. Coordinates are those of the plane itself: a curve across
+/// the seam of a periodic `v` simply has `v` values below 0 or above 2π.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TrimCurve {
+    /// `c(t) = center + R(angle) (a cos 2πt, b sin 2πt)` with `radii = [a, b]` (a circle when
+    /// `a = b`); `angle` in radians, measured from the `u` axis towards `v`.
+    Ellipse {
+        center: [f64; 2],
+        radii: [f64; 2],
+        angle: f64,
+    },
+    /// The closed polygon through the points (the last joins the first); `t = k/n` is point `k`.
+    Polyline(Vec<[f64; 2]>),
+    /// The closed uniform B-spline of `degree` over the control points taken cyclically:
+    /// `c(t) = Σ_i P_{i mod n} N_p(nt − i)` with the cardinal B-spline `N_p` on `[0, p+1]`.
+    BSpline {
+        degree: usize,
+        points: Vec<[f64; 2]>,
+    },
+}
+
+/// Largest B-spline degree accepted.
+pub const MAX_DEGREE: usize = 7;
+
+impl TrimCurve {
+    /// A circle of `radius` about `center`.
+    pub fn circle(center: [f64; 2], radius: f64) -> TrimCurve {
+        TrimCurve::Ellipse {
+            center,
+            radii: [radius, radius],
+            angle: 0.0,
+        }
+    }
+
+    /// The curve's kind as the design file writes it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            TrimCurve::Ellipse { radii, .. } if radii[0] == radii[1] => "circle",
+            TrimCurve::Ellipse { .. } => "ellipse",
+            TrimCurve::Polyline(_) => "polyline",
+            TrimCurve::BSpline { .. } => "bspline",
+        }
+    }
+
+    /// Refuses values that do not make a closed curve: non-finite numbers, radii ≤ 0, fewer
+    /// than 3 points, a degree outside `1..=7` or not below the number of control points.
+    pub fn validate(&self) -> Result<()> {
+        let finite = |p: &[f64]| p.iter().all(|x| x.is_finite());
+        match self {
+            TrimCurve::Ellipse {
+                center,
+                radii,
+                angle,
+            } => {
+                if !finite(center) {
+                    return Err(Error::invalid("must be finite").at("center"));
+                }
+                if !(radii.iter().all(|r| r.is_finite() && *r > 0.0)) {
+                    return Err(Error::invalid(format!(
+                        "must be finite and positive (got {radii:?})"
+                    ))
+                    .at("radius"));
+                }
+                if !angle.is_finite() {
+                    return Err(Error::invalid("must be finite").at("angle"));
+                }
+            }
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => {
+                if p.len() < 3 {
+                    return Err(Error::invalid(format!(
+                        "a closed curve needs at least 3 points (got {})",
+                        p.len()
+                    ))
+                    .at("points"));
+                }
+                if let Some(k) = p.iter().position(|q| !finite(q)) {
+                    return Err(Error::invalid("must be finite").at(&format!("points[{k}]")));
+                }
+                if let TrimCurve::BSpline { degree, .. } = self {
+                    if *degree == 0 || *degree > MAX_DEGREE || *degree >= p.len() {
+                        return Err(Error::invalid(format!(
+                            "must be between 1 and {} for {} control points (got {degree})",
+                            MAX_DEGREE.min(p.len() - 1),
+                            p.len()
+                        ))
+                        .at("degree"));
+                    }
+                }
+                if let TrimCurve::Polyline(_) = self {
+                    if let Some(k) = (0..p.len()).find(|&k| p[k] == p[(k + 1) % p.len()]) {
+                        return Err(Error::invalid(format!(
+                            "points {k} and {} are equal",
+                            (k + 1) % p.len()
+                        ))
+                        .at("points"));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `c(t)` for `t ∈ [0, 1]` (`c(1) = c(0)`).
+    pub fn point(&self, t: f64) -> [f64; 2] {
+        match self {
+            TrimCurve::Ellipse {
+                center,
+                radii,
+                angle,
+            } => {
+                let (s, c) = (TAU * t).sin_cos();
+                let (x, y) = (radii[0] * c, radii[1] * s);
+                let (sa, ca) = angle.sin_cos();
+                [center[0] + ca * x - sa * y, center[1] + sa * x + ca * y]
+            }
+            TrimCurve::Polyline(p) => {
+                let n = p.len();
+                let x = t * n as f64;
+                let k = (x.floor() as usize).min(n - 1);
+                let f = x - k as f64;
+                let (a, b) = (p[k], p[(k + 1) % n]);
+                if f == 0.0 {
+                    a
+                } else {
+                    [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]
+                }
+            }
+            TrimCurve::BSpline { degree, points } => {
+                let n = points.len();
+                let x = t * n as f64;
+                let k = x.floor() as i64;
+                let mut out = [0.0; 2];
+                for i in k - *degree as i64..=k {
+                    let w = cardinal_bspline(*degree, x - i as f64);
+                    let p = points[i.rem_euclid(n as i64) as usize];
+                    out[0] += w * p[0];
+                    out[1] += w * p[1];
+                }
+                out
+            }
+        }
+    }
+
+    /// Parameters of the polyline's corners (`k/n`); empty for smooth curves.
+    fn corners(&self) -> Vec<f64> {
+        match self {
+            TrimCurve::Polyline(p) => (0..p.len()).map(|k| k as f64 / p.len() as f64).collect(),
+            _ => vec![0.0],
+        }
+    }
+
+    /// Samples of the curve about `spacing` apart, measured after scaling `u` by `1/scale[0]`
+    /// and `v` by `1/scale[1]` (in grid cells): the parameters `t` and the points `c(t)` exactly
+    /// as [`TrimCurve::point`] gives them. A polyline keeps its corners. At least 8 samples.
+    pub fn sample(&self, scale: [f64; 2], spacing: f64) -> (Vec<f64>, Vec<[f64; 2]>) {
+        let len =
+            |a: [f64; 2], b: [f64; 2]| ((b[0] - a[0]) / scale[0]).hypot((b[1] - a[1]) / scale[1]);
+        let corners = self.corners();
+        let pieces = corners.len();
+        // Dense chord lengths along each piece between corners.
+        const DENSE: usize = 256;
+        let dense = if matches!(self, TrimCurve::Polyline(_)) {
+            1
+        } else {
+            DENSE
+        };
+        let mut ts = Vec::new();
+        let total: f64 = (0..pieces)
+            .map(|k| {
+                let (a, b) = (
+                    corners[k],
+                    if k + 1 < pieces { corners[k + 1] } else { 1.0 },
+                );
+                (0..dense)
+                    .map(|m| {
+                        let t0 = a + (b - a) * m as f64 / dense as f64;
+                        let t1 = a + (b - a) * (m + 1) as f64 / dense as f64;
+                        len(self.point(t0), self.point(t1))
+                    })
+                    .sum::<f64>()
+            })
+            .sum();
+        let min_total = 8usize;
+        for k in 0..pieces {
+            let (a, b) = (
+                corners[k],
+                if k + 1 < pieces { corners[k + 1] } else { 1.0 },
+            );
+            let cum: Vec<f64> = std::iter::once(0.0)
+                .chain((0..dense).scan(0.0, |acc, m| {
+                    let t0 = a + (b - a) * m as f64 / dense as f64;
+                    let t1 = a + (b - a) * (m + 1) as f64 / dense as f64;
+                    *acc += len(self.point(t0), self.point(t1));
+                    Some(*acc)
+                }))
+                .collect();
+            let l = cum[dense];
+            let share = (min_total as f64 * l / total).ceil() as usize;
+            let m = ((l / spacing).round() as usize).max(share).max(1);
+            // Parameters at equal chord length (linear inversion of the dense table).
+            let mut seg = 0;
+            for q in 0..m {
+                let target = l * q as f64 / m as f64;
+                while seg + 1 < dense && cum[seg + 1] < target {
+                    seg += 1;
+                }
+                let (c0, c1) = (cum[seg], cum[seg + 1]);
+                let f = if c1 > c0 {
+                    (target - c0) / (c1 - c0)
+                } else {
+                    0.0
+                };
+                ts.push(a + (b - a) * (seg as f64 + f) / dense as f64);
+            }
+        }
+        let pts = ts.iter().map(|&t| self.point(t)).collect();
+        (ts, pts)
+    }
+
+    /// The enclosed area in the `(u, v)` plane (positive), from a fine polygon (exact for a
+    /// polyline and an ellipse up to 10⁻¹² relative).
+    pub fn area(&self) -> f64 {
+        match self {
+            TrimCurve::Ellipse { radii, .. } => std::f64::consts::PI * radii[0] * radii[1],
+            _ => {
+                let (_, p) = self.sample([1.0, 1.0], 1e-3 * self.extent());
+                signed_area(&p).abs()
+            }
+        }
+    }
+
+    /// Largest side of the bounding box of the control data.
+    fn extent(&self) -> f64 {
+        let (_, p) = match self {
+            TrimCurve::Ellipse { radii, .. } => return 2.0 * radii[0].max(radii[1]),
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => ((), p),
+        };
+        let (lo, hi) = bbox(p);
+        (hi[0] - lo[0]).max(hi[1] - lo[1])
+    }
+}
+
+/// `N_p(x)`: the cardinal B-spline of degree `p` on the knots `0, 1, …, p+1`.
+fn cardinal_bspline(p: usize, x: f64) -> f64 {
+    if !(0.0..(p + 1) as f64).contains(&x) {
+        return 0.0;
+    }
+    // Cox–de Boor on integer knots: values N_{0}(x − j) for j = 0..=p, raised degree by degree.
+    let mut n = [0.0; MAX_DEGREE + 1];
+    let k = x.floor() as usize;
+    n[k] = 1.0;
+    for d in 1..=p {
+        for j in 0..=p - d {
+            let y = x - j as f64;
+            n[j] = (y * n[j] + (d as f64 + 1.0 - y) * n[j + 1]) / d as f64;
+        }
+    }
+    n[0]
+}
+
+/// The shoelace area, positive for a counter-clockwise polygon.
+pub(crate) fn signed_area(p: &[[f64; 2]]) -> f64 {
+    let n = p.len();
+    0.5 * (0..n)
+        .map(|k| {
+            let (a, b) = (p[k], p[(k + 1) % n]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum::<f64>()
+}
+
+/// Bounding box `(lo, hi)` of points.
+pub(crate) fn bbox(p: &[[f64; 2]]) -> ([f64; 2], [f64; 2]) {
+    p.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), q| {
+            (
+                [lo[0].min(q[0]), lo[1].min(q[1])],
+                [hi[0].max(q[0]), hi[1].max(q[1])],
+            )
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cardinal_bspline_is_a_partition_of_unity() {
+        for p in 1..=MAX_DEGREE {
+            for k in 0..50 {
+                let x = k as f64 * 0.137;
+                let s: f64 = (-(p as i64) - 1..=x.floor() as i64 + 1)
+                    .map(|i| cardinal_bspline(p, x - i as f64))
+                    .sum();
+                assert!((s - 1.0).abs() < 1e-14, "p={p} x={x} sum={s}");
+            }
+        }
+        // Quadratic: N_2(1.5) = 3/4.
+        assert!((cardinal_bspline(2, 1.5) - 0.75).abs() < 1e-15);
+    }
+
+    #[test]
+    fn closed_bspline_is_closed_and_sampled_on_the_curve() {
+        let c = TrimCurve::BSpline {
+            degree: 3,
+            points: vec![[0.2, 1.0], [0.5, 0.6], [0.8, 1.0], [0.6, 1.8], [0.4, 1.8]],
+        };
+        let (a, b) = (c.point(0.0), c.point(1.0));
+        assert!((a[0] - b[0]).abs() < 1e-15 && (a[1] - b[1]).abs() < 1e-15);
+        let (ts, ps) = c.sample([0.01, 0.02], 1.0);
+        assert!(ts.len() > 50);
+        for (t, p) in ts.iter().zip(&ps) {
+            assert_eq!(c.point(*t), *p);
+        }
+    }
+
+    #[test]
+    fn polyline_samples_keep_the_corners_and_ellipse_area_is_exact() {
+        let sq = TrimCurve::Polyline(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        let (_, p) = sq.sample([0.1, 0.1], 1.0);
+        assert_eq!(p.len(), 40);
+        for c in [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]] {
+            assert!(p.contains(&c));
+        }
+        assert!((sq.area() - 1.0).abs() < 1e-12);
+        let e = TrimCurve::Ellipse {
+            center: [0.0, 0.0],
+            radii: [0.3, 0.1],
+            angle: 0.4,
+        };
+        let (_, p) = e.sample([1.0, 1.0], 1e-4);
+        assert!((signed_area(&p) - e.area()).abs() < 1e-6 * e.area());
+    }
+
+    #[test]
+    fn bad_curves_are_refused_with_their_place() {
+        let e = TrimCurve::circle([0.5, 1.0], -0.1).validate().unwrap_err();
+        assert_eq!(e.place(), "radius");
+        let e = TrimCurve::BSpline {
+            degree: 3,
+            points: vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]],
+        }
+        .validate()
+        .unwrap_err();
+        assert_eq!(e.place(), "degree");
+        let e = TrimCurve::Polyline(vec![[0.0, 0.0], [f64::NAN, 0.0], [1.0, 1.0]])
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.place(), "points[1]");
+    }
+}

@@ -1,0 +1,276 @@
+//! The general re-meshing: kept grid cells, and a constrained Delaunay triangulation of the band
+//! between them and the holes.
+//!
+//! In grid cells (`s = (u − u₀)/Δu`, `t = (v − v₀)/Δv`): a grid vertex is *near* a hole if it is
+//! inside it or within 1 of its sampled boundary, and *dropped* if inside or within ½ (vertices
+//! on the domain's boundary are never dropped). A cell with a near corner is removed; the others
+//! are kept with the grid's two triangles. The band (removed cells minus holes) is triangulated
+//! from its remaining grid vertices and the curve samples, with the sides between removed and
+//! kept cells (or the domain's boundary) and the chords of every curve as constraint edges. Every
+//! triangle of the triangulation lies inside one region bounded by constraints; it is kept when
+//! its centroid is in a removed cell and outside every hole.
+
+use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh};
+use crate::{Error, Result};
+use spade::handles::FixedVertexHandle;
+use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
+
+const NEAR: u8 = 1;
+const DROP: u8 = 2;
+
+#[derive(Clone, Copy)]
+struct Vertex {
+    p: Point2<f64>,
+    id: u32,
+}
+
+impl HasPosition for Vertex {
+    type Scalar = f64;
+    fn position(&self) -> Point2<f64> {
+        self.p
+    }
+}
+
+fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let f = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - f * dx).hypot(p[1] - a[1] - f * dy)
+}
+
+/// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped.
+fn mark(frame: &Frame, loops: &[Loop]) -> Vec<u8> {
+    let (nu, nv) = (frame.nu, frame.nv);
+    let mut flags = vec![0u8; nu * nv];
+    let jmax = if frame.periodic {
+        i64::MAX
+    } else {
+        nv as i64 - 1
+    };
+    for l in loops {
+        let n = l.st.len();
+        // Inside: crossings of each grid row s = i with the polygon.
+        let (lo, hi) = super::curve::bbox(&l.st);
+        let mut xs = Vec::new();
+        for i in (lo[0].ceil().max(0.0) as usize)..=(hi[0].floor() as usize).min(nu - 1) {
+            let s = i as f64;
+            xs.clear();
+            for k in 0..n {
+                let (a, b) = (l.st[k], l.st[(k + 1) % n]);
+                if (a[0] > s) != (b[0] > s) {
+                    xs.push(a[1] + (s - a[0]) * (b[1] - a[1]) / (b[0] - a[0]));
+                }
+            }
+            xs.sort_by(f64::total_cmp);
+            for pair in xs.chunks_exact(2) {
+                let (j0, j1) = (pair[0].floor() as i64 + 1, pair[1].ceil() as i64 - 1);
+                for j in j0..=j1 {
+                    flags[i * nv + frame.col(j)] |= NEAR | DROP;
+                }
+            }
+        }
+        // Near the boundary.
+        for k in 0..n {
+            let (a, b) = (l.st[k], l.st[(k + 1) % n]);
+            let i0 = (a[0].min(b[0]) - 1.0).floor().max(0.0) as usize;
+            let i1 = ((a[0].max(b[0]) + 1.0).ceil() as usize).min(nu - 1);
+            let j0 = ((a[1].min(b[1]) - 1.0).floor() as i64).max(0);
+            let j1 = ((a[1].max(b[1]) + 1.0).ceil() as i64).min(jmax);
+            for i in i0..=i1 {
+                for j in j0..=j1 {
+                    let d = dist_to_segment([i as f64, j as f64], a, b);
+                    if d < 1.0 {
+                        let jc = frame.col(j);
+                        let f = &mut flags[i * nv + jc];
+                        *f |= NEAR;
+                        if d < 0.5 && !frame.on_boundary(i, jc) {
+                            *f |= DROP;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    flags
+}
+
+/// The re-meshed domain (see the module's documentation).
+pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
+    let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
+    let flags = mark(frame, &loops.loops);
+    // Removed cells: those with a near corner.
+    let mut removed = vec![false; (nu - 1) * cols];
+    for i in 0..nu {
+        for j in 0..nv {
+            if flags[i * nv + j] & NEAR == 0 {
+                continue;
+            }
+            for ci in [i.wrapping_sub(1), i] {
+                if ci >= nu - 1 {
+                    continue;
+                }
+                for cj in [j as i64 - 1, j as i64] {
+                    if !frame.periodic && (cj < 0 || cj >= cols as i64) {
+                        continue;
+                    }
+                    removed[ci * cols + frame.col(cj)] = true;
+                }
+            }
+        }
+    }
+    // Vertices: grid vertices not dropped, then the curve samples.
+    let mut id = vec![u32::MAX; nu * nv];
+    let mut pm = ParamMesh::default();
+    for i in 0..nu {
+        for j in 0..nv {
+            if flags[i * nv + j] & DROP == 0 {
+                id[i * nv + j] = pm.uv.len() as u32;
+                pm.uv.push([frame.u[i], frame.v[j]]);
+                pm.grid_source.push((i * nv + j) as u32);
+            }
+        }
+    }
+    // Kept cells.
+    for i in 0..nu - 1 {
+        for j in 0..cols {
+            if removed[i * cols + j] {
+                continue;
+            }
+            let j1 = (j + 1) % nv;
+            let [a, b, c, d] = [
+                id[i * nv + j],
+                id[(i + 1) * nv + j],
+                id[(i + 1) * nv + j1],
+                id[i * nv + j1],
+            ];
+            pm.triangles.push([a, b, c]);
+            pm.triangles.push([a, c, d]);
+        }
+    }
+    pm.grid_triangles = pm.triangles.len();
+    if loops.loops.is_empty() {
+        return Ok(pm);
+    }
+    // Unwrapped column of a grid column: every band column lies in (cut, cut + nv).
+    let cut = loops.cut;
+    let unwrap = |j: usize| -> i64 {
+        if frame.periodic {
+            let j = j as i64;
+            cut + (j - cut).rem_euclid(nv as i64)
+        } else {
+            j as i64
+        }
+    };
+    let mut verts: Vec<Vertex> = Vec::new();
+    let mut cdt_index = vec![u32::MAX; nu * nv];
+    for i in 0..nu - 1 {
+        for j in 0..cols {
+            if !removed[i * cols + j] {
+                continue;
+            }
+            for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
+                let g = ci * nv + cj;
+                if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
+                    cdt_index[g] = verts.len() as u32;
+                    verts.push(Vertex {
+                        p: Point2::new(ci as f64, unwrap(cj) as f64),
+                        id: id[g],
+                    });
+                }
+            }
+        }
+    }
+    let mut edges: Vec<[usize; 2]> = Vec::new();
+    let cell_removed = |ci: i64, cj: i64| -> bool {
+        if ci < 0 || ci >= nu as i64 - 1 {
+            return false;
+        }
+        if !frame.periodic && (cj < 0 || cj >= cols as i64) {
+            return false;
+        }
+        removed[ci as usize * cols + frame.col(cj)]
+    };
+    for i in 0..nu - 1 {
+        for j in 0..cols {
+            if !removed[i * cols + j] {
+                continue;
+            }
+            let (ii, jj) = (i as i64, j as i64);
+            let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
+            if !cell_removed(ii - 1, jj) {
+                edges.push([c(i, j), c(i, j + 1)]);
+            }
+            if !cell_removed(ii + 1, jj) {
+                edges.push([c(i + 1, j), c(i + 1, j + 1)]);
+            }
+            if !cell_removed(ii, jj - 1) {
+                edges.push([c(i, j), c(i + 1, j)]);
+            }
+            if !cell_removed(ii, jj + 1) {
+                edges.push([c(i, j + 1), c(i + 1, j + 1)]);
+            }
+        }
+    }
+    // Curve samples: vertices and chords.
+    let mut sample_base = Vec::with_capacity(loops.loops.len());
+    for l in &loops.loops {
+        let first = verts.len();
+        sample_base.push(first);
+        for (k, (&p, (&t, &uv))) in l.st.iter().zip(l.t.iter().zip(&l.uv)).enumerate() {
+            let vid = pm.uv.len() as u32;
+            pm.uv.push(uv);
+            pm.on_trim.push(OnTrim {
+                vertex: vid,
+                curve: l.curve,
+                t,
+            });
+            verts.push(Vertex {
+                p: Point2::new(p[0], p[1]),
+                id: vid,
+            });
+            let next = first + (k + 1) % l.st.len();
+            edges.push([first + k, next]);
+        }
+    }
+    let n_verts = verts.len();
+    let mut conflict = None;
+    let cdt = ConstrainedDelaunayTriangulation::<Vertex>::try_bulk_load_cdt(verts, edges, |e| {
+        conflict.get_or_insert(e);
+    })
+    .map_err(|e| Error::invalid(format!("the trim curves cannot be triangulated: {e}")))?;
+    if cdt.num_vertices() != n_verts || conflict.is_some() {
+        return Err(Error::invalid(
+            "the trim curves cross themselves or each other (or come closer than the grid \
+             resolves); trims must be simple closed curves that do not meet",
+        )
+        .at("curves"));
+    }
+    let loop_of = |h: FixedVertexHandle| -> Option<usize> {
+        let k = h.index();
+        sample_base.iter().rposition(|&b| k >= b)
+    };
+    for f in cdt.inner_faces() {
+        let vs = f.vertices();
+        let p = vs.map(|v| v.position());
+        let c = [
+            (p[0].x + p[1].x + p[2].x) / 3.0,
+            (p[0].y + p[1].y + p[2].y) / 3.0,
+        ];
+        if !cell_removed(c[0].floor() as i64, c[1].floor() as i64) {
+            continue;
+        }
+        // Only a triangle of three samples of one curve can lie inside that curve.
+        let ls = vs.map(|v| loop_of(v.fix()));
+        if let [Some(a), Some(b), Some(c2)] = ls {
+            if a == b && b == c2 && point_in_polygon(c, &loops.loops[a].st) {
+                continue;
+            }
+        }
+        pm.triangles.push(vs.map(|v| v.data().id));
+    }
+    Ok(pm)
+}

@@ -1,0 +1,356 @@
+//! Trimmed patches (§5.2): closed curves in a patch's `(u, v)` parameter plane whose insides are
+//! removed, and the re-meshing of what remains into an indexed triangle mesh.
+//!
+//! Three methods share one frame (the tessellation grid `nu × nv` of the untrimmed patch) and one
+//! sampling of the trim curves (samples one grid cell apart, exactly on the curves):
+//! - [`TrimMethod::Cdt`] (the default, any number of holes, concave curves): grid cells near a
+//!   hole are removed and the band between the kept cells and the hole is triangulated by a
+//!   constrained Delaunay triangulation (`spade`) of the band's grid vertices and the curve
+//!   samples, the kept cells' sides and the curve's chords as constraints.
+//! - [`TrimMethod::Bilinear`] (the book's first method, convex curves): the grid cells inside a
+//!   bounding rectangle (on grid lines, one cell of margin) are removed and the region between the
+//!   rectangle and the curve is split by the rays from the curve's centroid to the rectangle's
+//!   corners into four regions, each meshed by linear interpolation between the rectangle's side
+//!   and the curve's arc.
+//! - [`TrimMethod::Laplace`] (the book's Eq. 5.3): the same boundary correspondence, with the
+//!   interior points `M(s, θ)` solving `(∂²/∂s² + ∂²/∂θ²) M = 0` between the curve (`s = 0`) and
+//!   the rectangle (`s = 1`), periodic in `θ`, solved mode by mode in closed form.
+//!
+//! Periodic `v`: a trim curve may cross the seam (its `v` values below 0 or above 2π); the
+//! re-meshing runs in an unwrapped window whose cut avoids every hole.
+
+mod book;
+mod curve;
+mod general;
+mod quality;
+
+pub use curve::{TrimCurve, MAX_DEGREE};
+pub use quality::{quality, MeshQuality};
+
+use crate::mesh::{self, GridMesh, Part, TriMesh};
+use crate::surface::{ParameterDomain, Surface};
+use crate::{Error, Result, TAU};
+
+/// How the region around the holes is re-meshed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrimMethod {
+    /// Constrained Delaunay triangulation of the band around the holes (any curves).
+    #[default]
+    Cdt,
+    /// The book's bilinear four-region mesh (convex curves, §5.2).
+    Bilinear,
+    /// The book's Laplace mapping of the annulus (Eq. 5.3; convex curves).
+    Laplace,
+}
+
+impl TrimMethod {
+    /// The name used in the design file.
+    pub fn word(self) -> &'static str {
+        match self {
+            TrimMethod::Cdt => "cdt",
+            TrimMethod::Bilinear => "bilinear",
+            TrimMethod::Laplace => "laplace",
+        }
+    }
+}
+
+/// A vertex that lies on a trim curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OnTrim {
+    /// The vertex.
+    pub vertex: u32,
+    /// Index of the trim curve.
+    pub curve: usize,
+    /// Its parameter: the vertex's `(u, v)` is `curve.point(t)` exactly.
+    pub t: f64,
+}
+
+/// The re-meshed parameter domain of a trimmed patch.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamMesh {
+    /// `(u, v)` of every vertex. The first `grid_source.len()` vertices are grid vertices.
+    pub uv: Vec<[f64; 2]>,
+    /// Grid index `i·nv + j` of each of the leading grid vertices.
+    pub grid_source: Vec<u32>,
+    /// Triangles, counter-clockwise in `(u, v)`: the kept grid cells' triangles first
+    /// (`grid_triangles` of them), then the re-meshed ones.
+    pub triangles: Vec<[u32; 3]>,
+    pub grid_triangles: usize,
+    /// Every vertex on a trim curve.
+    pub on_trim: Vec<OnTrim>,
+}
+
+impl ParamMesh {
+    /// The re-meshed triangles (those not taken unchanged from the grid).
+    pub fn remeshed(&self) -> &[[u32; 3]] {
+        &self.triangles[self.grid_triangles..]
+    }
+
+    /// The `(u, v)` corners of triangle `k`; for a `periodic` `v`, corners more than π below
+    /// the triangle's largest `v` are moved up by 2π so the triangle is the small one across
+    /// the seam.
+    pub fn triangle_uv(&self, k: usize, periodic: bool) -> [[f64; 2]; 3] {
+        let mut p = self.triangles[k].map(|i| self.uv[i as usize]);
+        if periodic {
+            let top = p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max);
+            for q in &mut p {
+                while top - q[1] > std::f64::consts::PI {
+                    q[1] += TAU;
+                }
+            }
+        }
+        p
+    }
+}
+
+/// The tessellation grid in `(u, v)` and the scaling to grid cells.
+pub(crate) struct Frame {
+    pub nu: usize,
+    pub nv: usize,
+    pub periodic: bool,
+    pub u: Vec<f64>,
+    pub v: Vec<f64>,
+    pub u0: f64,
+    pub du: f64,
+    pub v0: f64,
+    pub dv: f64,
+}
+
+impl Frame {
+    fn new(domain: ParameterDomain, nu: usize, nv: usize) -> Result<Frame> {
+        let (u, v) = mesh::grid_parameters_in(domain.u, domain.v, nu, nv)?;
+        let periodic = domain.v.is_periodic();
+        let vi = domain.v.interval();
+        let dv = if periodic {
+            TAU / nv as f64
+        } else {
+            vi.length() / (nv - 1) as f64
+        };
+        Ok(Frame {
+            nu,
+            nv,
+            periodic,
+            u,
+            v,
+            u0: domain.u.start,
+            du: domain.u.length() / (nu - 1) as f64,
+            v0: vi.start,
+            dv,
+        })
+    }
+
+    /// Columns of cells.
+    pub fn cols(&self) -> usize {
+        if self.periodic {
+            self.nv
+        } else {
+            self.nv - 1
+        }
+    }
+
+    /// `(u, v)` in grid cells: `((u − u₀)/Δu, (v − v₀)/Δv)`.
+    pub fn scaled(&self, p: [f64; 2]) -> [f64; 2] {
+        [(p[0] - self.u0) / self.du, (p[1] - self.v0) / self.dv]
+    }
+
+    /// Grid column of an unwrapped column number.
+    pub fn col(&self, j: i64) -> usize {
+        j.rem_euclid(self.nv as i64) as usize
+    }
+
+    /// True for a corner on the domain's boundary (`u` ends, and `v` ends unless periodic).
+    pub fn on_boundary(&self, i: usize, j: usize) -> bool {
+        i == 0 || i + 1 == self.nu || (!self.periodic && (j == 0 || j + 1 == self.nv))
+    }
+}
+
+/// One trim curve, sampled: parameters, points, and points in grid cells (unwrapped into the
+/// window of the cut), counter-clockwise in `(u, v)`.
+pub(crate) struct Loop {
+    pub curve: usize,
+    pub t: Vec<f64>,
+    pub uv: Vec<[f64; 2]>,
+    pub st: Vec<[f64; 2]>,
+}
+
+/// Samples every curve about one grid cell apart, orients it counter-clockwise, and places it
+/// in the unwrapped window `(cut, cut + nv)` of a periodic `v` (the cut avoids every curve by
+/// `margin` cells plus `margin_frac` of its extent in `v`). Refuses curves that leave the `u` range (or an interval `v`), a curve that
+/// goes all around a periodic `v`, and curves that lie inside one another.
+pub(crate) fn prepare(
+    frame: &Frame,
+    curves: &[TrimCurve],
+    margin: f64,
+    margin_frac: f64,
+) -> Result<Loops> {
+    let mut loops = Vec::with_capacity(curves.len());
+    for (k, c) in curves.iter().enumerate() {
+        c.validate().map_err(|e| e.at(&format!("curves[{k}]")))?;
+        let (mut t, mut uv) = c.sample([frame.du, frame.dv], 1.0);
+        let mut st: Vec<[f64; 2]> = uv.iter().map(|&p| frame.scaled(p)).collect();
+        if curve::signed_area(&st) < 0.0 {
+            t.reverse();
+            uv.reverse();
+            st.reverse();
+        }
+        let (lo, hi) = curve::bbox(&st);
+        let inside_u = lo[0] > 0.0 && hi[0] < (frame.nu - 1) as f64;
+        let inside_v = frame.periodic || (lo[1] > 0.0 && hi[1] < (frame.nv - 1) as f64);
+        if !(inside_u && inside_v) {
+            let (a, b) = curve::bbox(&uv);
+            return Err(Error::invalid(format!(
+                "the curve spans u ∈ [{:.6}, {:.6}], v ∈ [{:.6}, {:.6}]: it must lie inside the \
+                 patch's parameter domain (a trim removes a hole, not an edge)",
+                a[0], b[0], a[1], b[1]
+            ))
+            .at(&format!("curves[{k}]")));
+        }
+        loops.push(Loop {
+            curve: k,
+            t,
+            uv,
+            st,
+        });
+    }
+    let mut cut = 0;
+    if frame.periodic && !loops.is_empty() {
+        let nv = frame.nv as i64;
+        let mut forbidden = vec![false; frame.nv];
+        for l in &loops {
+            let (lo, hi) = curve::bbox(&l.st);
+            let margin = margin + margin_frac * (hi[1] - lo[1]);
+            if hi[1] - lo[1] + 2.0 * margin + 2.0 >= frame.nv as f64 {
+                return Err(Error::invalid(
+                    "the curve goes (nearly) all around the periodic v direction: a trim must \
+                     leave a hole, not cut the patch in two",
+                )
+                .at(&format!("curves[{}]", l.curve)));
+            }
+            let a = (lo[1] - margin - 1.0).floor() as i64;
+            let b = (hi[1] + margin + 1.0).ceil() as i64;
+            for j in a..=b {
+                forbidden[j.rem_euclid(nv) as usize] = true;
+            }
+        }
+        let Some(cut_col) = forbidden.iter().position(|f| !f) else {
+            return Err(Error::invalid(
+                "the trim curves together cover every v of the periodic patch; leave a strip \
+                 of v free of holes",
+            )
+            .at("curves"));
+        };
+        cut = cut_col as i64;
+        for l in &mut loops {
+            let (lo, _) = curve::bbox(&l.st);
+            let k = ((cut as f64 - lo[1]) / frame.nv as f64).floor() + 1.0;
+            for p in &mut l.st {
+                p[1] += k * frame.nv as f64;
+            }
+        }
+    }
+    for a in 0..loops.len() {
+        for b in 0..loops.len() {
+            if a != b && point_in_polygon(loops[a].st[0], &loops[b].st) {
+                return Err(Error::invalid(format!(
+                    "the curve lies inside curves[{}]: trims must not overlap",
+                    loops[b].curve
+                ))
+                .at(&format!("curves[{}]", loops[a].curve)));
+            }
+        }
+    }
+    Ok(Loops { loops, cut })
+}
+
+/// The sampled curves and the cut of the unwrapped window (0 unless `v` is periodic).
+pub(crate) struct Loops {
+    pub loops: Vec<Loop>,
+    pub cut: i64,
+}
+
+/// Even–odd ray casting along `+t`.
+pub(crate) fn point_in_polygon(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
+    let n = poly.len();
+    let mut inside = false;
+    for k in 0..n {
+        let (a, b) = (poly[k], poly[(k + 1) % n]);
+        if (a[0] > p[0]) != (b[0] > p[0]) {
+            let t = a[1] + (p[0] - a[0]) * (b[1] - a[1]) / (b[0] - a[0]);
+            if t > p[1] {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// The trimmed parameter domain of a surface with `domain` on the `nu × nv` tessellation grid:
+/// the insides of `curves` removed, re-meshed by `method`.
+pub fn trim_domain(
+    domain: ParameterDomain,
+    nu: usize,
+    nv: usize,
+    curves: &[TrimCurve],
+    method: TrimMethod,
+) -> Result<ParamMesh> {
+    let frame = Frame::new(domain, nu, nv)?;
+    match method {
+        TrimMethod::Cdt => general::mesh(&frame, &prepare(&frame, curves, 1.0, 0.0)?),
+        TrimMethod::Bilinear | TrimMethod::Laplace => book::mesh(
+            &frame,
+            &prepare(&frame, curves, 2.0, book::MARGIN)?,
+            curves,
+            method,
+        ),
+    }
+}
+
+/// The trimmed triangle mesh of `surface` on the `nu × nv` grid: [`trim_domain`], with grid
+/// vertices taken from the surface's tessellation and the others evaluated exactly, as one part
+/// called `name`. Also returns the parameter mesh.
+pub fn trimmed_mesh(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+    curves: &[TrimCurve],
+    method: TrimMethod,
+    name: &str,
+) -> Result<(TriMesh, ParamMesh)> {
+    let grid = mesh::tessellate(surface, nu, nv)?;
+    let pm = trim_domain(surface.parameter_domain(), nu, nv, curves, method)?;
+    Ok((to_trimesh(surface, &grid, &pm, name), pm))
+}
+
+/// The triangle mesh of a parameter mesh: the grid's positions and normals for grid vertices,
+/// `X(u, v)` and its unit normal for the others.
+pub fn to_trimesh(surface: &dyn Surface, grid: &GridMesh, pm: &ParamMesh, name: &str) -> TriMesh {
+    let n = pm.uv.len();
+    let g = pm.grid_source.len();
+    let mut positions = Vec::with_capacity(n);
+    let mut normals = Vec::with_capacity(n);
+    for &k in &pm.grid_source {
+        positions.push(grid.positions[k as usize]);
+        normals.push(grid.normals[k as usize]);
+    }
+    let periodic = surface.v_domain().is_periodic();
+    for &[u, v] in &pm.uv[g..] {
+        let v = if periodic { v.rem_euclid(TAU) } else { v };
+        let p = surface.partials(u, v);
+        let nn = p.normal();
+        positions.push([p.x.x as f32, p.x.y as f32, p.x.z as f32]);
+        normals.push([nn.x as f32, nn.y as f32, nn.z as f32]);
+    }
+    TriMesh {
+        positions,
+        normals,
+        uv: pm.uv.iter().map(|p| [p[0] as f32, p[1] as f32]).collect(),
+        triangles: pm.triangles.clone(),
+        parts: vec![Part {
+            name: name.to_string(),
+            triangles: 0..pm.triangles.len(),
+        }],
+    }
+}
+
+#[cfg(test)]
+mod tests;
