@@ -21,6 +21,7 @@ pub mod analysis;
 pub mod bfs;
 mod check;
 pub mod curve;
+mod decomp;
 pub mod design;
 pub mod dynamic;
 pub mod elliptic;
