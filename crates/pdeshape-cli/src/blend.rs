@@ -19,6 +19,10 @@ pub struct Args {
     /// and B-spline control nets).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// The format (obj, stl, ply, glb, csv or json), when -o has no extension or is `-`
+    /// (standard output).
+    #[arg(long)]
+    pub format: Option<String>,
     /// Grid rows (values of x, along the joins; default from [output] or 64).
     #[arg(long)]
     pub nu: Option<usize>,
@@ -110,15 +114,19 @@ fn ms(t: Instant) -> f64 {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
-    let is_json = args
-        .output
+    let fpath = common::format_path(
+        &args.output,
+        args.format.as_deref(),
+        "obj, stl, ply, glb, csv or json",
+    )?;
+    let is_json = fpath
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let format = if is_json {
         None
     } else {
-        Some(Format::from_path(&args.output).map_err(|e| {
+        Some(Format::from_path(&fpath).map_err(|e| {
             CliError::input(format!(
                 "-o {shown}: {} (or json for the control net)",
                 common::message_of(&e)
@@ -131,6 +139,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         )?),
         None => None,
     };
+    if format.is_none() {
+        common::refuse_grid_flags(args.nu, args.nv, "a .json control net")?;
+    }
     let design = common::load(&args.design)?;
     let (nu, nv) = if format.is_some() {
         design.grid(args.nu, args.nv)?
@@ -185,6 +196,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         "Bézier and B-spline control nets".to_string()
     };
     let _ = writeln!(text, "wrote {shown}: {what}");
-    common::print_stdout(&text);
+    common::report(&text);
     Ok(())
 }

@@ -10,6 +10,10 @@ use std::path::PathBuf;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
+    /// Print the report as one JSON object (`"ok": false` and the error when the design is
+    /// refused; the error line still goes to stderr with exit status 2).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Samples of v for the condition errors.
@@ -311,7 +315,101 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
     (s, warnings)
 }
 
+/// A number for JSON: non-finite values as null.
+fn jnum(x: f64) -> serde_json::Value {
+    if x.is_finite() {
+        serde_json::json!(x)
+    } else {
+        serde_json::Value::Null
+    }
+}
+
+/// The report as JSON: per surface its kind, operator, modes and condition errors; shared edges;
+/// warnings; and the text report.
+pub fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
+    use serde_json::json;
+    let (text, warnings) = report(design, built);
+    let surfaces: Vec<serde_json::Value> = built
+        .surfaces
+        .iter()
+        .map(|patch| {
+            let mut o = json!({ "name": patch.name, "kind": patch.kind.word() });
+            if let Some(op) = &patch.operator {
+                o["operator"] = json!(describe_operator(op));
+            }
+            if !matches!(patch.kind, SurfaceKind::Pde(_) | SurfaceKind::Fd(_)) {
+                return o;
+            }
+            if let Some(pde) = patch.pde() {
+                o["modes"] = pde
+                    .mode_reports()
+                    .iter()
+                    .map(|m| json!({ "n": m.n, "condition_number": jnum(m.condition_number), "basis": m.basis }))
+                    .collect();
+                o["condition_errors"] = pde
+                    .condition_errors(ERROR_SAMPLES)
+                    .iter()
+                    .map(|e| json!({ "u": e.u, "derivative": e.derivative, "absolute": jnum(e.absolute), "relative": jnum(e.relative) }))
+                    .collect();
+            } else {
+                o["condition_errors"] = patch
+                    .conditions
+                    .iter()
+                    .filter(|c| c.derivative == 0)
+                    .map(|c| {
+                        let (a, r) = position_error(patch.surface(), c);
+                        json!({ "u": c.u, "derivative": 0, "absolute": jnum(a), "relative": jnum(r) })
+                    })
+                    .collect();
+            }
+            o
+        })
+        .collect();
+    let edges: Vec<serde_json::Value> = if built.multi_patch {
+        built
+            .edges()
+            .iter()
+            .map(|e| {
+                let r = &e.report;
+                json!({
+                    "a": built.surfaces[r.a].name, "ua": r.ua,
+                    "b": built.surfaces[r.b].name, "ub": r.ub,
+                    "curve": e.curve, "g0": jnum(r.g0), "g1": jnum(r.g1),
+                })
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    json!({
+        "ok": true,
+        "design": design.file,
+        "title": built.title,
+        "surfaces": surfaces,
+        "edges": edges,
+        "warnings": warnings,
+        "report": text,
+    })
+}
+
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if args.json {
+        let result = common::load(&args.design).and_then(|design| {
+            let built = design.build()?;
+            Ok(report_json(&design, &built))
+        });
+        return match result {
+            Ok(v) => {
+                common::print_stdout(&format!("{v}\n"));
+                Ok(())
+            }
+            Err(e) => {
+                let v = serde_json::json!({ "ok": false, "error": e.message });
+                common::print_stdout(&format!("{v}\n"));
+                Err(e)
+            }
+        };
+    }
     let design = common::load(&args.design)?;
     let built = design.build()?;
     let (text, warnings) = report(&design, &built);

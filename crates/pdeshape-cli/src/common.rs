@@ -6,6 +6,8 @@ use pdeshape::spec::{self, DesignSpec};
 use pdeshape::Error;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 
 /// A failure: one line for stderr and the exit status.
 #[derive(Debug)]
@@ -80,82 +82,379 @@ pub fn message_of(e: &Error) -> String {
 /// Reads and parses a design file.
 pub fn load(path: &Path) -> Result<Loaded, CliError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| CliError::input(format!("{file}: cannot read the design file: {e}")))?;
+    let max = pdeshape::spec::limits::MAX_FILE_BYTES;
+    if let Ok(m) = std::fs::metadata(path) {
+        if m.is_file() && m.len() > max as u64 {
+            return Err(CliError::input(format!(
+                "{file}: the design file has {} bytes; at most {max} (16 MiB) are read",
+                m.len()
+            )));
+        }
+    }
+    let bytes = std::fs::read(path).map_err(|e| {
+        CliError::input(format!(
+            "{file}: cannot read the design file: {}",
+            io_words(&e)
+        ))
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        CliError::input(format!(
+            "{file}: the design file is not UTF-8 text (invalid byte at offset {at})"
+        ))
+    })?;
     let spec = spec::parse_design(&text)
         .map_err(|e| CliError::input(spec::describe_error(&file, &text, &e)))?;
     Ok(Loaded { file, text, spec })
 }
 
+/// `--quiet`: no "wrote …" lines and no progress bars.
+static QUIET: AtomicBool = AtomicBool::new(false);
+/// `--force`: replace read-only output files.
+static FORCE: AtomicBool = AtomicBool::new(false);
+/// Some output went to standard output (`-o -`), so reports go to stderr.
+static STDOUT_USED: AtomicBool = AtomicBool::new(false);
+/// The temporary files being written, removed by the SIGINT/SIGTERM handler.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Exit status of a run stopped by SIGINT or SIGTERM.
+pub const INTERRUPTED: i32 = 130;
+
+/// Sets `--quiet` and `--force` for the whole run.
+pub fn set_flags(quiet: bool, force: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+    FORCE.store(force, Ordering::Relaxed);
+}
+
+/// Whether `--quiet` was given.
+pub fn quiet() -> bool {
+    QUIET.load(Ordering::Relaxed)
+}
+
+/// Removes the temporary files of this run when it is stopped by SIGINT (Ctrl-C) or SIGTERM, then
+/// exits with status 130. (SIGKILL cannot be caught: its leftovers are removed by the next run
+/// that writes into the same directory, see [`Output::create`].)
+pub fn remove_temporaries_on_signals() {
+    let _ = ctrlc::set_handler(|| {
+        if let Ok(pending) = PENDING.lock() {
+            for p in pending.iter() {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        eprintln!("error: interrupted; no output file was written");
+        std::process::exit(INTERRUPTED);
+    });
+}
+
+fn pending_add(p: &Path) {
+    if let Ok(mut v) = PENDING.lock() {
+        v.push(p.to_path_buf());
+    }
+}
+
+fn pending_remove(p: &Path) {
+    if let Ok(mut v) = PENDING.lock() {
+        v.retain(|q| q != p);
+    }
+}
+
+/// A report line ("wrote …"): on stdout, or on stderr when stdout carries an output; nothing
+/// with `--quiet`.
+pub fn report(text: &str) {
+    if quiet() {
+        return;
+    }
+    if STDOUT_USED.load(Ordering::Relaxed) {
+        let _ = std::io::stderr().write_all(text.as_bytes());
+    } else {
+        print_stdout(text);
+    }
+}
+
+/// The prefix of this process's temporary files: `.pdeshape-<pid>-`.
+fn temp_prefix(pid: u32) -> String {
+    format!(".pdeshape-{pid}-")
+}
+
+/// The process id in the name of a temporary file `.pdeshape-<pid>-XXXXXX.tmp`.
+fn temp_owner(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix(".pdeshape-")?.strip_suffix(".tmp")?;
+    let (pid, tail) = rest.split_once('-')?;
+    (!tail.is_empty() && tail.chars().all(|c| c.is_ascii_alphanumeric()))
+        .then(|| pid.parse().ok())
+        .flatten()
+}
+
+/// Whether a process is running (Linux: `/proc/<pid>/stat` exists and is not a zombie;
+/// elsewhere assumed running, so nothing is removed).
+fn process_alive(pid: u32) -> bool {
+    if !cfg!(target_os = "linux") {
+        return true;
+    }
+    match std::fs::read_to_string(format!("/proc/{pid}/stat")) {
+        // The state follows the command name in parentheses: `123 (pdeshape) Z …`.
+        Ok(stat) => !stat
+            .rsplit_once(") ")
+            .is_some_and(|(_, rest)| rest.starts_with('Z') || rest.starts_with('X')),
+        Err(_) => false,
+    }
+}
+
+/// Removes temporary files `.pdeshape-<pid>-XXXXXX.tmp` in `dir` left by runs that were killed
+/// (their process no longer exists). Returns the names removed.
+pub fn remove_stale_temporaries(dir: &Path) -> Vec<String> {
+    let mut removed = Vec::new();
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return removed;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().to_string();
+        let Some(pid) = temp_owner(&name) else {
+            continue;
+        };
+        if pid != std::process::id()
+            && !process_alive(pid)
+            && e.file_type().is_ok_and(|t| t.is_file())
+            && std::fs::remove_file(e.path()).is_ok()
+        {
+            removed.push(name);
+        }
+    }
+    removed
+}
+
+/// Where an output goes.
+enum Target {
+    /// A temporary file next to the real destination (a symlink's target, resolved).
+    File {
+        temp: tempfile::NamedTempFile,
+        dest: PathBuf,
+    },
+    /// `-o -`: collected and written to stdout at [`Output::commit`].
+    Stdout(Vec<u8>),
+}
+
 /// An output file being written: a temporary file next to the target, renamed over it only when
-/// everything succeeded. Dropped without [`Output::commit`], it leaves nothing behind.
+/// everything succeeded. Dropped without [`Output::commit`], it leaves nothing behind; stopped by
+/// SIGINT or SIGTERM, neither (see [`remove_temporaries_on_signals`]). `-o -` writes to stdout.
+/// Messages name the user's path, never the temporary one.
 pub struct Output {
-    path: PathBuf,
-    temp: tempfile::NamedTempFile,
+    shown: String,
+    target: Target,
+}
+
+/// The real destination of `path`: itself, or the file a symlink (chain) points to.
+fn resolve(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
+                Ok(t) if t.is_absolute() => p = t,
+                Ok(t) => {
+                    p = p.parent().map(|d| d.join(&t)).unwrap_or(t);
+                }
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    p
 }
 
 impl Output {
-    /// Creates the temporary file in the target's directory (so the final rename is atomic).
+    /// Whether `path` means standard output.
+    pub fn is_stdout(path: &Path) -> bool {
+        path.as_os_str() == "-"
+    }
+
+    /// Creates the temporary file in the destination's directory (so the final rename is atomic),
+    /// after checking the destination: not a directory, in an existing directory, not read-only
+    /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
     pub fn create(path: &Path) -> Result<Self, CliError> {
-        let shown = path.display();
-        if path.is_dir() {
+        let shown = path.display().to_string();
+        if Self::is_stdout(path) {
+            STDOUT_USED.store(true, Ordering::Relaxed);
+            return Ok(Output {
+                shown: "standard output".to_string(),
+                target: Target::Stdout(Vec::new()),
+            });
+        }
+        let dest = resolve(path);
+        if dest.is_dir() {
             return Err(CliError::input(format!("-o {shown}: is a directory")));
         }
-        let dir = match path.parent() {
+        let dir = match dest.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
+        if !dir.is_dir() {
+            return Err(CliError::input(format!(
+                "-o {shown}: the directory '{}' does not exist",
+                dir.display()
+            )));
+        }
+        if let Ok(m) = std::fs::metadata(&dest) {
+            if m.permissions().readonly() && !FORCE.load(Ordering::Relaxed) {
+                return Err(CliError::input(format!(
+                    "-o {shown}: the file is read-only; pass --force to replace it"
+                )));
+            }
+        }
+        for name in remove_stale_temporaries(&dir) {
+            if !quiet() {
+                eprintln!(
+                    "note: removed '{}', left in '{}' by a run that was killed",
+                    name,
+                    dir.display()
+                );
+            }
+        }
         let temp = tempfile::Builder::new()
-            .prefix(".pdeshape-")
+            .prefix(&temp_prefix(std::process::id()))
             .suffix(".tmp")
             .tempfile_in(&dir)
             .map_err(|e| {
                 CliError::input(format!(
-                    "-o {shown}: cannot create a file in '{}': {e}",
-                    dir.display()
+                    "-o {shown}: cannot create a file in '{}': {}",
+                    dir.display(),
+                    io_words(&e)
                 ))
             })?;
+        pending_add(temp.path());
         Ok(Output {
-            path: path.to_path_buf(),
-            temp,
+            shown,
+            target: Target::File { temp, dest },
         })
     }
 
-    /// A buffered writer on the temporary file.
-    pub fn writer(&mut self) -> std::io::BufWriter<&mut std::fs::File> {
-        std::io::BufWriter::new(self.temp.as_file_mut())
+    /// A buffered writer on the output.
+    pub fn writer(&mut self) -> std::io::BufWriter<&mut dyn Write> {
+        let w: &mut dyn Write = match &mut self.target {
+            Target::File { temp, .. } => temp.as_file_mut(),
+            Target::Stdout(buf) => buf,
+        };
+        std::io::BufWriter::new(w)
     }
 
-    /// Writes `bytes` to the temporary file.
+    /// Writes `bytes` to the output.
     pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), CliError> {
-        let shown = self.path.display().to_string();
-        self.temp
-            .as_file_mut()
-            .write_all(bytes)
-            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))
+        let shown = self.shown.clone();
+        let r = match &mut self.target {
+            Target::File { temp, .. } => temp.as_file_mut().write_all(bytes),
+            Target::Stdout(buf) => {
+                buf.extend_from_slice(bytes);
+                Ok(())
+            }
+        };
+        r.map_err(|e| CliError::input(format!("-o {shown}: {}", io_words(&e))))
     }
 
-    /// Flushes and renames the temporary file onto the target.
-    pub fn commit(self) -> Result<(), CliError> {
-        let shown = self.path.display().to_string();
-        // Temporary files are private (0600); the result gets the usual permissions of a new
-        // file (rw-r--r--).
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            self.temp
-                .as_file()
-                .set_permissions(std::fs::Permissions::from_mode(0o644))
-                .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    /// Flushes and renames the temporary file onto the destination (through a symlink, onto the
+    /// file it points to), or writes the collected bytes to stdout.
+    pub fn commit(mut self) -> Result<(), CliError> {
+        let shown = self.shown.clone();
+        let err = |e: &std::io::Error| CliError::input(format!("-o {shown}: {}", io_words(e)));
+        match std::mem::replace(&mut self.target, Target::Stdout(Vec::new())) {
+            Target::Stdout(buf) => {
+                let mut out = std::io::stdout().lock();
+                match out.write_all(&buf).and_then(|_| out.flush()) {
+                    Ok(()) => Ok(()),
+                    Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                    Err(e) => Err(err(&e)),
+                }
+            }
+            Target::File { temp, dest } => {
+                let tpath = temp.path().to_path_buf();
+                // Temporary files are private (0600); the result gets the usual permissions of
+                // a new file (rw-r--r--).
+                #[cfg(unix)]
+                {
+                    use std::os::unix::fs::PermissionsExt;
+                    temp.as_file()
+                        .set_permissions(std::fs::Permissions::from_mode(0o644))
+                        .map_err(|e| err(&e))?;
+                }
+                temp.as_file().sync_all().map_err(|e| err(&e))?;
+                let r = temp.persist(&dest);
+                pending_remove(&tpath);
+                r.map_err(|e| err(&e.error))?;
+                Ok(())
+            }
         }
-        self.temp
-            .as_file()
-            .sync_all()
-            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-        self.temp
-            .persist(&self.path)
-            .map_err(|e| CliError::input(format!("-o {shown}: {}", e.error)))?;
-        Ok(())
+    }
+}
+
+impl Drop for Output {
+    fn drop(&mut self) {
+        if let Target::File { temp, .. } = &self.target {
+            pending_remove(temp.path());
+        }
+    }
+}
+
+/// An I/O error in words, without the "(os error N)" suffix.
+pub fn io_words(e: &std::io::Error) -> String {
+    use std::io::ErrorKind::*;
+    match e.kind() {
+        NotFound => "no such file or directory".to_string(),
+        PermissionDenied => "permission denied".to_string(),
+        _ => {
+            let s = e.to_string();
+            match s.find(" (os error") {
+                Some(i) => s[..i].to_string(),
+                None => s,
+            }
+        }
+    }
+}
+
+/// The path whose extension picks the output format: `--format` when given (it wins over the
+/// extension), else `-o`'s own; `-o -` (standard output) needs `--format`.
+pub fn format_path(
+    output: &Path,
+    format: Option<&str>,
+    formats: &str,
+) -> Result<PathBuf, CliError> {
+    match format {
+        Some(f) => {
+            let f = f.trim_start_matches('.');
+            if f.is_empty() || !f.chars().all(|c| c.is_ascii_alphanumeric()) {
+                return Err(CliError::input(format!(
+                    "--format: '{}' is not a format: use {formats}",
+                    shorten(f, 40)
+                )));
+            }
+            Ok(PathBuf::from(format!("output.{f}")))
+        }
+        None if Output::is_stdout(output) => Err(CliError::input(format!(
+            "-o -: writing to standard output needs --format ({formats})"
+        ))),
+        None => Ok(output.to_path_buf()),
+    }
+}
+
+/// Refuses `--nu`/`--nv` for an output they do not apply to.
+pub fn refuse_grid_flags(
+    nu: Option<usize>,
+    nv: Option<usize>,
+    output: &str,
+) -> Result<(), CliError> {
+    for (flag, v) in [("--nu", nu), ("--nv", nv)] {
+        if v.is_some() {
+            return Err(CliError::input(format!(
+                "{flag}: does not apply to {output} (it has no grid)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `s` cut to at most `max` characters, with an ellipsis when cut.
+pub fn shorten(s: &str, max: usize) -> String {
+    if s.chars().count() <= max {
+        s.to_string()
+    } else {
+        let head: String = s.chars().take(max).collect();
+        format!("{head}…")
     }
 }
 

@@ -63,7 +63,12 @@ fn keep_for_picture(kept: &mut Vec<Frame>, frame: Frame) {
 }
 
 fn progress(total: u64, what: &str) -> ProgressBar {
-    let pb = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
+    let target = if common::quiet() {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let pb = ProgressBar::with_draw_target(Some(total), target);
     if let Ok(style) =
         ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} steps {msg} ({elapsed})")
     {
@@ -328,6 +333,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         p.commit()?;
     }
     report.push_str(&format!("wrote {shown}: {} nodes\n", nodes.len()));
-    common::print_stdout(&report);
+    if let Some(f) = &args.frames {
+        report.push_str(&format!("wrote {}: frames\n", f.display()));
+    }
+    if let Some(p) = &args.picture {
+        report.push_str(&format!("wrote {}: picture\n", p.display()));
+    }
+    common::report(&report);
     Ok(())
 }

@@ -24,6 +24,12 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print no "wrote …" lines, notes or progress bars (reports and errors still print).
+    #[arg(long, short, global = true)]
+    quiet: bool,
+    /// Replace output files even when they are read-only.
+    #[arg(long, global = true)]
+    force: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -113,6 +119,8 @@ fn main() -> ExitCode {
             };
         }
     };
+    common::set_flags(cli.quiet, cli.force);
+    common::remove_temporaries_on_signals();
     // A panic is a bug; report it on one line like every other failure.
     std::panic::set_hook(Box::new(|_| {}));
     match std::panic::catch_unwind(move || run(cli)) {

@@ -115,7 +115,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .collect::<Result<Vec<_>, _>>()?;
 
     let total = (problem.options.evaluations + problem.options.polish) as u64;
-    let bar = indicatif::ProgressBar::new(total);
+    let bar = if common::quiet() {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(total)
+    };
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} evaluations, best {msg}",
@@ -231,6 +235,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         paths[2].display(),
         paths[3].display()
     ));
-    common::print_stdout(&report);
+    common::report(&report);
     Ok(())
 }

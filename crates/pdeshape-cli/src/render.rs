@@ -91,8 +91,12 @@ pub fn check_png_path(path: &std::path::Path) -> Result<(), CliError> {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
-    check_png_path(&args.output)
-        .map_err(|_| CliError::input(format!("-o {shown}: the picture must be a .png file")))?;
+    if !Output::is_stdout(&args.output) {
+        check_png_path(&args.output)
+    } else {
+        Ok(())
+    }
+    .map_err(|_| CliError::input(format!("-o {shown}: the picture must be a .png file")))?;
     let (width, height) = parse_size(&args.size)?;
     let view = args.view.as_deref().map(parse_view).transpose()?;
     let range = args
@@ -159,6 +163,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let png = png.map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(&png)?;
     out.commit()?;
-    crate::common::print_stdout(&format!("wrote {shown}: {width}x{height}{note}\n"));
+    crate::common::report(&format!("wrote {shown}: {width}x{height}{note}\n"));
     Ok(())
 }

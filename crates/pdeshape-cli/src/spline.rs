@@ -18,6 +18,10 @@ pub struct Args {
     /// (IGES 5.3 B-spline surface), obj, stl, ply, glb or csv (grid of the surface).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// The format (json, igs, obj, stl, ply, glb or csv), when -o has no extension or is `-`
+    /// (standard output).
+    #[arg(long)]
+    pub format: Option<String>,
     /// Grid rows for meshes (values of u; default from [output] or 64).
     #[arg(long)]
     pub nu: Option<usize>,
@@ -106,7 +110,23 @@ pub fn report_text(s: &SolvedSpline) -> String {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
-    let kind = kind(&args.output)?;
+    let fpath = common::format_path(
+        &args.output,
+        args.format.as_deref(),
+        "json, igs, iges, obj, stl, ply, glb or csv",
+    )?;
+    let kind = kind(&fpath).map_err(|e| match &args.format {
+        Some(f) => CliError::input(format!(
+            "--format {}: unknown format: use json, igs, iges, obj, stl, ply, glb or csv",
+            common::shorten(f, 40)
+        )),
+        None => e,
+    })?;
+    match kind {
+        Kind::Json => common::refuse_grid_flags(args.nu, args.nv, "a .json control net")?,
+        Kind::Iges => common::refuse_grid_flags(args.nu, args.nv, "an IGES surface")?,
+        Kind::Grid(_) => {}
+    }
     let design = common::load(&args.design)?;
     let Some(spec) = design.spec.spline.as_ref() else {
         return Err(CliError::input(format!(
@@ -177,6 +197,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     }
     out.commit()?;
-    common::print_stdout(&format!("{}wrote {shown}\n", report_text(&solved)));
+    common::report(&format!("{}wrote {shown}\n", report_text(&solved)));
     Ok(())
 }

@@ -12,9 +12,13 @@ pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
     /// Output file; the extension picks the format: obj, stl, ply, glb, csv, or step/stp and
-    /// igs/iges (B-spline surfaces with their deviation).
+    /// igs/iges (B-spline surfaces with their deviation). `-` writes to standard output (with
+    /// --format).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// The format (obj, stl, ply, glb or csv), when -o has no extension or is `-`.
+    #[arg(long)]
+    pub format: Option<String>,
     /// Grid rows (values of u; default from [output] or 64).
     #[arg(long)]
     pub nu: Option<usize>,
@@ -93,8 +97,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         return crate::cad::write(&args.design, &args.output, cad, args.tolerance, &args.units);
     }
     let shown = args.output.display().to_string();
-    let format = Format::from_path(&args.output)
-        .map_err(|e| CliError::input(format!("-o {shown}: {}", common::message_of(&e))))?;
+    let fpath = common::format_path(
+        &args.output,
+        args.format.as_deref(),
+        "obj, stl, ply, glb or csv",
+    )?;
+    let flag = if args.format.is_some() {
+        "--format"
+    } else {
+        "-o"
+    };
+    let format = Format::from_path(&fpath).map_err(|e| {
+        let shown = args.format.as_deref().unwrap_or(&shown);
+        CliError::input(format!("{flag} {shown}: {}", common::message_of(&e)))
+    })?;
     let export = export_options(format, args.scale, args.up, args.separate_patches)?;
     let design = common::load(&args.design)?;
     design.validate()?;
@@ -197,8 +213,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         Some([gu, gv]) => format!(" (finite differences on {gu} × {gv})"),
         None => String::new(),
     };
-    crate::common::print_stdout(&format!(
-        "wrote {shown}: {n} patch{}, {nu} × {nv} grid{fd}\n",
+    let picture = match &args.picture {
+        Some(p) => format!("; wrote {}", p.display()),
+        None => String::new(),
+    };
+    crate::common::report(&format!(
+        "wrote {shown}: {n} patch{}, {nu} × {nv} grid{fd}{picture}\n",
         if n == 1 { "" } else { "es" }
     ));
     Ok(())

@@ -22,6 +22,7 @@ pub mod bfs;
 pub mod cad;
 mod check;
 pub mod curve;
+mod decomp;
 pub mod design;
 pub mod dynamic;
 pub mod elliptic;

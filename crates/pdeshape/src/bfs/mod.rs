@@ -250,7 +250,11 @@ impl Energy {
         if (m2 - m2.transpose()).amax() > 0.0 || (m1 - m1.transpose()).amax() > 0.0 {
             return Err(Error::invalid("the energy matrix must be symmetric"));
         }
-        let ev2 = m2.symmetric_eigenvalues();
+        let not_converged = || Error::invalid("the energy's eigenvalues could not be computed");
+        let ev2 = crate::decomp::symmetric_eigenvalues(nalgebra::DMatrix::from_fn(3, 3, |i, j| {
+            m2[(i, j)]
+        }))
+        .ok_or_else(not_converged)?;
         let (lo, hi) = (ev2.min(), ev2.amax());
         if lo.is_nan() || lo <= 1e-12 * hi {
             return Err(Error::invalid(format!(
@@ -262,7 +266,10 @@ impl Energy {
                 second, lo, hi
             )));
         }
-        let ev1 = m1.symmetric_eigenvalues();
+        let ev1 = crate::decomp::symmetric_eigenvalues(nalgebra::DMatrix::from_fn(2, 2, |i, j| {
+            m1[(i, j)]
+        }))
+        .ok_or_else(not_converged)?;
         if ev1.min() < -1e-12 * ev1.amax() {
             return Err(Error::invalid(format!(
                 "the first-order part of the energy {first:?} on (u_x, u_y) must be positive \

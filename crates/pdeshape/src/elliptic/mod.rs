@@ -441,7 +441,10 @@ fn solve_mode(
         while let Some(basis) = candidates.pop() {
             let a = condition_matrix(&basis, at);
             let cond = condition_number(&a);
-            if best.as_ref().is_none_or(|b| cond < b.2) {
+            if best
+                .as_ref()
+                .is_none_or(|b| cond < b.2 || (b.2.is_nan() && !cond.is_nan()))
+            {
                 best = Some((basis, a, cond));
             }
         }
@@ -454,8 +457,13 @@ fn solve_mode(
         } else {
             format!("Fourier mode {n}")
         };
+        let cond = if cond.is_nan() {
+            "its singular values could not be computed".to_string()
+        } else {
+            format!("condition number {cond:.1e}")
+        };
         return Err(Error::not_unique(format!(
-            "the system for {which} is singular or numerically singular (condition number {cond:.1e}); check that the conditions fix the surface (e.g. at least one position curve) and that derivative orders are modest"
+            "the system for {which} is singular or numerically singular ({cond}); check that the conditions fix the surface (e.g. at least one position curve) and that derivative orders are modest"
         )));
     }
     let coef = solve_equilibrated(&a, &rhs)
@@ -517,7 +525,11 @@ fn condition_number(a: &DMatrix<f64>) -> f64 {
         return f64::INFINITY;
     }
     let (r, c) = equilibrate(a);
-    let s = scaled(a, &r, &c).singular_values();
+    // An SVD that does not converge within its cap counts as singular (NaN) rather than
+    // running forever.
+    let Some(s) = crate::decomp::singular_values(scaled(a, &r, &c)) else {
+        return f64::NAN;
+    };
     let max = s.max();
     let min = s.min();
     if min > 0.0 {

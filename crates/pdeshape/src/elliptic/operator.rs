@@ -196,7 +196,14 @@ fn characteristic_roots(c: &[f64]) -> Result<Vec<RootGroup>> {
             companion[(k + 1, k)] = 1.0;
         }
     }
-    let eig: Vec<Complex<f64>> = companion.complex_eigenvalues().iter().copied().collect();
+    let eig: Vec<Complex<f64>> =
+        crate::decomp::complex_eigenvalues(companion).ok_or_else(|| {
+            Error::invalid(
+                "the roots of the characteristic equation could not be computed (coefficients too \
+             large, too small or too far apart)",
+            )
+            .at("coefficients")
+        })?;
     let scale = eig
         .iter()
         .map(|z| z.norm())

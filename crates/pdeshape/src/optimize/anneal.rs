@@ -68,13 +68,8 @@ impl Default for SearchOptions {
 impl SearchOptions {
     /// Checks the options; errors name the `[optimize]` key.
     pub fn check(&self) -> Result<()> {
-        if self.chains == 0 || self.chains > 1024 {
-            return Err(Error::invalid(format!(
-                "must be between 1 and 1024 (got {})",
-                self.chains
-            ))
-            .at("optimize.chains"));
-        }
+        crate::spec::limits::check_optimize_counts(self.evaluations, self.polish, self.chains)
+            .map_err(|e| e.at("optimize"))?;
         if self.evaluations < self.chains {
             return Err(Error::invalid(format!(
                 "must be at least the number of chains, {} (got {})",

@@ -342,8 +342,12 @@ parameters = [{ name = "ringcT", min = -0.3, max = 0.3 }]
     );
 }
 
+/// The error of a design: from the reader (limits such as `chains`) or from `Problem::new`.
 fn error_of(text: &str) -> crate::Error {
-    Problem::new(&parse_design(text).unwrap()).unwrap_err()
+    match parse_design(text) {
+        Err(e) => e,
+        Ok(spec) => Problem::new(&spec).expect_err("an error"),
+    }
 }
 
 #[test]

@@ -12,13 +12,16 @@
 
 mod blend;
 mod dynamic;
+pub mod limits;
 mod locate;
 mod optimize;
 mod parametric;
+mod schema;
 mod spine;
 mod spline;
 mod trim;
 mod types;
+mod words;
 mod write;
 
 pub use blend::{BlendSpec, EnergySpec, JoinSpec, PointSpec, SurfaceSpec};
@@ -41,12 +44,15 @@ use crate::{Error, Result};
 /// The error's place is the path of the offending key (`curves.rim` for an unknown key inside the
 /// `rim` table); NaN and infinite numbers are refused here with their exact path.
 pub fn parse_design(text: &str) -> Result<DesignSpec> {
+    limits::check_text(text)?;
     // Syntax first, so that a syntax error is reported as such and not as a schema mismatch.
     let doc: toml::Table =
         toml::from_str(text).map_err(|e| Error::invalid(one_line(e.message())))?;
-    locate::check_finite(&toml::Value::Table(doc), "")?;
+    let doc = toml::Value::Table(doc);
+    limits::check_value(&doc, "", 0)?;
+    locate::check_finite(&doc, "")?;
     let de = toml::Deserializer::new(text);
-    serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| {
+    let spec = serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| {
         let path = e.path().to_string();
         let path = if path == "." { String::new() } else { path };
         let message = e.inner().message();
@@ -63,20 +69,24 @@ pub fn parse_design(text: &str) -> Result<DesignSpec> {
             }
             (None, rest) => Error::invalid(one_line(rest)).at(&path),
         }
-    })
+    })?;
+    limits::check_spec(&spec)?;
+    Ok(spec)
 }
 
 /// The JSON schema of the design file (pretty-printed).
 pub fn json_schema() -> String {
-    let schema = schemars::schema_for!(DesignSpec);
-    serde_json::to_string_pretty(&schema).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    serde_json::to_string_pretty(&schema::schema_value())
+        .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 
 /// Joins the lines of a multi-line message.
 fn one_line(s: &str) -> String {
-    s.split('\n')
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ")
+    words::plain(
+        &s.split('\n')
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join("; "),
+    )
 }

@@ -300,7 +300,9 @@ fn minimise<T: Solve>(
     {
         let k = m.rows;
         let mf = nalgebra::DMatrix::from_fn(k, k, |i, j| m.at(i, j).to_f64());
-        let eig = mf.symmetric_eigenvalues();
+        let Some(eig) = crate::decomp::symmetric_eigenvalues(mf) else {
+            return Err(());
+        };
         let max = eig.amax();
         if eig.iter().any(|&l| l < -1e-9 * max) {
             return Err(());

@@ -257,7 +257,10 @@ impl Solve for f64 {
             qtb.view_mut((0, 0), (m, c)).copy_from(&bm);
             (r, qtb)
         };
-        let svd = r.svd(true, true);
+        // Rows have unit norm, so the capped SVD converges on any finite system; should it not,
+        // the uncapped one is the documented fallback (it has never been seen to loop on
+        // row-scaled input).
+        let svd = crate::decomp::svd(r.clone()).unwrap_or_else(|| r.svd(true, true));
         let (u, vt) = (svd.u.expect("u requested"), svd.v_t.expect("v requested"));
         let smax = svd.singular_values.iter().cloned().fold(0.0, f64::max);
         let tol = rank_tolerance(m, n) * smax;

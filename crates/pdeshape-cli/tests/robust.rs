@@ -1,0 +1,442 @@
+//! Robustness and output conventions of the binary: numerical guards and limits seen from the
+//! command line, temporary files removed on SIGTERM/SIGINT and after SIGKILL, `-o -`, `--quiet`,
+//! `check --json`, read-only and symlinked outputs, flags that do not apply.
+
+mod common;
+use common::*;
+use std::time::{Duration, Instant};
+
+fn cup() -> String {
+    std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/cup.toml"
+    ))
+    .unwrap()
+}
+
+/// Runs the binary with a deadline; `None` if it did not finish in time (it is killed).
+fn run_within(args: &[&str], secs: u64) -> Option<Output> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pdeshape"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return Some(child.wait_with_output().unwrap());
+        }
+        if start.elapsed() > Duration::from_secs(secs) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn subnormal_and_extreme_smoothing_parameters_are_refused_quickly() {
+    let dir = tempfile::tempdir().unwrap();
+    for a in ["1e-320", "2.2e-308", "1e-7", "1e300"] {
+        let f = write(
+            dir.path(),
+            "a.toml",
+            &edit(&cup(), "a = 1.0", &format!("a = {a}")),
+        );
+        for sub in ["check", "analyze"] {
+            let out =
+                run_within(&[sub, s(&f)], 10).unwrap_or_else(|| panic!("{sub} with a = {a} hangs"));
+            let msg = assert_bad(
+                &out,
+                &["a.toml:", "operator.a: must lie between 1e-6 and 1e6"],
+            );
+            assert!(
+                msg.contains(&format!("got {a}")) || a == "2.2e-308",
+                "{msg}"
+            );
+        }
+    }
+}
+
+#[test]
+fn work_limits_are_refused_before_work_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let dynamic = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/dynamic_section33.toml"
+    ))
+    .unwrap();
+    let f = write(
+        dir.path(),
+        "d.toml",
+        &edit(&dynamic, "steps = 450", "steps = 4294967296"),
+    );
+    let out = run_within(&["curve", s(&f), "-o", s(&dir.path().join("x.csv"))], 10).unwrap();
+    assert_bad(
+        &out,
+        &[
+            "d.toml:",
+            "dynamic.steps: 4294967296 time steps; at most 1000000 allowed",
+        ],
+    );
+    let opt = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/optimize_curvature.toml"
+    );
+    for (flag, limit) in [("--evaluations", "1000000"), ("--polish", "100000")] {
+        let out = run_within(
+            &[
+                "optimize",
+                opt,
+                "-o",
+                s(&dir.path().join("best.toml")),
+                flag,
+                "99999999999",
+            ],
+            10,
+        )
+        .unwrap();
+        assert_bad(
+            &out,
+            &[&format!(
+                "{flag}: 99999999999 evaluations; at most {limit} allowed"
+            )],
+        );
+    }
+    assert!(
+        files(dir.path()).iter().all(|f| f.ends_with(".toml")),
+        "{:?}",
+        files(dir.path())
+    );
+}
+
+#[test]
+fn ten_million_control_points_are_refused_by_size() {
+    // 10 million points do not fit in a 16 MiB file: refused from the file's size, before it is read.
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("huge.toml");
+    {
+        use std::io::Write;
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&f).unwrap());
+        w.write_all(b"[curves.c]\ntype = \"bezier\"\ncontrol = [")
+            .unwrap();
+        for _ in 0..1_500_000 {
+            w.write_all(b"[0.0,0.0,0.0],").unwrap();
+        }
+        w.write_all(b"]\n").unwrap();
+    }
+    let out = run_within(&["check", s(&f)], 10).unwrap();
+    assert_bad(
+        &out,
+        &[
+            "huge.toml: the design file has",
+            "at most 16777216 (16 MiB) are read",
+        ],
+    );
+}
+
+fn temp_files(dir: &Path) -> Vec<String> {
+    files(dir)
+        .into_iter()
+        .filter(|f| f.contains(".pdeshape-"))
+        .collect()
+}
+
+#[cfg(unix)]
+#[test]
+fn temporary_files_are_removed_on_sigterm_and_sigint_and_after_sigkill() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let target = dir.path().join("big.obj");
+    for signal in ["-TERM", "-INT", "-KILL"] {
+        let child = Command::new(env!("CARGO_BIN_EXE_pdeshape"))
+            .args([
+                "surface",
+                s(&design),
+                "-o",
+                s(&target),
+                "--nu",
+                "2500",
+                "--nv",
+                "2500",
+            ])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until the temporary file exists, then stop the run.
+        let start = Instant::now();
+        while temp_files(dir.path()).is_empty() {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no temporary file appeared"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let pid = child.id().to_string();
+        assert!(Command::new("kill")
+            .args([signal, &pid])
+            .status()
+            .unwrap()
+            .success());
+        let out = child.wait_with_output().unwrap();
+        assert!(!target.exists(), "{signal}: the destination was written");
+        if signal == "-KILL" {
+            // SIGKILL cannot be caught: the next run in the directory removes the leftover.
+            assert_eq!(temp_files(dir.path()).len(), 1);
+            let small = dir.path().join("small.obj");
+            let out = pdeshape(&["surface", s(&design), "-o", s(&small)]);
+            assert!(out.status.success());
+            assert!(String::from_utf8_lossy(&out.stderr).contains("left in"));
+        } else {
+            assert_eq!(out.status.code(), Some(130), "{signal}");
+            assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted"));
+        }
+        assert_eq!(temp_files(dir.path()), Vec::<String>::new(), "{signal}");
+    }
+}
+
+#[test]
+fn standard_output_with_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let out = pdeshape(&[
+        "surface",
+        s(&design),
+        "-o",
+        "-",
+        "--format",
+        "stl",
+        "--nu",
+        "8",
+        "--nv",
+        "12",
+    ]);
+    assert!(out.status.success());
+    // Binary STL: 80-byte header, triangle count, 50 bytes per triangle.
+    let n = u32::from_le_bytes(out.stdout[80..84].try_into().unwrap()) as usize;
+    assert_eq!(out.stdout.len(), 84 + 50 * n);
+    assert!(n > 0);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("wrote"));
+    let out = pdeshape(&["surface", s(&design), "-o", "-"]);
+    assert_bad(&out, &["-o -: writing to standard output needs --format"]);
+    let out = pdeshape(&["surface", s(&design), "-o", "-", "--format", "xyz"]);
+    assert_bad(&out, &["--format xyz: unknown output extension"]);
+    assert_eq!(files(dir.path()), vec!["cup.toml".to_string()]);
+}
+
+#[test]
+fn quiet_prints_nothing_on_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let out = pdeshape(&[
+        "surface",
+        "--quiet",
+        s(&design),
+        "-o",
+        s(&dir.path().join("c.obj")),
+    ]);
+    assert!(out.status.success());
+    assert!(out.stdout.is_empty() && out.stderr.is_empty());
+    assert!(dir.path().join("c.obj").exists());
+}
+
+#[test]
+fn check_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let out = pdeshape(&["check", "--json", s(&design)]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["ok"], true);
+    let surfaces = v["surfaces"].as_array().unwrap();
+    assert_eq!(surfaces.len(), 2);
+    assert_eq!(surfaces[0]["name"], "base");
+    for e in surfaces[0]["condition_errors"].as_array().unwrap() {
+        assert!(e["relative"].as_f64().unwrap() < 1e-10, "{e}");
+    }
+    assert!(v["edges"][0]["g0"].as_f64().unwrap() < 1e-12);
+    let bad = write(dir.path(), "bad.toml", &edit(&cup(), "a = 1.0", "a = 0.0"));
+    let out = pdeshape(&["check", "--json", s(&bad)]);
+    assert_eq!(out.status.code(), Some(2));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["ok"], false);
+    assert!(v["error"].as_str().unwrap().contains("operator.a"));
+}
+
+#[cfg(unix)]
+#[test]
+fn read_only_outputs_need_force_and_symlinks_are_written_through() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let ro = write(dir.path(), "ro.obj", "old");
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let out = pdeshape(&["surface", s(&design), "-o", s(&ro)]);
+    assert_bad(
+        &out,
+        &["ro.obj: the file is read-only; pass --force to replace it"],
+    );
+    assert_eq!(std::fs::read_to_string(&ro).unwrap(), "old");
+    let out = pdeshape(&["surface", "--force", s(&design), "-o", s(&ro)]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&ro).unwrap();
+    assert!(
+        text.len() > 1000 && text.contains("\nv "),
+        "not replaced by the mesh"
+    );
+    // Through a symlink: the link stays a link and its target gets the mesh.
+    std::fs::create_dir(dir.path().join("real")).unwrap();
+    let real = dir.path().join("real").join("mesh.obj");
+    let link = dir.path().join("link.obj");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let out = pdeshape(&["surface", s(&design), "-o", s(&link)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::metadata(&real).unwrap().len() > 1000);
+    // A missing directory is named as the user wrote it, with no temporary name.
+    let out = pdeshape(&["surface", s(&design), "-o", "no/such/dir/x.obj"]);
+    let msg = assert_bad(
+        &out,
+        &["-o no/such/dir/x.obj: the directory 'no/such/dir' does not exist"],
+    );
+    assert!(!msg.contains(".tmp"));
+}
+
+#[test]
+fn grid_flags_are_refused_where_there_is_no_grid() {
+    let dir = tempfile::tempdir().unwrap();
+    let spline = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/spline/example1.toml"
+    );
+    for (ext, what) in [("json", "a .json control net"), ("igs", "an IGES surface")] {
+        let out = pdeshape(&[
+            "spline",
+            spline,
+            "-o",
+            s(&dir.path().join(format!("n.{ext}"))),
+            "--nu",
+            "0",
+        ]);
+        assert_bad(&out, &[&format!("--nu: does not apply to {what}")]);
+    }
+    let blend = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/blend_cylinders.toml"
+    );
+    let out = pdeshape(&[
+        "blend",
+        blend,
+        "-o",
+        s(&dir.path().join("b.json")),
+        "--nv",
+        "99999999999",
+    ]);
+    assert_bad(&out, &["--nv: does not apply to a .json control net"]);
+    assert!(files(dir.path()).is_empty());
+}
+
+#[test]
+fn curve_reports_every_file_it_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/dynamic_section33.toml"
+    );
+    let (x, f, p) = (
+        dir.path().join("x.csv"),
+        dir.path().join("f.csv"),
+        dir.path().join("x.svg"),
+    );
+    let out = pdeshape(&[
+        "curve",
+        d,
+        "-o",
+        s(&x),
+        "--frames",
+        s(&f),
+        "--picture",
+        s(&p),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for path in [&x, &f, &p] {
+        assert!(
+            text.contains(&format!("wrote {}", path.display())),
+            "{text}"
+        );
+    }
+}
+
+/// Every input of the regression corpus through every subcommand of the real binary: status 0
+/// or 2, one clear line on error, within 60 s, and nothing left in the output directory but
+/// complete outputs.
+#[test]
+fn regression_corpus_through_the_binary() {
+    let corpus = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../pdeshape/tests/regressions");
+    let mut inputs: Vec<PathBuf> = std::fs::read_dir(&corpus)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    inputs.sort();
+    assert!(!inputs.is_empty());
+    let runs: &[(&str, &str)] = &[
+        ("check", ""),
+        ("analyze", ""),
+        ("surface", "out.obj"),
+        ("render", "out.png"),
+        ("curve", "out.csv"),
+        ("spline", "out.json"),
+        ("blend", "out.obj"),
+        ("optimize", "out.toml"),
+    ];
+    for input in &inputs {
+        for (sub, out) in runs {
+            let dir = tempfile::tempdir().unwrap();
+            let target = dir.path().join(out);
+            let mut args = vec![*sub, s(input)];
+            if !out.is_empty() {
+                args.extend(["-o", s(&target)]);
+            }
+            if *sub == "optimize" {
+                args.extend(["--evaluations", "8", "--polish", "2", "--chains", "2"]);
+            }
+            let r = run_within(&args, 60)
+                .unwrap_or_else(|| panic!("{sub} {} ran past 60 s", input.display()));
+            let stderr = String::from_utf8_lossy(&r.stderr);
+            match r.status.code() {
+                Some(0) => {}
+                Some(2) => {
+                    let lines: Vec<&str> = stderr.lines().collect();
+                    assert_eq!(lines.len(), 1, "{sub} {}: {stderr}", input.display());
+                    assert!(
+                        lines[0].starts_with("error: ") && lines[0].len() > 12,
+                        "{stderr}"
+                    );
+                    assert!(lines[0].chars().count() < 600, "{sub}: over-long: {stderr}");
+                    for rust in ["f64", "usize", "struct ", "enum ", ".tmp"] {
+                        assert!(!lines[0].contains(rust), "{sub}: {stderr}");
+                    }
+                    assert!(out.is_empty() || !target.exists(), "{sub}: partial output");
+                }
+                other => panic!("{sub} {}: status {other:?}: {stderr}", input.display()),
+            }
+            let left: Vec<String> = files(dir.path())
+                .into_iter()
+                .filter(|f| f.contains(".pdeshape-"))
+                .collect();
+            assert!(left.is_empty(), "{sub} {}: left {left:?}", input.display());
+        }
+    }
+}
