@@ -38,10 +38,14 @@ pub fn write(
     output: &Path,
     format: CadFormat,
     tolerance: Option<f64>,
-    units: &str,
+    units: Option<&str>,
 ) -> Result<(), CliError> {
-    let unit = step::LengthUnit::parse(units)
-        .map_err(|e| CliError::input(format!("--units: {}", common::message_of(&e))))?;
+    let unit = units
+        .map(|u| {
+            step::LengthUnit::parse(u)
+                .map_err(|e| CliError::input(format!("--units: {}", common::message_of(&e))))
+        })
+        .transpose()?;
     if let Some(t) = tolerance {
         if !(t.is_finite() && t > 0.0) {
             return Err(CliError::input(format!(
@@ -58,6 +62,20 @@ pub fn write(
             "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
         )));
     }
+    if !solved.trims.is_empty() {
+        return Err(design.error(
+            &pdeshape::Error::invalid(
+                "STEP and IGES output of trimmed surfaces is not available yet; write a mesh \
+                 (obj, stl, ply, glb)",
+            )
+            .at("trims"),
+        ));
+    }
+    let unit = match unit {
+        Some(u) => u,
+        None => step::LengthUnit::parse(solved.units.as_str())
+            .map_err(|e| design.error(&e.at("units")))?,
+    };
     let size = cad::design_size(&solved);
     let tolerance = tolerance.unwrap_or(1e-4 * size);
     let shown = output.display().to_string();

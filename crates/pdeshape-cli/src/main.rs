@@ -120,7 +120,11 @@ fn main() -> ExitCode {
         }
     };
     common::set_flags(cli.quiet, cli.force);
-    common::remove_temporaries_on_signals();
+    // The designer's server stops cleanly on its own signal handler (and saves atomically
+    // through its own files); every other command removes its temporaries when stopped.
+    if !matches!(cli.command, Command::Serve(_)) {
+        common::remove_temporaries_on_signals();
+    }
     // A panic is a bug; report it on one line like every other failure.
     std::panic::set_hook(Box::new(|_| {}));
     match std::panic::catch_unwind(move || run(cli)) {

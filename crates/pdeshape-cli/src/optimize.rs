@@ -157,8 +157,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map_err(|e| CliError::input(e.to_string()))?;
     {
         let mut w = outs[1].writer();
-        mesh::write(mesh::Format::Obj, &meshes, &mut w)
-            .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
+        // As `pdeshape surface` writes it: welded, with the design's title, units and names.
+        mesh::write_mesh(
+            mesh::Format::Obj,
+            &reread.weld(&meshes, &Default::default()),
+            &reread.mesh_info(&Default::default()),
+            &mut w,
+        )
+        .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
         w.flush()
             .map_err(|e| CliError::input(format!("-o {}: {e}", paths[1].display())))?;
     }

@@ -47,9 +47,10 @@ pub struct Args {
     /// default 10⁻⁴ of the design's size).
     #[arg(long)]
     pub tolerance: Option<f64>,
-    /// STEP/IGES: the length unit the file declares (mm, cm, m or in).
-    #[arg(long, default_value = "mm")]
-    pub units: String,
+    /// STEP/IGES: the length unit the file declares (mm, cm, m or in; default: the design's
+    /// `units`, else mm).
+    #[arg(long)]
+    pub units: Option<String>,
 }
 
 /// The `--up` values.
@@ -94,7 +95,13 @@ fn ms(t: Instant) -> f64 {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(cad) = crate::cad::CadFormat::from_path(&args.output) {
-        return crate::cad::write(&args.design, &args.output, cad, args.tolerance, &args.units);
+        return crate::cad::write(
+            &args.design,
+            &args.output,
+            cad,
+            args.tolerance,
+            args.units.as_deref(),
+        );
     }
     let shown = args.output.display().to_string();
     let fpath = common::format_path(

@@ -113,7 +113,8 @@ fn parametric_designs_write_meshes() {
     let o = pdeshape(&["surface", s(&f), "-o", s(&out)]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&out).unwrap();
-    // 12 × 16 vertices, all on the sphere of radius 2.
+    // A 12 × 16 grid whose first and last rows are the poles, each welded into one vertex:
+    // 10 × 16 + 2 vertices, all on the sphere of radius 2.
     let vs: Vec<[f64; 3]> = text
         .lines()
         .filter(|l| l.starts_with("v "))
@@ -125,7 +126,7 @@ fn parametric_designs_write_meshes() {
             [c[0], c[1], c[2]]
         })
         .collect();
-    assert_eq!(vs.len(), 12 * 16);
+    assert_eq!(vs.len(), 10 * 16 + 2);
     for v in vs {
         let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         assert!((r - 2.0).abs() < 1e-6, "{v:?}");

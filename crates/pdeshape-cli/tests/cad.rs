@@ -34,7 +34,7 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     let out_path = dir.path().join("part.step");
     let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--units", "furlong"]);
     assert_bad(&out, &["--units", "furlong"]);
-    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance", "-1"]);
+    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance=-1"]);
     assert_bad(&out, &["--tolerance"]);
     let out = pdeshape(&[
         "surface",
@@ -50,8 +50,16 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     let broken = write(
         dir.path(),
         "b.step",
-        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,x));\n",
+        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,x));\nENDSEC;\nEND-ISO-10303-21;\n",
     );
     let out = pdeshape(&["roundtrip", s(&d), s(&broken)]);
     assert_bad(&out, &["b.step", "line 3"]);
+    // A file that stops inside its DATA section: named, status 2.
+    let cut = write(
+        dir.path(),
+        "c.step",
+        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,2.,3.));\n",
+    );
+    let out = pdeshape(&["roundtrip", s(&d), s(&cut)]);
+    assert_bad(&out, &["c.step", "ends inside the DATA section"]);
 }

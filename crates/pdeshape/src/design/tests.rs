@@ -521,7 +521,7 @@ fn check_grid_agrees_with_grid_parameters() {
 fn schema_errors_inside_tagged_tables_keep_their_path() {
     let e = err_of("[operator]\nkind = \"polyharmonic\"\norder = 0.5\n");
     assert!(
-        e.starts_with("operator.order: invalid type: floating point `0.5`"),
+        e.starts_with("operator.order: invalid type: number `0.5`, expected a whole number"),
         "{e}"
     );
     let e = err_of("[operator]\nkind = \"general\"\ncoefficients = [1, \"x\"]\n");

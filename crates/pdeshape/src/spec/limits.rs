@@ -303,7 +303,7 @@ fn operator(op: &super::OperatorSpec, place: &str) -> Result<()> {
 
 /// Limits of the parsed design's fields (counts and sizes of work), checked before anything is
 /// built.
-pub(crate) fn check_spec(spec: &DesignSpec) -> Result<()> {
+pub fn check_spec(spec: &DesignSpec) -> Result<()> {
     at_most(
         spec.curves.len() as u64,
         MAX_CURVES as u64,
