@@ -335,34 +335,7 @@ pub(super) fn mesh(
         }
         rings.push((l.curve, r));
     }
-    let mut id = vec![u32::MAX; nu * nv];
-    let mut pm = ParamMesh::default();
-    for i in 0..nu {
-        for j in 0..nv {
-            if !dropped[i * nv + j] {
-                id[i * nv + j] = pm.uv.len() as u32;
-                pm.uv.push([frame.u[i], frame.v[j]]);
-                pm.grid_source.push((i * nv + j) as u32);
-            }
-        }
-    }
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if removed[i * cols + j] {
-                continue;
-            }
-            let j1 = (j + 1) % nv;
-            let [a, b, c, d] = [
-                id[i * nv + j],
-                id[(i + 1) * nv + j],
-                id[(i + 1) * nv + j1],
-                id[i * nv + j1],
-            ];
-            pm.triangles.push([a, b, c]);
-            pm.triangles.push([a, c, d]);
-        }
-    }
-    pm.grid_triangles = pm.triangles.len();
+    let (mut pm, id) = frame.kept_grid(|k| dropped[k], &removed);
     for (curve, r) in &rings {
         let n = r.rect.len();
         let mut rows: Vec<Vec<u32>> = Vec::new();

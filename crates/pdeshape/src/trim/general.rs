@@ -123,35 +123,7 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
     }
     // Vertices: grid vertices not dropped, then the curve samples.
-    let mut id = vec![u32::MAX; nu * nv];
-    let mut pm = ParamMesh::default();
-    for i in 0..nu {
-        for j in 0..nv {
-            if flags[i * nv + j] & DROP == 0 {
-                id[i * nv + j] = pm.uv.len() as u32;
-                pm.uv.push([frame.u[i], frame.v[j]]);
-                pm.grid_source.push((i * nv + j) as u32);
-            }
-        }
-    }
-    // Kept cells.
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if removed[i * cols + j] {
-                continue;
-            }
-            let j1 = (j + 1) % nv;
-            let [a, b, c, d] = [
-                id[i * nv + j],
-                id[(i + 1) * nv + j],
-                id[(i + 1) * nv + j1],
-                id[i * nv + j1],
-            ];
-            pm.triangles.push([a, b, c]);
-            pm.triangles.push([a, c, d]);
-        }
-    }
-    pm.grid_triangles = pm.triangles.len();
+    let (mut pm, id) = frame.kept_grid(|k| flags[k] & DROP != 0, &removed);
     if loops.loops.is_empty() {
         return Ok(pm);
     }

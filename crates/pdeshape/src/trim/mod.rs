@@ -117,6 +117,47 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
+    /// The grid part of a trimmed mesh, shared by every method: the grid vertices that are not
+    /// `dropped` (by grid index, in grid order) and two triangles per cell that is not `removed`
+    /// (cells indexed `i·cols + j`). Returns the mesh and each grid vertex's index in it
+    /// (`u32::MAX` for a dropped one).
+    pub(crate) fn kept_grid(
+        &self,
+        dropped: impl Fn(usize) -> bool,
+        removed: &[bool],
+    ) -> (ParamMesh, Vec<u32>) {
+        let (nu, nv, cols) = (self.nu, self.nv, self.cols());
+        let mut id = vec![u32::MAX; nu * nv];
+        let mut pm = ParamMesh::default();
+        for i in 0..nu {
+            for j in 0..nv {
+                if !dropped(i * nv + j) {
+                    id[i * nv + j] = pm.uv.len() as u32;
+                    pm.uv.push([self.u[i], self.v[j]]);
+                    pm.grid_source.push((i * nv + j) as u32);
+                }
+            }
+        }
+        for i in 0..nu - 1 {
+            for j in 0..cols {
+                if removed[i * cols + j] {
+                    continue;
+                }
+                let j1 = (j + 1) % nv;
+                let [a, b, c, d] = [
+                    id[i * nv + j],
+                    id[(i + 1) * nv + j],
+                    id[(i + 1) * nv + j1],
+                    id[i * nv + j1],
+                ];
+                pm.triangles.push([a, b, c]);
+                pm.triangles.push([a, c, d]);
+            }
+        }
+        pm.grid_triangles = pm.triangles.len();
+        (pm, id)
+    }
+
     fn new(domain: ParameterDomain, nu: usize, nv: usize) -> Result<Frame> {
         let (u, v) = mesh::grid_parameters_in(domain.u, domain.v, nu, nv)?;
         let periodic = domain.v.is_periodic();
