@@ -1,0 +1,104 @@
+"""Type stubs of the compiled extension (see the docstrings for the array layouts)."""
+
+from os import PathLike
+from typing import Any, Mapping, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+F64 = npt.NDArray[np.float64]
+F32 = npt.NDArray[np.float32]
+U32 = npt.NDArray[np.uint32]
+
+class DesignError(ValueError):
+    """A design that cannot be read, solved or written; the message is the CLI's."""
+
+class Tessellation(TypedDict):
+    vertices: F64  # (n, 3), the CSV rows: patch-major, then u-major (i outer, j inner)
+    normals: F64  # (n, 3) unit normals
+    uv: F64  # (n, 2) parameter values (u_i, v_j)
+    patch: U32  # (n,) 0-based surface index
+    faces: U32  # (m, 3) two triangles per quad, counter-clockwise about the normal
+    shape: npt.NDArray[np.uint64]  # (k, 2) nu, nv of each surface
+
+class Mesh(TypedDict):
+    vertices: F32  # (n, 3) welded vertices, as the OBJ/STL/PLY/glTF files store them
+    normals: F32  # (n, 3)
+    uv: F32  # (n, 2), or (0, 2) when absent
+    faces: U32  # (m, 3)
+    parts: list[tuple[str, int, int]]  # (surface name, first face, end face)
+
+class Partials(TypedDict):
+    x: F64
+    xu: F64
+    xv: F64
+    xuu: F64
+    xuv: F64
+    xvv: F64
+
+class Curvatures(TypedDict):
+    gauss: F64
+    mean: F64
+    k1: F64
+    k2: F64
+    normal: F64
+
+class Design:
+    @staticmethod
+    def load(path: str | PathLike[str]) -> Design: ...
+    @staticmethod
+    def from_toml(text: str, name: str = "<string>") -> Design: ...
+    @staticmethod
+    def from_json(text: str, name: str = "<dict>") -> Design: ...
+    @staticmethod
+    def from_dict(d: Mapping[str, Any], name: str = "<dict>") -> Design: ...
+    @property
+    def text(self) -> str: ...
+    @property
+    def file(self) -> str: ...
+    @property
+    def title(self) -> str | None: ...
+    @property
+    def curves(self) -> list[str]: ...
+    @property
+    def patches(self) -> list[str]: ...
+    @property
+    def is_solved(self) -> bool: ...
+    def parameters(self) -> list[dict[str, Any]]: ...
+    def params(self) -> dict[str, float]: ...
+    def with_params(self, values: Mapping[str, float]) -> Design: ...
+    def solve(self) -> None: ...
+    def grid_size(self, nu: int | None = None, nv: int | None = None) -> tuple[int, int]: ...
+    def tessellate(self, nu: int | None = None, nv: int | None = None) -> Tessellation: ...
+    def mesh(
+        self, nu: int | None = None, nv: int | None = None, separate_patches: bool = False
+    ) -> Mesh: ...
+    def evaluate(self, u: F64, v: F64, patch: int | str | None = None) -> Partials: ...
+    def curvature(self, u: F64, v: F64, patch: int | str | None = None) -> Curvatures: ...
+    def spine(self, u: F64, patch: int | str | None = None, order: int = 0) -> F64: ...
+    def analysis(self, tolerance: float | None = None) -> dict[str, Any]: ...
+    def write(
+        self,
+        path: str | PathLike[str],
+        nu: int | None = None,
+        nv: int | None = None,
+        format: str | None = None,
+        scale: float = 1.0,
+        up: str | None = None,
+        separate_patches: bool = False,
+    ) -> None: ...
+    def optimize(
+        self,
+        seed: int | None = None,
+        evaluations: int | None = None,
+        chains: int | None = None,
+        polish: int | None = None,
+    ) -> dict[str, Any]: ...
+    def to_trimesh(
+        self, nu: int | None = None, nv: int | None = None, separate_patches: bool = False
+    ) -> Any: ...
+    def to_pyvista(
+        self, nu: int | None = None, nv: int | None = None, separate_patches: bool = False
+    ) -> Any: ...
+
+def version() -> str: ...

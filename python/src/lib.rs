@@ -1,0 +1,903 @@
+//! `pdeshape._pdeshape`: the Python extension, a thin shell over the library's public API
+//! (`spec::parse_design`, `design::solve_design`, `SolvedDesign`, `analysis`, `optimize`,
+//! `mesh`). The Python package `pdeshape` re-exports it with docstrings and type stubs.
+//!
+//! Every error is a `pdeshape.DesignError` (a `ValueError`) carrying the message the CLI prints:
+//! `file:line:col: place: message` for errors in a design, `<argument>: message` for bad
+//! arguments. Solves, tessellations and integrals run with the Python thread detached (the GIL
+//! released), so threads and Dask workers run them in parallel.
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
+use pdeshape::design::{self, Export, SolvedDesign};
+use pdeshape::mesh::{Format, Up};
+use pdeshape::optimize::{Parameters, Problem};
+use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec};
+use pdeshape::Error;
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+create_exception!(
+    _pdeshape,
+    DesignError,
+    PyValueError,
+    "A design that cannot be read, solved or written; the message is the CLI's (file:line:col: \
+     place: message)."
+);
+
+fn err(message: impl Into<String>) -> PyErr {
+    DesignError::new_err(message.into())
+}
+
+/// A design read from TOML text, with its solution once solved.
+#[pyclass(module = "pdeshape._pdeshape", name = "Design")]
+struct Design {
+    /// The name errors are located in (the path, `<string>` or `<dict>`).
+    file: String,
+    text: String,
+    spec: DesignSpec,
+    /// Parameter values applied by `set_params` (in the order they were set).
+    params: Vec<(String, f64)>,
+    solved: Option<Arc<SolvedDesign>>,
+}
+
+impl Design {
+    /// `file:line:col: place: message` for an error about this design.
+    fn located(&self, e: &Error) -> PyErr {
+        err(spec::describe_error(&self.file, &self.text, e))
+    }
+
+    fn parse(file: String, text: String) -> PyResult<Design> {
+        let spec =
+            spec::parse_design(&text).map_err(|e| err(spec::describe_error(&file, &text, &e)))?;
+        Ok(Design {
+            file,
+            text,
+            spec,
+            params: Vec::new(),
+            solved: None,
+        })
+    }
+
+    /// The solved design, solving it (with the GIL released) on first use.
+    fn solved(&mut self, py: Python<'_>) -> PyResult<Arc<SolvedDesign>> {
+        if let Some(s) = &self.solved {
+            return Ok(s.clone());
+        }
+        let spec = &self.spec;
+        let solved = py
+            .detach(|| design::solve_design(spec))
+            .map_err(|e| self.located(&e))?;
+        let solved = Arc::new(solved);
+        self.solved = Some(solved.clone());
+        Ok(solved)
+    }
+
+    /// The grid as the CLI chooses it: the arguments, else `[output]`, else 64 × 128.
+    fn grid(&self, nu: Option<usize>, nv: Option<usize>) -> PyResult<(usize, usize)> {
+        design::grid(&self.spec, nu, nv).map_err(|e| {
+            if e.place().starts_with("output") {
+                self.located(&e)
+            } else {
+                err(format!("{}: {}", e.place(), message_of(&e)))
+            }
+        })
+    }
+
+    /// The index of a patch given by number or name.
+    fn patch_index(solved: &SolvedDesign, patch: &Bound<'_, PyAny>) -> PyResult<usize> {
+        if let Ok(k) = patch.extract::<usize>() {
+            if k < solved.surfaces.len() {
+                return Ok(k);
+            }
+            return Err(err(format!(
+                "patch: {k} is out of range (the design has {} surfaces)",
+                solved.surfaces.len()
+            )));
+        }
+        let name: String = patch
+            .extract()
+            .map_err(|_| err("patch: must be a surface's index or name"))?;
+        solved
+            .surfaces
+            .iter()
+            .position(|s| s.name == name)
+            .ok_or_else(|| {
+                err(format!(
+                    "patch: no surface is called '{name}' (the surfaces are {})",
+                    solved.names().join(", ")
+                ))
+            })
+    }
+
+    fn refuse_trims(&self, solved: &SolvedDesign, what: &str) -> PyResult<()> {
+        if solved.trims.is_empty() {
+            Ok(())
+        } else {
+            Err(err(format!(
+                "{what}: the design has [[trims]]; its full grids are not the surface: use mesh() \
+                 (the trimmed triangle mesh)"
+            )))
+        }
+    }
+}
+
+/// The message of an error without its place.
+fn message_of(e: &Error) -> String {
+    let s = e.to_string();
+    let p = e.place();
+    if p.is_empty() {
+        s
+    } else {
+        s.strip_prefix(&format!("{p}: ")).unwrap_or(&s).to_string()
+    }
+}
+
+fn vec3s(py: Python<'_>, rows: impl ExactSizeIterator<Item = [f64; 3]>) -> Py<PyAny> {
+    let n = rows.len();
+    let flat: Vec<f64> = rows.flatten().collect();
+    Array2::from_shape_vec((n, 3), flat)
+        .expect("n rows of 3")
+        .into_pyarray(py)
+        .into_any()
+        .unbind()
+}
+
+fn array2<T: numpy::Element>(py: Python<'_>, flat: Vec<T>, cols: usize) -> Py<PyAny> {
+    let n = flat.len() / cols;
+    Array2::from_shape_vec((n, cols), flat)
+        .expect("whole rows")
+        .into_pyarray(py)
+        .into_any()
+        .unbind()
+}
+
+fn array1<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyAny> {
+    Array1::from_vec(v).into_pyarray(py).into_any().unbind()
+}
+
+fn integrals_dict<'py>(py: Python<'py>, i: &Integrals) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in [
+        ("area", i.area),
+        ("volume", i.volume),
+        ("mean_integral", i.mean),
+        ("mean_sq_integral", i.mean_sq),
+        ("gauss_integral", i.gauss),
+        ("bending_energy", i.bending_energy()),
+        ("willmore", i.willmore()),
+    ] {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
+}
+
+fn parse_format(name: &str, place: &str) -> PyResult<Format> {
+    Format::from_path(Path::new(&format!("x.{name}")))
+        .map_err(|e| err(format!("{place} {name}: {}", message_of(&e))))
+}
+
+/// Writes `bytes` to `path` through a temporary file beside it, so a failure leaves no broken
+/// file and an existing file is replaced whole.
+fn write_atomically(path: &Path, bytes: &[u8]) -> PyResult<()> {
+    let shown = path.display();
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let io = |e: std::io::Error| err(format!("path {shown}: {e}"));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".pdeshape-")
+        .suffix(".tmp")
+        .tempfile_in(&dir)
+        .map_err(io)?;
+    tmp.write_all(bytes).map_err(io)?;
+    tmp.flush().map_err(io)?;
+    tmp.persist(path).map_err(|e| io(e.error))?;
+    Ok(())
+}
+
+#[pymethods]
+impl Design {
+    /// Reads a design file (TOML).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Design> {
+        let file = path.display().to_string();
+        let max = spec::limits::MAX_FILE_BYTES;
+        if let Ok(m) = std::fs::metadata(&path) {
+            if m.is_file() && m.len() > max as u64 {
+                return Err(err(format!(
+                    "{file}: the design file has {} bytes; at most {max} (16 MiB) are read",
+                    m.len()
+                )));
+            }
+        }
+        let bytes = std::fs::read(&path)
+            .map_err(|e| err(format!("{file}: cannot read the design file: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            err(format!(
+                "{file}: the design file is not UTF-8 text (invalid byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ))
+        })?;
+        Design::parse(file, text)
+    }
+
+    /// A design from TOML text; errors are located in `name`.
+    #[staticmethod]
+    #[pyo3(signature = (text, name = "<string>"))]
+    fn from_toml(text: String, name: &str) -> PyResult<Design> {
+        Design::parse(name.to_string(), text)
+    }
+
+    /// A design from JSON text (what `from_dict` sends): written as TOML, then read as a file.
+    #[staticmethod]
+    #[pyo3(signature = (text, name = "<dict>"))]
+    fn from_json(text: &str, name: &str) -> PyResult<Design> {
+        let value: toml::Value = serde_json::from_str(text)
+            .map_err(|e| err(format!("{name}: not a table of design keys: {e}")))?;
+        let toml_text = toml::to_string(&value)
+            .map_err(|e| err(format!("{name}: cannot be written as TOML: {e}")))?;
+        Design::parse(name.to_string(), toml_text)
+    }
+
+    /// A design from a dict with the keys of a design file (as `tomllib.load` returns);
+    /// errors are located in `name` (in the TOML text the dict is written as).
+    #[staticmethod]
+    #[pyo3(signature = (d, name = "<dict>"))]
+    fn from_dict(py: Python<'_>, d: &Bound<'_, PyAny>, name: &str) -> PyResult<Design> {
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("allow_nan", false)?;
+        let text: String = py
+            .import("json")?
+            .call_method("dumps", (d,), Some(&kwargs))
+            .map_err(|e| err(format!("{name}: not a table of design keys: {e}")))?
+            .extract()?;
+        Design::from_json(&text, name)
+    }
+
+    /// The mesh of [`Design::mesh`] as a `trimesh.Trimesh` (needs the trimesh package).
+    #[pyo3(signature = (nu = None, nv = None, separate_patches = false))]
+    fn to_trimesh<'py>(
+        slf: &Bound<'py, Self>,
+        nu: Option<usize>,
+        nv: Option<usize>,
+        separate_patches: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("pdeshape._convert")?
+            .call_method1("to_trimesh", (slf, nu, nv, separate_patches))
+    }
+
+    /// The mesh of [`Design::mesh`] as a `pyvista.PolyData` (needs the pyvista package).
+    #[pyo3(signature = (nu = None, nv = None, separate_patches = false))]
+    fn to_pyvista<'py>(
+        slf: &Bound<'py, Self>,
+        nu: Option<usize>,
+        nv: Option<usize>,
+        separate_patches: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("pdeshape._convert")?
+            .call_method1("to_pyvista", (slf, nu, nv, separate_patches))
+    }
+
+    /// The TOML text the design was read from.
+    #[getter]
+    fn text(&self) -> &str {
+        &self.text
+    }
+
+    /// Where errors are located (the path, `<string>` or `<dict>`).
+    #[getter]
+    fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// The design's title, if it has one.
+    #[getter]
+    fn title(&self) -> Option<String> {
+        self.spec.title.clone()
+    }
+
+    /// The names of the curves of `[curves]`, sorted.
+    #[getter]
+    fn curves(&self) -> Vec<String> {
+        self.spec.curves.keys().cloned().collect()
+    }
+
+    /// The names of the surfaces of the solved design, in design order (solves if needed).
+    #[getter]
+    fn patches(&mut self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let s = self.solved(py)?;
+        Ok(s.names().iter().map(|n| n.to_string()).collect())
+    }
+
+    /// The parameters of `[optimize]`: dicts of `name`, `min`, `max`, `initial` (empty without
+    /// an `[optimize]` section).
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let out = PyList::empty(py);
+        if let Some(opt) = &self.spec.optimize {
+            let ps = Parameters::new(&self.spec, opt).map_err(|e| self.located(&e))?;
+            for p in &ps.list {
+                let d = PyDict::new(py);
+                d.set_item("name", &p.name)?;
+                d.set_item("min", p.min)?;
+                d.set_item("max", p.max)?;
+                d.set_item("initial", p.initial)?;
+                out.append(d)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The parameter values set so far by `set_params`, as a dict.
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in &self.params {
+            d.set_item(k, v)?;
+        }
+        Ok(d)
+    }
+
+    /// A copy of this design that has the parameter values `values` (`{name: value}` in the
+    /// book's notation: `bellyDx`, `rimTz`, `a`, …) applied to the design as read. Names of
+    /// `[optimize]` parameters must lie within their bounds.
+    fn with_params(&self, values: &Bound<'_, PyDict>) -> PyResult<Design> {
+        let mut params = self.params.clone();
+        for (k, v) in values.iter() {
+            let name: String = k
+                .extract()
+                .map_err(|_| err("params: the keys must be parameter names (str)"))?;
+            let value: f64 = v
+                .extract()
+                .map_err(|_| err(format!("params['{name}']: must be a number")))?;
+            if !value.is_finite() {
+                return Err(err(format!(
+                    "params['{name}']: must be finite (got {value})"
+                )));
+            }
+            params.retain(|(n, _)| n != &name);
+            params.push((name, value));
+        }
+        let spec = apply_params(&self.spec, &params)?;
+        Ok(Design {
+            file: self.file.clone(),
+            text: self.text.clone(),
+            spec: spec.unwrap_or_else(|| self.spec.clone()),
+            params,
+            solved: None,
+        })
+    }
+
+    /// Solves the design (with the GIL released); later calls reuse the solution.
+    fn solve(&mut self, py: Python<'_>) -> PyResult<()> {
+        self.solved(py).map(|_| ())
+    }
+
+    /// Whether the design has been solved.
+    #[getter]
+    fn is_solved(&self) -> bool {
+        self.solved.is_some()
+    }
+
+    /// The grid `(nu, nv)` the CLI would use for these arguments.
+    #[pyo3(signature = (nu = None, nv = None))]
+    fn grid_size(&self, nu: Option<usize>, nv: Option<usize>) -> PyResult<(usize, usize)> {
+        self.grid(nu, nv)
+    }
+
+    /// Full-precision samples of every surface on an `nu × nv` grid: the rows of the CLI's CSV.
+    /// Returns a dict of `vertices (n, 3) f64`, `normals (n, 3) f64`, `uv (n, 2) f64`,
+    /// `patch (n,) u32`, `faces (m, 3) u32` (two triangles per grid quad, indices into the
+    /// concatenated vertices), `shape (k, 2)` (each surface's `nu, nv`).
+    #[pyo3(signature = (nu = None, nv = None))]
+    fn tessellate<'py>(
+        &mut self,
+        py: Python<'py>,
+        nu: Option<usize>,
+        nv: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (nu, nv) = self.grid(nu, nv)?;
+        let solved = self.solved(py)?;
+        self.refuse_trims(&solved, "tessellate")?;
+        let samples = py
+            .detach(|| solved.samples(nu, nv))
+            .map_err(|e| self.located(&e))?;
+        let n: usize = samples.iter().map(|g| g.len()).sum();
+        let mut vertices: Vec<f64> = Vec::with_capacity(3 * n);
+        let mut normals: Vec<f64> = Vec::with_capacity(3 * n);
+        let mut uv: Vec<f64> = Vec::with_capacity(2 * n);
+        let mut patch: Vec<u32> = Vec::with_capacity(n);
+        let mut faces: Vec<u32> = Vec::new();
+        let mut shape: Vec<u64> = Vec::new();
+        for (k, g) in samples.iter().enumerate() {
+            let base = (vertices.len() / 3) as u32;
+            for i in 0..g.nu {
+                for j in 0..g.nv {
+                    uv.extend([g.u[i], g.v[j]]);
+                }
+            }
+            vertices.extend(g.positions.iter().flatten());
+            normals.extend(g.normals.iter().flatten());
+            patch.extend(std::iter::repeat_n(k as u32, g.len()));
+            faces.extend(g.triangles().flat_map(|t| t.map(|x| x + base)));
+            shape.extend([g.nu as u64, g.nv as u64]);
+        }
+        let d = PyDict::new(py);
+        d.set_item("vertices", array2(py, vertices, 3))?;
+        d.set_item("normals", array2(py, normals, 3))?;
+        d.set_item("uv", array2(py, uv, 2))?;
+        d.set_item("patch", array1(py, patch))?;
+        d.set_item("faces", array2(py, faces, 3))?;
+        d.set_item("shape", array2(py, shape, 2))?;
+        Ok(d)
+    }
+
+    /// The mesh that the CLI writes (OBJ, STL, PLY, glTF): the grids in f32, welded at poles,
+    /// seams and shared edges (`separate_patches`: each surface on its own), trimmed designs
+    /// re-meshed around their holes. A dict of `vertices (n, 3) f32`, `normals (n, 3) f32`,
+    /// `uv (n, 2) f32` (empty when absent), `faces (m, 3) u32`, `parts` (list of
+    /// `(name, first_face, end_face)`).
+    #[pyo3(signature = (nu = None, nv = None, separate_patches = false))]
+    fn mesh<'py>(
+        &mut self,
+        py: Python<'py>,
+        nu: Option<usize>,
+        nv: Option<usize>,
+        separate_patches: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (nu, nv) = self.grid(nu, nv)?;
+        let solved = self.solved(py)?;
+        let export = Export {
+            separate_patches,
+            ..Export::default()
+        };
+        let m = py
+            .detach(|| {
+                if solved.trims.is_empty() {
+                    solved.meshes(nu, nv).map(|g| solved.weld(&g, &export))
+                } else {
+                    solved.tri_mesh(nu, nv)
+                }
+            })
+            .map_err(|e| self.located(&e))?;
+        let d = PyDict::new(py);
+        d.set_item("vertices", array2(py, m.positions.concat(), 3))?;
+        d.set_item("normals", array2(py, m.normals.concat(), 3))?;
+        d.set_item("uv", array2(py, m.uv.concat(), 2))?;
+        d.set_item("faces", array2(py, m.triangles.concat(), 3))?;
+        let parts: Vec<(String, usize, usize)> = m
+            .parts
+            .iter()
+            .map(|p| (p.name.clone(), p.triangles.start, p.triangles.end))
+            .collect();
+        d.set_item("parts", parts)?;
+        Ok(d)
+    }
+
+    /// `X` and its partial derivatives at the points `(u[i], v[i])` of one surface: a dict of
+    /// `x, xu, xv, xuu, xuv, xvv`, each `(n, 3) f64`.
+    #[pyo3(signature = (u, v, patch = None))]
+    fn evaluate<'py>(
+        &mut self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+        patch: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (solved, k) = self.surface_of(py, patch)?;
+        let (u, v) = (u.as_slice()?, v.as_slice()?);
+        if u.len() != v.len() {
+            return Err(err(format!(
+                "u, v: must have the same length (got {} and {})",
+                u.len(),
+                v.len()
+            )));
+        }
+        let s = solved.surfaces[k].surface();
+        let ps: Vec<_> = py.detach(|| u.iter().zip(v).map(|(&a, &b)| s.partials(a, b)).collect());
+        let d = PyDict::new(py);
+        let pick = |f: fn(&pdeshape::surface::Partials) -> pdeshape::Vec3| {
+            vec3s(
+                py,
+                ps.iter().map(|p| {
+                    let x = f(p);
+                    [x.x, x.y, x.z]
+                }),
+            )
+        };
+        d.set_item("x", pick(|p| p.x))?;
+        d.set_item("xu", pick(|p| p.xu))?;
+        d.set_item("xv", pick(|p| p.xv))?;
+        d.set_item("xuu", pick(|p| p.xuu))?;
+        d.set_item("xuv", pick(|p| p.xuv))?;
+        d.set_item("xvv", pick(|p| p.xvv))?;
+        Ok(d)
+    }
+
+    /// Curvatures at the points `(u[i], v[i])` of one surface (with respect to its normal
+    /// `X_u × X_v`): a dict of `gauss, mean, k1, k2` (each `(n,) f64`, NaN where the
+    /// parametrisation is degenerate) and `normal (n, 3)`.
+    #[pyo3(signature = (u, v, patch = None))]
+    fn curvature<'py>(
+        &mut self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        v: PyReadonlyArray1<'py, f64>,
+        patch: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (solved, k) = self.surface_of(py, patch)?;
+        let (u, v) = (u.as_slice()?, v.as_slice()?);
+        if u.len() != v.len() {
+            return Err(err(format!(
+                "u, v: must have the same length (got {} and {})",
+                u.len(),
+                v.len()
+            )));
+        }
+        let s = solved.surfaces[k].surface();
+        let cs: Vec<_> = py.detach(|| {
+            u.iter()
+                .zip(v)
+                .map(|(&a, &b)| analysis::curvature(&s.partials(a, b)))
+                .collect()
+        });
+        let field = |f: fn(&analysis::Curvature) -> f64| {
+            array1(
+                py,
+                cs.iter().map(|c| c.as_ref().map_or(f64::NAN, f)).collect(),
+            )
+        };
+        let d = PyDict::new(py);
+        d.set_item("gauss", field(|c| c.gauss))?;
+        d.set_item("mean", field(|c| c.mean))?;
+        d.set_item("k1", field(|c| c.k1))?;
+        d.set_item("k2", field(|c| c.k2))?;
+        d.set_item(
+            "normal",
+            vec3s(
+                py,
+                cs.iter().map(|c| {
+                    c.as_ref()
+                        .map_or([f64::NAN; 3], |c| [c.normal.x, c.normal.y, c.normal.z])
+                }),
+            ),
+        )?;
+        Ok(d)
+    }
+
+    /// The spine `A₀(u)` (or its `order`-th u-derivative) of a PDE patch at the values `u`:
+    /// `(n, 3) f64`.
+    #[pyo3(signature = (u, patch = None, order = 0))]
+    fn spine<'py>(
+        &mut self,
+        py: Python<'py>,
+        u: PyReadonlyArray1<'py, f64>,
+        patch: Option<&Bound<'py, PyAny>>,
+        order: usize,
+    ) -> PyResult<Py<PyAny>> {
+        let (solved, k) = self.surface_of(py, patch)?;
+        let s = &solved.surfaces[k];
+        let spine = s.surface().as_spine().ok_or_else(|| {
+            err(format!(
+                "patch: the surface '{}' ({}) has no spine",
+                s.name,
+                s.kind.word()
+            ))
+        })?;
+        let u = u.as_slice()?;
+        Ok(vec3s(
+            py,
+            u.iter().map(|&t| {
+                let p = spine.spine(t, order);
+                [p.x, p.y, p.z]
+            }),
+        ))
+    }
+
+    /// Area, enclosed volume, curvature integrals and energies, per patch and in total: the
+    /// dict of `pdeshape analyze --json` (same keys, same numbers). `tolerance`: the adaptive
+    /// quadrature's relative tolerance (default 1e-11, as the CLI's). `quadrature = (qu, qv)`:
+    /// instead one fixed level of `qu` Gauss nodes in `u` (a multiple of 8) and `qv` nodes in `v`
+    /// per patch, as the optimiser measures designs (much cheaper; for sweeps).
+    #[pyo3(signature = (tolerance = None, quadrature = None))]
+    fn analysis<'py>(
+        &mut self,
+        py: Python<'py>,
+        tolerance: Option<f64>,
+        quadrature: Option<(usize, usize)>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let q = match (tolerance, quadrature) {
+            (Some(_), Some(_)) => {
+                return Err(err(
+                    "tolerance, quadrature: give one of them (adaptive or fixed quadrature)",
+                ))
+            }
+            (None, Some((qu, qv))) if (1..=4096).contains(&qu) && (1..=4096).contains(&qv) => {
+                Quadrature::fixed(qu, qv)
+            }
+            (None, Some((qu, qv))) => {
+                return Err(err(format!(
+                    "quadrature: both node counts must lie in 1..=4096 (got ({qu}, {qv}))"
+                )))
+            }
+            (None, None) => Quadrature::default(),
+            (Some(t), None) if t > 0.0 && t.is_finite() && t < 1.0 => Quadrature {
+                tolerance: t,
+                ..Quadrature::default()
+            },
+            (Some(t), None) => {
+                return Err(err(format!(
+                    "tolerance: must be positive and below 1 (got {t})"
+                )))
+            }
+        };
+        let solved = self.solved(py)?;
+        let di = py
+            .detach(|| integrate_design(&solved, &q))
+            .map_err(|e| err(e.to_string()))?;
+        let patches = PyList::empty(py);
+        for (k, i) in di.patches.iter().enumerate() {
+            let a = &di.analyses[k];
+            let m = integrals_dict(py, i)?;
+            m.set_item("name", &di.names[k])?;
+            m.set_item("orientation", di.orientation[k])?;
+            let s = di.orientation[k];
+            let (h0, h1) = (a.mean_range.0 * s, a.mean_range.1 * s);
+            m.set_item("gauss_min", a.gauss_range.0)?;
+            m.set_item("gauss_max", a.gauss_range.1)?;
+            m.set_item("mean_min", h0.min(h1))?;
+            m.set_item("mean_max", h0.max(h1))?;
+            m.set_item("quadrature_error", a.error)?;
+            m.set_item("converged", a.converged)?;
+            m.set_item("nodes", vec![a.u_nodes, a.v_nodes])?;
+            patches.append(m)?;
+        }
+        let total = integrals_dict(py, &di.total)?;
+        total.set_item("reduced_volume", di.total.reduced_volume())?;
+        total.set_item("equivalent_radius", di.total.equivalent_radius())?;
+        let caps = PyList::empty(py);
+        for c in &di.caps {
+            let m = PyDict::new(py);
+            m.set_item("patch", &di.names[c.patch])?;
+            m.set_item("u", c.u)?;
+            m.set_item("volume", c.volume)?;
+            m.set_item("area", c.area)?;
+            m.set_item("planarity", c.planarity)?;
+            caps.append(m)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("title", &solved.title)?;
+        d.set_item("closed", di.closed)?;
+        d.set_item("patches", patches)?;
+        d.set_item("total", total)?;
+        d.set_item("caps", caps)?;
+        d.set_item("quadrature_error", di.error)?;
+        Ok(d)
+    }
+
+    /// Writes the design as the CLI's `surface` does: `format` (obj, stl, ply, glb, csv; by
+    /// default the path's extension), the grid, `scale`, `up` ("z" or "y"), `separate_patches`.
+    /// The file is written whole or not at all.
+    #[pyo3(signature = (path, nu = None, nv = None, format = None, scale = 1.0, up = None,
+                        separate_patches = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn write(
+        &mut self,
+        py: Python<'_>,
+        path: PathBuf,
+        nu: Option<usize>,
+        nv: Option<usize>,
+        format: Option<&str>,
+        scale: f64,
+        up: Option<&str>,
+        separate_patches: bool,
+    ) -> PyResult<()> {
+        let format = match format {
+            Some(f) => parse_format(f, "format")?,
+            None => Format::from_path(&path)
+                .map_err(|e| err(format!("path {}: {}", path.display(), message_of(&e))))?,
+        };
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(err(format!(
+                "scale: must be finite and positive (got {scale})"
+            )));
+        }
+        let up = match (format, up) {
+            (Format::Glb, Some("z")) => {
+                return Err(err(
+                    "up z: glTF is +Y up by definition (the design's +Z is turned to +Y); up \
+                     applies to obj, stl and ply",
+                ))
+            }
+            (_, None | Some("z")) => Up::Z,
+            (_, Some("y")) => Up::Y,
+            (_, Some(other)) => {
+                return Err(err(format!("up: must be \"z\" or \"y\" (got {other:?})")))
+            }
+        };
+        let export = Export {
+            separate_patches,
+            scale,
+            up,
+        };
+        let (nu, nv) = self.grid(nu, nv)?;
+        let solved = self.solved(py)?;
+        if solved.surfaces.is_empty() {
+            return Err(self.located(&Error::invalid(
+                "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
+            )));
+        }
+        let mut bytes = Vec::new();
+        py.detach(|| solved.write_with(format, nu, nv, &export, &mut bytes))
+            .map_err(|e| {
+                if e.place().is_empty() {
+                    err(format!("path {}: {e}", path.display()))
+                } else {
+                    self.located(&e)
+                }
+            })?;
+        write_atomically(&path, &bytes)
+    }
+
+    /// Simulated annealing over the design's `[optimize]` parameters with `chains` chains and
+    /// `evaluations` evaluations from `seed` (defaults: the file's): returns a dict of `x` (the
+    /// best parameter values by name), `value` (objective + penalty), `objective`, `penalty`.
+    #[pyo3(signature = (seed = None, evaluations = None, chains = None, polish = None))]
+    fn optimize<'py>(
+        &self,
+        py: Python<'py>,
+        seed: Option<u64>,
+        evaluations: Option<usize>,
+        chains: Option<usize>,
+        polish: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let mut spec = self.spec.clone();
+        let Some(opt) = spec.optimize.as_mut() else {
+            return Err(self
+                .located(&Error::invalid("the design has no [optimize] section").at("optimize")));
+        };
+        if let Some(s) = seed {
+            opt.seed = s;
+        }
+        if let Some(e) = evaluations {
+            opt.evaluations = e;
+        }
+        if let Some(c) = chains {
+            opt.chains = c;
+        }
+        if let Some(p) = polish {
+            opt.polish = p;
+        }
+        let problem = Problem::new(&spec).map_err(|e| self.located(&e))?;
+        let outcome = py
+            .detach(|| problem.run(&|_, _| {}))
+            .map_err(|e| self.located(&e))?;
+        let (x, ev) = &outcome.best;
+        let xs = PyDict::new(py);
+        for (p, v) in problem.parameters.list.iter().zip(x) {
+            xs.set_item(&p.name, v)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("x", xs)?;
+        d.set_item("value", ev.total())?;
+        d.set_item("objective", ev.objective)?;
+        d.set_item("penalty", ev.penalty)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Design({:?}{}{})",
+            self.file,
+            self.spec
+                .title
+                .as_deref()
+                .map(|t| format!(", title={t:?}"))
+                .unwrap_or_default(),
+            if self.params.is_empty() {
+                String::new()
+            } else {
+                format!(", params={:?}", self.params)
+            }
+        )
+    }
+}
+
+impl Design {
+    fn surface_of(
+        &mut self,
+        py: Python<'_>,
+        patch: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<(Arc<SolvedDesign>, usize)> {
+        let solved = self.solved(py)?;
+        let k = match patch {
+            None if solved.surfaces.is_empty() => {
+                return Err(err("patch: the design has no surface"))
+            }
+            None => 0,
+            Some(p) => Design::patch_index(&solved, p)?,
+        };
+        Ok((solved, k))
+    }
+}
+
+/// The spec with the parameter values applied (`None` when there are none). Parameters of
+/// `[optimize]` keep their bounds; any other name in the book's notation acts unbounded.
+fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<DesignSpec>> {
+    if params.is_empty() {
+        return Ok(None);
+    }
+    let declared = base
+        .optimize
+        .as_ref()
+        .map(|o| &o.parameters[..])
+        .unwrap_or(&[]);
+    let mut list = Vec::new();
+    for (name, value) in params {
+        let (min, max) = match declared.iter().find(|p| &p.name == name) {
+            Some(p) => {
+                if !(p.min..=p.max).contains(value) {
+                    return Err(err(format!(
+                        "params['{name}']: {value} lies outside the bounds [{}, {}] of [optimize]",
+                        p.min, p.max
+                    )));
+                }
+                (p.min, p.max)
+            }
+            // Bounds that hold the value and keep away from 0 (the library refuses dilation
+            // ranges containing 0 and a non-positive `a`).
+            None if *value > 0.0 => (value * 0.5, value * 2.0),
+            None if *value < 0.0 => (value * 2.0, value * 0.5),
+            None => (-1.0, 1.0),
+        };
+        list.push(ParameterSpec {
+            name: name.clone(),
+            min,
+            max,
+            initial: Some(*value),
+        });
+    }
+    let opt = OptimizeSpec {
+        parameters: list,
+        ..base.optimize.clone().unwrap_or_else(neutral_optimize)
+    };
+    let ps = Parameters::new(base, &opt).map_err(|e| {
+        let k: usize = e
+            .place()
+            .strip_prefix("optimize.parameters[")
+            .and_then(|r| r.split(']').next())
+            .and_then(|i| i.parse().ok())
+            .unwrap_or(0);
+        err(format!("params['{}']: {}", params[k].0, message_of(&e)))
+    })?;
+    let x: Vec<f64> = params.iter().map(|(_, v)| *v).collect();
+    Ok(Some(ps.apply(base, &x)))
+}
+
+/// An `[optimize]` section with only defaults (its parameters are replaced).
+fn neutral_optimize() -> OptimizeSpec {
+    let text = "objective = \"area\"\nparameters = []\n";
+    toml::from_str(text).expect("the defaults of [optimize]")
+}
+
+/// The library's version.
+#[pyfunction]
+fn version() -> &'static str {
+    env!("CARGO_PKG_VERSION")
+}
+
+#[pymodule]
+fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Design>()?;
+    m.add("DesignError", m.py().get_type::<DesignError>())?;
+    m.add_function(wrap_pyfunction!(version, m)?)?;
+    Ok(())
+}
