@@ -166,7 +166,11 @@ def _table(columns: dict[str, Any], as_pandas: bool | None):
             if as_pandas:
                 raise
         else:
-            return pd.DataFrame(columns)
+            # `error` holds None or a message (object dtype: pandas 3 would make None a NaN)
+            errors = pd.Series(columns["error"], dtype=object)
+            df = pd.DataFrame({k: v for k, v in columns.items() if k != "error"})
+            df["error"] = errors
+            return df
     return {k: np.asarray(v) if k != "error" else np.asarray(v, dtype=object) for k, v in columns.items()}
 
 

@@ -793,6 +793,31 @@ impl Design {
         Ok(d)
     }
 
+    /// For the benchmark of the Python call's overhead: the seconds of each of `repeats` calls
+    /// of the library's `SolvedDesign::samples(nu, nv)` alone (what `tessellate` wraps), timed
+    /// in Rust.
+    #[pyo3(signature = (nu, nv, repeats))]
+    fn _rust_samples_seconds(
+        &mut self,
+        py: Python<'_>,
+        nu: usize,
+        nv: usize,
+        repeats: usize,
+    ) -> PyResult<Vec<f64>> {
+        let (nu, nv) = self.grid(Some(nu), Some(nv))?;
+        let solved = self.solved(py)?;
+        let mut out = Vec::with_capacity(repeats);
+        for _ in 0..repeats {
+            let t = std::time::Instant::now();
+            let s = py
+                .detach(|| solved.samples(nu, nv))
+                .map_err(|e| self.located(&e))?;
+            out.push(t.elapsed().as_secs_f64());
+            drop(s);
+        }
+        Ok(out)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Design({:?}{}{})",
@@ -852,8 +877,18 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
                 }
                 (p.min, p.max)
             }
+            None if name == "a" && *value <= 0.0 => {
+                return Err(err(format!(
+                    "params['a']: the smoothing parameter a must stay positive (got {value})"
+                )))
+            }
+            None if *value == 0.0 && is_dilation(name) => {
+                return Err(err(format!(
+                    "params['{name}']: a dilation factor must not be 0"
+                )))
+            }
             // Bounds that hold the value and keep away from 0 (the library refuses dilation
-            // ranges containing 0 and a non-positive `a`).
+            // ranges containing 0 and a non-positive `a`, both refused above).
             None if *value > 0.0 => (value * 0.5, value * 2.0),
             None if *value < 0.0 => (value * 2.0, value * 0.5),
             None => (-1.0, 1.0),
@@ -880,6 +915,12 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
     })?;
     let x: Vec<f64> = params.iter().map(|(_, v)| *v).collect();
     Ok(Some(ps.apply(base, &x)))
+}
+
+/// Whether a parameter name is a dilation `<curve>D<x|y|z>` (the library checks the curve).
+fn is_dilation(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() > 2 && b[b.len() - 2] == b'D' && matches!(b[b.len() - 1], b'x' | b'y' | b'z')
 }
 
 /// An `[optimize]` section with only defaults (its parameters are replaced).
