@@ -11,7 +11,7 @@ use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
 use pdeshape::design::{self, Export, SolvedDesign};
-use pdeshape::mesh::{Format, Up};
+use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};
 use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec};
 use pdeshape::Error;
@@ -125,6 +125,63 @@ impl Design {
                  (the trimmed triangle mesh)"
             )))
         }
+    }
+}
+
+/// The samples of every surface as the flat arrays of `Design.tessellate`.
+struct Flat {
+    vertices: Vec<f64>,
+    normals: Vec<f64>,
+    uv: Vec<f64>,
+    patch: Vec<u32>,
+    faces: Vec<u32>,
+    shape: Vec<u64>,
+}
+
+impl Flat {
+    fn of(samples: &[mesh::Samples]) -> Flat {
+        let n: usize = samples.iter().map(|g| g.len()).sum();
+        let mut f = Flat {
+            vertices: Vec::with_capacity(3 * n),
+            normals: Vec::with_capacity(3 * n),
+            uv: Vec::with_capacity(2 * n),
+            patch: Vec::with_capacity(n),
+            faces: Vec::new(),
+            shape: Vec::new(),
+        };
+        for (k, g) in samples.iter().enumerate() {
+            let base = (f.vertices.len() / 3) as u32;
+            for &u in &g.u {
+                for &v in &g.v {
+                    f.uv.extend_from_slice(&[u, v]);
+                }
+            }
+            f.vertices.extend_from_slice(g.positions.as_flattened());
+            f.normals.extend_from_slice(g.normals.as_flattened());
+            f.patch.resize(f.patch.len() + g.len(), k as u32);
+            // Grid::triangles, written out: quads (i,j), (i+1,j), (i+1,j+1), (i,j+1) split along
+            // the diagonal from (i,j) to (i+1,j+1), columns wrapping when v is periodic.
+            let (nu, nv) = (g.nu as u32, g.nv as u32);
+            let cols = if g.periodic_v {
+                nv
+            } else {
+                nv.saturating_sub(1)
+            };
+            f.faces
+                .reserve(6 * (g.nu.saturating_sub(1)) * cols as usize);
+            for i in 0..nu.saturating_sub(1) {
+                for j in 0..cols {
+                    let j1 = if j + 1 == nv { 0 } else { j + 1 };
+                    let a = base + i * nv + j;
+                    let b = base + (i + 1) * nv + j;
+                    let c = base + (i + 1) * nv + j1;
+                    let d = base + i * nv + j1;
+                    f.faces.extend_from_slice(&[a, b, c, a, c, d]);
+                }
+            }
+            f.shape.extend([g.nu as u64, g.nv as u64]);
+        }
+        f
     }
 }
 
@@ -407,29 +464,17 @@ impl Design {
         let (nu, nv) = self.grid(nu, nv)?;
         let solved = self.solved(py)?;
         self.refuse_trims(&solved, "tessellate")?;
-        let samples = py
-            .detach(|| solved.samples(nu, nv))
+        let flat = py
+            .detach(|| solved.samples(nu, nv).map(|s| Flat::of(&s)))
             .map_err(|e| self.located(&e))?;
-        let n: usize = samples.iter().map(|g| g.len()).sum();
-        let mut vertices: Vec<f64> = Vec::with_capacity(3 * n);
-        let mut normals: Vec<f64> = Vec::with_capacity(3 * n);
-        let mut uv: Vec<f64> = Vec::with_capacity(2 * n);
-        let mut patch: Vec<u32> = Vec::with_capacity(n);
-        let mut faces: Vec<u32> = Vec::new();
-        let mut shape: Vec<u64> = Vec::new();
-        for (k, g) in samples.iter().enumerate() {
-            let base = (vertices.len() / 3) as u32;
-            for i in 0..g.nu {
-                for j in 0..g.nv {
-                    uv.extend([g.u[i], g.v[j]]);
-                }
-            }
-            vertices.extend(g.positions.iter().flatten());
-            normals.extend(g.normals.iter().flatten());
-            patch.extend(std::iter::repeat_n(k as u32, g.len()));
-            faces.extend(g.triangles().flat_map(|t| t.map(|x| x + base)));
-            shape.extend([g.nu as u64, g.nv as u64]);
-        }
+        let Flat {
+            vertices,
+            normals,
+            uv,
+            patch,
+            faces,
+            shape,
+        } = flat;
         let d = PyDict::new(py);
         d.set_item("vertices", array2(py, vertices, 3))?;
         d.set_item("normals", array2(py, normals, 3))?;
@@ -794,24 +839,29 @@ impl Design {
     }
 
     /// For the benchmark of the Python call's overhead: the seconds of each of `repeats` calls
-    /// of the library's `SolvedDesign::samples(nu, nv)` alone (what `tessellate` wraps), timed
-    /// in Rust.
-    #[pyo3(signature = (nu, nv, repeats))]
+    /// of the library's `SolvedDesign::samples(nu, nv)` alone (`flat = False`) or with the flat
+    /// arrays `tessellate` returns assembled (`flat = True`), timed in Rust: `tessellate`
+    /// minus these is the cost of the Python call and the NumPy arrays.
+    #[pyo3(signature = (nu, nv, repeats, flat = false))]
     fn _rust_samples_seconds(
         &mut self,
         py: Python<'_>,
         nu: usize,
         nv: usize,
         repeats: usize,
+        flat: bool,
     ) -> PyResult<Vec<f64>> {
         let (nu, nv) = self.grid(Some(nu), Some(nv))?;
         let solved = self.solved(py)?;
         let mut out = Vec::with_capacity(repeats);
         for _ in 0..repeats {
             let t = std::time::Instant::now();
-            let s = py
-                .detach(|| solved.samples(nu, nv))
-                .map_err(|e| self.located(&e))?;
+            let s = py.detach(|| {
+                solved
+                    .samples(nu, nv)
+                    .map(|s| (flat.then(|| Flat::of(&s)), s))
+            });
+            let s = s.map_err(|e| self.located(&e))?;
             out.push(t.elapsed().as_secs_f64());
             drop(s);
         }
