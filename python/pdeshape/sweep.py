@@ -89,9 +89,12 @@ def _columns(params: Any) -> tuple[list[str], np.ndarray]:
     return names, values
 
 
-def _measure_row(d: Design, measures: Sequence[str], tolerance: float | None) -> tuple[list[float], str | None]:
+def _measure_row(d: Design, measures: Sequence[str], tolerance: Any) -> tuple[list[float], str | None]:
     try:
-        total = d.analysis(tolerance)["total"]
+        if isinstance(tolerance, tuple):
+            total = d.analysis(quadrature=tolerance)["total"]
+        else:
+            total = d.analysis(tolerance)["total"]
         return [float(total[m]) for m in measures], None
     except DesignError as e:
         return [math.nan] * len(measures), str(e)
@@ -183,6 +186,7 @@ def sweep(
     retries: int = 3,
     tolerance: float | None = None,
     as_pandas: bool | None = None,
+    quadrature: tuple[int, int] | None = None,
 ):
     """Measures every variant of a design, or every design of a list.
 
@@ -192,13 +196,18 @@ def sweep(
     ``measures``: names from :data:`MEASURES`. ``client``: a ``dask.distributed.Client`` (None
     runs serially here). ``chunk_size``: rows per task (default: about eight tasks per worker
     thread). ``retries``: how often Dask re-runs a task whose worker failed. ``tolerance``: the
-    analysis quadrature's (default 1e-11).
+    adaptive quadrature's (default 1e-11), or ``quadrature=(qu, qv)`` for one fixed rule (see
+    :meth:`Design.analysis`).
 
     Returns a pandas DataFrame (if pandas is installed and ``as_pandas`` is not False; else a
     dict of NumPy arrays) with the parameter columns, the measures and ``error`` (None, or the
     located message of the variant's failure), one row per variant in the input's order.
     """
     measures = list(measures)
+    if quadrature is not None:
+        if tolerance is not None:
+            raise DesignError("tolerance, quadrature: give one of them (adaptive or fixed quadrature)")
+        tolerance = tuple(int(q) for q in quadrature)  # type: ignore[assignment]
     bad = [m for m in measures if m not in MEASURES]
     if bad:
         raise DesignError(f"measures: unknown {bad} (known: {', '.join(MEASURES)})")

@@ -93,6 +93,13 @@ def test_list_of_designs_and_dict_output(client, cup_path):
     assert got["area"].tolist() == want and got["design"].tolist() == [0, 1, 2]
 
 
+def test_fixed_quadrature_passes_through(cup_path):
+    cup = Design.load(cup_path)
+    df = sweep(cup, {"bellyDx": [1.1]}, measures=["area"], quadrature=(16, 32))
+    assert df["area"][0] == cup.with_params({"bellyDx": 1.1}).analysis(quadrature=(16, 32))["total"]["area"]
+    assert df["area"][0] != cup.with_params({"bellyDx": 1.1}).analysis()["total"]["area"]
+
+
 def test_bad_arguments_raise():
     with pytest.raises(DesignError, match=r"^measures: unknown \['mass'\]"):
         sweep(Design.load(EXAMPLES / "cup.toml"), {"a": [1.0]}, measures=["mass"])
