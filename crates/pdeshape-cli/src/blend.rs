@@ -142,6 +142,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if format.is_none() {
         common::refuse_grid_flags(args.nu, args.nv, "a .json control net")?;
     }
+    if matches!(format, None | Some(Format::Csv)) {
+        // The control net and the samples are written as designed.
+        let what = "a .json control net or csv samples (written as designed)";
+        common::refuse_flag(args.scale != 1.0, "--scale", what)?;
+        common::refuse_flag(args.up.is_some(), "--up", what)?;
+    }
     let design = common::load(&args.design)?;
     let (nu, nv) = if format.is_some() {
         design.grid(args.nu, args.nv)?
@@ -195,7 +201,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     } else {
         "Bézier and B-spline control nets".to_string()
     };
-    let _ = writeln!(text, "wrote {shown}: {what}");
+    let dest = common::destination(&args.output);
+    let _ = writeln!(text, "wrote {dest}: {what}");
     common::report(&text);
     Ok(())
 }

@@ -104,8 +104,9 @@ pub fn write(
     .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(text.as_bytes())?;
     out.commit()?;
+    let dest = crate::common::destination(output);
     let mut report = format!(
-        "wrote {shown}: {} B-spline surface(s), tolerance {tolerance:.3e} ({:.1e} of the design size {size:.4}), unit {}\n",
+        "wrote {dest}: {} B-spline surface(s), tolerance {tolerance:.3e} ({:.1e} of the design size {size:.4}), unit {}\n",
         model.surfaces.len(),
         tolerance / size,
         unit.name()

@@ -157,6 +157,15 @@ fn pending_remove(p: &Path) {
     }
 }
 
+/// How a "wrote …" line names an output: its path, or "standard output" for `-o -`.
+pub fn destination(path: &Path) -> String {
+    if Output::is_stdout(path) {
+        "standard output".to_string()
+    } else {
+        path.display().to_string()
+    }
+}
+
 /// A report line ("wrote …"): on stdout, or on stderr when stdout carries an output; nothing
 /// with `--quiet`.
 pub fn report(text: &str) {
@@ -430,6 +439,16 @@ pub fn format_path(
         ))),
         None => Ok(output.to_path_buf()),
     }
+}
+
+/// Refuses a flag that was given for an output it does not apply to.
+pub fn refuse_flag(given: bool, flag: &str, output: &str) -> Result<(), CliError> {
+    if given {
+        return Err(CliError::input(format!(
+            "{flag}: does not apply to {output}"
+        )));
+    }
+    Ok(())
 }
 
 /// Refuses `--nu`/`--nv` for an output they do not apply to.

@@ -332,7 +332,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(p) = picture_out {
         p.commit()?;
     }
-    report.push_str(&format!("wrote {shown}: {} nodes\n", nodes.len()));
+    report.push_str(&format!(
+        "wrote {}: {} nodes\n",
+        crate::common::destination(&args.output),
+        nodes.len()
+    ));
     if let Some(f) = &args.frames {
         report.push_str(&format!("wrote {}: frames\n", f.display()));
     }

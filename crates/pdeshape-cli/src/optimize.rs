@@ -235,8 +235,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map(|(n, v)| format!("{n} = {v:.9}"))
         .collect();
     report.push_str(&format!("{}\n", vars.join(", ")));
+    let dest = crate::common::destination(&args.output);
     report.push_str(&format!(
-        "wrote {shown}, {}, {}, {}\n",
+        "wrote {dest}, {}, {}, {}\n",
         paths[1].display(),
         paths[2].display(),
         paths[3].display()

@@ -131,8 +131,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         out.write_all(&png)?;
         out.commit()?;
+        let dest = crate::common::destination(&args.output);
         crate::common::print_stdout(&format!(
-            "wrote {shown}: {width}x{height}, {} triangles (trimmed)\n",
+            "wrote {dest}: {width}x{height}, {} triangles (trimmed)\n",
             m.triangles.len()
         ));
         return Ok(());
@@ -163,6 +164,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let png = png.map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(&png)?;
     out.commit()?;
-    crate::common::report(&format!("wrote {shown}: {width}x{height}{note}\n"));
+    let dest = crate::common::destination(&args.output);
+    crate::common::report(&format!("wrote {dest}: {width}x{height}{note}\n"));
     Ok(())
 }

@@ -197,6 +197,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     }
     out.commit()?;
-    common::report(&format!("{}wrote {shown}\n", report_text(&solved)));
+    common::report(&format!(
+        "{}wrote {}\n",
+        report_text(&solved),
+        common::destination(&args.output)
+    ));
     Ok(())
 }

@@ -95,6 +95,14 @@ fn ms(t: Instant) -> f64 {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(cad) = crate::cad::CadFormat::from_path(&args.output) {
+        // STEP/IGES carry the exact surfaces, not a grid, in the design's own axes and size.
+        let what = "STEP or IGES output (exact B-spline surfaces)";
+        common::refuse_grid_flags(args.nu, args.nv, "STEP or IGES output")?;
+        common::refuse_flag(args.scale != 1.0, "--scale", what)?;
+        common::refuse_flag(args.up.is_some(), "--up", what)?;
+        common::refuse_flag(args.separate_patches, "--separate-patches", what)?;
+        common::refuse_flag(args.picture.is_some(), "--picture", what)?;
+        common::refuse_flag(args.timings, "--timings", what)?;
         return crate::cad::write(
             &args.design,
             &args.output,
@@ -118,6 +126,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let shown = args.format.as_deref().unwrap_or(&shown);
         CliError::input(format!("{flag} {shown}: {}", common::message_of(&e)))
     })?;
+    let what = "mesh and sample output (only STEP and IGES)";
+    common::refuse_flag(args.tolerance.is_some(), "--tolerance", what)?;
+    common::refuse_flag(args.units.is_some(), "--units", what)?;
+    if format == Format::Csv {
+        // Samples are written as evaluated, at full precision, one grid per patch.
+        let what = "csv samples (written as designed, one grid per patch)";
+        common::refuse_flag(args.scale != 1.0, "--scale", what)?;
+        common::refuse_flag(args.up.is_some(), "--up", what)?;
+        common::refuse_flag(args.separate_patches, "--separate-patches", what)?;
+    }
     let export = export_options(format, args.scale, args.up, args.separate_patches)?;
     let design = common::load(&args.design)?;
     design.validate()?;
@@ -224,8 +242,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         Some(p) => format!("; wrote {}", p.display()),
         None => String::new(),
     };
+    let dest = crate::common::destination(&args.output);
     crate::common::report(&format!(
-        "wrote {shown}: {n} patch{}, {nu} × {nv} grid{fd}{picture}\n",
+        "wrote {dest}: {n} patch{}, {nu} × {nv} grid{fd}{picture}\n",
         if n == 1 { "" } else { "es" }
     ));
     Ok(())

@@ -3,6 +3,8 @@
 //! `check --json`, read-only and symlinked outputs, flags that do not apply.
 
 mod common;
+#[path = "../../pdeshape/tests/mutate/mod.rs"]
+mod mutate;
 use common::*;
 use std::time::{Duration, Instant};
 
@@ -14,9 +16,29 @@ fn cup() -> String {
     .unwrap()
 }
 
+/// The address-space bound (`ulimit -v`, in KiB) under which the memory tests run the binary:
+/// 2 GiB. A request the memory estimate lets through would make the allocator abort the process
+/// (SIGABRT) under it instead of the clean refusal the tests expect.
+const ADDRESS_SPACE_KIB: u64 = 2 << 20;
+
 /// Runs the binary with a deadline; `None` if it did not finish in time (it is killed).
 fn run_within(args: &[&str], secs: u64) -> Option<Output> {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_pdeshape"))
+    run_limited(args, secs, None)
+}
+
+/// [`run_within`], under `ulimit -v kib` when given.
+fn run_limited(args: &[&str], secs: u64, kib: Option<u64>) -> Option<Output> {
+    let mut command = match kib {
+        Some(k) => {
+            let mut c = Command::new("sh");
+            c.arg("-c")
+                .arg(format!("ulimit -v {k} && exec \"$0\" \"$@\""))
+                .arg(env!("CARGO_BIN_EXE_pdeshape"));
+            c
+        }
+        None => Command::new(env!("CARGO_BIN_EXE_pdeshape")),
+    };
+    let mut child = command
         .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -114,7 +136,8 @@ fn work_limits_are_refused_before_work_starts() {
 
 #[test]
 fn ten_million_control_points_are_refused_by_size() {
-    // 10 million points do not fit in a 16 MiB file: refused from the file's size, before it is read.
+    // 10 million points do not fit in a 16 MiB file: refused from the file's size, before it is
+    // read, and within the 2 GiB address space of `ADDRESS_SPACE_KIB`.
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("huge.toml");
     {
@@ -127,7 +150,7 @@ fn ten_million_control_points_are_refused_by_size() {
         }
         w.write_all(b"]\n").unwrap();
     }
-    let out = run_within(&["check", s(&f)], 10).unwrap();
+    let out = run_limited(&["check", s(&f)], 10, Some(ADDRESS_SPACE_KIB)).unwrap();
     assert_bad(
         &out,
         &[
@@ -219,7 +242,9 @@ fn standard_output_with_format() {
     let n = u32::from_le_bytes(out.stdout[80..84].try_into().unwrap()) as usize;
     assert_eq!(out.stdout.len(), 84 + 50 * n);
     assert!(n > 0);
-    assert!(String::from_utf8_lossy(&out.stderr).contains("wrote"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("wrote standard output: "), "{stderr}");
+    assert!(!stderr.contains("wrote -"), "{stderr}");
     let out = pdeshape(&["surface", s(&design), "-o", "-"]);
     assert_bad(&out, &["-o -: writing to standard output needs --format"]);
     let out = pdeshape(&["surface", s(&design), "-o", "-", "--format", "xyz"]);
@@ -439,4 +464,270 @@ fn regression_corpus_through_the_binary() {
             assert!(left.is_empty(), "{sub} {}: left {left:?}", input.display());
         }
     }
+}
+
+/// The campaign's sample through the real binary: seeded mutants of every example through every
+/// subcommand that reads a design, two at a time. Each run must end within 60 s with status 0 or
+/// 2; an error is one clear line (no Rust type names, not empty, not over-long, no temporary
+/// path) and leaves no output; no run leaves a temporary file. `PDESHAPE_BINARY_MUTANTS`
+/// (default 1 per example) and `PDESHAPE_CAMPAIGN_SEED` (default 23) choose the sample.
+#[test]
+fn campaign_sample_through_the_binary() {
+    use rand::SeedableRng;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let per: usize = std::env::var("PDESHAPE_BINARY_MUTANTS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
+    let seed: u64 = std::env::var("PDESHAPE_CAMPAIGN_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(23);
+    const RUNS: &[(&str, &str)] = &[
+        ("check", ""),
+        ("analyze", ""),
+        ("surface", "out.obj"),
+        ("render", "out.png"),
+        ("curve", "out.csv"),
+        ("spline", "out.json"),
+        ("blend", "out.obj"),
+        ("optimize", "out.toml"),
+    ];
+    let mut jobs = Vec::new();
+    for (e, (name, text)) in mutate::examples().iter().enumerate() {
+        // A stream of its own, apart from the in-process campaign's.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed ^ 0xb1_0000 ^ ((e as u64) << 32));
+        for _ in 0..per {
+            let m = mutate::mutate(text, &mut rng);
+            for &(sub, out) in RUNS {
+                jobs.push((sub, out, name.clone(), m.clone()));
+            }
+        }
+    }
+    let next = AtomicUsize::new(0);
+    let failures = Mutex::new(Vec::new());
+    let counts = Mutex::new([0usize; 2]);
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some((sub, out, name, text)) = jobs.get(i) else {
+                    break;
+                };
+                let dir = tempfile::tempdir().unwrap();
+                let input = dir.path().join("m.toml");
+                std::fs::write(&input, text).unwrap();
+                let target = dir.path().join(out);
+                let mut args = vec![*sub, s(&input)];
+                if !out.is_empty() {
+                    args.extend(["-o", s(&target)]);
+                }
+                if *sub == "optimize" {
+                    args.extend(["--evaluations", "8", "--polish", "2", "--chains", "2"]);
+                }
+                let fail = |why: String| {
+                    failures
+                        .lock()
+                        .unwrap()
+                        .push(format!("{sub} {name}: {why}"));
+                };
+                let Some(r) = run_within(&args, 60) else {
+                    fail("ran past 60 s".into());
+                    continue;
+                };
+                let stderr = String::from_utf8_lossy(&r.stderr).to_string();
+                match r.status.code() {
+                    Some(0) => counts.lock().unwrap()[0] += 1,
+                    Some(2) => {
+                        counts.lock().unwrap()[1] += 1;
+                        let lines: Vec<&str> = stderr.lines().collect();
+                        if lines.len() != 1 || !lines[0].starts_with("error: ") {
+                            fail(format!("not one error line: {stderr}"));
+                        } else if let Some(why) = mutate::unclear(&lines[0]["error: ".len()..]) {
+                            fail(format!(
+                                "{why} message: {}",
+                                &lines[0].chars().take(300).collect::<String>()
+                            ));
+                        }
+                        if !out.is_empty() && target.exists() {
+                            fail("an output file after an error".into());
+                        }
+                    }
+                    other => fail(format!("status {other:?}: {stderr}")),
+                }
+                let left: Vec<String> = files(dir.path())
+                    .into_iter()
+                    .filter(|f| f.contains(".pdeshape-"))
+                    .collect();
+                if !left.is_empty() {
+                    fail(format!("left {left:?}"));
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().unwrap();
+    let [ok, errors] = counts.into_inner().unwrap();
+    println!(
+        "binary sample: seed {seed}, {} runs, {ok} successes, {errors} clean errors, {} failures",
+        jobs.len(),
+        failures.len()
+    );
+    assert!(
+        ok > 0 && errors > 0,
+        "the sample must exercise both outcomes"
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Grids and pictures within the vertex and side limits but beyond the memory budget are refused
+/// from the estimate, before anything is allocated, within a 2 GiB address space.
+#[test]
+fn huge_grids_and_pictures_are_refused_from_their_memory_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = write(dir.path(), "cup.toml", &cup());
+    let obj = dir.path().join("out.obj");
+    // Two patches of 6000 × 5000: 60 million vertices (under the 67 million of the vertex
+    // limit), about 7.7 GB by the estimate of 128 bytes a vertex, over the 4 GiB cap on every
+    // machine.
+    let out = run_limited(
+        &[
+            "surface",
+            s(&design),
+            "-o",
+            s(&obj),
+            "--nu",
+            "6000",
+            "--nv",
+            "5000",
+        ],
+        30,
+        Some(ADDRESS_SPACE_KIB),
+    )
+    .expect("refused at once");
+    assert_bad(
+        &out,
+        &[
+            "--nu × --nv",
+            "the 6000 × 5000 grid of 2 patch(es) needs about 7.7 GB of memory",
+            "at most",
+        ],
+    );
+    // The same through the design file's output table.
+    let big = write(
+        dir.path(),
+        "big.toml",
+        &format!("{}\n[output]\nnu = 6000\nnv = 5000\n", cup()),
+    );
+    let out = run_limited(
+        &["surface", s(&big), "-o", s(&obj)],
+        30,
+        Some(ADDRESS_SPACE_KIB),
+    )
+    .expect("refused at once");
+    assert_bad(&out, &["big.toml", "6000 × 5000", "of memory"]);
+    // A picture within the side limit, under a budget lowered to 100 MB: 4000 × 4000 pixels at
+    // 16 bytes each is 256 MB.
+    let png = dir.path().join("out.png");
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_pdeshape"));
+    cmd.env("PDESHAPE_MAX_MEMORY", "100000000").args([
+        "render",
+        s(&design),
+        "-o",
+        s(&png),
+        "--size",
+        "4000x4000",
+    ]);
+    let out = cmd.output().unwrap();
+    assert_bad(
+        &out,
+        &[
+            "4000 × 4000 picture",
+            "needs about 256 MB",
+            "at most 100 MB",
+        ],
+    );
+    let names: Vec<String> = files(dir.path());
+    assert_eq!(names, vec!["big.toml".to_string(), "cup.toml".to_string()]);
+}
+
+/// Flags given for an output they do not apply to are refused, naming the flag, and nothing
+/// is written.
+#[test]
+fn flags_that_do_not_apply_to_the_output_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "cup.toml", &cup());
+    write(
+        dir.path(),
+        "blend.toml",
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../examples/blend_cylinders.toml"
+        ))
+        .unwrap(),
+    );
+    let p = |name: &str| dir.path().join(name).to_string_lossy().to_string();
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["surface", "cup.toml", "-o", "x.step", "--nu", "9"],
+            "--nu: does not apply to STEP or IGES output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.igs", "--scale", "2"],
+            "--scale: does not apply to STEP or IGES output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.step", "--up", "y"],
+            "--up: does not apply to STEP or IGES output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.step", "--picture", "x.png"],
+            "--picture: does not apply to STEP or IGES output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.obj", "--units", "mm"],
+            "--units: does not apply to mesh and sample output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.stl", "--tolerance", "1e-3"],
+            "--tolerance: does not apply to mesh and sample output",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.csv", "--up", "y"],
+            "--up: does not apply to csv samples",
+        ),
+        (
+            &["surface", "cup.toml", "-o", "x.csv", "--scale", "3"],
+            "--scale: does not apply to csv samples",
+        ),
+        (
+            &["blend", "blend.toml", "-o", "x.json", "--scale", "2"],
+            "--scale: does not apply to a .json control net",
+        ),
+        (
+            &["blend", "blend.toml", "-o", "x.csv", "--up", "y"],
+            "--up: does not apply to a .json control net or csv",
+        ),
+    ];
+    for (args, needle) in cases {
+        let args: Vec<String> = args
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                // File names become paths in the temporary directory.
+                if i > 0 && a.contains('.') && a.parse::<f64>().is_err() {
+                    p(a)
+                } else {
+                    a.to_string()
+                }
+            })
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = pdeshape(&args);
+        assert_bad(&out, &[needle]);
+    }
+    assert_eq!(
+        files(dir.path()),
+        vec!["blend.toml".to_string(), "cup.toml".to_string()]
+    );
 }

@@ -31,6 +31,7 @@ pub mod fd;
 pub mod fit;
 mod formula;
 pub mod fourier;
+pub mod memory;
 pub mod mesh;
 pub mod optimize;
 pub mod render;

@@ -21,7 +21,7 @@ pub(crate) use quadrature::gauss_legendre;
 pub use trimmed::{integrate_trimmed, integrate_trimmed_design, TrimmedIntegrals};
 
 use crate::surface::{Interval, Partials, Surface, VDomain};
-use crate::{Error, Result};
+use crate::{Error, Result, Vec3};
 use quadrature::{composite_gauss, periodic_trapezoid, Rule};
 use rayon::prelude::*;
 
@@ -197,16 +197,54 @@ impl Quadrature {
         Ok(())
     }
 
-    /// The rules of level `k` over the `u` range and the `v` domain.
-    fn rules(&self, u: Interval, domain: VDomain, k: u32) -> (Rule, Rule) {
+    /// The rules of level `k` over the `u` range and the `v` domain. Where the surface has
+    /// breaks ([`Surface::breaks`]), the panels are shared out among the smooth pieces
+    /// between them (at least one each) so that no panel straddles a break.
+    fn rules(
+        &self,
+        u: Interval,
+        domain: VDomain,
+        breaks: &(Vec<f64>, Vec<f64>),
+        k: u32,
+    ) -> (Rule, Rule) {
         let f = 1usize << k;
-        let ru = composite_gauss(u.start, u.end, self.u_panels * f, self.order);
+        let ru = pieces_gauss(u.start, u.end, &breaks.0, self.u_panels * f, self.order);
         let rv = match domain {
             VDomain::Periodic => periodic_trapezoid(self.v_nodes * f),
-            VDomain::Interval(a, b) => composite_gauss(a, b, self.v_panels * f, self.order),
+            VDomain::Interval(a, b) => pieces_gauss(a, b, &breaks.1, self.v_panels * f, self.order),
         };
         (ru, rv)
     }
+}
+
+/// Composite Gauss–Legendre on `[a, b]`: `panels` equal panels if no break lies inside,
+/// otherwise `⌈panels / pieces⌉` equal panels on each piece between consecutive breaks.
+fn pieces_gauss(a: f64, b: f64, breaks: &[f64], panels: usize, order: usize) -> Rule {
+    let mut cuts: Vec<f64> = breaks
+        .iter()
+        .copied()
+        .filter(|&x| x.is_finite() && x > a && x < b)
+        .collect();
+    if cuts.is_empty() {
+        return composite_gauss(a, b, panels, order);
+    }
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let per_piece = panels.div_ceil(cuts.len() + 1).max(1);
+    let ends: Vec<f64> = std::iter::once(a)
+        .chain(cuts)
+        .chain(std::iter::once(b))
+        .collect();
+    let mut rule = Rule {
+        nodes: Vec::new(),
+        weights: Vec::new(),
+    };
+    for w in ends.windows(2) {
+        let r = composite_gauss(w[0], w[1], per_piece, order);
+        rule.nodes.extend(r.nodes);
+        rule.weights.extend(r.weights);
+    }
+    rule
 }
 
 /// Integrals of one surface with what the quadrature learned on the way.
@@ -236,6 +274,12 @@ struct Sums {
     mean_range: (f64, f64),
     degenerate: usize,
     nonfinite: bool,
+    /// The bounding box of `X` at the nodes (lower and upper corners): the surface's size, for
+    /// the scales of [`relative_change`].
+    lo: Vec3,
+    hi: Vec3,
+    /// Nodes summed.
+    nodes: usize,
 }
 
 impl Default for Sums {
@@ -246,6 +290,9 @@ impl Default for Sums {
             mean_range: (f64::INFINITY, f64::NEG_INFINITY),
             degenerate: 0,
             nonfinite: false,
+            lo: Vec3::repeat(f64::INFINITY),
+            hi: Vec3::repeat(f64::NEG_INFINITY),
+            nodes: 0,
         }
     }
 }
@@ -263,6 +310,19 @@ impl Sums {
         );
         self.degenerate += o.degenerate;
         self.nonfinite |= o.nonfinite;
+        self.lo = self.lo.inf(&o.lo);
+        self.hi = self.hi.sup(&o.hi);
+        self.nodes += o.nodes;
+    }
+
+    /// The largest side of the bounding box (0 for no node).
+    fn extent(&self) -> f64 {
+        (self.hi - self.lo).max().max(0.0)
+    }
+
+    /// Every node was degenerate (`X_u × X_v ≈ 0`): the surface is a curve or a point.
+    fn all_degenerate(&self) -> bool {
+        self.nodes > 0 && self.degenerate == self.nodes
     }
 }
 
@@ -274,6 +334,9 @@ fn accumulate(p: &Partials, w: f64, s: &mut Sums) {
         s.nonfinite = true;
         return;
     }
+    s.nodes += 1;
+    s.lo = s.lo.inf(&p.x);
+    s.hi = s.hi.sup(&p.x);
     // Volume: (1/3) X·(X_u × X_v) du dv, defined even where the normal is not.
     s.i.volume += w * p.x.dot(&cross) / 3.0;
     let Some(c) = geometry::core(p) else {
@@ -317,13 +380,16 @@ fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule) -> Sums {
 }
 
 /// The largest change between two levels relative to each integral's scale (see
-/// [`Quadrature`]).
-fn relative_change(a: &Integrals, b: &Integrals) -> f64 {
-    let area = b.area.abs().max(f64::MIN_POSITIVE);
+/// [`Quadrature`]). `extent` is the surface's size `L` (the largest side of its bounding box):
+/// the area's scale is at least `10⁻⁶L²` and the volume's `10⁻⁶L³`, so that a nearly
+/// degenerate sliver converges instead of refining its rounding residue to the node budget.
+fn relative_change(a: &Integrals, b: &Integrals, extent: f64) -> f64 {
+    let l = if extent.is_finite() { extent } else { 0.0 };
+    let area = b.area.abs().max(1e-6 * l * l).max(f64::MIN_POSITIVE);
     let energy = (4.0 * b.mean_sq.abs() + 2.0 * b.gauss.abs()).max(1e-6);
     let changes = [
         (a.area - b.area).abs() / area,
-        (a.volume - b.volume).abs() / b.volume.abs().max(area.powf(1.5)),
+        (a.volume - b.volume).abs() / b.volume.abs().max(area.powf(1.5)).max(1e-6 * l * l * l),
         (a.mean - b.mean).abs() / (area * energy).sqrt(),
         (a.mean_sq - b.mean_sq).abs() / energy,
         (a.gauss - b.gauss).abs() / energy,
@@ -376,7 +442,8 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
             degenerate_nodes: sums.degenerate,
         })
     };
-    let (ru, rv) = q.rules(u_range, domain, 0);
+    let breaks = s.breaks();
+    let (ru, rv) = q.rules(u_range, domain, &breaks, 0);
     let mut prev = integrate_grid(s, &ru, &rv);
     if !q.adaptive {
         return finish(prev, &ru, &rv, 0.0, true);
@@ -386,9 +453,15 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
     }
     let mut k = 1;
     loop {
-        let (ru, rv) = q.rules(u_range, domain, k);
+        let (ru, rv) = q.rules(u_range, domain, &breaks, k);
         let cur = integrate_grid(s, &ru, &rv);
-        let change = relative_change(&prev.i, &cur.i);
+        // A surface degenerate at every node of two levels (a curve) has no area to refine.
+        let flat = prev.all_degenerate() && cur.all_degenerate();
+        let change = if flat {
+            0.0
+        } else {
+            relative_change(&prev.i, &cur.i, cur.extent())
+        };
         let converged = change <= q.tolerance;
         let (nu2, nv2) = (2 * ru.nodes.len(), 2 * rv.nodes.len());
         if converged || cur.nonfinite || nu2.saturating_mul(nv2) > q.max_nodes {

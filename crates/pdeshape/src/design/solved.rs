@@ -241,7 +241,12 @@ pub fn grid(spec: &DesignSpec, nu: Option<usize>, nv: Option<usize>) -> Result<(
     let surfaces = surface_count(spec).max(1);
     let checked = check_grid(nu_v, nv_v).and_then(|()| {
         match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(surfaces)) {
-            Some(n) if n <= MAX_VERTICES => Ok(()),
+            Some(n) if n <= MAX_VERTICES => crate::memory::check_items(
+                n as u64,
+                crate::memory::BYTES_PER_GRID_VERTEX,
+                &format!("the {nu_v} × {nv_v} grid of {surfaces} patch(es)"),
+                "nu × nv",
+            ),
             _ => Err(Error::invalid(format!(
                 "{surfaces} patches of {nu_v} × {nv_v} vertices exceed {MAX_VERTICES} vertices in all; refusing to allocate them"
             ))

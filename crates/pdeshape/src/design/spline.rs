@@ -149,6 +149,16 @@ pub fn build_problem<T: Scalar>(spec: &SplineSpec) -> Result<SplineProblem<T>> {
         ))
         .at("spline"));
     }
+    // The dense systems of the solve: about six n × n matrices of the scalar (a rational takes
+    // at least 64 bytes with its digits).
+    let n = (nu * nv) as u64;
+    let entry = if std::mem::size_of::<T>() <= 8 { 8 } else { 64 };
+    crate::memory::check_items(
+        n * n,
+        6 * entry,
+        &format!("solving for {nu} × {nv} control points"),
+        "spline",
+    )?;
     let op = spec.operator.operator();
     op.check().map_err(|e| e.at("spline.operator"))?;
     if let SplineOperatorSpec::ModifiedBiharmonic { a } = spec.operator {

@@ -123,6 +123,12 @@ pub fn grid_parameters_in(
         ))
         .at("nu × nv"));
     }
+    crate::memory::check_items(
+        (nu * nv) as u64,
+        crate::memory::BYTES_PER_GRID_VERTEX,
+        &format!("a {nu} × {nv} grid"),
+        "nu × nv",
+    )?;
     let (a, b) = (u_range.start, u_range.end);
     let us = (0..nu)
         .map(|i| {

@@ -98,6 +98,12 @@ pub fn render_rgb(
         ))
         .at("size"));
     }
+    crate::memory::check_items(
+        w as u64 * h as u64,
+        crate::memory::BYTES_PER_PIXEL,
+        &format!("a {w} × {h} picture"),
+        "size",
+    )?;
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;
     Ok(raster::draw(meshes, overlays, &camera))
@@ -136,6 +142,12 @@ pub fn render_png_colored(
         ))
         .at("size"));
     }
+    crate::memory::check_items(
+        w as u64 * h as u64,
+        crate::memory::BYTES_PER_PIXEL,
+        &format!("a {w} × {h} picture"),
+        "size",
+    )?;
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;
     let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
@@ -269,6 +281,12 @@ pub fn render_png_tri(
         ))
         .at("size"));
     }
+    crate::memory::check_items(
+        w as u64 * h as u64,
+        crate::memory::BYTES_PER_PIXEL,
+        &format!("a {w} × {h} picture"),
+        "size",
+    )?;
     let meshes = std::slice::from_ref(mesh);
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;

@@ -162,6 +162,23 @@ pub const LIMITS: &[Limit] = &[
         bound: "≤ 67108864 vertices (nu ≥ 2, nv ≥ 3)",
         reason: "memory",
     },
+    Limit {
+        field: "spline.spans, spline control points",
+        bound: "spans 1 … 1000 each; ≤ 10000 control points",
+        reason: "dense linear algebra",
+    },
+    Limit {
+        field: "render --size",
+        bound: "each side 1 … 16384 pixels",
+        reason: "memory",
+    },
+    Limit {
+        field: "memory of one request (grids: 128 bytes a vertex; pictures: 16 bytes a pixel; \
+                spline systems: 6 n² entries for n control points)",
+        bound: "≤ the smaller of 4 GiB and half of MemAvailable (and of PDESHAPE_MAX_MEMORY \
+                if set)",
+        reason: "refused before allocating, never aborted by the allocator",
+    },
 ];
 
 /// The limits of [`LIMITS`] as a markdown table (the one in `docs/design-file.md`).

@@ -273,7 +273,8 @@ fn describe_label<T: Scalar>(u: &Direction<T>, v: &Direction<T>, l: &EquationLab
 
 /// Picks, among `x = x0 + N y`, the nets minimising `x^T H x` (with the fixed part `xf`): solves
 /// `NᵀH_uu N y = −Nᵀ(H_uu x0 + H_uf xf)` and returns the new `x0` and the null space left.
-/// `Err` when the functional is not bounded below on the allowed nets.
+/// `None` when the functional is not bounded below on the allowed nets; `Err` when a
+/// decomposition fails to converge.
 fn minimise<T: Solve>(
     h: &Mat<T>,
     unknown: &[usize],
@@ -281,7 +282,7 @@ fn minimise<T: Solve>(
     xf: &Mat<T>,
     x0: &Mat<T>,
     null: &Mat<T>,
-) -> std::result::Result<(Mat<T>, Mat<T>), ()> {
+) -> Result<Option<(Mat<T>, Mat<T>)>> {
     let pick = |rows: &[usize], cols: &[usize]| {
         let mut m = Mat::zeros(rows.len(), cols.len());
         for (a, &r) in rows.iter().enumerate() {
@@ -301,11 +302,11 @@ fn minimise<T: Solve>(
         let k = m.rows;
         let mf = nalgebra::DMatrix::from_fn(k, k, |i, j| m.at(i, j).to_f64());
         let Some(eig) = crate::decomp::symmetric_eigenvalues(mf) else {
-            return Err(());
+            return Ok(None);
         };
         let max = eig.amax();
         if eig.iter().any(|&l| l < -1e-9 * max) {
-            return Err(());
+            return Ok(None);
         }
     }
     let mut g = huu.mul(x0);
@@ -319,13 +320,13 @@ fn minimise<T: Solve>(
     for x in r.data.iter_mut() {
         *x = -x.clone();
     }
-    let aff: Affine<T> = T::affine(&m, &r);
+    let aff: Affine<T> = T::affine(&m, &r).map_err(|e| e.at("spline"))?;
     let dx = null.mul(&aff.x0);
     let mut x1 = x0.clone();
     for (a, b) in x1.data.iter_mut().zip(dx.data) {
         *a = a.clone() + b;
     }
-    Ok((x1, null.mul(&aff.null)))
+    Ok(Some((x1, null.mul(&aff.null))))
 }
 
 /// Solves the problem: the PDE residual vanishes on every span, the fixed points hold, and the
@@ -388,7 +389,9 @@ pub fn solve<T: Solve>(problem: &SplineProblem<T>) -> Result<SplineNet<T>> {
             }
         }
     }
-    let pde_rank = T::affine(&a, &Mat::zeros(a.rows, 0)).rank;
+    let pde_rank = T::affine(&a, &Mat::zeros(a.rows, 0))
+        .map_err(|e| e.at("spline"))?
+        .rank;
     let norms: Vec<f64> = (0..a.rows)
         .map(|i| {
             (0..a.cols)
@@ -398,7 +401,7 @@ pub fn solve<T: Solve>(problem: &SplineProblem<T>) -> Result<SplineNet<T>> {
         })
         .collect();
     let value_scale = xf.data.iter().fold(0.0f64, |m, x| m.max(x.to_f64().abs()));
-    let aff = T::affine_scaled(&au, &rhs, &norms, value_scale);
+    let aff = T::affine_scaled(&au, &rhs, &norms, value_scale).map_err(|e| e.at("spline"))?;
     if !aff.inconsistent.is_empty() {
         let shown: Vec<String> = aff
             .inconsistent
@@ -445,8 +448,8 @@ pub fn solve<T: Solve>(problem: &SplineProblem<T>) -> Result<SplineNet<T>> {
         }
         let h = functional_matrix(u, v, &terms);
         let before = null.cols;
-        match minimise(&h, &unknown, &fixed, &xf, &x, &null) {
-            Ok((x1, n1)) => {
+        match minimise(&h, &unknown, &fixed, &xf, &x, &null)? {
+            Some((x1, n1)) => {
                 x = x1;
                 null = n1;
                 chosen_by.push(format!(
@@ -454,7 +457,7 @@ pub fn solve<T: Solve>(problem: &SplineProblem<T>) -> Result<SplineNet<T>> {
                     before - null.cols
                 ));
             }
-            Err(()) => chosen_by.push(format!(
+            None => chosen_by.push(format!(
                 "{name} skipped: it is not bounded below on the {before} free directions"
             )),
         }

@@ -3,6 +3,7 @@
 //! rationals (Gauss–Jordan).
 
 use super::scalar::Scalar;
+use crate::{Error, Result};
 use num_rational::BigRational;
 use num_traits::{One, Zero};
 
@@ -79,7 +80,8 @@ pub struct Affine<T> {
 pub trait Solve: Scalar {
     /// The solution set of `A x = B`; for an inconsistent system `x0` is a least-squares
     /// (or partial) solution and `inconsistent` lists offending rows.
-    fn affine(a: &Mat<Self>, b: &Mat<Self>) -> Affine<Self> {
+    /// Fails only when a decomposition does not converge within its iteration cap.
+    fn affine(a: &Mat<Self>, b: &Mat<Self>) -> Result<Affine<Self>> {
         let norms: Vec<f64> = (0..a.rows)
             .map(|i| {
                 (0..a.cols)
@@ -100,7 +102,7 @@ pub trait Solve: Scalar {
         b: &Mat<Self>,
         row_norms: &[f64],
         value_scale: f64,
-    ) -> Affine<Self>;
+    ) -> Result<Affine<Self>>;
 
     /// True when the row `r` of `N` is zero (the unknown is fixed by the constraints).
     fn row_is_zero(null: &Mat<Self>, r: usize) -> bool;
@@ -113,7 +115,7 @@ impl Solve for BigRational {
         b: &Mat<Self>,
         _row_norms: &[f64],
         _value_scale: f64,
-    ) -> Affine<Self> {
+    ) -> Result<Affine<Self>> {
         let (m, n, c) = (a.rows, a.cols, b.cols);
         let w = n + c;
         let mut rows: Vec<Vec<BigRational>> = (0..m)
@@ -173,12 +175,12 @@ impl Solve for BigRational {
                 *null.at_mut(pc, k) = -rows[pr][f].clone();
             }
         }
-        Affine {
+        Ok(Affine {
             x0,
             null,
             rank,
             inconsistent,
-        }
+        })
     }
 
     fn row_is_zero(null: &Mat<Self>, r: usize) -> bool {
@@ -206,7 +208,7 @@ impl Solve for f64 {
         b: &Mat<Self>,
         row_norms: &[f64],
         value_scale: f64,
-    ) -> Affine<Self> {
+    ) -> Result<Affine<Self>> {
         use nalgebra::DMatrix;
         let (m, n, c) = (a.rows, a.cols, b.cols);
         if n == 0 || m == 0 {
@@ -227,12 +229,12 @@ impl Solve for f64 {
             for i in 0..n {
                 *null.at_mut(i, i) = 1.0;
             }
-            return Affine {
+            return Ok(Affine {
                 x0: Mat::zeros(n, c),
                 null,
                 rank: 0,
                 inconsistent,
-            };
+            });
         }
         let mut am = DMatrix::<f64>::zeros(m, n);
         let mut bm = DMatrix::<f64>::zeros(m, c);
@@ -257,11 +259,21 @@ impl Solve for f64 {
             qtb.view_mut((0, 0), (m, c)).copy_from(&bm);
             (r, qtb)
         };
-        // Rows have unit norm, so the capped SVD converges on any finite system; should it not,
-        // the uncapped one is the documented fallback (it has never been seen to loop on
-        // row-scaled input).
-        let svd = crate::decomp::svd(r.clone()).unwrap_or_else(|| r.svd(true, true));
-        let (u, vt) = (svd.u.expect("u requested"), svd.v_t.expect("v requested"));
+        // Rows have unit norm, so the capped SVD converges on any finite system; should it not
+        // (or should an entry not be finite), the solve fails with an error: there is no
+        // uncapped fallback.
+        let Some(svd) = crate::decomp::svd(r) else {
+            return Err(Error::invalid(format!(
+                "the {m} × {n} linear system of the control points could not be solved: its \
+                 SVD did not converge within {} sweeps (or an entry is not finite)",
+                crate::decomp::max_iterations(m.max(n))
+            )));
+        };
+        let (Some(u), Some(vt)) = (svd.u, svd.v_t) else {
+            return Err(Error::invalid(
+                "the linear system of the control points could not be solved (SVD without vectors)",
+            ));
+        };
         let smax = svd.singular_values.iter().cloned().fold(0.0, f64::max);
         let tol = rank_tolerance(m, n) * smax;
         let keep: Vec<usize> = (0..n)
@@ -310,12 +322,12 @@ impl Solve for f64 {
                 *x0.at_mut(i, j) = x[(i, j)];
             }
         }
-        Affine {
+        Ok(Affine {
             x0,
             null,
             rank: keep.len(),
             inconsistent,
-        }
+        })
     }
 
     fn row_is_zero(null: &Mat<Self>, r: usize) -> bool {

@@ -63,25 +63,65 @@ impl Surface for SplineNet<f64> {
         VDomain::Interval(a, b)
     }
 
-    /// `u ∈ [0, 1]` is mapped linearly onto the knot domain `[u_p, u_{n+1}]`.
+    /// `u ∈ [0, 1]` is mapped linearly onto the knot domain `[u_p, u_{n+1}]`. The basis and its
+    /// first two derivatives are computed once per direction for all six partials.
     fn partials(&self, s: f64, v: f64) -> Partials {
         let (u0, u1) = self.u.domain();
         let l = u1 - u0;
         let u = (u0 + s.clamp(0.0, 1.0) * l).clamp(u0, u1);
         let (v0, v1) = self.v.domain();
         let v = v.clamp(v0, v1);
-        let d = |ku: usize, kv: usize| {
-            let p = self.derivative(&u, &v, ku, kv);
-            Vec3::new(p[0], p[1], p[2]) * l.powi(ku as i32)
-        };
-        Partials {
-            x: d(0, 0),
-            xu: d(1, 0),
-            xv: d(0, 1),
-            xuu: d(2, 0),
-            xuv: d(1, 1),
-            xvv: d(0, 2),
+        let (i0, bu) = self.u.basis_derivatives_at(&u, 2);
+        let (j0, bv) = self.v.basis_derivatives_at(&v, 2);
+        let (p, q, nv) = (self.u.degree, self.v.degree, self.v.count());
+        // (ku, kv) of x, x_u, x_v, x_uu, x_uv, x_vv.
+        const ORDERS: [(usize, usize); 6] = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
+        let mut d = [Vec3::zeros(); 6];
+        for r in 0..=p {
+            for t in 0..=q {
+                let c = &self.control[(i0 - p + r) * nv + (j0 - q + t)];
+                let c = Vec3::new(c[0], c[1], c[2]);
+                for (k, &(ku, kv)) in ORDERS.iter().enumerate() {
+                    let w = bu[ku][r] * bv[kv][t];
+                    if w != 0.0 {
+                        d[k] += c * w;
+                    }
+                }
+            }
         }
+        for (k, &(ku, _)) in ORDERS.iter().enumerate() {
+            d[k] *= l.powi(ku as i32);
+        }
+        Partials {
+            x: d[0],
+            xu: d[1],
+            xv: d[2],
+            xuu: d[3],
+            xuv: d[4],
+            xvv: d[5],
+        }
+    }
+
+    /// The interior knots (mapped onto `u ∈ [0, 1]`, and in `v` as they are): the surface is
+    /// a polynomial between them, so quadrature panels end there.
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        let interior = |d: &Direction<f64>| -> Vec<f64> {
+            let (a, b) = d.domain();
+            let mut k: Vec<f64> = d
+                .knots
+                .iter()
+                .copied()
+                .filter(|&x| x > a && x < b)
+                .collect();
+            k.dedup();
+            k
+        };
+        let (u0, u1) = self.u.domain();
+        let u = interior(&self.u)
+            .into_iter()
+            .map(|x| (x - u0) / (u1 - u0))
+            .collect();
+        (u, interior(&self.v))
     }
 }
 

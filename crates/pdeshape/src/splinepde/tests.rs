@@ -84,7 +84,7 @@ fn random_solution<T: Solve>(
     op: &Operator,
 ) -> Option<Vec<Point<T>>> {
     let (a, b, _) = assemble(u, v, op);
-    let aff = T::affine(&a, &b);
+    let aff = T::affine(&a, &b).unwrap();
     if !aff.inconsistent.is_empty() {
         return None;
     }
@@ -360,7 +360,7 @@ fn seed003_example1_as_checked() {
     let op = Operator::second(1.0, -2.0, 1.0);
     let (a, _, labels) = assemble(&u, &u, &op);
     assert_eq!(a.rows, 13);
-    assert_eq!(Q::affine(&a, &Mat::zeros(13, 0)).rank, 9);
+    assert_eq!(Q::affine(&a, &Mat::zeros(13, 0)).unwrap().rank, 9);
     let net = example1_net();
     for d in 0..2 {
         assert!(
@@ -436,7 +436,7 @@ fn seed003_example2_as_checked() {
     ] {
         let (a, _, _) = assemble(&u, &u, &op);
         assert_eq!(a.rows, rows);
-        assert_eq!(Q::affine(&a, &Mat::zeros(rows, 0)).rank, 16);
+        assert_eq!(Q::affine(&a, &Mat::zeros(rows, 0)).unwrap().rank, 16);
         let err = solve(&SplineProblem {
             u: u.clone(),
             v: u.clone(),
@@ -536,10 +536,10 @@ fn harmonic_bezier_surfaces_and_the_mask_of_eq_8_10() {
         let r = net.residual(&q(1, 3), &q(2, 7));
         assert!(r.iter().all(zero_q));
         let (a, _, _) = assemble(&dir, &dir, &Operator::laplace());
-        let engine_rank = Q::affine(&a, &Mat::zeros(a.rows, 0)).rank;
+        let engine_rank = Q::affine(&a, &Mat::zeros(a.rows, 0)).unwrap().rank;
         let full = mask_matrix([n, n], harmonic_mask, 0);
         let printed = mask_matrix([n, n], harmonic_mask, 1);
-        let rank = |m: &Mat<Q>| Q::affine(m, &Mat::zeros(m.rows, 0)).rank;
+        let rank = |m: &Mat<Q>| Q::affine(m, &Mat::zeros(m.rows, 0)).unwrap().rank;
         assert_eq!(rank(&full), engine_rank, "n = {n}");
         // Same row space: stacking adds nothing.
         let mut both = a.clone();
@@ -574,7 +574,7 @@ fn biharmonic_bezier_from_two_rings_and_the_mask_of_eq_8_11() {
             }
         }
         let (a, _, _) = assemble(&du, &dv, &Operator::biharmonic());
-        let rank = |mm: &Mat<Q>| Q::affine(mm, &Mat::zeros(mm.rows, 0)).rank;
+        let rank = |mm: &Mat<Q>| Q::affine(mm, &Mat::zeros(mm.rows, 0)).unwrap().rank;
         assert_eq!(rank(&mask_matrix([n, m], biharmonic_mask, 0)), rank(&a));
         // One ring (the boundary) alone already determines the net, for any boundary (book
         // §8.3: "the knowledge of the boundary … fully determines the entire surface").
@@ -1044,4 +1044,20 @@ fn biharmonic_bezier_from_an_arbitrary_boundary() {
             assert!((a[d] - b[d]).abs() < 1e-10, "{} vs {}", a[d], b[d]);
         }
     }
+}
+
+/// A system the capped SVD cannot decompose (here: a non-finite entry) is an error that says
+/// so; there is no fallback to an SVD without an iteration cap.
+#[test]
+fn a_system_the_capped_svd_cannot_decompose_is_an_error() {
+    let mut a: Mat<f64> = Mat::zeros(3, 2);
+    *a.at_mut(0, 0) = 1.0;
+    *a.at_mut(1, 1) = f64::NAN;
+    *a.at_mut(2, 0) = 2.0;
+    let e = f64::affine(&a, &Mat::zeros(3, 1)).unwrap_err().to_string();
+    assert!(e.contains("3 × 2 linear system"), "{e}");
+    assert!(e.contains("did not converge within 1000 sweeps"), "{e}");
+    // A finite system of the same shape is solved.
+    *a.at_mut(1, 1) = 1.0;
+    assert_eq!(f64::affine(&a, &Mat::zeros(3, 1)).unwrap().rank, 2);
 }

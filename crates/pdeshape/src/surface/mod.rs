@@ -109,6 +109,14 @@ pub trait Surface: Send + Sync {
         }
     }
 
+    /// Interior parameter values where the surface is only finitely smooth (the knots of a
+    /// spline): `u` values inside [`Surface::u_range`] and `v` values inside an interval
+    /// [`Surface::v_domain`]. Quadrature panels end there, so that its rules converge at their
+    /// full order on each smooth piece. None unless the surface overrides it.
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        (Vec::new(), Vec::new())
+    }
+
     /// The surface's spine `A₀(u)` if it has one (see [`Spine`]); `None` unless the surface
     /// overrides it.
     fn as_spine(&self) -> Option<&dyn Spine> {
