@@ -51,6 +51,9 @@ pub struct Args {
     /// `units`, else mm).
     #[arg(long)]
     pub units: Option<String>,
+    /// Evaluate a time-dependent design (formulas in t, or a morph file) at this time.
+    #[arg(long)]
+    pub time: Option<f64>,
 }
 
 /// The `--up` values.
@@ -95,6 +98,11 @@ fn ms(t: Instant) -> f64 {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(cad) = crate::cad::CadFormat::from_path(&args.output) {
+        if args.time.is_some() {
+            return Err(CliError::input(
+                "--time: applies to mesh outputs (obj, stl, ply, glb, csv), not to STEP/IGES",
+            ));
+        }
         return crate::cad::write(
             &args.design,
             &args.output,
@@ -119,7 +127,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         CliError::input(format!("{flag} {shown}: {}", common::message_of(&e)))
     })?;
     let export = export_options(format, args.scale, args.up, args.separate_patches)?;
-    let design = common::load(&args.design)?;
+    let design = match args.time {
+        Some(t) => crate::animate::load_at(&args.design, t)?,
+        None => common::load(&args.design)?,
+    };
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     if let Some(pic) = &args.picture {
