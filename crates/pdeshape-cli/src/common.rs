@@ -103,7 +103,13 @@ pub fn load(path: &Path) -> Result<Loaded, CliError> {
             "{file}: the design file is not UTF-8 text (invalid byte at offset {at})"
         ))
     })?;
+    // A design whose numbers are formulas in t (spec::time) is read at its start time.
     let spec = spec::parse_design(&text)
+        .or_else(|e| match spec::time::parse_timed(&text) {
+            Ok(d) if d.depends_on_time() => d.at(d.time.start),
+            Err(timed) if text.contains("\"=") => Err(timed),
+            _ => Err(e),
+        })
         .map_err(|e| CliError::input(spec::describe_error(&file, &text, &e)))?;
     Ok(Loaded { file, text, spec })
 }

@@ -2,6 +2,7 @@
 //! reports out. Every failure prints one line `error: …` on stderr; bad input exits with status 2.
 
 mod analyze;
+mod animate;
 mod blend;
 mod cad;
 mod check;
@@ -65,6 +66,9 @@ enum Command {
     /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
     /// design's (the largest deviation per surface).
     Roundtrip(cad::RoundtripArgs),
+    /// Solve a time-dependent design ([time] with formulas in t, or a [morph] file) at every
+    /// frame and write a glTF animation, with per-frame measures (csv, svg) and pictures (png).
+    Animate(animate::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -81,6 +85,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Serve(args) => serve::run(&args),
         Command::Fit(args) => fit::run(&args),
         Command::Roundtrip(args) => cad::roundtrip(&args),
+        Command::Animate(args) => animate::run(&args),
     }
 }
 
@@ -96,7 +101,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, schema or serve \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, animate, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

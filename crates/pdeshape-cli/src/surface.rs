@@ -51,6 +51,9 @@ pub struct Args {
     /// `units`, else mm).
     #[arg(long)]
     pub units: Option<String>,
+    /// Evaluate a time-dependent design (formulas in t, or a morph file) at this time.
+    #[arg(long)]
+    pub time: Option<f64>,
 }
 
 /// The `--up` values.
@@ -103,6 +106,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         common::refuse_flag(args.separate_patches, "--separate-patches", what)?;
         common::refuse_flag(args.picture.is_some(), "--picture", what)?;
         common::refuse_flag(args.timings, "--timings", what)?;
+        common::refuse_flag(args.time.is_some(), "--time", what)?;
         return crate::cad::write(
             &args.design,
             &args.output,
@@ -137,7 +141,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         common::refuse_flag(args.separate_patches, "--separate-patches", what)?;
     }
     let export = export_options(format, args.scale, args.up, args.separate_patches)?;
-    let design = common::load(&args.design)?;
+    let design = match args.time {
+        Some(t) => crate::animate::load_at(&args.design, t)?,
+        None => common::load(&args.design)?,
+    };
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     if let Some(pic) = &args.picture {

@@ -18,6 +18,7 @@
 //! ```
 
 pub mod analysis;
+pub mod anim;
 pub mod bfs;
 pub mod cad;
 mod check;

@@ -487,6 +487,7 @@ fn empty_design() -> DesignSpec {
         spline: None,
         spine: Vec::new(),
         trims: Vec::new(),
+        time: None,
     }
 }
 
@@ -1069,6 +1070,7 @@ impl Gen {
             spline: self.opt(Self::spline),
             spine: Vec::new(),
             trims: self.vec(2, Self::trim),
+            time: None,
         }
     }
     fn trim(&mut self) -> TrimSpec {

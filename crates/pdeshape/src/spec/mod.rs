@@ -19,6 +19,7 @@ mod parametric;
 mod schema;
 mod spine;
 mod spline;
+pub mod time;
 mod trim;
 mod types;
 mod words;
@@ -52,26 +53,45 @@ pub fn parse_design(text: &str) -> Result<DesignSpec> {
     limits::check_value(&doc, "", 0)?;
     locate::check_finite(&doc, "")?;
     let de = toml::Deserializer::new(text);
-    let spec = serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| {
-        let path = e.path().to_string();
-        let path = if path == "." { String::new() } else { path };
-        let message = e.inner().message();
-        match types::split_path_marker(message) {
-            (Some(inner), rest) => {
-                let place = if path.is_empty() {
-                    inner.to_string()
-                } else if inner.starts_with('[') {
-                    format!("{path}{inner}")
-                } else {
-                    format!("{path}.{inner}")
-                };
-                Error::invalid(one_line(rest)).at(&place)
-            }
-            (None, rest) => Error::invalid(one_line(rest)).at(&path),
-        }
-    })?;
+    let spec = serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| located(e, ""))?;
     limits::check_spec(&spec)?;
     Ok(spec)
+}
+
+/// Reads a `T` from a TOML tree found at `outer` (empty for the whole file), with the path of
+/// any error inside it.
+pub(crate) fn deserialize_at<T: serde::de::DeserializeOwned>(
+    value: toml::Value,
+    outer: &str,
+) -> Result<T> {
+    serde_path_to_error::deserialize::<_, T>(value).map_err(|e| located(e, outer))
+}
+
+/// An error of the deserializer with its place: the path serde tracked, under `outer`, joined
+/// with the path a curve table's message carries.
+fn located(e: serde_path_to_error::Error<toml::de::Error>, outer: &str) -> Error {
+    let path = e.path().to_string();
+    let path = if path == "." { String::new() } else { path };
+    let path = match (outer.is_empty(), path.is_empty()) {
+        (true, _) => path,
+        (false, true) => outer.to_string(),
+        (false, false) if path.starts_with('[') => format!("{outer}{path}"),
+        (false, false) => format!("{outer}.{path}"),
+    };
+    let message = e.inner().message();
+    match types::split_path_marker(message) {
+        (Some(inner), rest) => {
+            let place = if path.is_empty() {
+                inner.to_string()
+            } else if inner.starts_with('[') {
+                format!("{path}{inner}")
+            } else {
+                format!("{path}.{inner}")
+            };
+            Error::invalid(one_line(rest)).at(&place)
+        }
+        (None, rest) => Error::invalid(one_line(rest)).at(&path),
+    }
 }
 
 /// The JSON schema of the design file (pretty-printed).

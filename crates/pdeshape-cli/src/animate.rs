@@ -1,0 +1,315 @@
+//! `pdeshape animate DESIGN -o OUT.glb`: a time-dependent design (a `[time]` section with
+//! formula fields in `t`, or a morph file with `[morph]`) solved at every frame and written as
+//! a glTF animation, with the measures of every frame (CSV, SVG plot) and a PNG per frame.
+
+use crate::common::{self, CliError, Loaded, Output};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use pdeshape::anim::{self, Animation, Keyframes, Measures, Morph, Row};
+use pdeshape::design::Export;
+use pdeshape::mesh::MeshInfo;
+use pdeshape::render::{Polyline, RenderOptions};
+use pdeshape::spec::{self, time};
+use pdeshape::Vec3;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The design file (TOML) with a [time] section, or a morph file with [morph].
+    pub design: PathBuf,
+    /// The animation (glTF binary, .glb): one mesh with a morph target per frame and an
+    /// animation of their weights.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also write the measures of every frame (frame, t, area, volume) to this CSV file.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Also plot the measures (volume and area against t) into this SVG file.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Also render every frame into this directory as frame_0000.png, … (created if missing).
+    #[arg(long)]
+    pub frames_dir: Option<PathBuf>,
+    /// Grid rows (values of u; default from [output] or 64).
+    #[arg(long)]
+    pub nu: Option<usize>,
+    /// Grid columns (values of v; default from [output] or 128).
+    #[arg(long)]
+    pub nv: Option<usize>,
+    /// Multiply every position by this factor (finite, positive).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+}
+
+/// An animation read from a file, with what locates its errors.
+pub struct Animated {
+    pub anim: Animation,
+    /// The file whose paths the design's errors name (the morph's source for a morph).
+    pub design: Loaded,
+    /// The `[output]` grid of the file.
+    pub output: spec::OutputSpec,
+    pub title: Option<String>,
+}
+
+fn read_text(path: &Path) -> Result<String, CliError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path)
+        .map_err(|e| CliError::input(format!("{file}: cannot read: {}", common::io_words(&e))))?;
+    String::from_utf8(bytes)
+        .map_err(|_| CliError::input(format!("{file}: the design file is not UTF-8 text")))
+}
+
+/// Reads a timed design or a morph file.
+pub fn load(path: &Path) -> Result<Animated, CliError> {
+    let file = path.display().to_string();
+    let text = read_text(path)?;
+    let located =
+        |f: &str, t: &str, e: &pdeshape::Error| CliError::input(spec::describe_error(f, t, e));
+    match time::parse_morph_file(&text).map_err(|e| located(&file, &text, &e))? {
+        Some(mf) => {
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let source = common::load(&dir.join(&mf.morph.source))?;
+            let target = common::load(&dir.join(&mf.morph.target))?;
+            let morph = Morph::new(&source.text, &target.text).map_err(|e| {
+                CliError::input(format!(
+                    "{file}: morph: {}",
+                    spec::describe_error(&source.file, &source.text, &e)
+                ))
+            })?;
+            let spec = morph
+                .at(0.0)
+                .map_err(|e| located(&source.file, &source.text, &e))?;
+            Ok(Animated {
+                anim: Animation::Morph {
+                    morph,
+                    time: mf.time,
+                    ease: mf.morph.ease,
+                },
+                design: Loaded {
+                    file: source.file,
+                    text: source.text,
+                    spec,
+                },
+                output: mf.output,
+                title: mf.title,
+            })
+        }
+        None => {
+            let timed = time::parse_timed(&text).map_err(|e| located(&file, &text, &e))?;
+            let spec = timed
+                .at(timed.time.start)
+                .map_err(|e| located(&file, &text, &e))?;
+            Ok(Animated {
+                output: spec.output.clone(),
+                title: spec.title.clone(),
+                anim: Animation::Timed(timed),
+                design: Loaded { file, text, spec },
+            })
+        }
+    }
+}
+
+/// The design of `path` at time `t` (`pdeshape surface --time`).
+pub fn load_at(path: &Path, t: f64) -> Result<Loaded, CliError> {
+    if !t.is_finite() {
+        return Err(CliError::input(format!("--time: must be finite (got {t})")));
+    }
+    let l = load(path)?;
+    let mut spec = l.anim.spec_at(t).map_err(|e| l.design.error(&e))?;
+    if let Animation::Morph { .. } = l.anim {
+        spec.output = l.output.clone();
+    }
+    Ok(Loaded { spec, ..l.design })
+}
+
+fn progress(total: u64) -> ProgressBar {
+    let target = if common::quiet() || total < 8 {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let pb = ProgressBar::with_draw_target(Some(total), target);
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix} [{bar:40}] {pos}/{len} frames {msg} ({elapsed})")
+    {
+        pb.set_style(style.progress_chars("=> "));
+    }
+    pb.set_prefix("animate");
+    pb
+}
+
+/// The eight corners of a box as an invisible polyline, so that every frame's picture has the
+/// same framing (the renderer fits everything it draws).
+fn frame_box(lo: [f64; 3], hi: [f64; 3]) -> Polyline {
+    let mut points = Vec::new();
+    for k in 0..8 {
+        let c = |i: usize| if k >> i & 1 == 0 { lo[i] } else { hi[i] };
+        points.push(Vec3::new(c(0), c(1), c(2)));
+    }
+    Polyline {
+        points,
+        color: [255, 255, 255],
+        width: 0.0,
+        closed: false,
+    }
+}
+
+fn check_extension(path: &Path, ext: &str, flag: &str) -> Result<(), CliError> {
+    let ok = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    if ok {
+        Ok(())
+    } else {
+        Err(CliError::input(format!(
+            "{flag} {}: must end in .{ext}",
+            path.display()
+        )))
+    }
+}
+
+pub fn run(args: &Args) -> Result<(), CliError> {
+    check_extension(&args.output, "glb", "-o")?;
+    if let Some(p) = &args.csv {
+        check_extension(p, "csv", "--csv")?;
+    }
+    if let Some(p) = &args.plot {
+        check_extension(p, "svg", "--plot")?;
+    }
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        return Err(CliError::input(format!(
+            "--scale: must be finite and positive (got {})",
+            args.scale
+        )));
+    }
+    let l = load(&args.design)?;
+    let mut grid_spec = l.design.spec.clone();
+    grid_spec.output = l.output.clone();
+    let grid_of = Loaded {
+        file: l.design.file.clone(),
+        text: l.design.text.clone(),
+        spec: grid_spec,
+    };
+    let (nu, nv) = grid_of.grid(args.nu, args.nv)?;
+    let times = l.anim.times().map_err(|e| {
+        let shown = args.design.display().to_string();
+        match &l.anim {
+            Animation::Timed(_) => l.design.error(&e),
+            Animation::Morph { .. } => CliError::input(format!("{shown}: {e}")),
+        }
+    })?;
+    let mut out = Output::create(&args.output)?;
+    let mut csv_out = args.csv.as_deref().map(Output::create).transpose()?;
+    let mut plot_out = args.plot.as_deref().map(Output::create).transpose()?;
+    if let Some(dir) = &args.frames_dir {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            CliError::input(format!(
+                "--frames-dir {}: {}",
+                dir.display(),
+                common::io_words(&e)
+            ))
+        })?;
+    }
+    let export = Export::default();
+    let mut keys = Keyframes::new(l.anim.time());
+    let mut measures = Measures {
+        units: l.design.spec.units.unwrap_or_default().as_str().to_string(),
+        ..Measures::default()
+    };
+    let want_measures = csv_out.is_some() || plot_out.is_some();
+    let pb = progress(times.len() as u64);
+    let located = |e: pdeshape::Error| l.design.error(&e);
+    anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
+        keys.push(&f);
+        if want_measures {
+            let (area, volume) = anim::measure(f.solved)?;
+            measures.rows.push(Row {
+                t: f.t,
+                epsilon: l.anim.epsilon(f.t),
+                area,
+                volume,
+            });
+        }
+        pb.inc(1);
+        Ok(())
+    })
+    .map_err(located)?;
+    pb.finish_and_clear();
+    let title = l.title.clone().or_else(|| keys.title.clone());
+    let info = MeshInfo {
+        title: title.clone(),
+        units: keys.units,
+        scale: args.scale,
+        ..MeshInfo::default()
+    };
+    let shown = args.output.display().to_string();
+    {
+        let mut w = out.writer();
+        anim::write_glb(&keys, &info, &mut w)
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    }
+    if let Some(o) = csv_out.as_mut() {
+        let mut w = o.writer();
+        measures
+            .write_csv(&mut w)
+            .and_then(|_| w.flush())
+            .map_err(|e| CliError::input(format!("--csv: {}", common::io_words(&e))))?;
+    }
+    if let Some(o) = plot_out.as_mut() {
+        let name = title.clone().unwrap_or_else(|| "pdeshape animate".into());
+        o.write_all(measures.svg(&name).as_bytes())?;
+    }
+    // Pictures: a second pass (the framing is the box around every frame).
+    let mut pictures = Vec::new();
+    if let Some(dir) = &args.frames_dir {
+        let (lo, hi) = keys.bounds();
+        let boxed = frame_box(lo, hi);
+        let pb = progress(times.len() as u64);
+        pb.set_prefix("pictures");
+        anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
+            let mut overlays = f.solved.overlays();
+            overlays.push(boxed.clone());
+            let png = pdeshape::render::render_png(f.grids, &overlays, &RenderOptions::default())?;
+            let path = dir.join(format!("frame_{:04}.png", f.index));
+            let mut o = Output::create(&path).map_err(|e| pdeshape::Error::io(e.message))?;
+            o.write_all(&png)
+                .map_err(|e| pdeshape::Error::io(e.message))?;
+            pictures.push(o);
+            pb.inc(1);
+            Ok(())
+        })
+        .map_err(located)?;
+        pb.finish_and_clear();
+    }
+    out.commit()?;
+    if let Some(o) = csv_out {
+        o.commit()?;
+    }
+    if let Some(o) = plot_out {
+        o.commit()?;
+    }
+    let n_pictures = pictures.len();
+    for p in pictures {
+        p.commit()?;
+    }
+    let mut extra = String::new();
+    if let Some(p) = &args.csv {
+        extra += &format!("; wrote {}", p.display());
+    }
+    if let Some(p) = &args.plot {
+        extra += &format!("; wrote {}", p.display());
+    }
+    if let Some(d) = &args.frames_dir {
+        extra += &format!("; wrote {n_pictures} pictures in {}", d.display());
+    }
+    common::report(&format!(
+        "wrote {shown}: {} frames, {nu} × {nv} grid, {} vertices{}{extra}\n",
+        times.len(),
+        keys.positions.first().map_or(0, Vec::len),
+        if keys.looped { ", looped" } else { "" }
+    ));
+    Ok(())
+}
