@@ -14,9 +14,16 @@
 
 #[cfg(test)]
 mod color_tests;
+mod colorbar;
 mod raster;
 #[cfg(test)]
 mod tests;
+mod text;
+
+pub use colorbar::{
+    nice_step, nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
+    short_label, tick_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
+};
 
 use crate::mesh::{GridMesh, TriMesh};
 use crate::{Error, Result, Vec3};
@@ -113,6 +120,16 @@ pub fn render_png_colored(
     overlays: &[Polyline],
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
+    check_colors(meshes, colors)?;
+    check_size(options)?;
+    validate(meshes, overlays)?;
+    let camera = Camera::fit(meshes, overlays, options)?;
+    let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
+    encode_png(options.width, options.height, &rgb)
+}
+
+/// Refuses colour lists whose number or lengths do not match the meshes.
+fn check_colors(meshes: &[GridMesh], colors: &[Vec<[u8; 3]>]) -> Result<()> {
     if colors.len() != meshes.len() {
         return Err(Error::invalid(format!(
             "{} colour lists for {} meshes",
@@ -129,6 +146,11 @@ pub fn render_png_colored(
             )));
         }
     }
+    Ok(())
+}
+
+/// Refuses picture sizes of 0 or above [`MAX_SIDE`].
+fn check_size(options: &RenderOptions) -> Result<()> {
     let (w, h) = (options.width, options.height);
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         return Err(Error::invalid(format!(
@@ -136,10 +158,7 @@ pub fn render_png_colored(
         ))
         .at("size"));
     }
-    validate(meshes, overlays)?;
-    let camera = Camera::fit(meshes, overlays, options)?;
-    let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
-    encode_png(w, h, &rgb)
+    Ok(())
 }
 
 /// The cool–warm diverging colour map: `lo` blue `(59, 76, 192)`, the middle of `[lo, hi]` light
