@@ -282,9 +282,10 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
 }
 
 /// Per-vertex colours of every mesh (PDE patches, then parametric surfaces, as
-/// `common::meshes` orders them) by `K` or `H`, and the range used: `range`, or symmetric about
-/// zero with the largest finite magnitude on the grids (`±1` if all are zero). `H` is taken with
-/// the design's outward orientation.
+/// `common::meshes` orders them) by `K` or `H`, and the range used: `range`, or
+/// `render::robust_range` of the values on the grids (1st to 99th percentile, symmetric about 0
+/// when it spans 0; `±1` if no value is finite). `H` is taken with the design's outward
+/// orientation.
 pub fn curvature_colors(
     built: &pdeshape::design::SolvedDesign,
     meshes: &[pdeshape::mesh::GridMesh],
@@ -315,18 +316,7 @@ pub fn curvature_colors(
         .collect();
     let (lo, hi) = match range {
         Some(r) => r,
-        None => {
-            let m = values
-                .iter()
-                .flatten()
-                .filter(|x| x.is_finite())
-                .fold(0.0f64, |m, x| m.max(x.abs()));
-            if m > 0.0 {
-                (-m, m)
-            } else {
-                (-1.0, 1.0)
-            }
-        }
+        None => pdeshape::render::robust_range(values.iter().flatten()).unwrap_or((-1.0, 1.0)),
     };
     let colors = values
         .iter()

@@ -28,8 +28,9 @@ pub struct Args {
     /// blue low, grey middle, red high.
     #[arg(long, value_enum)]
     pub color: Option<crate::analyze::ColorBy>,
-    /// The curvature range of the colour map, LO,HI (default: symmetric about 0, ± the largest
-    /// magnitude on the grid).
+    /// The curvature range of the colour map, LO,HI (default: the 1st to 99th percentile of the
+    /// values on the grid, made symmetric about 0 when it spans 0). A colour bar with the values
+    /// is drawn on the right.
     #[arg(long, allow_hyphen_values = true)]
     pub range: Option<String>,
 }
@@ -152,11 +153,19 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         ),
         Some(by) => {
             let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
+            let bar = curvature_bar(by, lo, hi, range.is_some());
             (
-                pdeshape::render::render_png_colored(&meshes, &colors, &built.overlays(), &options),
+                pdeshape::render::render_png_colored_with_bar(
+                    &meshes,
+                    &colors,
+                    &built.overlays(),
+                    &options,
+                    &bar,
+                ),
                 format!(
-                    ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red)",
-                    by.word()
+                    ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red), {}",
+                    by.word(),
+                    bar.note
                 ),
             )
         }
@@ -167,4 +176,29 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let dest = crate::common::destination(&args.output);
     crate::common::report(&format!("wrote {dest}: {width}x{height}{note}\n"));
     Ok(())
+}
+
+/// The colour bar of a curvature picture, with a note saying where its range came from.
+pub fn curvature_bar(
+    by: crate::analyze::ColorBy,
+    lo: f64,
+    hi: f64,
+    given: bool,
+) -> pdeshape::render::ColorBar {
+    let note = if given {
+        "range: --range".to_string()
+    } else if lo == -hi {
+        "range: 1st-99th percentile, symmetric about 0".to_string()
+    } else {
+        "range: 1st-99th percentile".to_string()
+    };
+    pdeshape::render::ColorBar {
+        title: match by {
+            crate::analyze::ColorBy::Gauss => "Gaussian curvature K".into(),
+            crate::analyze::ColorBy::Mean => "mean curvature H".into(),
+        },
+        lo,
+        hi,
+        note,
+    }
 }

@@ -6,7 +6,7 @@
 use crate::common::{self, CliError, Output};
 use pdeshape::design::{solve_spec, SolvedSpline};
 use pdeshape::mesh::{self, Format};
-use pdeshape::splinepde::export::{iges_timestamp, to_iges, IgesOptions};
+use pdeshape::splinepde::export::{iges_timestamp, to_iges_in, IgesOptions, IgesUnit};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -167,12 +167,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 .chars()
                 .map(|c| if c.is_ascii_graphic() { c } else { '_' })
                 .collect();
-            let text = to_iges(
+            let text = to_iges_in(
                 &solved.to_f64(),
                 &IgesOptions {
                     file_name: name,
                     timestamp: iges_timestamp(seconds),
                 },
+                IgesUnit::of(design.spec.units.unwrap_or_default()),
             )
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
             out.write_all(text.as_bytes())?;
@@ -187,7 +188,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             let err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
             let mut w = out.writer();
             if format == Format::Csv {
-                let s = mesh::sample(&surface, nu, nv).map_err(err)?;
+                let mut s = mesh::sample(&surface, nu, nv).map_err(err)?;
+                // One convention for both columns: u and v in the knot domain of their knot
+                // vectors (the surface is evaluated with u normalised to [0, 1]).
+                let [[a, b], _] = surface.domain();
+                for u in &mut s.u {
+                    *u = a + (b - a) * *u;
+                }
                 mesh::write_csv(&[s], &mut w).map_err(err)?;
             } else {
                 let m = mesh::tessellate(&surface, nu, nv).map_err(err)?;

@@ -43,6 +43,10 @@ pub struct Args {
     /// `pdeshape render` does with its default view and size.
     #[arg(long)]
     pub picture: Option<PathBuf>,
+    /// Colour the `--picture` by Gaussian (`gauss`) or mean (`mean`) curvature, with a colour bar
+    /// (range as `pdeshape render --color`).
+    #[arg(long, value_enum)]
+    pub color: Option<crate::analyze::ColorBy>,
     /// STEP/IGES: the largest deviation of the B-splines from the surfaces (design units;
     /// default 10⁻⁴ of the design's size).
     #[arg(long)]
@@ -150,6 +154,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(pic) = &args.picture {
         crate::render::check_png_path(pic)?;
     }
+    if args.color.is_some() && args.picture.is_none() {
+        return Err(CliError::input(
+            "--color: colours the picture; needs --picture",
+        ));
+    }
     let mut out = Output::create(&args.output)?;
     let mut picture_out = args
         .picture
@@ -174,6 +183,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     };
     if !solved.trims.is_empty() {
+        if args.color.is_some() {
+            return Err(CliError::input(
+                "--color: curvature colours are not drawn on trimmed designs yet",
+            ));
+        }
         return write_trimmed(
             &solved,
             format,
@@ -216,11 +230,22 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             Some(m) => m,
             None => solved.meshes(nu, nv).map_err(located)?,
         };
-        let png = pdeshape::render::render_png(
-            &meshes,
-            &solved.overlays(),
-            &pdeshape::render::RenderOptions::default(),
-        )
+        let options = pdeshape::render::RenderOptions::default();
+        let png = match args.color {
+            None => pdeshape::render::render_png(&meshes, &solved.overlays(), &options),
+            Some(by) => {
+                let (colors, lo, hi) =
+                    crate::analyze::curvature_colors(&solved, &meshes, by, None)?;
+                let bar = crate::render::curvature_bar(by, lo, hi, false);
+                pdeshape::render::render_png_colored_with_bar(
+                    &meshes,
+                    &colors,
+                    &solved.overlays(),
+                    &options,
+                    &bar,
+                )
+            }
+        }
         .map_err(|e| CliError::input(e.to_string()))?;
         pic.write_all(&png)?;
     }

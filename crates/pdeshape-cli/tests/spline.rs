@@ -199,3 +199,70 @@ fn bad_spline_designs_are_located_and_leave_nothing() {
     bad(EXAMPLE1, "o.txt", &["-o", "unknown output extension"]);
     bad("title = \"x\"\n", "o.json", &["no [spline] section"]);
 }
+
+/// The CSV gives `u` and `v` in the same convention: the knot domains (`[3, 4]` for both knot
+/// vectors of example 1), u outer and v inner.
+#[test]
+fn spline_csv_gives_u_and_v_in_the_knot_domain() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "e1.toml", EXAMPLE1);
+    let o = dir.path().join("e1.csv");
+    let out = pdeshape(&["spline", s(&d), "-o", s(&o), "--nu", "5", "--nv", "7"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&o).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("u,v,x,y,z,nx,ny,nz"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 35);
+    let us: Vec<f64> = rows.iter().step_by(7).map(|r| r[0]).collect();
+    let vs: Vec<f64> = rows[..7].iter().map(|r| r[1]).collect();
+    assert_eq!(us, vec![3.0, 3.25, 3.5, 3.75, 4.0]);
+    let expected_v: Vec<f64> = (0..7).map(|j| 3.0 + j as f64 / 6.0).collect();
+    for (v, e) in vs.iter().zip(&expected_v) {
+        assert!((v - e).abs() < 1e-15, "{vs:?}");
+    }
+    // Every row of one u holds that u; every column of one v holds that v.
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r[0], us[k / 7]);
+        assert_eq!(r[1], vs[k % 7]);
+    }
+}
+
+/// The IGES Global section declares the design's `units` (flag and name; mm when absent).
+#[test]
+fn spline_iges_declares_the_design_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let global = |text: &str| -> String {
+        text.lines()
+            .filter(|l| l.as_bytes().get(72) == Some(&b'G'))
+            .map(|l| &l[..72])
+            .collect::<String>()
+    };
+    for (units, expected) in [
+        (None, ",2,2HMM,"),
+        (Some("in"), ",1,4HINCH,"),
+        (Some("m"), ",6,1HM,"),
+        (Some("cm"), ",10,2HCM,"),
+    ] {
+        let text = match units {
+            None => EXAMPLE1.to_string(),
+            Some(u) => EXAMPLE1.replace("[spline]", &format!("units = \"{u}\"\n\n[spline]")),
+        };
+        let d = write(dir.path(), "u.toml", &text);
+        let o = dir.path().join("u.igs");
+        let out = pdeshape(&["spline", s(&d), "-o", s(&o)]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let g = global(&std::fs::read_to_string(&o).unwrap());
+        assert!(g.contains(expected), "{units:?}: {g}");
+    }
+}

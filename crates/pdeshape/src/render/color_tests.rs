@@ -17,7 +17,7 @@ fn diverging_map_ends_middle_and_nan() {
     assert_eq!(diverging_colors(&[0.25], 0.0, 1.0)[0], [140, 149, 207]);
 }
 
-struct Disc;
+pub(super) struct Disc;
 impl Surface for Disc {
     fn v_domain(&self) -> VDomain {
         VDomain::Periodic

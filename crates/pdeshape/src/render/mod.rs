@@ -14,9 +14,16 @@
 
 #[cfg(test)]
 mod color_tests;
+mod colorbar;
 mod raster;
 #[cfg(test)]
 mod tests;
+mod text;
+
+pub use colorbar::{
+    nice_step, nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
+    short_label, tick_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
+};
 
 use crate::mesh::{GridMesh, TriMesh};
 use crate::{Error, Result, Vec3};
@@ -91,19 +98,7 @@ pub fn render_rgb(
     overlays: &[Polyline],
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
-    let (w, h) = (options.width, options.height);
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(Error::invalid(format!(
-            "picture size {w} × {h}: each side must be between 1 and {MAX_SIDE} pixels"
-        ))
-        .at("size"));
-    }
-    crate::memory::check_items(
-        w as u64 * h as u64,
-        crate::memory::BYTES_PER_PIXEL,
-        &format!("a {w} × {h} picture"),
-        "size",
-    )?;
+    check_size(options)?;
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;
     Ok(raster::draw(meshes, overlays, &camera))
@@ -119,6 +114,16 @@ pub fn render_png_colored(
     overlays: &[Polyline],
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
+    check_colors(meshes, colors)?;
+    check_size(options)?;
+    validate(meshes, overlays)?;
+    let camera = Camera::fit(meshes, overlays, options)?;
+    let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
+    encode_png(options.width, options.height, &rgb)
+}
+
+/// Refuses colour lists whose number or lengths do not match the meshes.
+fn check_colors(meshes: &[GridMesh], colors: &[Vec<[u8; 3]>]) -> Result<()> {
     if colors.len() != meshes.len() {
         return Err(Error::invalid(format!(
             "{} colour lists for {} meshes",
@@ -135,6 +140,11 @@ pub fn render_png_colored(
             )));
         }
     }
+    Ok(())
+}
+
+/// Refuses picture sizes of 0 or above [`MAX_SIDE`].
+fn check_size(options: &RenderOptions) -> Result<()> {
     let (w, h) = (options.width, options.height);
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         return Err(Error::invalid(format!(
@@ -148,10 +158,7 @@ pub fn render_png_colored(
         &format!("a {w} × {h} picture"),
         "size",
     )?;
-    validate(meshes, overlays)?;
-    let camera = Camera::fit(meshes, overlays, options)?;
-    let rgb = raster::draw_colored(meshes, Some(colors), overlays, &camera);
-    encode_png(w, h, &rgb)
+    Ok(())
 }
 
 /// The cool–warm diverging colour map: `lo` blue `(59, 76, 192)`, the middle of `[lo, hi]` light

@@ -12,6 +12,7 @@ pub fn schema_value() -> Value {
     let mut v = serde_json::to_value(&schema).unwrap_or(Value::Null);
     unwrap_all_of(&mut v);
     add_limits(&mut v);
+    add_descriptions(&mut v);
     if let Value::Object(root) = &mut v {
         if let Some(Value::Object(props)) = root.get_mut("properties") {
             if let Some(Value::Object(curves)) = props.get_mut("curves") {
@@ -42,6 +43,184 @@ fn unwrap_all_of(v: &mut Value) {
         }
         Value::Array(items) => items.iter_mut().for_each(unwrap_all_of),
         _ => {}
+    }
+}
+
+/// Descriptions of the properties whose Rust fields carry none (fields of enum variants, the
+/// tags schemars adds): `(definition, variant tag or "", property, text)`.
+const DESCRIPTIONS: &[(&str, &str, &str, &str)] = &[
+    ("CurveSpec", "circle", "center", "Centre of the circle [x, y, z]."),
+    ("CurveSpec", "circle", "radius", "Radius (> 0)."),
+    ("CurveSpec", "circle", "normal", "Normal of the circle's plane (default [0, 0, 1]); v runs counter-clockwise about it."),
+    ("CurveSpec", "ellipse", "center", "Centre of the ellipse [x, y, z]."),
+    ("CurveSpec", "ellipse", "axis1", "The point at v = 0 minus the centre (with axis2; instead of rx, ry)."),
+    ("CurveSpec", "ellipse", "axis2", "The point at v = π/2 minus the centre (with axis1)."),
+    ("CurveSpec", "ellipse", "rx", "Semi-axis along the start direction (> 0; with ry)."),
+    ("CurveSpec", "ellipse", "ry", "Semi-axis perpendicular to it in the plane (> 0; with rx)."),
+    ("CurveSpec", "ellipse", "normal", "Normal of the plane of rx, ry (default [0, 0, 1])."),
+    ("CurveSpec", "point", "at", "The point [x, y, z] the whole curve sits on (a pole)."),
+    ("CurveSpec", "bspline", "control", "Control points [x, y, z]."),
+    ("CurveSpec", "bspline", "degree", "Polynomial degree (1 to 30)."),
+    ("CurveSpec", "bspline", "knots", "Periodic: the control.len() + 1 increasing breakpoints (default uniform); open: the full clamped knot vector."),
+    ("CurveSpec", "bspline", "periodic", "Closed periodic curve over [0, 2π] (default true) or an open clamped one."),
+    ("CurveSpec", "bezier", "control", "Control points [x, y, z] (degree = count − 1)."),
+    ("CurveSpec", "hermite", "p0", "Position at the start."),
+    ("CurveSpec", "hermite", "p1", "Position at the end."),
+    ("CurveSpec", "hermite", "d0", "Derivative at the start."),
+    ("CurveSpec", "hermite", "d1", "Derivative at the end."),
+    ("CurveSpec", "fourier", "a0", "The constant term [x, y, z]."),
+    ("CurveSpec", "fourier", "cos", "Coefficients of cos v, cos 2v, … (one [x, y, z] each)."),
+    ("CurveSpec", "fourier", "sin", "Coefficients of sin v, sin 2v, … (one [x, y, z] each)."),
+    ("CurveSpec", "samples", "points", "The closed sequence of points [x, y, z] (the last is not repeated)."),
+    ("CurveSpec", "samples", "param", "How the samples are spread over [0, 2π]: uniform, chord (default) or centripetal."),
+    ("CurveSpec", "formula", "x", "x as a formula in v."),
+    ("CurveSpec", "formula", "y", "y as a formula in v."),
+    ("CurveSpec", "formula", "z", "z as a formula in v."),
+    ("CurveSpec", "formula", "domain", "The range of v: periodic over [0, 2π] (default) or an interval."),
+    ("CurveSpec", "derivative", "position", "The position curve (name or inline table)."),
+    ("CurveSpec", "derivative", "direction", "The direction curve (name or inline table)."),
+    ("CurveSpec", "derivative", "scale", "The factor s of X_u = s (direction − position)."),
+    ("CurveSpec", "local", "curve", "The curve edited (name or inline table)."),
+    ("CurveSpec", "local", "from", "Start of the edited interval of v."),
+    ("CurveSpec", "local", "to", "End of the edited interval of v (below from: across v = 0 on a periodic curve)."),
+    ("CurveSpec", "local", "at", "The handle's parameter (default the middle of the interval)."),
+    ("CurveSpec", "local", "along", "Move of the handle from C(from) towards C(to)."),
+    ("CurveSpec", "local", "across", "Move of the handle in the plane of the three points, towards the handle."),
+    ("CurveSpec", "local", "normal", "Move of the handle perpendicular to that plane."),
+    ("DynamicSpec", "", "y", "Run: the second component's initial curve (as x)."),
+    ("DynamicSpec", "", "z", "Run: the third component's initial curve (as x)."),
+    ("DynamicSpec", "", "end", "Interpolation: the end point."),
+    ("DynamicSpec", "", "start_tangent", "Interpolation: the derivative at the start (u ∈ [0, 1])."),
+    ("DynamicSpec", "", "end_tangent", "Interpolation: the derivative at the end (u ∈ [0, 1])."),
+    ("EnergySpec", "section6", "a", "The smoothing parameter a (> 0)."),
+    ("EnergySpec", "general", "a", "Weight of |u_xx|²."),
+    ("EnergySpec", "general", "b", "Weight of ⟨u_xx, u_xy⟩."),
+    ("EnergySpec", "general", "c", "Weight of |u_xy|²."),
+    ("EnergySpec", "general", "d", "Weight of ⟨u_xy, u_yy⟩."),
+    ("EnergySpec", "general", "e", "Weight of |u_yy|²."),
+    ("EnergySpec", "general", "mixed", "How the mixed terms are formed."),
+    ("OperatorSpec", "polyharmonic", "a", "The smoothing parameter a (10⁻⁶ to 10⁶)."),
+    ("OperatorSpec", "polyharmonic", "order", "The power N (1 to 20): 2 is the biharmonic operator of the book."),
+    ("OperatorSpec", "sixth-order", "a", "Coefficient of ∂u⁶."),
+    ("OperatorSpec", "sixth-order", "b", "Coefficient of ∂u⁴∂v²."),
+    ("OperatorSpec", "sixth-order", "c", "Coefficient of ∂u²∂v⁴."),
+    ("OperatorSpec", "sixth-order", "d", "Coefficient of ∂v⁶."),
+    ("OperatorSpec", "general", "coefficients", "[c_0, …, c_N]: c_k multiplies ∂u^(2N−2k) ∂v^(2k)."),
+    ("ParametricSpec", "", "y", "The y coordinate as a formula in u and v."),
+    ("ParametricSpec", "", "z", "The z coordinate as a formula in u and v."),
+    ("PointSpec", "", "at", "The site [u, v] in [0, 1]²."),
+    ("PointSpec", "", "value", "The point [x, y, z] the surface takes there."),
+    ("SpineHermite", "", "p0", "A₀(0), the spine's start."),
+    ("SpineHermite", "", "p1", "A₀(1), the spine's end."),
+    ("SpineHermite", "", "d0", "A₀'(0), the speed at the start."),
+    ("SpineHermite", "", "d1", "A₀'(1), the speed at the end."),
+    ("SplineOperatorSpec", "second-order", "a", "Coefficient of x_uu."),
+    ("SplineOperatorSpec", "second-order", "b", "Coefficient of x_uv."),
+    ("SplineOperatorSpec", "second-order", "c", "Coefficient of x_vv."),
+    ("SplineOperatorSpec", "second-order", "d", "Coefficient of x_u."),
+    ("SplineOperatorSpec", "second-order", "e", "Coefficient of x_v."),
+    ("SplineOperatorSpec", "second-order", "f", "Coefficient of x."),
+    ("SplineOperatorSpec", "fourth-order", "a", "Coefficient of x_uuuu."),
+    ("SplineOperatorSpec", "fourth-order", "b", "Coefficient of x_uuuv."),
+    ("SplineOperatorSpec", "fourth-order", "c", "Coefficient of x_uuvv."),
+    ("SplineOperatorSpec", "fourth-order", "d", "Coefficient of x_uvvv."),
+    ("SplineOperatorSpec", "fourth-order", "e", "Coefficient of x_vvvv."),
+    ("SplineOperatorSpec", "modified-biharmonic", "a", "The parameter a of F_a."),
+    ("SurfaceSpec", "cylinder", "base", "Centre of the cylinder's base circle."),
+    ("SurfaceSpec", "cylinder", "axis", "Axis vector: v runs from base to base + axis."),
+    ("SurfaceSpec", "cylinder", "radius", "Radius (> 0)."),
+    ("SurfaceSpec", "plane", "origin", "The point at u = v = 0."),
+    ("SurfaceSpec", "plane", "du", "The step along u (u ∈ [0, 1])."),
+    ("SurfaceSpec", "plane", "dv", "The step along v."),
+    ("SurfaceSpec", "patch", "name", "The name of the design's surface."),
+    ("TransformStep", "translate", "translate", "The vector [x, y, z] added to every point."),
+    ("TransformStep", "rotate", "rotate", "A rotation: axis, angle (degrees) and the point about."),
+    ("TransformStep", "rotate", "axis", "Direction of the rotation axis (right-handed)."),
+    ("TransformStep", "rotate", "about", "A point on the rotation axis (default the origin)."),
+    ("TransformStep", "scale", "scale", "A uniform scaling: factor and the fixed point about."),
+    ("TransformStep", "scale", "factor", "The factor (non-zero)."),
+    ("TransformStep", "scale", "about", "The fixed point (default the origin)."),
+    ("TransformStep", "dilate", "dilate", "A scaling along the axes: factors and the fixed point about."),
+    ("TransformStep", "dilate", "factors", "[fx, fy, fz], each non-zero."),
+    ("TransformStep", "dilate", "about", "The fixed point (default the origin)."),
+    ("TrimCurveSpec", "circle", "center", "Centre [u, v]."),
+    ("TrimCurveSpec", "circle", "radius", "Radius in (u, v) (> 0)."),
+    ("TrimCurveSpec", "ellipse", "center", "Centre [u, v]."),
+    ("TrimCurveSpec", "ellipse", "radii", "Semi-axes [a, b] (> 0)."),
+    ("TrimCurveSpec", "ellipse", "angle", "Rotation of the a axis from the u axis, radians."),
+    ("TrimCurveSpec", "polyline", "points", "The corners [u, v] in order."),
+    ("TrimCurveSpec", "bspline", "points", "Control points [u, v], taken cyclically."),
+    ("TrimCurveSpec", "bspline", "degree", "Degree (default 3)."),
+];
+
+/// Fills missing property descriptions from [`DESCRIPTIONS`]; the tag of a variant (`type`,
+/// `kind`) is described by its value and the variant's own description.
+fn add_descriptions(root: &mut Value) {
+    let Some(Value::Object(defs)) = root.get_mut("definitions") else {
+        return;
+    };
+    for (def, d) in defs.iter_mut() {
+        let Value::Object(d) = d else { continue };
+        if let Some(Value::Array(variants)) = d.get_mut("oneOf") {
+            for variant in variants.iter_mut() {
+                let Value::Object(variant) = variant else {
+                    continue;
+                };
+                let summary = variant.get("description").and_then(Value::as_str).map(|t| {
+                    t.split(". ")
+                        .next()
+                        .unwrap_or(t)
+                        .trim_end_matches('.')
+                        .to_string()
+                });
+                let Some(Value::Object(props)) = variant.get_mut("properties") else {
+                    continue;
+                };
+                let tag = props
+                    .iter()
+                    .find_map(|(k, p)| {
+                        let e = p.get("enum")?.as_array()?;
+                        (matches!(k.as_str(), "type" | "kind") && e.len() == 1)
+                            .then(|| e[0].as_str().map(str::to_string))?
+                    })
+                    .or_else(|| (props.len() == 1).then(|| props.keys().next().cloned())?)
+                    .unwrap_or_default();
+                describe(def, &tag, props, summary.as_deref());
+                // Externally tagged variants: `{ rotate = { axis, … } }`.
+                if let Some(Value::Object(inner)) = props.get_mut(&tag) {
+                    if let Some(Value::Object(p)) = inner.get_mut("properties") {
+                        describe(def, &tag, p, None);
+                    }
+                }
+            }
+        }
+        if let Some(Value::Object(props)) = d.get_mut("properties") {
+            describe(def, "", props, None);
+        }
+    }
+}
+
+fn describe(def: &str, tag: &str, props: &mut Map<String, Value>, summary: Option<&str>) {
+    for (name, p) in props.iter_mut() {
+        let Value::Object(p) = p else { continue };
+        if p.contains_key("description") {
+            continue;
+        }
+        let text = DESCRIPTIONS
+            .iter()
+            .find(|(d, t, n, _)| *d == def && *t == tag && n == name)
+            .map(|(.., text)| text.to_string())
+            .or_else(|| {
+                (matches!(name.as_str(), "type" | "kind") && !tag.is_empty()).then(|| {
+                    format!(
+                        "\"{tag}\": {}.",
+                        summary.unwrap_or("this kind").trim_end_matches('.')
+                    )
+                })
+            });
+        if let Some(text) = text {
+            p.insert("description".into(), Value::String(text));
+        }
     }
 }
 
@@ -93,6 +272,14 @@ fn add_limits(v: &mut Value) {
                         "degree" if integer => {
                             set(p, "minimum", json!(1));
                             set(p, "maximum", json!(30));
+                        }
+                        // `[spline] degree = [p, q]`, each 1 to 20.
+                        "degree" if array => {
+                            set(p, "maxItems", json!(2));
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "minimum", json!(1));
+                                set(items, "maximum", json!(20));
+                            }
                         }
                         "steps" | "max_steps" if integer => {
                             set(p, "minimum", json!(1));
@@ -169,6 +356,56 @@ mod tests {
             }
             Value::Array(a) => a.iter().map(count_single_all_of).sum(),
             _ => 0,
+        }
+    }
+
+    /// Every property, wherever it is, with where it is.
+    fn properties<'a>(v: &'a Value, path: String, out: &mut Vec<(String, &'a Value)>) {
+        match v {
+            Value::Object(m) => {
+                if let Some(Value::Object(props)) = m.get("properties") {
+                    for (k, p) in props {
+                        out.push((format!("{path}/{k}"), p));
+                    }
+                }
+                for (k, x) in m {
+                    properties(x, format!("{path}/{k}"), out);
+                }
+            }
+            Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    properties(x, format!("{path}[{i}]"), out);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    #[test]
+    fn every_property_has_a_description() {
+        let schema = schema_value();
+        let mut all = Vec::new();
+        properties(&schema, String::new(), &mut all);
+        assert!(all.len() > 250, "{}", all.len());
+        let missing: Vec<&String> = all
+            .iter()
+            .filter(|(_, p)| {
+                p.get("description")
+                    .and_then(Value::as_str)
+                    .is_none_or(|d| d.trim().is_empty())
+            })
+            .map(|(path, _)| path)
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "{} without a description: {missing:#?}",
+            missing.len()
+        );
+        // Every row of the table is used (a renamed field would leave its text behind).
+        let text = schema_value().to_string();
+        for (d, t, n, desc) in DESCRIPTIONS {
+            let quoted = serde_json::to_string(desc).unwrap();
+            assert!(text.contains(&quoted), "unused: {d} {t} {n}");
         }
     }
 

@@ -168,11 +168,32 @@ impl IgesUnit {
         flag: 1,
         name: "INCH",
     };
+
+    /// The IGES unit of a design's `units`.
+    pub fn of(units: crate::spec::Units) -> IgesUnit {
+        use crate::spec::Units;
+        match units {
+            Units::Millimetre => IgesUnit::MILLIMETRE,
+            Units::Centimetre => IgesUnit::CENTIMETRE,
+            Units::Metre => IgesUnit::METRE,
+            Units::Inch => IgesUnit::INCH,
+        }
+    }
 }
 
 /// The net as an IGES 5.3 file with one entity 128 (rational B-spline surface, polynomial:
 /// all weights 1), in millimetres ([`iges_surfaces`]).
 pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<String> {
+    to_iges_in(net, opts, IgesUnit::MILLIMETRE)
+}
+
+/// [`to_iges`] with the Global section declaring `unit` (flag and name; the coordinates are
+/// written as they are, in that unit).
+pub fn to_iges_in<T: Scalar>(
+    net: &SplineNet<T>,
+    opts: &IgesOptions,
+    unit: IgesUnit,
+) -> Result<String> {
     let net = net.to_f64();
     let (nu, nv) = (net.u.count(), net.v.count());
     let surface = IgesSurface {
@@ -191,7 +212,7 @@ pub fn to_iges<T: Scalar>(net: &SplineNet<T>, opts: &IgesOptions) -> Result<Stri
     iges_surfaces(
         &[surface],
         opts,
-        IgesUnit::MILLIMETRE,
+        unit,
         "pdeshape: a B-spline solution of a PDE, IGES entity 128",
     )
 }
