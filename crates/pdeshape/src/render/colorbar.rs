@@ -322,7 +322,8 @@ mod tests {
         assert_eq!((lo, hi), (1.0 + 9.0 / 999.0, 1.0 + 990.0 / 999.0));
         // Across zero: symmetric about it.
         let w: Vec<f64> = (0..=100).map(|i| -1.0 + 3.0 * i as f64 / 100.0).collect();
-        assert_eq!(robust_range(&w), Some((-1.97, 1.97)));
+        // Ranks 1 and 100 of 101: w[0] = −1 and w[99] ≈ 1.97; the larger magnitude wins.
+        assert_eq!(robust_range(&w), Some((-w[99], w[99])));
         assert_eq!(robust_range(&[2.0, 2.0]), Some((1.98, 2.02)));
         assert_eq!(robust_range(&[0.0]), Some((-1.0, 1.0)));
         assert_eq!(robust_range(&[f64::NAN]), None);
@@ -384,7 +385,8 @@ mod tests {
         );
         assert_eq!(tick_label(0.6000000000000001, 0.2), "0.6");
         assert_eq!(tick_label(-2.5e-4, 5e-5), "-2.5e-4");
-        assert_eq!(tick_label(-2.5e-4, 1e-5), "-2.50e-4");
+        assert_eq!(tick_label(-2.5e-4, 1e-5), "-2.5e-4");
+        assert_eq!(tick_label(-2.5e-4, 1e-6), "-2.50e-4");
         assert_eq!(short_label(1.23456), "1.23");
         assert_eq!(short_label(-0.000123456), "-1.23e-4");
         assert!(nice_ticks(1.0, 1.0).is_empty());

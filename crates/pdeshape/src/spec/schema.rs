@@ -13,6 +13,7 @@ pub fn schema_value() -> Value {
     unwrap_all_of(&mut v);
     add_limits(&mut v);
     add_descriptions(&mut v);
+    allow_time_formulas(&mut v);
     if let Value::Object(root) = &mut v {
         if let Some(Value::Object(props)) = root.get_mut("properties") {
             if let Some(Value::Object(curves)) = props.get_mut("curves") {
@@ -21,6 +22,68 @@ pub fn schema_value() -> Value {
         }
     }
     v
+}
+
+/// The sections whose numbers are never formulas in `t` (they have formula languages of their
+/// own, or define time itself): see `spec::time`.
+const NO_TIME_FORMULAS: &[&str] = &[
+    "DynamicSpec",
+    "OptimizeSpec",
+    "ParametricSpec",
+    "TimeSpec",
+    "FormulaText",
+];
+
+/// Every other number may be written as a formula in `t`, a string starting with `=`
+/// (`spec::time`): `"type": "number"` becomes `["number", "string"]` with a pattern. Limits stay
+/// where they are, since `minimum`/`maximum` constrain numbers only and `pattern` strings only.
+fn allow_time_formulas(root: &mut Value) {
+    fn walk(v: &mut Value) {
+        match v {
+            Value::Object(m) => {
+                let widened = match m.get("type") {
+                    Some(Value::String(t)) if t == "number" => Some(json!(["number", "string"])),
+                    Some(Value::Array(ts))
+                        if ts.contains(&json!("number")) && !ts.contains(&json!("string")) =>
+                    {
+                        let mut ts = ts.clone();
+                        ts.push(json!("string"));
+                        Some(Value::Array(ts))
+                    }
+                    _ => None,
+                };
+                if let Some(t) = widened {
+                    m.insert("type".into(), t);
+                    m.insert("pattern".into(), json!("^\\s*="));
+                }
+                for x in m.values_mut() {
+                    walk(x);
+                }
+            }
+            Value::Array(items) => items.iter_mut().for_each(walk),
+            _ => {}
+        }
+    }
+    let Value::Object(m) = root else { return };
+    for (key, x) in m.iter_mut() {
+        match (key.as_str(), x) {
+            ("definitions", Value::Object(defs)) => {
+                for (name, def) in defs.iter_mut() {
+                    if !NO_TIME_FORMULAS.contains(&name.as_str()) {
+                        walk(def);
+                    }
+                }
+            }
+            ("properties", Value::Object(props)) => {
+                for (name, p) in props.iter_mut() {
+                    if !["dynamic", "optimize", "parametric", "time"].contains(&name.as_str()) {
+                        walk(p);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 /// `{"allOf": [X], ...}` becomes `X` merged with the other keys.
@@ -99,7 +162,6 @@ const DESCRIPTIONS: &[(&str, &str, &str, &str)] = &[
     ("EnergySpec", "general", "d", "Weight of ⟨u_xy, u_yy⟩."),
     ("EnergySpec", "general", "e", "Weight of |u_yy|²."),
     ("EnergySpec", "general", "mixed", "How the mixed terms are formed."),
-    ("OperatorSpec", "polyharmonic", "a", "The smoothing parameter a (10⁻⁶ to 10⁶)."),
     ("OperatorSpec", "polyharmonic", "order", "The power N (1 to 20): 2 is the biharmonic operator of the book."),
     ("OperatorSpec", "sixth-order", "a", "Coefficient of ∂u⁶."),
     ("OperatorSpec", "sixth-order", "b", "Coefficient of ∂u⁴∂v²."),
