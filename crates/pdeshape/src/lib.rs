@@ -37,6 +37,7 @@ pub mod mesh;
 pub mod optimize;
 pub mod render;
 pub mod scalar;
+pub mod shell;
 pub mod spec;
 pub mod spline;
 pub mod splinepde;

@@ -117,6 +117,23 @@ fn weld_candidates(g: &GridMesh) -> Vec<bool> {
 /// The grids of a design welded into one oriented [`TriMesh`] with one part per grid, named
 /// `names[k]` (or `patch<k>` where `names` is short). See the module documentation.
 pub fn weld(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> TriMesh {
+    weld_mapped(grids, names, options).mesh
+}
+
+/// A welded mesh with the way back to its grids.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Welded {
+    /// The mesh [`weld`] returns.
+    pub mesh: TriMesh,
+    /// `source[k][i]`: the welded vertex of vertex `i` of grid `k`.
+    pub source: Vec<Vec<u32>>,
+    /// True for the grids whose triangles were turned over (`X_v × X_u` orientation).
+    pub flipped: Vec<bool>,
+}
+
+/// [`weld`], also returning each grid vertex's welded vertex and each grid's turn (for meshes
+/// built on the same vertices with other elements, such as quadratic shell elements).
+pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> Welded {
     // Tolerance from the bounding box of everything.
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
@@ -349,7 +366,11 @@ pub fn weld(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> TriMesh
             triangles: start..mesh.triangles.len(),
         });
     }
-    mesh
+    Welded {
+        mesh,
+        source,
+        flipped,
+    }
 }
 
 /// `(b − a) × (c − a)` in f64.
