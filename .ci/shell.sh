@@ -7,4 +7,4 @@ if ! command -v ccx >/dev/null 2>&1; then
     apt-get update -qq
     apt-get install -y -qq calculix-ccx
 fi
-cargo test --release -p pdeshape --test shell_ccx -- --ignored
+cargo test --release --workspace --test shell_ccx -- --ignored

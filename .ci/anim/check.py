@@ -134,8 +134,8 @@ def check(bin_, out, validator, example, name, scale_m, ventricle):
 
 def main():
     bin_, out, validator = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
-    check(bin_, out, validator, "anim_ventricle.toml", "ventricle", 0.01, True)
-    check(bin_, out, validator, "anim_glass_morph.toml", "glass", 0.001, False)
+    check(bin_, out, validator, "anim/ventricle.toml", "ventricle", 0.01, True)
+    check(bin_, out, validator, "anim/glass_morph.toml", "glass", 0.001, False)
     if failures:
         print(f"{len(failures)} animation check(s) failed")
         sys.exit(1)

@@ -175,7 +175,8 @@ fn section_4_interpolation() {
     }
     assert!(stdout.contains("bending energy"));
     let svg = std::fs::read_to_string(&p).unwrap();
-    assert_eq!(svg.matches("<circle").count(), 3);
+    // Three data points and the legend's mark for them.
+    assert_eq!(svg.matches("<circle").count(), 4);
 }
 
 const RUN: &str = r#"[dynamic]

@@ -43,7 +43,7 @@ fn morph(source: &str, target: &str) -> Animation {
 
 #[test]
 fn the_morph_starts_at_the_source_and_ends_at_the_target() {
-    let (s, t) = (example("anim_water_glass.toml"), example("wine_glass.toml"));
+    let (s, t) = (example("anim/water_glass.toml"), example("wine_glass.toml"));
     let a = morph(&s, &t);
     let keys = frames(&a, &a.times().unwrap());
     assert_eq!(keys.positions[0], meshes_of(&s));
@@ -71,7 +71,7 @@ fn designs_of_different_structure_are_refused() {
 
 #[test]
 fn the_ventricle_beats_periodically_with_its_extremes_at_the_expected_phases() {
-    let d = parse_timed(&example("anim_ventricle.toml")).unwrap();
+    let d = parse_timed(&example("anim/ventricle.toml")).unwrap();
     let tm = 0.8;
     let a = Animation::Timed(d);
     // One period later the design is the same to rounding (sin²(π) ≈ 1.5e-32).

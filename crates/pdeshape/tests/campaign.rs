@@ -175,6 +175,9 @@ fn mutation_campaign() {
         })
         .collect();
     let mut jobs: Vec<(&'static str, String, String)> = Vec::new();
+    // In rounds (mutant k of every example before mutant k + 1), so partial figures cover every
+    // example.
+    #[allow(clippy::needless_range_loop)]
     for k in 0..per {
         for (e, (name, _)) in examples.iter().enumerate() {
             for &sub in SUBCOMMANDS {

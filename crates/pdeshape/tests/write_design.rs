@@ -37,7 +37,8 @@ fn round_trip_text(text: &str) -> String {
 fn design_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
-        if path.is_dir() {
+        // `anim/` holds timed designs and morph files, read through `spec::time`.
+        if path.is_dir() && !path.ends_with("anim") {
             design_files(&path, out);
         } else if path.extension().is_some_and(|e| e == "toml") {
             out.push(path);

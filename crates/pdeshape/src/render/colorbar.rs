@@ -37,11 +37,15 @@ pub fn robust_range<'a>(values: impl IntoIterator<Item = &'a f64>) -> Option<(f6
         let m = lo.abs().max(hi);
         return Some((-m, m));
     }
-    if lo < hi {
+    // One-signed data that vary by less than a millionth of their size are constant for a
+    // picture (a sphere's curvature to rounding): spreading the colour map over that rounding
+    // would paint noise.
+    if hi - lo > 1e-6 * lo.abs().max(hi.abs()) {
         return Some((lo, hi));
     }
-    let d = if lo == 0.0 { 1.0 } else { 0.01 * lo.abs() };
-    Some((lo - d, lo + d))
+    let mid = 0.5 * (lo + hi);
+    let d = if mid == 0.0 { 1.0 } else { 0.01 * mid.abs() };
+    Some((mid - d, mid + d))
 }
 
 /// Round tick values inside `[lo, hi]`: the multiples of a step `1`, `2` or `5 × 10ᵏ` chosen so
@@ -326,6 +330,10 @@ mod tests {
         assert_eq!(robust_range(&w), Some((-w[99], w[99])));
         assert_eq!(robust_range(&[2.0, 2.0]), Some((1.98, 2.02)));
         assert_eq!(robust_range(&[0.0]), Some((-1.0, 1.0)));
+        // Rounding noise on a constant is a constant.
+        let k = [0.25 * (1.0 - 1e-13), 0.25, 0.25 * (1.0 + 1e-13)];
+        let (lo, hi) = robust_range(&k).unwrap();
+        assert!((lo - 0.2475).abs() < 1e-12 && (hi - 0.2525).abs() < 1e-12);
         assert_eq!(robust_range(&[f64::NAN]), None);
     }
 
