@@ -138,6 +138,12 @@ const INVALID: &[(&str, &str, &str, &str)] = &[
         "degree = [3, 21]",
     ),
     (
+        "spline three degrees",
+        "spline/example1.toml",
+        "degree = [3, 3]",
+        "degree = [3, 3, 3]",
+    ),
+    (
         "dynamic intervals 4",
         "dynamic_interpolate.toml",
         "intervals = 200",

@@ -11,10 +11,15 @@ use serde::{Deserialize, Deserializer, Serialize};
 #[serde(deny_unknown_fields)]
 pub struct SplineSpec {
     /// Degrees `[p, q]` in u and v, each 1 to 20.
+    #[serde(deserialize_with = "deserialize_pair")]
     pub degree: [usize; 2],
     /// Spans `[s_u, s_v]` of clamped uniform knot vectors on `[0, 1]` (default `[1, 1]`: a
     /// Bézier patch). Not allowed together with `knots_u`/`knots_v`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "deserialize_some_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub spans: Option<[usize; 2]>,
     /// The full knot vector in u (`n_u + p + 1` non-decreasing values); with `knots_v`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -133,9 +138,50 @@ pub enum SplineOperatorSpec {
     ModifiedBiharmonic { a: f64 },
 }
 
+/// Exactly two whole numbers, one for u and one for v (a fixed-size array would quietly ignore
+/// a third).
+fn deserialize_pair<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<[usize; 2], D::Error> {
+    let v = Vec::<usize>::deserialize(d)?;
+    match v[..] {
+        [a, b] => Ok([a, b]),
+        _ => Err(serde::de::Error::custom(format!(
+            "expected two whole numbers [u, v], got {} of them",
+            v.len()
+        ))),
+    }
+}
+
+fn deserialize_some_pair<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<[usize; 2]>, D::Error> {
+    deserialize_pair(d).map(Some)
+}
+
 fn deserialize_spline_operator<'de, D: Deserializer<'de>>(
     d: D,
 ) -> std::result::Result<SplineOperatorSpec, D::Error> {
     let table = toml::Table::deserialize(d)?;
     super::types::deserialize_tagged(table, "kind", "")
+}
+
+#[cfg(test)]
+mod tests {
+    const EXAMPLE: &str = include_str!("../../../../examples/spline/example1.toml");
+
+    #[test]
+    fn degrees_and_spans_are_exactly_two_numbers() {
+        assert!(super::super::parse_design(EXAMPLE).is_ok());
+        for (from, to) in [
+            ("degree = [3, 3]", "degree = [3, 3, 3]"),
+            ("degree = [3, 3]", "degree = [3]"),
+        ] {
+            assert!(EXAMPLE.contains(from));
+            let text = EXAMPLE.replace(from, to);
+            let e = super::super::parse_design(&text).unwrap_err().to_string();
+            assert!(e.contains("expected two whole numbers"), "{to}: {e}");
+        }
+        let spans = EXAMPLE.replace("degree = [3, 3]", "degree = [3, 3]\nspans = [1, 1, 1]");
+        let e = super::super::parse_design(&spans).unwrap_err().to_string();
+        assert!(e.contains("expected two whole numbers"), "{e}");
+    }
 }
