@@ -538,14 +538,7 @@ impl Design {
         patch: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (solved, k) = self.surface_of(py, patch)?;
-        let (u, v) = (u.as_slice()?, v.as_slice()?);
-        if u.len() != v.len() {
-            return Err(err(format!(
-                "u, v: must have the same length (got {} and {})",
-                u.len(),
-                v.len()
-            )));
-        }
+        let (u, v) = same_length(u.as_slice()?, v.as_slice()?)?;
         let s = solved.surfaces[k].surface();
         let ps: Vec<_> = py.detach(|| u.iter().zip(v).map(|(&a, &b)| s.partials(a, b)).collect());
         let d = PyDict::new(py);
@@ -579,14 +572,7 @@ impl Design {
         patch: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (solved, k) = self.surface_of(py, patch)?;
-        let (u, v) = (u.as_slice()?, v.as_slice()?);
-        if u.len() != v.len() {
-            return Err(err(format!(
-                "u, v: must have the same length (got {} and {})",
-                u.len(),
-                v.len()
-            )));
-        }
+        let (u, v) = same_length(u.as_slice()?, v.as_slice()?)?;
         let s = solved.surfaces[k].surface();
         let cs: Vec<_> = py.detach(|| {
             u.iter()
@@ -991,4 +977,16 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DesignError", m.py().get_type::<DesignError>())?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     Ok(())
+}
+
+/// The parameter arrays `u`, `v` of point queries, refused unless they pair up.
+fn same_length<'a>(u: &'a [f64], v: &'a [f64]) -> PyResult<(&'a [f64], &'a [f64])> {
+    if u.len() != v.len() {
+        return Err(err(format!(
+            "u, v: must have the same length (got {} and {})",
+            u.len(),
+            v.len()
+        )));
+    }
+    Ok((u, v))
 }

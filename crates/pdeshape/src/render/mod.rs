@@ -281,24 +281,12 @@ pub fn render_png_tri(
     overlays: &[Polyline],
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
-    let (w, h) = (options.width, options.height);
-    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(Error::invalid(format!(
-            "picture size {w} × {h}: each side must be between 1 and {MAX_SIDE} pixels"
-        ))
-        .at("size"));
-    }
-    crate::memory::check_items(
-        w as u64 * h as u64,
-        crate::memory::BYTES_PER_PIXEL,
-        &format!("a {w} × {h} picture"),
-        "size",
-    )?;
+    check_size(options)?;
     let meshes = std::slice::from_ref(mesh);
     validate(meshes, overlays)?;
     let camera = Camera::fit(meshes, overlays, options)?;
     let rgb = raster::draw(meshes, overlays, &camera);
-    encode_png(w, h, &rgb)
+    encode_png(options.width, options.height, &rgb)
 }
 
 fn validate<M: Drawable>(meshes: &[M], overlays: &[Polyline]) -> Result<()> {
