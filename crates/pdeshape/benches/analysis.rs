@@ -1,12 +1,14 @@
 //! Surface analysis (area, volume, ∫H, ∫H², ∫K with curvature ranges) of the biharmonic patch
 //! with 12 Fourier modes of BENCHMARKS.md: on a fixed 256 × 512 quadrature grid (fast row path
-//! and pointwise partials), and with the default adaptive quadrature.
+//! and pointwise partials), and with the default adaptive quadrature; and the whole bundled cup
+//! (two patches, their shared edge, the cap) as `analyze` and the Python sweeps measure it.
 
 mod common;
 use common::bench_conditions;
 use criterion::{criterion_group, criterion_main, Criterion};
-use pdeshape::analysis::{analyze_surface, Quadrature};
+use pdeshape::analysis::{analyze_surface, integrate_design, Quadrature};
 use pdeshape::elliptic::{solve, Operator, PdePatch, SolveOptions};
+use pdeshape::spec::parse_design;
 use pdeshape::surface::{Partials, Surface, VDomain};
 use std::hint::black_box;
 
@@ -39,6 +41,15 @@ fn bench(c: &mut Criterion) {
         format!("adaptive_default_{}x{}", adaptive.u_nodes, adaptive.v_nodes),
         |b| b.iter(|| black_box(analyze_surface(&patch, &Quadrature::default()).unwrap())),
     );
+    let path = format!("{}/../../examples/cup.toml", env!("CARGO_MANIFEST_DIR"));
+    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let cup = pdeshape::design::solve_design(&spec).unwrap();
+    group.bench_function("cup_design_default", |b| {
+        b.iter(|| black_box(integrate_design(&cup, &Quadrature::default()).unwrap()))
+    });
+    group.bench_function("cup_design_fixed_64x128", |b| {
+        b.iter(|| black_box(integrate_design(&cup, &Quadrature::fixed(64, 128)).unwrap()))
+    });
     group.finish();
     // About 1.5 s per run: few samples.
     let mut slow = c.benchmark_group("analysis_slow");
