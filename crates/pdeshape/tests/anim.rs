@@ -111,3 +111,153 @@ fn the_ventricle_beats_periodically_with_its_extremes_at_the_expected_phases() {
         assert!(d2.abs() < 0.2 * swing, "{k}: {vols:?}");
     }
 }
+
+#[test]
+fn frames_welded_on_the_first_frames_topology_equal_a_fresh_weld() {
+    use pdeshape::mesh::{weld_mapped, WeldOptions, WeldTopology};
+    let timed = parse_timed(&example("anim/ventricle.toml")).unwrap();
+    let anim = Animation::Timed(timed);
+    let times = anim.times().unwrap();
+    let options = WeldOptions::default();
+    let mut topology: Option<WeldTopology> = None;
+    let mut compared = 0;
+    let mut first_positions = Vec::new();
+    for &t in times.iter().step_by(5) {
+        let spec = anim.spec_at(t).unwrap();
+        let solved = pdeshape::design::solve_design(&spec).unwrap();
+        let grids = solved.meshes(16, 32).unwrap();
+        let fresh = weld_mapped(&grids, &solved.names(), options);
+        match &topology {
+            None => {
+                let (w, first) = WeldTopology::new(&grids, &solved.names(), options);
+                assert_eq!(first, fresh);
+                first_positions = first.mesh.positions.clone();
+                topology = Some(w);
+            }
+            Some(w) => {
+                let again = w
+                    .weld(&grids)
+                    .expect("the ventricle welds alike at every t");
+                // Bit for bit, positions, normals, triangles and parts.
+                assert_eq!(again, fresh, "t = {t}");
+                // The frames do move (the comparison is not of one mesh with itself).
+                assert_ne!(again.mesh.positions, first_positions);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 8, "{compared}");
+    // Grids whose vertices join otherwise are refused: move the apex patch away from the rest.
+    let spec = anim.spec_at(0.0).unwrap();
+    let solved = pdeshape::design::solve_design(&spec).unwrap();
+    let mut grids = solved.meshes(16, 32).unwrap();
+    for p in &mut grids[0].positions {
+        p[0] += 50.0;
+    }
+    assert!(topology.unwrap().weld(&grids).is_none());
+}
+
+/// The lateral (y) displacement of the body's centre line at grid row `i` in every frame: the
+/// mean of the row's vertices (the radial part has no mean over a full turn of v).
+fn lateral_by_row(text: &str, nu: usize) -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
+    let anim = Animation::Timed(parse_timed(text).unwrap());
+    let times = anim.times().unwrap();
+    let mut us = Vec::new();
+    let mut rows: Vec<Vec<f64>> = vec![Vec::new(); nu];
+    for_each_frame(&anim, &times, nu, 32, &Export::default(), |f| {
+        let g = &f.grids[0];
+        assert!(g.periodic_v);
+        us = g.u.clone();
+        for (i, row) in rows.iter_mut().enumerate() {
+            let y: f64 = (0..g.nv)
+                .map(|j| g.positions[g.index(i, j)][1] as f64)
+                .sum::<f64>()
+                / g.nv as f64;
+            row.push(y);
+        }
+        Ok(())
+    })
+    .unwrap();
+    (times, us, rows)
+}
+
+/// Least-squares `y ≈ a sin θ + b cos θ + c`, `θ = 2π ω t`, over frames that sample whole
+/// periods evenly (where the three functions are orthogonal).
+fn fit(times: &[f64], ys: &[f64], omega: f64) -> (f64, f64, f64) {
+    let n = times.len() as f64;
+    let th = |t: f64| 2.0 * std::f64::consts::PI * omega * t;
+    let a = 2.0 / n
+        * times
+            .iter()
+            .zip(ys)
+            .map(|(&t, y)| th(t).sin() * y)
+            .sum::<f64>();
+    let b = 2.0 / n
+        * times
+            .iter()
+            .zip(ys)
+            .map(|(&t, y)| th(t).cos() * y)
+            .sum::<f64>();
+    let c = ys.iter().sum::<f64>() / n;
+    (a, b, c)
+}
+
+fn wrap(x: f64) -> f64 {
+    let tau = 2.0 * std::f64::consts::PI;
+    (x + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI
+}
+
+#[test]
+fn the_fishs_travelling_wave_has_phase_difference_alpha_delta_u_between_stations() {
+    // fish.toml: Ω(u) = 0.15 + 0.9u², α = 2π, ω = 1, φ = 0, 48 frames over one period.
+    let text = example("anim/fish.toml");
+    let (times, us, rows) = lateral_by_row(&text, 21);
+    let alpha = 2.0 * std::f64::consts::PI;
+    let omega_of = |u: f64| 0.15 + 0.9 * u * u;
+    // w = Ω sin(αu − θ) = Ω sin(αu) cos θ − Ω cos(αu) sin θ: phase ψ = atan2(b, −a) = αu.
+    let phase = |i: usize| {
+        let (a, b, c) = fit(&times, &rows[i], 1.0);
+        // The straight body has no mean sideways offset; the fit explains every frame.
+        assert!(c.abs() < 1e-5, "row {i}: mean {c}");
+        let amp = (a * a + b * b).sqrt();
+        assert!(
+            (amp - omega_of(us[i])).abs() < 1e-5 * (1.0 + amp),
+            "row {i}: amplitude {amp} against Ω = {}",
+            omega_of(us[i])
+        );
+        for (k, &t) in times.iter().enumerate() {
+            let th = 2.0 * std::f64::consts::PI * t;
+            let model = a * th.sin() + b * th.cos() + c;
+            assert!((rows[i][k] - model).abs() < 1e-5, "row {i}, frame {k}");
+        }
+        b.atan2(-a)
+    };
+    for (i, j) in [(2, 5), (5, 11), (8, 17), (3, 19)] {
+        let got = wrap(phase(j) - phase(i));
+        let want = wrap(alpha * (us[j] - us[i]));
+        assert!(
+            (got - want).abs() < 1e-4,
+            "stations u = {} and {}: phase difference {got}, α Δu = {want}",
+            us[i],
+            us[j]
+        );
+    }
+}
+
+#[test]
+fn a_standing_wave_keeps_one_phase_along_the_body_with_nodes() {
+    // The same body with Eq. 8.9's standing wave Ω(u) cos(αu + φ) sin(2πωt).
+    let text = example("anim/fish.toml").replace("kind = \"travelling\"", "kind = \"standing\"");
+    let (times, us, rows) = lateral_by_row(&text, 21);
+    let alpha = 2.0 * std::f64::consts::PI;
+    for (i, &u) in us.iter().enumerate() {
+        let (a, b, _) = fit(&times, &rows[i], 1.0);
+        // All in sin θ (no cos θ part): every station reaches its extreme at the same time.
+        assert!(b.abs() < 1e-5, "row {i}: cos part {b}");
+        let want = (0.15 + 0.9 * u * u) * (alpha * u).cos();
+        assert!((a - want).abs() < 1e-5, "row {i}: {a} against {want}");
+    }
+    // u = 1/4 is a node: it does not move.
+    let node = us.iter().position(|&u| (u - 0.25).abs() < 1e-12).unwrap();
+    assert!(rows[node].iter().all(|y| y.abs() < 1e-5));
+}
