@@ -139,6 +139,7 @@ def main():
     check(bin_, out, validator, "anim/glass_morph.toml", "glass", 0.001, False)
     check(bin_, out, validator, "anim/fish.toml", "fish", 0.01, False)
     check(bin_, out, validator, "anim/snake.toml", "snake", 0.01, False)
+    check(bin_, out, validator, "anim/arm.toml", "arm", 0.01, False)
     if failures:
         print(f"{len(failures)} animation check(s) failed")
         sys.exit(1)

@@ -261,3 +261,87 @@ fn a_standing_wave_keeps_one_phase_along_the_body_with_nodes() {
     let node = us.iter().position(|&u| (u - 0.25).abs() < 1e-12).unwrap();
     assert!(rows[node].iter().all(|y| y.abs() < 1e-5));
 }
+
+/// Rotation of `p` by `deg` degrees about the line through `about` along the unit `axis`
+/// (Rodrigues), written out independently of the library's transforms.
+fn rotate(p: [f64; 3], axis: [f64; 3], deg: f64, about: [f64; 3]) -> [f64; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    let x = [p[0] - about[0], p[1] - about[1], p[2] - about[2]];
+    let k = axis;
+    let kx = [
+        k[1] * x[2] - k[2] * x[1],
+        k[2] * x[0] - k[0] * x[2],
+        k[0] * x[1] - k[1] * x[0],
+    ];
+    let kd = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
+    [0, 1, 2].map(|i| about[i] + x[i] * c + kx[i] * s + k[i] * kd * (1.0 - c))
+}
+
+#[test]
+fn the_rig_moves_attached_curves_rigidly_meets_its_keys_and_closes_the_loop() {
+    let text = example("anim/arm.toml");
+    let anim = Animation::Timed(parse_timed(&text).unwrap());
+    let grids_at = |t: f64| {
+        let spec = anim.spec_at(t).unwrap();
+        let solved = pdeshape::design::solve_design(&spec).unwrap();
+        solved.meshes(12, 24).unwrap()
+    };
+    // The wrist ring (radius 0.55 at z = 8, attached to the forearm) is the forearm patch's
+    // last row. At the key time t = 1 the joints are at upper 35°, forearm 42.5° (its keys
+    // 15° at 0.5 and 70° at 1.5 with zero slopes: the cubic's middle), so the ring is the rest
+    // ring turned by the forearm's hinge, then the upper arm's.
+    let wrist_rest = |v: f64| [0.55 * v.cos(), 0.55 * v.sin(), 8.0];
+    let pose = |p: [f64; 3], fore: f64, upper: f64| {
+        let p = rotate(p, [0.0, 1.0, 0.0], fore, [0.0, 0.0, 4.0]);
+        rotate(p, [0.0, 1.0, 0.0], upper, [0.0, 0.0, 0.0])
+    };
+    for (t, fore, upper) in [(0.5, 15.0, 17.5), (1.0, 42.5, 35.0), (1.5, 70.0, 17.5)] {
+        let g = grids_at(t);
+        let fa = &g[1];
+        let last = fa.nu - 1;
+        for j in 0..fa.nv {
+            let want = pose(wrist_rest(fa.v[j]), fore, upper);
+            let got = fa.positions[fa.index(last, j)];
+            let d = (0..3)
+                .map(|c| (got[c] as f64 - want[c]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(d < 2e-5, "t = {t}, v = {}: {got:?} vs {want:?}", fa.v[j]);
+        }
+    }
+    // Rigid at every frame: the pairwise distances of the wrist ring's points and of the
+    // fingertip patch's first row (the same ring) do not change.
+    let rest = grids_at(0.0);
+    let ring = |g: &[pdeshape::mesh::GridMesh]| {
+        let fa = &g[1];
+        (0..fa.nv)
+            .map(|j| fa.positions[fa.index(fa.nu - 1, j)].map(f64::from))
+            .collect::<Vec<_>>()
+    };
+    let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt();
+    let r0 = ring(&rest);
+    let mut moved = 0.0f64;
+    for &t in anim.times().unwrap().iter().step_by(7) {
+        let r = ring(&grids_at(t));
+        for i in 0..r.len() {
+            moved = moved.max(dist(r[i], r0[i]));
+            for j in 0..i {
+                assert!(
+                    (dist(r[i], r[j]) - dist(r0[i], r0[j])).abs() < 1e-5,
+                    "t = {t}: points {i}, {j}"
+                );
+            }
+        }
+    }
+    assert!(moved > 1.0, "the wrist moved by {moved}");
+    // The loop closes: the design at the end of the cycle is the one at its start.
+    assert_eq!(anim.spec_at(2.0).unwrap(), anim.spec_at(0.0).unwrap());
+    assert_eq!(grids_at(2.0), rest);
+    // A derivative curve cannot be attached (a difference vector does not turn about a point).
+    let bad = text.replace(
+        "tip_ring = \"hand\"",
+        "tip_ring = \"hand\"\ntip_d = \"hand\"",
+    );
+    let e = parse_timed(&bad).unwrap_err();
+    assert_eq!(e.place(), "rig.attach.tip_d", "{e}");
+}

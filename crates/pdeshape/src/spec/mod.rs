@@ -16,6 +16,7 @@ pub mod limits;
 mod locate;
 mod optimize;
 mod parametric;
+pub mod rig;
 mod schema;
 mod spine;
 mod spline;
