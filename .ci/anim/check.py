@@ -85,7 +85,8 @@ def capped_volume(vertices, faces):
         for a in range(len(loop)):
             # The cap runs the loop the other way round (consistent orientation).
             extra.append([loop[(a + 1) % len(loop)], loop[a], c])
-    closed = trimesh.Trimesh(vertices=np.array(verts), faces=np.vstack([faces, extra]), process=False)
+    all_faces = np.vstack([faces, extra]) if extra else np.asarray(faces)
+    closed = trimesh.Trimesh(vertices=np.array(verts), faces=all_faces, process=False)
     if not closed.is_watertight or not closed.is_winding_consistent:
         return None
     return abs(closed.volume)
@@ -136,6 +137,9 @@ def main():
     bin_, out, validator = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
     check(bin_, out, validator, "anim/ventricle.toml", "ventricle", 0.01, True)
     check(bin_, out, validator, "anim/glass_morph.toml", "glass", 0.001, False)
+    check(bin_, out, validator, "anim/fish.toml", "fish", 0.01, False)
+    check(bin_, out, validator, "anim/snake.toml", "snake", 0.01, False)
+    check(bin_, out, validator, "anim/arm.toml", "arm", 0.01, False)
     if failures:
         print(f"{len(failures)} animation check(s) failed")
         sys.exit(1)

@@ -28,6 +28,7 @@ fn bench(c: &mut Criterion) {
                     by: [x, 0.0, 0.0],
                 }],
                 hermite: None,
+                wave: None,
             }),
         });
         let mut d = compile(&spec).unwrap();

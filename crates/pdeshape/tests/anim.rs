@@ -111,3 +111,237 @@ fn the_ventricle_beats_periodically_with_its_extremes_at_the_expected_phases() {
         assert!(d2.abs() < 0.2 * swing, "{k}: {vols:?}");
     }
 }
+
+#[test]
+fn frames_welded_on_the_first_frames_topology_equal_a_fresh_weld() {
+    use pdeshape::mesh::{weld_mapped, WeldOptions, WeldTopology};
+    let timed = parse_timed(&example("anim/ventricle.toml")).unwrap();
+    let anim = Animation::Timed(timed);
+    let times = anim.times().unwrap();
+    let options = WeldOptions::default();
+    let mut topology: Option<WeldTopology> = None;
+    let mut compared = 0;
+    let mut first_positions = Vec::new();
+    for &t in times.iter().step_by(5) {
+        let spec = anim.spec_at(t).unwrap();
+        let solved = pdeshape::design::solve_design(&spec).unwrap();
+        let grids = solved.meshes(16, 32).unwrap();
+        let fresh = weld_mapped(&grids, &solved.names(), options);
+        match &topology {
+            None => {
+                let (w, first) = WeldTopology::new(&grids, &solved.names(), options);
+                assert_eq!(first, fresh);
+                first_positions = first.mesh.positions.clone();
+                topology = Some(w);
+            }
+            Some(w) => {
+                let again = w
+                    .weld(&grids)
+                    .expect("the ventricle welds alike at every t");
+                // Bit for bit, positions, normals, triangles and parts.
+                assert_eq!(again, fresh, "t = {t}");
+                // The frames do move (the comparison is not of one mesh with itself).
+                assert_ne!(again.mesh.positions, first_positions);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 8, "{compared}");
+    // Grids whose vertices join otherwise are refused: move the apex patch away from the rest.
+    let spec = anim.spec_at(0.0).unwrap();
+    let solved = pdeshape::design::solve_design(&spec).unwrap();
+    let mut grids = solved.meshes(16, 32).unwrap();
+    for p in &mut grids[0].positions {
+        p[0] += 50.0;
+    }
+    assert!(topology.unwrap().weld(&grids).is_none());
+}
+
+/// The lateral (y) displacement of the body's centre line at grid row `i` in every frame: the
+/// mean of the row's vertices (the radial part has no mean over a full turn of v).
+fn lateral_by_row(text: &str, nu: usize) -> (Vec<f64>, Vec<f64>, Vec<Vec<f64>>) {
+    let anim = Animation::Timed(parse_timed(text).unwrap());
+    let times = anim.times().unwrap();
+    let mut us = Vec::new();
+    let mut rows: Vec<Vec<f64>> = vec![Vec::new(); nu];
+    for_each_frame(&anim, &times, nu, 32, &Export::default(), |f| {
+        let g = &f.grids[0];
+        assert!(g.periodic_v);
+        us = g.u.clone();
+        for (i, row) in rows.iter_mut().enumerate() {
+            let y: f64 = (0..g.nv)
+                .map(|j| g.positions[g.index(i, j)][1] as f64)
+                .sum::<f64>()
+                / g.nv as f64;
+            row.push(y);
+        }
+        Ok(())
+    })
+    .unwrap();
+    (times, us, rows)
+}
+
+/// Least-squares `y ≈ a sin θ + b cos θ + c`, `θ = 2π ω t`, over frames that sample whole
+/// periods evenly (where the three functions are orthogonal).
+fn fit(times: &[f64], ys: &[f64], omega: f64) -> (f64, f64, f64) {
+    let n = times.len() as f64;
+    let th = |t: f64| 2.0 * std::f64::consts::PI * omega * t;
+    let a = 2.0 / n
+        * times
+            .iter()
+            .zip(ys)
+            .map(|(&t, y)| th(t).sin() * y)
+            .sum::<f64>();
+    let b = 2.0 / n
+        * times
+            .iter()
+            .zip(ys)
+            .map(|(&t, y)| th(t).cos() * y)
+            .sum::<f64>();
+    let c = ys.iter().sum::<f64>() / n;
+    (a, b, c)
+}
+
+fn wrap(x: f64) -> f64 {
+    let tau = 2.0 * std::f64::consts::PI;
+    (x + std::f64::consts::PI).rem_euclid(tau) - std::f64::consts::PI
+}
+
+#[test]
+fn the_fishs_travelling_wave_has_phase_difference_alpha_delta_u_between_stations() {
+    // fish.toml: Ω(u) = 0.15 + 0.9u², α = 2π, ω = 1, φ = 0, 48 frames over one period.
+    let text = example("anim/fish.toml");
+    let (times, us, rows) = lateral_by_row(&text, 21);
+    let alpha = 2.0 * std::f64::consts::PI;
+    let omega_of = |u: f64| 0.15 + 0.9 * u * u;
+    // w = Ω sin(αu − θ) = Ω sin(αu) cos θ − Ω cos(αu) sin θ: phase ψ = atan2(b, −a) = αu.
+    let phase = |i: usize| {
+        let (a, b, c) = fit(&times, &rows[i], 1.0);
+        // The straight body has no mean sideways offset; the fit explains every frame.
+        assert!(c.abs() < 1e-5, "row {i}: mean {c}");
+        let amp = (a * a + b * b).sqrt();
+        assert!(
+            (amp - omega_of(us[i])).abs() < 1e-5 * (1.0 + amp),
+            "row {i}: amplitude {amp} against Ω = {}",
+            omega_of(us[i])
+        );
+        for (k, &t) in times.iter().enumerate() {
+            let th = 2.0 * std::f64::consts::PI * t;
+            let model = a * th.sin() + b * th.cos() + c;
+            assert!((rows[i][k] - model).abs() < 1e-5, "row {i}, frame {k}");
+        }
+        b.atan2(-a)
+    };
+    for (i, j) in [(2, 5), (5, 11), (8, 17), (3, 19)] {
+        let got = wrap(phase(j) - phase(i));
+        let want = wrap(alpha * (us[j] - us[i]));
+        assert!(
+            (got - want).abs() < 1e-4,
+            "stations u = {} and {}: phase difference {got}, α Δu = {want}",
+            us[i],
+            us[j]
+        );
+    }
+}
+
+#[test]
+fn a_standing_wave_keeps_one_phase_along_the_body_with_nodes() {
+    // The same body with Eq. 8.9's standing wave Ω(u) cos(αu + φ) sin(2πωt).
+    let text = example("anim/fish.toml").replace("kind = \"travelling\"", "kind = \"standing\"");
+    let (times, us, rows) = lateral_by_row(&text, 21);
+    let alpha = 2.0 * std::f64::consts::PI;
+    for (i, &u) in us.iter().enumerate() {
+        let (a, b, _) = fit(&times, &rows[i], 1.0);
+        // All in sin θ (no cos θ part): every station reaches its extreme at the same time.
+        assert!(b.abs() < 1e-5, "row {i}: cos part {b}");
+        let want = (0.15 + 0.9 * u * u) * (alpha * u).cos();
+        assert!((a - want).abs() < 1e-5, "row {i}: {a} against {want}");
+    }
+    // u = 1/4 is a node: it does not move.
+    let node = us.iter().position(|&u| (u - 0.25).abs() < 1e-12).unwrap();
+    assert!(rows[node].iter().all(|y| y.abs() < 1e-5));
+}
+
+/// Rotation of `p` by `deg` degrees about the line through `about` along the unit `axis`
+/// (Rodrigues), written out independently of the library's transforms.
+fn rotate(p: [f64; 3], axis: [f64; 3], deg: f64, about: [f64; 3]) -> [f64; 3] {
+    let (s, c) = deg.to_radians().sin_cos();
+    let x = [p[0] - about[0], p[1] - about[1], p[2] - about[2]];
+    let k = axis;
+    let kx = [
+        k[1] * x[2] - k[2] * x[1],
+        k[2] * x[0] - k[0] * x[2],
+        k[0] * x[1] - k[1] * x[0],
+    ];
+    let kd = k[0] * x[0] + k[1] * x[1] + k[2] * x[2];
+    [0, 1, 2].map(|i| about[i] + x[i] * c + kx[i] * s + k[i] * kd * (1.0 - c))
+}
+
+#[test]
+fn the_rig_moves_attached_curves_rigidly_meets_its_keys_and_closes_the_loop() {
+    let text = example("anim/arm.toml");
+    let anim = Animation::Timed(parse_timed(&text).unwrap());
+    let grids_at = |t: f64| {
+        let spec = anim.spec_at(t).unwrap();
+        let solved = pdeshape::design::solve_design(&spec).unwrap();
+        solved.meshes(12, 24).unwrap()
+    };
+    // The wrist ring (radius 0.55 at z = 8, attached to the forearm) is the forearm patch's
+    // last row. At the key time t = 1 the joints are at upper 35°, forearm 42.5° (its keys
+    // 15° at 0.5 and 70° at 1.5 with zero slopes: the cubic's middle), so the ring is the rest
+    // ring turned by the forearm's hinge, then the upper arm's.
+    let wrist_rest = |v: f64| [0.55 * v.cos(), 0.55 * v.sin(), 8.0];
+    let pose = |p: [f64; 3], fore: f64, upper: f64| {
+        let p = rotate(p, [0.0, 1.0, 0.0], fore, [0.0, 0.0, 4.0]);
+        rotate(p, [0.0, 1.0, 0.0], upper, [0.0, 0.0, 0.0])
+    };
+    for (t, fore, upper) in [(0.5, 15.0, 17.5), (1.0, 42.5, 35.0), (1.5, 70.0, 17.5)] {
+        let g = grids_at(t);
+        let fa = &g[1];
+        let last = fa.nu - 1;
+        for j in 0..fa.nv {
+            let want = pose(wrist_rest(fa.v[j]), fore, upper);
+            let got = fa.positions[fa.index(last, j)];
+            let d = (0..3)
+                .map(|c| (got[c] as f64 - want[c]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            assert!(d < 2e-5, "t = {t}, v = {}: {got:?} vs {want:?}", fa.v[j]);
+        }
+    }
+    // Rigid at every frame: the pairwise distances of the wrist ring's points and of the
+    // fingertip patch's first row (the same ring) do not change.
+    let rest = grids_at(0.0);
+    let ring = |g: &[pdeshape::mesh::GridMesh]| {
+        let fa = &g[1];
+        (0..fa.nv)
+            .map(|j| fa.positions[fa.index(fa.nu - 1, j)].map(f64::from))
+            .collect::<Vec<_>>()
+    };
+    let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f64>().sqrt();
+    let r0 = ring(&rest);
+    let mut moved = 0.0f64;
+    for &t in anim.times().unwrap().iter().step_by(7) {
+        let r = ring(&grids_at(t));
+        for i in 0..r.len() {
+            moved = moved.max(dist(r[i], r0[i]));
+            for j in 0..i {
+                assert!(
+                    (dist(r[i], r[j]) - dist(r0[i], r0[j])).abs() < 1e-5,
+                    "t = {t}: points {i}, {j}"
+                );
+            }
+        }
+    }
+    assert!(moved > 1.0, "the wrist moved by {moved}");
+    // The loop closes: the design at the end of the cycle is the one at its start.
+    assert_eq!(anim.spec_at(2.0).unwrap(), anim.spec_at(0.0).unwrap());
+    assert_eq!(grids_at(2.0), rest);
+    // A derivative curve cannot be attached (a difference vector does not turn about a point).
+    let bad = text.replace(
+        "tip_ring = \"hand\"",
+        "tip_ring = \"hand\"\ntip_d = \"hand\"",
+    );
+    let e = parse_timed(&bad).unwrap_err();
+    assert_eq!(e.place(), "rig.attach.tip_d", "{e}");
+}

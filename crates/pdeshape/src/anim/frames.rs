@@ -3,7 +3,7 @@
 
 use super::source::Animation;
 use crate::design::{compile, CompiledDesign, Export, SolvedDesign};
-use crate::mesh::{GridMesh, TriMesh};
+use crate::mesh::{GridMesh, TriMesh, WeldOptions, WeldTopology};
 use crate::spec::time::TimeSpec;
 use crate::spec::Units;
 use crate::{Error, Result};
@@ -54,6 +54,7 @@ pub fn for_each_frame(
 ) -> Result<()> {
     let mut compiled: Option<CompiledDesign> = None;
     let mut triangles: Option<Vec<[u32; 3]>> = None;
+    let mut topology: Option<WeldTopology> = None;
     for (index, &t) in times.iter().enumerate() {
         let spec = anim.spec_at(t).map_err(|e| at_time(e, t))?;
         match compiled.as_mut() {
@@ -71,7 +72,20 @@ pub fn for_each_frame(
             .at("trims"));
         }
         let grids = solved.meshes(nu, nv).map_err(|e| at_time(e, t))?;
-        let mesh = solved.weld(&grids, export);
+        // The first frame's welding is kept: the later frames are welded on its topology (the
+        // same result as welding them afresh, without building the edge maps again).
+        let again = topology.as_ref().and_then(|w| w.weld(&grids));
+        let mesh = match again {
+            Some(w) => w.mesh,
+            None => {
+                let options = WeldOptions {
+                    join_patches: !export.separate_patches,
+                };
+                let (w, welded) = WeldTopology::new(&grids, &solved.names(), options);
+                topology = Some(w);
+                welded.mesh
+            }
+        };
         match &triangles {
             None => triangles = Some(mesh.triangles.clone()),
             Some(first) if *first != mesh.triangles => {

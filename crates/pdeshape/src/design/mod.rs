@@ -34,7 +34,9 @@ pub use solved::{
     curve_polyline, grid, ConditionInfo, DesignSurface, Export, NamedCurve, SharedEdge,
     SolvedDesign, SurfaceKind,
 };
-pub use spine::{spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport};
+pub use spine::{
+    spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport, Wave,
+};
 pub use spline::{build_problem, solve_spec, SolvedSpline};
 pub use trim::{trim_curve, trim_method, SurfaceTrim};
 pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};

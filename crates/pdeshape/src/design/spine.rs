@@ -24,7 +24,7 @@
 use super::solved::{DesignSurface, SurfaceKind};
 use crate::curve::{Bezier, Curve};
 use crate::elliptic::PdePatch;
-use crate::spec::{SpineCarry, SpineSpec};
+use crate::spec::{SpineCarry, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS};
 use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 use nalgebra::Matrix3;
@@ -84,9 +84,9 @@ pub fn spine_target(patch: &PdePatch, spec: &SpineSpec) -> Result<Vec<Vec3>> {
     let given = spec.control.is_some() as usize
         + !spec.moves.is_empty() as usize
         + spec.hermite.is_some() as usize;
-    if given != 1 {
+    if given > 1 || (given == 0 && spec.wave.is_none()) {
         return Err(Error::invalid(format!(
-            "give exactly one of `control`, `moves` and `hermite` (got {given})"
+            "give exactly one of `control`, `moves` and `hermite`, or a `wave` (got {given})"
         )));
     }
     if let Some(control) = &spec.control {
@@ -130,6 +130,8 @@ pub fn spine_target(patch: &PdePatch, spec: &SpineSpec) -> Result<Vec<Vec3>> {
 pub struct SpineEdited {
     base: Arc<PdePatch>,
     spine: Bezier,
+    /// A lateral wave added to the Bézier spine.
+    wave: Option<Wave>,
     carry: SpineCarry,
     /// `(F(u_k), F̃(u_k))` at `u_k = k / FRAME_STEPS` (frame mode only).
     frames: Vec<(Matrix3<f64>, Matrix3<f64>)>,
@@ -137,6 +139,109 @@ pub struct SpineEdited {
 
 /// `A` and its first three derivatives at `u`.
 type Jet = [Vec3; 4];
+
+/// A checked spine wave (§8.1.3.2): `w(u) d`, see [`SpineWave`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Wave {
+    kind: WaveKind,
+    amplitude: Vec<f64>,
+    alpha: f64,
+    /// `2π ω time`.
+    angle: f64,
+    phase: f64,
+    direction: Vec3,
+}
+
+impl Wave {
+    /// Checks a `wave` table (errors placed inside it: `wave.amplitude`, `wave.direction`).
+    pub fn new(spec: &SpineWave) -> Result<Wave> {
+        let n = spec.amplitude.len();
+        if n == 0 || n > MAX_WAVE_TERMS {
+            return Err(Error::invalid(format!(
+                "give 1 to {MAX_WAVE_TERMS} coefficients of Ω(u) = a₀ + a₁u + … (got {n})"
+            ))
+            .at("wave.amplitude"));
+        }
+        let d = Vec3::new(spec.direction[0], spec.direction[1], spec.direction[2]);
+        let len = d.norm();
+        if !(len.is_finite() && len > 0.0) {
+            return Err(Error::invalid("must be a non-zero vector").at("wave.direction"));
+        }
+        let angle = 2.0 * std::f64::consts::PI * spec.omega * spec.time;
+        if !angle.is_finite() {
+            return Err(
+                Error::invalid(format!("2π·omega·time must be finite (got {angle})"))
+                    .at("wave.omega"),
+            );
+        }
+        Ok(Wave {
+            kind: spec.kind,
+            amplitude: spec.amplitude.clone(),
+            alpha: spec.alpha,
+            angle,
+            phase: spec.phase,
+            direction: d / len,
+        })
+    }
+
+    /// `dᵏw/duᵏ` at `u` for `k = order` (Leibniz's rule on `Ω(u) g(u)`).
+    pub fn derivative(&self, u: f64, order: usize) -> f64 {
+        // dʲΩ/duʲ by Horner on the differentiated coefficients.
+        let omega = |j: usize| -> f64 {
+            let mut acc = 0.0;
+            for (i, &a) in self.amplitude.iter().enumerate().skip(j).rev() {
+                let falling = ((i + 1 - j)..=i).fold(1.0, |f, m| f * m as f64);
+                acc = acc * u + a * falling;
+            }
+            acc
+        };
+        // dᵐ/duᵐ of sin(αu + c) is αᵐ sin(αu + c + mπ/2).
+        let (arg, factor) = match self.kind {
+            WaveKind::Travelling => (self.alpha * u - self.angle + self.phase, 1.0),
+            WaveKind::Standing => (
+                self.alpha * u + self.phase + std::f64::consts::FRAC_PI_2,
+                self.angle.sin(),
+            ),
+        };
+        let (s, c) = arg.sin_cos();
+        let g = |m: usize| -> f64 {
+            let turn = [s, c, -s, -c][m % 4];
+            factor * self.alpha.powi(m as i32) * turn
+        };
+        let mut binom = 1.0;
+        let mut sum = 0.0;
+        for j in 0..=order {
+            if j > 0 {
+                binom = binom * (order + 1 - j) as f64 / j as f64;
+            }
+            if j < self.amplitude.len() {
+                sum += binom * omega(j) * g(order - j);
+            }
+        }
+        sum
+    }
+
+    /// The lateral displacement `w(u)` along the unit direction.
+    pub fn displacement(&self, u: f64) -> f64 {
+        self.derivative(u, 0)
+    }
+
+    /// The unit direction of the displacement.
+    pub fn direction(&self) -> Vec3 {
+        self.direction
+    }
+}
+
+/// The new spine's jet: the Bézier curve's plus the wave's.
+fn new_jet(b: &Bezier, wave: &Option<Wave>, u: f64) -> Jet {
+    let mut j = bezier_jet(b, u);
+    if let Some(w) = wave {
+        for (k, jk) in j.iter_mut().enumerate() {
+            *jk += w.direction * w.derivative(u, k);
+        }
+    }
+    j
+}
 
 fn old_jet(p: &PdePatch, u: f64) -> Jet {
     [p.spine(u, 0), p.spine(u, 1), p.spine(u, 2), p.spine(u, 3)]
@@ -232,6 +337,16 @@ impl SpineEdited {
     /// new spine need a tangent everywhere: a spine whose speed falls below 10⁻⁹ of the
     /// design's size at a frame node is refused (use `carry = "translate"`).
     pub fn new(base: Arc<PdePatch>, control: Vec<Vec3>, carry: SpineCarry) -> Result<Self> {
+        Self::with_wave(base, control, None, carry)
+    }
+
+    /// [`SpineEdited::new`] with a lateral wave added to the new spine (§8.1.3.2).
+    pub fn with_wave(
+        base: Arc<PdePatch>,
+        control: Vec<Vec3>,
+        wave: Option<Wave>,
+        carry: SpineCarry,
+    ) -> Result<Self> {
         let n = base.conditions().len();
         if control.len() != n {
             return Err(Error::invalid(format!(
@@ -247,7 +362,7 @@ impl SpineEdited {
             let mut prev: Option<(Jet, Jet, Matrix3<f64>, Matrix3<f64>)> = None;
             for k in 0..=FRAME_STEPS {
                 let u = k as f64 / FRAME_STEPS as f64;
-                let (jo, jn) = (old_jet(&base, u), bezier_jet(&spine, u));
+                let (jo, jn) = (old_jet(&base, u), new_jet(&spine, &wave, u));
                 for (j, which) in [(&jo, "solved"), (&jn, "new")] {
                     let speed = j[1].norm();
                     if speed.is_nan() || speed <= tiny {
@@ -277,6 +392,7 @@ impl SpineEdited {
         Ok(SpineEdited {
             base,
             spine,
+            wave,
             carry,
             frames,
         })
@@ -292,6 +408,19 @@ impl SpineEdited {
         &self.spine.control
     }
 
+    /// The wave added to the new spine, if any.
+    pub fn wave(&self) -> Option<&Wave> {
+        self.wave.as_ref()
+    }
+
+    /// The new spine's point at `u` (the Bézier curve and the wave).
+    pub fn point(&self, u: f64) -> Vec3 {
+        match &self.wave {
+            Some(w) => self.spine.point(u) + w.direction * w.displacement(u),
+            None => self.spine.point(u),
+        }
+    }
+
     /// How the sections follow the spine.
     pub fn carry(&self) -> SpineCarry {
         self.carry
@@ -299,7 +428,7 @@ impl SpineEdited {
 
     /// The unit tangent of the new spine at `u` (zero where it has none).
     pub fn tangent(&self, u: f64) -> Vec3 {
-        angular(&bezier_jet(&self.spine, u)).0
+        angular(&new_jet(&self.spine, &self.wave, u)).0
     }
 
     /// `(R, R', R'')` at `u` (frame mode).
@@ -314,7 +443,7 @@ impl SpineEdited {
         } else {
             (
                 reflect(fo, &self.base.spine(uk, 0), &jo[0], &to),
-                reflect(f_n, &self.spine.point(uk), &jn[0], &tn),
+                reflect(f_n, &self.point(uk), &jn[0], &tn),
             )
         };
         let r = f_n * fo.transpose();
@@ -357,7 +486,7 @@ impl SpineEdited {
 
     /// Everything that depends on `u` only.
     fn row_setup(&self, u: f64) -> (Jet, Jet, Option<[Matrix3<f64>; 3]>) {
-        let (jo, jn) = (old_jet(&self.base, u), bezier_jet(&self.spine, u));
+        let (jo, jn) = (old_jet(&self.base, u), new_jet(&self.spine, &self.wave, u));
         let rot = (self.carry == SpineCarry::Frame).then(|| self.rotation(u, &jo, &jn));
         (jo, jn, rot)
     }
@@ -366,7 +495,11 @@ impl SpineEdited {
 impl Spine for SpineEdited {
     /// The new spine `Ã₀(u)`.
     fn spine(&self, u: f64, order: usize) -> Vec3 {
-        self.spine.derivative(u, order)
+        let b = self.spine.derivative(u, order);
+        match &self.wave {
+            Some(w) => b + w.direction * w.derivative(u, order),
+            None => b,
+        }
     }
 }
 
@@ -474,8 +607,15 @@ pub(crate) fn apply_spines(
             Some((_, _, kind)) => kind.clone(),
             None => {
                 let control = spine_target(&base, spec).map_err(|e| e.at(&place))?;
+                let wave = spec
+                    .wave
+                    .as_ref()
+                    .map(Wave::new)
+                    .transpose()
+                    .map_err(|e| e.at(&place))?;
                 SurfaceKind::SpineEdited(Arc::new(
-                    SpineEdited::new(base, control, spec.carry).map_err(|e| e.at(&place))?,
+                    SpineEdited::with_wave(base, control, wave, spec.carry)
+                        .map_err(|e| e.at(&place))?,
                 ))
             }
         };

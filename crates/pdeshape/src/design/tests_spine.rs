@@ -228,8 +228,21 @@ fn frame_mode_keeps_sections_across_a_bent_spine() {
 fn edited_partials_are_derivatives_and_rows_match() {
     let moves =
         "moves = [{ index = 1, by = [0.9, 0.3, 0.0] }, { index = 2, by = [1.6, -0.4, -0.3] }]";
-    for carry in ["frame", "translate"] {
-        let d = compile(&tube(&spine_table(carry, moves))).unwrap();
+    // The same with a travelling wave on top (§8.1.3.2), and a standing wave alone.
+    let waved = format!(
+        "{moves}\nwave = {{ amplitude = [0.1, 0.2, 0.3], alpha = 7.0, omega = 1.5, phase = 0.4, \
+         time = 0.3, direction = [1, 1, 0] }}"
+    );
+    let standing = "wave = { kind = \"standing\", amplitude = [0.2, -0.1], alpha = 5.0, omega = \
+                    1.0, time = 0.2, direction = [0, 1, 0] }";
+    for (carry, body) in [
+        ("frame", moves),
+        ("translate", moves),
+        ("frame", waved.as_str()),
+        ("translate", waved.as_str()),
+        ("frame", standing),
+    ] {
+        let d = compile(&tube(&spine_table(carry, body))).unwrap();
         let s = d.solved().surfaces[0].surface();
         let h = 1e-5;
         for &u in &[0.1, 0.37, 0.5, 0.9] {
@@ -247,7 +260,7 @@ fn edited_partials_are_derivatives_and_rows_match() {
                 ] {
                     assert!(
                         (exact - approx).norm() < 1e-7 * (1.0 + exact.norm()),
-                        "{carry} {what} at ({u}, {v}): {exact} vs {approx}"
+                        "{carry} {body} {what} at ({u}, {v}): {exact} vs {approx}"
                     );
                 }
             }
@@ -283,6 +296,7 @@ fn spine_edits_apply_undo_and_match_fresh_compiles() {
             by: [0.7, 0.0, 0.0],
         }],
         hermite: None,
+        wave: None,
     };
     let undo = d
         .apply(&Edit::SetSpine {
@@ -383,4 +397,79 @@ fn bad_spine_tables_are_refused_with_their_place() {
     fd.solver.grid = Some([16, 16]);
     let e = compile(&fd).unwrap_err();
     assert_eq!(e.place(), "spine[0]", "{e}");
+}
+
+/// A spine wave (§8.1.3.2): its derivatives are those of `w(u)` (differences), the edited spine
+/// is the Bézier spine plus `w(u) d`, and bad wave tables are refused with their place.
+#[test]
+fn spine_waves_add_their_displacement_and_derivatives() {
+    use super::spine::Wave;
+    use crate::spec::{SpineWave, WaveKind};
+    let spec = SpineWave {
+        kind: WaveKind::Travelling,
+        amplitude: vec![0.1, -0.3, 0.5, 0.2],
+        alpha: 6.5,
+        omega: 1.3,
+        phase: 0.7,
+        time: 0.45,
+        direction: [0.0, 3.0, 4.0],
+    };
+    for kind in [WaveKind::Travelling, WaveKind::Standing] {
+        let w = Wave::new(&SpineWave {
+            kind,
+            ..spec.clone()
+        })
+        .unwrap();
+        let omega = |u: f64| 0.1 - 0.3 * u + 0.5 * u * u + 0.2 * u * u * u;
+        let th = TAU * 1.3 * 0.45;
+        for &u in &US {
+            let want = match kind {
+                WaveKind::Travelling => omega(u) * (6.5 * u - th + 0.7).sin(),
+                WaveKind::Standing => omega(u) * (6.5 * u + 0.7).cos() * th.sin(),
+            };
+            assert!((w.displacement(u) - want).abs() < 1e-15, "{kind:?} at {u}");
+            let h = 1e-5;
+            for k in 1..=5 {
+                let fd = (w.derivative(u + h, k - 1) - w.derivative(u - h, k - 1)) / (2.0 * h);
+                let exact = w.derivative(u, k);
+                assert!(
+                    // Central differences err by h²/6 |w⁽ᵏ⁺²⁾| ≲ 10⁻¹¹ · 6.5ᵏ⁺².
+                    (exact - fd).abs() < 2e-8 * 6.5f64.powi(k as i32 + 2),
+                    "{kind:?} order {k} at {u}: {exact} vs {fd}"
+                );
+            }
+        }
+        assert!((w.direction() - Vec3::new(0.0, 0.6, 0.8)).norm() < 1e-15);
+    }
+    // The edited surface's spine is the solved one plus the wave.
+    let table =
+        "[[spine]]\nwave = { amplitude = [0.2, 0.3], alpha = 9.0, omega = 2.0, time = 0.1, \
+                 direction = [1, 0, 0] }\n";
+    let d = compile(&tube(table)).unwrap();
+    let base = pde(&d);
+    let s = d.solved().surfaces[0].surface();
+    let sp = s.as_spine().unwrap();
+    for &u in &US {
+        let want =
+            base.spine(u, 0) + Vec3::x() * ((0.2 + 0.3 * u) * (9.0 * u - TAU * 2.0 * 0.1).sin());
+        assert!((sp.spine(u, 0) - want).norm() < 1e-13, "{u}");
+    }
+    let place = |spine: &str| {
+        compile(&tube(spine))
+            .err()
+            .map(|e| (e.place().to_string(), e.to_string()))
+            .unwrap()
+    };
+    let (p, m) = place(
+        "[[spine]]\nwave = { amplitude = [], alpha = 1, omega = 1, direction = [1, 0, 0] }\n",
+    );
+    assert_eq!(p, "spine[0].wave.amplitude", "{m}");
+    let (p, m) = place(
+        "[[spine]]\nwave = { amplitude = [1], alpha = 1, omega = 1, direction = [0, 0, 0] }\n",
+    );
+    assert_eq!(p, "spine[0].wave.direction", "{m}");
+    let (p, m) = place(
+        "[[spine]]\nwave = { amplitude = [1], alpha = 1, omega = 1e308, time = 1e10, direction = [1, 0, 0] }\n",
+    );
+    assert_eq!(p, "spine[0].wave.omega", "{m}");
 }

@@ -134,7 +134,41 @@ pub struct Welded {
 /// [`weld`], also returning each grid vertex's welded vertex and each grid's turn (for meshes
 /// built on the same vertices with other elements, such as quadratic shell elements).
 pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> Welded {
-    // Tolerance from the bounding box of everything.
+    WeldTopology::new(grids, names, options).1
+}
+
+/// What welding a set of grids found that depends only on which vertices it joined: the
+/// welded triangles of every grid, which grids meet along which edges (their relative
+/// orientation), which groups of grids are closed and the rims of the open ones. Grids whose
+/// vertices join alike (an animation's frames) are welded again with [`WeldTopology::weld`]
+/// without building the edge maps again; the result equals [`weld_mapped`]'s bit for bit.
+#[derive(Clone, Debug)]
+pub struct WeldTopology {
+    options: WeldOptions,
+    names: Vec<String>,
+    /// The grids' shapes `(nu, nv)`.
+    shapes: Vec<(usize, usize)>,
+    source: Vec<Vec<u32>>,
+    vertices: usize,
+    /// Per grid, its triangles re-indexed (before any turn), without the collapsed ones.
+    tris: Vec<Vec<[u32; 3]>>,
+    /// Per grid, its group's root and its orientation relative to it.
+    relative: Vec<(usize, bool)>,
+    /// The groups whose orientation is decided by a volume, in the order weld visits them.
+    groups: Vec<Group>,
+}
+
+#[derive(Clone, Debug)]
+struct Group {
+    root: usize,
+    members: Vec<usize>,
+    closed: bool,
+    /// The first vertex of every rim edge (used once), in the order of the triangles.
+    rim: Vec<u32>,
+}
+
+/// Bounding-box diagonal of every grid vertex.
+fn diagonal(grids: &[GridMesh]) -> f64 {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in grids.iter().flat_map(|g| &g.positions) {
@@ -143,7 +177,12 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
             hi[c] = hi[c].max(p[c] as f64);
         }
     }
-    let diag = (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt();
+    (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
+}
+
+/// Joins the boundary vertices that coincide: the welded positions (first copy) and the welded
+/// vertex of every grid vertex.
+fn merge(grids: &[GridMesh], options: WeldOptions, diag: f64) -> (Vec<[f32; 3]>, Vec<Vec<u32>>) {
     let tol = if diag.is_finite() && diag > 0.0 {
         WELD_TOLERANCE * diag
     } else {
@@ -199,177 +238,240 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
         }
         source.push(map);
     }
+    (positions, source)
+}
 
-    // Triangles per patch, re-indexed, without the ones welding collapsed.
-    let mut tris: Vec<Vec<[u32; 3]>> = grids
-        .iter()
-        .zip(&source)
-        .map(|(g, map)| {
-            g.triangles()
-                .map(|t| t.map(|i| map[i as usize]))
-                .filter(|[a, b, c]| a != b && b != c && a != c)
-                .collect()
-        })
-        .collect();
+impl WeldTopology {
+    /// Welds `grids` (as [`weld_mapped`]) and keeps what the welding found.
+    pub fn new(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> (Self, Welded) {
+        let diag = diagonal(grids);
+        let (positions, source) = merge(grids, options, diag);
 
-    // Directed edges → (patch, count); patches meeting along an edge agree in orientation when
-    // they run along it in opposite directions.
-    let mut edges: HashMap<(u32, u32), (usize, u32, bool)> = HashMap::new();
-    let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
-    for (k, ts) in tris.iter().enumerate() {
-        for t in ts {
-            for e in 0..3 {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                let key = (a.min(b), a.max(b));
-                *uses.entry(key).or_default() += 1;
-                edges.entry(key).or_insert((k, a, a < b));
-            }
-        }
-    }
-    let mut parity = Parity::new(grids.len());
-    for (k, ts) in tris.iter().enumerate() {
-        for t in ts {
-            for e in 0..3 {
-                let (a, b) = (t[e], t[(e + 1) % 3]);
-                let key = (a.min(b), a.max(b));
-                let (first, _, forward) = edges[&key];
-                if first != k && uses[&key] == 2 {
-                    // Same direction along the shared edge: opposite orientations.
-                    parity.join(first, k, forward == (a < b));
+        // Triangles per patch, re-indexed, without the ones welding collapsed.
+        let tris: Vec<Vec<[u32; 3]>> = grids
+            .iter()
+            .zip(&source)
+            .map(|(g, map)| {
+                g.triangles()
+                    .map(|t| t.map(|i| map[i as usize]))
+                    .filter(|[a, b, c]| a != b && b != c && a != c)
+                    .collect()
+            })
+            .collect();
+
+        // Directed edges → (patch, count); patches meeting along an edge agree in orientation
+        // when they run along it in opposite directions.
+        let mut edges: HashMap<(u32, u32), (usize, u32, bool)> = HashMap::new();
+        let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+        for (k, ts) in tris.iter().enumerate() {
+            for t in ts {
+                for e in 0..3 {
+                    let (a, b) = (t[e], t[(e + 1) % 3]);
+                    let key = (a.min(b), a.max(b));
+                    *uses.entry(key).or_default() += 1;
+                    edges.entry(key).or_insert((k, a, a < b));
                 }
             }
         }
-    }
-
-    // Orientation of each patch relative to its group's root, then the group's own turn.
-    let relative: Vec<(usize, bool)> = (0..grids.len()).map(|k| parity.find(k)).collect();
-    let mut group_flip: HashMap<usize, bool> = HashMap::new();
-    for &(root, _) in &relative {
-        if group_flip.contains_key(&root) || parity.conflict[root] {
-            continue;
-        }
-        let members: Vec<usize> = (0..grids.len())
-            .filter(|&k| relative[k].0 == root)
-            .collect();
-        let closed = members.iter().all(|&k| {
-            tris[k].iter().all(|t| {
-                (0..3).all(|e| {
+        let mut parity = Parity::new(grids.len());
+        for (k, ts) in tris.iter().enumerate() {
+            for t in ts {
+                for e in 0..3 {
                     let (a, b) = (t[e], t[(e + 1) % 3]);
-                    uses[&(a.min(b), a.max(b))] == 2
-                })
-            })
-        });
-        // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid of
-        // the boundary vertices (what `analyze` calls the capped volume).
-        let apex = if closed {
-            [0.0; 3]
-        } else {
-            let mut sum = [0.0f64; 3];
-            let mut count = 0usize;
-            for &k in &members {
-                for t in &tris[k] {
-                    for e in 0..3 {
+                    let key = (a.min(b), a.max(b));
+                    let (first, _, forward) = edges[&key];
+                    if first != k && uses[&key] == 2 {
+                        // Same direction along the shared edge: opposite orientations.
+                        parity.join(first, k, forward == (a < b));
+                    }
+                }
+            }
+        }
+
+        // Orientation of each patch relative to its group's root; the groups whose own turn
+        // a volume decides.
+        let relative: Vec<(usize, bool)> = (0..grids.len()).map(|k| parity.find(k)).collect();
+        let mut groups: Vec<Group> = Vec::new();
+        for &(root, _) in &relative {
+            if groups.iter().any(|g| g.root == root) || parity.conflict[root] {
+                continue;
+            }
+            let members: Vec<usize> = (0..grids.len())
+                .filter(|&k| relative[k].0 == root)
+                .collect();
+            let closed = members.iter().all(|&k| {
+                tris[k].iter().all(|t| {
+                    (0..3).all(|e| {
                         let (a, b) = (t[e], t[(e + 1) % 3]);
-                        if uses[&(a.min(b), a.max(b))] == 1 {
-                            let p = positions[a as usize];
-                            for c in 0..3 {
-                                sum[c] += p[c] as f64;
+                        uses[&(a.min(b), a.max(b))] == 2
+                    })
+                })
+            });
+            let mut rim = Vec::new();
+            if !closed {
+                for &k in &members {
+                    for t in &tris[k] {
+                        for e in 0..3 {
+                            let (a, b) = (t[e], t[(e + 1) % 3]);
+                            if uses[&(a.min(b), a.max(b))] == 1 {
+                                rim.push(a);
                             }
-                            count += 1;
                         }
                     }
                 }
             }
-            sum.map(|x| x / count.max(1) as f64)
+            groups.push(Group {
+                root,
+                members,
+                closed,
+                rim,
+            });
+        }
+        let topology = WeldTopology {
+            options,
+            names: (0..grids.len())
+                .map(|k| {
+                    names
+                        .get(k)
+                        .map(|s| s.to_string())
+                        .unwrap_or_else(|| format!("patch{k}"))
+                })
+                .collect(),
+            shapes: grids.iter().map(|g| (g.nu, g.nv)).collect(),
+            vertices: positions.len(),
+            source,
+            tris,
+            relative,
+            groups,
         };
-        let mut volume = 0.0f64;
-        for &k in &members {
-            let sign = if relative[k].1 { -1.0 } else { 1.0 };
-            volume += sign * signed_volume_about(&positions, &tris[k], apex);
-        }
-        // An open group that encloses next to nothing (a sheet) keeps its first patch's side.
-        let encloses = closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
-        let flip = encloses && volume < 0.0;
-        group_flip.insert(root, flip);
+        let welded = topology.finish(grids, positions, diag);
+        (topology, welded)
     }
-    let flipped: Vec<bool> = relative
-        .iter()
-        .map(|&(root, rel)| rel ^ group_flip.get(&root).copied().unwrap_or(false))
-        .collect();
 
-    // Normals: the mean of the welded copies, each turned with its patch.
-    let mut sums = vec![[0.0f64; 3]; positions.len()];
-    for (k, g) in grids.iter().enumerate() {
-        let s = if flipped[k] { -1.0 } else { 1.0 };
-        for (idx, n) in g.normals.iter().enumerate() {
-            let w = source[k][idx] as usize;
-            for c in 0..3 {
-                sums[w][c] += s * n[c] as f64;
-            }
+    /// Welds grids of the same shapes as the first; `None` when their vertices join otherwise
+    /// (a curve became a point, two patches met or parted), where [`weld_mapped`] must be
+    /// called again. The result equals `weld_mapped(grids, …)` bit for bit.
+    pub fn weld(&self, grids: &[GridMesh]) -> Option<Welded> {
+        let same_shapes = grids.len() == self.shapes.len()
+            && grids
+                .iter()
+                .zip(&self.shapes)
+                .all(|(g, &(nu, nv))| g.nu == nu && g.nv == nv && g.positions.len() == nu * nv);
+        if !same_shapes {
+            return None;
         }
-    }
-    for (k, ts) in tris.iter_mut().enumerate() {
-        if flipped[k] {
-            for t in ts.iter_mut() {
-                t.swap(1, 2);
-            }
+        let diag = diagonal(grids);
+        let (positions, source) = merge(grids, self.options, diag);
+        if source != self.source || positions.len() != self.vertices {
+            return None;
         }
+        Some(self.finish(grids, positions, diag))
     }
-    let mut normals: Vec<[f32; 3]> = sums
-        .iter()
-        .map(|s| {
-            let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-            if len > 1e-3 {
-                s.map(|c| (c / len) as f32)
-            } else {
+
+    /// Orients the groups by their volumes at these positions, then the normals.
+    fn finish(&self, grids: &[GridMesh], positions: Vec<[f32; 3]>, diag: f64) -> Welded {
+        let mut group_flip: HashMap<usize, bool> = HashMap::new();
+        for g in &self.groups {
+            // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid
+            // of the rim vertices (what `analyze` calls the capped volume).
+            let apex = if g.closed {
                 [0.0; 3]
+            } else {
+                let mut sum = [0.0f64; 3];
+                for &a in &g.rim {
+                    let p = positions[a as usize];
+                    for c in 0..3 {
+                        sum[c] += p[c] as f64;
+                    }
+                }
+                sum.map(|x| x / g.rim.len().max(1) as f64)
+            };
+            let mut volume = 0.0f64;
+            for &k in &g.members {
+                let sign = if self.relative[k].1 { -1.0 } else { 1.0 };
+                volume += sign * signed_volume_about(&positions, &self.tris[k], apex);
             }
-        })
-        .collect();
-    // Where the copies' normals cancel (a crease turned back on itself) or point against the
-    // triangles around the vertex (the limit normal at a pole closing a patch at its end u,
-    // whose sign is that of the other end's), the mean of the facet normals around the vertex.
-    let mut acc = vec![[0.0f64; 3]; positions.len()];
-    for t in tris.iter().flatten() {
-        let f = facet_cross(&positions, *t);
-        for &i in t {
-            for c in 0..3 {
-                acc[i as usize][c] += f[c];
-            }
+            // An open group that encloses next to nothing (a sheet) keeps its first patch's
+            // side.
+            let encloses = g.closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
+            let flip = encloses && volume < 0.0;
+            group_flip.insert(g.root, flip);
         }
-    }
-    for (n, a) in normals.iter_mut().zip(&acc) {
-        let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
-        if dot <= 0.0 {
-            let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-            if len > 0.0 {
-                *n = a.map(|c| (c / len) as f32);
-            }
-        }
-    }
+        let flipped: Vec<bool> = self
+            .relative
+            .iter()
+            .map(|&(root, rel)| rel ^ group_flip.get(&root).copied().unwrap_or(false))
+            .collect();
 
-    let mut mesh = TriMesh {
-        positions,
-        normals,
-        uv: Vec::new(),
-        triangles: Vec::new(),
-        parts: Vec::new(),
-    };
-    for (k, ts) in tris.into_iter().enumerate() {
-        let start = mesh.triangles.len();
-        mesh.triangles.extend(ts);
-        mesh.parts.push(Part {
-            name: names
-                .get(k)
-                .map(|s| s.to_string())
-                .unwrap_or_else(|| format!("patch{k}")),
-            triangles: start..mesh.triangles.len(),
-        });
-    }
-    Welded {
-        mesh,
-        source,
-        flipped,
+        // Normals: the mean of the welded copies, each turned with its patch.
+        let mut sums = vec![[0.0f64; 3]; positions.len()];
+        for (k, g) in grids.iter().enumerate() {
+            let s = if flipped[k] { -1.0 } else { 1.0 };
+            for (idx, n) in g.normals.iter().enumerate() {
+                let w = self.source[k][idx] as usize;
+                for c in 0..3 {
+                    sums[w][c] += s * n[c] as f64;
+                }
+            }
+        }
+        let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(self.tris.iter().map(Vec::len).sum());
+        let mut parts = Vec::with_capacity(self.tris.len());
+        for (k, ts) in self.tris.iter().enumerate() {
+            let start = triangles.len();
+            if flipped[k] {
+                triangles.extend(ts.iter().map(|&[a, b, c]| [a, c, b]));
+            } else {
+                triangles.extend_from_slice(ts);
+            }
+            parts.push(Part {
+                name: self.names[k].clone(),
+                triangles: start..triangles.len(),
+            });
+        }
+        let mut normals: Vec<[f32; 3]> = sums
+            .iter()
+            .map(|s| {
+                let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+                if len > 1e-3 {
+                    s.map(|c| (c / len) as f32)
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
+        // Where the copies' normals cancel (a crease turned back on itself) or point against
+        // the triangles around the vertex (the limit normal at a pole closing a patch at its end
+        // u, whose sign is that of the other end's), the mean of the facet normals around the
+        // vertex.
+        let mut acc = vec![[0.0f64; 3]; positions.len()];
+        for &t in &triangles {
+            let f = facet_cross(&positions, t);
+            for &i in &t {
+                for c in 0..3 {
+                    acc[i as usize][c] += f[c];
+                }
+            }
+        }
+        for (n, a) in normals.iter_mut().zip(&acc) {
+            let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
+            if dot <= 0.0 {
+                let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                if len > 0.0 {
+                    *n = a.map(|c| (c / len) as f32);
+                }
+            }
+        }
+        Welded {
+            mesh: TriMesh {
+                positions,
+                normals,
+                uv: Vec::new(),
+                triangles,
+                parts,
+            },
+            source: self.source.clone(),
+            flipped,
+        }
     }
 }
 

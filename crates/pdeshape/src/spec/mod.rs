@@ -16,6 +16,7 @@ pub mod limits;
 mod locate;
 mod optimize;
 mod parametric;
+pub mod rig;
 mod schema;
 mod spine;
 mod spline;
@@ -30,7 +31,9 @@ pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
 pub use locate::{describe_error, key_path, locate};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
-pub use spine::{SpineCarry, SpineHermite, SpineMove, SpineSpec};
+pub use spine::{
+    SpineCarry, SpineHermite, SpineMove, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS,
+};
 pub use spline::{FixSpec, FixedPointSpec, SplineOperatorSpec, SplineSpec};
 pub use trim::{TrimCurveSpec, TrimMethodSpec, TrimSpec};
 pub use types::{

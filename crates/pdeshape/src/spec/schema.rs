@@ -304,6 +304,7 @@ fn add_limits(v: &mut Value) {
         Value::Object(m) => {
             if let Some(Value::Object(props)) = m.get_mut("properties") {
                 let polyharmonic = props.contains_key("order") && props.contains_key("a");
+                let props_has_alpha = props.contains_key("alpha") && props.contains_key("omega");
                 for (name, p) in props.iter_mut() {
                     let Value::Object(p) = p else { continue };
                     let number = is_type(p, "number");
@@ -368,6 +369,11 @@ fn add_limits(v: &mut Value) {
                             set(p, "maximum", json!(MAX_GRID_VERTICES / 2));
                         }
                         "cos" | "sin" if array => set(p, "maxItems", json!(MAX_FOURIER_TERMS)),
+                        // `[[spine]] wave.amplitude`: the coefficients of Ω(u).
+                        "amplitude" if array && props_has_alpha => {
+                            set(p, "minItems", json!(1));
+                            set(p, "maxItems", json!(crate::spec::MAX_WAVE_TERMS));
+                        }
                         "constraints" if array => set(p, "maxItems", json!(MAX_CONSTRAINTS)),
                         "parameters" if array => set(p, "maxItems", json!(MAX_PARAMETERS)),
                         "patches" if array => set(p, "maxItems", json!(MAX_PATCHES)),

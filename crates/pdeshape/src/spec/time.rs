@@ -431,9 +431,10 @@ fn collect(
 }
 
 impl TimedDesign {
-    /// True when some field is a formula in `t` (otherwise every frame is the same design).
+    /// True when some field is a formula in `t` or the design has a `[rig]` (otherwise every
+    /// frame is the same design).
     pub fn depends_on_time(&self) -> bool {
-        !self.fields.is_empty()
+        !self.fields.is_empty() || self.doc.get("rig").is_some()
     }
 
     /// The places of the formula fields (`curves.rim.radius`, …), in file order by path.
@@ -459,7 +460,8 @@ impl TimedDesign {
         Ok(values)
     }
 
-    /// The design file's tree with every formula field replaced by its value at `t`.
+    /// The design file's tree with every formula field replaced by its value at `t`, posed by
+    /// its `[rig]` (see [`super::rig`]).
     pub fn value_at(&self, t: f64) -> Result<toml::Value> {
         let values = self.values(t)?;
         let mut doc = self.doc.clone();
@@ -483,6 +485,7 @@ impl TimedDesign {
             }
             *node = toml::Value::Float(x);
         }
+        super::rig::apply(&mut doc, t, self.time.start, self.time.end)?;
         Ok(doc)
     }
 

@@ -1,0 +1,40 @@
+//! Frames per second of the four-patch left ventricle (`examples/anim/ventricle.toml`, §8.1.1)
+//! at 64 × 128 per patch: every frame's formulas evaluated, the design re-solved, tessellated
+//! and welded into one mesh (what `pdeshape animate` does per frame before writing). One
+//! iteration is the whole 48-frame beat; the throughput is in frames.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use pdeshape::anim::{for_each_frame, Animation};
+use pdeshape::design::Export;
+use pdeshape::spec::time::parse_timed;
+use std::hint::black_box;
+
+fn bench(c: &mut Criterion) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/anim/ventricle.toml"
+    );
+    let anim = Animation::Timed(parse_timed(&std::fs::read_to_string(path).unwrap()).unwrap());
+    let times = anim.times().unwrap();
+    let mut group = c.benchmark_group("anim");
+    group.throughput(Throughput::Elements(times.len() as u64));
+    group.bench_function("ventricle_frames_64x128", |b| {
+        b.iter(|| {
+            let mut n = 0usize;
+            for_each_frame(&anim, &times, 64, 128, &Export::default(), |f| {
+                n += f.mesh.positions.len();
+                Ok(())
+            })
+            .unwrap();
+            black_box(n)
+        })
+    });
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10).warm_up_time(std::time::Duration::from_secs(1)).measurement_time(std::time::Duration::from_secs(3));
+    targets = bench
+}
+criterion_main!(benches);
