@@ -7,6 +7,12 @@ ring by a fan, matches the per-frame volume of `--csv` (the library's quadrature
 cap) to the discretisation error of the 64 x 128 grid (chordal error about (2 pi/128)^2/6 = 4e-4
 per direction; 3e-3 leaves room for the fan cap's polygon and nothing more). The ventricle's
 volume curve has its maximum at t = 0 and its minimum at t = t_m/2.
+
+For the face: both GLBs (the face and the scan re-targeted onto it) pass the validator and load
+in trimesh; the re-targeted GLB has one frame per frame of the face, and its frames where every
+expression weight is zero (t = 0, 2, 4) are the scan's vertices exactly (the OBJ's coordinates
+as float32 in glTF's frame, metres); the others move it. The APNG is read back chunk by chunk
+here: its size, frame count, endless loop and frame delay (1/12 s).
 """
 
 import csv
@@ -133,6 +139,80 @@ def check(bin_, out, validator, example, name, scale_m, ventricle):
             fail("ventricle: not marked as a loop")
 
 
+def read_obj_vertices(path):
+    return np.array(
+        [list(map(float, l.split()[1:4])) for l in open(path) if l.startswith("v ")],
+        dtype=np.float64,
+    )
+
+
+def read_apng(path):
+    """Width, height, frames, plays and the frame delays of an APNG, from its chunks."""
+    data = Path(path).read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    pos, info, delays = 8, {}, []
+    while pos < len(data):
+        (length,) = struct.unpack_from(">I", data, pos)
+        kind = data[pos + 4 : pos + 8]
+        body = data[pos + 8 : pos + 8 + length]
+        if kind == b"IHDR":
+            info["size"] = struct.unpack_from(">II", body, 0)
+        elif kind == b"acTL":
+            info["frames"], info["plays"] = struct.unpack_from(">II", body, 0)
+        elif kind == b"fcTL":
+            num, den = struct.unpack_from(">HH", body, 20)
+            delays.append((num, den))
+        pos += 12 + length
+    info["delays"] = delays
+    return info
+
+
+def check_face(bin_, out, validator):
+    face = ROOT / "examples" / "anim" / "face.toml"
+    scan = ROOT / "examples" / "anim" / "face_scan.obj"
+    glb, sglb, apng, sheet = (out / n for n in ["face.glb", "scan.glb", "face.png", "sheet.png"])
+    run([bin_, "animate", face, "-o", glb, "--retarget", scan, "--retarget-output", sglb,
+         "--apng", apng, "--contact-sheet", sheet, "--picture-size", "160x120", "--quiet"])
+    if not (glb.exists() and sglb.exists() and apng.exists() and sheet.exists()):
+        fail("face: an output is missing")
+        return
+    for f in [glb, sglb]:
+        r = subprocess.run(["node", validator, f], capture_output=True, text=True)
+        report = json.loads(r.stdout.strip().splitlines()[-1])
+        print(f"validator {f.name}: {report['errors']} errors, {report['warnings']} warnings")
+        if report["errors"] != 0:
+            fail(f"{f}: validator: {report['messages']}")
+        if len(trimesh.load(str(f)).geometry) != 1:
+            fail(f"{f}: trimesh does not find one mesh")
+    _, face_frames, _ = read_glb(glb)
+    _, frames, faces = read_glb(sglb)
+    if len(frames) != len(face_frames) or len(frames) != 72:
+        fail(f"face: {len(face_frames)} face frames, {len(frames)} re-targeted frames (72 expected)")
+        return
+    # The frames are float32 in design units, then scaled to metres in float64 and rounded to
+    # float32 again; glTF is +Y up: (x, y, z) cm -> (x, z, -y) / 100.
+    v = read_obj_vertices(scan).astype(np.float32).astype(np.float64)
+    expected = np.stack([v[:, 0] * 0.01, v[:, 2] * 0.01, -v[:, 1] * 0.01], axis=1)
+    base = frames[0].astype(np.float32)
+    if not np.array_equal(base, expected.astype(np.float32)):
+        worst = np.abs(base - expected.astype(np.float32)).max()
+        fail(f"face: the first re-targeted frame is not the scan (largest difference {worst:.3g} m)")
+    still = [k for k in range(72) if not np.any(frames[k] - frames[0])]
+    print(f"face: re-targeted frames equal to the scan: {still}")
+    if still[:3] != [0, 24, 48] or not all(k in (0, 24, 48) for k in still):
+        fail(f"face: frames equal to the scan are {still}, expected [0, 24, 48]")
+    moved = max(np.abs(f - frames[0]).max() for f in frames)
+    print(f"face: largest re-targeted displacement {moved * 100:.3f} cm")
+    if moved < 0.005:
+        fail("face: the re-targeted scan does not move")
+    info = read_apng(apng)
+    print(f"face APNG: {info['size']}, {info['frames']} frames, plays {info['plays']}")
+    if info["size"] != (160, 120) or info["frames"] != 72 or info["plays"] != 0:
+        fail(f"face APNG: {info}")
+    if len(info["delays"]) != 72 or set(info["delays"]) != {(1, 12)}:
+        fail(f"face APNG: {len(info['delays'])} frame controls, delays {set(info['delays'])}")
+
+
 def main():
     bin_, out, validator = sys.argv[1], Path(sys.argv[2]), sys.argv[3]
     check(bin_, out, validator, "anim/ventricle.toml", "ventricle", 0.01, True)
@@ -140,6 +220,7 @@ def main():
     check(bin_, out, validator, "anim/fish.toml", "fish", 0.01, False)
     check(bin_, out, validator, "anim/snake.toml", "snake", 0.01, False)
     check(bin_, out, validator, "anim/arm.toml", "arm", 0.01, False)
+    check_face(bin_, out, validator)
     if failures:
         print(f"{len(failures)} animation check(s) failed")
         sys.exit(1)

@@ -39,6 +39,26 @@ pub struct Args {
     /// Multiply every position by this factor (finite, positive).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
+    /// Re-target the motion onto this triangle mesh (OBJ, STL or PLY, in the design's units):
+    /// each vertex follows its closest point on the design at the first frame.
+    #[arg(long)]
+    pub retarget: Option<PathBuf>,
+    /// Where the re-targeted mesh's animation goes (.glb; required with --retarget).
+    #[arg(long)]
+    pub retarget_output: Option<PathBuf>,
+    /// Also write the frames as an animated PNG (APNG, looping; one frame per frame of [time]).
+    #[arg(long)]
+    pub apng: Option<PathBuf>,
+    /// Also write a contact sheet: up to 12 frames, evenly spread, in one PNG.
+    #[arg(long)]
+    pub contact_sheet: Option<PathBuf>,
+    /// Size of each picture of --apng and --contact-sheet, WIDTHxHEIGHT.
+    #[arg(long, default_value = "480x360")]
+    pub picture_size: String,
+    /// Direction from the object towards the eye for --apng and --contact-sheet, x,y,z
+    /// (default: a three-quarter view).
+    #[arg(long)]
+    pub view: Option<String>,
 }
 
 /// An animation read from a file, with what locates its errors.
@@ -140,7 +160,7 @@ fn progress(total: u64) -> ProgressBar {
 
 /// The eight corners of a box as an invisible polyline, so that every frame's picture has the
 /// same framing (the renderer fits everything it draws).
-fn frame_box(lo: [f64; 3], hi: [f64; 3]) -> Polyline {
+pub(crate) fn frame_box(lo: [f64; 3], hi: [f64; 3]) -> Polyline {
     let mut points = Vec::new();
     for k in 0..8 {
         let c = |i: usize| if k >> i & 1 == 0 { lo[i] } else { hi[i] };
@@ -183,6 +203,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             args.scale
         )));
     }
+    crate::animate_more::check(args)?;
     let l = load(&args.design)?;
     let mut grid_spec = l.design.spec.clone();
     grid_spec.output = l.output.clone();
@@ -284,6 +305,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map_err(located)?;
         pb.finish_and_clear();
     }
+    let more = crate::animate_more::run(args, &l, &times, nu, nv, &keys)?;
     out.commit()?;
     if let Some(o) = csv_out {
         o.commit()?;
@@ -305,6 +327,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(d) = &args.frames_dir {
         extra += &format!("; wrote {n_pictures} pictures in {}", d.display());
     }
+    for o in more.outputs {
+        o.commit()?;
+    }
+    extra += &more.report;
     common::report(&format!(
         "wrote {shown}: {} frames, {nu} × {nv} grid, {} vertices{}{extra}\n",
         times.len(),

@@ -3,6 +3,7 @@
 
 mod analyze;
 mod animate;
+mod animate_more;
 mod blend;
 mod cad;
 mod check;

@@ -54,7 +54,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
     Ok((w, h))
 }
 
-fn parse_view(s: &str) -> Result<Vec3, CliError> {
+pub(crate) fn parse_view(s: &str) -> Result<Vec3, CliError> {
     let bad = || CliError::input(format!("--view: expected three numbers x,y,z (got '{s}')"));
     let parts: Vec<f64> = s
         .split(',')

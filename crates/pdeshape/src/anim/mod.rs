@@ -9,17 +9,22 @@
 //!                                                                         ▼
 //!                              Keyframes (frames.rs: one topology, positions per frame)
 //!                                 ├──write_glb (gltf.rs: morph targets, animated weights)
-//!                                 └──Measures (measures.rs: time, area, volume; CSV, SVG)
+//!                                 ├──Measures (measures.rs: time, area, volume; CSV, SVG)
+//!                                 └──pictures (render/anim_picture.rs: APNG, contact sheet)
+//! a separate triangle mesh ──Correspondence (retarget.rs: closest points on the first frame)
+//!                            └─ moved with every frame ─▶ Keyframes ─▶ write_glb
 //! ```
 
 mod frames;
 mod gltf;
 mod measures;
 mod morph;
+mod retarget;
 mod source;
 
 pub use frames::{for_each_frame, Frame, Keyframes};
 pub use gltf::write_glb;
 pub use measures::{measure, Measures, Row};
 pub use morph::{ease, Morph};
+pub use retarget::{vertex_normals, Anchor, Correspondence, Retarget};
 pub use source::Animation;

@@ -12,6 +12,7 @@
 //! Polylines are drawn over the surface with analytic coverage; where the surface hides them they
 //! are still drawn, faded and dashed.
 
+mod anim_picture;
 #[cfg(test)]
 mod color_tests;
 mod colorbar;
@@ -20,6 +21,7 @@ mod raster;
 mod tests;
 mod text;
 
+pub use anim_picture::{contact_sheet, frame_delay, Apng, ContactSheet};
 pub use colorbar::{
     nice_step, nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
     short_label, tick_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
