@@ -8,3 +8,4 @@ if ! command -v ccx >/dev/null 2>&1; then
     apt-get install -y -qq calculix-ccx
 fi
 cargo test --release --workspace --test shell_ccx -- --ignored
+cargo test --release -p pdeshape-cli --test shell -- --ignored

@@ -14,6 +14,7 @@ mod optimize;
 mod render;
 mod schema;
 mod serve;
+mod shell;
 mod spline;
 mod surface;
 
@@ -70,6 +71,9 @@ enum Command {
     /// Solve a time-dependent design ([time] with formulas in t, or a [morph] file) at every
     /// frame and write a glTF animation, with per-frame measures (csv, svg) and pictures (png).
     Animate(animate::Args),
+    /// Thin-shell strength analysis with CalculiX ([shell], or the book's set-up): largest
+    /// shear stress and where, ratio to yield, mass; the stress field as vtu or csv.
+    Shell(shell::Args),
 }
 
 fn run(cli: Cli) -> Result<(), common::CliError> {
@@ -87,6 +91,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Fit(args) => fit::run(&args),
         Command::Roundtrip(args) => cad::roundtrip(&args),
         Command::Animate(args) => animate::run(&args),
+        Command::Shell(args) => shell::run(&args),
     }
 }
 
@@ -102,7 +107,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, animate, schema or serve \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, animate, shell, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

@@ -489,6 +489,7 @@ fn empty_design() -> DesignSpec {
         spine: Vec::new(),
         trims: Vec::new(),
         time: None,
+        shell: None,
     }
 }
 
@@ -1072,6 +1073,7 @@ impl Gen {
             spine: Vec::new(),
             trims: self.vec(2, Self::trim),
             time: None,
+            shell: None,
         }
     }
     fn trim(&mut self) -> TrimSpec {

@@ -9,14 +9,21 @@ mod deck;
 mod frd;
 mod material;
 mod mesh;
+mod output;
 mod run;
+mod setup;
 mod stress;
 
 pub use deck::{LineLoad, ShellModel};
 pub use frd::{read_frd, FrdResults};
 pub use material::Material;
 pub use mesh::{Element, ShellMesh, Side, MAX_NODES};
+pub use output::{csv, vtu};
 pub use run::{run_ccx, RunOptions, RunOutput, INSTALL_HINT};
+pub use setup::{
+    LoadSetup, ShellSetup, BOOK_LINE_LOAD, BYTES_PER_SHELL_NODE, DEFAULT_ELEMENTS,
+    DEFAULT_THICKNESS, MAX_ELEMENTS,
+};
 pub use stress::{max_shear, principal_stresses, MaxShear};
 
 use crate::{Error, Result};

@@ -18,6 +18,7 @@ mod optimize;
 mod parametric;
 pub mod rig;
 mod schema;
+mod shell;
 mod spine;
 mod spline;
 pub mod time;
@@ -31,6 +32,7 @@ pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
 pub use locate::{describe_error, key_path, locate};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
+pub use shell::{EdgeSpec, LineLoadSpec, MaterialSpec, ShellSpec, SideSpec};
 pub use spine::{
     SpineCarry, SpineHermite, SpineMove, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS,
 };

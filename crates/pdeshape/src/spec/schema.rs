@@ -305,6 +305,8 @@ fn add_limits(v: &mut Value) {
             if let Some(Value::Object(props)) = m.get_mut("properties") {
                 let polyharmonic = props.contains_key("order") && props.contains_key("a");
                 let props_has_alpha = props.contains_key("alpha") && props.contains_key("omega");
+                let shell = props.contains_key("thickness") && props.contains_key("clamped");
+                let material = props.contains_key("youngs_modulus");
                 for (name, p) in props.iter_mut() {
                     let Value::Object(p) = p else { continue };
                     let number = is_type(p, "number");
@@ -373,6 +375,30 @@ fn add_limits(v: &mut Value) {
                         "amplitude" if array && props_has_alpha => {
                             set(p, "minItems", json!(1));
                             set(p, "maxItems", json!(crate::spec::MAX_WAVE_TERMS));
+                        }
+                        // `[shell]` (spec::shell; checked by shell::ShellSetup).
+                        "thickness" if number && shell => {
+                            set(p, "exclusiveMinimum", json!(0));
+                            set(p, "maximum", json!(0.1));
+                        }
+                        "time_limit" if number && shell => {
+                            set(p, "exclusiveMinimum", json!(0));
+                            set(p, "maximum", json!(86400));
+                        }
+                        "elements" if array && shell => {
+                            set(p, "minItems", json!(2));
+                            set(p, "maxItems", json!(2));
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "minimum", json!(1));
+                                set(items, "maximum", json!(1000));
+                            }
+                        }
+                        "youngs_modulus" | "density" | "yield_stress" if number && material => {
+                            set(p, "exclusiveMinimum", json!(0))
+                        }
+                        "poisson_ratio" if number && material => {
+                            set(p, "exclusiveMinimum", json!(-1));
+                            set(p, "exclusiveMaximum", json!(0.5));
                         }
                         "constraints" if array => set(p, "maxItems", json!(MAX_CONSTRAINTS)),
                         "parameters" if array => set(p, "maxItems", json!(MAX_PARAMETERS)),

@@ -87,6 +87,10 @@ pub struct DesignSpec {
     /// then be a formula in `t` (see [`super::time`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<super::time::TimeSpec>,
+    /// The thin-shell strength analysis of `pdeshape shell` (thickness, material, elements,
+    /// clamped edges, loads; SI units); without it, the book's set-up of §7.5.1.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shell: Option<super::shell::ShellSpec>,
 }
 
 /// A length unit.

@@ -389,8 +389,8 @@ fn float_value(x: f64) -> Value {
 }
 
 /// Top-level keys written as `[section]` tables.
-const SECTIONS: [&str; 7] = [
-    "operator", "solver", "output", "dynamic", "optimize", "blend", "spline",
+const SECTIONS: [&str; 8] = [
+    "operator", "solver", "output", "dynamic", "optimize", "blend", "spline", "shell",
 ];
 /// Top-level arrays written as `[[name]]` tables.
 const ARRAYS_OF_TABLES: [&str; 3] = ["patches", "parametric", "spine"];
