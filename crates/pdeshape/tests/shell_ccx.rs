@@ -6,28 +6,8 @@ use pdeshape::surface::{Partials, Surface, VDomain};
 use pdeshape::Vec3;
 use std::f64::consts::PI;
 
-/// The cylinder `(R cos v, R sin v, H u)`: outward normals.
-struct Cylinder {
-    r: f64,
-    h: f64,
-}
-
-impl Surface for Cylinder {
-    fn v_domain(&self) -> VDomain {
-        VDomain::Periodic
-    }
-    fn partials(&self, u: f64, v: f64) -> Partials {
-        let (s, c) = v.sin_cos();
-        let r = self.r;
-        Partials {
-            x: Vec3::new(r * c, r * s, self.h * u),
-            xu: Vec3::new(0.0, 0.0, self.h),
-            xv: Vec3::new(-r * s, r * c, 0.0),
-            xvv: Vec3::new(-r * c, -r * s, 0.0),
-            ..Default::default()
-        }
-    }
-}
+mod shell_common;
+use shell_common::Cylinder;
 
 /// The sphere of radius `R` from the pole `u = 0` to the pole `u = 1`.
 struct Sphere {
@@ -91,7 +71,11 @@ fn component(s: [f64; 6], a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 fn cylinder_rim_load(nu: usize, nv: usize) -> (ShellModel, ShellReport) {
-    let cyl = Cylinder { r: 0.05, h: 0.1 };
+    let cyl = Cylinder {
+        r: 0.05,
+        z0: 0.0,
+        h: 0.1,
+    };
     let mesh = ShellMesh::new(&[&cyl], &["wall"], nu, nv).unwrap();
     let model = ShellModel {
         mesh,
@@ -148,7 +132,7 @@ fn cylinder_under_internal_pressure() {
     let (r, p) = (0.05, 1000.0);
     let mut errors = Vec::new();
     for (nu, nv) in [(8, 32), (16, 64)] {
-        let cyl = Cylinder { r, h: 0.1 };
+        let cyl = Cylinder { r, z0: 0.0, h: 0.1 };
         let mesh = ShellMesh::new(&[&cyl], &["wall"], nu, nv).unwrap();
         let model = ShellModel {
             mesh,

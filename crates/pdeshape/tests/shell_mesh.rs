@@ -6,29 +6,8 @@ use pdeshape::surface::{Partials, Surface, VDomain};
 use pdeshape::Vec3;
 use std::f64::consts::PI;
 
-/// The cylinder `(R cos v, R sin v, z0 + H u)`.
-struct Cylinder {
-    r: f64,
-    z0: f64,
-    h: f64,
-}
-
-impl Surface for Cylinder {
-    fn v_domain(&self) -> VDomain {
-        VDomain::Periodic
-    }
-    fn partials(&self, u: f64, v: f64) -> Partials {
-        let (s, c) = v.sin_cos();
-        let r = self.r;
-        Partials {
-            x: Vec3::new(r * c, r * s, self.z0 + self.h * u),
-            xu: Vec3::new(0.0, 0.0, self.h),
-            xv: Vec3::new(-r * s, r * c, 0.0),
-            xvv: Vec3::new(-r * c, -r * s, 0.0),
-            ..Default::default()
-        }
-    }
-}
+mod shell_common;
+use shell_common::Cylinder;
 
 /// A disc `((1 − u) R cos v, (1 − u) R sin v, 0)` closing the cylinder's base: its rim `u = 0`
 /// is the cylinder's `u = 0`, its centre the pole `u = 1`.
