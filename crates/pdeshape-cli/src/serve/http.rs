@@ -258,7 +258,11 @@ fn binary(bytes: Vec<u8>) -> Response {
 fn parse_body<T: for<'de> Deserialize<'de>>(body: &Bytes) -> Result<T, ApiError> {
     serde_json::from_slice(body).map_err(|e| {
         ApiError::bad_request(
-            format!("malformed request body: {e}"),
+            // serde's words for the JSON types, in a designer's words.
+            format!(
+                "malformed request body: {}",
+                pdeshape::spec::plain_message(&e.to_string())
+            ),
             &format!("body:{}:{}", e.line(), e.column()),
         )
     })

@@ -236,8 +236,9 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         ignore_lines: true,
     };
     let (models, _) =
-        tobj::load_obj_buf(&mut Cursor::new(bytes), &opts, |_| Ok(Default::default()))
-            .map_err(|e| Error::invalid(format!("not a readable OBJ file: {e}")))?;
+        tobj::load_obj_buf(&mut Cursor::new(bytes), &opts, |_| Ok(Default::default())).map_err(
+            |e| Error::invalid(reader_message(&format!("not a readable OBJ file: {e}"))),
+        )?;
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     for model in &models {
@@ -293,12 +294,13 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     }
     let mut cursor = Cursor::new(bytes);
     let reader = stl_io::create_stl_reader(&mut cursor)
-        .map_err(|e| Error::invalid(format!("not a readable STL file: {e}")))?;
+        .map_err(|e| Error::invalid(reader_message(&format!("not a readable STL file: {e}"))))?;
     let mut index: HashMap<[u32; 3], u32> = HashMap::new();
     let mut positions = Vec::new();
     let mut triangles = Vec::new();
     for (k, tri) in reader.enumerate() {
-        let tri = tri.map_err(|e| Error::invalid(format!("STL triangle {}: {e}", k + 1)))?;
+        let tri = tri
+            .map_err(|e| Error::invalid(reader_message(&format!("STL triangle {}: {e}", k + 1))))?;
         if triangles.len() >= MAX_TRIANGLES {
             check_count(triangles.len() + 1)?;
         }
@@ -331,7 +333,15 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
 
 fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     use ply_rs::ply::{DefaultElement, Property};
-    let bad = |e: std::io::Error| Error::invalid(format!("not a readable PLY file: {e}"));
+    // The reader counts the lines of the data from 0 after the header; the file's line numbers
+    // count the header's too.
+    let header_lines = bytes
+        .split(|&b| b == b'\n')
+        .position(|l| l.trim_ascii() == b"end_header")
+        .map_or(0, |i| i + 1);
+    let bad = |e: std::io::Error| Error::invalid(ply_message(&e.to_string(), 0));
+    let bad_data =
+        |e: std::io::Error| Error::invalid(ply_message(&e.to_string(), header_lines + 1));
     let vertex_parser = ply_rs::parser::Parser::<DefaultElement>::new();
     let mut cursor = Cursor::new(bytes);
     let header = vertex_parser.read_header(&mut cursor).map_err(bad)?;
@@ -339,7 +349,7 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     check_count(faces)?;
     let payload = vertex_parser
         .read_payload(&mut cursor, &header)
-        .map_err(bad)?;
+        .map_err(bad_data)?;
     let scalar = |p: &Property| -> Option<f64> {
         Some(match *p {
             Property::Float(x) => x as f64,
@@ -394,9 +404,105 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     Ok((positions, triangles))
 }
 
+/// A mesh reader's message on one line in plain words: its first line, the Rust number types
+/// it names (`vertex f32 f32 f32`) called numbers, long quoted values shortened.
+fn reader_message(raw: &str) -> String {
+    let first = raw.lines().next().unwrap_or("").trim();
+    let mut out = first
+        .replace("f32 f32 f32", "three numbers")
+        .replace("f64 f64 f64", "three numbers");
+    for (t, w) in [
+        ("f32", "a number"),
+        ("f64", "a number"),
+        ("u32", "a whole number"),
+        ("usize", "a whole number"),
+        ("u8", "a whole number"),
+        ("i32", "a whole number"),
+    ] {
+        out = out
+            .split(' ')
+            .map(|word| if word == t { w } else { word })
+            .collect::<Vec<_>>()
+            .join(" ");
+    }
+    crate::spec::words::shorten_quoted(&out)
+}
+
+/// The PLY reader's message in plain words on one line: its own (`Line 7: Couln't read element
+/// line.` followed by the reader's internal error values) becomes `line 7: the element line
+/// `3 1 2 x` does not match the header …`; anything else keeps its first line.
+fn ply_message(raw: &str, offset: usize) -> String {
+    let first = raw.lines().next().unwrap_or("").trim();
+    let line = first
+        .strip_prefix("Line ")
+        .and_then(|r| r.split(':').next())
+        .and_then(|n| n.trim().parse::<usize>().ok())
+        .map(|n| n + offset);
+    let quoted = raw
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("String: '"))
+        .map(|s| {
+            s.trim_end_matches('\'')
+                .trim_end_matches("\\n")
+                .trim()
+                .to_string()
+        });
+    let text = match (line, quoted) {
+        (Some(n), Some(q)) => format!(
+            "line {n}: the element line `{q}` does not match the header (a value that is not a \
+             number of the declared type, or a wrong count)"
+        ),
+        (Some(n), None) => format!(
+            "line {n}: {}",
+            first.split_once(':').map_or(first, |(_, r)| r).trim()
+        ),
+        _ if first.is_empty() => "the header or the data is damaged".to_string(),
+        _ => first.to_string(),
+    };
+    crate::spec::words::shorten_quoted(&format!("not a readable PLY file: {text}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A damaged PLY element line is reported by its line and text, without the reader's
+    /// internal error values.
+    #[test]
+    fn ply_read_errors_are_one_plain_line() {
+        let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                   property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                   end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1e-7\n";
+        let e = TriMesh::read(ply.as_bytes(), MeshFormat::Ply)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 13: the element line `3 0 1 1e-7` does not match the header"),
+            "{e}"
+        );
+        for word in [
+            "ParseIntError",
+            "Custom",
+            "kind",
+            "String:",
+            "\n",
+            "Couln't",
+        ] {
+            assert!(!e.contains(word), "{word} in {e}");
+        }
+    }
+
+    /// An ASCII STL vertex line that is not three numbers is reported without Rust type names.
+    #[test]
+    fn stl_read_errors_name_no_rust_types() {
+        let stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvetex 1 0 0\n\
+                   vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+        let e = TriMesh::read(stl.as_bytes(), MeshFormat::Stl)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("STL triangle 1"), "{e}");
+        assert!(!e.contains("f32"), "{e}");
+    }
 
     fn tetra() -> TriMesh {
         TriMesh::new(

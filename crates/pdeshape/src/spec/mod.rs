@@ -24,7 +24,7 @@ mod spline;
 pub mod time;
 mod trim;
 mod types;
-mod words;
+pub(crate) mod words;
 mod write;
 
 pub use blend::{BlendSpec, EnergySpec, JoinSpec, PointSpec, SurfaceSpec};
@@ -42,6 +42,7 @@ pub use types::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, OperatorSpec,
     OutputSpec, ParamSpec, PatchSpec, SolverMethod, SolverSpec, TransformStep, Units, V3,
 };
+pub use words::plain as plain_message;
 pub use write::write_design;
 
 use crate::{Error, Result};
