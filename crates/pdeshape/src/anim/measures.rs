@@ -18,11 +18,18 @@ pub struct Row {
     pub volume: f64,
 }
 
-/// The area and enclosed volume of a solved design (adaptive quadrature to `10⁻⁹` relative,
-/// caps over open boundaries as in `analyze`).
+/// Most quadrature nodes per patch and frame: a 64th of `analyze`'s budget, since the
+/// measures are taken for every frame (smooth frames converge within 128 × 256 nodes). A
+/// surface that does not converge within it (a folded or degenerate frame) gets the last
+/// level's estimate instead of 4 million nodes a frame.
+pub const MAX_NODES_PER_FRAME: usize = 1 << 16;
+
+/// The area and enclosed volume of a solved design (adaptive quadrature to `10⁻⁹` relative
+/// within [`MAX_NODES_PER_FRAME`], caps over open boundaries as in `analyze`).
 pub fn measure(solved: &SolvedDesign) -> Result<(f64, f64)> {
     let q = Quadrature {
         tolerance: 1e-9,
+        max_nodes: MAX_NODES_PER_FRAME,
         ..Quadrature::default()
     };
     let d = integrate_design(solved, &q)?;

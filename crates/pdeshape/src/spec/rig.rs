@@ -31,6 +31,7 @@
 use super::locate;
 use crate::formula::short;
 use crate::{Error, Result};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -40,7 +41,7 @@ pub const MAX_BONES: usize = 64;
 pub const MAX_KEYS: usize = 1024;
 
 /// `[rig]`: the bones and which curve moves with which bone.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RigSpec {
     /// The bones; a parent comes before its children.
@@ -51,9 +52,10 @@ pub struct RigSpec {
 }
 
 /// One hinged bone.
-#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BoneSpec {
+    /// The bone's name (for `parent` and `[rig.attach]`).
     pub name: String,
     /// The bone it hangs from (earlier in the list); none for a root.
     #[serde(default)]

@@ -10,6 +10,7 @@ use serde_json::{json, Map, Value};
 pub fn schema_value() -> Value {
     let schema = schemars::schema_for!(DesignSpec);
     let mut v = serde_json::to_value(&schema).unwrap_or(Value::Null);
+    add_rig(&mut v);
     unwrap_all_of(&mut v);
     add_limits(&mut v);
     add_descriptions(&mut v);
@@ -24,6 +25,33 @@ pub fn schema_value() -> Value {
     v
 }
 
+/// `[rig]` (spec::rig), which the timed-design reader applies and removes before the design is
+/// read: its schema joins the design's as an optional property.
+fn add_rig(root: &mut Value) {
+    let rig =
+        serde_json::to_value(schemars::schema_for!(super::rig::RigSpec)).unwrap_or(Value::Null);
+    let Value::Object(mut rig) = rig else { return };
+    let defs = rig.remove("definitions");
+    rig.remove("$schema");
+    rig.remove("title");
+    let Value::Object(root) = root else { return };
+    if let Some(Value::Object(all)) = root.get_mut("definitions") {
+        if let Some(Value::Object(defs)) = defs {
+            all.extend(defs);
+        }
+        all.insert("RigSpec".into(), Value::Object(rig));
+    }
+    if let Some(Value::Object(props)) = root.get_mut("properties") {
+        props.insert(
+            "rig".into(),
+            json!({
+                "$ref": "#/definitions/RigSpec",
+                "description": "A skeleton of hinged bones with keyframed joint angles posing the curves attached to them (needs [time]; book §8.1.3.1)."
+            }),
+        );
+    }
+}
+
 /// The sections whose numbers are never formulas in `t` (they have formula languages of their
 /// own, or define time itself): see `spec::time`.
 const NO_TIME_FORMULAS: &[&str] = &[
@@ -32,6 +60,8 @@ const NO_TIME_FORMULAS: &[&str] = &[
     "ParametricSpec",
     "TimeSpec",
     "FormulaText",
+    "RigSpec",
+    "BoneSpec",
 ];
 
 /// Every other number may be written as a formula in `t`, a string starting with `=`
@@ -76,7 +106,9 @@ fn allow_time_formulas(root: &mut Value) {
             }
             ("properties", Value::Object(props)) => {
                 for (name, p) in props.iter_mut() {
-                    if !["dynamic", "optimize", "parametric", "time"].contains(&name.as_str()) {
+                    if !["dynamic", "optimize", "parametric", "time", "rig"]
+                        .contains(&name.as_str())
+                    {
                         walk(p);
                     }
                 }
@@ -297,6 +329,32 @@ fn set(p: &mut Map<String, Value>, key: &str, value: Value) {
     p.insert(key.to_string(), value);
 }
 
+/// Appends a limit JSON Schema cannot express (a product of two fields) to the description.
+fn note(p: &mut Map<String, Value>, text: &str) {
+    let d = p.get("description").and_then(Value::as_str).unwrap_or("");
+    let joined = if d.is_empty() {
+        text.to_string()
+    } else {
+        format!("{} {text}", d.trim_end())
+    };
+    p.insert("description".into(), Value::String(joined));
+}
+
+/// Most elements along each side of a `[blend]` (`bfs::MAX_ELEMENTS_PER_SIDE`; a test keeps
+/// them equal, since `spec` does not import the solvers).
+const BLEND_ELEMENTS_PER_SIDE: usize = 4096;
+/// Most spans of a `[spline]` in each direction (`design::spline`).
+const SPLINE_SPANS: usize = 1000;
+
+/// The limits on products of two fields, which JSON Schema cannot state: in the descriptions.
+const GRID_PRODUCT: &str = "Limit: nu × nv ≤ 67108864 vertices, and the grids of all patches \
+     together within the memory budget of the limits table (docs/design-file.md).";
+const SPLINE_PRODUCT: &str =
+    "Limit: (degree + spans) in u times (degree + spans) in v ≤ 10000 control points.";
+fn step_product() -> String {
+    format!("Limit: steps × intervals ≤ {MAX_STEP_WORK} (about a minute of work).")
+}
+
 /// The limits, by property name (and the sibling that identifies the table where a name is
 /// shared).
 fn add_limits(v: &mut Value) {
@@ -304,6 +362,19 @@ fn add_limits(v: &mut Value) {
         Value::Object(m) => {
             if let Some(Value::Object(props)) = m.get_mut("properties") {
                 let polyharmonic = props.contains_key("order") && props.contains_key("a");
+                // The table a property sits in, from its siblings (names are shared).
+                let dynamic = props.contains_key("stiffness") && props.contains_key("t_end");
+                let time = props.contains_key("fps") && props.contains_key("loop");
+                let blend = props.contains_key("epsilon") && props.contains_key("elements");
+                let energy_a = props.contains_key("kind")
+                    && props.contains_key("a")
+                    && !props.contains_key("b");
+                let data_point = props.contains_key("at") && props.contains_key("value");
+                let derivative_curve =
+                    props.contains_key("position") && props.contains_key("direction");
+                let uniform_scale = props.contains_key("factor") && props.contains_key("about");
+                let dilation = props.contains_key("factors") && props.contains_key("about");
+                let spline = props.contains_key("spans") && props.contains_key("net");
                 let props_has_alpha = props.contains_key("alpha") && props.contains_key("omega");
                 let shell = props.contains_key("thickness") && props.contains_key("clamped");
                 let material = props.contains_key("youngs_modulus");
@@ -348,10 +419,12 @@ fn add_limits(v: &mut Value) {
                         "steps" | "max_steps" if integer => {
                             set(p, "minimum", json!(1));
                             set(p, "maximum", json!(MAX_STEPS));
+                            note(p, &step_product());
                         }
                         "intervals" if integer => {
                             set(p, "minimum", json!(5));
                             set(p, "maximum", json!(MAX_INTERVALS));
+                            note(p, &step_product());
                         }
                         "evaluations" if integer => {
                             set(p, "minimum", json!(1));
@@ -365,10 +438,12 @@ fn add_limits(v: &mut Value) {
                         "nu" if integer => {
                             set(p, "minimum", json!(2));
                             set(p, "maximum", json!(MAX_GRID_VERTICES / 3));
+                            note(p, GRID_PRODUCT);
                         }
                         "nv" if integer => {
                             set(p, "minimum", json!(3));
                             set(p, "maximum", json!(MAX_GRID_VERTICES / 2));
+                            note(p, GRID_PRODUCT);
                         }
                         "cos" | "sin" if array => set(p, "maxItems", json!(MAX_FOURIER_TERMS)),
                         // `[[spine]] wave.amplitude`: the coefficients of Ω(u).
@@ -399,6 +474,55 @@ fn add_limits(v: &mut Value) {
                         "poisson_ratio" if number && material => {
                             set(p, "exclusiveMinimum", json!(-1));
                             set(p, "exclusiveMaximum", json!(0.5));
+                        }
+                        // `[dynamic]` interpolation (dynamic::Interpolation::validate).
+                        "stiffness" | "k" | "eps" | "tolerance" | "dt" | "speed" | "t_end"
+                            if number && dynamic =>
+                        {
+                            set(p, "exclusiveMinimum", json!(0))
+                        }
+                        "tension" | "damping" if number && dynamic => set(p, "minimum", json!(0)),
+                        "frames_every" if integer && dynamic => set(p, "minimum", json!(1)),
+                        // `[time]` (spec::time): 1 frame only for a loop.
+                        "frames" if integer && time => {
+                            set(p, "minimum", json!(1));
+                            set(p, "maximum", json!(super::time::MAX_FRAMES));
+                        }
+                        "fps" if number && time => set(p, "exclusiveMinimum", json!(0)),
+                        // `[blend]` (design::blend, bfs).
+                        "elements" if array && blend => {
+                            set(p, "minItems", json!(2));
+                            set(p, "maxItems", json!(2));
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "minimum", json!(1));
+                                set(items, "maximum", json!(BLEND_ELEMENTS_PER_SIDE));
+                            }
+                        }
+                        "epsilon" if number && blend => set(p, "exclusiveMinimum", json!(0)),
+                        "a" if number && energy_a => set(p, "exclusiveMinimum", json!(0)),
+                        "at" if array && data_point => {
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "minimum", json!(0));
+                                set(items, "maximum", json!(1));
+                            }
+                        }
+                        // Factors that would collapse the curve.
+                        "scale" if number && derivative_curve => set(p, "not", json!({"const": 0})),
+                        "factor" if number && uniform_scale => set(p, "not", json!({"const": 0})),
+                        "factors" if array && dilation => {
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "not", json!({"const": 0}));
+                            }
+                        }
+                        // `[spline] spans = [m, n]`, each 1 to 1000.
+                        "spans" if array && spline => {
+                            note(p, SPLINE_PRODUCT);
+                            set(p, "minItems", json!(2));
+                            set(p, "maxItems", json!(2));
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "minimum", json!(1));
+                                set(items, "maximum", json!(SPLINE_SPANS));
+                            }
                         }
                         "constraints" if array => set(p, "maxItems", json!(MAX_CONSTRAINTS)),
                         "parameters" if array => set(p, "maxItems", json!(MAX_PARAMETERS)),
@@ -515,6 +639,11 @@ mod tests {
     }
 
     #[test]
+    fn the_solvers_bound_copied_here_is_the_solvers() {
+        assert_eq!(BLEND_ELEMENTS_PER_SIDE, crate::bfs::MAX_ELEMENTS_PER_SIDE);
+    }
+
+    #[test]
     fn limits_are_in_the_schema() {
         let s = schema_value();
         let mut v = Vec::new();
@@ -546,6 +675,22 @@ mod tests {
             find(&s, name, &mut v);
             assert!(!v.is_empty(), "{name}");
             assert!(v.iter().all(|p| get(p, key) == value), "{name}: {v:?}");
+        }
+        // Products of two fields, stated where JSON Schema cannot check them.
+        for (name, text) in [
+            ("nu", MAX_GRID_VERTICES.to_string()),
+            ("nv", MAX_GRID_VERTICES.to_string()),
+            ("steps", MAX_STEP_WORK.to_string()),
+            ("intervals", MAX_STEP_WORK.to_string()),
+            ("spans", "10000 control points".to_string()),
+        ] {
+            let mut v = Vec::new();
+            find(&s, name, &mut v);
+            assert!(!v.is_empty(), "{name}");
+            for p in v {
+                let d = get(p, "description");
+                assert!(d.as_str().is_some_and(|d| d.contains(&text)), "{name}: {d}");
+            }
         }
     }
 }
