@@ -103,11 +103,12 @@ pub fn load(path: &Path) -> Result<Loaded, CliError> {
             "{file}: the design file is not UTF-8 text (invalid byte at offset {at})"
         ))
     })?;
-    // A design whose numbers are formulas in t (spec::time) is read at its start time.
+    // A design whose numbers are formulas in t (spec::time) or that has a `[rig]` is read at
+    // its start time; its errors are the timed reader's (the plain reader knows no `[rig]`).
     let spec = spec::parse_design(&text)
         .or_else(|e| match spec::time::parse_timed(&text) {
             Ok(d) if d.depends_on_time() => d.at(d.time.start),
-            Err(timed) if text.contains("\"=") => Err(timed),
+            Err(timed) if text.contains("\"=") || text.contains("[rig") => Err(timed),
             _ => Err(e),
         })
         .map_err(|e| CliError::input(spec::describe_error(&file, &text, &e)))?;

@@ -241,3 +241,32 @@ fn surface_at_a_time_is_the_design_with_the_formulas_evaluated() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
 }
+
+/// A design with a `[rig]` and a bad value: the message names the value, not `[rig]` (which only
+/// the timed reader knows).
+#[test]
+fn errors_of_a_rigged_design_name_the_bad_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("a.glb");
+    let arm = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/anim/arm.toml"),
+    )
+    .unwrap();
+    let cases: [(&str, &str, &[&str]); 2] = [
+        ("end = 2.0\n", "end = -1.0\n", &["d.toml:", "time.end"]),
+        (
+            "joint\naxis = [0.0, 1.0, 0.0]",
+            "joint\naxis = [0.0, 0.0, 0.0]",
+            &["d.toml:", "rig.bones[0].axis"],
+        ),
+    ];
+    for (from, to, needles) in cases {
+        let d = write(dir.path(), "d.toml", &edit(&arm, from, to));
+        for args in [vec!["check", s(&d)], vec!["animate", s(&d), "-o", s(&glb)]] {
+            let o = pdeshape(&args);
+            assert_bad(&o, needles);
+            assert!(!stderr(&o).contains("unknown field"), "{}", stderr(&o));
+        }
+        assert!(!glb.exists());
+    }
+}
