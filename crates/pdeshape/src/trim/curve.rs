@@ -2,6 +2,9 @@
 
 use crate::{Error, Result, TAU};
 
+/// The most samples of one piece of a trim curve.
+pub const MAX_SAMPLES: usize = 1 << 20;
+
 /// A closed curve `c(t)`, `t ∈ [0, 1)`, in the `(u, v)` parameter plane of a surface. Its
 /// inside is removed from the surface. Coordinates are those of the plane itself: a curve across
 /// the seam of a periodic `v` simply has `v` values below 0 or above 2π.
@@ -154,7 +157,7 @@ impl TrimCurve {
         }
     }
 
-    /// Samples of the curve about `spacing` apart, measured after scaling `u` by `1/scale[0]`
+    /// Samples of the curve about `spacing` apart (at most [`MAX_SAMPLES`] a piece), measured after scaling `u` by `1/scale[0]`
     /// and `v` by `1/scale[1]` (in grid cells): the parameters `t` and the points `c(t)` exactly
     /// as [`TrimCurve::point`] gives them. A polyline keeps its corners. At least 8 samples.
     pub fn sample(&self, scale: [f64; 2], spacing: f64) -> (Vec<f64>, Vec<[f64; 2]>) {
@@ -200,8 +203,13 @@ impl TrimCurve {
                 }))
                 .collect();
             let l = cum[dense];
-            let share = (min_total as f64 * l / total).ceil() as usize;
-            let m = ((l / spacing).round() as usize).max(share).max(1);
+            // At most MAX_SAMPLES a piece: a curve longer than that (a radius of 1e300) is far
+            // outside any patch's domain, which the caller then refuses, instead of sampling it
+            // until memory runs out.
+            let share = ((min_total as f64 * l / total).ceil() as usize).min(MAX_SAMPLES);
+            let m = (((l / spacing).round().min(MAX_SAMPLES as f64)) as usize)
+                .max(share)
+                .max(1);
             // Parameters at equal chord length (linear inversion of the dense table).
             let mut seg = 0;
             for q in 0..m {

@@ -239,10 +239,21 @@ pub(crate) fn prepare(
         let inside_v = frame.periodic || (lo[1] > 0.0 && hi[1] < (frame.nv - 1) as f64);
         if !(inside_u && inside_v) {
             let (a, b) = curve::bbox(&uv);
+            // Six decimals, or a short exponent form for huge values.
+            let f = |x: f64| {
+                if x.abs() < 1e9 {
+                    format!("{x:.6}")
+                } else {
+                    format!("{x:.3e}")
+                }
+            };
             return Err(Error::invalid(format!(
-                "the curve spans u ∈ [{:.6}, {:.6}], v ∈ [{:.6}, {:.6}]: it must lie inside the \
-                 patch's parameter domain (a trim removes a hole, not an edge)",
-                a[0], b[0], a[1], b[1]
+                "the curve spans u ∈ [{}, {}], v ∈ [{}, {}]: it must lie inside the patch's \
+                 parameter domain (a trim removes a hole, not an edge)",
+                f(a[0]),
+                f(b[0]),
+                f(a[1]),
+                f(b[1])
             ))
             .at(&format!("curves[{k}]")));
         }
