@@ -149,6 +149,22 @@ impl Tally {
             Outcome::Crash => self.crashes += 1,
         }
     }
+    /// The sum of several tallies (the "all" row).
+    fn total<'a>(tallies: impl IntoIterator<Item = &'a Tally>) -> Tally {
+        let mut all = Tally::default();
+        for x in tallies {
+            all.mutants += x.mutants;
+            all.ok += x.ok;
+            all.clean += x.clean;
+            all.panics += x.panics;
+            all.over += x.over;
+            all.leftovers += x.leftovers;
+            all.unclear += x.unclear;
+            all.crashes += x.crashes;
+        }
+        all
+    }
+
     fn row(&self, name: &str) -> String {
         format!(
             "| {name} | {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -174,19 +190,7 @@ fn env_or<T: std::str::FromStr>(name: &str, default: T) -> T {
 /// Every example design: `examples/`, `examples/spline/` and `examples/anim/`.
 fn designs() -> Vec<(String, String)> {
     let mut out = mutate::examples();
-    let dir = mutate::root().join("examples/anim");
-    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    names.sort();
-    for p in names {
-        out.push((
-            format!("anim-{}", p.file_name().unwrap().to_string_lossy()),
-            std::fs::read_to_string(&p).unwrap(),
-        ));
-    }
+    out.extend(mutate::designs_in("examples/anim", "anim-"));
     out
 }
 
@@ -476,17 +480,7 @@ fn campaign(
                 t.entry(job.sub).or_default().add(&o);
                 let done: usize = t.values().map(|t| t.mutants).sum();
                 if done.is_multiple_of(PROGRESS) {
-                    let mut all = Tally::default();
-                    for x in t.values() {
-                        all.mutants += x.mutants;
-                        all.ok += x.ok;
-                        all.clean += x.clean;
-                        all.panics += x.panics;
-                        all.over += x.over;
-                        all.leftovers += x.leftovers;
-                        all.unclear += x.unclear;
-                        all.crashes += x.crashes;
-                    }
+                    let all = Tally::total(t.values());
                     let line = format!(
                         "progress {done}/{} after {:.0} s: {}\n",
                         jobs.len(),
@@ -530,18 +524,10 @@ fn mutation_campaign_through_the_binary() {
         BUDGET_BYTES >> 30
     );
     println!("| subcommand | mutants | successes | clean errors | panics | past bound | leftovers | unclear | crashes |\n|---|---|---|---|---|---|---|---|---|");
-    let mut all = Tally::default();
     for (sub, t) in &tally {
         println!("{}", t.row(sub));
-        all.mutants += t.mutants;
-        all.ok += t.ok;
-        all.clean += t.clean;
-        all.panics += t.panics;
-        all.over += t.over;
-        all.leftovers += t.leftovers;
-        all.unclear += t.unclear;
-        all.crashes += t.crashes;
     }
+    let all = Tally::total(tally.values());
     println!("{}", all.row("all"));
     assert_eq!(all.mutants, jobs.len());
     assert!(all.ok > 0 && all.clean > 0, "both outcomes must occur");

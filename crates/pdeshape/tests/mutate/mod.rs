@@ -14,22 +14,30 @@ pub fn root() -> PathBuf {
 }
 
 pub fn examples() -> Vec<(String, String)> {
-    let mut out = Vec::new();
-    for dir in ["examples", "examples/spline"] {
-        let mut names: Vec<_> = std::fs::read_dir(root().join(dir))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-            .collect();
-        names.sort();
-        for p in names {
-            out.push((
-                p.file_name().unwrap().to_string_lossy().to_string(),
-                std::fs::read_to_string(&p).unwrap(),
-            ));
-        }
-    }
+    let mut out = designs_in("examples", "");
+    out.extend(designs_in("examples/spline", ""));
     out
+}
+
+/// The `.toml` files of `dir` (relative to the repository), sorted, as `(prefix + file name,
+/// text)`.
+pub fn designs_in(dir: &str, prefix: &str) -> Vec<(String, String)> {
+    let mut names: Vec<_> = std::fs::read_dir(root().join(dir))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    names
+        .into_iter()
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().to_string();
+            (
+                format!("{prefix}{name}"),
+                std::fs::read_to_string(&p).unwrap(),
+            )
+        })
+        .collect()
 }
 
 /// Values a mutant puts in place of a number: extreme, degenerate, of the wrong type.
