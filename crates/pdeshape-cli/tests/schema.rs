@@ -242,6 +242,18 @@ const INVALID: &[(&str, &str, &str, &str)] = &[
         "fps = 0.0",
     ),
     (
+        "trim ellipse with a zero semi-axis",
+        "trimmed_vase.toml",
+        "radii = [0.1, 0.45]",
+        "radii = [0.0, 0.45]",
+    ),
+    (
+        "no annealing evaluations",
+        "optimize_curvature.toml",
+        "evaluations = 2000",
+        "evaluations = 0",
+    ),
+    (
         "too many Fourier terms",
         "cup.toml",
         "type = \"point\"\nat = [0.0, 0.0, 0.0]",

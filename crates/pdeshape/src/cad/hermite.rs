@@ -13,7 +13,7 @@
 //! from its first, so the first and last control rows are the same numbers: no seam gap.
 
 use crate::spline::BSplineSurface;
-use crate::surface::Surface;
+use crate::surface::{Partials, Surface};
 use crate::{Result, Vec3};
 
 /// One control index of a direction: the node it comes from and the offset `±h/3` its
@@ -54,18 +54,21 @@ pub fn hermite_interpolant(
     let (mu, mv) = (us.len(), vs.len());
     // Nodal data [X, X_u, X_v, X_uv], row-major.
     let mut data = vec![[Vec3::zeros(); 4]; mu * mv];
+    // Row by row (PDE patches evaluate whole rows from per-column tables); a closed direction's
+    // last node takes the first node's data, bit for bit.
+    let rows = surface.partials_rows(vs);
+    let mut row = vec![Partials::default(); mv];
     for i in 0..mu {
-        for j in 0..mv {
-            let (si, sj) = (
-                if closed[0] && i + 1 == mu { 0 } else { i },
-                if closed[1] && j + 1 == mv { 0 } else { j },
-            );
-            if (si, sj) != (i, j) {
-                data[i * mv + j] = data[si * mv + sj];
-                continue;
-            }
-            let p = surface.partials(us[i], vs[j]);
-            data[i * mv + j] = [p.x, p.xu, p.xv, p.xuv];
+        if closed[0] && i + 1 == mu {
+            data.copy_within(0..mv, i * mv);
+            continue;
+        }
+        rows.eval_row(us[i], &mut row);
+        for (d, p) in data[i * mv..(i + 1) * mv].iter_mut().zip(&row) {
+            *d = [p.x, p.xu, p.xv, p.xuv];
+        }
+        if closed[1] {
+            data[i * mv + mv - 1] = data[i * mv];
         }
     }
     let (cu, cv) = (combos(us), combos(vs));

@@ -407,7 +407,15 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
 /// A mesh reader's message on one line in plain words: its first line, the Rust number types
 /// it names (`vertex f32 f32 f32`) called numbers, long quoted values shortened.
 fn reader_message(raw: &str) -> String {
-    let first = raw.lines().next().unwrap_or("").trim();
+    let mut first = raw.lines().next().unwrap_or("").trim();
+    // `stl_io` refuses values that do not fit a 32-bit float (`1e308` reads as infinity) with
+    // "expected finite f32, got inf which is Infinite".
+    let range = "a number is not finite or lies beyond ±3.4e38 (STL stores single precision)";
+    let joined;
+    if let Some(at) = first.find("expected finite f32") {
+        joined = format!("{}{range}", &first[..at]);
+        first = &joined;
+    }
     let mut out = first
         .replace("f32 f32 f32", "three numbers")
         .replace("f64 f64 f64", "three numbers");
@@ -502,6 +510,20 @@ mod tests {
             .to_string();
         assert!(e.contains("STL triangle 1"), "{e}");
         assert!(!e.contains("f32"), "{e}");
+    }
+
+    /// A value beyond single precision (`1e308` reads as infinity) is named in plain words.
+    #[test]
+    fn stl_values_beyond_single_precision_are_plain() {
+        let stl = "solid s\nfacet normal 0 1e308 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
+                   vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+        let e = TriMesh::read(stl.as_bytes(), MeshFormat::Stl)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("STL triangle 1: a number is not finite"), "{e}");
+        for word in ["f32", "Infinite", "expected"] {
+            assert!(!e.contains(word), "{word} in {e}");
+        }
     }
 
     fn tetra() -> TriMesh {

@@ -70,13 +70,6 @@ impl SearchOptions {
     pub fn check(&self) -> Result<()> {
         crate::spec::limits::check_optimize_counts(self.evaluations, self.polish, self.chains)
             .map_err(|e| e.at("optimize"))?;
-        if self.evaluations < self.chains {
-            return Err(Error::invalid(format!(
-                "must be at least the number of chains, {} (got {})",
-                self.chains, self.evaluations
-            ))
-            .at("optimize.evaluations"));
-        }
         if let Some(s) = self.cooling {
             if !(s > 0.0 && s < 1.0) {
                 return Err(Error::invalid(format!("must satisfy 0 < s < 1 (got {s})"))

@@ -428,6 +428,13 @@ pub fn check_optimize_counts(evaluations: usize, polish: usize, chains: usize) -
                 .at("chains"),
         );
     }
+    // Every chain starts with one evaluation.
+    if evaluations < chains {
+        return Err(Error::invalid(format!(
+            "must be at least the number of chains, {chains} (got {evaluations})"
+        ))
+        .at("evaluations"));
+    }
     Ok(())
 }
 
@@ -465,6 +472,16 @@ mod tests {
         assert_eq!(
             err(&opt("polish = 99999999999")),
             "optimize.polish: 99999999999 evaluations; at most 100000 allowed"
+        );
+        // Each chain starts with one evaluation; the file's own check says so (not only the
+        // optimiser), so `check` and the schema agree.
+        assert_eq!(
+            err(&opt("evaluations = 0")),
+            "optimize.evaluations: must be at least the number of chains, 4 (got 0)"
+        );
+        assert_eq!(
+            err(&opt("evaluations = 2\nchains = 3")),
+            "optimize.evaluations: must be at least the number of chains, 3 (got 2)"
         );
     }
 

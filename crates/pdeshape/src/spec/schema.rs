@@ -399,6 +399,12 @@ fn add_limits(v: &mut Value) {
                         }
                         "samples" if integer => set(p, "maximum", json!(1 << 16)),
                         "radius" | "rx" | "ry" if number => set(p, "exclusiveMinimum", json!(0)),
+                        // A trim ellipse's semi-axes `[a, b]`.
+                        "radii" if array => {
+                            if let Some(Value::Object(items)) = p.get_mut("items") {
+                                set(items, "exclusiveMinimum", json!(0));
+                            }
+                        }
                         "u" if number => {
                             set(p, "minimum", json!(0));
                             set(p, "maximum", json!(1));
@@ -429,6 +435,10 @@ fn add_limits(v: &mut Value) {
                         "evaluations" if integer => {
                             set(p, "minimum", json!(1));
                             set(p, "maximum", json!(MAX_EVALUATIONS));
+                            note(
+                                p,
+                                "At least `chains` (each chain starts with one evaluation).",
+                            );
                         }
                         "polish" if integer => set(p, "maximum", json!(MAX_POLISH)),
                         "chains" if integer => {
