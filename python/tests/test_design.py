@@ -211,3 +211,25 @@ def test_trimesh_conversion(cup_path):
     assert tm.is_winding_consistent
     area = d.analysis()["total"]["area"]
     assert abs(tm.area - area) / area < 2e-3
+
+
+def test_pyvista_conversion(cup_path):
+    import pyvista
+
+    d = Design.load(cup_path)
+    for separate in (False, True):
+        m = d.mesh(32, 48, separate_patches=separate)
+        poly = d.to_pyvista(32, 48, separate_patches=separate)
+        assert isinstance(poly, pyvista.PolyData)
+        # the mesh's points (f32 widened to f64, exactly) and its triangles, in order
+        assert poly.n_points == len(m["vertices"]) and poly.n_cells == len(m["faces"])
+        assert np.array_equal(poly.points, m["vertices"].astype(np.float64))
+        assert poly.is_all_triangles
+        cells = poly.faces.reshape(-1, 4)
+        assert np.all(cells[:, 0] == 3)
+        assert np.array_equal(cells[:, 1:], m["faces"].astype(np.int64))
+        assert np.array_equal(poly.point_data["Normals"], m["normals"])
+    # VTK's own area of the triangles equals the analysis's up to the chords' O(h²) error
+    poly = d.to_pyvista(64, 128)
+    area = d.analysis()["total"]["area"]
+    assert abs(poly.area - area) / area < 2e-3
