@@ -1,7 +1,8 @@
 """Design sweeps and annealing restarts, serially or on a ``dask.distributed`` cluster.
 
-:func:`sweep` maps one design over a table of parameter values (or runs a list of designs) and
-returns a table of measures, one row per variant, in the input's order::
+:func:`sweep` maps one design over a table of parameter values (or runs a list of designs, design
+files, TOML texts or meshes, each mesh fitted first) and returns a table of measures, one row per
+variant, in the input's order::
 
     from dask.distributed import Client, LocalCluster
     import numpy as np, pdeshape
