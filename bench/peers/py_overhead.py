@@ -1,6 +1,7 @@
 """The Python call's overhead: `Design.tessellate(64, 128)` (library samples + NumPy arrays)
 against the same library call timed in Rust inside the extension, both on the solved cup, in
-one process, alternating batches. Prints medians and the ratio.
+one process, alternating batches. Prints medians and the ratios. Both sides stop the clock before
+the result is dropped (the arrays are freed after the timing, as the Rust buffers are).
 
     python bench/peers/py_overhead.py [examples/cup.toml] [repeats]
 """
@@ -20,8 +21,9 @@ py, rust, flat = [], [], []
 for _ in range(repeats // 10):
     for _ in range(10):
         t = time.perf_counter()
-        d.tessellate(64, 128)
+        r = d.tessellate(64, 128)
         py.append(time.perf_counter() - t)
+        del r
     rust.extend(d._rust_samples_seconds(64, 128, 10))
     flat.extend(d._rust_samples_seconds(64, 128, 10, flat=True))
 mp, mr, mf = statistics.median(py), statistics.median(rust), statistics.median(flat)

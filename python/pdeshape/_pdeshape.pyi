@@ -43,6 +43,25 @@ class Curvatures(TypedDict):
     k2: F64
     normal: F64
 
+class Frames(TypedDict):
+    step: npt.NDArray[np.uint64]  # (F,) the levels n of the frames
+    t: F64  # (F,) t_n
+    nodes: F64  # (F, J+1, dim) C(u_j, t_n): the rows of `pdeshape curve --frames`
+
+class DynamicCurve(TypedDict, total=False):
+    kind: str  # "run" (the scheme) or "interpolate" (the interpolating curve)
+    dim: int  # 1 to 3 coordinates
+    u: F64  # (J+1,) u_j = j/J
+    nodes: F64  # (J+1, dim) the final curve: the rows of `pdeshape curve -o`
+    frames: Frames
+    bending_energy: float
+    t_end: float  # run only
+    steps: int
+    points: F64  # interpolate only: (P, dim) the data points
+    params: F64  # (P,) the nodes' u of the points
+    distances: F64  # (P,) |p_i - C(u_i)|
+    updates: int
+
 class Design:
     @staticmethod
     def load(path: str | PathLike[str]) -> Design: ...
@@ -76,7 +95,9 @@ class Design:
     def evaluate(self, u: F64, v: F64, patch: int | str | None = None) -> Partials: ...
     def curvature(self, u: F64, v: F64, patch: int | str | None = None) -> Curvatures: ...
     def spine(self, u: F64, patch: int | str | None = None, order: int = 0) -> F64: ...
-    def analysis(self, tolerance: float | None = None) -> dict[str, Any]: ...
+    def analysis(
+        self, tolerance: float | None = None, quadrature: tuple[int, int] | None = None
+    ) -> dict[str, Any]: ...
     def write(
         self,
         path: str | PathLike[str],
@@ -86,7 +107,13 @@ class Design:
         scale: float = 1.0,
         up: str | None = None,
         separate_patches: bool = False,
+        tolerance: float | None = None,
+        units: str | None = None,
+        timestamp: int | None = None,
     ) -> None: ...
+    @property
+    def has_dynamic(self) -> bool: ...
+    def dynamic(self, frames: bool = True) -> DynamicCurve: ...
     def optimize(
         self,
         seed: int | None = None,
@@ -102,3 +129,6 @@ class Design:
     ) -> Any: ...
 
 def version() -> str: ...
+def fit_mesh(
+    data: bytes, name: str, tolerance: float = 2e-3, sections: int | None = None
+) -> tuple[Design, dict[str, Any]]: ...

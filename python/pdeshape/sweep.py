@@ -1,7 +1,8 @@
 """Design sweeps and annealing restarts, serially or on a ``dask.distributed`` cluster.
 
-:func:`sweep` maps one design over a table of parameter values (or runs a list of designs) and
-returns a table of measures, one row per variant, in the input's order::
+:func:`sweep` maps one design over a table of parameter values (or runs a list of designs, design
+files, TOML texts or meshes, each mesh fitted first) and returns a table of measures, one row per
+variant, in the input's order::
 
     from dask.distributed import Client, LocalCluster
     import numpy as np, pdeshape
@@ -27,13 +28,15 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-from ._pdeshape import Design, DesignError
+from ._pdeshape import Design, DesignError, fit_mesh
+from . import MESH_EXTENSIONS
 
-__all__ = ["sweep", "grid", "anneal", "MEASURES", "run_chunk"]
+__all__ = ["sweep", "grid", "anneal", "MEASURES", "FIT_COLUMNS", "run_chunk"]
 
 #: The measures a sweep can report: the totals of :meth:`Design.analysis` (the keys of
 #: ``pdeshape analyze --json``'s ``total``).
@@ -128,24 +131,73 @@ def run_chunk(
     return out, errors
 
 
+#: The columns a sweep over meshes adds: from each fit's report (``pdeshape fit --json``).
+FIT_COLUMNS = ("fit_patches", "fit_hausdorff_relative", "fit_rms_relative")
+
+
+def _fit_row(report: Mapping[str, Any]) -> list[float]:
+    m = report["measures"]
+    return [float(report["patches"]), float(m["hausdorff_relative"]), float(m["rms_relative"])]
+
+
 def _run_designs(
-    designs: Sequence[tuple[str, str, dict[str, float]]],
+    designs: Sequence[tuple],
     measures: Sequence[str],
-    tolerance: float | None,
-) -> tuple[np.ndarray, list[str | None]]:
+    tolerance: Any,
+    fit_options: tuple[float, int | None] = (2e-3, None),
+) -> tuple[np.ndarray, list[str | None], np.ndarray]:
+    """The work of one task of a sweep over a list: each item is ``("design", text, file,
+    params)``, ``("mesh", bytes, name)`` (fitted first) or ``("error", message)`` (a row that
+    failed before it was sent). Returns the measures, the errors and the fit columns."""
     out = np.full((len(designs), len(measures)), np.nan)
+    fits = np.full((len(designs), len(FIT_COLUMNS)), np.nan)
     errors: list[str | None] = []
-    for i, (text, file, params) in enumerate(designs):
+    for i, item in enumerate(designs):
+        kind = item[0]
+        if kind == "error":
+            errors.append(item[1])
+            continue
         try:
-            d = Design.from_toml(text, file)
-            if params:
-                d = d.with_params(params)
+            if kind == "mesh":
+                d, report = fit_mesh(item[1], item[2], *fit_options)
+                fits[i] = _fit_row(report)
+            else:
+                _, text, file, params = item
+                d = Design.from_toml(text, file)
+                if params:
+                    d = d.with_params(params)
         except DesignError as e:
             errors.append(str(e))
             continue
         out[i], err = _measure_row(d, measures, tolerance)
         errors.append(err)
-    return out, errors
+    return out, errors, fits
+
+
+def _item(x: Any) -> tuple[tuple, str, bool]:
+    """One input of a sweep over a list, as a task carries it (read here, so the workers need no
+    shared file system): the item, its name, and whether it is a mesh."""
+    if isinstance(x, Design):
+        return ("design", x.text, x.file, dict(x.params())), x.file, False
+    if isinstance(x, str) and "\n" in x:
+        return ("design", x, "<string>", {}), "<string>", False
+    if isinstance(x, (str, os.PathLike)):
+        path = os.fspath(x)
+        if path.lower().endswith(MESH_EXTENSIONS):
+            try:
+                with open(path, "rb") as f:
+                    return ("mesh", f.read(), path), path, True
+            except OSError as e:
+                return ("error", f"{path}: cannot read: {e.strerror or e}"), path, True
+        try:
+            d = Design.load(path)
+        except DesignError as e:
+            return ("error", str(e)), path, False
+        return ("design", d.text, d.file, {}), path, False
+    raise DesignError(
+        f"design: a list item must be a Design, a path (.toml, .obj, .stl, .ply) or TOML text "
+        f"(got {type(x).__name__})"
+    )
 
 
 def _chunk_size(n: int, client: Any, chunk_size: int | None) -> int:
@@ -187,12 +239,18 @@ def sweep(
     tolerance: float | None = None,
     as_pandas: bool | None = None,
     quadrature: tuple[int, int] | None = None,
+    fit_tolerance: float = 2e-3,
+    fit_sections: int | None = None,
 ):
-    """Measures every variant of a design, or every design of a list.
+    """Measures every variant of a design, or every design or mesh of a list.
 
     ``design``: a :class:`Design` with ``params`` a table of parameter values (a pandas
     DataFrame, a dict of equal-length columns, or a list of dicts; names in the book's notation
-    as in :meth:`Design.with_params`), or a list of designs (``params`` None).
+    as in :meth:`Design.with_params`), or a list (``params`` None) whose items are designs,
+    design files (``.toml``), TOML texts (a ``str`` with a line break) or closed triangle meshes
+    (``.obj``, ``.stl``, ``.ply``), each mesh fitted by :func:`pdeshape.fit` with
+    ``fit_tolerance`` and ``fit_sections`` and the fitted design measured. Files are read here
+    and their contents sent with the tasks (the workers need no shared file system).
     ``measures``: names from :data:`MEASURES`. ``client``: a ``dask.distributed.Client`` (None
     runs serially here). ``chunk_size``: rows per task (default: about eight tasks per worker
     thread). ``retries``: how often Dask re-runs a task whose worker failed. ``tolerance``: the
@@ -201,7 +259,10 @@ def sweep(
 
     Returns a pandas DataFrame (if pandas is installed and ``as_pandas`` is not False; else a
     dict of NumPy arrays) with the parameter columns, the measures and ``error`` (None, or the
-    located message of the variant's failure), one row per variant in the input's order.
+    located message of the variant's failure), one row per variant in the input's order. A
+    sweep over a list has the columns ``design`` (the position in the list) and ``input`` (the
+    design's file, the path, or ``<string>``) instead of parameter columns, and, when the list
+    holds a mesh, the :data:`FIT_COLUMNS` of each fit (NaN for designs).
     """
     measures = list(measures)
     if quadrature is not None:
@@ -225,12 +286,20 @@ def sweep(
     else:
         if params is not None:
             raise DesignError("params: give either one design and a table, or a list of designs")
-        items = [(d.text, d.file, dict(d.params())) for d in design]
+        if isinstance(design, (str, os.PathLike)):
+            raise DesignError("design: a Design or a list (of designs, paths or TOML texts)")
+        resolved = [_item(x) for x in design]
+        items = [r[0] for r in resolved]
         n = len(items)
         size = _chunk_size(n, client, chunk_size)
-        args = [(items[i : i + size], measures, tolerance) for i in range(0, n, size)]
+        fit_options = (fit_tolerance, fit_sections)
+        args = [(items[i : i + size], measures, tolerance, fit_options) for i in range(0, n, size)]
         results = _run(_run_designs, args, client, retries)
-        columns = {"design": np.arange(n)}
+        columns = {"design": np.arange(n), "input": np.asarray([r[1] for r in resolved], dtype=object)}
+        if any(r[2] for r in resolved):
+            fits = np.concatenate([r[2] for r in results])
+            for k, c in enumerate(FIT_COLUMNS):
+                columns[c] = fits[:, k]
     out = np.concatenate([r[0] for r in results]) if results else np.zeros((0, len(measures)))
     errors = list(itertools.chain.from_iterable(r[1] for r in results))
     for k, m in enumerate(measures):

@@ -7,14 +7,17 @@
 //! arguments. Solves, tessellations and integrals run with the Python thread detached (the GIL
 //! released), so threads and Dask workers run them in parallel.
 
-use numpy::ndarray::{Array1, Array2};
+use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
-use pdeshape::design::{self, Export, SolvedDesign};
+use pdeshape::cad::{self, step};
+use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
+use pdeshape::dynamic::{bending_energy, output::Frame};
+use pdeshape::fit;
 use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};
 use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec};
-use pdeshape::Error;
+use pdeshape::{Error, Vec3};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -139,50 +142,107 @@ struct Flat {
 }
 
 impl Flat {
-    fn of(samples: &[mesh::Samples]) -> Flat {
-        let n: usize = samples.iter().map(|g| g.len()).sum();
-        let mut f = Flat {
-            vertices: Vec::with_capacity(3 * n),
-            normals: Vec::with_capacity(3 * n),
-            uv: Vec::with_capacity(2 * n),
-            patch: Vec::with_capacity(n),
-            faces: Vec::new(),
-            shape: Vec::new(),
-        };
-        for (k, g) in samples.iter().enumerate() {
-            let base = (f.vertices.len() / 3) as u32;
-            for &u in &g.u {
-                for &v in &g.v {
-                    f.uv.extend_from_slice(&[u, v]);
-                }
-            }
-            f.vertices.extend_from_slice(g.positions.as_flattened());
-            f.normals.extend_from_slice(g.normals.as_flattened());
-            f.patch.resize(f.patch.len() + g.len(), k as u32);
-            // Grid::triangles, written out: quads (i,j), (i+1,j), (i+1,j+1), (i,j+1) split along
-            // the diagonal from (i,j) to (i+1,j+1), columns wrapping when v is periodic.
-            let (nu, nv) = (g.nu as u32, g.nv as u32);
-            let cols = if g.periodic_v {
-                nv
-            } else {
-                nv.saturating_sub(1)
-            };
-            f.faces
-                .reserve(6 * (g.nu.saturating_sub(1)) * cols as usize);
-            for i in 0..nu.saturating_sub(1) {
-                for j in 0..cols {
-                    let j1 = if j + 1 == nv { 0 } else { j + 1 };
-                    let a = base + i * nv + j;
-                    let b = base + (i + 1) * nv + j;
-                    let c = base + (i + 1) * nv + j1;
-                    let d = base + i * nv + j1;
-                    f.faces.extend_from_slice(&[a, b, c, a, c, d]);
-                }
-            }
-            f.shape.extend([g.nu as u64, g.nv as u64]);
+    /// Takes the grids' buffers: the first surface's positions and normals become the
+    /// concatenated arrays (grown in place), so only the later surfaces are copied; the (u, v)
+    /// pairs, surface numbers and faces are written into buffers of their exact final size, on
+    /// the other thread while the positions are being joined.
+    fn of(mut samples: Vec<mesh::Samples>) -> Flat {
+        let positions: Vec<_> = samples
+            .iter_mut()
+            .map(|g| std::mem::take(&mut g.positions))
+            .collect();
+        let normals: Vec<_> = samples
+            .iter_mut()
+            .map(|g| std::mem::take(&mut g.normals))
+            .collect();
+        let ((vertices, normals), (uv, patch, faces)) = rayon::join(
+            || (concat3(positions), concat3(normals)),
+            || (uv_pairs(&samples), patch_numbers(&samples), faces(&samples)),
+        );
+        let shape = samples
+            .iter()
+            .flat_map(|g| [g.nu as u64, g.nv as u64])
+            .collect();
+        Flat {
+            vertices,
+            normals,
+            uv,
+            patch,
+            faces,
+            shape,
         }
-        f
     }
+}
+
+/// The rows of several grids as one flat array, reusing the first grid's buffer.
+fn concat3(parts: Vec<Vec<[f64; 3]>>) -> Vec<f64> {
+    let total: usize = parts.iter().map(Vec::len).sum();
+    let mut parts = parts.into_iter();
+    let mut out = parts.next().unwrap_or_default();
+    out.reserve_exact(total - out.len());
+    for p in parts {
+        out.extend_from_slice(&p);
+    }
+    out.into_flattened()
+}
+
+/// `(u_i, v_j)` of every sample, in the order of the samples.
+fn uv_pairs(samples: &[mesh::Samples]) -> Vec<f64> {
+    let n: usize = samples.iter().map(|g| g.len()).sum();
+    let mut uv = Vec::with_capacity(2 * n);
+    for g in samples {
+        for &u in &g.u {
+            for &v in &g.v {
+                uv.push(u);
+                uv.push(v);
+            }
+        }
+    }
+    uv
+}
+
+fn patch_numbers(samples: &[mesh::Samples]) -> Vec<u32> {
+    let n: usize = samples.iter().map(|g| g.len()).sum();
+    let mut patch = Vec::with_capacity(n);
+    for (k, g) in samples.iter().enumerate() {
+        patch.resize(patch.len() + g.len(), k as u32);
+    }
+    patch
+}
+
+/// The columns of quads of a grid: `nv` when `v` is periodic (the last wraps to the first).
+fn quad_columns(g: &mesh::Samples) -> usize {
+    if g.periodic_v {
+        g.nv
+    } else {
+        g.nv.saturating_sub(1)
+    }
+}
+
+/// `Grid::triangles` of every grid, written out with indices into the concatenated vertices:
+/// quads (i,j), (i+1,j), (i+1,j+1), (i,j+1) split along the diagonal from (i,j) to
+/// (i+1,j+1), columns wrapping when `v` is periodic.
+fn faces(samples: &[mesh::Samples]) -> Vec<u32> {
+    let m: usize = samples
+        .iter()
+        .map(|g| 6 * g.nu.saturating_sub(1) * quad_columns(g))
+        .sum();
+    let mut f = Vec::with_capacity(m);
+    let mut base = 0u32;
+    for g in samples {
+        let (nu, nv) = (g.nu as u32, g.nv as u32);
+        let cols = quad_columns(g) as u32;
+        for i in 0..nu.saturating_sub(1) {
+            let row = base + i * nv;
+            for j in 0..cols {
+                let j1 = if j + 1 == nv { 0 } else { j + 1 };
+                let (a, b, c, d) = (row + j, row + nv + j, row + nv + j1, row + j1);
+                f.extend_from_slice(&[a, b, c, a, c, d]);
+            }
+        }
+        base += (g.nu * g.nv) as u32;
+    }
+    f
 }
 
 /// The message of an error without its place.
@@ -465,7 +525,7 @@ impl Design {
         let solved = self.solved(py)?;
         self.refuse_trims(&solved, "tessellate")?;
         let flat = py
-            .detach(|| solved.samples(nu, nv).map(|s| Flat::of(&s)))
+            .detach(|| solved.samples(nu, nv).map(Flat::of))
             .map_err(|e| self.located(&e))?;
         let Flat {
             vertices,
@@ -714,11 +774,15 @@ impl Design {
         Ok(d)
     }
 
-    /// Writes the design as the CLI's `surface` does: `format` (obj, stl, ply, glb, csv; by
-    /// default the path's extension), the grid, `scale`, `up` ("z" or "y"), `separate_patches`.
-    /// The file is written whole or not at all.
+    /// Writes the design as the CLI's `surface` does: `format` (obj, stl, ply, glb, csv, or
+    /// step/stp and igs/iges; by default the path's extension). Meshes and samples take the
+    /// grid, `scale`, `up` ("z" or "y"), `separate_patches`; STEP and IGES (every surface as a
+    /// B-spline) take `tolerance` (default 1e-4 of the design's size), `units` (default the
+    /// design's) and `timestamp` (Unix seconds of the header's date, default now). The file is
+    /// written whole or not at all.
     #[pyo3(signature = (path, nu = None, nv = None, format = None, scale = 1.0, up = None,
-                        separate_patches = false))]
+                        separate_patches = false, tolerance = None, units = None,
+                        timestamp = None))]
     #[allow(clippy::too_many_arguments)]
     fn write(
         &mut self,
@@ -730,7 +794,42 @@ impl Design {
         scale: f64,
         up: Option<&str>,
         separate_patches: bool,
+        tolerance: Option<f64>,
+        units: Option<&str>,
+        timestamp: Option<u64>,
     ) -> PyResult<()> {
+        let cad_format = match format {
+            Some(f) => CadFormat::from_name(f),
+            None => path
+                .extension()
+                .and_then(|e| e.to_str())
+                .and_then(CadFormat::from_name),
+        };
+        if let Some(cad_format) = cad_format {
+            let what = "STEP or IGES output (exact B-spline surfaces)";
+            for (given, name) in [
+                (nu.is_some(), "nu"),
+                (nv.is_some(), "nv"),
+                (scale != 1.0, "scale"),
+                (up.is_some(), "up"),
+                (separate_patches, "separate_patches"),
+            ] {
+                if given {
+                    return Err(err(format!("{name}: does not apply to {what}")));
+                }
+            }
+            return self.write_cad(py, &path, cad_format, tolerance, units, timestamp);
+        }
+        let what = "mesh and sample output (only STEP and IGES)";
+        for (given, name) in [
+            (tolerance.is_some(), "tolerance"),
+            (units.is_some(), "units"),
+            (timestamp.is_some(), "timestamp"),
+        ] {
+            if given {
+                return Err(err(format!("{name}: does not apply to {what}")));
+            }
+        }
         let format = match format {
             Some(f) => parse_format(f, "format")?,
             None => Format::from_path(&path)
@@ -776,6 +875,80 @@ impl Design {
                 }
             })?;
         write_atomically(&path, &bytes)
+    }
+
+    /// Whether the design has a `[dynamic]` section (a curve run by `dynamic()`).
+    #[getter]
+    fn has_dynamic(&self) -> bool {
+        self.spec.dynamic.is_some()
+    }
+
+    /// Runs the design's `[dynamic]` section as `pdeshape curve` does (with the GIL released) and
+    /// returns a dict: `kind` ("run" or "interpolate"), `dim` (1 to 3 coordinates), `u (J+1,)`
+    /// and `nodes (J+1, dim)` (the final curve: the rows of `curve -o`), `frames` (a dict of
+    /// `step (F,) u64`, `t (F,) f64`, `nodes (F, J+1, dim)`: the rows of `curve --frames`, every
+    /// `frames_every`-th level; empty with `frames=False`), `bending_energy`, and for a run
+    /// `t_end`, `steps`; for an interpolation `points (P, dim)`, `params (P,)` (the nodes'
+    /// `u` of the points), `distances (P,)`, `steps`, `updates`.
+    #[pyo3(signature = (frames = true))]
+    fn dynamic<'py>(&self, py: Python<'py>, frames: bool) -> PyResult<Bound<'py, PyDict>> {
+        let Some(section) = self.spec.dynamic.as_ref() else {
+            return Err(err(format!(
+                "{}: the design has no [dynamic] section: dynamic() runs dynamic curves (for the \
+                 surface of this design use tessellate() or write())",
+                self.file
+            )));
+        };
+        let out = py
+            .detach(|| run_dynamic(section, frames))
+            .map_err(|e| self.located(&e))?;
+        let dim = out.dim;
+        let jn1 = out.nodes.len();
+        let d = PyDict::new(py);
+        d.set_item("dim", dim)?;
+        d.set_item("u", array1(py, node_parameters(jn1)))?;
+        d.set_item("nodes", points_array(py, &out.nodes, dim))?;
+        let fd = PyDict::new(py);
+        fd.set_item(
+            "step",
+            array1(py, out.frames.iter().map(|f| f.step as u64).collect()),
+        )?;
+        fd.set_item("t", array1(py, out.frames.iter().map(|f| f.time).collect()))?;
+        let width = out.frames.first().map_or(jn1, |f| f.nodes.len());
+        let flat: Vec<f64> = out
+            .frames
+            .iter()
+            .flat_map(|f| f.nodes.iter().flat_map(|p| (0..dim).map(|c| p[c])))
+            .collect();
+        let nodes3 = Array3::from_shape_vec((out.frames.len(), width, dim), flat)
+            .map_err(|e| err(format!("dynamic: frames of unequal length: {e}")))?;
+        fd.set_item("nodes", nodes3.into_pyarray(py))?;
+        d.set_item("frames", fd)?;
+        match out.extra {
+            DynamicExtra::Run { t_end, steps } => {
+                d.set_item("kind", "run")?;
+                d.set_item("t_end", t_end)?;
+                d.set_item("steps", steps)?;
+                d.set_item("bending_energy", bending_energy(&out.nodes))?;
+            }
+            DynamicExtra::Interpolate {
+                points,
+                params,
+                distances,
+                steps,
+                updates,
+                bending_energy,
+            } => {
+                d.set_item("kind", "interpolate")?;
+                d.set_item("points", points_array(py, &points, dim))?;
+                d.set_item("params", array1(py, params))?;
+                d.set_item("distances", array1(py, distances))?;
+                d.set_item("steps", steps)?;
+                d.set_item("updates", updates)?;
+                d.set_item("bending_energy", bending_energy)?;
+            }
+        }
+        Ok(d)
     }
 
     /// Simulated annealing over the design's `[optimize]` parameters with `chains` chains and
@@ -843,9 +1016,13 @@ impl Design {
         for _ in 0..repeats {
             let t = std::time::Instant::now();
             let s = py.detach(|| {
-                solved
-                    .samples(nu, nv)
-                    .map(|s| (flat.then(|| Flat::of(&s)), s))
+                solved.samples(nu, nv).map(|s| {
+                    if flat {
+                        (Some(Flat::of(s)), None)
+                    } else {
+                        (None, Some(s))
+                    }
+                })
             });
             let s = s.map_err(|e| self.located(&e))?;
             out.push(t.elapsed().as_secs_f64());
@@ -965,6 +1142,77 @@ fn neutral_optimize() -> OptimizeSpec {
     toml::from_str(text).expect("the defaults of [optimize]")
 }
 
+/// Fits PDE patches to a closed triangle mesh as `pdeshape fit MESH -o design.toml --json r.json`
+/// does: `data` are the bytes of an OBJ, STL or PLY file, `name` its file name (the extension
+/// gives the format; errors name it). Returns the fitted design (its text is the `-o` file)
+/// and the report of `--json` as a dict (without `timings_ms`).
+#[pyfunction]
+#[pyo3(signature = (data, name, tolerance = 2e-3, sections = None))]
+fn fit_mesh<'py>(
+    py: Python<'py>,
+    data: Vec<u8>,
+    name: &str,
+    tolerance: f64,
+    sections: Option<usize>,
+) -> PyResult<(Design, Bound<'py, PyAny>)> {
+    if !(tolerance > 0.0 && tolerance.is_finite() && tolerance < 1.0) {
+        return Err(err(format!(
+            "tolerance {tolerance}: must be a number between 0 and 1 (a fraction of the diagonal)"
+        )));
+    }
+    let format = Path::new(name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(fit::MeshFormat::from_extension)
+        .ok_or_else(|| {
+            err(format!(
+                "{name}: unknown mesh format (the extension must be obj, stl or ply)"
+            ))
+        })?;
+    let file_name = Path::new(name)
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let (text, report) = py
+        .detach(|| -> Result<(String, String), String> {
+            let mesh = fit::TriMesh::read(&data, format).map_err(|e| format!("{name}: {e}"))?;
+            let fitted = fit::fit_tube(
+                &mesh,
+                &fit::TubeOptions {
+                    target: tolerance,
+                    patches: sections,
+                    ..fit::TubeOptions::default()
+                },
+            )
+            .map_err(|e| match e.place() {
+                "tolerance" | "sections" => e.to_string(),
+                _ => format!("{name}: {e}"),
+            })?;
+            let mut spec = fitted.spec.clone();
+            spec.title = Some(format!("fitted to {file_name}"));
+            let text = spec::write_design(&spec).map_err(|e| format!("{name}: {e}"))?;
+            let solved = design::solve_design(&spec)
+                .map_err(|e| format!("{name}: the fitted design does not solve: {e}"))?;
+            let (m, _) =
+                fit::measure(&mesh, &spec, &solved, 48, 96).map_err(|e| format!("{name}: {e}"))?;
+            let report = serde_json::json!({
+                "mesh": name,
+                "patches": fitted.patches,
+                "modes": fitted.modes,
+                "sections": fitted.sections,
+                "sections_dropped": fitted.dropped,
+                "sample_error_relative": fitted.sample_error,
+                "tolerance": tolerance,
+                "measures": m,
+            });
+            Ok((text, report.to_string()))
+        })
+        .map_err(err)?;
+    let design = Design::parse(format!("<fit of {file_name}>"), text)?;
+    let report = py.import("json")?.call_method1("loads", (report,))?;
+    Ok((design, report))
+}
+
 /// The library's version.
 #[pyfunction]
 fn version() -> &'static str {
@@ -976,7 +1224,203 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Design>()?;
     m.add("DesignError", m.py().get_type::<DesignError>())?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_mesh, m)?)?;
     Ok(())
+}
+
+/// The CAD formats, by name or extension (`step`/`stp`, `igs`/`iges`, any case).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum CadFormat {
+    Step,
+    Iges,
+}
+
+impl CadFormat {
+    fn from_name(name: &str) -> Option<CadFormat> {
+        match name.to_ascii_lowercase().as_str() {
+            "step" | "stp" => Some(CadFormat::Step),
+            "igs" | "iges" => Some(CadFormat::Iges),
+            _ => None,
+        }
+    }
+}
+
+fn unix_now() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0)
+}
+
+impl Design {
+    /// STEP or IGES as `pdeshape surface -o x.step|x.igs [--tolerance T] [--units U]` writes
+    /// them (the header's date from `timestamp`).
+    fn write_cad(
+        &mut self,
+        py: Python<'_>,
+        path: &Path,
+        format: CadFormat,
+        tolerance: Option<f64>,
+        units: Option<&str>,
+        timestamp: Option<u64>,
+    ) -> PyResult<()> {
+        let unit = units
+            .map(|u| {
+                step::LengthUnit::parse(u).map_err(|e| err(format!("units: {}", message_of(&e))))
+            })
+            .transpose()?;
+        if let Some(t) = tolerance {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(err(format!(
+                    "tolerance: must be a positive number (got {t})"
+                )));
+            }
+        }
+        let solved = self.solved(py)?;
+        if solved.surfaces.is_empty() {
+            return Err(self.located(&Error::invalid(
+                "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
+            )));
+        }
+        if !solved.trims.is_empty() {
+            return Err(self.located(
+                &Error::invalid(
+                    "STEP and IGES output of trimmed surfaces is not available yet; write a mesh \
+                     (obj, stl, ply, glb)",
+                )
+                .at("trims"),
+            ));
+        }
+        let unit = match unit {
+            Some(u) => u,
+            None => step::LengthUnit::parse(solved.units.as_str())
+                .map_err(|e| self.located(&e.at("units")))?,
+        };
+        let tolerance = tolerance.unwrap_or(1e-4 * cad::design_size(&solved));
+        let model = py
+            .detach(|| cad::approximate_design(&solved, tolerance))
+            .map_err(|e| {
+                if e.place().is_empty() || e.place() == "tolerance" {
+                    err(format!("tolerance: {}", message_of(&e)))
+                } else {
+                    self.located(&e)
+                }
+            })?;
+        let file_name = path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let seconds = timestamp.unwrap_or_else(unix_now);
+        let text = match format {
+            CadFormat::Step => step::to_step(
+                &model,
+                &step::StepOptions {
+                    unit,
+                    file_name,
+                    timestamp: step::step_timestamp(seconds),
+                },
+            ),
+            CadFormat::Iges => cad::to_iges(&model, unit, &file_name, seconds),
+        }
+        .map_err(|e| err(format!("path {}: {e}", path.display())))?;
+        write_atomically(path, text.as_bytes())
+    }
+}
+
+/// The run of a `[dynamic]` section: the final nodes, the frames and what the run reports.
+struct DynamicOutcome {
+    dim: usize,
+    nodes: Vec<Vec3>,
+    frames: Vec<Frame>,
+    extra: DynamicExtra,
+}
+
+enum DynamicExtra {
+    Run {
+        t_end: f64,
+        steps: usize,
+    },
+    Interpolate {
+        points: Vec<Vec3>,
+        params: Vec<f64>,
+        distances: Vec<f64>,
+        steps: usize,
+        updates: usize,
+        bending_energy: f64,
+    },
+}
+
+/// Runs a `[dynamic]` section as `pdeshape curve` does, keeping every frame it writes.
+fn run_dynamic(section: &spec::DynamicSpec, keep_frames: bool) -> pdeshape::Result<DynamicOutcome> {
+    let built = design::build_dynamic(section)?;
+    let every = built.frames_every;
+    let mut frames = Vec::new();
+    let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {
+        if let (true, Some(nodes)) = (keep_frames, nodes) {
+            frames.push(Frame {
+                step: n,
+                time: t,
+                nodes: nodes.to_vec(),
+            });
+        }
+    };
+    match &built.plan {
+        DynamicPlan::Run(r) => {
+            let dim = r.curve.components.len();
+            let values = r
+                .curve
+                .solve_observed(r.grid, r.positivity, every, &mut observer)
+                .map_err(|e| e.at("dynamic"))?;
+            let nodes = (0..=r.grid.intervals)
+                .map(|j| {
+                    let mut p = Vec3::zeros();
+                    for (c, v) in values.iter().enumerate() {
+                        p[c] = v[j];
+                    }
+                    p
+                })
+                .collect();
+            Ok(DynamicOutcome {
+                dim,
+                nodes,
+                frames,
+                extra: DynamicExtra::Run {
+                    t_end: r.grid.t_end,
+                    steps: r.grid.steps,
+                },
+            })
+        }
+        DynamicPlan::Interpolate { problem, dim } => {
+            let result = problem
+                .solve_observed(every, &mut observer)
+                .map_err(|e| e.at("dynamic"))?;
+            Ok(DynamicOutcome {
+                dim: *dim,
+                nodes: result.nodes,
+                frames,
+                extra: DynamicExtra::Interpolate {
+                    points: problem.points.clone(),
+                    params: result.params,
+                    distances: result.distances,
+                    steps: result.steps,
+                    updates: result.updates,
+                    bending_energy: result.bending_energy,
+                },
+            })
+        }
+    }
+}
+
+/// The first `dim` coordinates of points as an `(n, dim)` array.
+fn points_array(py: Python<'_>, points: &[Vec3], dim: usize) -> Py<PyAny> {
+    let flat: Vec<f64> = points.iter().flat_map(|p| (0..dim).map(|c| p[c])).collect();
+    array2(py, flat, dim)
+}
+
+/// `u_j = j/J` of `n = J + 1` nodes, as the CLI's CSV writes them.
+fn node_parameters(n: usize) -> Vec<f64> {
+    let jn = (n.max(2) - 1) as f64;
+    (0..n).map(|j| j as f64 / jn).collect()
 }
 
 /// The parameter arrays `u`, `v` of point queries, refused unless they pair up.

@@ -211,3 +211,53 @@ def test_trimesh_conversion(cup_path):
     assert tm.is_winding_consistent
     area = d.analysis()["total"]["area"]
     assert abs(tm.area - area) / area < 2e-3
+
+
+def test_pyvista_conversion(cup_path):
+    import pyvista
+
+    d = Design.load(cup_path)
+    for separate in (False, True):
+        m = d.mesh(32, 48, separate_patches=separate)
+        poly = d.to_pyvista(32, 48, separate_patches=separate)
+        assert isinstance(poly, pyvista.PolyData)
+        # the mesh's points (f32 widened to f64, exactly) and its triangles, in order
+        assert poly.n_points == len(m["vertices"]) and poly.n_cells == len(m["faces"])
+        assert np.array_equal(poly.points, m["vertices"].astype(np.float64))
+        assert poly.is_all_triangles
+        cells = poly.faces.reshape(-1, 4)
+        assert np.all(cells[:, 0] == 3)
+        assert np.array_equal(cells[:, 1:], m["faces"].astype(np.int64))
+        assert np.array_equal(poly.point_data["Normals"], m["normals"])
+    # VTK's own area of the triangles equals the analysis's up to the chords' O(h²) error
+    poly = d.to_pyvista(64, 128)
+    area = d.analysis()["total"]["area"]
+    assert abs(poly.area - area) / area < 2e-3
+
+
+def test_type_stubs_name_every_public_method():
+    import ast
+    import pathlib
+
+    import pdeshape
+    from pdeshape import _pdeshape
+
+    stub = ast.parse((pathlib.Path(_pdeshape.__file__).parent / "_pdeshape.pyi").read_text())
+    cls = next(n for n in stub.body if isinstance(n, ast.ClassDef) and n.name == "Design")
+    stubbed = {n.name for n in cls.body if isinstance(n, ast.FunctionDef)}
+    public = {n for n in dir(Design) if not n.startswith("_")}
+    assert stubbed == public
+    functions = {n.name for n in stub.body if isinstance(n, ast.FunctionDef)}
+    assert functions == {n for n in dir(_pdeshape) if callable(getattr(_pdeshape, n))
+                         and not n.startswith("_") and n not in ("Design", "DesignError")}
+    # and the stubbed signatures' parameter names are the runtime's
+    for name in sorted(stubbed):
+        fn = next(n for n in cls.body if isinstance(n, ast.FunctionDef) and n.name == name)
+        doc = getattr(Design, name).__doc__ or ""
+        sig = getattr(getattr(Design, name), "__text_signature__", None)
+        if sig:
+            want = [a.arg for a in fn.args.args if a.arg not in ("self",)]
+            got = [p.strip().split("=")[0].lstrip("$*") for p in sig.strip("()").split(",")]
+            got = [g for g in got if g and g not in ("self", "/", "cls", "type")]
+            assert want == got, (name, want, got, doc[:40])
+    assert callable(pdeshape.fit)

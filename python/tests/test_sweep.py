@@ -35,7 +35,7 @@ def cup_grid(n):
 def equal_tables(a: pd.DataFrame, b: pd.DataFrame):
     assert list(a.columns) == list(b.columns)
     for c in a.columns:
-        if c == "error":
+        if c in ("error", "input"):
             assert list(a[c]) == list(b[c])
         else:
             assert np.array_equal(a[c].to_numpy().view(np.uint64), b[c].to_numpy().view(np.uint64)), c
@@ -141,3 +141,70 @@ def test_annealing_chains_keep_the_best(client):
     assert par["best"]["value"] == min(r["value"] for r in par["chains"])
     # the best point, applied as parameters, gives the value the chain reported
     assert set(par["best"]["x"]) == {p["name"] for p in d.parameters()}
+
+
+def test_list_of_paths_texts_and_meshes_equals_a_serial_loop(client, tmp_path):
+    import math
+
+    import pdeshape
+    from meshes import ellipsoid_obj
+    from pdeshape.sweep import FIT_COLUMNS
+
+    semi = [1.2, 1.5, 1.8]
+    meshes = []
+    for c in semi:
+        p = tmp_path / f"egg{c}.obj"
+        p.write_text(ellipsoid_obj(60, 80, c=c))
+        meshes.append(p)
+    broken = tmp_path / "broken.stl"
+    broken.write_bytes(b"solid x\nendsolid x\n")
+    cup_text = (EXAMPLES / "cup.toml").read_text()
+    inputs = [
+        meshes[0],
+        EXAMPLES / "vesicle.toml",
+        str(meshes[1]),
+        cup_text,
+        broken,
+        Design.load(EXAMPLES / "cup.toml").with_params({"rimTz": 0.2}),
+        tmp_path / "missing.toml",
+        cup_text.replace("radius = 1.35", "radius = -1.35"),
+        meshes[2],
+    ]
+    par = sweep(inputs, measures=["area", "volume"], client=client, chunk_size=2)
+    ser = sweep(inputs, measures=["area", "volume"])
+    equal_tables(par, ser)
+    assert list(par.columns) == ["design", "input", *FIT_COLUMNS, "area", "volume", "error"]
+    assert par["input"].tolist() == [
+        str(meshes[0]), str(EXAMPLES / "vesicle.toml"), str(meshes[1]), "<string>", str(broken),
+        str(EXAMPLES / "cup.toml"), str(tmp_path / "missing.toml"), "<string>", str(meshes[2]),
+    ]
+    # each row equals the same input measured alone, in a plain loop here
+    for i in (0, 2, 8):
+        d, report = pdeshape.fit(inputs[i])
+        assert par["volume"][i] == d.analysis()["total"]["volume"]
+        assert par["fit_patches"][i] == report["patches"]
+        assert par["fit_hausdorff_relative"][i] == report["measures"]["hausdorff_relative"]
+    assert par["area"][1] == Design.load(EXAMPLES / "vesicle.toml").analysis()["total"]["area"]
+    assert par["area"][3] == Design.from_toml(cup_text).analysis()["total"]["area"]
+    assert par["area"][5] == inputs[5].analysis()["total"]["area"]
+    # the fitted eggs have the ellipsoids' volumes 4/3 pi a^2 c (to the fit's Hausdorff distance
+    # times the area, plus the polyhedron's chord sag, as in test_fit.py)
+    for i, c in zip((0, 2, 8), semi):
+        exact = 4 / 3 * math.pi * c
+        h = par["fit_hausdorff_relative"][i] * math.sqrt(8 + 4 * c * c)
+        assert abs(par["volume"][i] - exact) <= par["area"][i] * h + 3 * 3.4e-4 * exact
+    # failures are rows with the located message; designs have no fit columns
+    errors = par["error"].tolist()
+    assert [i for i, e in enumerate(errors) if e is not None] == [4, 6, 7]
+    assert errors[4].startswith(f"{broken}: ")
+    assert errors[6].startswith(f"{tmp_path / 'missing.toml'}: cannot read the design file")
+    assert errors[7].startswith("<string>:") and "radius" in errors[7]
+    assert np.isnan(par["fit_patches"][[1, 3, 5, 6, 7]]).all()
+    assert np.isnan(par["volume"][[4, 6, 7]]).all()
+
+
+def test_list_items_of_other_types_are_refused():
+    with pytest.raises(DesignError, match=r"^design: a list item must be a Design, a path"):
+        sweep([Design.load(EXAMPLES / "cup.toml"), 3.0], measures=["area"])
+    with pytest.raises(DesignError, match=r"^design: a Design or a list"):
+        sweep(str(EXAMPLES / "cup.toml"), measures=["area"])

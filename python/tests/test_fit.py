@@ -1,0 +1,74 @@
+"""`pdeshape.fit` against `pdeshape fit MESH -o design.toml --json report.json`: the same design
+text and report; located errors for meshes that cannot be fitted."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+import pdeshape
+from pdeshape import Design, DesignError
+from meshes import ellipsoid_obj
+from test_cli import cli_error
+
+
+def test_fit_equals_the_cli(cli, tmp_path):
+    mesh = tmp_path / "egg.obj"
+    mesh.write_text(ellipsoid_obj(60, 80))
+    cli("fit", str(mesh), "-o", str(tmp_path / "egg.toml"), "--json", str(tmp_path / "egg.json"))
+    d, report = pdeshape.fit(mesh)
+    assert isinstance(d, Design) and d.file == "<fit of egg.obj>"
+    assert d.text == (tmp_path / "egg.toml").read_text()
+    want = json.loads((tmp_path / "egg.json").read_text())
+    del want["timings_ms"]
+    assert report == want
+    # from bytes, with a name: the same design
+    d2, r2 = pdeshape.fit(mesh.read_bytes(), name="egg.obj")
+    assert d2.text == d.text and r2 == {**report, "mesh": "egg.obj"}
+    # the fit holds its tolerance, and the fitted solid has the ellipsoid's volume: the fitted
+    # surface lies within the Hausdorff distance h of the mesh, so the volumes differ by at most
+    # about area x h, plus the polyhedron's own shortfall (chord sag (pi/60)^2/8 of the radius,
+    # ~3.4e-4, times 3 for a volume)
+    h = report["measures"]["hausdorff"]
+    assert report["measures"]["hausdorff_relative"] <= 2e-3
+    total = d.analysis()["total"]
+    exact = 4 / 3 * math.pi * 1.0 * 1.0 * 1.5
+    assert abs(total["volume"] - exact) <= total["area"] * h + 3 * 3.4e-4 * exact
+
+
+def test_fit_options_equal_the_cli(cli, tmp_path):
+    mesh = tmp_path / "egg.obj"
+    mesh.write_text(ellipsoid_obj(60, 80))
+    cli("fit", str(mesh), "-o", str(tmp_path / "e.toml"), "--sections", "3", "--tolerance", "5e-3")
+    d, report = pdeshape.fit(mesh, tolerance=5e-3, sections=3)
+    assert d.text == (tmp_path / "e.toml").read_text() and report["patches"] == 3
+
+
+def test_fit_errors_equal_the_cli(cli, tmp_path):
+    good = ellipsoid_obj(12, 16)
+    cases = {
+        "empty.obj": "",
+        "open.obj": good[: good.rindex("\nf ")] + "\n",  # one triangle short of closed
+        "nan.obj": good.replace("v 0 0 -1.5", "v 0 0 nan", 1),
+    }
+    for name, text in cases.items():
+        mesh = tmp_path / name
+        mesh.write_text(text)
+        r = cli("fit", str(mesh), "-o", str(tmp_path / "out.toml"), check=False)
+        with pytest.raises(DesignError) as e:
+            pdeshape.fit(mesh)
+        assert str(e.value) == cli_error(r), name
+    mesh = tmp_path / "open.obj"
+    r = cli("fit", str(mesh), "-o", str(tmp_path / "out.toml"), "--tolerance", "0", check=False)
+    with pytest.raises(DesignError) as e:
+        pdeshape.fit(mesh, tolerance=0.0)
+    assert str(e.value) == cli_error(r).replace("--", "", 1)
+    with pytest.raises(DesignError, match=r"^x\.off: unknown mesh format"):
+        pdeshape.fit(b"OFF", name="x.off")
+    with pytest.raises(DesignError, match=r"missing\.stl: cannot read: No such file"):
+        pdeshape.fit(tmp_path / "missing.stl")
+    with pytest.raises(DesignError, match=r"^name: "):
+        pdeshape.fit(b"solid")
+    assert not (tmp_path / "out.toml").exists()
