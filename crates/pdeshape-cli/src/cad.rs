@@ -114,8 +114,9 @@ pub fn write(
     for s in &model.surfaces {
         let [nu, nv] = s.approx.net.counts();
         report.push_str(&format!(
-            "  {}: {nu} × {nv} control points, deviation ≤ {:.3e} ({})\n",
+            "  {}: {nu} × {nv} control points, deviation {} {:.3e} ({})\n",
             s.name,
+            s.approx.certificate.relation(),
             s.approx.deviation,
             s.approx.certificate.word()
         ));

@@ -17,6 +17,9 @@ fn step_and_iges_are_written_and_read_back() {
             String::from_utf8_lossy(&out.stderr)
         );
         assert!(stdout.contains("(certified)"), "{stdout}");
+        // A proven figure is printed as a bound.
+        assert!(stdout.contains("deviation ≤ "), "{stdout}");
+        assert!(!stdout.contains('≈'), "{stdout}");
         let out = pdeshape(&["roundtrip", s(&d), s(&out_path), "--tolerance", "1e-4"]);
         let stdout = String::from_utf8_lossy(&out.stdout);
         assert!(out.status.success(), "{stdout}");
@@ -62,4 +65,32 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     );
     let out = pdeshape(&["roundtrip", s(&d), s(&cut)]);
     assert_bad(&out, &["c.step", "ends inside the DATA section"]);
+}
+
+/// A surface without derivative bounds (the yoghurt's bowl has an active spectral remainder)
+/// reports its sampled deviation as an estimate (`≈`), never as a bound.
+#[test]
+fn sampled_deviations_are_printed_as_estimates() {
+    let dir = tempfile::tempdir().unwrap();
+    let design =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/yoghurt.toml");
+    let out_path = dir.path().join("y.step");
+    let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sampled: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.contains("not certified"))
+        .collect();
+    assert!(!sampled.is_empty(), "{stdout}");
+    for line in sampled {
+        assert!(
+            line.contains("deviation ≈ ") && !line.contains('≤'),
+            "{line}"
+        );
+    }
 }

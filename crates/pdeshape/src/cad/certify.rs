@@ -47,6 +47,17 @@ use crate::{Error, Result, Vec3, TAU};
 pub const ROUNDING: f64 = 1e-12;
 /// The most nodes per direction an approximation may use.
 pub const MAX_NODES: usize = 4096;
+/// The most grid cells (`m × n` intervals) one surface's approximation may use: a net of about
+/// a million control points (≈ 25 MB), and for a sampled surface about 7 million evaluations
+/// of its deviation. Beyond it the tolerance is refused rather than the export run for minutes.
+pub const MAX_CELLS: usize = 1 << 18;
+
+fn too_many_cells(tolerance: f64) -> Error {
+    Error::invalid(format!(
+        "the tolerance {tolerance:e} needs more than {MAX_CELLS} grid cells on one surface"
+    ))
+    .at("tolerance")
+}
 
 /// How the deviation of an approximation is known.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +81,16 @@ impl Certificate {
         match self {
             Certificate::Exact => "exact",
             Certificate::Derivatives { .. } => "certified",
-            Certificate::Sampled => "sampled (not certified)",
+            Certificate::Sampled => "sampled, not certified",
+        }
+    }
+    /// The relation a report prints between "deviation" and its figure: `≤` for a bound, `≈`
+    /// for an estimate.
+    pub fn relation(&self) -> &'static str {
+        if self.is_certified() {
+            "≤"
+        } else {
+            "≈"
         }
     }
     /// True if the deviation is proven to hold everywhere on the surface.
@@ -142,6 +162,9 @@ pub fn pde_grid(patch: &PdePatch, tolerance: f64, min_v: usize) -> Option<Result
         let m = intervals_for(1.0, mu4, budget)?;
         let hu = 1.0 / m as f64;
         let n = intervals_for(TAU, mv4 + hu / 4.0 * mu1v4, budget)?.max(min_v);
+        if m * n > MAX_CELLS {
+            return Err(too_many_cells(tolerance));
+        }
         Ok((m, n))
     })())
 }
@@ -222,6 +245,9 @@ pub fn approximate_sampled(
     let closed = [surface.u_periodic(), v_closed];
     let (mut m, mut n) = (8usize, min_v.max(8));
     loop {
+        if m * n > MAX_CELLS {
+            return Err(too_many_cells(tolerance));
+        }
         let us = uniform_nodes(u.start, u.end, m);
         let vs = uniform_nodes(v0, v1, n);
         let net = hermite_interpolant(surface, &us, &vs, closed)?;

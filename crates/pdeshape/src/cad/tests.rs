@@ -5,6 +5,7 @@ use super::step::{to_step, LengthUnit, StepOptions};
 use super::*;
 use crate::design::solve_design;
 use crate::spec::parse_design;
+use certify::MAX_CELLS;
 
 fn solve(text: &str) -> SolvedDesign {
     solve_design(&parse_design(text).unwrap()).unwrap()
@@ -17,6 +18,7 @@ fn example(name: &str) -> SolvedDesign {
         "wine_glass" => include_str!("../../../../examples/wine_glass.toml"),
         "vesicle" => include_str!("../../../../examples/vesicle.toml"),
         "blend_cylinders" => include_str!("../../../../examples/blend_cylinders.toml"),
+        "yoghurt" => include_str!("../../../../examples/yoghurt.toml"),
         _ => unreachable!(),
     };
     solve(text)
@@ -126,6 +128,32 @@ fn bounds_hold_on_the_examples() {
                 s.approx.deviation
             );
             assert!(s.approx.deviation <= 1e-4 * size);
+        }
+    }
+}
+
+/// A tolerance that would need more than `MAX_CELLS` grid cells on a surface is refused, naming
+/// the tolerance, both where the grid follows from a proven bound (the cup, whose grid grows as
+/// tolerance^(−1/4) in each direction) and where it is refined by sampling (the yoghurt's bowl,
+/// with an active spectral remainder): a spike of 2e6 in a design used to refine to 4096 × 4096
+/// nodes, minutes of work and gigabytes.
+#[test]
+fn tolerances_needing_too_many_cells_are_refused() {
+    for (name, relative) in [("cup", 3e-12), ("yoghurt", 1e-11)] {
+        let design = example(name);
+        let tolerance = relative * design_size(&design);
+        let e = approximate_design(&design, tolerance)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tolerance") && e.contains(&format!("{MAX_CELLS} grid cells")),
+            "{name}: {e}"
+        );
+        // The default tolerance stays well inside the limit.
+        let model = approximate_design(&design, 1e-4 * design_size(&design)).unwrap();
+        for s in &model.surfaces {
+            let [nu, nv] = s.approx.net.counts();
+            assert!(nu * nv < 4 * MAX_CELLS, "{name}/{}: {nu} × {nv}", s.name);
         }
     }
 }
