@@ -52,9 +52,9 @@ pub struct Args {
     /// Also write a contact sheet: up to 12 frames, evenly spread, in one PNG.
     #[arg(long)]
     pub contact_sheet: Option<PathBuf>,
-    /// Size of each picture of --apng and --contact-sheet, WIDTHxHEIGHT.
-    #[arg(long, default_value = "480x360")]
-    pub picture_size: String,
+    /// Size of each picture of --apng and --contact-sheet, WIDTHxHEIGHT (default: 480x360).
+    #[arg(long)]
+    pub picture_size: Option<String>,
     /// Direction from the object towards the eye for --apng and --contact-sheet, x,y,z
     /// (default: a three-quarter view).
     #[arg(long)]

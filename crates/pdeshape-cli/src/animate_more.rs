@@ -4,7 +4,7 @@
 //! and written atomically with the other outputs.
 
 use crate::animate::{frame_box, Animated, Args};
-use crate::common::{self, CliError, Output};
+use crate::common::{CliError, Output};
 use pdeshape::anim::{self, Keyframes, Retarget};
 use pdeshape::design::Export;
 use pdeshape::fit::{MeshFormat, TriMesh};
@@ -85,11 +85,31 @@ pub fn check(args: &Args) -> Result<(), CliError> {
             }
         }
     }
-    parse_size(&args.picture_size)?;
+    parse_size(picture_size(args))?;
     if let Some(v) = &args.view {
         crate::render::parse_view(v)?;
     }
+    // Only the pictures of --apng and --contact-sheet take a size and a view (those of
+    // --frames-dir are drawn like `pdeshape render`'s default).
+    if args.apng.is_none() && args.contact_sheet.is_none() {
+        for (given, flag) in [
+            (args.picture_size.is_some(), "--picture-size"),
+            (args.view.is_some(), "--view"),
+        ] {
+            if given {
+                return Err(CliError::input(format!(
+                    "{flag}: applies only to the pictures of --apng and --contact-sheet, and \
+                     neither is given"
+                )));
+            }
+        }
+    }
     Ok(())
+}
+
+/// `--picture-size`, or its default.
+fn picture_size(args: &Args) -> &str {
+    args.picture_size.as_deref().unwrap_or("480x360")
 }
 
 /// Outputs made and not yet committed, with the words of the report.
@@ -101,12 +121,7 @@ pub struct Pending {
 
 fn read_mesh(path: &Path) -> Result<TriMesh, CliError> {
     let shown = path.display();
-    let bytes = std::fs::read(path).map_err(|e| {
-        CliError::input(format!(
-            "--retarget {shown}: cannot read: {}",
-            common::io_words(&e)
-        ))
-    })?;
+    let bytes = crate::fit::read_mesh_bytes(path, &format!("--retarget {shown}"))?;
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -160,7 +175,7 @@ pub fn run(
         }
         None => None,
     };
-    let (width, height) = parse_size(&args.picture_size)?;
+    let (width, height) = parse_size(picture_size(args))?;
     let options = RenderOptions {
         width,
         height,

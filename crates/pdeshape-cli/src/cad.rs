@@ -141,6 +141,13 @@ pub struct RoundtripArgs {
 /// Reads the file back and compares each surface with the design's (status 1 if any deviates by
 /// more than the tolerance).
 pub fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
+    if let Some(t) = args.tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(CliError::input(format!(
+                "--tolerance: must be a positive number (got {t})"
+            )));
+        }
+    }
     let shown = args.file.display().to_string();
     let format = CadFormat::from_path(&args.file).ok_or_else(|| {
         CliError::input(format!(

@@ -72,8 +72,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(p) = &args.picture {
         ext(p, "png", "--picture")?;
     }
-    let bytes = std::fs::read(&args.mesh)
-        .map_err(|e| CliError::input(format!("{shown}: cannot read: {e}")))?;
+    let bytes = read_mesh_bytes(&args.mesh, &shown)?;
     let mut out = Output::create(&args.output)?;
     let mut json_out = args.json.as_ref().map(|p| Output::create(p)).transpose()?;
     let mut picture_out = args
@@ -175,4 +174,23 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         args.output.display()
     );
     Ok(())
+}
+
+/// The bytes of a mesh file, refused from its size before it is read when holding it
+/// ([`pdeshape::memory::mesh_read`]) would not fit in the memory budget.
+pub(crate) fn read_mesh_bytes(path: &std::path::Path, shown: &str) -> Result<Vec<u8>, CliError> {
+    if let Ok(m) = std::fs::metadata(path) {
+        pdeshape::memory::check(
+            pdeshape::memory::mesh_read(m.len(), 0),
+            &format!("holding the mesh file of {} bytes", m.len()),
+            "",
+        )
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    }
+    std::fs::read(path).map_err(|e| {
+        CliError::input(format!(
+            "{shown}: cannot read: {}",
+            crate::common::io_words(&e)
+        ))
+    })
 }

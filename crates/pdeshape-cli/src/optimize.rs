@@ -57,6 +57,43 @@ fn csv_number(x: f64) -> String {
     }
 }
 
+/// Prices the search before it starts ([`pdeshape::memory`]): the log of every evaluation
+/// (named by `--evaluations`/`--polish` or `optimize.evaluations`), and the quadrature of the
+/// evaluations running at once, one per worker (`optimize.quadrature_u × quadrature_v`).
+fn search_memory(args: &Args, design: &common::Loaded, problem: &Problem) -> Result<(), CliError> {
+    use pdeshape::memory;
+    let o = &problem.options;
+    let records = o.evaluations.saturating_add(o.polish) as u64;
+    let parameters = problem.parameters.list.len() as u64;
+    let what = format!(
+        "the search log of {} + {} evaluations ({parameters} parameters)",
+        o.evaluations, o.polish
+    );
+    if let Err(e) = memory::check(memory::search_log(records, parameters), &what, "") {
+        let message = common::message_of(&e);
+        return Err(if args.evaluations.is_some() || args.polish.is_some() {
+            CliError::input(format!("--evaluations, --polish: {message}"))
+        } else {
+            design.error(&e.at("optimize.evaluations"))
+        });
+    }
+    let Some(spec) = design.spec.optimize.as_ref() else {
+        return Ok(());
+    };
+    let workers = args
+        .threads
+        .unwrap_or_else(rayon::current_num_threads)
+        .min(o.chains.max(1)) as u64;
+    let (qu, qv) = (spec.quadrature_u as u64, spec.quadrature_v as u64);
+    let bytes = memory::quadrature_level(qu, qv, workers).and_then(|b| b.checked_mul(workers));
+    memory::check(
+        bytes,
+        &format!("{workers} evaluations at once on a {qu} × {qv} quadrature"),
+        "optimize.quadrature_u",
+    )
+    .map_err(|e| design.error(&e))
+}
+
 pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     if args.output.extension().and_then(|e| e.to_str()) != Some("toml") {
@@ -90,6 +127,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.threads == Some(0) {
         return Err(CliError::input("--threads: must be at least 1 (got 0)"));
     }
+    let max_threads = pdeshape::spec::limits::MAX_THREADS;
+    if let Some(n) = args.threads.filter(|&n| n > max_threads) {
+        return Err(CliError::input(format!(
+            "--threads: at most {max_threads} worker threads (got {n})"
+        )));
+    }
+    search_memory(args, &design, &problem)?;
     let paths = [
         args.output.clone(),
         beside(&args.output, "obj"),

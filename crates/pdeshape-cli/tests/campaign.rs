@@ -2,8 +2,8 @@
 //!
 //! Every example design (and three meshes for `fit`) is mutated by the seeded mutator of
 //! `pdeshape/tests/mutate` and run through every subcommand that reads it: check, analyze,
-//! surface, render, curve, spline, blend, optimize, animate, cad (surface to STEP or IGES) and
-//! fit. Each mutant is written to its own directory *before* it runs, and the binary runs in that
+//! surface, render, curve, spline, blend, optimize, animate, cad (surface to STEP or IGES),
+//! fit, and shell (mutants of the designs with a `[shell]` section). Each mutant is written to its own directory *before* it runs, and the binary runs in that
 //! directory under an address-space limit ([`ADDRESS_SPACE_KIB`]) and a CPU-time limit
 //! ([`CPU_SECONDS`], `RLIMIT_CPU`: the bound that does not depend on the machine's load), with
 //! `PDESHAPE_MAX_MEMORY` = [`BUDGET_BYTES`]. A mutant fails on
@@ -11,6 +11,12 @@
 //! - the CPU bound (SIGXCPU/SIGKILL from the limit) or the wall-clock safety net ([`WALL`]),
 //! - a status other than 0 or 2, an error that is not one clear line (`mutate::unclear`),
 //! - an output file after an error, or any `.pdeshape-*` temporary left behind.
+//!
+//! `shell` runs against a stand-in for CalculiX ([`fake_ccx`], named by `PDESHAPE_CCX`) that
+//! always fails, so the campaign does not depend on whether CalculiX is installed: mutants the
+//! input checks refuse exit with status 2, those that reach the solver must exit with status 1
+//! and one clear line, and leave neither an output nor the solver's temporary directory
+//! (`TMPDIR` is the mutant's own directory).
 //!
 //! A mutant that passes has its directory removed; one that fails keeps it (with `why.txt`), so
 //! every failure, and the mutants running when the campaign itself is stopped, can be rerun by
@@ -101,6 +107,23 @@ const RUNS: &[(&str, &str, &[&str])] = &[
     ("cad", "toml", &["surface", "-o", "out.stp"]),
     ("cad", "toml", &["surface", "-o", "out.igs"]),
 ];
+
+/// The arguments of `shell` mutants after the input (in turns).
+const SHELL_RUNS: &[&[&str]] = &[&["shell"], &["shell", "--json", "-o", "out.vtu"]];
+
+/// Writes the stand-in solver into `dir`: a script that prints a CalculiX-like `*ERROR` line and
+/// exits with status 1, whatever its input.
+fn fake_ccx(dir: &Path) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let path = dir.join("fake-ccx");
+    std::fs::write(
+        &path,
+        "#!/bin/sh\necho ' *ERROR in fake-ccx: the campaign runs no solver'\nexit 1\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
 
 /// One mutant run: what it is and how it is run.
 struct Job {
@@ -264,8 +287,17 @@ fn jobs(per: usize, seed: u64) -> Vec<Job> {
     let mut mesh_streams: Vec<ChaCha8Rng> = (0..meshes.len())
         .map(|e| ChaCha8Rng::seed_from_u64(seed ^ 0xf1_7000 ^ ((e as u64) << 32)))
         .collect();
-    // `fit` gets as many mutants per round as a design subcommand has.
+    // `fit` gets as many mutants per round as a design subcommand has; so does `shell`, over
+    // the designs with a `[shell]` section.
     let fit_per_mesh = designs.len().div_ceil(meshes.len());
+    let shelled: Vec<&(String, String)> = designs
+        .iter()
+        .filter(|(_, t)| t.lines().any(|l| l.trim() == "[shell]"))
+        .collect();
+    let shell_per_design = designs.len().div_ceil(shelled.len().max(1));
+    let mut shell_streams: Vec<ChaCha8Rng> = (0..shelled.len())
+        .map(|e| ChaCha8Rng::seed_from_u64(seed ^ 0x5e_1100 ^ ((e as u64) << 32)))
+        .collect();
     let mut out = Vec::new();
     for k in 0..per {
         for (e, (name, text)) in designs.iter().enumerate() {
@@ -298,6 +330,19 @@ fn jobs(per: usize, seed: u64) -> Vec<Job> {
                 });
             }
         }
+        for (e, (name, text)) in shelled.iter().enumerate() {
+            for i in 0..shell_per_design {
+                let m = mutate::mutate(text, &mut shell_streams[e]);
+                out.push(Job {
+                    index: out.len(),
+                    sub: "shell",
+                    example: name.clone(),
+                    ext: "toml".into(),
+                    args: SHELL_RUNS[(k + i) % SHELL_RUNS.len()],
+                    text: m.into_bytes(),
+                });
+            }
+        }
     }
     out
 }
@@ -309,8 +354,9 @@ fn binary() -> String {
         .unwrap_or_else(|_| env!("CARGO_BIN_EXE_pdeshape").to_string())
 }
 
-/// Runs the binary on `args` in `dir` under the campaign's limits; `None` past [`WALL`].
-fn run_limited(dir: &Path, args: &[String]) -> Option<std::process::Output> {
+/// Runs the binary on `args` in `dir` under the campaign's limits, with `dir` as `TMPDIR` and
+/// `ccx` (if given) as the solver; `None` past [`WALL`].
+fn run_limited(dir: &Path, args: &[String], ccx: Option<&Path>) -> Option<std::process::Output> {
     let mut child = Command::new("sh")
         .arg("-c")
         .arg(format!(
@@ -320,6 +366,8 @@ fn run_limited(dir: &Path, args: &[String]) -> Option<std::process::Output> {
         .args(args)
         .current_dir(dir)
         .env("PDESHAPE_MAX_MEMORY", BUDGET_BYTES.to_string())
+        .env("TMPDIR", dir)
+        .envs(ccx.map(|c| ("PDESHAPE_CCX", c)))
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -370,11 +418,12 @@ fn run_limited(dir: &Path, args: &[String]) -> Option<std::process::Output> {
     })
 }
 
-/// Runs one job in `dir` (which holds only its input) and judges it.
-fn judge(job: &Job, dir: &Path, input: &str) -> (Outcome, String) {
+/// Runs one job in `dir` (which holds only its input) and judges it; `ccx` is the solver of
+/// `shell` jobs.
+fn judge(job: &Job, dir: &Path, input: &str, ccx: Option<&Path>) -> (Outcome, String) {
     let mut args: Vec<String> = vec![job.args[0].to_string(), input.to_string()];
     args.extend(job.args[1..].iter().map(|a| a.to_string()));
-    let Some(out) = run_limited(dir, &args) else {
+    let Some(out) = run_limited(dir, &args, ccx) else {
         return (
             Outcome::OverBound,
             format!("no CPU used for {STALL:?}, or still running after {WALL:?}"),
@@ -385,7 +434,10 @@ fn judge(job: &Job, dir: &Path, input: &str) -> (Outcome, String) {
         .into_iter()
         .filter(|f| f != input)
         .collect();
-    let temporaries: Vec<&String> = left.iter().filter(|f| f.contains(".pdeshape-")).collect();
+    let temporaries: Vec<&String> = left
+        .iter()
+        .filter(|f| f.contains(".pdeshape-") || f.starts_with("pdeshape-ccx-"))
+        .collect();
     if let Some(sig) = out.status.signal() {
         // SIGXCPU (24) at the soft CPU limit, SIGKILL (9) at the hard one.
         return if sig == 24 || sig == 9 {
@@ -408,7 +460,10 @@ fn judge(job: &Job, dir: &Path, input: &str) -> (Outcome, String) {
                 (Outcome::Leftover, format!("left {temporaries:?}"))
             }
         }
-        Some(2) => {
+        // The solver's failure (status 1) is the end of a `shell` mutant that passed the checks.
+        Some(c)
+            if c == 2 || (c == 1 && job.sub == "shell" && !stderr.contains("internal error")) =>
+        {
             let lines: Vec<&str> = stderr.lines().collect();
             if !left.is_empty() {
                 return (Outcome::Leftover, format!("left {left:?} after an error"));
@@ -446,6 +501,7 @@ fn campaign(
     root: &Path,
     workers: usize,
 ) -> (BTreeMap<&'static str, Tally>, Vec<String>) {
+    let ccx = &fake_ccx(root);
     let next = AtomicUsize::new(0);
     let tally: Mutex<BTreeMap<&'static str, Tally>> = Mutex::new(BTreeMap::new());
     let failures = Mutex::new(Vec::new());
@@ -461,7 +517,7 @@ fn campaign(
                 std::fs::create_dir_all(&dir).unwrap();
                 let input = format!("in.{}", job.ext);
                 std::fs::write(dir.join(&input), &job.text).unwrap();
-                let (o, why) = judge(job, &dir, &input);
+                let (o, why) = judge(job, &dir, &input, Some(ccx.as_path()));
                 if matches!(o, Outcome::Ok | Outcome::CleanError) {
                     let _ = std::fs::remove_dir_all(&dir);
                 } else {
@@ -806,7 +862,7 @@ fn regression_corpus_through_the_binary() {
             let work = tempfile::tempdir().unwrap();
             let input = format!("in.{ext}");
             std::fs::write(work.path().join(&input), &job.text).unwrap();
-            let (o, why) = judge(&job, work.path(), &input);
+            let (o, why) = judge(&job, work.path(), &input, None);
             if !matches!(o, Outcome::Ok | Outcome::CleanError) {
                 failures.push(format!("{} {sub}: {why}", job.example));
             }
@@ -817,4 +873,53 @@ fn regression_corpus_through_the_binary() {
         "the corpus holds designs and meshes"
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The unmutated `[shell]` examples reach the stand-in solver: status 1 with its one-line
+/// message, no output and no temporary directory left (the path every `shell` mutant that
+/// passes the input checks takes in the campaign).
+#[test]
+fn shell_designs_reach_the_stand_in_solver_and_leave_nothing() {
+    let root = tempfile::tempdir().unwrap();
+    let ccx = fake_ccx(root.path());
+    let shelled: Vec<(String, String)> = designs()
+        .into_iter()
+        .filter(|(_, t)| t.lines().any(|l| l.trim() == "[shell]"))
+        .collect();
+    assert!(
+        shelled.iter().any(|(n, _)| n.contains("yoghurt")),
+        "yoghurt.toml has a [shell] section"
+    );
+    for (name, text) in &shelled {
+        for args in SHELL_RUNS {
+            let work = tempfile::tempdir().unwrap();
+            std::fs::write(work.path().join("in.toml"), text).unwrap();
+            let mut a: Vec<String> = vec![args[0].into(), "in.toml".into()];
+            a.extend(args[1..].iter().map(|s| s.to_string()));
+            let out = run_limited(work.path(), &a, Some(ccx.as_path())).expect("finishes");
+            let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+            assert_eq!(out.status.code(), Some(1), "{name} {args:?}: {stderr}");
+            assert_eq!(
+                stderr,
+                "error: the CalculiX solver failed (exit status: 1): *ERROR in fake-ccx: the \
+                 campaign runs no solver\n",
+                "{name} {args:?}"
+            );
+            assert_eq!(
+                common::files(work.path()),
+                vec!["in.toml".to_string()],
+                "{name} {args:?}"
+            );
+            let job = Job {
+                index: 0,
+                sub: "shell",
+                example: name.clone(),
+                ext: "toml".into(),
+                args,
+                text: text.clone().into_bytes(),
+            };
+            let (o, why) = judge(&job, work.path(), "in.toml", Some(ccx.as_path()));
+            assert_eq!(o, Outcome::CleanError, "{name} {args:?}: {why}");
+        }
+    }
 }

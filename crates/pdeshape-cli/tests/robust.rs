@@ -731,3 +731,192 @@ fn flags_that_do_not_apply_to_the_output_are_refused() {
         vec!["blend.toml".to_string(), "cup.toml".to_string()]
     );
 }
+
+/// Runs the binary with `PDESHAPE_MAX_MEMORY` set to `budget` bytes, in `dir`.
+fn with_budget(dir: &Path, budget: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pdeshape"))
+        .current_dir(dir)
+        .env("PDESHAPE_MAX_MEMORY", budget)
+        // The quadrature's estimate counts the worker threads; fix them so the figures below
+        // hold on any machine.
+        .env("RAYON_NUM_THREADS", "2")
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Dynamic runs, meshes read by `fit`, the quadrature of `analyze` and the search of
+/// `optimize` are priced before they allocate and refused above the budget, naming the field
+/// or flag, the estimate and the limit; nothing is written.
+#[test]
+fn runs_meshes_quadratures_and_searches_are_refused_from_their_memory_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let example = |name: &str| {
+        std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../../examples")
+                .join(name),
+        )
+        .unwrap()
+    };
+    // A dynamic run on 10⁵ intervals: 100001 nodes × (384 + 2·24) B = 43 MB > 10 MB.
+    let dynamic = example("dynamic_section33.toml")
+        .replace("intervals = 30 ", "intervals = 100000 ")
+        .replace("steps = 450 ", "steps = 10 ");
+    write(d, "dyn.toml", &dynamic);
+    let out = with_budget(d, "10000000", &["curve", "dyn.toml", "-o", "x.csv"]);
+    assert_bad(
+        &out,
+        &[
+            "dyn.toml:",
+            "dynamic.intervals: a run on 100000 intervals (1 component, 2 frames held) needs \
+             about 43 MB of memory; at most 10 MB may be used (set by PDESHAPE_MAX_MEMORY)",
+        ],
+    );
+    // With --picture, 67 frames are held: 100001 × (384 + 67·24) B = 199 MB.
+    let out = with_budget(
+        d,
+        "100000000",
+        &["curve", "dyn.toml", "-o", "x.csv", "--picture", "x.svg"],
+    );
+    assert_bad(&out, &["67 frames held for --picture", "about 199 MB"]);
+    // The same run fits a budget of 50 MB without --picture.
+    let out = with_budget(d, "50000000", &["curve", "dyn.toml", "-o", "x.csv"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::remove_file(d.join("x.csv")).unwrap();
+
+    // Meshes: the file's size before it is read, then the counts before the elements are
+    // stored.
+    write(
+        d,
+        "oct.obj",
+        "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n\
+         f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n",
+    );
+    let out = with_budget(d, "100", &["fit", "oct.obj", "-o", "f.toml"]);
+    assert_bad(
+        &out,
+        &["oct.obj: holding the mesh file of 115 bytes needs about 115 bytes"],
+    );
+    // 14 elements × 768 B + 115 B = 10.9 kB.
+    let out = with_budget(d, "5000", &["fit", "oct.obj", "-o", "f.toml"]);
+    assert_bad(
+        &out,
+        &["oct.obj: reading a mesh of 14 vertices and faces needs about 11 kB"],
+    );
+    // A PLY header announcing three billion vertices is refused from the header under a 2 GiB
+    // address space (no budget variable: the 4 GiB cap).
+    write(
+        d,
+        "huge.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3000000000\nproperty float x\n\
+         property float y\nproperty float z\nelement face 1\n\
+         property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+    );
+    let huge = d.join("huge.ply");
+    let fitted = d.join("f.toml");
+    let out = run_limited(
+        &["fit", s(&huge), "-o", s(&fitted)],
+        30,
+        Some(ADDRESS_SPACE_KIB),
+    )
+    .expect("refused at once");
+    assert_bad(
+        &out,
+        &["huge.ply: reading a mesh of 3000000001 vertices and faces needs about 2304.0 GB"],
+    );
+
+    // analyze: the first quadrature level of the cup's patches (16 × 32 nodes, at 16 kB a
+    // v node about 0.5 MB) does not fit in 100 kB.
+    write(d, "cup.toml", &cup());
+    let out = with_budget(d, "100000", &["analyze", "cup.toml"]);
+    assert_bad(
+        &out,
+        &[
+            "quadrature: a quadrature of 16 × 32 nodes needs about",
+            "at most 100 kB",
+        ],
+    );
+    // Within 800 kB the first level fits and the second (32 × 64) does not: the refinement
+    // stops there and the result says it did not converge, like the node budget.
+    let out = with_budget(d, "800000", &["analyze", "cup.toml", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let first = &v["patches"][0];
+    assert_eq!(first["converged"], false, "{first}");
+    assert_eq!(first["nodes"], serde_json::json!([16, 32]), "{first}");
+
+    // optimize: the search log of 10⁶ evaluations, named by the flag or by the field.
+    write(d, "opt.toml", &example("optimize_curvature.toml"));
+    let out = with_budget(
+        d,
+        "50000000",
+        &[
+            "optimize",
+            "opt.toml",
+            "-o",
+            "o.toml",
+            "--evaluations",
+            "1000000",
+        ],
+    );
+    assert_bad(
+        &out,
+        &[
+            "--evaluations, --polish: the search log of 1000000 + 200 evaluations",
+            "at most 50 MB",
+        ],
+    );
+    let many = example("optimize_curvature.toml");
+    let line = many
+        .lines()
+        .find(|l| l.starts_with("evaluations = "))
+        .unwrap()
+        .to_string();
+    write(d, "many.toml", &edit(&many, &line, "evaluations = 1000000"));
+    let out = with_budget(d, "50000000", &["optimize", "many.toml", "-o", "o.toml"]);
+    assert_bad(
+        &out,
+        &["many.toml:", "optimize.evaluations: the search log"],
+    );
+    // The quadrature of the evaluations running at once: 4096 × 4096 on each of 2 workers.
+    let fine = edit(
+        &example("optimize_curvature.toml"),
+        "[optimize]\n",
+        "[optimize]\nquadrature_u = 4096\nquadrature_v = 4096\n",
+    );
+    write(d, "fine.toml", &fine);
+    let out = with_budget(
+        d,
+        "50000000",
+        &["optimize", "fine.toml", "-o", "o.toml", "--threads", "2"],
+    );
+    assert_bad(
+        &out,
+        &[
+            "fine.toml:",
+            "optimize.quadrature_u: 2 evaluations at once on a 4096 × 4096 quadrature",
+        ],
+    );
+    assert_eq!(
+        files(d),
+        [
+            "cup.toml",
+            "dyn.toml",
+            "fine.toml",
+            "huge.ply",
+            "many.toml",
+            "oct.obj",
+            "opt.toml"
+        ]
+    );
+}

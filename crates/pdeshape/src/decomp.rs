@@ -10,7 +10,27 @@ use nalgebra::{Complex, DMatrix, DVector, Schur, SymmetricEigen, SVD};
 /// decompositions converge in a few sweeps per eigen- or singular value, so `100·n` (at least
 /// 1000) sweeps are ample for every matrix that converges at all.
 pub(crate) fn max_iterations(n: usize) -> usize {
+    #[cfg(test)]
+    if let Some(cap) = TEST_CAP.with(|c| c.get()) {
+        return cap;
+    }
     (100 * n).max(1000)
+}
+
+#[cfg(test)]
+thread_local! {
+    /// A lower cap for the tests of this thread ([`with_cap`]).
+    static TEST_CAP: std::cell::Cell<Option<usize>> = const { std::cell::Cell::new(None) };
+}
+
+/// Runs `f` with the cap of [`max_iterations`] lowered to `cap` on this thread, so that tests
+/// can show what a decomposition that does not converge within its cap turns into.
+#[cfg(test)]
+pub(crate) fn with_cap<T>(cap: usize, f: impl FnOnce() -> T) -> T {
+    TEST_CAP.with(|c| c.set(Some(cap)));
+    let out = f();
+    TEST_CAP.with(|c| c.set(None));
+    out
 }
 
 /// Singular values of `a`, or `None` if the SVD did not converge.
@@ -92,6 +112,31 @@ mod tests {
             (sv[0] - 2.0).abs() < 1e-14 && (sv[1] - 1.0).abs() < 1e-14,
             "{sv:?}"
         );
+    }
+
+    /// A symmetric 6 × 6 matrix with distinct, spread eigenvalues: no QR-type iteration
+    /// finishes it in one sweep.
+    fn hard() -> DMatrix<f64> {
+        DMatrix::from_fn(6, 6, |i, j| {
+            1.0 / (1.0 + i as f64 + j as f64) + if i == j { i as f64 } else { 0.0 }
+        })
+    }
+
+    #[test]
+    fn decompositions_that_need_more_sweeps_than_the_cap_return_none() {
+        with_cap(1, || {
+            assert_eq!(max_iterations(6), 1);
+            assert!(singular_values(hard()).is_none());
+            assert!(svd(hard()).is_none());
+            assert!(symmetric_eigenvalues(hard()).is_none());
+            assert!(complex_eigenvalues(hard()).is_none());
+        });
+        // With the cap of every run they converge: the eigenvalues sum to the trace.
+        assert_eq!(max_iterations(6), 1000);
+        let ev = symmetric_eigenvalues(hard()).unwrap();
+        assert!((ev.sum() - hard().trace()).abs() < 1e-12, "{ev}");
+        assert!(singular_values(hard()).is_some() && svd(hard()).is_some());
+        assert_eq!(complex_eigenvalues(hard()).unwrap().len(), 6);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! Memory estimated before it is allocated. Every request whose size a design or a flag chooses
-//! (output grids, sample grids, pictures, dense spline systems) is priced in bytes first and
+//! (output grids, sample grids, pictures, dense spline systems, dynamic runs, meshes read for
+//! fitting, the optimiser's search log, quadrature levels) is priced in bytes first and
 //! refused above [`budget`] with a message naming the field or flag, the value and the bound,
 //! so that the allocator never aborts the process.
 
@@ -16,6 +17,36 @@ pub const BYTES_PER_GRID_VERTEX: u64 = 128;
 /// Bytes per output pixel of a picture: the RGB image (3 B), its PNG encoding (at most about as
 /// large) and the per-band sample buffers; a generous round figure.
 pub const BYTES_PER_PIXEL: u64 = 16;
+
+/// Bytes per grid node and component of a `[dynamic]` run: the banded factorisation of the
+/// scheme (seven-entry rows, pivots, factors, scratch and right-hand sides), the solution
+/// levels, the final curve and its report. Measured: `pdeshape curve` on one component and
+/// 10⁶ intervals peaks at 332 MB resident (12 MB of it the process itself), about 320 B a
+/// node with the two frames held; 384 B leaves a margin.
+pub const BYTES_PER_DYNAMIC_NODE: u64 = 384;
+
+/// Bytes per grid node of one frame of a dynamic curve kept in memory (a point, 3 × `f64`).
+pub const BYTES_PER_FRAME_NODE: u64 = 24;
+
+/// Bytes per element (vertex, face or triangle) of a mesh read for fitting, all stages
+/// together: the reader's records (a PLY reader keeps a small map of named properties per
+/// element), the welded mesh (24 B a vertex, 12 B a triangle) and its edge map. Measured:
+/// `pdeshape fit` of an ASCII PLY of 199 502 vertices and 399 000 faces (14 MB) peaks at
+/// 292 MB resident, about 470 B an element besides the file; the same mesh as OBJ at 77 MB.
+/// 768 B leaves a margin.
+pub const BYTES_PER_MESH_ELEMENT: u64 = 768;
+
+/// Bytes per record of the optimiser's search log besides its parameters (8 B each): phase,
+/// chain, level, temperature, value, best and the vector's header.
+pub const BYTES_PER_LOG_RECORD: u64 = 96;
+
+/// Bytes per node of the `u` rule of one quadrature level (the rule and one row sum).
+pub const BYTES_PER_QUADRATURE_ROW: u64 = 256;
+
+/// Bytes per node of the `v` rule of one quadrature level, besides each worker's row of
+/// partials: the surface's row tables (a PDE patch keeps `cos nv`, `sin nv` of every mode for
+/// each column; 1024 modes of 16 B at most).
+pub const BYTES_PER_QUADRATURE_COLUMN: u64 = 16 * 1024;
 
 /// Environment variable that lowers the budget (a number of bytes), for tests and for shared
 /// machines.
@@ -45,16 +76,26 @@ pub fn budget() -> u64 {
     b
 }
 
-/// Human-readable bytes (`1.5 GB`, `300 MB`).
+/// Human-readable bytes (`1.5 GB`, `300 MB`, `12 kB`, `100 bytes`).
 pub fn describe(bytes: u64) -> String {
     let b = bytes as f64;
     if b >= 1e9 {
         format!("{:.1} GB", b / 1e9)
     } else if b >= 1e6 {
         format!("{:.0} MB", b / 1e6)
+    } else if b >= 1e3 {
+        format!("{:.0} kB", b / 1e3)
     } else {
-        format!("{:.0} kB", (b / 1e3).max(1.0))
+        format!("{bytes} bytes")
     }
+}
+
+/// Whether [`BUDGET_VARIABLE`] sets the budget (it is below the other bounds).
+fn budget_from_variable(limit: u64) -> bool {
+    std::env::var(BUDGET_VARIABLE)
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        == Some(limit)
 }
 
 /// Refuses `bytes` (saturated: `None` means more than can be counted) above [`budget`]:
@@ -67,11 +108,17 @@ pub fn check(bytes: Option<u64>, what: &str, place: &str) -> Result<()> {
             let need = bytes.map_or("more memory than can be counted".to_string(), |b| {
                 format!("about {} of memory", describe(b))
             });
+            let why = if budget_from_variable(limit) {
+                format!("set by {BUDGET_VARIABLE}")
+            } else {
+                format!(
+                    "the smaller of {} and half of the memory available now",
+                    describe(MAX_REQUEST_BYTES)
+                )
+            };
             Err(Error::invalid(format!(
-                "{what} needs {need}; at most {} may be used (the smaller of {} and half of \
-                 the memory available now)",
-                describe(limit),
-                describe(MAX_REQUEST_BYTES)
+                "{what} needs {need}; at most {} may be used ({why})",
+                describe(limit)
             ))
             .at(place))
         }
@@ -81,6 +128,43 @@ pub fn check(bytes: Option<u64>, what: &str, place: &str) -> Result<()> {
 /// [`check`] for `count` items of `each` bytes.
 pub fn check_items(count: u64, each: u64, what: &str, place: &str) -> Result<()> {
     check(count.checked_mul(each), what, place)
+}
+
+/// The memory of a `[dynamic]` run on `intervals` intervals with `components` components,
+/// keeping `frames` frames of the curve at once.
+pub fn dynamic_run(intervals: u64, components: u64, frames: u64) -> Option<u64> {
+    let per_node = components
+        .checked_mul(BYTES_PER_DYNAMIC_NODE)?
+        .checked_add(frames.checked_mul(BYTES_PER_FRAME_NODE)?)?;
+    intervals.checked_add(1)?.checked_mul(per_node)
+}
+
+/// The memory of reading a mesh of `elements` elements (vertices and faces together) from a
+/// file of `file_bytes` bytes held in memory.
+pub fn mesh_read(file_bytes: u64, elements: u64) -> Option<u64> {
+    elements
+        .checked_mul(BYTES_PER_MESH_ELEMENT)?
+        .checked_add(file_bytes)
+}
+
+/// The memory of the optimiser's search log: one record per evaluation, each with its
+/// `parameters` values.
+pub fn search_log(evaluations: u64, parameters: u64) -> Option<u64> {
+    let each = parameters
+        .checked_mul(8)?
+        .checked_add(BYTES_PER_LOG_RECORD)?;
+    evaluations.checked_mul(each)
+}
+
+/// The memory of one quadrature level of `u_nodes × v_nodes` nodes summed by `workers`
+/// threads, each with a row of partials (six points, 144 B a node).
+pub fn quadrature_level(u_nodes: u64, v_nodes: u64, workers: u64) -> Option<u64> {
+    let per_column = workers
+        .checked_mul(144)?
+        .checked_add(BYTES_PER_QUADRATURE_COLUMN)?;
+    u_nodes
+        .checked_mul(BYTES_PER_QUADRATURE_ROW)?
+        .checked_add(v_nodes.checked_mul(per_column)?)
 }
 
 #[cfg(test)]
@@ -112,9 +196,26 @@ mod tests {
     }
 
     #[test]
+    fn the_estimates_add_up_their_items_and_saturate_to_none() {
+        // 10 intervals → 11 nodes of 2 components and 3 frames: 11·(2·384 + 3·24).
+        assert_eq!(dynamic_run(10, 2, 3), Some(11 * (2 * 384 + 3 * 24)));
+        assert_eq!(dynamic_run(u64::MAX, 1, 0), None);
+        assert_eq!(mesh_read(1000, 10), Some(1000 + 10 * 768));
+        assert_eq!(mesh_read(0, u64::MAX), None);
+        assert_eq!(search_log(100, 3), Some(100 * (96 + 24)));
+        assert_eq!(search_log(u64::MAX, 1), None);
+        assert_eq!(
+            quadrature_level(10, 20, 2),
+            Some(10 * 256 + 20 * (2 * 144 + 16 * 1024))
+        );
+        assert_eq!(quadrature_level(1, u64::MAX, 1), None);
+    }
+
+    #[test]
     fn describe_rounds_to_readable_units() {
         assert_eq!(describe(8_600_000_000), "8.6 GB");
         assert_eq!(describe(300_000_000), "300 MB");
-        assert_eq!(describe(12), "1 kB");
+        assert_eq!(describe(12_345), "12 kB");
+        assert_eq!(describe(12), "12 bytes");
     }
 }

@@ -444,16 +444,22 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
     };
     let breaks = s.breaks();
     let (ru, rv) = q.rules(u_range, domain, &breaks, 0);
+    level_memory(&ru, &rv)?;
     let mut prev = integrate_grid(s, &ru, &rv);
+    let mut prev_rules = (ru, rv);
     if !q.adaptive {
-        return finish(prev, &ru, &rv, 0.0, true);
+        return finish(prev, &prev_rules.0, &prev_rules.1, 0.0, true);
     }
     if prev.nonfinite {
-        return finish(prev, &ru, &rv, f64::NAN, false);
+        return finish(prev, &prev_rules.0, &prev_rules.1, f64::NAN, false);
     }
     let mut k = 1;
     loop {
         let (ru, rv) = q.rules(u_range, domain, &breaks, k);
+        // A level beyond the memory budget ends the refinement, like the node budget.
+        if level_memory(&ru, &rv).is_err() {
+            return finish(prev, &prev_rules.0, &prev_rules.1, f64::NAN, false);
+        }
         let cur = integrate_grid(s, &ru, &rv);
         // A surface degenerate at every node of two levels (a curve) has no area to refine.
         let flat = prev.all_degenerate() && cur.all_degenerate();
@@ -468,8 +474,20 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
             return finish(cur, &ru, &rv, change, converged);
         }
         prev = cur;
+        prev_rules = (ru, rv);
         k += 1;
     }
+}
+
+/// Refuses a quadrature level whose memory ([`crate::memory::quadrature_level`], with the
+/// workers of the current thread pool) is above the budget, at the place `quadrature`.
+fn level_memory(ru: &Rule, rv: &Rule) -> Result<()> {
+    let (nu, nv) = (ru.nodes.len(), rv.nodes.len());
+    crate::memory::check(
+        crate::memory::quadrature_level(nu as u64, nv as u64, rayon::current_num_threads() as u64),
+        &format!("a quadrature of {nu} × {nv} nodes"),
+        "quadrature",
+    )
 }
 
 /// `K` and `H` (with respect to `X_u × X_v`) at every grid point `(u_i, v_j)`, row-major

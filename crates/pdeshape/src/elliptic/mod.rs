@@ -458,7 +458,10 @@ fn solve_mode(
             format!("Fourier mode {n}")
         };
         let cond = if cond.is_nan() {
-            "its singular values could not be computed".to_string()
+            format!(
+                "its singular values could not be computed within {} sweeps",
+                crate::decomp::max_iterations(a.nrows().max(a.ncols()))
+            )
         } else {
             format!("condition number {cond:.1e}")
         };

@@ -668,3 +668,37 @@ fn joint_derivative_evaluation_is_bit_identical() {
     }
     assert!(kinds.contains(&BasisKind::Layers) && kinds.contains(&BasisKind::Chebyshev));
 }
+
+/// A mode system whose SVD does not converge within the iteration cap is an error naming the
+/// mode and the cap (the subnormal `a = 1e-320` once made this SVD run forever); an operator
+/// whose characteristic roots do not converge is an error at `coefficients`.
+#[test]
+fn mode_systems_and_roots_past_the_iteration_cap_are_errors_naming_them() {
+    let op = Operator::polyharmonic(2, 1.0).unwrap();
+    let conds = vec![
+        cond(0.0, 0, circle(0.0, 1.0)),
+        cond(0.0, 1, circle(1.0, 0.5)),
+        cond(1.0, 0, circle(1.0, 1.0)),
+        cond(1.0, 1, circle(1.0, 0.5)),
+    ];
+    let e = crate::decomp::with_cap(1, || {
+        solve(&op, conds.clone(), &SolveOptions::default()).unwrap_err()
+    })
+    .to_string();
+    assert!(
+        e.contains("the system for the spine (mode 0)")
+            && e.contains("its singular values could not be computed within 1 sweeps"),
+        "{e}"
+    );
+    // The same conditions solve with the cap of every run.
+    assert!(solve(&op, conds, &SolveOptions::default()).is_ok());
+    let coefficients = vec![1.0, 3.0, 4.0, 2.0, 5.0];
+    assert!(Operator::general(coefficients.clone()).is_ok());
+    let e = crate::decomp::with_cap(1, || Operator::general(coefficients).unwrap_err());
+    assert_eq!(e.place(), "coefficients", "{e}");
+    assert!(
+        e.to_string()
+            .contains("the roots of the characteristic equation could not be computed"),
+        "{e}"
+    );
+}

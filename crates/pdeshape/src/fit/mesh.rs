@@ -205,6 +205,17 @@ fn union(parent: &mut [u32], a: u32, b: u32) {
     }
 }
 
+/// Refuses a mesh whose reading ([`crate::memory::mesh_read`]: the file's bytes and
+/// `elements` vertices and faces, counted from the header or the lines before anything is
+/// stored) would not fit in the memory budget.
+fn check_memory(bytes: &[u8], elements: usize) -> Result<()> {
+    crate::memory::check(
+        crate::memory::mesh_read(bytes.len() as u64, elements as u64),
+        &format!("reading a mesh of {elements} vertices and faces"),
+        "",
+    )
+}
+
 fn check_count(triangles: usize) -> Result<()> {
     if triangles > MAX_TRIANGLES {
         return Err(Error::invalid(format!(
@@ -224,11 +235,16 @@ fn fan(out: &mut Vec<[u32; 3]>, corners: &[u32]) {
 
 fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     // Count faces before parsing, so a huge file is refused before it is stored.
-    let faces = bytes
-        .split(|&b| b == b'\n')
-        .filter(|l| l.starts_with(b"f ") || l.starts_with(b"f\t"))
-        .count();
+    let (mut faces, mut vertices) = (0, 0);
+    for l in bytes.split(|&b| b == b'\n') {
+        if l.starts_with(b"f ") || l.starts_with(b"f\t") {
+            faces += 1;
+        } else if l.starts_with(b"v ") || l.starts_with(b"v\t") {
+            vertices += 1;
+        }
+    }
     check_count(faces)?;
+    check_memory(bytes, faces + vertices)?;
     let opts = tobj::LoadOptions {
         single_index: false,
         triangulate: false,
@@ -284,6 +300,7 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     if !ascii && bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
         check_count(n)?;
+        check_memory(bytes, 4 * n)?;
         if 84 + 50 * n > bytes.len() {
             return Err(Error::invalid(format!(
                 "the STL file is truncated: it announces {n} triangles ({} bytes) but has {} bytes",
@@ -291,6 +308,13 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
                 bytes.len()
             )));
         }
+    }
+    if ascii || bytes.len() < 84 {
+        let corners = bytes
+            .split(|&b| b == b'\n')
+            .filter(|l| l.trim_ascii_start().starts_with(b"vertex"))
+            .count();
+        check_memory(bytes, corners)?;
     }
     let mut cursor = Cursor::new(bytes);
     let reader = stl_io::create_stl_reader(&mut cursor)
@@ -347,6 +371,11 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     let header = vertex_parser.read_header(&mut cursor).map_err(bad)?;
     let faces = header.elements.get("face").map_or(0, |e| e.count);
     check_count(faces)?;
+    let elements = header
+        .elements
+        .values()
+        .fold(0usize, |n, e| n.saturating_add(e.count));
+    check_memory(bytes, elements)?;
     let payload = vertex_parser
         .read_payload(&mut cursor, &header)
         .map_err(bad_data)?;

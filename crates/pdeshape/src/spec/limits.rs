@@ -37,6 +37,9 @@ pub const MAX_EVALUATIONS: usize = 1_000_000;
 pub const MAX_POLISH: usize = 100_000;
 /// Most annealing chains of `[optimize]` (and `--chains`).
 pub const MAX_CHAINS: usize = 1024;
+/// Most worker threads of `pdeshape optimize --threads` (each takes a stack of its own; the
+/// chains, at most [`MAX_CHAINS`], are the parallel work).
+pub const MAX_THREADS: usize = 1024;
 /// Most constraints of `[optimize]`.
 pub const MAX_CONSTRAINTS: usize = 256;
 /// Most parameters of `[optimize]`.
@@ -148,6 +151,11 @@ pub const LIMITS: &[Limit] = &[
         reason: "threads and memory",
     },
     Limit {
+        field: "optimize --threads",
+        bound: "1 … 1024",
+        reason: "threads and memory",
+    },
+    Limit {
         field: "optimize.constraints",
         bound: "≤ 256",
         reason: "evaluation time",
@@ -174,7 +182,11 @@ pub const LIMITS: &[Limit] = &[
     },
     Limit {
         field: "memory of one request (grids: 128 bytes a vertex; pictures: 16 bytes a pixel; \
-                spline systems: 6 n² entries for n control points)",
+                spline systems: 6 n² entries for n control points; dynamic runs: 384 bytes a \
+                node and component, 24 a node and frame held; meshes read by fit: the file and \
+                768 bytes a vertex or face; the search log of optimize: 96 + 8 bytes a \
+                parameter per evaluation; a quadrature level: 256 bytes a u node, 16 kB a v \
+                node)",
         bound: "≤ the smaller of 4 GiB and half of MemAvailable (and of PDESHAPE_MAX_MEMORY \
                 if set)",
         reason: "refused before allocating, never aborted by the allocator",

@@ -1061,3 +1061,21 @@ fn a_system_the_capped_svd_cannot_decompose_is_an_error() {
     *a.at_mut(1, 1) = 1.0;
     assert_eq!(f64::affine(&a, &Mat::zeros(3, 1)).unwrap().rank, 2);
 }
+
+/// A finite system whose SVD needs more sweeps than the cap is the same error, naming the
+/// system's size and the cap (a lowered cap stands for a system that does not converge).
+#[test]
+fn a_system_past_the_svd_iteration_cap_is_an_error_naming_it() {
+    let mut a: Mat<f64> = Mat::zeros(7, 6);
+    for i in 0..7 {
+        for j in 0..6 {
+            *a.at_mut(i, j) =
+                1.0 / (1.0 + i as f64 + 2.0 * j as f64) + if i == j { 1.0 } else { 0.0 };
+        }
+    }
+    let e =
+        crate::decomp::with_cap(1, || f64::affine(&a, &Mat::zeros(7, 1)).unwrap_err()).to_string();
+    assert!(e.contains("7 × 6 linear system"), "{e}");
+    assert!(e.contains("did not converge within 1 sweeps"), "{e}");
+    assert_eq!(f64::affine(&a, &Mat::zeros(7, 1)).unwrap().rank, 6);
+}
