@@ -78,8 +78,9 @@ impl Ellipse {
         finite3(&center, "center")?;
         nonzero_vector(&axis1, "axis1")?;
         nonzero_vector(&axis2, "axis2")?;
-        let cross = axis1.cross(&axis2).norm();
-        if cross <= DEPENDENT_TOL * axis1.norm() * axis2.norm() {
+        // Scaled first, so that huge axes (1e300) neither overflow nor pass as parallel.
+        let (a, b) = (axis1 / axis1.amax(), axis2 / axis2.amax());
+        if a.cross(&b).norm() <= DEPENDENT_TOL * a.norm() * b.norm() {
             return Err(
                 Error::invalid("axis1 and axis2 are parallel: the ellipse is degenerate")
                     .at("axis2"),
@@ -303,6 +304,10 @@ mod tests {
             err(Ellipse::new(z, x, x * -3.0)),
             "axis2: axis1 and axis2 are parallel: the ellipse is degenerate"
         );
+        // Huge axes are independent directions like any other (their products overflow).
+        let huge = Vec3::new(1e300, 1e300, 0.0);
+        assert!(Ellipse::new(z, huge, Vec3::new(0.0, 0.0, 1e300)).is_ok());
+        assert!(Ellipse::new(z, huge, huge * 0.5).is_err());
         let e = Ellipse::new(z, x, x).unwrap_err().at("curves.rim");
         assert_eq!(e.place(), "curves.rim.axis2");
         let e = Point::try_new(Vec3::new(1.0, 2.0, f64::INFINITY)).unwrap_err();

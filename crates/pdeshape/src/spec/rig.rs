@@ -118,8 +118,8 @@ impl Rig {
                         })?,
                 ),
             };
-            let len = b.axis.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if !(len.is_finite() && len > 0.0) {
+            // Finite and not all zero (a huge axis such as 1e300 is a direction like any other).
+            if !(b.axis.iter().all(|x| x.is_finite()) && b.axis.iter().any(|&x| x != 0.0)) {
                 return Err(
                     Error::invalid("must be a non-zero vector").at(&format!("{place}.axis"))
                 );
@@ -147,7 +147,12 @@ impl Rig {
             bones.push(Bone {
                 parent,
                 head: b.head,
-                axis: b.axis.map(|x| x / len),
+                axis: {
+                    let big = b.axis.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    let scaled = b.axis.map(|x| x / big);
+                    let len = scaled.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    scaled.map(|x| x / len)
+                },
                 keys: b.keys.clone(),
             });
         }
@@ -312,6 +317,21 @@ mod tests {
         assert_eq!(c.len(), 2);
         assert_eq!(c[0], ([1.0, 0.0, 0.0], 10.0, [0.0, 0.0, 3.0]));
         assert_eq!(c[1], ([0.0, 1.0, 0.0], 40.0, [0.0, 0.0, 0.0]));
+    }
+
+    /// A huge axis is a direction like any other: scaled before it is normalised.
+    #[test]
+    fn huge_axes_are_normalised_without_overflow() {
+        let text = "[[bones]]\nname = \"a\"\nhead = [0, 0, 0]\naxis = [0, 1e300, 1e300]\n\
+                    keys = [[0.0, 5.0]]\n[attach]\nc = \"a\"\n";
+        let v = toml::Value::Table(toml::from_str(text).unwrap());
+        let r = Rig::new(&v, 0.0, 2.0).unwrap();
+        let h = 0.5f64.sqrt();
+        let axis = r.chain(0, 0.0)[0].0;
+        assert!(
+            (axis[1] - h).abs() < 1e-15 && (axis[2] - h).abs() < 1e-15 && axis[0] == 0.0,
+            "{axis:?}"
+        );
     }
 
     #[test]
