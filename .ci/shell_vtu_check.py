@@ -38,10 +38,16 @@ def main() -> int:
     # Both files write each number in its shortest round-trip form: exactly equal.
     if peak != want:
         problems.append(f"max_shear field maximum {peak!r}, the report's {want!r}")
-    at = mesh.points[int(shear.argmax())]
+    # The report's place of the maximum is a point of the VTU holding it (several points of an
+    # axisymmetric design may hold the same value).
     where = report["at"]
-    if np.abs(at - [where["x"], where["y"], where["z"]]).max() > 1e-12:
-        problems.append(f"the maximum is at {at.tolist()}, the report says {where}")
+    gap = np.abs(mesh.points - [where["x"], where["y"], where["z"]]).max(axis=1)
+    k = int(gap.argmin())
+    if gap[k] > 1e-12 or shear[k] != peak:
+        problems.append(
+            f"the report puts the maximum at {where}; the nearest point is {gap[k]:.3e} m away "
+            f"with max_shear {shear[k]!r}"
+        )
     disp = np.asarray(mesh.point_data["displacement"], dtype=float)
     if disp.shape != (n, 3) or not np.isfinite(disp).all():
         problems.append(f"displacement field of shape {disp.shape} or not finite")

@@ -256,6 +256,29 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .collect();
     report.push_str(&format!("{}\n", vars.join(", ")));
     if strength {
+        // The start's and the result's shell measures (the first line's values include the
+        // penalties).
+        let measures = |e: &pdeshape::optimize::Evaluation| -> String {
+            VARIABLES[11..]
+                .iter()
+                .zip(&e.variables[11..])
+                .filter(|(_, v)| !v.is_nan())
+                .map(|(n, v)| format!("{n} = {v:.9}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if let Some(e) = &outcome.start.1 {
+            report.push_str(&format!(
+                "start: objective {:.9}, {}\n",
+                e.objective,
+                measures(e)
+            ));
+        }
+        report.push_str(&format!(
+            "result: objective {:.9}, {}\n",
+            best.objective,
+            measures(best)
+        ));
         report.push_str(&format!(
             "the result is {}feasible; {} failed shell analyses (counted as infeasible){}\n",
             if best.feasible { "" } else { "NOT " },
