@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Thin-shell strength analysis: installs CalculiX and runs the tests that need it. They fail (not
-# skip) when the solver is missing.
+# Thin-shell strength analysis: installs CalculiX and runs the tests that need it (closed forms,
+# the container, the strength optimisation, `render --color shear`), then reads the container's
+# VTU with meshio (pinned in .ci/shell-requirements.txt, in a venv here) and checks it against
+# the report. They fail (not skip) when the solver or the reader is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v ccx >/dev/null 2>&1; then
@@ -9,3 +11,13 @@ if ! command -v ccx >/dev/null 2>&1; then
 fi
 cargo test --release --workspace --test shell_ccx -- --ignored
 cargo test --release -p pdeshape-cli --test shell -- --ignored
+venv="${SHELL_VENV:-.ci/.venv-shell}"
+if [ ! -x "$venv/bin/python" ]; then
+    python3.11 -m venv "$venv" || python3 -m venv "$venv"
+fi
+"$venv/bin/pip" install -q -r .ci/shell-requirements.txt
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+cargo run -q --release -p pdeshape-cli -- shell examples/yoghurt.toml --json -q \
+    -o "$out/yoghurt.vtu" > "$out/yoghurt.json"
+"$venv/bin/python" .ci/shell_vtu_check.py "$out/yoghurt.vtu" "$out/yoghurt.json"

@@ -1,7 +1,9 @@
 //! `pdeshape optimize DESIGN -o BEST.toml`: search the design parameters of `[optimize]` by
 //! simulated annealing and a Nelder–Mead polish (book §7.3–7.5), then write the optimised design
 //! file (the original text with the parameters applied), its mesh (`BEST.obj`), its picture
-//! (`BEST.png`) and the log of the search (`BEST.csv`).
+//! (`BEST.png`) and the log of the search (`BEST.csv`). With the shell measures (`mass`,
+//! `max_shear`, `yield`) the progress line shows the best feasible design so far, and the report
+//! the count of failed shell analyses (designs counted as infeasible).
 
 use crate::common::{self, CliError, Output};
 use pdeshape::mesh;
@@ -166,13 +168,21 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     };
     bar.set_style(
         indicatif::ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} evaluations, best {msg}",
+            "{spinner} [{elapsed_precise}] {bar:30} {pos}/{len} evaluations, {msg}",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    let strength = problem.shell_setup().is_some();
     let report = |done: usize, best: f64| {
         bar.set_position(done as u64);
-        bar.set_message(format!("{best:.6}"));
+        if strength {
+            let feasible = problem
+                .best_feasible()
+                .map_or("none yet".to_string(), |(f, _)| format!("{f:.6}"));
+            bar.set_message(format!("best {best:.6}, best feasible {feasible}"));
+        } else {
+            bar.set_message(format!("best {best:.6}"));
+        }
     };
     let outcome = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
@@ -183,7 +193,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         None => problem.run(&report),
     };
     bar.finish_and_clear();
-    let outcome = outcome.map_err(|e| design.error(&e))?;
+    let outcome = outcome.map_err(|e| match e {
+        // A solver that is missing, fails or times out on the starting design.
+        pdeshape::Error::Io { .. } => CliError {
+            message: common::message_of(&e),
+            status: 1,
+        },
+        e => design.error(&e),
+    })?;
     let (best_x, best) = &outcome.best;
 
     // The optimised design file, then its mesh and picture from the re-read file (so what is
@@ -273,12 +290,50 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     for (p, x) in problem.parameters.list.iter().zip(best_x) {
         report.push_str(&format!("{:<12} {:>12.6} {:>13.6}\n", p.name, p.initial, x));
     }
+    // The shell measures are NaN unless the formulas use them.
     let vars: Vec<String> = VARIABLES
         .iter()
         .zip(best.variables)
-        .map(|(n, v)| format!("{n} = {v:.9}"))
+        .enumerate()
+        .filter(|(i, (_, v))| *i < 11 || !v.is_nan())
+        .map(|(_, (n, v))| format!("{n} = {v:.9}"))
         .collect();
     report.push_str(&format!("{}\n", vars.join(", ")));
+    if strength {
+        // The start's and the result's shell measures (the first line's values include the
+        // penalties).
+        let measures = |e: &pdeshape::optimize::Evaluation| -> String {
+            VARIABLES[11..]
+                .iter()
+                .zip(&e.variables[11..])
+                .filter(|(_, v)| !v.is_nan())
+                .map(|(n, v)| format!("{n} = {v:.9}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if let Some(e) = &outcome.start.1 {
+            report.push_str(&format!(
+                "start: objective {:.9}, {}\n",
+                e.objective,
+                measures(e)
+            ));
+        }
+        report.push_str(&format!(
+            "result: objective {:.9}, {}\n",
+            best.objective,
+            measures(best)
+        ));
+        report.push_str(&format!(
+            "the result is {}feasible; {} failed shell analyses (counted as infeasible){}\n",
+            if best.feasible { "" } else { "NOT " },
+            outcome.solver_failures,
+            outcome
+                .first_failure
+                .as_ref()
+                .map(|m| format!(", the first: {m}"))
+                .unwrap_or_default()
+        ));
+    }
     let dest = crate::common::destination(&args.output);
     report.push_str(&format!(
         "wrote {dest}, {}, {}, {}\n",

@@ -24,15 +24,67 @@ pub struct Args {
     /// Grid columns (values of v; default from [output] or 128).
     #[arg(long)]
     pub nv: Option<usize>,
-    /// Colour the surface by Gaussian (`gauss`) or mean (`mean`, outward normal) curvature:
-    /// blue low, grey middle, red high.
+    /// Colour the surface by Gaussian (`gauss`) or mean (`mean`, outward normal) curvature, or
+    /// by the largest shear stress of a CalculiX shell analysis (`shear`, as `pdeshape shell`
+    /// runs it): blue low, grey middle, red high.
     #[arg(long, value_enum)]
-    pub color: Option<crate::analyze::ColorBy>,
-    /// The curvature range of the colour map, LO,HI (default: the 1st to 99th percentile of the
-    /// values on the grid, made symmetric about 0 when it spans 0). A colour bar with the values
-    /// is drawn on the right.
+    pub color: Option<Coloring>,
+    /// The range of the colour map, LO,HI (curvature; MPa for `shear`) (default: the 1st to
+    /// 99th percentile of the curvature on the grid, made symmetric about 0 when it spans 0; 0
+    /// to the largest shear stress). A colour bar with the values is drawn on the right.
     #[arg(long, allow_hyphen_values = true)]
     pub range: Option<String>,
+}
+
+/// What `pdeshape render --color` colours by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Coloring {
+    /// Gaussian curvature K.
+    Gauss,
+    /// Mean curvature H (outward normal).
+    Mean,
+    /// The largest shear stress (σ₁ − σ₃)/2 of a shell analysis with CalculiX, in MPa.
+    Shear,
+}
+
+/// The largest shear stress (MPa) of the shell analysis of `built` ([shell] or the book's
+/// set-up), mapped onto the render grids: the nodal values interpolated with the elements' shape
+/// functions at each grid point `(u, v)`. Returns the colours, the range and the peak.
+fn shear_colors(
+    design: &common::Loaded,
+    built: &pdeshape::design::SolvedDesign,
+    meshes: &[pdeshape::mesh::GridMesh],
+    range: Option<(f64, f64)>,
+) -> Result<(crate::analyze::MeshColors, f64, f64, f64), CliError> {
+    use pdeshape::shell::{self, ShellSetup};
+    let names = built.names();
+    let setup = ShellSetup::new(&design.spec, &names).map_err(|e| design.error(&e))?;
+    let model = setup.model(built).map_err(|e| design.error(&e))?;
+    let report = shell::analyse(&model, &setup.run_options()).map_err(|e| CliError {
+        message: format!("--color shear: {}", common::message_of(&e)),
+        status: 1,
+    })?;
+    let (mesh, shear) = (&model.mesh, &report.max_shear);
+    let values: Vec<Vec<f64>> = meshes
+        .iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let mut row = Vec::with_capacity(m.u.len() * m.v.len());
+            for &u in &m.u {
+                for &v in &m.v {
+                    row.push(mesh.interpolate(shear, k, u, v) / 1e6);
+                }
+            }
+            row
+        })
+        .collect();
+    let peak = report.peak.value / 1e6;
+    let (lo, hi) = range.unwrap_or((0.0, peak));
+    let colors = values
+        .iter()
+        .map(|v| pdeshape::render::diverging_colors(v, lo, hi))
+        .collect();
+    Ok((colors, lo, hi, peak))
 }
 
 /// Largest picture side we agree to render.
@@ -107,7 +159,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .transpose()?;
     if range.is_some() && args.color.is_none() {
         return Err(CliError::input(
-            "--range: needs --color gauss or --color mean",
+            "--range: needs --color gauss, mean or shear",
         ));
     }
     let design = common::load(&args.design)?;
@@ -118,7 +170,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if !built.trims.is_empty() {
         if args.color.is_some() {
             return Err(CliError::input(
-                "--color: curvature colours are not drawn on trimmed designs yet",
+                "--color: colours are not drawn on trimmed designs yet",
             ));
         }
         let m = built.tri_mesh(nu, nv).map_err(|e| design.error(&e))?;
@@ -151,7 +203,40 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             render_png(&meshes, &built.overlays(), &options),
             String::new(),
         ),
-        Some(by) => {
+        Some(Coloring::Shear) => {
+            let (colors, lo, hi, peak) = shear_colors(&design, &built, &meshes, range)?;
+            let bar = pdeshape::render::ColorBar {
+                title: "largest shear stress (MPa)".into(),
+                lo,
+                hi,
+                note: if range.is_some() {
+                    "range: --range".into()
+                } else {
+                    "range: 0 to the largest".into()
+                },
+            };
+            (
+                pdeshape::render::render_png_colored_with_bar(
+                    &meshes,
+                    &colors,
+                    &built.overlays(),
+                    &options,
+                    &bar,
+                ),
+                format!(
+                    ", largest shear stress from {lo:.6} MPa (blue) to {hi:.6} MPa (red), \
+                     peak {peak:.6} MPa, {}",
+                    bar.note
+                ),
+            )
+        }
+        Some(c) => {
+            // Gauss or mean (shear is the arm above).
+            let by = if c == Coloring::Mean {
+                crate::analyze::ColorBy::Mean
+            } else {
+                crate::analyze::ColorBy::Gauss
+            };
             let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
             let bar = curvature_bar(by, lo, hi, range.is_some());
             (

@@ -179,7 +179,7 @@ fn render_colours_by_curvature() {
         ),
         (
             vec!["--range", "0,1"],
-            "error: --range: needs --color gauss or --color mean\n",
+            "error: --range: needs --color gauss, mean or shear\n",
         ),
     ] {
         let mut all = vec!["render", s(&f), "-o", s(&none)];

@@ -30,6 +30,22 @@ fn run(args: &[&str], env: &[(&str, &str)], tmp: &Path) -> Output {
     c.output().expect("the pdeshape binary runs")
 }
 
+/// Runs `pdeshape COMMAND args` with `env` set and `TMPDIR` pointing at `tmp`.
+fn run_command(command: &str, args: &[&str], env: &[(&str, &str)], tmp: &Path) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_pdeshape"));
+    c.arg(command).args(args).env("TMPDIR", tmp);
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("the pdeshape binary runs")
+}
+
+/// The strength optimisation of §7.5.1 as the example writes it.
+fn yoghurt_optimize() -> String {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/yoghurt_optimize.toml");
+    std::fs::read_to_string(p).unwrap()
+}
+
 /// One `error: …` line with every needle, status `code`, nothing on stdout.
 fn assert_fails(o: &Output, code: i32, needles: &[&str]) {
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -274,4 +290,177 @@ fn check_vtu(text: &str) {
     assert!(array("max_shear")
         .iter()
         .all(|&x| x.is_finite() && x >= 0.0));
+}
+
+#[test]
+fn a_strength_optimisation_without_the_solver_is_one_error_and_no_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "y.toml", &yoghurt_optimize());
+    let best = dir.path().join("best.toml");
+    let o = run_command(
+        "optimize",
+        &[s(&d), "-o", s(&best)],
+        &[("PDESHAPE_CCX", "/nonexistent/ccx")],
+        tmp.path(),
+    );
+    assert_fails(
+        &o,
+        1,
+        &[
+            "shell analysis of the starting design failed",
+            "not found",
+            "apt-get install calculix-ccx",
+        ],
+    );
+    assert_eq!(files(dir.path()), vec!["y.toml"]);
+    assert_eq!(files(tmp.path()), Vec::<String>::new());
+    // Without `max_shear` in the formulas the solver is never run: the mass alone needs none.
+    let mass_only = edit(
+        &yoghurt_optimize(),
+        r#"{ expr = "max_shear / yield", max = 0.3, weight = 10000.0 },"#,
+        "",
+    );
+    let d = write(dir.path(), "m.toml", &mass_only);
+    let o = run_command(
+        "optimize",
+        &[s(&d), "-o", s(&best), "--evaluations", "4", "--polish", "0"],
+        &[("PDESHAPE_CCX", "/nonexistent/ccx")],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(report.contains("0 failed shell analyses"), "{report}");
+    assert!(report.contains(", mass = "), "{report}");
+}
+
+/// The objective (without penalties) of the report's `start:` line.
+fn start_objective(report: &str) -> f64 {
+    let line = report
+        .lines()
+        .find(|l| l.starts_with("start: objective "))
+        .unwrap_or_else(|| panic!("no start line: {report}"));
+    line["start: objective ".len()..]
+        .split(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+#[ignore = "needs CalculiX (ccx); run by .ci/shell.sh"]
+fn a_short_strength_optimisation_lowers_the_mass_within_the_stress_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    // A thin wall (0.15 mm: about 25 % of the yield stress on this coarse mesh, near the 30 %
+    // limit), a coarse mesh, a short search.
+    let text = edit(
+        &edit(
+            &yoghurt_optimize(),
+            "thickness = 0.0005",
+            "thickness = 0.00015",
+        ),
+        "elements = [4, 32]",
+        "elements = [2, 16]",
+    );
+    let d = write(dir.path(), "y.toml", &text);
+    let best = dir.path().join("best.toml");
+    let o = run_command(
+        "optimize",
+        &[
+            s(&d),
+            "-o",
+            s(&best),
+            "--evaluations",
+            "24",
+            "--chains",
+            "2",
+            "--polish",
+            "8",
+        ],
+        &[],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(report.contains("the result is feasible"), "{report}");
+    let start = start_objective(&report);
+    // The result analysed again by `pdeshape shell`, from the file the search wrote.
+    let o = run_command("shell", &[s(&best), "--json"], &[], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let ratio = v["ratio_to_yield"].as_f64().unwrap();
+    assert!(ratio <= 0.3, "largest shear / yield = {ratio}: {report}");
+    let grams = 1000.0 * v["mass"].as_f64().unwrap();
+    assert!(grams < start, "mass {grams} g, start {start} g: {report}");
+    assert_eq!(files(tmp.path()), Vec::<String>::new());
+}
+
+#[test]
+#[ignore = "needs CalculiX (ccx); run by .ci/shell.sh"]
+fn render_colours_the_container_by_its_shear_stress() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/yoghurt.toml");
+    let png = dir.path().join("y.png");
+    let o = run_command(
+        "render",
+        &[
+            s(&root),
+            "-o",
+            s(&png),
+            "--color",
+            "shear",
+            "--size",
+            "400x300",
+        ],
+        &[],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let line = String::from_utf8_lossy(&o.stdout).to_string();
+    // The colour map's top and the peak are the analysis's largest shear stress.
+    let o = run_command("shell", &[s(&root), "--json"], &[], tmp.path());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let peak = format!("{:.6}", v["max_shear"].as_f64().unwrap() / 1e6);
+    assert!(
+        line.contains(&format!("to {peak} MPa (red), peak {peak} MPa")),
+        "{peak}: {line}"
+    );
+    // The picture has strongly red and strongly blue pixels (a stress field, not one colour).
+    let decoder = png::Decoder::new(std::fs::File::open(&png).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let (mut red, mut blue) = (0, 0);
+    for p in buf[..info.buffer_size()].chunks(channels) {
+        let (r, g, b) = (p[0] as i32, p[1] as i32, p[2] as i32);
+        if r > 2 * g && r > 2 * b {
+            red += 1;
+        }
+        if b > 2 * r && b > g + 40 {
+            blue += 1;
+        }
+    }
+    assert!(red > 50 && blue > 50, "red {red}, blue {blue}");
+    // A --range in MPa is the colour bar's.
+    let o = run_command(
+        "render",
+        &[
+            s(&root),
+            "-o",
+            s(&png),
+            "--color",
+            "shear",
+            "--range",
+            "0,2",
+        ],
+        &[],
+        tmp.path(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("from 0.000000 MPa (blue) to 2.000000 MPa"));
+    assert_eq!(files(tmp.path()), Vec::<String>::new());
 }

@@ -25,6 +25,22 @@
 //! | `nu` | reduced volume `ν = V / (4π R₀³ / 3)`, `R₀ = √(A / 4π)` (Eq. 7.9 corrected) |
 //! | `c0` | reduced spontaneous curvature `c₀ = C₀ R₀` (Eq. 7.10) |
 //! | `C0` | the spontaneous curvature `C₀` of `[optimize]` |
+//! | `mass` | the wall's mass `ρ t A` (kg) of the `[shell]` set-up (or its defaults): density × thickness × area in m²; no finite elements |
+//! | `max_shear` | the largest shear stress `max (σ₁ − σ₃)/2` (Pa, Eq. 7.7) of a CalculiX shell analysis of the design ([`crate::shell`]) |
+//! | `yield` | the `[shell]` material's yield stress (Pa), for constraints such as `max_shear / yield <= 0.3` |
+//!
+//! The shell analysis runs only when a formula uses `max_shear`: geometry-only problems (and
+//! `mass`) pay nothing for it. Each evaluation runs its own solver in its own temporary
+//! directory, so the chains (on their own threads) analyse in parallel. A failed analysis (the
+//! solver fails, times out or its mesh is refused) makes that design infeasible (`+∞`), and
+//! is counted ([`Outcome::solver_failures`]); a failed analysis of the starting design is an
+//! error (the solver is missing or the set-up is wrong, and every evaluation would fail).
+//!
+//! A design is *feasible* when every inequality holds exactly and every equality within
+//! [`EQUALITY_TOLERANCE`] relative to its target (at least 1 in absolute terms). With shell
+//! measures the result is the best feasible design of the search, if any (the lowest objective
+//! among feasible evaluations), since the penalised minimum may lie just outside a stress limit;
+//! otherwise, as without them, the lowest objective plus penalties.
 //!
 //! Constraints (equalities such as a fixed volume, area or `ν`, and inequalities) are enforced by
 //! the quadratic penalty `w · violation²` added to the objective; bounds by the crude penalty of
@@ -42,22 +58,85 @@ pub use params::{ParamKind, Parameter, Parameters};
 use crate::analysis::{integrate_design, Integrals, Quadrature};
 use crate::design::{solve_design, SolvedDesign};
 use crate::formula::{self, Parsed, Variables};
+use crate::shell::ShellSetup;
 use crate::spec::DesignSpec;
 use crate::{Error, Result};
 use exmex::FloatOpsFactory;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Number of [`VARIABLES`].
+pub const NVARS: usize = 14;
 
 /// The variables formulas may use, in this order in [`Evaluation::variables`].
-pub const VARIABLES: [&str; 11] = [
-    "area", "volume", "mean", "mean_sq", "gauss", "bending", "willmore", "helfrich", "nu", "c0",
+pub const VARIABLES: [&str; NVARS] = [
+    "area",
+    "volume",
+    "mean",
+    "mean_sq",
+    "gauss",
+    "bending",
+    "willmore",
+    "helfrich",
+    "nu",
+    "c0",
     "C0",
+    "mass",
+    "max_shear",
+    "yield",
 ];
+
+/// The names the formula parser sees: [`VARIABLES`] with `max_shear` renamed, since the parser
+/// reads a leading `max` as its operator.
+const PARSED_NAMES: [&str; NVARS] = {
+    let mut names = VARIABLES;
+    names[MAX_SHEAR] = "shear_max";
+    names
+};
+
+/// `text` with the identifier `max_shear` renamed as in [`PARSED_NAMES`] (an identifier starts
+/// with a letter or `_` not after a digit or `.`, as in [`formula::normalise`]).
+fn rename_for_parser(text: &str) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let after_digit = i > 0 && (chars[i - 1].is_ascii_digit() || chars[i - 1] == '.');
+        if (c.is_alphabetic() || c == '_') && !after_digit {
+            let start = i;
+            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let word: String = chars[start..i].iter().collect();
+            out.push_str(if word == "max_shear" {
+                PARSED_NAMES[MAX_SHEAR]
+            } else {
+                &word
+            });
+        } else {
+            out.push(c);
+            i += 1;
+        }
+    }
+    out
+}
+
+/// Positions of the shell measures in [`VARIABLES`].
+const MASS: usize = 11;
+const MAX_SHEAR: usize = 12;
+const YIELD: usize = 13;
+
+/// Relative tolerance of an equality constraint for a design to count as feasible.
+pub const EQUALITY_TOLERANCE: f64 = 1e-3;
 
 /// Most quadrature points per direction for the search.
 const MAX_QUADRATURE: usize = 4096;
 
 /// The values of [`VARIABLES`] for the integrals `t` of a design and the spontaneous curvature
-/// `c0_abs` (`C₀`).
-pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; 11] {
+/// `c0_abs` (`C₀`); the shell measures (`mass`, `max_shear`, `yield`) are NaN here (the
+/// [`Problem`] fills them in when its formulas use them).
+pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; NVARS] {
     [
         t.area,
         t.volume,
@@ -70,6 +149,9 @@ pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; 11] {
         t.reduced_volume(),
         t.reduced_spontaneous_curvature(c0_abs),
         c0_abs,
+        f64::NAN,
+        f64::NAN,
+        f64::NAN,
     ]
 }
 
@@ -101,15 +183,33 @@ struct Formula {
 
 impl Formula {
     fn parse(text: &str, place: &str) -> Result<Formula> {
-        let parsed = formula::parse(text, &Variables::this(&VARIABLES)).map_err(|e| e.at(place))?;
+        let renamed = rename_for_parser(text);
+        let parsed = formula::parse(&renamed, &Variables::this(&PARSED_NAMES)).map_err(|e| {
+            let back = |m: String| {
+                m.replace(&renamed, text)
+                    .replace(PARSED_NAMES[MAX_SHEAR], VARIABLES[MAX_SHEAR])
+            };
+            match e {
+                Error::Invalid { place, message } => Error::Invalid {
+                    place,
+                    message: back(message),
+                },
+                e => e,
+            }
+            .at(place)
+        })?;
         Ok(Formula {
             text: text.to_string(),
             parsed,
         })
     }
 
-    fn eval(&self, vars: &[f64; 11]) -> f64 {
+    fn eval(&self, vars: &[f64; NVARS]) -> f64 {
         self.parsed.eval(vars).unwrap_or(f64::NAN)
+    }
+
+    fn uses(&self, slot: usize) -> bool {
+        self.parsed.slots.contains(&slot)
     }
 }
 
@@ -167,9 +267,25 @@ impl Constraint {
     }
 
     /// `w · violation²`.
-    fn penalty(&self, vars: &[f64; 11]) -> f64 {
+    fn penalty(&self, vars: &[f64; NVARS]) -> f64 {
+        let violation = self.violation(vars);
+        self.weight * violation * violation
+    }
+
+    /// Whether the constraint holds: an inequality exactly, an equality within
+    /// [`EQUALITY_TOLERANCE`] `· max(|target|, 1)`.
+    fn holds(&self, vars: &[f64; NVARS]) -> bool {
+        let v = self.violation(vars);
+        match self.equal {
+            Some(t) => v.abs() <= EQUALITY_TOLERANCE * t.abs().max(1.0),
+            None => v == 0.0,
+        }
+    }
+
+    /// The formula's distance outside its bounds (NaN where it cannot be evaluated).
+    fn violation(&self, vars: &[f64; NVARS]) -> f64 {
         let g = self.formula.eval(vars);
-        let violation = if let Some(t) = self.equal {
+        if let Some(t) = self.equal {
             g - t
         } else if self.min.is_some_and(|lo| g < lo) {
             g - self.min.unwrap_or(g)
@@ -179,8 +295,7 @@ impl Constraint {
             f64::NAN
         } else {
             0.0
-        };
-        self.weight * violation * violation
+        }
     }
 }
 
@@ -192,7 +307,9 @@ pub struct Evaluation {
     /// The constraint penalties' sum.
     pub penalty: f64,
     /// The values of [`VARIABLES`].
-    pub variables: [f64; 11],
+    pub variables: [f64; NVARS],
+    /// Whether every constraint holds (see the module documentation).
+    pub feasible: bool,
 }
 
 impl Evaluation {
@@ -215,6 +332,26 @@ pub struct Problem {
     /// Quadrature points `(u, v)` per patch.
     pub quadrature: (usize, usize),
     pub options: SearchOptions,
+    /// The shell analysis, when a formula uses `mass`, `max_shear` or `yield`.
+    strength: Option<Strength>,
+    /// What the search has seen so far (shared by the chains' threads).
+    tracker: Arc<Tracker>,
+}
+
+/// The shell set-up of a problem whose formulas use the shell measures.
+#[derive(Clone, Debug)]
+struct Strength {
+    setup: ShellSetup,
+    /// Whether a formula uses `max_shear` (only then does CalculiX run).
+    solve: bool,
+}
+
+/// The best feasible design seen and the failed analyses, updated by every evaluation.
+#[derive(Debug, Default)]
+struct Tracker {
+    best_feasible: Mutex<Option<(f64, Vec<f64>)>>,
+    solver_failures: AtomicUsize,
+    first_failure: Mutex<Option<String>>,
 }
 
 /// The outcome of [`Problem::run`].
@@ -226,6 +363,12 @@ pub struct Outcome {
     pub start: (Vec<f64>, Option<Evaluation>),
     /// The best point and its evaluation.
     pub best: (Vec<f64>, Evaluation),
+    /// The best feasible point of the search and its evaluation, if any was feasible.
+    pub best_feasible: Option<(Vec<f64>, Evaluation)>,
+    /// Shell analyses that failed during the search (those designs counted as infeasible).
+    pub solver_failures: usize,
+    /// The first failed analysis's message.
+    pub first_failure: Option<String>,
 }
 
 impl Problem {
@@ -272,6 +415,19 @@ impl Problem {
             temperature: opt.temperature,
         };
         options.check()?;
+        let uses =
+            |slot: usize| objective.uses(slot) || constraints.iter().any(|c| c.formula.uses(slot));
+        let strength = if uses(MASS) || uses(MAX_SHEAR) || uses(YIELD) {
+            let built = solve_design(spec)?;
+            let setup = ShellSetup::new(spec, &built.names())?;
+            setup.check_size(built.surfaces.len(), "shell.elements")?;
+            Some(Strength {
+                setup,
+                solve: uses(MAX_SHEAR),
+            })
+        } else {
+            None
+        };
         Ok(Problem {
             base: spec.clone(),
             parameters,
@@ -280,7 +436,58 @@ impl Problem {
             spontaneous_curvature: opt.spontaneous_curvature,
             quadrature: (opt.quadrature_u, opt.quadrature_v),
             options,
+            strength,
+            tracker: Arc::default(),
         })
+    }
+
+    /// The shell set-up, when the formulas use the shell measures.
+    pub fn shell_setup(&self) -> Option<&ShellSetup> {
+        self.strength.as_ref().map(|s| &s.setup)
+    }
+
+    /// Whether an evaluation runs the shell solver (a formula uses `max_shear`).
+    pub fn runs_solver(&self) -> bool {
+        self.strength.as_ref().is_some_and(|s| s.solve)
+    }
+
+    /// The best feasible design the current search has evaluated: `(objective, x)`.
+    pub fn best_feasible(&self) -> Option<(f64, Vec<f64>)> {
+        self.tracker
+            .best_feasible
+            .lock()
+            .map(|b| b.clone())
+            .unwrap_or(None)
+    }
+
+    /// `[mass, max_shear, yield]` of a built design (`max_shear` NaN unless a formula uses it).
+    fn shell_values(
+        &self,
+        s: &Strength,
+        built: &SolvedDesign,
+        totals: &Integrals,
+    ) -> Result<[f64; 3]> {
+        let setup = &s.setup;
+        let m2 = setup.metres * setup.metres;
+        let mass = setup.material.density * setup.thickness * totals.area * m2;
+        let max_shear = if s.solve {
+            let analysed = setup
+                .model(built)
+                .and_then(|model| crate::shell::analyse(&model, &setup.run_options()));
+            match analysed {
+                Ok(r) => r.peak.value,
+                Err(e) => {
+                    self.tracker.solver_failures.fetch_add(1, Ordering::Relaxed);
+                    if let Ok(mut first) = self.tracker.first_failure.lock() {
+                        first.get_or_insert_with(|| e.to_string());
+                    }
+                    return Err(e);
+                }
+            }
+        } else {
+            f64::NAN
+        };
+        Ok([mass, max_shear, setup.material.yield_stress])
     }
 
     /// The design with the parameters `x` applied.
@@ -292,12 +499,25 @@ impl Problem {
     pub fn evaluate(&self, x: &[f64]) -> Result<Evaluation> {
         let built = solve_design(&self.design(x))?;
         let totals = measure(&built, self.quadrature.0, self.quadrature.1)?;
-        Ok(self.evaluate_totals(&totals))
+        let shell = match &self.strength {
+            Some(s) => Some(self.shell_values(s, &built, &totals)?),
+            None => None,
+        };
+        Ok(self.evaluate_with(&totals, shell))
     }
 
-    /// The objective and penalties for given integrals.
+    /// The objective and penalties for given integrals (the shell measures NaN).
     pub fn evaluate_totals(&self, totals: &Integrals) -> Evaluation {
-        let variables = variables(totals, self.spontaneous_curvature);
+        self.evaluate_with(totals, None)
+    }
+
+    /// The objective and penalties for given integrals and shell measures
+    /// `[mass, max_shear, yield]`.
+    pub fn evaluate_with(&self, totals: &Integrals, shell: Option<[f64; 3]>) -> Evaluation {
+        let mut variables = variables(totals, self.spontaneous_curvature);
+        if let Some(s) = shell {
+            variables[MASS..=YIELD].copy_from_slice(&s);
+        }
         let objective = self.objective.eval(&variables);
         let penalty = 0.0
             + self
@@ -305,17 +525,28 @@ impl Problem {
                 .iter()
                 .map(|c| c.penalty(&variables))
                 .sum::<f64>();
+        let feasible =
+            objective.is_finite() && self.constraints.iter().all(|c| c.holds(&variables));
         Evaluation {
             objective,
             penalty,
             variables,
+            feasible,
         }
     }
 
-    /// The value minimised at `x`: objective plus penalties, +∞ where the design fails.
+    /// The value minimised at `x`: objective plus penalties, +∞ where the design fails. A
+    /// feasible design better than any before is remembered ([`Problem::best_feasible`]).
     pub fn value(&self, x: &[f64]) -> f64 {
         match self.evaluate(x) {
             Ok(e) => {
+                if e.feasible {
+                    if let Ok(mut best) = self.tracker.best_feasible.lock() {
+                        if best.as_ref().is_none_or(|(f, _)| e.objective < *f) {
+                            *best = Some((e.objective, x.to_vec()));
+                        }
+                    }
+                }
                 let t = e.total();
                 if t.is_nan() {
                     f64::INFINITY
@@ -336,6 +567,37 @@ impl Problem {
     /// `report(evaluations, best)` is called after each evaluation.
     pub fn run(&self, report: &(dyn Fn(usize, f64) + Sync)) -> Result<Outcome> {
         let x0 = self.parameters.initial();
+        if let Ok(mut b) = self.tracker.best_feasible.lock() {
+            *b = None;
+        }
+        if let Ok(mut f) = self.tracker.first_failure.lock() {
+            *f = None;
+        }
+        self.tracker.solver_failures.store(0, Ordering::Relaxed);
+        if self.runs_solver() {
+            // The starting design's analysis first: a missing solver or a set-up the solver
+            // refuses is an error, not a search in which every design is infeasible.
+            if let Ok(built) = solve_design(&self.design(&x0)) {
+                if let Some(s) = &self.strength {
+                    let analysed = s
+                        .setup
+                        .model(&built)
+                        .and_then(|m| crate::shell::analyse(&m, &s.setup.run_options()));
+                    match analysed {
+                        Err(Error::Io { place, message }) => {
+                            return Err(Error::Io {
+                                place,
+                                message: format!(
+                                    "the shell analysis of the starting design failed: {message}"
+                                ),
+                            })
+                        }
+                        Err(e) => return Err(e),
+                        Ok(_) => {}
+                    }
+                }
+            }
+        }
         let search = minimize(
             &|x: &[f64]| self.value(x),
             &self.parameters.bounds(),
@@ -349,10 +611,32 @@ impl Problem {
             )
             .at("optimize"));
         }
-        let best = self.evaluate(&search.x).map_err(|e| e.at("optimize"))?;
+        let solver_failures = self.tracker.solver_failures.load(Ordering::Relaxed);
+        let first_failure = self
+            .tracker
+            .first_failure
+            .lock()
+            .ok()
+            .and_then(|f| f.clone());
+        let best_feasible = match self.best_feasible() {
+            Some((_, x)) => Some((x.clone(), self.evaluate(&x).map_err(|e| e.at("optimize"))?)),
+            None => None,
+        };
+        let mut best = (
+            search.x.clone(),
+            self.evaluate(&search.x).map_err(|e| e.at("optimize"))?,
+        );
+        if self.strength.is_some() && !best.1.feasible {
+            if let Some(f) = &best_feasible {
+                best = f.clone();
+            }
+        }
         let start = self.evaluate(&x0).ok();
         Ok(Outcome {
-            best: (search.x.clone(), best),
+            best,
+            best_feasible,
+            solver_failures,
+            first_failure,
             start: (x0, start),
             search,
         })

@@ -773,3 +773,93 @@ fn vesicle_table() {
         }
     }
 }
+
+// ---- shell measures ----
+
+const YOGHURT: &str = include_str!("../../../../examples/yoghurt_optimize.toml");
+
+#[test]
+fn mass_is_density_times_thickness_times_area_without_the_solver() {
+    // Objective and constraints without `max_shear`: no shell analysis runs.
+    let text = YOGHURT
+        .replace(
+            r#"{ expr = "max_shear / yield", max = 0.3, weight = 10000.0 },"#,
+            r#"{ expr = "mass / yield", max = 1.0, weight = 1.0 },"#,
+        )
+        .replace("thickness = 0.0005", "thickness = 0.0004");
+    let p = problem_of(&text);
+    assert!(p.shell_setup().is_some());
+    assert!(!p.runs_solver());
+    let e = p.evaluate(&p.parameters.initial()).unwrap();
+    let v = |name: &str| e.variables[VARIABLES.iter().position(|n| *n == name).unwrap()];
+    // cm² → m²: 1e-4; 1050 kg/m³ × 0.4 mm = 0.42 kg/m² = 4.2e-5 kg/cm².
+    let per_cm2 = 1050.0 * 0.0004 * 1e-4;
+    assert!(
+        (v("mass") - per_cm2 * v("area")).abs() <= 1e-15 * v("mass"),
+        "{} {}",
+        v("mass"),
+        v("area")
+    );
+    assert_eq!(v("yield"), 40e6);
+    assert!(v("max_shear").is_nan());
+    assert!((e.objective - 1000.0 * v("mass")).abs() <= 1e-12 * e.objective);
+    // Table 7.4's start is the straight frustum r = 2.5 → 3.5 over 5.3 cm with ridges: about
+    // π h (r₀² + r₀r₁ + r₁²)/3 = 151.2 ml.
+    assert!((v("volume") - 151.2).abs() < 3.0, "{}", v("volume"));
+    // Geometry-only problems have no shell measures at all.
+    let q = problem_of(VESICLE);
+    assert!(q.shell_setup().is_none() && !q.runs_solver());
+    // The stress limit of the example asks for the solver.
+    let r = problem_of(YOGHURT);
+    assert!(r.runs_solver());
+}
+
+#[test]
+fn feasibility_is_exact_for_inequalities_and_relative_for_equalities() {
+    let p = problem_of(&YOGHURT.replace(
+        r#"{ expr = "max_shear / yield", max = 0.3, weight = 10000.0 },"#,
+        r#"{ expr = "mass", max = 0.005, weight = 1.0 },"#,
+    ));
+    let t = |volume: f64| crate::analysis::Integrals {
+        area: 100.0,
+        volume,
+        mean: 1.0,
+        mean_sq: 1.0,
+        gauss: 1.0,
+    };
+    let shell = |mass: f64| Some([mass, f64::NAN, 40e6]);
+    // Equality 150 within 1e-3 · 150 = 0.15.
+    assert!(p.evaluate_with(&t(150.149), shell(0.005)).feasible);
+    assert!(!p.evaluate_with(&t(150.151), shell(0.005)).feasible);
+    assert!(p.evaluate_with(&t(149.851), shell(0.001)).feasible);
+    // The inequality exactly.
+    assert!(
+        !p.evaluate_with(&t(150.0), shell(0.005 * (1.0 + 1e-15)))
+            .feasible
+    );
+    assert!(!p.evaluate_with(&t(150.0), shell(f64::NAN)).feasible);
+    // Penalties: 1 · 0.5² for the volume.
+    let e = p.evaluate_with(&t(150.5), shell(0.001));
+    assert!((e.penalty - 0.25).abs() < 1e-12, "{}", e.penalty);
+}
+
+#[test]
+fn max_shear_is_a_variable_despite_the_parsers_max() {
+    assert_eq!(
+        rename_for_parser("max_shear/yield + max(max_shear, 1e3) + 2.max_shear"),
+        "shear_max/yield + max(shear_max, 1e3) + 2.max_shear"
+    );
+    let f = Formula::parse("max_shear / yield", "x").unwrap();
+    let mut vars = [0.0; NVARS];
+    vars[MAX_SHEAR] = 12e6;
+    vars[YIELD] = 40e6;
+    assert_eq!(f.eval(&vars), 0.3);
+    // Messages speak of the names as written.
+    let e = Formula::parse("max_shear * shear", "x").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("'max_shear * shear': unknown variable 'shear'")
+            && e.to_string().contains("mass, max_shear, yield"),
+        "{e}"
+    );
+}

@@ -77,6 +77,45 @@ pub struct ShellMesh {
     rows: Vec<[Vec<u32>; 2]>,
     /// Per patch, whether `v` is periodic.
     periodic: Vec<bool>,
+    /// Per patch, the node at each point of the sampling grid (for [`ShellMesh::interpolate`]).
+    grids: Vec<NodeGrid>,
+}
+
+/// The sampling grid of one patch: `u` (rows), `v` (columns, no repeated seam when periodic)
+/// and the node at each point, `u32::MAX` where none (cell centres, dropped cells).
+#[derive(Clone, Debug, PartialEq)]
+struct NodeGrid {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    periodic: bool,
+    node: Vec<u32>,
+}
+
+/// The cell `c` of a sampling axis `t` (corners at even indices) holding `x`, and the local
+/// coordinate `ξ ∈ [−1, 1]` in it; `period` closes a periodic axis (its last cell ends at
+/// `t[0] + period`).
+fn cell_of(t: &[f64], x: f64, period: Option<f64>) -> (usize, f64) {
+    let n = t.len();
+    let (cells, end) = match period {
+        Some(p) => (n / 2, t[0] + p),
+        None => ((n - 1) / 2, t[n - 1]),
+    };
+    let x = match period {
+        Some(p) => t[0] + (x - t[0]).rem_euclid(p),
+        None => x.clamp(t[0], end),
+    };
+    let corner = |c: usize| if 2 * c >= n { end } else { t[2 * c] };
+    let mut c = 0;
+    while c + 1 < cells && x >= corner(c + 1) {
+        c += 1;
+    }
+    let (a, b) = (corner(c), corner(c + 1));
+    let xi = if b > a {
+        2.0 * (x - a) / (b - a) - 1.0
+    } else {
+        0.0
+    };
+    (c, xi.clamp(-1.0, 1.0))
 }
 
 impl ShellMesh {
@@ -230,8 +269,15 @@ impl ShellMesh {
         }
         let mut rows = Vec::new();
         let mut periodic = Vec::new();
+        let mut grids = Vec::new();
         for (k, g) in samples.iter().enumerate() {
             let map = &welded.source[k];
+            grids.push(NodeGrid {
+                u: g.u.clone(),
+                v: g.v.clone(),
+                periodic: g.periodic_v,
+                node: map.iter().map(|&w| node_of[w as usize]).collect(),
+            });
             let row = |i: usize| -> Vec<u32> {
                 (0..g.nv)
                     .map(|j| node_of[map[i * g.nv + j] as usize])
@@ -248,7 +294,60 @@ impl ShellMesh {
             element_patch,
             rows,
             periodic,
+            grids,
         })
+    }
+
+    /// The nodal field `values` (one per node) at the point `(u, v)` of `patch`: the eight-node
+    /// serendipity interpolation of the element grid cell holding it (the `S8R` shape
+    /// functions), or the mean of the cell's nodes where some are missing (a cell collapsed at a
+    /// pole). `NaN` for an unknown patch.
+    pub fn interpolate(&self, values: &[f64], patch: usize, u: f64, v: f64) -> f64 {
+        let Some(g) = self.grids.get(patch) else {
+            return f64::NAN;
+        };
+        let nv = g.v.len();
+        let (ci, xi) = cell_of(&g.u, u, None);
+        let (cj, eta) = cell_of(&g.v, v, g.periodic.then_some(crate::TAU));
+        // (row offset, column offset, ξ_i, η_i) of the eight nodes.
+        const NODES: [(usize, usize, f64, f64); 8] = [
+            (0, 0, -1.0, -1.0),
+            (2, 0, 1.0, -1.0),
+            (2, 2, 1.0, 1.0),
+            (0, 2, -1.0, 1.0),
+            (1, 0, 0.0, -1.0),
+            (2, 1, 1.0, 0.0),
+            (1, 2, 0.0, 1.0),
+            (0, 1, -1.0, 0.0),
+        ];
+        let mut sum = 0.0;
+        let (mut mean, mut count) = (0.0, 0usize);
+        let mut complete = true;
+        for (di, dj, a, b) in NODES {
+            let (i, j) = (2 * ci + di, (2 * cj + dj) % nv);
+            let n = g.node[i * nv + j];
+            let Some(&f) = values.get(n as usize) else {
+                complete = false;
+                continue;
+            };
+            mean += f;
+            count += 1;
+            let shape = if a == 0.0 {
+                0.5 * (1.0 - xi * xi) * (1.0 + eta * b)
+            } else if b == 0.0 {
+                0.5 * (1.0 + xi * a) * (1.0 - eta * eta)
+            } else {
+                0.25 * (1.0 + xi * a) * (1.0 + eta * b) * (xi * a + eta * b - 1.0)
+            };
+            sum += shape * f;
+        }
+        if complete {
+            sum
+        } else if count > 0 {
+            mean / count as f64
+        } else {
+            f64::NAN
+        }
     }
 
     /// Number of patches.
@@ -314,4 +413,63 @@ pub(crate) fn segment_weights(nodes: &[[f64; 3]], s: [u32; 3]) -> [f64; 3] {
         }
     }
     w
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::{Partials, VDomain};
+    use crate::Vec3;
+
+    /// The cylinder `(cos v, sin v, u)`.
+    struct Cylinder;
+
+    impl Surface for Cylinder {
+        fn v_domain(&self) -> VDomain {
+            VDomain::Periodic
+        }
+        fn partials(&self, u: f64, v: f64) -> Partials {
+            let (s, c) = v.sin_cos();
+            Partials {
+                x: Vec3::new(c, s, u),
+                xu: Vec3::new(0.0, 0.0, 1.0),
+                xv: Vec3::new(-s, c, 0.0),
+                xvv: Vec3::new(-c, -s, 0.0),
+                ..Default::default()
+            }
+        }
+    }
+
+    #[test]
+    fn interpolation_reproduces_the_serendipity_space() {
+        let m = ShellMesh::new(&[&Cylinder], &["c"], 3, 8).unwrap();
+        // A field in the span of the 8-node shape functions in every cell: quadratic in u,
+        // times a function that is linear in v inside each cell is not periodic, so take v
+        // within the first seven cells (the eighth wraps to v = 0) and u²v, uv² terms.
+        let f =
+            |u: f64, v: f64| 1.0 + 2.0 * u - 3.0 * u * u + 0.5 * v + 0.25 * u * v * v - u * u * v;
+        let values: Vec<f64> = m.params.iter().map(|&(_, u, v)| f(u, v)).collect();
+        let cell = crate::TAU / 8.0;
+        for (u, v) in [
+            (0.1, 0.2),
+            (0.5, 1.0),
+            (0.77, 3.3),
+            (1.0, 7.0 * cell - 1e-9),
+            (0.0, 0.0),
+        ] {
+            let got = m.interpolate(&values, 0, u, v);
+            assert!(
+                (got - f(u, v)).abs() < 1e-12,
+                "({u}, {v}): {got} vs {}",
+                f(u, v)
+            );
+        }
+        // At the nodes the field itself, across the seam too.
+        for (k, &(_, u, v)) in m.params.iter().enumerate() {
+            assert!((m.interpolate(&values, 0, u, v) - values[k]).abs() < 1e-12);
+        }
+        // A periodic v: v + 2π is v.
+        assert!((m.interpolate(&values, 0, 0.3, 0.4 + crate::TAU) - f(0.3, 0.4)).abs() < 1e-12);
+        assert!(m.interpolate(&values, 1, 0.3, 0.4).is_nan());
+    }
 }

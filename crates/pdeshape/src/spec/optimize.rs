@@ -12,7 +12,8 @@ use serde::{Deserialize, Serialize};
 pub struct OptimizeSpec {
     /// The quantity to minimise: a formula in the variables of the design's integrals (`area`,
     /// `volume`, `mean`, `mean_sq`, `gauss`, `bending`, `willmore`, `helfrich`, `nu`, `c0`,
-    /// `C0`), e.g. `"bending"` or `"helfrich / (8*pi)"`.
+    /// `C0`) and of its shell analysis (`mass` in kg, `max_shear` and `yield` in Pa; `[shell]`),
+    /// e.g. `"bending"`, `"helfrich / (8*pi)"` or `"1000 * mass"`.
     pub objective: String,
     /// The spontaneous curvature `C0` used by `helfrich` and `c0` (default 0).
     #[serde(default, skip_serializing_if = "is_zero")]
