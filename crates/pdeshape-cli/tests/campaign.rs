@@ -460,9 +460,13 @@ fn judge(job: &Job, dir: &Path, input: &str, ccx: Option<&Path>) -> (Outcome, St
                 (Outcome::Leftover, format!("left {temporaries:?}"))
             }
         }
-        // The solver's failure (status 1) is the end of a `shell` mutant that passed the checks.
+        // The solver's failure (status 1) is the end of a mutant that passed the checks and
+        // reached CalculiX: `shell`, or `optimize` of a design whose formulas use `max_shear`.
         Some(c)
-            if c == 2 || (c == 1 && job.sub == "shell" && !stderr.contains("internal error")) =>
+            if c == 2
+                || (c == 1
+                    && (job.sub == "shell" || stderr.contains("CalculiX solver failed"))
+                    && !stderr.contains("internal error")) =>
         {
             let lines: Vec<&str> = stderr.lines().collect();
             if !left.is_empty() {
