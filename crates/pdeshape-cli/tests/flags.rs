@@ -61,11 +61,11 @@ fn render_flags() {
     refused(&[
         (
             &["render", "cup.toml", "-o", "x.png", "--range", "-1,1"],
-            &["--range: needs --color gauss or --color mean"],
+            &["--range: needs --color gauss, mean or shear"],
         ),
         (
             &["render", "vase.toml", "-o", "x.png", "--color", "gauss"],
-            &["--color: curvature colours are not drawn on trimmed designs"],
+            &["--color: colours are not drawn on trimmed designs"],
         ),
         (
             &["render", "cup.toml", "-o", "x.jpg"],
