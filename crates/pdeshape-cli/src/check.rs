@@ -392,10 +392,21 @@ pub fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
     })
 }
 
+/// The sections other commands act on, checked as those commands would read them, so that
+/// `check` refuses what they refuse: `[shell]` (thickness, material, elements, edges, loads).
+fn check_sections(design: &Loaded, built: &SolvedDesign) -> Result<(), CliError> {
+    if design.spec.shell.is_some() {
+        pdeshape::shell::ShellSetup::new(&design.spec, &built.names())
+            .map_err(|e| design.error(&e))?;
+    }
+    Ok(())
+}
+
 pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         let result = common::load(&args.design).and_then(|design| {
             let built = design.build()?;
+            check_sections(&design, &built)?;
             Ok(report_json(&design, &built))
         });
         return match result {
@@ -412,6 +423,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let design = common::load(&args.design)?;
     let built = design.build()?;
+    check_sections(&design, &built)?;
     let (text, warnings) = report(&design, &built);
     let mut text = text;
     for w in &warnings {

@@ -254,6 +254,24 @@ const INVALID: &[(&str, &str, &str, &str)] = &[
         "evaluations = 0",
     ),
     (
+        "shell thickness 0",
+        "yoghurt.toml",
+        "thickness = 0.0005",
+        "thickness = 0.0",
+    ),
+    (
+        "shell elements [0, 32]",
+        "yoghurt.toml",
+        "elements = [6, 32]",
+        "elements = [0, 32]",
+    ),
+    (
+        "shell time limit 0",
+        "yoghurt.toml",
+        "time_limit = 120.0",
+        "time_limit = 0.0",
+    ),
+    (
         "too many Fourier terms",
         "cup.toml",
         "type = \"point\"\nat = [0.0, 0.0, 0.0]",
