@@ -329,27 +329,7 @@ pub fn sample(surface: &dyn Surface, nu: usize, nv: usize) -> Result<Samples> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surface::Partials;
-    use crate::Vec3;
-
-    /// The unit cylinder `(cos v, sin v, u)`.
-    struct Cylinder;
-
-    impl Surface for Cylinder {
-        fn v_domain(&self) -> VDomain {
-            VDomain::Periodic
-        }
-        fn partials(&self, u: f64, v: f64) -> Partials {
-            let (s, c) = v.sin_cos();
-            Partials {
-                x: Vec3::new(c, s, u),
-                xu: Vec3::new(0.0, 0.0, 1.0),
-                xv: Vec3::new(-s, c, 0.0),
-                xvv: Vec3::new(-c, -s, 0.0),
-                ..Default::default()
-            }
-        }
-    }
+    use crate::surface::{Partials, UnitCylinder as Cylinder};
 
     #[test]
     fn grids_follow_the_conventions_and_reuse_buffers() {

@@ -418,27 +418,7 @@ pub(crate) fn segment_weights(nodes: &[[f64; 3]], s: [u32; 3]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::surface::{Partials, VDomain};
-    use crate::Vec3;
-
-    /// The cylinder `(cos v, sin v, u)`.
-    struct Cylinder;
-
-    impl Surface for Cylinder {
-        fn v_domain(&self) -> VDomain {
-            VDomain::Periodic
-        }
-        fn partials(&self, u: f64, v: f64) -> Partials {
-            let (s, c) = v.sin_cos();
-            Partials {
-                x: Vec3::new(c, s, u),
-                xu: Vec3::new(0.0, 0.0, 1.0),
-                xv: Vec3::new(-s, c, 0.0),
-                xvv: Vec3::new(-c, -s, 0.0),
-                ..Default::default()
-            }
-        }
-    }
+    use crate::surface::UnitCylinder as Cylinder;
 
     #[test]
     fn interpolation_reproduces_the_serendipity_space() {

@@ -236,6 +236,28 @@ impl<S: Surface + ?Sized> RowEvaluator for PointwiseRows<'_, S> {
     }
 }
 
+/// The unit cylinder `(cos v, sin v, u)`, periodic in `v`: a surface with exact partials for
+/// tests of meshing and sampling.
+#[cfg(test)]
+pub(crate) struct UnitCylinder;
+
+#[cfg(test)]
+impl Surface for UnitCylinder {
+    fn v_domain(&self) -> VDomain {
+        VDomain::Periodic
+    }
+    fn partials(&self, u: f64, v: f64) -> Partials {
+        let (s, c) = v.sin_cos();
+        Partials {
+            x: Vec3::new(c, s, u),
+            xu: Vec3::new(0.0, 0.0, 1.0),
+            xv: Vec3::new(-s, c, 0.0),
+            xvv: Vec3::new(-c, -s, 0.0),
+            ..Default::default()
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
