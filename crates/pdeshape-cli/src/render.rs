@@ -1,7 +1,9 @@
 //! `pdeshape render DESIGN -o shape.png`: the shaded surface with its position curves and spine.
 
 use crate::common::{self, CliError, Output};
-use pdeshape::render::{render_png, RenderOptions};
+// MAX_SIDE: the largest picture side of the limits table (pixels are also priced against the
+// memory budget).
+use pdeshape::render::{render_png, RenderOptions, MAX_SIDE};
 use pdeshape::Vec3;
 use std::path::PathBuf;
 
@@ -87,8 +89,6 @@ fn shear_colors(
     Ok((colors, lo, hi, peak))
 }
 
-/// Largest picture side we agree to render.
-const MAX_SIDE: u32 = 8192;
 fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
     let bad = || {
         CliError::input(format!(
