@@ -198,11 +198,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         view,
         ..RenderOptions::default()
     };
-    let (png, note) = match args.color {
-        None => (
-            render_png(&meshes, &built.overlays(), &options),
-            String::new(),
-        ),
+    // The colours, their bar and the report's words; then one render.
+    let coloured = match args.color {
+        None => None,
         Some(Coloring::Shear) => {
             let (colors, lo, hi, peak) = shear_colors(&design, &built, &meshes, range)?;
             let bar = pdeshape::render::ColorBar {
@@ -215,20 +213,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                     "range: 0 to the largest".into()
                 },
             };
-            (
-                pdeshape::render::render_png_colored_with_bar(
-                    &meshes,
-                    &colors,
-                    &built.overlays(),
-                    &options,
-                    &bar,
-                ),
-                format!(
-                    ", largest shear stress from {lo:.6} MPa (blue) to {hi:.6} MPa (red), \
-                     peak {peak:.6} MPa, {}",
-                    bar.note
-                ),
-            )
+            let note = format!(
+                ", largest shear stress from {lo:.6} MPa (blue) to {hi:.6} MPa (red), \
+                 peak {peak:.6} MPa, {}",
+                bar.note
+            );
+            Some((colors, bar, note))
         }
         Some(c) => {
             // Gauss or mean (shear is the arm above).
@@ -239,21 +229,29 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             };
             let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
             let bar = curvature_bar(by, lo, hi, range.is_some());
-            (
-                pdeshape::render::render_png_colored_with_bar(
-                    &meshes,
-                    &colors,
-                    &built.overlays(),
-                    &options,
-                    &bar,
-                ),
-                format!(
-                    ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red), {}",
-                    by.word(),
-                    bar.note
-                ),
-            )
+            let note = format!(
+                ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red), {}",
+                by.word(),
+                bar.note
+            );
+            Some((colors, bar, note))
         }
+    };
+    let (png, note) = match coloured {
+        None => (
+            render_png(&meshes, &built.overlays(), &options),
+            String::new(),
+        ),
+        Some((colors, bar, note)) => (
+            pdeshape::render::render_png_colored_with_bar(
+                &meshes,
+                &colors,
+                &built.overlays(),
+                &options,
+                &bar,
+            ),
+            note,
+        ),
     };
     let png = png.map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(&png)?;

@@ -57,10 +57,22 @@ impl exmex::MatchLiteral for NumberLiteral {
     }
 }
 
-/// Replaces the identifiers `pi` by `π` and `e` by `E`, exmex's names of the constants. An
-/// identifier starts with a letter or `_` that does not follow a digit or a `.` (so the exponent
-/// of `1e-3` stays as it is).
+/// Replaces the identifiers `pi` by `π` and `e` by `E`, exmex's names of the constants.
 pub(crate) fn normalise(text: &str) -> String {
+    rename_identifiers(text, |word| match word {
+        "pi" => Some("π"),
+        "e" => Some("E"),
+        _ => None,
+    })
+}
+
+/// `text` with every identifier for which `rename` gives a new name replaced by it. An
+/// identifier starts with a letter or `_` that does not follow a digit or a `.` (so the exponent
+/// of `1e-3` stays as it is) and goes on with letters, digits and `_`.
+pub(crate) fn rename_identifiers<'a>(
+    text: &str,
+    rename: impl Fn(&str) -> Option<&'a str>,
+) -> String {
     let mut out = String::with_capacity(text.len());
     let chars: Vec<char> = text.chars().collect();
     let mut i = 0;
@@ -73,11 +85,7 @@ pub(crate) fn normalise(text: &str) -> String {
                 i += 1;
             }
             let word: String = chars[start..i].iter().collect();
-            match word.as_str() {
-                "pi" => out.push('π'),
-                "e" => out.push('E'),
-                _ => out.push_str(&word),
-            }
+            out.push_str(rename(&word).unwrap_or(&word));
         } else {
             out.push(c);
             i += 1;

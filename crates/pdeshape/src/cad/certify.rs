@@ -263,16 +263,9 @@ pub fn approximate_sampled(
                 certificate: Certificate::Sampled,
             });
         }
-        if m >= MAX_NODES && n >= MAX_NODES {
-            return Err(Error::invalid(format!(
-                "the tolerance {tolerance:e} needs more than {MAX_NODES} nodes in one direction"
-            ))
-            .at("tolerance"));
-        }
-        // Refine the direction whose halving helps most: compare the sampled error with each
-        // direction refined alone on the next pass (cheap heuristics would do as well).
-        m = (m * 2).min(MAX_NODES);
-        n = (n * 2).min(MAX_NODES);
+        // Both directions halved; `MAX_CELLS` (checked at the top) ends the refinement.
+        m *= 2;
+        n *= 2;
     }
 }
 

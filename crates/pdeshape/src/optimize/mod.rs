@@ -94,32 +94,11 @@ const PARSED_NAMES: [&str; NVARS] = {
     names
 };
 
-/// `text` with the identifier `max_shear` renamed as in [`PARSED_NAMES`] (an identifier starts
-/// with a letter or `_` not after a digit or `.`, as in [`formula::normalise`]).
+/// `text` with the identifier `max_shear` renamed as in [`PARSED_NAMES`].
 fn rename_for_parser(text: &str) -> String {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(text.len());
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let after_digit = i > 0 && (chars[i - 1].is_ascii_digit() || chars[i - 1] == '.');
-        if (c.is_alphabetic() || c == '_') && !after_digit {
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            let word: String = chars[start..i].iter().collect();
-            out.push_str(if word == "max_shear" {
-                PARSED_NAMES[MAX_SHEAR]
-            } else {
-                &word
-            });
-        } else {
-            out.push(c);
-            i += 1;
-        }
-    }
-    out
+    crate::formula::rename_identifiers(text, |word| {
+        (word == VARIABLES[MAX_SHEAR]).then_some(PARSED_NAMES[MAX_SHEAR])
+    })
 }
 
 /// Positions of the shell measures in [`VARIABLES`].
