@@ -267,7 +267,10 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
     }
     if !built.trims.is_empty() {
         let _ = writeln!(s, "trims:");
-        let (nu, nv) = (pdeshape::design::DEFAULT_NU, pdeshape::design::DEFAULT_NV);
+        // The design's output grid (its [output] table, or the default).
+        let (nu, nv) = design
+            .grid(None, None)
+            .unwrap_or((pdeshape::design::DEFAULT_NU, pdeshape::design::DEFAULT_NV));
         let params = built.param_meshes(nu, nv);
         for (k, t) in built.trims.iter().enumerate() {
             let name = &built.surfaces[t.surface].name;

@@ -28,7 +28,8 @@ use crate::spec::{SpineCarry, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS};
 use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 use nalgebra::Matrix3;
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// Steps of the precomputed rotation-minimising frames on `u ∈ [0, 1]`.
 const FRAME_STEPS: usize = 1024;
@@ -133,8 +134,131 @@ pub struct SpineEdited {
     /// A lateral wave added to the Bézier spine.
     wave: Option<Wave>,
     carry: SpineCarry,
-    /// `(F(u_k), F̃(u_k))` at `u_k = k / FRAME_STEPS` (frame mode only).
-    frames: Vec<(Matrix3<f64>, Matrix3<f64>)>,
+    /// What this edit shares with the other edits of the same solved patch.
+    solved: Arc<SolvedSpine>,
+    /// The solved spine's frames (frame mode only).
+    old_frames: Option<Arc<SolvedFrames>>,
+    /// `(F̃(u_k), Ã₀(u_k))` at `u_k = k / FRAME_STEPS` (frame mode only).
+    frames: Vec<(Matrix3<f64>, Vec3)>,
+}
+
+/// The solved spine `A₀` at the frame nodes `u_k = k / FRAME_STEPS`: its jets and its
+/// rotation-minimising frames `F(u_k)`.
+#[derive(Debug)]
+pub(crate) struct SolvedFrames {
+    jets: Vec<Jet>,
+    frames: Vec<Matrix3<f64>>,
+}
+
+/// Grids of at most this many points keep the solved patch's partials between edits.
+const KEPT_GRID_POINTS: usize = 1 << 16;
+
+/// What does not change while the spine of one solved patch is edited again and again (a drag
+/// in the designer): the solved spine's frames, and the solved patch's partials on the grid
+/// last tessellated (for grids up to [`KEPT_GRID_POINTS`] points; kept from the second edit
+/// on, so that a single edit, or an animation that re-solves its patch every frame, pays
+/// nothing for it).
+#[derive(Debug, Default)]
+pub(crate) struct SolvedSpine {
+    frames: Mutex<Option<Arc<SolvedFrames>>>,
+    keep_rows: bool,
+    rows: Mutex<KeptRows>,
+}
+
+/// The solved patch's partials on grid rows: the columns `vs` and one row per `u` (by its bits).
+#[derive(Debug, Default)]
+struct KeptRows {
+    vs: Vec<f64>,
+    rows: HashMap<u64, Arc<[Partials]>>,
+}
+
+impl SolvedSpine {
+    /// The same solved patch's state for a further edit: rows are kept from now on.
+    fn again(&self) -> Arc<SolvedSpine> {
+        let frames = self.frames.lock().map(|f| f.clone()).unwrap_or_default();
+        let rows = if self.keep_rows {
+            self.rows
+                .lock()
+                .map(|r| KeptRows {
+                    vs: r.vs.clone(),
+                    rows: r.rows.clone(),
+                })
+                .unwrap_or_default()
+        } else {
+            KeptRows::default()
+        };
+        Arc::new(SolvedSpine {
+            frames: Mutex::new(frames),
+            keep_rows: true,
+            rows: Mutex::new(rows),
+        })
+    }
+
+    /// The solved spine's frames, computed once.
+    fn frames(&self, base: &PdePatch) -> Result<Arc<SolvedFrames>> {
+        let mut slot = self
+            .frames
+            .lock()
+            .map_err(|_| Error::invalid("the spine's frames were poisoned"))?;
+        if let Some(f) = slot.as_ref() {
+            return Ok(f.clone());
+        }
+        let tiny = MIN_SPEED * base.scale();
+        let mut jets: Vec<Jet> = Vec::with_capacity(FRAME_STEPS + 1);
+        let mut frames: Vec<Matrix3<f64>> = Vec::with_capacity(FRAME_STEPS + 1);
+        for k in 0..=FRAME_STEPS {
+            let u = k as f64 / FRAME_STEPS as f64;
+            let j = old_jet(base, u);
+            let t = unit_tangent(&j, tiny, u, "solved")?;
+            let f = match (frames.last(), jets.last()) {
+                (Some(f), Some(p)) => reflect(f, &p[0], &j[0], &t),
+                _ => frame_from(&t),
+            };
+            jets.push(j);
+            frames.push(f);
+        }
+        let f = Arc::new(SolvedFrames { jets, frames });
+        *slot = Some(f.clone());
+        Ok(f)
+    }
+
+    /// Row `u` of the solved patch's partials at the columns `vs`, if it is kept.
+    fn kept_row(&self, vs: &[f64], u: f64) -> Option<Arc<[Partials]>> {
+        if !self.keep_rows {
+            return None;
+        }
+        let kept = self.rows.lock().ok()?;
+        (kept.vs == vs).then(|| kept.rows.get(&u.to_bits()).cloned())?
+    }
+
+    /// Keeps row `u` (grids up to [`KEPT_GRID_POINTS`] points).
+    fn keep_row(&self, vs: &[f64], u: f64, row: &[Partials]) {
+        if !self.keep_rows {
+            return;
+        }
+        if let Ok(mut kept) = self.rows.lock() {
+            if kept.vs != vs {
+                kept.vs = vs.to_vec();
+                kept.rows.clear();
+            }
+            if (kept.rows.len() + 1) * vs.len() <= KEPT_GRID_POINTS {
+                kept.rows.insert(u.to_bits(), row.into());
+            }
+        }
+    }
+}
+
+/// The unit tangent of a spine's jet at `u`, or the refusal of a spine without one.
+fn unit_tangent(j: &Jet, tiny: f64, u: f64, which: &str) -> Result<Vec3> {
+    let speed = j[1].norm();
+    if speed.is_nan() || speed <= tiny {
+        return Err(Error::invalid(format!(
+            "the {which} spine has no tangent at u = {u} (speed {speed:.3e}): the sections \
+             cannot turn with it; use carry = \"translate\""
+        ))
+        .at("carry"));
+    }
+    Ok(j[1] / speed)
 }
 
 /// `A` and its first three derivatives at `u`.
@@ -347,6 +471,33 @@ impl SpineEdited {
         wave: Option<Wave>,
         carry: SpineCarry,
     ) -> Result<Self> {
+        Self::sharing(base, control, wave, carry, Arc::default())
+    }
+
+    /// [`SpineEdited::with_wave`] for a further edit of the solved patch of `previous`, sharing
+    /// what does not change (see [`SolvedSpine`]). The result is the same.
+    pub fn after(
+        previous: &SpineEdited,
+        control: Vec<Vec3>,
+        wave: Option<Wave>,
+        carry: SpineCarry,
+    ) -> Result<Self> {
+        Self::sharing(
+            previous.base.clone(),
+            control,
+            wave,
+            carry,
+            previous.solved.again(),
+        )
+    }
+
+    fn sharing(
+        base: Arc<PdePatch>,
+        control: Vec<Vec3>,
+        wave: Option<Wave>,
+        carry: SpineCarry,
+        solved: Arc<SolvedSpine>,
+    ) -> Result<Self> {
         let n = base.conditions().len();
         if control.len() != n {
             return Err(Error::invalid(format!(
@@ -356,44 +507,36 @@ impl SpineEdited {
             .at("control"));
         }
         let spine = Bezier::new(control)?;
+        let mut old_frames = None;
         let mut frames = Vec::new();
         if carry == SpineCarry::Frame {
+            let old = solved.frames(&base)?;
             let tiny = MIN_SPEED * base.scale();
-            let mut prev: Option<(Jet, Jet, Matrix3<f64>, Matrix3<f64>)> = None;
+            frames.reserve(FRAME_STEPS + 1);
+            let mut prev: Option<(Vec3, Matrix3<f64>)> = None;
             for k in 0..=FRAME_STEPS {
                 let u = k as f64 / FRAME_STEPS as f64;
-                let (jo, jn) = (old_jet(&base, u), new_jet(&spine, &wave, u));
-                for (j, which) in [(&jo, "solved"), (&jn, "new")] {
-                    let speed = j[1].norm();
-                    if speed.is_nan() || speed <= tiny {
-                        return Err(Error::invalid(format!(
-                            "the {which} spine has no tangent at u = {u} (speed {:.3e}): the \
-                             sections cannot turn with it; use carry = \"translate\"",
-                            j[1].norm()
-                        ))
-                        .at("carry"));
-                    }
-                }
-                let (to, tn) = (jo[1].normalize(), jn[1].normalize());
-                let (fo, f_n) = match &prev {
+                let jn = new_jet(&spine, &wave, u);
+                let tn = unit_tangent(&jn, tiny, u, "new")?;
+                let f_n = match &prev {
                     None => {
-                        let fo = frame_from(&to);
-                        (fo, min_rotation(&to, &tn) * fo)
+                        let to = old.frames[0].column(0).into();
+                        min_rotation(&to, &tn) * old.frames[0]
                     }
-                    Some((po, pn, fo, f_n)) => (
-                        reflect(fo, &po[0], &jo[0], &to),
-                        reflect(f_n, &pn[0], &jn[0], &tn),
-                    ),
+                    Some((pn, f_n)) => reflect(f_n, pn, &jn[0], &tn),
                 };
-                frames.push((fo, f_n));
-                prev = Some((jo, jn, fo, f_n));
+                frames.push((f_n, jn[0]));
+                prev = Some((jn[0], f_n));
             }
+            old_frames = Some(old);
         }
         Ok(SpineEdited {
             base,
             spine,
             wave,
             carry,
+            solved,
+            old_frames,
             frames,
         })
     }
@@ -401,6 +544,12 @@ impl SpineEdited {
     /// The patch before the edit.
     pub fn base(&self) -> &Arc<PdePatch> {
         &self.base
+    }
+
+    /// How many rows of the solved patch this edit keeps (see [`SolvedSpine`]).
+    #[cfg(test)]
+    pub(crate) fn kept_rows(&self) -> usize {
+        self.solved.rows.lock().map(|r| r.rows.len()).unwrap_or(0)
     }
 
     /// The new spine's control points.
@@ -432,19 +581,17 @@ impl SpineEdited {
     }
 
     /// `(R, R', R'')` at `u` (frame mode).
-    fn rotation(&self, u: f64, jo: &Jet, jn: &Jet) -> [Matrix3<f64>; 3] {
+    fn rotation(&self, u: f64, old: &SolvedFrames, jo: &Jet, jn: &Jet) -> [Matrix3<f64>; 3] {
         let k = ((u * FRAME_STEPS as f64).floor().max(0.0) as usize).min(FRAME_STEPS - 1);
         let uk = k as f64 / FRAME_STEPS as f64;
-        let (fo, f_n) = &self.frames[k];
+        let (fo, ao) = (&old.frames[k], &old.jets[k][0]);
+        let (f_n, an) = &self.frames[k];
         let (to, wo, wo1) = angular(jo);
         let (tn, wn, wn1) = angular(jn);
         let (fo, f_n) = if u == uk || to == Vec3::zeros() || tn == Vec3::zeros() {
             (*fo, *f_n)
         } else {
-            (
-                reflect(fo, &self.base.spine(uk, 0), &jo[0], &to),
-                reflect(f_n, &self.point(uk), &jn[0], &tn),
-            )
+            (reflect(fo, ao, &jo[0], &to), reflect(f_n, an, &jn[0], &tn))
         };
         let r = f_n * fo.transpose();
         let (so, sn) = (skew(&wo), skew(&wn));
@@ -487,7 +634,10 @@ impl SpineEdited {
     /// Everything that depends on `u` only.
     fn row_setup(&self, u: f64) -> (Jet, Jet, Option<[Matrix3<f64>; 3]>) {
         let (jo, jn) = (old_jet(&self.base, u), new_jet(&self.spine, &self.wave, u));
-        let rot = (self.carry == SpineCarry::Frame).then(|| self.rotation(u, &jo, &jn));
+        let rot = self
+            .old_frames
+            .as_ref()
+            .map(|old| self.rotation(u, old, &jo, &jn));
         (jo, jn, rot)
     }
 }
@@ -521,7 +671,7 @@ impl Surface for SpineEdited {
         Box::new(EditedRows {
             surface: self,
             rows: self.base.partials_rows(vs),
-            nv: vs.len(),
+            vs,
         })
     }
 
@@ -529,7 +679,7 @@ impl Surface for SpineEdited {
         Box::new(EditedRows {
             surface: self,
             rows: self.base.partials_rows(vs),
-            nv: vs.len(),
+            vs,
         })
     }
 }
@@ -538,26 +688,43 @@ impl Surface for SpineEdited {
 struct EditedRows<'a> {
     surface: &'a SpineEdited,
     rows: Box<dyn PartialsRows + 'a>,
-    nv: usize,
+    vs: &'a [f64],
 }
 
 impl PartialsRows for EditedRows<'_> {
     fn eval_row(&self, u: f64, out: &mut [Partials]) {
-        self.rows.eval_row(u, out);
         let (jo, jn, rot) = self.surface.row_setup(u);
-        for p in out.iter_mut() {
-            *p = self.surface.edit(u, p, &jo, &jn, &rot);
+        let solved = &self.surface.solved;
+        match solved.kept_row(self.vs, u) {
+            Some(kept) => {
+                for (p, k) in out.iter_mut().zip(kept.iter()) {
+                    *p = self.surface.edit(u, k, &jo, &jn, &rot);
+                }
+            }
+            None => {
+                self.rows.eval_row(u, out);
+                solved.keep_row(self.vs, u, out);
+                for p in out.iter_mut() {
+                    *p = self.surface.edit(u, p, &jo, &jn, &rot);
+                }
+            }
         }
     }
 }
 
 impl RowEvaluator for EditedRows<'_> {
     fn eval_row(&self, u: f64, row: &mut RowBuf) {
-        let mut parts = vec![Partials::default(); self.nv];
-        PartialsRows::eval_row(self, u, &mut parts);
-        for (j, p) in parts.iter().enumerate() {
-            row.set(j, p.x, p.normal());
+        thread_local! {
+            static PARTS: std::cell::RefCell<Vec<Partials>> = const { std::cell::RefCell::new(Vec::new()) };
         }
+        PARTS.with_borrow_mut(|parts| {
+            parts.clear();
+            parts.resize(self.vs.len(), Partials::default());
+            PartialsRows::eval_row(self, u, parts);
+            for (j, p) in parts.iter().enumerate() {
+                row.set(j, p.x, p.normal());
+            }
+        });
     }
 }
 
@@ -613,10 +780,16 @@ pub(crate) fn apply_spines(
                     .map(Wave::new)
                     .transpose()
                     .map_err(|e| e.at(&place))?;
-                SurfaceKind::SpineEdited(Arc::new(
-                    SpineEdited::with_wave(base, control, wave, spec.carry)
-                        .map_err(|e| e.at(&place))?,
-                ))
+                // A further edit of the same solved patch (a drag) shares what it can.
+                let previous = cache.iter().find_map(|(_, id, kind)| match kind {
+                    SurfaceKind::SpineEdited(e) if *id == base_id => Some(e.clone()),
+                    _ => None,
+                });
+                let edited = match previous {
+                    Some(p) => SpineEdited::after(&p, control, wave, spec.carry),
+                    None => SpineEdited::with_wave(base, control, wave, spec.carry),
+                };
+                SurfaceKind::SpineEdited(Arc::new(edited.map_err(|e| e.at(&place))?))
             }
         };
         surface.kind = kind.clone();

@@ -473,3 +473,53 @@ fn spine_waves_add_their_displacement_and_derivatives() {
     );
     assert_eq!(p, "spine[0].wave.omega", "{m}");
 }
+
+/// A drag: successive edits of one patch's spine share the solved spine's frames and the solved
+/// patch's rows (kept from the second edit on); every step's mesh equals, bit for bit, the mesh of
+/// a fresh compile of the same table, in both ways of carrying the sections.
+#[test]
+fn a_drag_of_the_spine_gives_the_meshes_of_fresh_compiles() {
+    let spec = tube("");
+    for carry in [SpineCarry::Frame, SpineCarry::Translate] {
+        let mut d = compile(&spec).unwrap();
+        for (step, x) in [0.3, 0.35, 0.4, 0.45, 0.5].into_iter().enumerate() {
+            let table = SpineSpec {
+                patch: None,
+                carry,
+                control: None,
+                moves: vec![SpineMove {
+                    index: 1 + step % 2,
+                    by: [x, 0.1 * x, 0.0],
+                }],
+                hermite: None,
+                wave: None,
+            };
+            d.apply(&Edit::SetSpine {
+                patch: None,
+                spine: Some(table.clone()),
+            })
+            .unwrap();
+            let mut fresh_spec = spec.clone();
+            fresh_spec.spine.push(table);
+            let fresh = compile(&fresh_spec).unwrap();
+            assert_eq!(
+                d.meshes(17, 32).unwrap(),
+                fresh.solved().meshes(17, 32).unwrap(),
+                "{carry:?}, step {step}"
+            );
+            // A second grid size on the same edit (the kept rows are for the other grid).
+            assert_eq!(
+                d.meshes(9, 16).unwrap(),
+                fresh.solved().meshes(9, 16).unwrap(),
+                "{carry:?}, step {step}, coarse grid"
+            );
+        }
+        let SurfaceKind::SpineEdited(e) = &d.solved().surfaces[0].kind else {
+            panic!("the patch is not spine-edited");
+        };
+        assert!(
+            e.kept_rows() > 0,
+            "{carry:?}: the drag kept none of the solved patch's rows"
+        );
+    }
+}

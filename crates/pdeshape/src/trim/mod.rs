@@ -30,6 +30,7 @@ pub use quality::{quality, MeshQuality};
 use crate::mesh::{self, GridMesh, Part, TriMesh};
 use crate::surface::{ParameterDomain, Surface};
 use crate::{Error, Result, TAU};
+use rayon::prelude::*;
 
 /// How the region around the holes is re-meshed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -123,38 +124,92 @@ impl Frame {
     /// (`u32::MAX` for a dropped one).
     pub(crate) fn kept_grid(
         &self,
-        dropped: impl Fn(usize) -> bool,
+        dropped: impl Fn(usize) -> bool + Sync,
         removed: &[bool],
     ) -> (ParamMesh, Vec<u32>) {
         let (nu, nv, cols) = (self.nu, self.nv, self.cols());
+        // Rows are independent once every row knows where its vertices and triangles start:
+        // count per row, take prefix sums, then fill the rows in parallel.
+        let kept_per_row: Vec<usize> = (0..nu)
+            .into_par_iter()
+            .map(|i| (0..nv).filter(|&j| !dropped(i * nv + j)).count())
+            .collect();
+        let cells_per_row: Vec<usize> = (0..nu - 1)
+            .into_par_iter()
+            .map(|i| {
+                removed[i * cols..(i + 1) * cols]
+                    .iter()
+                    .filter(|&&r| !r)
+                    .count()
+            })
+            .collect();
+        let n_kept: usize = kept_per_row.iter().sum();
+        let n_cells: usize = cells_per_row.iter().sum();
         let mut id = vec![u32::MAX; nu * nv];
-        let mut pm = ParamMesh::default();
-        for i in 0..nu {
-            for j in 0..nv {
-                if !dropped(i * nv + j) {
-                    id[i * nv + j] = pm.uv.len() as u32;
-                    pm.uv.push([self.u[i], self.v[j]]);
-                    pm.grid_source.push((i * nv + j) as u32);
-                }
+        let mut uv = vec![[0.0; 2]; n_kept];
+        let mut grid_source = vec![0u32; n_kept];
+        {
+            let mut rows = Vec::with_capacity(nu);
+            let (mut uv_rest, mut src_rest) = (&mut uv[..], &mut grid_source[..]);
+            let mut first = 0;
+            for (i, id_row) in id.chunks_mut(nv).enumerate() {
+                let (a, b) = std::mem::take(&mut uv_rest).split_at_mut(kept_per_row[i]);
+                let (c, d) = std::mem::take(&mut src_rest).split_at_mut(kept_per_row[i]);
+                rows.push((i, first, id_row, a, c));
+                first += kept_per_row[i];
+                (uv_rest, src_rest) = (b, d);
             }
+            rows.into_par_iter()
+                .for_each(|(i, first, id_row, uv_row, src_row)| {
+                    let mut k = 0;
+                    for (j, slot) in id_row.iter_mut().enumerate() {
+                        if !dropped(i * nv + j) {
+                            *slot = (first + k) as u32;
+                            uv_row[k] = [self.u[i], self.v[j]];
+                            src_row[k] = (i * nv + j) as u32;
+                            k += 1;
+                        }
+                    }
+                });
         }
-        for i in 0..nu - 1 {
-            for j in 0..cols {
-                if removed[i * cols + j] {
-                    continue;
-                }
-                let j1 = (j + 1) % nv;
-                let [a, b, c, d] = [
-                    id[i * nv + j],
-                    id[(i + 1) * nv + j],
-                    id[(i + 1) * nv + j1],
-                    id[i * nv + j1],
-                ];
-                pm.triangles.push([a, b, c]);
-                pm.triangles.push([a, c, d]);
+        // Room for the re-meshed band as well, so the vector does not grow (and copy) later.
+        let mut triangles = Vec::with_capacity(2 * n_cells + 4 * (nu + nv));
+        triangles.resize(2 * n_cells, [0u32; 3]);
+        {
+            let mut rows = Vec::with_capacity(nu - 1);
+            let mut rest = &mut triangles[..];
+            for (i, &n) in cells_per_row.iter().enumerate() {
+                let (a, b) = std::mem::take(&mut rest).split_at_mut(2 * n);
+                rows.push((i, a));
+                rest = b;
             }
+            let id = &id;
+            rows.into_par_iter().for_each(|(i, out)| {
+                let mut k = 0;
+                for j in 0..cols {
+                    if removed[i * cols + j] {
+                        continue;
+                    }
+                    let j1 = (j + 1) % nv;
+                    let [a, b, c, d] = [
+                        id[i * nv + j],
+                        id[(i + 1) * nv + j],
+                        id[(i + 1) * nv + j1],
+                        id[i * nv + j1],
+                    ];
+                    out[k] = [a, b, c];
+                    out[k + 1] = [a, c, d];
+                    k += 2;
+                }
+            });
         }
-        pm.grid_triangles = pm.triangles.len();
+        let pm = ParamMesh {
+            uv,
+            grid_source,
+            grid_triangles: triangles.len(),
+            triangles,
+            on_trim: Vec::new(),
+        };
         (pm, id)
     }
 
@@ -376,26 +431,35 @@ pub fn trimmed_mesh(
 /// The triangle mesh of a parameter mesh: the grid's positions and normals for grid vertices,
 /// `X(u, v)` and its unit normal for the others.
 pub fn to_trimesh(surface: &dyn Surface, grid: &GridMesh, pm: &ParamMesh, name: &str) -> TriMesh {
-    let n = pm.uv.len();
     let g = pm.grid_source.len();
-    let mut positions = Vec::with_capacity(n);
-    let mut normals = Vec::with_capacity(n);
-    for &k in &pm.grid_source {
-        positions.push(grid.positions[k as usize]);
-        normals.push(grid.normals[k as usize]);
-    }
     let periodic = surface.v_domain().is_periodic();
-    for &[u, v] in &pm.uv[g..] {
-        let v = if periodic { v.rem_euclid(TAU) } else { v };
-        let p = surface.partials(u, v);
-        let nn = p.normal();
-        positions.push([p.x.x as f32, p.x.y as f32, p.x.z as f32]);
-        normals.push([nn.x as f32, nn.y as f32, nn.z as f32]);
-    }
+    let (mut positions, mut normals): (Vec<[f32; 3]>, Vec<[f32; 3]>) = pm
+        .grid_source
+        .par_iter()
+        .map(|&k| (grid.positions[k as usize], grid.normals[k as usize]))
+        .unzip();
+    let (off_p, off_n): (Vec<[f32; 3]>, Vec<[f32; 3]>) = pm.uv[g..]
+        .par_iter()
+        .map(|&[u, v]| {
+            let v = if periodic { v.rem_euclid(TAU) } else { v };
+            let p = surface.partials(u, v);
+            let nn = p.normal();
+            (
+                [p.x.x as f32, p.x.y as f32, p.x.z as f32],
+                [nn.x as f32, nn.y as f32, nn.z as f32],
+            )
+        })
+        .unzip();
+    positions.extend_from_slice(&off_p);
+    normals.extend_from_slice(&off_n);
     TriMesh {
         positions,
         normals,
-        uv: pm.uv.iter().map(|p| [p[0] as f32, p[1] as f32]).collect(),
+        uv: pm
+            .uv
+            .par_iter()
+            .map(|p| [p[0] as f32, p[1] as f32])
+            .collect(),
         triangles: pm.triangles.clone(),
         parts: vec![Part {
             name: name.to_string(),
