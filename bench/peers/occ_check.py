@@ -153,7 +153,7 @@ def main():
             # Per surface: its name and the deviations of its holes ("    hole k: …").
             names, holes = [], []
             for l in r.stdout.splitlines():
-                m = re.match(r"^  (\S+): \d+ × \d+ control points", l)
+                m = re.match(r"^  (.+?): \d+ × \d+ control points", l)
                 if m:
                     names.append(m.group(1))
                     holes.append([])
