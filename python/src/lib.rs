@@ -1282,15 +1282,6 @@ impl Design {
                 "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
             )));
         }
-        if !solved.trims.is_empty() {
-            return Err(self.located(
-                &Error::invalid(
-                    "STEP and IGES output of trimmed surfaces is not available yet; write a mesh \
-                     (obj, stl, ply, glb)",
-                )
-                .at("trims"),
-            ));
-        }
         let unit = match unit {
             Some(u) => u,
             None => step::LengthUnit::parse(solved.units.as_str())

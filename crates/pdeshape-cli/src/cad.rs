@@ -62,15 +62,6 @@ pub fn write(
             "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
         )));
     }
-    if !solved.trims.is_empty() {
-        return Err(design.error(
-            &pdeshape::Error::invalid(
-                "STEP and IGES output of trimmed surfaces is not available yet; write a mesh \
-                 (obj, stl, ply, glb)",
-            )
-            .at("trims"),
-        ));
-    }
     let unit = match unit {
         Some(u) => u,
         None => step::LengthUnit::parse(solved.units.as_str())
@@ -120,6 +111,15 @@ pub fn write(
             s.approx.deviation,
             s.approx.certificate.word()
         ));
+        for h in &s.holes {
+            report.push_str(&format!(
+                "    hole {}: edge of {} control points, {:.3e} from the face (sampled), {:.3e} from the trim curve's image (≈)\n",
+                h.curve,
+                h.edge.points.len(),
+                h.edge_deviation,
+                h.deviation
+            ));
+        }
     }
     common::print_stdout(&report);
     Ok(())

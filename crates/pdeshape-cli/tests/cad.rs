@@ -94,3 +94,39 @@ fn sampled_deviations_are_printed_as_estimates() {
         );
     }
 }
+
+#[test]
+fn trimmed_designs_are_written_with_their_holes_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(
+        dir.path(),
+        "vase.toml",
+        include_str!("../../../examples/trimmed_vase.toml"),
+    );
+    for name in ["vase.step", "vase.igs"] {
+        let out_path = dir.path().join(name);
+        let out = pdeshape(&["surface", s(&d), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for k in 0..3 {
+            assert!(
+                stdout.contains(&format!("    hole {k}: edge of ")),
+                "{stdout}"
+            );
+        }
+        let text = std::fs::read_to_string(&out_path).unwrap();
+        if name.ends_with(".step") {
+            assert_eq!(text.matches("FACE_BOUND('',").count(), 3);
+        } else {
+            assert!(text.contains("\n     144"), "no entity 144");
+        }
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{stdout}");
+        assert!(stdout.contains(": ok"), "{stdout}");
+    }
+}

@@ -6,11 +6,13 @@
 //! read back ([`read`]) to measure the round trip.
 
 pub mod certify;
+pub mod curve;
 mod hermite;
 pub mod read;
 pub mod step;
 #[cfg(test)]
 mod tests;
+pub mod trimmed;
 
 pub use certify::{approximate, Approximation, Certificate};
 pub use hermite::hermite_interpolant;
@@ -25,6 +27,9 @@ use crate::{Error, Result, Vec3, TAU};
 pub struct CadSurface {
     pub name: String,
     pub approx: Approximation,
+    /// The holes of a trimmed surface (`[[trims]]`), on `approx.net` (whose `v` window a hole
+    /// across a periodic seam moves: see [`trimmed`]).
+    pub holes: Vec<trimmed::Hole>,
 }
 
 /// A design in CAD form.
@@ -68,7 +73,8 @@ pub fn design_size(design: &SolvedDesign) -> f64 {
     }
 }
 
-/// Every surface of the design approximated within `tolerance` (absolute). Periodic analytic
+/// Every surface of the design approximated within `tolerance` (absolute), with the holes of
+/// trimmed surfaces as edges ([`trimmed::holes`]). Periodic analytic
 /// PDE patches share one `v` grid, and where the first or last row of one net lies within
 /// `10⁻⁹ ×` the design's size of a row of an earlier net on the same `v` knots (an edge the two
 /// patches share), the later row is made the earlier one, its distance added to the deviation:
@@ -97,9 +103,27 @@ pub fn approximate_design(design: &SolvedDesign, tolerance: f64) -> Result<CadMo
         surfaces.push(CadSurface {
             name: s.name.clone(),
             approx,
+            holes: Vec::new(),
         });
     }
     share_edges(&mut surfaces, 1e-9 * size)?;
+    for t in &design.trims {
+        let periodic = matches!(
+            design.surfaces[t.surface].kind.surface().v_domain(),
+            VDomain::Periodic
+        );
+        let s = &mut surfaces[t.surface];
+        let (net, holes) = trimmed::holes(
+            t,
+            &s.approx.net,
+            periodic && s.approx.closed[1],
+            s.approx.deviation,
+            tolerance,
+        )
+        .map_err(|e| e.at(&t.place))?;
+        s.approx.net = net;
+        s.holes = holes;
+    }
     Ok(CadModel {
         name: design.title.clone().unwrap_or_else(|| "design".to_string()),
         surfaces,
@@ -163,7 +187,10 @@ pub fn sampled_deviation(surface: &dyn Surface, net: &BSplineSurface, k: usize) 
 }
 
 /// The model as IGES 5.3: one entity 128 per surface (the writer of `splinepde::export`), the
-/// unit declared in the Global section, labels from the surface names.
+/// unit declared in the Global section, labels from the surface names. A surface with holes is
+/// an entity 144 (trimmed parametric surface) over its 128, the outer boundary the domain's,
+/// one entity 142 (curve on a parametric surface) per hole with its parameter-space curve and
+/// its model-space curve (entities 126), each running clockwise in `(u, v)`.
 pub fn to_iges(
     model: &CadModel,
     unit: step::LengthUnit,
@@ -171,63 +198,164 @@ pub fn to_iges(
     unix_seconds: u64,
 ) -> Result<String> {
     use crate::splinepde::export::{
-        iges_surfaces, iges_timestamp, IgesOptions, IgesSurface, IgesUnit,
+        check_iges_surface, iges_entities, iges_surface_params, iges_timestamp, IgesEntity,
+        IgesOptions, IgesSurface, IgesUnit, IGES_DEPENDENT, IGES_INDEPENDENT, IGES_PARAMETRIC,
     };
     if model.surfaces.is_empty() {
         return Err(Error::invalid("the design has no surface to write"));
     }
-    let surfaces: Vec<IgesSurface> = model
-        .surfaces
-        .iter()
-        .map(|s| {
-            let net = &s.approx.net;
-            IgesSurface {
-                degree: net.degree(),
-                knots_u: net.knots_u().to_vec(),
-                knots_v: net.knots_v().to_vec(),
-                control: net.control().iter().map(|p| [p.x, p.y, p.z]).collect(),
-                closed: s.approx.closed,
-                label: s.name.to_ascii_uppercase(),
-            }
-        })
-        .collect();
     let unit = match unit {
         step::LengthUnit::Millimetre => IgesUnit::MILLIMETRE,
         step::LengthUnit::Centimetre => IgesUnit::CENTIMETRE,
         step::LengthUnit::Metre => IgesUnit::METRE,
         step::LengthUnit::Inch => IgesUnit::INCH,
     };
-    let name: String = model
-        .name
-        .chars()
-        .map(|c| {
-            if c.is_ascii() && !c.is_ascii_control() {
-                c
+    let ascii = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_ascii() && !c.is_ascii_control() {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect()
+    };
+    let (name, file_name) = (ascii(&model.name), ascii(file_name));
+    let many = model.surfaces.len() > 1;
+    let mut entities: Vec<IgesEntity> = Vec::new();
+    let mut maxc = 0.0f64;
+    let de = |k: usize| (2 * k + 1).to_string();
+    for (e, s) in model.surfaces.iter().enumerate() {
+        let net = &s.approx.net;
+        let surface = IgesSurface {
+            degree: net.degree(),
+            knots_u: net.knots_u().to_vec(),
+            knots_v: net.knots_v().to_vec(),
+            control: net.control().iter().map(|p| [p.x, p.y, p.z]).collect(),
+            closed: s.approx.closed,
+            label: s.name.to_ascii_uppercase(),
+        };
+        check_iges_surface(&surface)?;
+        maxc = surface
+            .control
+            .iter()
+            .flatten()
+            .fold(maxc, |m, x| m.max(x.abs()));
+        let subscript = if many { e + 1 } else { 0 };
+        let trimmed = !s.holes.is_empty();
+        let surface_de = entities.len();
+        entities.push(IgesEntity {
+            number: 128,
+            form: 0,
+            params: iges_surface_params(&surface),
+            status: if trimmed {
+                IGES_DEPENDENT
             } else {
-                '_'
-            }
-        })
-        .collect();
-    let file_name: String = file_name
-        .chars()
-        .map(|c| {
-            if c.is_ascii() && !c.is_ascii_control() {
-                c
+                IGES_INDEPENDENT
+            },
+            label: surface.label.clone(),
+            subscript,
+        });
+        if !trimmed {
+            continue;
+        }
+        let mut bounds = Vec::new();
+        for h in &s.holes {
+            let (pc, edge) = if h.counter_clockwise {
+                (h.pcurve.reversed(), h.edge.reversed())
             } else {
-                '_'
-            }
-        })
-        .collect();
-    iges_surfaces(
-        &surfaces,
+                (h.pcurve.clone(), h.edge.clone())
+            };
+            let b = entities.len();
+            entities.push(IgesEntity {
+                number: 126,
+                form: 0,
+                params: iges_curve_params(&pc, true),
+                status: IGES_PARAMETRIC,
+                label: "PCURVE".into(),
+                subscript: h.curve + 1,
+            });
+            let c = entities.len();
+            entities.push(IgesEntity {
+                number: 126,
+                form: 0,
+                params: iges_curve_params(&edge, false),
+                status: IGES_DEPENDENT,
+                label: "HOLE".into(),
+                subscript: h.curve + 1,
+            });
+            bounds.push(entities.len());
+            entities.push(IgesEntity {
+                number: 142,
+                form: 0,
+                // Created by projection, on the surface, its parameter-space curve, its
+                // model-space curve, the parameter-space curve preferred.
+                params: vec!["1".into(), de(surface_de), de(b), de(c), "1".into()],
+                status: IGES_DEPENDENT,
+                label: "BOUNDARY".into(),
+                subscript: h.curve + 1,
+            });
+        }
+        let mut params = vec![
+            de(surface_de),
+            "0".into(),
+            bounds.len().to_string(),
+            "0".into(),
+        ];
+        params.extend(bounds.iter().map(|&k| de(k)));
+        entities.push(IgesEntity {
+            number: 144,
+            form: 0,
+            params,
+            status: IGES_INDEPENDENT,
+            label: surface.label.clone(),
+            subscript,
+        });
+    }
+    let trimmed = model.surfaces.iter().any(|s| !s.holes.is_empty());
+    let what = if trimmed {
+        "B-spline surfaces (entity 128), trimmed (144)"
+    } else {
+        "B-spline surfaces (entity 128)"
+    };
+    iges_entities(
+        &entities,
         &IgesOptions {
             file_name,
             timestamp: iges_timestamp(unix_seconds),
         },
         unit,
-        &format!("pdeshape: {} as B-spline surfaces (entity 128)", name)
+        &format!("pdeshape: {name} as {what}")
             .chars()
             .take(72)
             .collect::<String>(),
+        maxc,
     )
+}
+
+/// The parameters of an entity 126 (after the type number) for a closed polynomial B-spline
+/// curve; `planar` for a curve in a surface's parameter space (`z = 0`, normal `+z`).
+fn iges_curve_params(c: &curve::BCurve, planar: bool) -> Vec<String> {
+    use crate::splinepde::export::iges_real as real;
+    let n = c.points.len();
+    let [a, b] = c.domain();
+    let mut params = vec![
+        (n - 1).to_string(),
+        c.degree.to_string(),
+        if planar { "1" } else { "0" }.into(), // PROP1: planar
+        "1".into(),                            // PROP2: closed
+        "1".into(),                            // PROP3: polynomial
+        "0".into(),                            // PROP4: not periodic
+    ];
+    params.extend(c.knots.iter().map(|&x| real(x)));
+    params.extend((0..n).map(|_| real(1.0)));
+    for p in &c.points {
+        params.extend([real(p.x), real(p.y), real(if planar { 0.0 } else { p.z })]);
+    }
+    params.extend([real(a), real(b)]);
+    if planar {
+        params.extend([real(0.0), real(0.0), real(1.0)]);
+    }
+    params
 }

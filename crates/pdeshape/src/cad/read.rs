@@ -222,10 +222,14 @@ pub fn read_step(text: &str) -> Result<Vec<ReadSurface>> {
                         .collect::<Result<Vec<f64>>>()?,
                     _ => return Err(at("CARTESIAN_POINT without coordinates".into())),
                 };
-                if coords.len() != 3 {
-                    return Err(at("CARTESIAN_POINT is not 3D".into()));
+                match coords.len() {
+                    3 => {
+                        points.insert(id, Vec3::new(coords[0], coords[1], coords[2]));
+                    }
+                    // A point of a curve in a face's parameter space (a hole's pcurve).
+                    2 => {}
+                    _ => return Err(at("CARTESIAN_POINT is neither 2D nor 3D".into())),
                 }
-                points.insert(id, Vec3::new(coords[0], coords[1], coords[2]));
             }
             "B_SPLINE_SURFACE_WITH_KNOTS" => surfaces.push((line, args)),
             _ => {}
@@ -306,6 +310,13 @@ pub fn read_step(text: &str) -> Result<Vec<ReadSurface>> {
 /// `k × k` lattice in every knot cell of the net, with the net's parameters taken as the
 /// surface's own (as pdeshape writes them).
 pub fn read_back_deviation(surface: &dyn Surface, net: &BSplineSurface, k: usize) -> f64 {
+    // A trimmed face's net may start its periodic `v` elsewhere (a hole across the seam):
+    // compared on the surface's own period.
+    if surface.v_domain() == VDomain::Periodic && net.domain()[1][0] != 0.0 {
+        if let Ok(back) = super::trimmed::rotate_v(net, 0.0) {
+            return super::certify::sampled_deviation(surface, &back, k.max(2));
+        }
+    }
     super::certify::sampled_deviation(surface, net, k.max(2))
 }
 

@@ -3,12 +3,17 @@
 //! and bounded by one loop of its boundary curves (`B_SPLINE_CURVE_WITH_KNOTS`, the boundary
 //! control rows of the net, so each edge lies exactly on its face).
 //!
+//! A trimmed surface's face has one `FACE_BOUND` per hole besides its outer bound: a closed
+//! edge over a `SURFACE_CURVE` whose 3D B-spline and `PCURVE` (a 2D B-spline in the face's
+//! `(u, v)`) are those of [`super::trimmed`].
+//!
 //! Topology: vertices are the nets' corners, edges their boundary rows; a boundary that is one
 //! point (a pole) is left out of the loop; equal rows (the seam of a closed direction, an edge
 //! two faces share) are one `EDGE_CURVE` used with both orientations. When every edge is used
 //! exactly twice the shell is a `CLOSED_SHELL` of a `MANIFOLD_SOLID_BREP` (the faces oriented
 //! consistently), otherwise an `OPEN_SHELL` of a `SHELL_BASED_SURFACE_MODEL`.
 
+use super::curve::BCurve;
 use super::CadModel;
 use crate::spline::BSplineSurface;
 use crate::{Error, Result, Vec3};
@@ -306,6 +311,59 @@ impl Writer {
     }
 }
 
+/// A B-spline curve (3D, or 2D when `planar`) as `B_SPLINE_CURVE_WITH_KNOTS`, closed.
+fn bspline_curve(w: &mut Writer, c: &BCurve, planar: bool) -> usize {
+    let pts: Vec<usize> = c
+        .points
+        .iter()
+        .map(|p| {
+            if planar {
+                w.add(format!("CARTESIAN_POINT('',({},{}))", real(p.x), real(p.y)))
+            } else {
+                w.point(p)
+            }
+        })
+        .collect();
+    let (values, mults) = knot_runs(&c.knots);
+    w.add(format!(
+        "B_SPLINE_CURVE_WITH_KNOTS('',{},{},.UNSPECIFIED.,.T.,.F.,{},{},.UNSPECIFIED.)",
+        c.degree,
+        refs(&pts),
+        list(mults),
+        list(values.into_iter().map(real)),
+    ))
+}
+
+/// A hole of a face: one closed `EDGE_CURVE` over a `SURFACE_CURVE` (the 3D edge and its
+/// `PCURVE` in the face's parameter space) at one vertex, used clockwise in `(u, v)` (the face
+/// on its left), as a `FACE_BOUND`.
+fn hole_bound(
+    w: &mut Writer,
+    hole: &super::trimmed::Hole,
+    surface: usize,
+    ctx2: &mut Option<usize>,
+    sense: bool,
+) -> usize {
+    let c3 = bspline_curve(w, &hole.edge, false);
+    let c2 = bspline_curve(w, &hole.pcurve, true);
+    let ctx = *ctx2.get_or_insert_with(|| {
+        w.add("(GEOMETRIC_REPRESENTATION_CONTEXT(2)PARAMETRIC_REPRESENTATION_CONTEXT()REPRESENTATION_CONTEXT('2D SPACE',''))")
+    });
+    let rep = w.add(format!("DEFINITIONAL_REPRESENTATION('',(#{c2}),#{ctx})"));
+    let pc = w.add(format!("PCURVE('',#{surface},#{rep})"));
+    let sc = w.add(format!("SURFACE_CURVE('',#{c3},(#{pc}),.PCURVE_S1.)"));
+    let pt = w.point(&hole.edge.points[0]);
+    let v = w.add(format!("VERTEX_POINT('',#{pt})"));
+    let e = w.add(format!("EDGE_CURVE('',#{v},#{v},#{sc},.T.)"));
+    let tf = |b: bool| if b { ".T." } else { ".F." };
+    let oe = w.add(format!(
+        "ORIENTED_EDGE('',*,*,#{e},{})",
+        tf(!hole.counter_clockwise)
+    ));
+    let lp = w.add(format!("EDGE_LOOP('',(#{oe}))"));
+    w.add(format!("FACE_BOUND('',#{lp},{})", tf(sense)))
+}
+
 fn refs(ids: &[usize]) -> String {
     list(ids.iter().map(|i| format!("#{i}")))
 }
@@ -329,7 +387,11 @@ pub fn to_step(model: &CadModel, opts: &StepOptions) -> Result<String> {
         .iter()
         .flat_map(|n| n.control().iter())
         .fold(1.0f64, |m, p| m.max(p.amax()));
-    let topo = Topology::build(&nets, 1e-9 * size);
+    let mut topo = Topology::build(&nets, 1e-9 * size);
+    // A hole's edge bounds one face only: a trimmed shell is open.
+    if model.surfaces.iter().any(|s| !s.holes.is_empty()) {
+        topo.closed = false;
+    }
     let mut w = Writer {
         out: String::new(),
         next: 1,
@@ -411,6 +473,8 @@ pub fn to_step(model: &CadModel, opts: &StepOptions) -> Result<String> {
         )));
     }
     let mut faces = Vec::with_capacity(nets.len());
+    // The parameter-space context of the pcurves, written with the first one.
+    let mut ctx2: Option<usize> = None;
     for (f, (s, net)) in model.surfaces.iter().zip(&nets).enumerate() {
         let [p, q] = net.degree();
         let [nu, nv] = net.counts();
@@ -448,10 +512,14 @@ pub fn to_step(model: &CadModel, opts: &StepOptions) -> Result<String> {
             .collect();
         let lp = w.add(format!("EDGE_LOOP('',{})", refs(&oriented)));
         let sense = topo.same_sense[f];
-        let bound = w.add(format!("FACE_OUTER_BOUND('',#{lp},{})", tf(sense)));
+        let mut bounds = vec![w.add(format!("FACE_OUTER_BOUND('',#{lp},{})", tf(sense)))];
+        for hole in &s.holes {
+            bounds.push(hole_bound(&mut w, hole, surface, &mut ctx2, sense));
+        }
         faces.push(w.add(format!(
-            "ADVANCED_FACE({},(#{bound}),#{surface},{})",
+            "ADVANCED_FACE({},{},#{surface},{})",
             string(&s.name),
+            refs(&bounds),
             tf(sense)
         )));
     }

@@ -296,3 +296,172 @@ fn bad_files_are_refused_with_a_line() {
     assert!(approximate_design(&example("laplace_blend"), -1.0).is_err());
     assert!(approximate_design(&example("laplace_blend"), f64::NAN).is_err());
 }
+
+fn trimmed_example(name: &str) -> SolvedDesign {
+    solve(match name {
+        "vase" => include_str!("../../../../examples/trimmed_vase.toml"),
+        "book" => include_str!("../../../../examples/trim_book_methods.toml"),
+        _ => unreachable!(),
+    })
+}
+
+/// Every hole's pcurve follows its trim curve within its stated deviation, its edge lies on
+/// the face's net and on the design's image of the trim curve within the stated deviations,
+/// at 4001 parameters per hole (not the ones the edge was built or measured on), and the
+/// pcurve stays inside the face's parameter domain.
+#[test]
+fn hole_edges_lie_on_the_face_and_on_the_trim_image() {
+    for (name, rel) in [("vase", 1e-4), ("vase", 1e-6), ("book", 1e-3)] {
+        let design = trimmed_example(name);
+        let tol = rel * design_size(&design);
+        let model = approximate_design(&design, tol).unwrap();
+        let mut holes = 0;
+        for t in &design.trims {
+            let s = &model.surfaces[t.surface];
+            let surface = design.surfaces[t.surface].kind.surface();
+            let net = &s.approx.net;
+            let [[u0, u1], [v0, v1]] = net.domain();
+            assert_eq!(s.holes.len(), t.curves.len());
+            for h in &s.holes {
+                holes += 1;
+                let c = &t.curves[h.curve];
+                let [a, b] = h.pcurve.domain();
+                assert_eq!(h.edge.domain(), [a, b]);
+                assert!((b - a - h.period).abs() < 1e-12);
+                // Inside the domain: the control points bound the curve.
+                for p in &h.pcurve.points {
+                    assert!(
+                        p.x > u0 && p.x < u1 && p.y > v0 && p.y < v1,
+                        "{name}: {p:?}"
+                    );
+                }
+                // A hole's deviation: the edge's sampled figure, the surface's and the pcurve's.
+                assert!(
+                    h.deviation <= s.approx.deviation + 0.3 * tol,
+                    "{name}: {}",
+                    h.deviation
+                );
+                let (mut on_face, mut on_image, mut on_curve) = (0.0f64, 0.0f64, 0.0f64);
+                for k in 0..=4000 {
+                    let s_ = a + (b - a) * (k as f64 + 0.37) / 4001.0;
+                    let t_ = (s_ - a) / h.period;
+                    let q = h.pcurve.point(s_);
+                    let uv = c.point(t_);
+                    let e = h.edge.point(s_);
+                    on_curve = on_curve.max((q.x - uv[0]).hypot(q.y - h.v_shift - uv[1]));
+                    on_face = on_face.max((e - net.derivative(q.x, q.y, 0, 0)).norm());
+                    on_image = on_image.max((e - surface.point(uv[0], uv[1])).norm());
+                }
+                assert!(
+                    on_curve <= h.pcurve_deviation,
+                    "{name}: pcurve {on_curve:e} > {:e}",
+                    h.pcurve_deviation
+                );
+                assert!(
+                    on_face <= h.edge_deviation * (1.0 + 1e-9),
+                    "{name}: edge {on_face:e} > {:e}",
+                    h.edge_deviation
+                );
+                assert!(
+                    on_image <= h.deviation,
+                    "{name}: image {on_image:e} > {:e}",
+                    h.deviation
+                );
+                // The edge closes on itself and meets its pcurve's image at the ends.
+                assert_eq!(h.edge.points[0], *h.edge.points.last().unwrap());
+            }
+        }
+        assert_eq!(holes, if name == "vase" { 3 } else { 2 });
+    }
+}
+
+/// The vase's ellipse crosses v = 0: its face's net starts its period elsewhere, and is the
+/// same surface there (compared with the unmoved net at v and v − 2π).
+#[test]
+fn a_hole_across_the_seam_moves_the_net_exactly() {
+    let design = trimmed_example("vase");
+    let tol = 1e-4 * design_size(&design);
+    let model = approximate_design(&design, tol).unwrap();
+    let moved = &model.surfaces[0].approx.net;
+    let plain = approximate(&design.surfaces[0].kind, tol, 1).unwrap().net;
+    let [_, [v0, v1]] = moved.domain();
+    assert!(v0 > 0.0 && (v1 - v0 - TAU).abs() < 1e-12, "{v0} {v1}");
+    // The ellipse's pcurve was moved by a whole period.
+    let hole = &model.surfaces[0].holes[1];
+    assert_eq!(hole.v_shift, TAU);
+    let mut worst = 0.0f64;
+    for i in 0..=20 {
+        for j in 0..=200 {
+            let u = i as f64 / 20.0;
+            let v = v0 + (v1 - v0) * j as f64 / 200.0;
+            let w = if v > TAU { v - TAU } else { v };
+            worst = worst.max((moved.derivative(u, v, 0, 0) - plain.derivative(u, w, 0, 0)).norm());
+        }
+    }
+    assert!(worst < 1e-12, "{worst:e}");
+    // First and last control columns are the same numbers (no seam gap).
+    let [nu, nv] = moved.counts();
+    for i in 0..nu {
+        assert_eq!(moved.control()[i * nv], moved.control()[i * nv + nv - 1]);
+    }
+    // Moving back gives the first net's domain.
+    let back = trimmed::rotate_v(moved, 0.0).unwrap();
+    let [_, [b0, b1]] = back.domain();
+    assert!(b0 == 0.0 && (b1 - TAU).abs() < 1e-12, "{b0} {b1}");
+}
+
+/// STEP and IGES of trimmed designs: one inner bound per hole, each with its pcurve; IGES
+/// entities 144, 142 and 126; both read back within the surfaces' deviations.
+#[test]
+fn trimmed_faces_are_written_and_read_back() {
+    for name in ["vase", "book"] {
+        let design = trimmed_example(name);
+        let tol = 1e-4 * design_size(&design);
+        let model = approximate_design(&design, tol).unwrap();
+        let holes: usize = model.surfaces.iter().map(|s| s.holes.len()).sum();
+        let text = to_step(&model, &opts()).unwrap();
+        assert_eq!(text.matches("FACE_BOUND('',").count(), holes, "{name}");
+        assert_eq!(
+            text.matches("FACE_OUTER_BOUND(").count(),
+            model.surfaces.len()
+        );
+        assert_eq!(text.matches("PCURVE(").count(), holes);
+        assert_eq!(text.matches("SURFACE_CURVE(").count(), holes);
+        assert!(text.contains("OPEN_SHELL(") && !text.contains("CLOSED_SHELL("));
+        let read = read_step(&text).unwrap();
+        assert_eq!(read.len(), model.surfaces.len());
+        for (r, (s, d)) in read.iter().zip(model.surfaces.iter().zip(&design.surfaces)) {
+            assert_eq!(r.net, s.approx.net);
+            let surface = d.kind.surface();
+            assert!(read::same_domain(surface, &r.net));
+            let dev = read::read_back_deviation(surface, &r.net, 9);
+            assert!(
+                dev <= s.approx.deviation,
+                "{name}: {dev:e} > {:e}",
+                s.approx.deviation
+            );
+        }
+        let iges = to_iges(&model, LengthUnit::Millimetre, "x.igs", 0).unwrap();
+        let types: Vec<&str> = iges
+            .lines()
+            .filter(|l| l.as_bytes().get(72) == Some(&b'D'))
+            .step_by(2)
+            .map(|l| l[..8].trim())
+            .collect();
+        let count = |t: &str| types.iter().filter(|&&x| x == t).count();
+        let trimmed = model
+            .surfaces
+            .iter()
+            .filter(|s| !s.holes.is_empty())
+            .count();
+        assert_eq!(count("144"), trimmed, "{name}");
+        assert_eq!(count("142"), holes);
+        assert_eq!(count("126"), 2 * holes);
+        assert_eq!(count("128"), model.surfaces.len());
+        let read = read_iges(&iges).unwrap();
+        assert_eq!(read.len(), model.surfaces.len());
+        for (r, s) in read.iter().zip(&model.surfaces) {
+            assert!(certify::row_distance(r.net.control(), s.approx.net.control()) == 0.0);
+        }
+    }
+}

@@ -217,11 +217,92 @@ pub fn to_iges_in<T: Scalar>(
     )
 }
 
+/// One entity of [`iges_entities`]: its type and form numbers, its parameters after the type
+/// number (pointers are the directory sequence numbers `2k + 1` of entity `k`), its status
+/// number (eight digits: blank, subordinate, use, hierarchy), a label of at most eight
+/// characters and the label's subscript.
+#[derive(Clone, Debug)]
+pub struct IgesEntity {
+    pub number: u32,
+    pub form: u32,
+    pub params: Vec<String>,
+    pub status: &'static str,
+    pub label: String,
+    pub subscript: usize,
+}
+
+/// Status of an independent entity.
+pub const IGES_INDEPENDENT: &str = "00000000";
+/// Status of an entity physically dependent on another (a trimmed surface's parts).
+pub const IGES_DEPENDENT: &str = "00010000";
+/// Status of a dependent curve in a surface's parameter space.
+pub const IGES_PARAMETRIC: &str = "00010500";
+
+/// An IGES real (for entities built outside this module).
+pub fn iges_real(x: f64) -> String {
+    real(x)
+}
+
+/// The parameters of an entity 128 (after the type number) for a surface: its parameter `s`
+/// is our `u` (first control-point index), `t` is `v`; control points are listed with `s`
+/// varying fastest; the parameter range is the knot domain.
+pub fn iges_surface_params(s: &IgesSurface) -> Vec<String> {
+    let [p, q] = s.degree;
+    let nu = s.knots_u.len() - p - 1;
+    let nv = s.knots_v.len() - q - 1;
+    let flag = |b: bool| if b { "1" } else { "0" };
+    let mut params: Vec<String> = vec![
+        (nu - 1).to_string(),
+        (nv - 1).to_string(),
+        p.to_string(),
+        q.to_string(),
+        flag(s.closed[0]).into(), // PROP1: closed in s
+        flag(s.closed[1]).into(), // PROP2: closed in t
+        "1".into(),               // PROP3: polynomial
+        "0".into(),               // PROP4: not periodic in s
+        "0".into(),               // PROP5: not periodic in t
+    ];
+    params.extend(s.knots_u.iter().map(|&x| real(x)));
+    params.extend(s.knots_v.iter().map(|&x| real(x)));
+    params.extend((0..nu * nv).map(|_| real(1.0)));
+    for j in 0..nv {
+        for i in 0..nu {
+            params.extend(s.control[i * nv + j].iter().map(|&x| real(x)));
+        }
+    }
+    params.extend([
+        real(s.knots_u[p]),
+        real(s.knots_u[nu]),
+        real(s.knots_v[q]),
+        real(s.knots_v[nv]),
+    ]);
+    params
+}
+
+/// Checks a surface's sizes and values for entity 128.
+pub fn check_iges_surface(s: &IgesSurface) -> Result<()> {
+    let [p, q] = s.degree;
+    let nu = s.knots_u.len().saturating_sub(p + 1);
+    let nv = s.knots_v.len().saturating_sub(q + 1);
+    if nu <= p || nv <= q || s.control.len() != nu * nv {
+        return Err(Error::invalid(
+            "a surface's knots and control points do not fit together",
+        ));
+    }
+    if s.control
+        .iter()
+        .flatten()
+        .chain(&s.knots_u)
+        .chain(&s.knots_v)
+        .any(|x| !x.is_finite())
+    {
+        return Err(Error::invalid("the net has a value that is not finite"));
+    }
+    Ok(())
+}
+
 /// Surfaces as an IGES 5.3 file with one entity 128 each (rational B-spline surface,
-/// polynomial: all weights 1), in the fixed 80-column format: Start, Global, Directory Entry,
-/// Parameter Data and Terminate sections, ASCII, lines ending in `\n`. Parameter `s` of an
-/// entity is our `u` (first control-point index), `t` is `v`; control points are listed with
-/// `s` varying fastest; the parameter range is the knot domain.
+/// polynomial: all weights 1, [`iges_surface_params`]) through [`iges_entities`].
 pub fn iges_surfaces(
     surfaces: &[IgesSurface],
     opts: &IgesOptions,
@@ -229,24 +310,37 @@ pub fn iges_surfaces(
     start_text: &str,
 ) -> Result<String> {
     for s in surfaces {
-        let [p, q] = s.degree;
-        let nu = s.knots_u.len().saturating_sub(p + 1);
-        let nv = s.knots_v.len().saturating_sub(q + 1);
-        if nu <= p || nv <= q || s.control.len() != nu * nv {
-            return Err(Error::invalid(
-                "a surface's knots and control points do not fit together",
-            ));
-        }
-        if s.control
-            .iter()
-            .flatten()
-            .chain(&s.knots_u)
-            .chain(&s.knots_v)
-            .any(|x| !x.is_finite())
-        {
-            return Err(Error::invalid("the net has a value that is not finite"));
-        }
+        check_iges_surface(s)?;
     }
+    let maxc = surfaces
+        .iter()
+        .flat_map(|s| s.control.iter().flatten())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let entities: Vec<IgesEntity> = surfaces
+        .iter()
+        .enumerate()
+        .map(|(e, s)| IgesEntity {
+            number: 128,
+            form: 0,
+            params: iges_surface_params(s),
+            status: IGES_INDEPENDENT,
+            label: s.label.clone(),
+            subscript: if surfaces.len() == 1 { 0 } else { e + 1 },
+        })
+        .collect();
+    iges_entities(&entities, opts, unit, start_text, maxc)
+}
+
+/// Entities as an IGES 5.3 file in the fixed 80-column format: Start, Global, Directory Entry,
+/// Parameter Data and Terminate sections, ASCII, lines ending in `\n`. `max_coordinate` is the
+/// largest coordinate's size, declared in the Global section.
+pub fn iges_entities(
+    entities: &[IgesEntity],
+    opts: &IgesOptions,
+    unit: IgesUnit,
+    start_text: &str,
+    max_coordinate: f64,
+) -> Result<String> {
     let bad = |s: &str| s.chars().any(|c| !c.is_ascii() || c.is_ascii_control());
     if bad(&opts.file_name) || bad(&opts.timestamp) {
         return Err(Error::invalid(
@@ -261,10 +355,7 @@ pub fn iges_surfaces(
         out.push_str(&line(s, 'S', k + 1));
     }
     // Global section.
-    let maxc = surfaces
-        .iter()
-        .flat_map(|s| s.control.iter().flatten())
-        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let maxc = max_coordinate;
     let g: Vec<String> = vec![
         "1H,".into(),
         "1H;".into(),
@@ -305,38 +396,9 @@ pub fn iges_surfaces(
     let mut directory = String::new();
     let mut parameters = String::new();
     let mut p_lines = 0usize;
-    for (e, s) in surfaces.iter().enumerate() {
-        // Parameter data of entity 128.
-        let [p, q] = s.degree;
-        let nu = s.knots_u.len() - p - 1;
-        let nv = s.knots_v.len() - q - 1;
-        let flag = |b: bool| if b { "1" } else { "0" };
-        let mut params: Vec<String> = vec![
-            "128".into(),
-            (nu - 1).to_string(),
-            (nv - 1).to_string(),
-            p.to_string(),
-            q.to_string(),
-            flag(s.closed[0]).into(), // PROP1: closed in s
-            flag(s.closed[1]).into(), // PROP2: closed in t
-            "1".into(),               // PROP3: polynomial
-            "0".into(),               // PROP4: not periodic in s
-            "0".into(),               // PROP5: not periodic in t
-        ];
-        params.extend(s.knots_u.iter().map(|&x| real(x)));
-        params.extend(s.knots_v.iter().map(|&x| real(x)));
-        params.extend((0..nu * nv).map(|_| real(1.0)));
-        for j in 0..nv {
-            for i in 0..nu {
-                params.extend(s.control[i * nv + j].iter().map(|&x| real(x)));
-            }
-        }
-        params.extend([
-            real(s.knots_u[p]),
-            real(s.knots_u[nu]),
-            real(s.knots_v[q]),
-            real(s.knots_v[nv]),
-        ]);
+    for (e, ent) in entities.iter().enumerate() {
+        let mut params = vec![ent.number.to_string()];
+        params.extend(ent.params.iter().cloned());
         let n_p = params.len();
         let ptokens: Vec<String> = params
             .into_iter()
@@ -348,7 +410,7 @@ pub fn iges_surfaces(
         let de = 2 * e + 1;
         let d1 = format!(
             "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-            128,
+            ent.number,
             p_lines + 1,
             0,
             0,
@@ -356,9 +418,9 @@ pub fn iges_surfaces(
             0,
             0,
             0,
-            "00000000"
+            ent.status
         );
-        let label: String = s
+        let label: String = ent
             .label
             .chars()
             .filter(|c| c.is_ascii_graphic())
@@ -366,15 +428,15 @@ pub fn iges_surfaces(
             .collect();
         let d2 = format!(
             "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-            128,
+            ent.number,
             0,
             0,
             plines.len(),
-            0,
+            ent.form,
             "",
             "",
             label,
-            if surfaces.len() == 1 { 0 } else { e + 1 }
+            ent.subscript
         );
         directory.push_str(&line(&d1, 'D', de));
         directory.push_str(&line(&d2, 'D', de + 1));
@@ -389,7 +451,7 @@ pub fn iges_surfaces(
         "S{:>7}G{:>7}D{:>7}P{:>7}",
         start.len(),
         glines.len(),
-        2 * surfaces.len(),
+        2 * entities.len(),
         p_lines
     );
     out.push_str(&line(&t, 'T', 1));
