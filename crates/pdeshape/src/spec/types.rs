@@ -674,12 +674,16 @@ pub enum CurveKind {
     /// unless `trim = false`.
     #[serde(rename = "on_patch")]
     OnPatch {
+        /// The host: the name of a PDE patch of the design.
         patch: String,
+        /// A closed curve in the host's `(u, v)` plane (`circle`, `ellipse`, `polyline` or
+        /// `bspline`, as in `[[trims]]`).
         #[serde(
             deserialize_with = "super::trim::deserialize_curve",
             serialize_with = "super::trim::serialize_curve"
         )]
         path: super::trim::TrimCurveSpec,
+        /// Trim the host inside `path` (default true).
         #[serde(
             default = "default_true",
             skip_serializing_if = "super::write::is_true"
@@ -696,6 +700,7 @@ pub enum CurveKind {
     TangentField {
         /// The name of an `on_patch` curve.
         curve: String,
+        /// The length of the field (default 1, not 0); a negative one points back over the host.
         #[serde(default = "default_a")]
         scale: f64,
     },
