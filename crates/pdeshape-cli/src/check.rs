@@ -265,6 +265,47 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
             );
         }
     }
+    if !built.attachments.is_empty() {
+        let _ = writeln!(
+            s,
+            "attachments (G0/G1 by closest points on the host, {ATTACH_SAMPLES} samples):"
+        );
+        for r in built.attachment_reports(ATTACH_SAMPLES) {
+            let a = &r.attachment;
+            let host = &built.surfaces[a.host];
+            let size = attach_size(host.surface());
+            let _ = writeln!(
+                s,
+                "  '{}' u = {} on '{}' along '{}'{}:  G0 = {:.3e}  G1 = {:.3e} rad",
+                built.surfaces[a.patch].name,
+                a.u,
+                host.name,
+                a.curve.as_deref().unwrap_or("(inline curve)"),
+                if a.tangent { " (tangent field)" } else { "" },
+                r.g0,
+                r.g1
+            );
+            let place = format!(
+                "attachment of '{}' to '{}'",
+                built.surfaces[a.patch].name, host.name
+            );
+            if r.g0.is_nan() || r.g0 > ATTACH_G0 * size.max(1.0) {
+                warnings.push(format!("{place}: G0 = {:.3e} (positions apart)", r.g0));
+            }
+            if a.tangent && (r.g1.is_nan() || r.g1 > ATTACH_G1) {
+                warnings.push(format!(
+                    "{place}: G1 = {:.3e} rad (tangent planes apart)",
+                    r.g1
+                ));
+            }
+            if r.unconverged > 0 {
+                warnings.push(format!(
+                    "{place}: the closest-point search did not converge at {} of {} samples",
+                    r.unconverged, r.samples
+                ));
+            }
+        }
+    }
     if !built.trims.is_empty() {
         let _ = writeln!(s, "trims:");
         // The design's output grid (its [output] table, or the default).
@@ -316,6 +357,30 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
         }
     }
     (s, warnings)
+}
+
+/// Samples along each attachment for its G0/G1 report.
+const ATTACH_SAMPLES: usize = 512;
+/// G0 above this (times the host's size, at least 1) is warned about (the 1e-10).
+const ATTACH_G0: f64 = 1e-10;
+/// G1 above this (radians) along an attachment with a tangent field is warned about.
+const ATTACH_G1: f64 = 1e-8;
+
+/// The diagonal of a surface's bounding box on a coarse grid (the scale of its G0).
+fn attach_size(s: &dyn pdeshape::surface::Surface) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let r = s.u_range();
+    for i in 0..=16 {
+        for j in 0..32 {
+            let u = r.start + (r.end - r.start) * i as f64 / 16.0;
+            let p = s.point(u, pdeshape::TAU * j as f64 / 32.0);
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// A number for JSON: non-finite values as null.
@@ -384,12 +449,26 @@ pub fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
     } else {
         Vec::new()
     };
+    let attachments: Vec<serde_json::Value> = built
+        .attachment_reports(ATTACH_SAMPLES)
+        .iter()
+        .map(|r| {
+            let a = &r.attachment;
+            json!({
+                "patch": built.surfaces[a.patch].name, "u": a.u,
+                "host": built.surfaces[a.host].name, "curve": a.curve,
+                "tangent": a.tangent, "samples": r.samples,
+                "g0": jnum(r.g0), "g1": jnum(r.g1),
+            })
+        })
+        .collect();
     json!({
         "ok": true,
         "design": design.file,
         "title": built.title,
         "surfaces": surfaces,
         "edges": edges,
+        "attachments": attachments,
         "warnings": warnings,
         "report": text,
     })

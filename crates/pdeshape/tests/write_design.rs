@@ -733,7 +733,16 @@ impl Gen {
         }
     }
     fn kind(&mut self, depth: usize) -> CurveKind {
-        match self.0.gen_range(0..10) {
+        match self.0.gen_range(0..12) {
+            10 => CurveKind::OnPatch {
+                patch: self.s(),
+                path: self.trim_curve(),
+                trim: self.chance(0.5),
+            },
+            11 => CurveKind::TangentField {
+                curve: self.s(),
+                scale: self.f(),
+            },
             0 => CurveKind::Circle {
                 center: self.v3(),
                 radius: self.f(),
@@ -1084,24 +1093,27 @@ impl Gen {
                 TrimMethodSpec::Bilinear,
                 TrimMethodSpec::Laplace,
             ][self.0.gen_range(0..3)],
-            curves: self.vec(3, |g| match g.0.gen_range(0..4) {
-                0 => TrimCurveSpec::Circle {
-                    center: g.v2(),
-                    radius: g.f(),
-                },
-                1 => TrimCurveSpec::Ellipse {
-                    center: g.v2(),
-                    radii: g.v2(),
-                    angle: g.f(),
-                },
-                2 => TrimCurveSpec::Polyline {
-                    points: g.vec(4, Self::v2),
-                },
-                _ => TrimCurveSpec::Bspline {
-                    degree: g.0.gen_range(0..6),
-                    points: g.vec(4, Self::v2),
-                },
-            }),
+            curves: self.vec(3, Self::trim_curve),
+        }
+    }
+    fn trim_curve(&mut self) -> TrimCurveSpec {
+        match self.0.gen_range(0..4) {
+            0 => TrimCurveSpec::Circle {
+                center: self.v2(),
+                radius: self.f(),
+            },
+            1 => TrimCurveSpec::Ellipse {
+                center: self.v2(),
+                radii: self.v2(),
+                angle: self.f(),
+            },
+            2 => TrimCurveSpec::Polyline {
+                points: self.vec(4, Self::v2),
+            },
+            _ => TrimCurveSpec::Bspline {
+                degree: self.0.gen_range(0..6),
+                points: self.vec(4, Self::v2),
+            },
         }
     }
 }

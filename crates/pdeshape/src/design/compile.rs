@@ -168,25 +168,39 @@ impl CompiledDesign {
         let fd_grid = (method == SolverMethod::Fd)
             .then(|| spec.solver.grid.unwrap_or(super::fd::DEFAULT_GRID));
         let mut builder = CurveBuilder::new(&spec.curves, &self.curves);
-        let curves = named_curves(&mut builder)?;
 
-        // PDE patches: conditions built, then every patch whose key is new solved (in
-        // parallel; each solve is deterministic, so the order does not matter).
-        let planned = plan_patches(&spec, &mut builder, method, &options, fd_grid)?;
-        let curve_cache = builder.into_cache();
-        let solved: Vec<Result<SurfaceKind>> = planned
-            .par_iter()
-            .map(|p| {
-                if let Some(c) = self.patches.iter().find(|c| c.key == p.key) {
-                    return Ok(c.kind.clone());
-                }
-                solve_patch(p, &p.key)
-            })
+        // PDE patches, level by level: hosts first, then the patches whose conditions lie on
+        // them (§5.2.1). In each level the conditions are built, then every patch whose key is
+        // new is solved (in parallel; each solve is deterministic, so the order does not
+        // matter).
+        let levels = super::attach::patch_levels(&spec)?;
+        let mut done: Vec<Option<(Planned, SurfaceKind)>> = (0..levels.iter().map(Vec::len).sum())
+            .map(|_| None)
             .collect();
+        for level in &levels {
+            let planned = plan_patches(&spec, &mut builder, method, &options, fd_grid, &|i| {
+                level.contains(&i)
+            })?;
+            let solved: Vec<Result<SurfaceKind>> = planned
+                .par_iter()
+                .map(|(_, p)| {
+                    if let Some(c) = self.patches.iter().find(|c| c.key == p.key) {
+                        return Ok(c.kind.clone());
+                    }
+                    solve_patch(p, &p.key)
+                })
+                .collect();
+            for ((i, p), kind) in planned.into_iter().zip(solved) {
+                let kind = kind?;
+                builder.add_host(&p.name, kind.clone());
+                done[i] = Some((p, kind));
+            }
+        }
+        let curves = named_curves(&mut builder)?;
+        let curve_cache = builder.into_cache();
         let mut surfaces = Vec::new();
         let mut patches = Vec::new();
-        for (p, kind) in planned.into_iter().zip(solved) {
-            let kind = kind?;
+        for (p, kind) in done.into_iter().flatten() {
             patches.push(CachedPatch {
                 key: p.key,
                 kind: kind.clone(),
@@ -293,7 +307,9 @@ impl CompiledDesign {
             ));
         }
 
-        let trims = super::trim::build_trims(&spec, &surfaces)?;
+        let mut trims = super::trim::build_trims(&spec, &surfaces)?;
+        super::attach::add_attachment_trims(&spec, &surfaces, &mut trims)?;
+        let attachments = super::attach::find_attachments(&spec, &surfaces);
         self.solved = SolvedDesign {
             title: spec.title.clone(),
             units: spec.units.unwrap_or_default(),
@@ -305,6 +321,7 @@ impl CompiledDesign {
             multi_patch: spec.patches.is_some(),
             dynamic,
             trims,
+            attachments,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;
@@ -326,9 +343,13 @@ fn plan_patches(
     method: SolverMethod,
     options: &SolveOptions,
     fd_grid: Option<[usize; 2]>,
-) -> Result<Vec<Planned>> {
+    pick: &dyn Fn(usize) -> bool,
+) -> Result<Vec<(usize, Planned)>> {
     let mut planned = Vec::new();
-    for p in plan(spec)? {
+    for (index, p) in plan(spec)?.into_iter().enumerate() {
+        if !pick(index) {
+            continue;
+        }
         let mut conditions = Vec::with_capacity(p.conditions.len());
         for (i, c) in p.conditions.iter().enumerate() {
             let place = format!("{}[{i}].curve", p.place);
@@ -358,19 +379,23 @@ fn plan_patches(
                 .map(|c| (c.u.to_bits(), c.derivative, curve_id(&c.curve)))
                 .collect(),
         };
-        planned.push(Planned {
-            name: p.name,
-            place: p.place,
-            operator: p.operator.clone(),
-            operator_place: p.operator_place,
-            conditions,
-            key,
-        });
+        planned.push((
+            index,
+            Planned {
+                name: p.name,
+                place: p.place,
+                operator: p.operator.clone(),
+                operator_place: p.operator_place,
+                conditions,
+                key,
+            },
+        ));
     }
     Ok(planned)
 }
 
-/// Validates a design without solving anything: [`validate_patches`] (numbers, references,
+/// Validates a design without solving anything (but a design with curves on its patches, which
+/// is compiled: those curves need their hosts solved): [`validate_patches`] (numbers, references,
 /// operators, conditions, solver options, the output grid), the `[dynamic]` and `[blend]`
 /// sections, and every curve built (its constructor checks its values).
 pub fn validate_design(spec: &DesignSpec) -> Result<()> {
@@ -382,10 +407,22 @@ pub fn validate_design(spec: &DesignSpec) -> Result<()> {
     }
     validate_patches(spec)?;
     let options = check_solver(&spec.solver)?;
+    if super::attach::has_attachments(spec) {
+        // Curves on patches need their hosts solved.
+        return compile(spec).map(|_| ());
+    }
     let cache = CurveCache::default();
     let mut builder = CurveBuilder::new(&spec.curves, &cache);
     named_curves(&mut builder)?;
-    plan_patches(spec, &mut builder, spec.solver.method, &options, None).map(|_| ())
+    plan_patches(
+        spec,
+        &mut builder,
+        spec.solver.method,
+        &options,
+        None,
+        &|_| true,
+    )
+    .map(|_| ())
 }
 
 /// Solves one planned PDE patch with the solver its key names; errors name their place in the

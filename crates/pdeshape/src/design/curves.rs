@@ -1,7 +1,9 @@
 //! Building a design's curves from their specs, each once, following references; curves whose
 //! spec and dependencies did not change since the last build are reused as they are.
 
-use super::solved::NamedCurve;
+use super::attach::{CurveOnSurface, TangentField};
+use super::solved::{NamedCurve, SurfaceKind};
+use super::trim::trim_curve;
 use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
 use crate::curve::{
     Affine, ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries,
@@ -18,6 +20,8 @@ use std::sync::Arc;
 struct Built {
     spec: CurveSpec,
     deps: Vec<SharedCurve>,
+    /// The identities of the host surfaces of an `on_patch` or `tangent_field` curve.
+    hosts: Vec<usize>,
     curve: SharedCurve,
 }
 
@@ -42,6 +46,8 @@ pub(crate) struct CurveBuilder<'a> {
     built: HashMap<String, SharedCurve>,
     previous: &'a CurveCache,
     next: CurveCache,
+    /// The solved PDE patches curves may lie on (`on_patch`), by name.
+    hosts: HashMap<String, SurfaceKind>,
 }
 
 impl<'a> CurveBuilder<'a> {
@@ -51,6 +57,36 @@ impl<'a> CurveBuilder<'a> {
             built: HashMap::new(),
             previous,
             next: CurveCache::default(),
+            hosts: HashMap::new(),
+        }
+    }
+
+    /// Makes a solved patch available to the `on_patch` curves built from now on.
+    pub(crate) fn add_host(&mut self, name: &str, kind: SurfaceKind) {
+        self.hosts.insert(name.to_string(), kind);
+    }
+
+    /// The solved host `name` of an `on_patch` curve (solved before: see
+    /// [`super::attach::patch_levels`]).
+    fn host(&self, name: &str, place: &str) -> Result<SurfaceKind> {
+        self.hosts.get(name).cloned().ok_or_else(|| {
+            Error::invalid(format!(
+                "the patch '{name}' is not solved before this curve is needed (no PDE patch of that name, or the patches depend on each other)"
+            ))
+            .at(place)
+        })
+    }
+
+    /// The `(host name, (u, v) curve)` of an `on_patch` spec, or of the `on_patch` curve a
+    /// `tangent_field` names.
+    fn on_patch_of<'s>(&'s self, spec: &'s CurveSpec) -> Option<(&'s str, &'s TrimCurveSpec)> {
+        match &spec.kind {
+            CurveKind::OnPatch { patch, path, .. } => Some((patch.as_str(), path)),
+            CurveKind::TangentField { curve, .. } => match self.specs.get(curve).map(|c| &c.kind) {
+                Some(CurveKind::OnPatch { patch, path, .. }) => Some((patch.as_str(), path)),
+                _ => None,
+            },
+            _ => None,
         }
     }
 
@@ -97,8 +133,13 @@ impl<'a> CurveBuilder<'a> {
         for (n, p) in names {
             deps.push(self.named(n, &p)?);
         }
+        let hosts: Vec<usize> = match self.on_patch_of(spec) {
+            Some((h, _)) => vec![self.host(h, &format!("{place}.patch"))?.id()],
+            None => Vec::new(),
+        };
         if let Some(old) = old {
-            let same_deps = old.deps.len() == deps.len()
+            let same_deps = old.hosts == hosts
+                && old.deps.len() == deps.len()
                 && old
                     .deps
                     .iter()
@@ -112,6 +153,7 @@ impl<'a> CurveBuilder<'a> {
         Ok(Built {
             spec: spec.clone(),
             deps,
+            hosts,
             curve,
         })
     }
@@ -216,6 +258,20 @@ impl<'a> CurveBuilder<'a> {
                         .map_err(at)?,
                 )
             }
+            CurveKind::OnPatch { patch, path, .. } => {
+                let host = self.host(patch, &format!("{place}.patch"))?;
+                Arc::new(CurveOnSurface::new(host, trim_curve(path)))
+            }
+            CurveKind::TangentField { curve, scale } => {
+                let Some((patch, path)) = self.on_patch_of(spec) else {
+                    return Err(
+                        Error::invalid(format!("'{curve}' is not an on_patch curve"))
+                            .at(&format!("{place}.curve")),
+                    );
+                };
+                let host = self.host(patch, &format!("{place}.curve"))?;
+                Arc::new(TangentField::new(host, trim_curve(path), *scale))
+            }
         };
         if spec.arc_length {
             curve =
@@ -271,7 +327,13 @@ pub(crate) fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCu
 
 /// Validates the design's patches and builds its named curves (sorted by name), without
 /// solving: what a viewer needs to draw the design's curves.
+///
+/// A design with curves on its patches (`on_patch`) is compiled (those curves need their host
+/// patches solved).
 pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
     validate_patches(spec)?;
+    if super::attach::has_attachments(spec) {
+        return super::compile(spec).map(|d| d.into_solved().curves);
+    }
     named_curves(&mut CurveBuilder::new(&spec.curves, &CurveCache::default()))
 }

@@ -118,6 +118,10 @@ pub enum Edit {
         curve: usize,
         offset: [f64; 2],
     },
+    /// Moves the `(u, v)` curve of the `on_patch` curve `name` by `offset = [Δu, Δv]` in its
+    /// patch's parameter plane: the attached patch's end slides over the host, and the host's
+    /// hole with it (§5.2.1, Fig. 5.11).
+    MoveAttachment { name: String, offset: [f64; 2] },
 }
 
 fn no_trim(index: usize, len: usize) -> Error {
@@ -458,6 +462,33 @@ impl Edit {
                 Ok(Edit::SetTrim {
                     index: *index,
                     trim: old,
+                })
+            }
+            Edit::MoveAttachment { name, offset } => {
+                let c = spec.curves.get_mut(name).ok_or_else(|| {
+                    Error::invalid(format!("the design has no curve named '{name}'")).at("name")
+                })?;
+                let old = c.clone();
+                let CurveKind::OnPatch { path, .. } = &mut c.kind else {
+                    return Err(Error::invalid(format!(
+                        "'{name}' is not an on_patch curve (a curve on a patch)"
+                    ))
+                    .at("name"));
+                };
+                let shift = |p: &mut [f64; 2]| {
+                    p[0] += offset[0];
+                    p[1] += offset[1];
+                };
+                match path {
+                    TrimCurveSpec::Circle { center, .. }
+                    | TrimCurveSpec::Ellipse { center, .. } => shift(center),
+                    TrimCurveSpec::Polyline { points } | TrimCurveSpec::Bspline { points, .. } => {
+                        points.iter_mut().for_each(shift)
+                    }
+                }
+                Ok(Edit::SetCurve {
+                    name: name.clone(),
+                    curve: Some(old),
                 })
             }
         }

@@ -9,6 +9,7 @@
 //!                 └──── apply(Edit) (re-solves what changed; returns the undo edit)
 //! ```
 
+mod attach;
 mod blend;
 mod compile;
 mod curves;
@@ -23,6 +24,7 @@ mod spline;
 mod trim;
 mod validate;
 
+pub use attach::{Attachment, AttachmentReport, CurveOnSurface, TangentField};
 pub use blend::{solve_blend, validate_blend};
 pub use compile::{compile, solve_design, validate_design, CompiledDesign};
 pub use curves::build_curves;
@@ -43,6 +45,8 @@ pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_attach;
 #[cfg(test)]
 mod tests_local;
 #[cfg(test)]

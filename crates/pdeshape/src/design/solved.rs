@@ -203,6 +203,9 @@ pub struct SolvedDesign {
     pub dynamic: Option<BuiltDynamic>,
     /// The `[[trims]]`: holes cut out of surfaces (see [`super::trim`]).
     pub trims: Vec<super::trim::SurfaceTrim>,
+    /// Position conditions that lie on another patch (§5.2.1; see
+    /// [`SolvedDesign::attachment_reports`]).
+    pub attachments: Vec<super::attach::Attachment>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -309,6 +312,7 @@ impl SolvedDesign {
             multi_patch: false,
             dynamic: None,
             trims: Vec::new(),
+            attachments: Vec::new(),
             edges: OnceLock::new(),
         }
     }

@@ -352,12 +352,14 @@ fn the_schema_is_json_and_lists_the_curve_kinds() {
         "derivative",
         "samples",
         "local",
+        "on_patch",
+        "tangent_field",
     ] {
         assert!(s.contains(&format!("\"{kind}\"")), "{kind}");
     }
     // The common modifiers are part of every curve kind.
     let variants = v["definitions"]["CurveSpec"]["oneOf"].as_array().unwrap();
-    assert_eq!(variants.len(), 11);
+    assert_eq!(variants.len(), 13);
     for variant in variants {
         assert!(variant["properties"]["transform"].is_object());
         assert!(variant["properties"]["v_origin"].is_object());

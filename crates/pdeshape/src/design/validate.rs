@@ -50,6 +50,8 @@ pub(crate) fn kind_name(kind: &CurveKind) -> &'static str {
         CurveKind::Formula { .. } => "formula",
         CurveKind::Derivative { .. } => "derivative",
         CurveKind::Local { .. } => "local",
+        CurveKind::OnPatch { .. } => "on_patch",
+        CurveKind::TangentField { .. } => "tangent_field",
     }
 }
 
@@ -212,6 +214,9 @@ pub(crate) fn check_curve(c: &CurveSpec, place: &str) -> Result<()> {
 
 /// Names of the curves a curve refers to, with the place of each reference.
 pub(crate) fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a str, String)>) {
+    if let CurveKind::TangentField { curve, .. } = &c.kind {
+        out.push((curve.as_str(), format!("{place}.curve")));
+    }
     if let CurveKind::Local { curve, .. } = &c.kind {
         match curve {
             CurveRef::Name(n) => out.push((n.as_str(), format!("{place}.curve"))),
@@ -311,7 +316,9 @@ fn is_periodic(c: &CurveSpec, curves: &BTreeMap<String, CurveSpec>, depth: usize
         | CurveKind::Ellipse { .. }
         | CurveKind::Point { .. }
         | CurveKind::Fourier { .. }
-        | CurveKind::Samples { .. } => true,
+        | CurveKind::Samples { .. }
+        | CurveKind::OnPatch { .. }
+        | CurveKind::TangentField { .. } => true,
         CurveKind::BSpline { periodic, .. } => *periodic,
         CurveKind::Bezier { .. } | CurveKind::Hermite { .. } => false,
         CurveKind::Formula { domain, .. } => *domain == DomainSpec::Periodic,
@@ -511,6 +518,8 @@ pub(crate) fn validate_patches(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
+    super::attach::check_attachment_specs(spec)?;
+    super::attach::patch_levels(spec)?;
     let plans = plan(spec)?;
     let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
     super::parametric::validate_parametric(&spec.parametric, &names)?;

@@ -94,3 +94,23 @@ fn serialize_curves<S: serde::Serializer>(v: &[TrimCurveSpec], s: S) -> Result<S
     }
     seq.end()
 }
+
+/// Reads one curve table by its `type` key (the `path` of an `on_patch` curve).
+pub(crate) fn deserialize_curve<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<TrimCurveSpec, D::Error> {
+    let table = toml::Table::deserialize(d)?;
+    super::types::deserialize_tagged(table, "type", "")
+}
+
+/// Writes one curve table with its `type` key.
+pub(crate) fn serialize_curve<S: serde::Serializer>(
+    c: &TrimCurveSpec,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    super::write::Tagged {
+        tag: "type",
+        value: c,
+    }
+    .serialize(s)
+}

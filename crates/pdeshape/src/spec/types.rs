@@ -668,6 +668,42 @@ pub enum CurveKind {
         #[schemars(skip_serializing_if = "never")]
         normal: f64,
     },
+    /// A curve on a PDE patch of the design (§5.2.1): the image `X_patch(u(s), v(s))` of the
+    /// closed curve `path` in that patch's `(u, v)` plane, with `s ∈ [0, 2π)` running once round
+    /// `path` (the attached patch's `v`). The patch is solved first; it is trimmed inside `path`
+    /// unless `trim = false`.
+    #[serde(rename = "on_patch")]
+    OnPatch {
+        /// The host: the name of a PDE patch of the design.
+        patch: String,
+        /// A closed curve in the host's `(u, v)` plane (`circle`, `ellipse`, `polyline` or
+        /// `bspline`, as in `[[trims]]`).
+        #[serde(
+            deserialize_with = "super::trim::deserialize_curve",
+            serialize_with = "super::trim::serialize_curve"
+        )]
+        path: super::trim::TrimCurveSpec,
+        /// Trim the host inside `path` (default true).
+        #[serde(
+            default = "default_true",
+            skip_serializing_if = "super::write::is_true"
+        )]
+        #[schemars(skip_serializing_if = "never")]
+        trim: bool,
+    },
+    /// The derivative condition of a patch attached along an `on_patch` curve: at every point
+    /// of that curve, `scale` times the unit vector of the host's tangent plane across the
+    /// curve, pointing into the trimmed hole (the host continued across its boundary), so that
+    /// the attached patch leaves the host tangentially (G1). A negative scale points the other
+    /// way (back over the host).
+    #[serde(rename = "tangent_field")]
+    TangentField {
+        /// The name of an `on_patch` curve.
+        curve: String,
+        /// The length of the field (default 1, not 0); a negative one points back over the host.
+        #[serde(default = "default_a")]
+        scale: f64,
+    },
 }
 
 fn default_normal() -> V3 {

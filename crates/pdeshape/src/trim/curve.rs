@@ -149,6 +149,68 @@ impl TrimCurve {
         }
     }
 
+    /// `c(t)`, `c'(t)` and `c''(t)` (derivatives in `t`). A polyline's derivative is the one of
+    /// the segment that starts at or after `t` (its corners have none); its second derivative is
+    /// zero. A B-spline of degree 1 (resp. 2) has no second derivative (resp. none at its knots):
+    /// the one from the right is given.
+    pub fn jet(&self, t: f64) -> [[f64; 2]; 3] {
+        match self {
+            TrimCurve::Ellipse { radii, angle, .. } => {
+                let w = TAU;
+                let (s, c) = (w * t).sin_cos();
+                let (sa, ca) = angle.sin_cos();
+                let rot = |x: f64, y: f64| [ca * x - sa * y, sa * x + ca * y];
+                let d1 = rot(-w * radii[0] * s, w * radii[1] * c);
+                let d2 = rot(-w * w * radii[0] * c, -w * w * radii[1] * s);
+                [self.point(t), d1, d2]
+            }
+            TrimCurve::Polyline(p) => {
+                let n = p.len();
+                let x = t.rem_euclid(1.0) * n as f64;
+                let k = (x.floor() as usize).min(n - 1);
+                let (a, b) = (p[k], p[(k + 1) % n]);
+                let d = [n as f64 * (b[0] - a[0]), n as f64 * (b[1] - a[1])];
+                [self.point(t), d, [0.0; 2]]
+            }
+            TrimCurve::BSpline { degree, points } => {
+                let n = points.len();
+                let x = t * n as f64;
+                let k = x.floor() as i64;
+                let p = *degree;
+                let nf = n as f64;
+                let mut out = [self.point(t), [0.0; 2], [0.0; 2]];
+                for i in k - p as i64..=k {
+                    let y = x - i as f64;
+                    // N_p'(y) = N_{p−1}(y) − N_{p−1}(y − 1); N_p'' from N_{p−2} likewise.
+                    let w1 = cardinal_bspline(p - 1, y) - cardinal_bspline(p - 1, y - 1.0);
+                    let w2 = if p >= 2 {
+                        cardinal_bspline(p - 2, y) - 2.0 * cardinal_bspline(p - 2, y - 1.0)
+                            + cardinal_bspline(p - 2, y - 2.0)
+                    } else {
+                        0.0
+                    };
+                    let q = points[i.rem_euclid(n as i64) as usize];
+                    for c in 0..2 {
+                        out[1][c] += nf * w1 * q[c];
+                        out[2][c] += nf * nf * w2 * q[c];
+                    }
+                }
+                out
+            }
+        }
+    }
+
+    /// The orientation of the curve in the `(u, v)` plane (`u` across, `v` up): `1` if
+    /// counter-clockwise (positive enclosed area), `-1` if clockwise.
+    pub fn orientation(&self) -> f64 {
+        let (_, p) = self.sample([1.0, 1.0], 1e-2 * self.extent());
+        if signed_area(&p) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
     /// Parameters of the polyline's corners (`k/n`); empty for smooth curves.
     fn corners(&self) -> Vec<f64> {
         match self {
@@ -345,6 +407,58 @@ mod tests {
         };
         let (_, p) = e.sample([1.0, 1.0], 1e-4);
         assert!((signed_area(&p) - e.area()).abs() < 1e-6 * e.area());
+    }
+
+    #[test]
+    fn jets_are_the_derivatives_of_the_points() {
+        let curves = [
+            TrimCurve::Ellipse {
+                center: [0.4, 2.0],
+                radii: [0.1, 0.3],
+                angle: 0.7,
+            },
+            TrimCurve::BSpline {
+                degree: 3,
+                points: vec![[0.2, 1.0], [0.5, 0.6], [0.8, 1.0], [0.6, 1.8], [0.4, 1.8]],
+            },
+            TrimCurve::BSpline {
+                degree: 4,
+                points: vec![[0.2, 1.0], [0.5, 0.6], [0.8, 1.0], [0.6, 1.8], [0.4, 1.8]],
+            },
+            TrimCurve::Polyline(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]),
+        ];
+        // Central differences with h = 1e-4 err by h²/6 times the next derivative (≤ 1e3 here
+        // in t-units): ≤ 2e-6, well inside the bounds below; a wrong factor n or 2π is not.
+        let h = 1e-4;
+        for c in &curves {
+            for k in 0..37 {
+                let t = 0.013 + k as f64 / 37.0;
+                let j = c.jet(t);
+                assert_eq!(j[0], c.point(t));
+                let (a, b) = (c.point(t - h), c.point(t + h));
+                let (ja, jb) = (c.jet(t - h), c.jet(t + h));
+                for i in 0..2 {
+                    let d1 = (b[i] - a[i]) / (2.0 * h);
+                    let d2 = (jb[1][i] - ja[1][i]) / (2.0 * h);
+                    let s = 1.0 + j[1][i].abs();
+                    assert!(
+                        (d1 - j[1][i]).abs() < 1e-4 * s,
+                        "{c:?} t={t} {d1} {}",
+                        j[1][i]
+                    );
+                    let s2 = 1.0 + j[2][i].abs();
+                    assert!(
+                        (d2 - j[2][i]).abs() < 1e-3 * s2,
+                        "{c:?} t={t} {d2} {}",
+                        j[2][i]
+                    );
+                }
+            }
+        }
+        assert_eq!(curves[0].orientation(), 1.0);
+        assert_eq!(curves[3].orientation(), 1.0);
+        let cw = TrimCurve::Polyline(vec![[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]);
+        assert_eq!(cw.orientation(), -1.0);
     }
 
     #[test]

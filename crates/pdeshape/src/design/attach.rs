@@ -1,0 +1,656 @@
+//! Attached patches (§5.2.1): condition curves that lie on another patch of the design.
+//!
+//! An `on_patch` curve is the image `C(s) = X_h(u(s), v(s))` on a host patch `X_h` of a closed
+//! curve `c(t) = (u, v)(t)` of that patch's parameter plane, `t = s/2π` (so the attached patch's
+//! `v` is `s`). A `tangent_field` curve is the derivative condition that goes with it: the unit
+//! vector of the host's tangent plane across the curve, `D = −σ·scale·(C' × N)/|C' × N|` with
+//! `N = X_u × X_v` of the host and `σ = ±1` the orientation of `c` in the `(u, v)` plane, which
+//! points into the trimmed hole (the host continued across the curve). A patch with the position
+//! `C` and the derivative `D` at one end meets the host with a common tangent plane (G1).
+//!
+//! Host patches are solved first, then the curves on them, then the patches that use those
+//! curves ([`patch_levels`]; a cycle is refused). The host is trimmed inside every `on_patch`
+//! curve with `trim = true` ([`add_attachment_trims`]), and [`SolvedDesign::attachment_reports`]
+//! measures G0/G1 along every attachment independently of this construction: the attached
+//! patch's end is projected onto the host by the closest-point search.
+
+use super::solved::{DesignSurface, SolvedDesign, SurfaceKind};
+use super::trim::{trim_curve, SurfaceTrim};
+use super::validate::{curve_place, plan, references};
+use super::{DEFAULT_NU, DEFAULT_NV};
+use crate::curve::{Curve, Domain};
+use crate::spec::{CurveKind, CurveRef, CurveSpec, DesignSpec};
+use crate::surface::{ClosestOptions, ClosestPointIndex, Partials, Surface};
+use crate::trim::{trim_domain, TrimCurve, TrimMethod};
+use crate::{Error, Result, Vec3, TAU};
+use std::collections::BTreeMap;
+
+/// `ds/dt` of the attached patch's `v = s = 2π t`.
+const W: f64 = TAU;
+
+/// The host's partials at a point of the `(u, v)` curve (`v` reduced to `[0, 2π)` on a periodic
+/// host) and the curve's derivatives in `s`.
+fn host_jet(host: &dyn Surface, path: &TrimCurve, s: f64) -> (Partials, [f64; 2], [f64; 2]) {
+    let t = s / W;
+    let [p, d1, d2] = path.jet(t);
+    let v = if host.v_domain().is_periodic() {
+        p[1].rem_euclid(TAU)
+    } else {
+        p[1]
+    };
+    let pt = host.partials(p[0], v);
+    (
+        pt,
+        [d1[0] / W, d1[1] / W],
+        [d2[0] / (W * W), d2[1] / (W * W)],
+    )
+}
+
+/// `C'` and `C''` of the image curve from the host's partials and the `(u, v)` derivatives.
+fn image_derivatives(p: &Partials, d1: [f64; 2], d2: [f64; 2]) -> (Vec3, Vec3) {
+    let c1 = p.xu * d1[0] + p.xv * d1[1];
+    let c2 = p.xuu * (d1[0] * d1[0])
+        + p.xuv * (2.0 * d1[0] * d1[1])
+        + p.xvv * (d1[1] * d1[1])
+        + p.xu * d2[0]
+        + p.xv * d2[1];
+    (c1, c2)
+}
+
+/// Derivatives of order `exact + 1 ..` by central differences of the exact derivative of order
+/// `exact` (`f`), step `h`: `Σ_j (−1)^j C(n, j) f(s + (n/2 − j) h) / hⁿ` for `n = order − exact`.
+fn differenced(f: &dyn Fn(f64) -> Vec3, s: f64, exact: usize, out: &mut [Vec3]) {
+    for (order, o) in out.iter_mut().enumerate().skip(exact + 1) {
+        let n = order - exact;
+        let h = 1e-3 * n as f64;
+        let mut acc = Vec3::zeros();
+        let mut binom = 1.0;
+        for j in 0..=n {
+            let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
+            acc += f(s + (n as f64 / 2.0 - j as f64) * h) * (sign * binom);
+            binom = binom * (n - j) as f64 / (j + 1) as f64;
+        }
+        *o = acc / h.powi(n as i32);
+    }
+}
+
+/// A curve on a surface: `C(s) = X(u(s), v(s))` for a closed `(u, v)` curve, `s ∈ [0, 2π)`.
+/// Value and first two derivatives exact (chain rule with the surface's exact partials); higher
+/// derivatives (used by nothing in the solvers) by central differences of the second.
+#[derive(Clone)]
+pub struct CurveOnSurface {
+    host: SurfaceKind,
+    path: TrimCurve,
+}
+
+impl CurveOnSurface {
+    /// The image on `host` of the closed `(u, v)` curve `path`.
+    pub fn new(host: SurfaceKind, path: TrimCurve) -> Self {
+        CurveOnSurface { host, path }
+    }
+
+    fn second(&self, s: f64) -> Vec3 {
+        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        image_derivatives(&p, d1, d2).1
+    }
+}
+
+impl std::fmt::Debug for CurveOnSurface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CurveOnSurface")
+            .field("path", &self.path)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Curve for CurveOnSurface {
+    fn domain(&self) -> Domain {
+        Domain::Periodic
+    }
+
+    fn jet(&self, s: f64, out: &mut [Vec3]) {
+        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        let (c1, c2) = image_derivatives(&p, d1, d2);
+        for (k, o) in out.iter_mut().enumerate().take(3) {
+            *o = [p.x, c1, c2][k];
+        }
+        if out.len() > 3 {
+            differenced(&|s| self.second(s), s, 2, out);
+        }
+    }
+}
+
+/// The derivative condition of an attachment: `D(s) = −σ·scale·(C' × N)/|C' × N|` along an
+/// `on_patch` curve `C` (see the module documentation). Value and first derivative exact; higher
+/// derivatives by central differences of the first.
+#[derive(Clone)]
+pub struct TangentField {
+    host: SurfaceKind,
+    path: TrimCurve,
+    /// `−σ·scale`.
+    factor: f64,
+}
+
+impl TangentField {
+    /// The field across the image on `host` of `path`, `scale` long, into the hole.
+    pub fn new(host: SurfaceKind, path: TrimCurve, scale: f64) -> Self {
+        let sigma = path.orientation();
+        TangentField {
+            host,
+            path,
+            factor: -sigma * scale,
+        }
+    }
+
+    /// `D` and `D'` at `s`.
+    fn value_and_slope(&self, s: f64) -> (Vec3, Vec3) {
+        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        let (c1, c2) = image_derivatives(&p, d1, d2);
+        let n = p.xu.cross(&p.xv);
+        let xu1 = p.xuu * d1[0] + p.xuv * d1[1];
+        let xv1 = p.xuv * d1[0] + p.xvv * d1[1];
+        let n1 = xu1.cross(&p.xv) + p.xu.cross(&xv1);
+        let w = c1.cross(&n);
+        let w1 = c2.cross(&n) + c1.cross(&n1);
+        let len = w.norm();
+        let hat = w / len;
+        let hat1 = (w1 - hat * hat.dot(&w1)) / len;
+        (hat * self.factor, hat1 * self.factor)
+    }
+}
+
+impl std::fmt::Debug for TangentField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TangentField")
+            .field("path", &self.path)
+            .field("factor", &self.factor)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Curve for TangentField {
+    fn domain(&self) -> Domain {
+        Domain::Periodic
+    }
+
+    fn jet(&self, s: f64, out: &mut [Vec3]) {
+        let (d, d1) = self.value_and_slope(s);
+        if let Some(o) = out.get_mut(0) {
+            *o = d;
+        }
+        if let Some(o) = out.get_mut(1) {
+            *o = d1;
+        }
+        if out.len() > 2 {
+            differenced(&|s| self.value_and_slope(s).1, s, 1, out);
+        }
+    }
+}
+
+/// The hosts a curve depends on (through `on_patch` curves, directly or through the curves it
+/// refers to), each with the place of its `patch` key.
+fn hosts_of(
+    spec: &CurveSpec,
+    place: &str,
+    curves: &BTreeMap<String, CurveSpec>,
+    depth: usize,
+    out: &mut Vec<(String, String)>,
+) {
+    if depth > curves.len() + 8 {
+        return;
+    }
+    if let CurveKind::OnPatch { patch, .. } = &spec.kind {
+        out.push((patch.clone(), format!("{place}.patch")));
+    }
+    let mut refs = Vec::new();
+    references(spec, place, &mut refs);
+    for (name, _) in refs {
+        if let Some(c) = curves.get(name) {
+            hosts_of(c, &curve_place(name), curves, depth + 1, out);
+        }
+    }
+}
+
+/// The hosts of a condition's curve.
+fn hosts_of_ref(
+    r: &CurveRef,
+    place: &str,
+    curves: &BTreeMap<String, CurveSpec>,
+) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    match r {
+        CurveRef::Name(n) => {
+            if let Some(c) = curves.get(n) {
+                hosts_of(c, &curve_place(n), curves, 0, &mut out);
+            }
+        }
+        CurveRef::Inline(c) => hosts_of(c, place, curves, 0, &mut out),
+    }
+    out
+}
+
+/// True if any curve of the design (named or inline in a condition) lies on a patch.
+pub(crate) fn has_attachments(spec: &DesignSpec) -> bool {
+    let on = |c: &CurveSpec| {
+        let mut out = Vec::new();
+        hosts_of(c, "", &spec.curves, 0, &mut out);
+        !out.is_empty()
+    };
+    spec.curves.values().any(on)
+        || plan(spec).is_ok_and(|plans| {
+            plans.iter().any(|p| {
+                p.conditions.iter().any(|c| match &c.curve {
+                    CurveRef::Inline(s) => on(s),
+                    CurveRef::Name(_) => false,
+                })
+            })
+        })
+}
+
+/// The order in which the PDE patches are solved: levels of patch indices (in the order of
+/// [`plan`]); the patches of a level depend only on patches of earlier levels (their hosts).
+/// A host that is not a patch of the design, a patch attached to itself, and patches attached
+/// to each other in a cycle are refused with the place of the condition (or `patch` key).
+pub(crate) fn patch_levels(spec: &DesignSpec) -> Result<Vec<Vec<usize>>> {
+    let plans = plan(spec)?;
+    let names: Vec<&str> = plans.iter().map(|p| p.name.as_str()).collect();
+    // deps[i]: (host index, place of the condition's curve).
+    let mut deps: Vec<Vec<(usize, String)>> = Vec::with_capacity(plans.len());
+    for (i, p) in plans.iter().enumerate() {
+        let mut d = Vec::new();
+        for (j, c) in p.conditions.iter().enumerate() {
+            let place = format!("{}[{j}].curve", p.place);
+            for (host, host_place) in hosts_of_ref(&c.curve, &place, &spec.curves) {
+                let h = names
+                    .iter()
+                    .position(|n| *n == host)
+                    .ok_or_else(|| no_host(&host, &names).at(&host_place))?;
+                if h == i {
+                    return Err(Error::invalid(format!(
+                        "the patch '{}' cannot be attached to itself (its condition lies on it)",
+                        p.name
+                    ))
+                    .at(&place));
+                }
+                d.push((h, place.clone()));
+            }
+        }
+        deps.push(d);
+    }
+    let mut level: Vec<Option<usize>> = vec![None; plans.len()];
+    let mut levels: Vec<Vec<usize>> = Vec::new();
+    loop {
+        let ready: Vec<usize> = (0..plans.len())
+            .filter(|&i| {
+                level[i].is_none()
+                    && deps[i]
+                        .iter()
+                        .all(|(h, _)| level[*h].is_some_and(|l| l < levels.len()))
+            })
+            .collect();
+        if ready.is_empty() {
+            break;
+        }
+        for &i in &ready {
+            level[i] = Some(levels.len());
+        }
+        levels.push(ready);
+    }
+    if let Some(i) = level.iter().position(Option::is_none) {
+        // Follow unsolved hosts from i until a patch repeats: that is the cycle.
+        let mut path = vec![i];
+        let mut k = i;
+        while let Some((h, _)) = deps[k].iter().find(|(h, _)| level[*h].is_none()) {
+            if let Some(start) = path.iter().position(|x| x == h) {
+                path.drain(..start);
+                path.push(*h);
+                break;
+            }
+            path.push(*h);
+            k = *h;
+        }
+        let first = path[0];
+        let place = deps[first]
+            .iter()
+            .find(|(h, _)| level[*h].is_none())
+            .map_or_else(|| plans[first].place.clone(), |(_, p)| p.clone());
+        let cycle: Vec<&str> = path.iter().map(|&k| names[k]).collect();
+        return Err(Error::invalid(format!(
+            "patches are attached to each other in a cycle: {} (each must be solved before the next)",
+            cycle.join(" → ")
+        ))
+        .at(&place));
+    }
+    Ok(levels)
+}
+
+fn no_host(name: &str, names: &[&str]) -> Error {
+    Error::invalid(format!(
+        "no PDE patch named '{name}' (the design's patches: {})",
+        names
+            .iter()
+            .map(|n| format!("'{n}'"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    ))
+}
+
+/// Checks every `on_patch` and `tangent_field` curve of the design (named, or inline in a
+/// condition) without solving: the host is a PDE patch of the design without a `[[spine]]`
+/// edit, the `(u, v)` curve is valid, lies inside `0 < u < 1` and spans less than one period in
+/// `v` (crossing the seam `v = 0` is allowed, written with `v < 0`), takes no transform,
+/// `v_origin` or `arc_length`; a `tangent_field` names an `on_patch` curve and has a finite,
+/// non-zero scale.
+pub(crate) fn check_attachment_specs(spec: &DesignSpec) -> Result<()> {
+    let plans = plan(spec)?;
+    let names: Vec<&str> = plans.iter().map(|p| p.name.as_str()).collect();
+    let single = spec.patches.is_none();
+    let mut all: Vec<(String, &CurveSpec)> = spec
+        .curves
+        .iter()
+        .map(|(n, c)| (curve_place(n), c))
+        .collect();
+    for p in &plans {
+        for (j, c) in p.conditions.iter().enumerate() {
+            if let CurveRef::Inline(s) = &c.curve {
+                all.push((format!("{}[{j}].curve", p.place), s));
+            }
+        }
+    }
+    for (place, c) in all {
+        match &c.kind {
+            CurveKind::OnPatch { patch, path, .. } => {
+                if !names.contains(&patch.as_str()) {
+                    return Err(no_host(patch, &names).at(&format!("{place}.patch")));
+                }
+                let edited = spec.spine.iter().any(|s| match &s.patch {
+                    Some(n) => n == patch,
+                    None => single,
+                });
+                if edited {
+                    return Err(Error::invalid(format!(
+                        "the patch '{patch}' has a [[spine]] edit: curves on spine-edited patches are not supported"
+                    ))
+                    .at(&format!("{place}.patch")));
+                }
+                if !c.transform.is_empty() || c.v_origin != 0.0 || c.arc_length {
+                    return Err(Error::invalid(
+                        "an on_patch curve lies on its patch: it takes no transform, v_origin or arc_length",
+                    )
+                    .at(&place));
+                }
+                check_path(&trim_curve(path)).map_err(|e| e.at(&format!("{place}.path")))?;
+            }
+            CurveKind::TangentField { curve, scale } => {
+                if !(scale.is_finite() && *scale != 0.0) {
+                    return Err(
+                        Error::invalid(format!("must be finite and not 0 (got {scale})"))
+                            .at(&format!("{place}.scale")),
+                    );
+                }
+                match spec.curves.get(curve).map(|c| &c.kind) {
+                    Some(CurveKind::OnPatch { .. }) => {}
+                    Some(other) => {
+                        return Err(Error::invalid(format!(
+                            "must name an on_patch curve ('{curve}' is a {} curve)",
+                            super::validate::kind_name(other)
+                        ))
+                        .at(&format!("{place}.curve")))
+                    }
+                    None => {
+                        return Err(super::validate::unknown_curve(
+                            curve,
+                            &spec.curves,
+                            &format!("{place}.curve"),
+                        ))
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Samples taken round a `(u, v)` curve to find its extent.
+const EXTENT_SAMPLES: usize = 4096;
+
+/// The checks of a `(u, v)` curve that do not need its host (see [`check_attachment_specs`]).
+fn check_path(c: &TrimCurve) -> Result<()> {
+    c.validate()?;
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for k in 0..EXTENT_SAMPLES {
+        let p = c.point(k as f64 / EXTENT_SAMPLES as f64);
+        for i in 0..2 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    if !(lo[0] > 0.0 && hi[0] < 1.0) {
+        return Err(Error::invalid(format!(
+            "the curve leaves the patch: its u runs from {:.4} to {:.4}, outside 0 < u < 1",
+            lo[0], hi[0]
+        )));
+    }
+    if hi[1] - lo[1] >= TAU || hi[1] <= 0.0 || lo[1] >= TAU {
+        return Err(Error::invalid(format!(
+            "the curve leaves the patch: its v runs from {:.4} to {:.4}; it must lie in one period and meet 0 ≤ v < 2π (write a curve across the seam with v < 0)",
+            lo[1], hi[1]
+        )));
+    }
+    Ok(())
+}
+
+/// Every `on_patch` curve with `trim = true` (named, in name order, then inline in conditions)
+/// as `(place, host name, (u, v) curve)`.
+fn trimming_curves(spec: &DesignSpec) -> Vec<(String, String, TrimCurve)> {
+    let mut out = Vec::new();
+    let mut push = |place: String, c: &CurveSpec| {
+        if let CurveKind::OnPatch {
+            patch,
+            path,
+            trim: true,
+        } = &c.kind
+        {
+            out.push((place, patch.clone(), trim_curve(path)));
+        }
+    };
+    for (n, c) in &spec.curves {
+        push(curve_place(n), c);
+    }
+    if let Ok(plans) = plan(spec) {
+        for p in &plans {
+            for (j, c) in p.conditions.iter().enumerate() {
+                if let CurveRef::Inline(s) = &c.curve {
+                    push(format!("{}[{j}].curve", p.place), s);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Adds to `trims` the hole of every trimming `on_patch` curve: to its host's `[[trims]]` entry
+/// if it has one (with that entry's method), else as a new entry placed at the curve (`cdt`).
+/// Each addition is checked on the default grid; a curve that crosses or lies in another hole
+/// (an attachment on a trimmed-away region) is refused at its `path`.
+pub(crate) fn add_attachment_trims(
+    spec: &DesignSpec,
+    surfaces: &[DesignSurface],
+    trims: &mut Vec<SurfaceTrim>,
+) -> Result<()> {
+    for (place, host, curve) in trimming_curves(spec) {
+        let Some(k) = surfaces.iter().position(|s| s.name == host) else {
+            continue; // refused earlier by check_attachment_specs
+        };
+        let (curves, method, other) = match trims.iter().find(|t| t.surface == k) {
+            Some(t) => {
+                let mut c = t.curves.clone();
+                c.push(curve.clone());
+                (c, t.method, Some(t.place.clone()))
+            }
+            None => (vec![curve.clone()], TrimMethod::Cdt, None),
+        };
+        trim_domain(
+            surfaces[k].surface().parameter_domain(),
+            DEFAULT_NU,
+            DEFAULT_NV,
+            &curves,
+            method,
+        )
+        .map_err(|e| {
+            let what = match &other {
+                Some(o) => format!(
+                    "the attachment cannot be cut out of '{host}' together with the holes of {o} (an attachment on a trimmed-away region?)"
+                ),
+                None => format!("the attachment cannot be cut out of '{host}'"),
+            };
+            Error::invalid(format!("{what}: {e}"))
+                .at(&format!("{place}.path"))
+        })?;
+        match trims.iter_mut().find(|t| t.surface == k) {
+            Some(t) => t.curves.push(curve),
+            None => trims.push(SurfaceTrim {
+                surface: k,
+                place,
+                method: TrimMethod::Cdt,
+                curves: vec![curve],
+            }),
+        }
+    }
+    Ok(())
+}
+
+/// One attachment of a solved design: a position condition of a patch that lies on another.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attachment {
+    /// Index of the attached patch in [`SolvedDesign::surfaces`].
+    pub patch: usize,
+    /// The `u` of the condition (the attached end: 0 or 1, or an intermediate curve).
+    pub u: f64,
+    /// Index of the host in [`SolvedDesign::surfaces`].
+    pub host: usize,
+    /// The `on_patch` curve's name (`None` for an inline table).
+    pub curve: Option<String>,
+    /// True if the patch's first u-derivative at `u` is a `tangent_field` of that curve, so the
+    /// attachment is meant to be tangent-continuous (G1).
+    pub tangent: bool,
+}
+
+/// The attachments of a design, from its spec and its surfaces (by name).
+pub(crate) fn find_attachments(spec: &DesignSpec, surfaces: &[DesignSurface]) -> Vec<Attachment> {
+    let mut out = Vec::new();
+    let Ok(plans) = plan(spec) else {
+        return out;
+    };
+    let index = |name: &str| surfaces.iter().position(|s| s.name == name);
+    for p in &plans {
+        let Some(patch) = index(&p.name) else {
+            continue;
+        };
+        for c in p.conditions.iter().filter(|c| c.derivative == 0) {
+            let (name, kind) = match &c.curve {
+                CurveRef::Name(n) => match spec.curves.get(n) {
+                    Some(s) => (Some(n.clone()), &s.kind),
+                    None => continue,
+                },
+                CurveRef::Inline(s) => (None, &s.kind),
+            };
+            let CurveKind::OnPatch { patch: host, .. } = kind else {
+                continue;
+            };
+            let Some(host) = index(host) else {
+                continue;
+            };
+            let tangent = name.as_ref().is_some_and(|n| {
+                p.conditions.iter().any(|d| {
+                    d.derivative == 1
+                        && d.u == c.u
+                        && match &d.curve {
+                            CurveRef::Name(m) => matches!(
+                                spec.curves.get(m).map(|s| &s.kind),
+                                Some(CurveKind::TangentField { curve, .. }) if curve == n
+                            ),
+                            CurveRef::Inline(s) => matches!(
+                                &s.kind,
+                                CurveKind::TangentField { curve, .. } if curve == n
+                            ),
+                        }
+                })
+            });
+            out.push(Attachment {
+                patch,
+                u: c.u,
+                host,
+                curve: name,
+                tangent,
+            });
+        }
+    }
+    out
+}
+
+/// G0/G1 along one attachment, measured independently of the construction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttachmentReport {
+    pub attachment: Attachment,
+    /// Points sampled along the attached patch's end.
+    pub samples: usize,
+    /// Largest distance from a sample `X_a(u, v_j)` to the host (its closest point).
+    pub g0: f64,
+    /// Largest angle (radians) between the attached patch's normal at the sample and the host's
+    /// normal at that closest point (as lines: the sign of a normal is not compared).
+    pub g1: f64,
+    /// Samples whose closest-point search did not report convergence.
+    pub unconverged: usize,
+}
+
+impl SolvedDesign {
+    /// G0/G1 along every attachment, on `samples` equally spaced `v` of the attached patch's end
+    /// (at least 8): each sample is projected onto the host by the closest-point search
+    /// ([`ClosestPointIndex`], not the known `(u, v)` curve); G0 is the largest distance, G1 the
+    /// largest angle between the two surfaces' normals there.
+    pub fn attachment_reports(&self, samples: usize) -> Vec<AttachmentReport> {
+        let samples = samples.max(8);
+        let opts = ClosestOptions {
+            samples_u: 32,
+            samples_v: 64,
+            ..ClosestOptions::default()
+        };
+        self.attachments
+            .iter()
+            .map(|a| {
+                let host = self.surfaces[a.host].surface();
+                let patch = self.surfaces[a.patch].surface();
+                let index = ClosestPointIndex::new(host, &opts);
+                let (mut g0, mut g1, mut unconverged) = (0.0f64, 0.0f64, 0);
+                for j in 0..samples {
+                    let v = TAU * j as f64 / samples as f64;
+                    let p = patch.partials(a.u, v);
+                    let Some(c) = index.closest(p.x) else {
+                        g0 = f64::NAN;
+                        continue;
+                    };
+                    if !c.converged {
+                        unconverged += 1;
+                    }
+                    let n1 = p.normal();
+                    let n2 = host.partials(c.u, c.v).normal();
+                    let angle = n1.cross(&n2).norm().atan2(n1.dot(&n2).abs());
+                    g0 = g0.max(c.distance);
+                    g1 = g1.max(angle);
+                    if c.distance.is_nan() || angle.is_nan() {
+                        g0 = f64::NAN;
+                    }
+                }
+                AttachmentReport {
+                    attachment: a.clone(),
+                    samples,
+                    g0,
+                    g1,
+                    unconverged,
+                }
+            })
+            .collect()
+    }
+}
