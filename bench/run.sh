@@ -13,6 +13,11 @@ echo "== pdeshape dynamic curves (cargo bench; the CPU line is this thread's CPU
 cargo bench -p pdeshape --bench dynamic -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^J =|^dynamic|time:"
 echo "== NumPy/SciPy peer of the dynamic scheme"
 python3 bench/peers/numpy_dynamic.py 11
+echo "== the same J = 2000, L = 30000 run given by formulas, whole pdeshape curve process (3 runs)"
+cargo build --release -p pdeshape-cli
+for i in 1 2 3; do
+  /usr/bin/time -f "%e s wall, %U s user" "${CARGO_TARGET_DIR:-target}/release/pdeshape" curve bench/dynamic_section33_j2000.toml -o /tmp/dynamic_j2000.csv
+done
 echo "== B-spline grid: pdeshape (cargo bench)"
 cargo bench -p pdeshape --bench spline -- --warm-up-time 2 --measurement-time 8 2>&1 | grep -E "^bspline|^X\[|time:"
 echo "== B-spline grid: SciPy peer (BLAS threads as installed, then one thread)"

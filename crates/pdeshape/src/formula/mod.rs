@@ -11,6 +11,13 @@
 //! operators `+ - * / ^` (with exmex's precedence: `^` before `/` before `*` before `-` before `+`,
 //! left to right) and unary minus, functions, and the constants `pi`, `PI`, `π`, `TAU`, `τ`, `E`,
 //! `e`.
+//!
+//! Evaluation over arrays: [`program::Program`] compiles a formula once (its tree read off exmex
+//! by [`trace`]) and evaluates it over whole arrays of points; the `f64` callers (dynamic
+//! curves, parametric surfaces) use it, the Taylor-series curve formulas keep exmex.
+
+pub(crate) mod program;
+pub(crate) mod trace;
 
 use crate::{Error, Result};
 use exmex::{DataType, Express, FlatEx, MakeOperators};
