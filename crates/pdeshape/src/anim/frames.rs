@@ -140,8 +140,9 @@ pub struct Solves {
 /// in order. The meshes of all frames must share their triangles (the same welding of poles and
 /// seams); a frame where they change is refused with its time.
 ///
-/// Frames are solved in parallel, one per thread of the current rayon pool: worker `w` solves
-/// frames `w, w + W, w + 2W, …` with a compiled design of its own (re-solving only what changed
+/// Frames are solved in parallel, one per thread of the current rayon pool: after the first
+/// frame (solved alone; its weld topology is given to every worker), worker `w` solves frames
+/// `1 + w, 1 + w + W, …` with a compiled design of its own (re-solving only what changed
 /// since its previous frame, and nothing when its design did not change), and `f` sees them in
 /// order. Every solve is deterministic and a reused part is exactly what a fresh compile would
 /// make, so the frames are those of compiling the design afresh at every time, bit for bit,
@@ -164,8 +165,20 @@ pub fn for_each_frame(
         .map(|_| Worker::default())
         .collect();
     let mut triangles: Option<Vec<[u32; 3]>> = None;
-    for (batch, chunk) in times.chunks(pool.len()).enumerate() {
-        let first_index = batch * pool.len();
+    // The first frame alone, so that every worker welds on its topology (building one costs
+    // several frames); then one frame per worker at a time.
+    let batches = times
+        .get(..1)
+        .into_iter()
+        .chain(times.get(1..).unwrap_or_default().chunks(pool.len()));
+    let mut first_index = 0;
+    for chunk in batches {
+        if first_index == 1 {
+            let topology = pool[0].topology.clone();
+            for w in &mut pool[1..] {
+                w.topology = topology.clone();
+            }
+        }
         let results: Vec<Result<bool>> = pool[..chunk.len()]
             .par_iter_mut()
             .zip(chunk.par_iter())
@@ -195,6 +208,7 @@ pub fn for_each_frame(
                 mesh,
             })?;
         }
+        first_index += chunk.len();
     }
     Ok(Solves {
         solved: pool.iter().map(|w| w.solved).sum(),
