@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pdeshape::anim::{self, Animation, Keyframes, Measures, Morph, Row};
 use pdeshape::design::Export;
 use pdeshape::mesh::MeshInfo;
-use pdeshape::render::{Polyline, RenderOptions};
+use pdeshape::render::Polyline;
 use pdeshape::spec::{self, time};
 use pdeshape::Vec3;
 use std::io::Write;
@@ -49,13 +49,18 @@ pub struct Args {
     /// Also write the frames as an animated PNG (APNG, looping; one frame per frame of [time]).
     #[arg(long)]
     pub apng: Option<PathBuf>,
+    /// Also write the frames as an animated GIF (looping; 256 colours per frame, each pixel at
+    /// its nearest palette colour; the delay from [time] in hundredths of a second).
+    #[arg(long)]
+    pub gif: Option<PathBuf>,
     /// Also write a contact sheet: up to 12 frames, evenly spread, in one PNG.
     #[arg(long)]
     pub contact_sheet: Option<PathBuf>,
-    /// Size of each picture of --apng and --contact-sheet, WIDTHxHEIGHT (default: 480x360).
+    /// Size of each picture of --apng, --gif and --contact-sheet, WIDTHxHEIGHT (default:
+    /// 480x360).
     #[arg(long)]
     pub picture_size: Option<String>,
-    /// Direction from the object towards the eye for --apng and --contact-sheet, x,y,z
+    /// Direction from the object towards the eye for --apng, --gif and --contact-sheet, x,y,z
     /// (default: a three-quarter view).
     #[arg(long)]
     pub view: Option<String>,
@@ -239,10 +244,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         ..Measures::default()
     };
     let want_measures = csv_out.is_some() || plot_out.is_some();
+    let mut collector = crate::animate_more::Collector::new(args, &l, &times)?;
     let pb = progress(times.len() as u64);
     let located = |e: pdeshape::Error| l.design.error(&e);
     anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
         keys.push(&f);
+        collector.frame(&f)?;
         if want_measures {
             let (area, volume) = anim::measure(f.solved)?;
             measures.rows.push(Row {
@@ -283,29 +290,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let name = title.clone().unwrap_or_else(|| "pdeshape animate".into());
         o.write_all(measures.svg(&name).as_bytes())?;
     }
-    // Pictures: a second pass (the framing is the box around every frame).
+    // Pictures of every frame, from the frames already solved (framed by the box around all).
     let mut pictures = Vec::new();
     if let Some(dir) = &args.frames_dir {
-        let (lo, hi) = keys.bounds();
-        let boxed = frame_box(lo, hi);
-        let pb = progress(times.len() as u64);
-        pb.set_prefix("pictures");
-        anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
-            let mut overlays = f.solved.overlays();
-            overlays.push(boxed.clone());
-            let png = pdeshape::render::render_png(f.grids, &overlays, &RenderOptions::default())?;
-            let path = dir.join(format!("frame_{:04}.png", f.index));
-            let mut o = Output::create(&path).map_err(|e| pdeshape::Error::io(e.message))?;
-            o.write_all(&png)
-                .map_err(|e| pdeshape::Error::io(e.message))?;
+        let pngs = crate::animate_more::frame_pictures(&keys, &collector).map_err(located)?;
+        for (k, png) in pngs.iter().enumerate() {
+            let mut o = Output::create(&dir.join(format!("frame_{k:04}.png")))?;
+            o.write_all(png)?;
             pictures.push(o);
-            pb.inc(1);
-            Ok(())
-        })
-        .map_err(located)?;
-        pb.finish_and_clear();
+        }
     }
-    let more = crate::animate_more::run(args, &l, &times, nu, nv, &keys)?;
+    let more = crate::animate_more::run(args, &l, &times, &keys, collector)?;
     out.commit()?;
     if let Some(o) = csv_out {
         o.commit()?;

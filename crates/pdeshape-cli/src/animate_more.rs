@@ -1,15 +1,16 @@
 //! More outputs of `pdeshape animate`: the motion re-targeted onto a separate triangle mesh
-//! (`--retarget MESH --retarget-output OUT.glb`), an animated PNG of the frames (`--apng`) and a
-//! contact sheet of frames (`--contact-sheet`). They are made in one more pass over the frames
-//! and written atomically with the other outputs.
+//! (`--retarget MESH --retarget-output OUT.glb`), an animated PNG or GIF of the frames
+//! (`--apng`, `--gif`), a contact sheet of frames (`--contact-sheet`) and a picture per frame
+//! (`--frames-dir`). They take what they need from the one pass over the frames (no frame is
+//! solved twice), are drawn in parallel, and are written atomically with the other outputs.
 
 use crate::animate::{frame_box, Animated, Args};
 use crate::common::{CliError, Output};
 use pdeshape::anim::{self, Keyframes, Retarget};
-use pdeshape::design::Export;
 use pdeshape::fit::{MeshFormat, TriMesh};
 use pdeshape::mesh::MeshInfo;
-use pdeshape::render::{self as pic, RenderOptions};
+use pdeshape::render::{self as pic, Polyline, RenderOptions};
+use rayon::prelude::*;
 use std::io::Write;
 use std::path::Path;
 
@@ -72,14 +73,15 @@ pub fn check(args: &Args) -> Result<(), CliError> {
         }
         (None, None) => {}
     }
-    for (p, flag) in [
-        (&args.apng, "--apng"),
-        (&args.contact_sheet, "--contact-sheet"),
+    for (p, flag, ext) in [
+        (&args.apng, "--apng", "png"),
+        (&args.contact_sheet, "--contact-sheet", "png"),
+        (&args.gif, "--gif", "gif"),
     ] {
         if let Some(p) = p {
-            if !extension_is(p, "png") {
+            if !extension_is(p, ext) {
                 return Err(CliError::input(format!(
-                    "{flag} {}: must end in .png",
+                    "{flag} {}: must end in .{ext}",
                     p.display()
                 )));
             }
@@ -89,17 +91,17 @@ pub fn check(args: &Args) -> Result<(), CliError> {
     if let Some(v) = &args.view {
         crate::render::parse_view(v)?;
     }
-    // Only the pictures of --apng and --contact-sheet take a size and a view (those of
+    // Only the pictures of --apng, --gif and --contact-sheet take a size and a view (those of
     // --frames-dir are drawn like `pdeshape render`'s default).
-    if args.apng.is_none() && args.contact_sheet.is_none() {
+    if args.apng.is_none() && args.gif.is_none() && args.contact_sheet.is_none() {
         for (given, flag) in [
             (args.picture_size.is_some(), "--picture-size"),
             (args.view.is_some(), "--view"),
         ] {
             if given {
                 return Err(CliError::input(format!(
-                    "{flag}: applies only to the pictures of --apng and --contact-sheet, and \
-                     neither is given"
+                    "{flag}: applies only to the pictures of --apng, --gif and \
+                     --contact-sheet, and none is given"
                 )));
             }
         }
@@ -142,39 +144,96 @@ fn sheet_frames(n: usize) -> Vec<usize> {
         .collect()
 }
 
-/// Makes the outputs these flags ask for, in one more pass over the frames (nothing when none
-/// is asked for). `keys` are the design's frames (their bounds frame every picture alike).
+/// What the extra outputs take from the one pass over the frames: the re-targeted mesh's frames
+/// and the overlays (condition curves) of every frame for the pictures. The pictures themselves
+/// are drawn after the pass, from the frames' welded meshes, framed by the box around all of
+/// them.
+pub struct Collector {
+    retarget: Option<Retarget>,
+    overlays: Option<Vec<Vec<Polyline>>>,
+}
+
+impl Collector {
+    /// Reads the mesh to re-target (anchored on the design at the first time) before any frame
+    /// is solved.
+    pub fn new(args: &Args, l: &Animated, times: &[f64]) -> Result<Collector, CliError> {
+        let located = |e: pdeshape::Error| l.design.error(&e);
+        let retarget = match &args.retarget {
+            Some(path) => {
+                let mesh = read_mesh(path)?;
+                let spec = l.anim.spec_at(times[0]).map_err(located)?;
+                let compiled = pdeshape::design::compile(&spec).map_err(located)?;
+                let r = Retarget::new(
+                    compiled.solved(),
+                    &mesh.positions,
+                    mesh.triangles,
+                    l.anim.time(),
+                )
+                .map_err(|e| CliError::input(format!("--retarget {}: {e}", path.display())))?;
+                Some(r)
+            }
+            None => None,
+        };
+        let pictures = args.apng.is_some()
+            || args.gif.is_some()
+            || args.contact_sheet.is_some()
+            || args.frames_dir.is_some();
+        Ok(Collector {
+            retarget,
+            overlays: pictures.then(Vec::new),
+        })
+    }
+
+    /// Takes what it needs of a frame (called for every frame, in order).
+    pub fn frame(&mut self, f: &anim::Frame) -> pdeshape::Result<()> {
+        if let Some(r) = self.retarget.as_mut() {
+            r.push(f.t, f.solved)?;
+        }
+        if let Some(o) = self.overlays.as_mut() {
+            o.push(f.solved.overlays());
+        }
+        Ok(())
+    }
+
+    /// The overlays of frame `k` with the box that frames every picture alike.
+    fn overlays(&self, k: usize, boxed: &Polyline) -> Vec<Polyline> {
+        let mut o = self
+            .overlays
+            .as_ref()
+            .and_then(|o| o.get(k).cloned())
+            .unwrap_or_default();
+        o.push(boxed.clone());
+        o
+    }
+}
+
+/// The PNG pictures of every frame for `--frames-dir` (drawn like `pdeshape render`'s default),
+/// in parallel.
+pub fn frame_pictures(keys: &Keyframes, c: &Collector) -> pdeshape::Result<Vec<Vec<u8>>> {
+    let (lo, hi) = keys.bounds();
+    let boxed = frame_box(lo, hi);
+    (0..keys.positions.len())
+        .into_par_iter()
+        .map(|k| {
+            pic::render_png_tri(
+                &keys.mesh(k),
+                &c.overlays(k, &boxed),
+                &RenderOptions::default(),
+            )
+        })
+        .collect()
+}
+
+/// Makes the outputs these flags ask for from the frames of the one pass (`keys`, and what
+/// `c` took of every frame); nothing when none is asked for.
 pub fn run(
     args: &Args,
     l: &Animated,
     times: &[f64],
-    nu: usize,
-    nv: usize,
     keys: &Keyframes,
+    c: Collector,
 ) -> Result<Pending, CliError> {
     let mut pending = Pending::default();
-    let want_pictures = args.apng.is_some() || args.contact_sheet.is_some();
-    if args.retarget.is_none() && !want_pictures {
-        return Ok(pending);
-    }
-    let located = |e: pdeshape::Error| l.design.error(&e);
-    let mut retarget = match &args.retarget {
-        Some(path) => {
-            let mesh = read_mesh(path)?;
-            let t0 = times[0];
-            let spec = l.anim.spec_at(t0).map_err(located)?;
-            let compiled = pdeshape::design::compile(&spec).map_err(located)?;
-            let r = Retarget::new(
-                compiled.solved(),
-                &mesh.positions,
-                mesh.triangles,
-                l.anim.time(),
-            )
-            .map_err(|e| CliError::input(format!("--retarget {}: {e}", path.display())))?;
-            Some(r)
-        }
-        None => None,
-    };
     let (width, height) = parse_size(picture_size(args))?;
     let options = RenderOptions {
         width,
@@ -186,56 +245,79 @@ pub fn run(
             .transpose()?,
         ..RenderOptions::default()
     };
+    let dt = if times.len() > 1 {
+        times[1] - times[0]
+    } else {
+        l.anim.time().end - l.anim.time().start
+    };
     let (lo, hi) = keys.bounds();
     let boxed = frame_box(lo, hi);
-    let apng_out = args.apng.as_deref().map(Output::create).transpose()?;
-    let mut apng_bytes = Vec::new();
-    let mut apng = match apng_out {
-        Some(_) => {
-            let dt = if times.len() > 1 {
-                times[1] - times[0]
-            } else {
-                l.anim.time().end - l.anim.time().start
-            };
-            let delay =
-                pic::frame_delay(dt).map_err(|e| CliError::input(format!("--apng: {e}")))?;
-            Some(
-                pic::Apng::new(&mut apng_bytes, width, height, times.len() as u32, delay)
-                    .map_err(|e| CliError::input(format!("--apng: {e}")))?,
-            )
-        }
-        None => None,
-    };
     let on_sheet = sheet_frames(times.len());
-    let mut tiles = Vec::new();
-    anim::for_each_frame(&l.anim, times, nu, nv, &Export::default(), |f| {
-        if let Some(r) = retarget.as_mut() {
-            r.push(f.t, f.solved)?;
+    let every = args.apng.is_some() || args.gif.is_some();
+    let drawn: Vec<usize> = if every {
+        (0..times.len()).collect()
+    } else if args.contact_sheet.is_some() {
+        on_sheet.clone()
+    } else {
+        Vec::new()
+    };
+    let located = |e: pdeshape::Error| l.design.error(&e);
+    let pictures: Vec<Vec<u8>> = drawn
+        .par_iter()
+        .map(|&k| pic::render_rgb_tri(&keys.mesh(k), &c.overlays(k, &boxed), &options))
+        .collect::<pdeshape::Result<_>>()
+        .map_err(located)?;
+    let picture = |k: usize| {
+        &pictures[if every {
+            k
+        } else {
+            drawn.binary_search(&k).unwrap_or(0)
+        }]
+    };
+    if let Some(p) = &args.apng {
+        let mut o = Output::create(p)?;
+        let mut bytes = Vec::new();
+        let delay = pic::frame_delay(dt).map_err(|e| CliError::input(format!("--apng: {e}")))?;
+        let mut apng = pic::Apng::new(&mut bytes, width, height, times.len() as u32, delay)
+            .map_err(|e| CliError::input(format!("--apng: {e}")))?;
+        for k in 0..times.len() {
+            apng.push(picture(k))
+                .map_err(|e| CliError::input(format!("--apng: {e}")))?;
         }
-        let on = on_sheet.contains(&f.index);
-        if apng.is_some() || (args.contact_sheet.is_some() && on) {
-            let mut overlays = f.solved.overlays();
-            overlays.push(boxed.clone());
-            let rgb = pic::render_rgb(f.grids, &overlays, &options)?;
-            if let Some(a) = apng.as_mut() {
-                a.push(&rgb)?;
-            }
-            if args.contact_sheet.is_some() && on {
-                tiles.push((rgb, format!("t = {}", pic::short_label(f.t))));
-            }
+        apng.finish()
+            .map_err(|e| CliError::input(format!("--apng: {e}")))?;
+        o.write_all(&bytes)?;
+        pending.outputs.push(o);
+        pending.report += &format!("; wrote {}", p.display());
+    }
+    if let Some(p) = &args.gif {
+        let mut o = Output::create(p)?;
+        let delay = pic::gif_delay(dt).map_err(|e| CliError::input(format!("--gif: {e}")))?;
+        let quantized: Vec<pic::Quantized> =
+            pictures.par_iter().map(|rgb| pic::quantize(rgb)).collect();
+        let mut gif = pic::Gif::new(Vec::new(), width, height, times.len() as u32, delay)
+            .map_err(|e| CliError::input(format!("--gif: {e}")))?;
+        for q in &quantized {
+            gif.push_quantized(q)
+                .map_err(|e| CliError::input(format!("--gif: {e}")))?;
         }
-        Ok(())
-    })
-    .map_err(located)?;
-    apng.map(pic::Apng::finish)
-        .transpose()
-        .map_err(|e| CliError::input(format!("--apng: {e}")))?;
-    if let (Some(mut o), Some(p)) = (apng_out, &args.apng) {
-        o.write_all(&apng_bytes)?;
+        let bytes = gif
+            .finish()
+            .map_err(|e| CliError::input(format!("--gif: {e}")))?;
+        o.write_all(&bytes)?;
         pending.outputs.push(o);
         pending.report += &format!("; wrote {}", p.display());
     }
     if let Some(p) = &args.contact_sheet {
+        let tiles = on_sheet
+            .iter()
+            .map(|&k| {
+                (
+                    picture(k).clone(),
+                    format!("t = {}", pic::short_label(times[k])),
+                )
+            })
+            .collect();
         let sheet = pic::ContactSheet {
             tile_width: width,
             tile_height: height,
@@ -251,7 +333,7 @@ pub fn run(
         pending.outputs.push(o);
         pending.report += &format!("; wrote {}", p.display());
     }
-    if let (Some(r), Some(p)) = (retarget, &args.retarget_output) {
+    if let (Some(r), Some(p)) = (c.retarget, &args.retarget_output) {
         let shown = p.display().to_string();
         let mut o = Output::create(p)?;
         let info = MeshInfo {

@@ -245,10 +245,10 @@ fn animate_flags() {
             &["animate", "arm.toml", "-o", "x.glb", "--scale", "0"],
             &["--scale: must be finite and positive"],
         ),
-        // Size and view only apply to the pictures of --apng and --contact-sheet.
+        // Size and view only apply to the pictures of --apng, --gif and --contact-sheet.
         (
             &["animate", "arm.toml", "-o", "x.glb", "--view", "1,0,0"],
-            &["--view: applies only to the pictures of --apng and --contact-sheet"],
+            &["--view: applies only to the pictures of --apng, --gif and --contact-sheet"],
         ),
         (
             &[
@@ -261,7 +261,7 @@ fn animate_flags() {
                 "--picture-size",
                 "100x100",
             ],
-            &["--picture-size: applies only to the pictures of --apng and --contact-sheet"],
+            &["--picture-size: applies only to the pictures of --apng, --gif and --contact-sheet"],
         ),
         (
             &[

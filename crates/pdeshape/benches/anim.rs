@@ -1,7 +1,8 @@
 //! Frames per second of the four-patch left ventricle (`examples/anim/ventricle.toml`, §8.1.1)
 //! at 64 × 128 per patch: every frame's formulas evaluated, the design re-solved, tessellated
 //! and welded into one mesh (what `pdeshape animate` does per frame before writing). One
-//! iteration is the whole 48-frame beat; the throughput is in frames.
+//! iteration is the whole 48-frame beat; the throughput is in frames. Frames are solved in
+//! parallel (one worker per thread of the pool); the second row runs them on one thread.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pdeshape::anim::{for_each_frame, Animation};
@@ -18,16 +19,23 @@ fn bench(c: &mut Criterion) {
     let times = anim.times().unwrap();
     let mut group = c.benchmark_group("anim");
     group.throughput(Throughput::Elements(times.len() as u64));
-    group.bench_function("ventricle_frames_64x128", |b| {
-        b.iter(|| {
-            let mut n = 0usize;
-            for_each_frame(&anim, &times, 64, 128, &Export::default(), |f| {
-                n += f.mesh.positions.len();
-                Ok(())
-            })
-            .unwrap();
-            black_box(n)
+    let beat = || {
+        let mut n = 0usize;
+        for_each_frame(&anim, &times, 64, 128, &Export::default(), |f| {
+            n += f.mesh.positions.len();
+            Ok(())
         })
+        .unwrap();
+        black_box(n)
+    };
+    // Frames in parallel over the default pool (one worker per core), then on one thread.
+    group.bench_function("ventricle_frames_64x128", |b| b.iter(beat));
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    group.bench_function("ventricle_frames_64x128_one_thread", |b| {
+        b.iter(|| one.install(beat))
     });
     group.finish();
 }

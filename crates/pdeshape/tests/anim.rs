@@ -345,3 +345,111 @@ fn the_rig_moves_attached_curves_rigidly_meets_its_keys_and_closes_the_loop() {
     let e = parse_timed(&bad).unwrap_err();
     assert_eq!(e.place(), "rig.attach.tip_d", "{e}");
 }
+
+/// Every frame of an animation as `for_each_frame` hands it over (grids, welded mesh), with
+/// the counts of frames solved and repeated.
+type Solved = (
+    Vec<Vec<pdeshape::mesh::GridMesh>>,
+    Vec<pdeshape::mesh::TriMesh>,
+);
+
+fn all_frames(anim: &Animation, times: &[f64]) -> (Solved, pdeshape::anim::Solves) {
+    let (mut grids, mut meshes) = (Vec::new(), Vec::new());
+    let mut order = Vec::new();
+    let solves = for_each_frame(anim, times, 16, 32, &Export::default(), |f| {
+        order.push((f.index, f.t));
+        grids.push(f.grids.to_vec());
+        meshes.push(f.mesh.clone());
+        Ok(())
+    })
+    .unwrap();
+    let expected: Vec<(usize, f64)> = times.iter().copied().enumerate().collect();
+    assert_eq!(order, expected, "frames in order");
+    ((grids, meshes), solves)
+}
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// Frames solved in parallel (several workers, each re-solving incrementally from its own
+/// previous frame) are those of compiling the design afresh at every time, bit for bit, and
+/// do not depend on the number of threads.
+#[test]
+fn parallel_frames_equal_fresh_compiles_at_every_time_bit_for_bit() {
+    let anim = Animation::Timed(parse_timed(&example("anim/ventricle.toml")).unwrap());
+    let times: Vec<f64> = anim.times().unwrap().into_iter().step_by(3).collect();
+    let ((grids, meshes), solves) = in_pool(3, || all_frames(&anim, &times));
+    assert_eq!(solves.solved, times.len());
+    let ((grids1, meshes1), _) = in_pool(1, || all_frames(&anim, &times));
+    assert_eq!(grids, grids1);
+    assert_eq!(meshes, meshes1);
+    for (k, &t) in times.iter().enumerate() {
+        let spec = anim.spec_at(t).unwrap();
+        let solved = pdeshape::design::solve_design(&spec).unwrap();
+        let fresh = solved.meshes(16, 32).unwrap();
+        assert_eq!(grids[k], fresh, "t = {t}");
+        assert_eq!(
+            meshes[k],
+            solved.weld(&fresh, &Export::default()),
+            "t = {t}"
+        );
+    }
+    assert_ne!(meshes[1].positions, meshes[0].positions, "the frames move");
+}
+
+/// A design without formula fields in `t` is solved once; a morph between a design and itself
+/// too; every frame is that solve.
+#[test]
+fn animations_that_do_not_change_are_solved_once() {
+    let text = example("wine_glass.toml");
+    let timed = parse_timed(&format!("{text}\n[time]\nend = 1.0\nframes = 6\n")).unwrap();
+    let still = Animation::Timed(timed);
+    assert!(!still.depends_on_time());
+    let times = still.times().unwrap();
+    let ((grids, meshes), solves) = in_pool(2, || all_frames(&still, &times));
+    assert_eq!((solves.solved, solves.repeated), (1, 5));
+    let solved = pdeshape::design::solve_design(&still.spec_at(0.0).unwrap()).unwrap();
+    let fresh = solved.meshes(16, 32).unwrap();
+    for k in 0..times.len() {
+        assert_eq!(grids[k], fresh, "frame {k}");
+        assert_eq!(
+            meshes[k],
+            solved.weld(&fresh, &Export::default()),
+            "frame {k}"
+        );
+    }
+    let same = morph(&text, &text);
+    assert!(!same.depends_on_time());
+    let (_, solves) = in_pool(2, || all_frames(&same, &same.times().unwrap()));
+    assert_eq!((solves.solved, solves.repeated), (1, 4));
+    // A hold: the radius starts to grow at t = 1/2, so frames 0, 1, 2 are one design; one
+    // worker solves frame 0 and hands it over again for 1 and 2.
+    let held = example("water_glass.toml").replacen(
+        "radius = 1.0",
+        "radius = \"= 1 + (t - 0.5 + abs(t - 0.5))/2\"",
+        1,
+    );
+    let held =
+        Animation::Timed(parse_timed(&format!("{held}\n[time]\nend = 1.0\nframes = 6\n")).unwrap());
+    let times = held.times().unwrap();
+    assert_eq!(times.len(), 6);
+    let ((grids, meshes), solves) = in_pool(1, || all_frames(&held, &times));
+    assert_eq!((solves.solved, solves.repeated), (4, 2));
+    for (k, &t) in times.iter().enumerate() {
+        let solved = pdeshape::design::solve_design(&held.spec_at(t).unwrap()).unwrap();
+        let fresh = solved.meshes(16, 32).unwrap();
+        assert_eq!(grids[k], fresh, "t = {t}");
+        assert_eq!(
+            meshes[k],
+            solved.weld(&fresh, &Export::default()),
+            "t = {t}"
+        );
+    }
+    assert_eq!(meshes[2], meshes[0]);
+    assert_ne!(meshes[3].positions, meshes[0].positions);
+}

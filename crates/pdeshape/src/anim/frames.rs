@@ -2,11 +2,12 @@
 //! change is reused), tessellated and welded into one triangle mesh per frame with one topology.
 
 use super::source::Animation;
-use crate::design::{compile, CompiledDesign, Export, SolvedDesign};
+use crate::design::{compile, CompiledDesign, Export, SolvedDesign, SurfaceKind};
 use crate::mesh::{GridMesh, TriMesh, WeldOptions, WeldTopology};
 use crate::spec::time::TimeSpec;
-use crate::spec::Units;
+use crate::spec::{DesignSpec, Units};
 use crate::{Error, Result};
+use rayon::prelude::*;
 
 /// One frame, as [`for_each_frame`] hands it over.
 pub struct Frame<'a> {
@@ -41,27 +42,48 @@ pub(crate) fn at_time(e: Error, t: f64) -> Error {
     }
 }
 
-/// Solves the animation at each of `times` on an `nu × nv` grid and calls `f` with every frame
-/// in order. The meshes of all frames must share their triangles (the same welding of poles and
-/// seams); a frame where they change is refused with its time.
-pub fn for_each_frame(
-    anim: &Animation,
-    times: &[f64],
-    nu: usize,
-    nv: usize,
-    export: &Export,
-    mut f: impl FnMut(Frame) -> Result<()>,
-) -> Result<()> {
-    let mut compiled: Option<CompiledDesign> = None;
-    let mut triangles: Option<Vec<[u32; 3]>> = None;
-    let mut topology: Option<WeldTopology> = None;
-    for (index, &t) in times.iter().enumerate() {
+/// What one worker of [`for_each_frame`] keeps from frame to frame: its compiled design (so the
+/// next frame re-solves only what changed), the grids with the surfaces they were made from,
+/// the weld topology of its first frame and the design of its last frame.
+#[derive(Default)]
+struct Worker {
+    compiled: Option<CompiledDesign>,
+    grids: Vec<GridMesh>,
+    sources: Vec<SurfaceKind>,
+    topology: Option<WeldTopology>,
+    mesh: Option<TriMesh>,
+    last: Option<DesignSpec>,
+    /// Frames this worker solved and frames it found equal to its previous one.
+    solved: usize,
+    repeated: usize,
+}
+
+impl Worker {
+    /// Solves, tessellates and welds the design at `t` (nothing when it equals the design of
+    /// this worker's previous frame: that frame's result is the answer, bit for bit). Returns
+    /// true when the mesh was welded afresh (its triangles are to be compared with the first
+    /// frame's).
+    fn frame(
+        &mut self,
+        anim: &Animation,
+        t: f64,
+        nu: usize,
+        nv: usize,
+        export: &Export,
+    ) -> Result<bool> {
         let spec = anim.spec_at(t).map_err(|e| at_time(e, t))?;
-        match compiled.as_mut() {
-            None => compiled = Some(compile(&spec).map_err(|e| at_time(e, t))?),
-            Some(c) => c.set_spec(spec).map_err(|e| at_time(e, t))?,
+        if self.mesh.is_some() && self.last.as_ref() == Some(&spec) {
+            self.repeated += 1;
+            return Ok(false);
         }
-        let solved = compiled.as_ref().expect("compiled").solved();
+        // Forget the last design first: on an error below nothing stale is taken for it.
+        self.last = None;
+        self.mesh = None;
+        match self.compiled.as_mut() {
+            None => self.compiled = Some(compile(&spec).map_err(|e| at_time(e, t))?),
+            Some(c) => c.set_spec(spec.clone()).map_err(|e| at_time(e, t))?,
+        }
+        let solved = self.compiled.as_ref().expect("compiled").solved();
         if solved.surfaces.is_empty() {
             return Err(Error::invalid("the design has no surface to animate"));
         }
@@ -71,41 +93,127 @@ pub fn for_each_frame(
             )
             .at("trims"));
         }
-        let grids = solved.meshes(nu, nv).map_err(|e| at_time(e, t))?;
+        // Only the surfaces that were solved again are tessellated again (a reused surface is
+        // the very object whose grid this worker already has).
+        let sources = &self.sources;
+        let fresh = |k: usize| {
+            sources
+                .get(k)
+                .is_none_or(|s| s.id() != solved.surfaces[k].kind.id())
+        };
+        if let Err(e) = solved.meshes_into(nu, nv, &mut self.grids, fresh) {
+            self.grids.clear();
+            self.sources.clear();
+            return Err(at_time(e, t));
+        }
+        self.sources = solved.surfaces.iter().map(|s| s.kind.clone()).collect();
         // The first frame's welding is kept: the later frames are welded on its topology (the
         // same result as welding them afresh, without building the edge maps again).
-        let again = topology.as_ref().and_then(|w| w.weld(&grids));
-        let mesh = match again {
-            Some(w) => w.mesh,
+        let again = self.topology.as_ref().and_then(|w| w.weld(&self.grids));
+        let (mesh, fresh_weld) = match again {
+            Some(w) => (w.mesh, false),
             None => {
                 let options = WeldOptions {
                     join_patches: !export.separate_patches,
                 };
-                let (w, welded) = WeldTopology::new(&grids, &solved.names(), options);
-                topology = Some(w);
-                welded.mesh
+                let (w, welded) = WeldTopology::new(&self.grids, &solved.names(), options);
+                self.topology = Some(w);
+                (welded.mesh, true)
             }
         };
-        match &triangles {
-            None => triangles = Some(mesh.triangles.clone()),
-            Some(first) if *first != mesh.triangles => {
-                return Err(Error::invalid(format!(
-                    "at t = {}: the mesh's triangles differ from the first frame's (a curve \
-                     became a point or two patches met or parted); every frame must weld alike",
-                    crate::formula::short(t)
-                )))
-            }
-            _ => {}
-        }
-        f(Frame {
-            index,
-            t,
-            solved,
-            grids: &grids,
-            mesh: &mesh,
-        })?;
+        self.mesh = Some(mesh);
+        self.last = Some(spec);
+        self.solved += 1;
+        Ok(fresh_weld)
     }
-    Ok(())
+}
+
+/// How many frames [`for_each_frame`] solved and how many it found equal to the frame its
+/// worker had solved before (handed over again without solving, tessellating or welding).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Solves {
+    pub solved: usize,
+    pub repeated: usize,
+}
+
+/// Solves the animation at each of `times` on an `nu × nv` grid and calls `f` with every frame
+/// in order. The meshes of all frames must share their triangles (the same welding of poles and
+/// seams); a frame where they change is refused with its time.
+///
+/// Frames are solved in parallel, one per thread of the current rayon pool: after the first
+/// frame (solved alone; its weld topology is given to every worker), worker `w` solves frames
+/// `1 + w, 1 + w + W, …` with a compiled design of its own (re-solving only what changed
+/// since its previous frame, and nothing when its design did not change), and `f` sees them in
+/// order. Every solve is deterministic and a reused part is exactly what a fresh compile would
+/// make, so the frames are those of compiling the design afresh at every time, bit for bit,
+/// whatever the number of threads. An animation that does not depend on time (no formula in
+/// `t`, no rig, a morph between equal designs) is solved once.
+pub fn for_each_frame(
+    anim: &Animation,
+    times: &[f64],
+    nu: usize,
+    nv: usize,
+    export: &Export,
+    mut f: impl FnMut(Frame) -> Result<()>,
+) -> Result<Solves> {
+    let workers = if anim.depends_on_time() {
+        rayon::current_num_threads().max(1)
+    } else {
+        1
+    };
+    let mut pool: Vec<Worker> = (0..workers.min(times.len().max(1)))
+        .map(|_| Worker::default())
+        .collect();
+    let mut triangles: Option<Vec<[u32; 3]>> = None;
+    // The first frame alone, so that every worker welds on its topology (building one costs
+    // several frames); then one frame per worker at a time.
+    let batches = times
+        .get(..1)
+        .into_iter()
+        .chain(times.get(1..).unwrap_or_default().chunks(pool.len()));
+    let mut first_index = 0;
+    for chunk in batches {
+        if first_index == 1 {
+            let topology = pool[0].topology.clone();
+            for w in &mut pool[1..] {
+                w.topology = topology.clone();
+            }
+        }
+        let results: Vec<Result<bool>> = pool[..chunk.len()]
+            .par_iter_mut()
+            .zip(chunk.par_iter())
+            .map(|(w, &t)| w.frame(anim, t, nu, nv, export))
+            .collect();
+        for (k, (result, w)) in results.into_iter().zip(&pool).enumerate() {
+            let (index, t) = (first_index + k, chunk[k]);
+            let fresh_weld = result?;
+            let mesh = w.mesh.as_ref().expect("a solved frame");
+            match &triangles {
+                None => triangles = Some(mesh.triangles.clone()),
+                Some(first) if fresh_weld && *first != mesh.triangles => {
+                    return Err(Error::invalid(format!(
+                        "at t = {}: the mesh's triangles differ from the first frame's (a \
+                         curve became a point or two patches met or parted); every frame must \
+                         weld alike",
+                        crate::formula::short(t)
+                    )))
+                }
+                _ => {}
+            }
+            f(Frame {
+                index,
+                t,
+                solved: w.compiled.as_ref().expect("compiled").solved(),
+                grids: &w.grids,
+                mesh,
+            })?;
+        }
+        first_index += chunk.len();
+    }
+    Ok(Solves {
+        solved: pool.iter().map(|w| w.solved).sum(),
+        repeated: pool.iter().map(|w| w.repeated).sum(),
+    })
 }
 
 /// The frames of an animation as one triangle topology and the vertex positions and normals of

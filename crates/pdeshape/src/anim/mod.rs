@@ -22,7 +22,7 @@ mod morph;
 mod retarget;
 mod source;
 
-pub use frames::{for_each_frame, Frame, Keyframes};
+pub use frames::{for_each_frame, Frame, Keyframes, Solves};
 pub use gltf::write_glb;
 pub use measures::{measure, Measures, Row};
 pub use morph::{ease, Morph};

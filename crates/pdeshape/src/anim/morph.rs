@@ -73,6 +73,12 @@ impl Morph {
     pub fn at(&self, eps: f64) -> Result<DesignSpec> {
         spec::time::spec_of_value(mix(&self.source, &self.target, eps, ""))
     }
+
+    /// True when the source and target have the same numbers everywhere (the morph is the
+    /// source at every `ε`: [`mix`] keeps a number both sides share).
+    pub fn is_constant(&self) -> bool {
+        mix(&self.source, &self.target, 0.0, "") == mix(&self.source, &self.target, 1.0, "")
+    }
 }
 
 fn join(place: &str, key: &str) -> String {

@@ -14,6 +14,7 @@ use crate::design::SolvedDesign;
 use crate::spec::time::TimeSpec;
 use crate::surface::{ClosestOptions, ClosestPointIndex};
 use crate::{Error, Result, Vec3};
+use rayon::prelude::*;
 
 /// Where a mesh vertex is anchored on the reference design.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,9 +108,10 @@ impl Correspondence {
                 "the frame's surfaces differ from the reference design's (names or number)",
             ));
         }
+        // In parallel; each vertex alone, so the result does not depend on the threads.
         let out = self
             .points
-            .iter()
+            .par_iter()
             .zip(&self.anchors)
             .map(|(&p, a)| {
                 let x = frame.surfaces[a.surface].surface().point(a.u, a.v);

@@ -47,6 +47,15 @@ impl Animation {
         }
     }
 
+    /// False when every frame is the same design: a timed design without formula fields in
+    /// `t` and without a rig, or a morph between two equal designs.
+    pub fn depends_on_time(&self) -> bool {
+        match self {
+            Animation::Timed(d) => d.depends_on_time(),
+            Animation::Morph { morph, .. } => !morph.is_constant(),
+        }
+    }
+
     /// The design at time `t`.
     pub fn spec_at(&self, t: f64) -> Result<DesignSpec> {
         match self {

@@ -25,6 +25,43 @@
 
 use super::{GridMesh, Part, TriMesh};
 use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
+
+/// A fast hasher for the merge's grid-cell keys (multiply–rotate over 8-byte words, as in
+/// rustc's FxHash): the keys are cells of the mesh's own vertices, so SipHash's protection
+/// against chosen keys buys nothing, and it was a tenth of an animation frame's time.
+#[derive(Default, Clone, Copy)]
+struct CellHasher(u64);
+
+impl CellHasher {
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+impl std::hash::Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        let mut words = bytes.chunks_exact(8);
+        for w in &mut words {
+            self.add(u64::from_le_bytes(w.try_into().expect("8 bytes")));
+        }
+        for &b in words.remainder() {
+            self.add(b as u64);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.add(x as u64);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
+}
 
 /// Relative weld tolerance: a fraction of the bounding-box diagonal (far above `f32` rounding of
 /// the same point, far below any grid spacing).
@@ -194,7 +231,8 @@ fn merge(grids: &[GridMesh], options: WeldOptions, diag: f64) -> (Vec<[f32; 3]>,
     // Welded vertex of every grid vertex; representatives keep the first copy's position.
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let mut source: Vec<Vec<u32>> = Vec::with_capacity(grids.len());
-    let mut buckets: HashMap<([i64; 3], usize), Vec<u32>> = HashMap::new();
+    let mut buckets: HashMap<([i64; 3], usize), Vec<u32>, BuildHasherDefault<CellHasher>> =
+        HashMap::default();
     for (k, g) in grids.iter().enumerate() {
         let group = if options.join_patches { 0 } else { k };
         let cand = weld_candidates(g);
@@ -477,7 +515,13 @@ impl WeldTopology {
 
 /// `(b − a) × (c − a)` in f64.
 pub(crate) fn facet_cross(p: &[[f32; 3]], t: [u32; 3]) -> [f64; 3] {
-    let [a, b, c] = t.map(|i| p[i as usize].map(f64::from));
+    // Corner by corner rather than through `t.map`, which the compiler does not always inline
+    // in this hot loop (the same arithmetic).
+    let at = |i: u32| {
+        let q = p[i as usize];
+        [q[0] as f64, q[1] as f64, q[2] as f64]
+    };
+    let (a, b, c) = (at(t[0]), at(t[1]), at(t[2]));
     let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
     [
@@ -497,10 +541,11 @@ fn signed_volume_of(p: &[[f32; 3]], tris: &[[u32; 3]]) -> f64 {
 fn signed_volume_about(p: &[[f32; 3]], tris: &[[u32; 3]], o: [f64; 3]) -> f64 {
     tris.iter()
         .map(|t| {
-            let [a, b, c] = t.map(|i| {
+            let at = |i: u32| {
                 let q = p[i as usize];
                 [q[0] as f64 - o[0], q[1] as f64 - o[1], q[2] as f64 - o[2]]
-            });
+            };
+            let (a, b, c) = (at(t[0]), at(t[1]), at(t[2]));
             let bc = [
                 b[1] * c[2] - b[2] * c[1],
                 b[2] * c[0] - b[0] * c[2],

@@ -21,7 +21,9 @@ mod raster;
 mod tests;
 mod text;
 
-pub use anim_picture::{contact_sheet, frame_delay, Apng, ContactSheet};
+pub use anim_picture::{
+    contact_sheet, frame_delay, gif_delay, quantize, Apng, ContactSheet, Gif, Quantized,
+};
 pub use colorbar::{
     nice_step, nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
     short_label, tick_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
@@ -275,6 +277,19 @@ impl Drawable for TriMesh {
     fn structure(&self) -> std::result::Result<(), String> {
         self.check()
     }
+}
+
+/// [`render_rgb`] of an indexed triangle mesh (a welded animation frame): raw sRGB pixels.
+pub fn render_rgb_tri(
+    mesh: &TriMesh,
+    overlays: &[Polyline],
+    options: &RenderOptions,
+) -> Result<Vec<u8>> {
+    check_size(options)?;
+    let meshes = std::slice::from_ref(mesh);
+    validate(meshes, overlays)?;
+    let camera = Camera::fit(meshes, overlays, options)?;
+    Ok(raster::draw(meshes, overlays, &camera))
 }
 
 /// [`render_png`] of an indexed triangle mesh (a trimmed design).

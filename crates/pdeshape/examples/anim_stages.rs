@@ -1,0 +1,69 @@
+//! Where an animation frame's time goes: the design at `t` read from its formulas (`spec_at`),
+//! re-solved incrementally (`set_spec`), tessellated (`meshes`) and welded on the first frame's
+//! topology, each timed over every frame of the animation, on the calling thread.
+//!
+//! `cargo run --release -p pdeshape --example anim_stages -- examples/anim/ventricle.toml [NU NV]`
+
+use pdeshape::anim::Animation;
+use pdeshape::design::{compile, SurfaceKind};
+use pdeshape::mesh::{WeldOptions, WeldTopology};
+use pdeshape::spec::time::parse_timed;
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let path = args.get(1).expect("a design file with [time]");
+    let nu: usize = args.get(2).map_or(64, |s| s.parse().expect("NU"));
+    let nv: usize = args.get(3).map_or(128, |s| s.parse().expect("NV"));
+    let text = std::fs::read_to_string(path).expect("readable");
+    let anim = Animation::Timed(parse_timed(&text).expect("a timed design"));
+    let times = anim.times().expect("times");
+    let mut c = compile(&anim.spec_at(times[0]).expect("design")).expect("solves");
+    for s in &c.solved().surfaces {
+        if let SurfaceKind::Pde(p) = &s.kind {
+            println!(
+                "{}: {} modes, remainder {}",
+                s.name,
+                p.modes(),
+                p.has_remainder()
+            );
+        }
+    }
+    let grids = c.solved().meshes(nu, nv).expect("grids");
+    let names = c
+        .solved()
+        .names()
+        .iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let (topology, _) = WeldTopology::new(&grids, &names, WeldOptions::default());
+    let mut ms = [0.0f64; 4];
+    let reps = 3;
+    for _ in 0..reps {
+        for &t in &times {
+            let t0 = Instant::now();
+            let spec = anim.spec_at(t).expect("design");
+            let t1 = Instant::now();
+            c.set_spec(spec).expect("solves");
+            let t2 = Instant::now();
+            let grids = c.solved().meshes(nu, nv).expect("grids");
+            let t3 = Instant::now();
+            let welded = topology.weld(&grids).expect("welds alike");
+            let t4 = Instant::now();
+            std::hint::black_box(welded);
+            for (m, (a, b)) in ms.iter_mut().zip([(t0, t1), (t1, t2), (t2, t3), (t3, t4)]) {
+                *m += (b - a).as_secs_f64() * 1e3;
+            }
+        }
+    }
+    let n = (reps * times.len()) as f64;
+    println!(
+        "ms per frame ({} frames, {nu} × {nv}): spec_at {:.3}, set_spec {:.3}, meshes {:.3}, weld {:.3}",
+        times.len(),
+        ms[0] / n,
+        ms[1] / n,
+        ms[2] / n,
+        ms[3] / n
+    );
+}
