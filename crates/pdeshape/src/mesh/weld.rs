@@ -63,6 +63,31 @@ impl std::hash::Hasher for CellHasher {
     }
 }
 
+/// An undirected edge `(min, max)` of a mesh, as a map key. Its hash is a full 64-bit mix
+/// (splitmix64's finaliser) of the two indices, so the table's low bits depend on both ends.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct Edge(u64);
+
+impl Edge {
+    fn new(a: u32, b: u32) -> Self {
+        Edge(((a.min(b) as u64) << 32) | a.max(b) as u64)
+    }
+}
+
+impl std::hash::Hash for Edge {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        let mut z = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        state.write_u64(z ^ (z >> 31));
+    }
+}
+
+/// A map over a mesh's edges, sized for `triangles` triangles (about 3/2 edges each).
+fn edge_map<V>(triangles: usize) -> HashMap<Edge, V, BuildHasherDefault<CellHasher>> {
+    HashMap::with_capacity_and_hasher(triangles * 3 / 2 + 64, Default::default())
+}
+
 /// Relative weld tolerance: a fraction of the bounding-box diagonal (far above `f32` rounding of
 /// the same point, far below any grid spacing).
 pub const WELD_TOLERANCE: f64 = 1e-6;
@@ -297,30 +322,28 @@ impl WeldTopology {
             })
             .collect();
 
-        // Directed edges → (patch, count); patches meeting along an edge agree in orientation
-        // when they run along it in opposite directions.
-        let mut edges: HashMap<(u32, u32), (usize, u32, bool)> = HashMap::new();
-        let mut uses: HashMap<(u32, u32), u32> = HashMap::new();
+        // Edges → (first patch, its direction, uses); patches meeting along an edge agree in
+        // orientation when they run along it in opposite directions.
+        let mut edges = edge_map::<(usize, bool, u32)>(tris.iter().map(Vec::len).sum());
         for (k, ts) in tris.iter().enumerate() {
             for t in ts {
                 for e in 0..3 {
                     let (a, b) = (t[e], t[(e + 1) % 3]);
-                    let key = (a.min(b), a.max(b));
-                    *uses.entry(key).or_default() += 1;
-                    edges.entry(key).or_insert((k, a, a < b));
+                    edges.entry(Edge::new(a, b)).or_insert((k, a < b, 0)).2 += 1;
                 }
             }
         }
+        let uses = |a: u32, b: u32| edges.get(&Edge::new(a, b)).map_or(0, |e| e.2);
         let mut parity = Parity::new(grids.len());
         for (k, ts) in tris.iter().enumerate() {
             for t in ts {
                 for e in 0..3 {
                     let (a, b) = (t[e], t[(e + 1) % 3]);
-                    let key = (a.min(b), a.max(b));
-                    let (first, _, forward) = edges[&key];
-                    if first != k && uses[&key] == 2 {
-                        // Same direction along the shared edge: opposite orientations.
-                        parity.join(first, k, forward == (a < b));
+                    if let Some(&(first, forward, 2)) = edges.get(&Edge::new(a, b)) {
+                        if first != k {
+                            // Same direction along the shared edge: opposite orientations.
+                            parity.join(first, k, forward == (a < b));
+                        }
                     }
                 }
             }
@@ -338,12 +361,9 @@ impl WeldTopology {
                 .filter(|&k| relative[k].0 == root)
                 .collect();
             let closed = members.iter().all(|&k| {
-                tris[k].iter().all(|t| {
-                    (0..3).all(|e| {
-                        let (a, b) = (t[e], t[(e + 1) % 3]);
-                        uses[&(a.min(b), a.max(b))] == 2
-                    })
-                })
+                tris[k]
+                    .iter()
+                    .all(|t| (0..3).all(|e| uses(t[e], t[(e + 1) % 3]) == 2))
             });
             let mut rim = Vec::new();
             if !closed {
@@ -351,7 +371,7 @@ impl WeldTopology {
                     for t in &tris[k] {
                         for e in 0..3 {
                             let (a, b) = (t[e], t[(e + 1) % 3]);
-                            if uses[&(a.min(b), a.max(b))] == 1 {
+                            if uses(a, b) == 1 {
                                 rim.push(a);
                             }
                         }
@@ -581,7 +601,7 @@ impl MeshReport {
 /// Counts the mesh's boundary, non-manifold and misoriented edges and degenerate triangles, and
 /// its signed volume.
 pub fn report(mesh: &TriMesh) -> MeshReport {
-    let mut uses: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
+    let mut uses = edge_map::<(u32, u32)>(mesh.triangles.len());
     let mut degenerate = 0;
     for &t in &mesh.triangles {
         let [a, b, c] = t;
@@ -591,7 +611,7 @@ pub fn report(mesh: &TriMesh) -> MeshReport {
         }
         for e in 0..3 {
             let (a, b) = (t[e], t[(e + 1) % 3]);
-            let entry = uses.entry((a.min(b), a.max(b))).or_default();
+            let entry = uses.entry(Edge::new(a, b)).or_default();
             if a < b {
                 entry.0 += 1;
             } else {
