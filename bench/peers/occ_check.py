@@ -67,13 +67,18 @@ def read(path):
 
 
 def untrimmed(design, tmp):
-    """A copy of the design file without its [[trims]] tables."""
+    """A copy of the design file without its [[trims]] tables and with `trim = false` on its
+    on_patch curves (attachments then leave their hosts whole)."""
     out, skip = [], False
     for line in open(design).read().splitlines():
         if re.match(r"^\[\[?[A-Za-z0-9_.\" -]+\]\]?\s*(#.*)?$", line):
             skip = line.strip().startswith("[[trims]]")
-        if not skip:
-            out.append(line)
+        if skip:
+            continue
+        if line.strip() == 'type = "on_patch"':
+            out.extend([line, "trim = false"])
+        else:
+            out.append(line.replace('type = "on_patch"', 'type = "on_patch", trim = false'))
     path = os.path.join(tmp, "untrimmed_" + os.path.basename(design))
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -125,7 +130,11 @@ def main():
     for design in designs:
         name = os.path.splitext(os.path.basename(design))[0]
         sample = os.path.join(tmp, name + ".csv")
-        is_trimmed = re.search(r"^\[\[trims\]\]", open(design).read(), re.M) is not None
+        text = open(design).read()
+        is_trimmed = (
+            re.search(r"^\[\[trims\]\]", text, re.M) is not None
+            or 'type = "on_patch"' in text
+        )
         source = untrimmed(design, tmp) if is_trimmed else design
         r = run([binary, "surface", source, "-o", sample, "--nu", "41", "--nv", "83"])
         if r.returncode != 0:

@@ -147,10 +147,13 @@ impl super::SolvedDesign {
         let mut out = TriMesh::default();
         for (k, (g, p)) in grids.iter().zip(&params).enumerate() {
             let s = &self.surfaces[k];
-            let m = match p {
+            let g = &snap_poles(g);
+            let mut m = match p {
                 Some(pm) => to_trimesh(s.surface(), g, pm, &s.name),
                 None => TriMesh::from_grid(g, &s.name),
             };
+            // A pole's row of grid vertices becomes one vertex, without its flat triangles.
+            m.join_coincident();
             out.append(&m);
         }
         Ok(out)
@@ -189,3 +192,38 @@ impl super::SolvedDesign {
 /// Points along a drawn trim curve.
 const TRIM_POINTS: usize = 256;
 const TRIM_COLOR: [u8; 3] = [230, 140, 20];
+
+/// The grid with each end row that collapses to a point (a pole: every vertex within the weld
+/// tolerance of the row's first, relative to the grid's diagonal) set exactly to that point,
+/// so that [`TriMesh::join_coincident`] makes it one vertex.
+fn snap_poles(g: &crate::mesh::GridMesh) -> crate::mesh::GridMesh {
+    let mut g = g.clone();
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for p in &g.positions {
+        for c in 0..3 {
+            lo[c] = lo[c].min(p[c]);
+            hi[c] = hi[c].max(p[c]);
+        }
+    }
+    let diag = (0..3)
+        .map(|c| (hi[c] as f64 - lo[c] as f64).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    let tol = crate::mesh::weld::WELD_TOLERANCE * diag;
+    let nv = g.nv;
+    for i in [0, g.nu - 1] {
+        let row = &mut g.positions[i * nv..(i + 1) * nv];
+        let first = row[0];
+        let near = row.iter().all(|p| {
+            (0..3)
+                .map(|c| (p[c] as f64 - first[c] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt()
+                <= tol
+        });
+        if near {
+            row.fill(first);
+        }
+    }
+    g
+}

@@ -78,6 +78,86 @@ impl TriMesh {
         }));
     }
 
+    /// Joins vertices at exactly the same position (a surface's pole: a grid row collapsed to a
+    /// point), drops the triangles that collapse with them, and leaves out vertices no triangle
+    /// uses. A joined vertex keeps the first one's normal and `uv`. Parts keep their order.
+    pub fn join_coincident(&mut self) {
+        let mut first: std::collections::HashMap<[u32; 3], u32> =
+            std::collections::HashMap::with_capacity(self.positions.len());
+        let same: Vec<u32> = self
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                // −0 and +0 are the same position.
+                let key = p.map(|x| (x + 0.0).to_bits());
+                *first.entry(key).or_insert(k as u32)
+            })
+            .collect();
+        let mut triangles = Vec::with_capacity(self.triangles.len());
+        let mut parts = Vec::with_capacity(self.parts.len());
+        for part in &self.parts {
+            let start = triangles.len();
+            for t in &self.triangles[part.triangles.clone()] {
+                let [a, b, c] = t.map(|i| same[i as usize]);
+                if a != b && b != c && a != c {
+                    triangles.push([a, b, c]);
+                }
+            }
+            parts.push(Part {
+                name: part.name.clone(),
+                triangles: start..triangles.len(),
+            });
+        }
+        if self.parts.is_empty() {
+            for t in &self.triangles {
+                let [a, b, c] = t.map(|i| same[i as usize]);
+                if a != b && b != c && a != c {
+                    triangles.push([a, b, c]);
+                }
+            }
+        }
+        // Keep the used vertices, in order.
+        let mut used = vec![u32::MAX; self.positions.len()];
+        let mut n = 0u32;
+        for t in &triangles {
+            for &i in t {
+                if used[i as usize] == u32::MAX {
+                    used[i as usize] = 0;
+                }
+            }
+        }
+        for u in used.iter_mut() {
+            if *u == 0 {
+                *u = n;
+                n += 1;
+            }
+        }
+        let keep = |v: &[[f32; 3]]| -> Vec<[f32; 3]> {
+            v.iter()
+                .zip(&used)
+                .filter(|(_, &u)| u != u32::MAX)
+                .map(|(x, _)| *x)
+                .collect()
+        };
+        self.positions = keep(&self.positions);
+        self.normals = keep(&self.normals);
+        if !self.uv.is_empty() {
+            self.uv = self
+                .uv
+                .iter()
+                .zip(&used)
+                .filter(|(_, &u)| u != u32::MAX)
+                .map(|(x, _)| *x)
+                .collect();
+        }
+        for t in &mut triangles {
+            *t = t.map(|i| used[i as usize]);
+        }
+        self.triangles = triangles;
+        self.parts = parts;
+    }
+
     /// Structural problems, if any: an index out of range, a normal or `uv` channel of the wrong
     /// length, parts that do not cover the triangles in order. Writers check this first.
     pub fn check(&self) -> Result<(), String> {
@@ -125,6 +205,52 @@ mod tests {
     fn plane(nu: usize, nv: usize) -> GridMesh {
         let s = ParametricSurface::new("u", "v", "0", VDomain::Interval(0.0, 1.0)).unwrap();
         tessellate(&s, nu, nv).unwrap()
+    }
+
+    /// A cone `u (cos v, sin v), 1 − u` has a pole at `u = 0`: its row of grid vertices becomes
+    /// one vertex, the row's flat triangles go, every other triangle and its area stay.
+    #[test]
+    fn a_pole_row_becomes_one_vertex_without_flat_triangles() {
+        let s = ParametricSurface::new("u*cos(v)", "u*sin(v)", "1 - u", VDomain::Periodic).unwrap();
+        let (nu, nv) = (5, 8);
+        let mut m = TriMesh::from_grid(&tessellate(&s, nu, nv).unwrap(), "cone");
+        let area = |m: &TriMesh| -> f64 {
+            m.triangles
+                .iter()
+                .map(|t| {
+                    let p = t.map(|i| m.positions[i as usize].map(f64::from));
+                    let (a, b) = (
+                        [p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]],
+                        [p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]],
+                    );
+                    let c = [
+                        a[1] * b[2] - a[2] * b[1],
+                        a[2] * b[0] - a[0] * b[2],
+                        a[0] * b[1] - a[1] * b[0],
+                    ];
+                    0.5 * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt()
+                })
+                .sum()
+        };
+        let before = area(&m);
+        let flat = m
+            .triangles
+            .iter()
+            .filter(|t| {
+                let p = t.map(|i| m.positions[i as usize]);
+                p[0] == p[1] || p[1] == p[2] || p[0] == p[2]
+            })
+            .count();
+        assert_eq!(flat, nv, "one flat triangle per cell of the pole's row");
+        m.join_coincident();
+        m.check().unwrap();
+        assert_eq!(m.len(), (nu - 1) * nv + 1);
+        assert_eq!(m.triangles.len(), 2 * (nu - 1) * nv - nv);
+        assert_eq!(m.parts[0].triangles, 0..m.triangles.len());
+        assert!((area(&m) - before).abs() <= 1e-12 * before);
+        for t in &m.triangles {
+            assert!(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+        }
     }
 
     #[test]
