@@ -94,65 +94,50 @@ impl TriMesh {
                 *first.entry(key).or_insert(k as u32)
             })
             .collect();
+        let kept = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|i| same[i as usize]);
+            (a != b && b != c && a != c).then_some([a, b, c])
+        };
         let mut triangles = Vec::with_capacity(self.triangles.len());
         let mut parts = Vec::with_capacity(self.parts.len());
         for part in &self.parts {
             let start = triangles.len();
-            for t in &self.triangles[part.triangles.clone()] {
-                let [a, b, c] = t.map(|i| same[i as usize]);
-                if a != b && b != c && a != c {
-                    triangles.push([a, b, c]);
-                }
-            }
+            triangles.extend(
+                self.triangles[part.triangles.clone()]
+                    .iter()
+                    .filter_map(kept),
+            );
             parts.push(Part {
                 name: part.name.clone(),
                 triangles: start..triangles.len(),
             });
         }
         if self.parts.is_empty() {
-            for t in &self.triangles {
-                let [a, b, c] = t.map(|i| same[i as usize]);
-                if a != b && b != c && a != c {
-                    triangles.push([a, b, c]);
-                }
-            }
+            triangles.extend(self.triangles.iter().filter_map(kept));
         }
-        // Keep the used vertices, in order.
-        let mut used = vec![u32::MAX; self.positions.len()];
-        let mut n = 0u32;
-        for t in &triangles {
-            for &i in t {
-                if used[i as usize] == u32::MAX {
-                    used[i as usize] = 0;
-                }
-            }
+        // Keep the used vertices, in order: `index[k]` is vertex k's new index.
+        let mut used = vec![false; self.positions.len()];
+        for &i in triangles.iter().flatten() {
+            used[i as usize] = true;
         }
-        for u in used.iter_mut() {
-            if *u == 0 {
-                *u = n;
-                n += 1;
-            }
+        let mut index = vec![u32::MAX; used.len()];
+        for (n, (k, _)) in used.iter().enumerate().filter(|(_, &u)| u).enumerate() {
+            index[k] = n as u32;
         }
-        let keep = |v: &[[f32; 3]]| -> Vec<[f32; 3]> {
+        fn keep<T: Copy>(v: &[T], used: &[bool]) -> Vec<T> {
             v.iter()
-                .zip(&used)
-                .filter(|(_, &u)| u != u32::MAX)
+                .zip(used)
+                .filter(|(_, &u)| u)
                 .map(|(x, _)| *x)
                 .collect()
-        };
-        self.positions = keep(&self.positions);
-        self.normals = keep(&self.normals);
+        }
+        self.positions = keep(&self.positions, &used);
+        self.normals = keep(&self.normals, &used);
         if !self.uv.is_empty() {
-            self.uv = self
-                .uv
-                .iter()
-                .zip(&used)
-                .filter(|(_, &u)| u != u32::MAX)
-                .map(|(x, _)| *x)
-                .collect();
+            self.uv = keep(&self.uv, &used);
         }
         for t in &mut triangles {
-            *t = t.map(|i| used[i as usize]);
+            *t = t.map(|i| index[i as usize]);
         }
         self.triangles = triangles;
         self.parts = parts;

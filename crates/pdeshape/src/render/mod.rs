@@ -298,11 +298,7 @@ pub fn render_png_tri(
     overlays: &[Polyline],
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
-    check_size(options)?;
-    let meshes = std::slice::from_ref(mesh);
-    validate(meshes, overlays)?;
-    let camera = Camera::fit(meshes, overlays, options)?;
-    let rgb = raster::draw(meshes, overlays, &camera);
+    let rgb = render_rgb_tri(mesh, overlays, options)?;
     encode_png(options.width, options.height, &rgb)
 }
 
