@@ -26,11 +26,7 @@ impl Dst {
         }
     }
 
-    /// The length `n`.
-    pub(super) fn len(&self) -> usize {
-        self.n
-    }
-
+    #[cfg(test)]
     /// `S_{jk}` for `j, k` in `0 … n−1` (nodes and modes `1 … n`).
     pub(super) fn matrix(&self) -> Vec<f64> {
         let n = self.n;
