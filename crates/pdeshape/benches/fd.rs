@@ -4,12 +4,14 @@
 //! solution). Prints the largest node error once, then times assembly + factorisation + solve.
 //! Also the biharmonic patch periodic in `v` (issue 19), 256 × 256 on `[0, 1] × [0, 2π)`, by the
 //! FFT-banded solver and by the sparse reference; peer: the same script with `--periodic` (libigl
-//! on the cylinder mesh of the same grid).
+//! on the cylinder mesh of the same grid). The four-sided patch is timed by `solve_four_sided`
+//! (sine transforms and a capacitance matrix) and by the sparse LU it is tested against
+//! (`solve_four_sided_sparse`).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::fd::{
-    solve_four_sided, solve_periodic, solve_periodic_sparse, FdSurface, FourSidedProblem,
-    PeriodicProblem,
+    solve_four_sided, solve_four_sided_sparse, solve_periodic, solve_periodic_sparse, FdSurface,
+    FourSidedProblem, PeriodicProblem,
 };
 use pdeshape::Vec3;
 use std::time::Duration;
@@ -58,12 +60,18 @@ fn solve_laplace(n: usize) -> FdSurface {
     .expect("solves")
 }
 
+type FourSidedSolver = fn(&FourSidedProblem<'_>) -> pdeshape::Result<FdSurface>;
+
 fn solve(n: usize) -> FdSurface {
+    solve_with(n, solve_four_sided)
+}
+
+fn solve_with(n: usize, solver: FourSidedSolver) -> FdSurface {
     let (a0, a1) = (|v: f64| exact(0.0, v), |v: f64| exact_u(0.0, v));
     let (b0, b1) = (|v: f64| exact(1.0, v), |v: f64| exact_u(1.0, v));
     let (c0, c1) = (|u: f64| exact(u, 0.0), |u: f64| exact_v(u, 0.0));
     let (d0, d1) = (|u: f64| exact(u, 1.0), |u: f64| exact_v(u, 1.0));
-    solve_four_sided(&FourSidedProblem {
+    solver(&FourSidedProblem {
         order: 2,
         a: 1.0,
         nu: n,
@@ -143,11 +151,20 @@ fn bench(c: &mut Criterion) {
     for n in [64, 128, 256] {
         let s = solve(n);
         let st = s.stats();
+        let reference = solve_with(n, solve_four_sided_sparse);
+        let mut diff: f64 = 0.0;
+        for i in 0..=n {
+            for j in 0..=n {
+                diff = diff.max((s.node(i, j) - reference.node(i, j)).amax());
+            }
+        }
         println!(
-            "fd biharmonic {n}x{n}: {} unknowns, {} nonzeros, max node error {:.3e}",
+            "fd biharmonic {n}x{n}: {} unknowns, {} nonzeros, max node error {:.3e} \
+             (sparse LU {:.3e}, largest node difference {diff:.1e})",
             st.unknowns,
             st.nonzeros,
-            max_error(&s)
+            max_error(&s),
+            max_error(&reference)
         );
     }
     let t = std::time::Instant::now();
@@ -172,6 +189,9 @@ fn bench(c: &mut Criterion) {
     g.warm_up_time(Duration::from_secs(1));
     g.measurement_time(Duration::from_secs(10));
     g.bench_function("fd_biharmonic_256x256", |b| b.iter(|| solve(256)));
+    g.bench_function("fd_biharmonic_256x256_sparse", |b| {
+        b.iter(|| solve_with(256, solve_four_sided_sparse))
+    });
     g.bench_function("fd_periodic_biharmonic_256x256_fft", |b| {
         b.iter(|| solve_cylinder(256, solve_periodic))
     });
