@@ -10,7 +10,7 @@
 //! triangle of the triangulation lies inside one region bounded by constraints; it is kept when
 //! its centroid is in a removed cell and outside every hole.
 
-use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh};
+use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh, Scratch};
 use crate::{Error, Result};
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -42,10 +42,12 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - f * dx).hypot(p[1] - a[1] - f * dy)
 }
 
-/// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped.
-fn mark(frame: &Frame, loops: &[Loop]) -> Vec<u8> {
+/// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped,
+/// into `flags` (one per grid vertex).
+fn mark(frame: &Frame, loops: &[Loop], flags: &mut Vec<u8>) {
     let (nu, nv) = (frame.nu, frame.nv);
-    let mut flags = vec![0u8; nu * nv];
+    flags.clear();
+    flags.resize(nu * nv, 0);
     let jmax = if frame.periodic {
         i64::MAX
     } else {
@@ -95,15 +97,28 @@ fn mark(frame: &Frame, loops: &[Loop]) -> Vec<u8> {
             }
         }
     }
-    flags
 }
 
-/// The re-meshed domain (see the module's documentation).
-pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
+/// The re-meshed domain (see the module's documentation), into `pm` (its buffers and those of
+/// `scratch` reused).
+pub(super) fn mesh(
+    frame: &Frame,
+    loops: &Loops,
+    pm: &mut ParamMesh,
+    scratch: &mut Scratch,
+) -> Result<()> {
     let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
-    let flags = mark(frame, &loops.loops);
+    let Scratch {
+        flags,
+        removed,
+        id,
+        band: cdt_index,
+    } = scratch;
+    mark(frame, &loops.loops, flags);
+    let flags = &flags[..];
     // Removed cells: those with a near corner.
-    let mut removed = vec![false; (nu - 1) * cols];
+    removed.clear();
+    removed.resize((nu - 1) * cols, false);
     for i in 0..nu {
         for j in 0..nv {
             if flags[i * nv + j] & NEAR == 0 {
@@ -123,10 +138,11 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
     }
     // Vertices: grid vertices not dropped, then the curve samples.
-    let (mut pm, id) = frame.kept_grid(|k| flags[k] & DROP != 0, &removed);
+    frame.kept_grid(|k| flags[k] & DROP != 0, removed, pm, id);
     if loops.loops.is_empty() {
-        return Ok(pm);
+        return Ok(());
     }
+    let (removed, id) = (&removed[..], &id[..]);
     // Unwrapped column of a grid column: every band column lies in (cut, cut + nv).
     let cut = loops.cut;
     let unwrap = |j: usize| -> i64 {
@@ -138,7 +154,8 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
     };
     let mut verts: Vec<Vertex> = Vec::new();
-    let mut cdt_index = vec![u32::MAX; nu * nv];
+    cdt_index.clear();
+    cdt_index.resize(nu * nv, u32::MAX);
     for i in 0..nu - 1 {
         for j in 0..cols {
             if !removed[i * cols + j] {
@@ -244,5 +261,5 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
         pm.triangles.push(vs.map(|v| v.data().id));
     }
-    Ok(pm)
+    Ok(())
 }
