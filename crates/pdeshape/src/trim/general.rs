@@ -116,27 +116,45 @@ pub(super) fn mesh(
     } = scratch;
     mark(frame, &loops.loops, flags);
     let flags = &flags[..];
-    // Removed cells: those with a near corner.
+    // Removed cells: those with a near corner. The near vertices are few: scan the flags eight
+    // at a time, and list the removed cells (sorted, they are in grid order).
     removed.clear();
     removed.resize((nu - 1) * cols, false);
-    for i in 0..nu {
-        for j in 0..nv {
-            if flags[i * nv + j] & NEAR == 0 {
+    let mut cells: Vec<u32> = Vec::new();
+    let mut remove_around = |g: usize| {
+        let (i, j) = (g / nv, g % nv);
+        for ci in [i.wrapping_sub(1), i] {
+            if ci >= nu - 1 {
                 continue;
             }
-            for ci in [i.wrapping_sub(1), i] {
-                if ci >= nu - 1 {
+            for cj in [j as i64 - 1, j as i64] {
+                if !frame.periodic && (cj < 0 || cj >= cols as i64) {
                     continue;
                 }
-                for cj in [j as i64 - 1, j as i64] {
-                    if !frame.periodic && (cj < 0 || cj >= cols as i64) {
-                        continue;
-                    }
-                    removed[ci * cols + frame.col(cj)] = true;
+                let c = ci * cols + frame.col(cj);
+                if !removed[c] {
+                    removed[c] = true;
+                    cells.push(c as u32);
                 }
             }
         }
+    };
+    const NEAR8: u64 = u64::from_ne_bytes([NEAR; 8]);
+    for (b, chunk) in flags.chunks(8).enumerate() {
+        let word = match <[u8; 8]>::try_from(chunk) {
+            Ok(w) => u64::from_ne_bytes(w) & NEAR8,
+            Err(_) => 1,
+        };
+        if word == 0 {
+            continue;
+        }
+        for (k, &f) in chunk.iter().enumerate() {
+            if f & NEAR != 0 {
+                remove_around(8 * b + k);
+            }
+        }
     }
+    cells.sort_unstable();
     // Vertices: grid vertices not dropped, then the curve samples.
     frame.kept_grid(|k| flags[k] & DROP != 0, removed, pm, id);
     if loops.loops.is_empty() {
@@ -156,20 +174,16 @@ pub(super) fn mesh(
     let mut verts: Vec<Vertex> = Vec::new();
     cdt_index.clear();
     cdt_index.resize(nu * nv, u32::MAX);
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if !removed[i * cols + j] {
-                continue;
-            }
-            for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
-                let g = ci * nv + cj;
-                if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
-                    cdt_index[g] = verts.len() as u32;
-                    verts.push(Vertex {
-                        p: Point2::new(ci as f64, unwrap(cj) as f64),
-                        id: id[g],
-                    });
-                }
+    for &c in &cells {
+        let (i, j) = (c as usize / cols, c as usize % cols);
+        for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
+            let g = ci * nv + cj;
+            if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
+                cdt_index[g] = verts.len() as u32;
+                verts.push(Vertex {
+                    p: Point2::new(ci as f64, unwrap(cj) as f64),
+                    id: id[g],
+                });
             }
         }
     }
@@ -183,25 +197,21 @@ pub(super) fn mesh(
         }
         removed[ci as usize * cols + frame.col(cj)]
     };
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if !removed[i * cols + j] {
-                continue;
-            }
-            let (ii, jj) = (i as i64, j as i64);
-            let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
-            if !cell_removed(ii - 1, jj) {
-                edges.push([c(i, j), c(i, j + 1)]);
-            }
-            if !cell_removed(ii + 1, jj) {
-                edges.push([c(i + 1, j), c(i + 1, j + 1)]);
-            }
-            if !cell_removed(ii, jj - 1) {
-                edges.push([c(i, j), c(i + 1, j)]);
-            }
-            if !cell_removed(ii, jj + 1) {
-                edges.push([c(i, j + 1), c(i + 1, j + 1)]);
-            }
+    for &cell in &cells {
+        let (i, j) = (cell as usize / cols, cell as usize % cols);
+        let (ii, jj) = (i as i64, j as i64);
+        let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
+        if !cell_removed(ii - 1, jj) {
+            edges.push([c(i, j), c(i, j + 1)]);
+        }
+        if !cell_removed(ii + 1, jj) {
+            edges.push([c(i + 1, j), c(i + 1, j + 1)]);
+        }
+        if !cell_removed(ii, jj - 1) {
+            edges.push([c(i, j), c(i + 1, j)]);
+        }
+        if !cell_removed(ii, jj + 1) {
+            edges.push([c(i, j + 1), c(i + 1, j + 1)]);
         }
     }
     // Curve samples: vertices and chords.
