@@ -297,9 +297,10 @@ fn write_trimmed(
     located: &dyn Fn(pdeshape::Error) -> CliError,
 ) -> Result<(), CliError> {
     if format == Format::Csv {
+        let origin = solved.trim_origin().unwrap_or_default();
         return Err(CliError::input(format!(
-            "-o {shown}: csv stores full grids of samples; a design with [[trims]] is written \
-             as obj, stl, ply or glb"
+            "-o {shown}: csv stores full grids of samples; {origin}: a trimmed design is \
+             written as obj, stl, ply or glb"
         )));
     }
     let m = solved.tri_mesh(nu, nv).map_err(located)?;

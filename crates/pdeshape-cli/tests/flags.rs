@@ -371,3 +371,36 @@ fn animate_takes_size_and_view_with_a_picture_output() {
     );
     assert!(dir.path().join("c.png").exists());
 }
+
+/// CSV of a trimmed design is refused with what trims it: the `[[trims]]` entry, or the
+/// attachment (the `on_patch` curve and the host patch) that implies the hole.
+#[test]
+fn csv_of_a_trimmed_design_names_what_trims_it() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "teacup.toml", &example("teacup.toml"));
+    write(dir.path(), "vase.toml", &example("trimmed_vase.toml"));
+    let cases: [(&str, &[&str]); 2] = [
+        (
+            "teacup.toml",
+            &[
+                "-o x.csv",
+                "on_patch curve curves.",
+                "_root cuts its hole in 'bowl'",
+                "attachment",
+            ],
+        ),
+        (
+            "vase.toml",
+            &["-o x.csv", "[[trims]] (trims[0] cuts holes in 'wall')"],
+        ),
+    ];
+    for (design, needles) in cases {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pdeshape"))
+            .current_dir(dir.path())
+            .args(["surface", design, "-o", "x.csv"])
+            .output()
+            .unwrap();
+        assert_bad(&out, needles);
+        assert!(!dir.path().join("x.csv").exists());
+    }
+}

@@ -1,13 +1,16 @@
 //! Trimmed tessellation: the wall of `examples/trimmed_vase.toml` (one biharmonic patch) on a
 //! 256 × 512 grid with its three holes (circle, ellipse across the seam, concave B-spline),
 //! re-meshed by the general method; the two convex holes by the book's two methods; and the
-//! untrimmed tessellation of the same grid for scale.
+//! untrimmed tessellation of the same grid for scale. `mesh` builds a fresh mesh; `mesh_into`
+//! re-meshes a trim edit (the circle moved) into the previous mesh's buffers.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::design::{compile, trim_curve, trim_method};
 use pdeshape::mesh::tessellate;
 use pdeshape::spec::parse_design;
-use pdeshape::trim::{to_trimesh, trim_domain, trimmed_mesh, TrimMethod};
+use pdeshape::trim::{
+    to_trimesh, trim_domain, trimmed_mesh, trimmed_mesh_into, TrimCurve, TrimMethod, TrimmedMesh,
+};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -46,6 +49,24 @@ fn bench(c: &mut Criterion) {
                     .triangles
                     .len(),
             )
+        })
+    });
+    // A trim edit: the circle moved between two positions, re-meshed into the previous mesh.
+    let moved: [Vec<TrimCurve>; 2] = [0.0, 0.01].map(|dv| {
+        let mut c = curves.clone();
+        let TrimCurve::Ellipse { center, .. } = &mut c[0] else {
+            panic!("the vase's first hole is a circle");
+        };
+        center[1] += dv;
+        c
+    });
+    let mut out = TrimmedMesh::default();
+    let mut k = 0;
+    g.bench_function("cdt_3_holes_256x512/mesh_into", |b| {
+        b.iter(|| {
+            k ^= 1;
+            trimmed_mesh_into(s, nu, nv, &moved[k], TrimMethod::Cdt, "wall", &mut out).unwrap();
+            black_box(out.mesh.triangles.len())
         })
     });
     let grid = tessellate(s, nu, nv).unwrap();

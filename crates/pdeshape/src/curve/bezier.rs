@@ -45,9 +45,18 @@ impl Bezier {
     }
 }
 
-/// de Casteljau's algorithm.
+/// de Casteljau's algorithm (on the stack up to degree 15).
 fn de_casteljau(points: &[Vec3], t: f64) -> Vec3 {
-    let mut w: Vec<Vec3> = points.to_vec();
+    const STACK: usize = 16;
+    if points.len() <= STACK {
+        let mut w = [Vec3::zeros(); STACK];
+        w[..points.len()].copy_from_slice(points);
+        return de_casteljau_in(&mut w[..points.len()], t);
+    }
+    de_casteljau_in(&mut points.to_vec(), t)
+}
+
+fn de_casteljau_in(w: &mut [Vec3], t: f64) -> Vec3 {
     let n = w.len();
     for r in 1..n {
         for i in 0..n - r {

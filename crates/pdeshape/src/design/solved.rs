@@ -450,11 +450,13 @@ impl SolvedDesign {
     ) -> Result<Option<Vec<GridMesh>>> {
         if !self.trims.is_empty() {
             if format == Format::Csv {
-                return Err(Error::invalid(
-                    "csv stores full grids of samples; a trimmed design is written as a mesh \
-                     (obj, stl, ply, glb)",
-                )
-                .at("trims"));
+                let t = &self.trims[0];
+                return Err(Error::invalid(format!(
+                    "csv stores full grids of samples; {}: a trimmed design is written as a \
+                     mesh (obj, stl, ply, glb)",
+                    self.trim_origin().unwrap_or_default()
+                ))
+                .at(&t.place));
             }
             mesh::write_mesh(format, &self.tri_mesh(nu, nv)?, &self.mesh_info(export), w)?;
             Ok(None)

@@ -631,6 +631,33 @@ impl SpineEdited {
         }
     }
 
+    /// [`SpineEdited::edit`] of `X`, `X_u`, `X_v` and `X_uv` only (by the same expressions),
+    /// what a position and its normal need; `X_uu` and `X_vv` are left as in `p`.
+    #[inline(always)]
+    fn edit_first(
+        &self,
+        p: &Partials,
+        jo: &Jet,
+        jn: &Jet,
+        rot: &Option<[Matrix3<f64>; 3]>,
+    ) -> Partials {
+        let (d, du) = (p.x - jo[0], p.xu - jo[1]);
+        match rot {
+            None => Partials {
+                x: jn[0] + d,
+                xu: jn[1] + du,
+                ..*p
+            },
+            Some([r, r1, _]) => Partials {
+                x: jn[0] + r * d,
+                xu: jn[1] + r1 * d + r * du,
+                xv: r * p.xv,
+                xuv: r1 * p.xv + r * p.xuv,
+                ..*p
+            },
+        }
+    }
+
     /// Everything that depends on `u` only.
     fn row_setup(&self, u: f64) -> (Jet, Jet, Option<[Matrix3<f64>; 3]>) {
         let (jo, jn) = (old_jet(&self.base, u), new_jet(&self.spine, &self.wave, u));
@@ -713,18 +740,32 @@ impl PartialsRows for EditedRows<'_> {
 }
 
 impl RowEvaluator for EditedRows<'_> {
+    /// Positions and normals only: the edit of `X`, `X_u`, `X_v` and `X_uv` (what the normal
+    /// needs, by the same expressions as [`SpineEdited::edit`], so the same bits) fused with
+    /// the normal, straight from the kept row when there is one.
     fn eval_row(&self, u: f64, row: &mut RowBuf) {
         thread_local! {
             static PARTS: std::cell::RefCell<Vec<Partials>> = const { std::cell::RefCell::new(Vec::new()) };
         }
-        PARTS.with_borrow_mut(|parts| {
-            parts.clear();
-            parts.resize(self.vs.len(), Partials::default());
-            PartialsRows::eval_row(self, u, parts);
-            for (j, p) in parts.iter().enumerate() {
-                row.set(j, p.x, p.normal());
+        let surface = self.surface;
+        let (jo, jn, rot) = surface.row_setup(u);
+        let mut write = |base: &[Partials]| {
+            for (j, p) in base.iter().enumerate() {
+                let e = surface.edit_first(p, &jo, &jn, &rot);
+                row.set(j, e.x, e.normal());
             }
-        });
+        };
+        let solved = &surface.solved;
+        match solved.kept_row(self.vs, u) {
+            Some(kept) => write(&kept),
+            None => PARTS.with_borrow_mut(|parts| {
+                parts.clear();
+                parts.resize(self.vs.len(), Partials::default());
+                self.rows.eval_row(u, parts);
+                solved.keep_row(self.vs, u, parts);
+                write(parts);
+            }),
+        }
     }
 }
 

@@ -117,6 +117,25 @@ pub(crate) fn build_trims(
 }
 
 impl super::SolvedDesign {
+    /// What trims the design, for messages: the first trim's `[[trims]]` entry, or the
+    /// attachment (an `on_patch` curve with `trim = true`) that implies it, with the surface
+    /// it cuts. `None` for an untrimmed design.
+    pub fn trim_origin(&self) -> Option<String> {
+        let t = self.trims.first()?;
+        let host = &self.surfaces[t.surface].name;
+        Some(if t.place.starts_with("trims[") {
+            format!(
+                "a design with [[trims]] ({} cuts holes in '{host}')",
+                t.place
+            )
+        } else {
+            format!(
+                "the on_patch curve {} cuts its hole in '{host}' (an attachment with trim = true)",
+                t.place
+            )
+        })
+    }
+
     /// The trims of surface `k`, if it has any.
     pub fn trim_of(&self, k: usize) -> Option<&SurfaceTrim> {
         self.trims.iter().find(|t| t.surface == k)

@@ -17,7 +17,7 @@
 //!   `M̂_m(s) = Ĉ_m sinh(ω(1−s))/sinh ω + R̂_m sinh(ωs)/sinh ω` (`(1−s)Ĉ₀ + sR̂₀` for `ω = 0`),
 //!   with the ratios evaluated as `e^{−ω(1−x)}(1 − e^{−2ωx})/(1 − e^{−2ω})` so nothing overflows.
 
-use super::{Frame, Loop, Loops, OnTrim, ParamMesh, TrimCurve, TrimMethod};
+use super::{Frame, Loop, Loops, OnTrim, ParamMesh, Scratch, TrimCurve, TrimMethod};
 use crate::{Error, Result};
 use realfft::RealFftPlanner;
 
@@ -309,10 +309,14 @@ pub(super) fn mesh(
     loops: &Loops,
     curves: &[TrimCurve],
     method: TrimMethod,
-) -> Result<ParamMesh> {
+    pm: &mut ParamMesh,
+    scratch: &mut Scratch,
+) -> Result<()> {
     let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
     let mut rings = Vec::new();
-    let mut removed = vec![false; (nu - 1) * cols];
+    let removed = &mut scratch.removed;
+    removed.clear();
+    removed.resize((nu - 1) * cols, false);
     let mut dropped = vec![false; nu * nv];
     for l in &loops.loops {
         let (r, [i0, i1, j0, j1]) = ring(frame, &curves[l.curve], l, l.curve, method)?;
@@ -335,7 +339,8 @@ pub(super) fn mesh(
         }
         rings.push((l.curve, r));
     }
-    let (mut pm, id) = frame.kept_grid(|k| dropped[k], &removed);
+    let id = &mut scratch.id;
+    frame.kept_grid(|k| dropped[k], removed, pm, id);
     for (curve, r) in &rings {
         let n = r.rect.len();
         let mut rows: Vec<Vec<u32>> = Vec::new();
@@ -377,5 +382,5 @@ pub(super) fn mesh(
             }
         }
     }
-    Ok(pm)
+    Ok(())
 }

@@ -10,7 +10,7 @@
 //! triangle of the triangulation lies inside one region bounded by constraints; it is kept when
 //! its centroid is in a removed cell and outside every hole.
 
-use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh};
+use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh, Scratch};
 use crate::{Error, Result};
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -42,10 +42,12 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - f * dx).hypot(p[1] - a[1] - f * dy)
 }
 
-/// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped.
-fn mark(frame: &Frame, loops: &[Loop]) -> Vec<u8> {
+/// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped,
+/// into `flags` (one per grid vertex).
+fn mark(frame: &Frame, loops: &[Loop], flags: &mut Vec<u8>) {
     let (nu, nv) = (frame.nu, frame.nv);
-    let mut flags = vec![0u8; nu * nv];
+    flags.clear();
+    flags.resize(nu * nv, 0);
     let jmax = if frame.periodic {
         i64::MAX
     } else {
@@ -95,38 +97,70 @@ fn mark(frame: &Frame, loops: &[Loop]) -> Vec<u8> {
             }
         }
     }
-    flags
 }
 
-/// The re-meshed domain (see the module's documentation).
-pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
+/// The re-meshed domain (see the module's documentation), into `pm` (its buffers and those of
+/// `scratch` reused).
+pub(super) fn mesh(
+    frame: &Frame,
+    loops: &Loops,
+    pm: &mut ParamMesh,
+    scratch: &mut Scratch,
+) -> Result<()> {
     let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
-    let flags = mark(frame, &loops.loops);
-    // Removed cells: those with a near corner.
-    let mut removed = vec![false; (nu - 1) * cols];
-    for i in 0..nu {
-        for j in 0..nv {
-            if flags[i * nv + j] & NEAR == 0 {
+    let Scratch {
+        flags,
+        removed,
+        id,
+        band: cdt_index,
+    } = scratch;
+    mark(frame, &loops.loops, flags);
+    let flags = &flags[..];
+    // Removed cells: those with a near corner. The near vertices are few: scan the flags eight
+    // at a time, and list the removed cells (sorted, they are in grid order).
+    removed.clear();
+    removed.resize((nu - 1) * cols, false);
+    let mut cells: Vec<u32> = Vec::new();
+    let mut remove_around = |g: usize| {
+        let (i, j) = (g / nv, g % nv);
+        for ci in [i.wrapping_sub(1), i] {
+            if ci >= nu - 1 {
                 continue;
             }
-            for ci in [i.wrapping_sub(1), i] {
-                if ci >= nu - 1 {
+            for cj in [j as i64 - 1, j as i64] {
+                if !frame.periodic && (cj < 0 || cj >= cols as i64) {
                     continue;
                 }
-                for cj in [j as i64 - 1, j as i64] {
-                    if !frame.periodic && (cj < 0 || cj >= cols as i64) {
-                        continue;
-                    }
-                    removed[ci * cols + frame.col(cj)] = true;
+                let c = ci * cols + frame.col(cj);
+                if !removed[c] {
+                    removed[c] = true;
+                    cells.push(c as u32);
                 }
             }
         }
+    };
+    const NEAR8: u64 = u64::from_ne_bytes([NEAR; 8]);
+    for (b, chunk) in flags.chunks(8).enumerate() {
+        let word = match <[u8; 8]>::try_from(chunk) {
+            Ok(w) => u64::from_ne_bytes(w) & NEAR8,
+            Err(_) => 1,
+        };
+        if word == 0 {
+            continue;
+        }
+        for (k, &f) in chunk.iter().enumerate() {
+            if f & NEAR != 0 {
+                remove_around(8 * b + k);
+            }
+        }
     }
+    cells.sort_unstable();
     // Vertices: grid vertices not dropped, then the curve samples.
-    let (mut pm, id) = frame.kept_grid(|k| flags[k] & DROP != 0, &removed);
+    frame.kept_grid(|k| flags[k] & DROP != 0, removed, pm, id);
     if loops.loops.is_empty() {
-        return Ok(pm);
+        return Ok(());
     }
+    let (removed, id) = (&removed[..], &id[..]);
     // Unwrapped column of a grid column: every band column lies in (cut, cut + nv).
     let cut = loops.cut;
     let unwrap = |j: usize| -> i64 {
@@ -138,21 +172,18 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
     };
     let mut verts: Vec<Vertex> = Vec::new();
-    let mut cdt_index = vec![u32::MAX; nu * nv];
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if !removed[i * cols + j] {
-                continue;
-            }
-            for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
-                let g = ci * nv + cj;
-                if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
-                    cdt_index[g] = verts.len() as u32;
-                    verts.push(Vertex {
-                        p: Point2::new(ci as f64, unwrap(cj) as f64),
-                        id: id[g],
-                    });
-                }
+    cdt_index.clear();
+    cdt_index.resize(nu * nv, u32::MAX);
+    for &c in &cells {
+        let (i, j) = (c as usize / cols, c as usize % cols);
+        for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
+            let g = ci * nv + cj;
+            if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
+                cdt_index[g] = verts.len() as u32;
+                verts.push(Vertex {
+                    p: Point2::new(ci as f64, unwrap(cj) as f64),
+                    id: id[g],
+                });
             }
         }
     }
@@ -166,25 +197,21 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
         removed[ci as usize * cols + frame.col(cj)]
     };
-    for i in 0..nu - 1 {
-        for j in 0..cols {
-            if !removed[i * cols + j] {
-                continue;
-            }
-            let (ii, jj) = (i as i64, j as i64);
-            let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
-            if !cell_removed(ii - 1, jj) {
-                edges.push([c(i, j), c(i, j + 1)]);
-            }
-            if !cell_removed(ii + 1, jj) {
-                edges.push([c(i + 1, j), c(i + 1, j + 1)]);
-            }
-            if !cell_removed(ii, jj - 1) {
-                edges.push([c(i, j), c(i + 1, j)]);
-            }
-            if !cell_removed(ii, jj + 1) {
-                edges.push([c(i, j + 1), c(i + 1, j + 1)]);
-            }
+    for &cell in &cells {
+        let (i, j) = (cell as usize / cols, cell as usize % cols);
+        let (ii, jj) = (i as i64, j as i64);
+        let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
+        if !cell_removed(ii - 1, jj) {
+            edges.push([c(i, j), c(i, j + 1)]);
+        }
+        if !cell_removed(ii + 1, jj) {
+            edges.push([c(i + 1, j), c(i + 1, j + 1)]);
+        }
+        if !cell_removed(ii, jj - 1) {
+            edges.push([c(i, j), c(i + 1, j)]);
+        }
+        if !cell_removed(ii, jj + 1) {
+            edges.push([c(i, j + 1), c(i + 1, j + 1)]);
         }
     }
     // Curve samples: vertices and chords.
@@ -244,5 +271,5 @@ pub(super) fn mesh(frame: &Frame, loops: &Loops) -> Result<ParamMesh> {
         }
         pm.triangles.push(vs.map(|v| v.data().id));
     }
-    Ok(pm)
+    Ok(())
 }

@@ -28,7 +28,7 @@ pub use curve::{TrimCurve, MAX_DEGREE};
 pub use quality::{quality, MeshQuality};
 
 use crate::mesh::{self, GridMesh, Part, TriMesh};
-use crate::surface::{ParameterDomain, Surface};
+use crate::surface::{ParameterDomain, RowBuf, Surface};
 use crate::{Error, Result, TAU};
 use rayon::prelude::*;
 
@@ -120,13 +120,15 @@ pub(crate) struct Frame {
 impl Frame {
     /// The grid part of a trimmed mesh, shared by every method: the grid vertices that are not
     /// `dropped` (by grid index, in grid order) and two triangles per cell that is not `removed`
-    /// (cells indexed `i·cols + j`). Returns the mesh and each grid vertex's index in it
-    /// (`u32::MAX` for a dropped one).
+    /// (cells indexed `i·cols + j`), written into `pm` (emptied first, its buffers reused); `id`
+    /// becomes each grid vertex's index in it (`u32::MAX` for a dropped one).
     pub(crate) fn kept_grid(
         &self,
         dropped: impl Fn(usize) -> bool + Sync,
         removed: &[bool],
-    ) -> (ParamMesh, Vec<u32>) {
+        pm: &mut ParamMesh,
+        id: &mut Vec<u32>,
+    ) {
         let (nu, nv, cols) = (self.nu, self.nv, self.cols());
         // Rows are independent once every row knows where its vertices and triangles start:
         // count per row, take prefix sums, then fill the rows in parallel.
@@ -145,12 +147,17 @@ impl Frame {
             .collect();
         let n_kept: usize = kept_per_row.iter().sum();
         let n_cells: usize = cells_per_row.iter().sum();
-        let mut id = vec![u32::MAX; nu * nv];
-        let mut uv = vec![[0.0; 2]; n_kept];
-        let mut grid_source = vec![0u32; n_kept];
+        pm.on_trim.clear();
+        pm.uv.clear();
+        pm.grid_source.clear();
+        pm.triangles.clear();
+        id.clear();
+        id.resize(nu * nv, u32::MAX);
+        pm.uv.resize(n_kept, [0.0; 2]);
+        pm.grid_source.resize(n_kept, 0);
         {
             let mut rows = Vec::with_capacity(nu);
-            let (mut uv_rest, mut src_rest) = (&mut uv[..], &mut grid_source[..]);
+            let (mut uv_rest, mut src_rest) = (&mut pm.uv[..], &mut pm.grid_source[..]);
             let mut first = 0;
             for (i, id_row) in id.chunks_mut(nv).enumerate() {
                 let (a, b) = std::mem::take(&mut uv_rest).split_at_mut(kept_per_row[i]);
@@ -173,17 +180,17 @@ impl Frame {
                 });
         }
         // Room for the re-meshed band as well, so the vector does not grow (and copy) later.
-        let mut triangles = Vec::with_capacity(2 * n_cells + 4 * (nu + nv));
-        triangles.resize(2 * n_cells, [0u32; 3]);
+        pm.triangles.reserve(2 * n_cells + 4 * (nu + nv));
+        pm.triangles.resize(2 * n_cells, [0u32; 3]);
         {
             let mut rows = Vec::with_capacity(nu - 1);
-            let mut rest = &mut triangles[..];
+            let mut rest = &mut pm.triangles[..];
             for (i, &n) in cells_per_row.iter().enumerate() {
                 let (a, b) = std::mem::take(&mut rest).split_at_mut(2 * n);
                 rows.push((i, a));
                 rest = b;
             }
-            let id = &id;
+            let id = &id[..];
             rows.into_par_iter().for_each(|(i, out)| {
                 let mut k = 0;
                 for j in 0..cols {
@@ -203,14 +210,7 @@ impl Frame {
                 }
             });
         }
-        let pm = ParamMesh {
-            uv,
-            grid_source,
-            grid_triangles: triangles.len(),
-            triangles,
-            on_trim: Vec::new(),
-        };
-        (pm, id)
+        pm.grid_triangles = pm.triangles.len();
     }
 
     fn new(domain: ParameterDomain, nu: usize, nv: usize) -> Result<Frame> {
@@ -400,15 +400,68 @@ pub fn trim_domain(
     curves: &[TrimCurve],
     method: TrimMethod,
 ) -> Result<ParamMesh> {
-    let frame = Frame::new(domain, nu, nv)?;
-    match method {
-        TrimMethod::Cdt => general::mesh(&frame, &prepare(&frame, curves, 1.0, 0.0)?),
+    let mut pm = ParamMesh::default();
+    trim_domain_into(
+        domain,
+        nu,
+        nv,
+        curves,
+        method,
+        &mut pm,
+        &mut Scratch::default(),
+    )?;
+    Ok(pm)
+}
+
+/// Working buffers of the re-meshing, kept between re-meshes (one per grid vertex or cell).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// Per grid vertex: near / dropped flags (general method).
+    pub flags: Vec<u8>,
+    /// Per grid cell: removed.
+    pub removed: Vec<bool>,
+    /// Per grid vertex: its index in the parameter mesh (`u32::MAX` if dropped).
+    pub id: Vec<u32>,
+    /// Per grid vertex: its index in the band's triangulation (general method).
+    pub band: Vec<u32>,
+}
+
+/// [`trim_domain`] into `pm`, reusing its buffers and those of `scratch`. On an error `pm` is
+/// left empty.
+fn trim_domain_into(
+    domain: ParameterDomain,
+    nu: usize,
+    nv: usize,
+    curves: &[TrimCurve],
+    method: TrimMethod,
+    pm: &mut ParamMesh,
+    scratch: &mut Scratch,
+) -> Result<()> {
+    let result = Frame::new(domain, nu, nv).and_then(|frame| match method {
+        TrimMethod::Cdt => general::mesh(&frame, &prepare(&frame, curves, 1.0, 0.0)?, pm, scratch),
         TrimMethod::Bilinear | TrimMethod::Laplace => book::mesh(
             &frame,
             &prepare(&frame, curves, 2.0, book::MARGIN)?,
             curves,
             method,
+            pm,
+            scratch,
         ),
+    });
+    if result.is_err() {
+        pm.clear();
+    }
+    result
+}
+
+impl ParamMesh {
+    /// Empties the mesh, keeping its buffers.
+    fn clear(&mut self) {
+        self.uv.clear();
+        self.grid_source.clear();
+        self.triangles.clear();
+        self.grid_triangles = 0;
+        self.on_trim.clear();
     }
 }
 
@@ -423,9 +476,137 @@ pub fn trimmed_mesh(
     method: TrimMethod,
     name: &str,
 ) -> Result<(TriMesh, ParamMesh)> {
-    let grid = mesh::tessellate(surface, nu, nv)?;
-    let pm = trim_domain(surface.parameter_domain(), nu, nv, curves, method)?;
-    Ok((to_trimesh(surface, &grid, &pm, name), pm))
+    let mut out = TrimmedMesh::default();
+    trimmed_mesh_into(surface, nu, nv, curves, method, name, &mut out)?;
+    Ok((out.mesh, out.param))
+}
+
+/// A trimmed triangle mesh and its parameter mesh, with the working buffers of the re-meshing:
+/// built again by [`trimmed_mesh_into`] (an edit of the trim curves or of the surface), it
+/// writes into memory that is already mapped instead of allocating every vector anew.
+#[derive(Clone, Debug, Default)]
+pub struct TrimmedMesh {
+    /// The triangle mesh (one part).
+    pub mesh: TriMesh,
+    /// Its parameter mesh: vertex `k` of `mesh` is `param.uv[k]`, the triangles are the same.
+    pub param: ParamMesh,
+    scratch: Scratch,
+}
+
+/// [`trimmed_mesh`] into `out`, reusing its buffers; the result is the same, bit for bit. The
+/// mesh is built in place: each grid row is evaluated once (by the surface's row evaluator, as
+/// [`mesh::tessellate`] does) and its kept vertices written straight to their places in the
+/// triangle mesh; the vertices on the trim curves are evaluated exactly. On an error `out` is
+/// left empty.
+pub fn trimmed_mesh_into(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+    curves: &[TrimCurve],
+    method: TrimMethod,
+    name: &str,
+    out: &mut TrimmedMesh,
+) -> Result<()> {
+    let TrimmedMesh {
+        mesh,
+        param,
+        scratch,
+    } = out;
+    let result = mesh::grid_parameters_in(surface.u_range(), surface.v_domain(), nu, nv).and_then(
+        |(us, vs)| {
+            trim_domain_into(
+                surface.parameter_domain(),
+                nu,
+                nv,
+                curves,
+                method,
+                param,
+                scratch,
+            )?;
+            fill_mesh(surface, &us, &vs, param, name, mesh);
+            Ok(())
+        },
+    );
+    if result.is_err() {
+        mesh.positions.clear();
+        mesh.normals.clear();
+        mesh.uv.clear();
+        mesh.triangles.clear();
+        mesh.parts.clear();
+    }
+    result
+}
+
+/// The triangle mesh of `pm` on the grid `us × vs` into `out` (buffers reused): the grid
+/// vertices row by row from the surface's row evaluator, the others from `X(u, v)`.
+fn fill_mesh(
+    surface: &dyn Surface,
+    us: &[f64],
+    vs: &[f64],
+    pm: &ParamMesh,
+    name: &str,
+    out: &mut TriMesh,
+) {
+    let nv = vs.len();
+    let (n, g) = (pm.uv.len(), pm.grid_source.len());
+    let periodic = surface.v_domain().is_periodic();
+    out.positions.clear();
+    out.normals.clear();
+    out.positions.resize(n, [0.0; 3]);
+    out.normals.resize(n, [0.0; 3]);
+    {
+        let (grid_p, off_p) = out.positions.split_at_mut(g);
+        let (grid_n, off_n) = out.normals.split_at_mut(g);
+        // The kept grid vertices are in grid order: row i's are those with a grid index in
+        // [i·nv, (i+1)·nv).
+        let mut rows = Vec::with_capacity(us.len());
+        let (mut p_rest, mut n_rest, mut s_rest) = (grid_p, grid_n, &pm.grid_source[..]);
+        for (i, &u) in us.iter().enumerate() {
+            let end = ((i + 1) * nv) as u32;
+            let k = s_rest.partition_point(|&s| s < end);
+            let (p, pr) = std::mem::take(&mut p_rest).split_at_mut(k);
+            let (q, nr) = std::mem::take(&mut n_rest).split_at_mut(k);
+            let (s, sr) = s_rest.split_at(k);
+            if k > 0 {
+                rows.push((i * nv, u, p, q, s));
+            }
+            (p_rest, n_rest, s_rest) = (pr, nr, sr);
+        }
+        let eval = surface.row_evaluator(vs);
+        let eval = &*eval;
+        rows.into_par_iter().with_min_len(4).for_each_init(
+            || RowBuf::new(nv),
+            |row, (first, u, p, q, s)| {
+                eval.eval_row(u, row);
+                for ((p, q), &s) in p.iter_mut().zip(q.iter_mut()).zip(s) {
+                    let j = s as usize - first;
+                    *p = [row.x[j] as f32, row.y[j] as f32, row.z[j] as f32];
+                    *q = [row.nx[j] as f32, row.ny[j] as f32, row.nz[j] as f32];
+                }
+            },
+        );
+        off_p
+            .par_iter_mut()
+            .zip(off_n.par_iter_mut())
+            .zip(pm.uv[g..].par_iter())
+            .for_each(|((p, q), &[u, v])| {
+                let v = if periodic { v.rem_euclid(TAU) } else { v };
+                let d = surface.partials(u, v);
+                let nn = d.normal();
+                *p = [d.x.x as f32, d.x.y as f32, d.x.z as f32];
+                *q = [nn.x as f32, nn.y as f32, nn.z as f32];
+            });
+    }
+    out.uv.clear();
+    out.uv
+        .par_extend(pm.uv.par_iter().map(|p| [p[0] as f32, p[1] as f32]));
+    out.triangles.clear();
+    out.triangles.extend_from_slice(&pm.triangles);
+    out.parts.clear();
+    out.parts.push(Part {
+        name: name.to_string(),
+        triangles: 0..pm.triangles.len(),
+    });
 }
 
 /// The triangle mesh of a parameter mesh: the grid's positions and normals for grid vertices,
