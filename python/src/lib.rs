@@ -1108,8 +1108,8 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
         };
         list.push(ParameterSpec {
             name: name.clone(),
-            min,
-            max,
+            min: Some(min),
+            max: Some(max),
             initial: Some(*value),
         });
     }

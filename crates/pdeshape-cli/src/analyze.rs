@@ -10,6 +10,10 @@ use std::path::PathBuf;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
+    /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
+    /// repeatable, e.g. `--set theta=0.3 --set s=1.2`.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -31,7 +35,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             )))
         }
     };
-    let design = common::load(&args.design)?;
+    let mut design = common::load(&args.design)?;
+    common::apply_sets(&mut design, &args.set)?;
     let built = design.build()?;
     let di = integrate_design(&built, &q).map_err(|e| CliError::input(e.to_string()))?;
     let mut text = if args.json {

@@ -10,6 +10,10 @@ use std::path::PathBuf;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
+    /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
+    /// repeatable, e.g. `--set theta=0.3 --set s=1.2`.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
     /// Print the report as one JSON object (`"ok": false` and the error when the design is
     /// refused; the error line still goes to stderr with exit status 2).
     #[arg(long)]
@@ -356,7 +360,51 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
             let _ = k;
         }
     }
+    parameter_lines(&mut s, design);
     (s, warnings)
+}
+
+/// The design's `[[parameters]]`: value, bounds, neutral value and what each drives.
+fn parameter_lines(s: &mut String, design: &Loaded) {
+    let Ok(list) = pdeshape::design::design_parameters(&design.spec) else {
+        return;
+    };
+    if list.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "parameters:");
+    for p in &list {
+        let with = if p.with.is_empty() {
+            String::new()
+        } else {
+            format!(" (with {})", p.with.join(", "))
+        };
+        let _ = writeln!(
+            s,
+            "  {} = {} in [{}, {}] (neutral {}): {}{with}",
+            p.name,
+            p.value,
+            p.min,
+            p.max,
+            p.neutral,
+            p.kind.describe()
+        );
+    }
+}
+
+/// The parameters as JSON (empty without `[[parameters]]`).
+fn parameters_json(design: &Loaded) -> serde_json::Value {
+    let list = pdeshape::design::design_parameters(&design.spec).unwrap_or_default();
+    list.iter()
+        .zip(&design.spec.parameters)
+        .map(|(p, spec)| {
+            serde_json::json!({
+                "name": p.name, "kind": spec.kind.word(), "curve": p.kind.curve(),
+                "with": p.with, "value": jnum(p.value), "min": jnum(p.min), "max": jnum(p.max),
+                "neutral": jnum(p.neutral), "drives": p.kind.describe(),
+            })
+        })
+        .collect()
 }
 
 /// Samples along each attachment for its G0/G1 report.
@@ -469,6 +517,7 @@ pub fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
         "surfaces": surfaces,
         "edges": edges,
         "attachments": attachments,
+        "parameters": parameters_json(design),
         "warnings": warnings,
         "report": text,
     })
@@ -486,7 +535,8 @@ fn check_sections(design: &Loaded, built: &SolvedDesign) -> Result<(), CliError>
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
-        let result = common::load(&args.design).and_then(|design| {
+        let result = common::load(&args.design).and_then(|mut design| {
+            common::apply_sets(&mut design, &args.set)?;
             let built = design.build()?;
             check_sections(&design, &built)?;
             Ok(report_json(&design, &built))
@@ -503,7 +553,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             }
         };
     }
-    let design = common::load(&args.design)?;
+    let mut design = common::load(&args.design)?;
+    common::apply_sets(&mut design, &args.set)?;
     let built = design.build()?;
     check_sections(&design, &built)?;
     let (text, warnings) = report(&design, &built);

@@ -67,6 +67,31 @@ impl Loaded {
     }
 }
 
+/// `--set NAME=VALUE` (repeatable): the values of the design's `[[parameters]]` entries,
+/// each checked against the entry's bounds; errors name the flag and the parameter.
+pub fn apply_sets(design: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
+    for s in sets {
+        let Some((name, value)) = s.split_once('=') else {
+            return Err(CliError::input(format!(
+                "--set {s}: expected NAME=VALUE, e.g. --set theta=0.3"
+            )));
+        };
+        let (name, value) = (name.trim(), value.trim());
+        let v: f64 = value
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| {
+                CliError::input(format!(
+                    "--set {s}: the value '{value}' of '{name}' is not a finite number"
+                ))
+            })?;
+        design::set_parameter(&mut design.spec, name, Some(v))
+            .map_err(|e| CliError::input(format!("--set {s}: {}", message_of(&e))))?;
+    }
+    Ok(())
+}
+
 /// The message of an error without its place.
 pub fn message_of(e: &Error) -> String {
     match e {

@@ -11,6 +11,10 @@ use std::path::PathBuf;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
+    /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
+    /// repeatable, e.g. `--set theta=0.3 --set s=1.2`.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
     /// Output picture (.png).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -162,7 +166,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             "--range: needs --color gauss, mean or shear",
         ));
     }
-    let design = common::load(&args.design)?;
+    let mut design = common::load(&args.design)?;
+    common::apply_sets(&mut design, &args.set)?;
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     let mut out = Output::create(&args.output)?;

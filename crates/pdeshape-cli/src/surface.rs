@@ -11,6 +11,10 @@ use std::time::Instant;
 pub struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
+    /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
+    /// repeatable, e.g. `--set theta=0.3 --set s=1.2`.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
     /// Output file; the extension picks the format: obj, stl, ply, glb, csv, or step/stp and
     /// igs/iges (B-spline surfaces with their deviation). `-` writes to standard output (with
     /// --format).
@@ -145,10 +149,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         common::refuse_flag(args.separate_patches, "--separate-patches", what)?;
     }
     let export = export_options(format, args.scale, args.up, args.separate_patches)?;
-    let design = match args.time {
+    let mut design = match args.time {
         Some(t) => crate::animate::load_at(&args.design, t)?,
         None => common::load(&args.design)?,
     };
+    common::apply_sets(&mut design, &args.set)?;
     design.validate()?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
     if let Some(pic) = &args.picture {

@@ -2,11 +2,12 @@
 //! for bit, and writing it again gives the same text.
 
 use pdeshape::spec::{
-    parse_design, write_design, BlendSpec, ComponentSpec, ConditionSpec, ConstraintSpec, CurveKind,
-    CurveRef, CurveSpec, DesignSpec, DomainSpec, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec,
-    FormulaText, JoinSpec, OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec,
-    ParametricSpec, ParamsSpec, PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec,
-    SplineSpec, SurfaceSpec, TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
+    parse_design, write_design, AxisName, AxisSpec, BlendSpec, ComponentSpec, ConditionSpec,
+    ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DomainSpec,
+    DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
+    OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec,
+    PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec, SurfaceSpec,
+    TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -488,6 +489,7 @@ fn empty_design() -> DesignSpec {
         spline: None,
         spine: Vec::new(),
         trims: Vec::new(),
+        parameters: Vec::new(),
         time: None,
         shell: None,
     }
@@ -927,8 +929,8 @@ impl Gen {
             spontaneous_curvature: if self.chance(0.5) { 0.0 } else { self.f() },
             parameters: self.vec(3, |g| ParameterSpec {
                 name: g.s(),
-                min: g.f(),
-                max: g.f(),
+                min: g.opt(Self::f),
+                max: g.opt(Self::f),
                 initial: g.opt(Self::f),
             }),
             constraints: self.vec(3, |g| ConstraintSpec {
@@ -1081,8 +1083,47 @@ impl Gen {
             spline: self.opt(Self::spline),
             spine: Vec::new(),
             trims: self.vec(2, Self::trim),
+            parameters: self.vec(3, Self::parameter),
             time: None,
             shell: None,
+        }
+    }
+    fn parameter(&mut self) -> DesignParameterSpec {
+        let kinds = [
+            DriveKind::Position,
+            DriveKind::Angle,
+            DriveKind::Scale,
+            DriveKind::VOrigin,
+            DriveKind::Translate,
+            DriveKind::Rotate,
+            DriveKind::Dilate,
+            DriveKind::ControlOffset,
+            DriveKind::Smoothing,
+        ];
+        DesignParameterSpec {
+            name: self.s(),
+            kind: kinds[self.0.gen_range(0..kinds.len())],
+            curve: self.opt(Self::s),
+            with: self.vec(2, Self::s),
+            v1: self.opt(Self::f),
+            v2: self.opt(Self::f),
+            axis: self.opt(|g| {
+                if g.chance(0.5) {
+                    AxisSpec::Name([AxisName::X, AxisName::Y, AxisName::Z][g.0.gen_range(0..3)])
+                } else {
+                    AxisSpec::Vector(g.v3())
+                }
+            }),
+            plane: self.opt(|g| {
+                [
+                    pdeshape::spec::PlaneSpec::Xy,
+                    pdeshape::spec::PlaneSpec::Xz,
+                    pdeshape::spec::PlaneSpec::Yz,
+                ][g.0.gen_range(0..3)]
+            }),
+            value: self.opt(Self::f),
+            min: self.f(),
+            max: self.f(),
         }
     }
     fn trim(&mut self) -> TrimSpec {

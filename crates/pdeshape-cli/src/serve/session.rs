@@ -52,6 +52,7 @@ fn target(edit: &Edit) -> Option<String> {
             Some(format!("operator {patch:?}"))
         }
         Edit::SetModes { .. } => Some("modes".to_string()),
+        Edit::SetParameter { name, .. } => Some(format!("parameter {name}")),
         _ => None,
     }
 }

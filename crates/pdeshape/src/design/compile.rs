@@ -161,8 +161,11 @@ impl CompiledDesign {
 
     /// Builds and solves `spec`, reusing what the caches hold; swaps everything in only when
     /// all of it succeeded.
-    fn rebuild(&mut self, spec: DesignSpec) -> Result<()> {
-        validate_patches(&spec)?;
+    fn rebuild(&mut self, file: DesignSpec) -> Result<()> {
+        // The design with its `[[parameters]]` applied; `self.spec` keeps the file's form.
+        let resolved = super::params::resolve_parameters(&file)?;
+        let spec: &DesignSpec = &resolved;
+        validate_patches(spec)?;
         let options = check_solver(&spec.solver)?;
         let method = spec.solver.method;
         let fd_grid = (method == SolverMethod::Fd)
@@ -173,12 +176,12 @@ impl CompiledDesign {
         // them (§5.2.1). In each level the conditions are built, then every patch whose key is
         // new is solved (in parallel; each solve is deterministic, so the order does not
         // matter).
-        let levels = super::attach::patch_levels(&spec)?;
+        let levels = super::attach::patch_levels(spec)?;
         let mut done: Vec<Option<(Planned, SurfaceKind)>> = (0..levels.iter().map(Vec::len).sum())
             .map(|_| None)
             .collect();
         for level in &levels {
-            let planned = plan_patches(&spec, &mut builder, method, &options, fd_grid, &|i| {
+            let planned = plan_patches(spec, &mut builder, method, &options, fd_grid, &|i| {
                 level.contains(&i)
             })?;
             let solved: Vec<Result<SurfaceKind>> = planned
@@ -307,9 +310,9 @@ impl CompiledDesign {
             ));
         }
 
-        let mut trims = super::trim::build_trims(&spec, &surfaces)?;
-        super::attach::add_attachment_trims(&spec, &surfaces, &mut trims)?;
-        let attachments = super::attach::find_attachments(&spec, &surfaces);
+        let mut trims = super::trim::build_trims(spec, &surfaces)?;
+        super::attach::add_attachment_trims(spec, &surfaces, &mut trims)?;
+        let attachments = super::attach::find_attachments(spec, &surfaces);
         self.solved = SolvedDesign {
             title: spec.title.clone(),
             units: spec.units.unwrap_or_default(),
@@ -330,7 +333,7 @@ impl CompiledDesign {
         self.blend = blend;
         self.spline = spline;
         self.spines = spines;
-        self.spec = spec;
+        self.spec = file;
         Ok(())
     }
 }
@@ -397,8 +400,11 @@ fn plan_patches(
 /// Validates a design without solving anything (but a design with curves on its patches, which
 /// is compiled: those curves need their hosts solved): [`validate_patches`] (numbers, references,
 /// operators, conditions, solver options, the output grid), the `[dynamic]` and `[blend]`
-/// sections, and every curve built (its constructor checks its values).
+/// sections, and every curve built (its constructor checks its values), after the
+/// `[[parameters]]` are applied.
 pub fn validate_design(spec: &DesignSpec) -> Result<()> {
+    let resolved = super::params::resolve_parameters(spec)?;
+    let spec: &DesignSpec = &resolved;
     if let Some(d) = &spec.dynamic {
         build_dynamic(d)?;
     }

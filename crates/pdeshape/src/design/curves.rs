@@ -325,12 +325,14 @@ pub(crate) fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCu
     Ok(curves)
 }
 
-/// Validates the design's patches and builds its named curves (sorted by name), without
-/// solving: what a viewer needs to draw the design's curves.
+/// Validates the design's patches and builds its named curves (sorted by name, with the
+/// `[[parameters]]` applied), without solving: what a viewer needs to draw the design's curves.
 ///
 /// A design with curves on its patches (`on_patch`) is compiled (those curves need their host
 /// patches solved).
 pub fn build_curves(spec: &DesignSpec) -> Result<Vec<NamedCurve>> {
+    let resolved = super::params::resolve_parameters(spec)?;
+    let spec: &DesignSpec = &resolved;
     validate_patches(spec)?;
     if super::attach::has_attachments(spec) {
         return super::compile(spec).map(|d| d.into_solved().curves);

@@ -122,6 +122,14 @@ pub enum Edit {
     /// patch's parameter plane: the attached patch's end slides over the host, and the host's
     /// hole with it (§5.2.1, Fig. 5.11).
     MoveAttachment { name: String, offset: [f64; 2] },
+    /// Sets the value of the `[[parameters]]` entry `name` (§6.1, §6.4, §7.5; `None`: its
+    /// neutral value, the design as written), checked against its bounds: only the curves
+    /// and patches the parameter drives are re-solved.
+    SetParameter {
+        name: String,
+        #[serde(default)]
+        value: Option<f64>,
+    },
 }
 
 fn no_trim(index: usize, len: usize) -> Error {
@@ -489,6 +497,13 @@ impl Edit {
                 Ok(Edit::SetCurve {
                     name: name.clone(),
                     curve: Some(old),
+                })
+            }
+            Edit::SetParameter { name, value } => {
+                let old = super::params::set_parameter(spec, name, *value)?;
+                Ok(Edit::SetParameter {
+                    name: name.clone(),
+                    value: old,
                 })
             }
         }

@@ -18,6 +18,7 @@ mod edges;
 mod edit;
 mod fd;
 mod parametric;
+mod params;
 mod solved;
 mod spine;
 mod spline;
@@ -32,6 +33,10 @@ pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTE
 pub use edges::{edge_mismatch, EdgeReport};
 pub use edit::{Edit, PatchRef};
 pub use fd::DEFAULT_GRID;
+pub(crate) use params::{design_a, parse_book_name, poly_a, top_level_used, BookEdits};
+pub use params::{
+    design_parameters, resolve_parameters, set_parameter, DesignParameter, ParamKind,
+};
 pub use solved::{
     curve_polyline, grid, ConditionInfo, DesignSurface, Export, NamedCurve, SharedEdge,
     SolvedDesign, SurfaceKind,
@@ -49,5 +54,7 @@ mod tests;
 mod tests_attach;
 #[cfg(test)]
 mod tests_local;
+#[cfg(test)]
+mod tests_params;
 #[cfg(test)]
 mod tests_spine;

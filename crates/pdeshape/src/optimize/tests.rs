@@ -863,3 +863,101 @@ fn max_shear_is_a_variable_despite_the_parsers_max() {
         "{e}"
     );
 }
+
+// ---- `[[parameters]]` named by `[optimize]` ----
+
+/// A sheared tube: the Laplace patch (order 1) between a circle and the same circle moved by
+/// `px` along x and up by 2. By the mirror symmetry x ↦ −x the area is even in `px`, and it
+/// grows with the shear, so the minimum of the area over `px` is at 0.
+const SHEARED: &str = r#"
+operator = { kind = "polyharmonic", order = 1, a = 1.0 }
+conditions = [
+  { u = 0.0, curve = "bottom" },
+  { u = 1.0, curve = "top" },
+]
+
+[curves.bottom]
+type = "circle"
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+
+[curves.top]
+type = "circle"
+center = [0.0, 0.0, 2.0]
+radius = 1.0
+
+[[parameters]]
+name = "px"
+kind = "position"
+curve = "top"
+v1 = 1.0
+axis = "x"
+value = 0.6
+min = -1.0
+max = 1.0
+
+[optimize]
+objective = "area"
+parameters = [{ name = "px" }]
+evaluations = 150
+chains = 2
+polish = 80
+"#;
+
+#[test]
+fn optimiser_recovers_the_optimum_of_a_named_parameter() {
+    let p = problem_of(SHEARED);
+    let q = &p.parameters.list[0];
+    assert_eq!(q.entry, Some(0));
+    // Bounds and start come from the entry.
+    assert_eq!((q.min, q.max, q.initial), (-1.0, 1.0, 0.6));
+    // The point at v1 = 1 of the top circle is (cos 1, sin 1, 2): px = 0.6 shifts the circle by
+    // 0.6 − cos 1 along x.
+    let shift = 0.6 - 1f64.cos();
+    let out = p.run(&|_, _| {}).unwrap();
+    let best = out.best.0[0];
+    let centred = 1f64.cos();
+    assert!(
+        (best - centred).abs() < 1e-3,
+        "best px = {best}, want {centred}"
+    );
+    assert!(shift.abs() > 0.05);
+    // The design of the best point sets the entry's value; the file written back carries it.
+    assert_eq!(p.design(&out.best.0).parameters[0].value, Some(best));
+    let text = p
+        .parameters
+        .apply_to_text(SHEARED, &p.base, &out.best.0)
+        .unwrap();
+    let reread = parse_design(&text).unwrap();
+    assert_eq!(reread.parameters[0].value, Some(best));
+    assert!(text.contains("kind = \"position\""), "{text}");
+}
+
+#[test]
+fn named_parameters_keep_within_the_entry_bounds() {
+    let case = |opt: &str| error_of(&SHEARED.replace(r#"parameters = [{ name = "px" }]"#, opt));
+    let e = case(r#"parameters = [{ name = "px", min = -2.0 }]"#);
+    assert_eq!(e.place(), "optimize.parameters[0].min", "{e}");
+    assert!(e.to_string().contains("parameters[0]"), "{e}");
+    let e = case(r#"parameters = [{ name = "px", max = 1.5 }]"#);
+    assert_eq!(e.place(), "optimize.parameters[0].max", "{e}");
+    let e = case(r#"parameters = [{ name = "px", min = 0.7 }]"#);
+    assert_eq!(e.place(), "optimize.parameters[0].min", "{e}");
+    assert!(e.to_string().contains("outside"), "{e}");
+    let e = case(r#"parameters = [{ name = "topTx" }]"#);
+    assert_eq!(e.place(), "optimize.parameters[0]", "{e}");
+    assert!(e.to_string().contains("needs `min` and `max`"), "{e}");
+    // A book-notation name and a named entry in one search.
+    let p = problem_of(&SHEARED.replace(
+        r#"parameters = [{ name = "px" }]"#,
+        r#"parameters = [{ name = "px" }, { name = "topTz", min = -0.5, max = 0.5 }]"#,
+    ));
+    let spec = p.design(&[0.2, 0.3]);
+    assert_eq!(spec.parameters[0].value, Some(0.2));
+    let top = curve_points(&spec, "top");
+    // X1 at v1 = 1 lands on x = 0.2 after the book's translation by 0.3 along z.
+    let c = build_curves(&spec).unwrap();
+    let t = &c.iter().find(|c| c.name == "top").unwrap().curve;
+    assert!((t.point(1.0) - Vec3::new(0.2, 1f64.sin(), 2.3)).norm() < 1e-12);
+    assert_eq!(top.len(), 16);
+}

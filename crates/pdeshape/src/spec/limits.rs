@@ -42,7 +42,7 @@ pub const MAX_CHAINS: usize = 1024;
 pub const MAX_THREADS: usize = 1024;
 /// Most constraints of `[optimize]`.
 pub const MAX_CONSTRAINTS: usize = 256;
-/// Most parameters of `[optimize]`.
+/// Most parameters of `[optimize]`, and most `[[parameters]]` entries.
 pub const MAX_PARAMETERS: usize = 64;
 /// Most vertices of an output grid (`nu × nv`, also for `--nu`/`--nv`): 67 million vertices
 /// (`mesh::MAX_VERTICES`, checked again where the grid is allocated).
@@ -352,6 +352,12 @@ pub fn check_spec(spec: &DesignSpec) -> Result<()> {
             }
         }
     }
+    at_most(
+        spec.parameters.len() as u64,
+        MAX_PARAMETERS as u64,
+        "parameters",
+        "parameters",
+    )?;
     if let Some(op) = &spec.operator {
         operator(op, "operator")?;
     }

@@ -16,6 +16,7 @@ pub mod limits;
 mod locate;
 mod optimize;
 mod parametric;
+mod params;
 pub mod rig;
 mod schema;
 mod shell;
@@ -32,6 +33,7 @@ pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
 pub use locate::{describe_error, key_path, locate};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
+pub use params::{AxisName, AxisSpec, DesignParameterSpec, DriveKind, PlaneSpec};
 pub use shell::{EdgeSpec, LineLoadSpec, MaterialSpec, ShellSpec, SideSpec};
 pub use spine::{
     SpineCarry, SpineHermite, SpineMove, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS,

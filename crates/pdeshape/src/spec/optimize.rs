@@ -75,17 +75,21 @@ fn default_quad_v() -> usize {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ParameterSpec {
-    /// In the book's notation (§7.5): `<curve><T|R|D><x|y|z>` for a translation (length), a
+    /// The name of a `[[parameters]]` entry, or a parameter in the book's notation (§7.5):
+    /// `<curve><T|R|D><x|y|z>` for a translation (length), a
     /// rotation (radians, about the curve's centroid) or a dilation (factor, about the centroid)
     /// of the named curve, e.g. `d1Dx`; `a` for the smoothing parameter of every polyharmonic
     /// operator; `<curve>cT` for the amplitude of the control-point offsets of a B-spline curve.
     pub name: String,
-    /// Lower bound.
-    pub min: f64,
-    /// Upper bound.
-    pub max: f64,
+    /// Lower bound (required for a name in the book's notation; for a `[[parameters]]` entry
+    /// the default is that entry's `min`, and a given one must not lie below it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min: Option<f64>,
+    /// Upper bound (as `min`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max: Option<f64>,
     /// Start value (default: the neutral value, 0 for translations, rotations and `cT`, 1 for
-    /// dilations, the design's own `a` for `a`).
+    /// dilations, the design's own `a` for `a`; for a `[[parameters]]` entry, its value).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub initial: Option<f64>,
 }

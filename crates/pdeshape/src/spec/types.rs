@@ -83,6 +83,10 @@ pub struct DesignSpec {
     /// Holes cut out of surfaces by closed curves in their `(u, v)` planes (§5.2).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub trims: Vec<super::trim::TrimSpec>,
+    /// Named, bounded design parameters (`[[parameters]]`, §6.1, §6.4, §7.5): what each drives
+    /// (a curve's point, angle, size, `v = 0` point, …), its bounds and its value.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parameters: Vec<super::params::DesignParameterSpec>,
     /// The design's time interval and frames (`pdeshape animate`); any number of the file may
     /// then be a formula in `t` (see [`super::time`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
