@@ -4,9 +4,10 @@
 //!
 //! Every writer first checks all of its input (at least one triangle or patch, consistent array
 //! lengths, finite values, index ranges that fit the format) and only then writes, so a refused
-//! input never leaves a truncated or broken file behind. The bytes are assembled in a chunk
-//! buffer of about a megabyte that is handed to the destination with `write_all`, in one pass,
-//! so the destination needs no buffering of its own.
+//! input never leaves a truncated or broken file behind. The bytes are assembled in chunk
+//! buffers of about a megabyte on a second thread while the calling thread hands the previous
+//! one to the destination with `write_all`, in one pass, so the destination needs no buffering
+//! of its own.
 
 use super::weld::{weld, WeldOptions};
 use super::{Grid, GridMesh, Part, Samples, TriMesh};
