@@ -515,3 +515,20 @@ pub fn print_stdout(text: &str) {
     let _ = out.write_all(text.as_bytes());
     let _ = out.flush();
 }
+
+/// When the process's `main` started ([`mark_start`]).
+static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+
+/// Records the start of the process (called first thing in `main`).
+pub fn mark_start() {
+    START.get_or_init(std::time::Instant::now);
+}
+
+/// Milliseconds since [`mark_start`] (since the first call, if it was not called).
+pub fn since_start_ms() -> f64 {
+    START
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_secs_f64()
+        * 1e3
+}

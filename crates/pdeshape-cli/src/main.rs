@@ -96,6 +96,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
 }
 
 fn main() -> ExitCode {
+    common::mark_start();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -29,7 +29,9 @@ pub struct Args {
     /// Grid columns (values of v; default from [output] or 128).
     #[arg(long)]
     pub nv: Option<usize>,
-    /// Print one JSON line with the solve, tessellate and write times (ms) on stderr.
+    /// Print one JSON line of times (ms) on stderr: solve, tessellate, write (= weld + file +
+    /// commit: welding the patches, encoding and writing the file, syncing and renaming it) and
+    /// the total since the process started.
     #[arg(long)]
     pub timings: bool,
     /// Multiply every position by this factor (finite, positive) before writing a mesh.
@@ -214,14 +216,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let tessellate_ms = ms(t);
     let t = Instant::now();
     let mut w = out.writer();
+    let mut weld_ms = 0.0;
     match (&meshes, &samples) {
         (_, Some(samples)) => mesh::write_csv(samples, &mut w),
-        (Some(meshes), _) => mesh::write_mesh(
-            format,
-            &solved.weld(meshes, &export),
-            &solved.mesh_info(&export),
-            &mut w,
-        ),
+        (Some(meshes), _) => {
+            let welded = solved.weld(meshes, &export);
+            weld_ms = ms(t);
+            mesh::write_mesh(format, &welded, &solved.mesh_info(&export), &mut w)
+        }
         (None, None) => unreachable!("one of the two was made"),
     }
     .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
@@ -229,6 +231,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     drop(w);
     let write_ms = ms(t);
+    let file_ms = write_ms - weld_ms;
     // The picture is drawn before anything is committed, so a failure leaves neither file.
     if let Some(pic) = picture_out.as_mut() {
         let meshes = match meshes {
@@ -259,14 +262,22 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(pic) = picture_out {
         pic.commit()?;
     }
-    let write_ms = write_ms + ms(t);
+    let commit_ms = ms(t);
+    let write_ms = write_ms + commit_ms;
     if args.timings {
+        // write_ms = weld_ms + file_ms (encoding and handing the bytes to the file) + commit_ms
+        // (the file synced to disk and renamed into place, the picture's too); total_ms runs
+        // from the start of the process's main function to here.
         eprintln!(
             "{}",
             serde_json::json!({
                 "solve_ms": solve_ms,
                 "tessellate_ms": tessellate_ms,
                 "write_ms": write_ms,
+                "weld_ms": weld_ms,
+                "file_ms": file_ms,
+                "commit_ms": commit_ms,
+                "total_ms": crate::common::since_start_ms(),
             })
         );
     }

@@ -376,11 +376,31 @@ fn timings_are_one_json_line() {
     assert_eq!(lines.len(), 1, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(lines[0]).unwrap();
     let obj = v.as_object().unwrap();
-    assert_eq!(obj.len(), 3);
-    for key in ["solve_ms", "tessellate_ms", "write_ms"] {
+    assert_eq!(obj.len(), 7);
+    let keys = [
+        "solve_ms",
+        "tessellate_ms",
+        "write_ms",
+        "weld_ms",
+        "file_ms",
+        "commit_ms",
+        "total_ms",
+    ];
+    for key in keys {
         let t = obj[key].as_f64().unwrap();
         assert!(t >= 0.0 && t.is_finite(), "{key} = {t}");
     }
+    let t = |key: &str| obj[key].as_f64().unwrap();
+    // The write is its three stages; the total covers every stage.
+    let parts = t("weld_ms") + t("file_ms") + t("commit_ms");
+    assert!(
+        (t("write_ms") - parts).abs() <= 1e-9 * t("write_ms").max(1.0),
+        "{stderr}"
+    );
+    assert!(
+        t("total_ms") >= t("solve_ms") + t("tessellate_ms") + t("write_ms"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -342,12 +342,14 @@ impl SolvedDesign {
     /// Refuses a grid of surface `k` that is not finite somewhere, naming the condition curve
     /// that is not finite there (formula curves are checked at sample points only when they are
     /// read, so a NaN between them shows up here).
-    fn check_finite<T: Copy + Into<f64>>(&self, k: usize, g: &mesh::Grid<T>) -> Result<()> {
+    fn check_finite<T: Copy + Into<f64> + Sync>(&self, k: usize, g: &mesh::Grid<T>) -> Result<()> {
+        use rayon::prelude::*;
         let bad = g
             .positions
-            .iter()
+            .par_iter()
             .zip(&g.normals)
-            .position(|(a, b)| a.iter().chain(b).any(|x| !(*x).into().is_finite()));
+            .with_min_len(1 << 14)
+            .position_first(|(a, b)| a.iter().chain(b).any(|x| !(*x).into().is_finite()));
         let Some(at) = bad else {
             return Ok(());
         };
@@ -387,7 +389,7 @@ impl SolvedDesign {
     }
 
     /// `eval` of every surface, each grid checked finite.
-    fn grids<T: Copy + Into<f64>>(
+    fn grids<T: Copy + Into<f64> + Sync>(
         &self,
         eval: impl Fn(&dyn Surface) -> Result<mesh::Grid<T>>,
     ) -> Result<Vec<mesh::Grid<T>>> {

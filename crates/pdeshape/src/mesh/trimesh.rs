@@ -2,6 +2,7 @@
 //! describe (trimmed patches, welded designs). A [`GridMesh`] converts to one without loss.
 
 use super::GridMesh;
+use rayon::prelude::*;
 use std::ops::Range;
 
 /// A named group of consecutive triangles (a design's patch).
@@ -153,12 +154,13 @@ impl TriMesh {
         if !self.uv.is_empty() && self.uv.len() != n {
             return Err(format!("{} uv pairs for {n} vertices", self.uv.len()));
         }
-        if let Some((k, t)) = self
+        if let Some(k) = self
             .triangles
-            .iter()
-            .enumerate()
-            .find(|(_, t)| t.iter().any(|&i| i as usize >= n))
+            .par_iter()
+            .with_min_len(1 << 14)
+            .position_first(|t| t.iter().any(|&i| i as usize >= n))
         {
+            let t = self.triangles[k];
             return Err(format!("triangle {k} {t:?} indexes past {n} vertices"));
         }
         let mut next = 0;

@@ -24,6 +24,7 @@
 //! taken; texture coordinates are dropped, since a welded vertex has several.
 
 use super::{GridMesh, Part, TriMesh};
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
 
@@ -76,11 +77,17 @@ impl Edge {
 
 impl std::hash::Hash for Edge {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
-        let mut z = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        state.write_u64(z ^ (z >> 31));
+        state.write_u64(mix(self.0));
     }
+}
+
+/// splitmix64's finaliser: a bijection of 64-bit words whose every output bit depends on every
+/// input bit.
+fn mix(x: u64) -> u64 {
+    let mut z = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
 
 /// A map over a mesh's edges, sized for `triangles` triangles (about 3/2 edges each).
@@ -159,21 +166,17 @@ impl Parity {
     }
 }
 
-/// True for the vertices that may coincide with another: the grid's boundary and its collapsed
-/// rows.
-fn weld_candidates(g: &GridMesh) -> Vec<bool> {
+/// True for the rows whose every vertex may coincide with another: the two end rows and the
+/// rows collapsed to one point. The end columns of a non-periodic grid are the other weld
+/// candidates ([`GridTopology::explicit`]).
+fn candidate_rows(g: &GridMesh) -> Vec<bool> {
     let (nu, nv) = (g.nu, g.nv);
-    let mut c = vec![false; nu * nv];
-    for i in 0..nu {
-        let row = &g.positions[i * nv..(i + 1) * nv];
-        let collapsed = row.iter().all(|p| p == &row[0]);
-        let end_row = i == 0 || i + 1 == nu;
-        for j in 0..nv {
-            let end_col = !g.periodic_v && (j == 0 || j + 1 == nv);
-            c[i * nv + j] = end_row || end_col || collapsed;
-        }
-    }
-    c
+    (0..nu)
+        .map(|i| {
+            let row = &g.positions[i * nv..(i + 1) * nv];
+            i == 0 || i + 1 == nu || row.iter().all(|p| p == &row[0])
+        })
+        .collect()
 }
 
 /// The grids of a design welded into one oriented [`TriMesh`] with one part per grid, named
@@ -204,7 +207,7 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
 /// orientation), which groups of grids are closed and the rims of the open ones. Grids whose
 /// vertices join alike (an animation's frames) are welded again with [`WeldTopology::weld`]
 /// without building the edge maps again; the result equals [`weld_mapped`]'s bit for bit.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct WeldTopology {
     options: WeldOptions,
     names: Vec<String>,
@@ -220,7 +223,7 @@ pub struct WeldTopology {
     groups: Vec<Group>,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 struct Group {
     root: usize,
     members: Vec<usize>,
@@ -229,22 +232,50 @@ struct Group {
     rim: Vec<u32>,
 }
 
-/// Bounding-box diagonal of every grid vertex.
+/// Bounding-box diagonal of every grid vertex (blocks in parallel: minima and maxima do not
+/// depend on the order).
 fn diagonal(grids: &[GridMesh]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in grids.iter().flat_map(|g| &g.positions) {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c] as f64);
-            hi[c] = hi[c].max(p[c] as f64);
-        }
-    }
+    let empty = || ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let (lo, hi) = grids
+        .par_iter()
+        .flat_map(|g| g.positions.par_chunks(1 << 14))
+        .map(|block| {
+            let (mut lo, mut hi) = empty();
+            for p in block {
+                for c in 0..3 {
+                    lo[c] = lo[c].min(p[c] as f64);
+                    hi[c] = hi[c].max(p[c] as f64);
+                }
+            }
+            (lo, hi)
+        })
+        .reduce(empty, |(a, b), (c, d)| {
+            (
+                [a[0].min(c[0]), a[1].min(c[1]), a[2].min(c[2])],
+                [b[0].max(d[0]), b[1].max(d[1]), b[2].max(d[2])],
+            )
+        });
     (0..3).map(|c| (hi[c] - lo[c]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// Joins the boundary vertices that coincide: the welded positions (first copy) and the welded
 /// vertex of every grid vertex.
 fn merge(grids: &[GridMesh], options: WeldOptions, diag: f64) -> (Vec<[f32; 3]>, Vec<Vec<u32>>) {
+    let (positions, source, _) = merge_rows(grids, options, diag);
+    (positions, source)
+}
+
+/// Welded positions, each grid's welded vertices and each grid's [`candidate_rows`].
+type Merged = (Vec<[f32; 3]>, Vec<Vec<u32>>, Vec<Vec<bool>>);
+
+/// [`merge`], also returning each grid's [`candidate_rows`].
+///
+/// Welded vertices are numbered in the order of the grids' vertices, a new number for every
+/// vertex that is not a candidate or finds no earlier candidate within the tolerance. Only the
+/// candidates are visited one by one (in that order, looking through the cells around them);
+/// the others take consecutive numbers, so every row's new vertices form one range of welded
+/// numbers, and the rows are then filled in parallel.
+fn merge_rows(grids: &[GridMesh], options: WeldOptions, diag: f64) -> Merged {
     let tol = if diag.is_finite() && diag > 0.0 {
         WELD_TOLERANCE * diag
     } else {
@@ -253,101 +284,419 @@ fn merge(grids: &[GridMesh], options: WeldOptions, diag: f64) -> (Vec<[f32; 3]>,
     let tol2 = tol * tol;
     let cell = |p: [f32; 3]| p.map(|x| (x as f64 / tol).floor() as i64);
 
-    // Welded vertex of every grid vertex; representatives keep the first copy's position.
-    let mut positions: Vec<[f32; 3]> = Vec::new();
-    let mut source: Vec<Vec<u32>> = Vec::with_capacity(grids.len());
-    let mut buckets: HashMap<([i64; 3], usize), Vec<u32>, BuildHasherDefault<CellHasher>> =
-        HashMap::default();
-    for (k, g) in grids.iter().enumerate() {
-        let group = if options.join_patches { 0 } else { k };
-        let cand = weld_candidates(g);
-        let mut map = Vec::with_capacity(g.positions.len());
-        for (idx, &p) in g.positions.iter().enumerate() {
-            if !cand[idx] {
-                map.push(positions.len() as u32);
-                positions.push(p);
-                continue;
-            }
-            let c = cell(p);
-            let mut found = None;
-            'search: for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let key = ([c[0] + dx, c[1] + dy, c[2] + dz], group);
-                        if let Some(list) = buckets.get(&key) {
-                            for &w in list {
-                                let q = positions[w as usize];
-                                let d2: f64 =
-                                    (0..3).map(|a| (p[a] as f64 - q[a] as f64).powi(2)).sum();
-                                if d2 <= tol2 {
-                                    found = Some(w);
-                                    break 'search;
-                                }
+    // Candidates' cells: their welded vertex and its position (the first copy's).
+    type Buckets = HashMap<([i64; 3], usize), Vec<(u32, [f32; 3])>, BuildHasherDefault<CellHasher>>;
+    let mut buckets: Buckets = HashMap::default();
+    let mut next = 0usize;
+    let mut visit = |p: [f32; 3], group: usize, next: &mut usize| -> u32 {
+        let c = cell(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let key = ([c[0] + dx, c[1] + dy, c[2] + dz], group);
+                    if let Some(list) = buckets.get(&key) {
+                        for &(w, q) in list {
+                            let d2: f64 = (0..3).map(|a| (p[a] as f64 - q[a] as f64).powi(2)).sum();
+                            if d2 <= tol2 {
+                                return w;
                             }
                         }
                     }
                 }
             }
-            let w = match found {
-                Some(w) => w,
-                None => {
-                    let w = positions.len() as u32;
-                    positions.push(p);
-                    buckets.entry((c, group)).or_default().push(w);
-                    w
-                }
-            };
-            map.push(w);
         }
-        source.push(map);
-    }
-    (positions, source)
-}
-
-impl WeldTopology {
-    /// Welds `grids` (as [`weld_mapped`]) and keeps what the welding found.
-    pub fn new(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> (Self, Welded) {
-        let diag = diagonal(grids);
-        let (positions, source) = merge(grids, options, diag);
-
-        // Triangles per patch, re-indexed, without the ones welding collapsed.
-        let tris: Vec<Vec<[u32; 3]>> = grids
-            .iter()
-            .zip(&source)
-            .map(|(g, map)| {
-                g.triangles()
-                    .map(|t| t.map(|i| map[i as usize]))
-                    .filter(|[a, b, c]| a != b && b != c && a != c)
-                    .collect()
-            })
-            .collect();
-
-        // Edges → (first patch, its direction, uses); patches meeting along an edge agree in
-        // orientation when they run along it in opposite directions.
-        let mut edges = edge_map::<(usize, bool, u32)>(tris.iter().map(Vec::len).sum());
-        for (k, ts) in tris.iter().enumerate() {
-            for t in ts {
-                for e in 0..3 {
-                    let (a, b) = (t[e], t[(e + 1) % 3]);
-                    edges.entry(Edge::new(a, b)).or_insert((k, a < b, 0)).2 += 1;
+        let w = *next as u32;
+        *next += 1;
+        buckets.entry((c, group)).or_default().push((w, p));
+        w
+    };
+    let mut sources: Vec<Vec<u32>> = Vec::with_capacity(grids.len());
+    let mut all_rows = Vec::with_capacity(grids.len());
+    // Per grid, the welded number of each row's first new vertex (and one past the last row).
+    let mut starts: Vec<Vec<usize>> = Vec::with_capacity(grids.len());
+    for (k, g) in grids.iter().enumerate() {
+        let group = if options.join_patches { 0 } else { k };
+        let (nu, nv) = (g.nu, g.nv);
+        let rows = candidate_rows(g);
+        // Zeroed pages are faulted in where they are first written: the candidates here, the
+        // rest in parallel below.
+        let mut map = vec![0u32; nu * nv];
+        let mut start = Vec::with_capacity(nu + 1);
+        for (i, &whole) in rows.iter().enumerate() {
+            start.push(next);
+            let row = i * nv;
+            if whole {
+                for j in 0..nv {
+                    map[row + j] = visit(g.positions[row + j], group, &mut next);
+                }
+            } else if g.periodic_v {
+                next += nv;
+            } else if nv > 0 {
+                map[row] = visit(g.positions[row], group, &mut next);
+                if nv > 1 {
+                    next += nv - 2;
+                    map[row + nv - 1] = visit(g.positions[row + nv - 1], group, &mut next);
                 }
             }
         }
-        let uses = |a: u32, b: u32| edges.get(&Edge::new(a, b)).map_or(0, |e| e.2);
-        let mut parity = Parity::new(grids.len());
-        for (k, ts) in tris.iter().enumerate() {
-            for t in ts {
-                for e in 0..3 {
-                    let (a, b) = (t[e], t[(e + 1) % 3]);
-                    if let Some(&(first, forward, 2)) = edges.get(&Edge::new(a, b)) {
-                        if first != k {
-                            // Same direction along the shared edge: opposite orientations.
-                            parity.join(first, k, forward == (a < b));
-                        }
+        start.push(next);
+        sources.push(map);
+        all_rows.push(rows);
+        starts.push(start);
+    }
+
+    // Every row's new vertices are the welded numbers start[i]..start[i + 1]: the row's
+    // non-candidates in order, and each candidate whose number is at least start[i].
+    let mut positions: Vec<[f32; 3]> = Vec::with_capacity(next);
+    {
+        let mut rest = &mut positions.spare_capacity_mut()[..next];
+        let mut tasks = Vec::new();
+        for (k, (g, map)) in grids.iter().zip(sources.iter_mut()).enumerate() {
+            let nv = g.nv.max(1);
+            for (i, src) in map.chunks_mut(nv).enumerate() {
+                let len = starts[k][i + 1] - starts[k][i];
+                let (head, tail) = std::mem::take(&mut rest).split_at_mut(len);
+                rest = tail;
+                tasks.push((g, &all_rows[k], i, starts[k][i], src, head));
+            }
+        }
+        tasks
+            .into_par_iter()
+            .with_min_len(8)
+            .for_each(|(g, rows, i, start, src, out)| {
+                let nv = src.len();
+                let row = &g.positions[i * g.nv..i * g.nv + nv];
+                if !rows[i] {
+                    // Non-candidates, numbered after the first column if it was new.
+                    let (first, lo, hi) = if g.periodic_v {
+                        (start, 0, nv)
+                    } else {
+                        let first = start + (src[0] as usize == start) as usize;
+                        (first, 1, nv.saturating_sub(1).max(1))
+                    };
+                    for (j, s) in src.iter_mut().enumerate().take(hi).skip(lo) {
+                        *s = (first + j - lo) as u32;
+                    }
+                }
+                // New vertices take increasing numbers along the row; a candidate joined to an
+                // earlier vertex (of this row or before) has a smaller one.
+                let mut expect = start;
+                for (s, p) in src.iter().zip(row) {
+                    if *s as usize == expect {
+                        out[expect - start].write(*p);
+                        expect += 1;
+                    }
+                }
+                assert_eq!(
+                    expect - start,
+                    out.len(),
+                    "every new vertex of the row written"
+                );
+            });
+    }
+    // SAFETY: the welded numbers 0..next are the union of the rows' ranges start[i]..start[i+1],
+    // and each row wrote every number of its range (checked by the assertion above).
+    unsafe { positions.set_len(next) };
+    (positions, sources, all_rows)
+}
+
+/// A grid's triangles as the weld sees them. Vertices that are not weld candidates keep a
+/// welded number of their own, so every triangle around one of them belongs to its grid and is
+/// known from the grid's layout: only the edges between two "explicit" vertices (the candidates;
+/// every vertex of a grid too small for that reasoning) can meet other patches or be used an
+/// unusual number of times, and only those go through the edge map.
+struct GridTopology<'a> {
+    nu: usize,
+    nv: usize,
+    periodic: bool,
+    /// Columns of quads.
+    cols: usize,
+    /// The welded vertex of every grid vertex.
+    map: &'a [u32],
+    /// [`candidate_rows`].
+    rows: &'a [bool],
+    /// Every vertex explicit (a periodic grid of fewer than 3 columns, whose triangles around
+    /// a vertex repeat).
+    all: bool,
+}
+
+impl<'a> GridTopology<'a> {
+    fn new(g: &GridMesh, map: &'a [u32], rows: &'a [bool]) -> Self {
+        let cols = if g.periodic_v {
+            g.nv
+        } else {
+            g.nv.saturating_sub(1)
+        };
+        GridTopology {
+            nu: g.nu,
+            nv: g.nv,
+            periodic: g.periodic_v,
+            cols,
+            map,
+            rows,
+            all: g.periodic_v && g.nv < 3,
+        }
+    }
+
+    /// Whether a row of vertices is explicit as a whole.
+    fn row_explicit(&self, i: usize) -> bool {
+        self.all || self.rows[i]
+    }
+
+    /// Whether grid vertex `idx` is explicit: a weld candidate, or any vertex of a tiny grid.
+    fn explicit(&self, idx: u32) -> bool {
+        let (i, j) = (idx as usize / self.nv, idx as usize % self.nv);
+        self.row_explicit(i) || (!self.periodic && (j == 0 || j + 1 == self.nv))
+    }
+
+    /// The two triangles of quad `(i, j)` in grid numbers, as [`GridMesh::triangles`] gives them.
+    fn quad(&self, i: usize, j: usize) -> [[u32; 3]; 2] {
+        let nv = self.nv;
+        let j1 = (j + 1) % nv;
+        let (a, b, c, d) = (i * nv + j, (i + 1) * nv + j, (i + 1) * nv + j1, i * nv + j1);
+        let [a, b, c, d] = [a, b, c, d].map(|x| x as u32);
+        [[a, b, c], [a, c, d]]
+    }
+
+    /// A grid triangle in welded numbers, `None` where welding collapsed it.
+    fn welded(&self, t: [u32; 3]) -> Option<[u32; 3]> {
+        let [a, b, c] = t.map(|i| self.map[i as usize]);
+        (a != b && b != c && a != c).then_some([a, b, c])
+    }
+
+    /// The quads of row `i` with an explicit corner, in order (all of them, when `all_quads`).
+    fn quads_to_visit(&self, i: usize, all_quads: bool) -> impl Iterator<Item = usize> {
+        let cols = self.cols;
+        let whole = all_quads || self.row_explicit(i) || self.row_explicit(i + 1);
+        let (first, second): (std::ops::Range<usize>, std::ops::Range<usize>) = if whole {
+            (0..cols, 0..0)
+        } else if self.periodic || cols == 0 {
+            (0..0, 0..0)
+        } else if cols == 1 {
+            (0..1, 0..0)
+        } else {
+            (0..1, cols - 1..cols)
+        };
+        first.chain(second)
+    }
+
+    /// Calls `f(grid triangle, welded triangle)` for every triangle that welding kept in the
+    /// quads with an explicit corner (in every quad, when `all_quads`), in the grid's order.
+    fn for_each_visited(&self, all_quads: bool, mut f: impl FnMut([u32; 3], [u32; 3])) {
+        for i in 0..self.nu.saturating_sub(1) {
+            for j in self.quads_to_visit(i, all_quads) {
+                for t in self.quad(i, j) {
+                    if let Some(w) = self.welded(t) {
+                        f(t, w);
                     }
                 }
             }
         }
+    }
+
+    /// Number of triangles of quad row `i` that welding keeps.
+    fn kept_in_row(&self, i: usize) -> usize {
+        let mut dropped = 0;
+        for j in self.quads_to_visit(i, false) {
+            dropped += self
+                .quad(i, j)
+                .iter()
+                .filter(|&&t| self.welded(t).is_none())
+                .count();
+        }
+        2 * self.cols - dropped
+    }
+
+    /// The welded triangles of the grid, without the collapsed ones, in the grid's order (quad
+    /// rows in parallel, each written once into its place).
+    fn triangles(&self) -> Vec<[u32; 3]> {
+        let rows = self.nu.saturating_sub(1);
+        let counts: Vec<usize> = (0..rows).map(|i| self.kept_in_row(i)).collect();
+        let total: usize = counts.iter().sum();
+        let mut out: Vec<[u32; 3]> = Vec::with_capacity(total);
+        {
+            let mut rest = &mut out.spare_capacity_mut()[..total];
+            let mut parts = Vec::with_capacity(rows);
+            for (i, &n) in counts.iter().enumerate() {
+                let (head, tail) = std::mem::take(&mut rest).split_at_mut(n);
+                rest = tail;
+                parts.push((i, head));
+            }
+            parts.into_par_iter().with_min_len(8).for_each(|(i, dst)| {
+                let mut k = 0;
+                for j in 0..self.cols {
+                    for t in self.quad(i, j) {
+                        if let Some(w) = self.welded(t) {
+                            dst[k].write(w);
+                            k += 1;
+                        }
+                    }
+                }
+                assert_eq!(k, dst.len(), "the kept triangles of row {i} counted");
+            });
+        }
+        // SAFETY: every row wrote exactly its counted number of triangles (asserted above), and
+        // the rows' slices tile the first `total` elements.
+        unsafe { out.set_len(total) };
+        out
+    }
+
+    /// The other corners of the triangles (kept by welding) around a vertex `(i, j)` that is not
+    /// explicit, two per triangle: an edge from the vertex is used by as many triangles as
+    /// its other end appears here. The six triangles of the four quads around `(i, j)`.
+    fn around(&self, i: usize, j: usize) -> ([u32; 12], usize) {
+        let nv = self.nv;
+        let jm = if j == 0 { nv - 1 } else { j - 1 };
+        let jp = if j + 1 == nv { 0 } else { j + 1 };
+        let v = |a: usize, b: usize| (a * nv + b) as u32;
+        let c = v(i, j);
+        let tris = [
+            [v(i - 1, jm), v(i, jm), c],
+            [v(i - 1, jm), c, v(i - 1, j)],
+            [v(i - 1, j), c, v(i, jp)],
+            [v(i, jm), v(i + 1, j), c],
+            [c, v(i + 1, j), v(i + 1, jp)],
+            [c, v(i + 1, jp), v(i, jp)],
+        ];
+        let w = self.map[c as usize];
+        let mut others = [0u32; 12];
+        let mut n = 0;
+        for t in tris {
+            if let Some(t) = self.welded(t) {
+                for x in t {
+                    if x != w {
+                        others[n] = x;
+                        n += 1;
+                    }
+                }
+            }
+        }
+        (others, n)
+    }
+
+    /// True when the vertex `(i, j)` (not explicit) has an explicit neighbour.
+    fn near_explicit(&self, i: usize, j: usize) -> bool {
+        self.row_explicit(i - 1)
+            || self.row_explicit(i + 1)
+            || (!self.periodic && (j == 1 || j + 2 == self.nv))
+    }
+
+    /// True when every edge with an end that is not explicit is used by exactly two triangles.
+    /// Away from explicit vertices that holds by the grid's layout (six distinct neighbours,
+    /// each edge in two kept triangles); next to them it is counted.
+    fn inner_edges_twice(&self) -> bool {
+        if self.all {
+            return true;
+        }
+        let check = |i: usize, j: usize| {
+            let (others, n) = self.around(i, j);
+            let others = &others[..n];
+            others
+                .iter()
+                .all(|x| others.iter().filter(|&y| y == x).count() == 2)
+        };
+        for i in 1..self.nu.saturating_sub(1) {
+            if self.rows[i] {
+                continue;
+            }
+            let (lo, hi) = if self.periodic {
+                (0, self.nv)
+            } else {
+                (1, self.nv.saturating_sub(1))
+            };
+            if self.row_explicit(i - 1) || self.row_explicit(i + 1) {
+                if !(lo..hi).all(|j| check(i, j)) {
+                    return false;
+                }
+            } else if !self.periodic {
+                for j in [lo, hi.saturating_sub(1)] {
+                    if j < hi && self.near_explicit(i, j) && !check(i, j) {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// How many kept triangles use the edge from grid vertex `a` to welded vertex `x`, where
+    /// `a` is not explicit.
+    fn uses_at(&self, a: u32, x: u32) -> u32 {
+        let (i, j) = (a as usize / self.nv, a as usize % self.nv);
+        let (others, n) = self.around(i, j);
+        others[..n].iter().filter(|&&y| y == x).count() as u32
+    }
+}
+
+impl WeldTopology {
+    /// Welds `grids` (as [`weld_mapped`]) and keeps what the welding found.
+    ///
+    /// The edges are counted from the grids' layout (see [`GridTopology`]): only the edges
+    /// between weld candidates (the grids' boundaries and collapsed rows: a few rows and
+    /// columns) go through a map; the result is that of counting every edge in one map.
+    pub fn new(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> (Self, Welded) {
+        let diag = diagonal(grids);
+        let (positions, source, rows) = merge_rows(grids, options, diag);
+        let topo: Vec<GridTopology> = grids
+            .iter()
+            .zip(&source)
+            .zip(&rows)
+            .map(|((g, map), rows)| GridTopology::new(g, map, rows))
+            .collect();
+
+        // Triangles per patch, re-indexed, without the ones welding collapsed.
+        let tris: Vec<Vec<[u32; 3]>> = topo.iter().map(GridTopology::triangles).collect();
+        // Whether each grid's edges away from the explicit vertices are all used twice.
+        let inner_twice: Vec<bool> = topo.par_iter().map(|t| t.inner_edges_twice()).collect();
+
+        // Edges between explicit vertices → (first patch, its direction, uses); patches meeting
+        // along an edge agree in orientation when they run along it in opposite directions.
+        let mut visited = 0;
+        for t in &topo {
+            t.for_each_visited(false, |_, _| visited += 1);
+        }
+        let mut edges = edge_map::<(usize, bool, u32)>(visited);
+        for (k, t) in topo.iter().enumerate() {
+            t.for_each_visited(false, |g, w| {
+                for e in 0..3 {
+                    if t.explicit(g[e]) && t.explicit(g[(e + 1) % 3]) {
+                        let (a, b) = (w[e], w[(e + 1) % 3]);
+                        edges.entry(Edge::new(a, b)).or_insert((k, a < b, 0)).2 += 1;
+                    }
+                }
+            });
+        }
+        let mut parity = Parity::new(grids.len());
+        for (k, t) in topo.iter().enumerate() {
+            t.for_each_visited(false, |g, w| {
+                for e in 0..3 {
+                    if t.explicit(g[e]) && t.explicit(g[(e + 1) % 3]) {
+                        let (a, b) = (w[e], w[(e + 1) % 3]);
+                        if let Some(&(first, forward, 2)) = edges.get(&Edge::new(a, b)) {
+                            if first != k {
+                                // Same direction along the shared edge: opposite orientations.
+                                parity.join(first, k, forward == (a < b));
+                            }
+                        }
+                    }
+                }
+            });
+        }
+        // Uses of the edge from grid vertex g[e] to g[e + 1] of a kept triangle of grid k.
+        let uses = |k: usize, g: [u32; 3], w: [u32; 3], e: usize| -> u32 {
+            let t = &topo[k];
+            let (ga, gb) = (g[e], g[(e + 1) % 3]);
+            let (a, b) = (w[e], w[(e + 1) % 3]);
+            if t.explicit(ga) && t.explicit(gb) {
+                edges.get(&Edge::new(a, b)).map_or(0, |e| e.2)
+            } else if inner_twice[k] {
+                2
+            } else if !t.explicit(ga) {
+                t.uses_at(ga, b)
+            } else {
+                t.uses_at(gb, a)
+            }
+        };
 
         // Orientation of each patch relative to its group's root; the groups whose own turn
         // a volume decides.
@@ -361,21 +710,26 @@ impl WeldTopology {
                 .filter(|&k| relative[k].0 == root)
                 .collect();
             let closed = members.iter().all(|&k| {
-                tris[k]
-                    .iter()
-                    .all(|t| (0..3).all(|e| uses(t[e], t[(e + 1) % 3]) == 2))
+                let mut twice = inner_twice[k];
+                if twice {
+                    topo[k].for_each_visited(false, |g, w| {
+                        twice &= (0..3).all(|e| uses(k, g, w, e) == 2);
+                    });
+                }
+                twice
             });
             let mut rim = Vec::new();
             if !closed {
                 for &k in &members {
-                    for t in &tris[k] {
+                    // Edges used once lie among the explicit vertices unless some inner edge
+                    // is not used twice; then every triangle is looked at.
+                    topo[k].for_each_visited(!inner_twice[k], |g, w| {
                         for e in 0..3 {
-                            let (a, b) = (t[e], t[(e + 1) % 3]);
-                            if uses(a, b) == 1 {
-                                rim.push(a);
+                            if uses(k, g, w, e) == 1 {
+                                rim.push(w[e]);
                             }
                         }
-                    }
+                    });
                 }
             }
             groups.push(Group {
@@ -461,64 +815,36 @@ impl WeldTopology {
             .map(|&(root, rel)| rel ^ group_flip.get(&root).copied().unwrap_or(false))
             .collect();
 
-        // Normals: the mean of the welded copies, each turned with its patch.
-        let mut sums = vec![[0.0f64; 3]; positions.len()];
-        for (k, g) in grids.iter().enumerate() {
-            let s = if flipped[k] { -1.0 } else { 1.0 };
-            for (idx, n) in g.normals.iter().enumerate() {
-                let w = self.source[k][idx] as usize;
-                for c in 0..3 {
-                    sums[w][c] += s * n[c] as f64;
-                }
-            }
-        }
-        let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(self.tris.iter().map(Vec::len).sum());
+        // The triangles, each patch turned as decided (patches in parallel blocks).
+        let total: usize = self.tris.iter().map(Vec::len).sum();
+        let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(total);
         let mut parts = Vec::with_capacity(self.tris.len());
-        for (k, ts) in self.tris.iter().enumerate() {
-            let start = triangles.len();
-            if flipped[k] {
-                triangles.extend(ts.iter().map(|&[a, b, c]| [a, c, b]));
-            } else {
-                triangles.extend_from_slice(ts);
+        {
+            let mut rest = &mut triangles.spare_capacity_mut()[..total];
+            let mut blocks = Vec::new();
+            let mut start = 0;
+            for (k, ts) in self.tris.iter().enumerate() {
+                let (head, tail) = std::mem::take(&mut rest).split_at_mut(ts.len());
+                rest = tail;
+                for (src, dst) in ts.chunks(1 << 15).zip(head.chunks_mut(1 << 15)) {
+                    blocks.push((flipped[k], src, dst));
+                }
+                parts.push(Part {
+                    name: self.names[k].clone(),
+                    triangles: start..start + ts.len(),
+                });
+                start += ts.len();
             }
-            parts.push(Part {
-                name: self.names[k].clone(),
-                triangles: start..triangles.len(),
+            blocks.into_par_iter().for_each(|(flip, src, dst)| {
+                for (&[a, b, c], d) in src.iter().zip(dst) {
+                    d.write(if flip { [a, c, b] } else { [a, b, c] });
+                }
             });
         }
-        let mut normals: Vec<[f32; 3]> = sums
-            .iter()
-            .map(|s| {
-                let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-                if len > 1e-3 {
-                    s.map(|c| (c / len) as f32)
-                } else {
-                    [0.0; 3]
-                }
-            })
-            .collect();
-        // Where the copies' normals cancel (a crease turned back on itself) or point against
-        // the triangles around the vertex (the limit normal at a pole closing a patch at its end
-        // u, whose sign is that of the other end's), the mean of the facet normals around the
-        // vertex.
-        let mut acc = vec![[0.0f64; 3]; positions.len()];
-        for &t in &triangles {
-            let f = facet_cross(&positions, t);
-            for &i in &t {
-                for c in 0..3 {
-                    acc[i as usize][c] += f[c];
-                }
-            }
-        }
-        for (n, a) in normals.iter_mut().zip(&acc) {
-            let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
-            if dot <= 0.0 {
-                let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-                if len > 0.0 {
-                    *n = a.map(|c| (c / len) as f32);
-                }
-            }
-        }
+        // SAFETY: the blocks tile the first `total` elements, each written in full.
+        unsafe { triangles.set_len(total) };
+
+        let normals = self.normals(grids, &positions, &flipped);
         Welded {
             mesh: TriMesh {
                 positions,
@@ -530,6 +856,203 @@ impl WeldTopology {
             source: self.source.clone(),
             flipped,
         }
+    }
+
+    /// Vertex normals: the normalised mean of the welded copies' normals, each turned with its
+    /// patch; where that vanishes or points against the triangles around the vertex (a crease
+    /// turned back on itself; the limit normal at a pole closing a patch at its end u, whose
+    /// sign is that of the other end's), the mean of the facet normals around the vertex.
+    ///
+    /// Sums are taken in the order of the grids' vertices (copies) and of the mesh's triangles
+    /// (facets), as one pass over each would. Vertices that are not weld candidates have one copy
+    /// and six triangles of their own grid, known from its layout: they are done row by row in
+    /// parallel, each quad row's facets computed once per block of rows. The candidates (a few
+    /// rows and columns) are summed in maps.
+    fn normals(
+        &self,
+        grids: &[GridMesh],
+        positions: &[[f32; 3]],
+        flipped: &[bool],
+    ) -> Vec<[f32; 3]> {
+        let unit = |s: [f64; 3]| -> [f32; 3] {
+            let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+            if len > 1e-3 {
+                s.map(|c| (c / len) as f32)
+            } else {
+                [0.0; 3]
+            }
+        };
+        let settle = |mut n: [f32; 3], a: [f64; 3]| -> [f32; 3] {
+            let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
+            if dot <= 0.0 {
+                let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                if len > 0.0 {
+                    n = a.map(|c| (c / len) as f32);
+                }
+            }
+            n
+        };
+        let add = |s: &mut [f64; 3], x: [f64; 3]| {
+            for c in 0..3 {
+                s[c] += x[c];
+            }
+        };
+        let rows: Vec<Vec<bool>> = grids.par_iter().map(candidate_rows).collect();
+        let topo: Vec<GridTopology> = grids
+            .iter()
+            .zip(&self.source)
+            .zip(&rows)
+            .map(|((g, map), rows)| GridTopology::new(g, map, rows))
+            .collect();
+        let mut normals = vec![[0.0f32; 3]; positions.len()];
+
+        // Candidates: their copies and their triangles, in order.
+        let mut sums: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+        let mut facets: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+        for (k, (g, t)) in grids.iter().zip(&topo).enumerate() {
+            let s = if flipped[k] { -1.0 } else { 1.0 };
+            for i in 0..g.nu {
+                let cols: Vec<usize> = if t.row_explicit(i) {
+                    (0..g.nv).collect()
+                } else if !g.periodic_v && g.nv > 0 {
+                    if g.nv > 1 {
+                        vec![0, g.nv - 1]
+                    } else {
+                        vec![0]
+                    }
+                } else {
+                    Vec::new()
+                };
+                for j in cols {
+                    let idx = i * g.nv + j;
+                    let n = g.normals[idx];
+                    add(
+                        sums.entry(self.source[k][idx]).or_insert([0.0; 3]),
+                        [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64],
+                    );
+                }
+            }
+            t.for_each_visited(false, |gt, wt| {
+                let f = facet_cross(positions, turned(wt, flipped[k]));
+                for e in 0..3 {
+                    if t.explicit(gt[e]) {
+                        add(facets.entry(wt[e]).or_insert([0.0; 3]), f);
+                    }
+                }
+            });
+        }
+        for (&w, &s) in &sums {
+            let a = facets.get(&w).copied().unwrap_or([0.0; 3]);
+            normals[w as usize] = settle(unit(s), a);
+        }
+
+        // The other vertices, blocks of rows in parallel. Each writes the normals of its own
+        // vertices (welded numbers no other grid vertex has).
+        let out = SharedSlice(normals.as_mut_ptr(), normals.len());
+        let out = &out;
+        const BLOCK: usize = 16;
+        let blocks: Vec<(usize, usize)> = topo
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| !t.all)
+            .flat_map(|(k, t)| {
+                (1..t.nu.saturating_sub(1))
+                    .step_by(BLOCK)
+                    .map(move |i| (k, i))
+            })
+            .collect();
+        blocks.into_par_iter().for_each(|(k, r0)| {
+            let (g, t) = (&grids[k], &topo[k]);
+            let flip = flipped[k];
+            let s = if flip { -1.0 } else { 1.0 };
+            let r1 = (r0 + BLOCK).min(t.nu - 1);
+            // Facets of the two triangles of every quad of a row (None: collapsed).
+            let facet_row = |i: usize, row: &mut Vec<[Option<[f64; 3]>; 2]>| {
+                row.clear();
+                row.extend((0..t.cols).map(|j| {
+                    t.quad(i, j).map(|tri| {
+                        t.welded(tri)
+                            .map(|w| facet_cross(positions, turned(w, flip)))
+                    })
+                }));
+            };
+            let (mut prev, mut cur) = (Vec::new(), Vec::new());
+            facet_row(r0 - 1, &mut prev);
+            for i in r0..r1 {
+                facet_row(i, &mut cur);
+                if !t.row_explicit(i) {
+                    let (lo, hi) = if t.periodic {
+                        (0, t.nv)
+                    } else {
+                        (1, t.nv.saturating_sub(1))
+                    };
+                    for j in lo..hi {
+                        let jm = if j == 0 { t.nv - 1 } else { j - 1 };
+                        // The six triangles around (i, j) in the mesh's order: quad row i − 1,
+                        // then quad row i, quads by column, each quad's first triangle first.
+                        let order: [Option<[f64; 3]>; 6] = if j > 0 {
+                            [
+                                prev[jm][0],
+                                prev[jm][1],
+                                prev[j][0],
+                                cur[jm][1],
+                                cur[j][0],
+                                cur[j][1],
+                            ]
+                        } else {
+                            [
+                                prev[j][0],
+                                prev[jm][0],
+                                prev[jm][1],
+                                cur[j][0],
+                                cur[j][1],
+                                cur[jm][1],
+                            ]
+                        };
+                        let mut a = [0.0f64; 3];
+                        for f in order.into_iter().flatten() {
+                            add(&mut a, f);
+                        }
+                        let idx = i * t.nv + j;
+                        let n = g.normals[idx];
+                        let mut m = [0.0f64; 3];
+                        add(&mut m, [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64]);
+                        // SAFETY: the vertex is not a weld candidate, so its welded number
+                        // belongs to it alone: no other task writes this element.
+                        unsafe { out.write(t.map[idx] as usize, settle(unit(m), a)) };
+                    }
+                }
+                std::mem::swap(&mut prev, &mut cur);
+            }
+        });
+        normals
+    }
+}
+
+/// A triangle as written: turned over (`[a, c, b]`) when its patch is.
+fn turned(t: [u32; 3], flip: bool) -> [u32; 3] {
+    if flip {
+        [t[0], t[2], t[1]]
+    } else {
+        t
+    }
+}
+
+/// A slice written by several threads at distinct indices.
+struct SharedSlice<T>(*mut T, usize);
+
+// SAFETY: the pointer is only used through `write`, whose callers write distinct indices.
+unsafe impl<T: Send> Sync for SharedSlice<T> {}
+
+impl<T> SharedSlice<T> {
+    /// Writes element `i`.
+    ///
+    /// # Safety
+    /// No other thread reads or writes element `i` meanwhile.
+    unsafe fn write(&self, i: usize, x: T) {
+        assert!(i < self.1, "index {i} within {}", self.1);
+        // SAFETY: in bounds (checked); exclusive by the caller's promise.
+        unsafe { *self.0.add(i) = x };
     }
 }
 
@@ -601,38 +1124,132 @@ impl MeshReport {
 /// Counts the mesh's boundary, non-manifold and misoriented edges and degenerate triangles, and
 /// its signed volume.
 pub fn report(mesh: &TriMesh) -> MeshReport {
-    let mut uses = edge_map::<(u32, u32)>(mesh.triangles.len());
-    let mut degenerate = 0;
-    for &t in &mesh.triangles {
-        let [a, b, c] = t;
-        let f = facet_cross(&mesh.positions, t);
-        if a == b || b == c || a == c || f == [0.0; 3] {
-            degenerate += 1;
-        }
-        for e in 0..3 {
-            let (a, b) = (t[e], t[(e + 1) % 3]);
-            let entry = uses.entry(Edge::new(a, b)).or_default();
-            if a < b {
-                entry.0 += 1;
-            } else {
-                entry.1 += 1;
-            }
-        }
-    }
-    let mut r = MeshReport {
-        boundary_edges: 0,
-        nonmanifold_edges: 0,
-        misoriented_edges: 0,
+    let degenerate = mesh
+        .triangles
+        .par_chunks(1 << 14)
+        .map(|ts| {
+            ts.iter()
+                .filter(|&&t| {
+                    let [a, b, c] = t;
+                    a == b || b == c || a == c || facet_cross(&mesh.positions, t) == [0.0; 3]
+                })
+                .count()
+        })
+        .sum();
+    let edges = edge_uses(mesh);
+    MeshReport {
+        boundary_edges: edges.boundary,
+        nonmanifold_edges: edges.nonmanifold,
+        misoriented_edges: edges.misoriented,
         degenerate_triangles: degenerate,
         signed_volume: signed_volume_of(&mesh.positions, &mesh.triangles),
-    };
-    for &(f, b) in uses.values() {
-        match f + b {
-            1 => r.boundary_edges += 1,
-            2 if f != 1 => r.misoriented_edges += 1,
-            2 => {}
-            _ => r.nonmanifold_edges += 1,
+    }
+}
+
+/// Edges by how they are used.
+#[derive(Default)]
+struct EdgeUses {
+    boundary: usize,
+    nonmanifold: usize,
+    misoriented: usize,
+}
+
+/// Counts every edge's uses in each direction, grouped by its lower vertex (counts per vertex,
+/// prefix sums, then each vertex's few upper ends sorted): memory in the order of the vertices,
+/// no hashing.
+fn edge_uses(mesh: &TriMesh) -> EdgeUses {
+    let n = mesh.positions.len();
+    let mut start = vec![0usize; n + 2];
+    for t in &mesh.triangles {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            start[a.min(b) as usize + 2] += 1;
         }
     }
-    r
+    for i in 2..start.len() {
+        start[i] += start[i - 1];
+    }
+    // start[v + 1] is where vertex v's entries go next; afterwards start[v]..start[v + 1].
+    let mut entries = vec![0u64; 3 * mesh.triangles.len()];
+    for t in &mesh.triangles {
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            let slot = &mut start[a.min(b) as usize + 1];
+            // The upper end, and whether the edge runs upward.
+            entries[*slot] = (a.max(b) as u64) << 1 | (a < b) as u64;
+            *slot += 1;
+        }
+    }
+    // Blocks of vertices in parallel, each sorting its vertices' entries in place.
+    const BLOCK: usize = 1 << 12;
+    let mut blocks = Vec::with_capacity(n / BLOCK + 1);
+    let mut rest = entries.as_mut_slice();
+    for v0 in (0..n).step_by(BLOCK) {
+        let v1 = (v0 + BLOCK).min(n);
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(start[v1] - start[v0]);
+        rest = tail;
+        blocks.push((v0, v1, head));
+    }
+    let start = &start;
+    blocks
+        .into_par_iter()
+        .map(|(v0, v1, block)| {
+            let mut acc = EdgeUses::default();
+            for v in v0..v1 {
+                let seg = &mut block[start[v] - start[v0]..start[v + 1] - start[v0]];
+                seg.sort_unstable();
+                let mut k = 0;
+                while k < seg.len() {
+                    let hi = seg[k] >> 1;
+                    let (mut up, mut down) = (0, 0);
+                    while k < seg.len() && seg[k] >> 1 == hi {
+                        if seg[k] & 1 == 1 {
+                            up += 1;
+                        } else {
+                            down += 1;
+                        }
+                        k += 1;
+                    }
+                    match up + down {
+                        1 => acc.boundary += 1,
+                        2 if up != 1 => acc.misoriented += 1,
+                        2 => {}
+                        _ => acc.nonmanifold += 1,
+                    }
+                }
+            }
+            acc
+        })
+        .reduce(EdgeUses::default, |a, b| EdgeUses {
+            boundary: a.boundary + b.boundary,
+            nonmanifold: a.nonmanifold + b.nonmanifold,
+            misoriented: a.misoriented + b.misoriented,
+        })
 }
+
+/// True when every edge of the mesh is used by exactly two triangles (what a glTF material's
+/// `doubleSided` depends on). A mesh with an edge used an odd number of times is told at once:
+/// the exclusive-or of a hash of every edge use is then almost surely not zero (an edge used
+/// twice cancels); otherwise the edges are counted.
+pub(crate) fn is_closed(mesh: &TriMesh) -> bool {
+    let mixed = mesh
+        .triangles
+        .par_chunks(1 << 14)
+        .map(|ts| {
+            ts.iter().fold(0u64, |x, t| {
+                x ^ mix(Edge::new(t[0], t[1]).0)
+                    ^ mix(Edge::new(t[1], t[2]).0)
+                    ^ mix(Edge::new(t[2], t[0]).0)
+            })
+        })
+        .reduce(|| 0, |a, b| a ^ b);
+    if mixed != 0 {
+        return false;
+    }
+    let e = edge_uses(mesh);
+    e.boundary == 0 && e.nonmanifold == 0
+}
+
+#[cfg(test)]
+#[path = "weld_tests.rs"]
+mod tests;

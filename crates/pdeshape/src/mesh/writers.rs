@@ -4,14 +4,16 @@
 //!
 //! Every writer first checks all of its input (at least one triangle or patch, consistent array
 //! lengths, finite values, index ranges that fit the format) and only then writes, so a refused
-//! input never leaves a truncated or broken file behind. The bytes are assembled in a chunk
-//! buffer of about a megabyte that is handed to the destination with `write_all`, in one pass,
-//! so the destination needs no buffering of its own.
+//! input never leaves a truncated or broken file behind. The bytes are assembled in chunk
+//! buffers of about a megabyte on a second thread while the calling thread hands the previous
+//! one to the destination with `write_all`, in one pass, so the destination needs no buffering
+//! of its own.
 
 use super::weld::{weld, WeldOptions};
 use super::{Grid, GridMesh, Part, Samples, TriMesh};
 pub use crate::spec::Units;
 use crate::{Error, Result};
+use rayon::prelude::*;
 use std::io::Write;
 
 /// Output formats, chosen by file extension.
@@ -194,25 +196,70 @@ fn check_u32(total: u128, what: &str, format: &str) -> Result<u32> {
 
 const CHUNK: usize = 1 << 20;
 
-/// A byte buffer that is passed to the destination with `write_all` whenever it holds about
-/// [`CHUNK`] bytes.
-struct Sink<'a> {
+/// A byte buffer that is passed on to the destination whenever it holds about [`CHUNK`]
+/// bytes.
+struct Sink {
     buf: Vec<u8>,
-    w: &'a mut dyn Write,
+    /// To the thread that writes the full buffers ([`stream`]).
+    full: std::sync::mpsc::SyncSender<Vec<u8>>,
+    /// The emptied buffers it hands back.
+    empty: std::sync::mpsc::Receiver<Vec<u8>>,
     what: &'static str,
     float: ryu::Buffer,
 }
 
-impl<'a> Sink<'a> {
-    fn new(w: &'a mut dyn Write, what: &'static str) -> Self {
-        Sink {
-            buf: Vec::with_capacity(CHUNK + 4096),
-            w,
-            what,
-            float: ryu::Buffer::new(),
-        }
+/// Runs `body` on a second thread while this one writes the chunks it fills to `w`, in order:
+/// encoding the next megabyte overlaps handing the last one to the operating system (for a
+/// file, copying it into the page cache). Three buffers circulate; nothing else is allocated.
+/// A write error stops the encoding and is the error reported; then `w` is flushed.
+fn stream<F>(w: &mut dyn Write, what: &'static str, body: F) -> Result<()>
+where
+    F: FnOnce(&mut Sink) -> Result<()> + Send,
+{
+    use std::sync::mpsc::{channel, sync_channel};
+    let (full_tx, full_rx) = sync_channel::<Vec<u8>>(2);
+    let (empty_tx, empty_rx) = channel::<Vec<u8>>();
+    for _ in 0..2 {
+        empty_tx
+            .send(Vec::with_capacity(CHUNK + 4096))
+            .expect("the receiver is alive");
     }
+    let io = |e: std::io::Error| Error::io(format!("writing {what}: {e}"));
+    std::thread::scope(|scope| {
+        let producer = scope.spawn(move || {
+            let mut sink = Sink {
+                buf: Vec::with_capacity(CHUNK + 4096),
+                full: full_tx,
+                empty: empty_rx,
+                what,
+                float: ryu::Buffer::new(),
+            };
+            body(&mut sink)?;
+            sink.drain()
+        });
+        let mut written = Ok(());
+        for chunk in full_rx.iter() {
+            if let Err(e) = w.write_all(&chunk) {
+                written = Err(io(e));
+                break;
+            }
+            // The producer may have finished: then the buffer is not needed.
+            let _ = empty_tx.send(chunk);
+        }
+        // Unblocks a producer still sending, or waiting for a buffer, after a write error.
+        drop(full_rx);
+        drop(empty_tx);
+        let produced = match producer.join() {
+            Ok(r) => r,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        written?;
+        produced?;
+        w.flush().map_err(io)
+    })
+}
 
+impl Sink {
     /// Passes the buffer on once it is full; call between records.
     #[inline]
     fn tick(&mut self) -> Result<()> {
@@ -224,19 +271,13 @@ impl<'a> Sink<'a> {
 
     fn drain(&mut self) -> Result<()> {
         let what = self.what;
-        self.w
-            .write_all(&self.buf)
-            .map_err(|e| Error::io(format!("writing {what}: {e}")))?;
+        // A closed channel means the writing side stopped on an error, which it reports.
+        let stopped = || Error::io(format!("writing {what}: stopped"));
+        let next = self.empty.recv().map_err(|_| stopped())?;
+        let buf = std::mem::replace(&mut self.buf, next);
+        self.full.send(buf).map_err(|_| stopped())?;
         self.buf.clear();
         Ok(())
-    }
-
-    fn finish(mut self) -> Result<()> {
-        self.drain()?;
-        let what = self.what;
-        self.w
-            .flush()
-            .map_err(|e| Error::io(format!("writing {what}: {e}")))
     }
 
     #[inline]
@@ -281,6 +322,37 @@ impl<'a> Sink<'a> {
     #[inline]
     fn u32_le(&mut self, x: u32) {
         self.buf.extend_from_slice(&x.to_le_bytes());
+    }
+
+    /// Three floats, little-endian, in one copy.
+    #[inline]
+    fn f32x3_le(&mut self, v: [f32; 3]) {
+        let mut b = [0u8; 12];
+        for (dst, x) in b.chunks_exact_mut(4).zip(v) {
+            dst.copy_from_slice(&x.to_le_bytes());
+        }
+        self.buf.extend_from_slice(&b);
+    }
+
+    /// Many integers, little-endian, passing the buffer on as it fills.
+    fn u32s_le(&mut self, xs: &[u32]) -> Result<()> {
+        for chunk in xs.chunks(CHUNK / 4) {
+            #[cfg(target_endian = "little")]
+            {
+                // SAFETY: a `u32` slice viewed as its bytes (alignment 1, same length in bytes);
+                // on a little-endian machine those are the little-endian encodings.
+                let bytes = unsafe {
+                    std::slice::from_raw_parts(chunk.as_ptr().cast::<u8>(), 4 * chunk.len())
+                };
+                self.buf.extend_from_slice(bytes);
+            }
+            #[cfg(not(target_endian = "little"))]
+            for &x in chunk {
+                self.u32_le(x);
+            }
+            self.tick()?;
+        }
+        Ok(())
     }
 }
 
@@ -441,7 +513,11 @@ fn check_mesh(mesh: &TriMesh) -> Result<()> {
         ));
     }
     for (name, data) in [("position", &mesh.positions), ("normal", &mesh.normals)] {
-        if let Some(idx) = data.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        let bad = data
+            .par_iter()
+            .with_min_len(1 << 14)
+            .position_first(|p| !p.iter().all(|c| c.is_finite()));
+        if let Some(idx) = bad {
             let p = data[idx];
             return Err(Error::invalid(format!(
                 "non-finite {name} [{}, {}, {}] at vertex {idx}",
@@ -505,55 +581,56 @@ pub fn write_obj(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     check_mesh(mesh)?;
     let frame = Frame::new(info, Format::Obj)?;
     let parts = parts_of(mesh);
-    let mut out = Sink::new(w, "OBJ");
-    out.bytes(format!("# {GENERATOR} OBJ\n").as_bytes());
-    if let Some(t) = &info.title {
-        out.bytes(format!("# title: {}\n", one_line(t)).as_bytes());
-    }
-    out.bytes(format!("# {}\n", units_text(info)).as_bytes());
-    let names: Vec<String> = parts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| token(&p.name, k))
-        .collect();
-    out.bytes(format!("# parts: {}\n", names.join(" ")).as_bytes());
-    for p in &mesh.positions {
-        obj_vec3(&mut out, b"v ", &frame.point(*p))?;
-    }
-    for n in &mesh.normals {
-        obj_vec3(&mut out, b"vn ", &frame.normal(*n))?;
-    }
-    let with_uv = !mesh.uv.is_empty();
-    for t in &mesh.uv {
-        out.bytes(b"vt ");
-        out.f32_text(t[0]);
-        out.bytes(b" ");
-        out.f32_text(t[1]);
-        out.bytes(b"\n");
-        out.tick()?;
-    }
-    for (part, name) in parts.iter().zip(&names) {
-        out.bytes(b"o ");
-        out.bytes(name.as_bytes());
-        out.bytes(b"\n");
-        for t in &mesh.triangles[part.triangles.clone()] {
-            out.bytes(b"f");
-            for &i in t {
-                let i = u64::from(i) + 1;
-                out.bytes(b" ");
-                out.uint_text(i);
-                out.bytes(if with_uv { b"/" } else { b"//" });
-                if with_uv {
-                    out.uint_text(i);
-                    out.bytes(b"/");
-                }
-                out.uint_text(i);
-            }
+    stream(w, "OBJ", |out| {
+        out.bytes(format!("# {GENERATOR} OBJ\n").as_bytes());
+        if let Some(t) = &info.title {
+            out.bytes(format!("# title: {}\n", one_line(t)).as_bytes());
+        }
+        out.bytes(format!("# {}\n", units_text(info)).as_bytes());
+        let names: Vec<String> = parts
+            .iter()
+            .enumerate()
+            .map(|(k, p)| token(&p.name, k))
+            .collect();
+        out.bytes(format!("# parts: {}\n", names.join(" ")).as_bytes());
+        for p in &mesh.positions {
+            obj_vec3(out, b"v ", &frame.point(*p))?;
+        }
+        for n in &mesh.normals {
+            obj_vec3(out, b"vn ", &frame.normal(*n))?;
+        }
+        let with_uv = !mesh.uv.is_empty();
+        for t in &mesh.uv {
+            out.bytes(b"vt ");
+            out.f32_text(t[0]);
+            out.bytes(b" ");
+            out.f32_text(t[1]);
             out.bytes(b"\n");
             out.tick()?;
         }
-    }
-    out.finish()
+        for (part, name) in parts.iter().zip(&names) {
+            out.bytes(b"o ");
+            out.bytes(name.as_bytes());
+            out.bytes(b"\n");
+            for t in &mesh.triangles[part.triangles.clone()] {
+                out.bytes(b"f");
+                for &i in t {
+                    let i = u64::from(i) + 1;
+                    out.bytes(b" ");
+                    out.uint_text(i);
+                    out.bytes(if with_uv { b"/" } else { b"//" });
+                    if with_uv {
+                        out.uint_text(i);
+                        out.bytes(b"/");
+                    }
+                    out.uint_text(i);
+                }
+                out.bytes(b"\n");
+                out.tick()?;
+            }
+        }
+        Ok(())
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -583,23 +660,24 @@ pub fn write_stl(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     let mut header = [b' '; 80];
     let n = text.len().min(80);
     header[..n].copy_from_slice(&text.as_bytes()[..n]);
-    let mut out = Sink::new(w, "STL");
-    out.bytes(&header);
-    out.u32_le(count);
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| frame.point(mesh.positions[i as usize]));
-        for x in facet_normal(a, b, c) {
-            out.f32_le(x);
-        }
-        for p in [a, b, c] {
-            for x in p {
-                out.f32_le(x);
+    stream(w, "STL", |out| {
+        out.bytes(&header);
+        out.u32_le(count);
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| frame.point(mesh.positions[i as usize]));
+            // One record: facet normal, three corners, a zero attribute word.
+            let mut record = [0u8; 50];
+            for (k, v) in [facet_normal(a, b, c), a, b, c].into_iter().enumerate() {
+                for (q, x) in v.into_iter().enumerate() {
+                    let at = 12 * k + 4 * q;
+                    record[at..at + 4].copy_from_slice(&x.to_le_bytes());
+                }
             }
+            out.bytes(&record);
+            out.tick()?;
         }
-        out.bytes(&[0, 0]);
-        out.tick()?;
-    }
-    out.finish()
+        Ok(())
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -637,29 +715,27 @@ pub fn write_ply(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
         head += "property float u\nproperty float v\n";
     }
     head += &format!("element face {faces}\nproperty list uchar uint vertex_indices\nend_header\n");
-    let mut out = Sink::new(w, "PLY");
-    out.bytes(head.as_bytes());
-    for (k, (p, n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
-        for c in frame.point(*p) {
-            out.f32_le(c);
+    stream(w, "PLY", |out| {
+        out.bytes(head.as_bytes());
+        for (k, (p, n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+            out.f32x3_le(frame.point(*p));
+            out.f32x3_le(frame.normal(*n));
+            if with_uv {
+                out.f32_le(mesh.uv[k][0]);
+                out.f32_le(mesh.uv[k][1]);
+            }
+            out.tick()?;
         }
-        for c in frame.normal(*n) {
-            out.f32_le(c);
+        for t in &mesh.triangles {
+            let mut record = [3u8; 13];
+            for (k, &i) in t.iter().enumerate() {
+                record[1 + 4 * k..5 + 4 * k].copy_from_slice(&i.to_le_bytes());
+            }
+            out.bytes(&record);
+            out.tick()?;
         }
-        if with_uv {
-            out.f32_le(mesh.uv[k][0]);
-            out.f32_le(mesh.uv[k][1]);
-        }
-        out.tick()?;
-    }
-    for t in &mesh.triangles {
-        out.bytes(&[3]);
-        for &i in t {
-            out.u32_le(i);
-        }
-        out.tick()?;
-    }
-    out.finish()
+        Ok(())
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -681,11 +757,7 @@ struct GlbPart {
     local: Vec<u32>,
 }
 
-/// True when every edge of the mesh is used by exactly two triangles.
-fn is_closed(mesh: &TriMesh) -> bool {
-    let r = super::weld::report(mesh);
-    r.boundary_edges == 0 && r.nonmanifold_edges == 0
-}
+use super::weld::is_closed;
 
 /// glTF 2.0 binary (`.glb`) in glTF's conventions: `+Y` up (the design's `+Z` turned to `+Y`,
 /// `(x, y, z) → (x, z, −y)`) and metres (positions times `scale` and the metres per unit).
@@ -703,31 +775,36 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     let frame = Frame::new(info, Format::Glb)?;
     let with_uv = !mesh.uv.is_empty();
     let all = parts_of(mesh);
-    // Vertex numbering per part.
-    let mut glb_parts: Vec<GlbPart> = Vec::with_capacity(all.len());
-    let mut slot = vec![u32::MAX; mesh.positions.len()];
-    for p in &all {
-        let mut vertices = Vec::new();
-        let mut local = Vec::with_capacity(3 * p.triangles.len());
-        for t in &mesh.triangles[p.triangles.clone()] {
-            for &i in t {
-                let s = &mut slot[i as usize];
-                if *s == u32::MAX {
-                    *s = vertices.len() as u32;
-                    vertices.push(i);
+    // Vertex numbering per part (parts in parallel, each thread with its own slot table,
+    // restored to empty after every part).
+    let glb_parts: Vec<GlbPart> = all
+        .par_iter()
+        .map_init(
+            || vec![u32::MAX; mesh.positions.len()],
+            |slot, p| {
+                let mut vertices = Vec::new();
+                let mut local = Vec::with_capacity(3 * p.triangles.len());
+                for t in &mesh.triangles[p.triangles.clone()] {
+                    for &i in t {
+                        let s = &mut slot[i as usize];
+                        if *s == u32::MAX {
+                            *s = vertices.len() as u32;
+                            vertices.push(i);
+                        }
+                        local.push(*s);
+                    }
                 }
-                local.push(*s);
-            }
-        }
-        for &i in &vertices {
-            slot[i as usize] = u32::MAX;
-        }
-        glb_parts.push(GlbPart {
-            vertices,
-            triangles: p.triangles.clone(),
-            local,
-        });
-    }
+                for &i in &vertices {
+                    slot[i as usize] = u32::MAX;
+                }
+                GlbPart {
+                    vertices,
+                    triangles: p.triangles.clone(),
+                    local,
+                }
+            },
+        )
+        .collect();
     let vertex_bytes: u128 = if with_uv { 32 } else { 24 };
     let mut views: Vec<Value> = Vec::new();
     let mut accessors: Vec<Value> = Vec::new();
@@ -847,56 +924,48 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     let total = check_u32(total, "bytes", "GLB")?;
     let _ = vertex_bytes;
 
-    let mut out = Sink::new(w, "GLB");
-    out.u32_le(GLB_MAGIC);
-    out.u32_le(2);
-    out.u32_le(total);
-    out.u32_le(json_bytes.len() as u32);
-    out.u32_le(GLB_JSON);
-    out.bytes(&json_bytes);
-    out.u32_le(bin_padded as u32);
-    out.u32_le(GLB_BIN);
-    for gp in &glb_parts {
-        if gp.vertices.is_empty() {
-            continue;
-        }
-        for chunk in gp.vertices.chunks(4096) {
-            for &i in chunk {
-                for c in frame.point(mesh.positions[i as usize]) {
-                    out.f32_le(c);
-                }
+    stream(w, "GLB", |out| {
+        out.u32_le(GLB_MAGIC);
+        out.u32_le(2);
+        out.u32_le(total);
+        out.u32_le(json_bytes.len() as u32);
+        out.u32_le(GLB_JSON);
+        out.bytes(&json_bytes);
+        out.u32_le(bin_padded as u32);
+        out.u32_le(GLB_BIN);
+        for gp in &glb_parts {
+            if gp.vertices.is_empty() {
+                continue;
             }
-            out.tick()?;
-        }
-        for chunk in gp.vertices.chunks(4096) {
-            for &i in chunk {
-                for c in frame.normal(mesh.normals[i as usize]) {
-                    out.f32_le(c);
-                }
-            }
-            out.tick()?;
-        }
-        if with_uv {
             for chunk in gp.vertices.chunks(4096) {
                 for &i in chunk {
-                    out.f32_le(mesh.uv[i as usize][0]);
-                    out.f32_le(mesh.uv[i as usize][1]);
+                    out.f32x3_le(frame.point(mesh.positions[i as usize]));
                 }
                 out.tick()?;
             }
-        }
-        debug_assert_eq!(gp.local.len(), 3 * gp.triangles.len());
-        for chunk in gp.local.chunks(8192) {
-            for &x in chunk {
-                out.u32_le(x);
+            for chunk in gp.vertices.chunks(4096) {
+                for &i in chunk {
+                    out.f32x3_le(frame.normal(mesh.normals[i as usize]));
+                }
+                out.tick()?;
             }
-            out.tick()?;
+            if with_uv {
+                for chunk in gp.vertices.chunks(4096) {
+                    for &i in chunk {
+                        out.f32_le(mesh.uv[i as usize][0]);
+                        out.f32_le(mesh.uv[i as usize][1]);
+                    }
+                    out.tick()?;
+                }
+            }
+            debug_assert_eq!(gp.local.len(), 3 * gp.triangles.len());
+            out.u32s_le(&gp.local)?;
         }
-    }
-    for _ in bin_len..bin_padded {
-        out.bytes(&[0]);
-    }
-    out.finish()
+        for _ in bin_len..bin_padded {
+            out.bytes(&[0]);
+        }
+        Ok(())
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -912,34 +981,35 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
 pub fn write_csv(samples: &[Samples], w: &mut dyn Write) -> Result<()> {
     check_grids(samples, false)?;
     let several = samples.len() > 1;
-    let mut out = Sink::new(w, "CSV");
-    out.bytes(if several {
-        b"u,v,x,y,z,nx,ny,nz,patch\n"
-    } else {
-        b"u,v,x,y,z,nx,ny,nz\n"
-    });
-    for (k, g) in samples.iter().enumerate() {
-        for i in 0..g.nu {
-            let u = g.u[i];
-            for j in 0..g.nv {
-                let idx = i * g.nv + j;
-                out.f64_text(u);
-                out.bytes(b",");
-                out.f64_text(g.v[j]);
-                for c in g.positions[idx].into_iter().chain(g.normals[idx]) {
+    stream(w, "CSV", |out| {
+        out.bytes(if several {
+            b"u,v,x,y,z,nx,ny,nz,patch\n"
+        } else {
+            b"u,v,x,y,z,nx,ny,nz\n"
+        });
+        for (k, g) in samples.iter().enumerate() {
+            for i in 0..g.nu {
+                let u = g.u[i];
+                for j in 0..g.nv {
+                    let idx = i * g.nv + j;
+                    out.f64_text(u);
                     out.bytes(b",");
-                    out.f64_text(c);
+                    out.f64_text(g.v[j]);
+                    for c in g.positions[idx].into_iter().chain(g.normals[idx]) {
+                        out.bytes(b",");
+                        out.f64_text(c);
+                    }
+                    if several {
+                        out.bytes(b",");
+                        out.uint_text(k as u64);
+                    }
+                    out.bytes(b"\n");
+                    out.tick()?;
                 }
-                if several {
-                    out.bytes(b",");
-                    out.uint_text(k as u64);
-                }
-                out.bytes(b"\n");
-                out.tick()?;
             }
         }
-    }
-    out.finish()
+        Ok(())
+    })
 }
 
 #[cfg(test)]
@@ -949,17 +1019,19 @@ mod tests {
     #[test]
     fn integer_and_float_text() {
         let mut dest = Vec::new();
-        let mut out = Sink::new(&mut dest, "test");
-        for x in [0, 7, 10, 99, 100, 4_294_967_295, u64::MAX] {
-            out.uint_text(x);
+        stream(&mut dest, "test", |out| {
+            for x in [0, 7, 10, 99, 100, 4_294_967_295, u64::MAX] {
+                out.uint_text(x);
+                out.bytes(b" ");
+            }
+            out.f32_text(0.1);
             out.bytes(b" ");
-        }
-        out.f32_text(0.1);
-        out.bytes(b" ");
-        out.f32_text(-0.0);
-        out.bytes(b" ");
-        out.f64_text(0.1 + 0.2);
-        out.finish().unwrap();
+            out.f32_text(-0.0);
+            out.bytes(b" ");
+            out.f64_text(0.1 + 0.2);
+            Ok(())
+        })
+        .unwrap();
         assert_eq!(
             String::from_utf8(dest).unwrap(),
             "0 7 10 99 100 4294967295 18446744073709551615 0.1 -0.0 0.30000000000000004"
