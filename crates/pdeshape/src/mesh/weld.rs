@@ -23,9 +23,13 @@
 //! points against the triangles around the vertex, where the mean of their facet normals is
 //! taken; texture coordinates are dropped, since a welded vertex has several.
 
-use super::{GridMesh, Part, TriMesh};
+use super::{GridMesh, TriMesh};
 use std::collections::HashMap;
+
+#[path = "weld_frame.rs"]
+mod weld_frame;
 use std::hash::BuildHasherDefault;
+pub use weld_frame::FrameWeld;
 
 /// A fast hasher for the merge's grid-cell keys (multiply–rotate over 8-byte words, as in
 /// rustc's FxHash): the keys are cells of the mesh's own vertices, so SipHash's protection
@@ -410,6 +414,11 @@ impl WeldTopology {
     /// (a curve became a point, two patches met or parted), where [`weld_mapped`] must be
     /// called again. The result equals `weld_mapped(grids, …)` bit for bit.
     pub fn weld(&self, grids: &[GridMesh]) -> Option<Welded> {
+        // The first frame's vertex map, checked rather than rebuilt (see `weld_frame`);
+        // where the check fails, the merge decides.
+        if let Some(w) = self.weld_gathered(grids) {
+            return Some(w);
+        }
         let same_shapes = grids.len() == self.shapes.len()
             && grids
                 .iter()
@@ -428,108 +437,7 @@ impl WeldTopology {
 
     /// Orients the groups by their volumes at these positions, then the normals.
     fn finish(&self, grids: &[GridMesh], positions: Vec<[f32; 3]>, diag: f64) -> Welded {
-        let mut group_flip: HashMap<usize, bool> = HashMap::new();
-        for g in &self.groups {
-            // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid
-            // of the rim vertices (what `analyze` calls the capped volume).
-            let apex = if g.closed {
-                [0.0; 3]
-            } else {
-                let mut sum = [0.0f64; 3];
-                for &a in &g.rim {
-                    let p = positions[a as usize];
-                    for c in 0..3 {
-                        sum[c] += p[c] as f64;
-                    }
-                }
-                sum.map(|x| x / g.rim.len().max(1) as f64)
-            };
-            let mut volume = 0.0f64;
-            for &k in &g.members {
-                let sign = if self.relative[k].1 { -1.0 } else { 1.0 };
-                volume += sign * signed_volume_about(&positions, &self.tris[k], apex);
-            }
-            // An open group that encloses next to nothing (a sheet) keeps its first patch's
-            // side.
-            let encloses = g.closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
-            let flip = encloses && volume < 0.0;
-            group_flip.insert(g.root, flip);
-        }
-        let flipped: Vec<bool> = self
-            .relative
-            .iter()
-            .map(|&(root, rel)| rel ^ group_flip.get(&root).copied().unwrap_or(false))
-            .collect();
-
-        // Normals: the mean of the welded copies, each turned with its patch.
-        let mut sums = vec![[0.0f64; 3]; positions.len()];
-        for (k, g) in grids.iter().enumerate() {
-            let s = if flipped[k] { -1.0 } else { 1.0 };
-            for (idx, n) in g.normals.iter().enumerate() {
-                let w = self.source[k][idx] as usize;
-                for c in 0..3 {
-                    sums[w][c] += s * n[c] as f64;
-                }
-            }
-        }
-        let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(self.tris.iter().map(Vec::len).sum());
-        let mut parts = Vec::with_capacity(self.tris.len());
-        for (k, ts) in self.tris.iter().enumerate() {
-            let start = triangles.len();
-            if flipped[k] {
-                triangles.extend(ts.iter().map(|&[a, b, c]| [a, c, b]));
-            } else {
-                triangles.extend_from_slice(ts);
-            }
-            parts.push(Part {
-                name: self.names[k].clone(),
-                triangles: start..triangles.len(),
-            });
-        }
-        let mut normals: Vec<[f32; 3]> = sums
-            .iter()
-            .map(|s| {
-                let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-                if len > 1e-3 {
-                    s.map(|c| (c / len) as f32)
-                } else {
-                    [0.0; 3]
-                }
-            })
-            .collect();
-        // Where the copies' normals cancel (a crease turned back on itself) or point against
-        // the triangles around the vertex (the limit normal at a pole closing a patch at its end
-        // u, whose sign is that of the other end's), the mean of the facet normals around the
-        // vertex.
-        let mut acc = vec![[0.0f64; 3]; positions.len()];
-        for &t in &triangles {
-            let f = facet_cross(&positions, t);
-            for &i in &t {
-                for c in 0..3 {
-                    acc[i as usize][c] += f[c];
-                }
-            }
-        }
-        for (n, a) in normals.iter_mut().zip(&acc) {
-            let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
-            if dot <= 0.0 {
-                let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-                if len > 0.0 {
-                    *n = a.map(|c| (c / len) as f32);
-                }
-            }
-        }
-        Welded {
-            mesh: TriMesh {
-                positions,
-                normals,
-                uv: Vec::new(),
-                triangles,
-                parts,
-            },
-            source: self.source.clone(),
-            flipped,
-        }
+        self.finish_new(grids, positions, diag)
     }
 }
 
