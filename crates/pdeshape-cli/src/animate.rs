@@ -247,8 +247,38 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let mut collector = crate::animate_more::Collector::new(args, &l, &times)?;
     let pb = progress(times.len() as u64);
     let located = |e: pdeshape::Error| l.design.error(&e);
-    anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
-        keys.push(&f);
+    let shown = args.output.display().to_string();
+    // The GLB takes every frame as it comes; the vertices of all frames are kept only for the
+    // pictures.
+    let pictures = args.frames_dir.is_some()
+        || args.apng.is_some()
+        || args.gif.is_some()
+        || args.contact_sheet.is_some();
+    let mut glb: Option<anim::GlbFrames> = None;
+    let mut glb_failed = false;
+    let solved = anim::for_each_frame(&l.anim, &times, nu, nv, &export, |f| {
+        if pictures {
+            keys.push(&f);
+        } else {
+            keys.push_time(&f);
+        }
+        let (p, n) = (&f.mesh.positions, &f.mesh.normals);
+        let step = match glb.as_mut() {
+            Some(g) => g.push(p, n),
+            None => {
+                let info = MeshInfo {
+                    units: f.solved.units,
+                    scale: args.scale,
+                    ..MeshInfo::default()
+                };
+                anim::GlbFrames::new(&info, &f.mesh.triangles, p, n, times.len())
+                    .map(|g| glb = Some(g))
+            }
+        };
+        if step.is_err() {
+            glb_failed = true;
+        }
+        step?;
         collector.frame(&f)?;
         if want_measures {
             let (area, volume) = anim::measure(f.solved)?;
@@ -261,8 +291,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
         pb.inc(1);
         Ok(())
-    })
-    .map_err(located)?;
+    });
+    if let Err(e) = solved {
+        return Err(if glb_failed {
+            CliError::input(format!("-o {shown}: {e}"))
+        } else {
+            located(e)
+        });
+    }
     pb.finish_and_clear();
     let title = l.title.clone().or_else(|| keys.title.clone());
     let info = MeshInfo {
@@ -271,10 +307,15 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         scale: args.scale,
         ..MeshInfo::default()
     };
-    let shown = args.output.display().to_string();
+    let vertices = glb.as_ref().map_or(0, anim::GlbFrames::vertices);
     {
+        let glb = glb.ok_or_else(|| {
+            CliError::input(format!(
+                "-o {shown}: the animation has no frame with triangles"
+            ))
+        })?;
         let mut w = out.writer();
-        anim::write_glb(&keys, &info, &mut w)
+        glb.finish(&keys, &info, &mut w)
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         w.flush()
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
@@ -329,7 +370,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     common::report(&format!(
         "wrote {shown}: {} frames, {nu} × {nv} grid, {} vertices{}{extra}\n",
         times.len(),
-        keys.positions.first().map_or(0, Vec::len),
+        vertices,
         if keys.looped { ", looped" } else { "" }
     ));
     Ok(())

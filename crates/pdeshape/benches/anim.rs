@@ -2,11 +2,14 @@
 //! at 64 × 128 per patch: every frame's formulas evaluated, the design re-solved, tessellated
 //! and welded into one mesh (what `pdeshape animate` does per frame before writing). One
 //! iteration is the whole 48-frame beat; the throughput is in frames. Frames are solved in
-//! parallel (one worker per thread of the pool); the second row runs them on one thread.
+//! parallel (one worker per thread of the pool); the second row runs them on one thread; the
+//! third also puts every frame into the GLB's binary chunk as `pdeshape animate` does (the
+//! file's bytes in memory, not written).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use pdeshape::anim::{for_each_frame, Animation};
+use pdeshape::anim::{for_each_frame, Animation, GlbFrames, Keyframes};
 use pdeshape::design::Export;
+use pdeshape::mesh::MeshInfo;
 use pdeshape::spec::time::parse_timed;
 use std::hint::black_box;
 
@@ -36,6 +39,31 @@ fn bench(c: &mut Criterion) {
         .unwrap();
     group.bench_function("ventricle_frames_64x128_one_thread", |b| {
         b.iter(|| one.install(beat))
+    });
+    let with_glb = || {
+        let mut glb: Option<GlbFrames> = None;
+        let mut keys = Keyframes::new(anim.time());
+        for_each_frame(&anim, &times, 64, 128, &Export::default(), |f| {
+            keys.push_time(&f);
+            let (p, n) = (&f.mesh.positions, &f.mesh.normals);
+            match glb.as_mut() {
+                Some(g) => g.push(p, n),
+                None => {
+                    let info = MeshInfo::default();
+                    GlbFrames::new(&info, &f.mesh.triangles, p, n, times.len())
+                        .map(|g| glb = Some(g))
+                }
+            }
+        })
+        .unwrap();
+        let mut bytes = Vec::new();
+        glb.unwrap()
+            .finish(&keys, &MeshInfo::default(), &mut bytes)
+            .unwrap();
+        black_box(bytes.len())
+    };
+    group.bench_function("ventricle_frames_64x128_glb_in_memory", |b| {
+        b.iter(with_glb)
     });
     group.finish();
 }

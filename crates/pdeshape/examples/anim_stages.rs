@@ -1,12 +1,12 @@
 //! Where an animation frame's time goes: the design at `t` read from its formulas (`spec_at`),
-//! re-solved incrementally (`set_spec`), tessellated (`meshes`) and welded on the first frame's
-//! topology, each timed over every frame of the animation, on the calling thread.
+//! re-solved incrementally (`set_spec`), tessellated into the last frame's grids (`meshes`) and
+//! welded on the first frame's topology into the last frame's mesh (`FrameWeld`), each timed over every frame of the animation, on the calling thread.
 //!
 //! `cargo run --release -p pdeshape --example anim_stages -- examples/anim/ventricle.toml [NU NV]`
 
 use pdeshape::anim::Animation;
 use pdeshape::design::{compile, SurfaceKind};
-use pdeshape::mesh::{WeldOptions, WeldTopology};
+use pdeshape::mesh::{FrameWeld, WeldOptions, WeldTopology};
 use pdeshape::spec::time::parse_timed;
 use std::time::Instant;
 
@@ -38,6 +38,7 @@ fn main() {
         .collect::<Vec<_>>();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     let (topology, _) = WeldTopology::new(&grids, &names, WeldOptions::default());
+    let mut welder = FrameWeld::new(topology);
     let mut ms = [0.0f64; 4];
     let reps = 3;
     for _ in 0..reps {
@@ -47,11 +48,11 @@ fn main() {
             let t1 = Instant::now();
             c.set_spec(spec).expect("solves");
             let t2 = Instant::now();
-            let grids = c.solved().meshes(nu, nv).expect("grids");
+            let grids = c.meshes(nu, nv).expect("grids");
             let t3 = Instant::now();
-            let welded = topology.weld(&grids).expect("welds alike");
+            assert!(welder.weld(grids), "welds alike");
             let t4 = Instant::now();
-            std::hint::black_box(welded);
+            std::hint::black_box(welder.mesh());
             for (m, (a, b)) in ms.iter_mut().zip([(t0, t1), (t1, t2), (t2, t3), (t3, t4)]) {
                 *m += (b - a).as_secs_f64() * 1e3;
             }

@@ -453,3 +453,138 @@ fn animations_that_do_not_change_are_solved_once() {
     assert_eq!(meshes[2], meshes[0]);
     assert_ne!(meshes[3].positions, meshes[0].positions);
 }
+
+/// Every bundled animation (the timed designs and the morph), at its own grid.
+fn bundled_animations() -> Vec<(String, Animation, (usize, usize))> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/anim");
+    let mut out = Vec::new();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    names.sort();
+    for path in names {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if let Some(m) = pdeshape::spec::time::parse_morph_file(&text).unwrap() {
+            let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+            let morph = Morph::new(&read(&m.morph.source), &read(&m.morph.target)).unwrap();
+            let grid = (m.output.nu.unwrap(), m.output.nv.unwrap());
+            let anim = Animation::Morph {
+                morph,
+                time: m.time,
+                ease: m.morph.ease,
+            };
+            out.push((name, anim, grid));
+        } else if text.contains("[time]") {
+            let timed = parse_timed(&text).unwrap();
+            let spec = timed.at(timed.time.start).unwrap();
+            let grid = (spec.output.nu.unwrap(), spec.output.nv.unwrap());
+            out.push((name, Animation::Timed(timed), grid));
+        }
+    }
+    out
+}
+
+/// Bit patterns of a mesh's numbers (so that `-0.0` and `0.0` differ).
+fn bits(m: &pdeshape::mesh::TriMesh) -> (Vec<u32>, Vec<u32>) {
+    let b = |v: &[[f32; 3]]| v.iter().flatten().map(|x| x.to_bits()).collect();
+    (b(&m.positions), b(&m.normals))
+}
+
+/// Welding a frame on the first frame's topology (the vertex map checked, not rebuilt; the
+/// positions gathered) gives the mesh of welding that frame from scratch, bit for bit, at every
+/// frame of every bundled animation.
+#[test]
+fn frames_welded_by_gather_equal_a_full_weld_at_every_frame_of_every_bundled_animation() {
+    use pdeshape::mesh::{weld_mapped, FrameWeld, WeldOptions, WeldTopology};
+    let options = WeldOptions::default();
+    let all = bundled_animations();
+    let names: Vec<&str> = all.iter().map(|a| a.0.as_str()).collect();
+    for expected in ["arm", "face", "fish", "glass_morph", "snake", "ventricle"] {
+        assert!(names.contains(&&*format!("{expected}.toml")), "{names:?}");
+    }
+    for (name, anim, (nu, nv)) in &all {
+        let times = anim.times().unwrap();
+        let mut compiled = pdeshape::design::compile(&anim.spec_at(times[0]).unwrap()).unwrap();
+        let mut welder: Option<FrameWeld> = None;
+        let mut first = Vec::new();
+        for (k, &t) in times.iter().enumerate() {
+            compiled.set_spec(anim.spec_at(t).unwrap()).unwrap();
+            let labels: Vec<String> = compiled
+                .solved()
+                .names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+            let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
+            let grids = compiled.meshes(*nu, *nv).unwrap().to_vec();
+            let fresh = weld_mapped(&grids, &labels, options);
+            match welder.as_mut() {
+                None => {
+                    let (topology, w) = WeldTopology::new(&grids, &labels, options);
+                    assert_eq!(bits(&w.mesh), bits(&fresh.mesh));
+                    first = w.mesh.positions.clone();
+                    welder = Some(FrameWeld::new(topology));
+                }
+                Some(w) => {
+                    assert!(w.weld(&grids), "{name}: frame {k} (t = {t})");
+                    assert_eq!(w.mesh(), &fresh.mesh, "{name}: frame {k}");
+                    assert_eq!(bits(w.mesh()), bits(&fresh.mesh), "{name}: frame {k}");
+                    assert_eq!(w.flipped(), fresh.flipped.as_slice(), "{name}: frame {k}");
+                    assert_eq!(w.topology().weld(&grids).unwrap(), fresh, "{name}: {k}");
+                }
+            }
+        }
+        // The frames move (the comparison is not of one mesh with itself).
+        assert_ne!(welder.unwrap().mesh().positions, first, "{name}");
+    }
+}
+
+/// The check of the vertex map refuses grids whose vertices would join otherwise: two patches
+/// that come together, a row that collapses to a point, a shared ring that parts.
+#[test]
+fn the_gathered_weld_refuses_frames_whose_vertices_join_otherwise() {
+    use pdeshape::mesh::{weld_mapped, FrameWeld, WeldOptions, WeldTopology};
+    let anim = Animation::Timed(parse_timed(&example("anim/ventricle.toml")).unwrap());
+    let solved = pdeshape::design::solve_design(&anim.spec_at(0.0).unwrap()).unwrap();
+    let grids = solved.meshes(16, 32).unwrap();
+    let options = WeldOptions::default();
+    let (topology, _) = WeldTopology::new(&grids, &solved.names(), options);
+    let mut welder = FrameWeld::new(topology);
+    assert!(welder.weld(&grids));
+    let refused = |g: &[pdeshape::mesh::GridMesh], welder: &mut FrameWeld| {
+        assert!(!welder.weld(g));
+        // The full weld finds another vertex map too.
+        let full = weld_mapped(g, &solved.names(), options);
+        assert_ne!(
+            full.source,
+            weld_mapped(&grids, &solved.names(), options).source
+        );
+    };
+    // The base ring of the last patch parts from nothing, but a copy of its first vertex
+    // moved onto the apex joins them.
+    let mut g = grids.clone();
+    let apex = g[0].positions[0];
+    let last = g.len() - 1;
+    let n = g[last].positions.len();
+    g[last].positions[n - 1] = apex;
+    refused(&g, &mut welder);
+    // An interior row of a patch collapses to one point.
+    let mut g = grids.clone();
+    let nv = g[1].nv;
+    let p = g[1].positions[5 * nv];
+    for q in &mut g[1].positions[5 * nv..6 * nv] {
+        *q = p;
+    }
+    refused(&g, &mut welder);
+    // The ring shared by the first two patches parts (one copy moved by a grid spacing).
+    let mut g = grids.clone();
+    let nu = g[1].nu;
+    let _ = nu;
+    g[1].positions[3][2] += 0.05;
+    refused(&g, &mut welder);
+    // And the unchanged grids are welded again.
+    assert!(welder.weld(&grids));
+}

@@ -3,7 +3,7 @@
 
 use super::source::Animation;
 use crate::design::{compile, CompiledDesign, Export, SolvedDesign, SurfaceKind};
-use crate::mesh::{GridMesh, TriMesh, WeldOptions, WeldTopology};
+use crate::mesh::{FrameWeld, GridMesh, TriMesh, WeldOptions, WeldTopology};
 use crate::spec::time::TimeSpec;
 use crate::spec::{DesignSpec, Units};
 use crate::{Error, Result};
@@ -44,14 +44,19 @@ pub(crate) fn at_time(e: Error, t: f64) -> Error {
 
 /// What one worker of [`for_each_frame`] keeps from frame to frame: its compiled design (so the
 /// next frame re-solves only what changed), the grids with the surfaces they were made from,
-/// the weld topology of its first frame and the design of its last frame.
+/// the weld topology of its first frame with the buffers of its welded mesh, and the design of
+/// its last frame.
 #[derive(Default)]
 struct Worker {
     compiled: Option<CompiledDesign>,
     grids: Vec<GridMesh>,
     sources: Vec<SurfaceKind>,
-    topology: Option<WeldTopology>,
-    mesh: Option<TriMesh>,
+    weld: Option<FrameWeld>,
+    /// The last frame's mesh when `weld` did not make it (the first frame, or a frame whose
+    /// vertices the full weld had to join).
+    own: Option<TriMesh>,
+    /// The last frame's mesh is there (nothing failed since).
+    ready: bool,
     last: Option<DesignSpec>,
     /// Frames this worker solved and frames it found equal to its previous one.
     solved: usize,
@@ -59,6 +64,16 @@ struct Worker {
 }
 
 impl Worker {
+    /// The mesh of the last frame.
+    fn mesh(&self) -> Option<&TriMesh> {
+        if !self.ready {
+            return None;
+        }
+        self.own
+            .as_ref()
+            .or_else(|| self.weld.as_ref().map(FrameWeld::mesh))
+    }
+
     /// Solves, tessellates and welds the design at `t` (nothing when it equals the design of
     /// this worker's previous frame: that frame's result is the answer, bit for bit). Returns
     /// true when the mesh was welded afresh (its triangles are to be compared with the first
@@ -72,13 +87,13 @@ impl Worker {
         export: &Export,
     ) -> Result<bool> {
         let spec = anim.spec_at(t).map_err(|e| at_time(e, t))?;
-        if self.mesh.is_some() && self.last.as_ref() == Some(&spec) {
+        if self.ready && self.last.as_ref() == Some(&spec) {
             self.repeated += 1;
             return Ok(false);
         }
         // Forget the last design first: on an error below nothing stale is taken for it.
         self.last = None;
-        self.mesh = None;
+        self.ready = false;
         match self.compiled.as_mut() {
             None => self.compiled = Some(compile(&spec).map_err(|e| at_time(e, t))?),
             Some(c) => c.set_spec(spec.clone()).map_err(|e| at_time(e, t))?,
@@ -106,22 +121,32 @@ impl Worker {
             self.sources.clear();
             return Err(at_time(e, t));
         }
-        self.sources = solved.surfaces.iter().map(|s| s.kind.clone()).collect();
+        self.sources.clear();
+        self.sources
+            .extend(solved.surfaces.iter().map(|s| s.kind.clone()));
         // The first frame's welding is kept: the later frames are welded on its topology (the
-        // same result as welding them afresh, without building the edge maps again).
-        let again = self.topology.as_ref().and_then(|w| w.weld(&self.grids));
-        let (mesh, fresh_weld) = match again {
-            Some(w) => (w.mesh, false),
-            None => {
-                let options = WeldOptions {
-                    join_patches: !export.separate_patches,
-                };
-                let (w, welded) = WeldTopology::new(&self.grids, &solved.names(), options);
-                self.topology = Some(w);
-                (welded.mesh, true)
-            }
-        };
-        self.mesh = Some(mesh);
+        // same result as welding them afresh, without building the edge maps again), into the
+        // buffers of the last frame.
+        let mut fresh_weld = false;
+        let gathered = self.weld.as_mut().is_some_and(|w| w.weld(&self.grids));
+        if gathered {
+            self.own = None;
+        } else if let Some(w) = self
+            .weld
+            .as_ref()
+            .and_then(|w| w.topology().weld(&self.grids))
+        {
+            self.own = Some(w.mesh);
+        } else {
+            let options = WeldOptions {
+                join_patches: !export.separate_patches,
+            };
+            let (w, welded) = WeldTopology::new(&self.grids, &solved.names(), options);
+            self.weld = Some(FrameWeld::new(w));
+            self.own = Some(welded.mesh);
+            fresh_weld = true;
+        }
+        self.ready = true;
         self.last = Some(spec);
         self.solved += 1;
         Ok(fresh_weld)
@@ -174,9 +199,9 @@ pub fn for_each_frame(
     let mut first_index = 0;
     for chunk in batches {
         if first_index == 1 {
-            let topology = pool[0].topology.clone();
+            let weld = pool[0].weld.clone();
             for w in &mut pool[1..] {
-                w.topology = topology.clone();
+                w.weld = weld.clone();
             }
         }
         let results: Vec<Result<bool>> = pool[..chunk.len()]
@@ -187,7 +212,7 @@ pub fn for_each_frame(
         for (k, (result, w)) in results.into_iter().zip(&pool).enumerate() {
             let (index, t) = (first_index + k, chunk[k]);
             let fresh_weld = result?;
-            let mesh = w.mesh.as_ref().expect("a solved frame");
+            let mesh = w.mesh().expect("a solved frame");
             match &triangles {
                 None => triangles = Some(mesh.triangles.clone()),
                 Some(first) if fresh_weld && *first != mesh.triangles => {
@@ -250,7 +275,16 @@ impl Keyframes {
 
     /// Appends a frame (the first fixes the triangles, title and unit).
     pub fn push(&mut self, frame: &Frame) {
-        if self.positions.is_empty() {
+        self.push_time(frame);
+        self.positions.push(frame.mesh.positions.clone());
+        self.normals.push(frame.mesh.normals.clone());
+    }
+
+    /// [`Keyframes::push`] without the frame's vertices (for a writer that takes them as they
+    /// come, [`super::GlbFrames`]): its time, and the triangles, title, unit and closedness of
+    /// the first frame.
+    pub fn push_time(&mut self, frame: &Frame) {
+        if self.times.is_empty() {
             self.triangles = frame.mesh.triangles.clone();
             self.title = frame.solved.title.clone();
             self.units = frame.solved.units;
@@ -258,8 +292,6 @@ impl Keyframes {
             self.closed = r.boundary_edges == 0 && r.nonmanifold_edges == 0;
         }
         self.times.push(frame.t);
-        self.positions.push(frame.mesh.positions.clone());
-        self.normals.push(frame.mesh.normals.clone());
     }
 
     /// Frame `k` as a triangle mesh.

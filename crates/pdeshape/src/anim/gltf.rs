@@ -35,13 +35,18 @@ struct Bin {
 }
 
 impl Bin {
-    fn view(&mut self, data: impl Iterator<Item = [u8; 4]>, target: Option<u32>) -> usize {
+    /// Appends `len` bytes that `fill` writes (a view of its own).
+    fn view_with(
+        &mut self,
+        len: usize,
+        target: Option<u32>,
+        fill: impl FnOnce(&mut [u8]),
+    ) -> usize {
         let start = self.bytes.len();
-        for b in data {
-            self.bytes.extend_from_slice(&b);
-        }
+        self.bytes.resize(start + len, 0);
+        fill(&mut self.bytes[start..]);
         let mut v = serde_json::json!({
-            "buffer": 0, "byteOffset": start, "byteLength": self.bytes.len() - start,
+            "buffer": 0, "byteOffset": start, "byteLength": len,
         });
         if let Some(t) = target {
             v["target"] = t.into();
@@ -49,18 +54,29 @@ impl Bin {
         self.views.push(v);
         self.views.len() - 1
     }
+
+    fn view(&mut self, data: impl Iterator<Item = [u8; 4]>, target: Option<u32>) -> usize {
+        let data: Vec<[u8; 4]> = data.collect();
+        self.view_with(4 * data.len(), target, |out| {
+            for (o, b) in out.chunks_exact_mut(4).zip(&data) {
+                o.copy_from_slice(b);
+            }
+        })
+    }
 }
 
+/// A view of `data` as little-endian f32 and its VEC3 accessor (with its bounds when asked).
 fn vec3_accessor(
     bin: &mut Bin,
     accessors: &mut Vec<serde_json::Value>,
     data: &[[f32; 3]],
     with_bounds: bool,
 ) -> usize {
-    let view = bin.view(
-        data.iter().flatten().map(|x| x.to_le_bytes()),
-        Some(ARRAY_BUFFER),
-    );
+    let view = bin.view_with(12 * data.len(), Some(ARRAY_BUFFER), |out| {
+        for (o, x) in out.chunks_exact_mut(4).zip(data.iter().flatten()) {
+            o.copy_from_slice(&x.to_le_bytes());
+        }
+    });
     let mut a = serde_json::json!({
         "bufferView": view, "componentType": FLOAT, "count": data.len(), "type": "VEC3",
     });
@@ -80,182 +96,286 @@ fn vec3_accessor(
     accessors.len() - 1
 }
 
+/// An animation's `.glb` built frame by frame as the frames come (see [`write_glb`] for what
+/// it holds): the first frame is the mesh, every later frame's differences from it go straight
+/// into the binary chunk, and [`GlbFrames::finish`] writes the file. The glTF JSON, which
+/// comes first in the file, holds every morph target's bounds, so nothing can be written
+/// before the last frame without changing the file.
+pub struct GlbFrames {
+    /// Metres per design unit, times the scale.
+    k: f64,
+    /// The first frame in glTF's frame (positions in metres), in f64.
+    base: Vec<[f64; 3]>,
+    base_n: Vec<[f64; 3]>,
+    bin: Bin,
+    accessors: Vec<serde_json::Value>,
+    targets: Vec<serde_json::Value>,
+    /// The frames expected (for the size of the buffer and the messages) and pushed.
+    expected: usize,
+    frames: usize,
+    /// Buffers of one frame's differences.
+    dp: Vec<[f32; 3]>,
+    dn: Vec<[f32; 3]>,
+}
+
+impl GlbFrames {
+    /// Starts the file with the first frame (`positions` and `normals` in design coordinates,
+    /// scaled to metres by `info`), for an animation of `expected` frames.
+    pub fn new(
+        info: &MeshInfo,
+        triangles: &[[u32; 3]],
+        positions: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        expected: usize,
+    ) -> Result<Self> {
+        if triangles.is_empty() {
+            return Err(Error::invalid("the animation has no frame with triangles"));
+        }
+        if !(info.scale.is_finite() && info.scale > 0.0) {
+            return Err(Error::invalid("must be finite and positive").at("scale"));
+        }
+        let k = info.scale * info.units.metres();
+        let nv = positions.len();
+        let mut bin = Bin::default();
+        // Every frame's positions and normals, the indices and the keys' times and weights.
+        let frame_bytes = 24 * nv as u64;
+        let want = frame_bytes * expected.max(1) as u64
+            + 12 * triangles.len() as u64
+            + 4 * (expected as u64 + 1) * (expected as u64 + 1);
+        if want <= u32::MAX as u64 / 2 {
+            // Only a hint: where it fails the buffer grows as it goes.
+            let _ = bin.bytes.try_reserve_exact(want as usize);
+        }
+        let base: Vec<[f64; 3]> = positions.iter().map(|&p| to_gltf(p, k)).collect();
+        let base_n: Vec<[f64; 3]> = normals.iter().map(|&m| to_gltf(m, 1.0)).collect();
+        let narrow =
+            |v: &[[f64; 3]]| -> Vec<[f32; 3]> { v.iter().map(|p| p.map(|c| c as f32)).collect() };
+        let mut accessors = Vec::new();
+        vec3_accessor(&mut bin, &mut accessors, &narrow(&base), true);
+        vec3_accessor(&mut bin, &mut accessors, &narrow(&base_n), false);
+        let view = bin.view_with(12 * triangles.len(), Some(ELEMENT_ARRAY_BUFFER), |out| {
+            for (o, i) in out.chunks_exact_mut(4).zip(triangles.iter().flatten()) {
+                o.copy_from_slice(&i.to_le_bytes());
+            }
+        });
+        accessors.push(serde_json::json!({
+            "bufferView": view, "componentType": UNSIGNED_INT,
+            "count": 3 * triangles.len(), "type": "SCALAR",
+        }));
+        Ok(GlbFrames {
+            k,
+            base,
+            base_n,
+            bin,
+            accessors,
+            targets: Vec::with_capacity(expected.saturating_sub(1)),
+            expected,
+            frames: 1,
+            dp: Vec::new(),
+            dn: Vec::new(),
+        })
+    }
+
+    /// Adds the next frame (a morph target: its differences from the first frame).
+    pub fn push(&mut self, positions: &[[f32; 3]], normals: &[[f32; 3]]) -> Result<()> {
+        if positions.len() != self.base.len() || normals.len() != self.base_n.len() {
+            return Err(Error::invalid(format!(
+                "frame {} has {} vertices, the first {}",
+                self.frames,
+                positions.len(),
+                self.base.len()
+            )));
+        }
+        let k = self.k;
+        self.dp.clear();
+        self.dp
+            .extend(positions.iter().zip(&self.base).map(|(&p, b)| {
+                let a = to_gltf(p, k);
+                [
+                    (a[0] - b[0]) as f32,
+                    (a[1] - b[1]) as f32,
+                    (a[2] - b[2]) as f32,
+                ]
+            }));
+        self.dn.clear();
+        self.dn
+            .extend(normals.iter().zip(&self.base_n).map(|(&p, b)| {
+                let a = to_gltf(p, 1.0);
+                [
+                    (a[0] - b[0]) as f32,
+                    (a[1] - b[1]) as f32,
+                    (a[2] - b[2]) as f32,
+                ]
+            }));
+        let p = vec3_accessor(&mut self.bin, &mut self.accessors, &self.dp, true);
+        let q = vec3_accessor(&mut self.bin, &mut self.accessors, &self.dn, false);
+        self.targets
+            .push(serde_json::json!({ "POSITION": p, "NORMAL": q }));
+        if self.bin.bytes.len() as u64 > u32::MAX as u64 / 2 {
+            return Err(Error::invalid(format!(
+                "the animation would exceed the 2 GiB a .glb holds (at frame {} of {}); use \
+                 fewer frames or a smaller grid (--nu, --nv)",
+                self.frames,
+                self.expected.max(self.frames + 1)
+            )));
+        }
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// The vertices of a frame.
+    pub fn vertices(&self) -> usize {
+        self.base.len()
+    }
+
+    /// Writes the file: the frames pushed, played at `keys.times` (`keys` gives the times,
+    /// the loop, the title and whether the mesh is closed; its vertices are not read).
+    pub fn finish(self, keys: &Keyframes, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
+        use serde_json::json;
+        let GlbFrames {
+            mut bin,
+            mut accessors,
+            targets,
+            frames: n,
+            ..
+        } = self;
+        if keys.times.len() != n {
+            return Err(Error::invalid(format!(
+                "{} frames and {} times",
+                n,
+                keys.times.len()
+            )));
+        }
+        let (pos, nrm, idx) = (0, 1, 2);
+        let title = info
+            .title
+            .clone()
+            .or_else(|| keys.title.clone())
+            .unwrap_or_else(|| "pdeshape".to_string());
+        let mut primitive = json!({
+            "attributes": { "POSITION": pos, "NORMAL": nrm },
+            "indices": idx, "mode": 4, "material": 0,
+        });
+        let mut mesh = json!({ "name": title, "primitives": [] });
+        let mut animations = Vec::new();
+        let m = targets.len();
+        if m > 0 {
+            primitive["targets"] = json!(targets);
+            mesh["weights"] = json!(vec![0.0; m]);
+            let t0 = keys.times[0];
+            let mut times: Vec<f32> = keys.times.iter().map(|t| (t - t0) as f32).collect();
+            let mut frame_of_key: Vec<usize> = (0..n).collect();
+            if keys.looped {
+                times.push(keys.period as f32);
+                frame_of_key.push(0);
+            }
+            let input_view = bin.view(times.iter().map(|t| t.to_le_bytes()), None);
+            accessors.push(json!({
+                "bufferView": input_view, "componentType": FLOAT, "count": times.len(),
+                "type": "SCALAR", "min": [times[0]], "max": [times[times.len() - 1]],
+            }));
+            let input = accessors.len() - 1;
+            let weights = frame_of_key.iter().flat_map(|&f| {
+                (1..=m).map(move |j| if j == f { 1f32 } else { 0f32 }.to_le_bytes())
+            });
+            let output_view = bin.view(weights, None);
+            accessors.push(json!({
+                "bufferView": output_view, "componentType": FLOAT,
+                "count": times.len() * m, "type": "SCALAR",
+            }));
+            let output = accessors.len() - 1;
+            animations.push(json!({
+                "name": "frames",
+                "samplers": [ { "input": input, "output": output, "interpolation": "LINEAR" } ],
+                "channels": [ { "sampler": 0, "target": { "node": 1, "path": "weights" } } ],
+            }));
+        }
+        mesh["primitives"] = json!([primitive]);
+        let mut extras = json!({
+            "units": "m",
+            "design_units": info.units.as_str(),
+            "scale": info.scale,
+            "frames": n,
+            "times": keys.times,
+            "loop": keys.looped,
+        });
+        if let Some(t) = &info.title {
+            extras["title"] = json!(t);
+        }
+        let mut doc = json!({
+            "asset": {
+                "version": "2.0",
+                "generator": concat!("pdeshape ", env!("CARGO_PKG_VERSION")),
+                "extras": extras,
+            },
+            "scene": 0,
+            "scenes": [ { "name": title, "nodes": [0] } ],
+            "nodes": [ { "name": title, "children": [1] }, { "name": "surface", "mesh": 0 } ],
+            "meshes": [mesh],
+            "materials": [ {
+                "name": "pdeshape surface",
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 0.6,
+                },
+                "doubleSided": !keys.closed,
+            } ],
+            "accessors": accessors,
+            "bufferViews": bin.views,
+            "buffers": [ { "byteLength": bin.bytes.len() } ],
+        });
+        if !animations.is_empty() {
+            doc["animations"] = json!(animations);
+        }
+        let mut json_bytes =
+            serde_json::to_vec(&doc).map_err(|e| Error::io(format!("writing glTF JSON: {e}")))?;
+        while json_bytes.len() % 4 != 0 {
+            json_bytes.push(b' ');
+        }
+        let mut data = bin.bytes;
+        while data.len() % 4 != 0 {
+            data.push(0);
+        }
+        let total = 12 + 8 + json_bytes.len() + 8 + data.len();
+        let total = u32::try_from(total)
+            .map_err(|_| Error::invalid("the animation exceeds the 4 GiB a .glb holds"))?;
+        let io = |e: std::io::Error| Error::io(format!("writing GLB: {e}"));
+        w.write_all(&GLB_MAGIC.to_le_bytes()).map_err(io)?;
+        w.write_all(&2u32.to_le_bytes()).map_err(io)?;
+        w.write_all(&total.to_le_bytes()).map_err(io)?;
+        w.write_all(&(json_bytes.len() as u32).to_le_bytes())
+            .map_err(io)?;
+        w.write_all(&GLB_JSON.to_le_bytes()).map_err(io)?;
+        w.write_all(&json_bytes).map_err(io)?;
+        w.write_all(&(data.len() as u32).to_le_bytes())
+            .map_err(io)?;
+        w.write_all(&GLB_BIN.to_le_bytes()).map_err(io)?;
+        w.write_all(&data).map_err(io)?;
+        Ok(())
+    }
+}
+
 /// Writes the keyframes as a `.glb`: frame 0 is the mesh, frame `k ≥ 1` is morph target `k − 1`
 /// (position and normal differences from frame 0), and one animation sets the weights at the
 /// frames' times (seconds from the first frame) to frame `k`'s one-hot vector, interpolated
 /// linearly. A looped animation has one more key, at the period, back at frame 0, so it repeats
-/// without a jump. Positions are scaled to metres (`info.units`, `info.scale`).
+/// without a jump. Positions are scaled to metres (`info.units`, `info.scale`). The same file as
+/// pushing the frames through [`GlbFrames`].
 pub fn write_glb(keys: &Keyframes, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
-    use serde_json::json;
     let n = keys.positions.len();
     if n == 0 || keys.triangles.is_empty() {
         return Err(Error::invalid("the animation has no frame with triangles"));
     }
-    if !(info.scale.is_finite() && info.scale > 0.0) {
-        return Err(Error::invalid("must be finite and positive").at("scale"));
-    }
-    let k = info.scale * info.units.metres();
-    let base: Vec<[f32; 3]> = keys.positions[0]
-        .iter()
-        .map(|&p| to_gltf(p, k).map(|c| c as f32))
-        .collect();
-    let base_n: Vec<[f32; 3]> = keys.normals[0]
-        .iter()
-        .map(|&m| to_gltf(m, 1.0).map(|c| c as f32))
-        .collect();
-    let mut bin = Bin::default();
-    let mut accessors = Vec::new();
-    let pos = vec3_accessor(&mut bin, &mut accessors, &base, true);
-    let nrm = vec3_accessor(&mut bin, &mut accessors, &base_n, false);
-    let view = bin.view(
-        keys.triangles.iter().flatten().map(|i| i.to_le_bytes()),
-        Some(ELEMENT_ARRAY_BUFFER),
-    );
-    accessors.push(json!({
-        "bufferView": view, "componentType": UNSIGNED_INT,
-        "count": 3 * keys.triangles.len(), "type": "SCALAR",
-    }));
-    let idx = accessors.len() - 1;
-    let mut targets = Vec::with_capacity(n.saturating_sub(1));
+    let mut glb = GlbFrames::new(
+        info,
+        &keys.triangles,
+        &keys.positions[0],
+        &keys.normals[0],
+        n,
+    )?;
     for f in 1..n {
-        let dp: Vec<[f32; 3]> = keys.positions[f]
-            .iter()
-            .zip(&keys.positions[0])
-            .map(|(&p, &q)| {
-                let (a, b) = (to_gltf(p, k), to_gltf(q, k));
-                [
-                    (a[0] - b[0]) as f32,
-                    (a[1] - b[1]) as f32,
-                    (a[2] - b[2]) as f32,
-                ]
-            })
-            .collect();
-        let dn: Vec<[f32; 3]> = keys.normals[f]
-            .iter()
-            .zip(&keys.normals[0])
-            .map(|(&p, &q)| {
-                let (a, b) = (to_gltf(p, 1.0), to_gltf(q, 1.0));
-                [
-                    (a[0] - b[0]) as f32,
-                    (a[1] - b[1]) as f32,
-                    (a[2] - b[2]) as f32,
-                ]
-            })
-            .collect();
-        let p = vec3_accessor(&mut bin, &mut accessors, &dp, true);
-        let q = vec3_accessor(&mut bin, &mut accessors, &dn, false);
-        targets.push(json!({ "POSITION": p, "NORMAL": q }));
-        if bin.bytes.len() as u64 > u32::MAX as u64 / 2 {
-            return Err(Error::invalid(format!(
-                "the animation would exceed the 2 GiB a .glb holds (at frame {f} of {n}); use \
-                 fewer frames or a smaller grid (--nu, --nv)"
-            )));
-        }
+        glb.push(&keys.positions[f], &keys.normals[f])?;
     }
-    let title = info
-        .title
-        .clone()
-        .or_else(|| keys.title.clone())
-        .unwrap_or_else(|| "pdeshape".to_string());
-    let mut primitive = json!({
-        "attributes": { "POSITION": pos, "NORMAL": nrm },
-        "indices": idx, "mode": 4, "material": 0,
-    });
-    let mut mesh = json!({ "name": title, "primitives": [] });
-    let mut animations = Vec::new();
-    let m = targets.len();
-    if m > 0 {
-        primitive["targets"] = json!(targets);
-        mesh["weights"] = json!(vec![0.0; m]);
-        let t0 = keys.times[0];
-        let mut times: Vec<f32> = keys.times.iter().map(|t| (t - t0) as f32).collect();
-        let mut frame_of_key: Vec<usize> = (0..n).collect();
-        if keys.looped {
-            times.push(keys.period as f32);
-            frame_of_key.push(0);
-        }
-        let input_view = bin.view(times.iter().map(|t| t.to_le_bytes()), None);
-        accessors.push(json!({
-            "bufferView": input_view, "componentType": FLOAT, "count": times.len(),
-            "type": "SCALAR", "min": [times[0]], "max": [times[times.len() - 1]],
-        }));
-        let input = accessors.len() - 1;
-        let weights = frame_of_key
-            .iter()
-            .flat_map(|&f| (1..=m).map(move |j| if j == f { 1f32 } else { 0f32 }.to_le_bytes()));
-        let output_view = bin.view(weights, None);
-        accessors.push(json!({
-            "bufferView": output_view, "componentType": FLOAT,
-            "count": times.len() * m, "type": "SCALAR",
-        }));
-        let output = accessors.len() - 1;
-        animations.push(json!({
-            "name": "frames",
-            "samplers": [ { "input": input, "output": output, "interpolation": "LINEAR" } ],
-            "channels": [ { "sampler": 0, "target": { "node": 1, "path": "weights" } } ],
-        }));
-    }
-    mesh["primitives"] = json!([primitive]);
-    let mut extras = json!({
-        "units": "m",
-        "design_units": info.units.as_str(),
-        "scale": info.scale,
-        "frames": n,
-        "times": keys.times,
-        "loop": keys.looped,
-    });
-    if let Some(t) = &info.title {
-        extras["title"] = json!(t);
-    }
-    let mut doc = json!({
-        "asset": {
-            "version": "2.0",
-            "generator": concat!("pdeshape ", env!("CARGO_PKG_VERSION")),
-            "extras": extras,
-        },
-        "scene": 0,
-        "scenes": [ { "name": title, "nodes": [0] } ],
-        "nodes": [ { "name": title, "children": [1] }, { "name": "surface", "mesh": 0 } ],
-        "meshes": [mesh],
-        "materials": [ {
-            "name": "pdeshape surface",
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 0.6,
-            },
-            "doubleSided": !keys.closed,
-        } ],
-        "accessors": accessors,
-        "bufferViews": bin.views,
-        "buffers": [ { "byteLength": bin.bytes.len() } ],
-    });
-    if !animations.is_empty() {
-        doc["animations"] = json!(animations);
-    }
-    let mut json_bytes =
-        serde_json::to_vec(&doc).map_err(|e| Error::io(format!("writing glTF JSON: {e}")))?;
-    while json_bytes.len() % 4 != 0 {
-        json_bytes.push(b' ');
-    }
-    let mut data = bin.bytes;
-    while data.len() % 4 != 0 {
-        data.push(0);
-    }
-    let total = 12 + 8 + json_bytes.len() + 8 + data.len();
-    let total = u32::try_from(total)
-        .map_err(|_| Error::invalid("the animation exceeds the 4 GiB a .glb holds"))?;
-    let io = |e: std::io::Error| Error::io(format!("writing GLB: {e}"));
-    w.write_all(&GLB_MAGIC.to_le_bytes()).map_err(io)?;
-    w.write_all(&2u32.to_le_bytes()).map_err(io)?;
-    w.write_all(&total.to_le_bytes()).map_err(io)?;
-    w.write_all(&(json_bytes.len() as u32).to_le_bytes())
-        .map_err(io)?;
-    w.write_all(&GLB_JSON.to_le_bytes()).map_err(io)?;
-    w.write_all(&json_bytes).map_err(io)?;
-    w.write_all(&(data.len() as u32).to_le_bytes())
-        .map_err(io)?;
-    w.write_all(&GLB_BIN.to_le_bytes()).map_err(io)?;
-    w.write_all(&data).map_err(io)?;
-    Ok(())
+    glb.finish(keys, info, w)
 }

@@ -23,7 +23,7 @@ mod retarget;
 mod source;
 
 pub use frames::{for_each_frame, Frame, Keyframes, Solves};
-pub use gltf::write_glb;
+pub use gltf::{write_glb, GlbFrames};
 pub use measures::{measure, Measures, Row};
 pub use morph::{ease, Morph};
 pub use retarget::{vertex_normals, Anchor, Correspondence, Retarget};

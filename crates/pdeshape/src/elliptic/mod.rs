@@ -91,6 +91,9 @@ pub(crate) struct ModeFn {
     /// For the Chebyshev basis: the combined series of each column and its first two
     /// x-derivatives, `series[d][c]`.
     series: Option<[Vec<Vec<f64>>; 3]>,
+    /// Every coefficient is zero (a mode whose conditions have no such Fourier term): the mode
+    /// adds nothing anywhere, and evaluations of the whole surface leave it out.
+    pub(crate) zero: bool,
 }
 
 impl ModeFn {
@@ -118,10 +121,12 @@ impl ModeFn {
             }
             Basis::Layers(_) => None,
         };
+        let zero = coef.iter().all(|&x| x == 0.0);
         ModeFn {
             basis,
             coef,
             series,
+            zero,
         }
     }
 
@@ -424,6 +429,80 @@ fn solve_mode(
     at: &[(f64, usize)],
     rhs: DMatrix<f64>,
 ) -> Result<(ModeFn, ModeReport)> {
+    let setup = mode_setup(op, n, at)?;
+    let ModeSetup { basis, a, cond } = &*setup;
+    // Zero data (the conditions have no such Fourier term): the system is linear and
+    // homogeneous and its matrix regular (checked above), so its one solution is zero.
+    let coef = if rhs.iter().all(|&x| x == 0.0) {
+        DMatrix::zeros(a.ncols(), rhs.ncols())
+    } else {
+        solve_equilibrated(a, &rhs).ok_or_else(|| {
+            Error::not_unique(format!("the system for Fourier mode {n} is singular"))
+        })?
+    };
+    let report = ModeReport {
+        n,
+        condition_number: *cond,
+        basis: basis.kind().name(),
+    };
+    Ok((ModeFn::new(basis.clone(), coef), report))
+}
+
+/// What a mode system's matrix depends on: the operator (its coefficients, and whether it was
+/// given as `(∂uu + a²∂vv)^N`, whose roots are exact), the mode and the places of the
+/// conditions (`u` and the derivative order), bit for bit, and the SVD's iteration cap. Not
+/// the curves.
+#[derive(Clone, PartialEq, Eq, Hash)]
+struct SetupKey {
+    cap: usize,
+    smoothing: Option<u64>,
+    coefficients: Vec<u64>,
+    n: usize,
+    at: Vec<(u64, usize)>,
+}
+
+/// A mode system's basis (the better conditioned of the two representations), its condition
+/// matrix and its condition number.
+struct ModeSetup {
+    basis: Basis,
+    a: DMatrix<f64>,
+    cond: f64,
+}
+
+/// Setups kept for re-solving with other curves (an animation's frames, a dragged curve):
+/// the choice of basis and the singular values of its matrix are computed once per operator,
+/// mode and places. Bounded: emptied when full.
+static SETUPS: std::sync::LazyLock<
+    std::sync::Mutex<std::collections::HashMap<SetupKey, std::sync::Arc<ModeSetup>>>,
+> = std::sync::LazyLock::new(Default::default);
+const MAX_SETUPS: usize = 4096;
+
+/// The setup of mode `n`: from [`SETUPS`], or chosen and remembered (a singular system is
+/// refused and not remembered).
+fn mode_setup(op: &Operator, n: usize, at: &[(f64, usize)]) -> Result<std::sync::Arc<ModeSetup>> {
+    let key = SetupKey {
+        cap: crate::decomp::max_iterations(at.len()),
+        smoothing: op.smoothing_parameter().map(f64::to_bits),
+        coefficients: op.coefficients().iter().map(|c| c.to_bits()).collect(),
+        n,
+        at: at.iter().map(|&(u, d)| (u.to_bits(), d)).collect(),
+    };
+    let lock = || SETUPS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(s) = lock().get(&key) {
+        return Ok(s.clone());
+    }
+    let setup = std::sync::Arc::new(choose_basis(op, n, at)?);
+    let mut setups = lock();
+    if setups.len() >= MAX_SETUPS {
+        setups.clear();
+    }
+    setups.insert(key, setup.clone());
+    Ok(setup)
+}
+
+/// Picks the basis of mode `n` and builds the condition matrix `A[i][k] = ψ_k^{(d_i)}(u_i)`;
+/// refuses a singular system.
+fn choose_basis(op: &Operator, n: usize, at: &[(f64, usize)]) -> Result<ModeSetup> {
     let mut best: Option<(Basis, DMatrix<f64>, f64)> = None;
     let mut candidates = Vec::new();
     if n > 0 {
@@ -469,14 +548,7 @@ fn solve_mode(
             "the system for {which} is singular or numerically singular ({cond}); check that the conditions fix the surface (e.g. at least one position curve) and that derivative orders are modest"
         )));
     }
-    let coef = solve_equilibrated(&a, &rhs)
-        .ok_or_else(|| Error::not_unique(format!("the system for Fourier mode {n} is singular")))?;
-    let report = ModeReport {
-        n,
-        condition_number: cond,
-        basis: basis.kind().name(),
-    };
-    Ok((ModeFn::new(basis, coef), report))
+    Ok(ModeSetup { basis, a, cond })
 }
 
 fn condition_matrix(basis: &Basis, at: &[(f64, usize)]) -> DMatrix<f64> {

@@ -256,7 +256,9 @@ impl Surface for PdePatch {
     fn partials(&self, u: f64, v: f64) -> Partials {
         let mut p = Partials::default();
         let mut o = [[0.0; 6]; 3];
-        for (n, mode) in self.modes.iter().enumerate() {
+        // A mode with zero coefficients adds zeros (leaving it out changes at most the sign of
+        // an exact zero).
+        for (n, mode) in self.modes.iter().enumerate().filter(|(_, m)| !m.zero) {
             let [o0, o1, o2] = &mut o;
             mode.eval012(u, [o0, o1, o2]);
             let nf = n as f64;
@@ -323,7 +325,10 @@ struct PdeRows<'a> {
     /// Columns the tables cover: `nv/4 + 1` on the symmetric grid, else `nv`.
     cols: usize,
     symmetric: bool,
-    /// `cos[(n−1)·cols + j] = cos(n v_j)`, likewise `sin`.
+    /// The modes `n ≥ 1` whose coefficients are not all zero, the only ones summed (a mode of
+    /// zeros adds exact zeros, so leaving it out changes at most the sign of an exact zero).
+    live: Vec<usize>,
+    /// `cos[(n−1)·cols + j] = cos(n v_j)`, likewise `sin` (for the live modes).
     cos: Vec<f64>,
     sin: Vec<f64>,
     /// `delta[(i·2 + d)·nv + j] = ∂ᵈ_v Δ_i(v_j)` (d = 0, 1).
@@ -346,9 +351,10 @@ impl<'a> PdeRows<'a> {
                 .enumerate()
                 .all(|(j, &v)| v == TAU * j as f64 / nv as f64);
         let cols = if symmetric { nv / 4 + 1 } else { nv };
+        let live: Vec<usize> = (1..=m).filter(|&n| !patch.modes[n].zero).collect();
         let mut cos = vec![0.0; m * cols];
         let mut sin = vec![0.0; m * cols];
-        for n in 1..=m {
+        for &n in &live {
             for (j, &v) in vs.iter().take(cols).enumerate() {
                 let (s, c) = (n as f64 * v).sin_cos();
                 cos[(n - 1) * cols + j] = c;
@@ -372,6 +378,7 @@ impl<'a> PdeRows<'a> {
             vs,
             cols,
             symmetric,
+            live,
             cos,
             sin,
             delta,
@@ -383,7 +390,8 @@ impl<'a> PdeRows<'a> {
     fn row_coefficients(&self, u: f64, alpha: &mut [f64], beta: &mut [f64]) {
         let mut o0 = [0.0; 6];
         let mut o1 = [0.0; 6];
-        for (n, mode) in self.patch.modes.iter().enumerate() {
+        let live = std::iter::once(0).chain(self.live.iter().copied());
+        for (n, mode) in live.map(|n| (n, &self.patch.modes[n])) {
             mode.eval01(u, &mut o0, &mut o1);
             let nf = n as f64;
             let (a, b) = (
@@ -408,6 +416,8 @@ struct Sums<'t> {
     /// `alpha[n·Q + q]`, `beta[n·Q + q]`: cosine and sine coefficients of quantity `q`, mode `n`.
     alpha: &'t [f64],
     beta: &'t [f64],
+    /// The modes `n ≥ 1` summed.
+    live: &'t [usize],
     /// `cos[(n−1)·cols + j]`, `sin[(n−1)·cols + j]`.
     cos: &'t [f64],
     sin: &'t [f64],
@@ -423,9 +433,8 @@ struct Sums<'t> {
 #[inline(always)]
 fn accumulate_block<const FMA: bool>(t: &Sums, j0: usize, len: usize, acc: &mut [[f64; BLOCK]]) {
     let madd = |a: f64, x: f64, acc: f64| if FMA { a.mul_add(x, acc) } else { acc + a * x };
-    let m = t.alpha.len() / Q - 1;
     let split = acc.len() == 4 * Q;
-    for n in 1..=m {
+    for &n in t.live {
         let c = &t.cos[(n - 1) * t.cols + j0..(n - 1) * t.cols + j0 + len];
         let s = &t.sin[(n - 1) * t.cols + j0..(n - 1) * t.cols + j0 + len];
         let parity = n % 2;
@@ -578,6 +587,7 @@ impl PdeRows<'_> {
             let sums = Sums {
                 alpha,
                 beta,
+                live: &self.live,
                 cos: &self.cos,
                 sin: &self.sin,
                 cols: self.cols,

@@ -9,7 +9,9 @@ pub mod weld;
 mod writers;
 
 pub use trimesh::{Part, TriMesh};
-pub use weld::{report, weld, weld_mapped, MeshReport, WeldOptions, WeldTopology, Welded};
+pub use weld::{
+    report, weld, weld_mapped, FrameWeld, MeshReport, WeldOptions, WeldTopology, Welded,
+};
 pub use writers::{
     write, write_csv, write_glb, write_mesh, write_obj, write_ply, write_stl, Format, MeshInfo,
     Units, Up,

@@ -26,7 +26,11 @@
 use super::{GridMesh, Part, TriMesh};
 use rayon::prelude::*;
 use std::collections::HashMap;
+
+#[path = "weld_frame.rs"]
+mod weld_frame;
 use std::hash::BuildHasherDefault;
+pub use weld_frame::FrameWeld;
 
 /// A fast hasher for the merge's grid-cell keys (multiply–rotate over 8-byte words, as in
 /// rustc's FxHash): the keys are cells of the mesh's own vertices, so SipHash's protection
@@ -764,6 +768,11 @@ impl WeldTopology {
     /// (a curve became a point, two patches met or parted), where [`weld_mapped`] must be
     /// called again. The result equals `weld_mapped(grids, …)` bit for bit.
     pub fn weld(&self, grids: &[GridMesh]) -> Option<Welded> {
+        // The first frame's vertex map, checked rather than rebuilt (see `weld_frame`);
+        // where the check fails, the merge decides.
+        if let Some(w) = self.weld_gathered(grids) {
+            return Some(w);
+        }
         let same_shapes = grids.len() == self.shapes.len()
             && grids
                 .iter()
