@@ -1082,14 +1082,17 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
     for (name, value) in params {
         let (min, max) = match declared.iter().find(|p| &p.name == name) {
             Some(p) => {
-                if !(p.min..=p.max).contains(value) {
-                    return Err(err(format!(
-                        "params['{name}']: {value} lies outside the bounds [{}, {}] of [optimize]",
-                        p.min, p.max
-                    )));
+                if let (Some(lo), Some(hi)) = (p.min, p.max) {
+                    if !(lo..=hi).contains(value) {
+                        return Err(err(format!(
+                            "params['{name}']: {value} lies outside the bounds [{lo}, {hi}] of [optimize]"
+                        )));
+                    }
                 }
                 (p.min, p.max)
             }
+            // A `[[parameters]]` entry: its own bounds apply (checked by the library).
+            None if base.parameters.iter().any(|p| &p.name == name) => (None, None),
             None if name == "a" && *value <= 0.0 => {
                 return Err(err(format!(
                     "params['a']: the smoothing parameter a must stay positive (got {value})"
@@ -1102,14 +1105,14 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
             }
             // Bounds that hold the value and keep away from 0 (the library refuses dilation
             // ranges containing 0 and a non-positive `a`, both refused above).
-            None if *value > 0.0 => (value * 0.5, value * 2.0),
-            None if *value < 0.0 => (value * 2.0, value * 0.5),
-            None => (-1.0, 1.0),
+            None if *value > 0.0 => (Some(value * 0.5), Some(value * 2.0)),
+            None if *value < 0.0 => (Some(value * 2.0), Some(value * 0.5)),
+            None => (Some(-1.0), Some(1.0)),
         };
         list.push(ParameterSpec {
             name: name.clone(),
-            min: Some(min),
-            max: Some(max),
+            min,
+            max,
             initial: Some(*value),
         });
     }
