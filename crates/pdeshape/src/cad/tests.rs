@@ -575,6 +575,12 @@ fn formula_surfaces_are_certified_and_the_bound_is_tight() {
             );
             assert!(s.deviation <= rel * size, "bound above the tolerance");
             let truth = true_max_deviation(&s.net, &exact);
+            let [nu, nv] = s.net.counts();
+            eprintln!(
+                "formula {rel:e}: {nu} × {nv}, bound {:.3e}, true {truth:.3e}, ratio {:.2}",
+                s.deviation,
+                s.deviation / truth
+            );
             assert!(
                 truth <= s.deviation,
                 "{text} tolerance {rel:e}: true deviation {truth:e} exceeds the bound {:e}",
