@@ -105,11 +105,16 @@ pub fn write(
     for s in &model.surfaces {
         let [nu, nv] = s.approx.net.counts();
         report.push_str(&format!(
-            "  {}: {nu} × {nv} control points, deviation {} {:.3e} ({})\n",
+            "  {}: {nu} × {nv} control points, deviation {} {:.3e} ({}{})\n",
             s.name,
             s.approx.certificate.relation(),
             s.approx.deviation,
-            s.approx.certificate.word()
+            s.approx.certificate.word(),
+            s.approx
+                .note
+                .as_ref()
+                .map(|n| format!(": {n}"))
+                .unwrap_or_default()
         ));
         for h in &s.holes {
             report.push_str(&format!(

@@ -130,3 +130,26 @@ fn trimmed_designs_are_written_with_their_holes_and_read_back() {
         assert!(stdout.contains(": ok"), "{stdout}");
     }
 }
+
+/// A formula surface (the sphere of the benchmark designs) is written with a certified bound
+/// (`≤`, interval arithmetic), and read back within it.
+#[test]
+fn formula_surfaces_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../bench/designs/formula_ball.toml");
+    let out_path = dir.path().join("ball.step");
+    let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("deviation ≤ "), "{stdout}");
+    assert!(stdout.contains("(certified)"), "{stdout}");
+    let out = pdeshape(&["roundtrip", s(&design), s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains(": ok"), "{stdout}");
+}

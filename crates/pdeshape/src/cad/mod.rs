@@ -1,6 +1,6 @@
 //! CAD exchange: every surface of a design as a tensor B-spline with a known deviation
-//! ([`certify`]: proven for analytic PDE patches, exact for piecewise polynomial surfaces,
-//! sampled for formula surfaces), written as STEP (ISO 10303-21, AP214: a shell of
+//! ([`certify`]: proven for analytic PDE patches and, by interval arithmetic, for formula
+//! surfaces, exact for piecewise polynomial surfaces, sampled otherwise), written as STEP (ISO 10303-21, AP214: a shell of
 //! `ADVANCED_FACE`s over `B_SPLINE_SURFACE_WITH_KNOTS` with shared edges and vertices,
 //! [`step`]) and IGES 5.3 (entity 128, through the one IGES writer of `splinepde::export`), and
 //! read back ([`read`]) to measure the round trip.
@@ -107,6 +107,11 @@ pub fn approximate_design(design: &SolvedDesign, tolerance: f64) -> Result<CadMo
         });
     }
     share_edges(&mut surfaces, 1e-9 * size)?;
+    let before: Vec<BSplineSurface> = if design.trims.is_empty() {
+        Vec::new()
+    } else {
+        surfaces.iter().map(|s| s.approx.net.clone()).collect()
+    };
     for t in &design.trims {
         let periodic = matches!(
             design.surfaces[t.surface].kind.surface().v_domain(),
@@ -124,11 +129,49 @@ pub fn approximate_design(design: &SolvedDesign, tolerance: f64) -> Result<CadMo
         s.approx.net = net;
         s.holes = holes;
     }
+    follow_moved_seams(&mut surfaces, &before)?;
     Ok(CadModel {
         name: design.title.clone().unwrap_or_else(|| "design".to_string()),
         surfaces,
         tolerance,
     })
+}
+
+/// A trimmed face whose periodic `v` now starts elsewhere (a hole across `v = 0`, see
+/// [`trimmed`]) has new `v` knots, so a neighbour that shared an edge with it (the same `v`
+/// knots and an identical end row, from [`share_edges`]) would no longer: such a neighbour
+/// without holes of its own is re-expressed from the same `v` (the same surface, see
+/// [`trimmed::rotate_v`]). Knot insertion works row by row, so the shared rows stay identical
+/// and the edge stays shared. (A neighbour with holes of its own keeps its own window: the two
+/// faces then meet along two coincident edges.)
+fn follow_moved_seams(surfaces: &mut [CadSurface], before: &[BSplineSurface]) -> Result<()> {
+    let moved = |s: &CadSurface, old: &BSplineSurface| s.approx.net.knots_v() != old.knots_v();
+    // Moved faces, and the neighbours moved with them (whose own neighbours follow in turn).
+    let mut work: Vec<usize> = (0..before.len())
+        .filter(|&b| moved(&surfaces[b], &before[b]))
+        .collect();
+    while let Some(b) = work.pop() {
+        let old = &before[b];
+        let start = surfaces[b].approx.net.domain()[1][0];
+        let old_rows = end_rows(old);
+        for a in 0..surfaces.len() {
+            let s = &surfaces[a];
+            if a == b || !s.holes.is_empty() || !s.approx.closed[1] || moved(s, &before[a]) {
+                continue;
+            }
+            if s.approx.net.knots_v() != old.knots_v() {
+                continue;
+            }
+            let shares = end_rows(&s.approx.net)
+                .iter()
+                .any(|r| old_rows.iter().any(|o| o == r));
+            if shares {
+                surfaces[a].approx.net = trimmed::rotate_v(&surfaces[a].approx.net, start)?;
+                work.push(a);
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A surface's error at its place in the design file; tolerance errors keep their place.

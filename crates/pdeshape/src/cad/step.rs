@@ -203,6 +203,15 @@ fn rows(net: &BSplineSurface) -> [Curve; 4] {
 }
 
 impl Topology {
+    /// Edges used by two different faces.
+    #[cfg(test)]
+    pub(crate) fn shared_edges(&self) -> usize {
+        self.edges
+            .iter()
+            .filter(|e| e.uses.len() == 2 && e.uses[0].0 != e.uses[1].0)
+            .count()
+    }
+
     pub(crate) fn build(nets: &[&BSplineSurface], tol: f64) -> Topology {
         let mut t = Topology {
             vertices: Vec::new(),

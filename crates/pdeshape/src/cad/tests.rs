@@ -465,3 +465,214 @@ fn trimmed_faces_are_written_and_read_back() {
         }
     }
 }
+
+/// The sphere of radius 2 and the torus R = 3, r = 1 of docs/design-file.md as formula
+/// surfaces, with their closed forms (written out here, not through the formula machinery).
+const BALL: &str = r#"
+[[parametric]]
+name = "ball"
+x = "2*sin(pi*u)*cos(v)"
+y = "2*sin(pi*u)*sin(v)"
+z = "2*cos(pi*u)"
+"#;
+
+const RING: &str = r#"
+[[parametric]]
+name = "ring"
+x = "(3 + cos(2*pi*u))*cos(v)"
+y = "(3 + cos(2*pi*u))*sin(v)"
+z = "sin(2*pi*u)"
+"#;
+
+fn ball(u: f64, v: f64) -> Vec3 {
+    let t = std::f64::consts::PI * u;
+    Vec3::new(
+        2.0 * t.sin() * v.cos(),
+        2.0 * t.sin() * v.sin(),
+        2.0 * t.cos(),
+    )
+}
+
+fn ring(u: f64, v: f64) -> Vec3 {
+    let t = TAU * u;
+    Vec3::new(
+        (3.0 + t.cos()) * v.cos(),
+        (3.0 + t.cos()) * v.sin(),
+        t.sin(),
+    )
+}
+
+/// The symbolic fourth-order partials and their enclosures against the closed forms: on tiny
+/// boxes the bounds enclose `|∂u⁴X|`, `|∂v⁴X|`, `|∂u∂v⁴X|` and `|X|` of the closed form and
+/// exceed them by at most 10⁻⁶ (relative).
+#[test]
+fn fourth_partials_of_formulas_match_the_closed_forms() {
+    use std::f64::consts::PI;
+    // (design, [|∂u⁴X|, |∂v⁴X|, |∂u∂v⁴X|, |X|] at (u, v)).
+    type Norms = fn(f64, f64) -> [f64; 4];
+    let cases: [(&str, Norms); 2] = [
+        (BALL, |u, _| {
+            let t = PI * u;
+            [
+                2.0 * PI.powi(4),
+                2.0 * t.sin().abs(),
+                2.0 * PI * t.cos().abs(),
+                2.0,
+            ]
+        }),
+        (RING, |u, _| {
+            let t = TAU * u;
+            let w = 3.0 + t.cos();
+            [
+                TAU.powi(4),
+                w,
+                TAU * t.sin().abs(),
+                (w * w + t.sin().powi(2)).sqrt(),
+            ]
+        }),
+    ];
+    for (text, norms) in cases {
+        let design = solve(text);
+        let SurfaceKind::Parametric(p) = &design.surfaces[0].kind else {
+            panic!("not a formula surface")
+        };
+        let fp = p.fourth_partials().unwrap();
+        for k in 0..50 {
+            let (u, v) = (0.013 + 0.0197 * k as f64, 0.31 + 0.117 * k as f64);
+            let b = fp.bounds([u, u + 1e-10], [v, v + 1e-10]).unwrap();
+            let want = norms(u, v);
+            for (got, w) in b.iter().zip(want) {
+                assert!(
+                    *got >= w * (1.0 - 1e-9) - 1e-12 && *got <= w * (1.0 + 1e-6) + 1e-9,
+                    "{text} at ({u}, {v}): bound {got} against {w}"
+                );
+            }
+        }
+    }
+}
+
+/// Formula surfaces are certified by interval bounds: on the sphere and the torus the true
+/// largest deviation (dense sampling and local maximisation against the closed form) never
+/// exceeds the certified figure, which is at most the tolerance and at most 6 × the truth
+/// (see the argument in `certify.rs`: the enclosures of the vector norms, the sum of the `u`
+/// and `v` terms and the cell widths below the step the worst cell needs).
+#[test]
+fn formula_surfaces_are_certified_and_the_bound_is_tight() {
+    for (text, exact) in [
+        (BALL, ball as fn(f64, f64) -> Vec3),
+        (RING, ring as fn(f64, f64) -> Vec3),
+    ] {
+        let design = solve(text);
+        let size = design_size(&design);
+        for rel in [1e-2, 1e-3, 1e-4, 1e-6] {
+            let model = approximate_design(&design, rel * size).unwrap();
+            let s = &model.surfaces[0].approx;
+            assert!(
+                matches!(s.certificate, Certificate::Intervals { .. }),
+                "{:?} {:?}",
+                s.certificate,
+                s.note
+            );
+            assert!(s.deviation <= rel * size, "bound above the tolerance");
+            let truth = true_max_deviation(&s.net, &exact);
+            let [nu, nv] = s.net.counts();
+            eprintln!(
+                "formula {rel:e}: {nu} × {nv}, bound {:.3e}, true {truth:.3e}, ratio {:.2}",
+                s.deviation,
+                s.deviation / truth
+            );
+            assert!(
+                truth <= s.deviation,
+                "{text} tolerance {rel:e}: true deviation {truth:e} exceeds the bound {:e}",
+                s.deviation
+            );
+            assert!(
+                s.deviation <= 6.0 * truth,
+                "{text} tolerance {rel:e}: bound {:e} looser than 6 × the true deviation {truth:e}",
+                s.deviation
+            );
+        }
+    }
+}
+
+/// A formula with no fourth-derivative bound near an edge (`u^2.5` at `u = 0`: finite up to
+/// second order, so the surface is accepted, but its third derivative is unbounded) is sampled,
+/// with the reason and the cell named; an analytic one next to it stays certified.
+#[test]
+fn formulas_without_bounds_fall_back_to_sampling_with_the_reason() {
+    let design = solve(
+        r#"
+[[parametric]]
+name = "cusp"
+x = "u^2.5"
+y = "v"
+z = "u*v"
+domain = [0.0, 1.0]
+
+[[parametric]]
+name = "plane"
+x = "u"
+y = "v"
+z = "u^2*v"
+domain = [0.0, 1.0]
+"#,
+    );
+    let model = approximate_design(&design, 1e-4).unwrap();
+    let cusp = &model.surfaces[0].approx;
+    assert_eq!(cusp.certificate, Certificate::Sampled);
+    let note = cusp.note.as_deref().unwrap();
+    assert!(
+        note.starts_with("^ with a non-integer exponent on a base reaching 0 on the cell [0, "),
+        "{note}"
+    );
+    let plane = &model.surfaces[1].approx;
+    assert!(matches!(plane.certificate, Certificate::Intervals { .. }));
+    // A quadratic in u and linear in v: all fourth partials vanish, the net is exact.
+    assert!(plane.deviation <= 1e-11, "{}", plane.deviation);
+}
+
+/// A hole across the periodic seam moves its face's `v` window; the neighbour that shares an
+/// edge with it (the cup's base, at the belly) moves with it, so the shared rows stay
+/// identical, the STEP topology keeps one edge used by both faces, and the moved neighbour is
+/// the same surface (within 10⁻¹² of its size).
+#[test]
+fn a_neighbour_of_a_seam_moved_face_keeps_the_shared_edge() {
+    let text = format!(
+        "{}\n[[trims]]\nsurface = \"bowl\"\ncurves = [{{ type = \"circle\", center = [0.5, 0.05], radius = 0.1 }}]\n",
+        include_str!("../../../../examples/cup.toml")
+    );
+    let design = solve(&text);
+    let plain = approximate_design(&example("cup"), 1e-3).unwrap();
+    let model = approximate_design(&design, 1e-3).unwrap();
+    let (base, bowl) = (&model.surfaces[0], &model.surfaces[1]);
+    assert_eq!(bowl.holes.len(), 1);
+    let start = bowl.approx.net.domain()[1][0];
+    assert!(start != 0.0, "the bowl's window did not move");
+    assert_eq!(base.approx.net.domain()[1][0], start);
+    assert_eq!(base.approx.net.knots_v(), bowl.approx.net.knots_v());
+    let [base_rows, bowl_rows] = [end_rows(&base.approx.net), end_rows(&bowl.approx.net)];
+    assert!(
+        base_rows.iter().any(|r| bowl_rows.iter().any(|o| o == r)),
+        "no identical row"
+    );
+    let nets: Vec<&BSplineSurface> = model.surfaces.iter().map(|s| &s.approx.net).collect();
+    let topo = step::Topology::build(&nets, 1e-9);
+    assert!(topo.shared_edges() >= 1, "the belly edge is not shared");
+    let plain_nets: Vec<&BSplineSurface> = plain.surfaces.iter().map(|s| &s.approx.net).collect();
+    assert_eq!(
+        step::Topology::build(&plain_nets, 1e-9).shared_edges(),
+        topo.shared_edges()
+    );
+    // The moved base is the unmoved base re-expressed.
+    let unmoved = &plain.surfaces[0].approx.net;
+    for i in 0..=20 {
+        for j in 0..=200 {
+            let (u, v) = (i as f64 / 20.0, TAU * j as f64 / 200.0);
+            let w = start + (v - start).rem_euclid(TAU);
+            let d = (base.approx.net.derivative(u, w.min(start + TAU), 0, 0)
+                - unmoved.derivative(u, v, 0, 0))
+            .norm();
+            assert!(d <= 1e-12 * 4.0, "{d:e} at ({u}, {v})");
+        }
+    }
+}

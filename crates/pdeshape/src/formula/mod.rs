@@ -15,7 +15,10 @@
 //! Evaluation over arrays: [`program::Program`] compiles a formula once (its tree read off exmex
 //! by [`trace`]) and evaluates it over whole arrays of points; the `f64` callers (dynamic
 //! curves, parametric surfaces) use it, the Taylor-series curve formulas keep exmex.
+//! [`interval`] evaluates a compiled program over boxes (outward-rounded enclosures), for the
+//! certified bounds of formula surfaces.
 
+pub(crate) mod interval;
 pub(crate) mod program;
 pub(crate) mod trace;
 

@@ -17,6 +17,7 @@
 //! `x·x·x` and `(x·x)·(x·x)` carry two roundings, and glibc's `pow` is within 0.52 ulp), with the
 //! same special values (signed zeros, infinities, NaN); tests check both statements.
 
+use super::interval::{self, Iv, IvResult};
 use super::trace::{Op1, Op2, Sym, SymOps};
 use super::{Parsed, Variables};
 use crate::{Error, Result};
@@ -376,6 +377,34 @@ impl Program {
             };
         }
         vals[self.result as usize]
+    }
+
+    /// An enclosure of the value over the box `boxes[s]` of the variables (one interval per
+    /// slot), or why the formula is not analytic somewhere on it ([`interval`]). The enclosure
+    /// contains the exact value of every operation and the value [`Program::eval_one`]
+    /// computes at any point of the box.
+    pub(crate) fn eval_interval(&self, boxes: &[Iv]) -> IvResult {
+        let mut vals: Vec<Iv> = Vec::with_capacity(self.values.len());
+        for v in &self.values {
+            let r = match *v {
+                Value::Input(s) => boxes[s],
+                Value::Const(c) => Iv::point(c)?,
+                Value::Op(op, a, b) => {
+                    let (x, y) = (vals[a as usize], vals[b as usize]);
+                    match op {
+                        Op::Un(f) => interval::apply1(f, x)?,
+                        Op::Bin(f) => interval::apply2(f, x, y)?,
+                        Op::Square => interval::square(x)?,
+                        Op::Cube => interval::powi(x, 3)?,
+                        Op::Fourth => interval::powi(x, 4)?,
+                        Op::Recip => interval::div(Iv::point(1.0)?, x)?,
+                        Op::RecipSquare => interval::div(Iv::point(1.0)?, interval::square(x)?)?,
+                    }
+                }
+            };
+            vals.push(r);
+        }
+        Ok(vals[self.result as usize])
     }
 
     /// `out[k]` = the value at point `k`, the variables given by `inputs` (one per slot; the

@@ -14,7 +14,7 @@ mod parametric;
 mod spine;
 pub use closest::{closest_point, Closest, ClosestOptions, ClosestPointIndex, SurfaceNearest};
 pub use domain::{Interval, ParameterDomain};
-pub use parametric::ParametricSurface;
+pub use parametric::{FourthPartials, ParametricSurface};
 pub use spine::Spine;
 
 /// `X` and its partial derivatives up to second order at one `(u, v)`.

@@ -2,6 +2,7 @@
 //! method cannot produce exactly), with exact partial derivatives from symbolic differentiation.
 
 use super::{Interval, Partials, PartialsRows, RowBuf, RowEvaluator, Surface, VDomain};
+use crate::formula::interval::{Iv, Unbounded};
 use crate::formula::program::{self, Input, Program};
 use crate::formula::trace::{Sym, SymOps};
 use crate::formula::{self, short, Parsed, Variables};
@@ -264,6 +265,84 @@ fn compile_component(given: &str) -> Result<[Option<Program>; 6]> {
         }
     }
     Ok(out)
+}
+
+/// The fourth-order partials the certified CAD bound needs (`cad::certify`): for each of the
+/// three components the programs of `f` (whose interval evaluation proves the component
+/// analytic on a box), `∂u⁴f`, `∂v⁴f` and `∂u∂v⁴f` (`None`: identically zero), by exmex's
+/// symbolic differentiation over [`Sym`], for evaluation over boxes of `(u, v)`.
+#[derive(Clone, Debug)]
+pub struct FourthPartials {
+    programs: [[Option<Program>; 4]; 3],
+}
+
+/// Sizes of the three fourth-order partials over a box (`sup|∂u⁴X|`, `sup|∂v⁴X|`,
+/// `sup|∂u∂v⁴X|`, Euclidean norms) and of the surface (`sup|X|`), or why the surface has no
+/// bound there.
+pub(crate) type BoxBounds = std::result::Result<[f64; 4], Unbounded>;
+
+impl FourthPartials {
+    /// Upper bounds of `|∂u⁴X|`, `|∂v⁴X|`, `|∂u∂v⁴X|` and `|X|` over `[u0, u1] × [v0, v1]`, from
+    /// outward-rounded interval enclosures of each component ([`Program::eval_interval`]), or
+    /// the reason the surface is not analytic on the box (a pole, a square root or logarithm
+    /// reaching 0, …): then no bound holds there.
+    pub(crate) fn bounds(&self, u: [f64; 2], v: [f64; 2]) -> BoxBounds {
+        let boxes = [Iv::new(u[0], u[1])?, Iv::new(v[0], v[1])?];
+        let mut sq = [0.0f64; 4];
+        for comp in &self.programs {
+            for (k, p) in comp.iter().enumerate() {
+                let Some(p) = p else { continue };
+                let m = p.eval_interval(&boxes)?.mag();
+                sq[k] += m * m;
+            }
+        }
+        // Upward: the sums of three squares and the root carry a few roundings.
+        let up = |s: f64| s.sqrt() * (1.0 + 1e-14);
+        Ok([up(sq[1]), up(sq[2]), up(sq[3]), up(sq[0])])
+    }
+}
+
+impl ParametricSurface {
+    /// The programs of [`FourthPartials`], derived from the formulas as given.
+    pub fn fourth_partials(&self) -> Result<FourthPartials> {
+        type SymExpr = formula::Expr<Sym, SymOps>;
+        let mut programs: [[Option<Program>; 4]; 3] = Default::default();
+        for (c, text) in self.text.iter().enumerate() {
+            let Parsed { expr, slots } =
+                formula::parse::<Sym, SymOps>(text, &UV).map_err(|e| e.at(NAMES[c]))?;
+            let idx = |var: usize| slots.iter().position(|&i| i == var);
+            let (iu, iv) = (idx(0), idx(1));
+            let chain = |vars: Option<Vec<usize>>| -> Result<Option<SymExpr>> {
+                let Some(vars) = vars else { return Ok(None) };
+                if vars.is_empty() {
+                    return Ok(Some(expr.clone()));
+                }
+                expr.clone()
+                    .partial_iter(vars.into_iter())
+                    .map(Some)
+                    .map_err(|err| {
+                        Error::invalid(format!("cannot differentiate '{text}': {err}")).at(NAMES[c])
+                    })
+            };
+            let exprs = [
+                chain(Some(Vec::new()))?,
+                chain(iu.map(|i| vec![i; 4]))?,
+                chain(iv.map(|i| vec![i; 4]))?,
+                chain(iu.zip(iv).map(|(i, j)| vec![i, j, j, j, j]))?,
+            ];
+            for (o, e) in programs[c].iter_mut().zip(exprs) {
+                if let Some(expr) = e {
+                    let parsed = Parsed {
+                        expr,
+                        slots: slots.clone(),
+                    };
+                    let tree = program::tree(&parsed, &UV)?;
+                    *o = Some(Program::new(&tree, 2, &[0]));
+                }
+            }
+        }
+        Ok(FourthPartials { programs })
+    }
 }
 
 /// Rows `u = const` of a parametric surface through the compiled programs.

@@ -312,3 +312,66 @@ fn compile_reports_the_parse_errors() {
     assert!(e.contains("minus"), "{e}");
     assert!(Program::compile("sin(", &UTX, &[]).is_err());
 }
+
+/// Interval evaluation of whole programs: 3000 random formulas (every function, nested), each
+/// on random boxes of its three variables; where an enclosure is given it contains the value
+/// `eval_one` computes (with and without the integer-power rewrite) at the box's corners and at
+/// random points inside. Enough formulas must give enclosures for the test to mean something.
+#[test]
+fn interval_programs_enclose_their_point_values() {
+    use crate::formula::interval::Iv;
+    let mut rng = ChaCha8Rng::seed_from_u64(2020);
+    let (mut boxes, mut points) = (0usize, 0usize);
+    for _ in 0..3000 {
+        let depth = rng.gen_range(1..4);
+        let text = formula(&mut rng, depth);
+        let Ok(ours) = parse::<Sym, SymOps>(&text, &UTX) else {
+            continue;
+        };
+        let tree = tree(&ours, &UTX).unwrap();
+        let programs = [
+            Program::with_powers(&tree, 3, &[], false),
+            Program::new(&tree, 3, &[]),
+        ];
+        for _ in 0..4 {
+            let b: Vec<Iv> = (0..3)
+                .map(|_| {
+                    let c = rng.gen_range(-3.0..3.0);
+                    let w = [0.0, 1e-6, 0.1, 1.0][rng.gen_range(0..4)];
+                    Iv { lo: c, hi: c + w }
+                })
+                .collect();
+            for p in &programs {
+                let Ok(r) = p.eval_interval(&b) else { continue };
+                boxes += 1;
+                for k in 0..20 {
+                    let x: Vec<f64> = b
+                        .iter()
+                        .enumerate()
+                        .map(|(s, iv)| match k {
+                            // The eight corners, then random points.
+                            0..=7 => {
+                                if (k >> s) & 1 == 1 {
+                                    iv.hi
+                                } else {
+                                    iv.lo
+                                }
+                            }
+                            _ => iv.lo + (iv.hi - iv.lo) * rng.gen::<f64>(),
+                        })
+                        .collect();
+                    let y = p.eval_one(&x);
+                    assert!(
+                        r.lo <= y && y <= r.hi,
+                        "{text} at {x:?}: {y} outside [{}, {}] on {b:?}",
+                        r.lo,
+                        r.hi
+                    );
+                    points += 1;
+                }
+            }
+        }
+    }
+    assert!(boxes > 3000, "only {boxes} boxes with an enclosure");
+    assert!(points > 60_000);
+}
