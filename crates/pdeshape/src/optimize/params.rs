@@ -114,18 +114,7 @@ impl Parameters {
                     .at(&format!("{place}.max")),
             );
         }
-        let initial = p.initial.unwrap_or(e.value);
-        if !(min..=max).contains(&initial) {
-            let key = if p.initial.is_some() {
-                "initial"
-            } else {
-                "min"
-            };
-            return Err(Error::invalid(format!(
-                "the initial value {initial} lies outside [min, max] = [{min}, {max}]"
-            ))
-            .at(&format!("{place}.{key}")));
-        }
+        let initial = initial_within(p, e.value, min, max, place)?;
         Ok(Parameter {
             name: p.name.clone(),
             kind: e.kind.clone(),
@@ -200,18 +189,7 @@ impl Parameters {
             })?,
             _ => 0.0,
         };
-        let initial = p.initial.unwrap_or(neutral);
-        if !(min..=max).contains(&initial) {
-            let key = if p.initial.is_some() {
-                "initial"
-            } else {
-                "min"
-            };
-            return Err(Error::invalid(format!(
-                "the initial value {initial} lies outside [min, max] = [{min}, {max}]"
-            ))
-            .at(&format!("{place}.{key}")));
-        }
+        let initial = initial_within(p, neutral, min, max, place)?;
         Ok(Parameter {
             name: p.name.clone(),
             kind,
@@ -426,4 +404,22 @@ impl Parameters {
         }
         Ok(doc.to_string())
     }
+}
+
+/// The parameter's initial value (`default` when the file gives none), refused outside
+/// `[min, max]` at `initial`, or at `min` when the default is what lies outside.
+fn initial_within(p: &ParameterSpec, default: f64, min: f64, max: f64, place: &str) -> Result<f64> {
+    let initial = p.initial.unwrap_or(default);
+    if (min..=max).contains(&initial) {
+        return Ok(initial);
+    }
+    let key = if p.initial.is_some() {
+        "initial"
+    } else {
+        "min"
+    };
+    Err(Error::invalid(format!(
+        "the initial value {initial} lies outside [min, max] = [{min}, {max}]"
+    ))
+    .at(&format!("{place}.{key}")))
 }
