@@ -789,34 +789,37 @@ impl WeldTopology {
         Some(self.finish(grids, positions, diag))
     }
 
+    /// Whether group `g` is turned over at these positions: a closed group whose enclosed
+    /// volume is negative, or an open one whose volume closed by a cone from the centroid of its
+    /// rim (what `analyze` calls the capped volume) is negative and not next to nothing (a sheet
+    /// keeps its first patch's side).
+    fn turns_over(&self, g: &Group, positions: &[[f32; 3]], diag: f64) -> bool {
+        let apex = if g.closed {
+            [0.0; 3]
+        } else {
+            let mut sum = [0.0f64; 3];
+            for &a in &g.rim {
+                let p = positions[a as usize];
+                for c in 0..3 {
+                    sum[c] += p[c] as f64;
+                }
+            }
+            sum.map(|x| x / g.rim.len().max(1) as f64)
+        };
+        let mut volume = 0.0f64;
+        for &k in &g.members {
+            let sign = if self.relative[k].1 { -1.0 } else { 1.0 };
+            volume += sign * signed_volume_about(positions, &self.tris[k], apex);
+        }
+        let encloses = g.closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
+        encloses && volume < 0.0
+    }
+
     /// Orients the groups by their volumes at these positions, then the normals.
     fn finish(&self, grids: &[GridMesh], positions: Vec<[f32; 3]>, diag: f64) -> Welded {
         let mut group_flip: HashMap<usize, bool> = HashMap::new();
         for g in &self.groups {
-            // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid
-            // of the rim vertices (what `analyze` calls the capped volume).
-            let apex = if g.closed {
-                [0.0; 3]
-            } else {
-                let mut sum = [0.0f64; 3];
-                for &a in &g.rim {
-                    let p = positions[a as usize];
-                    for c in 0..3 {
-                        sum[c] += p[c] as f64;
-                    }
-                }
-                sum.map(|x| x / g.rim.len().max(1) as f64)
-            };
-            let mut volume = 0.0f64;
-            for &k in &g.members {
-                let sign = if self.relative[k].1 { -1.0 } else { 1.0 };
-                volume += sign * signed_volume_about(&positions, &self.tris[k], apex);
-            }
-            // An open group that encloses next to nothing (a sheet) keeps its first patch's
-            // side.
-            let encloses = g.closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
-            let flip = encloses && volume < 0.0;
-            group_flip.insert(g.root, flip);
+            group_flip.insert(g.root, self.turns_over(g, &positions, diag));
         }
         let flipped: Vec<bool> = self
             .relative

@@ -22,8 +22,8 @@
 //! The positions are gathered from the representatives, the normals summed over the copies in
 //! the order of the full path, so a frame equals the full path's weld bit for bit.
 
-use super::{facet_cross, signed_volume_about, WeldTopology, Welded};
-use super::{OPEN_VOLUME_FRACTION, WELD_TOLERANCE};
+use super::WELD_TOLERANCE;
+use super::{facet_cross, WeldTopology, Welded};
 use crate::mesh::{GridMesh, Part, TriMesh};
 
 /// Buffers of the orientation and normal pass, kept between frames.
@@ -283,29 +283,7 @@ impl WeldTopology {
         let positions = &mesh.positions;
         sc.group_flip.clear();
         for g in &self.groups {
-            // Closed: the enclosed volume. Open: the volume closed by a cone from the centroid
-            // of the rim vertices (what `analyze` calls the capped volume).
-            let apex = if g.closed {
-                [0.0; 3]
-            } else {
-                let mut sum = [0.0f64; 3];
-                for &a in &g.rim {
-                    let p = positions[a as usize];
-                    for c in 0..3 {
-                        sum[c] += p[c] as f64;
-                    }
-                }
-                sum.map(|x| x / g.rim.len().max(1) as f64)
-            };
-            let mut volume = 0.0f64;
-            for &k in &g.members {
-                let sign = if self.relative[k].1 { -1.0 } else { 1.0 };
-                volume += sign * signed_volume_about(positions, &self.tris[k], apex);
-            }
-            // An open group that encloses next to nothing (a sheet) keeps its first patch's
-            // side.
-            let encloses = g.closed || volume.abs() > OPEN_VOLUME_FRACTION * diag.powi(3);
-            sc.group_flip.push(encloses && volume < 0.0);
+            sc.group_flip.push(self.turns_over(g, positions, diag));
         }
         let flip_of = |root: usize| {
             self.groups
