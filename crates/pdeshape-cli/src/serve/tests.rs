@@ -110,6 +110,8 @@ pub(super) struct Frame {
     pub(super) scene: Value,
     pub(super) surfaces: Vec<(usize, usize, Vec<f32>)>,
     pub(super) triangles: Vec<Option<Vec<[u32; 3]>>>,
+    /// Per surface: colours were sent.
+    pub(super) colored: Vec<bool>,
 }
 
 fn u32_at(b: &[u8], at: usize) -> usize {
@@ -133,6 +135,7 @@ pub(super) fn decode(a: &Answer) -> Frame {
     at += 4;
     let mut surfaces = Vec::new();
     let mut triangles = Vec::new();
+    let mut colored = Vec::new();
     for _ in 0..count {
         let (nu, nv, flags) = (u32_at(b, at), u32_at(b, at + 4), u32_at(b, at + 8));
         at += 12;
@@ -162,6 +165,7 @@ pub(super) fn decode(a: &Answer) -> Frame {
         if flags & 2 != 0 {
             at += (3 * n).div_ceil(4) * 4;
         }
+        colored.push(flags & 2 != 0);
         triangles.push(tris.map(|t| {
             let list: Vec<[u32; 3]> = (0..t)
                 .map(|k| std::array::from_fn(|c| u32_at(b, at + 12 * k + 4 * c) as u32))
@@ -180,6 +184,7 @@ pub(super) fn decode(a: &Answer) -> Frame {
         scene,
         surfaces,
         triangles,
+        colored,
     }
 }
 

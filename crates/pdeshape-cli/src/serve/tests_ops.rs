@@ -90,6 +90,35 @@ async fn trimmed_surfaces_are_sent_as_triangle_meshes_with_their_holes() {
         let curves: usize = solved.trims.iter().map(|t| t.curves.len()).sum();
         assert_eq!(lines, curves, "{file}");
     }
+    // Curvature colours follow a trimmed mesh's vertices; pictures and mesh files have the holes.
+    let app = open(dir.path(), Some("examples/teacup.toml"));
+    let a = send(
+        &app,
+        "GET",
+        &format!("/api/frame?{GRID}&color=mean"),
+        None,
+        &[],
+    )
+    .await;
+    let coloured = decode(&a);
+    assert!(coloured.scene["color_range"].is_array());
+    assert!(coloured.triangles.iter().any(Option::is_some));
+    assert!(
+        coloured.colored.iter().all(|&c| c),
+        "every surface, trimmed or not, is coloured"
+    );
+    for format in ["png", "obj"] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/download?format={format}&{GRID}&size=64x48"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::OK, "{format}");
+        assert!(a.body.len() > 100, "{format}");
+    }
     // The (u, v) curves: three in the vase's one [[trims]] entry, sampled by the library.
     let app = open(dir.path(), Some("examples/trimmed_vase.toml"));
     let f = frame(&app).await;
