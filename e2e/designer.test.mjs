@@ -340,7 +340,38 @@ test('the trimmed teacup is drawn with its attachments, and an attachment slides
   assert.ok(c[1] > top[1] + 0.05, `the attachment did not slide: ${c}`);
   assert.notEqual(await digest(), d0);
   await page.screenshot({ path: path.join(shots, 'teacup-moved.png') });
+  // The aeroplane: five attachments on the fuselage, the right wing's root across its seam v = 0.
+  await load('examples/aeroplane.toml');
+  const plane = await state();
+  assert.equal(plane.surfaces.find((x) => x.name === 'fuselage').trimmed, true);
+  assert.equal(plane.trim_lines.length, 5);
+  assert.equal(await page.inputValue('#uv-patch'), 'fuselage');
+  await page.screenshot({ path: path.join(shots, 'aeroplane.png') });
   assert.deepEqual(errors, []);
+});
+
+test('X1 and X2 of a local edit are picked on the curve with the mouse', async () => {
+  await load('examples/cup.toml');
+  await page.selectOption('#curve', 'rim');
+  await page.click('#l-pick');
+  const at = (k) => page.evaluate((k) => {
+    const { view, state } = window.__pdeshape;
+    const s = view.project(state().curves.find((c) => c.name === 'rim').points[k]);
+    const r = view.canvas.getBoundingClientRect();
+    return [s[0] + r.left, s[1] + r.top];
+  }, k);
+  // Points 16 and 48 of the 128 drawn: v = π/4 and 3π/4 (on the side facing the eye).
+  for (const k of [16, 48]) {
+    const [x, y] = await at(k);
+    await page.mouse.click(x, y);
+  }
+  await page.waitForFunction(() => window.__pdeshape.view.local);
+  assert.ok(Math.abs(Number(await page.inputValue('#l-from')) - Math.PI / 4) < 1e-3);
+  assert.ok(Math.abs(Number(await page.inputValue('#l-to')) - (3 * Math.PI) / 4) < 1e-3);
+  const frame = await page.evaluate(() => window.__pdeshape.local.frame);
+  assert.ok(Math.abs(frame.at - Math.PI / 2) < 1e-3, `the handle at ${frame.at}`);
+  await page.click('#l-done');
+  assert.equal(await page.evaluate(() => window.__pdeshape.view.local), null);
 });
 
 test('a local edit: X1, X2 picked by number, the handle dragged', async () => {

@@ -27,6 +27,7 @@ pub(super) fn root() -> tempfile::TempDir {
         "wine_glass.toml",
         "teacup.toml",
         "trimmed_vase.toml",
+        "aeroplane.toml",
         "swirl_port_params.toml",
         "anim/fish.toml",
         "anim/ventricle.toml",
@@ -554,7 +555,7 @@ async fn save_and_load_round_trip() {
         .map(|f| f.as_str().unwrap())
         .collect();
     assert!(files.is_sorted(), "{files:?}");
-    assert_eq!(files.len(), 10, "{files:?}");
+    assert_eq!(files.len(), 11, "{files:?}");
     for f in ["examples/cup.toml", "examples/anim/fish.toml", "mine.toml"] {
         assert!(files.contains(&f), "{files:?}");
     }

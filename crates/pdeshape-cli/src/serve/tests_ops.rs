@@ -49,6 +49,7 @@ async fn trimmed_surfaces_are_sent_as_triangle_meshes_with_their_holes() {
     for (file, trimmed) in [
         ("examples/trimmed_vase.toml", vec!["wall"]),
         ("examples/teacup.toml", vec!["bowl"]),
+        ("examples/aeroplane.toml", vec!["fuselage"]),
         ("examples/cup.toml", vec![]),
     ] {
         let app = open(dir.path(), Some(file));
