@@ -276,25 +276,48 @@ mod tests {
             )
             .unwrap(),
         );
-        // Plain, wrapping across v = 0, and with the handle off-centre.
+        // An open curve on an interval (a clamped cubic B-spline on [0, 1]).
+        let open: SharedCurve = Arc::new(
+            BSpline::clamped(
+                3,
+                (0..7)
+                    .map(|k| Vec3::new(k as f64, (k * k % 5) as f64 * 0.3, 0.2 * k as f64))
+                    .collect(),
+                None,
+            )
+            .unwrap(),
+        );
+        let bits = |c: &dyn Curve, v: f64| {
+            let mut j = [Vec3::zeros(); 4];
+            c.jet(v, &mut j);
+            j.map(|x| [x.x.to_bits(), x.y.to_bits(), x.z.to_bits()])
+        };
+        // Plain, wrapping across v = 0, with the handle off-centre, and on an interval.
         for (base, from, to, at) in [
             (rim(), 1.0, 2.2, None),
             (rim(), 5.8, 0.7, Some(0.2)),
             (periodic.clone(), 2.0, 3.5, Some(2.4)),
+            (open.clone(), 0.3, 0.55, Some(0.4)),
         ] {
             let e = LocalEdit::new(base.clone(), from, to, at, [0.1, 0.3, -0.2]).unwrap();
             let (v1, v2) = e.interval();
-            // Bit for bit outside.
-            for k in 0..4000 {
-                let v = crate::TAU * k as f64 / 4000.0;
+            let (lo, hi) = match base.domain() {
+                Domain::Interval(a, b) => (a, b),
+                Domain::Periodic => (0.0, crate::TAU),
+            };
+            // Bit for bit outside: the samples outside, and just outside either end.
+            let mut outside = 0;
+            for k in 0..=4000 {
+                let v = lo + (hi - lo) * k as f64 / 4000.0;
                 if e.inside(v).is_none() {
-                    let (mut a, mut b) = ([Vec3::zeros(); 4], [Vec3::zeros(); 4]);
-                    base.jet(v, &mut a);
-                    e.jet(v, &mut b);
-                    assert!(a.iter().zip(&b).all(|(x, y)| x
-                        .iter()
-                        .zip(y.iter())
-                        .all(|(p, q)| p.to_bits() == q.to_bits())));
+                    outside += 1;
+                    assert_eq!(bits(&e, v), bits(&*base, v), "v = {v}");
+                }
+            }
+            assert!(outside > 1000, "{outside}");
+            for v in [v1 - 1e-9, v2 + 1e-9, from - 1e-9, to + 1e-9] {
+                if (lo..=hi).contains(&v) || base.domain() == Domain::Periodic {
+                    assert_eq!(bits(&e, v), bits(&*base, v), "at {v}");
                 }
             }
             // The handle.
