@@ -1,7 +1,8 @@
 //! The stages of `pdeshape surface DESIGN -o OUT.ext` in one fresh process, each timed by the
-//! wall clock and by the process's CPU time (user and system, all threads) and page faults: solve, tessellate,
-//! weld, encode into memory, and writing that memory to a file with and without fsync. One
-//! line of JSON per run; run it several times (each run is a fresh process, as the CLI is):
+//! wall clock and by the process's CPU time (user and system, all threads) and minor page
+//! faults: solve, tessellate, weld, encode into memory, and writing that memory to a file with
+//! and without fsync. One line of JSON per run; run it several times (each run is a fresh
+//! process, as the CLI is):
 //!
 //! `cargo run --release -p pdeshape --example write_stages -- examples/cup.toml 1024 1024 glb /tmp`
 

@@ -235,7 +235,12 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
         || {
             groups
                 .par_iter()
-                .map(|g| (g.root, g.turned_over_soon(&topo, &positions, &relative, diag)))
+                .map(|g| {
+                    (
+                        g.root,
+                        g.turned_over_soon(&topo, &positions, &relative, diag),
+                    )
+                })
                 .collect::<Vec<(usize, bool)>>()
         },
         || {

@@ -1146,7 +1146,16 @@ mod tests {
     /// A grid of `nu × nv` vertices with awkward numbers (tiny, huge, negative zero, many
     /// digits) in its positions and normals that are not all unit.
     fn odd_grid(nu: usize, nv: usize, shift: f64) -> GridMesh {
-        let odd = [1e-8, 1e-40, -0.0, 0.1, 1.0 / 3.0, 1.0000001, -2.5e-12, 2.9999998];
+        let odd = [
+            1e-8,
+            1e-40,
+            -0.0,
+            0.1,
+            1.0 / 3.0,
+            1.0000001,
+            -2.5e-12,
+            2.9999998,
+        ];
         let mut positions = Vec::with_capacity(nu * nv);
         let mut normals = Vec::with_capacity(nu * nv);
         for i in 0..nu {
@@ -1179,7 +1188,11 @@ mod tests {
     fn large_meshes() -> Vec<(&'static str, TriMesh)> {
         let a = odd_grid(420, 260, 0.0);
         let b = odd_grid(300, 260, 1.0 - 1.0 / 420.0);
-        let welded = weld(&[a.clone(), b.clone()], &["left part", ""], WeldOptions::default());
+        let welded = weld(
+            &[a.clone(), b.clone()],
+            &["left part", ""],
+            WeldOptions::default(),
+        );
         let mut grids = TriMesh::from_grid(&a, "a");
         grids.append(&TriMesh::from_grid(&b, "b b"));
         let mut single = TriMesh::from_grid(&a, "single");
@@ -1416,7 +1429,8 @@ mod tests {
                 assert_eq!(meshes.len(), parts.len(), "{case}");
                 for (m, (vertices, triangles, lo, hi)) in meshes.iter().zip(parts) {
                     let prim = &m["primitives"][0];
-                    let position = &doc["accessors"][prim["attributes"]["POSITION"].as_u64().unwrap() as usize];
+                    let position = &doc["accessors"]
+                        [prim["attributes"]["POSITION"].as_u64().unwrap() as usize];
                     assert_eq!(position["count"], json!(vertices), "{case}");
                     assert_eq!(position["min"], json!(lo), "{case}");
                     assert_eq!(position["max"], json!(hi), "{case}");
