@@ -203,8 +203,8 @@ impl GridTopology<'_> {
                 let f = self
                     .welded(tri)
                     .map_or([0.0; 3], |w| facet_cross(positions, turned(w, flip)));
-                for q in 0..3 {
-                    out.f[3 * t + q][j] = f[q];
+                for (q, x) in f.into_iter().enumerate() {
+                    out.f[3 * t + q][j] = x;
                 }
             }
         };
