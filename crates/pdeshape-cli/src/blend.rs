@@ -35,7 +35,8 @@ pub struct Args {
     /// The up axis of an OBJ, STL or PLY file: z (as designed) or y. glTF is always +Y up.
     #[arg(long, value_enum)]
     pub up: Option<crate::surface::UpAxis>,
-    /// Print one JSON line with the solve and write times (ms) on stderr.
+    /// Print one JSON line of times (ms) on stderr, as `pdeshape surface --timings`: solve,
+    /// tessellate, write (= weld + file + commit) and the total since the process started.
     #[arg(long)]
     pub timings: bool,
 }
@@ -158,12 +159,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let blend = solve(&design)?;
     let solve_ms = ms(t);
     let mut out = Output::create(&args.output)?;
-    let t = Instant::now();
     let io_err = |e: pdeshape::Error| CliError::input(format!("-o {shown}: {e}"));
+    let (mut tessellate_ms, mut weld_ms) = (0.0, 0.0);
+    let t = Instant::now();
     match format {
         None => out.write_all(blend.surface.control_net_json().as_bytes())?,
         Some(Format::Csv) => {
             let samples = mesh::sample(&blend.surface, nu, nv).map_err(io_err)?;
+            tessellate_ms = ms(t);
             let mut w = out.writer();
             mesh::write_csv(&[samples], &mut w).map_err(io_err)?;
             w.flush()
@@ -173,7 +176,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             // The blend alone, welded (a periodic blend's seam columns become one), named
             // `blend`, with the design's title and units.
             let m = [mesh::tessellate(&blend.surface, nu, nv).map_err(io_err)?];
+            tessellate_ms = ms(t);
             let welded = mesh::weld(&m, &["blend"], mesh::WeldOptions::default());
+            weld_ms = ms(t) - tessellate_ms;
             let export = export.unwrap_or_default();
             let info = mesh::MeshInfo {
                 title: design.spec.title.clone(),
@@ -187,12 +192,23 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         }
     }
+    let file_ms = ms(t) - tessellate_ms - weld_ms;
+    let t = Instant::now();
     out.commit()?;
-    let write_ms = ms(t);
+    let commit_ms = ms(t);
     if args.timings {
+        // As `surface --timings`: write_ms = weld_ms + file_ms + commit_ms.
         eprintln!(
             "{}",
-            serde_json::json!({ "solve_ms": solve_ms, "write_ms": write_ms })
+            serde_json::json!({
+                "solve_ms": solve_ms,
+                "tessellate_ms": tessellate_ms,
+                "write_ms": weld_ms + file_ms + commit_ms,
+                "weld_ms": weld_ms,
+                "file_ms": file_ms,
+                "commit_ms": commit_ms,
+                "total_ms": crate::common::since_start_ms(),
+            })
         );
     }
     let mut text = report(&design, &blend);

@@ -153,15 +153,25 @@ pub fn grid_parameters_in(
 /// Scalar types a grid can store.
 pub trait GridScalar: Copy + Send + Sync + Default + 'static {
     fn from_f64(x: f64) -> Self;
+    /// Neither infinite nor NaN.
+    fn is_finite(self) -> bool;
 }
 impl GridScalar for f32 {
     fn from_f64(x: f64) -> Self {
         x as f32
     }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
 }
 impl GridScalar for f64 {
     fn from_f64(x: f64) -> Self {
         x
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
     }
 }
 
@@ -193,6 +203,18 @@ pub fn evaluate_grid_into<T: GridScalar>(
     nv: usize,
     grid: &mut Grid<T>,
 ) -> Result<()> {
+    evaluate_grid_checked(surface, nu, nv, grid).map(|_| ())
+}
+
+/// [`evaluate_grid_into`], also telling whether every position and normal it stored is finite
+/// (found as the values are stored, so that a caller refusing non-finite grids need not read
+/// them again).
+pub(crate) fn evaluate_grid_checked<T: GridScalar>(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+    grid: &mut Grid<T>,
+) -> Result<bool> {
     grid.positions.clear();
     grid.normals.clear();
     (grid.nu, grid.nv) = (0, 0);
@@ -205,9 +227,11 @@ pub fn evaluate_grid_into<T: GridScalar>(
     normals.reserve(n);
     advise_huge_pages(positions.spare_capacity_mut());
     advise_huge_pages(normals.spare_capacity_mut());
+    let finite = std::sync::atomic::AtomicBool::new(true);
     {
         let rows = surface.row_evaluator(&vs);
         let rows = &*rows;
+        let finite = &finite;
         // Each row is written exactly once by the thread that evaluates it, straight into the
         // uninitialised buffers: the first touch of every page happens in parallel, and nothing
         // is zero-filled first.
@@ -221,7 +245,9 @@ pub fn evaluate_grid_into<T: GridScalar>(
                 || RowBuf::new(nv),
                 |row, ((prow, nrow), &u)| {
                     rows.eval_row(u, row);
-                    store_row(row, prow, nrow);
+                    if !store_row(row, prow, nrow) {
+                        finite.store(false, std::sync::atomic::Ordering::Relaxed);
+                    }
                 },
             );
     }
@@ -233,7 +259,7 @@ pub fn evaluate_grid_into<T: GridScalar>(
     }
     (grid.nu, grid.nv, grid.periodic_v, grid.u, grid.v) =
         (nu, nv, domain == VDomain::Periodic, us, vs);
-    Ok(())
+    Ok(finite.into_inner())
 }
 
 /// Asks the kernel to back the 2 MiB-aligned part of a large, not yet touched buffer with
@@ -263,25 +289,37 @@ fn advise_huge_pages<T>(buf: &mut [T]) {
     let _ = buf;
 }
 
-/// Interleaves a row into the output buffers (converting to `T`).
+/// Interleaves a row into the output buffers (converting to `T`); true when every value stored
+/// is finite.
 #[inline(always)]
 fn store_row_generic<T: GridScalar>(
     row: &RowBuf,
     prow: &mut [MaybeUninit<[T; 3]>],
     nrow: &mut [MaybeUninit<[T; 3]>],
-) {
+) -> bool {
+    let mut finite = true;
     for (j, (p, n)) in prow.iter_mut().zip(nrow.iter_mut()).enumerate() {
-        p.write([
+        let q = [
             T::from_f64(row.x[j]),
             T::from_f64(row.y[j]),
             T::from_f64(row.z[j]),
-        ]);
-        n.write([
+        ];
+        let m = [
             T::from_f64(row.nx[j]),
             T::from_f64(row.ny[j]),
             T::from_f64(row.nz[j]),
-        ]);
+        ];
+        // Without short cuts, so that the loop stays one straight pass.
+        finite &= q[0].is_finite()
+            & q[1].is_finite()
+            & q[2].is_finite()
+            & m[0].is_finite()
+            & m[1].is_finite()
+            & m[2].is_finite();
+        p.write(q);
+        n.write(m);
     }
+    finite
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -290,7 +328,7 @@ unsafe fn store_row_avx2<T: GridScalar>(
     row: &RowBuf,
     prow: &mut [MaybeUninit<[T; 3]>],
     nrow: &mut [MaybeUninit<[T; 3]>],
-) {
+) -> bool {
     store_row_generic(row, prow, nrow)
 }
 
@@ -299,13 +337,25 @@ fn store_row<T: GridScalar>(
     row: &RowBuf,
     prow: &mut [MaybeUninit<[T; 3]>],
     nrow: &mut [MaybeUninit<[T; 3]>],
-) {
+) -> bool {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor supports the features the function was compiled for.
         return unsafe { store_row_avx2(row, prow, nrow) };
     }
     store_row_generic(row, prow, nrow)
+}
+
+/// The index of the first element of `data` for which `bad` holds: blocks in parallel, each
+/// looked through in one straight pass (no per-element synchronisation), then the first bad
+/// block element by element.
+pub(crate) fn first_bad<T: Sync>(data: &[T], bad: impl Fn(&T) -> bool + Sync) -> Option<usize> {
+    const BLOCK: usize = 1 << 14;
+    let block = data
+        .par_chunks(BLOCK)
+        .position_first(|c| c.iter().fold(false, |any, x| any | bad(x)))?;
+    let start = block * BLOCK;
+    data[start..].iter().position(bad).map(|k| start + k)
 }
 
 /// f32 mesh of a surface on an `nu × nv` grid.
@@ -326,6 +376,25 @@ pub fn tessellate_into(
 /// Full-precision samples of a surface on an `nu × nv` grid.
 pub fn sample(surface: &dyn Surface, nu: usize, nv: usize) -> Result<Samples> {
     evaluate_grid(surface, nu, nv)
+}
+
+/// [`evaluate_grid`] and whether every stored value is finite ([`evaluate_grid_checked`]).
+pub(crate) fn evaluate_grid_finite<T: GridScalar>(
+    surface: &dyn Surface,
+    nu: usize,
+    nv: usize,
+) -> Result<(Grid<T>, bool)> {
+    let mut grid = Grid {
+        nu: 0,
+        nv: 0,
+        periodic_v: false,
+        u: Vec::new(),
+        v: Vec::new(),
+        positions: Vec::new(),
+        normals: Vec::new(),
+    };
+    let finite = evaluate_grid_checked(surface, nu, nv, &mut grid)?;
+    Ok((grid, finite))
 }
 
 #[cfg(test)]

@@ -154,11 +154,16 @@ impl TriMesh {
         if !self.uv.is_empty() && self.uv.len() != n {
             return Err(format!("{} uv pairs for {n} vertices", self.uv.len()));
         }
-        if let Some(k) = self
+        // The largest index first (one straight pass), the culprit only when it is too large.
+        let largest = self
             .triangles
-            .par_iter()
-            .with_min_len(1 << 14)
-            .position_first(|t| t.iter().any(|&i| i as usize >= n))
+            .par_chunks(1 << 16)
+            .map(|ts| ts.as_flattened().iter().copied().fold(0, u32::max))
+            .max();
+        let past = |t: &[u32; 3]| t.iter().any(|&i| i as usize >= n);
+        if let Some(k) = largest
+            .filter(|&m| m as usize >= n)
+            .and_then(|_| self.triangles.iter().position(past))
         {
             let t = self.triangles[k];
             return Err(format!("triangle {k} {t:?} indexes past {n} vertices"));

@@ -196,88 +196,22 @@ fn check_u32(total: u128, what: &str, format: &str) -> Result<u32> {
 
 const CHUNK: usize = 1 << 20;
 
-/// A byte buffer that is passed on to the destination whenever it holds about [`CHUNK`]
-/// bytes.
-struct Sink {
+/// Full buffers that may wait for the writing thread: enough for the encoders to run a batch of
+/// blocks ahead of it.
+const QUEUED: usize = 6;
+
+/// Bytes being assembled, with the number formatting of the text formats.
+struct Text {
     buf: Vec<u8>,
-    /// To the thread that writes the full buffers ([`stream`]).
-    full: std::sync::mpsc::SyncSender<Vec<u8>>,
-    /// The emptied buffers it hands back.
-    empty: std::sync::mpsc::Receiver<Vec<u8>>,
-    what: &'static str,
     float: ryu::Buffer,
 }
 
-/// Runs `body` on a second thread while this one writes the chunks it fills to `w`, in order:
-/// encoding the next megabyte overlaps handing the last one to the operating system (for a
-/// file, copying it into the page cache). Three buffers circulate; nothing else is allocated.
-/// A write error stops the encoding and is the error reported; then `w` is flushed.
-fn stream<F>(w: &mut dyn Write, what: &'static str, body: F) -> Result<()>
-where
-    F: FnOnce(&mut Sink) -> Result<()> + Send,
-{
-    use std::sync::mpsc::{channel, sync_channel};
-    let (full_tx, full_rx) = sync_channel::<Vec<u8>>(2);
-    let (empty_tx, empty_rx) = channel::<Vec<u8>>();
-    for _ in 0..2 {
-        empty_tx
-            .send(Vec::with_capacity(CHUNK + 4096))
-            .expect("the receiver is alive");
-    }
-    let io = |e: std::io::Error| Error::io(format!("writing {what}: {e}"));
-    std::thread::scope(|scope| {
-        let producer = scope.spawn(move || {
-            let mut sink = Sink {
-                buf: Vec::with_capacity(CHUNK + 4096),
-                full: full_tx,
-                empty: empty_rx,
-                what,
-                float: ryu::Buffer::new(),
-            };
-            body(&mut sink)?;
-            sink.drain()
-        });
-        let mut written = Ok(());
-        for chunk in full_rx.iter() {
-            if let Err(e) = w.write_all(&chunk) {
-                written = Err(io(e));
-                break;
-            }
-            // The producer may have finished: then the buffer is not needed.
-            let _ = empty_tx.send(chunk);
+impl Text {
+    fn new(buf: Vec<u8>) -> Text {
+        Text {
+            buf,
+            float: ryu::Buffer::new(),
         }
-        // Unblocks a producer still sending, or waiting for a buffer, after a write error.
-        drop(full_rx);
-        drop(empty_tx);
-        let produced = match producer.join() {
-            Ok(r) => r,
-            Err(panic) => std::panic::resume_unwind(panic),
-        };
-        written?;
-        produced?;
-        w.flush().map_err(io)
-    })
-}
-
-impl Sink {
-    /// Passes the buffer on once it is full; call between records.
-    #[inline]
-    fn tick(&mut self) -> Result<()> {
-        if self.buf.len() >= CHUNK {
-            self.drain()?;
-        }
-        Ok(())
-    }
-
-    fn drain(&mut self) -> Result<()> {
-        let what = self.what;
-        // A closed channel means the writing side stopped on an error, which it reports.
-        let stopped = || Error::io(format!("writing {what}: stopped"));
-        let next = self.empty.recv().map_err(|_| stopped())?;
-        let buf = std::mem::replace(&mut self.buf, next);
-        self.full.send(buf).map_err(|_| stopped())?;
-        self.buf.clear();
-        Ok(())
     }
 
     #[inline]
@@ -315,45 +249,204 @@ impl Sink {
     }
 
     #[inline]
-    fn f32_le(&mut self, x: f32) {
-        self.buf.extend_from_slice(&x.to_le_bytes());
-    }
-
-    #[inline]
     fn u32_le(&mut self, x: u32) {
         self.buf.extend_from_slice(&x.to_le_bytes());
     }
 
-    /// Three floats, little-endian, in one copy.
-    #[inline]
-    fn f32x3_le(&mut self, v: [f32; 3]) {
-        let mut b = [0u8; 12];
-        for (dst, x) in b.chunks_exact_mut(4).zip(v) {
-            dst.copy_from_slice(&x.to_le_bytes());
+    /// One record of `N` bytes for each `k` of `range`, `record(k)`, straight into the buffer.
+    #[inline(always)]
+    fn records<const N: usize>(
+        &mut self,
+        range: std::ops::Range<usize>,
+        record: impl Fn(usize) -> [u8; N],
+    ) {
+        let n = range.len();
+        let start = self.buf.len();
+        self.buf.reserve(n * N);
+        let dst = self.buf.spare_capacity_mut()[..n * N]
+            .as_mut_ptr()
+            .cast::<u8>();
+        for (r, k) in range.enumerate() {
+            let bytes = record(k);
+            // SAFETY: `dst` points to `n·N` reserved bytes; record `r` fills its own `N`.
+            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), dst.add(r * N), N) };
         }
-        self.buf.extend_from_slice(&b);
+        // SAFETY: the loop wrote all `n·N` bytes after `start`.
+        unsafe { self.buf.set_len(start + n * N) };
     }
+}
 
-    /// Many integers, little-endian, passing the buffer on as it fills.
-    fn u32s_le(&mut self, xs: &[u32]) -> Result<()> {
-        for chunk in xs.chunks(CHUNK / 4) {
-            #[cfg(target_endian = "little")]
-            {
-                // SAFETY: a `u32` slice viewed as its bytes (alignment 1, same length in bytes);
-                // on a little-endian machine those are the little-endian encodings.
-                let bytes = unsafe {
-                    std::slice::from_raw_parts(chunk.as_ptr().cast::<u8>(), 4 * chunk.len())
-                };
-                self.buf.extend_from_slice(bytes);
+/// A byte buffer that is passed on to the destination whenever it holds about [`CHUNK`]
+/// bytes, and blocks of records encoded on the thread pool ([`Sink::blocks`]).
+struct Sink {
+    text: Text,
+    /// To the thread that writes the full buffers ([`stream`]).
+    full: std::sync::mpsc::SyncSender<Vec<u8>>,
+    /// The emptied buffers it hands back.
+    empty: std::sync::mpsc::Receiver<Vec<u8>>,
+    what: &'static str,
+}
+
+impl std::ops::Deref for Sink {
+    type Target = Text;
+    fn deref(&self) -> &Text {
+        &self.text
+    }
+}
+
+impl std::ops::DerefMut for Sink {
+    fn deref_mut(&mut self) -> &mut Text {
+        &mut self.text
+    }
+}
+
+/// Runs `body` on a second thread while this one writes the chunks it fills to `w`, in order:
+/// encoding the next megabytes (on the thread pool, for [`Sink::blocks`]) overlaps handing the
+/// last ones to the operating system (for a file, copying them into the page cache). Emptied
+/// buffers come back to be filled again. A write error stops the encoding and is the error
+/// reported; then `w` is flushed.
+fn stream<F>(w: &mut dyn Write, what: &'static str, body: F) -> Result<()>
+where
+    F: FnOnce(&mut Sink) -> Result<()> + Send,
+{
+    use std::sync::mpsc::{channel, sync_channel};
+    let (full_tx, full_rx) = sync_channel::<Vec<u8>>(QUEUED);
+    let (empty_tx, empty_rx) = channel::<Vec<u8>>();
+    let io = |e: std::io::Error| Error::io(format!("writing {what}: {e}"));
+    std::thread::scope(|scope| {
+        let producer = scope.spawn(move || {
+            let mut sink = Sink {
+                text: Text::new(Vec::with_capacity(CHUNK + 4096)),
+                full: full_tx,
+                empty: empty_rx,
+                what,
+            };
+            body(&mut sink)?;
+            sink.drain()
+        });
+        let mut written = Ok(());
+        for chunk in full_rx.iter() {
+            if let Err(e) = w.write_all(&chunk) {
+                written = Err(io(e));
+                break;
             }
-            #[cfg(not(target_endian = "little"))]
-            for &x in chunk {
-                self.u32_le(x);
-            }
-            self.tick()?;
+            // The producer may have finished: then the buffer is not needed.
+            let _ = empty_tx.send(chunk);
+        }
+        // Unblocks a producer still sending after a write error.
+        drop(full_rx);
+        drop(empty_tx);
+        let produced = match producer.join() {
+            Ok(r) => r,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        written?;
+        produced?;
+        w.flush().map_err(io)
+    })
+}
+
+impl Sink {
+    /// Passes the buffer on once it is full; call between records.
+    #[inline]
+    fn tick(&mut self) -> Result<()> {
+        if self.text.buf.len() >= CHUNK {
+            self.drain()?;
         }
         Ok(())
     }
+
+    /// An emptied buffer handed back by the writing thread, or a new one.
+    fn spare(&mut self) -> Vec<u8> {
+        let mut buf = self
+            .empty
+            .try_recv()
+            .unwrap_or_else(|_| Vec::with_capacity(CHUNK + 4096));
+        buf.clear();
+        buf
+    }
+
+    /// Hands a buffer to the writing thread.
+    fn send(&mut self, buf: Vec<u8>) -> Result<()> {
+        let what = self.what;
+        // A closed channel means the writing side stopped on an error, which it reports.
+        self.full
+            .send(buf)
+            .map_err(|_| Error::io(format!("writing {what}: stopped")))
+    }
+
+    /// Passes the buffer on (when it holds anything).
+    fn drain(&mut self) -> Result<()> {
+        if self.text.buf.is_empty() {
+            return Ok(());
+        }
+        let next = self.spare();
+        let buf = std::mem::replace(&mut self.text.buf, next);
+        self.send(buf)
+    }
+
+    /// Encodes the items `0..count` in blocks of `per` (about a chunk of bytes each), several
+    /// blocks at once on the thread pool, each by `encode(block, text)` into a buffer of its
+    /// own, and passes the blocks on in order after what the buffer already holds.
+    fn blocks(
+        &mut self,
+        count: usize,
+        per: usize,
+        encode: impl Fn(std::ops::Range<usize>, &mut Text) + Sync,
+    ) -> Result<()> {
+        let per = per.max(1);
+        let blocks = count.div_ceil(per);
+        if blocks <= 1 {
+            encode(0..count, &mut self.text);
+            return self.tick();
+        }
+        self.drain()?;
+        let batch = 2 * rayon::current_num_threads().max(1);
+        let mut first = 0;
+        while first < blocks {
+            let end = (first + batch).min(blocks);
+            let mut texts: Vec<Text> = (first..end).map(|_| Text::new(self.spare())).collect();
+            texts.par_iter_mut().enumerate().for_each(|(b, text)| {
+                let start = (first + b) * per;
+                encode(start..(start + per).min(count), text);
+            });
+            for text in texts {
+                self.send(text.buf)?;
+            }
+            first = end;
+        }
+        Ok(())
+    }
+
+    /// One record of `N` bytes for each of `0..count`, `record(k)` ([`Sink::blocks`]).
+    fn records<const N: usize>(
+        &mut self,
+        count: usize,
+        record: impl Fn(usize) -> [u8; N] + Sync,
+    ) -> Result<()> {
+        self.blocks(count, CHUNK / 2 / N, |range, text| {
+            text.records(range, &record)
+        })
+    }
+}
+
+/// Three 32-bit words, little-endian.
+#[inline(always)]
+fn le3(v: [u32; 3]) -> [u8; 12] {
+    let mut b = [0u8; 12];
+    for (dst, x) in b.chunks_exact_mut(4).zip(v) {
+        dst.copy_from_slice(&x.to_le_bytes());
+    }
+    b
+}
+
+/// Two arrays of bytes as one.
+#[inline(always)]
+fn join_bytes<const A: usize, const B: usize, const N: usize>(a: [u8; A], b: [u8; B]) -> [u8; N] {
+    let mut out = [0u8; N];
+    out[..A].copy_from_slice(&a);
+    out[A..].copy_from_slice(&b);
+    out
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -513,10 +606,9 @@ fn check_mesh(mesh: &TriMesh) -> Result<()> {
         ));
     }
     for (name, data) in [("position", &mesh.positions), ("normal", &mesh.normals)] {
-        let bad = data
-            .par_iter()
-            .with_min_len(1 << 14)
-            .position_first(|p| !p.iter().all(|c| c.is_finite()));
+        let bad = super::first_bad(data, |p| {
+            !(p[0].is_finite() & p[1].is_finite() & p[2].is_finite())
+        });
         if let Some(idx) = bad {
             let p = data[idx];
             return Err(Error::invalid(format!(
@@ -561,8 +653,11 @@ fn facet_normal(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [f32; 3] {
 // OBJ
 // ---------------------------------------------------------------------------------------------
 
+/// Lines of text per block encoded at once ([`Sink::blocks`]): well under a chunk.
+const LINES: usize = 1 << 13;
+
 /// One OBJ record `prefix x y z`.
-fn obj_vec3(out: &mut Sink, prefix: &[u8], v: &[f32; 3]) -> Result<()> {
+fn obj_vec3(out: &mut Text, prefix: &[u8], v: &[f32; 3]) {
     out.bytes(prefix);
     out.f32_text(v[0]);
     out.bytes(b" ");
@@ -570,7 +665,6 @@ fn obj_vec3(out: &mut Sink, prefix: &[u8], v: &[f32; 3]) -> Result<()> {
     out.bytes(b" ");
     out.f32_text(v[2]);
     out.bytes(b"\n");
-    out.tick()
 }
 
 /// Wavefront OBJ: comments with the generator, title, units and up axis; every vertex `v` and
@@ -593,41 +687,49 @@ pub fn write_obj(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
             .map(|(k, p)| token(&p.name, k))
             .collect();
         out.bytes(format!("# parts: {}\n", names.join(" ")).as_bytes());
-        for p in &mesh.positions {
-            obj_vec3(out, b"v ", &frame.point(*p))?;
-        }
-        for n in &mesh.normals {
-            obj_vec3(out, b"vn ", &frame.normal(*n))?;
-        }
+        let (positions, normals) = (&mesh.positions, &mesh.normals);
+        out.blocks(positions.len(), LINES, |range, text| {
+            for k in range {
+                obj_vec3(text, b"v ", &frame.point(positions[k]));
+            }
+        })?;
+        out.blocks(normals.len(), LINES, |range, text| {
+            for k in range {
+                obj_vec3(text, b"vn ", &frame.normal(normals[k]));
+            }
+        })?;
         let with_uv = !mesh.uv.is_empty();
-        for t in &mesh.uv {
-            out.bytes(b"vt ");
-            out.f32_text(t[0]);
-            out.bytes(b" ");
-            out.f32_text(t[1]);
-            out.bytes(b"\n");
-            out.tick()?;
-        }
+        out.blocks(mesh.uv.len(), LINES, |range, text| {
+            for t in &mesh.uv[range] {
+                text.bytes(b"vt ");
+                text.f32_text(t[0]);
+                text.bytes(b" ");
+                text.f32_text(t[1]);
+                text.bytes(b"\n");
+            }
+        })?;
         for (part, name) in parts.iter().zip(&names) {
             out.bytes(b"o ");
             out.bytes(name.as_bytes());
             out.bytes(b"\n");
-            for t in &mesh.triangles[part.triangles.clone()] {
-                out.bytes(b"f");
-                for &i in t {
-                    let i = u64::from(i) + 1;
-                    out.bytes(b" ");
-                    out.uint_text(i);
-                    out.bytes(if with_uv { b"/" } else { b"//" });
-                    if with_uv {
-                        out.uint_text(i);
-                        out.bytes(b"/");
+            let ts = &mesh.triangles[part.triangles.clone()];
+            out.blocks(ts.len(), LINES, |range, text| {
+                for t in &ts[range] {
+                    text.bytes(b"f");
+                    for &i in t {
+                        let i = u64::from(i) + 1;
+                        text.bytes(b" ");
+                        text.uint_text(i);
+                        text.bytes(if with_uv { b"/" } else { b"//" });
+                        if with_uv {
+                            text.uint_text(i);
+                            text.bytes(b"/");
+                        }
+                        text.uint_text(i);
                     }
-                    out.uint_text(i);
+                    text.bytes(b"\n");
                 }
-                out.bytes(b"\n");
-                out.tick()?;
-            }
+            })?;
         }
         Ok(())
     })
@@ -663,20 +765,15 @@ pub fn write_stl(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     stream(w, "STL", |out| {
         out.bytes(&header);
         out.u32_le(count);
-        for t in &mesh.triangles {
-            let [a, b, c] = t.map(|i| frame.point(mesh.positions[i as usize]));
+        out.records(mesh.triangles.len(), |k| {
+            let [a, b, c] = mesh.triangles[k].map(|i| frame.point(mesh.positions[i as usize]));
             // One record: facet normal, three corners, a zero attribute word.
             let mut record = [0u8; 50];
             for (k, v) in [facet_normal(a, b, c), a, b, c].into_iter().enumerate() {
-                for (q, x) in v.into_iter().enumerate() {
-                    let at = 12 * k + 4 * q;
-                    record[at..at + 4].copy_from_slice(&x.to_le_bytes());
-                }
+                record[12 * k..12 * k + 12].copy_from_slice(&le3(v.map(f32::to_bits)));
             }
-            out.bytes(&record);
-            out.tick()?;
-        }
-        Ok(())
+            record
+        })
     })
 }
 
@@ -717,24 +814,28 @@ pub fn write_ply(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     head += &format!("element face {faces}\nproperty list uchar uint vertex_indices\nend_header\n");
     stream(w, "PLY", |out| {
         out.bytes(head.as_bytes());
-        for (k, (p, n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
-            out.f32x3_le(frame.point(*p));
-            out.f32x3_le(frame.normal(*n));
-            if with_uv {
-                out.f32_le(mesh.uv[k][0]);
-                out.f32_le(mesh.uv[k][1]);
-            }
-            out.tick()?;
+        let (positions, normals) = (&mesh.positions, &mesh.normals);
+        let vertex = |k: usize| -> [u8; 24] {
+            join_bytes(
+                le3(frame.point(positions[k]).map(f32::to_bits)),
+                le3(frame.normal(normals[k]).map(f32::to_bits)),
+            )
+        };
+        if with_uv {
+            out.records(positions.len(), |k| {
+                let [u, v] = mesh.uv[k];
+                join_bytes::<24, 8, 32>(
+                    vertex(k),
+                    join_bytes::<4, 4, 8>(u.to_le_bytes(), v.to_le_bytes()),
+                )
+            })?;
+        } else {
+            out.records(positions.len(), vertex)?;
         }
-        for t in &mesh.triangles {
-            let mut record = [3u8; 13];
-            for (k, &i) in t.iter().enumerate() {
-                record[1 + 4 * k..5 + 4 * k].copy_from_slice(&i.to_le_bytes());
-            }
-            out.bytes(&record);
-            out.tick()?;
-        }
-        Ok(())
+        // One record per face: the count 3, then the three indices.
+        out.records(mesh.triangles.len(), |k| {
+            join_bytes::<1, 12, 13>([3], le3(mesh.triangles[k]))
+        })
     })
 }
 
@@ -750,14 +851,80 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_INT: u32 = 5125;
 
-/// The vertices one part uses, in first-use order, and its triangles in that numbering.
+/// The vertices one part uses, in first-use order, the number of each in that order, the
+/// bounds of their positions as written, and the exclusive-or of its triangles' edge bits.
 struct GlbPart {
     vertices: Vec<u32>,
     triangles: std::ops::Range<usize>,
-    local: Vec<u32>,
+    /// `slot[i − base]`: the part's number of vertex `i` (`u32::MAX` where it is not used).
+    base: u32,
+    slot: Vec<u32>,
+    lo: [f32; 3],
+    hi: [f32; 3],
+    edges: u64,
 }
 
-use super::weld::is_closed;
+impl GlbPart {
+    /// One pass over the part's triangles (the table of numbers covers only the range of
+    /// vertices the part uses).
+    fn new(mesh: &TriMesh, part: &Part, frame: &Frame) -> GlbPart {
+        let tris = &mesh.triangles[part.triangles.clone()];
+        let (first, last) = tris
+            .par_chunks(1 << 15)
+            .map(|ts| {
+                let is = ts.as_flattened();
+                let lo = is.iter().copied().fold(u32::MAX, u32::min);
+                let hi = is.iter().copied().fold(0, u32::max);
+                (lo, hi)
+            })
+            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
+        let (base, len) = if tris.is_empty() {
+            (0, 0)
+        } else {
+            (first, (last - first) as usize + 1)
+        };
+        let mut slot = Vec::with_capacity(len);
+        super::advise_huge_pages(slot.spare_capacity_mut());
+        slot.resize(len, u32::MAX);
+        let mut vertices = Vec::with_capacity(len);
+        super::advise_huge_pages(vertices.spare_capacity_mut());
+        let mut lo = [f32::INFINITY; 3];
+        let mut hi = [f32::NEG_INFINITY; 3];
+        let mut edges = 0;
+        for &t in tris {
+            edges ^= edge_bits(t);
+            for i in t {
+                let s = &mut slot[(i - base) as usize];
+                if *s == u32::MAX {
+                    *s = vertices.len() as u32;
+                    vertices.push(i);
+                    let q = frame.point(mesh.positions[i as usize]);
+                    for c in 0..3 {
+                        lo[c] = lo[c].min(q[c]);
+                        hi[c] = hi[c].max(q[c]);
+                    }
+                }
+            }
+        }
+        GlbPart {
+            vertices,
+            triangles: part.triangles.clone(),
+            base,
+            slot,
+            lo,
+            hi,
+            edges,
+        }
+    }
+
+    /// The part's number of vertex `i` (one it uses).
+    #[inline(always)]
+    fn local(&self, i: u32) -> u32 {
+        self.slot[(i - self.base) as usize]
+    }
+}
+
+use super::weld::{closed_given, edge_bits};
 
 /// glTF 2.0 binary (`.glb`) in glTF's conventions: `+Y` up (the design's `+Z` turned to `+Y`,
 /// `(x, y, z) → (x, z, −y)`) and metres (positions times `scale` and the metres per unit).
@@ -775,35 +942,10 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     let frame = Frame::new(info, Format::Glb)?;
     let with_uv = !mesh.uv.is_empty();
     let all = parts_of(mesh);
-    // Vertex numbering per part (parts in parallel, each thread with its own slot table,
-    // restored to empty after every part).
+    // Vertex numbering per part (parts in parallel).
     let glb_parts: Vec<GlbPart> = all
         .par_iter()
-        .map_init(
-            || vec![u32::MAX; mesh.positions.len()],
-            |slot, p| {
-                let mut vertices = Vec::new();
-                let mut local = Vec::with_capacity(3 * p.triangles.len());
-                for t in &mesh.triangles[p.triangles.clone()] {
-                    for &i in t {
-                        let s = &mut slot[i as usize];
-                        if *s == u32::MAX {
-                            *s = vertices.len() as u32;
-                            vertices.push(i);
-                        }
-                        local.push(*s);
-                    }
-                }
-                for &i in &vertices {
-                    slot[i as usize] = u32::MAX;
-                }
-                GlbPart {
-                    vertices,
-                    triangles: p.triangles.clone(),
-                    local,
-                }
-            },
-        )
+        .map(|p| GlbPart::new(mesh, p, &frame))
         .collect();
     let vertex_bytes: u128 = if with_uv { 32 } else { 24 };
     let mut views: Vec<Value> = Vec::new();
@@ -815,17 +957,9 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
         if gp.vertices.is_empty() {
             continue;
         }
-        check_u32(gp.local.len() as u128, "triangle indices", "glTF")
-            .map_err(|e| e.at(&format!("parts[{k}]")))?;
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        for &i in &gp.vertices {
-            let q = frame.point(mesh.positions[i as usize]);
-            for c in 0..3 {
-                lo[c] = lo[c].min(q[c]);
-                hi[c] = hi[c].max(q[c]);
-            }
-        }
+        let indices = 3 * gp.triangles.len() as u128;
+        check_u32(indices, "triangle indices", "glTF").map_err(|e| e.at(&format!("parts[{k}]")))?;
+        let (lo, hi) = (gp.lo, gp.hi);
         let n = gp.vertices.len() as u128;
         let mut layout: Vec<(u128, Option<u32>, u32)> = vec![
             (n * 12, Some(12), ARRAY_BUFFER),
@@ -834,7 +968,7 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
         if with_uv {
             layout.push((n * 8, Some(8), ARRAY_BUFFER));
         }
-        layout.push((gp.local.len() as u128 * 4, None, ELEMENT_ARRAY_BUFFER));
+        layout.push((indices * 4, None, ELEMENT_ARRAY_BUFFER));
         let first = accessors.len();
         for (len, stride, target) in &layout {
             let mut view = json!({
@@ -868,7 +1002,7 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
             next += 1;
         }
         accessors.push(json!({
-            "bufferView": next, "componentType": UNSIGNED_INT, "count": gp.local.len(),
+            "bufferView": next, "componentType": UNSIGNED_INT, "count": indices as u64,
             "type": "SCALAR",
         }));
         let name = if p.name.is_empty() {
@@ -908,7 +1042,7 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
                 "metallicFactor": 0.0,
                 "roughnessFactor": 0.6,
             },
-            "doubleSided": !is_closed(mesh),
+            "doubleSided": !closed_given(mesh, glb_parts.iter().fold(0, |x, p| x ^ p.edges)),
         } ],
         "accessors": accessors,
         "bufferViews": views,
@@ -937,29 +1071,22 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
             if gp.vertices.is_empty() {
                 continue;
             }
-            for chunk in gp.vertices.chunks(4096) {
-                for &i in chunk {
-                    out.f32x3_le(frame.point(mesh.positions[i as usize]));
-                }
-                out.tick()?;
-            }
-            for chunk in gp.vertices.chunks(4096) {
-                for &i in chunk {
-                    out.f32x3_le(frame.normal(mesh.normals[i as usize]));
-                }
-                out.tick()?;
-            }
+            let vs = &gp.vertices;
+            let (positions, normals) = (&mesh.positions, &mesh.normals);
+            out.records(vs.len(), |k| {
+                le3(frame.point(positions[vs[k] as usize]).map(f32::to_bits))
+            })?;
+            out.records(vs.len(), |k| {
+                le3(frame.normal(normals[vs[k] as usize]).map(f32::to_bits))
+            })?;
             if with_uv {
-                for chunk in gp.vertices.chunks(4096) {
-                    for &i in chunk {
-                        out.f32_le(mesh.uv[i as usize][0]);
-                        out.f32_le(mesh.uv[i as usize][1]);
-                    }
-                    out.tick()?;
-                }
+                out.records(vs.len(), |k| {
+                    let [u, v] = mesh.uv[vs[k] as usize];
+                    join_bytes::<4, 4, 8>(u.to_le_bytes(), v.to_le_bytes())
+                })?;
             }
-            debug_assert_eq!(gp.local.len(), 3 * gp.triangles.len());
-            out.u32s_le(&gp.local)?;
+            let ts = &mesh.triangles[gp.triangles.clone()];
+            out.records(ts.len(), |k| le3(ts[k].map(|i| gp.local(i))))?;
         }
         for _ in bin_len..bin_padded {
             out.bytes(&[0]);
@@ -988,25 +1115,23 @@ pub fn write_csv(samples: &[Samples], w: &mut dyn Write) -> Result<()> {
             b"u,v,x,y,z,nx,ny,nz\n"
         });
         for (k, g) in samples.iter().enumerate() {
-            for i in 0..g.nu {
-                let u = g.u[i];
-                for j in 0..g.nv {
-                    let idx = i * g.nv + j;
-                    out.f64_text(u);
-                    out.bytes(b",");
-                    out.f64_text(g.v[j]);
+            out.blocks(g.nu * g.nv, LINES / 4, |range, text| {
+                for idx in range {
+                    let (i, j) = (idx / g.nv, idx % g.nv);
+                    text.f64_text(g.u[i]);
+                    text.bytes(b",");
+                    text.f64_text(g.v[j]);
                     for c in g.positions[idx].into_iter().chain(g.normals[idx]) {
-                        out.bytes(b",");
-                        out.f64_text(c);
+                        text.bytes(b",");
+                        text.f64_text(c);
                     }
                     if several {
-                        out.bytes(b",");
-                        out.uint_text(k as u64);
+                        text.bytes(b",");
+                        text.uint_text(k as u64);
                     }
-                    out.bytes(b"\n");
-                    out.tick()?;
+                    text.bytes(b"\n");
                 }
-            }
+            })?;
         }
         Ok(())
     })
@@ -1015,6 +1140,306 @@ pub fn write_csv(samples: &[Samples], w: &mut dyn Write) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use serde_json::json;
+    use std::collections::HashMap;
+
+    /// A grid of `nu × nv` vertices with awkward numbers (tiny, huge, negative zero, many
+    /// digits) in its positions and normals that are not all unit.
+    fn odd_grid(nu: usize, nv: usize, shift: f64) -> GridMesh {
+        let odd = [
+            1e-8,
+            1e-40,
+            -0.0,
+            0.1,
+            1.0 / 3.0,
+            1.0000001,
+            -2.5e-12,
+            2.9999998,
+        ];
+        let mut positions = Vec::with_capacity(nu * nv);
+        let mut normals = Vec::with_capacity(nu * nv);
+        for i in 0..nu {
+            for j in 0..nv {
+                let (u, v) = (i as f64 / nu as f64, j as f64 / nv as f64);
+                let x = u + shift;
+                let mut p = [x, v * 1.7, (x * 7.0 + v * 3.0).sin()];
+                if (i * 31 + j * 17) % 97 == 0 {
+                    p[(i + j) % 3] = odd[(i * 7 + j) % odd.len()];
+                }
+                positions.push(p.map(|x| x as f32));
+                normals.push([(u * 5.0).cos(), (v * 3.0).sin(), 0.3 + u].map(|x| x as f32));
+            }
+        }
+        Grid {
+            nu,
+            nv,
+            periodic_v: false,
+            u: (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect(),
+            v: (0..nv).map(|j| 0.25 + j as f64 / (nv - 1) as f64).collect(),
+            positions,
+            normals,
+        }
+    }
+
+    /// Meshes large enough that every array is encoded in many blocks, several batches of
+    /// them: two grids side by side welded (the second part shares the first's vertices along
+    /// the seam), the same grids appended with texture coordinates, one part, and a mesh
+    /// without parts.
+    fn large_meshes() -> Vec<(&'static str, TriMesh)> {
+        let a = odd_grid(420, 260, 0.0);
+        let b = odd_grid(300, 260, 1.0 - 1.0 / 420.0);
+        let welded = weld(
+            &[a.clone(), b.clone()],
+            &["left part", ""],
+            WeldOptions::default(),
+        );
+        let mut grids = TriMesh::from_grid(&a, "a");
+        grids.append(&TriMesh::from_grid(&b, "b b"));
+        let mut single = TriMesh::from_grid(&a, "single");
+        single.uv.clear();
+        let mut unnamed = single.clone();
+        unnamed.parts.clear();
+        vec![
+            ("welded", welded),
+            ("grids with uv", grids),
+            ("single", single),
+            ("unnamed", unnamed),
+        ]
+    }
+
+    fn infos() -> Vec<MeshInfo> {
+        vec![
+            MeshInfo {
+                title: Some("A title".to_string()),
+                ..MeshInfo::default()
+            },
+            MeshInfo {
+                scale: 2.5,
+                up: Up::Y,
+                units: Units::Centimetre,
+                ..MeshInfo::default()
+            },
+        ]
+    }
+
+    /// What follows the header of a text file: everything from the first line starting with
+    /// `v `.
+    fn text_body(bytes: &[u8]) -> &[u8] {
+        let at = bytes
+            .windows(3)
+            .position(|w| w == b"\nv ")
+            .expect("a vertex line");
+        &bytes[at + 1..]
+    }
+
+    /// The OBJ records, one at a time in file order, as a single serial pass writes them.
+    fn obj_reference(mesh: &TriMesh, info: &MeshInfo) -> Vec<u8> {
+        let frame = Frame::new(info, Format::Obj).unwrap();
+        let mut t = Text::new(Vec::new());
+        let vec3 = |t: &mut Text, prefix: &[u8], v: [f32; 3]| {
+            t.bytes(prefix);
+            for (c, x) in v.into_iter().enumerate() {
+                if c > 0 {
+                    t.bytes(b" ");
+                }
+                t.f32_text(x);
+            }
+            t.bytes(b"\n");
+        };
+        for &p in &mesh.positions {
+            vec3(&mut t, b"v ", frame.point(p));
+        }
+        for &n in &mesh.normals {
+            vec3(&mut t, b"vn ", frame.normal(n));
+        }
+        for uv in &mesh.uv {
+            t.bytes(b"vt ");
+            t.f32_text(uv[0]);
+            t.bytes(b" ");
+            t.f32_text(uv[1]);
+            t.bytes(b"\n");
+        }
+        for (k, part) in parts_of(mesh).iter().enumerate() {
+            t.bytes(format!("o {}\n", token(&part.name, k)).as_bytes());
+            for tri in &mesh.triangles[part.triangles.clone()] {
+                t.bytes(b"f");
+                for &i in tri {
+                    let i = i + 1;
+                    if mesh.uv.is_empty() {
+                        t.bytes(format!(" {i}//{i}").as_bytes());
+                    } else {
+                        t.bytes(format!(" {i}/{i}/{i}").as_bytes());
+                    }
+                }
+                t.bytes(b"\n");
+            }
+        }
+        t.buf
+    }
+
+    fn f32s(out: &mut Vec<u8>, v: &[f32]) {
+        for x in v {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+
+    /// The STL triangle records.
+    fn stl_reference(mesh: &TriMesh, info: &MeshInfo) -> Vec<u8> {
+        let frame = Frame::new(info, Format::Stl).unwrap();
+        let mut out = Vec::new();
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| frame.point(mesh.positions[i as usize]));
+            for v in [facet_normal(a, b, c), a, b, c] {
+                f32s(&mut out, &v);
+            }
+            out.extend_from_slice(&[0, 0]);
+        }
+        out
+    }
+
+    /// The PLY vertex and face records.
+    fn ply_reference(mesh: &TriMesh, info: &MeshInfo) -> Vec<u8> {
+        let frame = Frame::new(info, Format::Ply).unwrap();
+        let mut out = Vec::new();
+        for (k, (&p, &n)) in mesh.positions.iter().zip(&mesh.normals).enumerate() {
+            f32s(&mut out, &frame.point(p));
+            f32s(&mut out, &frame.normal(n));
+            if !mesh.uv.is_empty() {
+                f32s(&mut out, &mesh.uv[k]);
+            }
+        }
+        for t in &mesh.triangles {
+            out.push(3);
+            for i in t {
+                out.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+        out
+    }
+
+    /// The GLB binary chunk (each part's vertices in the order its triangles first use them:
+    /// positions, normals, texture coordinates, then its triangles in that numbering), and each
+    /// part's vertex count, triangle count and position bounds.
+    #[allow(clippy::type_complexity)]
+    fn glb_reference(
+        mesh: &TriMesh,
+        info: &MeshInfo,
+    ) -> (Vec<u8>, Vec<(usize, usize, [f32; 3], [f32; 3])>) {
+        let frame = Frame::new(info, Format::Glb).unwrap();
+        let mut out = Vec::new();
+        let mut parts = Vec::new();
+        for part in parts_of(mesh) {
+            let mut number: HashMap<u32, u32> = HashMap::new();
+            let mut order = Vec::new();
+            let mut local = Vec::new();
+            for t in &mesh.triangles[part.triangles.clone()] {
+                for &i in t {
+                    let next = order.len() as u32;
+                    let k = *number.entry(i).or_insert_with(|| {
+                        order.push(i);
+                        next
+                    });
+                    local.push(k);
+                }
+            }
+            if order.is_empty() {
+                continue;
+            }
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for &i in &order {
+                let q = frame.point(mesh.positions[i as usize]);
+                f32s(&mut out, &q);
+                for c in 0..3 {
+                    lo[c] = lo[c].min(q[c]);
+                    hi[c] = hi[c].max(q[c]);
+                }
+            }
+            for &i in &order {
+                f32s(&mut out, &frame.normal(mesh.normals[i as usize]));
+            }
+            if !mesh.uv.is_empty() {
+                for &i in &order {
+                    f32s(&mut out, &mesh.uv[i as usize]);
+                }
+            }
+            for k in local {
+                out.extend_from_slice(&k.to_le_bytes());
+            }
+            parts.push((order.len(), part.triangles.len(), lo, hi));
+        }
+        while out.len() % 4 != 0 {
+            out.push(0);
+        }
+        (out, parts)
+    }
+
+    /// Every edge used by exactly two triangles, counted.
+    fn closed_reference(mesh: &TriMesh) -> bool {
+        let mut uses: HashMap<(u32, u32), usize> = HashMap::new();
+        for t in &mesh.triangles {
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        uses.values().all(|&n| n == 2)
+    }
+
+    fn u32_at(bytes: &[u8], at: usize) -> usize {
+        u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize
+    }
+
+    #[test]
+    fn large_meshes_are_written_as_one_serial_pass_writes_them() {
+        for (name, mesh) in large_meshes() {
+            for info in infos() {
+                let case = format!("{name}, scale {}, up {}", info.scale, info.up.label());
+                let mut obj = Vec::new();
+                write_obj(&mesh, &info, &mut obj).unwrap();
+                assert!(text_body(&obj) == obj_reference(&mesh, &info), "OBJ {case}");
+
+                let mut stl = Vec::new();
+                write_stl(&mesh, &info, &mut stl).unwrap();
+                assert_eq!(u32_at(&stl, 80), mesh.triangles.len(), "STL {case}");
+                assert!(stl[84..] == stl_reference(&mesh, &info), "STL {case}");
+
+                let mut ply = Vec::new();
+                write_ply(&mesh, &info, &mut ply).unwrap();
+                let end = b"end_header\n";
+                let at = ply.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+                assert!(ply[at..] == ply_reference(&mesh, &info), "PLY {case}");
+
+                let mut glb = Vec::new();
+                write_glb(&mesh, &info, &mut glb).unwrap();
+                assert_eq!(u32_at(&glb, 8), glb.len(), "GLB {case}");
+                let json_len = u32_at(&glb, 12);
+                let doc: serde_json::Value =
+                    serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+                let bin = &glb[20 + json_len + 8..];
+                assert_eq!(u32_at(&glb, 20 + json_len), bin.len(), "GLB {case}");
+                let (expected, parts) = glb_reference(&mesh, &info);
+                assert!(bin == expected, "GLB binary chunk, {case}");
+                assert_eq!(
+                    doc["materials"][0]["doubleSided"],
+                    json!(!closed_reference(&mesh)),
+                    "{case}"
+                );
+                let meshes = doc["meshes"].as_array().unwrap();
+                assert_eq!(meshes.len(), parts.len(), "{case}");
+                for (m, (vertices, triangles, lo, hi)) in meshes.iter().zip(parts) {
+                    let prim = &m["primitives"][0];
+                    let position = &doc["accessors"]
+                        [prim["attributes"]["POSITION"].as_u64().unwrap() as usize];
+                    assert_eq!(position["count"], json!(vertices), "{case}");
+                    assert_eq!(position["min"], json!(lo), "{case}");
+                    assert_eq!(position["max"], json!(hi), "{case}");
+                    let indices = &doc["accessors"][prim["indices"].as_u64().unwrap() as usize];
+                    assert_eq!(indices["count"], json!(3 * triangles), "{case}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn integer_and_float_text() {

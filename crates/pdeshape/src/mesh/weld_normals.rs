@@ -1,0 +1,388 @@
+//! The vertex normals of a welded mesh: the normalised mean of the welded copies' normals, each
+//! turned with its patch; where that vanishes or points against the triangles around the vertex
+//! (a crease turned back on itself; the limit normal at a pole closing a patch at its end u,
+//! whose sign is that of the other end's), the mean of the facet normals around the vertex.
+//!
+//! Sums are taken in the order of the grids' vertices (copies) and of the mesh's triangles
+//! (facets), as one pass over each would (the frame weld's definition, `weld_frame.rs`).
+//! Vertices that are not weld candidates have one copy and six triangles of their own grid,
+//! known from its layout: they are done row by row in parallel, each quad row's facets computed
+//! once per block of rows into columns of `f64` (away from the candidates straight from the
+//! grid's positions, which are the welded ones there), then the six facets of every vertex
+//! summed in the mesh's order. The candidates (a few rows and columns) are summed in maps.
+
+use super::{candidate_rows, facet_cross, turned, CellHasher, GridTopology, SharedSlice};
+use crate::mesh::GridMesh;
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
+
+/// `s / |s|` in f32, or zero where `|s| ≤ 10⁻³` (the copies' normals cancel).
+#[inline(always)]
+fn unit(s: [f64; 3]) -> [f32; 3] {
+    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    if len > 1e-3 {
+        s.map(|c| (c / len) as f32)
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// The normalised facet sum `a`, if it has a length; `None` for a zero sum.
+#[inline(always)]
+fn facet_mean(a: [f64; 3]) -> Option<[f32; 3]> {
+    let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    (len > 0.0).then(|| a.map(|c| (c / len) as f32))
+}
+
+/// `n`, unless it points against the facet sum `a` (or is zero): then `a` normalised.
+#[inline(always)]
+fn settle(n: [f32; 3], a: [f64; 3]) -> [f32; 3] {
+    let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
+    if dot <= 0.0 {
+        facet_mean(a).unwrap_or(n)
+    } else {
+        n
+    }
+}
+
+#[inline(always)]
+fn add(s: &mut [f64; 3], x: [f64; 3]) {
+    for c in 0..3 {
+        s[c] += x[c];
+    }
+}
+
+/// Rows of quads per parallel task.
+const BLOCK: usize = 16;
+
+/// The facets of the two triangles of every quad of a row, by column: `f[0..3]` (x, y, z) of
+/// the first triangle, `f[3..6]` of the second; zero where welding collapsed the triangle
+/// (adding a zero to a sum that starts at `+0` and never becomes `−0` changes nothing, so that
+/// is the sum without it).
+#[derive(Default)]
+struct Facets {
+    f: [Vec<f64>; 6],
+}
+
+/// Two rows of grid positions as `f64` columns, with the first column repeated at the end.
+#[derive(Default)]
+struct RowPair {
+    c: [Vec<f64>; 6],
+}
+
+/// `(b − a) × (c − a)`, as [`facet_cross`] computes it.
+#[inline(always)]
+fn cross(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ]
+}
+
+/// Facets of quads `lo..hi` of a row from its two vertex rows `p` (grid positions), the
+/// triangles `[a, b, c]`, `[a, c, d]` of quad `(a, b, c, d)` turned when `FLIP`.
+#[inline(always)]
+fn grid_facets<const FLIP: bool>(p: &RowPair, lo: usize, hi: usize, out: &mut Facets) {
+    let [x0, y0, z0, x1, y1, z1] = &p.c;
+    let [f0, f1, f2, f3, f4, f5] = &mut out.f;
+    for j in lo..hi {
+        let a = [x0[j], y0[j], z0[j]];
+        let b = [x1[j], y1[j], z1[j]];
+        let c = [x1[j + 1], y1[j + 1], z1[j + 1]];
+        let d = [x0[j + 1], y0[j + 1], z0[j + 1]];
+        let (t0, t1) = if FLIP {
+            (cross(a, c, b), cross(a, d, c))
+        } else {
+            (cross(a, b, c), cross(a, c, d))
+        };
+        (f0[j], f1[j], f2[j]) = (t0[0], t0[1], t0[2]);
+        (f3[j], f4[j], f5[j]) = (t1[0], t1[1], t1[2]);
+    }
+}
+
+/// The unit normals `s·n / |s·n|` of a row's vertices `lo..hi` and their dot products with the
+/// facet sums `a` (six facets each, summed in the mesh's order from quad rows `prev`, `cur`).
+/// Column 0 of a periodic row (whose quads come in another order) is left to the caller.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn row_normals(
+    normals: &[[f32; 3]],
+    s: f64,
+    prev: &Facets,
+    cur: &Facets,
+    lo: usize,
+    hi: usize,
+    unit_out: &mut [[f32; 3]],
+    sum_out: &mut [[f64; 3]],
+    dot_out: &mut [f64],
+) {
+    let (p, c) = (&prev.f, &cur.f);
+    for j in lo.max(1)..hi {
+        let jm = j - 1;
+        let mut a = [0.0f64; 3];
+        for (q, acc) in a.iter_mut().enumerate() {
+            // Quad row i − 1, then i, quads by column, each quad's first triangle first.
+            *acc += p[q][jm];
+            *acc += p[3 + q][jm];
+            *acc += p[q][j];
+            *acc += c[3 + q][jm];
+            *acc += c[q][j];
+            *acc += c[3 + q][j];
+        }
+        let n = normals[j];
+        let mut m = [0.0f64; 3];
+        add(&mut m, [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64]);
+        let u = unit(m);
+        unit_out[j] = u;
+        sum_out[j] = a;
+        // Only its sign is used: whether it is ≤ 0 does not depend on the order of the terms'
+        // sum beyond the sign of a zero.
+        dot_out[j] = u[0] as f64 * a[0] + u[1] as f64 * a[1] + u[2] as f64 * a[2];
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn grid_facets_avx2<const FLIP: bool>(p: &RowPair, lo: usize, hi: usize, out: &mut Facets) {
+    grid_facets::<FLIP>(p, lo, hi, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn row_normals_avx2(
+    normals: &[[f32; 3]],
+    s: f64,
+    prev: &Facets,
+    cur: &Facets,
+    lo: usize,
+    hi: usize,
+    unit_out: &mut [[f32; 3]],
+    sum_out: &mut [[f64; 3]],
+    dot_out: &mut [f64],
+) {
+    row_normals(normals, s, prev, cur, lo, hi, unit_out, sum_out, dot_out)
+}
+
+/// Whether the processor has AVX2 (the kernels above are compiled for it where it does; the
+/// arithmetic is the same, without fused operations).
+fn avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
+impl GridTopology<'_> {
+    /// The facets of quad row `r` into `out`: from the grid's positions where neither vertex
+    /// row is explicit (the welded positions there, no triangle collapsed), else from the
+    /// welded triangles.
+    #[allow(clippy::too_many_arguments)]
+    fn facet_row(
+        &self,
+        g: &GridMesh,
+        positions: &[[f32; 3]],
+        flip: bool,
+        r: usize,
+        pair: &mut RowPair,
+        out: &mut Facets,
+        fast: bool,
+    ) {
+        let (nv, cols) = (self.nv, self.cols);
+        for f in &mut out.f {
+            f.resize(cols, 0.0);
+        }
+        let generic = |j: usize, out: &mut Facets| {
+            for (t, tri) in self.quad(r, j).into_iter().enumerate() {
+                let f = self
+                    .welded(tri)
+                    .map_or([0.0; 3], |w| facet_cross(positions, turned(w, flip)));
+                for (q, x) in f.into_iter().enumerate() {
+                    out.f[3 * t + q][j] = x;
+                }
+            }
+        };
+        if self.row_explicit(r) || self.row_explicit(r + 1) {
+            (0..cols).for_each(|j| generic(j, out));
+            return;
+        }
+        for (h, cs) in pair.c.chunks_exact_mut(3).enumerate() {
+            let row = &g.positions[(r + h) * nv..(r + h + 1) * nv];
+            let [x, y, z] = cs else { unreachable!() };
+            for c in [&mut *x, &mut *y, &mut *z] {
+                c.resize(nv + 1, 0.0);
+            }
+            for (j, p) in row.iter().chain(&row[..1]).enumerate() {
+                (x[j], y[j], z[j]) = (p[0] as f64, p[1] as f64, p[2] as f64);
+            }
+        }
+        // A non-periodic grid's end columns are weld candidates.
+        let (lo, hi) = if self.periodic {
+            (0, cols)
+        } else {
+            (1.min(cols), cols.saturating_sub(1).max(1.min(cols)))
+        };
+        match (fast, flip) {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `fast` only where the processor has AVX2.
+            (true, false) => unsafe { grid_facets_avx2::<false>(pair, lo, hi, out) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: as above.
+            (true, true) => unsafe { grid_facets_avx2::<true>(pair, lo, hi, out) },
+            (_, false) => grid_facets::<false>(pair, lo, hi, out),
+            (_, true) => grid_facets::<true>(pair, lo, hi, out),
+        }
+        if !self.periodic && cols > 0 {
+            generic(0, out);
+            if cols > 1 {
+                generic(cols - 1, out);
+            }
+        }
+    }
+}
+
+/// The normals of the welded mesh (see the module documentation): `source[k]` is grid `k`'s
+/// vertex map, `flipped[k]` its turn, `positions` the welded vertices.
+pub(super) fn vertex_normals(
+    grids: &[GridMesh],
+    source: &[Vec<u32>],
+    positions: &[[f32; 3]],
+    flipped: &[bool],
+) -> Vec<[f32; 3]> {
+    let rows: Vec<Vec<bool>> = grids.par_iter().map(candidate_rows).collect();
+    let topo: Vec<GridTopology> = grids
+        .iter()
+        .zip(source)
+        .zip(&rows)
+        .map(|((g, map), rows)| GridTopology::new(g, map, rows))
+        .collect();
+    // Zeroed memory from the system, not touched yet: advised before its first write.
+    let mut normals = vec![[0.0f32; 3]; positions.len()];
+    super::super::advise_huge_pages(&mut normals);
+
+    // Candidates: their copies and their triangles, in order.
+    let mut sums: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+    let mut facets: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+    for (k, (g, t)) in grids.iter().zip(&topo).enumerate() {
+        let s = if flipped[k] { -1.0 } else { 1.0 };
+        for i in 0..g.nu {
+            let cols: Vec<usize> = if t.row_explicit(i) {
+                (0..g.nv).collect()
+            } else if !g.periodic_v && g.nv > 0 {
+                if g.nv > 1 {
+                    vec![0, g.nv - 1]
+                } else {
+                    vec![0]
+                }
+            } else {
+                Vec::new()
+            };
+            for j in cols {
+                let idx = i * g.nv + j;
+                let n = g.normals[idx];
+                add(
+                    sums.entry(source[k][idx]).or_insert([0.0; 3]),
+                    [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64],
+                );
+            }
+        }
+        t.for_each_visited(false, |gt, wt| {
+            let f = facet_cross(positions, turned(wt, flipped[k]));
+            for e in 0..3 {
+                if t.explicit(gt[e]) {
+                    add(facets.entry(wt[e]).or_insert([0.0; 3]), f);
+                }
+            }
+        });
+    }
+    for (&w, &s) in &sums {
+        let a = facets.get(&w).copied().unwrap_or([0.0; 3]);
+        normals[w as usize] = settle(unit(s), a);
+    }
+
+    // The other vertices, blocks of rows in parallel. Each writes the normals of its own
+    // vertices (welded numbers no other grid vertex has).
+    let out = SharedSlice(normals.as_mut_ptr(), normals.len());
+    let out = &out;
+    let blocks: Vec<(usize, usize)> = topo
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| !t.all)
+        .flat_map(|(k, t)| {
+            (1..t.nu.saturating_sub(1))
+                .step_by(BLOCK)
+                .map(move |i| (k, i))
+        })
+        .collect();
+    let fast = avx2();
+    blocks.into_par_iter().for_each(|(k, r0)| {
+        let (g, t) = (&grids[k], &topo[k]);
+        let flip = flipped[k];
+        let s = if flip { -1.0 } else { 1.0 };
+        let nv = t.nv;
+        let r1 = (r0 + BLOCK).min(t.nu - 1);
+        let mut pair = RowPair::default();
+        let (mut prev, mut cur) = (Facets::default(), Facets::default());
+        let mut units = vec![[0.0f32; 3]; nv];
+        let mut sums = vec![[0.0f64; 3]; nv];
+        let mut dots = vec![0.0f64; nv];
+        t.facet_row(g, positions, flip, r0 - 1, &mut pair, &mut prev, fast);
+        for i in r0..r1 {
+            t.facet_row(g, positions, flip, i, &mut pair, &mut cur, fast);
+            if !t.row_explicit(i) {
+                let (lo, hi) = if t.periodic {
+                    (0, nv)
+                } else {
+                    (1, nv.saturating_sub(1))
+                };
+                let row_normals_of = &g.normals[i * nv..(i + 1) * nv];
+                let (u, a, d) = (&mut units, &mut sums, &mut dots);
+                if fast {
+                    // SAFETY: only where the processor has AVX2.
+                    #[cfg(target_arch = "x86_64")]
+                    unsafe {
+                        row_normals_avx2(row_normals_of, s, &prev, &cur, lo, hi, u, a, d)
+                    };
+                } else {
+                    row_normals(row_normals_of, s, &prev, &cur, lo, hi, u, a, d);
+                }
+                for j in lo..hi {
+                    let idx = i * nv + j;
+                    let n = if j == 0 {
+                        // Column 0 of a periodic row: quads by column put column 0 first.
+                        let jm = nv - 1;
+                        let (p, c) = (&prev.f, &cur.f);
+                        let mut a = [0.0f64; 3];
+                        for (q, acc) in a.iter_mut().enumerate() {
+                            *acc += p[q][0];
+                            *acc += p[q][jm];
+                            *acc += p[3 + q][jm];
+                            *acc += c[q][0];
+                            *acc += c[3 + q][0];
+                            *acc += c[3 + q][jm];
+                        }
+                        let n = g.normals[idx];
+                        let mut m = [0.0f64; 3];
+                        add(&mut m, [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64]);
+                        settle(unit(m), a)
+                    } else if dots[j] <= 0.0 {
+                        facet_mean(sums[j]).unwrap_or(units[j])
+                    } else {
+                        units[j]
+                    };
+                    // SAFETY: the vertex is not a weld candidate, so its welded number
+                    // belongs to it alone: no other task writes this element.
+                    unsafe { out.write(t.map[idx] as usize, n) };
+                }
+            }
+            std::mem::swap(&mut prev, &mut cur);
+        }
+    });
+    normals
+}
