@@ -620,10 +620,9 @@ fn load_row(
         }
     }
     let width = row.p[0].len();
-    for c in 0..3 {
-        let (src, dst) = (&row.p[c][..width], &mut row.rel[c][..width]);
-        for (d, &x) in dst.iter_mut().zip(src) {
-            *d = x - o[c];
+    for ((src, dst), &oc) in row.p.iter().zip(row.rel.iter_mut()).zip(&o) {
+        for (d, &x) in dst[..width].iter_mut().zip(&src[..width]) {
+            *d = x - oc;
         }
     }
 }
@@ -707,18 +706,18 @@ fn vertex_row<const FLIP: bool>(
     let nv = plan.nv;
     let s = if FLIP { -1.0 } else { 1.0 };
     // Columns j ≥ 1: quads j − 1 and j of both rows.
-    for c in 0..3 {
+    for (c, acc) in acc.iter_mut().enumerate() {
         let (p1, p2, c1, c2) = (&prev.t1[c], &prev.t2[c], &cur.t1[c], &cur.t2[c]);
         let n = plan.hi - 1;
         let (p1m, p2m, p1j) = (&p1[..n], &p2[..n], &p1[1..=n]);
         let (c2m, c1j, c2j) = (&c2[..n], &c1[1..=n], &c2[1..=n]);
-        let a = &mut acc[c][1..=n];
+        let a = &mut acc[1..=n];
         for j in 0..n {
             a[j] = 0.0 + p1m[j] + p2m[j] + p1j[j] + c2m[j] + c1j[j] + c2j[j];
         }
         if plan.periodic {
             let m = nv - 1;
-            acc[c][0] = 0.0 + p1[0] + p1[m] + p2[m] + c1[0] + c2[0] + c2[m];
+            acc[0] = 0.0 + p1[0] + p1[m] + p2[m] + c1[0] + c2[0] + c2[m];
         }
     }
     let (lo, hi) = (plan.lo, plan.hi);
