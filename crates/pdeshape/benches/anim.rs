@@ -4,11 +4,17 @@
 //! iteration is the whole 48-frame beat; the throughput is in frames. Frames are solved in
 //! parallel (one worker per thread of the pool); the second row runs them on one thread; the
 //! third also puts every frame into the GLB's binary chunk as `pdeshape animate` does (the
-//! file's bytes in memory, not written).
+//! file's bytes in memory, not written). The last two rows time what the issue's "solve +
+//! tessellate" names, without the weld: the same beat, frames in parallel over the pool (every
+//! thread with its own compiled design, re-solved incrementally from its previous frame), then
+//! on one thread.
+//!
+//! `cargo bench -p pdeshape --bench anim` (all rows), or one row by name, e.g.
+//! `cargo bench -p pdeshape --bench anim -- ventricle_frames_64x128$`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pdeshape::anim::{for_each_frame, Animation, GlbFrames, Keyframes};
-use pdeshape::design::Export;
+use pdeshape::design::{compile, Export};
 use pdeshape::mesh::MeshInfo;
 use pdeshape::spec::time::parse_timed;
 use std::hint::black_box;
@@ -64,6 +70,35 @@ fn bench(c: &mut Criterion) {
     };
     group.bench_function("ventricle_frames_64x128_glb_in_memory", |b| {
         b.iter(with_glb)
+    });
+    // Solve + tessellate only: worker w of W takes frames w, w + W, … (every frame solved).
+    let solve_tessellate = || {
+        use rayon::prelude::*;
+        let workers = rayon::current_num_threads().max(1);
+        let n: usize = (0..workers)
+            .into_par_iter()
+            .map(|w| {
+                let mut compiled = None;
+                let mut n = 0usize;
+                for &t in times.iter().skip(w).step_by(workers) {
+                    let spec = anim.spec_at(t).unwrap();
+                    match compiled.as_mut() {
+                        None => compiled = Some(compile(&spec).unwrap()),
+                        Some(c) => c.set_spec(spec).unwrap(),
+                    }
+                    let c = compiled.as_mut().unwrap();
+                    n += c.meshes(64, 128).unwrap().len();
+                }
+                n
+            })
+            .sum();
+        black_box(n)
+    };
+    group.bench_function("ventricle_solve_tessellate_64x128", |b| {
+        b.iter(solve_tessellate)
+    });
+    group.bench_function("ventricle_solve_tessellate_64x128_one_thread", |b| {
+        b.iter(|| one.install(solve_tessellate))
     });
     group.finish();
 }

@@ -1,6 +1,9 @@
 //! Where an animation frame's time goes: the design at `t` read from its formulas (`spec_at`),
 //! re-solved incrementally (`set_spec`), tessellated into the last frame's grids (`meshes`) and
-//! welded on the first frame's topology into the last frame's mesh (`FrameWeld`), each timed over every frame of the animation, on the calling thread.
+//! welded on the first frame's topology into the last frame's mesh (`FrameWeld`), each timed over
+//! every frame of the animation, on the calling thread. First, what the first frame costs once:
+//! the fresh compile, its grids, the weld topology and the first two frame welds (the second
+//! makes the layout of the streaming pass).
 //!
 //! `cargo run --release -p pdeshape --example anim_stages -- examples/anim/ventricle.toml [NU NV]`
 
@@ -18,7 +21,9 @@ fn main() {
     let text = std::fs::read_to_string(path).expect("readable");
     let anim = Animation::Timed(parse_timed(&text).expect("a timed design"));
     let times = anim.times().expect("times");
+    let t0 = Instant::now();
     let mut c = compile(&anim.spec_at(times[0]).expect("design")).expect("solves");
+    let compiled = t0.elapsed();
     for s in &c.solved().surfaces {
         if let SurfaceKind::Pde(p) = &s.kind {
             println!(
@@ -29,7 +34,9 @@ fn main() {
             );
         }
     }
+    let t0 = Instant::now();
     let grids = c.solved().meshes(nu, nv).expect("grids");
+    let meshed = t0.elapsed();
     let names = c
         .solved()
         .names()
@@ -37,8 +44,26 @@ fn main() {
         .map(|s| s.to_string())
         .collect::<Vec<_>>();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let t0 = Instant::now();
     let (topology, _) = WeldTopology::new(&grids, &names, WeldOptions::default());
+    let topo = t0.elapsed();
     let mut welder = FrameWeld::new(topology);
+    let t0 = Instant::now();
+    assert!(welder.weld(&grids));
+    let first = t0.elapsed();
+    let t0 = Instant::now();
+    assert!(welder.weld(&grids));
+    let second = t0.elapsed();
+    let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+    println!(
+        "first frame, ms: compile {:.3}, meshes {:.3}, WeldTopology::new {:.3}, first FrameWeld \
+         {:.3}, second {:.3}",
+        ms(compiled),
+        ms(meshed),
+        ms(topo),
+        ms(first),
+        ms(second)
+    );
     let mut ms = [0.0f64; 4];
     let reps = 3;
     for _ in 0..reps {
@@ -59,12 +84,15 @@ fn main() {
         }
     }
     let n = (reps * times.len()) as f64;
+    let total = ms.iter().sum::<f64>() / n;
     println!(
-        "ms per frame ({} frames, {nu} × {nv}): spec_at {:.3}, set_spec {:.3}, meshes {:.3}, weld {:.3}",
+        "ms per frame ({} frames, {nu} × {nv}): spec_at {:.3}, set_spec {:.3}, meshes {:.3}, \
+         weld {:.3}; total {total:.3} ({:.0} frames/s on one thread)",
         times.len(),
         ms[0] / n,
         ms[1] / n,
         ms[2] / n,
-        ms[3] / n
+        ms[3] / n,
+        1e3 / total
     );
 }

@@ -58,6 +58,8 @@ struct Worker {
     /// The last frame's mesh is there (nothing failed since).
     ready: bool,
     last: Option<DesignSpec>,
+    /// The design [`Worker::prepare`] solved and tessellated (not yet welded).
+    prepared: Option<DesignSpec>,
     /// Frames this worker solved and frames it found equal to its previous one.
     solved: usize,
     repeated: usize,
@@ -75,9 +77,9 @@ impl Worker {
     }
 
     /// Solves, tessellates and welds the design at `t` (nothing when it equals the design of
-    /// this worker's previous frame: that frame's result is the answer, bit for bit). Returns
-    /// true when the mesh was welded afresh (its triangles are to be compared with the first
-    /// frame's).
+    /// this worker's previous frame: that frame's result is the answer, bit for bit; only the
+    /// weld when [`Worker::prepare`] solved it). Returns true when the mesh was welded afresh
+    /// (its triangles are to be compared with the first frame's).
     fn frame(
         &mut self,
         anim: &Animation,
@@ -91,12 +93,48 @@ impl Worker {
             self.repeated += 1;
             return Ok(false);
         }
+        if self.prepared.as_ref() != Some(&spec) {
+            self.solve(spec.clone(), t, nu, nv)?;
+        }
+        self.prepared = None;
+        let solved = self.compiled.as_ref().expect("compiled").solved();
+        // The first frame's welding is kept: the later frames are welded on its topology (the
+        // same result as welding them afresh, without building the edge maps again), into the
+        // buffers of the last frame.
+        let mut fresh_weld = false;
+        let gathered = self.weld.as_mut().is_some_and(|w| w.weld(&self.grids));
+        if gathered {
+            self.own = None;
+        } else if let Some(w) = self
+            .weld
+            .as_ref()
+            .and_then(|w| w.topology().weld(&self.grids))
+        {
+            self.own = Some(w.mesh);
+        } else {
+            let options = WeldOptions {
+                join_patches: !export.separate_patches,
+            };
+            let (w, welded) = WeldTopology::new(&self.grids, &solved.names(), options);
+            self.weld = Some(FrameWeld::after(w, &welded, &self.grids));
+            self.own = Some(welded.mesh);
+            fresh_weld = true;
+        }
+        self.ready = true;
+        self.last = Some(spec);
+        self.solved += 1;
+        Ok(fresh_weld)
+    }
+
+    /// Solves and tessellates the design `spec` at `t`: everything of a frame but the weld.
+    fn solve(&mut self, spec: DesignSpec, t: f64, nu: usize, nv: usize) -> Result<()> {
         // Forget the last design first: on an error below nothing stale is taken for it.
         self.last = None;
         self.ready = false;
+        self.prepared = None;
         match self.compiled.as_mut() {
             None => self.compiled = Some(compile(&spec).map_err(|e| at_time(e, t))?),
-            Some(c) => c.set_spec(spec.clone()).map_err(|e| at_time(e, t))?,
+            Some(c) => c.set_spec(spec).map_err(|e| at_time(e, t))?,
         }
         let solved = self.compiled.as_ref().expect("compiled").solved();
         if solved.surfaces.is_empty() {
@@ -124,32 +162,18 @@ impl Worker {
         self.sources.clear();
         self.sources
             .extend(solved.surfaces.iter().map(|s| s.kind.clone()));
-        // The first frame's welding is kept: the later frames are welded on its topology (the
-        // same result as welding them afresh, without building the edge maps again), into the
-        // buffers of the last frame.
-        let mut fresh_weld = false;
-        let gathered = self.weld.as_mut().is_some_and(|w| w.weld(&self.grids));
-        if gathered {
-            self.own = None;
-        } else if let Some(w) = self
-            .weld
-            .as_ref()
-            .and_then(|w| w.topology().weld(&self.grids))
-        {
-            self.own = Some(w.mesh);
-        } else {
-            let options = WeldOptions {
-                join_patches: !export.separate_patches,
-            };
-            let (w, welded) = WeldTopology::new(&self.grids, &solved.names(), options);
-            self.weld = Some(FrameWeld::new(w));
-            self.own = Some(welded.mesh);
-            fresh_weld = true;
+        Ok(())
+    }
+
+    /// Solves and tessellates this worker's first frame ahead (while the animation's first
+    /// frame is being welded); [`Worker::frame`] at `t` then only welds it. An error is left for
+    /// `frame` to meet again and report in its place.
+    fn prepare(&mut self, anim: &Animation, t: f64, nu: usize, nv: usize) {
+        if let Ok(spec) = anim.spec_at(t) {
+            if self.solve(spec.clone(), t, nu, nv).is_ok() {
+                self.prepared = Some(spec);
+            }
         }
-        self.ready = true;
-        self.last = Some(spec);
-        self.solved += 1;
-        Ok(fresh_weld)
     }
 }
 
@@ -204,11 +228,28 @@ pub fn for_each_frame(
                 w.weld = weld.clone();
             }
         }
-        let results: Vec<Result<bool>> = pool[..chunk.len()]
-            .par_iter_mut()
-            .zip(chunk.par_iter())
-            .map(|(w, &t)| w.frame(anim, t, nu, nv, export))
-            .collect();
+        let results: Vec<Result<bool>> = if first_index == 0 {
+            // While the first frame is solved and its topology built, the other workers solve
+            // and tessellate their first frames (`1 + w`).
+            let (first, rest) = pool.split_at_mut(1);
+            let (result, ()) = rayon::join(
+                || first[0].frame(anim, chunk[0], nu, nv, export),
+                || {
+                    rest.par_iter_mut().enumerate().for_each(|(w, worker)| {
+                        if let Some(&t) = times.get(2 + w) {
+                            worker.prepare(anim, t, nu, nv);
+                        }
+                    })
+                },
+            );
+            vec![result]
+        } else {
+            pool[..chunk.len()]
+                .par_iter_mut()
+                .zip(chunk.par_iter())
+                .map(|(w, &t)| w.frame(anim, t, nu, nv, export))
+                .collect()
+        };
         for (k, (result, w)) in results.into_iter().zip(&pool).enumerate() {
             let (index, t) = (first_index + k, chunk[k]);
             let fresh_weld = result?;

@@ -344,6 +344,21 @@ impl SolvedDesign {
     /// read, so a NaN between them shows up here).
     fn check_finite<T: Copy + Into<f64> + Sync>(&self, k: usize, g: &mesh::Grid<T>) -> Result<()> {
         use rayon::prelude::*;
+        // Blocks in parallel, each folded without a branch per number (which vectorises); the
+        // first number that is not finite is looked for only when there is one.
+        let finite = |v: &[[T; 3]]| {
+            v.as_flattened()
+                .iter()
+                .fold(true, |ok, x| ok & (*x).into().is_finite())
+        };
+        let all = g
+            .positions
+            .par_chunks(1 << 14)
+            .zip(g.normals.par_chunks(1 << 14))
+            .all(|(p, n)| finite(p) & finite(n));
+        if all && g.positions.len() == g.normals.len() {
+            return Ok(());
+        }
         let bad = g
             .positions
             .par_iter()

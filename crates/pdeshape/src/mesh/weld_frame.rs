@@ -14,17 +14,25 @@
 //!   representative and no other, so it builds the same map; when the check fails the full path
 //!   decides (it may still find the same map).
 //! * **The orientation of each group** (its volume's sign, and for an open group whether the
-//!   capped volume exceeds [`super::OPEN_VOLUME_FRACTION`]): a sum over the triangles, computed
-//!   every frame exactly as the full path does, since a morph may turn a surface inside out.
+//!   capped volume exceeds [`super::OPEN_VOLUME_FRACTION`]): decided every frame, since a morph
+//!   may turn a surface inside out. From the second frame on, the streaming pass of
+//!   `weld_frame_pass.rs` sums the volumes on its way in its own order and takes the decision
+//!   where the rounding of the two orders cannot change it (otherwise the reference sum
+//!   decides); when a group turns, the frame is finished by the reference pass
+//!   ([`WeldTopology::finish_into`]).
 //! * **Where the vertex normal falls back to the facet normals** (the mean of the copies
 //!   vanishes or points against the triangles around the vertex): every frame, as the full path.
 //!
-//! The positions are gathered from the representatives, the normals summed over the copies in
-//! the order of the full path, so a frame equals the full path's weld bit for bit.
+//! The positions are gathered from the representatives, the normals summed over the copies and
+//! the facets in the order of the full path, so a frame equals the full path's weld bit for bit.
 
 use super::WELD_TOLERANCE;
 use super::{facet_cross, WeldTopology, Welded};
 use crate::mesh::{GridMesh, Part, TriMesh};
+
+#[path = "weld_frame_pass.rs"]
+mod pass;
+use pass::Pass;
 
 /// Buffers of the orientation and normal pass, kept between frames.
 #[derive(Clone, Debug, Default)]
@@ -52,6 +60,9 @@ struct Plan {
     copies: Vec<u32>,
     /// The first copy of every welded vertex `(grid, index)`: its position is the vertex's.
     first: Vec<(u32, u32)>,
+    /// `first` as runs `(grid, first index, length)` of consecutive indices of one grid, in the
+    /// order of the welded vertices.
+    runs: Vec<(u32, u32, u32)>,
     /// How many grid vertices belong to welded vertices with more than one copy.
     joined_copies: usize,
     /// Every welded vertex has a copy (always, for a topology `WeldTopology::new` made).
@@ -61,6 +72,10 @@ struct Plan {
     /// `(x, index into candidates)`.
     reps: Vec<(f64, u32)>,
     scratch: Scratch,
+    /// The layout of the streaming orientation and normal pass (made at the second frame).
+    pass: Option<Pass>,
+    /// Frames finished by that pass (the others by [`WeldTopology::finish_into`]).
+    by_pass: usize,
 }
 
 /// A [`WeldTopology`] with what welding further frames on it reuses: see the module
@@ -83,6 +98,19 @@ impl FrameWeld {
             mesh: TriMesh::default(),
             flipped: Vec::new(),
         }
+    }
+
+    /// [`FrameWeld::new`] for the frames after a first one, welded as `first` by
+    /// [`WeldTopology::new`] from `grids`: the streaming pass is made ready, and takes the first
+    /// frame's turns as those of the next.
+    pub fn after(topology: WeldTopology, first: &Welded, grids: &[GridMesh]) -> Self {
+        let mut w = FrameWeld::new(topology);
+        if first.flipped.len() == w.topology.relative.len() {
+            w.plan.scratch.flipped = first.flipped.clone();
+            let periodic = grids.iter().map(|g| g.periodic_v).collect();
+            w.plan.pass = Some(Pass::new(&w.topology, periodic));
+        }
+        w
     }
 
     /// The topology frames are welded on.
@@ -130,7 +158,15 @@ impl Plan {
             }
         }
         let joined_copies = count.iter().filter(|&&c| c > 1).map(|&c| c as usize).sum();
+        let mut runs: Vec<(u32, u32, u32)> = Vec::new();
+        for &(k, idx) in &first {
+            match runs.last_mut() {
+                Some((rk, from, len)) if *rk == k && *from + *len == idx => *len += 1,
+                _ => runs.push((k, idx, 1)),
+            }
+        }
         Plan {
+            runs,
             complete: count.iter().all(|&c| c > 0),
             copies: count,
             first,
@@ -158,14 +194,47 @@ impl Plan {
             return false;
         }
         mesh.positions.clear();
-        mesh.positions.extend(
-            self.first
-                .iter()
-                .map(|&(k, idx)| grids[k as usize].positions[idx as usize]),
-        );
+        for &(k, from, len) in &self.runs {
+            let (from, len) = (from as usize, len as usize);
+            mesh.positions
+                .extend_from_slice(&grids[k as usize].positions[from..from + len]);
+        }
         mesh.uv.clear();
-        t.finish_into(grids, diag, mesh, &mut self.scratch);
+        if self.finish_by_pass(t, grids, diag, mesh) {
+            self.by_pass += 1;
+        } else {
+            t.finish_into(grids, diag, mesh, &mut self.scratch);
+        }
         true
+    }
+
+    /// [`WeldTopology::finish_into`] by the streaming pass of `weld_frame_pass.rs`, taking the
+    /// turns of the last frame (or those [`FrameWeld::after`] was given) as this frame's; false
+    /// where the reference pass must decide (no turns known yet, a group turned, a number not
+    /// finite).
+    fn finish_by_pass(
+        &mut self,
+        t: &WeldTopology,
+        grids: &[GridMesh],
+        diag: f64,
+        mesh: &mut TriMesh,
+    ) -> bool {
+        let flipped = &self.scratch.flipped;
+        if flipped.len() != t.relative.len() {
+            return false;
+        }
+        // The triangles of those turns (kept from the last frame, or made for the first).
+        let ready = mesh.parts.len() == t.tris.len()
+            && mesh.triangles.len() == t.tris.iter().map(Vec::len).sum::<usize>();
+        if !ready {
+            t.set_triangles(flipped, mesh);
+        }
+        if !self.pass.as_ref().is_some_and(|p| p.fits(grids)) {
+            let periodic = grids.iter().map(|g| g.periodic_v).collect();
+            self.pass = Some(Pass::new(t, periodic));
+        }
+        let pass = self.pass.as_mut().expect("made above");
+        pass.finish(t, grids, diag, flipped, mesh)
     }
 
     /// True when the merge would join the grids' vertices as in the first frame (sufficient
@@ -252,17 +321,36 @@ impl Plan {
     }
 }
 
-/// The box around every grid vertex (as `diagonal` finds it).
+/// The box around every grid vertex (as `diagonal` finds it: a coordinate that is NaN is passed
+/// over). In f32, eight vertices a step; the f64 box of the f32 numbers is the same.
 fn bounds(grids: &[GridMesh]) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in grids.iter().flat_map(|g| &g.positions) {
-        for c in 0..3 {
-            lo[c] = lo[c].min(p[c] as f64);
-            hi[c] = hi[c].max(p[c] as f64);
+    const L: usize = 24;
+    let mut lo = [f32::INFINITY; L];
+    let mut hi = [f32::NEG_INFINITY; L];
+    // `x < lo` is false for a NaN `x`: as `f64::min`, the NaN is passed over.
+    let mut add = |l: usize, x: f32| {
+        lo[l] = if x < lo[l] { x } else { lo[l] };
+        hi[l] = if x > hi[l] { x } else { hi[l] };
+    };
+    for g in grids {
+        let (chunks, rest) = g.positions.as_flattened().as_chunks::<L>();
+        for ch in chunks {
+            for (l, &x) in ch.iter().enumerate() {
+                add(l, x);
+            }
+        }
+        // `rest` holds whole vertices: lane `l` is coordinate `l % 3` throughout.
+        for (l, &x) in rest.iter().enumerate() {
+            add(l, x);
         }
     }
-    (lo, hi)
+    let mut box_lo = [f64::INFINITY; 3];
+    let mut box_hi = [f64::NEG_INFINITY; 3];
+    for l in 0..L {
+        box_lo[l % 3] = box_lo[l % 3].min(lo[l] as f64);
+        box_hi[l % 3] = box_hi[l % 3].max(hi[l] as f64);
+    }
+    (box_lo, box_hi)
 }
 
 /// The squared distance of two mesh points in f64, computed as the merge computes it.
@@ -305,22 +393,10 @@ impl WeldTopology {
                 .iter()
                 .map(|&(root, rel)| rel ^ flip_of(root))
                 .collect();
-            mesh.triangles.clear();
-            mesh.parts.clear();
-            for (k, ts) in self.tris.iter().enumerate() {
-                let start = mesh.triangles.len();
-                if flipped[k] {
-                    mesh.triangles.extend(ts.iter().map(|&[a, b, c]| [a, c, b]));
-                } else {
-                    mesh.triangles.extend_from_slice(ts);
-                }
-                mesh.parts.push(Part {
-                    name: self.names[k].clone(),
-                    triangles: start..mesh.triangles.len(),
-                });
-            }
+            self.set_triangles(&flipped, mesh);
             sc.flipped = flipped;
         }
+        let positions = &mesh.positions;
 
         // Normals: the mean of the welded copies, each turned with its patch.
         sc.sums.clear();
@@ -369,6 +445,24 @@ impl WeldTopology {
         }
     }
 
+    /// The triangles and parts of the mesh for grids turned as `flipped`.
+    fn set_triangles(&self, flipped: &[bool], mesh: &mut TriMesh) {
+        mesh.triangles.clear();
+        mesh.parts.clear();
+        for (k, ts) in self.tris.iter().enumerate() {
+            let start = mesh.triangles.len();
+            if flipped[k] {
+                mesh.triangles.extend(ts.iter().map(|&[a, b, c]| [a, c, b]));
+            } else {
+                mesh.triangles.extend_from_slice(ts);
+            }
+            mesh.parts.push(Part {
+                name: self.names[k].clone(),
+                triangles: start..mesh.triangles.len(),
+            });
+        }
+    }
+
     /// [`WeldTopology::weld`] by the check of the vertex map and the gather of this module.
     pub(super) fn weld_gathered(&self, grids: &[GridMesh]) -> Option<Welded> {
         let mut plan = Plan::new(self);
@@ -380,3 +474,7 @@ impl WeldTopology {
         })
     }
 }
+
+#[cfg(test)]
+#[path = "weld_frame_tests.rs"]
+mod tests;

@@ -204,7 +204,12 @@ fn report_reference(mesh: &TriMesh) -> MeshReport {
 /// A grid from a position function on `u ∈ [0, 1]` and `v` (periodic: `2πj/nv`, else
 /// `[0, 2π]` with both ends), normals from finite differences of the function (any unit-ish
 /// vector does: the weld only averages them).
-fn grid(nu: usize, nv: usize, periodic: bool, f: impl Fn(f64, f64) -> [f64; 3]) -> GridMesh {
+pub(super) fn grid(
+    nu: usize,
+    nv: usize,
+    periodic: bool,
+    f: impl Fn(f64, f64) -> [f64; 3],
+) -> GridMesh {
     let u: Vec<f64> = (0..nu).map(|i| i as f64 / (nu - 1) as f64).collect();
     let v: Vec<f64> = if periodic {
         (0..nv).map(|j| crate::TAU * j as f64 / nv as f64).collect()
@@ -255,7 +260,7 @@ fn sphere(nu: usize, nv: usize, r: f64, u0: f64, u1: f64, periodic: bool) -> Gri
 /// Sets of grids covering the cases: poles (exact and within the tolerance), duplicated seam
 /// columns, shared edges between patches (both directions), a collapsed row in the middle,
 /// sheets, several groups, conflicting orientations, tiny and degenerate grids.
-fn cases() -> Vec<(String, Vec<GridMesh>)> {
+pub(super) fn cases() -> Vec<(String, Vec<GridMesh>)> {
     use std::f64::consts::PI;
     let mut out: Vec<(String, Vec<GridMesh>)> = Vec::new();
     for (nu, nv) in [(2, 3), (3, 3), (3, 4), (4, 5), (9, 16), (17, 32)] {

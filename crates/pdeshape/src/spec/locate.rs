@@ -4,14 +4,33 @@ use crate::{Error, Result};
 use toml_edit::{ImDocument, Item, Value};
 
 /// Refuses NaN and infinite numbers anywhere in a parsed TOML value; the error names the path.
+/// (The paths are spelled out only when there is an error to report.)
 pub(crate) fn check_finite(value: &toml::Value, place: &str) -> Result<()> {
+    if all_finite(value) {
+        return Ok(());
+    }
+    find_not_finite(value, place)
+}
+
+/// Whether every number in the tree is finite.
+fn all_finite(value: &toml::Value) -> bool {
+    match value {
+        toml::Value::Float(x) => x.is_finite(),
+        toml::Value::Array(items) => items.iter().all(all_finite),
+        toml::Value::Table(t) => t.values().all(all_finite),
+        _ => true,
+    }
+}
+
+/// [`check_finite`]'s walk, naming the path of the first number that is not finite.
+fn find_not_finite(value: &toml::Value, place: &str) -> Result<()> {
     match value {
         toml::Value::Float(x) if !x.is_finite() => {
             Err(Error::invalid(format!("must be finite (got {x})")).at(place))
         }
         toml::Value::Array(items) => {
             for (i, item) in items.iter().enumerate() {
-                check_finite(item, &format!("{place}[{i}]"))?;
+                find_not_finite(item, &format!("{place}[{i}]"))?;
             }
             Ok(())
         }
@@ -22,7 +41,7 @@ pub(crate) fn check_finite(value: &toml::Value, place: &str) -> Result<()> {
                 } else {
                     format!("{place}.{}", key_path(k))
                 };
-                check_finite(item, &p)?;
+                find_not_finite(item, &p)?;
             }
             Ok(())
         }
