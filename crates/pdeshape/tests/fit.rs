@@ -178,34 +178,7 @@ fn u_tube_needs_a_template() {
     let mesh = sweep_with(u_tube, fit_meshes::u_tube_density, 300, 100, 1e-4 * 4.6, 6);
     let e = fit_mesh(&mesh, &options(2e-3)).unwrap_err().to_string();
     assert!(e.contains("2 separate loops"), "{e}");
-    let template = parse_template(
-        r#"
-[[parts]]
-name = "left"
-axis = [0, 0, 1]
-origin = [-1, 0, 0]
-positions = [0.0, 2.0]
-start = "pole"
-
-[[parts]]
-name = "bend"
-planes = [
-  { point = [-1, 0, 2], normal = [0, 0, 1] },
-  { point = [-0.70710678, 0, 2.70710678], normal = [0.70710678, 0, 0.70710678] },
-  { point = [0, 0, 3], normal = [1, 0, 0] },
-  { point = [0.70710678, 0, 2.70710678], normal = [0.70710678, 0, -0.70710678] },
-  { point = [1, 0, 2], normal = [0, 0, -1] },
-]
-
-[[parts]]
-name = "right"
-axis = [0, 0, -1]
-origin = [1, 0, 0]
-positions = [-2.0, 0.0]
-end = "pole"
-"#,
-    )
-    .unwrap();
+    let template = parse_template(fit_meshes::U_TUBE_TEMPLATE).unwrap();
     let fit = fit_template(&mesh, &template, &options(2e-3)).unwrap();
     assert_eq!(fit.mode, FitMode::Template);
     let (spec, solved, m) = measured(&mesh, &fit);

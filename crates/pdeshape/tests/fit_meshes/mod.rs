@@ -276,3 +276,31 @@ pub fn u_tube(s: f64, phi: f64) -> Vec3 {
     let n = b.cross(&t);
     p + (n * phi.cos() + b * phi.sin()) * r
 }
+
+/// The template that fits [`u_tube`]: three joined parts, the two legs along z and the bend
+/// by five planes about its centre, poles at both ends.
+pub const U_TUBE_TEMPLATE: &str = r#"
+[[parts]]
+name = "left"
+axis = [0, 0, 1]
+origin = [-1, 0, 0]
+positions = [0.0, 2.0]
+start = "pole"
+
+[[parts]]
+name = "bend"
+planes = [
+  { point = [-1, 0, 2], normal = [0, 0, 1] },
+  { point = [-0.70710678, 0, 2.70710678], normal = [0.70710678, 0, 0.70710678] },
+  { point = [0, 0, 3], normal = [1, 0, 0] },
+  { point = [0.70710678, 0, 2.70710678], normal = [0.70710678, 0, -0.70710678] },
+  { point = [1, 0, 2], normal = [0, 0, -1] },
+]
+
+[[parts]]
+name = "right"
+axis = [0, 0, -1]
+origin = [1, 0, 0]
+positions = [-2.0, 0.0]
+end = "pole"
+"#;
