@@ -312,3 +312,69 @@ fn templates_fit_and_bad_ones_are_located() {
         );
     }
 }
+
+/// A sheet part of a template: planes across y from −1.4 to 1.4, both ends at the mesh's edge
+/// (the arcs of its boundary beyond the first and the last plane): the fit covers the whole
+/// sheet within the tolerance, and its curves are cosine series (profiles closed evenly).
+#[test]
+fn sheet_templates_reach_the_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "sheet.obj", &sheet_obj(60, 41));
+    let template = write(
+        dir.path(),
+        "sheet_template.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 0.0, 1.4]\nstart = \"edge\"\nend = \"edge\"\n",
+    );
+    let design = dir.path().join("sheet.toml");
+    let json = dir.path().join("sheet.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        s(&template),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "template", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    let value: toml::Value = toml::from_str(&text).unwrap();
+    let curves = value["curves"].as_table().unwrap();
+    assert!(!curves.is_empty());
+    for (name, c) in curves {
+        assert!(
+            c.get("sin").is_none_or(|s| s.as_array().unwrap().is_empty()),
+            "{name}: {c}"
+        );
+    }
+    // A pole closes tube parts only.
+    let bad = write(
+        dir.path(),
+        "bad.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 1.4]\nstart = \"pole\"\n",
+    );
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&dir.path().join("bad_fit.toml")),
+        "--template",
+        s(&bad),
+    ]);
+    assert_bad(&out, &["bad.toml:6:1", "parts[0].start", "tube part"]);
+    assert!(!dir.path().join("bad_fit.toml").exists());
+}
