@@ -10,7 +10,8 @@ if [ ! -x "$py" ] || [ ! -f "$validator" ]; then
     echo "FAIL: $py or $validator missing: run .ci/readers.sh first" >&2
     exit 1
 fi
-cargo build --release -p pdeshape-cli
+# The binary as the test command builds it (the same features: nothing is rebuilt after it).
+cargo test --workspace --release --no-run --quiet
 bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT

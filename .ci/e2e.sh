@@ -10,5 +10,6 @@ if ! command -v chromium >/dev/null 2>&1; then
   apt-get install -y -qq chromium >/dev/null
 fi
 test -x /usr/bin/chromium
-cargo build --release -p pdeshape-cli
+# The binary as the test command builds it (the same features: nothing is rebuilt after it).
+cargo test --workspace --release --no-run --quiet
 (cd e2e && npm ci --no-audit --no-fund && npm test)

@@ -8,6 +8,7 @@ if [ ! -x "$venv/bin/python" ]; then
   python3.11 -m venv "$venv" || python3 -m venv "$venv"
 fi
 "$venv/bin/pip" install -q -r .ci/occ-requirements.txt
-cargo build --release -p pdeshape-cli
+# The binary as the test command builds it (the same features: nothing is rebuilt after it).
+cargo test --workspace --release --no-run --quiet
 bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 "$venv/bin/python" bench/peers/occ_check.py "$bin" examples

@@ -14,7 +14,8 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 # The extension's lints (it is outside the workspace, so the workspace's clippy skips it).
 cargo clippy --manifest-path python/Cargo.toml -- -D warnings
 "$venv/bin/pip" install -q --force-reinstall --no-deps ./python
-cargo build --release -p pdeshape-cli
+# The binary as the test command builds it (the same features: nothing is rebuilt after it).
+cargo test --workspace --release --no-run --quiet
 export PDESHAPE_CLI="$CARGO_TARGET_DIR/release/pdeshape"
 cd python/tests
 "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .

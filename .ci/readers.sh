@@ -14,7 +14,8 @@ if [ ! -x "$here/.venv/bin/python" ]; then
 fi
 "$here/.venv/bin/pip" install -q -r "$here/requirements.txt"
 (cd "$here" && npm ci --silent --no-audit --no-fund)
-cargo build --release -p pdeshape-cli
+# The binary as the test command builds it (the same features: nothing is rebuilt after it).
+cargo test --workspace --release --no-run --quiet
 bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT

@@ -9,8 +9,9 @@ if ! command -v ccx >/dev/null 2>&1; then
     apt-get update -qq
     apt-get install -y -qq calculix-ccx
 fi
-cargo test --release --workspace --test shell_ccx -- --ignored
-cargo test --release -p pdeshape-cli --test shell -- --ignored
+# --workspace: the features of the README's test command, so nothing is rebuilt after it.
+cargo test --release --workspace --test shell_ccx --test shell -- --ignored
+bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 venv="${SHELL_VENV:-.ci/.venv-shell}"
 if [ ! -x "$venv/bin/python" ]; then
     python3.11 -m venv "$venv" || python3 -m venv "$venv"
@@ -18,6 +19,6 @@ fi
 "$venv/bin/pip" install -q -r .ci/shell-requirements.txt
 out="$(mktemp -d)"
 trap 'rm -rf "$out"' EXIT
-cargo run -q --release -p pdeshape-cli -- shell examples/yoghurt.toml --json -q \
+"$bin" shell examples/yoghurt.toml --json -q \
     -o "$out/yoghurt.vtu" > "$out/yoghurt.json"
 "$venv/bin/python" .ci/shell_vtu_check.py "$out/yoghurt.vtu" "$out/yoghurt.json"

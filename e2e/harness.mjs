@@ -19,8 +19,9 @@ export function binary() {
 // A start directory holding copies of the examples the tests load.
 export function startDir() {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'pdeshape-e2e-'));
-  fs.mkdirSync(path.join(dir, 'examples'));
-  for (const f of ['cup.toml', 'wine_glass.toml']) {
+  fs.mkdirSync(path.join(dir, 'examples', 'anim'), { recursive: true });
+  for (const f of ['cup.toml', 'wine_glass.toml', 'teacup.toml', 'trimmed_vase.toml', 'aeroplane.toml', 'swirl_port_params.toml',
+    'anim/ventricle.toml', 'anim/fish.toml']) {
     fs.copyFileSync(path.join(repo, 'examples', f), path.join(dir, 'examples', f));
   }
   return dir;

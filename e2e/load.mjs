@@ -1,6 +1,7 @@
 // Load test of `pdeshape serve` on loopback: 50 concurrent clients × 1000 requests each, mixed
 // (frames, edits, undo/redo, file lists, and bad requests: no token, foreign Origin, malformed
-// JSON, oversized grid, unknown path, edit of a missing curve). Bounded in time (DEADLINE_S).
+// JSON, oversized grid, unknown path, edit of a missing curve, a missing spine point, an empty
+// local edit, time on a still design, a missing trim). Bounded in time (DEADLINE_S).
 // Prints the count per status, p50/p99 latency per kind, and the server's resident memory.
 // Usage: node load.mjs [clients] [requests per client]   (a benchmark: not part of the tests)
 
@@ -46,6 +47,11 @@ function pick() {
     () => fetch(`${base}/api/edit?${q}`, { method: 'POST', headers: auth,
       body: JSON.stringify({ edit: { edit: 'move_control_point', name: 'nope', index: 0, point: [0, 0, 0] } }) }),
     () => fetch(`${base}/api/load?${q}`, { method: 'POST', headers: auth, body: '{"path": "../../etc/x.toml"}' }),
+    () => fetch(`${base}/api/spine?${q}`, { method: 'POST', headers: auth, body: '{"index": 9, "point": [0, 0, 1]}' }),
+    () => fetch(`${base}/api/local?${q}`, { method: 'POST', headers: auth, body: '{"name": "rim", "from": 1, "to": 1}' }),
+    () => fetch(`${base}/api/local?name=rim&from=x&to=1`, { headers: auth }),
+    () => fetch(`${base}/api/time?${q}`, { method: 'POST', headers: auth, body: '{"t": 0.5}' }),
+    () => fetch(`${base}/api/edit?${q}`, { method: 'POST', headers: auth, body: '{"edit": {"edit": "remove_trim", "index": 3}}' }),
   ];
   return ['bad', bad[Math.floor(rand() * bad.length)]];
 }

@@ -45,8 +45,9 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         table(&built.title, &di)
     };
     if !built.trims.is_empty() {
-        let trimmed = pdeshape::analysis::integrate_trimmed_design(&built, TRIM_NU, TRIM_NV)
-            .map_err(|e| design.error(&e))?;
+        let trimmed =
+            pdeshape::analysis::integrate_trimmed_design(&built, TRIM_NU, TRIM_NV, &di.orientation)
+                .map_err(|e| design.error(&e))?;
         if args.json {
             let mut v: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
             v["trimmed"] = trimmed

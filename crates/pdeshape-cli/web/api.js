@@ -47,7 +47,13 @@ export function decodeFrame(buffer) {
     const nv = view.getUint32(at + 4, true);
     const flags = view.getUint32(at + 8, true);
     at += 12;
-    const n = nu * nv;
+    let n = nu * nv;
+    let triangles = 0;
+    if (flags & 4) {
+      n = view.getUint32(at, true);
+      triangles = view.getUint32(at + 4, true);
+      at += 8;
+    }
     const positions = new Float32Array(buffer, at, 3 * n);
     at += 12 * n;
     const normals = new Int16Array(buffer, at, 3 * n);
@@ -57,7 +63,13 @@ export function decodeFrame(buffer) {
       colors = new Uint8Array(buffer, at, 3 * n);
       at += Math.ceil((3 * n) / 4) * 4;
     }
-    surfaces.push({ nu, nv, periodic: (flags & 1) !== 0, positions, normals, colors });
+    // A trimmed surface (holes cut out) comes with its triangles; a grid's are implied.
+    let indices = null;
+    if (flags & 4) {
+      indices = new Uint32Array(buffer, at, 3 * triangles);
+      at += 12 * triangles;
+    }
+    surfaces.push({ nu, nv, periodic: (flags & 1) !== 0, positions, normals, colors, indices });
   }
   return { scene, surfaces };
 }
@@ -75,6 +87,10 @@ export const api = {
   frame: (q) => frameOf('GET', 'frame?' + q),
   edit: (q, body) => frameOf('POST', 'edit?' + q, body),
   convert: (q, name) => frameOf('POST', 'convert?' + q, { name }),
+  spine: (q, body) => frameOf('POST', 'spine?' + q, body),
+  local: (q, body) => frameOf('POST', 'local?' + q, body),
+  localFrame: async (q) => (await (await request('GET', 'local?' + q)).response.json()),
+  time: (q, t) => frameOf('POST', 'time?' + q, { t }),
   undo: (q) => frameOf('POST', 'undo?' + q),
   redo: (q) => frameOf('POST', 'redo?' + q),
   reset: (q) => frameOf('POST', 'new?' + q),

@@ -1,10 +1,15 @@
-// The designer: wires the view, the panels and the API together. Every change is an edit value
-// sent to the server; the answer is a frame (scene + meshes). While a drag runs, at most one
-// request is in flight and only the newest pointer position waits (events are coalesced, never
-// queued).
+// The designer: wires the view, the (u, v) panel, the timeline and the panels to the API. Every
+// change is an edit value sent to the server; the answer is a frame (scene + meshes). While a
+// drag, a slider gesture or playback runs, at most one of its requests is in flight and only
+// the newest value waits (channel.js: coalesced, never queued).
 
 import { api, ApiError } from './api.js';
+import { Channel } from './channel.js';
 import { View, COLORS } from './view.js';
+import { UvPanel } from './uv.js';
+import { Timeline } from './timeline.js';
+import { LocalTool } from './local.js';
+import * as params from './params.js';
 import * as panels from './panels.js';
 import * as m from './math.js';
 
@@ -15,7 +20,6 @@ let busy = Promise.resolve();
 
 // Measurements for tests and benchmarks: pointer event → new surface on screen.
 const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
-window.__pdeshape = { perf, state: () => scene, view };
 
 function query() {
   return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}`;
@@ -25,17 +29,29 @@ function status(text) {
   $('status').textContent = text;
 }
 
+function message(e) {
+  if (e instanceof ApiError) return e.place ? `${e.place}: ${e.message}` : e.message;
+  return String(e && e.message ? e.message : e);
+}
+
 // Shows a frame: meshes, scene, panels; `onDrawn` runs after the frame is on screen.
+let lastFrame = null;
 function show(frame, onDrawn) {
+  lastFrame = frame;
   scene = frame.scene;
   view.setSurfaces(frame.surfaces, COLORS.patches);
+  local.follow();
   view.setScene(scene);
   panels.fill(scene);
+  params.fill(scene, paramSlider);
+  syncUvPatch();
+  timeline.update(scene);
   perf.frames += 1;
-  const verts = frame.surfaces.reduce((n, s) => n + s.nu * s.nv, 0);
-  status(`v${scene.version}  ${frame.surfaces.length} surfaces, ${verts} vertices, ` +
-    `${(frame.bytes / 1024).toFixed(0)} KiB, server ${scene.server_ms.toFixed(1)} ms, ` +
-    `round trip ${frame.roundTrip.toFixed(1)} ms`);
+  const verts = frame.surfaces.reduce((n, s) => n + s.positions.length / 3, 0);
+  const trimmed = frame.surfaces.filter((s) => s.indices).length;
+  status(`v${scene.version}  ${frame.surfaces.length} surfaces${trimmed ? ` (${trimmed} trimmed)` : ''}, ` +
+    `${verts} vertices, ${(frame.bytes / 1024).toFixed(0)} KiB, server ${scene.server_ms.toFixed(1)} ms, ` +
+    `round trip ${frame.roundTripMs.toFixed(1)} ms`);
   view.onDrawn = () => {
     view.onDrawn = null;
     if (onDrawn) onDrawn();
@@ -49,7 +65,6 @@ function run(area, call, onDrawn) {
   busy = busy.then(async () => {
     try {
       const frame = await call();
-      frame.roundTrip = frame.roundTripMs;
       panels.showError(area, '');
       show(frame, onDrawn);
     } catch (e) {
@@ -61,13 +76,24 @@ function run(area, call, onDrawn) {
   return busy;
 }
 
-function message(e) {
-  if (e instanceof ApiError) return e.place ? `${e.place}: ${e.message}` : e.message;
-  return String(e && e.message ? e.message : e);
-}
-
 function edit(area, value, group) {
   return run(area, () => api.edit(query(), { edit: value, group }));
+}
+
+// A channel whose frames are shown (with their latency measured) and whose refusals are said
+// beside `area`.
+const channels = [];
+function channel(area, send) {
+  const ch = new Channel(send, (frame, t) => {
+    panels.showError(area, '');
+    show(frame, () => {
+      perf.latencies.push(performance.now() - t);
+      perf.server.push(frame.scene.server_ms);
+      perf.roundTrips.push(frame.roundTripMs);
+    });
+  }, (e) => panels.showError(area, message(e)), perf);
+  channels.push(ch);
+  return ch;
 }
 
 // The check and analyze panels follow the design a moment after it settles.
@@ -86,63 +112,78 @@ async function refreshReports() {
   }
 }
 
-// ---- Dragging control points -------------------------------------------------------------
-let drag = null; // { curve, index, plane, group, pending, inflight }
 let groupCounter = Date.now();
+const newGroup = () => ++groupCounter;
+
+// ---- Channels of the gestures ------------------------------------------------------------
+const controlChannel = channel('drag', (body) => api.edit(query(), body));
+const spineChannel = channel('spine', (body) => api.spine(query(), body));
+const localChannel = channel('local', (body) => api.local(query(), body));
+const uvChannel = channel('uv', (body) => api.edit(query(), body));
+const timeChannel = channel('time', (body) => api.time(query(), body.t));
+
+const timeline = new Timeline(timeChannel);
+const local = new LocalTool(view, (q) => api.localFrame(q), (text) => panels.showError('local', text));
+const uv = new UvPanel($('uv'), {
+  edit: (makeBody, t) => uvChannel.push(makeBody, t),
+  newGroup,
+  changed: () => uvTools(),
+});
+// A digest of the meshes on screen (positions and triangles), to see that a surface changed.
+function digest() {
+  let h = 0;
+  for (const s of lastFrame ? lastFrame.surfaces : []) {
+    for (const a of [new Uint32Array(s.positions.buffer, s.positions.byteOffset, s.positions.length), s.indices || []]) {
+      for (let i = 0; i < a.length; i++) h = (Math.imul(h, 31) + a[i]) | 0;
+    }
+  }
+  return h;
+}
+// True when no gesture has a request in flight or waiting.
+const idle = () => channels.every((c) => c.idle);
+window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle };
+
+// ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
+let drag = null;
 
 function pointerPos(ev) {
   const r = view.canvas.getBoundingClientRect();
   return [ev.clientX - r.left, ev.clientY - r.top];
 }
 
-function sendDrag() {
-  if (!drag || drag.inflight || !drag.pending) return;
-  const { point, t } = drag.pending;
-  drag.pending = null;
-  drag.inflight = true;
-  perf.sent += 1;
-  const d = drag;
-  const body = {
-    edit: { edit: 'move_control_point', name: d.curve, index: d.index, point },
-    group: d.group,
-    world: true,
-  };
-  api.edit(query(), body).then((frame) => {
-    frame.roundTrip = frame.roundTripMs;
-    panels.showError('drag', '');
-    show(frame, () => {
-      const now = performance.now();
-      perf.latencies.push(now - t);
-      perf.server.push(frame.scene.server_ms);
-      perf.roundTrips.push(frame.roundTripMs);
-    });
-  }).catch((e) => {
-    // The server kept the last good surface; say why beside the curve controls.
-    panels.showError('drag', message(e));
-  }).finally(() => {
-    d.inflight = false;
-    sendDrag();
-  });
-}
+const patchRefOf = (name) => (scene && scene.has_patches ? name : null);
 
 view.canvas.addEventListener('pointerdown', (ev) => {
   const [x, y] = pointerPos(ev);
   view.canvas.setPointerCapture(ev.pointerId);
-  const hit = ev.button === 0 && !ev.shiftKey ? view.pick(x, y) : null;
-  if (hit) {
-    view.selected = { curve: hit.curve, index: hit.index };
-    $('curve').value = hit.curve;
-    panels.curvePanel(scene);
-    drag = {
-      curve: hit.curve, index: hit.index, group: ++groupCounter,
-      plane: view.dragPlane(hit.point, $('plane').value), pending: null, inflight: false,
-    };
-    perf.drags += 1;
+  if (local.picking && ev.button === 0) {
+    local.picked(scene, view.pickCurvePoint(x, y, local.curve));
     view.setScene(scene);
     view.request();
-  } else {
-    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y] };
+    return;
   }
+  const hit = ev.button === 0 && !ev.shiftKey ? view.pick(x, y) : null;
+  if (!hit) {
+    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y] };
+    return;
+  }
+  view.selected = hit;
+  const group = newGroup();
+  const mode = $('plane').value;
+  if (hit.kind === 'control') {
+    $('curve').value = hit.curve;
+    panels.curvePanel(scene);
+    drag = { ...hit, group, ...{ plane: view.dragPlane(hit.point, mode) } };
+  } else if (hit.kind === 'spine') {
+    $('patch').value = hit.patch;
+    panels.patchPanel(scene);
+    drag = { ...hit, group, plane: view.dragPlane(hit.point, mode) };
+  } else {
+    drag = { ...hit, group, ...local.geometry($('l-mode').value) };
+  }
+  perf.drags += 1;
+  view.setScene(scene);
+  view.request();
 });
 
 view.canvas.addEventListener('pointermove', (ev) => {
@@ -155,15 +196,32 @@ view.canvas.addEventListener('pointermove', (ev) => {
     return;
   }
   const ray = view.ray(x, y);
-  const hit = m.rayPlane(ray.origin, ray.dir, drag.plane.point, drag.plane.normal);
-  if (!hit) return;
-  if (drag.pending) perf.coalesced += 1;
-  drag.pending = { point: hit, t: ev.timeStamp };
-  sendDrag();
+  const p = drag.line
+    ? m.rayLine(ray.origin, ray.dir, drag.line.point, drag.line.dir)
+    : m.rayPlane(ray.origin, ray.dir, drag.plane.point, drag.plane.normal);
+  if (!p) return;
+  const d = drag;
+  if (d.kind === 'control') {
+    controlChannel.push(() => ({
+      edit: { edit: 'move_control_point', name: d.curve, index: d.index, point: p },
+      group: d.group,
+      world: true,
+    }), ev.timeStamp);
+  } else if (d.kind === 'spine') {
+    spineChannel.push(() => ({ patch: patchRefOf(d.patch), index: d.index, point: p, group: d.group }), ev.timeStamp);
+  } else {
+    localChannel.push(() => local.body(p, d.group), ev.timeStamp);
+  }
 });
 
 function endDrag() {
+  const was = drag;
   drag = null;
+  // The next drag of the local handle starts from the curve as it is now.
+  if (was && was.kind === 'local') {
+    const again = () => (localChannel.idle ? local.show(local.curve).then(() => { view.setScene(scene); view.request(); }) : setTimeout(again, 50));
+    again();
+  }
 }
 view.canvas.addEventListener('pointerup', endDrag);
 view.canvas.addEventListener('pointercancel', endDrag);
@@ -172,19 +230,19 @@ view.canvas.addEventListener('wheel', (ev) => {
   ev.preventDefault();
   view.zoom(Math.exp(ev.deltaY * 0.001));
 }, { passive: false });
-window.addEventListener('resize', () => view.request());
+window.addEventListener('resize', () => { view.request(); uv.draw(); });
 
 // ---- Panels ------------------------------------------------------------------------------
 const selectedCurve = () => $('curve').value;
 const selectedPatch = () => $('patch').value;
-const patchRef = () => (scene && scene.has_patches ? selectedPatch() : null);
+const patchRef = () => patchRefOf(selectedPatch());
 
 // The centre of rotations and scalings: the picked control point of the curve, else the
 // curve's centroid.
 function curveCentre() {
   const c = scene.curves.find((x) => x.name === selectedCurve());
   const sel = view.selected;
-  if (c && c.control && sel && sel.curve === c.name && c.control[sel.index]) return c.control[sel.index];
+  if (c && c.control && sel && sel.kind === 'control' && sel.curve === c.name && c.control[sel.index]) return c.control[sel.index];
   return (c && c.centroid) || [0, 0, 0];
 }
 
@@ -214,30 +272,23 @@ $('scale').onclick = () => edit('curve', { edit: 'transform', name: selectedCurv
 
 // Sliders: one undo step per slider gesture, edits coalesced like drags.
 function slider(input, area, makeEdit, label) {
-  let group = null, inflight = false, pending = null;
-  const pump = () => {
-    if (inflight || pending === null) return;
-    const value = pending;
-    pending = null;
-    inflight = true;
-    api.edit(query(), { edit: makeEdit(value), group }).then((frame) => {
-      frame.roundTrip = frame.roundTripMs;
-      panels.showError(area, '');
-      show(frame);
-    }).catch((e) => panels.showError(area, message(e))).finally(() => {
-      inflight = false;
-      pump();
-    });
-  };
-  input.addEventListener('pointerdown', () => { group = ++groupCounter; });
-  input.addEventListener('input', () => {
-    if (group === null) group = ++groupCounter;
-    if (label) label.textContent = Number(input.value).toFixed(2);
-    pending = Number(input.value);
-    pump();
+  let group = null;
+  const ch = channel(area, (body) => api.edit(query(), body));
+  input.addEventListener('pointerdown', () => { group = newGroup(); input.dataset.active = '1'; });
+  input.addEventListener('input', (ev) => {
+    if (group === null) group = newGroup();
+    input.dataset.active = '1';
+    if (label) label.textContent = Number(input.value).toFixed(label.dataset.digits ? Number(label.dataset.digits) : 2);
+    const value = Number(input.value);
+    const g = group;
+    ch.push(() => ({ edit: makeEdit(value), group: g }), ev.timeStamp);
   });
-  input.addEventListener('change', () => { group = null; });
+  input.addEventListener('change', () => { group = null; input.dataset.active = ''; });
 }
+const paramSlider = (input, makeEdit, label) => {
+  label.dataset.digits = '3';
+  slider(input, 'params', makeEdit, label);
+};
 
 function curveSpecWith(changes) {
   const c = scene.curves.find((x) => x.name === selectedCurve());
@@ -249,8 +300,17 @@ slider($('a'), 'patch', (v) => ({ edit: 'set_smoothing', patch: patchRef(), a: v
 $('order').onchange = () => edit('patch', { edit: 'set_order', patch: patchRef(), order: Number($('order').value) });
 $('modes').onchange = () => edit('patch', { edit: 'set_modes', modes: Number($('modes').value) });
 $('delete-patch').onclick = () => edit('patch', { edit: 'remove_patch', name: selectedPatch() });
-$('curve').onchange = () => panels.curvePanel(scene);
-$('patch').onchange = () => panels.patchPanel(scene);
+$('curve').onchange = () => { panels.curvePanel(scene); local.clear(); view.setScene(scene); view.request(); };
+$('patch').onchange = () => { panels.patchPanel(scene); syncUvPatch(selectedPatch()); };
+
+// Spine (§5.3): how the sections follow an edited spine, and back to the solved spine.
+$('spine-carry').onchange = () => run('spine', () => api.spine(query(), { patch: patchRef(), carry: $('spine-carry').value }));
+$('spine-reset').onclick = () => edit('spine', { edit: 'set_spine', patch: patchRef(), spine: null });
+
+// Local edits (§6.2).
+$('l-pick').onclick = () => { local.startPicking(selectedCurve()); view.setScene(scene); view.request(); };
+$('l-show').onclick = async () => { await local.show(selectedCurve()); view.setScene(scene); view.request(); };
+$('l-done').onclick = () => { local.clear(); view.setScene(scene); view.request(); };
 
 $('add-curve').onclick = () => {
   const name = $('new-name').value.trim();
@@ -286,6 +346,52 @@ $('add-patch').onclick = () => {
   edit('add', { edit: 'insert_patch', index: scene.surfaces.length, patch: { name, conditions } });
 };
 
+// ---- The (u, v) panel --------------------------------------------------------------------
+let uvFile = null;
+function syncUvPatch(name) {
+  if (!scene) return;
+  const sel = $('uv-patch');
+  const names = scene.surfaces.map((s) => s.name);
+  if (sel.options.length !== names.length || [...sel.options].some((o, k) => o.value !== names[k])) {
+    sel.replaceChildren(...names.map((n) => {
+      const o = document.createElement('option');
+      o.value = n; o.textContent = n;
+      return o;
+    }));
+  }
+  if (name) sel.value = name;
+  if (scene.file !== uvFile || !names.includes(sel.value)) {
+    // A design just loaded: its first patch with holes or attachments, else its first.
+    uvFile = scene.file;
+    const hosts = new Set(scene.attachments.map((a) => a.host));
+    const first = scene.surfaces.find((s) => s.trimmed || hosts.has(s.name));
+    sel.value = first ? first.name : names[0];
+  }
+  uv.setScene(scene, sel.value);
+  uvTools();
+}
+$('uv-patch').onchange = () => {
+  $('patch').value = $('uv-patch').value;
+  panels.patchPanel(scene);
+  syncUvPatch();
+};
+function uvTools() {
+  const e = uv.entry();
+  $('uv-method').value = e ? (e.spec.method || 'cdt') : 'cdt';
+  $('uv-method').disabled = !e;
+  $('uv-delete').disabled = !(uv.selected && uv.selected.type === 'trim');
+  const s = uv.selected;
+  $('uv-selected').textContent = !s ? 'drag a curve to move it, its squares to reshape it'
+    : s.type === 'trim' ? `trims[${s.index}].curves[${s.curve}]` : `${s.name} (attachment on ${uv.patch.name})`;
+}
+const uvEdit = (make) => {
+  const value = make();
+  if (value) edit('uv', value);
+};
+$('uv-add').onclick = () => uvEdit(() => uv.addEdit($('uv-kind').value));
+$('uv-delete').onclick = () => { uvEdit(() => uv.deleteEdit()); uv.selected = null; };
+$('uv-method').onchange = () => uvEdit(() => uv.methodEdit($('uv-method').value));
+
 // ---- Files -------------------------------------------------------------------------------
 async function refreshFiles() {
   try {
@@ -302,15 +408,21 @@ async function refreshFiles() {
   }
 }
 
-$('load').onclick = () => {
+function fresh() {
   panels.clearErrors();
+  local.clear();
+  timeline.pause();
+  uv.selected = null;
+  view.selected = null;
   view.framed = false;
   view.camera.panned = false;
+}
+$('load').onclick = () => {
+  fresh();
   run('file', () => api.load(query(), $('files').value));
 };
 $('new').onclick = () => {
-  panels.clearErrors();
-  view.framed = false;
+  fresh();
   run('file', () => api.reset(query()));
 };
 $('save').onclick = async () => {
@@ -360,7 +472,16 @@ for (const key of ['curves', 'vectors', 'spines', 'control']) {
     view.request();
   };
 }
+$('show-uv').onchange = (ev) => {
+  $('uv-box').hidden = !ev.target.checked;
+  view.request();
+  uv.draw();
+};
 $('refresh-reports').onclick = refreshReports;
+$('legend').onclick = () => {
+  $('legend').classList.toggle('folded');
+  if (scene) panels.legend(scene);
+};
 window.addEventListener('keydown', (ev) => {
   if ((ev.ctrlKey || ev.metaKey) && ev.key === 'z') { ev.preventDefault(); $(ev.shiftKey ? 'redo' : 'undo').click(); }
 });

@@ -67,3 +67,15 @@ export function rayPlane(origin, dir, point, normal) {
   const t = dot(sub(point, origin), normal) / d;
   return t > 0 ? add(origin, scale(dir, t)) : null;
 }
+
+// The point of the line through `point` along `dir` nearest to the ray origin + t·dir (null if
+// they are parallel).
+export function rayLine(origin, rayDir, point, dir) {
+  const d = unit(dir);
+  const w = sub(origin, point);
+  const b = dot(rayDir, d);
+  const denom = 1 - b * b;
+  if (Math.abs(denom) < 1e-9) return null;
+  const s = (dot(w, d) - b * dot(w, rayDir)) / denom;
+  return add(point, scale(d, s));
+}

@@ -1,5 +1,6 @@
-// The side panels: the lists of curves and patches, the shared-edge table, the check report and
-// the analyze numbers, and error messages beside the control that caused them.
+// The side panels: the lists of curves and patches, the spine of the selected patch, the
+// shared-edge table, the check report and the analyze numbers, and error messages beside the
+// control that caused them.
 
 import { COLORS } from './view.js';
 
@@ -40,12 +41,18 @@ export function legend(scene) {
     div.append(sw, text);
     return div;
   };
-  const rows = scene.surfaces.map((s, k) =>
-    row(rgb(COLORS.patches[k % COLORS.patches.length]), `patch ${s.name} (${s.kind})`, 'patch'));
+  const title = document.createElement('div');
+  title.className = 'title';
+  title.textContent = box.classList.contains('folded') ? 'Legend ▸' : 'Legend ▾';
+  const rows = [title];
+  rows.push(...scene.surfaces.map((s, k) =>
+    row(rgb(COLORS.patches[k % COLORS.patches.length]), `patch ${s.name} (${s.kind})`, 'patch')));
   rows.push(row(rgb(COLORS.position), 'position curves'));
   rows.push(row(rgb(COLORS.other), 'other curves (derivative directions)'));
   rows.push(row(rgb(COLORS.vector), 'X_u vectors (1/3 length)'));
   rows.push(row(rgb(COLORS.spine), 'spines'));
+  if (scene.surfaces.some((s) => s.spine_control)) rows.push(row(rgb(COLORS.spineControl), 'spine control points (drag them)', 'dot'));
+  if (scene.trim_lines && scene.trim_lines.length) rows.push(row(rgb(COLORS.trim), 'trim curves (holes)'));
   rows.push(row(rgb(COLORS.edge), 'shared edges'));
   rows.push(row('#000', 'v = 0 marks (tick: increasing v)'));
   rows.push(row(rgb(COLORS.control), 'control points (drag them)', 'dot'));
@@ -102,6 +109,14 @@ export function curvePanel(scene) {
 export function patchPanel(scene) {
   const s = selectedPatch(scene);
   if (!s) return;
+  // The spine (§5.3).
+  const n = s.spine_control ? s.spine_control.length : 0;
+  $('spine-info').textContent = !n ? `${s.kind}: no spine to edit`
+    : `degree ${n - 1}, ${n} control points${s.spine_carry ? `, edited (${s.spine_carry})` : ', as solved'}${s.spine_wave ? ', with a wave' : ''}`;
+  if (n && s.hosts) $('spine-info').textContent += ' (hosts attached patches: the spine stays as solved)';
+  $('spine-carry').disabled = !n || s.hosts;
+  $('spine-reset').disabled = !s.spine_carry;
+  if (s.spine_carry) $('spine-carry').value = s.spine_carry;
   const op = s.operator;
   if (op && op.kind === 'polyharmonic') {
     $('patch-op').textContent = `polyharmonic N = ${op.order}, a = ${op.a}`;

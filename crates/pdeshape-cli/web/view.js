@@ -1,5 +1,7 @@
-// The 3D view (WebGL2): shaded patches with their normals, curves, derivative vectors, spines,
-// v = 0 marks, shared edges and control points; orbit, pan and zoom; picking and drag planes.
+// The 3D view (WebGL2): shaded patches with their normals (trimmed ones as their triangle meshes,
+// holes cut out), curves, derivative vectors, spines with their Bézier control points, trim
+// curves on their surfaces, v = 0 marks, shared edges, control points and the handles of a local
+// edit; orbit, pan and zoom; picking and drag planes.
 
 import * as m from './math.js';
 
@@ -63,6 +65,9 @@ export const COLORS = {
   edge: [0.75, 0.0, 0.75],
   control: [0.05, 0.35, 0.60],
   controlLine: [0.45, 0.45, 0.45],
+  spineControl: [0.55, 0.10, 0.75],
+  trim: [0.90, 0.55, 0.08],
+  local: [0.0, 0.65, 0.65],
   selected: [1.0, 0.85, 0.0],
 };
 
@@ -112,7 +117,8 @@ export class View {
     this.pending = false;
     this.onDrawn = null;
     this.show = { curves: true, vectors: true, spines: true, control: true, edges: true };
-    this.selected = null; // { curve, index }
+    this.selected = null; // { kind: 'control', curve, index } or { kind: 'spine', patch, index }
+    this.local = null; // a local edit's points: { x1, x2, handle }
   }
 
   // Meshes of a frame: one vertex array per surface, buffers reused when the sizes match.
@@ -127,7 +133,7 @@ export class View {
       let mesh = this.meshes[k];
       if (!mesh) {
         const vao = gl.createVertexArray();
-        const buffers = [gl.createBuffer(), gl.createBuffer(), gl.createBuffer()];
+        const buffers = [gl.createBuffer(), gl.createBuffer(), gl.createBuffer(), gl.createBuffer()];
         mesh = { vao, buffers, key: '' };
         this.meshes[k] = mesh;
       }
@@ -154,24 +160,35 @@ export class View {
         const c = patchColors[k % patchColors.length];
         gl.vertexAttrib3f(loc, c[0], c[1], c[2]);
       }
-      const key = `${s.nu}x${s.nv}${s.periodic ? 'p' : ''}`;
-      if (!this.indexCache.has(key)) {
-        const ib = gl.createBuffer();
+      if (s.indices) {
+        // A trimmed surface: its own triangles (the holes cut out).
+        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, mesh.buffers[3]);
+        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, s.indices, gl.DYNAMIC_DRAW);
+        mesh.count = s.indices.length;
+      } else {
+        // A grid: its faces are implied, one index buffer per grid shape.
+        const key = `${s.nu}x${s.nv}${s.periodic ? 'p' : ''}`;
+        if (!this.indexCache.has(key)) {
+          const ib = gl.createBuffer();
+          gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
+          const idx = gridIndices(s.nu, s.nv, s.periodic);
+          gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
+          this.indexCache.set(key, { ib, count: idx.length });
+        }
+        const { ib, count } = this.indexCache.get(key);
         gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
-        const idx = gridIndices(s.nu, s.nv, s.periodic);
-        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
-        this.indexCache.set(key, { ib, count: idx.length });
+        mesh.count = count;
       }
-      const { ib, count } = this.indexCache.get(key);
-      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
-      mesh.count = count;
+      mesh.trimmed = !!s.indices;
       gl.bindVertexArray(null);
     });
     this.bounds = this.computeBounds(surfaces);
     if (!this.camera.panned && this.bounds) {
       this.camera.target = this.bounds.center;
       if (!this.framed) {
-        this.camera.distance = Math.max(this.bounds.radius * 4.2, 1e-3);
+        // The whole design in view, across the narrower of the view's two sides.
+        const aspect = this.canvas.clientWidth / Math.max(this.canvas.clientHeight, 1);
+        this.camera.distance = Math.max((this.bounds.radius * 4.2) / Math.min(1, aspect || 1), 1e-3);
         this.framed = true;
       }
     }
@@ -221,22 +238,46 @@ export class View {
     if (this.show.vectors) {
       for (const v of scene.vectors) for (const [a, b] of v.segments) line(a, b, COLORS.vector);
     }
-    if (this.show.spines) {
-      for (const s of scene.surfaces) polyline(s.spine, false, COLORS.spine);
-    }
+    // The trim curves' images on their surfaces (the holes' edges).
+    for (const l of scene.trim_lines || []) polyline(l, true, COLORS.trim);
+    const sel = this.selected || {};
     this.pickable = [];
+    if (this.show.spines) {
+      for (const s of scene.surfaces) {
+        polyline(s.spine, false, COLORS.spine);
+        // The spine's Bézier control points (§5.3): handles to drag.
+        if (!s.spine_control) continue;
+        polyline(s.spine_control, false, COLORS.spineControl);
+        s.spine_control.forEach((p, index) => {
+          const isSel = sel.kind === 'spine' && sel.patch === s.name && sel.index === index;
+          pts.push(...p);
+          ptsCol.push(...(isSel ? COLORS.selected : s.hosts ? COLORS.controlLine : COLORS.spineControl));
+          // A host of attached patches keeps its spine: its points are shown, not handles.
+          if (!s.hosts) this.pickable.push({ kind: 'spine', patch: s.name, index, point: p });
+        });
+      }
+    }
     if (this.show.control) {
       for (const c of scene.curves) {
         if (!c.control) continue;
-        const sel = this.selected && this.selected.curve === c.name;
         polyline(c.control, c.closed, COLORS.controlLine);
         c.control.forEach((p, index) => {
-          const isSel = sel && this.selected.index === index;
+          const isSel = sel.kind === 'control' && sel.curve === c.name && sel.index === index;
           pts.push(...p);
           ptsCol.push(...(isSel ? COLORS.selected : COLORS.control));
-          this.pickable.push({ curve: c.name, index, point: p });
+          this.pickable.push({ kind: 'control', curve: c.name, index, point: p });
         });
       }
+    }
+    if (this.local) {
+      // A local edit (§6.2): X1 and X2 fixed, the handle X3 to drag.
+      const { x1, x2, handle } = this.local;
+      for (const p of [x1, x2]) { pts.push(...p); ptsCol.push(...COLORS.local); }
+      line(x1, handle, COLORS.local);
+      line(handle, x2, COLORS.local);
+      pts.push(...handle);
+      ptsCol.push(...(sel.kind === 'local' ? COLORS.selected : COLORS.local));
+      this.pickable.push({ kind: 'local', point: handle });
     }
     this.lines = this.upload(this.lines, seg, segCol);
     this.points = this.upload(this.points, pts, ptsCol);
@@ -348,7 +389,24 @@ export class View {
     return { origin: eye, dir: m.unit(m.add(fwd, m.add(m.scale(right, nx), m.scale(up, ny)))) };
   }
 
-  // The control point nearest to a screen position, within `radius` CSS pixels.
+  // The drawn point of curve `name` nearest to a screen position (within `radius` CSS pixels):
+  // its index in the curve's points, or -1.
+  pickCurvePoint(sx, sy, name, radius = 14) {
+    const c = this.scene && this.scene.curves.find((x) => x.name === name);
+    if (!c) return -1;
+    const mats = this.matrices();
+    let best = -1, bestD = radius;
+    c.points.forEach((p, k) => {
+      const s = this.project(p, mats);
+      if (!s) return;
+      const d = Math.hypot(s[0] - sx, s[1] - sy);
+      if (d < bestD) { bestD = d; best = k; }
+    });
+    return best;
+  }
+
+  // The handle (control point, spine control point, local-edit handle) nearest to a screen
+  // position, within `radius` CSS pixels.
   pick(sx, sy, radius = 12) {
     const mats = this.matrices();
     let best = null, bestD = radius;

@@ -41,6 +41,31 @@ const FILES: &[(&str, &str, &str)] = &[
         "text/javascript; charset=utf-8",
         include_str!("../../web/panels.js"),
     ),
+    (
+        "channel.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../web/channel.js"),
+    ),
+    (
+        "uv.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../web/uv.js"),
+    ),
+    (
+        "timeline.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../web/timeline.js"),
+    ),
+    (
+        "local.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../web/local.js"),
+    ),
+    (
+        "params.js",
+        "text/javascript; charset=utf-8",
+        include_str!("../../web/params.js"),
+    ),
 ];
 
 fn respond(mime: &'static str, text: &'static str) -> Response {

@@ -5,6 +5,8 @@
 
 use super::error::ApiError;
 use crate::common::Loaded;
+use pdeshape::anim::{Animation, Morph};
+use pdeshape::spec::{self, time, DesignSpec};
 use std::path::{Component, Path, PathBuf};
 
 /// Largest design file the designer reads.
@@ -60,9 +62,8 @@ fn inside(root: &Path, rel: &str, resolved: &Path) -> Result<(), ApiError> {
     }
 }
 
-/// Reads and parses the design file `rel` inside `root`; returns the path as shown and the
-/// loaded design. Parse errors are located as `file:line:col`.
-pub fn load_design(root: &Path, rel: &str) -> Result<(String, Loaded), ApiError> {
+/// Resolves `rel` inside `root` to an existing regular file no larger than [`MAX_FILE_BYTES`].
+fn existing_file(root: &Path, rel: &str) -> Result<PathBuf, ApiError> {
     let path = checked_join(root, rel)?;
     let resolved = path.canonicalize().map_err(|e| {
         ApiError::not_found(format!("'{rel}': cannot open the design file: {e}"), "path")
@@ -79,10 +80,104 @@ pub fn load_design(root: &Path, rel: &str) -> Result<(String, Loaded), ApiError>
             "path",
         ));
     }
+    Ok(resolved)
+}
+
+/// Reads and parses the design file `rel` inside `root`; returns the path as shown and the
+/// loaded design. Parse errors are located as `file:line:col`.
+pub fn load_design(root: &Path, rel: &str) -> Result<(String, Loaded), ApiError> {
+    let resolved = existing_file(root, rel)?;
     let loaded = crate::common::load(&resolved).map_err(|e| {
         ApiError::unprocessable(e.message.replace(&*resolved.to_string_lossy(), rel), "path")
     })?;
     Ok((rel.to_string(), loaded))
+}
+
+/// A design file as the designer opens it: the design (at its start time, if it depends on
+/// time) and, for a design whose numbers are formulas in `t` (or that has a `[rig]`) or for a
+/// morph file, its animation.
+pub struct Opened {
+    pub file: String,
+    pub spec: DesignSpec,
+    pub animation: Option<Animation>,
+}
+
+/// Reads the design file `rel` inside `root`, time-dependent or not. A morph's source and
+/// target must lie inside `root` too.
+pub fn open_design(root: &Path, rel: &str) -> Result<Opened, ApiError> {
+    let resolved = existing_file(root, rel)?;
+    let text = std::fs::read_to_string(&resolved)
+        .map_err(|e| ApiError::unprocessable(format!("'{rel}': cannot read it: {e}"), "path"))?;
+    let located = |file: &str, text: &str, e: &pdeshape::Error| {
+        ApiError::unprocessable(spec::describe_error(file, text, e), e.place())
+    };
+    if let Some(mf) = time::parse_morph_file(&text).map_err(|e| located(rel, &text, &e))? {
+        let dir = Path::new(rel).parent().unwrap_or(Path::new(""));
+        let read = |other: &str, key: &str| -> Result<(String, String), ApiError> {
+            let joined = dir.join(other);
+            // `..` is allowed here as long as the file stays inside the start directory.
+            let full = root.join(&joined).canonicalize().map_err(|e| {
+                ApiError::not_found(
+                    format!("{rel}: morph.{key}: cannot open '{other}': {e}"),
+                    &format!("morph.{key}"),
+                )
+            })?;
+            if !full.starts_with(root) {
+                return Err(ApiError::forbidden(
+                    format!("{rel}: morph.{key}: '{other}' lies outside the directory the server was started in"),
+                    &format!("morph.{key}"),
+                ));
+            }
+            let shown = full
+                .strip_prefix(root)
+                .map(|p| p.to_string_lossy().into_owned())
+                .unwrap_or_else(|_| other.to_string());
+            let (_, loaded) = load_design(root, &shown)?;
+            Ok((shown, loaded.text))
+        };
+        let (source_file, source) = read(&mf.morph.source, "source")?;
+        let (_, target) = read(&mf.morph.target, "target")?;
+        let morph = Morph::new(&source, &target).map_err(|e| {
+            ApiError::unprocessable(
+                format!(
+                    "{rel}: morph: {}",
+                    spec::describe_error(&source_file, &source, &e)
+                ),
+                "morph",
+            )
+        })?;
+        let spec = morph
+            .at(0.0)
+            .map_err(|e| located(&source_file, &source, &e))?;
+        let animation = Animation::Morph {
+            morph,
+            time: mf.time,
+            ease: mf.morph.ease,
+        };
+        return Ok(Opened {
+            file: rel.to_string(),
+            spec,
+            animation: Some(animation),
+        });
+    }
+    if let Ok(timed) = time::parse_timed(&text) {
+        if timed.depends_on_time() {
+            let spec = timed
+                .at(timed.time.start)
+                .map_err(|e| located(rel, &text, &e))?;
+            return Ok(Opened {
+                file: rel.to_string(),
+                spec,
+                animation: Some(Animation::Timed(timed)),
+            });
+        }
+    }
+    let (file, loaded) = load_design(root, rel)?;
+    Ok(Opened {
+        file,
+        spec: loaded.spec,
+        animation: None,
+    })
 }
 
 /// Writes `text` to `rel` inside `root` atomically; returns `rel`.

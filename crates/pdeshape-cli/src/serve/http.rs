@@ -10,6 +10,10 @@
 //! | `GET /api/frame?nu&nv&color` | a frame (scene JSON + meshes, [`super::scene`]) |
 //! | `POST /api/edit?nu&nv&color` `{"edit": Edit, "group": n?, "world": bool?}` | a frame |
 //! | `POST /api/convert` `{"name": curve}` | a frame (the circle or ellipse as a B-spline) |
+//! | `POST /api/spine?nu&nv&color` `{"patch", "index"?, "point"?, "carry"?, "group"?}` | a frame (a spine control point moved, §5.3) |
+//! | `GET /api/local?name&from&to&at` | the frame of a local edit: `X₁ X₂ X₃`, `e₁ e₂ e₃` (§6.2) |
+//! | `POST /api/local?nu&nv&color` `{"name", "from", "to", "at"?, "along", "across", "normal", "group"?}` | a frame |
+//! | `POST /api/time?nu&nv&color` `{"t": t}` | a frame: the time-dependent design at `t` |
 //! | `POST /api/undo`, `/api/redo` | a frame |
 //! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
 //! | `POST /api/new` | a frame (the starting design) |
@@ -19,9 +23,11 @@
 
 use super::assets;
 use super::error::ApiError;
+use super::gestures::{self, LocalRequest, SpineRequest};
 use super::library;
-use super::scene;
+use super::scene::{self, Drawn};
 use super::session::{Coloring, Session};
+use super::trimmed;
 use axum::body::{Body, Bytes};
 use axum::extract::{DefaultBodyLimit, Query, Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
@@ -60,6 +66,9 @@ pub fn router(state: AppState) -> Router {
         .route("/frame", get(frame))
         .route("/edit", post(edit))
         .route("/convert", post(convert))
+        .route("/spine", post(spine))
+        .route("/local", get(local_frame).post(local))
+        .route("/time", post(time))
         .route("/undo", post(undo))
         .route("/redo", post(redo))
         .route("/load", post(load))
@@ -231,16 +240,32 @@ fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, 
     json["can_undo"] = s.can_undo().into();
     json["can_redo"] = s.can_redo().into();
     json["grid"] = serde_json::json!([view.grid.0, view.grid.1]);
+    json["time"] = s.timeline().map_or(serde_json::Value::Null, |t| t.json());
+    json["frozen_at"] = s.frozen_at().into();
     if let Some((_, lo, hi)) = &colors {
         json["color_range"] = serde_json::json!([lo, hi]);
     }
     json["server_ms"] = (started.elapsed().as_secs_f64() * 1e3).into();
-    let meshes = s.meshes(view.grid)?;
-    Ok(scene::frame(
-        &json,
-        meshes,
-        colors.as_ref().map(|c| c.0.as_slice()),
-    ))
+    let (meshes, trimmed) = s.drawn(view.grid)?;
+    let drawn: Vec<Drawn> = meshes
+        .iter()
+        .enumerate()
+        .map(|(k, m)| match trimmed.get(k) {
+            Some(t) => Drawn::Trimmed(m, &t.mesh),
+            None => Drawn::Grid(m),
+        })
+        .collect();
+    // Colours of a trimmed surface follow its triangle mesh's vertices.
+    let colors: Option<Vec<Vec<[u8; 3]>>> = colors.map(|(c, ..)| {
+        c.into_iter()
+            .enumerate()
+            .map(|(k, c)| match trimmed.get(k) {
+                Some(t) if c.len() == meshes[k].len() => trimmed::colors(t, &meshes[k], &c),
+                _ => c,
+            })
+            .collect()
+    });
+    Ok(scene::frame(&json, &drawn, colors.as_deref()))
 }
 
 fn binary(bytes: Vec<u8>) -> Response {
@@ -365,6 +390,91 @@ async fn convert(
             None,
             view.grid,
         )?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+async fn spine(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: SpineRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        s.spine(&request, view.grid)?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+fn parse_f64(q: &HashMap<String, String>, key: &str) -> Result<Option<f64>, ApiError> {
+    match q.get(key).map(String::as_str) {
+        None | Some("") => Ok(None),
+        Some(s) => match s.parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(Some(x)),
+            _ => Err(ApiError::bad_request(
+                format!("expected a finite number (got '{s}')"),
+                key,
+            )),
+        },
+    }
+}
+
+async fn local_frame(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let name = q
+        .get("name")
+        .cloned()
+        .ok_or_else(|| ApiError::bad_request("missing (the curve's name)", "name"))?;
+    let need = |key: &str| parse_f64(&q, key)?.ok_or_else(|| ApiError::bad_request("missing", key));
+    let (from, to, at) = (need("from")?, need("to")?, parse_f64(&q, "at")?);
+    let frame = with_session(&state, move |s| {
+        gestures::local_frame(s.design().solved(), &name, from, to, at)
+            .map(|f| gestures::frame_json(&f))
+    })
+    .await?;
+    Ok(axum::Json(frame).into_response())
+}
+
+async fn local(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: LocalRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        s.local(&request, view.grid)?;
+        make_frame(s, view, started)
+    })
+    .await?;
+    Ok(binary(bytes))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TimeRequest {
+    t: f64,
+}
+
+async fn time(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
+    let started = Instant::now();
+    let view = view_of(&q)?;
+    let request: TimeRequest = parse_body(&body)?;
+    let bytes = with_session(&state, move |s| {
+        s.set_time(request.t, view.grid)?;
         make_frame(s, view, started)
     })
     .await?;

@@ -1,18 +1,26 @@
 //! `pdeshape serve [DESIGN]`: the browser designer. A local web server (axum on tokio) serves an
-//! embedded page (plain ES modules, WebGL2) that shows the design's surfaces, curves, derivative
-//! vectors and spines, and sends edits (drags of control points, transforms, `a`, order, modes,
-//! curves and patches) as the library's edit values; the compiled design re-solves what changed
-//! and the meshes come back in a binary frame.
+//! embedded page (plain ES modules, WebGL2) that shows the design's surfaces (trimmed ones with
+//! their holes), curves, derivative vectors and spines, the `(u, v)` plane of a patch with its
+//! trim and attachment curves, and a timeline for time-dependent designs; it sends edits (drags
+//! of control points, spine handles, trim curves and attachments, local edits, transforms, `a`,
+//! order, modes, design parameters, curves and patches) as the library's edit values; the
+//! compiled design re-solves what changed and the meshes come back in a binary frame.
 
 mod assets;
 mod error;
 mod files;
+mod gestures;
 mod http;
 mod library;
 mod scene;
 mod session;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_ops;
+mod timeline;
+mod trimmed;
+mod uv;
 
 use crate::common::CliError;
 use std::net::{IpAddr, SocketAddr};

@@ -1,20 +1,24 @@
 //! What the page draws, sent after every change: a JSON scene (curves, control points,
-//! derivative vectors, spines, `v = 0` marks, shared edges, patches and their operators) and the
+//! derivative vectors, spines with their Bézier control points, `v = 0` marks, shared edges,
+//! patches with their operators and parameter domains, the `(u, v)` curves of trims and
+//! attachments ([`super::uv`]) with their images on the surfaces, design parameters) and the
 //! meshes in a compact binary frame. The G0/G1 of shared edges is measured on request
 //! ([`edges`]), not in every frame of a drag.
 //!
 //! Frame layout (little-endian): `b"PDSF"`, `u32` JSON length, the JSON (UTF-8) padded with
 //! spaces to a multiple of 4, `u32` surface count; then per surface `u32 nu, u32 nv, u32 flags`
-//! (bit 0: periodic in v, bit 1: colours follow), positions `f32 × 3 × nu·nv`, normals
-//! `i16 × 3 × nu·nv` (unit vectors scaled by 32767), colours `u8 × 3 × nu·nv` if present, each
-//! block padded to a multiple of 4 bytes. Faces are implied by the grid (quads
-//! `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when periodic).
+//! (bit 0: periodic in v, bit 1: colours follow, bit 2: triangles follow), and with bit 2
+//! `u32 vertices, u32 triangles`; then positions `f32 × 3 × n`, normals `i16 × 3 × n` (unit
+//! vectors scaled by 32767), colours `u8 × 3 × n` if present, and with bit 2 the triangles
+//! `u32 × 3 × triangles`, each block padded to a multiple of 4 bytes. `n` is `nu·nv` for a
+//! grid, whose faces are implied (quads `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when
+//! periodic), or the vertex count of a trimmed surface's triangle mesh (holes cut out).
 
 use super::library;
 use pdeshape::curve::{Curve, Domain};
 use pdeshape::design::SolvedDesign;
-use pdeshape::mesh::GridMesh;
-use pdeshape::spec::{CurveKind, DesignSpec, OperatorSpec};
+use pdeshape::mesh::{GridMesh, TriMesh};
+use pdeshape::spec::{CurveKind, DesignSpec, OperatorSpec, SpineCarry};
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 
@@ -113,12 +117,17 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
                 "scale": scale,
                 "v_origin": cs.map(|s| s.v_origin),
                 "centroid": centroid(&*c.curve).map(|p| p3(&p)),
+                // The parameter interval the drawn points span evenly (closed: without its end).
+                "range": match c.curve.domain() {
+                    Domain::Periodic => [0.0, pdeshape::TAU],
+                    Domain::Interval(a, b) => [a, b],
+                },
             })
         })
         .collect();
     let mut vectors = Vec::new();
     let mut surfaces = Vec::new();
-    for s in &solved.surfaces {
+    for (k, s) in solved.surfaces.iter().enumerate() {
         for c in s.conditions.iter().filter(|c| c.derivative == 1) {
             let base = s
                 .conditions
@@ -144,6 +153,28 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             .filter(finite)
             .map(|p| p3(&p))
             .collect();
+        // The spine's Bézier control points (§5.3): the edited ones, else the solved spine's.
+        let report = s.spine_report();
+        let spine_control = report.as_ref().map(|r| {
+            let points = match &r.edited {
+                Some((_, c)) => c,
+                None => &r.solved,
+            };
+            points
+                .iter()
+                .filter(|p| finite(p))
+                .map(p3)
+                .collect::<Vec<_>>()
+        });
+        let carry = report
+            .as_ref()
+            .and_then(|r| r.edited.as_ref())
+            .map(|(c, _)| match c {
+                SpineCarry::Frame => "frame",
+                SpineCarry::Translate => "translate",
+            });
+        let domain = s.surface().parameter_domain();
+        let v = domain.v_interval();
         surfaces.push(json!({
             "name": s.name,
             "kind": s.kind.word(),
@@ -154,6 +185,14 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
                 "u": c.u, "derivative": c.derivative, "curve": c.curve_name, "kind": c.kind,
             })).collect::<Vec<_>>(),
             "spine": spine,
+            "spine_control": spine_control,
+            "spine_carry": carry,
+            // A host of attached patches keeps its spine (curves on spine-edited patches are
+            // not supported by the library).
+            "hosts": spec.curves.values().any(|c| matches!(&c.kind, CurveKind::OnPatch { patch, .. } if *patch == s.name)),
+            "spine_wave": spec.spine.iter().any(|t| t.wave.is_some() && t.patch.as_deref().unwrap_or(&s.name) == s.name),
+            "domain": { "u": [domain.u.start, domain.u.end], "v": [v.start, v.end], "periodic": domain.v_periodic() },
+            "trimmed": solved.trim_of(k).is_some(),
         }));
     }
     // Curves shared as positions by two patches (their G0/G1 is measured on request: `edges`).
@@ -182,7 +221,34 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
         "vectors": vectors,
         "surfaces": surfaces,
         "shared_curves": shared,
+        "trims": super::uv::trims(spec, solved),
+        "attachments": super::uv::attachments(spec),
+        "trim_lines": super::uv::images(solved),
+        "parameters": parameters(spec),
     })
+}
+
+/// The `[[parameters]]` of the design with their bounds and values (§6.1, §6.4, §7.5).
+fn parameters(spec: &DesignSpec) -> Value {
+    if spec.parameters.is_empty() {
+        return json!([]);
+    }
+    let Ok(list) = pdeshape::design::design_parameters(spec) else {
+        return json!([]);
+    };
+    list.iter()
+        .map(|p| {
+            let kind = spec
+                .parameters
+                .iter()
+                .find(|s| s.name == p.name)
+                .map(|s| s.kind);
+            json!({
+                "name": p.name, "place": p.place, "kind": kind, "curve": p.kind.curve(),
+                "min": p.min, "max": p.max, "neutral": num(p.neutral), "value": num(p.value),
+            })
+        })
+        .collect()
 }
 
 /// The G0/G1 mismatch along every shared edge (measured by the library on 512 values of v).
@@ -226,31 +292,60 @@ fn pad4(out: &mut Vec<u8>, fill: u8) {
     }
 }
 
-/// The binary frame of `json` and `meshes` (with optional per-vertex colours).
-pub fn frame(json: &Value, meshes: &[GridMesh], colors: Option<&[Vec<[u8; 3]>]>) -> Vec<u8> {
+/// One surface of a frame: its grid, or (with holes) its trimmed triangle mesh.
+pub enum Drawn<'a> {
+    Grid(&'a GridMesh),
+    Trimmed(&'a GridMesh, &'a TriMesh),
+}
+
+fn put_u32(out: &mut Vec<u8>, x: usize) {
+    out.extend_from_slice(&(x as u32).to_le_bytes());
+}
+
+/// The binary frame of `json` and the surfaces `drawn`, with optional per-vertex colours (one
+/// list per surface, of its vertex count).
+pub fn frame(json: &Value, drawn: &[Drawn], colors: Option<&[Vec<[u8; 3]>]>) -> Vec<u8> {
     let text = json.to_string();
-    let vertices: usize = meshes.iter().map(|m| m.len()).sum();
-    let mut out = Vec::with_capacity(16 + text.len() + meshes.len() * 12 + vertices * 24);
+    let vertices: usize = drawn
+        .iter()
+        .map(|d| match d {
+            Drawn::Grid(m) => m.len(),
+            Drawn::Trimmed(_, t) => t.positions.len() + 2 * t.triangles.len(),
+        })
+        .sum();
+    let mut out = Vec::with_capacity(16 + text.len() + drawn.len() * 20 + vertices * 24);
     out.extend_from_slice(b"PDSF");
     let mut json_bytes = text.into_bytes();
     while !json_bytes.len().is_multiple_of(4) {
         json_bytes.push(b' ');
     }
-    out.extend_from_slice(&(json_bytes.len() as u32).to_le_bytes());
+    put_u32(&mut out, json_bytes.len());
     out.extend_from_slice(&json_bytes);
-    out.extend_from_slice(&(meshes.len() as u32).to_le_bytes());
-    for (k, m) in meshes.iter().enumerate() {
-        let col = colors.and_then(|c| c.get(k)).filter(|c| c.len() == m.len());
-        let flags = u32::from(m.periodic_v) | (u32::from(col.is_some()) << 1);
-        for x in [m.nu as u32, m.nv as u32, flags] {
-            out.extend_from_slice(&x.to_le_bytes());
+    put_u32(&mut out, drawn.len());
+    for (k, d) in drawn.iter().enumerate() {
+        let (grid, positions, normals, triangles) = match d {
+            Drawn::Grid(m) => (*m, &m.positions, &m.normals, None),
+            Drawn::Trimmed(g, t) => (*g, &t.positions, &t.normals, Some(&t.triangles)),
+        };
+        let col = colors
+            .and_then(|c| c.get(k))
+            .filter(|c| c.len() == positions.len());
+        let flags = u32::from(grid.periodic_v)
+            | (u32::from(col.is_some()) << 1)
+            | (u32::from(triangles.is_some()) << 2);
+        put_u32(&mut out, grid.nu);
+        put_u32(&mut out, grid.nv);
+        out.extend_from_slice(&flags.to_le_bytes());
+        if let Some(t) = triangles {
+            put_u32(&mut out, positions.len());
+            put_u32(&mut out, t.len());
         }
-        for p in &m.positions {
+        for p in positions {
             for x in p {
                 out.extend_from_slice(&x.to_le_bytes());
             }
         }
-        for n in &m.normals {
+        for n in normals {
             for x in n {
                 let q = (x.clamp(-1.0, 1.0) * 32767.0).round() as i16;
                 out.extend_from_slice(&q.to_le_bytes());
@@ -262,6 +357,13 @@ pub fn frame(json: &Value, meshes: &[GridMesh], colors: Option<&[Vec<[u8; 3]>]>)
                 out.extend_from_slice(rgb);
             }
             pad4(&mut out, 0);
+        }
+        if let Some(t) = triangles {
+            for tri in t.iter() {
+                for i in tri {
+                    out.extend_from_slice(&i.to_le_bytes());
+                }
+            }
         }
     }
     out

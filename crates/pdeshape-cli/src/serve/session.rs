@@ -4,6 +4,9 @@
 
 use super::error::ApiError;
 use super::files;
+use super::gestures::{self, LocalDrag, LocalRequest};
+use super::timeline::Timeline;
+use super::trimmed::{self, TrimmedMeshes};
 use crate::common::{self, Loaded};
 use pdeshape::design::{self, CompiledDesign, Edit};
 use pdeshape::mesh::{Format, GridMesh};
@@ -39,6 +42,16 @@ pub struct Session {
     undo: Vec<UndoEntry>,
     redo: Vec<Edit>,
     version: u64,
+    /// The animation of a time-dependent design, until the first edit makes it a still design.
+    timeline: Option<Timeline>,
+    /// The time at which an edit made a time-dependent design a still one.
+    frozen_at: Option<f64>,
+    /// The trimmed surfaces' triangle meshes, and the grid they were made for (`None` once the
+    /// design changed).
+    trimmed: TrimmedMeshes,
+    trimmed_for: Option<(usize, usize)>,
+    /// The local-edit drag under way.
+    local: Option<LocalDrag>,
 }
 
 /// What an edit changes, for merging the edits of one drag into one undo step: edits of the
@@ -53,6 +66,14 @@ fn target(edit: &Edit) -> Option<String> {
         }
         Edit::SetModes { .. } => Some("modes".to_string()),
         Edit::SetParameter { name, .. } => Some(format!("parameter {name}")),
+        // A local edit replaces the curve's table, as the later positions of its drag do.
+        Edit::LocalEdit { name, .. } | Edit::MoveAttachment { name, .. } => {
+            Some(format!("curve {name}"))
+        }
+        Edit::SetSpine { patch, .. } => Some(format!("spine {patch:?}")),
+        Edit::SetTrim { index, .. } | Edit::MoveTrimCurve { index, .. } => {
+            Some(format!("trim {index}"))
+        }
         _ => None,
     }
 }
@@ -63,17 +84,15 @@ impl Session {
         let root = root
             .canonicalize()
             .map_err(|e| ApiError::internal(format!("{}: {e}", root.display())))?;
-        let (file, spec) = match rel {
-            Some(rel) => {
-                let (file, loaded) = files::load_design(&root, rel)?;
-                (file, loaded.spec)
-            }
-            None => (
-                "untitled.toml".to_string(),
-                starting_design().map_err(|e| ApiError::internal(e.to_string()))?,
-            ),
+        let opened = match rel {
+            Some(rel) => files::open_design(&root, rel)?,
+            None => files::Opened {
+                file: "untitled.toml".to_string(),
+                spec: starting_design().map_err(|e| ApiError::internal(e.to_string()))?,
+                animation: None,
+            },
         };
-        let design = design::compile(&spec).map_err(|e| ApiError::design(&file, &spec, &e))?;
+        let (file, design, timeline) = compile_opened(opened)?;
         Ok(Session {
             root,
             file,
@@ -81,6 +100,11 @@ impl Session {
             undo: Vec::new(),
             redo: Vec::new(),
             version: 0,
+            timeline,
+            frozen_at: None,
+            trimmed: TrimmedMeshes::default(),
+            trimmed_for: None,
+            local: None,
         })
     }
 
@@ -105,6 +129,17 @@ impl Session {
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
+    pub fn timeline(&self) -> Option<&Timeline> {
+        self.timeline.as_ref()
+    }
+    pub fn frozen_at(&self) -> Option<f64> {
+        self.frozen_at
+    }
+    /// Parameter meshes of trimmed surfaces made afresh so far (the others were reused).
+    #[cfg(test)]
+    pub fn remeshed(&self) -> usize {
+        self.trimmed.remeshed
+    }
 
     /// Applies `edit` and re-solves; the meshes on `grid` must come out finite too, else the
     /// edit is taken back. On an error nothing changes. Edits of one `group` (a drag) on the
@@ -116,6 +151,10 @@ impl Session {
         grid: (usize, usize),
     ) -> Result<(), ApiError> {
         let undo = self.apply_checked(edit, grid)?;
+        // An edited time-dependent design is the still design at the time shown.
+        if let Some(t) = self.timeline.take() {
+            self.frozen_at = Some(t.t());
+        }
         let tag = group.zip(target(edit));
         let merge = tag.is_some()
             && self
@@ -136,15 +175,103 @@ impl Session {
     /// surface that is not finite) is put back as it was.
     fn apply_checked(&mut self, edit: &Edit, grid: (usize, usize)) -> Result<Edit, ApiError> {
         let err = |s: &Session, e: &pdeshape::Error| ApiError::edit(s.design.spec(), e);
-        let undo = self.design.apply(edit).map_err(|e| err(self, &e))?;
         let grid = self.checked_grid(grid)?;
-        if let Err(e) = self.design.meshes(grid.0, grid.1) {
+        let undo = self.design.apply(edit).map_err(|e| err(self, &e))?;
+        self.trimmed_for = None;
+        if let Err(e) = self.refresh(grid) {
             let back = self.design.apply(&undo);
             debug_assert!(back.is_ok());
-            return Err(err(self, &e));
+            self.trimmed_for = None;
+            return Err(e);
         }
         self.version += 1;
         Ok(undo)
+    }
+
+    /// The grid meshes on `grid` and the trimmed surfaces' triangle meshes (made again when the
+    /// design or the grid changed). On an error the trimmed meshes are forgotten.
+    fn refresh(&mut self, grid: (usize, usize)) -> Result<(), ApiError> {
+        let grid = self.checked_grid(grid)?;
+        let failed =
+            |e: pdeshape::Error| ApiError::unprocessable(common::message_of(&e), e.place());
+        if self.trimmed_for == Some(grid) {
+            return self
+                .design
+                .meshes(grid.0, grid.1)
+                .map(|_| ())
+                .map_err(failed);
+        }
+        let jobs = trimmed::jobs(self.design.solved());
+        let meshes = self.design.meshes(grid.0, grid.1).map_err(failed)?;
+        self.trimmed.update(&jobs, meshes, grid).map_err(failed)?;
+        self.trimmed_for = Some(grid);
+        Ok(())
+    }
+
+    /// The meshes of a frame on `grid`: every surface's grid mesh and the triangle meshes of
+    /// the trimmed ones.
+    pub fn drawn(
+        &mut self,
+        grid: (usize, usize),
+    ) -> Result<(&[GridMesh], &TrimmedMeshes), ApiError> {
+        self.refresh(grid)?;
+        let grid = self.checked_grid(grid)?;
+        let meshes = self
+            .design
+            .meshes(grid.0, grid.1)
+            .map_err(|e| ApiError::unprocessable(common::message_of(&e), e.place()))?;
+        Ok((meshes, &self.trimmed))
+    }
+
+    /// Moves a spine control point or sets how the sections follow the spine (§5.3); a drag
+    /// (`group`) is one undo step.
+    pub fn spine(
+        &mut self,
+        request: &gestures::SpineRequest,
+        grid: (usize, usize),
+    ) -> Result<(), ApiError> {
+        let edit = gestures::spine_edit(self.spec(), self.design.solved(), request)?;
+        self.apply(&edit, request.group, grid)
+    }
+
+    /// A local edit of a curve (§6.2); the positions of one drag (`group`) make one local edit
+    /// and one undo step.
+    pub fn local(&mut self, request: &LocalRequest, grid: (usize, usize)) -> Result<(), ApiError> {
+        let (edit, drag) = gestures::local_edit(self.spec(), self.local.as_ref(), request)?;
+        self.apply(&edit, request.group, grid)?;
+        self.local = drag;
+        Ok(())
+    }
+
+    /// Shows the time-dependent design at time `t` (re-solved incrementally; not an edit).
+    pub fn set_time(&mut self, t: f64, grid: (usize, usize)) -> Result<(), ApiError> {
+        let Some(timeline) = &self.timeline else {
+            let why = match self.frozen_at {
+                Some(t) => format!(
+                    "the design was edited at t = {t} and is a still design now (load its file again to play it)"
+                ),
+                None => "the design does not depend on time (it has no formulas in t, no [rig] and is no morph)".to_string(),
+            };
+            return Err(ApiError::unprocessable(why, "t"));
+        };
+        let grid = self.checked_grid(grid)?;
+        let spec = timeline.spec_at(t)?;
+        let before = self.design.spec().clone();
+        self.design
+            .set_spec(spec)
+            .map_err(|e| ApiError::edit(&before, &e))?;
+        self.trimmed_for = None;
+        if let Err(e) = self.refresh(grid) {
+            let back = self.design.set_spec(before);
+            debug_assert!(back.is_ok());
+            self.trimmed_for = None;
+            return Err(e);
+        }
+        self.version += 1;
+        if let Some(timeline) = &mut self.timeline {
+            timeline.set(t);
+        }
+        Ok(())
     }
 
     /// Undoes the last edit (or drag); false when there is nothing to undo.
@@ -183,15 +310,23 @@ impl Session {
 
     /// Replaces the design by the file `rel` inside the start directory; the stacks start anew.
     pub fn load(&mut self, rel: &str) -> Result<(), ApiError> {
-        let (file, loaded) = files::load_design(&self.root, rel)?;
-        let design =
-            design::compile(&loaded.spec).map_err(|e| ApiError::design(&file, &loaded.spec, &e))?;
+        let (file, design, timeline) = compile_opened(files::open_design(&self.root, rel)?)?;
         self.design = design;
         self.file = file;
+        self.start_anew(timeline);
+        Ok(())
+    }
+
+    /// A new design in the session: empty stacks, no drag under way.
+    fn start_anew(&mut self, timeline: Option<Timeline>) {
         self.undo.clear();
         self.redo.clear();
         self.version += 1;
-        Ok(())
+        self.timeline = timeline;
+        self.frozen_at = None;
+        self.trimmed.clear();
+        self.trimmed_for = None;
+        self.local = None;
     }
 
     /// Replaces the design by the starting design (a new, unsaved design).
@@ -199,15 +334,24 @@ impl Session {
         let spec = starting_design().map_err(|e| ApiError::internal(e.to_string()))?;
         self.design = design::compile(&spec).map_err(|e| ApiError::edit(&spec, &e))?;
         self.file = "untitled.toml".to_string();
-        self.undo.clear();
-        self.redo.clear();
-        self.version += 1;
+        self.start_anew(None);
         Ok(())
     }
 
     /// Writes the design as TOML to `rel` inside the start directory (atomically); returns the
     /// path written, relative to the start directory.
     pub fn save(&mut self, rel: &str) -> Result<String, ApiError> {
+        if let Some(t) = &self.timeline {
+            if rel == self.file {
+                return Err(ApiError::unprocessable(
+                    format!(
+                        "'{rel}' is a time-dependent design: saving would replace it by its still design at t = {}; save under another name",
+                        t.t()
+                    ),
+                    "path",
+                ));
+            }
+        }
         let text = spec::write_design(self.design.spec())
             .map_err(|e| ApiError::unprocessable(common::message_of(&e), e.place()))?;
         let written = files::save_text(&self.root, rel, &text)?;
@@ -233,13 +377,9 @@ impl Session {
             .map_err(|e| ApiError::bad_request(common::message_of(&e), e.place()))
     }
 
-    /// The meshes on `grid`.
+    /// The grid meshes on `grid`.
     pub fn meshes(&mut self, grid: (usize, usize)) -> Result<&[GridMesh], ApiError> {
-        let (nu, nv) = self.checked_grid(grid)?;
-        let spec = self.design.spec().clone();
-        self.design
-            .meshes(nu, nv)
-            .map_err(|e| ApiError::edit(&spec, &e))
+        Ok(self.drawn(grid)?.0)
     }
 
     /// The `check` report of the design and its warnings.
@@ -279,9 +419,19 @@ impl Session {
             ..Default::default()
         };
         let overlays = self.design.solved().overlays();
-        let meshes = self.meshes(grid)?.to_vec();
-        pdeshape::render::render_png(&meshes, &overlays, &options)
-            .map_err(|e| ApiError::unprocessable(common::message_of(&e), e.place()))
+        let picture = if self.design.solved().trims.is_empty() {
+            let meshes = self.meshes(grid)?.to_vec();
+            pdeshape::render::render_png(&meshes, &overlays, &options)
+        } else {
+            // Holes are drawn as the library's trimmed triangle mesh, as `render` does.
+            let (nu, nv) = self.checked_grid(grid)?;
+            let solved = self.design.solved();
+            let m = solved
+                .tri_mesh(nu, nv)
+                .map_err(|e| ApiError::edit(self.design.spec(), &e))?;
+            pdeshape::render::render_png_tri(&m, &overlays, &options)
+        };
+        picture.map_err(|e| ApiError::unprocessable(common::message_of(&e), e.place()))
     }
 
     /// Per-vertex colours of the curvature `by` on the meshes of `grid` (as `render --color`).
@@ -309,6 +459,16 @@ impl Session {
             spec: self.design.spec().clone(),
         }
     }
+}
+
+/// The compiled design of an opened file, and its timeline if it depends on time.
+fn compile_opened(
+    opened: files::Opened,
+) -> Result<(String, CompiledDesign, Option<Timeline>), ApiError> {
+    let design = design::compile(&opened.spec)
+        .map_err(|e| ApiError::design(&opened.file, &opened.spec, &e))?;
+    let timeline = opened.animation.map(Timeline::new).transpose()?;
+    Ok((opened.file, design, timeline))
 }
 
 /// The design a session starts from without a file: the book's simplest PDE surface, two

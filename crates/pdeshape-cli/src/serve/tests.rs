@@ -14,21 +14,32 @@ const PORT: u16 = 8737;
 const TOKEN: &str = "0123456789abcdef0123456789abcdef";
 const HOST: &str = "127.0.0.1:8737";
 
-fn examples() -> PathBuf {
+pub(super) fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
 }
 
-/// A start directory with the cup and the wine glass in `examples/`.
-fn root() -> tempfile::TempDir {
+/// A start directory with the examples the tests load in `examples/`.
+pub(super) fn root() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::create_dir(dir.path().join("examples")).unwrap();
-    for f in ["cup.toml", "wine_glass.toml"] {
+    std::fs::create_dir_all(dir.path().join("examples/anim")).unwrap();
+    for f in [
+        "cup.toml",
+        "wine_glass.toml",
+        "teacup.toml",
+        "trimmed_vase.toml",
+        "aeroplane.toml",
+        "swirl_port_params.toml",
+        "anim/fish.toml",
+        "anim/ventricle.toml",
+        "anim/glass_morph.toml",
+        "anim/water_glass.toml",
+    ] {
         std::fs::copy(examples().join(f), dir.path().join("examples").join(f)).unwrap();
     }
     dir
 }
 
-fn app(root: &Path, design: Option<&str>) -> axum::Router {
+pub(super) fn app(root: &Path, design: Option<&str>) -> axum::Router {
     let session = Session::open(root.to_path_buf(), design).unwrap();
     router(AppState {
         session: Arc::new(tokio::sync::Mutex::new(session)),
@@ -38,17 +49,17 @@ fn app(root: &Path, design: Option<&str>) -> axum::Router {
     })
 }
 
-struct Answer {
-    status: StatusCode,
-    body: Vec<u8>,
+pub(super) struct Answer {
+    pub(super) status: StatusCode,
+    pub(super) body: Vec<u8>,
 }
 
 impl Answer {
-    fn json(&self) -> Value {
+    pub(super) fn json(&self) -> Value {
         serde_json::from_slice(&self.body)
             .unwrap_or_else(|_| panic!("not JSON: {}", String::from_utf8_lossy(&self.body)))
     }
-    fn error(&self) -> (String, String) {
+    pub(super) fn error(&self) -> (String, String) {
         let v = self.json();
         (
             v["error"].as_str().unwrap_or("").to_string(),
@@ -58,7 +69,7 @@ impl Answer {
 }
 
 /// Sends a request; `headers` replace the defaults (Host, token) where named.
-async fn send(
+pub(super) async fn send(
     app: &axum::Router,
     method: &str,
     uri: &str,
@@ -90,21 +101,25 @@ async fn send(
     Answer { status, body }
 }
 
-async fn post(app: &axum::Router, uri: &str, body: Value) -> Answer {
+pub(super) async fn post(app: &axum::Router, uri: &str, body: Value) -> Answer {
     send(app, "POST", uri, Some(body.to_string().into_bytes()), &[]).await
 }
 
-/// A decoded frame: the scene and, per surface, `(nu, nv, positions)`.
-struct Frame {
-    scene: Value,
-    surfaces: Vec<(usize, usize, Vec<f32>)>,
+/// A decoded frame: the scene and, per surface, `(nu, nv, positions)`, and the triangles of
+/// the trimmed ones.
+pub(super) struct Frame {
+    pub(super) scene: Value,
+    pub(super) surfaces: Vec<(usize, usize, Vec<f32>)>,
+    pub(super) triangles: Vec<Option<Vec<[u32; 3]>>>,
+    /// Per surface: colours were sent.
+    pub(super) colored: Vec<bool>,
 }
 
 fn u32_at(b: &[u8], at: usize) -> usize {
     u32::from_le_bytes(b[at..at + 4].try_into().unwrap()) as usize
 }
 
-fn decode(a: &Answer) -> Frame {
+pub(super) fn decode(a: &Answer) -> Frame {
     assert_eq!(
         a.status,
         StatusCode::OK,
@@ -120,10 +135,17 @@ fn decode(a: &Answer) -> Frame {
     let count = u32_at(b, at);
     at += 4;
     let mut surfaces = Vec::new();
+    let mut triangles = Vec::new();
+    let mut colored = Vec::new();
     for _ in 0..count {
         let (nu, nv, flags) = (u32_at(b, at), u32_at(b, at + 4), u32_at(b, at + 8));
         at += 12;
-        let n = nu * nv;
+        let (n, tris) = if flags & 4 != 0 {
+            at += 8;
+            (u32_at(b, at - 8), Some(u32_at(b, at - 4)))
+        } else {
+            (nu * nv, None)
+        };
         let positions: Vec<f32> = b[at..at + 12 * n]
             .chunks(4)
             .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
@@ -144,13 +166,30 @@ fn decode(a: &Answer) -> Frame {
         if flags & 2 != 0 {
             at += (3 * n).div_ceil(4) * 4;
         }
+        colored.push(flags & 2 != 0);
+        triangles.push(tris.map(|t| {
+            let list: Vec<[u32; 3]> = (0..t)
+                .map(|k| std::array::from_fn(|c| u32_at(b, at + 12 * k + 4 * c) as u32))
+                .collect();
+            at += 12 * t;
+            assert!(
+                list.iter().flatten().all(|&i| (i as usize) < n),
+                "index out of range"
+            );
+            list
+        }));
         surfaces.push((nu, nv, positions));
     }
     assert_eq!(at, b.len(), "frame length");
-    Frame { scene, surfaces }
+    Frame {
+        scene,
+        surfaces,
+        triangles,
+        colored,
+    }
 }
 
-fn curve<'a>(scene: &'a Value, name: &str) -> &'a Value {
+pub(super) fn curve<'a>(scene: &'a Value, name: &str) -> &'a Value {
     scene["curves"]
         .as_array()
         .unwrap()
@@ -166,7 +205,7 @@ fn move_rim(index: usize, point: [f64; 3], group: Option<u64>) -> Value {
     })
 }
 
-const GRID: &str = "nu=16&nv=32";
+pub(super) const GRID: &str = "nu=16&nv=32";
 
 #[tokio::test]
 async fn starting_design_is_served_with_control_points() {
@@ -431,7 +470,7 @@ async fn token_host_and_origin_are_checked() {
 }
 
 /// Meshes of a design file solved from scratch, as `pdeshape surface` does.
-fn meshes_of_file(path: &Path, nu: usize, nv: usize) -> Vec<Vec<f32>> {
+pub(super) fn meshes_of_file(path: &Path, nu: usize, nv: usize) -> Vec<Vec<f32>> {
     let text = std::fs::read_to_string(path).unwrap();
     let spec = pdeshape::spec::parse_design(&text).unwrap();
     let solved = pdeshape::design::solve_design(&spec).unwrap();
@@ -509,10 +548,17 @@ async fn save_and_load_round_trip() {
         assert_eq!(m, &back.surfaces[k].2);
     }
     let list = send(&app, "GET", "/api/files", None, &[]).await.json();
-    assert_eq!(
-        list["files"],
-        json!(["examples/cup.toml", "examples/wine_glass.toml", "mine.toml"])
-    );
+    let files: Vec<&str> = list["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_str().unwrap())
+        .collect();
+    assert!(files.is_sorted(), "{files:?}");
+    assert_eq!(files.len(), 11, "{files:?}");
+    for f in ["examples/cup.toml", "examples/anim/fish.toml", "mine.toml"] {
+        assert!(files.contains(&f), "{files:?}");
+    }
 }
 
 #[tokio::test]

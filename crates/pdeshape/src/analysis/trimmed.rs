@@ -68,7 +68,8 @@ pub fn integrate_trimmed(s: &dyn Surface, pm: &ParamMesh) -> Integrals {
 pub struct TrimmedIntegrals {
     /// The surface's name.
     pub name: String,
-    /// [`integrate_trimmed`] on the finer of two grids.
+    /// [`integrate_trimmed`] on the finer of two grids; `volume` with the design's outward
+    /// normal (the orientation passed in), as the untrimmed patches' volumes are reported.
     pub area: f64,
     pub volume: f64,
     /// The change of the area between the two grids (the error of the coarser; the finer's is
@@ -79,11 +80,14 @@ pub struct TrimmedIntegrals {
 }
 
 /// [`integrate_trimmed`] of every trimmed surface of a design on the `nu × nv` grid and on the
-/// grid twice as fine (`(2nu − 1) × 2nv`), reporting the finer.
+/// grid twice as fine (`(2nu − 1) × 2nv`), reporting the finer. `orientation` is, per surface,
+/// `+1` if the design's outward normal is `X_u × X_v` and `−1` if it is the reverse
+/// ([`super::DesignIntegrals::orientation`]); the volume share is turned by it.
 pub fn integrate_trimmed_design(
     d: &SolvedDesign,
     nu: usize,
     nv: usize,
+    orientation: &[f64],
 ) -> crate::Result<Vec<TrimmedIntegrals>> {
     let (nu2, nv2) = (2 * nu - 1, 2 * nv);
     let coarse = d.param_meshes(nu, nv)?;
@@ -95,10 +99,11 @@ pub fn integrate_trimmed_design(
         };
         let s = d.surfaces[k].surface();
         let (ic, i_f) = (integrate_trimmed(s, c), integrate_trimmed(s, f));
+        let sign = orientation.get(k).copied().unwrap_or(1.0);
         out.push(TrimmedIntegrals {
             name: d.surfaces[k].name.clone(),
             area: i_f.area,
-            volume: i_f.volume,
+            volume: sign * i_f.volume,
             area_change: (i_f.area - ic.area).abs(),
             grids: [[nu, nv], [nu2, nv2]],
         });

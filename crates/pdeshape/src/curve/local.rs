@@ -31,21 +31,31 @@ pub struct LocalEdit {
     periodic: bool,
 }
 
-impl LocalEdit {
-    /// `from = v₁`, `to = v₂`, `at = v₃` (default the midpoint) and the handle's displacement
-    /// `[along, across, normal]`. Errors are placed at the keys of a `local` curve table.
-    pub fn new(
-        base: SharedCurve,
-        from: f64,
-        to: f64,
-        at: Option<f64>,
-        displacement: [f64; 3],
-    ) -> Result<Self> {
+/// The points of a local edit and the frame its handle moves in (book §6.2): `X₁ = C(v₁)`,
+/// `X₂ = C(v₂)`, the handle `X₃ = C(v₃)`, and the axes `e₁ = (X₂ − X₁)/|X₂ − X₁|`,
+/// `e₃ = e₁ × (X₃ − X₁)` normalised, `e₂ = e₃ × e₁` in which [`LocalEdit`] takes the handle's
+/// displacement `[along, across, normal]`. An interactive caller moves `X₃` in the plane through
+/// it spanned by `e₁, e₂` or along `e₃`, and hands the displacement's components to the edit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalFrame {
+    /// `v₁` (reduced to `[0, 2π)` on a periodic curve), the length `v₂ − v₁` and `v₃ − v₁`.
+    v1: f64,
+    len: f64,
+    t3: f64,
+    pub x1: Vec3,
+    pub x2: Vec3,
+    pub x3: Vec3,
+    pub e1: Vec3,
+    /// `(e₂, e₃)`; `None` when `X₁`, `X₂`, `X₃` are collinear (no plane).
+    pub plane: Option<(Vec3, Vec3)>,
+}
+
+impl LocalFrame {
+    /// The frame of a local edit of `base` from `v₁ = from` to `v₂ = to` with the handle at
+    /// `v₃ = at` (default the midpoint); errors as [`LocalEdit::new`] places them.
+    pub fn new(base: &dyn Curve, from: f64, to: f64, at: Option<f64>) -> Result<Self> {
         for (v, name) in [(from, "from"), (to, "to")] {
             crate::check::finite(v, name)?;
-        }
-        for (v, name) in displacement.iter().zip(["along", "across", "normal"]) {
-            crate::check::finite(*v, name)?;
         }
         let periodic = base.domain() == Domain::Periodic;
         let (v1, len) = if periodic {
@@ -85,6 +95,65 @@ impl LocalEdit {
                 s
             }
         };
+        let x1 = base.point(v1);
+        let x2 = base.point(v1 + len);
+        let x3 = base.point(v1 + t3);
+        let chord = x2 - x1;
+        if chord.norm().is_nan() || chord.norm() <= 0.0 {
+            return Err(Error::invalid("the points X1 and X2 coincide: no direction e1").at("to"));
+        }
+        let e1 = chord.normalize();
+        let n = e1.cross(&(x3 - x1));
+        let plane = (n.norm() > 1e-12 * (x3 - x1).norm().max(chord.norm())).then(|| {
+            let e3 = n.normalize();
+            (e3.cross(&e1), e3)
+        });
+        Ok(LocalFrame {
+            v1,
+            len,
+            t3,
+            x1,
+            x2,
+            x3,
+            e1,
+            plane,
+        })
+    }
+
+    /// `v₁` (on a periodic curve reduced to `[0, 2π)`).
+    pub fn from(&self) -> f64 {
+        self.v1
+    }
+
+    /// `v₂` (on a periodic curve it may exceed 2π).
+    pub fn to(&self) -> f64 {
+        self.v1 + self.len
+    }
+
+    /// `v₃`, the handle's parameter.
+    pub fn at(&self) -> f64 {
+        self.v1 + self.t3
+    }
+}
+
+impl LocalEdit {
+    /// `from = v₁`, `to = v₂`, `at = v₃` (default the midpoint) and the handle's displacement
+    /// `[along, across, normal]`. Errors are placed at the keys of a `local` curve table.
+    pub fn new(
+        base: SharedCurve,
+        from: f64,
+        to: f64,
+        at: Option<f64>,
+        displacement: [f64; 3],
+    ) -> Result<Self> {
+        for (v, name) in [(from, "from"), (to, "to")] {
+            crate::check::finite(v, name)?;
+        }
+        for (v, name) in displacement.iter().zip(["along", "across", "normal"]) {
+            crate::check::finite(*v, name)?;
+        }
+        let frame = LocalFrame::new(&*base, from, to, at)?;
+        let (v1, len, t3) = (frame.v1, frame.len, frame.t3);
         let knots = [0.0, 0.5 * t3, t3, 0.5 * (t3 + len), len];
         let mut weights = [0.0; 5];
         for (i, w) in weights.iter_mut().enumerate() {
@@ -94,6 +163,7 @@ impl LocalEdit {
                 .product();
             *w = len / prod;
         }
+        let periodic = base.domain() == Domain::Periodic;
         let mut edit = LocalEdit {
             base,
             v1,
@@ -102,30 +172,19 @@ impl LocalEdit {
             offset: Vec3::zeros(),
             periodic,
         };
-        // The frame of X₁, X₂, X₃.
-        let x1 = edit.base.point(v1);
-        let x2 = edit.base.point(v1 + len);
-        let x3 = edit.base.point(v1 + t3);
-        let chord = x2 - x1;
         let [along, across, normal] = displacement;
-        if chord.norm().is_nan() || chord.norm() <= 0.0 {
-            return Err(Error::invalid("the points X1 and X2 coincide: no direction e1").at("to"));
-        }
-        let e1 = chord.normalize();
-        let n = e1.cross(&(x3 - x1));
-        let (e2, e3) = if n.norm() > 1e-12 * (x3 - x1).norm().max(chord.norm()) {
-            let e3 = n.normalize();
-            (e3.cross(&e1), e3)
-        } else if across == 0.0 && normal == 0.0 {
-            (Vec3::zeros(), Vec3::zeros())
-        } else {
-            return Err(Error::invalid(
-                "X1, X2 and X3 are collinear: no plane for `across` and `normal`",
-            )
-            .at("at"));
+        let (e2, e3) = match frame.plane {
+            Some(p) => p,
+            None if across == 0.0 && normal == 0.0 => (Vec3::zeros(), Vec3::zeros()),
+            None => {
+                return Err(Error::invalid(
+                    "X1, X2 and X3 are collinear: no plane for `across` and `normal`",
+                )
+                .at("at"))
+            }
         };
         let peak = edit.bump(t3, 0);
-        edit.offset = (e1 * along + e2 * across + e3 * normal) / peak;
+        edit.offset = (frame.e1 * along + e2 * across + e3 * normal) / peak;
         Ok(edit)
     }
 
@@ -217,25 +276,48 @@ mod tests {
             )
             .unwrap(),
         );
-        // Plain, wrapping across v = 0, and with the handle off-centre.
+        // An open curve on an interval (a clamped cubic B-spline on [0, 1]).
+        let open: SharedCurve = Arc::new(
+            BSpline::clamped(
+                3,
+                (0..7)
+                    .map(|k| Vec3::new(k as f64, (k * k % 5) as f64 * 0.3, 0.2 * k as f64))
+                    .collect(),
+                None,
+            )
+            .unwrap(),
+        );
+        let bits = |c: &dyn Curve, v: f64| {
+            let mut j = [Vec3::zeros(); 4];
+            c.jet(v, &mut j);
+            j.map(|x| [x.x.to_bits(), x.y.to_bits(), x.z.to_bits()])
+        };
+        // Plain, wrapping across v = 0, with the handle off-centre, and on an interval.
         for (base, from, to, at) in [
             (rim(), 1.0, 2.2, None),
             (rim(), 5.8, 0.7, Some(0.2)),
             (periodic.clone(), 2.0, 3.5, Some(2.4)),
+            (open.clone(), 0.3, 0.55, Some(0.4)),
         ] {
             let e = LocalEdit::new(base.clone(), from, to, at, [0.1, 0.3, -0.2]).unwrap();
             let (v1, v2) = e.interval();
-            // Bit for bit outside.
-            for k in 0..4000 {
-                let v = crate::TAU * k as f64 / 4000.0;
+            let (lo, hi) = match base.domain() {
+                Domain::Interval(a, b) => (a, b),
+                Domain::Periodic => (0.0, crate::TAU),
+            };
+            // Bit for bit outside: the samples outside, and just outside either end.
+            let mut outside = 0;
+            for k in 0..=4000 {
+                let v = lo + (hi - lo) * k as f64 / 4000.0;
                 if e.inside(v).is_none() {
-                    let (mut a, mut b) = ([Vec3::zeros(); 4], [Vec3::zeros(); 4]);
-                    base.jet(v, &mut a);
-                    e.jet(v, &mut b);
-                    assert!(a.iter().zip(&b).all(|(x, y)| x
-                        .iter()
-                        .zip(y.iter())
-                        .all(|(p, q)| p.to_bits() == q.to_bits())));
+                    outside += 1;
+                    assert_eq!(bits(&e, v), bits(&*base, v), "v = {v}");
+                }
+            }
+            assert!(outside > 1000, "{outside}");
+            for v in [v1 - 1e-9, v2 + 1e-9, from - 1e-9, to + 1e-9] {
+                if (lo..=hi).contains(&v) || base.domain() == Domain::Periodic {
+                    assert_eq!(bits(&e, v), bits(&*base, v), "at {v}");
                 }
             }
             // The handle.
@@ -273,5 +355,23 @@ mod tests {
         assert_eq!(e.place(), "to");
         let e = LocalEdit::new(rim(), 1.0, f64::NAN, None, [0.0, 0.1, 0.0]).unwrap_err();
         assert_eq!(e.place(), "to");
+    }
+
+    /// The frame's handle moved by `d` in its axes is where the edited curve passes at `v₃`,
+    /// across `v = 0` too; `from` is reduced and `to` follows it.
+    #[test]
+    fn the_frame_is_the_one_the_edit_moves_the_handle_in() {
+        for (from, to, at) in [(1.0, 2.5, None), (5.8, 0.6, Some(0.2))] {
+            let f = LocalFrame::new(&*rim(), from, to, at).unwrap();
+            let (e2, e3) = f.plane.unwrap();
+            let [along, across, normal] = [0.05, 0.2, -0.1];
+            let e = LocalEdit::new(rim(), from, to, at, [along, across, normal]).unwrap();
+            let moved = f.x3 + f.e1 * along + e2 * across + e3 * normal;
+            assert!((e.point(f.at()) - moved).norm() < 1e-12);
+            assert!((f.x1 - rim().point(from)).norm() < 1e-12);
+            assert!((f.x2 - rim().point(to)).norm() < 1e-12);
+            assert!(f.from() >= 0.0 && f.to() > f.from());
+            assert_eq!(e.interval(), (f.from(), f.to()));
+        }
     }
 }

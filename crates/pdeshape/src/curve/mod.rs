@@ -24,7 +24,7 @@ pub use bspline::BSpline;
 pub use conic::{Ellipse, Point};
 pub use formula::Formula;
 pub use hermite::Hermite;
-pub use local::LocalEdit;
+pub use local::{LocalEdit, LocalFrame};
 pub use samples::{PointSamples, SampleParam};
 pub use transform::{Affine, Combination, OriginShift, Transformed};
 

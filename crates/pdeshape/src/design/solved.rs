@@ -498,16 +498,26 @@ impl SolvedDesign {
     }
 
     /// What a picture draws over the surfaces: the position curves of every patch (each shared
-    /// curve once) and every spine.
+    /// curve once; a spine-edited patch's sections at those `u` instead, where its edit moved
+    /// them) and every spine.
     pub fn overlays(&self) -> Vec<Polyline> {
         let mut lines = Vec::new();
         let mut drawn: Vec<&str> = Vec::new();
-        for c in self
-            .surfaces
-            .iter()
-            .flat_map(|s| &s.conditions)
-            .filter(|c| c.derivative == 0)
-        {
+        for (s, c) in self.surfaces.iter().flat_map(|s| {
+            s.conditions
+                .iter()
+                .filter(|c| c.derivative == 0)
+                .map(move |c| (s, c))
+        }) {
+            if let Some(points) = s.edited_section(c.u, CURVE_POINTS) {
+                lines.push(Polyline {
+                    points,
+                    color: CURVE_COLOR,
+                    width: 2.0,
+                    closed: true,
+                });
+                continue;
+            }
             if let Some(name) = &c.curve_name {
                 if drawn.contains(&name.as_str()) {
                     continue;

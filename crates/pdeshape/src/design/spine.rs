@@ -866,6 +866,22 @@ impl DesignSurface {
     }
 }
 
+impl DesignSurface {
+    /// The section `X̃(u, ·)` of a spine-edited patch at `n` equally spaced `v` (`None` for any
+    /// other surface): where the edit carried the position curve of a condition at `u`, which
+    /// the patch no longer meets (a picture draws this instead of the curve).
+    pub(crate) fn edited_section(&self, u: f64, n: usize) -> Option<Vec<Vec3>> {
+        let SurfaceKind::SpineEdited(e) = &self.kind else {
+            return None;
+        };
+        Some(
+            (0..n)
+                .map(|k| Surface::point(&**e, u, crate::TAU * k as f64 / n as f64))
+                .collect(),
+        )
+    }
+}
+
 /// [`super::Edit::SetSpine`]: sets, adds or removes the `[[spine]]` table of `patch`; returns
 /// the undo edit. A table given with another `patch` than the edit's is refused.
 pub(crate) fn set_spine(

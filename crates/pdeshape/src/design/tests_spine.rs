@@ -523,3 +523,53 @@ fn a_drag_of_the_spine_gives_the_meshes_of_fresh_compiles() {
         );
     }
 }
+
+/// A picture of an edited patch draws its sections at the conditions' `u`, where the edit
+/// carried the position curves, not the curves themselves, which the edited patch no longer
+/// meets. In translate mode the mouth is the solved mouth circle moved by the last control
+/// point's move; in frame mode a circle of the same radius about the new spine's end, across its
+/// tangent. The foot (first two control points kept) stays the foot circle. Tolerance: the
+/// conditions are met to ≈ 1e-15 and the frames err by ≈ 1e-13 of the design's size (≈ 5).
+#[test]
+fn overlays_of_an_edited_patch_are_its_sections() {
+    let moves =
+        "moves = [{ index = 2, by = [2.5, 0.0, 0.0] }, { index = 3, by = [3.0, 0.0, -1.5] }]";
+    let tol = 1e-11;
+    for carry in ["frame", "translate"] {
+        let d = compile(&tube(&spine_table(carry, moves))).unwrap();
+        let SurfaceKind::SpineEdited(e) = &d.solved().surfaces[0].kind else {
+            panic!("not edited")
+        };
+        let curves: Vec<_> = d
+            .solved()
+            .overlays()
+            .into_iter()
+            .filter(|l| l.closed)
+            .collect();
+        assert_eq!(curves.len(), 2, "{carry}");
+        let end = e.spine(1.0, 0);
+        assert!((end - Vec3::new(3.0, 0.0, 0.5)).norm() < 1e-12, "{end}");
+        let t = e.tangent(1.0);
+        let n = curves[0].points.len();
+        for k in 0..n {
+            let v = TAU * k as f64 / n as f64;
+            // The foot: the circle of radius 1 about the origin in z = 0.
+            let foot = Vec3::new(v.cos(), v.sin(), 0.0);
+            assert!((curves[0].points[k] - foot).norm() < tol, "{carry} foot");
+            let p = curves[1].points[k];
+            match carry {
+                "translate" => {
+                    let want = Vec3::new(0.6 * v.cos() + 3.0, 0.6 * v.sin(), 2.0 - 1.5);
+                    assert!((p - want).norm() < tol, "{carry}: {p} vs {want}");
+                }
+                _ => {
+                    assert!(((p - end).norm() - 0.6).abs() < tol, "{carry}");
+                    assert!((p - end).dot(&t).abs() < tol, "{carry}");
+                }
+            }
+            // Far from the mouth circle the design file gives (the old overlay).
+            let old = Vec3::new(0.6 * v.cos(), 0.6 * v.sin(), 2.0);
+            assert!((p - old).norm() > 1.0);
+        }
+    }
+}

@@ -317,7 +317,7 @@ pub(super) fn mesh(
     let removed = &mut scratch.removed;
     removed.clear();
     removed.resize((nu - 1) * cols, false);
-    let mut dropped = vec![false; nu * nv];
+    let mut dropped = vec![0u8; nu * nv];
     for l in &loops.loops {
         let (r, [i0, i1, j0, j1]) = ring(frame, &curves[l.curve], l, l.curve, method)?;
         for i in i0..i1 {
@@ -333,14 +333,20 @@ pub(super) fn mesh(
                 }
                 *cell = true;
                 if i > i0 && j > j0 {
-                    dropped[i as usize * nv + frame.col(j)] = true;
+                    dropped[i as usize * nv + frame.col(j)] = 1;
                 }
             }
         }
         rings.push((l.curve, r));
     }
     let id = &mut scratch.id;
-    frame.kept_grid(|k| dropped[k], removed, pm, id);
+    // Each ring adds its curve's and inner rows' vertices and two triangles a column between
+    // consecutive rows (curve, inner rows, rectangle).
+    let extra = rings.iter().fold([0, 0], |[v, t], (_, r)| {
+        let n = r.rect.len();
+        [v + n * (1 + r.inner.len()), t + 2 * n * (1 + r.inner.len())]
+    });
+    frame.kept_grid(&dropped, 1, removed, extra, pm, id);
     for (curve, r) in &rings {
         let n = r.rect.len();
         let mut rows: Vec<Vec<u32>> = Vec::new();

@@ -235,35 +235,30 @@ impl TrimCurve {
             DENSE
         };
         let mut ts = Vec::new();
-        let total: f64 = (0..pieces)
+        // Cumulative chord lengths along each piece, and their total.
+        let cums: Vec<Vec<f64>> = (0..pieces)
             .map(|k| {
                 let (a, b) = (
                     corners[k],
                     if k + 1 < pieces { corners[k + 1] } else { 1.0 },
                 );
-                (0..dense)
-                    .map(|m| {
+                std::iter::once(0.0)
+                    .chain((0..dense).scan(0.0, |acc, m| {
                         let t0 = a + (b - a) * m as f64 / dense as f64;
                         let t1 = a + (b - a) * (m + 1) as f64 / dense as f64;
-                        len(self.point(t0), self.point(t1))
-                    })
-                    .sum::<f64>()
+                        *acc += len(self.point(t0), self.point(t1));
+                        Some(*acc)
+                    }))
+                    .collect()
             })
-            .sum();
+            .collect();
+        let total: f64 = cums.iter().map(|c| c[dense]).sum();
         let min_total = 8usize;
-        for k in 0..pieces {
+        for (k, cum) in cums.iter().enumerate() {
             let (a, b) = (
                 corners[k],
                 if k + 1 < pieces { corners[k + 1] } else { 1.0 },
             );
-            let cum: Vec<f64> = std::iter::once(0.0)
-                .chain((0..dense).scan(0.0, |acc, m| {
-                    let t0 = a + (b - a) * m as f64 / dense as f64;
-                    let t1 = a + (b - a) * (m + 1) as f64 / dense as f64;
-                    *acc += len(self.point(t0), self.point(t1));
-                    Some(*acc)
-                }))
-                .collect();
             let l = cum[dense];
             // At most MAX_SAMPLES a piece: a curve longer than that (a radius of 1e300) is far
             // outside any patch's domain, which the caller then refuses, instead of sampling it

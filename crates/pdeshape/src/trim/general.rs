@@ -8,9 +8,11 @@
 //! from its remaining grid vertices and the curve samples, with the sides between removed and
 //! kept cells (or the domain's boundary) and the chords of every curve as constraint edges. Every
 //! triangle of the triangulation lies inside one region bounded by constraints; it is kept when
-//! its centroid is in a removed cell and outside every hole.
+//! its centroid is in a removed cell and it is not inside a hole (the triangles on the left of a
+//! hole's chords, the curves running counter-clockwise, and those reached from them without
+//! crossing a constraint).
 
-use super::{point_in_polygon, Frame, Loop, Loops, OnTrim, ParamMesh, Scratch};
+use super::{Frame, Loop, Loops, OnTrim, ParamMesh, Scratch};
 use crate::{Error, Result};
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation};
@@ -18,20 +20,33 @@ use spade::{ConstrainedDelaunayTriangulation, HasPosition, Point2, Triangulation
 const NEAR: u8 = 1;
 const DROP: u8 = 2;
 
+/// The shear of the triangulation's plane: a point `(s, t)` (in grid cells) is placed at
+/// `(s, t + SHEAR·s)`. The band's grid vertices make squares, whose four corners lie on one
+/// circle: every in-circle test of such a square is exactly zero, which the exact predicates
+/// settle only by their slowest, exact stage. Sheared by 2⁻²⁰ the squares are parallelograms,
+/// not cyclic, and the tests are decided by their first, floating-point stage. The shear is
+/// exact on grid vertices (`t + s·2⁻²⁰` of integers below 2³² is representable), keeps grid
+/// lines straight and every orientation, and moves a triangle's angles by about 2⁻²⁰ rad: the
+/// triangulation is a Delaunay triangulation of the unsheared points up to that (a square's
+/// diagonal, a tie there, is now always the one from `(s + 1, t)` to `(s, t + 1)`).
+const SHEAR: f64 = 1.0 / (1u64 << 20) as f64;
+
 #[derive(Clone, Copy)]
 struct Vertex {
-    p: Point2<f64>,
+    /// The point in grid cells.
+    st: [f64; 2],
     id: u32,
 }
 
 impl HasPosition for Vertex {
     type Scalar = f64;
     fn position(&self) -> Point2<f64> {
-        self.p
+        Point2::new(self.st[0], self.st[1] + SHEAR * self.st[0])
     }
 }
 
-fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+/// The squared distance from `p` to the segment `ab`.
+fn dist2_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
     let l2 = dx * dx + dy * dy;
     let f = if l2 > 0.0 {
@@ -39,7 +54,8 @@ fn dist_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     } else {
         0.0
     };
-    (p[0] - a[0] - f * dx).hypot(p[1] - a[1] - f * dy)
+    let (x, y) = (p[0] - a[0] - f * dx, p[1] - a[1] - f * dy);
+    x * x + y * y
 }
 
 /// Marks grid vertices near each hole (inside, or within 1 of its boundary) and those dropped,
@@ -84,12 +100,12 @@ fn mark(frame: &Frame, loops: &[Loop], flags: &mut Vec<u8>) {
             let j1 = ((a[1].max(b[1]) + 1.0).ceil() as i64).min(jmax);
             for i in i0..=i1 {
                 for j in j0..=j1 {
-                    let d = dist_to_segment([i as f64, j as f64], a, b);
-                    if d < 1.0 {
+                    let d2 = dist2_to_segment([i as f64, j as f64], a, b);
+                    if d2 < 1.0 {
                         let jc = frame.col(j);
                         let f = &mut flags[i * nv + jc];
                         *f |= NEAR;
-                        if d < 0.5 && !frame.on_boundary(i, jc) {
+                        if d2 < 0.25 && !frame.on_boundary(i, jc) {
                             *f |= DROP;
                         }
                     }
@@ -100,19 +116,54 @@ fn mark(frame: &Frame, loops: &[Loop], flags: &mut Vec<u8>) {
 }
 
 /// The re-meshed domain (see the module's documentation), into `pm` (its buffers and those of
-/// `scratch` reused).
+/// `scratch` reused): [`grid`], then [`band`] appended.
 pub(super) fn mesh(
     frame: &Frame,
     loops: &Loops,
     pm: &mut ParamMesh,
     scratch: &mut Scratch,
 ) -> Result<()> {
+    let cells = grid(frame, loops, pm, scratch);
+    let b = band(frame, loops, &cells, scratch, pm.uv.len() as u32)?;
+    b.append_to(pm);
+    Ok(())
+}
+
+/// The vertices and triangles the band adds to the grid part: its curve samples (numbered from
+/// the grid part's vertex count on) and its triangles.
+#[derive(Default)]
+pub(super) struct Band {
+    uv: Vec<[f64; 2]>,
+    on_trim: Vec<OnTrim>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl Band {
+    /// Appends the band to the grid part it was made for.
+    pub(super) fn append_to(self, pm: &mut ParamMesh) {
+        pm.uv.extend_from_slice(&self.uv);
+        pm.on_trim.extend_from_slice(&self.on_trim);
+        pm.triangles.extend_from_slice(&self.triangles);
+    }
+
+    /// How many vertices it adds.
+    pub(super) fn vertices(loops: &Loops) -> usize {
+        loops.loops.iter().map(|l| l.st.len()).sum()
+    }
+}
+
+/// The grid part of the general method into `pm`: marks the grid vertices near the holes (into
+/// `scratch.flags`), removes the cells with a near corner (`scratch.removed`), and keeps the
+/// rest of the grid ([`Frame::kept_grid`], `scratch.id`). Returns the removed cells, sorted.
+pub(super) fn grid(
+    frame: &Frame,
+    loops: &Loops,
+    pm: &mut ParamMesh,
+    scratch: &mut Scratch,
+) -> Vec<u32> {
     let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
     let Scratch {
-        flags,
-        removed,
-        id,
-        band: cdt_index,
+        flags, removed, id, ..
     } = scratch;
     mark(frame, &loops.loops, flags);
     let flags = &flags[..];
@@ -155,11 +206,35 @@ pub(super) fn mesh(
         }
     }
     cells.sort_unstable();
-    // Vertices: grid vertices not dropped, then the curve samples.
-    frame.kept_grid(|k| flags[k] & DROP != 0, removed, pm, id);
+    // Vertices: grid vertices not dropped, then the curve samples; the band's triangles are
+    // fewer than twice its vertices.
+    let samples = Band::vertices(loops);
+    let extra = [samples, 2 * (4 * cells.len() + samples)];
+    frame.kept_grid(flags, DROP, removed, extra, pm, id);
+    cells
+}
+
+/// The band of [`grid`]'s removed `cells` (its flags, removed cells and vertex indices in
+/// `scratch`), triangulated; its first new vertex is `first_vertex` (the grid part's vertex
+/// count).
+pub(super) fn band(
+    frame: &Frame,
+    loops: &Loops,
+    cells: &[u32],
+    scratch: &mut Scratch,
+    first_vertex: u32,
+) -> Result<Band> {
+    let (nu, nv, cols) = (frame.nu, frame.nv, frame.cols());
+    let mut out = Band::default();
     if loops.loops.is_empty() {
-        return Ok(());
+        return Ok(out);
     }
+    let Scratch {
+        removed,
+        id,
+        band: cdt_index,
+        ..
+    } = scratch;
     let (removed, id) = (&removed[..], &id[..]);
     // Unwrapped column of a grid column: every band column lies in (cut, cut + nv).
     let cut = loops.cut;
@@ -171,18 +246,22 @@ pub(super) fn mesh(
             j as i64
         }
     };
+    // The band's grid vertices (the kept corners of removed cells, in the order the cells
+    // list them) and each one's index in the triangulation, by grid index.
     let mut verts: Vec<Vertex> = Vec::new();
     cdt_index.clear();
-    cdt_index.resize(nu * nv, u32::MAX);
-    for &c in &cells {
+    cdt_index.reserve(4 * cells.len());
+    for &c in cells {
         let (i, j) = (c as usize / cols, c as usize % cols);
         for (ci, cj) in [(i, j), (i + 1, j), (i + 1, (j + 1) % nv), (i, (j + 1) % nv)] {
             let g = ci * nv + cj;
-            if id[g] != u32::MAX && cdt_index[g] == u32::MAX {
-                cdt_index[g] = verts.len() as u32;
-                verts.push(Vertex {
-                    p: Point2::new(ci as f64, unwrap(cj) as f64),
-                    id: id[g],
+            if id[g] != u32::MAX {
+                cdt_index.entry(g as u32).or_insert_with(|| {
+                    verts.push(Vertex {
+                        st: [ci as f64, unwrap(cj) as f64],
+                        id: id[g],
+                    });
+                    verts.len() as u32 - 1
                 });
             }
         }
@@ -197,10 +276,10 @@ pub(super) fn mesh(
         }
         removed[ci as usize * cols + frame.col(cj)]
     };
-    for &cell in &cells {
+    for &cell in cells {
         let (i, j) = (cell as usize / cols, cell as usize % cols);
         let (ii, jj) = (i as i64, j as i64);
-        let c = |a: usize, b: usize| cdt_index[a * nv + b % nv] as usize;
+        let c = |a: usize, b: usize| cdt_index[&((a * nv + b % nv) as u32)] as usize;
         if !cell_removed(ii - 1, jj) {
             edges.push([c(i, j), c(i, j + 1)]);
         }
@@ -220,17 +299,14 @@ pub(super) fn mesh(
         let first = verts.len();
         sample_base.push(first);
         for (k, (&p, (&t, &uv))) in l.st.iter().zip(l.t.iter().zip(&l.uv)).enumerate() {
-            let vid = pm.uv.len() as u32;
-            pm.uv.push(uv);
-            pm.on_trim.push(OnTrim {
+            let vid = first_vertex + out.uv.len() as u32;
+            out.uv.push(uv);
+            out.on_trim.push(OnTrim {
                 vertex: vid,
                 curve: l.curve,
                 t,
             });
-            verts.push(Vertex {
-                p: Point2::new(p[0], p[1]),
-                id: vid,
-            });
+            verts.push(Vertex { st: p, id: vid });
             let next = first + (k + 1) % l.st.len();
             edges.push([first + k, next]);
         }
@@ -248,28 +324,52 @@ pub(super) fn mesh(
         )
         .at("curves"));
     }
-    let loop_of = |h: FixedVertexHandle| -> Option<usize> {
-        let k = h.index();
-        sample_base.iter().rposition(|&b| k >= b)
-    };
+    // The faces inside the holes: to the left of every chord (the loops run counter-clockwise;
+    // a directed edge's face is the one on its left), and those reached from them without
+    // crossing a constraint edge (no vertex lies inside a hole, so these are bounded by chords).
+    let mut inside = vec![false; cdt.num_all_faces()];
+    let mut stack = Vec::new();
+    for (l, &first) in loops.loops.iter().zip(&sample_base) {
+        let n = l.st.len();
+        for k in 0..n {
+            let (a, b) = (first + k, first + (k + 1) % n);
+            let e = cdt.get_edge_from_neighbors(
+                FixedVertexHandle::from_index(a),
+                FixedVertexHandle::from_index(b),
+            );
+            if let Some(f) = e.and_then(|e| e.face().as_inner()) {
+                if !std::mem::replace(&mut inside[f.fix().index()], true) {
+                    stack.push(f);
+                }
+            }
+        }
+    }
+    while let Some(f) = stack.pop() {
+        for e in f.adjacent_edges() {
+            if e.as_undirected().is_constraint_edge() {
+                continue;
+            }
+            if let Some(g) = e.rev().face().as_inner() {
+                if !std::mem::replace(&mut inside[g.fix().index()], true) {
+                    stack.push(g);
+                }
+            }
+        }
+    }
     for f in cdt.inner_faces() {
+        if inside[f.fix().index()] {
+            continue;
+        }
         let vs = f.vertices();
-        let p = vs.map(|v| v.position());
+        let p = vs.map(|v| v.data().st);
         let c = [
-            (p[0].x + p[1].x + p[2].x) / 3.0,
-            (p[0].y + p[1].y + p[2].y) / 3.0,
+            (p[0][0] + p[1][0] + p[2][0]) / 3.0,
+            (p[0][1] + p[1][1] + p[2][1]) / 3.0,
         ];
         if !cell_removed(c[0].floor() as i64, c[1].floor() as i64) {
             continue;
         }
-        // Only a triangle of three samples of one curve can lie inside that curve.
-        let ls = vs.map(|v| loop_of(v.fix()));
-        if let [Some(a), Some(b), Some(c2)] = ls {
-            if a == b && b == c2 && point_in_polygon(c, &loops.loops[a].st) {
-                continue;
-            }
-        }
-        pm.triangles.push(vs.map(|v| v.data().id));
+        out.triangles.push(vs.map(|v| v.data().id));
     }
-    Ok(())
+    Ok(out)
 }

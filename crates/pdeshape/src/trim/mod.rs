@@ -31,6 +31,8 @@ use crate::mesh::{self, GridMesh, Part, TriMesh};
 use crate::surface::{ParameterDomain, RowBuf, Surface};
 use crate::{Error, Result, TAU};
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 /// How the region around the holes is re-meshed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -119,23 +121,32 @@ pub(crate) struct Frame {
 
 impl Frame {
     /// The grid part of a trimmed mesh, shared by every method: the grid vertices that are not
-    /// `dropped` (by grid index, in grid order) and two triangles per cell that is not `removed`
-    /// (cells indexed `i·cols + j`), written into `pm` (emptied first, its buffers reused); `id`
-    /// becomes each grid vertex's index in it (`u32::MAX` for a dropped one).
+    /// dropped (`flags[k] & dropped != 0`, by grid index; kept in grid order) and two triangles
+    /// per cell that is not `removed`
+    /// (cells indexed `i·cols + j`), written into `pm` (emptied first, its buffers reused, with
+    /// room for `extra` more vertices and triangles, `[vertices, triangles]`, that the method
+    /// adds); `id` becomes each grid vertex's index in it (`u32::MAX` for a dropped one).
+    ///
+    /// Rows are independent once every row knows where its vertices and triangles start: count
+    /// per row, take prefix sums, then fill the rows in parallel, each straight into the
+    /// uninitialised capacity of the buffers (no zero-fill first: a fresh buffer's pages are
+    /// first touched once, by the thread that writes them).
     pub(crate) fn kept_grid(
         &self,
-        dropped: impl Fn(usize) -> bool + Sync,
+        flags: &[u8],
+        dropped: u8,
         removed: &[bool],
+        extra: [usize; 2],
         pm: &mut ParamMesh,
         id: &mut Vec<u32>,
     ) {
         let (nu, nv, cols) = (self.nu, self.nv, self.cols());
-        // Rows are independent once every row knows where its vertices and triangles start:
-        // count per row, take prefix sums, then fill the rows in parallel.
-        let kept_per_row: Vec<usize> = (0..nu)
-            .into_par_iter()
-            .map(|i| (0..nv).filter(|&j| !dropped(i * nv + j)).count())
+        let mask = dropped;
+        let kept_per_row: Vec<usize> = flags
+            .par_chunks(nv)
+            .map(|row| nv - row.iter().filter(|&&f| f & mask != 0).count())
             .collect();
+        let dropped = |k: usize| flags[k] & mask != 0;
         let cells_per_row: Vec<usize> = (0..nu - 1)
             .into_par_iter()
             .map(|i| {
@@ -145,58 +156,46 @@ impl Frame {
                     .count()
             })
             .collect();
-        let n_kept: usize = kept_per_row.iter().sum();
-        let n_cells: usize = cells_per_row.iter().sum();
         pm.on_trim.clear();
-        pm.uv.clear();
-        pm.grid_source.clear();
-        pm.triangles.clear();
-        id.clear();
-        id.resize(nu * nv, u32::MAX);
-        pm.uv.resize(n_kept, [0.0; 2]);
-        pm.grid_source.resize(n_kept, 0);
-        {
-            let mut rows = Vec::with_capacity(nu);
-            let (mut uv_rest, mut src_rest) = (&mut pm.uv[..], &mut pm.grid_source[..]);
-            let mut first = 0;
-            for (i, id_row) in id.chunks_mut(nv).enumerate() {
-                let (a, b) = std::mem::take(&mut uv_rest).split_at_mut(kept_per_row[i]);
-                let (c, d) = std::mem::take(&mut src_rest).split_at_mut(kept_per_row[i]);
-                rows.push((i, first, id_row, a, c));
-                first += kept_per_row[i];
-                (uv_rest, src_rest) = (b, d);
-            }
-            rows.into_par_iter()
-                .for_each(|(i, first, id_row, uv_row, src_row)| {
-                    let mut k = 0;
-                    for (j, slot) in id_row.iter_mut().enumerate() {
-                        if !dropped(i * nv + j) {
-                            *slot = (first + k) as u32;
-                            uv_row[k] = [self.u[i], self.v[j]];
-                            src_row[k] = (i * nv + j) as u32;
-                            k += 1;
-                        }
-                    }
-                });
-        }
-        // Room for the re-meshed band as well, so the vector does not grow (and copy) later.
-        pm.triangles.reserve(2 * n_cells + 4 * (nu + nv));
-        pm.triangles.resize(2 * n_cells, [0u32; 3]);
-        {
-            let mut rows = Vec::with_capacity(nu - 1);
-            let mut rest = &mut pm.triangles[..];
-            for (i, &n) in cells_per_row.iter().enumerate() {
-                let (a, b) = std::mem::take(&mut rest).split_at_mut(2 * n);
-                rows.push((i, a));
-                rest = b;
-            }
-            let id = &id[..];
-            rows.into_par_iter().for_each(|(i, out)| {
-                let mut k = 0;
-                for j in 0..cols {
-                    if removed[i * cols + j] {
-                        continue;
-                    }
+        // Most rows lose no vertex and no cell: they skip the tests.
+        let kept = |i: usize| {
+            let all = kept_per_row[i] == nv;
+            (0..nv).filter(move |&j| all || !dropped(i * nv + j))
+        };
+        let kept_per_row = &kept_per_row;
+        let first: Vec<usize> = kept_per_row
+            .iter()
+            .scan(0, |acc, &n| {
+                *acc += n;
+                Some(*acc - n)
+            })
+            .collect();
+        fill_rows(id, &vec![nv; nu], 0, |i| {
+            let mut next = first[i] as u32;
+            let all = kept_per_row[i] == nv;
+            (0..nv).map(move |j| {
+                if !all && dropped(i * nv + j) {
+                    u32::MAX
+                } else {
+                    next += 1;
+                    next - 1
+                }
+            })
+        });
+        fill_rows(&mut pm.uv, kept_per_row, extra[0], |i| {
+            kept(i).map(move |j| [self.u[i], self.v[j]])
+        });
+        fill_rows(&mut pm.grid_source, kept_per_row, 0, |i| {
+            kept(i).map(move |j| (i * nv + j) as u32)
+        });
+        let tris_per_row: Vec<usize> = cells_per_row.iter().map(|n| 2 * n).collect();
+        let tris_per_row = &tris_per_row;
+        let id = &id[..];
+        fill_rows(&mut pm.triangles, tris_per_row, extra[1], |i| {
+            let all = tris_per_row[i] == 2 * cols;
+            (0..cols)
+                .filter(move |&j| all || !removed[i * cols + j])
+                .flat_map(move |j| {
                     let j1 = (j + 1) % nv;
                     let [a, b, c, d] = [
                         id[i * nv + j],
@@ -204,12 +203,9 @@ impl Frame {
                         id[(i + 1) * nv + j1],
                         id[i * nv + j1],
                     ];
-                    out[k] = [a, b, c];
-                    out[k + 1] = [a, c, d];
-                    k += 2;
-                }
-            });
-        }
+                    [[a, b, c], [a, c, d]]
+                })
+        });
         pm.grid_triangles = pm.triangles.len();
     }
 
@@ -258,6 +254,38 @@ impl Frame {
     pub fn on_boundary(&self, i: usize, j: usize) -> bool {
         i == 0 || i + 1 == self.nu || (!self.periodic && (j == 0 || j + 1 == self.nv))
     }
+}
+
+/// Empties `v` and fills it with `rows.iter().sum()` elements: row `i`, `rows[i]` elements,
+/// is the first `rows[i]` items of `items(i)`, written straight into `v`'s uninitialised
+/// capacity; the rows are written in parallel (no zero-fill first: each page of a fresh buffer
+/// is first touched once, by the thread that writes it). An iterator that runs short panics
+/// (before any element becomes part of `v`). Room for `extra` more elements is reserved.
+fn fill_rows<T: Send, I: Iterator<Item = T>>(
+    v: &mut Vec<T>,
+    rows: &[usize],
+    extra: usize,
+    items: impl Fn(usize) -> I + Sync,
+) {
+    let n: usize = rows.iter().sum();
+    v.clear();
+    v.reserve(n + extra);
+    let mut chunks = Vec::with_capacity(rows.len());
+    let mut rest = &mut v.spare_capacity_mut()[..n];
+    for (i, &len) in rows.iter().enumerate() {
+        let (row, tail) = std::mem::take(&mut rest).split_at_mut(len);
+        chunks.push((i, row));
+        rest = tail;
+    }
+    chunks.into_par_iter().with_min_len(4).for_each(|(i, row)| {
+        let mut it = items(i);
+        for slot in row {
+            slot.write(it.next().expect("a row of a trimmed mesh ran short"));
+        }
+    });
+    // SAFETY: the first `n` slots of the capacity are the rows' slots (disjoint, covering
+    // `0..n`), and every slot of every row was written above (a short row panicked instead).
+    unsafe { v.set_len(n) };
 }
 
 /// One trim curve, sampled: parameters, points, and points in grid cells (unwrapped into the
@@ -422,8 +450,30 @@ pub(crate) struct Scratch {
     pub removed: Vec<bool>,
     /// Per grid vertex: its index in the parameter mesh (`u32::MAX` if dropped).
     pub id: Vec<u32>,
-    /// Per grid vertex: its index in the band's triangulation (general method).
-    pub band: Vec<u32>,
+    /// Grid index → index in the band's triangulation, for the band's grid vertices (general
+    /// method).
+    pub band: HashMap<u32, u32, BuildHasherDefault<GridHasher>>,
+}
+
+/// A hasher of grid indices (`u32`s, each hashed once by `write_u32`): Fibonacci hashing, one
+/// multiplication. The keys are not chosen by an adversary, and the map holds a few thousand.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct GridHasher(u64);
+
+impl Hasher for GridHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+
+    fn write_u32(&mut self, x: u32) {
+        self.0 = (self.0 ^ u64::from(x)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
 }
 
 /// [`trim_domain`] into `pm`, reusing its buffers and those of `scratch`. On an error `pm` is
@@ -513,21 +563,42 @@ pub fn trimmed_mesh_into(
         scratch,
     } = out;
     let result = mesh::grid_parameters_in(surface.u_range(), surface.v_domain(), nu, nv).and_then(
-        |(us, vs)| {
-            trim_domain_into(
-                surface.parameter_domain(),
-                nu,
-                nv,
-                curves,
-                method,
-                param,
-                scratch,
-            )?;
-            fill_mesh(surface, &us, &vs, param, name, mesh);
-            Ok(())
+        |(us, vs)| match method {
+            // The band's triangulation is serial: it runs beside the grid part of the mesh
+            // (rows evaluated and written, in parallel), which does not depend on it.
+            TrimMethod::Cdt => {
+                let frame = Frame::new(surface.parameter_domain(), nu, nv)?;
+                let loops = prepare(&frame, curves, 1.0, 0.0)?;
+                let cells = general::grid(&frame, &loops, param, scratch);
+                let extra = general::Band::vertices(&loops);
+                let first = param.uv.len() as u32;
+                let (band, ()) = rayon::join(
+                    || general::band(&frame, &loops, &cells, scratch, first),
+                    || fill_grid(surface, &us, &vs, param, extra, mesh),
+                );
+                let band = band?;
+                let grid_triangles = param.triangles.len();
+                band.append_to(param);
+                fill_rest(surface, param, grid_triangles, name, mesh);
+                Ok(())
+            }
+            TrimMethod::Bilinear | TrimMethod::Laplace => {
+                trim_domain_into(
+                    surface.parameter_domain(),
+                    nu,
+                    nv,
+                    curves,
+                    method,
+                    param,
+                    scratch,
+                )?;
+                fill_mesh(surface, &us, &vs, param, name, mesh);
+                Ok(())
+            }
         },
     );
     if result.is_err() {
+        param.clear();
         mesh.positions.clear();
         mesh.normals.clear();
         mesh.uv.clear();
@@ -547,16 +618,33 @@ fn fill_mesh(
     name: &str,
     out: &mut TriMesh,
 ) {
+    let g = pm.grid_source.len();
+    fill_grid(surface, us, vs, pm, pm.uv.len() - g, out);
+    fill_rest(surface, pm, pm.grid_triangles, name, out);
+}
+
+/// The grid part of [`fill_mesh`]: `out` (emptied, its buffers reused, with room for `extra`
+/// more vertices) gets the positions, normals and `(u, v)` of `pm`'s grid vertices and its
+/// first `pm.grid_triangles` triangles. Positions and normals are written straight into the
+/// uninitialised capacity, in parallel (no zero-fill first: each page of a fresh buffer is first
+/// touched once, by the thread that writes it).
+fn fill_grid(
+    surface: &dyn Surface,
+    us: &[f64],
+    vs: &[f64],
+    pm: &ParamMesh,
+    extra: usize,
+    out: &mut TriMesh,
+) {
     let nv = vs.len();
-    let (n, g) = (pm.uv.len(), pm.grid_source.len());
-    let periodic = surface.v_domain().is_periodic();
+    let g = pm.grid_source.len();
     out.positions.clear();
     out.normals.clear();
-    out.positions.resize(n, [0.0; 3]);
-    out.normals.resize(n, [0.0; 3]);
+    out.positions.reserve(g + extra);
+    out.normals.reserve(g + extra);
     {
-        let (grid_p, off_p) = out.positions.split_at_mut(g);
-        let (grid_n, off_n) = out.normals.split_at_mut(g);
+        let grid_p = &mut out.positions.spare_capacity_mut()[..g];
+        let grid_n = &mut out.normals.spare_capacity_mut()[..g];
         // The kept grid vertices are in grid order: row i's are those with a grid index in
         // [i·nv, (i+1)·nv).
         let mut rows = Vec::with_capacity(us.len());
@@ -572,36 +660,77 @@ fn fill_mesh(
             }
             (p_rest, n_rest, s_rest) = (pr, nr, sr);
         }
+        // Every grid index is below nu·nv: the rows hold all g slots.
+        assert!(p_rest.is_empty() && n_rest.is_empty() && s_rest.is_empty());
         let eval = surface.row_evaluator(vs);
         let eval = &*eval;
         rows.into_par_iter().with_min_len(4).for_each_init(
             || RowBuf::new(nv),
             |row, (first, u, p, q, s)| {
                 eval.eval_row(u, row);
+                // p, q and s have one length: every slot is written.
                 for ((p, q), &s) in p.iter_mut().zip(q.iter_mut()).zip(s) {
                     let j = s as usize - first;
-                    *p = [row.x[j] as f32, row.y[j] as f32, row.z[j] as f32];
-                    *q = [row.nx[j] as f32, row.ny[j] as f32, row.nz[j] as f32];
+                    p.write([row.x[j] as f32, row.y[j] as f32, row.z[j] as f32]);
+                    q.write([row.nx[j] as f32, row.ny[j] as f32, row.nz[j] as f32]);
                 }
             },
         );
-        off_p
-            .par_iter_mut()
-            .zip(off_n.par_iter_mut())
-            .zip(pm.uv[g..].par_iter())
-            .for_each(|((p, q), &[u, v])| {
-                let v = if periodic { v.rem_euclid(TAU) } else { v };
-                let d = surface.partials(u, v);
-                let nn = d.normal();
-                *p = [d.x.x as f32, d.x.y as f32, d.x.z as f32];
-                *q = [nn.x as f32, nn.y as f32, nn.z as f32];
-            });
+    }
+    // SAFETY: the first g slots of both buffers are the grid rows' slots (all of them, asserted
+    // above), each written once (zips of slices of one length).
+    unsafe {
+        out.positions.set_len(g);
+        out.normals.set_len(g);
     }
     out.uv.clear();
+    out.uv.reserve(g + extra);
     out.uv
-        .par_extend(pm.uv.par_iter().map(|p| [p[0] as f32, p[1] as f32]));
+        .par_extend(pm.uv[..g].par_iter().map(|p| [p[0] as f32, p[1] as f32]));
+    let t = pm.grid_triangles;
     out.triangles.clear();
-    out.triangles.extend_from_slice(&pm.triangles);
+    out.triangles.reserve(pm.triangles.capacity().max(t));
+    out.triangles
+        .par_extend(pm.triangles[..t].par_iter().copied());
+}
+
+/// The rest of [`fill_mesh`] after [`fill_grid`]: the vertices of `pm` after its grid vertices
+/// (`X(u, v)` and its unit normal, evaluated exactly), the triangles from `from_triangle` on,
+/// and the one part called `name`.
+fn fill_rest(
+    surface: &dyn Surface,
+    pm: &ParamMesh,
+    from_triangle: usize,
+    name: &str,
+    out: &mut TriMesh,
+) {
+    let periodic = surface.v_domain().is_periodic();
+    let g = out.positions.len();
+    let rest = &pm.uv[g..];
+    let m = rest.len();
+    out.positions.reserve(m);
+    out.normals.reserve(m);
+    out.positions.spare_capacity_mut()[..m]
+        .par_iter_mut()
+        .zip(out.normals.spare_capacity_mut()[..m].par_iter_mut())
+        .zip(rest.par_iter())
+        .for_each(|((p, q), &[u, v])| {
+            let v = if periodic { v.rem_euclid(TAU) } else { v };
+            let d = surface.partials(u, v);
+            let nn = d.normal();
+            p.write([d.x.x as f32, d.x.y as f32, d.x.z as f32]);
+            q.write([nn.x as f32, nn.y as f32, nn.z as f32]);
+        });
+    // SAFETY: the m slots after the first g of both buffers were each written once above (a
+    // zip of three slices of length m).
+    unsafe {
+        out.positions.set_len(g + m);
+        out.normals.set_len(g + m);
+    }
+    out.uv
+        .extend(pm.uv[g..].iter().map(|p| [p[0] as f32, p[1] as f32]));
+    out.triangles
+        .extend_from_slice(&pm.triangles[from_triangle..]);
     out.parts.clear();
     out.parts.push(Part {
         name: name.to_string(),
