@@ -356,7 +356,8 @@ fn sheet_templates_reach_the_edge() {
     assert!(!curves.is_empty());
     for (name, c) in curves {
         assert!(
-            c.get("sin").is_none_or(|s| s.as_array().unwrap().is_empty()),
+            c.get("sin")
+                .is_none_or(|s| s.as_array().unwrap().is_empty()),
             "{name}: {c}"
         );
     }

@@ -212,6 +212,10 @@ impl Chain {
         self.stations.len()
     }
 
+    pub fn is_empty(&self) -> bool {
+        self.stations.is_empty()
+    }
+
     /// `patches` patches with nodes spread evenly over the stations (the forced ones kept).
     pub fn even_nodes(&self, patches: usize) -> Option<Vec<usize>> {
         let last = self.len() - 1;
@@ -674,7 +678,7 @@ pub(crate) fn significant(x: f64, digits: i32) -> f64 {
 /// every station of `inner` (module documentation).
 fn choose_modes(full: &[Series], inner: &[usize], max_modes: usize, budget: f64) -> usize {
     let full_modes = (full[0].len() - 1) / 2;
-    let band = (full_modes + 1) / 2..=full_modes;
+    let band = full_modes.div_ceil(2)..=full_modes;
     let mut modes = 1;
     for &j in inner {
         let c = &full[j];

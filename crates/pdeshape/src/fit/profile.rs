@@ -61,7 +61,7 @@ fn closed_evenly(
     // Points closer than a millionth of the profile's length to the previous one are merged:
     // a spline needs distinct parameters.
     let total: f64 = line.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    if !(total > 0.0) || line.len() < 2 {
+    if !(total.is_finite() && total > 0.0) || line.len() < 2 {
         return Err(Error::invalid(format!(
             "the section at height {h:.6} is a degenerate profile of {} points",
             line.len()

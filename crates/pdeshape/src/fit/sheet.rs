@@ -41,7 +41,7 @@ pub fn fit_sheet(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     mesh.require_open()?;
     let diag = mesh.diagonal();
-    if !(diag > 0.0) {
+    if !(diag.is_finite() && diag > 0.0) {
         return Err(Error::invalid("the mesh has no extent"));
     }
     let tol = opts.target * diag;

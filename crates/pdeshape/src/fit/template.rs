@@ -119,7 +119,7 @@ pub fn parse_template(text: &str) -> Result<Template> {
         None => None,
         Some(v) => {
             let a = number(v, "a")?;
-            if !(a > 0.0) {
+            if a <= 0.0 {
                 return Err(Error::invalid(format!("must be positive (got {a})")).at("a"));
             }
             Some(a)
@@ -456,7 +456,7 @@ pub fn fit_template(mesh: &TriMesh, template: &Template, opts: &FitOptions) -> R
     opts.check()?;
     mesh.require_single()?;
     let diag = mesh.diagonal();
-    if !(diag > 0.0) {
+    if !(diag.is_finite() && diag > 0.0) {
         return Err(Error::invalid("the mesh has no extent"));
     }
     let tol = opts.target * diag;
