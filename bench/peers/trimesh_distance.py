@@ -7,7 +7,9 @@ each vertex pushed radially by a smooth bump so the triangles are not all alike;
 random, some near the surface (within 1 % of the radius), some far (up to 2 radii), inside and
 outside. Both programs read the same OBJ and CSV files; the script reports the largest
 difference of the distances and of the closest points, and the time of each (whole process for
-pdeshape, the call for trimesh).
+pdeshape, the call for trimesh). Where the two differ, both are checked against the exact
+point-triangle distance to every triangle (trimesh's `triangles.closest_point`); the check
+passes when pdeshape equals it everywhere.
 
 Usage: python3 bench/peers/trimesh_distance.py [points]
 Needs: numpy, trimesh, rtree (bench/peers/requirements.txt) and a release build of the example
@@ -74,6 +76,20 @@ print(f"max |q_pdeshape - q_trimesh| = {dq.max():.3e}  (points whose closest poi
       f"more than 1e-6: {(dq > 1e-6).sum()})")
 print(f"time: pdeshape {ours_s * 1e3:.0f} ms (whole process: read, index, query, print), "
       f"trimesh {peer_s * 1e3:.0f} ms (closest_point call)")
-ok = dd.max() <= 1e-9 * max(1.0, dist.max())
+# trimesh's `closest_point` searches candidate triangles near the nearest vertex and can miss the
+# closest one (measured with trimesh 4.12: a few points in a thousand, off by up to 4e-6): where
+# the two differ, both are judged against trimesh's exact point-triangle routine over every
+# triangle (`trimesh.triangles.closest_point`).
+tol = 1e-9 * max(1.0, dist.max())
+differ = np.nonzero(dd > tol)[0]
+ours_bad = peer_bad = 0
+for i in differ:
+    p = np.repeat(pts[i][None], len(mesh32.faces), axis=0)
+    brute = np.linalg.norm(trimesh.triangles.closest_point(mesh32.triangles, p) - p, axis=1).min()
+    ours_bad += abs(ours[i, 0] - brute) > tol
+    peer_bad += abs(dist[i] - brute) > tol
+print(f"points where the two differ by more than {tol:.0e}: {len(differ)}; against every "
+      f"triangle, pdeshape is off at {ours_bad} of them, trimesh's closest_point at {peer_bad}")
+ok = ours_bad == 0
 print("agree" if ok else "DISAGREE")
 sys.exit(0 if ok else 1)

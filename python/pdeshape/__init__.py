@@ -11,7 +11,7 @@ string or a dict; it solves with the Rust library (the GIL released), and return
     wider.write("wider.obj")             # as `pdeshape surface wider.toml -o wider.obj`
 
 Every error is a :class:`DesignError` (a ``ValueError``) with the CLI's located message
-(``file:line:col: place: message``). :func:`fit` fits PDE patches to a closed triangle mesh.
+(``file:line:col: place: message``). :func:`fit` fits PDE patches to a triangle mesh.
 :mod:`pdeshape.sweep` maps designs over parameter tables, lists of designs or lists of meshes on
 a ``dask.distributed`` client.
 """
@@ -35,7 +35,7 @@ def fit(
     sections: int | None = None,
     name: str | None = None,
 ) -> tuple[Design, dict[str, Any]]:
-    """Fits PDE patches to a closed triangle mesh, as ``pdeshape fit MESH -o design.toml --json
+    """Fits PDE patches to a triangle mesh (closed: tube mode; open: sheet mode), as ``pdeshape fit MESH -o design.toml --json
     report.json`` does.
 
     ``mesh``: the path of an OBJ, STL or PLY file, or its bytes with ``name`` a file name whose

@@ -1145,8 +1145,8 @@ fn neutral_optimize() -> OptimizeSpec {
     toml::from_str(text).expect("the defaults of [optimize]")
 }
 
-/// Fits PDE patches to a closed triangle mesh as `pdeshape fit MESH -o design.toml --json r.json`
-/// does: `data` are the bytes of an OBJ, STL or PLY file, `name` its file name (the extension
+/// Fits PDE patches to a triangle mesh (closed: tube mode; open: sheet mode) as
+/// `pdeshape fit MESH -o design.toml --json r.json` does: `data` are the bytes of an OBJ, STL or PLY file, `name` its file name (the extension
 /// gives the format; errors name it). Returns the fitted design (its text is the `-o` file)
 /// and the report of `--json` as a dict (without `timings_ms`).
 #[pyfunction]
@@ -1179,7 +1179,7 @@ fn fit_mesh<'py>(
     let (text, report) = py
         .detach(|| -> Result<(String, String), String> {
             let mesh = fit::TriMesh::read(&data, format).map_err(|e| format!("{name}: {e}"))?;
-            let fitted = fit::fit_tube(
+            let fitted = fit::fit_mesh(
                 &mesh,
                 &fit::TubeOptions {
                     target: tolerance,
@@ -1200,6 +1200,8 @@ fn fit_mesh<'py>(
                 fit::measure(&mesh, &spec, &solved, 48, 96).map_err(|e| format!("{name}: {e}"))?;
             let report = serde_json::json!({
                 "mesh": name,
+                "mode": fitted.mode,
+                "a": fitted.a,
                 "patches": fitted.patches,
                 "modes": fitted.modes,
                 "sections": fitted.sections,

@@ -72,3 +72,34 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
     with pytest.raises(DesignError, match=r"^name: "):
         pdeshape.fit(b"solid")
     assert not (tmp_path / "out.toml").exists()
+
+
+def sheet_obj(rows: int, across: int) -> str:
+    """A sheet over [-1, 1] x [-1.5, 1.5] with heights 0.2 sin 2x cos y: rows of `across`
+    vertices (every other row shifted by half a step inside), two triangles per cell."""
+    out = ["# sheet"]
+    for i in range(rows + 1):
+        y = -1.5 + 3.0 * i / rows
+        for j in range(across):
+            shift = 0.5 if i % 2 == 1 and 0 < j < across - 1 else 0.0
+            x = -1.0 + 2.0 * (j + shift) / (across - 1)
+            out.append(f"v {x!r} {y!r} {0.2 * math.sin(2 * x) * math.cos(y)!r}")
+    at = lambda i, j: 1 + i * across + j  # noqa: E731
+    for i in range(rows):
+        for j in range(across - 1):
+            out.append(f"f {at(i, j)} {at(i, j + 1)} {at(i + 1, j + 1)}")
+            out.append(f"f {at(i, j)} {at(i + 1, j + 1)} {at(i + 1, j)}")
+    return "\n".join(out) + "\n"
+
+
+def test_open_meshes_fit_as_sheets_as_the_cli_does(cli, tmp_path):
+    mesh = tmp_path / "sheet.obj"
+    mesh.write_text(sheet_obj(60, 41))
+    cli("fit", str(mesh), "-o", str(tmp_path / "s.toml"), "--json", str(tmp_path / "s.json"))
+    d, report = pdeshape.fit(mesh)
+    assert d.text == (tmp_path / "s.toml").read_text()
+    want = json.loads((tmp_path / "s.json").read_text())
+    del want["timings_ms"]
+    assert report == want
+    assert report["mode"] == "sheet"
+    assert 0 < report["measures"]["hausdorff_relative"] <= 2e-3

@@ -1,15 +1,17 @@
-//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a closed triangle mesh (obj, stl,
-//! ply), write the design, print the two-sided distances and the compression ratio.
+//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply): a
+//! closed one by the tube mode, an open one by the sheet mode, or any as a template says; write
+//! the design, print the two-sided distances and the compression ratio.
 
 use crate::common::{CliError, Output};
-use pdeshape::fit::{self, MeshFormat, TriMesh, TubeOptions};
-use pdeshape::spec::write_design;
+use pdeshape::fit::{self, FitOptions, MeshFormat, TriMesh};
+use pdeshape::spec::{self, write_design};
 use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one closed surface.
+    /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one surface: closed (fitted along
+    /// its main axis, poles at both ends) or open (a sheet, fitted by profiles across it).
     pub mesh: PathBuf,
     /// The fitted design file (TOML).
     #[arg(short, long)]
@@ -19,9 +21,10 @@ pub struct Args {
     #[arg(long, default_value_t = 2e-3)]
     pub tolerance: f64,
     /// A fixed number of patches, evenly spread along the axis, instead of the adaptive choice.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "template")]
     pub sections: Option<usize>,
-    /// Sectioning planes given by the user (not available yet: only the automatic mode).
+    /// A template (TOML) naming the sectioning planes and the mode of each part, for shapes the
+    /// automatic modes cannot split.
     #[arg(long)]
     pub template: Option<PathBuf>,
     /// Write the measures (distances, sizes, ratio, timings) as JSON to this file.
@@ -34,12 +37,6 @@ pub struct Args {
 
 pub fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.mesh.display().to_string();
-    if args.template.is_some() {
-        return Err(CliError::input(
-            "--template: template mode is not available yet; the automatic mode fits closed \
-             tube-like and star-shaped meshes",
-        ));
-    }
     if !(args.tolerance > 0.0 && args.tolerance.is_finite() && args.tolerance < 1.0) {
         return Err(CliError::input(format!(
             "--tolerance {}: must be a number between 0 and 1 (a fraction of the diagonal)",
@@ -72,6 +69,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(p) = &args.picture {
         ext(p, "png", "--picture")?;
     }
+    // The template first: a bad one is reported before the mesh is read.
+    let template = args
+        .template
+        .as_ref()
+        .map(|p| read_template(p))
+        .transpose()?;
     let bytes = read_mesh_bytes(&args.mesh, &shown)?;
     let mut out = Output::create(&args.output)?;
     let mut json_out = args.json.as_ref().map(|p| Output::create(p)).transpose()?;
@@ -86,22 +89,24 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         TriMesh::read(&bytes, format).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
-    let fitted = fit::fit_tube(
-        &mesh,
-        &TubeOptions {
-            target: args.tolerance,
-            patches: args.sections,
-            ..TubeOptions::default()
-        },
-    )
-    .map_err(|e| {
-        let place = e.place();
-        if place == "tolerance" || place == "sections" {
-            CliError::input(format!("--{e}"))
-        } else {
-            CliError::input(format!("{shown}: {e}"))
-        }
-    })?;
+    let opts = FitOptions {
+        target: args.tolerance,
+        patches: args.sections,
+        ..FitOptions::default()
+    };
+    let fitted = match &template {
+        Some((file, text, t)) => fit::fit_template(&mesh, t, &opts).map_err(|e| {
+            if e.place().starts_with("parts") {
+                CliError::input(format!(
+                    "{} (fitting {shown})",
+                    spec::describe_error(file, text, &e)
+                ))
+            } else {
+                fit_error(e, &shown)
+            }
+        }),
+        None => fit::fit_mesh(&mesh, &opts).map_err(|e| fit_error(e, &shown)),
+    }?;
     let fit_ms = t.elapsed().as_secs_f64() * 1e3;
     let mut spec = fitted.spec.clone();
     let name = args
@@ -121,6 +126,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(j) = json_out.as_mut() {
         let report = serde_json::json!({
             "mesh": shown,
+            "mode": fitted.mode,
+            "a": fitted.a,
             "patches": fitted.patches,
             "modes": fitted.modes,
             "sections": fitted.sections,
@@ -155,14 +162,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(p) = picture_out {
         p.commit()?;
     }
+    let mode = match fitted.mode {
+        fit::FitMode::Tube => "tube",
+        fit::FitMode::Sheet => "sheet",
+        fit::FitMode::Template => "template",
+    };
     println!(
-        "{}: {} triangles → {} patches ({} modes) in {:.0} ms; Hausdorff {:.3e}, RMS {:.3e} \
-         of the diagonal; {} bytes → {} bytes of coefficients (ratio {:.0}), {} bytes of TOML \
-         (ratio {:.1}); wrote {}",
+        "{}: {} triangles → {} patches ({mode} mode, {} modes, a = {}) in {:.0} ms; Hausdorff \
+         {:.3e}, RMS {:.3e} of the diagonal; {} bytes → {} bytes of coefficients (ratio {:.0}), \
+         {} bytes of TOML (ratio {:.1}); wrote {}",
         shown,
         m.mesh_triangles,
         fitted.patches,
         fitted.modes,
+        fitted.a,
         fit_ms,
         m.hausdorff_relative,
         m.rms_relative,
@@ -174,6 +187,46 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         args.output.display()
     );
     Ok(())
+}
+
+/// A fit's error as one line: an option's name, or the mesh's.
+fn fit_error(e: pdeshape::Error, shown: &str) -> CliError {
+    match e.place() {
+        "tolerance" | "sections" => CliError::input(format!("--{e}")),
+        _ => CliError::input(format!("{shown}: {e}")),
+    }
+}
+
+/// Most bytes of a template file.
+const MAX_TEMPLATE_BYTES: u64 = 1 << 20;
+
+/// Reads and parses a template; errors as `file:line:col: place: message`.
+fn read_template(path: &std::path::Path) -> Result<(String, String, fit::Template), CliError> {
+    let file = path.display().to_string();
+    if let Ok(m) = std::fs::metadata(path) {
+        if m.is_file() && m.len() > MAX_TEMPLATE_BYTES {
+            return Err(CliError::input(format!(
+                "--template {file}: the template has {} bytes; at most {MAX_TEMPLATE_BYTES} are \
+                 read",
+                m.len()
+            )));
+        }
+    }
+    let bytes = std::fs::read(path).map_err(|e| {
+        CliError::input(format!(
+            "--template {file}: cannot read: {}",
+            crate::common::io_words(&e)
+        ))
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CliError::input(format!(
+            "{file}: the template is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })?;
+    let t = fit::parse_template(&text)
+        .map_err(|e| CliError::input(spec::describe_error(&file, &text, &e)))?;
+    Ok((file, text, t))
 }
 
 /// The bytes of a mesh file, refused from its size before it is read when holding it

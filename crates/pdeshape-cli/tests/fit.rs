@@ -1,5 +1,6 @@
-//! `pdeshape fit`: a mesh in, a design out that `pdeshape surface` reads like any other; bad
-//! meshes get one line and no output file.
+//! `pdeshape fit`: a mesh in, a design out that `pdeshape surface` reads like any other; closed
+//! meshes by the tube mode, open ones by the sheet mode, anything by a template; bad meshes and
+//! bad templates get one line and no output file.
 
 mod common;
 
@@ -116,16 +117,13 @@ fn bad_meshes_get_one_line_and_no_output() {
         good.replacen("v 0 0 -1.5", "v nan 0 -1.5", 1).as_bytes(),
         &["nan.obj", "vertex 1 is not finite"],
     );
-    // Open: the last face removed.
+    // Open, but not a sheet: the ellipsoid with its last face removed goes to the sheet mode,
+    // whose planes cut it in closed loops.
     let open: String = {
         let lines: Vec<&str> = good.lines().collect();
         lines[..lines.len() - 1].join("\n")
     };
-    bad_mesh(
-        "open.obj",
-        open.as_bytes(),
-        &["open.obj", "open (3 boundary edges)"],
-    );
+    bad_mesh("open.obj", open.as_bytes(), &["open.obj", "closed loop"]);
     // Two components: the ellipsoid twice, the second shifted.
     let n = 2 + 11 * 16;
     let mut two = good.clone();
@@ -165,8 +163,219 @@ fn bad_meshes_get_one_line_and_no_output() {
     let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--tolerance", "0"]);
     assert_bad(&out, &["--tolerance 0"]);
     let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--template", "t.toml"]);
-    assert_bad(&out, &["--template", "not available"]);
+    assert_bad(&out, &["--template t.toml", "cannot read"]);
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        "t.toml",
+        "--sections",
+        "3",
+    ]);
+    assert_bad(&out, &["--template", "--sections"]);
     let out = pdeshape(&["fit", s(&mesh), "-o", s(&dir.path().join("x.obj"))]);
     assert_bad(&out, &["-o", ".toml"]);
     assert_eq!(files(dir.path()), vec!["m.obj".to_string()]);
+}
+
+/// A sheet over `[−1, 1] × [−1.5, 1.5]` with heights `0.2 sin 2x cos y`, as an OBJ: rows of
+/// `across` vertices (every other row shifted by half a step, its ends kept on the outline),
+/// triangles alternating in direction.
+fn sheet_obj(rows: usize, across: usize) -> String {
+    let mut out = String::from("# sheet\n");
+    for i in 0..=rows {
+        let y = -1.5 + 3.0 * i as f64 / rows as f64;
+        for j in 0..across {
+            let shift = if i % 2 == 1 && j > 0 && j + 1 < across {
+                0.5
+            } else {
+                0.0
+            };
+            let x = -1.0 + 2.0 * (j as f64 + shift) / (across - 1) as f64;
+            out += &format!("v {x} {y} {}\n", 0.2 * (2.0 * x).sin() * y.cos());
+        }
+    }
+    let at = |i: usize, j: usize| 1 + i * across + j;
+    for i in 0..rows {
+        for j in 0..across - 1 {
+            out += &format!("f {} {} {}\n", at(i, j), at(i, j + 1), at(i + 1, j + 1));
+            out += &format!("f {} {} {}\n", at(i, j), at(i + 1, j + 1), at(i + 1, j));
+        }
+    }
+    out
+}
+
+#[test]
+fn open_meshes_are_fitted_as_sheets() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "sheet.obj", &sheet_obj(60, 41));
+    let design = dir.path().join("sheet.toml");
+    let json = dir.path().join("sheet.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("sheet mode"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "sheet", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let out = pdeshape(&["check", s(&design)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The ellipsoid by a template of one part along z, closed by poles at both ends; a bad
+/// template is reported at its line and column, before the mesh is read, and nothing is
+/// written.
+#[test]
+fn templates_fit_and_bad_ones_are_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(60, 80));
+    let template = write(
+        dir.path(),
+        "egg_template.toml",
+        "# the egg from end to end\n[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\n\
+         positions = [-1.2, 1.2]\nstart = \"pole\"\nend = \"pole\"\n",
+    );
+    let design = dir.path().join("egg.toml");
+    let json = dir.path().join("egg.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        s(&template),
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "template", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    assert!(text.contains("[curves.egg_p00]"), "{text}");
+
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\npositions = [1.0, -1.0]\n",
+            &[":4:", "parts[0].positions[1]", "positions must increase"],
+        ),
+        (
+            "[[parts]]\nname = \"egg\"\nplanes = [{ point = [0, 0, 0] }, \
+             { point = [0, 0, 1], normal = [0, 0, 1] }]\n",
+            &[":3:", "parts[0].planes[0].normal", "missing"],
+        ),
+        ("[[parts]\n", &[":1:", "invalid table header"]),
+        // The planes are fine but the second misses the mesh: the error names the plane.
+        (
+            "[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\npositions = [0.0, 5.0]\n",
+            &[":4:", "parts[0].positions[1]", "misses the mesh", "fitting"],
+        ),
+    ];
+    for (text, needles) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(20, 24));
+        let t = write(dir.path(), "t.toml", text);
+        let design = dir.path().join("out.toml");
+        let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--template", s(&t)]);
+        let line = assert_bad(&out, needles);
+        assert!(line.contains("t.toml:"), "{line}");
+        assert_eq!(
+            files(dir.path()),
+            vec!["egg.obj".to_string(), "t.toml".to_string()]
+        );
+    }
+}
+
+/// A sheet part of a template: planes across y from −1.4 to 1.4, both ends at the mesh's edge
+/// (the arcs of its boundary beyond the first and the last plane): the fit covers the whole
+/// sheet within the tolerance, and its curves are cosine series (profiles closed evenly).
+#[test]
+fn sheet_templates_reach_the_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "sheet.obj", &sheet_obj(60, 41));
+    let template = write(
+        dir.path(),
+        "sheet_template.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 0.0, 1.4]\nstart = \"edge\"\nend = \"edge\"\n",
+    );
+    let design = dir.path().join("sheet.toml");
+    let json = dir.path().join("sheet.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        s(&template),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "template", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    let value: toml::Value = toml::from_str(&text).unwrap();
+    let curves = value["curves"].as_table().unwrap();
+    assert!(!curves.is_empty());
+    for (name, c) in curves {
+        assert!(
+            c.get("sin")
+                .is_none_or(|s| s.as_array().unwrap().is_empty()),
+            "{name}: {c}"
+        );
+    }
+    // A pole closes tube parts only.
+    let bad = write(
+        dir.path(),
+        "bad.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 1.4]\nstart = \"pole\"\n",
+    );
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&dir.path().join("bad_fit.toml")),
+        "--template",
+        s(&bad),
+    ]);
+    assert_bad(&out, &["bad.toml:6:1", "parts[0].start", "tube part"]);
+    assert!(!dir.path().join("bad_fit.toml").exists());
 }

@@ -47,6 +47,30 @@ pub fn weights(n: usize, a: f64, u: f64) -> [f64; 4] {
     }
 }
 
+/// Weights `[w₀, w₁, w₂, w₃]` of four position curves at `u = knots[k]` (distinct, in
+/// `[0, 1]`) in mode `n` of the biharmonic patch with smoothing parameter `a`, at `u`: the
+/// variant of book §4.5 whose four conditions are all positions. The four functions of a mode
+/// (a cubic, or `(α + βu) e^{anu} + (γ + δu) e^{−anu}`) have at most three zeros, so any four
+/// distinct `u` determine them.
+pub fn position_weights(n: usize, a: f64, knots: [f64; 4], u: f64) -> [f64; 4] {
+    let k = a * n as f64;
+    let phi = |u: f64| -> Vector4<f64> {
+        if n == 0 {
+            // Centred powers keep the system well conditioned.
+            let x = u - 0.5;
+            Vector4::new(1.0, x, x * x, x * x * x)
+        } else {
+            let (ep, em) = ((k * (u - 1.0)).exp(), (-k * u).exp());
+            Vector4::new(ep, u * ep, em, u * em)
+        }
+    };
+    let m = Matrix4::from_rows(&knots.map(|t| phi(t).transpose()));
+    match m.transpose().lu().solve(&phi(u)) {
+        Some(w) => [w[0], w[1], w[2], w[3]],
+        None => [f64::NAN; 4],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,6 +120,48 @@ mod tests {
                         let r = d4 - 2.0 * kk * kk * d2 + kk.powi(4) * f(u);
                         let scale = 1.0 + kk.powi(4) * f(u).abs() + kk.powi(6) * h * h;
                         assert!(r.abs() < 1e-2 * scale, "{n} {a} {u} {k}: {r}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn position_weights_interpolate_and_reproduce_the_mode_solutions() {
+        let knots = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0];
+        // The range the sheet mode uses: a·n up to a few (beyond, a mode's weights grow like
+        // e^{an/3} between the knots).
+        for n in [0, 1, 3, 12, 40] {
+            for a in [0.05, 0.1, 0.3] {
+                if a * n as f64 > 4.0 {
+                    continue;
+                }
+                for (i, &t) in knots.iter().enumerate() {
+                    let w = position_weights(n, a, knots, t);
+                    for (k, wk) in w.iter().enumerate() {
+                        let e = if k == i { 1.0 } else { 0.0 };
+                        assert!((wk - e).abs() < 1e-9, "{n} {a} {i} {k}: {wk}");
+                    }
+                }
+                // The weights reproduce every solution of the mode's equation
+                // (D² − k²)² X = 0 from its values at the knots: cosh, sinh and u·cosh, u·sinh
+                // of k(u − 1/2) (polynomials up to u³ for n = 0).
+                let kk = a * n as f64;
+                let solutions: [&dyn Fn(f64) -> f64; 4] = if n == 0 {
+                    [&|_| 1.0, &|u| u, &|u| u * u, &|u| u * u * u]
+                } else {
+                    [
+                        &|u| (kk * (u - 0.5)).cosh(),
+                        &|u| (kk * (u - 0.5)).sinh(),
+                        &|u| u * (kk * (u - 0.5)).cosh(),
+                        &|u| u * (kk * (u - 0.5)).sinh(),
+                    ]
+                };
+                for u in [0.05, 0.2, 0.5, 0.8, 0.97] {
+                    let w = position_weights(n, a, knots, u);
+                    for f in solutions {
+                        let x: f64 = knots.iter().zip(w).map(|(&t, wk)| wk * f(t)).sum();
+                        assert!((x - f(u)).abs() < 1e-9, "{n} {a} {u}: {x} vs {}", f(u));
                     }
                 }
             }

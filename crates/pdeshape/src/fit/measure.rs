@@ -281,11 +281,20 @@ pub fn measure(
             }
             let u = u0 + b * (u1 - u0) + c * (u2 - u0);
             let v = v0 + b * (v1 - v0) + c * (v2 - v0);
-            // The refined point lies on the surface: its distance bounds the true one from
-            // above. Without it, the distance to the grid's triangle stands in.
-            match indices[*k].refine(*p, u, v) {
-                Some(r) if r.distance.is_finite() => r.distance,
-                _ => flat,
+            // The refined point and the starting point lie on the surface: the nearer bounds
+            // the true distance from above. (Newton from the start can leave for a farther
+            // local minimum where `X_v` vanishes: at the folds `v = 0, π` of a sheet's even
+            // curves, which it takes for poles.) Without either, the distance to the grid's
+            // triangle stands in.
+            let start = indices[*k].surface().point(u, v).metric_distance(p);
+            let refined = indices[*k]
+                .refine(*p, u, v)
+                .map_or(f64::INFINITY, |r| r.distance);
+            let best = refined.min(start);
+            if best.is_finite() {
+                best
+            } else {
+                flat
             }
         })
         .collect();

@@ -163,9 +163,56 @@ impl TriMesh {
         }
     }
 
-    /// Refuses a mesh that is not one closed, edge-manifold surface, with a message that says
-    /// what was found.
-    pub fn require_closed(&self) -> Result<Topology> {
+    /// The closed loops of boundary edges (edges of one triangle), each as its vertices in
+    /// order. Fails, naming the vertex, where the boundary passes a vertex twice.
+    pub fn boundary_loops(&self) -> Result<Vec<Vec<u32>>> {
+        let mut edges: HashMap<(u32, u32), u32> = HashMap::with_capacity(self.triangles.len() * 2);
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            }
+        }
+        let mut next: HashMap<u32, Vec<u32>> = HashMap::new();
+        for (&(a, b), &c) in &edges {
+            if c == 1 {
+                next.entry(a).or_default().push(b);
+                next.entry(b).or_default().push(a);
+            }
+        }
+        let mut starts: Vec<u32> = next.keys().copied().collect();
+        starts.sort_unstable();
+        if let Some(v) = starts.iter().find(|v| next[v].len() != 2) {
+            return Err(Error::invalid(format!(
+                "the boundary of the mesh passes vertex {} more than once",
+                v + 1
+            )));
+        }
+        let mut seen: HashMap<u32, bool> = HashMap::new();
+        let mut loops = Vec::new();
+        for &s in &starts {
+            if seen.contains_key(&s) {
+                continue;
+            }
+            let mut ring = vec![s];
+            seen.insert(s, true);
+            let (mut prev, mut at) = (s, next[&s][0]);
+            while at != s {
+                seen.insert(at, true);
+                ring.push(at);
+                let n = &next[&at];
+                let step = if n[0] == prev { n[1] } else { n[0] };
+                prev = at;
+                at = step;
+            }
+            loops.push(ring);
+        }
+        Ok(loops)
+    }
+
+    /// Refuses a mesh that is not one edge-manifold surface (open or closed), with a message
+    /// that says what was found.
+    pub fn require_single(&self) -> Result<Topology> {
         let t = self.topology();
         if t.nonmanifold_edges > 0 {
             return Err(Error::invalid(format!(
@@ -179,11 +226,29 @@ impl TriMesh {
                 t.components
             )));
         }
+        Ok(t)
+    }
+
+    /// Refuses a mesh that is not one closed, edge-manifold surface, with a message that says
+    /// what was found.
+    pub fn require_closed(&self) -> Result<Topology> {
+        let t = self.require_single()?;
         if t.boundary_edges > 0 {
             return Err(Error::invalid(format!(
-                "the mesh is open ({} boundary edges): the automatic mode fits closed bodies",
+                "the mesh is open ({} boundary edges): the tube mode fits closed bodies",
                 t.boundary_edges
             )));
+        }
+        Ok(t)
+    }
+
+    /// Refuses a mesh that is not one open, edge-manifold surface.
+    pub fn require_open(&self) -> Result<Topology> {
+        let t = self.require_single()?;
+        if t.boundary_edges == 0 {
+            return Err(Error::invalid(
+                "the mesh is closed: the sheet mode fits open surfaces",
+            ));
         }
         Ok(t)
     }

@@ -1,38 +1,58 @@
 //! From triangle meshes to PDE patches: fitting and compression (book §8.2).
 //!
-//! A closed mesh of a tube-like or star-shaped body is cut by planes across its main axis; each
-//! section becomes a periodic curve with one `v = 0` direction and one sense of turning for all
-//! sections; consecutive sections are joined by biharmonic patches whose derivative curves are
-//! chosen by least squares so the patches follow the mesh between them, and the ends are closed
-//! by poles (a point and a derivative curve). Patches are split where the error exceeds the
-//! target and merged where it allows ([`fit_tube`]). The result is an ordinary
-//! [`DesignSpec`](crate::spec::DesignSpec): written with [`crate::spec::write_design`], read,
-//! edited and re-tessellated at any resolution like any design.
+//! Three modes, each producing an ordinary [`DesignSpec`](crate::spec::DesignSpec) (written
+//! with [`crate::spec::write_design`], read, edited and re-tessellated at any resolution like
+//! any design):
+//!
+//! - **tube** ([`fit_tube`]): a closed tube-like or star-shaped body is cut by planes across its
+//!   main axis; each section becomes a periodic curve with one `v = 0` direction and one sense
+//!   of turning for all sections; consecutive sections are joined by biharmonic patches whose
+//!   derivative curves are chosen by least squares so the patches follow the mesh between
+//!   them, and the ends are closed by poles.
+//! - **sheet** ([`fit_sheet`]): an open surface (a face scan, §4.6) is cut by parallel planes
+//!   into open profiles, each closed by an even reflection into a cosine series; patches with
+//!   four position curves (§4.5) run through them.
+//! - **template** ([`fit_template`]): the user names the planes of each part and its mode, for
+//!   shapes the automatic modes cannot split.
+//!
+//! [`fit_mesh`] chooses tube or sheet by whether the mesh is closed. In every mode patches are
+//! split where the error exceeds the target and merged where it allows ([`chain`]).
 //!
 //! ```text
-//! OBJ/STL/PLY bytes ──TriMesh::read──▶ TriMesh ──fit_tube──▶ TubeFit { spec, … }
+//! OBJ/STL/PLY bytes ──TriMesh::read──▶ TriMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
 //!                                                 │ design::solve_design(spec)
 //!                                                 ▼
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
 //! ```
 //!
-//! Modules: `mesh` (reading and topology checks), `section` (plane sections and their
-//! periodic curves), `basis` (the biharmonic patch mode by mode as a function of its four
-//! curves), `tube` (the automatic mode), `measure` (distances and sizes), `picture` (the mesh and
-//! the fit side by side, coloured by distance).
+//! Modules: `mesh` (reading and topology checks), `section` (plane sections: loops and open
+//! pieces, and the periodic curves of loops), `profile` (open profiles as even periodic
+//! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
+//! `chain` (the least squares over a sequence of sections, node choice, the design), `options`
+//! (options, results and the automatic choice), `tube`, `sheet` and `template` (the modes),
+//! `measure` (distances and sizes), `picture` (the mesh and the fit side by side, coloured by
+//! distance).
 
 mod basis;
+pub mod chain;
 mod measure;
 mod mesh;
+mod options;
 mod picture;
+mod profile;
 mod section;
+mod sheet;
+mod template;
 mod tube;
 
-pub use basis::weights;
+pub use basis::{position_weights, weights};
 pub use measure::{
     closest_on_triangle, count_numbers, measure, Distances, Measures, MeshDistance, PointDistances,
 };
 pub use mesh::{MeshFormat, Topology, TriMesh, MAX_TRIANGLES};
+pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use picture::picture;
-pub use section::{fourier, Frame, Section, Slicer};
-pub use tube::{fit_tube, TubeFit, TubeOptions};
+pub use section::{fourier, Frame, Piece, Section, Slicer};
+pub use sheet::{fit_sheet, SHEET_AM};
+pub use template::{fit_template, parse_template, End, Part, PartMode, Plane, Template};
+pub use tube::{fit_tube, TUBE_A};

@@ -52,16 +52,22 @@ impl<'m> Slicer<'m> {
         }
     }
 
-    /// The closed loops of the section at height `h`, each a list of points in order.
-    /// Fails if a crossed edge is not shared by exactly two crossed triangles (an open or
-    /// non-manifold mesh).
-    pub fn loops(&self, h: f64) -> Result<Vec<Vec<Vec3>>> {
+    /// The frame of the sections.
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The pieces of the section at height `h`: closed loops and open polylines (which end on
+    /// the mesh's boundary), each a list of points in order. Fails if a crossed edge is shared
+    /// by three or more crossed triangles (a non-manifold mesh).
+    pub fn pieces(&self, h: f64) -> Result<Vec<Piece>> {
         let above = |i: u32| self.heights[i as usize] >= h;
         // For every crossed edge: its point and the (up to two) segments through it.
         let mut edge_index: HashMap<(u32, u32), usize> = HashMap::new();
         let mut points: Vec<Vec3> = Vec::new();
         let mut links: Vec<[usize; 2]> = Vec::new();
         let mut fill: Vec<u8> = Vec::new();
+        let mut keys: Vec<(u32, u32)> = Vec::new();
         for t in &self.mesh.triangles {
             let s = t.map(above);
             if s[0] == s[1] && s[1] == s[2] {
@@ -85,6 +91,7 @@ impl<'m> Slicer<'m> {
                     points.push(pa + (pb - pa) * w);
                     links.push([usize::MAX; 2]);
                     fill.push(0);
+                    keys.push(key);
                     points.len() - 1
                 });
                 ends[n] = id;
@@ -101,24 +108,30 @@ impl<'m> Slicer<'m> {
                 fill[x] += 1;
             }
         }
-        if let Some(k) = fill.iter().position(|&f| f != 2) {
-            return Err(Error::invalid(format!(
-                "the section at height {h:.6} ends at {:?}: the mesh is open",
-                [points[k].x, points[k].y, points[k].z]
-            )));
-        }
         let mut seen = vec![false; points.len()];
-        let mut loops = Vec::new();
-        for start in 0..points.len() {
+        let mut pieces = Vec::new();
+        // Open polylines first, each from one of its two ends; then the closed loops.
+        let starts: Vec<usize> = (0..points.len())
+            .filter(|&k| fill[k] == 1)
+            .chain((0..points.len()).filter(|&k| fill[k] == 2))
+            .collect();
+        for start in starts {
             if seen[start] {
                 continue;
             }
             let mut ring = vec![points[start]];
+            let mut ring_keys = vec![keys[start]];
             seen[start] = true;
             let (mut prev, mut at) = (start, links[start][0]);
+            let mut closed = true;
             while at != start {
                 seen[at] = true;
                 ring.push(points[at]);
+                ring_keys.push(keys[at]);
+                if fill[at] == 1 {
+                    closed = false;
+                    break;
+                }
                 let next = if links[at][0] == prev {
                     links[at][1]
                 } else {
@@ -127,26 +140,126 @@ impl<'m> Slicer<'m> {
                 prev = at;
                 at = next;
             }
-            loops.push(ring);
+            pieces.push(Piece {
+                points: ring,
+                closed,
+                keys: ring_keys,
+            });
         }
-        Ok(loops)
+        Ok(pieces)
     }
 
-    /// The single loop of the section at height `h` as a periodic curve sampled at `samples`
-    /// equally spaced angles (see the module documentation). Fails, saying why, if the plane
-    /// meets the mesh in no loop or in several, or if the loop is not star-shaped.
-    pub fn section(&self, h: f64, samples: usize) -> Result<Section> {
-        let loops = self.loops(h)?;
-        match loops.len() {
-            0 => Err(Error::invalid(format!(
-                "the plane at height {h:.6} misses the mesh"
-            ))),
-            1 => Section::from_loop(&loops[0], &self.frame, h, samples),
-            k => Err(Error::invalid(format!(
-                "the section at height {h:.6} has {k} separate loops: the automatic mode fits \
-                 bodies whose sections along the main axis are single loops"
-            ))),
+    /// The closed loops of the section at height `h`. Fails if the section has an open piece
+    /// (the mesh is open) or crosses a non-manifold edge.
+    pub fn loops(&self, h: f64) -> Result<Vec<Piece>> {
+        let pieces = self.pieces(h)?;
+        if let Some(p) = pieces.iter().find(|p| !p.closed) {
+            let q = p.points[0];
+            return Err(Error::invalid(format!(
+                "the section at height {h:.6} ends at {:?}: the mesh is open",
+                [q.x, q.y, q.z]
+            )));
         }
+        Ok(pieces)
+    }
+
+    /// The loop of the section at height `h`: without `near`, the section must be a single
+    /// loop; with it, the loop whose centroid is nearest to `near` is taken.
+    pub fn loop_near(&self, h: f64, near: Option<Vec3>) -> Result<Piece> {
+        let loops = self.loops(h)?;
+        let k = match (loops.len(), near) {
+            (0, _) => {
+                return Err(Error::invalid(format!(
+                    "the plane at height {h:.6} misses the mesh"
+                )))
+            }
+            (1, _) => 0,
+            (_, Some(p)) => nearest(&loops, p),
+            (k, None) => {
+                return Err(Error::invalid(format!(
+                    "the section at height {h:.6} has {k} separate loops: the automatic mode \
+                     fits bodies whose sections along the main axis are single loops (a \
+                     template names the planes of each part)"
+                )))
+            }
+        };
+        Ok(loops.into_iter().nth(k).expect("an index of the list"))
+    }
+
+    /// The loop of the section at height `h` ([`Slicer::loop_near`]) as a periodic curve
+    /// sampled at `samples` equally spaced angles (see the module documentation). Fails, saying
+    /// why, if the plane meets the mesh in no loop (or in several without `near`), or if the
+    /// loop is not star-shaped.
+    pub fn section(&self, h: f64, samples: usize, near: Option<Vec3>) -> Result<Section> {
+        let ring = self.loop_near(h, near)?;
+        Section::from_loop(&ring.points, &self.frame, h, samples)
+    }
+
+    /// The open profile of the section at height `h` (an open mesh), sampled as an even
+    /// periodic curve ([`super::profile`]). Without `near`, the section must be a single open
+    /// piece; with it, the piece whose centroid is nearest to `near` is taken.
+    pub fn profile(&self, h: f64, samples: usize, near: Option<Vec3>) -> Result<Section> {
+        let line = self.open_piece(h, near)?;
+        super::profile::from_polyline(&line.points, &self.frame, h, samples)
+    }
+
+    /// The open piece of the section at height `h` (see [`Slicer::profile`]).
+    pub fn open_piece(&self, h: f64, near: Option<Vec3>) -> Result<Piece> {
+        let pieces = self.pieces(h)?;
+        let loops = pieces.iter().filter(|p| p.closed).count();
+        let open: Vec<Piece> = pieces.into_iter().filter(|p| !p.closed).collect();
+        let line = match (open.len(), near) {
+            (0, _) if loops > 0 => {
+                return Err(Error::invalid(format!(
+                    "the section at height {h:.6} is a closed loop: the mesh is open, but not a \
+                     sheet whose sections across its main axis are open profiles (a closed body \
+                     with a hole?)"
+                )))
+            }
+            (0, _) => {
+                return Err(Error::invalid(format!(
+                    "the plane at height {h:.6} misses the mesh"
+                )))
+            }
+            (1, _) => 0,
+            (_, Some(p)) => nearest(&open, p),
+            (k, None) => {
+                return Err(Error::invalid(format!(
+                    "the section at height {h:.6} has {k} separate pieces: the sheet mode fits \
+                     sheets whose sections across the main axis are single profiles (a \
+                     template names the planes of each part)"
+                )))
+            }
+        };
+        Ok(open.into_iter().nth(line).expect("an index of the list"))
+    }
+}
+
+/// The index of the piece whose vertex mean is nearest to `p`.
+fn nearest(pieces: &[Piece], p: Vec3) -> usize {
+    (0..pieces.len())
+        .min_by(|&a, &b| {
+            (pieces[a].centre() - p)
+                .norm()
+                .total_cmp(&(pieces[b].centre() - p).norm())
+        })
+        .unwrap_or(0)
+}
+
+/// A piece of a plane section: a closed loop, or an open polyline between two boundary edges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    pub points: Vec<Vec3>,
+    pub closed: bool,
+    /// The mesh edge (its vertices, smaller first) of each point: for an open piece, the first
+    /// and the last are the boundary edges it ends on.
+    pub keys: Vec<(u32, u32)>,
+}
+
+impl Piece {
+    /// The mean of the points.
+    pub fn centre(&self) -> Vec3 {
+        self.points.iter().sum::<Vec3>() / self.points.len().max(1) as f64
     }
 }
 
@@ -366,10 +479,10 @@ mod tests {
             let loops = slicer.loops(h).unwrap();
             assert_eq!(loops.len(), 1);
             // Every point lies in the plane.
-            for p in &loops[0] {
+            for p in &loops[0].points {
                 assert!((p.z - h).abs() < 1e-12);
             }
-            let s = slicer.section(h, 128).unwrap();
+            let s = slicer.section(h, 128, None).unwrap();
             // The exact circle has radius 2 sin t with cos t = −h; the polygon's chords lie
             // within r (1 − cos(π/64)) of it, plus the ring's spacing in z.
             let r = 2.0 * (1.0 - h * h).sqrt();
@@ -395,7 +508,7 @@ mod tests {
         two.triangles
             .extend(a.triangles.iter().map(|t| t.map(|i| i + n)));
         let slicer = Slicer::new(&two, z_frame());
-        let e = slicer.section(0.1, 64).unwrap_err().to_string();
+        let e = slicer.section(0.1, 64, None).unwrap_err().to_string();
         assert!(e.contains("2 separate loops"), "{e}");
     }
 
