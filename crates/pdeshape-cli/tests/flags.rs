@@ -176,7 +176,8 @@ fn fit_flags() {
                 "--template",
                 "cup.toml",
             ],
-            &["--template: template mode is not available yet"],
+            // A design file is not a template: refused at its first foreign key.
+            &["cup.toml:", "unknown key (expected one of: a, parts)"],
         ),
         (
             &["fit", "octahedron.obj", "-o", "x.toml", "--tolerance", "0"],
