@@ -28,8 +28,7 @@ use super::chain::{Chain, Joint, Station};
 use super::mesh::TriMesh;
 use super::options::{Fit, FitMode, FitOptions};
 use super::section::{Frame, Piece, Slicer};
-use super::tube::{principal_frame, MODES_SHARE, QUANTUM, SAMPLE_SHARE, TRIM_SHARE};
-use crate::spec::{DesignSpec, SolverSpec};
+use super::tube::{fit_one_chain, principal_frame, ChainFit, MODES_SHARE};
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
 
@@ -128,43 +127,14 @@ pub fn fit_sheet(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
             .map(|am| super::chain::significant(am / chain.modes() as f64, 3))
             .collect(),
     };
-    let (nodes, solved) = chain
-        .fit(&candidates, SAMPLE_SHARE * tol, opts.patches)
-        .ok_or_else(|| {
-            Error::invalid(format!(
-                "{} patches: between 1 and {} for {sections} profiles",
-                opts.patches.unwrap_or(0),
-                chain.max_patches()
-            ))
-            .at("sections")
-        })?;
-    let sample_error = solved.errors.iter().cloned().fold(0.0, f64::max) / diag;
-    let mut spec = DesignSpec {
-        solver: SolverSpec {
-            modes: 1,
-            ..SolverSpec::default()
-        },
-        ..DesignSpec::default()
-    };
-    chain.design_into(
-        &nodes,
-        &solved,
-        "",
-        QUANTUM * diag,
-        TRIM_SHARE * tol,
-        &mut spec,
-    );
-    Ok(Fit {
-        spec,
+    let what = ChainFit {
         mode: FitMode::Sheet,
         frame,
         sections,
         dropped,
-        modes: chain.modes(),
-        patches: nodes.len() - 1,
-        a: solved.a,
-        sample_error,
-    })
+        stations: "profiles",
+    };
+    fit_one_chain(&chain, &candidates, tol, diag, opts, what)
 }
 
 /// The arc of the boundary loop `outline` beyond the open piece `piece` (below it if `below`,

@@ -90,11 +90,48 @@ pub fn fit_tube(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
         MODES_SHARE * tol,
     );
     let candidates = opts.a.map_or(TUBE_A.to_vec(), |a| vec![a]);
+    let what = ChainFit {
+        mode: FitMode::Tube,
+        frame,
+        sections,
+        dropped,
+        stations: "sections",
+    };
+    fit_one_chain(&chain, &candidates, tol, diag, opts, what)
+}
+
+/// What a one-chain fit reports besides the chain: its mode, frame and sections, and the word
+/// for its stations in messages.
+pub(crate) struct ChainFit {
+    pub mode: FitMode,
+    pub frame: Frame,
+    pub sections: usize,
+    pub dropped: usize,
+    pub stations: &'static str,
+}
+
+/// Fits `chain` with the smoothing parameters `candidates` (node choice, least squares) and
+/// makes its design: the end of the tube and the sheet modes.
+pub(crate) fn fit_one_chain(
+    chain: &Chain,
+    candidates: &[f64],
+    tol: f64,
+    diag: f64,
+    opts: &FitOptions,
+    what: ChainFit,
+) -> Result<Fit> {
+    let ChainFit {
+        mode,
+        frame,
+        sections,
+        dropped,
+        stations,
+    } = what;
     let (nodes, solved) = chain
-        .fit(&candidates, SAMPLE_SHARE * tol, opts.patches)
+        .fit(candidates, SAMPLE_SHARE * tol, opts.patches)
         .ok_or_else(|| {
             Error::invalid(format!(
-                "{} patches: between 1 and {} for {sections} sections",
+                "{} patches: between 1 and {} for {sections} {stations}",
                 opts.patches.unwrap_or(0),
                 chain.max_patches()
             ))
@@ -118,7 +155,7 @@ pub fn fit_tube(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
     );
     Ok(Fit {
         spec,
-        mode: FitMode::Tube,
+        mode,
         frame,
         sections,
         dropped,
