@@ -36,16 +36,26 @@ function message(e) {
 
 // Shows a frame: meshes, scene, panels; `onDrawn` runs after the frame is on screen.
 let lastFrame = null;
-function show(frame, onDrawn) {
+// The side panels (lists, legend, sliders, timeline) follow a gesture's frames a moment after
+// the newest one instead of at every frame: rebuilding them costs the browser's main thread (and
+// a software raster of the panels) while the surface waits to be drawn.
+let panelsTimer = null;
+function fillPanels() {
+  panelsTimer = null;
+  panels.fill(scene);
+  params.fill(scene, paramSlider);
+  timeline.update(scene);
+}
+function show(frame, onDrawn, gesture = false) {
   lastFrame = frame;
   scene = frame.scene;
   view.setSurfaces(frame.surfaces, COLORS.patches);
   local.follow();
   view.setScene(scene);
-  panels.fill(scene);
-  params.fill(scene, paramSlider);
+  clearTimeout(panelsTimer);
+  if (gesture) panelsTimer = setTimeout(fillPanels, 120);
+  else fillPanels();
   syncUvPatch();
-  timeline.update(scene);
   perf.frames += 1;
   const verts = frame.surfaces.reduce((n, s) => n + s.positions.length / 3, 0);
   const trimmed = frame.surfaces.filter((s) => s.indices).length;
@@ -90,7 +100,7 @@ function channel(area, send) {
       perf.latencies.push(performance.now() - t);
       perf.server.push(frame.scene.server_ms);
       perf.roundTrips.push(frame.roundTripMs);
-    });
+    }, area !== 'time'); // the timeline's label follows playback
   }, (e) => panels.showError(area, message(e)), perf);
   channels.push(ch);
   return ch;
@@ -140,7 +150,7 @@ function digest() {
   return h;
 }
 // True when no gesture has a request in flight or waiting.
-const idle = () => channels.every((c) => c.idle);
+const idle = () => channels.every((c) => c.idle) && panelsTimer === null;
 window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
