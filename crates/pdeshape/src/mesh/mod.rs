@@ -46,6 +46,19 @@ pub type GridMesh = Grid<f32>;
 pub type Samples = Grid<f64>;
 
 impl<T> Grid<T> {
+    /// A grid of no vertices, to be filled by [`evaluate_grid_into`].
+    pub(crate) fn empty() -> Self {
+        Grid {
+            nu: 0,
+            nv: 0,
+            periodic_v: false,
+            u: Vec::new(),
+            v: Vec::new(),
+            positions: Vec::new(),
+            normals: Vec::new(),
+        }
+    }
+
     /// Index of vertex `(i, j)`.
     pub fn index(&self, i: usize, j: usize) -> usize {
         i * self.nv + j
@@ -182,15 +195,7 @@ pub fn evaluate_grid<T: GridScalar>(
     nu: usize,
     nv: usize,
 ) -> Result<Grid<T>> {
-    let mut grid = Grid {
-        nu: 0,
-        nv: 0,
-        periodic_v: false,
-        u: Vec::new(),
-        v: Vec::new(),
-        positions: Vec::new(),
-        normals: Vec::new(),
-    };
+    let mut grid = Grid::empty();
     evaluate_grid_into(surface, nu, nv, &mut grid)?;
     Ok(grid)
 }
@@ -384,15 +389,7 @@ pub(crate) fn evaluate_grid_finite<T: GridScalar>(
     nu: usize,
     nv: usize,
 ) -> Result<(Grid<T>, bool)> {
-    let mut grid = Grid {
-        nu: 0,
-        nv: 0,
-        periodic_v: false,
-        u: Vec::new(),
-        v: Vec::new(),
-        positions: Vec::new(),
-        normals: Vec::new(),
-    };
+    let mut grid = Grid::empty();
     let finite = evaluate_grid_checked(surface, nu, nv, &mut grid)?;
     Ok((grid, finite))
 }

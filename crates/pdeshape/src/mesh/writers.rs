@@ -947,7 +947,6 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
         .par_iter()
         .map(|p| GlbPart::new(mesh, p, &frame))
         .collect();
-    let vertex_bytes: u128 = if with_uv { 32 } else { 24 };
     let mut views: Vec<Value> = Vec::new();
     let mut accessors: Vec<Value> = Vec::new();
     let mut meshes: Vec<Value> = Vec::new();
@@ -1056,7 +1055,6 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
     let bin_padded = bin_len.next_multiple_of(4);
     let total = 12 + 8 + json_bytes.len() as u128 + 8 + bin_padded;
     let total = check_u32(total, "bytes", "GLB")?;
-    let _ = vertex_bytes;
 
     stream(w, "GLB", |out| {
         out.u32_le(GLB_MAGIC);
