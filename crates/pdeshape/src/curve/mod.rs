@@ -61,6 +61,23 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
         None
     }
 
+    /// Parameters inside the domain (`[0, 2π)` for a periodic curve) where a derivative of
+    /// order ≤ 4 may jump: B-spline knots, polyline corners, the ends of a local edit. A caller
+    /// that needs the curve `C⁴` on a cell (a Hermite remainder) cuts its cells there.
+    fn breaks(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// Proven bounds `out[k] ≥ sup |C⁽ᵏ⁾(t)|` (Euclidean norm) for `k = 0 ..= out.len() − 1
+    /// ≤ 4`, over the open pieces of `(t0, t1)` between [`Curve::breaks`] (one-sided
+    /// derivatives at a break), `t0 < t1` inside one period for a periodic curve. `false` if the
+    /// curve kind has no such bounds (`out` is then unspecified): the caller falls back to a
+    /// sampled estimate.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let _ = (t0, t1, out);
+        false
+    }
+
     /// `C(t)`.
     fn point(&self, t: f64) -> Vec3 {
         let mut out = [Vec3::zeros(); 1];
