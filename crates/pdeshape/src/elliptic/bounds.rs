@@ -85,6 +85,22 @@ impl PdePatch {
     }
 }
 
+impl PdePatch {
+    /// A bound of `sup |∂_u^d ∂_v^k X|` over the whole patch (`u ∈ [0, 1]`, every `v`): with
+    /// `|a cos nv + b sin nv| ≤ (|a|² + |b|²)^{1/2}`, `Σ_n n^k (αₙ² + βₙ²)^{1/2}` from
+    /// [`PdePatch::mode_derivative_bounds`]. `None` when those are.
+    pub fn partial_bound(&self, d: usize, k: usize) -> Option<f64> {
+        let bounds = self.mode_derivative_bounds(d)?;
+        Some(
+            bounds
+                .iter()
+                .enumerate()
+                .map(|(n, [a, b])| (n as f64).powi(k as i32) * a.hypot(*b))
+                .sum(),
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use crate::curve::{Ellipse, SharedCurve};
