@@ -118,11 +118,13 @@ pub fn write(
         ));
         for h in &s.holes {
             report.push_str(&format!(
-                "    hole {}: edge of {} control points, {:.3e} from the face (sampled), {:.3e} from the trim curve's image (≈)\n",
+                "    hole {}: edge of {} control points, {:.3e} from the face ({}), {:.3e} from the trim curve's image ({})\n",
                 h.curve,
                 h.edge.points.len(),
                 h.edge_deviation,
-                h.deviation
+                if h.edge_certified { "certified" } else { "sampled" },
+                h.deviation,
+                if h.certified { "≤" } else { "≈" }
             ));
         }
     }

@@ -153,3 +153,38 @@ fn formula_surfaces_are_certified() {
     assert!(out.status.success(), "{stdout}");
     assert!(stdout.contains(": ok"), "{stdout}");
 }
+
+/// The holes of the four trimmed examples are written with certified deviations: the edge's
+/// from its face and the whole from the trim curve's image (`≤`).
+#[test]
+fn hole_edges_of_the_trimmed_examples_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    for (name, count) in [
+        ("teacup", 2),
+        ("aeroplane", 5),
+        ("trimmed_vase", 3),
+        ("trim_book_methods", 2),
+    ] {
+        let design = examples.join(format!("{name}.toml"));
+        let out_path = dir.path().join(format!("{name}.step"));
+        let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let holes: Vec<&str> = stdout.lines().filter(|l| l.contains("    hole ")).collect();
+        assert_eq!(holes.len(), count, "{name}: {stdout}");
+        for line in holes {
+            assert!(
+                line.contains("from the face (certified)")
+                    && line.contains("from the trim curve's image (≤)")
+                    && !line.contains("sampled")
+                    && !line.contains('≈'),
+                "{name}: {line}"
+            );
+        }
+    }
+}

@@ -32,6 +32,7 @@ pub mod fd;
 pub mod fit;
 mod formula;
 pub mod fourier;
+pub mod majorant;
 pub mod memory;
 pub mod mesh;
 pub mod optimize;

@@ -12,6 +12,8 @@ pub mod read;
 pub mod step;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_edges;
 pub mod trimmed;
 
 pub use certify::{approximate, Approximation, Certificate};
@@ -123,6 +125,7 @@ pub fn approximate_design(design: &SolvedDesign, tolerance: f64) -> Result<CadMo
             &s.approx.net,
             periodic && s.approx.closed[1],
             s.approx.deviation,
+            s.approx.certificate.is_certified(),
             tolerance,
         )
         .map_err(|e| e.at(&t.place))?;

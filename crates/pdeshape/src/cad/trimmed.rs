@@ -14,13 +14,20 @@
 //!   `v = 0` is one closed curve inside the face's domain.
 //! - **The 3D edge** is a chain of cubic Bézier pieces interpolating the net's values
 //!   `N(pc(s))` and one-sided derivatives `N_u u' + N_v v'` at nodes that include every break of
-//!   the pcurve (so a polyline's corners stay corners), refined until its deviation from
-//!   `N(pc(s))`, found by dense sampling and local maximisation, is at most a quarter of the
-//!   tolerance (an estimate, not a bound).
+//!   the pcurve (so a polyline's corners stay corners) and every crossing of a knot line of the
+//!   net (bracketed), refined until its proven deviation from `N(pc(s))` is at most a quarter
+//!   of the tolerance ([`bound`]: the Hermite remainder with a majorant of `(N ∘ pc)⁗` on every
+//!   cell where `N ∘ pc` is smooth, a lower-order bound on the brackets). Where no proof applies
+//!   (a pcurve leaving the net's domain) the pieces are refined until the deviation found by
+//!   dense sampling and local maximisation meets the same target: an estimate, not a bound.
 //! - **The stated deviation** of a hole from the design's own trim image `X(c(t))` is
 //!   `edge + surface + L·pcurve`, `L = (L_u² + L_v²)^{1/2}` bounding the net's slopes from its
 //!   control differences (the hodograph's convex hull), by the triangle inequality
-//!   `|E − X(c)| ≤ |E − N(pc)| + |N(pc) − N(c)| + |N(c) − X(c)|`.
+//!   `|E − X(c)| ≤ |E − N(pc)| + |N(pc) − N(c)| + |N(c) − X(c)|` (`|N(p) − N(q)| ≤
+//!   L_u |Δu| + L_v |Δv| ≤ L |p − q|` along the segment, which the domain holds). The pcurve's
+//!   term is always a bound; the whole is certified when the edge's and the surface's are.
+
+mod bound;
 
 use super::curve::BCurve;
 use crate::design::SurfaceTrim;
@@ -43,10 +50,15 @@ pub struct Hole {
     pub pcurve_deviation: f64,
     /// The 3D edge curve, on the same parameter `s` as the pcurve.
     pub edge: BCurve,
-    /// Largest `|edge(s) − N(pcurve(s))|`, sampled (an estimate).
+    /// Largest `|edge(s) − N(pcurve(s))|`: a bound if `edge_certified`, else sampled (an
+    /// estimate).
     pub edge_deviation: f64,
+    /// True if `edge_deviation` is proven.
+    pub edge_certified: bool,
     /// `edge + surface + L·pcurve` deviation from the design's `X(c(t))`.
     pub deviation: f64,
+    /// True if `deviation` is proven: the edge's and the surface's deviations are.
+    pub certified: bool,
     /// True if the pcurve runs counter-clockwise in `(u, v)`.
     pub counter_clockwise: bool,
 }
@@ -229,9 +241,13 @@ pub fn edge_deviation(net: &BSplineSurface, pc: &BCurve, edge: &BCurve) -> f64 {
     worst
 }
 
-/// The edge of a pcurve on the net: pieces refined (doubled) until the sampled deviation is at
-/// most `target`.
-fn edge_curve(net: &BSplineSurface, pc: &BCurve, target: f64) -> Result<(BCurve, f64)> {
+/// The edge of a pcurve on the net with its deviation and whether that is proven: the proven
+/// edge of [`bound`] if it applies, else pieces refined (doubled) until the sampled deviation is
+/// at most `target`.
+fn edge_curve(net: &BSplineSurface, pc: &BCurve, target: f64) -> Result<(BCurve, f64, bool)> {
+    if let Some((edge, dev)) = bound::proven_edge(net, pc, target) {
+        return Ok((edge, dev, true));
+    }
     let breaks = pc.breaks();
     let mut per = (32 / (breaks.len() - 1)).max(1);
     loop {
@@ -261,7 +277,7 @@ fn edge_curve(net: &BSplineSurface, pc: &BCurve, target: f64) -> Result<(BCurve,
             ));
         }
         if dev <= target || s.len() * 2 > MAX_EDGE_NODES {
-            return Ok((edge, dev));
+            return Ok((edge, dev, false));
         }
         per *= 2;
     }
@@ -307,13 +323,14 @@ fn seam_cut(ranges: &[[f64; 2]]) -> Result<f64> {
 }
 
 /// The holes of one trimmed surface on its net (`surface_deviation`: the net's deviation from
-/// the design's surface), with the net moved onto the `v` window the holes need when `v` is
-/// periodic. `tolerance` sizes the pcurves and the edges.
+/// the design's surface, proven if `surface_certified`), with the net moved onto the `v`
+/// window the holes need when `v` is periodic. `tolerance` sizes the pcurves and the edges.
 pub fn holes(
     trim: &SurfaceTrim,
     net: &BSplineSurface,
     periodic_v: bool,
     surface_deviation: f64,
+    surface_certified: bool,
     tolerance: f64,
 ) -> Result<(BSplineSurface, Vec<Hole>)> {
     let [lu, lv] = slope_bounds(net);
@@ -350,7 +367,7 @@ pub fn holes(
         for p in &mut pc.points {
             p.y += shifts[k];
         }
-        let (edge, edev) = edge_curve(&net, &pc, 0.25 * tolerance)?;
+        let (edge, edev, proven) = edge_curve(&net, &pc, 0.25 * tolerance)?;
         let area: f64 = {
             let [a, b] = pc.domain();
             let n = 4096;
@@ -372,7 +389,9 @@ pub fn holes(
             pcurve_deviation: pdev,
             edge,
             edge_deviation: edev,
+            edge_certified: proven,
             deviation: edev + surface_deviation + lipschitz * pdev,
+            certified: proven && surface_certified,
             counter_clockwise: area > 0.0,
         });
     }

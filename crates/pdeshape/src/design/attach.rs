@@ -19,6 +19,7 @@ use super::trim::{trim_curve, SurfaceTrim};
 use super::validate::{curve_place, plan, references};
 use super::{DEFAULT_NU, DEFAULT_NV};
 use crate::curve::{Curve, Domain};
+use crate::majorant::{Majorant, ORDER};
 use crate::spec::{CurveKind, CurveRef, CurveSpec, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex, Partials, Surface};
 use crate::trim::{trim_domain, TrimCurve, TrimMethod};
@@ -55,6 +56,47 @@ fn image_derivatives(p: &Partials, d1: [f64; 2], d2: [f64; 2]) -> (Vec3, Vec3) {
         + p.xu * d2[0]
         + p.xv * d2[1];
     (c1, c2)
+}
+
+/// `M_ab ≥ sup|∂_u^{a+e_u} ∂_v^{b+e_v} X|` (`a + b ≤ 4`, `e = [e_u, e_v]`) of the host from
+/// [`PdePatch::partial_bound`](crate::elliptic::PdePatch::partial_bound), which holds over
+/// `u ∈ [0, 1]` and every `v`: `None` unless the host is an analytic PDE patch without an
+/// active spectral remainder, periodic in `v`, and the whole `(u, v)` curve (its control
+/// points' or ellipse's range) lies at `u ∈ [0, 1]`.
+fn host_bounds(
+    host: &SurfaceKind,
+    path: &TrimCurve,
+    e: [usize; 2],
+) -> Option<[[f64; ORDER + 1]; ORDER + 1]> {
+    let SurfaceKind::Pde(patch) = host else {
+        return None;
+    };
+    let [u_range, _] = path.coordinate_range();
+    if !(patch.v_domain().is_periodic() && u_range[0] >= 0.0 && u_range[1] <= 1.0) {
+        return None;
+    }
+    let mut m = [[0.0; ORDER + 1]; ORDER + 1];
+    for (a, row) in m.iter_mut().enumerate() {
+        for (b, mab) in row.iter_mut().enumerate().take(ORDER + 1 - a) {
+            *mab = patch
+                .partial_bound(a + e[0], b + e[1])
+                .filter(|x| x.is_finite())?;
+        }
+    }
+    Some(m)
+}
+
+/// The majorants of the increments of `(u, v)(σ + s)` for `σ` on the open pieces of
+/// `(s0, s1)` between breaks: `Σ_{k≥1} U_k s^k/k!` with `U_k = W^{−k} sup|u^{(k)}(t)|`
+/// ([`TrimCurve::coordinate_bounds`], `s = W t`).
+fn path_series(path: &TrimCurve, s0: f64, s1: f64) -> [Majorant; 2] {
+    let mut uv = path.coordinate_bounds(s0 / W, s1 / W);
+    for c in &mut uv {
+        for (k, x) in c.iter_mut().enumerate() {
+            *x /= W.powi(k as i32);
+        }
+    }
+    [0, 1].map(|c| Majorant::increment(&uv[c][..=ORDER]))
 }
 
 /// Derivatives of order `exact + 1 ..` by central differences of the exact derivative of order
@@ -117,6 +159,30 @@ impl Curve for CurveOnSurface {
         if out.len() > 3 {
             differenced(&|s| self.second(s), s, 2, out);
         }
+    }
+
+    /// The breaks of the `(u, v)` curve, `s = 2π t`.
+    fn breaks(&self) -> Vec<f64> {
+        self.path.breaks().into_iter().map(|t| W * t).collect()
+    }
+
+    /// Bounds by the majorant of the composition `X(u(s), v(s))` ([`crate::majorant`]):
+    /// `out[k] = k! [s^k] Σ_{a+b≤4} M_ab/(a! b!) Û^a V̂^b` ([`host_bounds`],
+    /// [`path_series`]). `false` for hosts other than analytic PDE patches without an active
+    /// spectral remainder, or a curve reaching outside `u ∈ [0, 1]`.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let Some(m) = host_bounds(&self.host, &self.path, [0, 0]) else {
+            return false;
+        };
+        if out.len() > ORDER + 1 {
+            return false;
+        }
+        let inc = path_series(&self.path, t0, t1);
+        let series = Majorant::compose2(&m, &inc[0], &inc[1]);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = series.derivative(k);
+        }
+        out.iter().all(|x| x.is_finite())
     }
 }
 
@@ -184,6 +250,13 @@ impl Curve for TangentField {
         if out.len() > 2 {
             differenced(&|s| self.value_and_slope(s).1, s, 1, out);
         }
+    }
+
+    /// The breaks of the `(u, v)` curve, `s = 2π t`. (No derivative bounds: the normalisation
+    /// needs a lower bound of `|C' × N|` on an interval, and the host's global bounds of its
+    /// partials make that one, `|w(m)| − sup|w'| h/2`, positive only on very short intervals.)
+    fn breaks(&self) -> Vec<f64> {
+        self.path.breaks().into_iter().map(|t| W * t).collect()
     }
 }
 
@@ -652,5 +725,111 @@ impl SolvedDesign {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::solve_design;
+    use crate::spec::parse_design;
+
+    /// The teacup's bowl as a host, with an ellipse, a cubic B-spline and a polyline path near
+    /// the handle's ends: on intervals of `s` between the breaks the proven bounds of the curve
+    /// on the bowl and of its tangent field are at least the largest derivatives on a dense
+    /// sample (orders ≤ 2 resp. ≤ 1 exact, the higher ones by fine central differences of the
+    /// highest exact one: a check only).
+    #[test]
+    #[allow(clippy::approx_constant)] // the teacup's own control points
+    fn curves_on_a_patch_have_proven_derivative_bounds() {
+        let text = include_str!("../../../../examples/teacup.toml");
+        let design = solve_design(&parse_design(text).unwrap()).unwrap();
+        let host = design
+            .surfaces
+            .iter()
+            .find(|s| s.name == "bowl")
+            .unwrap()
+            .kind
+            .clone();
+        let paths = [
+            TrimCurve::circle([0.72, std::f64::consts::PI], 0.1),
+            TrimCurve::BSpline {
+                degree: 3,
+                points: vec![
+                    [0.12918, 3.14159],
+                    [0.16164, 3.21995],
+                    [0.24000, 3.25241],
+                    [0.31836, 3.21995],
+                    [0.35082, 3.14159],
+                    [0.31836, 3.06323],
+                    [0.24000, 3.03077],
+                    [0.16164, 3.06323],
+                ],
+            },
+            TrimCurve::Polyline(vec![[0.4, 3.0], [0.6, 3.0], [0.6, 3.3], [0.4, 3.3]]),
+        ];
+        for (k, path) in paths.iter().enumerate() {
+            let on = CurveOnSurface::new(host.clone(), path.clone());
+            let field = TangentField::new(host.clone(), path.clone(), 0.3);
+            let mut cuts = on.breaks();
+            assert_eq!(cuts, field.breaks());
+            // The tangent field has no bounds (see its `Curve` impl).
+            assert!(!field.derivative_bounds(0.0, 0.01, &mut [0.0; 5]));
+            if cuts.is_empty() {
+                cuts.push(0.0);
+            }
+            cuts.push(cuts[0] + TAU);
+            for w in cuts.windows(2) {
+                // Four intervals per piece (halved until a bound holds, at most 2⁶ times).
+                for (name, curve, min_parts) in [("on", &on as &dyn Curve, 4usize)] {
+                    let mut parts = min_parts;
+                    let mut bounds = Vec::new();
+                    while bounds.is_empty() {
+                        assert!(parts <= min_parts << 6, "path {k} {name}: no bound");
+                        for i in 0..parts {
+                            let a = w[0] + (w[1] - w[0]) * i as f64 / parts as f64;
+                            let b = w[0] + (w[1] - w[0]) * (i + 1) as f64 / parts as f64;
+                            let mut bound = [0.0; 5];
+                            if !curve.derivative_bounds(a, b, &mut bound) {
+                                bounds.clear();
+                                parts *= 2;
+                                break;
+                            }
+                            bounds.push((a, b, bound));
+                        }
+                    }
+                    for (i, &(a, b, bound)) in bounds.iter().enumerate() {
+                        let mut seen = [0.0f64; 5];
+                        let mut jet = [Vec3::zeros(); 5];
+                        // Away from the ends by more than the differences' reach (0.006).
+                        let (a2, b2) = (a + 0.006, b - 0.006);
+                        for j in 0..=200 {
+                            let s = a2 + (b2 - a2) * j as f64 / 200.0;
+                            curve.jet(s, &mut jet);
+                            for (x, y) in seen.iter_mut().zip(&jet) {
+                                *x = x.max(y.norm());
+                            }
+                        }
+                        for o in 0..5 {
+                            assert!(
+                                seen[o] <= bound[o] * (1.0 + 1e-6),
+                                "path {k} {name} [{a}, {b}] order {o}: {} > {}",
+                                seen[o],
+                                bound[o]
+                            );
+                        }
+                        if i == 0 && w[0] == cuts[0] {
+                            eprintln!(
+                                "path {k} {name} ({parts} intervals per piece): bound/sampled {:?}",
+                                (0..5).map(|o| bound[o] / seen[o]).collect::<Vec<_>>()
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        // Not a PDE host with bounds, or a curve outside u ∈ [0, 1]: no bound.
+        let out = CurveOnSurface::new(host.clone(), TrimCurve::circle([0.95, 1.0], 0.1));
+        assert!(!out.derivative_bounds(0.0, 1.0, &mut [0.0; 5]));
     }
 }

@@ -200,6 +200,111 @@ impl TrimCurve {
         }
     }
 
+    /// Parameters `t ∈ [0, 1)` where a derivative of `c` may jump: the corners `k/n` of a
+    /// polyline and the knots `k/n` of a B-spline (`n` points); none for an ellipse.
+    pub fn breaks(&self) -> Vec<f64> {
+        match self {
+            TrimCurve::Ellipse { .. } => Vec::new(),
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => {
+                let n = p.len();
+                (0..n).map(|k| k as f64 / n as f64).collect()
+            }
+        }
+    }
+
+    /// The range `[lo, hi]` of each coordinate that holds the whole curve: the control
+    /// points' (the curve lies in their convex hull), or the ellipse's `center ± amplitude`.
+    pub fn coordinate_range(&self) -> [[f64; 2]; 2] {
+        match self {
+            TrimCurve::Ellipse { center, .. } => {
+                let amp = self.amplitudes();
+                [0, 1].map(|c| [center[c] - amp[c], center[c] + amp[c]])
+            }
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => {
+                let (lo, hi) = bbox(p);
+                [[lo[0], hi[0]], [lo[1], hi[1]]]
+            }
+        }
+    }
+
+    /// The amplitudes `(A_u, A_v)` of an ellipse's coordinates `center + A cos(2πt + φ)`
+    /// (zero for the other kinds).
+    fn amplitudes(&self) -> [f64; 2] {
+        match self {
+            TrimCurve::Ellipse { radii, angle, .. } => {
+                let (sa, ca) = angle.sin_cos();
+                [
+                    (ca * radii[0]).hypot(sa * radii[1]),
+                    (sa * radii[0]).hypot(ca * radii[1]),
+                ]
+            }
+            _ => [0.0; 2],
+        }
+    }
+
+    /// Proven bounds `[U, V]` with `U[k] ≥ |u^{(k)}(t)|`, `V[k] ≥ |v^{(k)}(t)|` (`k ≤ 5`,
+    /// derivatives in `t`) on the open pieces of `(t0, t1)` between [`TrimCurve::breaks`] (the
+    /// curve is periodic with period 1; `t0 > t1` or a span of a whole period or more: every
+    /// piece).
+    ///
+    /// - An ellipse's coordinate is `center + A cos(2πt + φ)`: `|c^{(k)}| ≤ (2π)^k A`, `k ≥ 1`,
+    ///   and `|c| ≤ |center| + A`.
+    /// - A closed uniform B-spline `Σ P_i N_p(nt − i)` of degree `p` on the piece
+    ///   `nt ∈ [j, j + 1]` has the `k`-th derivative `n^k Σ_i ∇^k P_i N_{p−k}(nt − i)` over
+    ///   `i = j − p + k ..= j` (`N_p' (y) = N_{p−1}(y) − N_{p−1}(y − 1)`, the cardinal
+    ///   B-splines non-negative with sum one), so `n^k max |∇^k P_i|` over the piece's points
+    ///   `P_{j−p} … P_j` bounds it (zero for `k > p`). A polyline is the case `p = 1` with the
+    ///   piece `[k/n, (k+1)/n]` running from point `k` to point `k + 1`.
+    pub fn coordinate_bounds(&self, t0: f64, t1: f64) -> [[f64; 6]; 2] {
+        let mut out = [[0.0; 6]; 2];
+        let (points, degree, shift) = match self {
+            TrimCurve::Ellipse { center, .. } => {
+                let amp = self.amplitudes();
+                for (c, o) in out.iter_mut().enumerate() {
+                    for (k, x) in o.iter_mut().enumerate() {
+                        *x = if k == 0 {
+                            center[c].abs() + amp[c]
+                        } else {
+                            TAU.powi(k as i32) * amp[c]
+                        };
+                    }
+                }
+                return out;
+            }
+            // Piece j of a polyline runs over the points j, j + 1: the B-spline indices shifted.
+            TrimCurve::Polyline(p) => (p, 1, 1),
+            TrimCurve::BSpline { degree, points } => (points, *degree, 0),
+        };
+        let n = points.len();
+        let nf = n as f64;
+        let (x0, x1) = (t0 * nf, t1 * nf);
+        let (first, count) = if x0.is_finite() && x1.is_finite() && x1 > x0 && x1 - x0 < nf {
+            let first = x0.floor();
+            (first as i64, ((x1.ceil() - first) as usize).clamp(1, n))
+        } else {
+            (0, n)
+        };
+        for j in first..first + count as i64 {
+            let piece: Vec<[f64; 2]> = (j - degree as i64..=j)
+                .map(|i| points[(i + shift).rem_euclid(n as i64) as usize])
+                .collect();
+            for (c, o) in out.iter_mut().enumerate() {
+                let mut diff: Vec<f64> = piece.iter().map(|q| q[c]).collect();
+                for (k, ok) in o.iter_mut().enumerate() {
+                    if k > degree {
+                        break;
+                    }
+                    if k > 0 {
+                        diff = diff.windows(2).map(|w| w[1] - w[0]).collect();
+                    }
+                    let m = nf.powi(k as i32) * diff.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    *ok = ok.max(m);
+                }
+            }
+        }
+        out
+    }
+
     /// The orientation of the curve in the `(u, v)` plane (`u` across, `v` up): `1` if
     /// counter-clockwise (positive enclosed area), `-1` if clockwise.
     pub fn orientation(&self) -> f64 {

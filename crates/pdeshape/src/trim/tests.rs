@@ -530,3 +530,57 @@ fn a_re_mesh_into_reused_buffers_equals_a_fresh_mesh_bit_for_bit() {
     let (fresh, _) = trimmed_mesh(&s, 65, 128, &cs, TrimMethod::Cdt, "tube").unwrap();
     assert_eq!(mesh_bits(&out.mesh), mesh_bits(&fresh));
 }
+
+/// The coordinate bounds of the three kinds hold against the exact first and second
+/// derivatives (`jet`) on a dense sample of each piece, and a B-spline's third derivative
+/// (constant on a piece of a cubic) is attained.
+#[test]
+fn coordinate_bounds_hold_on_every_piece() {
+    let curves = [
+        TrimCurve::Ellipse {
+            center: [0.5, -0.2],
+            radii: [0.3, 0.1],
+            angle: 0.7,
+        },
+        TrimCurve::Polyline(vec![[0.0, 0.0], [1.0, 0.2], [0.5, 0.9]]),
+        TrimCurve::BSpline {
+            degree: 3,
+            points: vec![[0.0, 0.0], [1.0, 0.1], [1.2, 0.8], [0.4, 1.1], [-0.1, 0.5]],
+        },
+    ];
+    for c in &curves {
+        let mut cuts = c.breaks();
+        if cuts.is_empty() {
+            cuts = vec![0.0, 0.25, 0.5, 0.75];
+        }
+        cuts.push(1.0);
+        for w in cuts.windows(2) {
+            let b = c.coordinate_bounds(w[0], w[1]);
+            let mut seen = [[0.0f64; 3]; 2];
+            for j in 1..200 {
+                let t = w[0] + (w[1] - w[0]) * j as f64 / 200.0;
+                let jet = c.jet(t);
+                for (o, d) in jet.iter().enumerate() {
+                    for k in 0..2 {
+                        seen[k][o] = seen[k][o].max(d[k].abs());
+                    }
+                }
+            }
+            for k in 0..2 {
+                for o in 0..3 {
+                    assert!(seen[k][o] <= b[k][o] * (1.0 + 1e-12) + 1e-12, "{c:?} {w:?}");
+                }
+            }
+        }
+    }
+    let bs = &curves[2];
+    let b = bs.coordinate_bounds(0.05, 0.15);
+    let h = 1e-3;
+    let d3 = (bs.jet(0.1 + h)[2][0] - bs.jet(0.1 - h)[2][0]) / (2.0 * h);
+    assert!(
+        (d3.abs() - b[0][3]).abs() < 1e-6 * b[0][3],
+        "{d3} {}",
+        b[0][3]
+    );
+    assert_eq!(b[0][4], 0.0);
+}
