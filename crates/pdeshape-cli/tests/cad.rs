@@ -73,7 +73,7 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
 fn sampled_deviations_are_printed_as_estimates() {
     let dir = tempfile::tempdir().unwrap();
     let design =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/yoghurt.toml");
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/aeroplane.toml");
     let out_path = dir.path().join("y.step");
     let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -183,6 +183,39 @@ fn hole_edges_of_the_trimmed_examples_are_certified() {
                     && line.contains("from the trim curve's image (≤)")
                     && !line.contains("sampled")
                     && !line.contains('≈'),
+                "{name}: {line}"
+            );
+        }
+    }
+}
+
+/// The examples whose analytic patches carry a spectral remainder (B-spline, point-sample and
+/// local-edit condition curves) are written with a certified deviation on every surface.
+#[test]
+fn remainder_patches_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    for name in [
+        "cup_lip.toml",
+        "yoghurt.toml",
+        "swirl_port.toml",
+        "swirl_port_params.toml",
+        "anim/water_glass.toml",
+        "anim/face.toml",
+    ] {
+        let out_path = dir.path().join("x.step");
+        let out = pdeshape(&["surface", s(&root.join(name)), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let faces: Vec<&str> = stdout.lines().filter(|l| l.contains("deviation")).collect();
+        assert!(!faces.is_empty(), "{name}: {stdout}");
+        for line in faces {
+            assert!(
+                line.contains("deviation ≤ ") && line.contains("(certified)"),
                 "{name}: {line}"
             );
         }

@@ -142,6 +142,21 @@ impl FourierSeries {
     }
 }
 
+/// `sup_θ |a cos θ + b sin θ|`: the largest singular value of the 3 × 2 matrix `[a b]`, the
+/// root of the larger eigenvalue `(p + q)/2 + (((p − q)/2)² + r²)^{1/2}` of its Gram matrix
+/// `[[p, r], [r, q]]` (`p = |a|²`, `q = |b|²`, `r = a·b`); at most `(p + q)^{1/2}`, which is
+/// returned if rounding ever puts the eigenvalue above it.
+pub fn mode_size(a: &Vec3, b: &Vec3) -> f64 {
+    let (p, q, r) = (a.norm_squared(), b.norm_squared(), a.dot(b));
+    let top = 0.5 * (p + q) + (0.25 * (p - q) * (p - q) + r * r).sqrt();
+    let cap = (p + q).sqrt();
+    if top.is_finite() {
+        top.sqrt().min(cap)
+    } else {
+        a.norm().hypot(b.norm())
+    }
+}
+
 impl Curve for FourierSeries {
     fn domain(&self) -> Domain {
         Domain::Periodic
@@ -181,6 +196,21 @@ impl Curve for FourierSeries {
     }
     fn fourier(&self) -> Option<FourierSeries> {
         Some(self.clone())
+    }
+    /// `|aₙ cos θ + bₙ sin θ| ≤ σₙ`, the largest singular value of `[aₙ bₙ]` ([`mode_size`]),
+    /// so `|f⁽ᵏ⁾| ≤ [k = 0] |a₀| + Σ nᵏ σₙ` everywhere (attained by an ellipse).
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        if t0.partial_cmp(&t1) != Some(std::cmp::Ordering::Less) {
+            return false;
+        }
+        for (k, o) in out.iter_mut().enumerate() {
+            let mut sum = if k == 0 { self.a0.norm() } else { 0.0 };
+            for (i, (a, b)) in self.cos.iter().zip(&self.sin).enumerate() {
+                sum += ((i + 1) as f64).powi(k as i32) * mode_size(a, b);
+            }
+            *o = sum * (1.0 + crate::curve::BOUND_ROUNDING);
+        }
+        out.iter().all(|o| o.is_finite())
     }
 }
 
@@ -447,5 +477,45 @@ mod tests {
             e(Vec3::x(), vec![], vec![bad]),
             "sin[0][1]: must be finite (got inf)"
         );
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::*;
+    use crate::curve::testutil::check_bounds;
+
+    /// The bounds hold on random intervals, and over a whole period they are within
+    /// `(2N)^{1/2}` of the sampled maximum, `N` the number of non-zero terms: the maximum is at
+    /// least the root mean square `(Σ n²ᵏ (|aₙ|² + |bₙ|²)/2)^{1/2}` (Parseval), and
+    /// `Σ nᵏ σₙ ≤ Σ nᵏ (|aₙ|² + |bₙ|²)^{1/2} ≤ N^{1/2} (Σ n²ᵏ (|aₙ|² + |bₙ|²))^{1/2}`
+    /// (Cauchy–Schwarz).
+    #[test]
+    fn bounds_hold_and_are_within_the_rms_factor() {
+        let f = FourierSeries {
+            a0: Vec3::new(0.1, 0.0, 0.5),
+            cos: vec![
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 0.2, 0.1),
+                Vec3::new(0.05, 0.0, 0.0),
+            ],
+            sin: vec![
+                Vec3::new(0.0, 0.9, 0.0),
+                Vec3::new(0.1, 0.0, 0.0),
+                Vec3::new(0.0, 0.0, 0.08),
+            ],
+        };
+        check_bounds(&f, 11, 40, 2.0);
+        let mut b = [0.0; 5];
+        assert!(f.derivative_bounds(0.0, TAU, &mut b));
+        for (k, bk) in b.iter().enumerate() {
+            let seen = (0..4000)
+                .map(|i| f.derivative(TAU * i as f64 / 4000.0, k).norm())
+                .fold(0.0, f64::max);
+            let n: f64 = if k == 0 { 4.0 } else { 3.0 };
+            eprintln!("fourier k = {k}: bound {bk}, sampled {seen}");
+            assert!(seen <= *bk * (1.0 + 1e-12));
+            assert!(*bk <= (2.0 * n).sqrt() * seen, "{k}: {bk} vs {seen}");
+        }
     }
 }

@@ -14,6 +14,8 @@ pub mod step;
 mod tests;
 #[cfg(test)]
 mod tests_edges;
+#[cfg(test)]
+mod tests_remainder;
 pub mod trimmed;
 
 pub use certify::{approximate, Approximation, Certificate};
@@ -99,9 +101,32 @@ pub fn approximate_design(design: &SolvedDesign, tolerance: f64) -> Result<CadMo
             }
         }
     }
+    // With a spectral remainder somewhere, the periodic patches whose bounds are known share
+    // one non-uniform `v` grid: every break of their condition curves, cut until each meets
+    // its budget ([`certify::shared_v_nodes`]).
+    let plans: Vec<Option<certify::PdePlan>> = design
+        .surfaces
+        .iter()
+        .map(|s| match &s.kind {
+            SurfaceKind::Pde(p) => certify::PdePlan::new(p).ok(),
+            _ => None,
+        })
+        .collect();
+    let shared = if plans.iter().flatten().any(certify::PdePlan::has_remainder) {
+        let known: Vec<&certify::PdePlan> = plans.iter().flatten().collect();
+        Some(certify::shared_v_nodes(&known, tolerance, min_v.max(8))?)
+    } else {
+        None
+    };
     let mut surfaces: Vec<CadSurface> = Vec::with_capacity(design.surfaces.len());
-    for s in &design.surfaces {
-        let approx = approximate(&s.kind, tolerance, min_v).map_err(|e| located(e, &s.place))?;
+    for (s, plan) in design.surfaces.iter().zip(&plans) {
+        let approx = match (&s.kind, plan, &shared) {
+            (SurfaceKind::Pde(p), Some(plan), Some(vs)) => {
+                certify::approximate_pde_on(p, plan, vs, tolerance)
+            }
+            _ => approximate(&s.kind, tolerance, min_v),
+        }
+        .map_err(|e| located(e, &s.place))?;
         surfaces.push(CadSurface {
             name: s.name.clone(),
             approx,

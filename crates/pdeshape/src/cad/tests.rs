@@ -7,11 +7,11 @@ use crate::design::solve_design;
 use crate::spec::parse_design;
 use certify::MAX_CELLS;
 
-fn solve(text: &str) -> SolvedDesign {
+pub(super) fn solve(text: &str) -> SolvedDesign {
     solve_design(&parse_design(text).unwrap()).unwrap()
 }
 
-fn example(name: &str) -> SolvedDesign {
+pub(super) fn example(name: &str) -> SolvedDesign {
     let text = match name {
         "laplace_blend" => include_str!("../../../../examples/laplace_blend.toml"),
         "cup" => include_str!("../../../../examples/cup.toml"),
@@ -35,7 +35,7 @@ fn laplace_exact(u: f64, v: f64) -> Vec3 {
 
 /// The true largest deviation of a net from `f`: a 9 × 9 lattice in every knot cell, then
 /// local maximisation (coordinate-wise golden sections, shrinking steps) from the 8 largest.
-fn true_max_deviation(net: &BSplineSurface, f: &dyn Fn(f64, f64) -> Vec3) -> f64 {
+pub(super) fn true_max_deviation(net: &BSplineSurface, f: &dyn Fn(f64, f64) -> Vec3) -> f64 {
     let [[u0, u1], [v0, v1]] = net.domain();
     let dev = |u: f64, v: f64| {
         let (u, v) = (u.clamp(u0, u1), v.clamp(v0, v1));

@@ -78,6 +78,27 @@ impl Curve for Bezier {
             };
         }
     }
+    /// One polynomial everywhere (extended outside `[0, 1]`). Up to degree `MAX_ORDER`:
+    /// Taylor's formula about the middle of `(t0, t1)` ([`super::polynomial_piece_bounds`]).
+    /// Above it, inside `[0, 1]` only: `B⁽ᵏ⁾` is the Bézier curve of the `k`-th hodograph, a
+    /// convex combination of its control points (Bernstein weights are non-negative and sum to
+    /// one), so their largest norm bounds it.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let n = self.degree();
+        if n <= super::MAX_ORDER {
+            let pieces = super::pieces(&[], false, t0, t1);
+            return super::polynomial_piece_bounds(self, n, &pieces, out);
+        }
+        if !(0.0 <= t0 && t0 < t1 && t1 <= 1.0) {
+            return false;
+        }
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = self.hodographs.get(k).map_or(0.0, |h| {
+                h.iter().map(|p| p.norm()).fold(0.0, f64::max) * (1.0 + super::BOUND_ROUNDING)
+            });
+        }
+        out.iter().all(|o| o.is_finite())
+    }
 }
 
 #[cfg(test)]
@@ -158,5 +179,34 @@ mod tests {
             err(vec![Vec3::new(f64::INFINITY, 0.0, 0.0)]),
             "control[0][0]: must be finite (got inf)"
         );
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::*;
+
+    /// Degree 4 (Taylor bounds) and degree 10 (hodograph hulls inside [0, 1]) hold; the
+    /// quartic's constant fourth derivative is attained.
+    #[test]
+    fn bounds_hold() {
+        let pts = |n: usize| -> Vec<Vec3> {
+            (0..=n)
+                .map(|i| {
+                    let x = i as f64;
+                    Vec3::new(x, (1.7 * x).sin(), (0.4 * x).cos())
+                })
+                .collect()
+        };
+        let quartic = Bezier::new(pts(4)).unwrap();
+        let r = check_bounds(&quartic, 6, 40, 1.0);
+        eprintln!("bezier 4: {r:?}");
+        assert!(r[4] <= 1.0 + 1e-6, "{r:?}");
+        assert!(r.iter().all(|&x| x <= 3.0), "{r:?}");
+        let high = Bezier::new(pts(10)).unwrap();
+        let r = check_bounds(&high, 7, 40, 1.0);
+        eprintln!("bezier 10: {r:?}");
+        assert!(!high.derivative_bounds(-0.1, 0.5, &mut [0.0; 5]));
     }
 }

@@ -31,6 +31,13 @@ impl Curve for Point {
         }
     }
     /// The series with `a₀ = p` and no modes.
+    /// `|C| = |p|`, every derivative zero.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = if k == 0 { self.p.norm() } else { 0.0 };
+        }
+        t0 < t1 && out.iter().all(|o| o.is_finite())
+    }
     fn fourier(&self) -> Option<FourierSeries> {
         Some(FourierSeries {
             a0: self.p,
@@ -137,6 +144,19 @@ impl Curve for Ellipse {
                 *o += self.center;
             }
         }
+    }
+    /// `sup_θ |cos θ a₁ + sin θ a₂|` is the largest singular value of `[a₁ a₂]`
+    /// ([`crate::fourier::mode_size`]), attained; plus `|c|` for `k = 0`.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let r = crate::fourier::mode_size(&self.axis1, &self.axis2) * (1.0 + super::BOUND_ROUNDING);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = if k == 0 {
+                self.center.norm() * (1.0 + super::BOUND_ROUNDING) + r
+            } else {
+                r
+            };
+        }
+        t0 < t1 && out.iter().all(|o| o.is_finite())
     }
     /// Exact: `a₀ = c`, one mode with `a₁`, `b₁` the axes.
     fn fourier(&self) -> Option<FourierSeries> {
@@ -313,5 +333,43 @@ mod tests {
         let e = Point::try_new(Vec3::new(1.0, 2.0, f64::INFINITY)).unwrap_err();
         assert_eq!(e.to_string(), "at[2]: must be finite (got inf)");
         assert_eq!(Point::try_new(x).unwrap().p, x);
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::*;
+    use crate::TAU;
+
+    /// Circles attain the bound of every derivative; ellipses' hold.
+    #[test]
+    fn bounds_hold_and_circles_attain_them() {
+        let c = Ellipse::circle(Vec3::zeros(), 2.0, Vec3::new(0.3, 0.1, 1.0)).unwrap();
+        let r = check_bounds(&c, 8, 30, TAU);
+        assert!(r.iter().all(|&x| x <= 1.0 + 1e-6), "{r:?}");
+        let e = Ellipse::new(
+            Vec3::new(1.0, 2.0, 0.5),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.3),
+        )
+        .unwrap();
+        check_bounds(&e, 9, 30, TAU);
+        // Over a whole period sup|C⁽ᵏ⁾| (k ≥ 1) is the largest singular value of [a₁ a₂], at
+        // least (|a₁|² + |a₂|²)^{1/2}/√2: the bound is within √2.
+        let mut b = [0.0; 5];
+        assert!(e.derivative_bounds(0.0, TAU, &mut b));
+        for (k, bk) in b.iter().enumerate().skip(1) {
+            let seen = (0..2000)
+                .map(|i| e.derivative(TAU * i as f64 / 2000.0, k).norm())
+                .fold(0.0, f64::max);
+            assert!(
+                seen <= *bk && *bk <= 2f64.sqrt() * seen * (1.0 + 1e-6),
+                "{k}: {seen} {bk}"
+            );
+        }
+        let p = Point::new(Vec3::new(1.0, 2.0, 3.0));
+        let r = check_bounds(&p, 10, 5, 1.0);
+        assert!(r[0] <= 1.0 + 1e-6);
     }
 }

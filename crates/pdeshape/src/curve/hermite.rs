@@ -47,6 +47,12 @@ impl Curve for Hermite {
     fn jet(&self, t: f64, out: &mut [Vec3]) {
         poly_jet(&self.power_form(), t, out);
     }
+    /// One cubic everywhere (extended outside `[0, 1]`): Taylor's formula about the middle of
+    /// `(t0, t1)` ([`super::polynomial_piece_bounds`]).
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let pieces = super::pieces(&[], false, t0, t1);
+        super::polynomial_piece_bounds(self, 3, &pieces, out)
+    }
 }
 
 #[cfg(test)]
@@ -105,5 +111,26 @@ mod tests {
         assert_eq!(e.place(), "curves.h.d1[2]");
         let h = Hermite::try_new(z, x, x, x).unwrap();
         assert_eq!(h.point(1.0), x);
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::*;
+
+    /// One cubic: the bounds hold, the constant third derivative's is attained.
+    #[test]
+    fn bounds_hold_and_are_tight() {
+        let h = Hermite::new(
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.5, 0.0),
+            Vec3::new(0.0, 2.0, 1.0),
+            Vec3::new(1.0, -1.0, 0.0),
+        );
+        let r = check_bounds(&h, 5, 40, 1.0);
+        eprintln!("hermite: {r:?}");
+        assert!(r[3] <= 1.0 + 1e-6, "{r:?}");
+        assert!(r[..3].iter().all(|&x| x <= 3.0), "{r:?}");
     }
 }

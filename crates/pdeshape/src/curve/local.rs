@@ -242,6 +242,50 @@ impl Curve for LocalEdit {
             }
         }
     }
+    /// The base curve's breaks and the five knots of the bump (its ends and the three points
+    /// where its cubic pieces join), reduced to `[0, 2π)` on a periodic curve.
+    fn breaks(&self) -> Vec<f64> {
+        let mut b = self.base.breaks();
+        for k in self.knots {
+            let x = self.v1 + k;
+            if self.periodic {
+                b.push(reduce_periodic(x));
+            } else if let Domain::Interval(lo, hi) = self.base.domain() {
+                if x > lo && x < hi {
+                    b.push(x);
+                }
+            }
+        }
+        b.sort_by(f64::total_cmp);
+        b.dedup();
+        b
+    }
+    /// `|C̃⁽ᵏ⁾| ≤ sup|C⁽ᵏ⁾| + |d/N(v₃)| sup|N⁽ᵏ⁾|`: the base curve's bounds, and the bump's, a
+    /// cubic on each piece between its knots (zero outside them), by Taylor's formula about the
+    /// middle of every piece of `(t0, t1)` between [`Curve::breaks`].
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        if !self.base.derivative_bounds(t0, t1, out) {
+            return false;
+        }
+        let size = self.offset.norm();
+        let mut bump = vec![0.0f64; out.len()];
+        for (a, b) in super::pieces(&self.breaks(), self.periodic, t0, t1) {
+            let (m, r) = (0.5 * (a + b), 0.5 * (b - a));
+            let Some(s) = self.inside(m) else { continue };
+            for (k, o) in bump.iter_mut().enumerate() {
+                let (mut sum, mut f) = (0.0, 1.0);
+                for j in 0..4usize.saturating_sub(k) {
+                    sum += self.bump(s, k + j).abs() * f;
+                    f *= r / (j + 1) as f64;
+                }
+                *o = o.max(sum);
+            }
+        }
+        for (o, b) in out.iter_mut().zip(&bump) {
+            *o += size * b * (1.0 + super::BOUND_ROUNDING);
+        }
+        out.iter().all(|o| o.is_finite())
+    }
 }
 
 #[cfg(test)]
@@ -373,5 +417,37 @@ mod tests {
             assert!(f.from() >= 0.0 && f.to() > f.from());
             assert_eq!(e.interval(), (f.from(), f.to()));
         }
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::super::{BSpline, Ellipse};
+    use super::*;
+    use std::sync::Arc;
+
+    /// An edit adds its bump's knots to the base curve's breaks; the bounds hold on random
+    /// intervals, also for an edit across `v = 0` and on a B-spline base, and the bump's
+    /// third derivative (constant on each of its pieces) keeps them within a factor 3.
+    #[test]
+    fn bounds_hold_for_edits() {
+        let circle: SharedCurve = Arc::new(Ellipse::circle(Vec3::zeros(), 1.0, Vec3::z()).unwrap());
+        let edit = LocalEdit::new(circle.clone(), 5.7, 0.6, None, [0.0, 0.3, 0.1]).unwrap();
+        assert_eq!(edit.breaks().len(), 5);
+        let r = check_bounds(&edit, 15, 80, 2.0);
+        eprintln!("local on a circle: {r:?}");
+        let c: Vec<Vec3> = (0..10)
+            .map(|i| {
+                let t = crate::TAU * i as f64 / 10.0;
+                Vec3::new(t.cos(), t.sin(), 0.1 * (3.0 * t).sin())
+            })
+            .collect();
+        let spline: SharedCurve = Arc::new(BSpline::periodic(3, c, None).unwrap());
+        let edit = LocalEdit::new(spline, 1.0, 2.5, Some(1.4), [0.1, -0.2, 0.3]).unwrap();
+        assert_eq!(edit.breaks().len(), 10 + 5);
+        let r = check_bounds(&edit, 16, 80, 1.5);
+        eprintln!("local on a spline: {r:?}");
+        assert!(r[3] <= 3.0, "{r:?}");
     }
 }

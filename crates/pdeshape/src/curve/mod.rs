@@ -132,6 +132,100 @@ pub(crate) fn poly_jet(coeffs: &[Vec3], x: f64, out: &mut [Vec3]) {
     }
 }
 
+/// Relative allowance for rounding in the bounds of [`Curve::derivative_bounds`]: the jets
+/// they start from are computed in floating point.
+pub(crate) const BOUND_ROUNDING: f64 = 1e-9;
+
+/// The open pieces of `(t0, t1)` between the sorted `breaks` (a periodic curve's breaks in
+/// `[0, 2π)` repeat with period 2π). Empty if `t0 < t1` fails or either end is not finite.
+pub(crate) fn pieces(breaks: &[f64], periodic: bool, t0: f64, t1: f64) -> Vec<(f64, f64)> {
+    if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+        return Vec::new();
+    }
+    let mut cuts: Vec<f64> = Vec::new();
+    if periodic && !breaks.is_empty() {
+        let first = (t0 / crate::TAU).floor() - 1.0;
+        let last = (t1 / crate::TAU).ceil() + 1.0;
+        if last - first > 1e6 {
+            return Vec::new();
+        }
+        let mut q = first;
+        while q <= last {
+            for &b in breaks {
+                let x = b + q * crate::TAU;
+                if x > t0 && x < t1 {
+                    cuts.push(x);
+                }
+            }
+            q += 1.0;
+        }
+    } else {
+        cuts.extend(breaks.iter().copied().filter(|&b| b > t0 && b < t1));
+    }
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let mut out = Vec::with_capacity(cuts.len() + 1);
+    let mut a = t0;
+    for c in cuts {
+        out.push((a, c));
+        a = c;
+    }
+    out.push((a, t1));
+    out
+}
+
+/// For a curve that is a polynomial of degree `≤ degree ≤ MAX_ORDER` on each of the open
+/// `pieces`: by Taylor's formula about the middle `m` of a piece of half-width `r` (exact for a
+/// polynomial), `|C⁽ᵏ⁾(m + y)| ≤ Σ_{j ≤ degree − k} |C⁽ᵏ⁺ʲ⁾(m)| rʲ/j!` for `|y| ≤ r`. The
+/// largest over the pieces goes to `out[k]` (with [`BOUND_ROUNDING`]).
+pub(crate) fn polynomial_piece_bounds(
+    curve: &dyn Curve,
+    degree: usize,
+    pieces: &[(f64, f64)],
+    out: &mut [f64],
+) -> bool {
+    if degree > MAX_ORDER || pieces.is_empty() {
+        return false;
+    }
+    out.iter_mut().for_each(|o| *o = 0.0);
+    let mut jet = [Vec3::zeros(); MAX_ORDER + 1];
+    for &(a, b) in pieces {
+        let (m, r) = (0.5 * (a + b), 0.5 * (b - a));
+        curve.jet(m, &mut jet[..=degree]);
+        for (k, o) in out.iter_mut().enumerate() {
+            let mut sum = 0.0;
+            let mut f = 1.0;
+            for j in 0..=degree.saturating_sub(k) {
+                if k + j > degree {
+                    break;
+                }
+                sum += jet[k + j].norm() * f;
+                f *= r / (j + 1) as f64;
+            }
+            *o = o.max(sum * (1.0 + BOUND_ROUNDING));
+        }
+    }
+    out.iter().all(|o| o.is_finite())
+}
+
+/// `(t0, t1)` of a periodic curve as at most two intervals inside `[0, 2π]` (the whole period
+/// if it is at least 2π long). Empty if `t0 < t1` fails or either end is not finite.
+pub(crate) fn periodic_windows(t0: f64, t1: f64) -> Vec<(f64, f64)> {
+    if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+        return Vec::new();
+    }
+    if t1 - t0 >= crate::TAU {
+        return vec![(0.0, crate::TAU)];
+    }
+    let a = reduce_periodic(t0);
+    let b = a + (t1 - t0);
+    if b <= crate::TAU {
+        vec![(a, b)]
+    } else {
+        vec![(a, crate::TAU), (0.0, b - crate::TAU)]
+    }
+}
+
 /// Checks that a vector is finite, naming it in the error.
 pub(crate) fn check_finite(name: &str, v: &Vec3) -> crate::Result<()> {
     if v.iter().all(|c| c.is_finite()) {

@@ -183,6 +183,16 @@ impl Curve for PointSamples {
             .saturating_sub(1);
         poly_jet(&self.segments[i], v - self.params[i], out);
     }
+    /// The knots `v_0 = 0, …, v_{N−1}`: the spline is C² there, its third derivative jumps.
+    fn breaks(&self) -> Vec<f64> {
+        self.params[..self.segments.len()].to_vec()
+    }
+    /// One cubic per segment: Taylor's formula about the middle of each piece of `(t0, t1)`
+    /// ([`super::polynomial_piece_bounds`]).
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let pieces = super::pieces(&self.breaks(), true, t0, t1);
+        super::polynomial_piece_bounds(self, 3, &pieces, out)
+    }
 }
 
 #[cfg(test)]
@@ -312,5 +322,40 @@ mod tests {
         let mut pts = star(4);
         pts[2] = pts[1];
         assert_eq!(err(pts), "points[2]: equals points[1]");
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::*;
+
+    /// The Taylor bounds of the cubic pieces hold; the third derivative is constant on a piece,
+    /// so its bound is attained (ratio 1); the fourth is zero.
+    #[test]
+    fn bounds_hold_and_are_tight() {
+        let pts: Vec<Vec3> = (0..11)
+            .map(|i| {
+                let t = TAU * i as f64 / 11.0;
+                Vec3::new(
+                    t.cos() * (1.0 + 0.2 * (3.0 * t).sin()),
+                    t.sin(),
+                    0.1 * t.sin(),
+                )
+            })
+            .collect();
+        for param in [
+            SampleParam::Uniform,
+            SampleParam::Chord,
+            SampleParam::Centripetal,
+        ] {
+            let s = PointSamples::closed(pts.clone(), param).unwrap();
+            let r = check_bounds(&s, 4, 60, 2.0);
+            eprintln!("samples {param:?}: {r:?}");
+            assert!(r[3] <= 1.0 + 1e-6, "{r:?}");
+            assert!(r[..3].iter().all(|&x| x <= 3.0), "{r:?}");
+            assert_eq!(r[4], 0.0);
+            assert_eq!(s.breaks().len(), 11);
+        }
     }
 }

@@ -119,6 +119,24 @@ impl Curve for Transformed {
             };
         }
     }
+    fn breaks(&self) -> Vec<f64> {
+        self.inner.breaks()
+    }
+    /// `|M C⁽ᵏ⁾| ≤ ‖M‖₂ |C⁽ᵏ⁾|` (the spectral norm, from the eigenvalues of `MᵀM`), plus `|t|`
+    /// for `k = 0`.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        if !self.inner.derivative_bounds(t0, t1, out) {
+            return false;
+        }
+        let norm = spectral_norm(&self.map.linear) * (1.0 + super::BOUND_ROUNDING);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o *= norm;
+            if k == 0 {
+                *o += self.map.shift.norm() * (1.0 + super::BOUND_ROUNDING);
+            }
+        }
+        out.iter().all(|o| o.is_finite())
+    }
     /// The inner exact series mapped: `a₀ ↦ M a₀ + t`, `aₙ ↦ M aₙ`, `bₙ ↦ M bₙ`.
     fn fourier(&self) -> Option<FourierSeries> {
         let f = self.inner.fourier()?;
@@ -128,6 +146,20 @@ impl Curve for Transformed {
             sin: f.sin.iter().map(|c| self.map.apply_vector(c)).collect(),
         })
     }
+}
+
+/// The largest singular value of a 3 × 3 matrix, `(λ_max(MᵀM))^{1/2}`, rounded up a little
+/// (the eigenvalues of the symmetric `MᵀM` are computed to a few ε of its norm; a relative
+/// allowance of `10⁻¹²` of the Frobenius norm covers that). Not finite for a matrix that is not.
+fn spectral_norm(m: &nalgebra::Matrix3<f64>) -> f64 {
+    let frob = m.norm();
+    if !frob.is_finite() || frob == 0.0 {
+        return frob;
+    }
+    let s = m / frob;
+    let eig = (s.transpose() * s).symmetric_eigenvalues();
+    let top = eig.iter().copied().fold(0.0, f64::max);
+    ((top + 1e-12).sqrt() * frob).min(frob)
 }
 
 /// Moves the `v = 0` point of a periodic curve (§6.4): `C̃(v) = C(v + shift)`.
@@ -159,6 +191,38 @@ impl Curve for OriginShift {
     fn jet(&self, t: f64, out: &mut [Vec3]) {
         let s = super::reduce_periodic(self.shift);
         self.inner.jet(super::reduce_periodic(t) + s, out);
+    }
+    /// The inner breaks moved by `−shift` (reduced to `[0, 2π)`).
+    fn breaks(&self) -> Vec<f64> {
+        let s = super::reduce_periodic(self.shift);
+        let mut b: Vec<f64> = self
+            .inner
+            .breaks()
+            .into_iter()
+            .map(|x| super::reduce_periodic(x - s))
+            .collect();
+        b.sort_by(f64::total_cmp);
+        b.dedup();
+        b
+    }
+    /// The inner curve's bounds over `(t0 + s, t1 + s)`, cut at `2π` into windows of one period.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let s = super::reduce_periodic(self.shift);
+        let windows = super::periodic_windows(t0 + s, t1 + s);
+        if windows.is_empty() {
+            return false;
+        }
+        let mut part = vec![0.0; out.len()];
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (a, b) in windows {
+            if !self.inner.derivative_bounds(a, b, &mut part) {
+                return false;
+            }
+            for (o, p) in out.iter_mut().zip(&part) {
+                *o = o.max(*p);
+            }
+        }
+        true
     }
     /// `aₙ cos n(v+s) + bₙ sin n(v+s) = [aₙ cos ns + bₙ sin ns] cos nv + [bₙ cos ns − aₙ sin ns] sin nv`.
     fn fourier(&self) -> Option<FourierSeries> {
@@ -227,6 +291,27 @@ impl Curve for Combination {
                 *o += b * *w;
             }
         }
+    }
+    /// The union of the terms' breaks.
+    fn breaks(&self) -> Vec<f64> {
+        let mut b: Vec<f64> = self.terms.iter().flat_map(|(_, c)| c.breaks()).collect();
+        b.sort_by(f64::total_cmp);
+        b.dedup();
+        b
+    }
+    /// `|Σ wᵢ Cᵢ⁽ᵏ⁾| ≤ Σ |wᵢ| sup|Cᵢ⁽ᵏ⁾|`.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let mut part = vec![0.0; out.len()];
+        out.iter_mut().for_each(|o| *o = 0.0);
+        for (w, c) in &self.terms {
+            if !c.derivative_bounds(t0, t1, &mut part) {
+                return false;
+            }
+            for (o, p) in out.iter_mut().zip(&part) {
+                *o += w.abs() * p;
+            }
+        }
+        out.iter().all(|o| o.is_finite())
     }
     /// `Σ wᵢ fᵢ` when every term has an exact series.
     fn fourier(&self) -> Option<FourierSeries> {
@@ -434,5 +519,71 @@ mod tests {
         }
         assert!(c.fourier().is_none());
         assert_eq!(c.domain(), Domain::Periodic);
+    }
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::super::testutil::check_bounds;
+    use super::super::{BSpline, Ellipse, PointSamples, SampleParam};
+    use super::*;
+    use std::sync::Arc;
+
+    fn spline() -> SharedCurve {
+        let c: Vec<Vec3> = (0..9)
+            .map(|i| {
+                let t = crate::TAU * i as f64 / 9.0;
+                Vec3::new(t.cos(), t.sin() * 1.3, 0.2 * (2.0 * t).cos())
+            })
+            .collect();
+        Arc::new(BSpline::periodic(3, c, None).unwrap())
+    }
+
+    /// Affine images, origin shifts and combinations keep proven bounds, with their breaks
+    /// mapped; a rotation keeps the bounds of the derivatives exactly (spectral norm 1).
+    #[test]
+    fn bounds_hold_through_transforms() {
+        let rot = Affine::rotation(Vec3::new(1.0, 1.0, 0.2), 0.7, Vec3::new(0.5, 0.0, 0.0))
+            .unwrap()
+            .then(&Affine::scaling(1.5, Vec3::zeros()).unwrap());
+        let t = Transformed::new(spline(), rot);
+        let r = check_bounds(&t, 12, 40, 2.0);
+        eprintln!("transformed: {r:?}");
+        assert!(r[3] <= 1.0 + 1e-6, "{r:?}");
+        let (mut a, mut b) = ([0.0; 5], [0.0; 5]);
+        let pure = Transformed::new(
+            spline(),
+            Affine::rotation(Vec3::z(), 1.1, Vec3::zeros()).unwrap(),
+        );
+        assert!(pure.derivative_bounds(0.3, 0.6, &mut a));
+        assert!(spline().derivative_bounds(0.3, 0.6, &mut b));
+        for k in 0..5 {
+            // Equal up to the rounding allowances (twice `BOUND_ROUNDING`).
+            assert!(
+                (a[k] - b[k]).abs() <= 3e-9 * b[k].max(1e-300),
+                "{k}: {a:?} {b:?}"
+            );
+        }
+        let shifted = OriginShift::new(spline(), 2.0).unwrap();
+        let r = check_bounds(&shifted, 13, 40, 3.0);
+        assert!(r[3] <= 1.0 + 1e-6, "{r:?}");
+        assert!(shifted
+            .breaks()
+            .iter()
+            .all(|&x| spline().breaks().iter().any(|&y| {
+                (crate::curve::reduce_periodic(x + 2.0) - y).abs() < 1e-12
+                    || (crate::curve::reduce_periodic(x + 2.0) - y).abs() > crate::TAU - 1e-12
+            })));
+        let pts: Vec<Vec3> = (0..7)
+            .map(|i| {
+                let t = crate::TAU * i as f64 / 7.0;
+                Vec3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        let samples: SharedCurve = Arc::new(PointSamples::closed(pts, SampleParam::Chord).unwrap());
+        let circle: SharedCurve = Arc::new(Ellipse::circle(Vec3::zeros(), 1.0, Vec3::z()).unwrap());
+        let comb = Combination::new(vec![(2.0, samples), (-2.0, circle), (0.5, spline())]).unwrap();
+        check_bounds(&comb, 14, 40, 2.0);
+        assert_eq!(comb.breaks().len(), 7 + 9 - 1);
     }
 }

@@ -21,11 +21,19 @@ impl ModeFn {
         if first + 3 > self.ncols() {
             return 0.0;
         }
+        self.sup_bound_of(d, &[first, first + 1, first + 2])
+    }
+
+    /// A bound of `sup_{u ∈ [0, 1]} |g^{(d)}(u)|` for the vector `g` of the given columns (one
+    /// column: a scalar function), each coefficient's size the Euclidean norm over the columns.
+    fn sup_bound_of(&self, d: usize, cols: &[usize]) -> f64 {
+        let norm = |x: &mut dyn Iterator<Item = f64>| x.map(|a| a * a).sum::<f64>().sqrt();
         match &self.basis {
             Basis::Chebyshev { series } => {
                 let len = series.iter().map(Vec::len).max().unwrap_or(0);
-                let cols: Vec<Vec<f64>> = (first..first + 3)
-                    .map(|c| {
+                let diffed: Vec<Vec<f64>> = cols
+                    .iter()
+                    .map(|&c| {
                         let mut s = vec![0.0; len];
                         for (k, sk) in series.iter().enumerate() {
                             let w = self.coef[(k, c)];
@@ -39,13 +47,9 @@ impl ModeFn {
                         s
                     })
                     .collect();
-                let m = cols.iter().map(Vec::len).max().unwrap_or(0);
-                let at = |c: &Vec<f64>, j: usize| c.get(j).copied().unwrap_or(0.0);
+                let m = diffed.iter().map(Vec::len).max().unwrap_or(0);
                 let sum: f64 = (0..m)
-                    .map(|j| {
-                        let (a, b, c) = (at(&cols[0], j), at(&cols[1], j), at(&cols[2], j));
-                        (a * a + b * b + c * c).sqrt()
-                    })
+                    .map(|j| norm(&mut diffed.iter().map(|c| c.get(j).copied().unwrap_or(0.0))))
                     .sum();
                 sum * 2f64.powi(d as i32)
             }
@@ -53,14 +57,7 @@ impl ModeFn {
                 let sups = self.basis.layer_derivative_sups(d).unwrap_or_default();
                 sups.iter()
                     .enumerate()
-                    .map(|(k, s)| {
-                        let (a, b, c) = (
-                            self.coef[(k, first)],
-                            self.coef[(k, first + 1)],
-                            self.coef[(k, first + 2)],
-                        );
-                        (a * a + b * b + c * c).sqrt() * s
-                    })
+                    .map(|(k, s)| norm(&mut cols.iter().map(|&c| self.coef[(k, c)])) * s)
                     .sum()
             }
         }
@@ -76,13 +73,58 @@ impl PdePatch {
         if self.remainder.is_some() {
             return None;
         }
-        Some(
-            self.modes
-                .iter()
-                .map(|m| [m.sup_bound(d, 0), m.sup_bound(d, 3)])
-                .collect(),
-        )
+        Some(self.fourier_mode_bounds(d))
     }
+
+    /// [`PdePatch::mode_derivative_bounds`] of the Fourier part `X̃` alone, with or without a
+    /// remainder.
+    pub fn fourier_mode_bounds(&self, d: usize) -> Vec<[f64; 2]> {
+        self.modes
+            .iter()
+            .map(|m| [m.sup_bound(d, 0), m.sup_bound(d, 3)])
+            .collect()
+    }
+
+    /// A bound of `sup |∂_u^d ∂_v^k X̃|` of the Fourier part alone (as
+    /// [`PdePatch::partial_bound`], with or without a remainder).
+    pub fn fourier_partial_bound(&self, d: usize, k: usize) -> f64 {
+        self.fourier_mode_bounds(d)
+            .iter()
+            .enumerate()
+            .map(|(n, [a, b])| (n as f64).powi(k as i32) * a.hypot(*b))
+            .sum()
+    }
+
+    /// The active terms `w_i(u) Δ_i(v)` of the spectral remainder, `Δ_i = g_i − fitted_i`, with
+    /// bounds of `sup_{u ∈ [0, 1]} |w_i^{(d)}|`, `d = 0 ..= 4`, from the cardinal functions'
+    /// stored series (as for the modes). Empty without a remainder.
+    pub fn remainder_terms(&self) -> Vec<RemainderTerm> {
+        let Some(r) = &self.remainder else {
+            return Vec::new();
+        };
+        (0..self.conditions().len())
+            .filter(|&i| r.active[i])
+            .map(|i| RemainderTerm {
+                condition: i,
+                curve: self.conditions()[i].curve.clone(),
+                fitted: r.fitted[i].clone(),
+                w: std::array::from_fn(|d| r.cardinal.sup_bound_of(d, &[i])),
+            })
+            .collect()
+    }
+}
+
+/// One active term `w_i(u) Δ_i(v)` of a patch's spectral remainder ([`PdePatch::remainder_terms`]).
+#[derive(Clone, Debug)]
+pub struct RemainderTerm {
+    /// The condition `i`.
+    pub condition: usize,
+    /// Its curve `g_i`.
+    pub curve: crate::curve::SharedCurve,
+    /// `fitted_i = ∂ᵈX̃(u_i, ·)` as a Fourier series.
+    pub fitted: crate::fourier::FourierSeries,
+    /// Bounds of `sup_{u ∈ [0, 1]} |w_i^{(d)}(u)|` for `d = 0 ..= 4`.
+    pub w: [f64; 5],
 }
 
 impl PdePatch {
