@@ -67,8 +67,9 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     assert_bad(&out, &["c.step", "ends inside the DATA section"]);
 }
 
-/// A surface without derivative bounds (the yoghurt's bowl has an active spectral remainder)
-/// reports its sampled deviation as an estimate (`≈`), never as a bound.
+/// A surface without derivative bounds (the aeroplane's wings: their derivative conditions are
+/// tangent fields across curves on the fuselage, which carry none) reports its sampled
+/// deviation as an estimate (`≈`), never as a bound.
 #[test]
 fn sampled_deviations_are_printed_as_estimates() {
     let dir = tempfile::tempdir().unwrap();
