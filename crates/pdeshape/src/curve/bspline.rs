@@ -202,34 +202,13 @@ impl Curve for BSpline {
         }
     }
     fn jet(&self, t: f64, out: &mut [Vec3]) {
-        let t = if self.periodic {
-            super::reduce_periodic(t)
-        } else {
-            t
-        };
-        let p = self.degree;
-        let s = find_span(&self.knots, p, self.control.len(), &t);
+        let t = self.reduce(t);
         let u = &self.knots;
-        // Local control points L⁽⁰⁾_r = P_{s−p+r}, r = 0..=p.
-        let mut l = [Vec3::zeros(); MAX_DEGREE + 1];
-        let mut work = [Vec3::zeros(); MAX_DEGREE + 1];
-        l[..=p].copy_from_slice(&self.control[s - p..=s]);
-        for (k, o) in out.iter_mut().enumerate() {
-            if k > p {
-                *o = Vec3::zeros();
-                continue;
-            }
-            if k > 0 {
-                // L⁽ᵏ⁾_r = (p−k+1)/(u_{s+r+1} − u_{s−p+r+k}) (L⁽ᵏ⁻¹⁾_{r+1} − L⁽ᵏ⁻¹⁾_r).
-                let f = (p - k + 1) as f64;
-                for r in 0..=(p - k) {
-                    let den = u[s + r + 1] - u[s - p + r + k];
-                    l[r] = (l[r + 1] - l[r]) * (f / den);
-                }
-            }
+        self.hodographs(t, out.len(), |k, s, l| {
             // de Boor for degree q = p − k on span s.
-            let q = p - k;
-            work[..=q].copy_from_slice(&l[..=q]);
+            let q = l.len() - 1;
+            let mut work = [Vec3::zeros(); MAX_DEGREE + 1];
+            work[..=q].copy_from_slice(l);
             for r in 1..=q {
                 for j in (r..=q).rev() {
                     let lo = u[j + s - q];
@@ -238,7 +217,10 @@ impl Curve for BSpline {
                     work[j] = work[j - 1] * (1.0 - alpha) + work[j] * alpha;
                 }
             }
-            *o = work[q];
+            out[k] = work[q];
+        });
+        for o in out.iter_mut().skip(self.degree + 1) {
+            *o = Vec3::zeros();
         }
     }
     /// The distinct knots inside the domain (periodic: in `[0, 2π)`; open: strictly inside).
@@ -303,24 +285,27 @@ impl Curve for BSpline {
 }
 
 impl BSpline {
-    /// `out[k] = max_r |L⁽ᵏ⁾_r|` on the knot span of `t` (module docs of
-    /// [`Curve::derivative_bounds`] for this kind); `false` if a value is not finite.
-    fn hull_bounds(&self, t: f64, out: &mut [f64]) -> bool {
-        let t = if self.periodic {
+    /// `t` reduced into the period of a periodic curve.
+    fn reduce(&self, t: f64) -> f64 {
+        if self.periodic {
             super::reduce_periodic(t)
         } else {
             t
-        };
+        }
+    }
+
+    /// Calls `visit(k, s, L⁽ᵏ⁾)` for `k = 0 ..= min(count − 1, p)` with the knot span `s` of
+    /// `t` and the local control points of the `k`-th derivative there,
+    /// `L⁽ᵏ⁾_r = (p−k+1)/(u_{s+r+1} − u_{s−p+r+k}) (L⁽ᵏ⁻¹⁾_{r+1} − L⁽ᵏ⁻¹⁾_r)`,
+    /// `L⁽⁰⁾_r = P_{s−p+r}` (`r = 0 ..= p − k`).
+    #[inline(always)]
+    fn hodographs(&self, t: f64, count: usize, mut visit: impl FnMut(usize, usize, &[Vec3])) {
         let p = self.degree;
         let s = find_span(&self.knots, p, self.control.len(), &t);
         let u = &self.knots;
         let mut l = [Vec3::zeros(); MAX_DEGREE + 1];
         l[..=p].copy_from_slice(&self.control[s - p..=s]);
-        for (k, o) in out.iter_mut().enumerate() {
-            if k > p {
-                *o = 0.0;
-                continue;
-            }
+        for k in 0..count.min(p + 1) {
             if k > 0 {
                 let f = (p - k + 1) as f64;
                 for r in 0..=(p - k) {
@@ -328,8 +313,19 @@ impl BSpline {
                     l[r] = (l[r + 1] - l[r]) * (f / den);
                 }
             }
-            *o = l[..=(p - k)].iter().map(|x| x.norm()).fold(0.0, f64::max)
-                * (1.0 + super::BOUND_ROUNDING);
+            visit(k, s, &l[..=(p - k)]);
+        }
+    }
+
+    /// `out[k] = max_r |L⁽ᵏ⁾_r|` on the knot span of `t` (module docs of
+    /// [`Curve::derivative_bounds`] for this kind); `false` if a value is not finite.
+    fn hull_bounds(&self, t: f64, out: &mut [f64]) -> bool {
+        let t = self.reduce(t);
+        self.hodographs(t, out.len(), |k, _, l| {
+            out[k] = l.iter().map(|x| x.norm()).fold(0.0, f64::max) * (1.0 + super::BOUND_ROUNDING);
+        });
+        for o in out.iter_mut().skip(self.degree + 1) {
+            *o = 0.0;
         }
         out.iter().all(|o| o.is_finite())
     }
