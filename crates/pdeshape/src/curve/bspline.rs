@@ -204,10 +204,10 @@ impl Curve for BSpline {
     fn jet(&self, t: f64, out: &mut [Vec3]) {
         let t = self.reduce(t);
         let u = &self.knots;
+        let mut work = [Vec3::zeros(); MAX_DEGREE + 1];
         self.hodographs(t, out.len(), |k, s, l| {
             // de Boor for degree q = p − k on span s.
             let q = l.len() - 1;
-            let mut work = [Vec3::zeros(); MAX_DEGREE + 1];
             work[..=q].copy_from_slice(l);
             for r in 1..=q {
                 for j in (r..=q).rev() {

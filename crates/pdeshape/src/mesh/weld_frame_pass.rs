@@ -22,6 +22,7 @@
 //! never `−0.0` (round to nearest: `x + y` is `−0.0` only when both are), so adding `+0.0` for a
 //! triangle that welding collapsed is the same as leaving it out.
 
+use super::super::weld_normals::{facet_mean, settle, unit};
 use super::super::{facet_cross, WeldTopology, OPEN_VOLUME_FRACTION};
 use crate::mesh::{GridMesh, TriMesh};
 
@@ -373,39 +374,6 @@ fn turned(t: [u32; 3], flip: bool) -> [u32; 3] {
     }
 }
 
-/// The normalised sum of the copies' normals, or zero where it (nearly) vanishes.
-#[inline(always)]
-fn unit(s: [f64; 3]) -> [f32; 3] {
-    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
-    if len > 1e-3 {
-        s.map(|c| (c / len) as f32)
-    } else {
-        [0.0; 3]
-    }
-}
-
-/// `n`, or the facets' mean `a` where `n` points against it.
-#[inline(always)]
-fn settle(n: [f32; 3], a: [f64; 3]) -> [f32; 3] {
-    let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
-    if dot <= 0.0 {
-        fallback(n, a)
-    } else {
-        n
-    }
-}
-
-/// The facets' mean `a` (where `n` points against it), `n` where `a` is zero.
-#[inline(always)]
-fn fallback(n: [f32; 3], a: [f64; 3]) -> [f32; 3] {
-    let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    if len > 0.0 {
-        a.map(|c| (c / len) as f32)
-    } else {
-        n
-    }
-}
-
 /// One grid: volume terms and facets quad row by quad row, normals of the vertices the row pass
 /// does. False when a number is not finite.
 #[allow(clippy::too_many_arguments)]
@@ -745,7 +713,7 @@ fn vertex_row<const FLIP: bool>(
         for j in 0..hi - lo {
             finite &= dots[j].is_finite();
             if dots[j] <= 0.0 {
-                out[j] = fallback(out[j], [ax[j], ay[j], az[j]]);
+                out[j] = facet_mean([ax[j], ay[j], az[j]]).unwrap_or(out[j]);
             }
         }
     }

@@ -19,7 +19,7 @@ use std::hash::BuildHasherDefault;
 
 /// `s / |s|` in f32, or zero where `|s| ≤ 10⁻³` (the copies' normals cancel).
 #[inline(always)]
-fn unit(s: [f64; 3]) -> [f32; 3] {
+pub(super) fn unit(s: [f64; 3]) -> [f32; 3] {
     let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
     if len > 1e-3 {
         s.map(|c| (c / len) as f32)
@@ -30,14 +30,14 @@ fn unit(s: [f64; 3]) -> [f32; 3] {
 
 /// The normalised facet sum `a`, if it has a length; `None` for a zero sum.
 #[inline(always)]
-fn facet_mean(a: [f64; 3]) -> Option<[f32; 3]> {
+pub(super) fn facet_mean(a: [f64; 3]) -> Option<[f32; 3]> {
     let len = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
     (len > 0.0).then(|| a.map(|c| (c / len) as f32))
 }
 
 /// `n`, unless it points against the facet sum `a` (or is zero): then `a` normalised.
 #[inline(always)]
-fn settle(n: [f32; 3], a: [f64; 3]) -> [f32; 3] {
+pub(super) fn settle(n: [f32; 3], a: [f64; 3]) -> [f32; 3] {
     let dot: f64 = (0..3).map(|c| n[c] as f64 * a[c]).sum();
     if dot <= 0.0 {
         facet_mean(a).unwrap_or(n)
