@@ -67,14 +67,13 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     assert_bad(&out, &["c.step", "ends inside the DATA section"]);
 }
 
-/// A surface without derivative bounds (the aeroplane's wings: their derivative conditions are
-/// tangent fields across curves on the fuselage, which carry none) reports its sampled
-/// deviation as an estimate (`≈`), never as a bound.
+/// A surface without derivative bounds (the tube whose spine was bent: its rotation-minimising
+/// frames carry none) reports its sampled deviation as an estimate (`≈`), never as a bound.
 #[test]
 fn sampled_deviations_are_printed_as_estimates() {
     let dir = tempfile::tempdir().unwrap();
     let design =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/aeroplane.toml");
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spine_bend.toml");
     let out_path = dir.path().join("y.step");
     let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -190,8 +189,9 @@ fn hole_edges_of_the_trimmed_examples_are_certified() {
     }
 }
 
-/// The examples whose analytic patches carry a spectral remainder (B-spline, point-sample and
-/// local-edit condition curves) are written with a certified deviation on every surface.
+/// The examples whose analytic patches carry a spectral remainder (B-spline, point-sample,
+/// local-edit condition curves, and the tangent fields of attached patches) are written with a
+/// certified deviation on every surface.
 #[test]
 fn remainder_patches_are_certified() {
     let dir = tempfile::tempdir().unwrap();
@@ -203,6 +203,8 @@ fn remainder_patches_are_certified() {
         "swirl_port_params.toml",
         "anim/water_glass.toml",
         "anim/face.toml",
+        "teacup.toml",
+        "aeroplane.toml",
     ] {
         let out_path = dir.path().join("x.step");
         let out = pdeshape(&["surface", s(&root.join(name)), "-o", s(&out_path)]);

@@ -19,12 +19,14 @@ use super::trim::{trim_curve, SurfaceTrim};
 use super::validate::{curve_place, plan, references};
 use super::{DEFAULT_NU, DEFAULT_NV};
 use crate::curve::{Curve, Domain};
-use crate::majorant::{Majorant, ORDER};
 use crate::spec::{CurveKind, CurveRef, CurveSpec, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex, Partials, Surface};
 use crate::trim::{trim_domain, TrimCurve, TrimMethod};
 use crate::{Error, Result, Vec3, TAU};
 use std::collections::BTreeMap;
+use std::sync::{Arc, OnceLock};
+
+mod bounds;
 
 /// `ds/dt` of the attached patch's `v = s = 2π t`.
 const W: f64 = TAU;
@@ -58,47 +60,6 @@ fn image_derivatives(p: &Partials, d1: [f64; 2], d2: [f64; 2]) -> (Vec3, Vec3) {
     (c1, c2)
 }
 
-/// `M_ab ≥ sup|∂_u^{a+e_u} ∂_v^{b+e_v} X|` (`a + b ≤ 4`, `e = [e_u, e_v]`) of the host from
-/// [`PdePatch::partial_bound`](crate::elliptic::PdePatch::partial_bound), which holds over
-/// `u ∈ [0, 1]` and every `v`: `None` unless the host is an analytic PDE patch without an
-/// active spectral remainder, periodic in `v`, and the whole `(u, v)` curve (its control
-/// points' or ellipse's range) lies at `u ∈ [0, 1]`.
-fn host_bounds(
-    host: &SurfaceKind,
-    path: &TrimCurve,
-    e: [usize; 2],
-) -> Option<[[f64; ORDER + 1]; ORDER + 1]> {
-    let SurfaceKind::Pde(patch) = host else {
-        return None;
-    };
-    let [u_range, _] = path.coordinate_range();
-    if !(patch.v_domain().is_periodic() && u_range[0] >= 0.0 && u_range[1] <= 1.0) {
-        return None;
-    }
-    let mut m = [[0.0; ORDER + 1]; ORDER + 1];
-    for (a, row) in m.iter_mut().enumerate() {
-        for (b, mab) in row.iter_mut().enumerate().take(ORDER + 1 - a) {
-            *mab = patch
-                .partial_bound(a + e[0], b + e[1])
-                .filter(|x| x.is_finite())?;
-        }
-    }
-    Some(m)
-}
-
-/// The majorants of the increments of `(u, v)(σ + s)` for `σ` on the open pieces of
-/// `(s0, s1)` between breaks: `Σ_{k≥1} U_k s^k/k!` with `U_k = W^{−k} sup|u^{(k)}(t)|`
-/// ([`TrimCurve::coordinate_bounds`], `s = W t`).
-fn path_series(path: &TrimCurve, s0: f64, s1: f64) -> [Majorant; 2] {
-    let mut uv = path.coordinate_bounds(s0 / W, s1 / W);
-    for c in &mut uv {
-        for (k, x) in c.iter_mut().enumerate() {
-            *x /= W.powi(k as i32);
-        }
-    }
-    [0, 1].map(|c| Majorant::increment(&uv[c][..=ORDER]))
-}
-
 /// Derivatives of order `exact + 1 ..` by central differences of the exact derivative of order
 /// `exact` (`f`), step `h`: `Σ_j (−1)^j C(n, j) f(s + (n/2 − j) h) / hⁿ` for `n = order − exact`.
 fn differenced(f: &dyn Fn(f64) -> Vec3, s: f64, exact: usize, out: &mut [Vec3]) {
@@ -123,12 +84,24 @@ fn differenced(f: &dyn Fn(f64) -> Vec3, s: f64, exact: usize, out: &mut [Vec3]) 
 pub struct CurveOnSurface {
     host: SurfaceKind,
     path: TrimCurve,
+    /// The host's bounds for [`Curve::derivative_bounds`], made on first use.
+    bounds: OnceLock<Option<Arc<bounds::Host>>>,
 }
 
 impl CurveOnSurface {
     /// The image on `host` of the closed `(u, v)` curve `path`.
     pub fn new(host: SurfaceKind, path: TrimCurve) -> Self {
-        CurveOnSurface { host, path }
+        CurveOnSurface {
+            host,
+            path,
+            bounds: OnceLock::new(),
+        }
+    }
+
+    fn host_bounds(&self) -> Option<&bounds::Host> {
+        self.bounds
+            .get_or_init(|| bounds::Host::new(&self.host, &self.path))
+            .as_deref()
     }
 
     fn second(&self, s: f64) -> Vec3 {
@@ -166,23 +139,12 @@ impl Curve for CurveOnSurface {
         self.path.breaks().into_iter().map(|t| W * t).collect()
     }
 
-    /// Bounds by the majorant of the composition `X(u(s), v(s))` ([`crate::majorant`]):
-    /// `out[k] = k! [s^k] Σ_{a+b≤4} M_ab/(a! b!) Û^a V̂^b` ([`host_bounds`],
-    /// [`path_series`]). `false` for hosts other than analytic PDE patches without an active
-    /// spectral remainder, or a curve reaching outside `u ∈ [0, 1]`.
+    /// Bounds by the majorant of the composition `X(u(s), v(s))` with the host's partials
+    /// bounded near each piece of the curve ([`bounds`]). `false` for hosts other than analytic
+    /// PDE patches without an active spectral remainder, or a curve reaching outside
+    /// `u ∈ [0, 1]`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
-        let Some(m) = host_bounds(&self.host, &self.path, [0, 0]) else {
-            return false;
-        };
-        if out.len() > ORDER + 1 {
-            return false;
-        }
-        let inc = path_series(&self.path, t0, t1);
-        let series = Majorant::compose2(&m, &inc[0], &inc[1]);
-        for (k, o) in out.iter_mut().enumerate() {
-            *o = series.derivative(k);
-        }
-        out.iter().all(|x| x.is_finite())
+        self.bounds(t0, t1, out)
     }
 }
 
@@ -195,6 +157,8 @@ pub struct TangentField {
     path: TrimCurve,
     /// `−σ·scale`.
     factor: f64,
+    /// The host's bounds for [`Curve::derivative_bounds`], made on first use.
+    bounds: OnceLock<Option<Arc<bounds::Host>>>,
 }
 
 impl TangentField {
@@ -205,7 +169,14 @@ impl TangentField {
             host,
             path,
             factor: -sigma * scale,
+            bounds: OnceLock::new(),
         }
+    }
+
+    fn host_bounds(&self) -> Option<&bounds::Host> {
+        self.bounds
+            .get_or_init(|| bounds::Host::new(&self.host, &self.path))
+            .as_deref()
     }
 
     /// `D` and `D'` at `s`.
@@ -252,11 +223,16 @@ impl Curve for TangentField {
         }
     }
 
-    /// The breaks of the `(u, v)` curve, `s = 2π t`. (No derivative bounds: the normalisation
-    /// needs a lower bound of `|C' × N|` on an interval, and the host's global bounds of its
-    /// partials make that one, `|w(m)| − sup|w'| h/2`, positive only on very short intervals.)
+    /// The breaks of the `(u, v)` curve, `s = 2π t`.
     fn breaks(&self) -> Vec<f64> {
         self.path.breaks().into_iter().map(|t| W * t).collect()
+    }
+
+    /// Bounds through a lower bound of `|C' × N|` on short pieces and the majorant of the
+    /// normalisation ([`bounds`]); `false` as for [`CurveOnSurface`], or where `C' × N` comes
+    /// too close to zero.
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        self.bounds(t0, t1, out)
     }
 }
 
@@ -773,15 +749,15 @@ mod tests {
             let field = TangentField::new(host.clone(), path.clone(), 0.3);
             let mut cuts = on.breaks();
             assert_eq!(cuts, field.breaks());
-            // The tangent field has no bounds (see its `Curve` impl).
-            assert!(!field.derivative_bounds(0.0, 0.01, &mut [0.0; 5]));
             if cuts.is_empty() {
                 cuts.push(0.0);
             }
             cuts.push(cuts[0] + TAU);
             for w in cuts.windows(2) {
                 // Four intervals per piece (halved until a bound holds, at most 2⁶ times).
-                for (name, curve, min_parts) in [("on", &on as &dyn Curve, 4usize)] {
+                for (name, curve, min_parts) in
+                    [("on", &on as &dyn Curve, 4usize), ("field", &field, 4)]
+                {
                     let mut parts = min_parts;
                     let mut bounds = Vec::new();
                     while bounds.is_empty() {
