@@ -67,13 +67,42 @@ fn bad_flags_name_the_flag_and_leave_no_file() {
     assert_bad(&out, &["c.step", "ends inside the DATA section"]);
 }
 
-/// A surface without derivative bounds (the tube whose spine was bent: its rotation-minimising
-/// frames carry none) reports its sampled deviation as an estimate (`≈`), never as a bound.
+/// A surface without derivative bounds (a tube whose foot is an ellipse reparametrised by arc
+/// length: that curve carries none) reports its sampled deviation as an estimate (`≈`), never
+/// as a bound, with the condition that lacks bounds.
 #[test]
 fn sampled_deviations_are_printed_as_estimates() {
     let dir = tempfile::tempdir().unwrap();
-    let design =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spine_bend.toml");
+    let design = dir.path().join("arc.toml");
+    std::fs::write(
+        &design,
+        r#"title = "Tube on an arc-length ellipse"
+conditions = [
+  { u = 0.0, curve = "foot" },
+  { u = 0.0, derivative = 1, curve = "up" },
+  { u = 1.0, curve = "mouth" },
+  { u = 1.0, derivative = 1, curve = "up" },
+]
+[operator]
+kind = "polyharmonic"
+order = 2
+a = 1.0
+[curves.foot]
+type = "ellipse"
+center = [0.0, 0.0, 0.0]
+axis1 = [1.5, 0.0, 0.0]
+axis2 = [0.0, 0.7, 0.0]
+arc_length = true
+[curves.up]
+type = "point"
+at = [0.0, 0.0, 3.0]
+[curves.mouth]
+type = "circle"
+center = [0.0, 0.0, 4.0]
+radius = 0.8
+"#,
+    )
+    .unwrap();
     let out_path = dir.path().join("y.step");
     let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -90,6 +119,10 @@ fn sampled_deviations_are_printed_as_estimates() {
     for line in sampled {
         assert!(
             line.contains("deviation ≈ ") && !line.contains('≤'),
+            "{line}"
+        );
+        assert!(
+            line.contains("condition 0") && line.contains("ArcLength"),
             "{line}"
         );
     }
@@ -190,8 +223,8 @@ fn hole_edges_of_the_trimmed_examples_are_certified() {
 }
 
 /// The examples whose analytic patches carry a spectral remainder (B-spline, point-sample,
-/// local-edit condition curves, and the tangent fields of attached patches) are written with a
-/// certified deviation on every surface.
+/// local-edit condition curves, and the tangent fields of attached patches) and the
+/// spine-edited ones are written with a certified deviation on every surface.
 #[test]
 fn remainder_patches_are_certified() {
     let dir = tempfile::tempdir().unwrap();
@@ -205,6 +238,9 @@ fn remainder_patches_are_certified() {
         "anim/face.toml",
         "teacup.toml",
         "aeroplane.toml",
+        "spine_bend.toml",
+        "anim/fish.toml",
+        "anim/snake.toml",
     ] {
         let out_path = dir.path().join("x.step");
         let out = pdeshape(&["surface", s(&root.join(name)), "-o", s(&out_path)]);

@@ -87,12 +87,22 @@
 //! so the boundary rows of patches that meet stay identical (`approximate_design`). The
 //! figure is reported as [`Certificate::Intervals`] (largest column bounds, number of cells).
 //!
+//! # The bound for spine-edited patches
+//!
+//! `X̃ = Ã₀(u) + R(u) D(u, v)` with the base patch's radial part `D` (modes `n ≥ 1`), the new
+//! spine `Ã₀` (Bézier curve plus wave) and the rotation `R` (one Chebyshev series in frame
+//! mode, `I` when translating) has the derivative sums of
+//! `crate::design::SpineEdited::derivative_sums` (Leibniz's rule with the bounds of each
+//! factor over the whole patch); the uniform grid and the bound are then those of the analytic
+//! patch. A base with an active remainder, or frames without a settled series, leave the patch
+//! sampled.
+//!
 //! # Sampled kinds
 //!
 //! PDE patches with an active spectral remainder whose condition curves give no derivative
 //! bounds (arc-length reparametrisations, ODE curves, formula curves touching a pole; the note
-//! names the condition), spine-edited patches and formula surfaces without interval bounds
-//! carry no derivative bounds. They are interpolated on grids refined
+//! names the condition), the spine edits above without bounds and formula surfaces without
+//! interval bounds carry no derivative bounds. They are interpolated on grids refined
 //! until the deviation on a dense sample (a 5 × 5 lattice in every cell, corners included) is
 //! at most half the tolerance; the reported figure is that sampled maximum, marked
 //! [`Certificate::Sampled`]: an estimate, not a bound.
@@ -224,32 +234,49 @@ fn intervals_for(length: f64, m: f64, budget: f64) -> Result<usize> {
 /// The grid the analytic bound asks for: `(m, n, bound)` with `m` intervals in `u` and `n` in
 /// `v` (`n` at least `min_v`).
 pub fn pde_grid(patch: &PdePatch, tolerance: f64, min_v: usize) -> Option<Result<(usize, usize)>> {
-    let [mu4, mv4, mu1v4, size] = pde_derivative_bounds(patch)?;
+    Some(sums_grid(pde_derivative_bounds(patch)?, tolerance, min_v))
+}
+
+/// The uniform grid on which the bound from the derivative sums `[M_u4, M_v4, M_u1v4, size]`
+/// meets `tolerance` (each term at most half of it, less the rounding allowance).
+fn sums_grid(sums: [f64; 4], tolerance: f64, min_v: usize) -> Result<(usize, usize)> {
+    let [mu4, mv4, mu1v4, size] = sums;
     let budget = 0.5 * (tolerance - ROUNDING * size);
     if budget <= 0.0 {
-        return Some(Err(Error::invalid(format!(
+        return Err(Error::invalid(format!(
             "the tolerance {tolerance:e} is below the rounding allowance of the patch"
         ))
-        .at("tolerance")));
+        .at("tolerance"));
     }
-    Some((|| {
-        let m = intervals_for(1.0, mu4, budget)?;
-        let hu = 1.0 / m as f64;
-        let n = intervals_for(TAU, mv4 + hu / 4.0 * mu1v4, budget)?.max(min_v);
-        if m * n > MAX_CELLS {
-            return Err(too_many_cells(tolerance));
-        }
-        Ok((m, n))
-    })())
+    let m = intervals_for(1.0, mu4, budget)?;
+    let hu = 1.0 / m as f64;
+    let n = intervals_for(TAU, mv4 + hu / 4.0 * mu1v4, budget)?.max(min_v);
+    if m * n > MAX_CELLS {
+        return Err(too_many_cells(tolerance));
+    }
+    Ok((m, n))
 }
 
 /// The analytic patch interpolated on `m × n` intervals with its certified deviation.
 pub fn approximate_pde(patch: &PdePatch, m: usize, n: usize) -> Result<Approximation> {
-    let [mu4, mv4, mu1v4, size] = pde_derivative_bounds(patch)
+    let sums = pde_derivative_bounds(patch)
         .ok_or_else(|| Error::invalid("the patch has an active spectral remainder"))?;
+    approximate_with_sums(patch, sums, m, n)
+}
+
+/// A surface on `u ∈ [0, 1]`, periodic in `v`, whose derivative sums `[M_u4, M_v4, M_u1v4,
+/// size]` hold over the whole patch, interpolated on `m × n` uniform intervals with the
+/// certified deviation of the module docs.
+fn approximate_with_sums(
+    surface: &dyn Surface,
+    sums: [f64; 4],
+    m: usize,
+    n: usize,
+) -> Result<Approximation> {
+    let [mu4, mv4, mu1v4, size] = sums;
     let us = uniform_nodes(0.0, 1.0, m);
     let vs = uniform_nodes(0.0, TAU, n);
-    let net = hermite_interpolant(patch, &us, &vs, [false, true])?;
+    let net = hermite_interpolant(surface, &us, &vs, [false, true])?;
     let m3 = [mu4, mv4, mu1v4];
     let deviation = hermite_bound(m3, 1.0 / m as f64, TAU / n as f64) + ROUNDING * size;
     Ok(Approximation {
@@ -891,7 +918,21 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
             Ok(exact(b, [false, false]))
         }
         SurfaceKind::Parametric(p) => approximate_formula(p, tolerance),
-        SurfaceKind::SpineEdited(s) => approximate_sampled(&**s, tolerance, min_v),
+        SurfaceKind::SpineEdited(s) => match s.derivative_sums() {
+            Some(sums) => {
+                let (m, n) = sums_grid(sums, tolerance, min_v)?;
+                approximate_with_sums(&**s, sums, m, n)
+            }
+            None => {
+                let mut a = approximate_sampled(&**s, tolerance, min_v)?;
+                a.note = Some(
+                    "the spine edit has no derivative bounds (its base patch has a spectral \
+                     remainder, or its frames have no settled Chebyshev series)"
+                        .into(),
+                );
+                Ok(a)
+            }
+        },
     }
 }
 

@@ -251,3 +251,48 @@ fn curves_without_bounds_are_sampled_with_a_note() {
     assert_eq!(a.certificate, Certificate::Sampled);
     assert!(a.note.unwrap().contains("condition 0"));
 }
+
+/// The spine-edited examples (frames carried by the rotation's Chebyshev series, a travelling
+/// wave on the fish and the snake) are certified, and the bound holds against the true
+/// deviation.
+#[test]
+fn spine_edited_examples_are_certified() {
+    for (name, text) in [
+        (
+            "spine_bend",
+            include_str!("../../../../examples/spine_bend.toml"),
+        ),
+        ("fish", include_str!("../../../../examples/anim/fish.toml")),
+        (
+            "snake",
+            include_str!("../../../../examples/anim/snake.toml"),
+        ),
+    ] {
+        let design = design_of(text);
+        let tol = 1e-4 * design_size(&design);
+        let model = approximate_design(&design, tol).unwrap();
+        for (s, d) in model.surfaces.iter().zip(&design.surfaces) {
+            assert!(matches!(d.kind, SurfaceKind::SpineEdited(_)), "{name}");
+            let a = &s.approx;
+            assert!(
+                a.certificate.is_certified(),
+                "{name}: {:?} ({:?})",
+                a.certificate,
+                a.note
+            );
+            assert!(a.deviation <= tol * (1.0 + 1e-9), "{name}");
+            let surface = d.kind.surface();
+            let truth = true_max_deviation(&a.net, &|u, v| surface.point(u, v));
+            eprintln!(
+                "{name}: bound {:e}, true {truth:e}, ratio {}",
+                a.deviation,
+                a.deviation / truth
+            );
+            assert!(
+                truth <= a.deviation,
+                "{name}: true {truth:e} above {:e}",
+                a.deviation
+            );
+        }
+    }
+}

@@ -16,12 +16,17 @@
 //!   it is the default; `translate` is the book's method and keeps section planes fixed.
 //!
 //! The frames come from the double-reflection method (Wang, Jüttler, Zheng, Liu 2008, fourth
-//! order) on `FRAME_STEPS` steps of `u` and one further step to any `u`; `R'` and `R''` follow
-//! the frame equation exactly (`R' = [ω̃]ₓ R − R [ω]ₓ`), so the partial derivatives are those of
-//! the surface up to the frames' discretisation error (about 10⁻¹³ of the design's size for
-//! smooth spines).
+//! order) on `FRAME_STEPS` steps of `u` and one further step to any `u` (about 10⁻¹³ of the
+//! design's size for smooth spines). The rotation `R` they give is then fitted by one
+//! Chebyshev series ([`RotationSeries`], to 10⁻¹²), which is the surface's rotation from then
+//! on: `R'` and `R''` are its derivatives, so the partials are exact derivatives of the
+//! surface's points, and the series' coefficients bound every derivative
+//! ([`SpineEdited::derivative_sums`], the certified CAD export). Only where the series does
+//! not settle (frames that are not smooth) does the surface use the stepped frames, with `R'`
+//! and `R''` from the frame equation `R' = [ω̃]ₓ R − R [ω]ₓ`.
 
 use super::solved::{DesignSurface, SurfaceKind};
+use super::spine_series::RotationSeries;
 use crate::curve::{Bezier, Curve};
 use crate::elliptic::PdePatch;
 use crate::spec::{SpineCarry, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS};
@@ -140,6 +145,9 @@ pub struct SpineEdited {
     old_frames: Option<Arc<SolvedFrames>>,
     /// `(F̃(u_k), Ã₀(u_k))` at `u_k = k / FRAME_STEPS` (frame mode only).
     frames: Vec<(Matrix3<f64>, Vec3)>,
+    /// The rotation `R = F̃ Fᵀ` as one Chebyshev series (frame mode, when it settles): the
+    /// surface's rotation, see [`RotationSeries`].
+    series: Option<RotationSeries>,
 }
 
 /// The solved spine `A₀` at the frame nodes `u_k = k / FRAME_STEPS`: its jets and its
@@ -345,6 +353,32 @@ impl Wave {
         sum
     }
 
+    /// A bound of `sup_{u ∈ [0, 1]} |dᵏw/duᵏ|`: Leibniz's rule with `|Ω⁽ʲ⁾| ≤ Σ_i |a_i| i!/(i − j)!`
+    /// (`|u| ≤ 1`) and `|g⁽ᵐ⁾| ≤ |factor| αᵐ`.
+    pub fn bound(&self, order: usize) -> f64 {
+        let factor = match self.kind {
+            WaveKind::Travelling => 1.0,
+            WaveKind::Standing => self.angle.sin().abs(),
+        };
+        let omega = |j: usize| -> f64 {
+            self.amplitude
+                .iter()
+                .enumerate()
+                .skip(j)
+                .map(|(i, a)| a.abs() * ((i + 1 - j)..=i).fold(1.0, |f, m| f * m as f64))
+                .sum()
+        };
+        let mut binom = 1.0;
+        let mut sum = 0.0;
+        for j in 0..=order {
+            if j > 0 {
+                binom = binom * (order + 1 - j) as f64 / j as f64;
+            }
+            sum += binom * omega(j) * factor * self.alpha.abs().powi((order - j) as i32);
+        }
+        sum * (1.0 + 1e-12)
+    }
+
     /// The lateral displacement `w(u)` along the unit direction.
     pub fn displacement(&self, u: f64) -> f64 {
         self.derivative(u, 0)
@@ -530,7 +564,7 @@ impl SpineEdited {
             }
             old_frames = Some(old);
         }
-        Ok(SpineEdited {
+        let mut edited = SpineEdited {
             base,
             spine,
             wave,
@@ -538,7 +572,63 @@ impl SpineEdited {
             solved,
             old_frames,
             frames,
-        })
+            series: None,
+        };
+        if let Some(old) = &edited.old_frames {
+            let stepped = |u: f64| {
+                let jo = old_jet(&edited.base, u);
+                let jn = new_jet(&edited.spine, &edited.wave, u);
+                edited.stepped_rotation(u, old, &jo, &jn)[0]
+            };
+            edited.series = RotationSeries::fit(&stepped);
+        }
+        Ok(edited)
+    }
+
+    /// Bounds over the whole patch of `|∂_u⁴X̃|`, `|∂_v⁴X̃|`, `|∂_u∂_v⁴X̃|` and `|X̃|` for
+    /// `X̃ = Ã₀ + R D` (`D = X − A₀` the base's modes `n ≥ 1`, `R = I` when translating):
+    /// `∂_u⁴X̃ = Ã₀⁗ + Σ_j C(4, j) R⁽ʲ⁾ ∂_u^{4−j}D`, `∂_v⁴X̃ = R ∂_v⁴D`,
+    /// `∂_u∂_v⁴X̃ = R' ∂_v⁴D + R ∂_u∂_v⁴D`, with `|∂_u^d ∂_v^k D| ≤ Σ_{n≥1} nᵏ (αₙ² + βₙ²)^{1/2}`
+    /// (the base's mode bounds), `‖R⁽ʲ⁾‖` from its Chebyshev series ([`RotationSeries`]) and
+    /// `|Ã₀⁽ᵏ⁾|` from the Bézier curve's hodographs plus the wave's bound. `None` when the base
+    /// has an active spectral remainder or the frames have no settled series (the CAD export
+    /// then samples the patch).
+    pub fn derivative_sums(&self) -> Option<[f64; 4]> {
+        let modes: Vec<Vec<[f64; 2]>> = (0..=4)
+            .map(|d| self.base.mode_derivative_bounds(d))
+            .collect::<Option<_>>()?;
+        let radial = |d: usize, k: i32| -> f64 {
+            modes[d]
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(n, [a, b])| (n as f64).powi(k) * a.hypot(*b))
+                .sum()
+        };
+        let r: [f64; 5] = match (self.carry, &self.series) {
+            (SpineCarry::Translate, _) => [1.0, 0.0, 0.0, 0.0, 0.0],
+            (SpineCarry::Frame, Some(s)) => std::array::from_fn(|k| s.bound(k)),
+            (SpineCarry::Frame, None) => return None,
+        };
+        let mut spine = [0.0; 5];
+        if !self.spine.derivative_bounds(0.0, 1.0, &mut spine) {
+            return None;
+        }
+        if let Some(w) = &self.wave {
+            for (k, x) in spine.iter_mut().enumerate() {
+                *x += w.bound(k);
+            }
+        }
+        const BINOMIAL: [f64; 5] = [1.0, 4.0, 6.0, 4.0, 1.0];
+        let mu4 = spine[4]
+            + (0..5)
+                .map(|j| BINOMIAL[j] * r[j] * radial(4 - j, 0))
+                .sum::<f64>();
+        let mv4 = r[0] * radial(0, 4);
+        let mu1v4 = r[1] * radial(0, 4) + r[0] * radial(1, 4);
+        let size = spine[0] + r[0] * radial(0, 0);
+        let sums = [mu4, mv4, mu1v4, size];
+        sums.iter().all(|x| x.is_finite()).then_some(sums)
     }
 
     /// The patch before the edit.
@@ -580,8 +670,24 @@ impl SpineEdited {
         angular(&new_jet(&self.spine, &self.wave, u)).0
     }
 
-    /// `(R, R', R'')` at `u` (frame mode).
+    /// `(R, R', R'')` at `u` (frame mode): the Chebyshev series' where it settled, else
+    /// [`SpineEdited::stepped_rotation`].
     fn rotation(&self, u: f64, old: &SolvedFrames, jo: &Jet, jn: &Jet) -> [Matrix3<f64>; 3] {
+        match &self.series {
+            Some(s) => [s.eval(u, 0), s.eval(u, 1), s.eval(u, 2)],
+            None => self.stepped_rotation(u, old, jo, jn),
+        }
+    }
+
+    /// `(R, R', R'')` at `u` from the frames at the steps and one double-reflection step to
+    /// `u` (`R'`, `R''` by the frame equation).
+    fn stepped_rotation(
+        &self,
+        u: f64,
+        old: &SolvedFrames,
+        jo: &Jet,
+        jn: &Jet,
+    ) -> [Matrix3<f64>; 3] {
         let k = ((u * FRAME_STEPS as f64).floor().max(0.0) as usize).min(FRAME_STEPS - 1);
         let uk = k as f64 / FRAME_STEPS as f64;
         let (fo, ao) = (&old.frames[k], &old.jets[k][0]);
@@ -921,5 +1027,43 @@ pub(crate) fn set_spine(
             patch: patch.clone(),
             spine: None,
         }),
+    }
+}
+
+#[cfg(test)]
+mod series_tests {
+    use super::*;
+    use crate::design::solve_design;
+    use crate::spec::parse_design;
+
+    /// The rotation's Chebyshev series stays within `10⁻¹¹` of the stepped frames it was fitted
+    /// to and orthogonal to that order, on the bent tube (its largest turn) and a fish.
+    #[test]
+    fn the_series_follows_the_stepped_frames() {
+        let fish = include_str!("../../../../examples/anim/fish.toml");
+        for spec in [
+            parse_design(include_str!("../../../../examples/spine_bend.toml")).unwrap(),
+            crate::spec::time::parse_timed(fish)
+                .unwrap()
+                .at(0.3)
+                .unwrap(),
+        ] {
+            let design = solve_design(&spec).unwrap();
+            let SurfaceKind::SpineEdited(s) = &design.surfaces[0].kind else {
+                panic!("not a spine edit");
+            };
+            let (series, old) = (s.series.as_ref().unwrap(), s.old_frames.as_ref().unwrap());
+            let mut worst = [0.0f64; 2];
+            for i in 0..=997 {
+                let u = i as f64 / 997.0;
+                let (jo, jn) = (old_jet(&s.base, u), new_jet(&s.spine, &s.wave, u));
+                let stepped = s.stepped_rotation(u, old, &jo, &jn)[0];
+                let r = series.eval(u, 0);
+                worst[0] = worst[0].max((r - stepped).norm());
+                worst[1] = worst[1].max((r.transpose() * r - Matrix3::identity()).norm());
+            }
+            eprintln!("series of {} coefficients, {worst:?}", series.len());
+            assert!(worst[0] < 1e-11 && worst[1] < 1e-11, "{worst:?}");
+        }
     }
 }
