@@ -44,6 +44,7 @@ use crate::elliptic::PdePatch;
 use crate::majorant::{Majorant, ORDER};
 use crate::surface::Surface;
 use crate::trim::TrimCurve;
+use crate::Vec3;
 use std::sync::Arc;
 
 /// Terms of the Taylor expansion of the host's partials about a piece's centre; the term of
@@ -102,9 +103,7 @@ impl Host {
     }
 
     /// The bounds over the points of the piece `p` (module docs), shifted by `e`.
-    fn local(&self, p: &Piece, e: [usize; 2]) -> Table {
-        let v = crate::curve::reduce_periodic(p.centre[1]);
-        let at = self.patch.fourier_partials_at(p.centre[0], v, TOP - 1);
+    fn local(&self, p: &Piece, at: &[Vec<Vec3>], e: [usize; 2]) -> Table {
         let mut m = self.global(e);
         for (a, row) in m.iter_mut().enumerate() {
             for (b, x) in row.iter_mut().enumerate().take(ORDER + 1 - a) {
@@ -162,9 +161,19 @@ impl Piece {
         }
     }
 
-    /// The majorant of `∂^e X` along the piece.
-    fn along(&self, host: &Host, e: [usize; 2]) -> Majorant {
-        Majorant::compose2(&host.local(self, e), &self.increment[0], &self.increment[1])
+    /// The exact partials of the host at the piece's centre, orders below [`TOP`].
+    fn centre_partials(&self, host: &Host) -> Vec<Vec<Vec3>> {
+        let v = crate::curve::reduce_periodic(self.centre[1]);
+        host.patch.fourier_partials_at(self.centre[0], v, TOP - 1)
+    }
+
+    /// The majorant of `∂^e X` along the piece (`at`: [`Piece::centre_partials`]).
+    fn along(&self, host: &Host, at: &[Vec<Vec3>], e: [usize; 2]) -> Majorant {
+        Majorant::compose2(
+            &host.local(self, at, e),
+            &self.increment[0],
+            &self.increment[1],
+        )
     }
 }
 
@@ -201,7 +210,8 @@ impl CurveOnSurface {
         }
         out.fill(0.0);
         for [a, b] in pieces(&self.breaks(), s0, s1) {
-            let series = Piece::new(&self.path, a, b).along(host, [0, 0]);
+            let p = Piece::new(&self.path, a, b);
+            let series = p.along(host, &p.centre_partials(host), [0, 0]);
             for (k, o) in out.iter_mut().enumerate() {
                 *o = o.max(series.derivative(k));
             }
@@ -243,8 +253,9 @@ impl TangentField {
         worst: &mut [f64; ORDER + 1],
     ) -> bool {
         let p = Piece::new(&self.path, s0, s1);
-        let xu = p.along(host, [1, 0]);
-        let xv = p.along(host, [0, 1]);
+        let at = p.centre_partials(host);
+        let xu = p.along(host, &at, [1, 0]);
+        let xv = p.along(host, &at, [0, 1]);
         let c1 = xu.mul(&p.slope[0]).add(&xv.mul(&p.slope[1]));
         let w = c1.mul(&xu.mul(&xv));
         let (pt, d1, d2) = host_jet(self.host.surface(), &self.path, p.mid);
