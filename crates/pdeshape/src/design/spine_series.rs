@@ -9,8 +9,8 @@
 //! *defines* the surface's rotation from then on: its value and its derivatives are those of
 //! one polynomial, so the surface's partials are exact derivatives of its points, and
 //! `‖R⁽ᵏ⁾(u)‖₂ ≤ 2ᵏ Σ_m ‖c_m⁽ᵏ⁾‖₂` (`|T_m| ≤ 1`, `c⁽ᵏ⁾` the `k`-times differentiated
-//! series in `x`) bounds every derivative over the patch,
-//! which the certified CAD export needs. Trailing coefficients below `10⁻¹⁴` of the largest
+//! series in `x`) bounds every derivative over the patch, which the certified CAD export
+//! needs. Trailing coefficients below `10⁻¹⁴` of the largest
 //! (the frames' rounding) are dropped, so that a rotation that does not turn stays constant
 //! instead of carrying amplified noise in its derivatives. `R` is orthogonal to about `10⁻¹²`.
 
@@ -35,7 +35,8 @@ pub(crate) struct RotationSeries {
     series: [Vec<Matrix3<f64>>; ORDERS],
 }
 
-/// `Σ' a_m T_m` differentiated in `x` (the recurrence `b_{m−1} = b_{m+1} + 2m a_m`).
+/// `Σ a_m T_m` differentiated in `x` (the recurrence `b_{m−1} = b_{m+1} + 2m a_m`, `b_0`
+/// halved).
 fn differentiated(a: &[Matrix3<f64>]) -> Vec<Matrix3<f64>> {
     let m = a.len();
     if m <= 1 {
