@@ -110,7 +110,7 @@
 use super::hermite::{hermite_interpolant, uniform_nodes};
 use crate::curve::Curve;
 use crate::design::SurfaceKind;
-use crate::elliptic::PdePatch;
+use crate::elliptic::{mode_sum, PdePatch};
 use crate::formula::interval::Unbounded;
 use crate::formula::short;
 use crate::spline::BSplineSurface;
@@ -200,12 +200,7 @@ pub fn pde_derivative_bounds(patch: &PdePatch) -> Option<[f64; 4]> {
     let b0 = patch.mode_derivative_bounds(0)?;
     let b1 = patch.mode_derivative_bounds(1)?;
     let b4 = patch.mode_derivative_bounds(4)?;
-    let sum = |b: &[[f64; 2]], k: i32| -> f64 {
-        b.iter()
-            .enumerate()
-            .map(|(n, [a, c])| (n as f64).powi(k) * a.hypot(*c))
-            .sum()
-    };
+    let sum = |b: &[[f64; 2]], k: usize| mode_sum(b, k, 0);
     Some([sum(&b4, 0), sum(&b0, 4), sum(&b1, 4), sum(&b0, 0)])
 }
 

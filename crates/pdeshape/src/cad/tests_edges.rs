@@ -34,18 +34,9 @@ fn true_edge_deviation(net: &BSplineSurface, h: &trimmed::Hole) -> f64 {
     samples.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut worst = samples[0].0;
     let [lo, hi] = h.edge.domain();
-    let g = 0.5 * (5f64.sqrt() - 1.0);
     for &(_, s, step) in samples.iter().take(32) {
-        for (mut a, mut b) in [((s - step).max(lo), s), (s, (s + step).min(hi))] {
-            for _ in 0..60 {
-                let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-                if dev(x1) > dev(x2) {
-                    b = x2;
-                } else {
-                    a = x1;
-                }
-            }
-            worst = worst.max(dev(0.5 * (a + b)));
+        for (a, b) in [((s - step).max(lo), s), (s, (s + step).min(hi))] {
+            worst = worst.max(trimmed::golden_max(&dev, a, b, 60));
         }
     }
     worst

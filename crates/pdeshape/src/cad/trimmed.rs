@@ -226,19 +226,24 @@ pub fn edge_deviation(net: &BSplineSurface, pc: &BCurve, edge: &BCurve) -> f64 {
     let mut worst = samples.first().map_or(0.0, |x| x.0);
     let [lo, hi] = edge.domain();
     for &(_, s, h) in samples.iter().take(8) {
-        let (mut a, mut b) = ((s - h).max(lo), (s + h).min(hi));
-        let g = 0.5 * (5f64.sqrt() - 1.0);
-        for _ in 0..40 {
-            let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-            if dev(x1) > dev(x2) {
-                b = x2;
-            } else {
-                a = x1;
-            }
-        }
-        worst = worst.max(dev(0.5 * (a + b)));
+        worst = worst.max(golden_max(&dev, (s - h).max(lo), (s + h).min(hi), 40));
     }
     worst
+}
+
+/// `f` at the end of `iterations` golden-section steps towards a largest value on `[a, b]`
+/// (a local maximum when `f` is unimodal there).
+pub(crate) fn golden_max(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64, iterations: usize) -> f64 {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..iterations {
+        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+        if f(x1) > f(x2) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    f(0.5 * (a + b))
 }
 
 /// The edge of a pcurve on the net with its deviation and whether that is proven: the proven

@@ -28,7 +28,7 @@
 use super::solved::{DesignSurface, SurfaceKind};
 use super::spine_series::RotationSeries;
 use crate::curve::{Bezier, Curve};
-use crate::elliptic::PdePatch;
+use crate::elliptic::{mode_sum, PdePatch};
 use crate::spec::{SpineCarry, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS};
 use crate::surface::{Partials, PartialsRows, RowBuf, RowEvaluator, Spine, Surface, VDomain};
 use crate::{Error, Result, Vec3};
@@ -597,14 +597,7 @@ impl SpineEdited {
         let modes: Vec<Vec<[f64; 2]>> = (0..=4)
             .map(|d| self.base.mode_derivative_bounds(d))
             .collect::<Option<_>>()?;
-        let radial = |d: usize, k: i32| -> f64 {
-            modes[d]
-                .iter()
-                .enumerate()
-                .skip(1)
-                .map(|(n, [a, b])| (n as f64).powi(k) * a.hypot(*b))
-                .sum()
-        };
+        let radial = |d: usize, k: usize| mode_sum(&modes[d], k, 1);
         let r: [f64; 5] = match (self.carry, &self.series) {
             (SpineCarry::Translate, _) => [1.0, 0.0, 0.0, 0.0, 0.0],
             (SpineCarry::Frame, Some(s)) => std::array::from_fn(|k| s.bound(k)),

@@ -14,6 +14,18 @@
 use super::basis::{cheb_diff, Basis};
 use super::{ModeFn, PdePatch};
 
+/// `Σ_{n ≥ first} nᵏ (αₙ² + βₙ²)^{1/2}` for the mode bounds `[αₙ, βₙ]`
+/// ([`PdePatch::mode_derivative_bounds`]): with `|a cos nv + b sin nv| ≤ (|a|² + |b|²)^{1/2}`,
+/// a bound of `sup|∂_v^k|` of the modes from `first` on (`first = 1`: without the spine).
+pub fn mode_sum(bounds: &[[f64; 2]], k: usize, first: usize) -> f64 {
+    bounds
+        .iter()
+        .enumerate()
+        .skip(first)
+        .map(|(n, [a, b])| (n as f64).powi(k as i32) * a.hypot(*b))
+        .sum()
+}
+
 impl ModeFn {
     /// A bound of `sup_{u ∈ [0, 1]} |g^{(d)}(u)|` for the vector `g` of columns
     /// `first .. first + 3` (zero if the function has fewer columns).
@@ -88,11 +100,7 @@ impl PdePatch {
     /// A bound of `sup |∂_u^d ∂_v^k X̃|` of the Fourier part alone (as
     /// [`PdePatch::partial_bound`], with or without a remainder).
     pub fn fourier_partial_bound(&self, d: usize, k: usize) -> f64 {
-        self.fourier_mode_bounds(d)
-            .iter()
-            .enumerate()
-            .map(|(n, [a, b])| (n as f64).powi(k as i32) * a.hypot(*b))
-            .sum()
+        mode_sum(&self.fourier_mode_bounds(d), k, 0)
     }
 
     /// The active terms `w_i(u) Δ_i(v)` of the spectral remainder, `Δ_i = g_i − fitted_i`, with
@@ -132,14 +140,7 @@ impl PdePatch {
     /// `|a cos nv + b sin nv| ≤ (|a|² + |b|²)^{1/2}`, `Σ_n n^k (αₙ² + βₙ²)^{1/2}` from
     /// [`PdePatch::mode_derivative_bounds`]. `None` when those are.
     pub fn partial_bound(&self, d: usize, k: usize) -> Option<f64> {
-        let bounds = self.mode_derivative_bounds(d)?;
-        Some(
-            bounds
-                .iter()
-                .enumerate()
-                .map(|(n, [a, b])| (n as f64).powi(k as i32) * a.hypot(*b))
-                .sum(),
-        )
+        Some(mode_sum(&self.mode_derivative_bounds(d)?, k, 0))
     }
 }
 
@@ -179,17 +180,7 @@ impl PdePatch {
         (0..=order)
             .map(|a| {
                 let bounds = self.mode_derivative_bounds(a)?;
-                Some(
-                    (0..=order - a)
-                        .map(|b| {
-                            bounds
-                                .iter()
-                                .enumerate()
-                                .map(|(n, [x, y])| (n as f64).powi(b as i32) * x.hypot(*y))
-                                .sum()
-                        })
-                        .collect(),
-                )
+                Some((0..=order - a).map(|b| mode_sum(&bounds, b, 0)).collect())
             })
             .collect()
     }

@@ -13,7 +13,7 @@ mod operator;
 mod patch;
 
 pub use basis::BasisKind;
-pub use bounds::RemainderTerm;
+pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
 pub use patch::PdePatch;
 

@@ -198,16 +198,18 @@ fn pieces(breaks: &[f64], s0: f64, s1: f64) -> Vec<[f64; 2]> {
     cuts.windows(2).map(|w| [w[0], w[1]]).collect()
 }
 
+/// A request the bounds can answer: orders up to [`ORDER`] on `s0 ≤ s1`.
+fn request_ok(s0: f64, s1: f64, out: &[f64]) -> bool {
+    out.len() <= ORDER + 1 && s0 <= s1
+}
+
 impl CurveOnSurface {
     /// `out[k] ≥ sup|C⁽ᵏ⁾|` on the pieces of `(s0, s1)` (module docs); `false` without a
     /// qualifying host.
     pub(super) fn bounds(&self, s0: f64, s1: f64, out: &mut [f64]) -> bool {
-        let Some(host) = self.host_bounds() else {
+        let Some(host) = self.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
             return false;
         };
-        if out.len() > ORDER + 1 || s0.is_nan() || s1.is_nan() || s1 < s0 {
-            return false;
-        }
         out.fill(0.0);
         for [a, b] in pieces(&self.breaks(), s0, s1) {
             let p = Piece::new(&self.path, a, b);
@@ -225,12 +227,9 @@ impl TangentField {
     /// qualifying host or where no positive lower bound of `|w|` is found within
     /// [`MAX_DEPTH`] halvings.
     pub(super) fn bounds(&self, s0: f64, s1: f64, out: &mut [f64]) -> bool {
-        let Some(host) = self.host_bounds() else {
+        let Some(host) = self.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
             return false;
         };
-        if out.len() > ORDER + 1 || s0.is_nan() || s1.is_nan() || s1 < s0 {
-            return false;
-        }
         let mut worst = [0.0; ORDER + 1];
         for [a, b] in pieces(&self.breaks(), s0, s1) {
             if !self.bound_piece(host, a, b, 0, &mut worst) {
