@@ -3,9 +3,12 @@ a given grid, one or more binaries run alternately: the `--timings` line (solve,
 weld, file, commit, total) and the wall time measured here around the process, medians over the
 runs, with the output file's size, and the user and system CPU time of the process.
 
-    python3 bench/fresh_process.py [--blend] RUNS DESIGN NU NV OUT.ext BINARY [BINARY ...]
+    python3 bench/fresh_process.py [--blend] [--fresh] RUNS DESIGN NU NV OUT.ext BINARY [BINARY ...]
 
-Older binaries may print fewer timing keys; missing ones are left blank.
+With `--fresh` the output file is deleted (untimed) before each run, so the run writes a new
+file rather than replacing one: replacing a large file makes the final rename free the old
+file's blocks, which on this machine's ext4 (mounted with `discard`) takes about 23 ms for
+100 MB. Older binaries may print fewer timing keys; missing ones are left blank.
 """
 import json
 import os
@@ -16,14 +19,22 @@ import time
 
 args = sys.argv[1:]
 command = "surface"
-if args and args[0] == "--blend":
-    command, args = "blend", args[1:]
+fresh = False
+while args and args[0] in ("--blend", "--fresh"):
+    if args[0] == "--blend":
+        command = "blend"
+    else:
+        fresh = True
+    args = args[1:]
 runs, design, nu, nv, out = int(args[0]), args[1], args[2], args[3], args[4]
 binaries = args[5:]
 keys = ["solve_ms", "tessellate_ms", "weld_ms", "file_ms", "commit_ms", "write_ms", "total_ms"]
 results = {b: [] for b in binaries}
 for _ in range(runs):
     for b in binaries:
+        if fresh and os.path.exists(out):
+            os.remove(out)
+            os.sync()
         t = time.perf_counter()
         before = os.times()
         p = subprocess.run(

@@ -177,8 +177,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             // `blend`, with the design's title and units.
             let m = [mesh::tessellate(&blend.surface, nu, nv).map_err(io_err)?];
             tessellate_ms = ms(t);
-            let welded = mesh::weld(&m, &["blend"], mesh::WeldOptions::default());
-            weld_ms = ms(t) - tessellate_ms;
             let export = export.unwrap_or_default();
             let info = mesh::MeshInfo {
                 title: design.spec.title.clone(),
@@ -186,8 +184,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 scale: export.scale,
                 up: export.up,
             };
+            let options = mesh::WeldOptions::default();
             let mut w = out.writer();
-            mesh::write_mesh(f, &welded, &info, &mut w).map_err(io_err)?;
+            if f == Format::Glb {
+                // Straight from the grid: the weld is planned while the file is written.
+                mesh::write_welded(f, &m, &["blend"], options, &info, &mut w).map_err(io_err)?;
+            } else {
+                let welded = mesh::weld(&m, &["blend"], options);
+                weld_ms = ms(t) - tessellate_ms;
+                mesh::write_mesh(f, &welded, &info, &mut w).map_err(io_err)?;
+            }
             w.flush()
                 .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         }

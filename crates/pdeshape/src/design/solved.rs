@@ -486,8 +486,7 @@ impl SolvedDesign {
             Ok(None)
         } else {
             let grids = self.meshes(nu, nv)?;
-            let mesh = self.weld(&grids, export);
-            mesh::write_mesh(format, &mesh, &self.mesh_info(export), w)?;
+            self.write_grids(format, &grids, export, w)?;
             Ok(Some(grids))
         }
     }
@@ -495,14 +494,20 @@ impl SolvedDesign {
     /// The design's grids as one [`TriMesh`] (see [`mesh::weld`]), one part per surface named
     /// after it.
     pub fn weld(&self, grids: &[GridMesh], export: &Export) -> TriMesh {
-        let names = self.names();
-        mesh::weld(
-            grids,
-            &names,
-            WeldOptions {
-                join_patches: !export.separate_patches,
-            },
-        )
+        mesh::weld(grids, &self.names(), weld_options(export))
+    }
+
+    /// The design's grids written in a mesh format as [`SolvedDesign::weld`] welds them (see
+    /// [`mesh::write_welded`]: a GLB is written without building the welded mesh).
+    pub fn write_grids(
+        &self,
+        format: Format,
+        grids: &[GridMesh],
+        export: &Export,
+        w: &mut dyn Write,
+    ) -> Result<()> {
+        let info = self.mesh_info(export);
+        mesh::write_welded(format, grids, &self.names(), weld_options(export), &info, w)
     }
 
     /// What a mesh file records about this design: its title and units, with the export's
@@ -601,4 +606,11 @@ fn shared_edges(surfaces: &[DesignSurface]) -> Vec<SharedEdge> {
         }
     }
     edges
+}
+
+/// How an export joins the patches.
+fn weld_options(export: &Export) -> WeldOptions {
+    WeldOptions {
+        join_patches: !export.separate_patches,
+    }
 }

@@ -13,8 +13,8 @@ pub use weld::{
     report, weld, weld_mapped, FrameWeld, MeshReport, WeldOptions, WeldTopology, Welded,
 };
 pub use writers::{
-    write, write_csv, write_glb, write_mesh, write_obj, write_ply, write_stl, Format, MeshInfo,
-    Units, Up,
+    write, write_csv, write_glb, write_glb_grids, write_mesh, write_obj, write_ply, write_stl,
+    write_welded, Format, MeshInfo, Units, Up,
 };
 
 use crate::surface::{Interval, RowBuf, Surface, VDomain};

@@ -31,9 +31,12 @@ use std::collections::HashMap;
 mod weld_frame;
 #[path = "weld_normals.rs"]
 mod weld_normals;
+#[path = "weld_plan.rs"]
+mod weld_plan;
 use std::hash::BuildHasherDefault;
 use std::mem::MaybeUninit;
 pub use weld_frame::FrameWeld;
+pub(crate) use weld_plan::{Plan, PlanPart};
 
 /// A fast hasher for the merge's grid-cell keys (multiply–rotate over 8-byte words, as in
 /// rustc's FxHash): the keys are cells of the mesh's own vertices, so SipHash's protection
@@ -218,6 +221,7 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
         rows,
         relative,
         groups,
+        ..
     } = join(grids, options);
     let topo: Vec<GridTopology> = grids
         .iter()
@@ -258,10 +262,7 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
     // SAFETY: the grids' slices tile the first `total` elements, each written in full by
     // `triangles_into`.
     unsafe { triangles.set_len(total) };
-    let flipped: Vec<bool> = relative
-        .iter()
-        .map(|&(root, rel)| rel ^ turns.iter().any(|&(r, turn)| r == root && turn))
-        .collect();
+    let flipped = flipped_of(&relative, &turns);
     let names = part_names(grids.len(), names);
     let mut parts = Vec::with_capacity(grids.len());
     let mut rest = triangles.as_mut_slice();
@@ -291,6 +292,15 @@ pub fn weld_mapped(grids: &[GridMesh], names: &[&str], options: WeldOptions) -> 
         source,
         flipped,
     }
+}
+
+/// Each grid's turn: its orientation relative to its group's root, and the root's `turns`
+/// (the groups a volume turned over).
+fn flipped_of(relative: &[(usize, bool)], turns: &[(usize, bool)]) -> Vec<bool> {
+    relative
+        .iter()
+        .map(|&(root, rel)| rel ^ turns.iter().any(|&(r, turn)| r == root && turn))
+        .collect()
 }
 
 /// Part names: `names[k]`, or `patch<k>` where `names` is short.
@@ -439,6 +449,47 @@ impl Group {
     }
 }
 
+/// A box `(lo, hi)` with sides along the axes.
+pub(crate) type BoundingBox = ([f32; 3], [f32; 3]);
+
+/// The box around nothing: the identity of [`box_union`].
+pub(crate) const EMPTY_BOX: BoundingBox = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+
+/// The smallest box around two boxes (by comparisons, as [`bounding_box`]).
+pub(crate) fn box_union(a: BoundingBox, b: BoundingBox) -> BoundingBox {
+    (
+        [0, 1, 2].map(|c| if b.0[c] < a.0[c] { b.0[c] } else { a.0[c] }),
+        [0, 1, 2].map(|c| if b.1[c] > a.1[c] { b.1[c] } else { a.1[c] }),
+    )
+}
+
+/// The smallest box `(lo, hi)` around `points`, by comparisons: a NaN coordinate is passed
+/// over (as `f32::min` passes it over), and which sign a zero extreme keeps is not specified.
+/// Eight points at a time in 24 lanes, which the compiler turns into vector compares.
+pub(crate) fn bounding_box(points: &[[f32; 3]]) -> BoundingBox {
+    let flat = points.as_flattened();
+    let mut lo = [f32::INFINITY; 24];
+    let mut hi = [f32::NEG_INFINITY; 24];
+    let mut blocks = flat.chunks_exact(24);
+    for b in &mut blocks {
+        for k in 0..24 {
+            lo[k] = if b[k] < lo[k] { b[k] } else { lo[k] };
+            hi[k] = if b[k] > hi[k] { b[k] } else { hi[k] };
+        }
+    }
+    for (k, &x) in blocks.remainder().iter().enumerate() {
+        lo[k] = if x < lo[k] { x } else { lo[k] };
+        hi[k] = if x > hi[k] { x } else { hi[k] };
+    }
+    let (mut l, mut h) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for k in 0..24 {
+        let c = k % 3;
+        l[c] = if lo[k] < l[c] { lo[k] } else { l[c] };
+        h[c] = if hi[k] > h[c] { hi[k] } else { h[c] };
+    }
+    (l, h)
+}
+
 /// Bounding-box diagonal of every grid vertex (blocks in parallel: minima and maxima do not
 /// depend on the order).
 fn diagonal(grids: &[GridMesh]) -> f64 {
@@ -447,19 +498,9 @@ fn diagonal(grids: &[GridMesh]) -> f64 {
         .par_iter()
         .flat_map(|g| g.positions.par_chunks(1 << 14))
         .map(|block| {
-            // In f32 (the extremes convert exactly), by comparisons: a NaN is passed over as
-            // `f64::min` passes it over, and the sign of a zero does not change the diagonal.
-            let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
-            for p in block {
-                for c in 0..3 {
-                    if p[c] < lo[c] {
-                        lo[c] = p[c];
-                    }
-                    if p[c] > hi[c] {
-                        hi[c] = p[c];
-                    }
-                }
-            }
+            // In f32 (the extremes convert exactly); the sign of a zero does not change the
+            // diagonal.
+            let (lo, hi) = bounding_box(block);
             (lo.map(f64::from), hi.map(f64::from))
         })
         .reduce(empty, |(a, b), (c, d)| {
@@ -474,14 +515,25 @@ fn diagonal(grids: &[GridMesh]) -> f64 {
 /// Joins the boundary vertices that coincide: the welded positions (first copy) and the welded
 /// vertex of every grid vertex.
 fn merge(grids: &[GridMesh], options: WeldOptions, diag: f64) -> (Vec<[f32; 3]>, Vec<Vec<u32>>) {
-    let (positions, source, _) = merge_rows(grids, options, diag);
-    (positions, source)
+    let m = merge_rows(grids, options, diag);
+    (m.positions, m.source)
 }
 
-/// Welded positions, each grid's welded vertices and each grid's [`candidate_rows`].
-type Merged = (Vec<[f32; 3]>, Vec<Vec<u32>>, Vec<Vec<bool>>);
+/// What [`merge_rows`] finds.
+struct Merged {
+    /// The welded positions (each vertex's first copy).
+    positions: Vec<[f32; 3]>,
+    /// Each grid's welded vertex of every grid vertex.
+    source: Vec<Vec<u32>>,
+    /// Each grid's [`candidate_rows`].
+    rows: Vec<Vec<bool>>,
+    /// Each grid's welded number of each row's first new vertex, and one past its last row's:
+    /// grid `k`'s own vertices (the ones it adds) are `starts[k][0]..starts[k][nu]`.
+    starts: Vec<Vec<usize>>,
+}
 
-/// [`merge`], also returning each grid's [`candidate_rows`].
+/// [`merge`], also returning each grid's [`candidate_rows`] and where its rows' new vertices
+/// start.
 ///
 /// Welded vertices are numbered in the order of the grids' vertices, a new number for every
 /// vertex that is not a candidate or finds no earlier candidate within the tolerance. Only the
@@ -612,7 +664,12 @@ fn merge_rows(grids: &[GridMesh], options: WeldOptions, diag: f64) -> Merged {
     // SAFETY: the welded numbers 0..next are the union of the rows' ranges start[i]..start[i+1],
     // and each row wrote every number of its range (checked by the assertion above).
     unsafe { positions.set_len(next) };
-    (positions, sources, all_rows)
+    Merged {
+        positions,
+        source: sources,
+        rows: all_rows,
+        starts,
+    }
 }
 
 /// A grid's triangles as the weld sees them. Vertices that are not weld candidates keep a
@@ -868,6 +925,8 @@ struct Joined {
     positions: Vec<[f32; 3]>,
     source: Vec<Vec<u32>>,
     rows: Vec<Vec<bool>>,
+    /// [`Merged::starts`].
+    starts: Vec<Vec<usize>>,
     relative: Vec<(usize, bool)>,
     groups: Vec<Group>,
 }
@@ -880,7 +939,12 @@ struct Joined {
 /// a map; the result is that of counting every edge in one map.
 fn join(grids: &[GridMesh], options: WeldOptions) -> Joined {
     let diag = diagonal(grids);
-    let (positions, source, rows) = merge_rows(grids, options, diag);
+    let Merged {
+        positions,
+        source,
+        rows,
+        starts,
+    } = merge_rows(grids, options, diag);
     let topo: Vec<GridTopology> = grids
         .iter()
         .zip(&source)
@@ -986,6 +1050,7 @@ fn join(grids: &[GridMesh], options: WeldOptions) -> Joined {
         positions,
         source,
         rows,
+        starts,
         relative,
         groups,
     }
@@ -1001,6 +1066,7 @@ impl WeldTopology {
             rows,
             relative,
             groups,
+            ..
         } = join(grids, options);
         // Triangles per patch, re-indexed, without the ones welding collapsed.
         let tris: Vec<Vec<[u32; 3]>> = grids

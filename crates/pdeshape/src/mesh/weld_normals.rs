@@ -170,7 +170,7 @@ unsafe fn row_normals_avx2(
 
 /// Whether the processor has AVX2 (the kernels above are compiled for it where it does; the
 /// arithmetic is the same, without fused operations).
-fn avx2() -> bool {
+pub(super) fn avx2() -> bool {
     #[cfg(target_arch = "x86_64")]
     {
         std::is_x86_feature_detected!("avx2")
@@ -265,45 +265,8 @@ pub(super) fn vertex_normals(
     // Zeroed memory from the system, not touched yet: advised before its first write.
     let mut normals = vec![[0.0f32; 3]; positions.len()];
     super::super::advise_huge_pages(&mut normals);
-
-    // Candidates: their copies and their triangles, in order.
-    let mut sums: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
-    let mut facets: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
-    for (k, (g, t)) in grids.iter().zip(&topo).enumerate() {
-        let s = if flipped[k] { -1.0 } else { 1.0 };
-        for i in 0..g.nu {
-            let cols: Vec<usize> = if t.row_explicit(i) {
-                (0..g.nv).collect()
-            } else if !g.periodic_v && g.nv > 0 {
-                if g.nv > 1 {
-                    vec![0, g.nv - 1]
-                } else {
-                    vec![0]
-                }
-            } else {
-                Vec::new()
-            };
-            for j in cols {
-                let idx = i * g.nv + j;
-                let n = g.normals[idx];
-                add(
-                    sums.entry(source[k][idx]).or_insert([0.0; 3]),
-                    [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64],
-                );
-            }
-        }
-        t.for_each_visited(false, |gt, wt| {
-            let f = facet_cross(positions, turned(wt, flipped[k]));
-            for e in 0..3 {
-                if t.explicit(gt[e]) {
-                    add(facets.entry(wt[e]).or_insert([0.0; 3]), f);
-                }
-            }
-        });
-    }
-    for (&w, &s) in &sums {
-        let a = facets.get(&w).copied().unwrap_or([0.0; 3]);
-        normals[w as usize] = settle(unit(s), a);
+    for (w, n) in candidate_normals(grids, &topo, positions, flipped) {
+        normals[w as usize] = n;
     }
 
     // The other vertices, blocks of rows in parallel. Each writes the normals of its own
@@ -322,25 +285,114 @@ pub(super) fn vertex_normals(
         .collect();
     let fast = avx2();
     blocks.into_par_iter().for_each(|(k, r0)| {
-        let (g, t) = (&grids[k], &topo[k]);
-        let flip = flipped[k];
-        let s = if flip { -1.0 } else { 1.0 };
-        let nv = t.nv;
+        let t = &topo[k];
         let r1 = (r0 + BLOCK).min(t.nu - 1);
+        t.inner_normals(&grids[k], positions, flipped[k], r0..r1, fast, |i, row| {
+            let (lo, hi) = t.inner_columns();
+            for (j, &n) in row.iter().enumerate().take(hi).skip(lo) {
+                // SAFETY: the vertex is not a weld candidate, so its welded number belongs
+                // to it alone: no other task writes this element.
+                unsafe { out.write(t.map[i * t.nv + j] as usize, n) };
+            }
+        });
+    });
+    normals
+}
+
+/// The normals of the weld candidates (see the module documentation), by welded number: the
+/// mean of their copies in every grid, settled against the facets around them.
+pub(super) fn candidate_normals(
+    grids: &[GridMesh],
+    topo: &[GridTopology],
+    positions: &[[f32; 3]],
+    flipped: &[bool],
+) -> HashMap<u32, [f32; 3], BuildHasherDefault<CellHasher>> {
+    // Candidates: their copies and their triangles, in order.
+    let mut sums: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+    let mut facets: HashMap<u32, [f64; 3], BuildHasherDefault<CellHasher>> = HashMap::default();
+    for (k, (g, t)) in grids.iter().zip(topo).enumerate() {
+        let s = if flipped[k] { -1.0 } else { 1.0 };
+        for i in 0..g.nu {
+            let cols: Vec<usize> = if t.row_explicit(i) {
+                (0..g.nv).collect()
+            } else if !g.periodic_v && g.nv > 0 {
+                if g.nv > 1 {
+                    vec![0, g.nv - 1]
+                } else {
+                    vec![0]
+                }
+            } else {
+                Vec::new()
+            };
+            for j in cols {
+                let idx = i * g.nv + j;
+                let n = g.normals[idx];
+                add(
+                    sums.entry(t.map[idx]).or_insert([0.0; 3]),
+                    [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64],
+                );
+            }
+        }
+        t.for_each_visited(false, |gt, wt| {
+            let f = facet_cross(positions, turned(wt, flipped[k]));
+            for e in 0..3 {
+                if t.explicit(gt[e]) {
+                    add(facets.entry(wt[e]).or_insert([0.0; 3]), f);
+                }
+            }
+        });
+    }
+    sums.into_iter()
+        .map(|(w, s)| {
+            let a = facets.get(&w).copied().unwrap_or([0.0; 3]);
+            (w, settle(unit(s), a))
+        })
+        .collect()
+}
+
+impl GridTopology<'_> {
+    /// The columns `lo..hi` of a row that are not weld candidates in themselves (the end
+    /// columns of a non-periodic grid are).
+    pub(super) fn inner_columns(&self) -> (usize, usize) {
+        if self.periodic {
+            (0, self.nv)
+        } else {
+            (1, self.nv.saturating_sub(1))
+        }
+    }
+
+    /// The normals of the vertices that are not weld candidates in rows `rows` (within
+    /// `1..nu − 1`; the grid not [`GridTopology::all`]): `f(i, row)` for every row `i` that is
+    /// not explicit, in order, with the normals at the row's [`GridTopology::inner_columns`]
+    /// (the other entries are meaningless). Facets are computed once per quad row, from the
+    /// row before the first.
+    pub(super) fn inner_normals(
+        &self,
+        g: &GridMesh,
+        positions: &[[f32; 3]],
+        flip: bool,
+        rows: std::ops::Range<usize>,
+        fast: bool,
+        mut f: impl FnMut(usize, &[[f32; 3]]),
+    ) {
+        let (r0, r1) = (rows.start, rows.end);
+        debug_assert!(r0 >= 1 && r1 < self.nu.max(1) && !self.all);
+        if r0 >= r1 {
+            return;
+        }
+        let s = if flip { -1.0 } else { 1.0 };
+        let nv = self.nv;
         let mut pair = RowPair::default();
         let (mut prev, mut cur) = (Facets::default(), Facets::default());
         let mut units = vec![[0.0f32; 3]; nv];
         let mut sums = vec![[0.0f64; 3]; nv];
         let mut dots = vec![0.0f64; nv];
-        t.facet_row(g, positions, flip, r0 - 1, &mut pair, &mut prev, fast);
+        let mut row = vec![[0.0f32; 3]; nv];
+        self.facet_row(g, positions, flip, r0 - 1, &mut pair, &mut prev, fast);
+        let (lo, hi) = self.inner_columns();
         for i in r0..r1 {
-            t.facet_row(g, positions, flip, i, &mut pair, &mut cur, fast);
-            if !t.row_explicit(i) {
-                let (lo, hi) = if t.periodic {
-                    (0, nv)
-                } else {
-                    (1, nv.saturating_sub(1))
-                };
+            self.facet_row(g, positions, flip, i, &mut pair, &mut cur, fast);
+            if !self.row_explicit(i) {
                 let row_normals_of = &g.normals[i * nv..(i + 1) * nv];
                 let (u, a, d) = (&mut units, &mut sums, &mut dots);
                 if fast {
@@ -353,8 +405,7 @@ pub(super) fn vertex_normals(
                     row_normals(row_normals_of, s, &prev, &cur, lo, hi, u, a, d);
                 }
                 for j in lo..hi {
-                    let idx = i * nv + j;
-                    let n = if j == 0 {
+                    row[j] = if j == 0 {
                         // Column 0 of a periodic row: quads by column put column 0 first.
                         let jm = nv - 1;
                         let (p, c) = (&prev.f, &cur.f);
@@ -367,7 +418,7 @@ pub(super) fn vertex_normals(
                             *acc += c[3 + q][0];
                             *acc += c[3 + q][jm];
                         }
-                        let n = g.normals[idx];
+                        let n = g.normals[i * nv];
                         let mut m = [0.0f64; 3];
                         add(&mut m, [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64]);
                         settle(unit(m), a)
@@ -376,13 +427,10 @@ pub(super) fn vertex_normals(
                     } else {
                         units[j]
                     };
-                    // SAFETY: the vertex is not a weld candidate, so its welded number
-                    // belongs to it alone: no other task writes this element.
-                    unsafe { out.write(t.map[idx] as usize, n) };
                 }
+                f(i, &row);
             }
             std::mem::swap(&mut prev, &mut cur);
         }
-    });
-    normals
+    }
 }

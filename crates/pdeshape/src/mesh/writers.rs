@@ -87,16 +87,38 @@ pub fn write_mesh(
     }
 }
 
-/// Writes grids (patches `patch0`, `patch1`, …) in a mesh format: checked, then welded and
-/// oriented by [`weld`] with the default options, then [`write_mesh`] with the default
-/// [`MeshInfo`].
+/// Writes grids (patches `patch0`, `patch1`, …) in a mesh format, welded and oriented by
+/// [`weld`] with the default options ([`write_welded`] with the default [`MeshInfo`]).
 pub fn write(format: Format, meshes: &[GridMesh], w: &mut dyn Write) -> Result<()> {
-    if format == Format::Csv {
-        return write_mesh(format, &TriMesh::default(), &MeshInfo::default(), w);
+    write_welded(
+        format,
+        meshes,
+        &[],
+        WeldOptions::default(),
+        &MeshInfo::default(),
+        w,
+    )
+}
+
+/// Writes a design's grids in a mesh format as [`write_mesh`] writes `weld(grids, names,
+/// options)`, byte for byte: checked first; GLB straight from the grids
+/// ([`write_glb_grids`]), the other formats from the welded mesh.
+pub fn write_welded(
+    format: Format,
+    grids: &[GridMesh],
+    names: &[&str],
+    options: WeldOptions,
+    info: &MeshInfo,
+    w: &mut dyn Write,
+) -> Result<()> {
+    match format {
+        Format::Csv => write_mesh(format, &TriMesh::default(), info, w),
+        Format::Glb => write_glb_grids(grids, names, options, info, w),
+        _ => {
+            check_grids(grids, true)?;
+            write_mesh(format, &weld(grids, names, options), info, w)
+        }
     }
-    check_grids(meshes, true)?;
-    let mesh = weld(meshes, &[], WeldOptions::default());
-    write_mesh(format, &mesh, &MeshInfo::default(), w)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -106,7 +128,7 @@ pub fn write(format: Format, meshes: &[GridMesh], w: &mut dyn Write) -> Result<(
 /// Checks the patches before anything is written: at least one patch; array lengths that agree
 /// with `nu × nv`; finite parameter values, positions and normals; and, for the mesh formats
 /// (`need_faces`), at least one face per patch.
-fn check_grids<T: Copy + Into<f64>>(grids: &[Grid<T>], need_faces: bool) -> Result<()> {
+fn check_grids<T: Copy + Into<f64> + Sync>(grids: &[Grid<T>], need_faces: bool) -> Result<()> {
     if grids.is_empty() {
         return Err(Error::invalid(
             "no patches to write: the design produced no surface",
@@ -118,7 +140,7 @@ fn check_grids<T: Copy + Into<f64>>(grids: &[Grid<T>], need_faces: bool) -> Resu
     Ok(())
 }
 
-fn check_grid<T: Copy + Into<f64>>(g: &Grid<T>, need_faces: bool) -> Result<()> {
+fn check_grid<T: Copy + Into<f64> + Sync>(g: &Grid<T>, need_faces: bool) -> Result<()> {
     let Some(n) = g.nu.checked_mul(g.nv) else {
         return Err(Error::invalid(format!(
             "grid size {} × {} overflows",
@@ -163,9 +185,9 @@ fn check_grid<T: Copy + Into<f64>>(g: &Grid<T>, need_faces: bool) -> Result<()> 
         return Err(Error::invalid(format!("non-finite parameter v[{j}] = {v}")));
     }
     for (name, data) in [("position", &g.positions), ("normal", &g.normals)] {
-        let bad = data
-            .iter()
-            .position(|p| !p.iter().all(|&c| Into::<f64>::into(c).is_finite()));
+        let bad = super::first_bad(data, |p| {
+            !p.iter().all(|&c| Into::<f64>::into(c).is_finite())
+        });
         if let Some(idx) = bad {
             let p = data[idx].map(Into::<f64>::into);
             return Err(Error::invalid(format!(
@@ -843,255 +865,9 @@ pub fn write_ply(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
 // GLB
 // ---------------------------------------------------------------------------------------------
 
-const GLB_MAGIC: u32 = 0x4654_6C67; // "glTF"
-const GLB_JSON: u32 = 0x4E4F_534A; // "JSON"
-const GLB_BIN: u32 = 0x004E_4942; // "BIN\0"
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-const FLOAT: u32 = 5126;
-const UNSIGNED_INT: u32 = 5125;
-
-/// The vertices one part uses, in first-use order, the number of each in that order, the
-/// bounds of their positions as written, and the exclusive-or of its triangles' edge bits.
-struct GlbPart {
-    vertices: Vec<u32>,
-    triangles: std::ops::Range<usize>,
-    /// `slot[i − base]`: the part's number of vertex `i` (`u32::MAX` where it is not used).
-    base: u32,
-    slot: Vec<u32>,
-    lo: [f32; 3],
-    hi: [f32; 3],
-    edges: u64,
-}
-
-impl GlbPart {
-    /// One pass over the part's triangles (the table of numbers covers only the range of
-    /// vertices the part uses).
-    fn new(mesh: &TriMesh, part: &Part, frame: &Frame) -> GlbPart {
-        let tris = &mesh.triangles[part.triangles.clone()];
-        let (first, last) = tris
-            .par_chunks(1 << 15)
-            .map(|ts| {
-                let is = ts.as_flattened();
-                let lo = is.iter().copied().fold(u32::MAX, u32::min);
-                let hi = is.iter().copied().fold(0, u32::max);
-                (lo, hi)
-            })
-            .reduce(|| (u32::MAX, 0), |a, b| (a.0.min(b.0), a.1.max(b.1)));
-        let (base, len) = if tris.is_empty() {
-            (0, 0)
-        } else {
-            (first, (last - first) as usize + 1)
-        };
-        let mut slot = Vec::with_capacity(len);
-        super::advise_huge_pages(slot.spare_capacity_mut());
-        slot.resize(len, u32::MAX);
-        let mut vertices = Vec::with_capacity(len);
-        super::advise_huge_pages(vertices.spare_capacity_mut());
-        let mut lo = [f32::INFINITY; 3];
-        let mut hi = [f32::NEG_INFINITY; 3];
-        let mut edges = 0;
-        for &t in tris {
-            edges ^= edge_bits(t);
-            for i in t {
-                let s = &mut slot[(i - base) as usize];
-                if *s == u32::MAX {
-                    *s = vertices.len() as u32;
-                    vertices.push(i);
-                    let q = frame.point(mesh.positions[i as usize]);
-                    for c in 0..3 {
-                        lo[c] = lo[c].min(q[c]);
-                        hi[c] = hi[c].max(q[c]);
-                    }
-                }
-            }
-        }
-        GlbPart {
-            vertices,
-            triangles: part.triangles.clone(),
-            base,
-            slot,
-            lo,
-            hi,
-            edges,
-        }
-    }
-
-    /// The part's number of vertex `i` (one it uses).
-    #[inline(always)]
-    fn local(&self, i: u32) -> u32 {
-        self.slot[(i - self.base) as usize]
-    }
-}
-
-use super::weld::{closed_given, edge_bits};
-
-/// glTF 2.0 binary (`.glb`) in glTF's conventions: `+Y` up (the design's `+Z` turned to `+Y`,
-/// `(x, y, z) → (x, z, −y)`) and metres (positions times `scale` and the metres per unit).
-///
-/// One scene with a root node named after the design's title, with one child node and one mesh
-/// per part, both named after the part; each mesh has one triangle primitive (mode 4) with
-/// `POSITION` (with min/max), `NORMAL`, `TEXCOORD_0` only when the mesh has texture coordinates,
-/// and `u32` indices, using one material: double-sided when the mesh is open (has edges used by
-/// one triangle), so both sides of an open surface show. Each part has its own vertices (a
-/// vertex on a shared edge is written once per part, at the same position). `asset` names the
-/// generator (with pdeshape's version) and carries the title, units and scale in `extras`.
-pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<()> {
-    use serde_json::{json, Value};
-    check_mesh(mesh)?;
-    let frame = Frame::new(info, Format::Glb)?;
-    let with_uv = !mesh.uv.is_empty();
-    let all = parts_of(mesh);
-    // Vertex numbering per part (parts in parallel).
-    let glb_parts: Vec<GlbPart> = all
-        .par_iter()
-        .map(|p| GlbPart::new(mesh, p, &frame))
-        .collect();
-    let mut views: Vec<Value> = Vec::new();
-    let mut accessors: Vec<Value> = Vec::new();
-    let mut meshes: Vec<Value> = Vec::new();
-    let mut nodes: Vec<Value> = Vec::new();
-    let mut offset: u128 = 0;
-    for (k, (p, gp)) in all.iter().zip(&glb_parts).enumerate() {
-        if gp.vertices.is_empty() {
-            continue;
-        }
-        let indices = 3 * gp.triangles.len() as u128;
-        check_u32(indices, "triangle indices", "glTF").map_err(|e| e.at(&format!("parts[{k}]")))?;
-        let (lo, hi) = (gp.lo, gp.hi);
-        let n = gp.vertices.len() as u128;
-        let mut layout: Vec<(u128, Option<u32>, u32)> = vec![
-            (n * 12, Some(12), ARRAY_BUFFER),
-            (n * 12, Some(12), ARRAY_BUFFER),
-        ];
-        if with_uv {
-            layout.push((n * 8, Some(8), ARRAY_BUFFER));
-        }
-        layout.push((indices * 4, None, ELEMENT_ARRAY_BUFFER));
-        let first = accessors.len();
-        for (len, stride, target) in &layout {
-            let mut view = json!({
-                "buffer": 0,
-                "byteOffset": offset as u64,
-                "byteLength": *len as u64,
-                "target": target,
-            });
-            if let Some(s) = stride {
-                view["byteStride"] = json!(s);
-            }
-            views.push(view);
-            offset += len;
-        }
-        accessors.push(json!({
-            "bufferView": first, "componentType": FLOAT, "count": gp.vertices.len(),
-            "type": "VEC3", "min": lo, "max": hi,
-        }));
-        accessors.push(json!({
-            "bufferView": first + 1, "componentType": FLOAT, "count": gp.vertices.len(),
-            "type": "VEC3",
-        }));
-        let mut attributes = json!({ "POSITION": first, "NORMAL": first + 1 });
-        let mut next = first + 2;
-        if with_uv {
-            accessors.push(json!({
-                "bufferView": next, "componentType": FLOAT, "count": gp.vertices.len(),
-                "type": "VEC2",
-            }));
-            attributes["TEXCOORD_0"] = json!(next);
-            next += 1;
-        }
-        accessors.push(json!({
-            "bufferView": next, "componentType": UNSIGNED_INT, "count": indices as u64,
-            "type": "SCALAR",
-        }));
-        let name = if p.name.is_empty() {
-            format!("part{k}")
-        } else {
-            p.name.clone()
-        };
-        meshes.push(json!({
-            "name": name,
-            "primitives": [{ "attributes": attributes, "indices": next, "mode": 4, "material": 0 }],
-        }));
-        nodes.push(json!({ "name": name, "mesh": meshes.len() - 1 }));
-    }
-    let bin_len = offset;
-    let title = info.title.clone().unwrap_or_else(|| "pdeshape".to_string());
-    let children: Vec<usize> = (1..=nodes.len()).collect();
-    let mut all_nodes = vec![json!({ "name": title, "children": children })];
-    all_nodes.extend(nodes);
-    let mut extras = json!({
-        "units": "m",
-        "design_units": info.units.as_str(),
-        "scale": info.scale,
-    });
-    if let Some(t) = &info.title {
-        extras["title"] = json!(t);
-    }
-    let doc = json!({
-        "asset": { "version": "2.0", "generator": GENERATOR, "extras": extras },
-        "scene": 0,
-        "scenes": [ { "name": title, "nodes": [0] } ],
-        "nodes": all_nodes,
-        "meshes": meshes,
-        "materials": [ {
-            "name": "pdeshape surface",
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 0.6,
-            },
-            "doubleSided": !closed_given(mesh, glb_parts.iter().fold(0, |x, p| x ^ p.edges)),
-        } ],
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [ { "byteLength": bin_len as u64 } ],
-    });
-    let mut json_bytes =
-        serde_json::to_vec(&doc).map_err(|e| Error::io(format!("writing glTF JSON: {e}")))?;
-    while json_bytes.len() % 4 != 0 {
-        json_bytes.push(b' ');
-    }
-    let bin_padded = bin_len.next_multiple_of(4);
-    let total = 12 + 8 + json_bytes.len() as u128 + 8 + bin_padded;
-    let total = check_u32(total, "bytes", "GLB")?;
-
-    stream(w, "GLB", |out| {
-        out.u32_le(GLB_MAGIC);
-        out.u32_le(2);
-        out.u32_le(total);
-        out.u32_le(json_bytes.len() as u32);
-        out.u32_le(GLB_JSON);
-        out.bytes(&json_bytes);
-        out.u32_le(bin_padded as u32);
-        out.u32_le(GLB_BIN);
-        for gp in &glb_parts {
-            if gp.vertices.is_empty() {
-                continue;
-            }
-            let vs = &gp.vertices;
-            let (positions, normals) = (&mesh.positions, &mesh.normals);
-            out.records(vs.len(), |k| {
-                le3(frame.point(positions[vs[k] as usize]).map(f32::to_bits))
-            })?;
-            out.records(vs.len(), |k| {
-                le3(frame.normal(normals[vs[k] as usize]).map(f32::to_bits))
-            })?;
-            if with_uv {
-                out.records(vs.len(), |k| {
-                    let [u, v] = mesh.uv[vs[k] as usize];
-                    join_bytes::<4, 4, 8>(u.to_le_bytes(), v.to_le_bytes())
-                })?;
-            }
-            let ts = &mesh.triangles[gp.triangles.clone()];
-            out.records(ts.len(), |k| le3(ts[k].map(|i| gp.local(i))))?;
-        }
-        for _ in bin_len..bin_padded {
-            out.bytes(&[0]);
-        }
-        Ok(())
-    })
-}
+#[path = "glb.rs"]
+mod glb;
+pub use glb::{write_glb, write_glb_grids};
 
 // ---------------------------------------------------------------------------------------------
 // CSV
@@ -1327,19 +1103,17 @@ mod tests {
         let mut out = Vec::new();
         let mut parts = Vec::new();
         for part in parts_of(mesh) {
-            let mut number: HashMap<u32, u32> = HashMap::new();
-            let mut order = Vec::new();
-            let mut local = Vec::new();
-            for t in &mesh.triangles[part.triangles.clone()] {
-                for &i in t {
-                    let next = order.len() as u32;
-                    let k = *number.entry(i).or_insert_with(|| {
-                        order.push(i);
-                        next
-                    });
-                    local.push(k);
-                }
-            }
+            // The vertices the part uses, in increasing order.
+            let tris = &mesh.triangles[part.triangles.clone()];
+            let mut order: Vec<u32> = tris.iter().flatten().copied().collect();
+            order.sort_unstable();
+            order.dedup();
+            let number: HashMap<u32, u32> = order
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| (i, k as u32))
+                .collect();
+            let local: Vec<u32> = tris.iter().flatten().map(|i| number[i]).collect();
             if order.is_empty() {
                 continue;
             }
@@ -1353,6 +1127,8 @@ mod tests {
                     hi[c] = hi[c].max(q[c]);
                 }
             }
+            // A zero bound is written `0`, whichever sign the minimum kept.
+            let (lo, hi) = (lo.map(|x| x + 0.0), hi.map(|x| x + 0.0));
             for &i in &order {
                 f32s(&mut out, &frame.normal(mesh.normals[i as usize]));
             }
