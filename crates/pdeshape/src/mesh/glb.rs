@@ -415,6 +415,9 @@ fn write_parts(
                     text.records(0..run.len(), |m| vec3(frame.point(run[m])))
                 })
             })?;
+            // The turns are needed from here on: found (or waited for) on this thread, not
+            // in the thread pool's blocks.
+            plan.prepare();
             out.records(foreign.len(), |m| {
                 vec3(frame.normal(plan.candidate_normal(foreign[m])))
             })?;

@@ -102,9 +102,11 @@ impl<'g> Plan<'g> {
         }
     }
 
-    /// The grids' turns and the candidates' normals (computed by the first caller; others
-    /// wait for it).
-    fn turns(&self) -> &Turns {
+    /// Finds the grids' turns and the candidates' normals, or waits for the thread finding
+    /// them. Call it before [`Plan::own_normals`], [`Plan::local_triangles`] and
+    /// [`Plan::candidate_normal`], on a thread that is not one of the thread pool's: the pool
+    /// is what finds them, so a pool thread waiting here could wait for itself.
+    pub(crate) fn prepare(&self) {
         self.turns.get_or_init(|| {
             let j = &self.joined;
             let topo = topologies(self.grids, j);
@@ -122,7 +124,14 @@ impl<'g> Plan<'g> {
                 flipped,
                 candidates,
             }
-        })
+        });
+    }
+
+    /// What [`Plan::prepare`] found (it never waits: it panics when called too early).
+    fn turns(&self) -> &Turns {
+        self.turns
+            .get()
+            .expect("Plan::prepare runs before the normals and triangles")
     }
 
     /// The grids.
@@ -154,12 +163,6 @@ impl<'g> Plan<'g> {
 
     fn topology(&self, k: usize) -> GridTopology<'_> {
         GridTopology::new(&self.grids[k], &self.joined.source[k], &self.joined.rows[k])
-    }
-
-    /// Finds the grids' turns and the candidates' normals now (the writer starts on the
-    /// positions while this runs).
-    pub(crate) fn prepare(&self) {
-        self.turns();
     }
 
     /// The smallest box `(lo, hi)` around grid `k`'s own vertices (its rows in parallel).

@@ -530,6 +530,21 @@ fn plan_cases() -> Vec<(String, Vec<GridMesh>)> {
         "four columns".into(),
         vec![grid(5, 4, false, |u, v| [u, v, (u * v).sin()])],
     ));
+    // Grids written in several blocks each, on the thread pool: a cup whose wall meets the
+    // base's rim, and a sheet with end columns.
+    out.push((
+        "large cup".into(),
+        vec![
+            grid(300, 400, true, |u, v| [u * v.cos(), u * v.sin(), 0.0]),
+            grid(260, 400, true, |u, v| [v.cos(), v.sin(), u]),
+        ],
+    ));
+    out.push((
+        "large sheet".into(),
+        vec![grid(400, 300, false, |u, v| {
+            [u, v, 0.1 * (3.0 * u * v).sin()]
+        })],
+    ));
     out
 }
 
