@@ -312,15 +312,7 @@ impl GlbFrames {
             "scenes": [ { "name": title, "nodes": [0] } ],
             "nodes": [ { "name": title, "children": [1] }, { "name": "surface", "mesh": 0 } ],
             "meshes": [mesh],
-            "materials": [ {
-                "name": "pdeshape surface",
-                "pbrMetallicRoughness": {
-                    "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
-                    "metallicFactor": 0.0,
-                    "roughnessFactor": 0.6,
-                },
-                "doubleSided": !keys.closed,
-            } ],
+            "materials": [crate::mesh::glb_material(!keys.closed)],
             "accessors": accessors,
             "bufferViews": bin.views,
             "buffers": [ { "byteLength": bin.bytes.len() } ],

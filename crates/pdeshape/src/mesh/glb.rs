@@ -151,15 +151,7 @@ fn document(
         "scenes": [ { "name": title, "nodes": [0] } ],
         "nodes": all_nodes,
         "meshes": meshes,
-        "materials": [ {
-            "name": "pdeshape surface",
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 0.6,
-            },
-            "doubleSided": !closed,
-        } ],
+        "materials": [material(!closed)],
         "accessors": accessors,
         "bufferViews": views,
         "buffers": [ { "byteLength": bin_len as u64 } ],
@@ -170,6 +162,20 @@ fn document(
         json_bytes.push(b' ');
     }
     Ok((json_bytes, bin_len))
+}
+
+/// The one material of a pdeshape glTF file (meshes and animations): matte light grey,
+/// double-sided for an open surface, so both of its sides show.
+pub(crate) fn material(double_sided: bool) -> serde_json::Value {
+    serde_json::json!({
+        "name": "pdeshape surface",
+        "pbrMetallicRoughness": {
+            "baseColorFactor": [0.8, 0.8, 0.82, 1.0],
+            "metallicFactor": 0.0,
+            "roughnessFactor": 0.6,
+        },
+        "doubleSided": double_sided,
+    })
 }
 
 /// The file's header, its JSON chunk and the binary chunk's header, once the total is known to

@@ -12,6 +12,7 @@ pub use trimesh::{Part, TriMesh};
 pub use weld::{
     report, weld, weld_mapped, FrameWeld, MeshReport, WeldOptions, WeldTopology, Welded,
 };
+pub(crate) use writers::glb_material;
 pub use writers::{
     write, write_csv, write_glb, write_glb_grids, write_mesh, write_obj, write_ply, write_stl,
     write_welded, Format, MeshInfo, Units, Up,

@@ -867,6 +867,7 @@ pub fn write_ply(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
 
 #[path = "glb.rs"]
 mod glb;
+pub(crate) use glb::material as glb_material;
 pub use glb::{write_glb, write_glb_grids};
 
 // ---------------------------------------------------------------------------------------------
