@@ -62,8 +62,8 @@ impl PlanPart {
 pub(crate) struct Plan<'g> {
     grids: &'g [GridMesh],
     joined: Joined,
-    /// Each grid's turn and the normals of the weld candidates, found on first use (they are
-    /// not needed for the vertices' positions, which a writer can start with).
+    /// Each grid's turn and the normals of the weld candidates, found by [`Plan::prepare`]
+    /// (they are not needed for the vertices' positions, which a writer can start with).
     turns: OnceLock<Turns>,
     parts: Option<Vec<PlanPart>>,
     closed: Option<bool>,
