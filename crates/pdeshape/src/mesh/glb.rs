@@ -56,8 +56,8 @@ struct PartHead {
 /// The JSON chunk (padded with spaces to four bytes) and the length of the binary one's data,
 /// for parts written one after the other as positions, normals, texture coordinates (with
 /// `with_uv`) and indices. Parts without vertices are left out.
-fn document(
-    heads: &[PartHead],
+fn document<'a>(
+    heads: impl Iterator<Item = &'a PartHead>,
     with_uv: bool,
     closed: bool,
     frame: &Frame,
@@ -69,7 +69,7 @@ fn document(
     let mut meshes: Vec<Value> = Vec::new();
     let mut nodes: Vec<Value> = Vec::new();
     let mut offset: u128 = 0;
-    for (k, head) in heads.iter().enumerate() {
+    for (k, head) in heads.enumerate() {
         if head.vertices == 0 {
             continue;
         }
@@ -317,15 +317,9 @@ pub fn write_glb(mesh: &TriMesh, info: &MeshInfo, w: &mut dyn Write) -> Result<(
         .par_iter()
         .map(|p| GlbPart::new(mesh, p))
         .collect();
-    let heads: Vec<PartHead> = glb_parts
-        .iter()
-        .map(|p| PartHead {
-            name: p.head.name.clone(),
-            ..p.head
-        })
-        .collect();
     let closed = closed_given(mesh, glb_parts.iter().fold(0, |x, p| x ^ p.edges));
-    let (json, bin_len) = document(&heads, with_uv, closed, &frame, info)?;
+    let heads = glb_parts.iter().map(|p| &p.head);
+    let (json, bin_len) = document(heads, with_uv, closed, &frame, info)?;
     let head = Head::new(json, bin_len)?;
     stream(w, "GLB", |out| {
         head.write(out);
@@ -385,7 +379,7 @@ pub fn write_glb_grids(
             }
         })
         .collect();
-    let (json, bin_len) = document(&heads, false, closed, &frame, info)?;
+    let (json, bin_len) = document(heads.iter(), false, closed, &frame, info)?;
     let head = Head::new(json, bin_len)?;
     // The turns (and with them the normals and triangles) are found while the first part's
     // positions are written.

@@ -510,9 +510,9 @@ fn the_topology_of_every_example_is_that_of_counting_every_edge() {
     );
 }
 
-/// Grids whose weld the plan must leave to the mesh, or that test its edges: an end column
-/// collapsed to one point (a fan), the same on both ends, and four-column sheets (the fewest
-/// the plan takes without a periodic `v`).
+/// The weld cases and grids at the edges of what the plan takes: an end column collapsed to
+/// one point (a fan), the same at both ends, a four-column sheet (the fewest columns the plan
+/// takes without a periodic `v`), and grids written in several blocks.
 fn plan_cases() -> Vec<(String, Vec<GridMesh>)> {
     let mut out = cases();
     out.push((
