@@ -40,7 +40,7 @@ pub use params::{
 };
 pub use solved::{
     curve_polyline, grid, ConditionInfo, DesignSurface, Export, NamedCurve, SharedEdge,
-    SolvedDesign, SurfaceKind,
+    SolvedDesign, SurfaceKind, WriteTimings, Written,
 };
 pub use spine::{
     spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport, Wave,
