@@ -10,13 +10,14 @@
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
-use pdeshape::cad::{self, step};
+use pdeshape::cad;
+use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
 use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
 use pdeshape::dynamic::{bending_energy, Frame};
 use pdeshape::fit;
 use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};
-use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec};
+use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec, Units};
 use pdeshape::{Error, Vec3};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
@@ -57,8 +58,9 @@ impl Design {
     }
 
     fn parse(file: String, text: String) -> PyResult<Design> {
-        let spec =
-            spec::parse_design(&text).map_err(|e| err(spec::describe_error(&file, &text, &e)))?;
+        let f = pdeshape::open::DesignFile { file, text };
+        let spec = f.parse_still().map_err(|e| err(e.message))?;
+        let pdeshape::open::DesignFile { file, text } = f;
         Ok(Design {
             file,
             text,
@@ -296,7 +298,8 @@ fn integrals_dict<'py>(py: Python<'py>, i: &Integrals) -> PyResult<Bound<'py, Py
 }
 
 fn parse_format(name: &str, place: &str) -> PyResult<Format> {
-    Format::from_path(Path::new(&format!("x.{name}")))
+    name.parse::<OutputFormat>()
+        .and_then(OutputFormat::mesh)
         .map_err(|e| err(format!("{place} {name}: {}", message_of(&e))))
 }
 
@@ -325,25 +328,8 @@ impl Design {
     /// Reads a design file (TOML).
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Design> {
-        let file = path.display().to_string();
-        let max = spec::limits::MAX_FILE_BYTES;
-        if let Ok(m) = std::fs::metadata(&path) {
-            if m.is_file() && m.len() > max as u64 {
-                return Err(err(format!(
-                    "{file}: the design file has {} bytes; at most {max} (16 MiB) are read",
-                    m.len()
-                )));
-            }
-        }
-        let bytes = std::fs::read(&path)
-            .map_err(|e| err(format!("{file}: cannot read the design file: {e}")))?;
-        let text = String::from_utf8(bytes).map_err(|e| {
-            err(format!(
-                "{file}: the design file is not UTF-8 text (invalid byte at offset {})",
-                e.utf8_error().valid_up_to()
-            ))
-        })?;
-        Design::parse(file, text)
+        let f = pdeshape::open::DesignFile::read(&path).map_err(|e| err(e.message))?;
+        Design::parse(f.file, f.text)
     }
 
     /// A design from TOML text; errors are located in `name`.
@@ -778,7 +764,7 @@ impl Design {
     /// step/stp and igs/iges; by default the path's extension). Meshes and samples take the
     /// grid, `scale`, `up` ("z" or "y"), `separate_patches`; STEP and IGES (every surface as a
     /// B-spline) take `tolerance` (default 1e-4 of the design's size), `units` (default the
-    /// design's) and `timestamp` (Unix seconds of the header's date, default now). The file is
+    /// design's) and `timestamp` (Unix seconds of the header's date, default `SOURCE_DATE_EPOCH`, else now). The file is
     /// written whole or not at all.
     #[pyo3(signature = (path, nu = None, nv = None, format = None, scale = 1.0, up = None,
                         separate_patches = false, tolerance = None, units = None,
@@ -799,12 +785,10 @@ impl Design {
         timestamp: Option<u64>,
     ) -> PyResult<()> {
         let cad_format = match format {
-            Some(f) => CadFormat::from_name(f),
-            None => path
-                .extension()
-                .and_then(|e| e.to_str())
-                .and_then(CadFormat::from_name),
-        };
+            Some(f) => OutputFormat::from_name(f),
+            None => OutputFormat::from_path(&path).ok(),
+        }
+        .filter(|f| f.is_cad());
         if let Some(cad_format) = cad_format {
             let what = "STEP or IGES output (exact B-spline surfaces)";
             for (given, name) in [
@@ -861,9 +845,7 @@ impl Design {
         let (nu, nv) = self.grid(nu, nv)?;
         let solved = self.solved(py)?;
         if solved.surfaces.is_empty() {
-            return Err(self.located(&Error::invalid(
-                "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
-            )));
+            return Err(self.located(&Error::no_surface()));
         }
         let mut bytes = Vec::new();
         py.detach(|| solved.write_with(format, nu, nv, &export, &mut bytes))
@@ -1058,7 +1040,7 @@ impl Design {
         let solved = self.solved(py)?;
         let k = match patch {
             None if solved.surfaces.is_empty() => {
-                return Err(err("patch: the design has no surface"))
+                return Err(err(format!("patch: {}", Error::no_surface())))
             }
             None => 0,
             Some(p) => Design::patch_index(&solved, p)?,
@@ -1233,30 +1215,6 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-/// The CAD formats, by name or extension (`step`/`stp`, `igs`/`iges`, any case).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum CadFormat {
-    Step,
-    Iges,
-}
-
-impl CadFormat {
-    fn from_name(name: &str) -> Option<CadFormat> {
-        match name.to_ascii_lowercase().as_str() {
-            "step" | "stp" => Some(CadFormat::Step),
-            "igs" | "iges" => Some(CadFormat::Iges),
-            _ => None,
-        }
-    }
-}
-
-fn unix_now() -> u64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0)
-}
-
 impl Design {
     /// STEP or IGES as `pdeshape surface -o x.step|x.igs [--tolerance T] [--units U]` writes
     /// them (the header's date from `timestamp`).
@@ -1264,14 +1222,15 @@ impl Design {
         &mut self,
         py: Python<'_>,
         path: &Path,
-        format: CadFormat,
+        format: OutputFormat,
         tolerance: Option<f64>,
         units: Option<&str>,
         timestamp: Option<u64>,
     ) -> PyResult<()> {
         let unit = units
             .map(|u| {
-                step::LengthUnit::parse(u).map_err(|e| err(format!("units: {}", message_of(&e))))
+                u.parse::<Units>()
+                    .map_err(|e| err(format!("units: {}", message_of(&e))))
             })
             .transpose()?;
         if let Some(t) = tolerance {
@@ -1283,15 +1242,9 @@ impl Design {
         }
         let solved = self.solved(py)?;
         if solved.surfaces.is_empty() {
-            return Err(self.located(&Error::invalid(
-                "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
-            )));
+            return Err(self.located(&Error::no_surface()));
         }
-        let unit = match unit {
-            Some(u) => u,
-            None => step::LengthUnit::parse(solved.units.as_str())
-                .map_err(|e| self.located(&e.at("units")))?,
-        };
+        let unit = unit.unwrap_or(solved.units);
         let tolerance = tolerance.unwrap_or(1e-4 * cad::design_size(&solved));
         let model = py
             .detach(|| cad::approximate_design(&solved, tolerance))
@@ -1306,18 +1259,8 @@ impl Design {
             .file_name()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let seconds = timestamp.unwrap_or_else(unix_now);
-        let text = match format {
-            CadFormat::Step => step::to_step(
-                &model,
-                &step::StepOptions {
-                    unit,
-                    file_name,
-                    timestamp: step::step_timestamp(seconds),
-                },
-            ),
-            CadFormat::Iges => cad::to_iges(&model, unit, &file_name, seconds),
-        }
+        let seconds = timestamp.unwrap_or_else(export_timestamp);
+        let text = write_cad(&model, format, unit, &file_name, seconds)
         .map_err(|e| err(format!("path {}: {e}", path.display())))?;
         write_atomically(path, text.as_bytes())
     }

@@ -29,6 +29,14 @@ fn place_prefix(place: &str) -> String {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// A design without a surface asked for a surface's output (a mesh, CAD data, samples):
+    /// the one message every writer and shell gives.
+    pub fn no_surface() -> Self {
+        Self::invalid(
+            "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
+        )
+    }
+
     /// Malformed or out-of-range input, place unknown yet.
     pub fn invalid(message: impl Into<String>) -> Self {
         Error::Invalid {

@@ -3,7 +3,7 @@
 //! samples.
 
 use crate::design::{Export, SolvedDesign};
-use crate::mesh::GridMesh;
+use crate::mesh::{GridMesh, TriMesh};
 use crate::mesh_write::{self as mesh, Format, MeshInfo};
 use crate::{Error, Result};
 use std::io::Write;
@@ -33,6 +33,17 @@ pub trait WriteDesign {
         export: &Export,
         w: &mut dyn Write,
     ) -> Result<Option<Vec<GridMesh>>>;
+
+    /// [`WriteDesign::write_with`], returning what it made (the grids, or a trimmed design's
+    /// triangle mesh, for a picture of the same grid) and how long each step took.
+    fn write_timed(
+        &self,
+        format: Format,
+        nu: usize,
+        nv: usize,
+        export: &Export,
+        w: &mut dyn Write,
+    ) -> Result<Written>;
 
     /// The design's grids written in a mesh format as [`SolvedDesign::weld`] welds them (see
     /// [`mesh::write_welded`]: a GLB is written without building the welded mesh).
@@ -68,6 +79,21 @@ impl WriteDesign for SolvedDesign {
         export: &Export,
         w: &mut dyn Write,
     ) -> Result<Option<Vec<GridMesh>>> {
+        self.write_timed(format, nu, nv, export, w)
+            .map(|written| written.grids)
+    }
+
+    fn write_timed(
+        &self,
+        format: Format,
+        nu: usize,
+        nv: usize,
+        export: &Export,
+        w: &mut dyn Write,
+    ) -> Result<Written> {
+        let ms = |t: std::time::Instant| t.elapsed().as_secs_f64() * 1e3;
+        let mut timings = WriteTimings::default();
+        let t = std::time::Instant::now();
         if !self.trims.is_empty() {
             if format == Format::Csv {
                 let t = &self.trims[0];
@@ -78,15 +104,52 @@ impl WriteDesign for SolvedDesign {
                 ))
                 .at(&t.place));
             }
-            mesh::write_mesh(format, &self.tri_mesh(nu, nv)?, &self.mesh_info(export), w)?;
-            Ok(None)
+            let m = self.tri_mesh(nu, nv)?;
+            timings.tessellate_ms = ms(t);
+            let t = std::time::Instant::now();
+            mesh::write_mesh(format, &m, &self.mesh_info(export), w)?;
+            timings.file_ms = ms(t);
+            Ok(Written {
+                grids: None,
+                tri_mesh: Some(m),
+                timings,
+            })
         } else if format == Format::Csv {
-            mesh::write_csv(&self.samples(nu, nv)?, w)?;
-            Ok(None)
+            let samples = self.samples(nu, nv)?;
+            timings.tessellate_ms = ms(t);
+            let t = std::time::Instant::now();
+            mesh::write_csv(&samples, w)?;
+            timings.file_ms = ms(t);
+            Ok(Written {
+                grids: None,
+                tri_mesh: None,
+                timings,
+            })
         } else {
             let grids = self.meshes(nu, nv)?;
-            self.write_grids(format, &grids, export, w)?;
-            Ok(Some(grids))
+            timings.tessellate_ms = ms(t);
+            let t = std::time::Instant::now();
+            if format == Format::Glb {
+                // Straight from the grids: the weld is planned while the file is written.
+                self.write_grids(format, &grids, export, w)?;
+            } else {
+                let welded = self.weld(&grids, export);
+                timings.weld_ms = ms(t);
+                let t = std::time::Instant::now();
+                mesh::write_mesh(format, &welded, &self.mesh_info(export), w)?;
+                timings.file_ms = ms(t);
+                return Ok(Written {
+                    grids: Some(grids),
+                    tri_mesh: None,
+                    timings,
+                });
+            }
+            timings.file_ms = ms(t);
+            Ok(Written {
+                grids: Some(grids),
+                tri_mesh: None,
+                timings,
+            })
         }
     }
 
@@ -116,6 +179,29 @@ impl WriteDesign for SolvedDesign {
             up: export.up,
         }
     }
+}
+
+/// How long the steps of [`WriteDesign::write_timed`] took, in milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WriteTimings {
+    /// Evaluating the grids (or samples, or a trimmed design's triangle mesh).
+    pub tessellate_ms: f64,
+    /// Welding the grids into one mesh (0 for GLB, whose weld is planned while it is written,
+    /// and for CSV and trimmed designs).
+    pub weld_ms: f64,
+    /// Encoding the file and handing its bytes to the writer.
+    pub file_ms: f64,
+}
+
+/// What [`WriteDesign::write_timed`] made besides the file.
+#[derive(Debug)]
+pub struct Written {
+    /// The grids of a mesh format (not of CSV, nor of a trimmed design).
+    pub grids: Option<Vec<GridMesh>>,
+    /// A trimmed design's triangle mesh.
+    pub tri_mesh: Option<TriMesh>,
+    /// How long each step took.
+    pub timings: WriteTimings,
 }
 
 #[cfg(test)]

@@ -12,5 +12,6 @@ pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
 pub mod cad;
 pub mod design_write;
 pub mod dynamic_output;
+pub mod format;
 pub mod mesh_write;
 pub mod render;

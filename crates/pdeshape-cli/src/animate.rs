@@ -4,11 +4,11 @@
 
 use crate::common::{self, CliError, Loaded, Output};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use pdeshape::anim::{self, Animation, Keyframes, Measures, Morph, Row};
+use pdeshape::anim::{self, Animation, Keyframes, Measures, Row};
 use pdeshape::design::Export;
 use pdeshape::mesh::MeshInfo;
 use pdeshape::render::Polyline;
-use pdeshape::spec::{self, time};
+use pdeshape::spec;
 use pdeshape::Vec3;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -76,62 +76,22 @@ pub struct Animated {
     pub title: Option<String>,
 }
 
-fn read_text(path: &Path) -> Result<String, CliError> {
-    let file = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| CliError::input(format!("{file}: cannot read: {}", common::io_words(&e))))?;
-    String::from_utf8(bytes)
-        .map_err(|_| CliError::input(format!("{file}: the design file is not UTF-8 text")))
-}
-
-/// Reads a timed design or a morph file.
+/// Reads a timed design or a morph file ([`pdeshape::open::open_animation`]).
 pub fn load(path: &Path) -> Result<Animated, CliError> {
-    let file = path.display().to_string();
-    let text = read_text(path)?;
-    let located =
-        |f: &str, t: &str, e: &pdeshape::Error| CliError::input(spec::describe_error(f, t, e));
-    match time::parse_morph_file(&text).map_err(|e| located(&file, &text, &e))? {
-        Some(mf) => {
-            let dir = path.parent().unwrap_or(Path::new("."));
-            let source = common::load(&dir.join(&mf.morph.source))?;
-            let target = common::load(&dir.join(&mf.morph.target))?;
-            let morph = Morph::new(&source.text, &target.text).map_err(|e| {
-                CliError::input(format!(
-                    "{file}: morph: {}",
-                    spec::describe_error(&source.file, &source.text, &e)
-                ))
-            })?;
-            let spec = morph
-                .at(0.0)
-                .map_err(|e| located(&source.file, &source.text, &e))?;
-            Ok(Animated {
-                anim: Animation::Morph {
-                    morph,
-                    time: mf.time,
-                    ease: mf.morph.ease,
-                },
-                design: Loaded {
-                    file: source.file,
-                    text: source.text,
-                    spec,
-                },
-                output: mf.output,
-                title: mf.title,
-            })
-        }
-        None => {
-            let timed = time::parse_timed(&text).map_err(|e| located(&file, &text, &e))?;
-            let spec = timed
-                .at(timed.time.start)
-                .map_err(|e| located(&file, &text, &e))?;
-            Ok(Animated {
-                output: spec.output.clone(),
-                title: spec.title.clone(),
-                anim: Animation::Timed(timed),
-                design: Loaded { file, text, spec },
-            })
-        }
-    }
+    let o = pdeshape::open::open_animation(path).map_err(common::opened)?;
+    let anim = o
+        .animation
+        .expect("open_animation always gives an animation");
+    Ok(Animated {
+        anim,
+        design: Loaded {
+            file: o.design.file,
+            text: o.design.text,
+            spec: o.spec,
+        },
+        output: o.output,
+        title: o.title,
+    })
 }
 
 /// The design of `path` at time `t` (`pdeshape surface --time`).
@@ -179,28 +139,13 @@ pub(crate) fn frame_box(lo: [f64; 3], hi: [f64; 3]) -> Polyline {
     }
 }
 
-fn check_extension(path: &Path, ext: &str, flag: &str) -> Result<(), CliError> {
-    let ok = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
-    if ok {
-        Ok(())
-    } else {
-        Err(CliError::input(format!(
-            "{flag} {}: must end in .{ext}",
-            path.display()
-        )))
-    }
-}
-
 pub fn run(args: &Args) -> Result<(), CliError> {
-    check_extension(&args.output, "glb", "-o")?;
+    common::check_extension(&args.output, "-o", "glb")?;
     if let Some(p) = &args.csv {
-        check_extension(p, "csv", "--csv")?;
+        common::check_extension(p, "--csv", "csv")?;
     }
     if let Some(p) = &args.plot {
-        check_extension(p, "svg", "--plot")?;
+        common::check_extension(p, "--plot", "svg")?;
     }
     if !(args.scale.is_finite() && args.scale > 0.0) {
         return Err(CliError::input(format!(

@@ -20,26 +20,13 @@ const SHEET_FRAMES: usize = 12;
 const SHEET_COLUMNS: u32 = 4;
 
 fn extension_is(path: &Path, ext: &str) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    pdeshape::format::has_extension(path, ext)
 }
 
+/// `--picture-size WIDTHxHEIGHT` ([`pdeshape::format::parse_size`]).
 fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
-    let bad = || {
-        CliError::input(format!(
-            "--picture-size: expected WIDTHxHEIGHT such as 480x360 (got '{s}')"
-        ))
-    };
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if w < 16 || h < 16 || w > 4096 || h > 4096 {
-        return Err(CliError::input(format!(
-            "--picture-size: width and height must be between 16 and 4096 (got {w}x{h})"
-        )));
-    }
-    Ok((w, h))
+    pdeshape::format::parse_size(s)
+        .map_err(|e| CliError::input(format!("--picture-size: {}", crate::common::message_of(&e))))
 }
 
 /// Checks the flags before any work: extensions, the pairing of `--retarget` with

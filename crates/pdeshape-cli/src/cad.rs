@@ -3,46 +3,22 @@
 //! IGES file back and measure it against the design.
 
 use crate::common::{self, CliError, Output};
-use pdeshape::cad::{self, read, step};
+use pdeshape::cad::{self, read};
+use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
+use pdeshape::spec::Units;
 use std::path::{Path, PathBuf};
-
-/// The CAD formats, by extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CadFormat {
-    Step,
-    Iges,
-}
-
-impl CadFormat {
-    /// `.step`/`.stp` or `.igs`/`.iges` (any case); `None` for anything else.
-    pub fn from_path(path: &Path) -> Option<CadFormat> {
-        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-        match ext.as_str() {
-            "step" | "stp" => Some(CadFormat::Step),
-            "igs" | "iges" => Some(CadFormat::Iges),
-            _ => None,
-        }
-    }
-}
-
-fn now() -> u64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map(|d| d.as_secs())
-        .unwrap_or(0)
-}
 
 /// Writes the design's surfaces as STEP or IGES.
 pub fn write(
     design_path: &Path,
     output: &Path,
-    format: CadFormat,
+    format: OutputFormat,
     tolerance: Option<f64>,
     units: Option<&str>,
 ) -> Result<(), CliError> {
     let unit = units
         .map(|u| {
-            step::LengthUnit::parse(u)
+            u.parse::<Units>()
                 .map_err(|e| CliError::input(format!("--units: {}", common::message_of(&e))))
         })
         .transpose()?;
@@ -58,14 +34,11 @@ pub fn write(
     let mut out = Output::create(output)?;
     let solved = design.build()?;
     if solved.surfaces.is_empty() {
-        return Err(design.error(&pdeshape::Error::invalid(
-            "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
-        )));
+        return Err(design.error(&pdeshape::Error::no_surface()));
     }
     let unit = match unit {
         Some(u) => u,
-        None => step::LengthUnit::parse(solved.units.as_str())
-            .map_err(|e| design.error(&e.at("units")))?,
+        None => solved.units,
     };
     let size = cad::design_size(&solved);
     let tolerance = tolerance.unwrap_or(1e-4 * size);
@@ -81,18 +54,8 @@ pub fn write(
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let text = match format {
-        CadFormat::Step => step::to_step(
-            &model,
-            &step::StepOptions {
-                unit,
-                file_name,
-                timestamp: step::step_timestamp(now()),
-            },
-        ),
-        CadFormat::Iges => cad::to_iges(&model, unit, &file_name, now()),
-    }
-    .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    let text = write_cad(&model, format, unit, &file_name, export_timestamp())
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     out.write_all(text.as_bytes())?;
     out.commit()?;
     let dest = crate::common::destination(output);
@@ -100,7 +63,7 @@ pub fn write(
         "wrote {dest}: {} B-spline surface(s), tolerance {tolerance:.3e} ({:.1e} of the design size {size:.4}), unit {}\n",
         model.surfaces.len(),
         tolerance / size,
-        unit.name()
+        unit.as_str()
     );
     for s in &model.surfaces {
         let [nu, nv] = s.approx.net.counts();
@@ -156,16 +119,19 @@ pub fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
         }
     }
     let shown = args.file.display().to_string();
-    let format = CadFormat::from_path(&args.file).ok_or_else(|| {
-        CliError::input(format!(
-            "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
-        ))
-    })?;
+    let format = OutputFormat::from_path(&args.file)
+        .ok()
+        .filter(|f| f.is_cad())
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
+            ))
+        })?;
     let text = std::fs::read_to_string(&args.file)
         .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let read = match format {
-        CadFormat::Step => read::read_step(&text),
-        CadFormat::Iges => read::read_iges(&text),
+        OutputFormat::Step => read::read_step(&text),
+        _ => read::read_iges(&text),
     }
     .map_err(|e| CliError::input(format!("{shown}: {}", common::message_of(&e))))?;
     let design = common::load(&args.design)?;

@@ -2,6 +2,7 @@
 //! writing an output file atomically.
 
 use pdeshape::design::{self, SolvedDesign};
+use pdeshape::format::OutputFormat;
 use pdeshape::spec::{self, DesignSpec};
 use pdeshape::Error;
 use std::io::Write;
@@ -104,40 +105,21 @@ pub fn message_of(e: &Error) -> String {
     }
 }
 
-/// Reads and parses a design file.
+/// Reads and parses a design file (the library's [`pdeshape::open`]: one size limit, one
+/// treatment of directories, FIFOs and symlinks; a timed design at its start time).
 pub fn load(path: &Path) -> Result<Loaded, CliError> {
-    let file = path.display().to_string();
-    let max = pdeshape::spec::limits::MAX_FILE_BYTES;
-    if let Ok(m) = std::fs::metadata(path) {
-        if m.is_file() && m.len() > max as u64 {
-            return Err(CliError::input(format!(
-                "{file}: the design file has {} bytes; at most {max} (16 MiB) are read",
-                m.len()
-            )));
-        }
-    }
-    let bytes = std::fs::read(path).map_err(|e| {
-        CliError::input(format!(
-            "{file}: cannot read the design file: {}",
-            io_words(&e)
-        ))
-    })?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        CliError::input(format!(
-            "{file}: the design file is not UTF-8 text (invalid byte at offset {at})"
-        ))
-    })?;
-    // A design whose numbers are formulas in t (spec::time) or that has a `[rig]` is read at
-    // its start time; its errors are the timed reader's (the plain reader knows no `[rig]`).
-    let spec = spec::parse_design(&text)
-        .or_else(|e| match spec::time::parse_timed(&text) {
-            Ok(d) if d.depends_on_time() => d.at(d.time.start),
-            Err(timed) if text.contains("\"=") || text.contains("[rig") => Err(timed),
-            _ => Err(e),
-        })
-        .map_err(|e| CliError::input(spec::describe_error(&file, &text, &e)))?;
-    Ok(Loaded { file, text, spec })
+    let f = pdeshape::open::DesignFile::read(path).map_err(opened)?;
+    let spec = f.parse_still().map_err(opened)?;
+    Ok(Loaded {
+        file: f.file,
+        text: f.text,
+        spec,
+    })
+}
+
+/// A file that could not be opened: its one line.
+pub fn opened(e: pdeshape::open::OpenError) -> CliError {
+    CliError::input(e.message)
 }
 
 /// `--quiet`: no "wrote …" lines and no progress bars.
@@ -491,20 +473,7 @@ impl Drop for Output {
 }
 
 /// An I/O error in words, without the "(os error N)" suffix.
-pub fn io_words(e: &std::io::Error) -> String {
-    use std::io::ErrorKind::*;
-    match e.kind() {
-        NotFound => "no such file or directory".to_string(),
-        PermissionDenied => "permission denied".to_string(),
-        _ => {
-            let s = e.to_string();
-            match s.find(" (os error") {
-                Some(i) => s[..i].to_string(),
-                None => s,
-            }
-        }
-    }
-}
+pub use pdeshape::open::io_words;
 
 /// The path whose extension picks the output format: `--format` when given (it wins over the
 /// extension), else `-o`'s own; `-o -` (standard output) needs `--format`.
@@ -528,6 +497,53 @@ pub fn format_path(
             "-o -: writing to standard output needs --format ({formats})"
         ))),
         None => Ok(output.to_path_buf()),
+    }
+}
+
+/// The mesh or sample format of an output: `--format` when given (it wins over the
+/// extension), else `-o`'s extension ([`OutputFormat`]); `-o -` (standard output) needs
+/// `--format`. Errors name the flag.
+pub fn output_format(
+    output: &Path,
+    format: Option<&str>,
+    formats: &str,
+) -> Result<pdeshape::mesh::Format, CliError> {
+    let (flag, shown, parsed) = match format {
+        Some(f) => {
+            let name = f.trim_start_matches('.');
+            if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric()) {
+                return Err(CliError::input(format!(
+                    "--format: '{}' is not a format: use {formats}",
+                    shorten(name, 40)
+                )));
+            }
+            ("--format", f.to_string(), name.parse::<OutputFormat>())
+        }
+        None if Output::is_stdout(output) => {
+            return Err(CliError::input(format!(
+                "-o -: writing to standard output needs --format ({formats})"
+            )))
+        }
+        None => (
+            "-o",
+            output.display().to_string(),
+            OutputFormat::from_path(output),
+        ),
+    };
+    parsed
+        .and_then(OutputFormat::mesh)
+        .map_err(|e| CliError::input(format!("{flag} {shown}: {}", message_of(&e))))
+}
+
+/// Refuses an output path of `flag` that does not end in `.ext` (any case).
+pub fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
+    if pdeshape::format::has_extension(path, ext) {
+        Ok(())
+    } else {
+        Err(CliError::input(format!(
+            "{flag} {}: must end in .{ext}",
+            path.display()
+        )))
     }
 }
 

@@ -1,9 +1,7 @@
 //! `pdeshape render DESIGN -o shape.png`: the shaded surface with its position curves and spine.
 
 use crate::common::{self, CliError, Output};
-// MAX_SIDE: the largest picture side of the limits table (pixels are also priced against the
-// memory budget).
-use pdeshape::render::{render_png, RenderOptions, MAX_SIDE};
+use pdeshape::render::{render_png, RenderOptions};
 use pdeshape::Vec3;
 use std::path::PathBuf;
 
@@ -93,21 +91,10 @@ fn shear_colors(
     Ok((colors, lo, hi, peak))
 }
 
+/// `--size WIDTHxHEIGHT` ([`pdeshape::format::parse_size`]).
 fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
-    let bad = || {
-        CliError::input(format!(
-            "--size: expected WIDTHxHEIGHT such as 800x600 (got '{s}')"
-        ))
-    };
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-    let w: u32 = w.trim().parse().map_err(|_| bad())?;
-    let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
-        return Err(CliError::input(format!(
-            "--size: width and height must be between 1 and {MAX_SIDE} (got {w}x{h})"
-        )));
-    }
-    Ok((w, h))
+    pdeshape::format::parse_size(s)
+        .map_err(|e| CliError::input(format!("--size: {}", crate::common::message_of(&e))))
 }
 
 pub(crate) fn parse_view(s: &str) -> Result<Vec3, CliError> {

@@ -149,15 +149,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             out.write_all(b"\n")?;
         }
         Kind::Iges => {
-            let seconds = std::env::var("SOURCE_DATE_EPOCH")
-                .ok()
-                .and_then(|s| s.parse::<u64>().ok())
-                .unwrap_or_else(|| {
-                    std::time::SystemTime::now()
-                        .duration_since(std::time::UNIX_EPOCH)
-                        .map(|d| d.as_secs())
-                        .unwrap_or(0)
-                });
+            let seconds = pdeshape::format::export_timestamp();
             let name = args
                 .output
                 .file_name()

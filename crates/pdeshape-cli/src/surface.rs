@@ -1,9 +1,10 @@
 //! `pdeshape surface DESIGN -o OUT`: solve, tessellate, write (obj, stl, ply, glb, csv).
 
+use pdeshape::design::WriteDesign as _;
 use crate::common::{self, CliError, Output};
 use pdeshape::design::Export;
-use pdeshape::design::WriteDesign as _;
-use pdeshape::mesh::{self, Format, Up};
+use pdeshape::format::OutputFormat;
+use pdeshape::mesh::{Format, Up};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -109,7 +110,10 @@ fn ms(t: Instant) -> f64 {
 }
 
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if let Some(cad) = crate::cad::CadFormat::from_path(&args.output) {
+    let cad = OutputFormat::from_path(&args.output)
+        .ok()
+        .filter(|f| f.is_cad());
+    if let Some(cad) = cad {
         // STEP/IGES carry the exact surfaces, not a grid, in the design's own axes and size.
         let what = "STEP or IGES output (exact B-spline surfaces)";
         common::refuse_grid_flags(args.nu, args.nv, "STEP or IGES output")?;
@@ -128,20 +132,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         );
     }
     let shown = args.output.display().to_string();
-    let fpath = common::format_path(
+    let format = common::output_format(
         &args.output,
         args.format.as_deref(),
         "obj, stl, ply, glb or csv",
     )?;
-    let flag = if args.format.is_some() {
-        "--format"
-    } else {
-        "-o"
-    };
-    let format = Format::from_path(&fpath).map_err(|e| {
-        let shown = args.format.as_deref().unwrap_or(&shown);
-        CliError::input(format!("{flag} {shown}: {}", common::message_of(&e)))
-    })?;
     let what = "mesh and sample output (only STEP and IGES)";
     common::refuse_flag(args.tolerance.is_some(), "--tolerance", what)?;
     common::refuse_flag(args.units.is_some(), "--units", what)?;
@@ -179,9 +174,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     let solved = design.build()?;
     let solve_ms = ms(t);
     if solved.surfaces.is_empty() {
-        return Err(design.error(&pdeshape::Error::invalid(
-            "the design has no surface (only a [dynamic] curve: `pdeshape curve` runs it)",
-        )));
+        return Err(design.error(&pdeshape::Error::no_surface()));
     }
     // A grid-evaluation error names a condition curve of the design: locate it in the file.
     let located = |e: pdeshape::Error| {
@@ -197,61 +190,43 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 "--color: curvature colours are not drawn on trimmed designs yet",
             ));
         }
-        return write_trimmed(
-            &solved,
-            format,
-            nu,
-            nv,
-            &export,
-            out,
-            picture_out,
-            &shown,
-            &located,
-        );
+        if format == Format::Csv {
+            let origin = solved.trim_origin().unwrap_or_default();
+            return Err(CliError::input(format!(
+                "-o {shown}: csv stores full grids of samples; {origin}: a trimmed design is \
+                 written as obj, stl, ply or glb"
+            )));
+        }
     }
-    let t = Instant::now();
-    let (meshes, samples) = if format == Format::Csv {
-        (None, Some(solved.samples(nu, nv).map_err(located)?))
-    } else {
-        (Some(solved.meshes(nu, nv).map_err(located)?), None)
-    };
-    let tessellate_ms = ms(t);
     let t = Instant::now();
     let mut w = out.writer();
-    let mut weld_ms = 0.0;
-    match (&meshes, &samples) {
-        (_, Some(samples)) => mesh::write_csv(samples, &mut w),
-        // Straight from the grids: the weld is planned while the file is written.
-        (Some(meshes), _) if format == Format::Glb => {
-            solved.write_grids(format, meshes, &export, &mut w)
-        }
-        (Some(meshes), _) => {
-            let welded = solved.weld(meshes, &export);
-            weld_ms = ms(t);
-            mesh::write_mesh(format, &welded, &solved.mesh_info(&export), &mut w)
-        }
-        (None, None) => unreachable!("one of the two was made"),
-    }
-    .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+    let written = solved
+        .write_timed(format, nu, nv, &export, &mut w)
+        .map_err(located)?;
     w.flush()
         .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
     drop(w);
-    let write_ms = ms(t);
+    let tessellate_ms = written.timings.tessellate_ms;
+    let weld_ms = written.timings.weld_ms;
+    let write_ms = ms(t) - tessellate_ms;
     let file_ms = write_ms - weld_ms;
     // The picture is drawn before anything is committed, so a failure leaves neither file.
     if let Some(pic) = picture_out.as_mut() {
-        let meshes = match meshes {
-            Some(m) => m,
-            None => solved.meshes(nu, nv).map_err(located)?,
-        };
         let options = pdeshape::render::RenderOptions::default();
-        let png = match args.color {
-            None => pdeshape::render::render_png(
-                &meshes,
-                &pdeshape::render::overlay_lines(&solved.overlays()),
-                &options,
-            ),
-            Some(by) => {
+        let png = match (written.tri_mesh, args.color) {
+            (Some(m), _) => pdeshape::render::render_png_tri(&m, &pdeshape::render::overlay_lines(&solved.overlays()), &options),
+            (None, None) => {
+                let meshes = match written.grids {
+                    Some(m) => m,
+                    None => solved.meshes(nu, nv).map_err(located)?,
+                };
+                pdeshape::render::render_png(&meshes, &pdeshape::render::overlay_lines(&solved.overlays()), &options)
+            }
+            (None, Some(by)) => {
+                let meshes = match written.grids {
+                    Some(m) => m,
+                    None => solved.meshes(nu, nv).map_err(located)?,
+                };
                 let (colors, lo, hi) =
                     crate::analyze::curvature_colors(&solved, &meshes, by, None)?;
                 let bar = crate::render::curvature_bar(by, lo, hi, false);
@@ -305,50 +280,5 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         "wrote {dest}: {n} patch{}, {nu} × {nv} grid{fd}{picture}\n",
         if n == 1 { "" } else { "es" }
     ));
-    Ok(())
-}
-
-/// A design with `[[trims]]`: one indexed triangle mesh (the trimmed surfaces re-meshed around
-/// their holes), written in a mesh format, and its picture.
-#[allow(clippy::too_many_arguments)]
-fn write_trimmed(
-    solved: &pdeshape::design::SolvedDesign,
-    format: Format,
-    nu: usize,
-    nv: usize,
-    export: &Export,
-    mut out: Output,
-    picture_out: Option<Output>,
-    shown: &str,
-    located: &dyn Fn(pdeshape::Error) -> CliError,
-) -> Result<(), CliError> {
-    if format == Format::Csv {
-        let origin = solved.trim_origin().unwrap_or_default();
-        return Err(CliError::input(format!(
-            "-o {shown}: csv stores full grids of samples; {origin}: a trimmed design is \
-             written as obj, stl, ply or glb"
-        )));
-    }
-    let m = solved.tri_mesh(nu, nv).map_err(located)?;
-    let mut w = out.writer();
-    mesh::write_mesh(format, &m, &solved.mesh_info(export), &mut w)
-        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-    w.flush()
-        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-    drop(w);
-    let mut picture_out = picture_out;
-    if let Some(pic) = picture_out.as_mut() {
-        let png = pdeshape::render::render_png_tri(
-            &m,
-            &pdeshape::render::overlay_lines(&solved.overlays()),
-            &pdeshape::render::RenderOptions::default(),
-        )
-        .map_err(|e| CliError::input(e.to_string()))?;
-        pic.write_all(&png)?;
-    }
-    out.commit()?;
-    if let Some(pic) = picture_out {
-        pic.commit()?;
-    }
     Ok(())
 }

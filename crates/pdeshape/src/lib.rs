@@ -31,13 +31,15 @@ pub use pdeshape_geometry::{
     surface,
 };
 pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
-pub use pdeshape_io::{cad, dynamic_output, render};
+pub use pdeshape_io::{cad, dynamic_output, format, render};
+
+pub mod open;
 
 /// Designs: compile, edit, solve, and write (the design layer's `design` with the writing of
 /// `pdeshape-io`).
 pub mod design {
     pub use pdeshape_design::design::*;
-    pub use pdeshape_io::design_write::WriteDesign;
+    pub use pdeshape_io::design_write::{WriteDesign, WriteTimings, Written};
 }
 
 /// Tessellation, triangle meshes, the weld, and the writers of mesh and sample formats.

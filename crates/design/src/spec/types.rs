@@ -148,6 +148,44 @@ impl Units {
             Units::Inch => "in",
         }
     }
+
+    /// Millimetres per unit.
+    pub fn millimetres(self) -> f64 {
+        match self {
+            Units::Millimetre => 1.0,
+            Units::Centimetre => 10.0,
+            Units::Metre => 1000.0,
+            Units::Inch => 25.4,
+        }
+    }
+
+    /// Parses `mm`, `cm`, `m` or `in` (also spelt out: `millimetre`, `meter`, `inch`, …; any
+    /// case, spaces around ignored).
+    pub fn parse(s: &str) -> crate::Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "mm" | "millimetre" | "millimeter" => Ok(Units::Millimetre),
+            "cm" | "centimetre" | "centimeter" => Ok(Units::Centimetre),
+            "m" | "metre" | "meter" => Ok(Units::Metre),
+            "in" | "inch" => Ok(Units::Inch),
+            other => Err(crate::Error::invalid(format!(
+                "unknown length unit `{other}` (mm, cm, m or in)"
+            ))),
+        }
+    }
+}
+
+impl std::str::FromStr for Units {
+    type Err = crate::Error;
+
+    fn from_str(s: &str) -> crate::Result<Self> {
+        Units::parse(s)
+    }
+}
+
+impl std::fmt::Display for Units {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
 }
 
 /// The operator `Σ c_k ∂u^{2N−2k} ∂v^{2k}` of order `2N`.

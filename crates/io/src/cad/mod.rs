@@ -273,14 +273,9 @@ pub fn to_iges(
         IgesOptions, IgesSurface, IgesUnit, IGES_DEPENDENT, IGES_INDEPENDENT, IGES_PARAMETRIC,
     };
     if model.surfaces.is_empty() {
-        return Err(Error::invalid("the design has no surface to write"));
+        return Err(Error::no_surface());
     }
-    let unit = match unit {
-        step::LengthUnit::Millimetre => IgesUnit::MILLIMETRE,
-        step::LengthUnit::Centimetre => IgesUnit::CENTIMETRE,
-        step::LengthUnit::Metre => IgesUnit::METRE,
-        step::LengthUnit::Inch => IgesUnit::INCH,
-    };
+    let unit = IgesUnit::from(unit);
     let ascii = |s: &str| -> String {
         s.chars()
             .map(|c| {

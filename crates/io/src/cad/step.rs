@@ -19,47 +19,9 @@ use crate::spline::BSplineSurface;
 use crate::{Error, Result, Vec3};
 use std::fmt::Write as _;
 
-/// The length unit a file declares (coordinates are written as they are).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LengthUnit {
-    Millimetre,
-    Centimetre,
-    Metre,
-    Inch,
-}
-
-impl LengthUnit {
-    /// Parses `mm`, `cm`, `m` or `in`/`inch`.
-    pub fn parse(s: &str) -> Result<Self> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "mm" | "millimetre" | "millimeter" => Ok(LengthUnit::Millimetre),
-            "cm" | "centimetre" | "centimeter" => Ok(LengthUnit::Centimetre),
-            "m" | "metre" | "meter" => Ok(LengthUnit::Metre),
-            "in" | "inch" => Ok(LengthUnit::Inch),
-            other => Err(Error::invalid(format!(
-                "unknown length unit `{other}` (mm, cm, m or in)"
-            ))),
-        }
-    }
-    /// The short name (`mm`, `cm`, `m`, `in`).
-    pub fn name(self) -> &'static str {
-        match self {
-            LengthUnit::Millimetre => "mm",
-            LengthUnit::Centimetre => "cm",
-            LengthUnit::Metre => "m",
-            LengthUnit::Inch => "in",
-        }
-    }
-    /// Millimetres per unit.
-    pub fn millimetres(self) -> f64 {
-        match self {
-            LengthUnit::Millimetre => 1.0,
-            LengthUnit::Centimetre => 10.0,
-            LengthUnit::Metre => 1000.0,
-            LengthUnit::Inch => 25.4,
-        }
-    }
-}
+/// The length unit a file declares (coordinates are written as they are): the design's
+/// [`Units`](crate::spec::Units), under the name this module has always used.
+pub use crate::spec::Units as LengthUnit;
 
 /// Options of a STEP file.
 #[derive(Clone, Debug)]
@@ -380,7 +342,7 @@ fn refs(ids: &[usize]) -> String {
 /// The model as a STEP file.
 pub fn to_step(model: &CadModel, opts: &StepOptions) -> Result<String> {
     if model.surfaces.is_empty() {
-        return Err(Error::invalid("the design has no surface to write"));
+        return Err(Error::no_surface());
     }
     let nets: Vec<&BSplineSurface> = model.surfaces.iter().map(|s| &s.approx.net).collect();
     if nets

@@ -30,24 +30,17 @@ pub enum Format {
 const EXTENSIONS_HINT: &str = "use .obj, .stl, .ply, .glb or .csv";
 
 impl Format {
-    /// The format for a path's extension (case-insensitive): obj, stl, ply, glb, csv.
+    /// The format for a path's extension (case-insensitive): obj, stl, ply, glb, csv (the
+    /// mesh and sample formats of [`crate::format::OutputFormat::from_path`]).
     pub fn from_path(path: &std::path::Path) -> Result<Format> {
-        let Some(ext) = path.extension() else {
-            return Err(Error::invalid(format!(
-                "output path '{}' has no extension: {EXTENSIONS_HINT}",
-                path.display()
-            )));
-        };
-        let ext = ext.to_string_lossy();
-        match ext.to_ascii_lowercase().as_str() {
-            "obj" => Ok(Format::Obj),
-            "stl" => Ok(Format::Stl),
-            "ply" => Ok(Format::Ply),
-            "glb" => Ok(Format::Glb),
-            "csv" => Ok(Format::Csv),
-            _ => Err(Error::invalid(format!(
-                "unknown output extension '.{ext}': {EXTENSIONS_HINT}"
-            ))),
+        match crate::format::OutputFormat::from_path(path)? {
+            f if f.is_cad() => {
+                let ext = path.extension().unwrap_or_default().to_string_lossy();
+                Err(Error::invalid(format!(
+                    "unknown output extension '.{ext}': {EXTENSIONS_HINT}"
+                )))
+            }
+            f => f.mesh(),
         }
     }
 

@@ -4,13 +4,11 @@
 //! temporary file beside the target, renamed over it).
 
 use super::error::ApiError;
-use crate::common::Loaded;
-use pdeshape::anim::{Animation, Morph};
-use pdeshape::spec::{self, time, DesignSpec};
+use pdeshape::anim::Animation;
+use pdeshape::open::{self, OpenError, OpenErrorKind};
+use pdeshape::spec::DesignSpec;
 use std::path::{Component, Path, PathBuf};
 
-/// Largest design file the designer reads.
-pub const MAX_FILE_BYTES: u64 = 4 << 20;
 /// Design files listed at most, and how deep the listing looks.
 const MAX_LISTED: usize = 500;
 const MAX_DEPTH: usize = 4;
@@ -62,35 +60,34 @@ fn inside(root: &Path, rel: &str, resolved: &Path) -> Result<(), ApiError> {
     }
 }
 
-/// Resolves `rel` inside `root` to an existing regular file no larger than [`MAX_FILE_BYTES`].
+/// Resolves `rel` inside `root` (symlinks resolved) to a path that must stay inside it.
 fn existing_file(root: &Path, rel: &str) -> Result<PathBuf, ApiError> {
     let path = checked_join(root, rel)?;
     let resolved = path.canonicalize().map_err(|e| {
         ApiError::not_found(format!("'{rel}': cannot open the design file: {e}"), "path")
     })?;
     inside(root, rel, &resolved)?;
-    let meta = std::fs::metadata(&resolved)
-        .map_err(|e| ApiError::not_found(format!("'{rel}': {e}"), "path"))?;
-    if !meta.is_file() {
-        return Err(ApiError::not_found(format!("'{rel}': not a file"), "path"));
-    }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(ApiError::unprocessable(
-            format!("'{rel}': larger than {MAX_FILE_BYTES} bytes"),
-            "path",
-        ));
-    }
     Ok(resolved)
 }
 
-/// Reads and parses the design file `rel` inside `root`; returns the path as shown and the
-/// loaded design. Parse errors are located as `file:line:col`.
-pub fn load_design(root: &Path, rel: &str) -> Result<(String, Loaded), ApiError> {
-    let resolved = existing_file(root, rel)?;
-    let loaded = crate::common::load(&resolved).map_err(|e| {
-        ApiError::unprocessable(e.message.replace(&*resolved.to_string_lossy(), rel), "path")
-    })?;
-    Ok((rel.to_string(), loaded))
+/// The library's refusal of a file as the designer answers it: a file that cannot be read (or
+/// is not a regular file) is not found, one too large or not a design cannot be processed.
+/// The place is the path's (the message locates the error in the file), or a morph's key.
+fn refused(e: OpenError) -> ApiError {
+    let place = if e.place.starts_with("morph") {
+        e.place.as_str()
+    } else {
+        "path"
+    };
+    match e.kind {
+        OpenErrorKind::Unreadable | OpenErrorKind::NotAFile => {
+            ApiError::not_found(e.message, place)
+        }
+        OpenErrorKind::TooLarge | OpenErrorKind::Invalid => {
+            ApiError::unprocessable(e.message, place)
+        }
+        OpenErrorKind::Refused => ApiError::forbidden(e.message, place),
+    }
 }
 
 /// A design file as the designer opens it: the design (at its start time, if it depends on
@@ -102,81 +99,44 @@ pub struct Opened {
     pub animation: Option<Animation>,
 }
 
-/// Reads the design file `rel` inside `root`, time-dependent or not. A morph's source and
-/// target must lie inside `root` too.
+/// Opens the design file `rel` inside `root` ([`pdeshape::open::open_with`]), time-dependent
+/// or not. A morph's source and target must lie inside `root` too (`..` is allowed in them as
+/// long as the file stays inside).
 pub fn open_design(root: &Path, rel: &str) -> Result<Opened, ApiError> {
     let resolved = existing_file(root, rel)?;
-    let text = std::fs::read_to_string(&resolved)
-        .map_err(|e| ApiError::unprocessable(format!("'{rel}': cannot read it: {e}"), "path"))?;
-    let located = |file: &str, text: &str, e: &pdeshape::Error| {
-        ApiError::unprocessable(spec::describe_error(file, text, e), e.place())
-    };
-    if let Some(mf) = time::parse_morph_file(&text).map_err(|e| located(rel, &text, &e))? {
-        let dir = Path::new(rel).parent().unwrap_or(Path::new(""));
-        let read = |other: &str, key: &str| -> Result<(String, String), ApiError> {
-            let joined = dir.join(other);
-            // `..` is allowed here as long as the file stays inside the start directory.
-            let full = root.join(&joined).canonicalize().map_err(|e| {
-                ApiError::not_found(
-                    format!("{rel}: morph.{key}: cannot open '{other}': {e}"),
-                    &format!("morph.{key}"),
-                )
-            })?;
-            if !full.starts_with(root) {
-                return Err(ApiError::forbidden(
-                    format!("{rel}: morph.{key}: '{other}' lies outside the directory the server was started in"),
-                    &format!("morph.{key}"),
-                ));
-            }
-            let shown = full
-                .strip_prefix(root)
-                .map(|p| p.to_string_lossy().into_owned())
-                .unwrap_or_else(|_| other.to_string());
-            let (_, loaded) = load_design(root, &shown)?;
-            Ok((shown, loaded.text))
+    let dir = Path::new(rel).parent().unwrap_or(Path::new(""));
+    let resolve = |key: &str, other: &str| -> Result<(PathBuf, String), OpenError> {
+        let refuse = |kind, message: String| OpenError {
+            message,
+            place: format!("morph.{key}"),
+            kind,
         };
-        let (source_file, source) = read(&mf.morph.source, "source")?;
-        let (_, target) = read(&mf.morph.target, "target")?;
-        let morph = Morph::new(&source, &target).map_err(|e| {
-            ApiError::unprocessable(
-                format!(
-                    "{rel}: morph: {}",
-                    spec::describe_error(&source_file, &source, &e)
-                ),
-                "morph",
+        let full = root.join(dir.join(other)).canonicalize().map_err(|e| {
+            refuse(
+                OpenErrorKind::Unreadable,
+                format!("{rel}: morph.{key}: cannot open '{other}': {e}"),
             )
         })?;
-        let spec = morph
-            .at(0.0)
-            .map_err(|e| located(&source_file, &source, &e))?;
-        let animation = Animation::Morph {
-            morph,
-            time: mf.time,
-            ease: mf.morph.ease,
-        };
-        return Ok(Opened {
-            file: rel.to_string(),
-            spec,
-            animation: Some(animation),
-        });
-    }
-    if let Ok(timed) = time::parse_timed(&text) {
-        if timed.depends_on_time() {
-            let spec = timed
-                .at(timed.time.start)
-                .map_err(|e| located(rel, &text, &e))?;
-            return Ok(Opened {
-                file: rel.to_string(),
-                spec,
-                animation: Some(Animation::Timed(timed)),
-            });
+        if !full.starts_with(root) {
+            return Err(refuse(
+                OpenErrorKind::Refused,
+                format!(
+                    "{rel}: morph.{key}: '{other}' lies outside the directory the server was \
+                     started in"
+                ),
+            ));
         }
-    }
-    let (file, loaded) = load_design(root, rel)?;
+        let shown = full
+            .strip_prefix(root)
+            .map(|p| p.to_string_lossy().into_owned())
+            .unwrap_or_else(|_| other.to_string());
+        Ok((full, shown))
+    };
+    let o = open::open_with(&resolved, rel, &resolve).map_err(refused)?;
     Ok(Opened {
-        file,
-        spec: loaded.spec,
-        animation: None,
+        file: rel.to_string(),
+        spec: o.spec,
+        animation: o.animation,
     })
 }
 

@@ -36,7 +36,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::Router;
 use pdeshape::design::Edit;
-use pdeshape::mesh::Format;
+use pdeshape::format::OutputFormat;
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -602,18 +602,16 @@ fn parse_triple(s: &str, key: &str) -> Result<pdeshape::Vec3, ApiError> {
     Ok(v / m)
 }
 
+/// A picture's size ([`pdeshape::format::parse_size`]), at most [`MAX_PICTURE`] a side for a
+/// download.
 fn parse_size(s: &str) -> Result<(u32, u32), ApiError> {
-    let bad = || {
-        ApiError::bad_request(
+    let (w, h) = pdeshape::format::parse_size(s)
+        .map_err(|e| ApiError::bad_request(crate::common::message_of(&e), "size"))?;
+    if w > MAX_PICTURE || h > MAX_PICTURE {
+        return Err(ApiError::bad_request(
             format!("expected WIDTHxHEIGHT, each 1 to {MAX_PICTURE} (got '{s}')"),
             "size",
-        )
-    };
-    let (w, h) = s.split_once('x').ok_or_else(bad)?;
-    let w: u32 = w.parse().map_err(|_| bad())?;
-    let h: u32 = h.parse().map_err(|_| bad())?;
-    if !(1..=MAX_PICTURE).contains(&w) || !(1..=MAX_PICTURE).contains(&h) {
-        return Err(bad());
+        ));
     }
     Ok((w, h))
 }
@@ -633,14 +631,17 @@ async fn download(
         let png = with_session(&state, move |s| s.picture(view.grid, size, dir)).await?;
         (png, "image/png")
     } else {
-        let format = match word.as_str() {
-            "obj" => Format::Obj,
-            "stl" => Format::Stl,
-            "ply" => Format::Ply,
-            "glb" => Format::Glb,
-            other => {
+        let format = match OutputFormat::from_name(&word)
+            .filter(|f| f.name() == word)
+            .map(|f| (f, f.mesh()))
+        {
+            Some((
+                OutputFormat::Obj | OutputFormat::Stl | OutputFormat::Ply | OutputFormat::Glb,
+                Ok(f),
+            )) => f,
+            _ => {
                 return Err(ApiError::bad_request(
-                    format!("expected obj, stl, ply, glb or png (got '{other}')"),
+                    format!("expected obj, stl, ply, glb or png (got '{word}')"),
                     "format",
                 ))
             }

@@ -1,0 +1,220 @@
+//! The output formats of a design, by name and by file extension: the mesh formats (OBJ, STL,
+//! PLY, glTF binary), the samples (CSV) and the CAD formats (STEP, IGES). One type for the CLI,
+//! the designer and the Python package: [`OutputFormat::from_path`] for a file's extension,
+//! [`str::parse`] for a name (`--format obj`), [`std::fmt::Display`] for the canonical name.
+//! The mesh writers take the [`mesh::Format`] of a mesh or sample format
+//! ([`OutputFormat::mesh`]).
+
+use crate::mesh_write as mesh;
+use crate::{Error, Result};
+use std::path::Path;
+
+/// An output format of a design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OutputFormat {
+    Obj,
+    Stl,
+    Ply,
+    Glb,
+    Csv,
+    /// STEP (ISO 10303-21; `.step` or `.stp`).
+    Step,
+    /// IGES (`.igs` or `.iges`).
+    Iges,
+}
+
+/// What the errors of the mesh and sample formats suggest.
+const MESH_HINT: &str = "use .obj, .stl, .ply, .glb or .csv";
+
+impl OutputFormat {
+    /// Every format, mesh formats first.
+    pub const ALL: [OutputFormat; 7] = [
+        OutputFormat::Obj,
+        OutputFormat::Stl,
+        OutputFormat::Ply,
+        OutputFormat::Glb,
+        OutputFormat::Csv,
+        OutputFormat::Step,
+        OutputFormat::Iges,
+    ];
+
+    /// The canonical (lower-case) name, which is also the extension written: `obj`, `stl`,
+    /// `ply`, `glb`, `csv`, `step`, `igs`.
+    pub fn name(self) -> &'static str {
+        match self {
+            OutputFormat::Obj => "obj",
+            OutputFormat::Stl => "stl",
+            OutputFormat::Ply => "ply",
+            OutputFormat::Glb => "glb",
+            OutputFormat::Csv => "csv",
+            OutputFormat::Step => "step",
+            OutputFormat::Iges => "igs",
+        }
+    }
+
+    /// The format of a name or extension, any case, with or without a leading dot: the
+    /// canonical names and `stp`, `iges`.
+    pub fn from_name(name: &str) -> Option<OutputFormat> {
+        let name = name.strip_prefix('.').unwrap_or(name);
+        match name.to_ascii_lowercase().as_str() {
+            "obj" => Some(OutputFormat::Obj),
+            "stl" => Some(OutputFormat::Stl),
+            "ply" => Some(OutputFormat::Ply),
+            "glb" => Some(OutputFormat::Glb),
+            "csv" => Some(OutputFormat::Csv),
+            "step" | "stp" => Some(OutputFormat::Step),
+            "igs" | "iges" => Some(OutputFormat::Iges),
+            _ => None,
+        }
+    }
+
+    /// The format of a path's extension (any case); refused, naming the path or the extension,
+    /// when it has none or an unknown one.
+    pub fn from_path(path: &Path) -> Result<OutputFormat> {
+        let Some(ext) = path.extension() else {
+            return Err(Error::invalid(format!(
+                "output path '{}' has no extension: {MESH_HINT}",
+                path.display()
+            )));
+        };
+        let ext = ext.to_string_lossy();
+        Self::from_name(&ext).ok_or_else(|| unknown(&ext))
+    }
+
+    /// Whether this is STEP or IGES (exact B-spline surfaces, no grid).
+    pub fn is_cad(self) -> bool {
+        matches!(self, OutputFormat::Step | OutputFormat::Iges)
+    }
+
+    /// The mesh writers' format of a mesh or sample format; a CAD format is refused as the
+    /// mesh writers refuse an unknown extension.
+    pub fn mesh(self) -> Result<mesh::Format> {
+        match self {
+            OutputFormat::Obj => Ok(mesh::Format::Obj),
+            OutputFormat::Stl => Ok(mesh::Format::Stl),
+            OutputFormat::Ply => Ok(mesh::Format::Ply),
+            OutputFormat::Glb => Ok(mesh::Format::Glb),
+            OutputFormat::Csv => Ok(mesh::Format::Csv),
+            OutputFormat::Step | OutputFormat::Iges => Err(unknown(self.name())),
+        }
+    }
+}
+
+fn unknown(ext: &str) -> Error {
+    Error::invalid(format!("unknown output extension '.{ext}': {MESH_HINT}"))
+}
+
+impl From<mesh::Format> for OutputFormat {
+    fn from(f: mesh::Format) -> Self {
+        match f {
+            mesh::Format::Obj => OutputFormat::Obj,
+            mesh::Format::Stl => OutputFormat::Stl,
+            mesh::Format::Ply => OutputFormat::Ply,
+            mesh::Format::Glb => OutputFormat::Glb,
+            mesh::Format::Csv => OutputFormat::Csv,
+        }
+    }
+}
+
+impl std::str::FromStr for OutputFormat {
+    type Err = Error;
+
+    /// A format by name ([`OutputFormat::from_name`]); an unknown name is refused with the
+    /// message of an unknown extension.
+    fn from_str(s: &str) -> Result<Self> {
+        Self::from_name(s).ok_or_else(|| unknown(s.strip_prefix('.').unwrap_or(s)))
+    }
+}
+
+impl std::fmt::Display for OutputFormat {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A CAD model as the text of a STEP or IGES file declaring `unit`, `file_name` and the date
+/// `unix_seconds` in its header (see [`export_timestamp`]); other formats are refused.
+pub fn write_cad(
+    model: &crate::cad::CadModel,
+    format: OutputFormat,
+    unit: crate::spec::Units,
+    file_name: &str,
+    unix_seconds: u64,
+) -> Result<String> {
+    use crate::cad::{self, step};
+    match format {
+        OutputFormat::Step => step::to_step(
+            model,
+            &step::StepOptions {
+                unit,
+                file_name: file_name.to_string(),
+                timestamp: step::step_timestamp(unix_seconds),
+            },
+        ),
+        OutputFormat::Iges => cad::to_iges(model, unit, file_name, unix_seconds),
+        other => Err(Error::invalid(format!(
+            "{other} is not a CAD format (step or igs)"
+        ))),
+    }
+}
+
+/// Whether `path` ends in `.ext` (any case).
+pub fn has_extension(path: &Path, ext: &str) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+}
+
+/// A picture size `WIDTHxHEIGHT` (`x` or `X`, spaces around the numbers allowed), each side
+/// between 1 and [`crate::render::MAX_SIDE`] pixels (the pictures' own limits; their memory is
+/// priced when they are drawn).
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let max = crate::render::MAX_SIDE;
+    let bad = || Error::invalid(format!("expected WIDTHxHEIGHT such as 800x600 (got '{s}')"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    if !(1..=max).contains(&w) || !(1..=max).contains(&h) {
+        return Err(Error::invalid(format!(
+            "width and height must be between 1 and {max} (got {w}x{h})"
+        )));
+    }
+    Ok((w, h))
+}
+
+/// A picture size, `WIDTHxHEIGHT` as [`parse_size`] reads it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PictureSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl std::str::FromStr for PictureSize {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        parse_size(s).map(|(width, height)| PictureSize { width, height })
+    }
+}
+
+/// The Unix time (seconds) a written file records as its date (the STEP and IGES headers):
+/// `SOURCE_DATE_EPOCH` when it is set to a whole number of seconds (reproducible builds),
+/// else the current time.
+pub fn export_timestamp() -> u64 {
+    timestamp_from(std::env::var("SOURCE_DATE_EPOCH").ok().as_deref())
+}
+
+/// [`export_timestamp`] for a given value of `SOURCE_DATE_EPOCH`.
+pub fn timestamp_from(source_date_epoch: Option<&str>) -> u64 {
+    source_date_epoch
+        .and_then(|s| s.trim().parse::<u64>().ok())
+        .unwrap_or_else(|| {
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs())
+                .unwrap_or(0)
+        })
+}
+
+#[cfg(test)]
+mod tests;
