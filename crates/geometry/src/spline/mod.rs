@@ -17,7 +17,7 @@
 //!
 //! ```
 //! use num_rational::BigRational;
-//! use pdeshape::spline::{box_dual, Scalar, TensorBezier};
+//! use pdeshape_geometry::spline::{box_dual, Scalar, TensorBezier};
 //! // A biquadratic scalar patch with rational control values; Λ_{1,2} recovers P_{1,2}.
 //! let ctrl: Vec<BigRational> = (0..9).map(|k| BigRational::ratio(k * k - 3, 7)).collect();
 //! let p = TensorBezier::new(vec![2, 2], 1, ctrl.clone()).unwrap();

@@ -13,7 +13,7 @@
 //! Everything runs in `f64` or in exact rationals ([`num_rational::BigRational`]).
 //!
 //! ```
-//! use pdeshape::splinepde::{solve, clamped_uniform, Operator, SplineProblem};
+//! use pdeshape_geometry::splinepde::{solve, clamped_uniform, Operator, SplineProblem};
 //! // A bicubic Bézier patch solving the Laplace equation, first and last rows fixed.
 //! let dir = clamped_uniform::<f64>(3, 1);
 //! let fixed = (0..4)
