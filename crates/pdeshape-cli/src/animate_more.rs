@@ -23,10 +23,18 @@ fn extension_is(path: &Path, ext: &str) -> bool {
     pdeshape::format::has_extension(path, ext)
 }
 
-/// `--picture-size WIDTHxHEIGHT` ([`pdeshape::format::parse_size`]).
+/// `--picture-size WIDTHxHEIGHT` ([`pdeshape::format::parse_size`]), each side 16 to 4096 (a
+/// frame of an animated picture is kept for every frame).
 fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
-    pdeshape::format::parse_size(s)
-        .map_err(|e| CliError::input(format!("--picture-size: {}", crate::common::message_of(&e))))
+    let (w, h) = pdeshape::format::parse_size(s).map_err(|e| {
+        CliError::input(format!("--picture-size: {}", crate::common::message_of(&e)))
+    })?;
+    if w < 16 || h < 16 || w > 4096 || h > 4096 {
+        return Err(CliError::input(format!(
+            "--picture-size: width and height must be between 16 and 4096 (got {w}x{h})"
+        )));
+    }
+    Ok((w, h))
 }
 
 /// Checks the flags before any work: extensions, the pairing of `--retarget` with
