@@ -12,7 +12,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
 use pdeshape::cad::{self, step};
 use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
-use pdeshape::dynamic::{bending_energy, output::Frame};
+use pdeshape::dynamic::{bending_energy, Frame};
 use pdeshape::fit;
 use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};

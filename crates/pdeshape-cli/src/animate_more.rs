@@ -190,7 +190,7 @@ impl Collector {
             r.push(f.t, f.solved)?;
         }
         if let Some(o) = self.overlays.as_mut() {
-            o.push(f.solved.overlays());
+            o.push(pic::overlay_lines(&f.solved.overlays()));
         }
         Ok(())
     }

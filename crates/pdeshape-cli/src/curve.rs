@@ -5,8 +5,9 @@
 use crate::common::{self, CliError, Output};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pdeshape::design::{self, DynamicPlan};
-use pdeshape::dynamic::output::{self, Frame};
+use pdeshape::dynamic::Frame;
 use pdeshape::dynamic::{bending_energy, end_slopes, l2_norm};
+use pdeshape::dynamic_output as output;
 use pdeshape::Vec3;
 use std::io::Write;
 use std::path::{Path, PathBuf};

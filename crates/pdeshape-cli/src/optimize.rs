@@ -6,6 +6,7 @@
 //! the count of failed shell analyses (designs counted as infeasible).
 
 use crate::common::{self, CliError, Output};
+use pdeshape::design::WriteDesign as _;
 use pdeshape::mesh;
 use pdeshape::optimize::{Problem, VARIABLES};
 use std::io::Write;
@@ -231,7 +232,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
     let png = pdeshape::render::render_png(
         &meshes,
-        &reread.overlays(),
+        &pdeshape::render::overlay_lines(&reread.overlays()),
         &pdeshape::render::RenderOptions::default(),
     )
     .map_err(|e| CliError::input(format!("-o {}: {e}", paths[2].display())))?;

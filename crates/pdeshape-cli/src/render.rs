@@ -185,8 +185,12 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             view,
             ..RenderOptions::default()
         };
-        let png = pdeshape::render::render_png_tri(&m, &built.overlays(), &options)
-            .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
+        let png = pdeshape::render::render_png_tri(
+            &m,
+            &pdeshape::render::overlay_lines(&built.overlays()),
+            &options,
+        )
+        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
         out.write_all(&png)?;
         out.commit()?;
         let dest = crate::common::destination(&args.output);
@@ -244,14 +248,18 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     };
     let (png, note) = match coloured {
         None => (
-            render_png(&meshes, &built.overlays(), &options),
+            render_png(
+                &meshes,
+                &pdeshape::render::overlay_lines(&built.overlays()),
+                &options,
+            ),
             String::new(),
         ),
         Some((colors, bar, note)) => (
             pdeshape::render::render_png_colored_with_bar(
                 &meshes,
                 &colors,
-                &built.overlays(),
+                &pdeshape::render::overlay_lines(&built.overlays()),
                 &options,
                 &bar,
             ),

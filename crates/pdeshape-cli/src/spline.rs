@@ -173,7 +173,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                     file_name: name,
                     timestamp: iges_timestamp(seconds),
                 },
-                IgesUnit::of(design.spec.units.unwrap_or_default()),
+                IgesUnit::from(design.spec.units.unwrap_or_default()),
             )
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
             out.write_all(text.as_bytes())?;

@@ -2,6 +2,7 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::design::Export;
+use pdeshape::design::WriteDesign as _;
 use pdeshape::mesh::{self, Format, Up};
 use std::io::Write;
 use std::path::PathBuf;
@@ -245,7 +246,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         };
         let options = pdeshape::render::RenderOptions::default();
         let png = match args.color {
-            None => pdeshape::render::render_png(&meshes, &solved.overlays(), &options),
+            None => pdeshape::render::render_png(
+                &meshes,
+                &pdeshape::render::overlay_lines(&solved.overlays()),
+                &options,
+            ),
             Some(by) => {
                 let (colors, lo, hi) =
                     crate::analyze::curvature_colors(&solved, &meshes, by, None)?;
@@ -253,7 +258,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 pdeshape::render::render_png_colored_with_bar(
                     &meshes,
                     &colors,
-                    &solved.overlays(),
+                    &pdeshape::render::overlay_lines(&solved.overlays()),
                     &options,
                     &bar,
                 )
@@ -335,7 +340,7 @@ fn write_trimmed(
     if let Some(pic) = picture_out.as_mut() {
         let png = pdeshape::render::render_png_tri(
             &m,
-            &solved.overlays(),
+            &pdeshape::render::overlay_lines(&solved.overlays()),
             &pdeshape::render::RenderOptions::default(),
         )
         .map_err(|e| CliError::input(e.to_string()))?;

@@ -4,6 +4,7 @@
 
 mod common;
 use common::*;
+use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{solve_design, SurfaceKind};
 use pdeshape::render::{render_png, RenderOptions};
 
@@ -78,7 +79,12 @@ fn every_command_honours_the_finite_difference_solver() {
         height: 150,
         ..RenderOptions::default()
     };
-    let expected = render_png(&meshes, &solved.overlays(), &options).unwrap();
+    let expected = render_png(
+        &meshes,
+        &pdeshape::render::overlay_lines(&solved.overlays()),
+        &options,
+    )
+    .unwrap();
     assert_eq!(std::fs::read(&png).unwrap(), expected);
 
     // surface: says so, and writes the finite-difference meshes.
@@ -121,7 +127,12 @@ fn blend_and_spline_designs_render_and_analyze() {
             height: 120,
             ..RenderOptions::default()
         };
-        let expected = render_png(&meshes, &solved.overlays(), &options).unwrap();
+        let expected = render_png(
+            &meshes,
+            &pdeshape::render::overlay_lines(&solved.overlays()),
+            &options,
+        )
+        .unwrap();
         assert_eq!(std::fs::read(&png).unwrap(), expected, "{file}");
 
         let out = pdeshape(&["analyze", s(&path), "--json", "--tolerance", "1e-6"]);

@@ -6,6 +6,7 @@
 //!
 //! `cargo run --release -p pdeshape --example write_stages -- examples/cup.toml 1024 1024 glb /tmp`
 
+use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{compile, Export};
 use pdeshape::mesh::{write_mesh, Format};
 use pdeshape::spec::parse_design;

@@ -16,42 +16,35 @@
 //!                                ▼
 //!                Grid (positions, normals, uv) ──▶ obj, stl, ply, glb, csv, png
 //! ```
+//!
+//! This crate is the façade of four layer crates, each depending only on those below it:
+//! `pdeshape-geometry` (curves, surfaces, solvers), `pdeshape-design` (the design file, compile
+//! and edit, trims, analysis, tessellation), `pdeshape-io` (mesh and CAD writers, pictures) and
+//! `pdeshape-apps` (animation, shell analysis, optimisation, fitting). Its modules keep one path
+//! for each item: `mesh` holds tessellation and the mesh writers, `design` the solved design and
+//! its writing.
 
-pub mod analysis;
-pub mod anim;
-pub mod bfs;
-pub mod cad;
-mod check;
-pub mod curve;
-mod decomp;
-pub mod design;
-pub mod dynamic;
-pub mod elliptic;
-mod error;
-pub mod fd;
-pub mod fit;
-mod formula;
-pub mod fourier;
-pub mod majorant;
-pub mod memory;
-pub mod mesh;
-pub mod optimize;
-pub mod render;
-pub mod scalar;
-pub mod shell;
-pub mod spec;
-pub mod spline;
-pub mod splinepde;
-pub mod surface;
-pub mod trim;
+pub use pdeshape_apps::{anim, fit, optimize, shell};
+pub use pdeshape_design::{analysis, memory, spec, trim};
+pub use pdeshape_geometry::{
+    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, scalar, spline, splinepde,
+    surface,
+};
+pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+pub use pdeshape_io::{cad, dynamic_output, render};
 
-pub use error::{Error, Result};
+/// Designs: compile, edit, solve, and write (the design layer's `design` with the writing of
+/// `pdeshape-io`).
+pub mod design {
+    pub use pdeshape_design::design::*;
+    pub use pdeshape_io::design_write::WriteDesign;
+}
 
-/// Points and vectors in R³.
-pub type Vec3 = nalgebra::Vector3<f64>;
-
-/// 2π: periodic curves live on `[0, 2π)`.
-pub const TAU: f64 = std::f64::consts::TAU;
+/// Tessellation, triangle meshes, the weld, and the writers of mesh and sample formats.
+pub mod mesh {
+    pub use pdeshape_design::mesh::*;
+    pub use pdeshape_io::mesh_write::*;
+}
 
 /// The README's code runs as a doc test.
 #[doc = include_str!("../../../README.md")]

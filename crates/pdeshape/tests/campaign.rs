@@ -50,7 +50,11 @@ fn pipeline(sub: &str, text: &str) -> Result<(), pdeshape::Error> {
                     height: 48,
                     ..Default::default()
                 };
-                pdeshape::render::render_png(&meshes, &solved.overlays(), &options)?;
+                pdeshape::render::render_png(
+                    &meshes,
+                    &pdeshape::render::overlay_lines(&solved.overlays()),
+                    &options,
+                )?;
             }
         }
         "analyze" => {

@@ -8,6 +8,7 @@ use super::gestures::{self, LocalDrag, LocalRequest};
 use super::timeline::Timeline;
 use super::trimmed::{self, TrimmedMeshes};
 use crate::common::{self, Loaded};
+use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{self, CompiledDesign, Edit};
 use pdeshape::mesh::{Format, GridMesh};
 use pdeshape::spec::{self, DesignSpec};
@@ -418,7 +419,7 @@ impl Session {
             view,
             ..Default::default()
         };
-        let overlays = self.design.solved().overlays();
+        let overlays = pdeshape::render::overlay_lines(&self.design.solved().overlays());
         let picture = if self.design.solved().trims.is_empty() {
             let meshes = self.meshes(grid)?.to_vec();
             pdeshape::render::render_png(&meshes, &overlays, &options)

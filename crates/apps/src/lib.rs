@@ -1,0 +1,16 @@
+//! # pdeshape-apps
+//!
+//! The applications of pdeshape, on top of the geometry, design and I/O layers: time-dependent
+//! designs and their animation (`anim`), thin-shell strength analysis with CalculiX (`shell`),
+//! design for function by optimisation (`optimize`) and fitting triangle meshes with designs
+//! (`fit`).
+
+use pdeshape_design::{analysis, design, memory, mesh, spec};
+use pdeshape_geometry::{formula, surface};
+pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+use pdeshape_io::{mesh_write, render};
+
+pub mod anim;
+pub mod fit;
+pub mod optimize;
+pub mod shell;

@@ -1,0 +1,96 @@
+//! Checks of single input values in the wording of the design file: the message says what is
+//! wrong, the place says where, relative to the table being read (`radius: must be positive (got
+//! -1)`, `control[2][1]: must be finite (got NaN)`). A caller that knows where the table sits
+//! prefixes it with [`crate::Error::at`].
+
+use crate::{Error, Result, Vec3};
+
+/// A number for a message: plain for moderate magnitudes, scientific otherwise (`1e308`, not 309
+/// digits).
+pub fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// `x` is finite.
+pub fn finite(x: f64, place: &str) -> Result<()> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!("must be finite (got {x})")).at(place))
+    }
+}
+
+/// Every coordinate of `v` is finite (places `place[0]` to `place[2]`).
+pub fn finite3(v: &Vec3, place: &str) -> Result<()> {
+    for (i, x) in v.iter().enumerate() {
+        finite(*x, &format!("{place}[{i}]"))?;
+    }
+    Ok(())
+}
+
+/// Every coordinate of every point is finite (places `place[i][c]`).
+pub(crate) fn finite_points(points: &[Vec3], place: &str) -> Result<()> {
+    for (i, p) in points.iter().enumerate() {
+        finite3(p, &format!("{place}[{i}]"))?;
+    }
+    Ok(())
+}
+
+/// `x` is finite and positive.
+pub fn positive(x: f64, place: &str) -> Result<()> {
+    finite(x, place)?;
+    if x > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(format!("must be positive (got {})", num(x))).at(place))
+    }
+}
+
+/// `v` is finite and not zero (however small its coordinates).
+pub fn nonzero_vector(v: &Vec3, place: &str) -> Result<()> {
+    finite3(v, place)?;
+    if v.amax() > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid("must not be the zero vector").at(place))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_and_places() {
+        assert_eq!(num(0.25), "0.25");
+        assert_eq!(num(-3.0), "-3");
+        assert_eq!(num(1e-7), "1e-7");
+        assert_eq!(num(1e300), "1e300");
+        let e = |r: Result<()>| r.unwrap_err().to_string();
+        assert_eq!(e(finite(f64::NAN, "t")), "t: must be finite (got NaN)");
+        assert_eq!(
+            e(finite3(&Vec3::new(0.0, f64::INFINITY, 0.0), "at")),
+            "at[1]: must be finite (got inf)"
+        );
+        let pts = [Vec3::zeros(), Vec3::new(1.0, 2.0, f64::NEG_INFINITY)];
+        assert_eq!(
+            e(finite_points(&pts, "points")),
+            "points[1][2]: must be finite (got -inf)"
+        );
+        assert_eq!(
+            e(positive(-1e-9, "radius")),
+            "radius: must be positive (got -1e-9)"
+        );
+        assert_eq!(e(positive(0.0, "rx")), "rx: must be positive (got 0)");
+        assert_eq!(e(positive(f64::NAN, "ry")), "ry: must be finite (got NaN)");
+        assert_eq!(
+            e(nonzero_vector(&Vec3::zeros(), "normal")),
+            "normal: must not be the zero vector"
+        );
+        assert!(nonzero_vector(&Vec3::new(0.0, 0.0, 1e-300), "normal").is_ok());
+    }
+}

@@ -1,0 +1,16 @@
+//! # pdeshape-io
+//!
+//! Readers, writers and pictures of pdeshape, beside the design layer: mesh formats
+//! (`mesh_write`, and `design_write` for a solved design), CAD exchange with certified deviations
+//! (`cad`: STEP, IGES), pictures (`render`) and the outputs of dynamic-curve runs
+//! (`dynamic_output`).
+
+use pdeshape_design::{design, memory, mesh, spec, trim};
+use pdeshape_geometry::{curve, dynamic, elliptic, formula, majorant, spline, splinepde, surface};
+pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+
+pub mod cad;
+pub mod design_write;
+pub mod dynamic_output;
+pub mod mesh_write;
+pub mod render;
