@@ -2,7 +2,7 @@
 """The three-level scheme (6) of the dynamic-curve paper on its §3.3 experiment, written
 straightforwardly with NumPy and scipy.linalg.solve_banded, for BENCHMARKS.md.
 
-Same discretisation as crates/pdeshape/src/dynamic (see its module documentation): a = 1,
+Same discretisation as crates/geometry/src/dynamic (see its module documentation): a = 1,
 b = x/2 at the midpoints, d = x at the nodes, coefficients frozen at level n, the averaged terms
 (X^{n+1} + X^{n-1})/2, Taylor start for level 1, positions at rows 0 and J, third-order one-sided
 slope rows at 1 and J-1 eliminated exactly, one pentadiagonal solve per step for X_2 .. X_{J-2}.

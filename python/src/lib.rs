@@ -11,6 +11,7 @@ use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
 use pdeshape::cad;
+use pdeshape::design::WriteDesign as _;
 use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
 use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
 use pdeshape::dynamic::{bending_energy, Frame};
