@@ -12,10 +12,10 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
 use pdeshape::cad;
 use pdeshape::design::WriteDesign as _;
-use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
 use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
 use pdeshape::dynamic::{bending_energy, Frame};
 use pdeshape::fit;
+use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
 use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};
 use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec, Units};
@@ -1262,7 +1262,7 @@ impl Design {
             .unwrap_or_default();
         let seconds = timestamp.unwrap_or_else(export_timestamp);
         let text = write_cad(&model, format, unit, &file_name, seconds)
-        .map_err(|e| err(format!("path {}: {e}", path.display())))?;
+            .map_err(|e| err(format!("path {}: {e}", path.display())))?;
         write_atomically(path, text.as_bytes())
     }
 }

@@ -1,8 +1,8 @@
 //! `pdeshape surface DESIGN -o OUT`: solve, tessellate, write (obj, stl, ply, glb, csv).
 
-use pdeshape::design::WriteDesign as _;
 use crate::common::{self, CliError, Output};
 use pdeshape::design::Export;
+use pdeshape::design::WriteDesign as _;
 use pdeshape::format::OutputFormat;
 use pdeshape::mesh::{Format, Up};
 use std::io::Write;
@@ -214,13 +214,21 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if let Some(pic) = picture_out.as_mut() {
         let options = pdeshape::render::RenderOptions::default();
         let png = match (written.tri_mesh, args.color) {
-            (Some(m), _) => pdeshape::render::render_png_tri(&m, &pdeshape::render::overlay_lines(&solved.overlays()), &options),
+            (Some(m), _) => pdeshape::render::render_png_tri(
+                &m,
+                &pdeshape::render::overlay_lines(&solved.overlays()),
+                &options,
+            ),
             (None, None) => {
                 let meshes = match written.grids {
                     Some(m) => m,
                     None => solved.meshes(nu, nv).map_err(located)?,
                 };
-                pdeshape::render::render_png(&meshes, &pdeshape::render::overlay_lines(&solved.overlays()), &options)
+                pdeshape::render::render_png(
+                    &meshes,
+                    &pdeshape::render::overlay_lines(&solved.overlays()),
+                    &options,
+                )
             }
             (None, Some(by)) => {
                 let meshes = match written.grids {
