@@ -332,7 +332,7 @@ async fn edit(
                         "name",
                     )
                 })?;
-                *point = library::spec_point(cs, *point).ok_or_else(|| {
+                *point = pdeshape::design::spec_point(cs, *point).ok_or_else(|| {
                     ApiError::unprocessable("the curve's transform cannot be inverted", "point")
                 })?;
             }
