@@ -18,6 +18,7 @@
 //! ```
 
 pub mod analysis;
+pub mod analysis_report;
 pub mod anim;
 pub mod bfs;
 pub mod cad;
@@ -25,6 +26,7 @@ mod check;
 pub mod curve;
 mod decomp;
 pub mod design;
+pub mod diagnostics;
 pub mod dynamic;
 pub mod elliptic;
 mod error;
