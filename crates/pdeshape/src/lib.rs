@@ -28,6 +28,7 @@ mod decomp;
 pub mod design;
 pub mod diagnostics;
 pub mod dynamic;
+pub mod dynamic_run;
 pub mod elliptic;
 mod error;
 pub mod fd;
