@@ -12,13 +12,15 @@ use numpy::{IntoPyArray, PyReadonlyArray1};
 use pdeshape::analysis::{self, integrate_design, Integrals, Quadrature};
 use pdeshape::cad;
 use pdeshape::design::WriteDesign as _;
-use pdeshape::design::{self, DynamicPlan, Export, SolvedDesign};
-use pdeshape::dynamic::{bending_energy, Frame};
+use pdeshape::design::{self, Export, SolvedDesign};
+use pdeshape::diagnostics;
+use pdeshape::dynamic::Frame;
+use pdeshape::dynamic_run::{self, DynamicOutcome, OutcomeKind};
 use pdeshape::fit;
-use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
+use pdeshape::format::{export_timestamp, OutputFormat};
 use pdeshape::mesh::{self, Format, Up};
 use pdeshape::optimize::{Parameters, Problem};
-use pdeshape::spec::{self, DesignSpec, OptimizeSpec, ParameterSpec, Units};
+use pdeshape::spec::{self, DesignSpec, Units};
 use pdeshape::{Error, Vec3};
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
@@ -451,8 +453,10 @@ impl Design {
     }
 
     /// A copy of this design that has the parameter values `values` (`{name: value}` in the
-    /// book's notation: `bellyDx`, `rimTz`, `a`, …) applied to the design as read. Names of
-    /// `[optimize]` parameters must lie within their bounds.
+    /// book's notation: `bellyDx`, `rimTz`, `a`, …) applied to the design as read, each checked
+    /// by the library against the design's own declarations: a `[[parameters]]` entry within
+    /// its `min`/`max`, an `[optimize]` parameter within its bounds; other names in the book's
+    /// notation have no bounds (a dilation must not be 0, `a` must stay positive).
     fn with_params(&self, values: &Bound<'_, PyDict>) -> PyResult<Design> {
         let mut params = self.params.clone();
         for (k, v) in values.iter() {
@@ -680,6 +684,27 @@ impl Design {
         ))
     }
 
+    /// What `pdeshape check --json` reports, from the library's diagnostics: `ok`, `design`,
+    /// `title`, `surfaces` (kind, operator, modes, condition errors), shared `edges` (G0, G1),
+    /// `attachments`, `parameters`, `warnings`, the text `report`, and `verdict` (`"ok"`, or
+    /// `"attention"` when there is a warning or a shared edge is not G0 or not G1).
+    fn check<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let solved = self.solved(py)?;
+        let spec = &self.spec;
+        let file = self.file.clone();
+        let v = py.detach(|| {
+            let d = diagnostics::diagnose(spec, &solved);
+            let text = diagnostics::check_report(&file, spec, &solved, &d);
+            let mut v = d.to_json();
+            v["ok"] = serde_json::json!(true);
+            v["design"] = serde_json::json!(file);
+            v["report"] = serde_json::json!(text);
+            v["verdict"] = serde_json::json!(d.verdict.word());
+            v
+        });
+        py.import("json")?.call_method1("loads", (v.to_string(),))
+    }
+
     /// Area, enclosed volume, curvature integrals and energies, per patch and in total: the
     /// dict of `pdeshape analyze --json` (same keys, same numbers). `tolerance`: the adaptive
     /// quadrature's relative tolerance (default 1e-11, as the CLI's). `quadrature = (qu, qv)`:
@@ -882,7 +907,7 @@ impl Design {
                 self.file
             )));
         };
-        let out = py
+        let (out, frames) = py
             .detach(|| run_dynamic(section, frames))
             .map_err(|e| self.located(&e))?;
         let dim = out.dim;
@@ -894,43 +919,34 @@ impl Design {
         let fd = PyDict::new(py);
         fd.set_item(
             "step",
-            array1(py, out.frames.iter().map(|f| f.step as u64).collect()),
+            array1(py, frames.iter().map(|f| f.step as u64).collect()),
         )?;
-        fd.set_item("t", array1(py, out.frames.iter().map(|f| f.time).collect()))?;
-        let width = out.frames.first().map_or(jn1, |f| f.nodes.len());
-        let flat: Vec<f64> = out
-            .frames
+        fd.set_item("t", array1(py, frames.iter().map(|f| f.time).collect()))?;
+        let width = frames.first().map_or(jn1, |f| f.nodes.len());
+        let flat: Vec<f64> = frames
             .iter()
             .flat_map(|f| f.nodes.iter().flat_map(|p| (0..dim).map(|c| p[c])))
             .collect();
-        let nodes3 = Array3::from_shape_vec((out.frames.len(), width, dim), flat)
+        let nodes3 = Array3::from_shape_vec((frames.len(), width, dim), flat)
             .map_err(|e| err(format!("dynamic: frames of unequal length: {e}")))?;
         fd.set_item("nodes", nodes3.into_pyarray(py))?;
         d.set_item("frames", fd)?;
-        match out.extra {
-            DynamicExtra::Run { t_end, steps } => {
+        match &out.kind {
+            OutcomeKind::Run(r) => {
                 d.set_item("kind", "run")?;
-                d.set_item("t_end", t_end)?;
-                d.set_item("steps", steps)?;
-                d.set_item("bending_energy", bending_energy(&out.nodes))?;
+                d.set_item("t_end", r.t_end)?;
+                d.set_item("steps", r.steps)?;
             }
-            DynamicExtra::Interpolate {
-                points,
-                params,
-                distances,
-                steps,
-                updates,
-                bending_energy,
-            } => {
+            OutcomeKind::Interpolate(r) => {
                 d.set_item("kind", "interpolate")?;
-                d.set_item("points", points_array(py, &points, dim))?;
-                d.set_item("params", array1(py, params))?;
-                d.set_item("distances", array1(py, distances))?;
-                d.set_item("steps", steps)?;
-                d.set_item("updates", updates)?;
-                d.set_item("bending_energy", bending_energy)?;
+                d.set_item("points", points_array(py, &r.points, dim))?;
+                d.set_item("params", array1(py, r.params.clone()))?;
+                d.set_item("distances", array1(py, r.distances.clone()))?;
+                d.set_item("steps", r.steps)?;
+                d.set_item("updates", r.updates)?;
             }
         }
+        d.set_item("bending_energy", out.bending_energy())?;
         Ok(d)
     }
 
@@ -1050,82 +1066,21 @@ impl Design {
     }
 }
 
-/// The spec with the parameter values applied (`None` when there are none). Parameters of
-/// `[optimize]` keep their bounds; any other name in the book's notation acts unbounded.
+/// The spec with the parameter values applied (`None` when there are none), checked by the
+/// library against the design's own declarations ([`pdeshape::optimize::apply_values`]).
 fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<DesignSpec>> {
     if params.is_empty() {
         return Ok(None);
     }
-    let declared = base
-        .optimize
-        .as_ref()
-        .map(|o| &o.parameters[..])
-        .unwrap_or(&[]);
-    let mut list = Vec::new();
-    for (name, value) in params {
-        let (min, max) = match declared.iter().find(|p| &p.name == name) {
-            Some(p) => {
-                if let (Some(lo), Some(hi)) = (p.min, p.max) {
-                    if !(lo..=hi).contains(value) {
-                        return Err(err(format!(
-                            "params['{name}']: {value} lies outside the bounds [{lo}, {hi}] of [optimize]"
-                        )));
-                    }
-                }
-                (p.min, p.max)
-            }
-            // A `[[parameters]]` entry: its own bounds apply (checked by the library).
-            None if base.parameters.iter().any(|p| &p.name == name) => (None, None),
-            None if name == "a" && *value <= 0.0 => {
-                return Err(err(format!(
-                    "params['a']: the smoothing parameter a must stay positive (got {value})"
-                )))
-            }
-            None if *value == 0.0 && is_dilation(name) => {
-                return Err(err(format!(
-                    "params['{name}']: a dilation factor must not be 0"
-                )))
-            }
-            // Bounds that hold the value and keep away from 0 (the library refuses dilation
-            // ranges containing 0 and a non-positive `a`, both refused above).
-            None if *value > 0.0 => (Some(value * 0.5), Some(value * 2.0)),
-            None if *value < 0.0 => (Some(value * 2.0), Some(value * 0.5)),
-            None => (Some(-1.0), Some(1.0)),
-        };
-        list.push(ParameterSpec {
-            name: name.clone(),
-            min,
-            max,
-            initial: Some(*value),
-        });
-    }
-    let opt = OptimizeSpec {
-        parameters: list,
-        ..base.optimize.clone().unwrap_or_else(neutral_optimize)
-    };
-    let ps = Parameters::new(base, &opt).map_err(|e| {
-        let k: usize = e
-            .place()
-            .strip_prefix("optimize.parameters[")
-            .and_then(|r| r.split(']').next())
-            .and_then(|i| i.parse().ok())
-            .unwrap_or(0);
-        err(format!("params['{}']: {}", params[k].0, message_of(&e)))
-    })?;
-    let x: Vec<f64> = params.iter().map(|(_, v)| *v).collect();
-    Ok(Some(ps.apply(base, &x)))
-}
-
-/// Whether a parameter name is a dilation `<curve>D<x|y|z>` (the library checks the curve).
-fn is_dilation(name: &str) -> bool {
-    let b = name.as_bytes();
-    b.len() > 2 && b[b.len() - 2] == b'D' && matches!(b[b.len() - 1], b'x' | b'y' | b'z')
-}
-
-/// An `[optimize]` section with only defaults (its parameters are replaced).
-fn neutral_optimize() -> OptimizeSpec {
-    let text = "objective = \"area\"\nparameters = []\n";
-    toml::from_str(text).expect("the defaults of [optimize]")
+    pdeshape::optimize::apply_values(base, params)
+        .map(Some)
+        .map_err(|e| {
+            err(format!(
+                "params['{}']: {}",
+                params[e.index].0,
+                message_of(&e.error)
+            ))
+        })
 }
 
 /// Fits PDE patches to a triangle mesh (closed: tube mode; open: sheet mode) as
@@ -1242,113 +1197,48 @@ impl Design {
             }
         }
         let solved = self.solved(py)?;
-        if solved.surfaces.is_empty() {
-            return Err(self.located(&Error::no_surface()));
-        }
-        let unit = unit.unwrap_or(solved.units);
-        let tolerance = tolerance.unwrap_or(1e-4 * cad::design_size(&solved));
-        let model = py
-            .detach(|| cad::approximate_design(&solved, tolerance))
-            .map_err(|e| {
-                if e.place().is_empty() || e.place() == "tolerance" {
-                    err(format!("tolerance: {}", message_of(&e)))
-                } else {
-                    self.located(&e)
-                }
-            })?;
         let file_name = path
             .file_name()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         let seconds = timestamp.unwrap_or_else(export_timestamp);
-        let text = write_cad(&model, format, unit, &file_name, seconds)
-            .map_err(|e| err(format!("path {}: {e}", path.display())))?;
-        write_atomically(path, text.as_bytes())
+        let export = py
+            .detach(|| cad::export_design(&solved, format, tolerance, unit, &file_name, seconds))
+            .map_err(|e| match e {
+                cad::CadExportError::Design(e) => self.located(&e),
+                cad::CadExportError::Approximation(e)
+                    if e.place().is_empty() || e.place() == "tolerance" =>
+                {
+                    err(format!("tolerance: {}", message_of(&e)))
+                }
+                cad::CadExportError::Approximation(e) => self.located(&e),
+                cad::CadExportError::Write(e) => err(format!("path {}: {e}", path.display())),
+            })?;
+        write_atomically(path, export.text.as_bytes())
     }
 }
 
-/// The run of a `[dynamic]` section: the final nodes, the frames and what the run reports.
-struct DynamicOutcome {
-    dim: usize,
-    nodes: Vec<Vec3>,
-    frames: Vec<Frame>,
-    extra: DynamicExtra,
-}
-
-enum DynamicExtra {
-    Run {
-        t_end: f64,
-        steps: usize,
-    },
-    Interpolate {
-        points: Vec<Vec3>,
-        params: Vec<f64>,
-        distances: Vec<f64>,
-        steps: usize,
-        updates: usize,
-        bending_energy: f64,
-    },
-}
-
-/// Runs a `[dynamic]` section as `pdeshape curve` does, keeping every frame it writes.
-fn run_dynamic(section: &spec::DynamicSpec, keep_frames: bool) -> pdeshape::Result<DynamicOutcome> {
+/// Runs a `[dynamic]` section as `pdeshape curve` does (the library's
+/// [`pdeshape::dynamic_run::run`]), keeping every frame it writes.
+fn run_dynamic(
+    section: &spec::DynamicSpec,
+    keep_frames: bool,
+) -> pdeshape::Result<(DynamicOutcome, Vec<Frame>)> {
     let built = design::build_dynamic(section)?;
-    let every = built.frames_every;
     let mut frames = Vec::new();
-    let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {
-        if let (true, Some(nodes)) = (keep_frames, nodes) {
-            frames.push(Frame {
-                step: n,
-                time: t,
-                nodes: nodes.to_vec(),
-            });
-        }
+    let outcome = {
+        let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {
+            if let (true, Some(nodes)) = (keep_frames, nodes) {
+                frames.push(Frame {
+                    step: n,
+                    time: t,
+                    nodes: nodes.to_vec(),
+                });
+            }
+        };
+        dynamic_run::run(&built, &mut observer)?
     };
-    match &built.plan {
-        DynamicPlan::Run(r) => {
-            let dim = r.curve.components.len();
-            let values = r
-                .curve
-                .solve_observed(r.grid, r.positivity, every, &mut observer)
-                .map_err(|e| e.at("dynamic"))?;
-            let nodes = (0..=r.grid.intervals)
-                .map(|j| {
-                    let mut p = Vec3::zeros();
-                    for (c, v) in values.iter().enumerate() {
-                        p[c] = v[j];
-                    }
-                    p
-                })
-                .collect();
-            Ok(DynamicOutcome {
-                dim,
-                nodes,
-                frames,
-                extra: DynamicExtra::Run {
-                    t_end: r.grid.t_end,
-                    steps: r.grid.steps,
-                },
-            })
-        }
-        DynamicPlan::Interpolate { problem, dim } => {
-            let result = problem
-                .solve_observed(every, &mut observer)
-                .map_err(|e| e.at("dynamic"))?;
-            Ok(DynamicOutcome {
-                dim: *dim,
-                nodes: result.nodes,
-                frames,
-                extra: DynamicExtra::Interpolate {
-                    points: problem.points.clone(),
-                    params: result.params,
-                    distances: result.distances,
-                    steps: result.steps,
-                    updates: result.updates,
-                    bending_energy: result.bending_energy,
-                },
-            })
-        }
-    }
+    Ok((outcome, frames))
 }
 
 /// The first `dim` coordinates of points as an `(n, dim)` array.

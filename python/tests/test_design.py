@@ -261,3 +261,19 @@ def test_type_stubs_name_every_public_method():
             got = [g for g in got if g and g not in ("self", "/", "cls", "type")]
             assert want == got, (name, want, got, doc[:40])
     assert callable(pdeshape.fit)
+
+
+def test_check_reports_creases_and_the_verdict():
+    closed = Design.load(EXAMPLES / "cup_closed.toml").check()
+    assert closed["ok"] and closed["verdict"] == "attention"
+    assert {e["curve"] for e in closed["edges"]} == {"belly", "rim"}
+    assert closed["report"].startswith("design: ")
+    assert closed["warnings"] == []
+    assert Design.load(EXAMPLES / "cup.toml").check()["verdict"] == "ok"
+
+
+def test_parameter_entries_keep_their_own_bounds():
+    d = Design.load(EXAMPLES / "swirl_port_params.toml")
+    with pytest.raises(DesignError, match=r"params\['theta'\]: .*'theta' lies outside \[min, max\]"):
+        d.with_params({"theta": 1.5})
+    assert d.with_params({"theta": 0.5}).params() == {"theta": 0.5}

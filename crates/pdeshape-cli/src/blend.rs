@@ -61,54 +61,6 @@ pub fn solve(design: &Loaded) -> Result<std::sync::Arc<Blend>, CliError> {
         .ok_or_else(|| CliError::input("the design's blend was not solved"))
 }
 
-/// The report: settings, both joins, the data points, the seam.
-pub fn report(design: &Loaded, b: &Blend) -> String {
-    let mut t = String::new();
-    let Some(spec) = &design.spec.blend else {
-        return t;
-    };
-    let [nx, ny] = spec.elements;
-    let _ = writeln!(
-        t,
-        "blend: {nx} × {ny} BFS elements{}, ε = {}, L = {}",
-        if spec.periodic { ", periodic in x" } else { "" },
-        spec.epsilon,
-        spec.energy.describe()
-    );
-    let r = &b.report;
-    let _ = writeln!(
-        t,
-        "condition errors along the joins ({} samples each): G0 = max |blend − primary|, \
-         G1 = max angle between normals, C1 = max |∂y blend − cross derivative|",
-        r.start.samples
-    );
-    for (name, j) in [("start (y = 0)", &r.start), ("end (y = 1)", &r.end)] {
-        let _ = writeln!(
-            t,
-            "  {name}: G0 {:.3e}, G1 {:.3e} rad, C1 {:.3e}",
-            j.g0, j.g1, j.cross
-        );
-    }
-    if !r.point_distances.is_empty() {
-        let _ = writeln!(t, "distance to the data points:");
-        for (p, d) in spec.points.iter().zip(&r.point_distances) {
-            let _ = writeln!(t, "  at [{}, {}]: {d:.3e}", p.at[0], p.at[1]);
-        }
-        let max = r.point_distances.iter().cloned().fold(0.0, f64::max);
-        let rms = (r.point_distances.iter().map(|d| d * d).sum::<f64>()
-            / r.point_distances.len() as f64)
-            .sqrt();
-        let _ = writeln!(t, "  max {max:.3e}, rms {rms:.3e}");
-    }
-    if let Some(g) = r.seam_gap {
-        let _ = writeln!(
-            t,
-            "seam gap between x = 0 and x = 1: {g:.3e} (the joins are closed; periodic = true closes the blend)"
-        );
-    }
-    t
-}
-
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -217,7 +169,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             })
         );
     }
-    let mut text = report(&design, &blend);
+    let mut text = pdeshape::diagnostics::blend_report(&design.spec, &blend);
     let what = if format.is_some() {
         format!("{nu} × {nv} grid")
     } else {

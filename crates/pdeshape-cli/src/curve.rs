@@ -6,12 +6,11 @@ use crate::common::{self, CliError, Output};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pdeshape::design::{self, DynamicPlan};
 use pdeshape::dynamic::Frame;
-use pdeshape::dynamic::{bending_energy, end_slopes, l2_norm};
 use pdeshape::dynamic_output as output;
+use pdeshape::dynamic_run::OutcomeKind;
 use pdeshape::Vec3;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -79,17 +78,6 @@ fn progress(total: u64, what: &str) -> ProgressBar {
     pb
 }
 
-fn fmt(x: f64) -> String {
-    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
-        format!("{x:.6}")
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .to_string()
-    } else {
-        format!("{x:.3e}")
-    }
-}
-
 pub fn run(args: &Args) -> Result<(), CliError> {
     check_extension(&args.output, "-o", "csv")?;
     if let Some(f) = &args.frames {
@@ -107,7 +95,6 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         )));
     };
     let built = design::build_dynamic(section).map_err(|e| design.error(&e))?;
-    let every = built.frames_every;
 
     let mut out = Output::create(&args.output)?;
     let mut frames_out = args.frames.as_deref().map(Output::create).transpose()?;
@@ -184,139 +171,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         }
     };
 
-    let start = Instant::now();
-    let mut report = String::new();
-    let nodes: Vec<Vec3>;
-    let mut data_points: Vec<Vec3> = Vec::new();
-    let mut end_points: Vec<Vec3> = Vec::new();
-    match &built.plan {
-        DynamicPlan::Run(r) => {
-            let values = r
-                .curve
-                .solve_observed(r.grid, r.positivity, every, &mut observer)
-                .map_err(|e| design.error(&e.at("dynamic")))?;
-            let wall = start.elapsed().as_secs_f64();
-            let t_end = r.grid.t_end;
-            let jn = r.grid.intervals;
-            nodes = (0..=jn)
-                .map(|j| {
-                    let mut p = Vec3::zeros();
-                    for (c, v) in values.iter().enumerate() {
-                        p[c] = v[j];
-                    }
-                    p
-                })
-                .collect();
-            report.push_str(&format!(
-                "dynamic curve: {dim} component{}, J = {jn}, L = {}, T = {}\n",
-                if dim == 1 { "" } else { "s" },
-                r.grid.steps,
-                fmt(t_end)
-            ));
-            report.push_str(&format!(
-                "steps: {} to t = {} in {} s\n",
-                r.grid.steps,
-                fmt(t_end),
-                fmt(wall)
-            ));
-            let (s0, s1) = end_slopes(&nodes);
-            let names = ["x", "y", "z"];
-            for (c, comp) in r.curve.components.iter().enumerate() {
-                let errs = [
-                    (nodes[0][c] - (comp.start)(t_end)).abs(),
-                    (nodes[jn][c] - (comp.end)(t_end)).abs(),
-                    (s0[c] - (comp.start_slope)(t_end)).abs(),
-                    (s1[c] - (comp.end_slope)(t_end)).abs(),
-                ];
-                report.push_str(&format!(
-                    "end conditions {} at T: start {}, end {}, start slope {}, end slope {}\n",
-                    names[c],
-                    fmt(errs[0]),
-                    fmt(errs[1]),
-                    fmt(errs[2]),
-                    fmt(errs[3])
-                ));
-                if let Some(ex) = &r.exact[c] {
-                    let h = r.grid.h();
-                    let diff: Vec<f64> = values[c]
-                        .iter()
-                        .enumerate()
-                        .map(|(j, x)| x - ex.eval(&[j as f64 * h, t_end]))
-                        .collect();
-                    let max = diff.iter().fold(0.0f64, |m, d| m.max(d.abs()));
-                    report.push_str(&format!(
-                        "exact {}: L2 error {}, max error {}\n",
-                        names[c],
-                        fmt(l2_norm(&diff, h)),
-                        fmt(max)
-                    ));
-                }
-            }
-            report.push_str(&format!(
-                "bending energy: {}\n",
-                fmt(bending_energy(&nodes))
-            ));
-        }
-        DynamicPlan::Interpolate { problem, .. } => {
-            let result = problem
-                .solve_observed(every, &mut observer)
-                .map_err(|e| design.error(&e.at("dynamic")))?;
-            let wall = start.elapsed().as_secs_f64();
-            nodes = result.nodes.clone();
-            let size = {
-                let mut all = vec![problem.start, problem.end];
-                all.extend(problem.points.iter().copied());
-                let (mut lo, mut hi) = (all[0], all[0]);
-                for p in &all {
-                    lo = lo.inf(p);
-                    hi = hi.sup(p);
-                }
-                (hi - lo).amax()
-            };
-            report.push_str(&format!(
-                "interpolating curve: {} points, J = {}, {} steps (t = {}), {} force updates, {} s\n",
-                problem.points.len(),
-                problem.intervals,
-                result.steps,
-                fmt(result.steps as f64 * problem.dt),
-                result.updates,
-                fmt(wall)
-            ));
-            for (i, ((p, u), d)) in problem
-                .points
-                .iter()
-                .zip(&result.params)
-                .zip(&result.distances)
-                .enumerate()
-            {
-                let coords: Vec<String> = p.iter().take(dim).map(|x| fmt(*x)).collect();
-                report.push_str(&format!(
-                    "point {i} ({}): u = {}, distance {}\n",
-                    coords.join(", "),
-                    fmt(*u),
-                    fmt(*d)
-                ));
-            }
-            report.push_str(&format!(
-                "tolerance: {} ({} of the data size {})\n",
-                fmt(problem.tolerance * size),
-                fmt(problem.tolerance),
-                fmt(size)
-            ));
-            let jn = nodes.len() - 1;
-            let (s0, s1) = end_slopes(&nodes);
-            report.push_str(&format!(
-                "end conditions: start {}, end {}, start tangent {}, end tangent {}\n",
-                fmt((nodes[0] - problem.start).norm()),
-                fmt((nodes[jn] - problem.end).norm()),
-                fmt((s0 - problem.start_tangent).norm()),
-                fmt((s1 - problem.end_tangent).norm())
-            ));
-            report.push_str(&format!("bending energy: {}\n", fmt(result.bending_energy)));
-            data_points = problem.points.clone();
-            end_points = vec![problem.start, problem.end];
-        }
-    }
+    let outcome =
+        pdeshape::dynamic_run::run(&built, &mut observer).map_err(|e| design.error(&e))?;
+    let mut report = outcome.report();
+    let (data_points, end_points) = match &outcome.kind {
+        OutcomeKind::Interpolate(r) => (r.points.clone(), r.ends.to_vec()),
+        OutcomeKind::Run(_) => (Vec::new(), Vec::new()),
+    };
+    let nodes = outcome.nodes;
     pb.finish_and_clear();
     if let Some(e) = write_error {
         return Err(frames_err(e));

@@ -4,7 +4,7 @@
 //! glb, csv).
 
 use crate::common::{self, CliError, Output};
-use pdeshape::design::{solve_spec, SolvedSpline};
+use pdeshape::design::solve_spec;
 use pdeshape::mesh::{self, Format};
 use pdeshape::splinepde::export::{iges_timestamp, to_iges_in, IgesOptions, IgesUnit};
 use std::io::Write;
@@ -53,59 +53,6 @@ fn kind(path: &std::path::Path) -> Result<Kind, CliError> {
             "-o {shown}: no extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
         ))),
     }
-}
-
-/// The solve report as text for stdout.
-pub fn report_text(s: &SolvedSpline) -> String {
-    let net = s.to_f64();
-    let r = s.report();
-    let list = |v: &[[usize; 2]]| {
-        if v.is_empty() {
-            "none".to_string()
-        } else {
-            v.iter()
-                .map(|[i, j]| format!("[{i},{j}]"))
-                .collect::<Vec<_>>()
-                .join(" ")
-        }
-    };
-    let mut out = format!(
-        "PDE: {}\nnet: {} × {} control points, degree [{}, {}], {} arithmetic\n",
-        net.operator.describe(),
-        r.counts[0],
-        r.counts[1],
-        net.u.degree,
-        net.v.degree,
-        if matches!(s, SolvedSpline::Exact(_)) {
-            "exact rational"
-        } else {
-            "f64"
-        }
-    );
-    out += &format!(
-        "equations: {} residual coefficients, rank {} (PDE alone: rank {} in {} control points)\n",
-        r.equations,
-        r.rank,
-        r.pde_rank,
-        r.counts[0] * r.counts[1]
-    );
-    out += &format!(
-        "fixed: {}, unknown: {}, determined: {}, free: {} (solution set of dimension {})\n",
-        r.fixed.len(),
-        r.unknowns,
-        r.determined.len(),
-        r.free.len(),
-        r.freedom
-    );
-    out += &format!("determined points: {}\n", list(&r.determined));
-    out += &format!("free points: {}\n", list(&r.free));
-    if !r.chosen_by.is_empty() {
-        out += &format!(
-            "free points chosen by minimising: {}\n",
-            r.chosen_by.join("; then ")
-        );
-    }
-    out
 }
 
 pub fn run(args: &Args) -> Result<(), CliError> {
@@ -198,7 +145,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     out.commit()?;
     common::report(&format!(
         "{}wrote {}\n",
-        report_text(&solved),
+        pdeshape::diagnostics::spline_report(&solved),
         common::destination(&args.output)
     ));
     Ok(())

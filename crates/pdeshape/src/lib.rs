@@ -33,6 +33,9 @@ pub use pdeshape_geometry::{
 pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
 pub use pdeshape_io::{cad, dynamic_output, format, render};
 
+pub mod analysis_report;
+pub mod diagnostics;
+pub mod dynamic_run;
 pub mod open;
 
 /// Designs: compile, edit, solve, and write (the design layer's `design` with the writing of

@@ -50,10 +50,12 @@ pub mod anneal;
 #[cfg(test)]
 mod measure;
 mod params;
+mod values;
 
 pub use crate::spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
 pub use params::{ParamKind, Parameter, Parameters};
+pub use values::{apply_values, ValueError};
 
 use crate::analysis::{integrate_design, Integrals, Quadrature};
 use crate::design::{solve_design, SolvedDesign};

@@ -6,8 +6,8 @@ use super::solved::{NamedCurve, SurfaceKind};
 use super::trim::trim_curve;
 use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
 use crate::curve::{
-    Affine, ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries,
-    Hermite, LocalEdit, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
+    ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
+    LocalEdit, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
 };
 use crate::spec::*;
 use crate::{Error, Result, Vec3};
@@ -284,26 +284,7 @@ impl<'a> CurveBuilder<'a> {
             );
         }
         if !spec.transform.is_empty() {
-            let mut map = Affine::identity();
-            for (i, step) in spec.transform.iter().enumerate() {
-                let p = format!("{place}.transform[{i}]");
-                let next = match step {
-                    TransformStep::Translate(d) => Affine::translation(v3(d)),
-                    TransformStep::Rotate { axis, angle, about } => {
-                        Affine::rotation(v3(axis), angle.to_radians(), v3(about))
-                            .map_err(|e| e.at(&format!("{p}.rotate")))?
-                    }
-                    TransformStep::Scale { factor, about } => {
-                        Affine::scaling(*factor, v3(about))
-                            .map_err(|e| e.at(&format!("{p}.scale")))?
-                    }
-                    TransformStep::Dilate { factors, about } => {
-                        Affine::dilation(v3(factors), v3(about))
-                            .map_err(|e| e.at(&format!("{p}.dilate")))?
-                    }
-                };
-                map = map.then(&next);
-            }
+            let map = super::transform_map(&spec.transform, place)?;
             curve = Arc::new(Transformed::new(curve, map));
         }
         Ok(curve)

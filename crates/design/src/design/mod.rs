@@ -23,6 +23,7 @@ mod solved;
 mod spine;
 mod spine_series;
 mod spline;
+mod transform;
 mod trim;
 mod validate;
 
@@ -46,6 +47,7 @@ pub use spine::{
     spine_control_points, spine_hermite_of, spine_target, SpineEdited, SpineReport, Wave,
 };
 pub use spline::{build_problem, solve_spec, SolvedSpline};
+pub use transform::{spec_point, transform_map, world_control_points};
 pub use trim::{trim_curve, trim_method, SurfaceTrim};
 pub use validate::{check_grid, DEFAULT_NU, DEFAULT_NV};
 

@@ -7,6 +7,7 @@
 
 pub mod certify;
 pub mod curve;
+mod export;
 mod hermite;
 pub mod read;
 pub mod step;
@@ -19,6 +20,7 @@ mod tests_remainder;
 pub mod trimmed;
 
 pub use certify::{approximate, Approximation, Certificate};
+pub use export::{default_tolerance, export_design, require_surfaces, CadExport, CadExportError};
 pub use hermite::hermite_interpolant;
 
 use crate::design::{SolvedDesign, SurfaceKind};

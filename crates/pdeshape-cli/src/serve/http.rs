@@ -332,7 +332,7 @@ async fn edit(
                         "name",
                     )
                 })?;
-                *point = library::spec_point(cs, *point).ok_or_else(|| {
+                *point = pdeshape::design::spec_point(cs, *point).ok_or_else(|| {
                     ApiError::unprocessable("the curve's transform cannot be inverted", "point")
                 })?;
             }
@@ -561,15 +561,16 @@ async fn files(State(state): State<AppState>) -> Result<Response, ApiError> {
 }
 
 async fn check(State(state): State<AppState>) -> Result<Response, ApiError> {
-    let (text, warnings, edges) = with_session(&state, |s| {
-        let (text, warnings) = s.check();
-        Ok((text, warnings, scene::edges(s.design().solved())))
+    let (text, d, edges) = with_session(&state, |s| {
+        let (text, d) = s.check();
+        Ok((text, d, scene::edges(s.design().solved())))
     })
     .await?;
-    Ok(
-        axum::Json(serde_json::json!({ "report": text, "warnings": warnings, "edges": edges }))
-            .into_response(),
-    )
+    Ok(axum::Json(serde_json::json!({
+        "report": text, "warnings": d.warnings, "edges": edges, "verdict": d.verdict.word(),
+        "diagnostics": d.to_json(),
+    }))
+    .into_response())
 }
 
 async fn analyze(State(state): State<AppState>) -> Result<Response, ApiError> {

@@ -1,65 +1,17 @@
-//! Curves for the designer: control points in world coordinates (through a curve's
-//! `transform`), and circles or ellipses turned into B-splines whose control points can be
-//! dragged.
+//! Curves for the designer: circles or ellipses turned into B-splines whose control points can
+//! be dragged. (Control points through a curve's `transform`: `pdeshape::design::
+//! world_control_points` and `spec_point`.)
 
-use pdeshape::curve::{Affine, Curve, Domain};
-use pdeshape::spec::{CurveKind, CurveSpec, TransformStep, V3};
-use pdeshape::{Vec3, TAU};
+use pdeshape::curve::{Curve, Domain};
+use pdeshape::spec::{CurveKind, CurveSpec, V3};
+use pdeshape::TAU;
 
 /// Control points of a periodic cubic B-spline made from an ellipse.
 pub const BSPLINE_POINTS: usize = 8;
 
-fn v3(p: &V3) -> Vec3 {
-    Vec3::new(p[0], p[1], p[2])
-}
-
-/// The affine map of a curve's `transform` steps (`None` if a step is invalid: the design
-/// layer reports that).
-pub fn transform_map(cs: &CurveSpec) -> Option<Affine> {
-    let mut map = Affine::identity();
-    for step in &cs.transform {
-        let next = match step {
-            TransformStep::Translate(d) => Affine::translation(v3(d)),
-            TransformStep::Rotate { axis, angle, about } => {
-                Affine::rotation(v3(axis), angle.to_radians(), v3(about)).ok()?
-            }
-            TransformStep::Scale { factor, about } => Affine::scaling(*factor, v3(about)).ok()?,
-            TransformStep::Dilate { factors, about } => {
-                Affine::dilation(v3(factors), v3(about)).ok()?
-            }
-        };
-        map = map.then(&next);
-    }
-    Some(map)
-}
-
-/// The control points of a B-spline, Bézier or samples curve, where they are drawn (after the
-/// curve's transform).
-pub fn world_control_points(cs: &CurveSpec) -> Option<Vec<V3>> {
-    let points = match &cs.kind {
-        CurveKind::BSpline { control, .. } | CurveKind::Bezier { control } => control,
-        CurveKind::Samples { points, .. } => points,
-        _ => return None,
-    };
-    let map = transform_map(cs)?;
-    Some(
-        points
-            .iter()
-            .map(|p| {
-                let q = map.apply_point(&v3(p));
-                [q.x, q.y, q.z]
-            })
-            .collect(),
-    )
-}
-
-/// The control point that the curve's transform carries to `world` (the inverse map); `None`
-/// when the map is singular.
-pub fn spec_point(cs: &CurveSpec, world: V3) -> Option<V3> {
-    let map = transform_map(cs)?;
-    let inverse = map.linear.try_inverse()?;
-    let p = inverse * (v3(&world) - map.shift);
-    p.iter().all(|x| x.is_finite()).then_some([p.x, p.y, p.z])
+#[cfg(test)]
+fn v3(p: &V3) -> pdeshape::Vec3 {
+    pdeshape::Vec3::new(p[0], p[1], p[2])
 }
 
 /// A periodic cubic B-spline of [`BSPLINE_POINTS`] control points approximating the ellipse
@@ -110,6 +62,7 @@ pub fn bspline_from_ellipse(curve: &dyn Curve) -> Option<CurveSpec> {
 mod tests {
     use super::*;
     use pdeshape::curve::{BSpline, Ellipse};
+    use pdeshape::Vec3;
 
     /// The B-spline meets the circle at every knot (exactly, to rounding), keeps v = 0 and the
     /// direction of v, and stays within the analysed 0.2 % between knots.
@@ -136,37 +89,5 @@ mod tests {
         assert!(worst < 0.002 * 1.5, "worst {worst}");
         // Same direction of travel at v = 0.
         assert!(b.derivative(0.0, 1).dot(&circle.derivative(0.0, 1)) > 0.0);
-    }
-
-    #[test]
-    fn control_points_map_through_the_transform_and_back() {
-        let cs = CurveSpec {
-            kind: CurveKind::Bezier {
-                control: vec![[1.0, 2.0, 3.0], [0.0, 0.0, 1.0]],
-            },
-            transform: vec![
-                TransformStep::Translate([1.0, 0.0, 0.0]),
-                TransformStep::Rotate {
-                    axis: [0.0, 0.0, 1.0],
-                    angle: 90.0,
-                    about: [0.0, 0.0, 0.0],
-                },
-                TransformStep::Scale {
-                    factor: 2.0,
-                    about: [0.0, 0.0, 0.0],
-                },
-            ],
-            v_origin: 0.0,
-            arc_length: false,
-        };
-        let w = world_control_points(&cs).unwrap();
-        // (1,2,3) → (2,2,3) → (−2,2,3) → (−4,4,6).
-        for (a, b) in w[0].iter().zip([-4.0, 4.0, 6.0]) {
-            assert!((a - b).abs() < 1e-12, "{:?}", w[0]);
-        }
-        let back = spec_point(&cs, w[0]).unwrap();
-        for (a, b) in back.iter().zip([1.0, 2.0, 3.0]) {
-            assert!((a - b).abs() < 1e-12, "{back:?}");
-        }
     }
 }

@@ -14,7 +14,6 @@
 //! grid, whose faces are implied (quads `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when
 //! periodic), or the vertex count of a trimmed surface's triangle mesh (holes cut out).
 
-use super::library;
 use pdeshape::curve::{Curve, Domain};
 use pdeshape::design::SolvedDesign;
 use pdeshape::mesh::{GridMesh, TriMesh};
@@ -93,7 +92,7 @@ pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
                 .then(|| (c.curve.point(0.0), c.curve.derivative(0.0, 1)))
                 .filter(|(p, d)| finite(p) && finite(d))
                 .map(|(p, d)| json!({ "point": p3(&p), "tangent": p3(&d) }));
-            let control = cs.and_then(library::world_control_points);
+            let control = cs.and_then(pdeshape::design::world_control_points);
             let role = if position_curves.contains(c.name.as_str()) {
                 "position"
             } else if is_vector {

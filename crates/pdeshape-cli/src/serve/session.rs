@@ -7,7 +7,7 @@ use super::files;
 use super::gestures::{self, LocalDrag, LocalRequest};
 use super::timeline::Timeline;
 use super::trimmed::{self, TrimmedMeshes};
-use crate::common::{self, Loaded};
+use crate::common;
 use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{self, CompiledDesign, Edit};
 use pdeshape::mesh::{Format, GridMesh};
@@ -383,16 +383,20 @@ impl Session {
         Ok(self.drawn(grid)?.0)
     }
 
-    /// The `check` report of the design and its warnings.
-    pub fn check(&self) -> (String, Vec<String>) {
-        let loaded = self.loaded();
-        crate::check::report(&loaded, self.design.solved())
+    /// The `check` report of the design and its diagnostics (the library's, as `pdeshape
+    /// check` prints them).
+    pub fn check(&self) -> (String, pdeshape::diagnostics::Diagnostics) {
+        let spec = self.design.spec();
+        let solved = self.design.solved();
+        let d = pdeshape::diagnostics::diagnose(spec, solved);
+        let text = pdeshape::diagnostics::check_report(&self.file, spec, solved, &d);
+        (text, d)
     }
 
     /// The `analyze` numbers as JSON (the same as `pdeshape analyze --json`).
     pub fn analyze(&self) -> Result<String, ApiError> {
-        crate::analyze::design_json(self.design.solved())
-            .map_err(|e| ApiError::unprocessable(e.message, ""))
+        pdeshape::analysis_report::design_json(self.design.solved())
+            .map_err(|e| ApiError::unprocessable(e.to_string(), ""))
     }
 
     /// The design's surfaces in a mesh format, written by the library's writers.
@@ -440,25 +444,17 @@ impl Session {
         &mut self,
         grid: (usize, usize),
         by: Coloring,
-    ) -> Result<Option<(crate::analyze::MeshColors, f64, f64)>, ApiError> {
+    ) -> Result<Option<(pdeshape::analysis_report::MeshColors, f64, f64)>, ApiError> {
+        use pdeshape::analysis_report::{curvature_colors, Curvature};
         let by = match by {
             Coloring::Shaded => return Ok(None),
-            Coloring::Gauss => crate::analyze::ColorBy::Gauss,
-            Coloring::Mean => crate::analyze::ColorBy::Mean,
+            Coloring::Gauss => Curvature::Gauss,
+            Coloring::Mean => Curvature::Mean,
         };
         let meshes = self.meshes(grid)?.to_vec();
-        crate::analyze::curvature_colors(self.design.solved(), &meshes, by, None)
+        curvature_colors(self.design.solved(), &meshes, by, None)
             .map(Some)
-            .map_err(|e| ApiError::unprocessable(e.message, "color"))
-    }
-
-    /// The design as a loaded file (for the `check` report).
-    fn loaded(&self) -> Loaded {
-        Loaded {
-            file: self.file.clone(),
-            text: spec::write_design(self.design.spec()).unwrap_or_default(),
-            spec: self.design.spec().clone(),
-        }
+            .map_err(|e| ApiError::unprocessable(e.to_string(), "color"))
     }
 }
 

@@ -1,0 +1,543 @@
+//! What `pdeshape check` reports about a solved design, computed once for every shell (the CLI,
+//! the designer, Python): the condition errors of every patch, G0/G1 along shared edges and
+//! attachments, the quality of trimmed re-meshings, the design's parameters, the warnings and a
+//! verdict. [`diagnose`] computes a [`Diagnostics`]; [`Diagnostics::to_json`] is `check
+//! --json`'s data and [`check_report`] its text.
+
+mod report;
+#[cfg(test)]
+mod tests;
+
+pub use report::{blend_report, check_report, describe_operator, spline_report};
+
+use crate::design::{self, ConditionInfo, SolvedDesign, SurfaceKind};
+use crate::elliptic::{ConditionError, ModeReport};
+use crate::spec::DesignSpec;
+use crate::surface::Surface;
+use crate::trim::MeshQuality;
+use crate::Vec3;
+use serde_json::{json, Value};
+
+/// Samples of `v` for the condition errors.
+pub const ERROR_SAMPLES: usize = 512;
+/// Relative condition errors of analytic patches above this are warned about.
+pub const WARN_RELATIVE: f64 = 1e-6;
+/// A surface reaching farther than this many times the extent of its position curves (from
+/// their centre) is warned about: the interpolation oscillates between the conditions.
+pub const WARN_EXCURSION: f64 = 10.0;
+/// Samples along each attachment for its G0/G1.
+pub const ATTACH_SAMPLES: usize = 512;
+/// G0 above this (times the host's size, at least 1) along an attachment or a shared edge is a
+/// gap.
+pub const G0_TOLERANCE: f64 = 1e-10;
+/// G1 above this (radians) along an attachment with a tangent field or a shared edge is a crease.
+pub const G1_TOLERANCE: f64 = 1e-8;
+
+/// The overall judgement of a solved design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// Every condition met, no warning, every shared edge G0 and G1.
+    Ok,
+    /// The design solved, but something deserves a look: a warning, or a shared edge that is
+    /// not G0 (a gap) or not G1 (a crease; often intended, as at a lid or a flange).
+    Attention,
+}
+
+impl Verdict {
+    /// `"ok"` or `"attention"`.
+    pub fn word(self) -> &'static str {
+        match self {
+            Verdict::Ok => "ok",
+            Verdict::Attention => "attention",
+        }
+    }
+}
+
+/// One surface's kind, operator, modes and condition errors.
+#[derive(Clone, Debug)]
+pub struct SurfaceDiagnostics {
+    pub name: String,
+    /// [`SurfaceKind::word`].
+    pub kind: &'static str,
+    /// A PDE patch (analytic, finite differences or with an edited spine).
+    pub patch: bool,
+    /// A PDE patch with an edited spine (its conditions are the unedited patch's).
+    pub spine_edited: bool,
+    /// The operator in words ([`describe_operator`]).
+    pub operator: Option<String>,
+    /// The analytic solver's report per Fourier mode.
+    pub modes: Option<Vec<ModeReport>>,
+    /// `max_v` errors of the conditions (every condition of an analytic patch, the position
+    /// conditions of the others), on [`ERROR_SAMPLES`] values of `v`; empty unless `patch`.
+    pub condition_errors: Vec<ConditionError>,
+}
+
+/// G0/G1 along an edge shared by two patches.
+#[derive(Clone, Debug)]
+pub struct EdgeDiagnostics {
+    /// The shared position curve.
+    pub curve: String,
+    pub a: String,
+    pub ua: f64,
+    pub b: String,
+    pub ub: f64,
+    pub g0: f64,
+    /// Radians.
+    pub g1: f64,
+    /// `g0` within [`G0_TOLERANCE`] times the first surface's size (at least 1).
+    pub g0_met: bool,
+    /// `g1` within [`G1_TOLERANCE`]: no crease.
+    pub g1_met: bool,
+}
+
+/// G0/G1 along an attachment (a patch whose condition lies on a host patch).
+#[derive(Clone, Debug)]
+pub struct AttachmentDiagnostics {
+    pub patch: String,
+    pub u: f64,
+    pub host: String,
+    /// The attaching curve's name (`None`: an inline curve).
+    pub curve: Option<String>,
+    /// Attached with a tangent field (G1 expected).
+    pub tangent: bool,
+    pub samples: usize,
+    pub g0: f64,
+    pub g1: f64,
+    /// Samples whose closest-point search did not converge.
+    pub unconverged: usize,
+}
+
+/// A `[[trims]]` entry and the quality of its re-meshing on the design's output grid.
+#[derive(Clone, Debug)]
+pub struct TrimDiagnostics {
+    /// `trims[i]`.
+    pub place: String,
+    pub surface: String,
+    pub method: &'static str,
+    /// Each curve's kind and the area of `(u, v)` it encloses.
+    pub curves: Vec<(&'static str, f64)>,
+    /// The grid `(nu, nv)` of the re-meshing.
+    pub grid: (usize, usize),
+    /// The re-meshed band's triangles measured in grid cells (`None` if it could not be made).
+    pub quality: Option<MeshQuality>,
+}
+
+/// A `[[parameters]]` entry: its value, bounds and what it drives.
+#[derive(Clone, Debug)]
+pub struct ParameterDiagnostics {
+    pub name: String,
+    /// The file's word for its kind.
+    pub kind: &'static str,
+    pub curve: Option<String>,
+    pub with: Vec<String>,
+    pub value: f64,
+    pub min: f64,
+    pub max: f64,
+    pub neutral: f64,
+    /// What it drives, in words.
+    pub drives: String,
+}
+
+/// Everything `pdeshape check` finds in a solved design.
+#[derive(Clone, Debug)]
+pub struct Diagnostics {
+    pub title: Option<String>,
+    /// Every surface, in the design's order.
+    pub surfaces: Vec<SurfaceDiagnostics>,
+    /// The shared edges of a multi-patch design (`None` for a single surface).
+    pub edges: Option<Vec<EdgeDiagnostics>>,
+    pub attachments: Vec<AttachmentDiagnostics>,
+    pub trims: Vec<TrimDiagnostics>,
+    pub parameters: Vec<ParameterDiagnostics>,
+    /// What deserves a warning, in words (without a `warning: ` prefix).
+    pub warnings: Vec<String>,
+    pub verdict: Verdict,
+}
+
+/// The name of the `d`-th u-derivative in reports: `position`, `X_u`, `X_uu`, `∂^dX/∂u^d`.
+pub fn derivative_name(d: usize) -> String {
+    match d {
+        0 => "position".to_string(),
+        1 => "X_u".to_string(),
+        2 => "X_uu".to_string(),
+        _ => format!("∂^{d}X/∂u^{d}"),
+    }
+}
+
+/// `max_v |X(u, v) − C(v)|` of a position condition on a surface, absolute and relative to the
+/// curve's size (for solvers without their own condition report).
+fn position_error(s: &dyn Surface, c: &ConditionInfo) -> (f64, f64) {
+    let (mut err, mut size) = (0.0f64, 0.0f64);
+    for k in 0..ERROR_SAMPLES {
+        let v = crate::TAU * k as f64 / ERROR_SAMPLES as f64;
+        let p = c.curve.point(v);
+        let d = (s.point(c.u, v) - p).norm();
+        if d.is_nan() || d > err {
+            err = d;
+        }
+        size = size.max(p.norm());
+    }
+    (err, err / size.max(f64::MIN_POSITIVE))
+}
+
+/// `(surface extent, curve extent)`: the largest distance from the centre of the position
+/// curves' bounding box, over a 257 × 64 sample of the patch and over its position curves.
+fn excursion(surface: &dyn Surface, conds: &[ConditionInfo]) -> (f64, f64) {
+    let mut pts = Vec::new();
+    for c in conds.iter().filter(|c| c.derivative == 0) {
+        for k in 0..256 {
+            pts.push(c.curve.point(crate::TAU * k as f64 / 256.0));
+        }
+    }
+    if pts.is_empty() {
+        return (0.0, 0.0);
+    }
+    let mut lo = pts[0];
+    let mut hi = pts[0];
+    for p in &pts {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let centre: Vec3 = (lo + hi) / 2.0;
+    let curves = pts.iter().map(|p| (p - centre).norm()).fold(0.0, f64::max);
+    let surface = match crate::mesh::sample(surface, 257, 64) {
+        Ok(grid) => grid
+            .positions
+            .iter()
+            .map(|p| (Vec3::new(p[0], p[1], p[2]) - centre).norm())
+            .fold(
+                0.0,
+                |m: f64, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+            ),
+        Err(_) => 0.0,
+    };
+    (surface, curves)
+}
+
+/// The diagonal of a surface's bounding box on a coarse grid (the scale of its G0).
+fn size_of(s: &dyn Surface) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let r = s.u_range();
+    for i in 0..=16 {
+        for j in 0..32 {
+            let u = r.start + (r.end - r.start) * i as f64 / 16.0;
+            let p = s.point(u, crate::TAU * j as f64 / 32.0);
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
+fn surface_diagnostics(patch: &design::DesignSurface) -> SurfaceDiagnostics {
+    let is_patch = patch.is_patch();
+    let (modes, condition_errors) = match patch.pde() {
+        Some(pde) => (
+            Some(pde.mode_reports().to_vec()),
+            pde.condition_errors(ERROR_SAMPLES),
+        ),
+        None if is_patch => (
+            None,
+            patch
+                .conditions
+                .iter()
+                .filter(|c| c.derivative == 0)
+                .map(|c| {
+                    let (absolute, relative) = position_error(patch.surface(), c);
+                    ConditionError {
+                        u: c.u,
+                        derivative: 0,
+                        absolute,
+                        relative,
+                    }
+                })
+                .collect(),
+        ),
+        None => (None, Vec::new()),
+    };
+    SurfaceDiagnostics {
+        name: patch.name.clone(),
+        kind: patch.kind.word(),
+        patch: is_patch,
+        spine_edited: matches!(patch.kind, SurfaceKind::SpineEdited(_)),
+        operator: patch.operator.as_ref().map(describe_operator),
+        modes,
+        condition_errors,
+    }
+}
+
+fn trim_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<TrimDiagnostics> {
+    if built.trims.is_empty() {
+        return Vec::new();
+    }
+    // The design's output grid (its [output] table, or the default).
+    let (nu, nv) =
+        design::grid(spec, None, None).unwrap_or((design::DEFAULT_NU, design::DEFAULT_NV));
+    let params = built.param_meshes(nu, nv);
+    built
+        .trims
+        .iter()
+        .map(|t| {
+            let target = &built.surfaces[t.surface];
+            let quality = match &params {
+                Ok(p) => p[t.surface].as_ref().map(|pm| {
+                    let surface = target.surface();
+                    let du = surface.u_range().length() / (nu - 1) as f64;
+                    let dv = match surface.v_domain() {
+                        crate::surface::VDomain::Periodic => crate::TAU / nv as f64,
+                        crate::surface::VDomain::Interval(a, b) => (b - a) / (nv - 1) as f64,
+                    };
+                    let periodic = surface.v_domain().is_periodic();
+                    let pts: Vec<[f64; 3]> = (pm.grid_triangles..pm.triangles.len())
+                        .flat_map(|k| pm.triangle_uv(k, periodic))
+                        .map(|p| [p[0] / du, p[1] / dv, 0.0])
+                        .collect();
+                    let tris: Vec<[u32; 3]> = (0..(pts.len() / 3) as u32)
+                        .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+                        .collect();
+                    crate::trim::quality(&pts, &tris, None)
+                }),
+                Err(_) => None,
+            };
+            TrimDiagnostics {
+                place: t.place.clone(),
+                surface: target.name.clone(),
+                method: t.method.word(),
+                curves: t.curves.iter().map(|c| (c.kind(), c.area())).collect(),
+                grid: (nu, nv),
+                quality,
+            }
+        })
+        .collect()
+}
+
+fn parameter_diagnostics(spec: &DesignSpec) -> Vec<ParameterDiagnostics> {
+    let list = design::design_parameters(spec).unwrap_or_default();
+    list.into_iter()
+        .zip(&spec.parameters)
+        .map(|(p, entry)| ParameterDiagnostics {
+            kind: entry.kind.word(),
+            curve: p.kind.curve().map(str::to_string),
+            drives: p.kind.describe(),
+            name: p.name,
+            with: p.with,
+            value: p.value,
+            min: p.min,
+            max: p.max,
+            neutral: p.neutral,
+        })
+        .collect()
+}
+
+/// The diagnostics of a design solved from `spec` (the design as solved: parameters applied).
+///
+/// Warnings, in this order: conditions of analytic patches met only to a relative error above
+/// [`WARN_RELATIVE`] (or NaN); patches reaching beyond [`WARN_EXCURSION`] times the extent of
+/// their position curves; attachments apart by more than [`G0_TOLERANCE`] times the host's size
+/// (at least 1), with a tangent field by more than [`G1_TOLERANCE`] radians, or whose
+/// closest-point search did not converge; trimmed re-meshings with inverted triangles. The
+/// verdict is [`Verdict::Ok`] when there is no warning and every shared edge is G0 and G1 within
+/// the same tolerances.
+pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
+    let surfaces: Vec<SurfaceDiagnostics> =
+        built.surfaces.iter().map(surface_diagnostics).collect();
+    let mut warnings = Vec::new();
+    for s in surfaces.iter().filter(|s| s.patch) {
+        // Finite differences meet their conditions only to the grid's accuracy.
+        let warn_at = if s.modes.is_some() {
+            WARN_RELATIVE
+        } else {
+            f64::INFINITY
+        };
+        for e in &s.condition_errors {
+            if e.relative > warn_at || e.relative.is_nan() {
+                warnings.push(format!(
+                    "patch '{}': the {} condition at u = {} is met only to {:.3e} (relative)",
+                    s.name,
+                    derivative_name(e.derivative),
+                    e.u,
+                    e.relative
+                ));
+            }
+        }
+    }
+    for patch in built.surfaces.iter().filter(|p| p.is_patch()) {
+        let (surface, curves) = excursion(patch.surface(), &patch.conditions);
+        if curves > 0.0 && surface > WARN_EXCURSION * curves {
+            warnings.push(format!(
+                "patch '{}': the surface reaches {surface:.3e} from the centre of its position \
+                 curves, which lie within {curves:.3e}: it oscillates between the conditions \
+                 (fewer or smoother conditions, or other u values, help)",
+                patch.name
+            ));
+        }
+    }
+    let edges = built.multi_patch.then(|| {
+        built
+            .edges()
+            .iter()
+            .map(|e| {
+                let r = &e.report;
+                let size = size_of(built.surfaces[r.a].surface());
+                EdgeDiagnostics {
+                    curve: e.curve.clone(),
+                    a: built.surfaces[r.a].name.clone(),
+                    ua: r.ua,
+                    b: built.surfaces[r.b].name.clone(),
+                    ub: r.ub,
+                    g0: r.g0,
+                    g1: r.g1,
+                    g0_met: r.g0 <= G0_TOLERANCE * size.max(1.0),
+                    g1_met: r.g1 <= G1_TOLERANCE,
+                }
+            })
+            .collect::<Vec<_>>()
+    });
+    let mut attachments = Vec::new();
+    if !built.attachments.is_empty() {
+        for r in built.attachment_reports(ATTACH_SAMPLES) {
+            let a = &r.attachment;
+            let host = &built.surfaces[a.host];
+            let patch = &built.surfaces[a.patch].name;
+            let size = size_of(host.surface());
+            let place = format!("attachment of '{patch}' to '{}'", host.name);
+            if r.g0.is_nan() || r.g0 > G0_TOLERANCE * size.max(1.0) {
+                warnings.push(format!("{place}: G0 = {:.3e} (positions apart)", r.g0));
+            }
+            if a.tangent && (r.g1.is_nan() || r.g1 > G1_TOLERANCE) {
+                warnings.push(format!(
+                    "{place}: G1 = {:.3e} rad (tangent planes apart)",
+                    r.g1
+                ));
+            }
+            if r.unconverged > 0 {
+                warnings.push(format!(
+                    "{place}: the closest-point search did not converge at {} of {} samples",
+                    r.unconverged, r.samples
+                ));
+            }
+            attachments.push(AttachmentDiagnostics {
+                patch: patch.clone(),
+                u: a.u,
+                host: host.name.clone(),
+                curve: a.curve.clone(),
+                tangent: a.tangent,
+                samples: r.samples,
+                g0: r.g0,
+                g1: r.g1,
+                unconverged: r.unconverged,
+            });
+        }
+    }
+    let trims = trim_diagnostics(spec, built);
+    for t in &trims {
+        if let Some(q) = &t.quality {
+            if q.inverted > 0 {
+                warnings.push(format!("{}: {} inverted triangles", t.place, q.inverted));
+            }
+        }
+    }
+    let edges_met = edges.iter().flatten().all(|e| e.g0_met && e.g1_met);
+    let verdict = if warnings.is_empty() && edges_met {
+        Verdict::Ok
+    } else {
+        Verdict::Attention
+    };
+    Diagnostics {
+        title: built.title.clone(),
+        surfaces,
+        edges,
+        attachments,
+        trims,
+        parameters: parameter_diagnostics(spec),
+        warnings,
+        verdict,
+    }
+}
+
+/// A number for JSON: non-finite values as null.
+pub(crate) fn jnum(x: f64) -> Value {
+    serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
+}
+
+impl Diagnostics {
+    /// The shared edges that are not G1 within [`G1_TOLERANCE`] (creases).
+    pub fn creases(&self) -> impl Iterator<Item = &EdgeDiagnostics> {
+        self.edges.iter().flatten().filter(|e| !e.g1_met)
+    }
+
+    /// The data of `pdeshape check --json` (without its `ok`, `design` and `report`): `title`,
+    /// per surface its `name`, `kind`, `operator`, and for analytic and finite-difference
+    /// patches their `modes` and `condition_errors`; the shared `edges` with `g0`, `g1`;
+    /// `attachments`; `parameters`; `warnings`. Non-finite numbers are null.
+    pub fn to_json(&self) -> Value {
+        let surfaces: Vec<Value> = self
+            .surfaces
+            .iter()
+            .map(|s| {
+                let mut o = json!({ "name": s.name, "kind": s.kind });
+                if let Some(op) = &s.operator {
+                    o["operator"] = json!(op);
+                }
+                if !s.patch || s.spine_edited {
+                    return o;
+                }
+                if let Some(modes) = &s.modes {
+                    o["modes"] = modes
+                        .iter()
+                        .map(|m| json!({ "n": m.n, "condition_number": jnum(m.condition_number), "basis": m.basis }))
+                        .collect();
+                }
+                o["condition_errors"] = s
+                    .condition_errors
+                    .iter()
+                    .map(|e| json!({ "u": e.u, "derivative": e.derivative, "absolute": jnum(e.absolute), "relative": jnum(e.relative) }))
+                    .collect();
+                o
+            })
+            .collect();
+        let edges: Vec<Value> = self
+            .edges
+            .iter()
+            .flatten()
+            .map(|e| {
+                json!({
+                    "a": e.a, "ua": e.ua, "b": e.b, "ub": e.ub,
+                    "curve": e.curve, "g0": jnum(e.g0), "g1": jnum(e.g1),
+                })
+            })
+            .collect();
+        let attachments: Vec<Value> = self
+            .attachments
+            .iter()
+            .map(|a| {
+                json!({
+                    "patch": a.patch, "u": a.u, "host": a.host, "curve": a.curve,
+                    "tangent": a.tangent, "samples": a.samples,
+                    "g0": jnum(a.g0), "g1": jnum(a.g1),
+                })
+            })
+            .collect();
+        let parameters: Vec<Value> = self
+            .parameters
+            .iter()
+            .map(|p| {
+                json!({
+                    "name": p.name, "kind": p.kind, "curve": p.curve,
+                    "with": p.with, "value": jnum(p.value), "min": jnum(p.min), "max": jnum(p.max),
+                    "neutral": jnum(p.neutral), "drives": p.drives,
+                })
+            })
+            .collect();
+        json!({
+            "title": self.title,
+            "surfaces": surfaces,
+            "edges": edges,
+            "attachments": attachments,
+            "parameters": parameters,
+            "warnings": self.warnings,
+        })
+    }
+}
