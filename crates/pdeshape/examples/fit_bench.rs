@@ -1,4 +1,4 @@
-//! Times the fitting of the test meshes of `tests/fit_meshes` (`fit::fit_mesh`, or
+//! Times the fitting of the test meshes of `pdeshape_testkit::fit_meshes` (`fit::fit_mesh`, or
 //! `fit::fit_template` for the U tube) and measures the fits; prints one markdown table row per
 //! mesh (BENCHMARKS.md): the 200 000-triangle vase, a 100 000-triangle vase for the
 //! time target, the star-shaped blob, the sphere, the bent tube, the relief sheet and the U tube.
@@ -6,11 +6,9 @@
 //! Usage: `cargo run --release -p pdeshape --example fit_bench [runs]` (on a quiet machine: the
 //! fit time is the median of `runs`, 3 by default; the measure time, one run, is beside it).
 
-#[path = "../tests/fit_meshes/mod.rs"]
-mod fit_meshes;
-
 use pdeshape::design::solve_design;
 use pdeshape::fit::{fit_mesh, fit_template, measure, parse_template, FitOptions, TriMesh};
+use pdeshape_testkit::fit_meshes;
 use std::time::Instant;
 
 fn median(mut v: Vec<f64>) -> f64 {
