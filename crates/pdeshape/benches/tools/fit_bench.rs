@@ -3,7 +3,7 @@
 //! mesh (BENCHMARKS.md): the 200 000-triangle vase, a 100 000-triangle vase for the
 //! time target, the star-shaped blob, the sphere, the bent tube, the relief sheet and the U tube.
 //!
-//! Usage: `cargo run --release -p pdeshape --example fit_bench [runs]` (on a quiet machine: the
+//! Usage: `cargo bench -p pdeshape --bench fit_bench -- [runs]` (on a quiet machine: the
 //! fit time is the median of `runs`, 3 by default; the measure time, one run, is beside it).
 
 use pdeshape::design::solve_design;
@@ -18,6 +18,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() {
     let runs: usize = std::env::args()
+        .filter(|a| a != "--bench")
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(3)

@@ -1,25 +1,20 @@
 //! The trimmed mesh of `examples/trimmed_vase.toml` (256 × 512, three holes, the general
 //! method) `ITER` times, printing the median and the fastest time:
-//! `cargo run --release -p pdeshape --example trim_timing -- mesh 200` (`mesh`: fresh buffers,
+//! `cargo bench -p pdeshape --bench trim_timing -- mesh 200` (`mesh`: fresh buffers,
 //! as `trimmed_mesh`; `into`: reused buffers, as `trimmed_mesh_into`; `domain`: the parameter
 //! domain alone). The figures in BENCHMARKS.md come from `cargo bench --bench trim`; this is
 //! for profiling (`perf record`, `valgrind --tool=callgrind`) and quick A/B runs.
 
 use pdeshape::design::{compile, trim_curve};
-use pdeshape::spec::parse_design;
 use pdeshape::trim::{trim_domain, trimmed_mesh, trimmed_mesh_into, TrimMethod, TrimmedMesh};
 use std::hint::black_box;
 use std::time::Instant;
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
     let what = args.get(1).map(|s| s.as_str()).unwrap_or("mesh");
     let iters: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(50);
-    let path = format!(
-        "{}/../../examples/trimmed_vase.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let spec = pdeshape_testkit::example_spec("trimmed_vase.toml");
     let d = compile(&spec).unwrap();
     let solved = d.solved();
     let s = solved.surfaces[0].surface();

@@ -8,7 +8,7 @@ use pdeshape::fit::{MeshDistance, MeshFormat, TriMesh};
 use pdeshape::Vec3;
 
 fn main() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().collect();
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
     if args.len() != 3 {
         return Err("usage: mesh_distance MESH POINTS.csv".into());
     }

@@ -9,7 +9,7 @@
 //! by a Delaunay triangulation of their projection on the `x, z` plane (`spade`); triangles with
 //! an edge longer than 0.8 cm (the hull's slivers around the border) are dropped.
 //!
-//! Usage: `cargo run --release -p pdeshape --example face_scan -- examples/anim/face.toml OUT.obj`
+//! Usage: `cargo bench -p pdeshape --bench face_scan -- ../../examples/anim/face.toml OUT.obj`
 
 use pdeshape::spec::time::parse_timed;
 use pdeshape::Vec3;
@@ -31,7 +31,7 @@ fn halton(mut i: usize, base: usize) -> f64 {
 }
 
 fn main() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().collect();
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
     if args.len() != 3 {
         return Err("usage: face_scan FACE.toml OUT.obj".into());
     }
@@ -107,7 +107,7 @@ fn main() -> Result<(), String> {
         out,
         "# The front of the neutral face of face.toml, sampled at {} scattered points with \
          noise of at most {NOISE} cm along the normal and triangulated by Delaunay in the x-z \
-         plane (crates/pdeshape/examples/face_scan.rs). Units: cm.",
+         plane (crates/pdeshape/benches/tools/face_scan.rs). Units: cm.",
         vertices.len()
     );
     for v in &vertices {

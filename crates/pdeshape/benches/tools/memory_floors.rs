@@ -3,7 +3,7 @@
 //! bandwidth of touched memory, and writing a file through the page cache; each with one and
 //! two threads, median of 7 runs.
 //!
-//! `cargo run --release -p pdeshape --example memory_floors [MiB] [dir]` (default 256 MiB and
+//! `cargo bench -p pdeshape --bench memory_floors -- [MiB] [dir]` (default 256 MiB and
 //! the system's temporary directory for the file).
 
 use std::io::Write;
@@ -53,7 +53,7 @@ fn fresh(bytes: usize, huge: bool) -> Vec<u8> {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
     let mib: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(256);
     let dir = args
         .get(2)

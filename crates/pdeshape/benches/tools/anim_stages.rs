@@ -5,7 +5,7 @@
 //! the fresh compile, its grids, the weld topology and the first two frame welds (the second
 //! makes the layout of the streaming pass).
 //!
-//! `cargo run --release -p pdeshape --example anim_stages -- examples/anim/ventricle.toml [NU NV]`
+//! `cargo bench -p pdeshape --bench anim_stages -- ../../examples/anim/ventricle.toml [NU NV]`
 
 use pdeshape::anim::Animation;
 use pdeshape::design::{compile, SurfaceKind};
@@ -14,7 +14,7 @@ use pdeshape::spec::time::parse_timed;
 use std::time::Instant;
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
     let path = args.get(1).expect("a design file with [time]");
     let nu: usize = args.get(2).map_or(64, |s| s.parse().expect("NU"));
     let nv: usize = args.get(3).map_or(128, |s| s.parse().expect("NV"));

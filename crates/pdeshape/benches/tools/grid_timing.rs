@@ -1,5 +1,5 @@
 //! Solve + tessellate the benchmark patch `ITER` times at `NU × NV` and print the median time:
-//! `cargo run --release --example grid_timing -- 256 512 200`. (The figures in BENCHMARKS.md
+//! `cargo bench -p pdeshape --bench grid_timing -- 256 512 200`. (The figures in BENCHMARKS.md
 //! come from `cargo bench`; this is for quick profiling.)
 
 use pdeshape::curve::{FourierSeries, SharedCurve};
@@ -11,6 +11,7 @@ use std::time::Instant;
 
 fn main() {
     let args: Vec<usize> = std::env::args()
+        .filter(|a| a != "--bench")
         .skip(1)
         .filter_map(|a| a.parse().ok())
         .collect();

@@ -4,7 +4,7 @@
 //! and without fsync. One line of JSON per run; run it several times (each run is a fresh
 //! process, as the CLI is):
 //!
-//! `cargo run --release -p pdeshape --example write_stages -- examples/cup.toml 1024 1024 glb /tmp`
+//! `cargo bench -p pdeshape --bench write_stages -- ../../examples/cup.toml 1024 1024 glb /tmp`
 
 use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{compile, Export};
@@ -47,8 +47,11 @@ impl Stage {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let design = args.get(1).map_or("examples/cup.toml", |s| s.as_str());
+    let args: Vec<String> = std::env::args().filter(|a| a != "--bench").collect();
+    let design = args.get(1).map_or(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cup.toml"),
+        |s| s.as_str(),
+    );
     let nu: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1024);
     let nv: usize = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(1024);
     let format = match args.get(4).map_or("glb", |s| s.as_str()) {
