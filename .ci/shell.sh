@@ -10,7 +10,7 @@ if ! command -v ccx >/dev/null 2>&1; then
     apt-get install -y -qq calculix-ccx
 fi
 # --workspace: the features of the README's test command, so nothing is rebuilt after it.
-cargo test --release --workspace --test shell_ccx --test shell -- --ignored
+cargo test --release --workspace --test integration --test cli -- --ignored shell
 bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 venv="${SHELL_VENV:-.ci/.venv-shell}"
 if [ ! -x "$venv/bin/python" ]; then

@@ -2,7 +2,7 @@
 """The benchmark surface of BENCHMARKS.md computed with NumPy, the way a good NumPy user writes it.
 
 Biharmonic (a = 2), 12 Fourier modes, the four boundary curves of
-crates/pdeshape/benches/common/mod.rs (same linear congruential numbers). Solve each mode's 4×4
+crates/testkit/src/curves.rs (same linear congruential numbers). Solve each mode's 4×4
 system in the bounded basis e^{an(u-1)}, u e^{an(u-1)}, e^{-anu}, u e^{-anu}; then basis tables in
 u (mode functions and their u-derivatives) and in v (cos nv, sin nv), and matrix products for X,
 X_u, X_v; unit normals; float32 positions and normals, as pdeshape's meshes store them.

@@ -12,9 +12,10 @@ point-triangle distance to every triangle (trimesh's `triangles.closest_point`);
 passes when pdeshape equals it everywhere.
 
 Usage: python3 bench/peers/trimesh_distance.py [points]
-Needs: numpy, trimesh, rtree (bench/peers/requirements.txt) and a release build of the example
-`cargo build --release -p pdeshape --example mesh_distance`.
+Needs: numpy, trimesh, rtree (bench/peers/requirements.txt); builds the profiling tool
+`mesh_distance` (crates/pdeshape/benches/tools) with `cargo bench --no-run`.
 """
+import json
 import os
 import subprocess
 import sys
@@ -41,9 +42,14 @@ pts = dirs * radii[:, None]
 b = 1.0 + 0.15 * np.sin(3 * dirs[:, 0]) * np.cos(2 * dirs[:, 1]) + 0.1 * dirs[:, 2] ** 2
 pts[: n // 2] *= b[: n // 2, None]
 
-root = os.path.dirname(os.path.abspath(__file__))
-target = os.environ.get("CARGO_TARGET_DIR", os.path.join(root, "..", "..", "target"))
-exe = os.path.join(target, "release", "examples", "mesh_distance")
+# The tool is a bench target: cargo names its executable, in the bench profile's deps directory.
+built = subprocess.run(
+    ["cargo", "bench", "-p", "pdeshape", "--bench", "mesh_distance", "--no-run",
+     "--message-format=json"],
+    capture_output=True, text=True, check=True).stdout
+exe = [m["executable"] for m in map(json.loads, built.splitlines())
+       if m.get("reason") == "compiler-artifact" and m.get("executable")
+       and m["target"]["name"] == "mesh_distance"][-1]
 
 with tempfile.TemporaryDirectory() as tmp:
     obj = os.path.join(tmp, "mesh.obj")

@@ -3,13 +3,11 @@
 //! and pointwise partials), and with the default adaptive quadrature; and the whole bundled cup
 //! (two patches, their shared edge, the cap) as `analyze` and the Python sweeps measure it.
 
-mod common;
-use common::bench_conditions;
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::analysis::{analyze_surface, integrate_design, Quadrature};
 use pdeshape::elliptic::{solve, Operator, PdePatch, SolveOptions};
-use pdeshape::spec::parse_design;
 use pdeshape::surface::{Partials, Surface, VDomain};
+use pdeshape_testkit::curves::bench_conditions;
 use std::hint::black_box;
 
 /// The patch seen only through `partials` (the trait's pointwise row path).
@@ -41,8 +39,7 @@ fn bench(c: &mut Criterion) {
         format!("adaptive_default_{}x{}", adaptive.u_nodes, adaptive.v_nodes),
         |b| b.iter(|| black_box(analyze_surface(&patch, &Quadrature::default()).unwrap())),
     );
-    let path = format!("{}/../../examples/cup.toml", env!("CARGO_MANIFEST_DIR"));
-    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let spec = pdeshape_testkit::example_spec("cup.toml");
     let cup = pdeshape::design::solve_design(&spec).unwrap();
     group.bench_function("cup_design_default", |b| {
         b.iter(|| black_box(integrate_design(&cup, &Quadrature::default()).unwrap()))

@@ -20,11 +20,8 @@ use pdeshape::spec::time::parse_timed;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/anim/ventricle.toml"
-    );
-    let anim = Animation::Timed(parse_timed(&std::fs::read_to_string(path).unwrap()).unwrap());
+    let text = pdeshape_testkit::example("anim/ventricle.toml");
+    let anim = Animation::Timed(parse_timed(&text).unwrap());
     let times = anim.times().unwrap();
     let mut group = c.benchmark_group("anim");
     group.throughput(Throughput::Elements(times.len() as u64));

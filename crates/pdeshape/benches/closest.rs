@@ -4,14 +4,13 @@
 //! its own index. One `partials` evaluation is timed for scale, and the mean number of
 //! evaluations per query is printed once.
 
-mod common;
-use common::bench_conditions;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pdeshape::elliptic::{solve, Operator, PdePatch, SolveOptions};
 use pdeshape::surface::{
     closest_point, ClosestOptions, ClosestPointIndex, Partials, RowEvaluator, Surface, VDomain,
 };
 use pdeshape::{Vec3, TAU};
+use pdeshape_testkit::curves::bench_conditions;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

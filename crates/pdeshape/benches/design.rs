@@ -4,13 +4,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::design::{compile, Edit};
-use pdeshape::spec::{parse_design, DesignSpec, TransformStep};
+use pdeshape::spec::TransformStep;
 use std::hint::black_box;
-
-fn example(name: &str) -> DesignSpec {
-    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
-    parse_design(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 fn bench(c: &mut Criterion) {
     let (nu, nv) = (64, 128);
@@ -20,7 +15,7 @@ fn bench(c: &mut Criterion) {
         ("wine_glass.toml", "rim"),
         ("klein_bottle_patches.toml", "s05"),
     ] {
-        let spec = example(file);
+        let spec = pdeshape_testkit::example_spec(file);
         assert!(spec.curves.contains_key(curve), "{file}: {curve}");
         let label = file.trim_end_matches(".toml");
         group.bench_function(format!("{label}/compile_from_scratch"), |b| {

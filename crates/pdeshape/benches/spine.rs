@@ -4,15 +4,11 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::design::{compile, Edit};
-use pdeshape::spec::{parse_design, SpineCarry, SpineMove, SpineSpec};
+use pdeshape::spec::{SpineCarry, SpineMove, SpineSpec};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/spine_bend.toml"
-    );
-    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let spec = pdeshape_testkit::example_spec("spine_bend.toml");
     let (nu, nv) = (64, 128);
     let mut group = c.benchmark_group("spine");
     for carry in [SpineCarry::Frame, SpineCarry::Translate] {

@@ -1,11 +1,10 @@
 //! Solve + tessellate with normals: the biharmonic patch with 12 Fourier modes of BENCHMARKS.md,
 //! at 256×512 and 1024×1024 (f32 positions and normals, as every mesh format stores them).
 
-mod common;
-use common::bench_conditions;
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::elliptic::{solve, Operator, SolveOptions};
 use pdeshape::mesh::{tessellate, tessellate_into};
+use pdeshape_testkit::curves::bench_conditions;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

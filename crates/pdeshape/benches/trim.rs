@@ -7,18 +7,13 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::design::{compile, trim_curve, trim_method};
 use pdeshape::mesh::tessellate;
-use pdeshape::spec::parse_design;
 use pdeshape::trim::{
     to_trimesh, trim_domain, trimmed_mesh, trimmed_mesh_into, TrimCurve, TrimMethod, TrimmedMesh,
 };
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let path = format!(
-        "{}/../../examples/trimmed_vase.toml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let spec = pdeshape_testkit::example_spec("trimmed_vase.toml");
     let d = compile(&spec).unwrap();
     let solved = d.solved();
     let s = solved.surfaces[0].surface();

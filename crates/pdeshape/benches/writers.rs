@@ -6,12 +6,10 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use pdeshape::design::compile;
 use pdeshape::mesh::{weld, write_mesh, Format, MeshInfo, WeldOptions};
-use pdeshape::spec::parse_design;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let path = format!("{}/../../examples/cup.toml", env!("CARGO_MANIFEST_DIR"));
-    let spec = parse_design(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let spec = pdeshape_testkit::example_spec("cup.toml");
     let mut design = compile(&spec).unwrap();
     let grids = &design.meshes(1024, 1024).unwrap();
     assert_eq!(grids.len(), 2);

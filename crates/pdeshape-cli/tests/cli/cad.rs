@@ -1,0 +1,257 @@
+//! End-to-end tests of STEP/IGES output (`pdeshape surface -o x.step|x.igs`) and `roundtrip`.
+
+use crate::common::*;
+
+#[test]
+fn step_and_iges_are_written_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    for name in ["part.step", "part.igs"] {
+        let out_path = dir.path().join(name);
+        let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance", "1e-4"]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(stdout.contains("(certified)"), "{stdout}");
+        // A proven figure is printed as a bound.
+        assert!(stdout.contains("deviation ≤ "), "{stdout}");
+        assert!(!stdout.contains('≈'), "{stdout}");
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path), "--tolerance", "1e-4"]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{stdout}");
+        assert!(stdout.contains(": ok"), "{stdout}");
+        // A tolerance far below the file's deviation fails with status 1.
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path), "--tolerance", "1e-12"]);
+        assert_eq!(out.status.code(), Some(1));
+    }
+}
+
+#[test]
+fn bad_flags_name_the_flag_and_leave_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", GOOD);
+    let out_path = dir.path().join("part.step");
+    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--units", "furlong"]);
+    assert_bad(&out, &["--units", "furlong"]);
+    let out = pdeshape(&["surface", s(&d), "-o", s(&out_path), "--tolerance=-1"]);
+    assert_bad(&out, &["--tolerance"]);
+    let out = pdeshape(&[
+        "surface",
+        s(&d),
+        "-o",
+        s(&out_path),
+        "--tolerance",
+        "1e-300",
+    ]);
+    assert_bad(&out, &["--tolerance"]);
+    assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
+    // A broken file read back: located error, status 2.
+    let broken = write(
+        dir.path(),
+        "b.step",
+        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,x));\nENDSEC;\nEND-ISO-10303-21;\n",
+    );
+    let out = pdeshape(&["roundtrip", s(&d), s(&broken)]);
+    assert_bad(&out, &["b.step", "line 3"]);
+    // A file that stops inside its DATA section: named, status 2.
+    let cut = write(
+        dir.path(),
+        "c.step",
+        "ISO-10303-21;\nDATA;\n#1=CARTESIAN_POINT('',(1.,2.,3.));\n",
+    );
+    let out = pdeshape(&["roundtrip", s(&d), s(&cut)]);
+    assert_bad(&out, &["c.step", "ends inside the DATA section"]);
+}
+
+/// A surface without derivative bounds (a tube whose foot is an ellipse reparametrised by arc
+/// length: that curve carries none) reports its sampled deviation as an estimate (`≈`), never
+/// as a bound, with the condition that lacks bounds.
+#[test]
+fn sampled_deviations_are_printed_as_estimates() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = dir.path().join("arc.toml");
+    std::fs::write(
+        &design,
+        r#"title = "Tube on an arc-length ellipse"
+conditions = [
+  { u = 0.0, curve = "foot" },
+  { u = 0.0, derivative = 1, curve = "up" },
+  { u = 1.0, curve = "mouth" },
+  { u = 1.0, derivative = 1, curve = "up" },
+]
+[operator]
+kind = "polyharmonic"
+order = 2
+a = 1.0
+[curves.foot]
+type = "ellipse"
+center = [0.0, 0.0, 0.0]
+axis1 = [1.5, 0.0, 0.0]
+axis2 = [0.0, 0.7, 0.0]
+arc_length = true
+[curves.up]
+type = "point"
+at = [0.0, 0.0, 3.0]
+[curves.mouth]
+type = "circle"
+center = [0.0, 0.0, 4.0]
+radius = 0.8
+"#,
+    )
+    .unwrap();
+    let out_path = dir.path().join("y.step");
+    let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let sampled: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.contains("not certified"))
+        .collect();
+    assert!(!sampled.is_empty(), "{stdout}");
+    for line in sampled {
+        assert!(
+            line.contains("deviation ≈ ") && !line.contains('≤'),
+            "{line}"
+        );
+        assert!(
+            line.contains("condition 0") && line.contains("ArcLength"),
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn trimmed_designs_are_written_with_their_holes_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "vase.toml", &example("trimmed_vase.toml"));
+    for name in ["vase.step", "vase.igs"] {
+        let out_path = dir.path().join(name);
+        let out = pdeshape(&["surface", s(&d), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for k in 0..3 {
+            assert!(
+                stdout.contains(&format!("    hole {k}: edge of ")),
+                "{stdout}"
+            );
+        }
+        let text = std::fs::read_to_string(&out_path).unwrap();
+        if name.ends_with(".step") {
+            assert_eq!(text.matches("FACE_BOUND('',").count(), 3);
+        } else {
+            assert!(text.contains("\n     144"), "no entity 144");
+        }
+        let out = pdeshape(&["roundtrip", s(&d), s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{stdout}");
+        assert!(stdout.contains(": ok"), "{stdout}");
+    }
+}
+
+/// A formula surface (the sphere of the benchmark designs) is written with a certified bound
+/// (`≤`, interval arithmetic), and read back within it.
+#[test]
+fn formula_surfaces_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../bench/designs/formula_ball.toml");
+    let out_path = dir.path().join("ball.step");
+    let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("deviation ≤ "), "{stdout}");
+    assert!(stdout.contains("(certified)"), "{stdout}");
+    let out = pdeshape(&["roundtrip", s(&design), s(&out_path)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains(": ok"), "{stdout}");
+}
+
+/// The holes of the four trimmed examples are written with certified deviations: the edge's
+/// from its face and the whole from the trim curve's image (`≤`).
+#[test]
+fn hole_edges_of_the_trimmed_examples_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = examples_dir();
+    for (name, count) in [
+        ("teacup", 2),
+        ("aeroplane", 5),
+        ("trimmed_vase", 3),
+        ("trim_book_methods", 2),
+    ] {
+        let design = examples.join(format!("{name}.toml"));
+        let out_path = dir.path().join(format!("{name}.step"));
+        let out = pdeshape(&["surface", s(&design), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let holes: Vec<&str> = stdout.lines().filter(|l| l.contains("    hole ")).collect();
+        assert_eq!(holes.len(), count, "{name}: {stdout}");
+        for line in holes {
+            assert!(
+                line.contains("from the face (certified)")
+                    && line.contains("from the trim curve's image (≤)")
+                    && !line.contains("sampled")
+                    && !line.contains('≈'),
+                "{name}: {line}"
+            );
+        }
+    }
+}
+
+/// The examples whose analytic patches carry a spectral remainder (B-spline, point-sample,
+/// local-edit condition curves, and the tangent fields of attached patches) and the
+/// spine-edited ones are written with a certified deviation on every surface.
+#[test]
+fn remainder_patches_are_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = examples_dir();
+    for name in [
+        "cup_lip.toml",
+        "yoghurt.toml",
+        "swirl_port.toml",
+        "swirl_port_params.toml",
+        "anim/water_glass.toml",
+        "anim/face.toml",
+        "teacup.toml",
+        "aeroplane.toml",
+        "spine_bend.toml",
+        "anim/fish.toml",
+        "anim/snake.toml",
+    ] {
+        let out_path = dir.path().join("x.step");
+        let out = pdeshape(&["surface", s(&root.join(name)), "-o", s(&out_path)]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let faces: Vec<&str> = stdout.lines().filter(|l| l.contains("deviation")).collect();
+        assert!(!faces.is_empty(), "{name}: {stdout}");
+        for line in faces {
+            assert!(
+                line.contains("deviation ≤ ") && line.contains("(certified)"),
+                "{name}: {line}"
+            );
+        }
+    }
+}

@@ -1,0 +1,379 @@
+//! `pdeshape fit`: a mesh in, a design out that `pdeshape surface` reads like any other; closed
+//! meshes by the tube mode, open ones by the sheet mode, anything by a template; bad meshes and
+//! bad templates get one line and no output file.
+
+use crate::common::*;
+
+/// An ellipsoid of revolution (semi-axes 1, 1, 1.5) as an OBJ text: `rings` latitude rings of
+/// `around` vertices, every other ring turned by half a step, and two poles.
+fn ellipsoid_obj(rings: usize, around: usize) -> String {
+    let mut out = String::from("# ellipsoid\nv 0 0 -1.5\n");
+    for i in 1..rings {
+        let t = std::f64::consts::PI * i as f64 / rings as f64;
+        for j in 0..around {
+            let phi = std::f64::consts::TAU * (j as f64 + 0.5 * (i % 2) as f64) / around as f64;
+            out += &format!(
+                "v {} {} {}\n",
+                t.sin() * phi.cos(),
+                t.sin() * phi.sin(),
+                -1.5 * t.cos()
+            );
+        }
+    }
+    out += "v 0 0 1.5\n";
+    let top = 1 + (rings - 1) * around + 1;
+    let at = |i: usize, j: usize| 2 + (i - 1) * around + j % around;
+    for j in 0..around {
+        out += &format!("f 1 {} {}\n", at(1, j + 1), at(1, j));
+        out += &format!("f {top} {} {}\n", at(rings - 1, j), at(rings - 1, j + 1));
+    }
+    for i in 1..rings - 1 {
+        for j in 0..around {
+            out += &format!("f {} {} {}\n", at(i, j), at(i, j + 1), at(i + 1, j + 1));
+            out += &format!("f {} {} {}\n", at(i, j), at(i + 1, j + 1), at(i + 1, j));
+        }
+    }
+    out
+}
+
+#[test]
+fn fit_writes_a_design_that_surface_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(60, 80));
+    let design = dir.path().join("egg.toml");
+    let json = dir.path().join("egg.json");
+    let pic = dir.path().join("egg.png");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+        "--picture",
+        s(&pic),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("Hausdorff"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let m = &report["measures"];
+    let h = m["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    assert!(m["ratio"].as_f64().unwrap() >= 20.0, "{report}");
+    assert!(std::fs::read(&pic).unwrap().starts_with(b"\x89PNG"));
+    // The design is an ordinary design file.
+    let obj = dir.path().join("egg_fit.obj");
+    let out = pdeshape(&[
+        "surface",
+        s(&design),
+        "-o",
+        s(&obj),
+        "--nu",
+        "16",
+        "--nv",
+        "32",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = pdeshape(&["check", s(&design)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Runs `fit` on a bad mesh file; checks the one-line error and that nothing was written.
+fn bad_mesh(name: &str, bytes: &[u8], needles: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = dir.path().join(name);
+    std::fs::write(&mesh, bytes).unwrap();
+    let design = dir.path().join("out.toml");
+    let json = dir.path().join("out.json");
+    let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--json", s(&json)]);
+    assert_bad(&out, needles);
+    assert_eq!(files(dir.path()), vec![name.to_string()]);
+}
+
+#[test]
+fn bad_meshes_get_one_line_and_no_output() {
+    let good = ellipsoid_obj(12, 16);
+    bad_mesh("empty.obj", b"", &["empty.obj", "no triangles"]);
+    bad_mesh(
+        "nan.obj",
+        good.replacen("v 0 0 -1.5", "v nan 0 -1.5", 1).as_bytes(),
+        &["nan.obj", "vertex 1 is not finite"],
+    );
+    // Open, but not a sheet: the ellipsoid with its last face removed goes to the sheet mode,
+    // whose planes cut it in closed loops.
+    let open: String = {
+        let lines: Vec<&str> = good.lines().collect();
+        lines[..lines.len() - 1].join("\n")
+    };
+    bad_mesh("open.obj", open.as_bytes(), &["open.obj", "closed loop"]);
+    // Two components: the ellipsoid twice, the second shifted.
+    let n = 2 + 11 * 16;
+    let mut two = good.clone();
+    for l in good.lines() {
+        if let Some(rest) = l.strip_prefix("v ") {
+            let c: Vec<f64> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
+            two += &format!("v {} {} {}\n", c[0] + 5.0, c[1], c[2]);
+        }
+    }
+    for l in good.lines() {
+        if let Some(rest) = l.strip_prefix("f ") {
+            let c: Vec<usize> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
+            two += &format!("f {} {} {}\n", c[0] + n, c[1] + n, c[2] + n);
+        }
+    }
+    bad_mesh("two.obj", two.as_bytes(), &["2 separate components"]);
+    // Non-manifold: a fin on an edge of the first ring.
+    let fin = format!("{good}v 3 3 3\nf 2 3 {}\n", n + 1);
+    bad_mesh("fin.obj", fin.as_bytes(), &["not manifold"]);
+    // Binary STL announcing ten million triangles.
+    let mut huge = vec![0u8; 84];
+    huge[80..84].copy_from_slice(&10_000_000u32.to_le_bytes());
+    bad_mesh("huge.stl", &huge, &["huge.stl", "10000000 triangles"]);
+    // Truncated binary STL: two triangles announced, one and a half present.
+    let mut cut = vec![0u8; 84 + 75];
+    cut[80..84].copy_from_slice(&2u32.to_le_bytes());
+    bad_mesh("cut.stl", &cut, &["cut.stl", "truncated"]);
+    bad_mesh(
+        "cut.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n",
+        &["cut.ply", "PLY"],
+    );
+    // Bad flags.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "m.obj", &good);
+    let design = dir.path().join("out.toml");
+    let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--tolerance", "0"]);
+    assert_bad(&out, &["--tolerance 0"]);
+    let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--template", "t.toml"]);
+    assert_bad(&out, &["--template t.toml", "cannot read"]);
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        "t.toml",
+        "--sections",
+        "3",
+    ]);
+    assert_bad(&out, &["--template", "--sections"]);
+    let out = pdeshape(&["fit", s(&mesh), "-o", s(&dir.path().join("x.obj"))]);
+    assert_bad(&out, &["-o", ".toml"]);
+    assert_eq!(files(dir.path()), vec!["m.obj".to_string()]);
+}
+
+/// A sheet over `[−1, 1] × [−1.5, 1.5]` with heights `0.2 sin 2x cos y`, as an OBJ: rows of
+/// `across` vertices (every other row shifted by half a step, its ends kept on the outline),
+/// triangles alternating in direction.
+fn sheet_obj(rows: usize, across: usize) -> String {
+    let mut out = String::from("# sheet\n");
+    for i in 0..=rows {
+        let y = -1.5 + 3.0 * i as f64 / rows as f64;
+        for j in 0..across {
+            let shift = if i % 2 == 1 && j > 0 && j + 1 < across {
+                0.5
+            } else {
+                0.0
+            };
+            let x = -1.0 + 2.0 * (j as f64 + shift) / (across - 1) as f64;
+            out += &format!("v {x} {y} {}\n", 0.2 * (2.0 * x).sin() * y.cos());
+        }
+    }
+    let at = |i: usize, j: usize| 1 + i * across + j;
+    for i in 0..rows {
+        for j in 0..across - 1 {
+            out += &format!("f {} {} {}\n", at(i, j), at(i, j + 1), at(i + 1, j + 1));
+            out += &format!("f {} {} {}\n", at(i, j), at(i + 1, j + 1), at(i + 1, j));
+        }
+    }
+    out
+}
+
+#[test]
+fn open_meshes_are_fitted_as_sheets() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "sheet.obj", &sheet_obj(60, 41));
+    let design = dir.path().join("sheet.toml");
+    let json = dir.path().join("sheet.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("sheet mode"), "{stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "sheet", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let out = pdeshape(&["check", s(&design)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The ellipsoid by a template of one part along z, closed by poles at both ends; a bad
+/// template is reported at its line and column, before the mesh is read, and nothing is
+/// written.
+#[test]
+fn templates_fit_and_bad_ones_are_located() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(60, 80));
+    let template = write(
+        dir.path(),
+        "egg_template.toml",
+        "# the egg from end to end\n[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\n\
+         positions = [-1.2, 1.2]\nstart = \"pole\"\nend = \"pole\"\n",
+    );
+    let design = dir.path().join("egg.toml");
+    let json = dir.path().join("egg.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        s(&template),
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "template", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    assert!(text.contains("[curves.egg_p00]"), "{text}");
+
+    let cases: [(&str, &[&str]); 4] = [
+        (
+            "[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\npositions = [1.0, -1.0]\n",
+            &[":4:", "parts[0].positions[1]", "positions must increase"],
+        ),
+        (
+            "[[parts]]\nname = \"egg\"\nplanes = [{ point = [0, 0, 0] }, \
+             { point = [0, 0, 1], normal = [0, 0, 1] }]\n",
+            &[":3:", "parts[0].planes[0].normal", "missing"],
+        ),
+        ("[[parts]\n", &[":1:", "invalid table header"]),
+        // The planes are fine but the second misses the mesh: the error names the plane.
+        (
+            "[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\npositions = [0.0, 5.0]\n",
+            &[":4:", "parts[0].positions[1]", "misses the mesh", "fitting"],
+        ),
+    ];
+    for (text, needles) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(20, 24));
+        let t = write(dir.path(), "t.toml", text);
+        let design = dir.path().join("out.toml");
+        let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--template", s(&t)]);
+        let line = assert_bad(&out, needles);
+        assert!(line.contains("t.toml:"), "{line}");
+        assert_eq!(
+            files(dir.path()),
+            vec!["egg.obj".to_string(), "t.toml".to_string()]
+        );
+    }
+}
+
+/// A sheet part of a template: planes across y from −1.4 to 1.4, both ends at the mesh's edge
+/// (the arcs of its boundary beyond the first and the last plane): the fit covers the whole
+/// sheet within the tolerance, and its curves are cosine series (profiles closed evenly).
+#[test]
+fn sheet_templates_reach_the_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "sheet.obj", &sheet_obj(60, 41));
+    let template = write(
+        dir.path(),
+        "sheet_template.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 0.0, 1.4]\nstart = \"edge\"\nend = \"edge\"\n",
+    );
+    let design = dir.path().join("sheet.toml");
+    let json = dir.path().join("sheet.json");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&design),
+        "--template",
+        s(&template),
+        "--tolerance",
+        "2e-3",
+        "--json",
+        s(&json),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "template", "{report}");
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h > 0.0 && h <= 2e-3, "{report}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    let value: toml::Value = toml::from_str(&text).unwrap();
+    let curves = value["curves"].as_table().unwrap();
+    assert!(!curves.is_empty());
+    for (name, c) in curves {
+        assert!(
+            c.get("sin")
+                .is_none_or(|s| s.as_array().unwrap().is_empty()),
+            "{name}: {c}"
+        );
+    }
+    // A pole closes tube parts only.
+    let bad = write(
+        dir.path(),
+        "bad.toml",
+        "[[parts]]\nname = \"face\"\nmode = \"sheet\"\naxis = [0, 1, 0]\n\
+         positions = [-1.4, 1.4]\nstart = \"pole\"\n",
+    );
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&dir.path().join("bad_fit.toml")),
+        "--template",
+        s(&bad),
+    ]);
+    assert_bad(&out, &["bad.toml:6:1", "parts[0].start", "tube part"]);
+    assert!(!dir.path().join("bad_fit.toml").exists());
+}
