@@ -252,13 +252,7 @@ fn faces(samples: &[mesh::Samples]) -> Vec<u32> {
 
 /// The message of an error without its place.
 fn message_of(e: &Error) -> String {
-    let s = e.to_string();
-    let p = e.place();
-    if p.is_empty() {
-        s
-    } else {
-        s.strip_prefix(&format!("{p}: ")).unwrap_or(&s).to_string()
-    }
+    e.message()
 }
 
 fn vec3s(py: Python<'_>, rows: impl ExactSizeIterator<Item = [f64; 3]>) -> Py<PyAny> {

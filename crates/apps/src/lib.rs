@@ -7,7 +7,7 @@
 
 use pdeshape_design::{analysis, design, memory, mesh, spec};
 use pdeshape_geometry::{formula, surface};
-pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 use pdeshape_io::{mesh_write, render};
 
 pub mod anim;

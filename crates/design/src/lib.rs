@@ -9,7 +9,7 @@
 use pdeshape_geometry::{
     bfs, check, curve, dynamic, elliptic, fd, formula, majorant, splinepde, surface,
 };
-pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 
 pub mod analysis;
 pub mod design;

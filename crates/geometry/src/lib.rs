@@ -26,7 +26,7 @@ pub mod spline;
 pub mod splinepde;
 pub mod surface;
 
-pub use error::{Error, Result};
+pub use error::{Error, ErrorKind, Result};
 
 /// Points and vectors in R³.
 pub type Vec3 = nalgebra::Vector3<f64>;

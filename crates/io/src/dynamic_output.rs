@@ -20,7 +20,7 @@ fn check_dim(dim: usize) -> Result<()> {
 }
 
 fn io(e: std::io::Error) -> Error {
-    Error::io(e.to_string())
+    Error::from(e)
 }
 
 fn row(w: &mut dyn Write, lead: &[f64], p: &Vec3, dim: usize) -> Result<()> {

@@ -7,7 +7,7 @@
 
 use pdeshape_design::{design, memory, mesh, spec, trim};
 use pdeshape_geometry::{curve, dynamic, elliptic, formula, majorant, spline, splinepde, surface};
-pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 
 pub mod cad;
 pub mod design_write;

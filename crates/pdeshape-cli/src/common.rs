@@ -95,14 +95,7 @@ pub fn apply_sets(design: &mut Loaded, sets: &[String]) -> Result<(), CliError> 
 
 /// The message of an error without its place.
 pub fn message_of(e: &Error) -> String {
-    match e {
-        Error::Invalid { message, .. } | Error::Io { message, .. } => message.clone(),
-        Error::NotUnique { .. } => {
-            let s = e.to_string();
-            let p = e.place();
-            s.strip_prefix(&format!("{p}: ")).unwrap_or(&s).to_string()
-        }
-    }
+    e.message()
 }
 
 /// Reads and parses a design file (the library's [`pdeshape::open`]: one size limit, one

@@ -196,7 +196,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     bar.finish_and_clear();
     let outcome = outcome.map_err(|e| match e {
         // A solver that is missing, fails or times out on the starting design.
-        pdeshape::Error::Io { .. } => CliError {
+        e if e.kind() == pdeshape::ErrorKind::Io => CliError {
             message: common::message_of(&e),
             status: 1,
         },

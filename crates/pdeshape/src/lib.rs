@@ -30,7 +30,7 @@ pub use pdeshape_geometry::{
     bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, scalar, spline, splinepde,
     surface,
 };
-pub use pdeshape_geometry::{Error, Result, Vec3, TAU};
+pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 pub use pdeshape_io::{cad, dynamic_output, format, render};
 
 pub mod analysis_report;

@@ -26,20 +26,8 @@ pub struct Frame<'a> {
 /// Says at which time an error of the design happened, keeping its place in the file.
 pub(crate) fn at_time(e: Error, t: f64) -> Error {
     let when = format!("at t = {}: ", crate::formula::short(t));
-    match e {
-        Error::Invalid { place, message } => Error::Invalid {
-            place,
-            message: when + &message,
-        },
-        Error::NotUnique { place, message } => Error::NotUnique {
-            place,
-            message: when + &message,
-        },
-        Error::Io { place, message } => Error::Io {
-            place,
-            message: when + &message,
-        },
-    }
+    let message = when + e.detail();
+    e.with_message(message)
 }
 
 /// What one worker of [`for_each_frame`] keeps from frame to frame: its compiled design (so the

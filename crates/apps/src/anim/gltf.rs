@@ -332,7 +332,7 @@ impl GlbFrames {
         let total = 12 + 8 + json_bytes.len() + 8 + data.len();
         let total = u32::try_from(total)
             .map_err(|_| Error::invalid("the animation exceeds the 4 GiB a .glb holds"))?;
-        let io = |e: std::io::Error| Error::io(format!("writing GLB: {e}"));
+        let io = |e: std::io::Error| Error::io_from(format!("writing GLB: {e}"), e);
         w.write_all(&GLB_MAGIC.to_le_bytes()).map_err(io)?;
         w.write_all(&2u32.to_le_bytes()).map_err(io)?;
         w.write_all(&total.to_le_bytes()).map_err(io)?;

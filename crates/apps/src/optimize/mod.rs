@@ -170,12 +170,11 @@ impl Formula {
                 m.replace(&renamed, text)
                     .replace(PARSED_NAMES[MAX_SHEAR], VARIABLES[MAX_SHEAR])
             };
-            match e {
-                Error::Invalid { place, message } => Error::Invalid {
-                    place,
-                    message: back(message),
-                },
-                e => e,
+            if e.kind() == crate::ErrorKind::Invalid {
+                let message = back(e.detail().to_string());
+                e.with_message(message)
+            } else {
+                e
             }
             .at(place)
         })?;
@@ -565,13 +564,12 @@ impl Problem {
                         .model(&built)
                         .and_then(|m| crate::shell::analyse(&m, &s.setup.run_options()));
                     match analysed {
-                        Err(Error::Io { place, message }) => {
-                            return Err(Error::Io {
-                                place,
-                                message: format!(
-                                    "the shell analysis of the starting design failed: {message}"
-                                ),
-                            })
+                        Err(e) if e.kind() == crate::ErrorKind::Io => {
+                            let message = format!(
+                                "the shell analysis of the starting design failed: {}",
+                                e.detail()
+                            );
+                            return Err(e.with_message(message));
                         }
                         Err(e) => return Err(e),
                         Ok(_) => {}

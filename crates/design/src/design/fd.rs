@@ -143,9 +143,10 @@ pub(crate) fn solve_patch(
                 _ => place.to_string(),
             }
         };
-        match e {
-            Error::Invalid { message, .. } => Error::invalid(message).at(&outer),
-            other => other,
+        if e.kind() == crate::ErrorKind::Invalid {
+            Error::invalid(e.detail()).at(&outer)
+        } else {
+            e
         }
     })
 }

@@ -260,9 +260,10 @@ pub fn solve_spec(spec: &SplineSpec) -> Result<SolvedSpline> {
         solve(&problem).map_err(|e| {
             // A contradiction involves all fixed points; point at the key that fixed them.
             if e.place() == "spline.fixed" && spec.fixed.is_empty() && spec.net.is_some() {
-                match e {
-                    Error::Invalid { message, .. } => Error::invalid(message).at("spline.fix"),
-                    other => other,
+                if e.kind() == crate::ErrorKind::Invalid {
+                    Error::invalid(e.detail()).at("spline.fix")
+                } else {
+                    e
                 }
             } else {
                 e

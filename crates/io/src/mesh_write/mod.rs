@@ -328,7 +328,7 @@ where
     use std::sync::mpsc::{channel, sync_channel};
     let (full_tx, full_rx) = sync_channel::<Vec<u8>>(QUEUED);
     let (empty_tx, empty_rx) = channel::<Vec<u8>>();
-    let io = |e: std::io::Error| Error::io(format!("writing {what}: {e}"));
+    let io = |e: std::io::Error| Error::io_from(format!("writing {what}: {e}"), e);
     std::thread::scope(|scope| {
         let producer = scope.spawn(move || {
             let mut sink = Sink {
