@@ -3,7 +3,6 @@
 
 mod analyze;
 mod animate;
-mod animate_more;
 mod blend;
 mod cad;
 mod check;

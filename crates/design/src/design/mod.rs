@@ -21,7 +21,6 @@ mod parametric;
 mod params;
 mod solved;
 mod spine;
-mod spine_series;
 mod spline;
 mod transform;
 mod trim;

@@ -554,7 +554,7 @@ fn fourth_partials_of_formulas_match_the_closed_forms() {
 /// Formula surfaces are certified by interval bounds: on the sphere and the torus the true
 /// largest deviation (dense sampling and local maximisation against the closed form) never
 /// exceeds the certified figure, which is at most the tolerance and at most 6 × the truth
-/// (see the argument in `certify.rs`: the enclosures of the vector norms, the sum of the `u`
+/// (see the argument in `certify/mod.rs`: the enclosures of the vector norms, the sum of the `u`
 /// and `v` terms and the cell widths below the step the worst cell needs).
 #[test]
 fn formula_surfaces_are_certified_and_the_bound_is_tight() {

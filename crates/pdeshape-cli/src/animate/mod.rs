@@ -7,11 +7,14 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pdeshape::anim::{self, Animation, Keyframes, Measures, Row};
 use pdeshape::design::Export;
 use pdeshape::mesh::MeshInfo;
-use pdeshape::render::Polyline;
-use pdeshape::spec;
-use pdeshape::Vec3;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+mod load;
+mod outputs;
+mod pictures;
+mod retarget;
+pub use load::{load, load_at};
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -66,47 +69,6 @@ pub struct Args {
     pub view: Option<String>,
 }
 
-/// An animation read from a file, with what locates its errors.
-pub struct Animated {
-    pub anim: Animation,
-    /// The file whose paths the design's errors name (the morph's source for a morph).
-    pub design: Loaded,
-    /// The `[output]` grid of the file.
-    pub output: spec::OutputSpec,
-    pub title: Option<String>,
-}
-
-/// Reads a timed design or a morph file ([`pdeshape::open::open_animation`]).
-pub fn load(path: &Path) -> Result<Animated, CliError> {
-    let o = pdeshape::open::open_animation(path).map_err(common::opened)?;
-    let anim = o
-        .animation
-        .expect("open_animation always gives an animation");
-    Ok(Animated {
-        anim,
-        design: Loaded {
-            file: o.design.file,
-            text: o.design.text,
-            spec: o.spec,
-        },
-        output: o.output,
-        title: o.title,
-    })
-}
-
-/// The design of `path` at time `t` (`pdeshape surface --time`).
-pub fn load_at(path: &Path, t: f64) -> Result<Loaded, CliError> {
-    if !t.is_finite() {
-        return Err(CliError::input(format!("--time: must be finite (got {t})")));
-    }
-    let l = load(path)?;
-    let mut spec = l.anim.spec_at(t).map_err(|e| l.design.error(&e))?;
-    if let Animation::Morph { .. } = l.anim {
-        spec.output = l.output.clone();
-    }
-    Ok(Loaded { spec, ..l.design })
-}
-
 fn progress(total: u64) -> ProgressBar {
     let target = if common::quiet() || total < 8 {
         ProgressDrawTarget::hidden()
@@ -123,22 +85,6 @@ fn progress(total: u64) -> ProgressBar {
     pb
 }
 
-/// The eight corners of a box as an invisible polyline, so that every frame's picture has the
-/// same framing (the renderer fits everything it draws).
-pub(crate) fn frame_box(lo: [f64; 3], hi: [f64; 3]) -> Polyline {
-    let mut points = Vec::new();
-    for k in 0..8 {
-        let c = |i: usize| if k >> i & 1 == 0 { lo[i] } else { hi[i] };
-        points.push(Vec3::new(c(0), c(1), c(2)));
-    }
-    Polyline {
-        points,
-        color: [255, 255, 255],
-        width: 0.0,
-        closed: false,
-    }
-}
-
 pub fn run(args: &Args) -> Result<(), CliError> {
     common::check_extension(&args.output, "-o", "glb")?;
     if let Some(p) = &args.csv {
@@ -153,7 +99,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             args.scale
         )));
     }
-    crate::animate_more::check(args)?;
+    outputs::check(args)?;
     let l = load(&args.design)?;
     let mut grid_spec = l.design.spec.clone();
     grid_spec.output = l.output.clone();
@@ -189,7 +135,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         ..Measures::default()
     };
     let want_measures = csv_out.is_some() || plot_out.is_some();
-    let mut collector = crate::animate_more::Collector::new(args, &l, &times)?;
+    let mut collector = retarget::Collector::new(args, &l, &times)?;
     let pb = progress(times.len() as u64);
     let located = |e: pdeshape::Error| l.design.error(&e);
     let shown = args.output.display().to_string();
@@ -279,14 +225,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     // Pictures of every frame, from the frames already solved (framed by the box around all).
     let mut pictures = Vec::new();
     if let Some(dir) = &args.frames_dir {
-        let pngs = crate::animate_more::frame_pictures(&keys, &collector).map_err(located)?;
+        let pngs = pictures::frame_pictures(&keys, &collector).map_err(located)?;
         for (k, png) in pngs.iter().enumerate() {
             let mut o = Output::create(&dir.join(format!("frame_{k:04}.png")))?;
             o.write_all(png)?;
             pictures.push(o);
         }
     }
-    let more = crate::animate_more::run(args, &l, &times, &keys, collector)?;
+    let more = outputs::run(args, &l, &times, &keys, collector)?;
     out.commit()?;
     if let Some(o) = csv_out {
         o.commit()?;

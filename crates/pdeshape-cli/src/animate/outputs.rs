@@ -4,37 +4,21 @@
 //! (`--frames-dir`). They take what they need from the one pass over the frames (no frame is
 //! solved twice), are drawn in parallel, and are written atomically with the other outputs.
 
-use crate::animate::{frame_box, Animated, Args};
+use super::load::Animated;
+use super::pictures::{frame_box, parse_size, picture_size, sheet_frames, SHEET_COLUMNS};
+use super::retarget::Collector;
+use super::Args;
 use crate::common::{CliError, Output};
-use pdeshape::anim::{self, Keyframes, Retarget};
-use pdeshape::fit::{MeshFormat, TriMesh};
+use pdeshape::anim::{self, Keyframes};
+use pdeshape::fit::MeshFormat;
 use pdeshape::mesh::MeshInfo;
-use pdeshape::render::{self as pic, Polyline, RenderOptions};
+use pdeshape::render::{self as pic, RenderOptions};
 use rayon::prelude::*;
 use std::io::Write;
 use std::path::Path;
 
-/// Frames on the contact sheet (at most; evenly spread, the first and the last included).
-const SHEET_FRAMES: usize = 12;
-/// Tiles per row of the contact sheet.
-const SHEET_COLUMNS: u32 = 4;
-
 fn extension_is(path: &Path, ext: &str) -> bool {
     pdeshape::format::has_extension(path, ext)
-}
-
-/// `--picture-size WIDTHxHEIGHT` ([`pdeshape::format::parse_size`]), each side 16 to 4096 (a
-/// frame of an animated picture is kept for every frame).
-fn parse_size(s: &str) -> Result<(u32, u32), CliError> {
-    let (w, h) = pdeshape::format::parse_size(s).map_err(|e| {
-        CliError::input(format!("--picture-size: {}", crate::common::message_of(&e)))
-    })?;
-    if w < 16 || h < 16 || w > 4096 || h > 4096 {
-        return Err(CliError::input(format!(
-            "--picture-size: width and height must be between 16 and 4096 (got {w}x{h})"
-        )));
-    }
-    Ok((w, h))
 }
 
 /// Checks the flags before any work: extensions, the pairing of `--retarget` with
@@ -104,119 +88,11 @@ pub fn check(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `--picture-size`, or its default.
-fn picture_size(args: &Args) -> &str {
-    args.picture_size.as_deref().unwrap_or("480x360")
-}
-
 /// Outputs made and not yet committed, with the words of the report.
 #[derive(Default)]
 pub struct Pending {
     pub outputs: Vec<Output>,
     pub report: String,
-}
-
-fn read_mesh(path: &Path) -> Result<TriMesh, CliError> {
-    let shown = path.display();
-    let bytes = crate::fit::read_mesh_bytes(path, &format!("--retarget {shown}"))?;
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("")
-        .to_ascii_lowercase();
-    let format = MeshFormat::from_extension(&ext)
-        .ok_or_else(|| CliError::input(format!("--retarget {shown}: unknown mesh format")))?;
-    TriMesh::read(&bytes, format).map_err(|e| CliError::input(format!("--retarget {shown}: {e}")))
-}
-
-/// The frames on the contact sheet: up to [`SHEET_FRAMES`], evenly spread.
-fn sheet_frames(n: usize) -> Vec<usize> {
-    if n <= SHEET_FRAMES {
-        return (0..n).collect();
-    }
-    (0..SHEET_FRAMES)
-        .map(|k| (k * (n - 1) + (SHEET_FRAMES - 1) / 2) / (SHEET_FRAMES - 1))
-        .collect()
-}
-
-/// What the extra outputs take from the one pass over the frames: the re-targeted mesh's frames
-/// and the overlays (condition curves) of every frame for the pictures. The pictures themselves
-/// are drawn after the pass, from the frames' welded meshes, framed by the box around all of
-/// them.
-pub struct Collector {
-    retarget: Option<Retarget>,
-    overlays: Option<Vec<Vec<Polyline>>>,
-}
-
-impl Collector {
-    /// Reads the mesh to re-target (anchored on the design at the first time) before any frame
-    /// is solved.
-    pub fn new(args: &Args, l: &Animated, times: &[f64]) -> Result<Collector, CliError> {
-        let located = |e: pdeshape::Error| l.design.error(&e);
-        let retarget = match &args.retarget {
-            Some(path) => {
-                let mesh = read_mesh(path)?;
-                let spec = l.anim.spec_at(times[0]).map_err(located)?;
-                let compiled = pdeshape::design::compile(&spec).map_err(located)?;
-                let r = Retarget::new(
-                    compiled.solved(),
-                    &mesh.positions,
-                    mesh.triangles,
-                    l.anim.time(),
-                )
-                .map_err(|e| CliError::input(format!("--retarget {}: {e}", path.display())))?;
-                Some(r)
-            }
-            None => None,
-        };
-        let pictures = args.apng.is_some()
-            || args.gif.is_some()
-            || args.contact_sheet.is_some()
-            || args.frames_dir.is_some();
-        Ok(Collector {
-            retarget,
-            overlays: pictures.then(Vec::new),
-        })
-    }
-
-    /// Takes what it needs of a frame (called for every frame, in order).
-    pub fn frame(&mut self, f: &anim::Frame) -> pdeshape::Result<()> {
-        if let Some(r) = self.retarget.as_mut() {
-            r.push(f.t, f.solved)?;
-        }
-        if let Some(o) = self.overlays.as_mut() {
-            o.push(pic::overlay_lines(&f.solved.overlays()));
-        }
-        Ok(())
-    }
-
-    /// The overlays of frame `k` with the box that frames every picture alike.
-    fn overlays(&self, k: usize, boxed: &Polyline) -> Vec<Polyline> {
-        let mut o = self
-            .overlays
-            .as_ref()
-            .and_then(|o| o.get(k).cloned())
-            .unwrap_or_default();
-        o.push(boxed.clone());
-        o
-    }
-}
-
-/// The PNG pictures of every frame for `--frames-dir` (drawn like `pdeshape render`'s default),
-/// in parallel.
-pub fn frame_pictures(keys: &Keyframes, c: &Collector) -> pdeshape::Result<Vec<Vec<u8>>> {
-    let (lo, hi) = keys.bounds();
-    let boxed = frame_box(lo, hi);
-    (0..keys.positions.len())
-        .into_par_iter()
-        .map(|k| {
-            pic::render_png_tri(
-                &keys.mesh(k),
-                &c.overlays(k, &boxed),
-                &RenderOptions::default(),
-            )
-        })
-        .collect()
 }
 
 /// Makes the outputs these flags ask for from the frames of the one pass (`keys`, and what

@@ -1,7 +1,7 @@
 //! The rotation of a frame-carried spine edit as one Chebyshev series.
 //!
 //! The rotation-minimising frames of the old and the new spine come from the double-reflection
-//! method on [`super::spine`]'s steps (accurate to about `10⁻¹³`). The edited surface uses
+//! method on [`super::frames`]'s steps (accurate to about `10⁻¹³`). The edited surface uses
 //! `R(u) = F̃(u) F(u)ᵀ` through its Chebyshev interpolant on `u ∈ [0, 1]` (`x = 2u − 1`): the
 //! frames sampled at the `n + 1` Chebyshev–Lobatto points, `n` doubled from 64 until the
 //! coefficients of the last quarter are below `10⁻¹²` of the largest (the rotation of a smooth

@@ -1,0 +1,48 @@
+//! `Format`: the output formats and their choice by file extension.
+
+use crate::{Error, Result};
+
+/// Output formats, chosen by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Obj,
+    Stl,
+    Ply,
+    Glb,
+    Csv,
+}
+
+const EXTENSIONS_HINT: &str = "use .obj, .stl, .ply, .glb or .csv";
+
+impl Format {
+    /// The format for a path's extension (case-insensitive): obj, stl, ply, glb, csv (the
+    /// mesh and sample formats of [`crate::format::OutputFormat::from_path`]).
+    pub fn from_path(path: &std::path::Path) -> Result<Format> {
+        match crate::format::OutputFormat::from_path(path)? {
+            f if f.is_cad() => {
+                let ext = path.extension().unwrap_or_default().to_string_lossy();
+                Err(Error::invalid(format!(
+                    "unknown output extension '.{ext}': {EXTENSIONS_HINT}"
+                )))
+            }
+            f => f.mesh(),
+        }
+    }
+
+    /// The canonical (lower-case) file extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Stl => "stl",
+            Format::Ply => "ply",
+            Format::Glb => "glb",
+            Format::Csv => "csv",
+        }
+    }
+
+    /// True for the mesh formats (written from a [`TriMesh`]); false for CSV, which is
+    /// written from full-precision [`Samples`].
+    pub fn is_mesh(self) -> bool {
+        self != Format::Csv
+    }
+}

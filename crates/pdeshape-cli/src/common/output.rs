@@ -1,0 +1,245 @@
+//! `Output`: a file written atomically (a temporary beside it, renamed into place when complete)
+//! or standard output.
+
+use super::report::{quiet, FORCE, STDOUT_USED};
+use super::temp::{pending_add, pending_remove, remove_stale_temporaries, temp_prefix};
+use super::{io_words, CliError};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// How a "wrote …" line names an output: its path, or "standard output" for `-o -`.
+pub fn destination(path: &Path) -> String {
+    if Output::is_stdout(path) {
+        "standard output".to_string()
+    } else {
+        path.display().to_string()
+    }
+}
+
+/// Where an output goes.
+enum Target {
+    /// A temporary file next to the real destination (a symlink's target, resolved).
+    File {
+        temp: tempfile::NamedTempFile,
+        dest: PathBuf,
+    },
+    /// `-o -`: collected and written to stdout at [`Output::commit`].
+    Stdout(Vec<u8>),
+}
+
+/// An output file being written: a temporary file next to the target, renamed over it only when
+/// everything succeeded. Dropped without [`Output::commit`], it leaves nothing behind; stopped by
+/// SIGINT or SIGTERM, neither (see [`remove_temporaries_on_signals`]). `-o -` writes to stdout.
+/// Messages name the user's path, never the temporary one.
+pub struct Output {
+    shown: String,
+    target: Target,
+}
+
+/// The real destination of `path`: itself, or the file a symlink (chain) points to.
+fn resolve(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => match std::fs::read_link(&p) {
+                Ok(t) if t.is_absolute() => p = t,
+                Ok(t) => {
+                    p = p.parent().map(|d| d.join(&t)).unwrap_or(t);
+                }
+                Err(_) => break,
+            },
+            _ => break,
+        }
+    }
+    p
+}
+
+impl Output {
+    /// Whether `path` means standard output.
+    pub fn is_stdout(path: &Path) -> bool {
+        path.as_os_str() == "-"
+    }
+
+    /// Creates the temporary file in the destination's directory (so the final rename is atomic),
+    /// after checking the destination: not a directory, in an existing directory, not read-only
+    /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
+    pub fn create(path: &Path) -> Result<Self, CliError> {
+        let shown = path.display().to_string();
+        if Self::is_stdout(path) {
+            STDOUT_USED.store(true, Ordering::Relaxed);
+            return Ok(Output {
+                shown: "standard output".to_string(),
+                target: Target::Stdout(Vec::new()),
+            });
+        }
+        let dest = resolve(path);
+        if dest.is_dir() {
+            return Err(CliError::input(format!("-o {shown}: is a directory")));
+        }
+        let dir = match dest.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if !dir.is_dir() {
+            return Err(CliError::input(format!(
+                "-o {shown}: the directory '{}' does not exist",
+                dir.display()
+            )));
+        }
+        if let Ok(m) = std::fs::metadata(&dest) {
+            if m.permissions().readonly() && !FORCE.load(Ordering::Relaxed) {
+                return Err(CliError::input(format!(
+                    "-o {shown}: the file is read-only; pass --force to replace it"
+                )));
+            }
+        }
+        for name in remove_stale_temporaries(&dir) {
+            if !quiet() {
+                eprintln!(
+                    "note: removed '{}', left in '{}' by a run that was killed",
+                    name,
+                    dir.display()
+                );
+            }
+        }
+        let temp = tempfile::Builder::new()
+            .prefix(&temp_prefix(std::process::id()))
+            .suffix(".tmp")
+            .tempfile_in(&dir)
+            .map_err(|e| {
+                CliError::input(format!(
+                    "-o {shown}: cannot create a file in '{}': {}",
+                    dir.display(),
+                    io_words(&e)
+                ))
+            })?;
+        pending_add(temp.path());
+        Ok(Output {
+            shown,
+            target: Target::File { temp, dest },
+        })
+    }
+
+    /// A buffered writer on the output.
+    pub fn writer(&mut self) -> std::io::BufWriter<OutputWriter<'_>> {
+        std::io::BufWriter::new(match &mut self.target {
+            Target::File { temp, .. } => OutputWriter::File {
+                file: temp.as_file_mut(),
+                unsent: 0,
+            },
+            Target::Stdout(buf) => OutputWriter::Stdout(buf),
+        })
+    }
+
+    /// Writes `bytes` to the output.
+    pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), CliError> {
+        let shown = self.shown.clone();
+        let r = match &mut self.target {
+            Target::File { temp, .. } => temp.as_file_mut().write_all(bytes),
+            Target::Stdout(buf) => {
+                buf.extend_from_slice(bytes);
+                Ok(())
+            }
+        };
+        r.map_err(|e| CliError::input(format!("-o {shown}: {}", io_words(&e))))
+    }
+
+    /// Flushes and renames the temporary file onto the destination (through a symlink, onto the
+    /// file it points to), or writes the collected bytes to stdout.
+    pub fn commit(mut self) -> Result<(), CliError> {
+        let shown = self.shown.clone();
+        let err = |e: &std::io::Error| CliError::input(format!("-o {shown}: {}", io_words(e)));
+        match std::mem::replace(&mut self.target, Target::Stdout(Vec::new())) {
+            Target::Stdout(buf) => {
+                let mut out = std::io::stdout().lock();
+                match out.write_all(&buf).and_then(|_| out.flush()) {
+                    Ok(()) => Ok(()),
+                    Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+                    Err(e) => Err(err(&e)),
+                }
+            }
+            Target::File { temp, dest } => {
+                let tpath = temp.path().to_path_buf();
+                // Temporary files are private (0600); the result gets the usual permissions of
+                // a new file (rw-r--r--).
+                #[cfg(unix)]
+                {
+                    use std::os::unix::fs::PermissionsExt;
+                    temp.as_file()
+                        .set_permissions(std::fs::Permissions::from_mode(0o644))
+                        .map_err(|e| err(&e))?;
+                }
+                temp.as_file().sync_all().map_err(|e| err(&e))?;
+                let r = temp.persist(&dest);
+                pending_remove(&tpath);
+                r.map_err(|e| err(&e.error))?;
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Bytes written to the temporary file after which the kernel is asked to start writing them to
+/// the disk ([`OutputWriter`]).
+const WRITE_BACK: u64 = 8 << 20;
+
+/// What [`Output::writer`] writes to. On Linux, every [`WRITE_BACK`] bytes written to the file the
+/// kernel is asked to start writing its dirty pages to the disk (`sync_file_range`, without
+/// waiting), so the disk works while the rest is produced and the fsync of [`Output::commit`]
+/// waits for the last few megabytes only. It changes nothing of what is written, nor of when the
+/// file counts as written: that is still the fsync before the rename.
+pub enum OutputWriter<'a> {
+    File {
+        file: &'a mut std::fs::File,
+        /// Bytes written since write-back was last started.
+        unsent: u64,
+    },
+    Stdout(&'a mut Vec<u8>),
+}
+
+impl Write for OutputWriter<'_> {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        match self {
+            OutputWriter::File { file, unsent } => {
+                let n = file.write(bytes)?;
+                *unsent += n as u64;
+                if *unsent >= WRITE_BACK {
+                    *unsent = 0;
+                    #[cfg(target_os = "linux")]
+                    {
+                        use std::os::fd::AsRawFd;
+                        // SAFETY: a descriptor of an open file; the call only starts writing
+                        // the file's dirty pages (offset 0, length 0: the whole file) and
+                        // touches no memory of ours. Its result is a hint's: not needed.
+                        unsafe {
+                            libc::sync_file_range(
+                                file.as_raw_fd(),
+                                0,
+                                0,
+                                libc::SYNC_FILE_RANGE_WRITE,
+                            )
+                        };
+                    }
+                }
+                Ok(n)
+            }
+            OutputWriter::Stdout(buf) => buf.write(bytes),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            OutputWriter::File { file, .. } => file.flush(),
+            OutputWriter::Stdout(_) => Ok(()),
+        }
+    }
+}
+
+impl Drop for Output {
+    fn drop(&mut self) {
+        if let Target::File { temp, .. } = &self.target {
+            pending_remove(temp.path());
+        }
+    }
+}
