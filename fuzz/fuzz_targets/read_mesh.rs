@@ -2,7 +2,7 @@
 //! non-empty one-line message, never a panic. The first byte picks the format.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
-use pdeshape::fit::{MeshFormat, TriMesh};
+use pdeshape::fit::{MeshFormat, InputMesh};
 
 fuzz_target!(|data: &[u8]| {
     let Some((&pick, bytes)) = data.split_first() else {
@@ -13,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
         1 => MeshFormat::Stl,
         _ => MeshFormat::Ply,
     };
-    match TriMesh::read(bytes, format) {
+    match InputMesh::read(bytes, format) {
         Ok(mesh) => {
             // What is read can be measured and its topology found.
             let _ = mesh.topology();

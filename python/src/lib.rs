@@ -14,7 +14,7 @@ use pdeshape::cad;
 use pdeshape::design::WriteDesign as _;
 use pdeshape::design::{self, Export, SolvedDesign};
 use pdeshape::diagnostics;
-use pdeshape::dynamic::Frame;
+use pdeshape::dynamic::CurveFrame;
 use pdeshape::dynamic_run::{self, DynamicOutcome, OutcomeKind};
 use pdeshape::fit;
 use pdeshape::format::{export_timestamp, OutputFormat};
@@ -1110,7 +1110,7 @@ fn fit_mesh<'py>(
         .unwrap_or_default();
     let (text, report) = py
         .detach(|| -> Result<(String, String), String> {
-            let mesh = fit::TriMesh::read(&data, format).map_err(|e| format!("{name}: {e}"))?;
+            let mesh = fit::InputMesh::read(&data, format).map_err(|e| format!("{name}: {e}"))?;
             let fitted = fit::fit_mesh(
                 &mesh,
                 &fit::TubeOptions {
@@ -1217,13 +1217,13 @@ impl Design {
 fn run_dynamic(
     section: &spec::DynamicSpec,
     keep_frames: bool,
-) -> pdeshape::Result<(DynamicOutcome, Vec<Frame>)> {
+) -> pdeshape::Result<(DynamicOutcome, Vec<CurveFrame>)> {
     let built = design::build_dynamic(section)?;
     let mut frames = Vec::new();
     let outcome = {
         let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {
             if let (true, Some(nodes)) = (keep_frames, nodes) {
-                frames.push(Frame {
+                frames.push(CurveFrame {
                     step: n,
                     time: t,
                     nodes: nodes.to_vec(),

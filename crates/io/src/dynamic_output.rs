@@ -2,7 +2,7 @@
 //! picture in the manner of the paper's Figs. 3–5 (initial, intermediate and final curve with the
 //! data points) as SVG.
 
-use crate::dynamic::Frame;
+use crate::dynamic::CurveFrame;
 use crate::{Error, Result, Vec3};
 use std::fmt::Write as _;
 use std::io::Write;
@@ -52,7 +52,7 @@ pub fn write_curve_csv(nodes: &[Vec3], dim: usize, w: &mut dyn Write) -> Result<
 }
 
 /// Writes `step,t,u,x[,y[,z]]`, the nodes of every frame in order, full precision.
-pub fn write_frames_csv(frames: &[Frame], dim: usize, w: &mut dyn Write) -> Result<()> {
+pub fn write_frames_csv(frames: &[CurveFrame], dim: usize, w: &mut dyn Write) -> Result<()> {
     write_frames_header(dim, w)?;
     for f in frames {
         write_frame_rows(f, dim, w)?;
@@ -68,7 +68,7 @@ pub fn write_frames_header(dim: usize, w: &mut dyn Write) -> Result<()> {
 }
 
 /// The rows of one frame in [`write_frames_csv`].
-pub fn write_frame_rows(f: &Frame, dim: usize, w: &mut dyn Write) -> Result<()> {
+pub fn write_frame_rows(f: &CurveFrame, dim: usize, w: &mut dyn Write) -> Result<()> {
     check_dim(dim)?;
     let jn = (f.nodes.len().max(2) - 1) as f64;
     for (j, p) in f.nodes.iter().enumerate() {
@@ -79,7 +79,7 @@ pub fn write_frame_rows(f: &Frame, dim: usize, w: &mut dyn Write) -> Result<()> 
 
 /// Picks the frames a picture shows: the first, the last and at most `intermediate` others,
 /// evenly spread over the list.
-pub fn pick_frames(frames: &[Frame], intermediate: usize) -> Vec<&Frame> {
+pub fn pick_frames(frames: &[CurveFrame], intermediate: usize) -> Vec<&CurveFrame> {
     let n = frames.len();
     if n <= intermediate + 2 {
         return frames.iter().collect();
@@ -100,7 +100,7 @@ pub fn pick_frames(frames: &[Frame], intermediate: usize) -> Vec<&Frame> {
 /// `u`, `x` named at the ends), and a legend in the upper right corner naming the first and last
 /// frames (step and time), the intermediate ones and the points.
 pub fn svg_picture(
-    frames: &[&Frame],
+    frames: &[&CurveFrame],
     points: &[Vec3],
     ends: &[Vec3],
     dim: usize,
@@ -267,7 +267,7 @@ pub fn svg_picture(
             )
         }
     };
-    let when = |f: &Frame| format!("step {}, t = {}", f.step, short_time(f.time));
+    let when = |f: &CurveFrame| format!("step {}, t = {}", f.step, short_time(f.time));
     if last > 0 {
         entries.push((format!("first: {}", when(frames[0])), sample(0)(0.0, 0.0)));
         if last > 1 {
@@ -357,12 +357,12 @@ mod tests {
             assert_eq!(v, vec![j as f64 / 2.0, nodes[j].x, nodes[j].y]);
         }
         let frames = vec![
-            Frame {
+            CurveFrame {
                 step: 0,
                 time: 0.0,
                 nodes: nodes.clone(),
             },
-            Frame {
+            CurveFrame {
                 step: 7,
                 time: 0.7,
                 nodes,
@@ -379,14 +379,14 @@ mod tests {
 
     #[test]
     fn picture_shows_every_curve_and_point() {
-        let line = |s: f64| Frame {
+        let line = |s: f64| CurveFrame {
             step: s as usize,
             time: s,
             nodes: (0..=4)
                 .map(|j| Vec3::new(j as f64, s * (j * (4 - j)) as f64, 0.0))
                 .collect(),
         };
-        let frames: Vec<Frame> = (0..10).map(|k| line(k as f64)).collect();
+        let frames: Vec<CurveFrame> = (0..10).map(|k| line(k as f64)).collect();
         let picked = pick_frames(&frames, 3);
         let steps: Vec<usize> = picked.iter().map(|f| f.step).collect();
         assert_eq!(steps, vec![0, 2, 5, 7, 9]);
@@ -406,7 +406,7 @@ mod tests {
         {
             assert!((-10.0..=410.0).contains(&num), "{num}");
         }
-        let bad = Frame {
+        let bad = CurveFrame {
             step: 0,
             time: 0.0,
             nodes: vec![Vec3::new(f64::NAN, 0.0, 0.0); 3],
@@ -438,7 +438,7 @@ mod tests {
                 Vec3::new(x, x * x, 0.0)
             })
             .collect();
-        let f = Frame {
+        let f = CurveFrame {
             step: 3,
             time: 0.25,
             nodes,

@@ -5,7 +5,7 @@
 use crate::common::{self, CliError, Output};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pdeshape::design::{self, DynamicPlan};
-use pdeshape::dynamic::Frame;
+use pdeshape::dynamic::CurveFrame;
 use pdeshape::dynamic_output as output;
 use pdeshape::dynamic_run::OutcomeKind;
 use pdeshape::Vec3;
@@ -51,7 +51,7 @@ fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
 }
 
 /// Keeps at most `PICTURE_FRAMES` frames, evenly thinned, always with the first.
-fn keep_for_picture(kept: &mut Vec<Frame>, frame: Frame) {
+fn keep_for_picture(kept: &mut Vec<CurveFrame>, frame: CurveFrame) {
     kept.push(frame);
     if kept.len() > PICTURE_FRAMES {
         let mut i = 0;
@@ -141,8 +141,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         output::write_frames_header(dim, w).map_err(frames_err)?;
     }
     let mut write_error: Option<pdeshape::Error> = None;
-    let mut kept: Vec<Frame> = Vec::new();
-    let mut last_frame: Option<Frame> = None;
+    let mut kept: Vec<CurveFrame> = Vec::new();
+    let mut last_frame: Option<CurveFrame> = None;
     let want_picture = picture_out.is_some();
     let (total, label) = match &built.plan {
         DynamicPlan::Run(r) => (r.grid.steps as u64, "curve"),
@@ -154,7 +154,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             pb.set_position(n as u64);
         }
         if let Some(nodes) = nodes {
-            let frame = Frame {
+            let frame = CurveFrame {
                 step: n,
                 time: t,
                 nodes: nodes.to_vec(),

@@ -3,7 +3,7 @@
 //! the design, print the two-sided distances and the compression ratio.
 
 use crate::common::{CliError, Output};
-use pdeshape::fit::{self, FitOptions, MeshFormat, TriMesh};
+use pdeshape::fit::{self, FitOptions, InputMesh, MeshFormat};
 use pdeshape::spec::{self, write_design};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -86,7 +86,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 
     let t = Instant::now();
     let mesh =
-        TriMesh::read(&bytes, format).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+        InputMesh::read(&bytes, format).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let opts = FitOptions {

@@ -3,7 +3,7 @@
 //! by a zipper triangulation, and noise added to every vertex. Used by `pdeshape`'s `fit` tests
 //! and the `fit_bench` profiling tool.
 
-use pdeshape::fit::TriMesh;
+use pdeshape::fit::InputMesh;
 use pdeshape::{Vec3, TAU};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -17,7 +17,7 @@ pub fn sweep(
     around: usize,
     noise: f64,
     seed: u64,
-) -> TriMesh {
+) -> InputMesh {
     sweep_with(
         x,
         |s| (std::f64::consts::PI * s).sin().max(0.15),
@@ -37,7 +37,7 @@ pub fn sweep_with(
     around: usize,
     noise: f64,
     seed: u64,
-) -> TriMesh {
+) -> InputMesh {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     // Ring parameters: jittered and sorted.
     let mut s: Vec<f64> = (1..rings)
@@ -97,7 +97,7 @@ pub fn sweep_with(
             rng.gen_range(-noise..=noise),
         );
     }
-    TriMesh::new(positions, triangles).unwrap()
+    InputMesh::new(positions, triangles).unwrap()
 }
 
 /// The vase: a body of revolution about z, height 3, with a belly and a waist.
@@ -175,7 +175,7 @@ pub fn relief(x: f64, y: f64) -> f64 {
 /// `across` vertices at jittered places between its two ends on the outline, consecutive rows
 /// joined by a zipper triangulation; noise as in [`sweep`]. The mesh is tilted (a rotation about
 /// (1, 2, 0) by 0.3 rad) so no coordinate axis lines up with the sheet.
-pub fn relief_sheet(rows: usize, across: usize, noise: f64, seed: u64) -> TriMesh {
+pub fn relief_sheet(rows: usize, across: usize, noise: f64, seed: u64) -> InputMesh {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let hh = RELIEF_HALF_HEIGHT;
     let mut ys: Vec<f64> = (0..=rows)
@@ -234,7 +234,7 @@ pub fn relief_sheet(rows: usize, across: usize, noise: f64, seed: u64) -> TriMes
             rng.gen_range(-noise..=noise),
         );
     }
-    TriMesh::new(positions, triangles).unwrap()
+    InputMesh::new(positions, triangles).unwrap()
 }
 
 /// The share of vertices on a ring of [`u_tube`]: its circumference over the largest, at least

@@ -14,7 +14,7 @@
 //!   design's compact size: every number of the design (curve coefficients, condition
 //!   parameters, operator) as an 8-byte `f64`. The design file's size in bytes is given beside.
 
-use super::mesh::TriMesh;
+use super::mesh::InputMesh;
 use crate::design::SolvedDesign;
 use crate::mesh::{self, Samples};
 use crate::spec::{write_design, DesignSpec};
@@ -108,7 +108,7 @@ pub struct MeshDistance {
 
 impl MeshDistance {
     /// Indexes every triangle of `mesh`.
-    pub fn new(mesh: &TriMesh) -> Self {
+    pub fn new(mesh: &InputMesh) -> Self {
         let tris = (0..mesh.triangles.len())
             .map(|t| Tri {
                 corners: mesh.corners(t),
@@ -188,7 +188,7 @@ pub struct PointDistances {
 /// Measures `solved` (the design `spec`, solved) against `mesh`, sampling each surface on an
 /// `nu × nv` grid.
 pub fn measure(
-    mesh: &TriMesh,
+    mesh: &InputMesh,
     spec: &DesignSpec,
     solved: &SolvedDesign,
     nu: usize,

@@ -10,14 +10,15 @@ use std::io::Cursor;
 /// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
 pub const MAX_TRIANGLES: usize = 4_000_000;
 
-/// An indexed triangle mesh.
+/// An indexed triangle mesh read for fitting (OBJ, STL, PLY), with its topology checks; the
+/// design layer's [`crate::mesh::TriMesh`] is the mesh a design is written as.
 #[derive(Clone, Debug, PartialEq)]
-pub struct TriMesh {
+pub struct InputMesh {
     pub positions: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// What [`TriMesh::topology`] finds.
+/// What [`InputMesh::topology`] finds.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Topology {
     /// Edges used by exactly one triangle.
@@ -50,7 +51,7 @@ impl MeshFormat {
     }
 }
 
-impl TriMesh {
+impl InputMesh {
     /// A mesh from positions and triangles, checked: at least one triangle, finite coordinates
     /// (the error names the vertex), indices in range (naming the triangle), at most
     /// [`MAX_TRIANGLES`].
@@ -83,7 +84,7 @@ impl TriMesh {
                 triangles[k].iter().max().map_or(0, |&i| i as usize + 1)
             )));
         }
-        Ok(TriMesh {
+        Ok(InputMesh {
             positions,
             triangles,
         })
@@ -97,7 +98,7 @@ impl TriMesh {
             MeshFormat::Stl => read_stl(bytes)?,
             MeshFormat::Ply => read_ply(bytes)?,
         };
-        TriMesh::new(positions, triangles)
+        InputMesh::new(positions, triangles)
     }
 
     /// The corners of triangle `t`.
@@ -575,7 +576,7 @@ mod tests {
         let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
                    property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
                    end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1e-7\n";
-        let e = TriMesh::read(ply.as_bytes(), MeshFormat::Ply)
+        let e = InputMesh::read(ply.as_bytes(), MeshFormat::Ply)
             .unwrap_err()
             .to_string();
         assert!(
@@ -599,7 +600,7 @@ mod tests {
     fn stl_read_errors_name_no_rust_types() {
         let stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvetex 1 0 0\n\
                    vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
-        let e = TriMesh::read(stl.as_bytes(), MeshFormat::Stl)
+        let e = InputMesh::read(stl.as_bytes(), MeshFormat::Stl)
             .unwrap_err()
             .to_string();
         assert!(e.contains("STL triangle 1"), "{e}");
@@ -611,7 +612,7 @@ mod tests {
     fn stl_values_beyond_single_precision_are_plain() {
         let stl = "solid s\nfacet normal 0 1e308 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n\
                    vertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
-        let e = TriMesh::read(stl.as_bytes(), MeshFormat::Stl)
+        let e = InputMesh::read(stl.as_bytes(), MeshFormat::Stl)
             .unwrap_err()
             .to_string();
         assert!(e.contains("STL triangle 1: a number is not finite"), "{e}");
@@ -620,8 +621,8 @@ mod tests {
         }
     }
 
-    fn tetra() -> TriMesh {
-        TriMesh::new(
+    fn tetra() -> InputMesh {
+        InputMesh::new(
             vec![
                 Vec3::new(0.0, 0.0, 0.0),
                 Vec3::new(1.0, 0.0, 0.0),
@@ -658,13 +659,15 @@ mod tests {
 
     #[test]
     fn bad_values_are_refused_with_their_place() {
-        let e = TriMesh::new(vec![], vec![]).unwrap_err().to_string();
+        let e = InputMesh::new(vec![], vec![]).unwrap_err().to_string();
         assert!(e.contains("no triangles"), "{e}");
         let mut p = tetra().positions;
         p[2].y = f64::NAN;
-        let e = TriMesh::new(p, tetra().triangles).unwrap_err().to_string();
+        let e = InputMesh::new(p, tetra().triangles)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("vertex 3 is not finite"), "{e}");
-        let e = TriMesh::new(tetra().positions, vec![[0, 1, 7]])
+        let e = InputMesh::new(tetra().positions, vec![[0, 1, 7]])
             .unwrap_err()
             .to_string();
         assert!(e.contains("triangle 1 refers to vertex 8"), "{e}");
@@ -682,14 +685,14 @@ mod tests {
         }
         // The OBJ and STL readers number vertices in the order the faces first use them: the
         // same mesh, triangle by triangle, up to that renumbering.
-        let same = |m: &TriMesh| {
+        let same = |m: &InputMesh| {
             assert_eq!(m.positions.len(), t.positions.len());
             assert_eq!(m.triangles.len(), t.triangles.len());
             for k in 0..t.triangles.len() {
                 assert_eq!(m.corners(k), t.corners(k), "triangle {k}");
             }
         };
-        same(&TriMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap());
+        same(&InputMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap());
         let mut ply = String::from(
             "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
              property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
@@ -700,7 +703,7 @@ mod tests {
         for tr in &t.triangles {
             ply += &format!("3 {} {} {}\n", tr[0], tr[1], tr[2]);
         }
-        assert_eq!(TriMesh::read(ply.as_bytes(), MeshFormat::Ply).unwrap(), t);
+        assert_eq!(InputMesh::read(ply.as_bytes(), MeshFormat::Ply).unwrap(), t);
         let tris: Vec<stl_io::Triangle> = (0..4)
             .map(|k| stl_io::Triangle {
                 normal: stl_io::Normal::new([0.0; 3]),
@@ -711,27 +714,27 @@ mod tests {
             .collect();
         let mut stl = Vec::new();
         stl_io::write_stl(&mut stl, tris.iter()).unwrap();
-        same(&TriMesh::read(&stl, MeshFormat::Stl).unwrap());
+        same(&InputMesh::read(&stl, MeshFormat::Stl).unwrap());
         // Truncated: the announced count does not fit.
-        let e = TriMesh::read(&stl[..stl.len() - 7], MeshFormat::Stl)
+        let e = InputMesh::read(&stl[..stl.len() - 7], MeshFormat::Stl)
             .unwrap_err()
             .to_string();
         assert!(e.contains("truncated"), "{e}");
         // A count beyond the limit is refused before anything is read.
         let mut huge = stl[..84].to_vec();
         huge[80..84].copy_from_slice(&10_000_000u32.to_le_bytes());
-        let e = TriMesh::read(&huge, MeshFormat::Stl)
+        let e = InputMesh::read(&huge, MeshFormat::Stl)
             .unwrap_err()
             .to_string();
         assert!(e.contains("10000000 triangles"), "{e}");
-        let e = TriMesh::read(
+        let e = InputMesh::read(
             b"ply\nformat ascii 1.0\nelement vertex 4\n",
             MeshFormat::Ply,
         )
         .unwrap_err()
         .to_string();
         assert!(e.contains("PLY"), "{e}");
-        let e = TriMesh::read(b"v 0 0 0\nv 1 0 0\nf 1 2 3\n", MeshFormat::Obj)
+        let e = InputMesh::read(b"v 0 0 0\nv 1 0 0\nf 1 2 3\n", MeshFormat::Obj)
             .unwrap_err()
             .to_string();
         assert!(!e.is_empty());

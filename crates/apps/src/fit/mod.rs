@@ -19,7 +19,7 @@
 //! split where the error exceeds the target and merged where it allows ([`chain`]).
 //!
 //! ```text
-//! OBJ/STL/PLY bytes ──TriMesh::read──▶ TriMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
+//! OBJ/STL/PLY bytes ──InputMesh::read──▶ InputMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
 //!                                                 │ design::solve_design(spec)
 //!                                                 ▼
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
@@ -49,10 +49,10 @@ pub use basis::{position_weights, weights};
 pub use measure::{
     closest_on_triangle, count_numbers, measure, Distances, Measures, MeshDistance, PointDistances,
 };
-pub use mesh::{MeshFormat, Topology, TriMesh, MAX_TRIANGLES};
+pub use mesh::{InputMesh, MeshFormat, Topology, MAX_TRIANGLES};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use picture::picture;
-pub use section::{fourier, Frame, Piece, Section, Slicer};
+pub use section::{fourier, AxisFrame, Piece, Section, Slicer};
 pub use sheet::{fit_sheet, SHEET_AM};
 pub use template::{fit_template, parse_template, End, Part, PartMode, Plane, Template};
 pub use tube::{fit_tube, TUBE_A};

@@ -1,7 +1,7 @@
 //! What every fitting mode takes and gives, and the automatic choice between the modes.
 
-use super::mesh::TriMesh;
-use super::section::Frame;
+use super::mesh::InputMesh;
+use super::section::AxisFrame;
 use crate::spec::DesignSpec;
 use crate::{Error, Result};
 
@@ -91,7 +91,7 @@ pub struct Fit {
     pub spec: DesignSpec,
     pub mode: FitMode,
     /// The sections' frame (of the first part, for a template).
-    pub frame: Frame,
+    pub frame: AxisFrame,
     /// Fine sections used (some next to the poles may be dropped, see [`Fit::dropped`]).
     pub sections: usize,
     /// Fine sections next to the poles left out because they were degenerate.
@@ -111,7 +111,7 @@ pub type TubeFit = Fit;
 
 /// The automatic choice: a closed mesh is fitted by the tube mode, an open one by the sheet
 /// mode. Meshes that are not one edge-manifold surface are refused first.
-pub fn fit_mesh(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
+pub fn fit_mesh(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     let topology = mesh.require_single()?;
     if topology.boundary_edges > 0 {

@@ -1,7 +1,7 @@
 //! The mesh and its fit side by side, each coloured by its distance to the other.
 
 use super::measure::PointDistances;
-use super::mesh::TriMesh;
+use super::mesh::InputMesh;
 use crate::mesh::GridMesh;
 use crate::render::{default_view, diverging_colors, render_png_colored, RenderOptions};
 use crate::{Result, Vec3};
@@ -10,7 +10,7 @@ use crate::{Result, Vec3};
 /// fitted surfaces on the right (each sample coloured by its distance to the mesh), on the
 /// cool–warm scale from 0 (blue) through `scale / 2` (grey) to `scale` and beyond (red).
 pub fn picture(
-    mesh: &TriMesh,
+    mesh: &InputMesh,
     distances: &PointDistances,
     scale: f64,
     options: &RenderOptions,

@@ -24,7 +24,7 @@
 //! the same place across the sheet, so the patches between them do not shear. `v = 0` is the
 //! end with the smaller `e₁` coordinate on every profile.
 
-use super::section::{Frame, Section};
+use super::section::{AxisFrame, Section};
 use crate::{Error, Result, Vec3, TAU};
 
 /// Share of a step's own length added to its projection on `e₁` in the profile's parameter.
@@ -32,7 +32,7 @@ const LENGTH_SHARE: f64 = 0.05;
 
 /// The section of an open sheet at height `h` given by the polyline `line` (in the plane), as
 /// the even periodic curve of the module documentation sampled at `samples` angles.
-pub fn from_polyline(line: &[Vec3], frame: &Frame, h: f64, samples: usize) -> Result<Section> {
+pub fn from_polyline(line: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Section> {
     closed_evenly(line, frame, h, samples, Interpolant::Spline)
 }
 
@@ -41,7 +41,7 @@ pub fn from_polyline(line: &[Vec3], frame: &Frame, h: f64, samples: usize) -> Re
 /// sharply where it passes from the sides (along the axis, where the parameter hardly grows)
 /// to the end (across it); a spline through such a corner overshoots by about the jump in
 /// speed times the next step (measured: a tenth of the sheet's width on a rectangular sheet).
-pub fn from_edge_arc(line: &[Vec3], frame: &Frame, h: f64, samples: usize) -> Result<Section> {
+pub fn from_edge_arc(line: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Section> {
     closed_evenly(line, frame, h, samples, Interpolant::Linear)
 }
 
@@ -53,7 +53,7 @@ enum Interpolant {
 
 fn closed_evenly(
     line: &[Vec3],
-    frame: &Frame,
+    frame: &AxisFrame,
     h: f64,
     samples: usize,
     how: Interpolant,
@@ -181,8 +181,8 @@ mod tests {
     use super::*;
     use crate::fit::section::fourier;
 
-    fn frame() -> Frame {
-        Frame {
+    fn frame() -> AxisFrame {
+        AxisFrame {
             origin: Vec3::zeros(),
             e1: Vec3::x(),
             e2: Vec3::z(),

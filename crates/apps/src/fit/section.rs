@@ -13,13 +13,13 @@
 //! sections are joined without twist. A loop that is not star-shaped about its centroid (rays
 //! that meet it more than once over more than a small share of the turn) is refused.
 
-use crate::fit::mesh::TriMesh;
+use crate::fit::mesh::InputMesh;
 use crate::{Error, Result, Vec3, TAU};
 use std::collections::HashMap;
 
 /// One right-handed frame `(e₁, e₂, axis)` for the sections.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Frame {
+pub struct AxisFrame {
     /// A point on the axis: heights are measured from it.
     pub origin: Vec3,
     pub e1: Vec3,
@@ -27,7 +27,7 @@ pub struct Frame {
     pub axis: Vec3,
 }
 
-impl Frame {
+impl AxisFrame {
     /// The height of `p` along the axis.
     pub fn height(&self, p: &Vec3) -> f64 {
         (p - self.origin).dot(&self.axis)
@@ -36,14 +36,14 @@ impl Frame {
 
 /// Triangles sorted for repeated sectioning along one axis: each triangle's height range.
 pub struct Slicer<'m> {
-    mesh: &'m TriMesh,
-    frame: Frame,
+    mesh: &'m InputMesh,
+    frame: AxisFrame,
     heights: Vec<f64>,
 }
 
 impl<'m> Slicer<'m> {
     /// Heights of every vertex along `frame.axis`.
-    pub fn new(mesh: &'m TriMesh, frame: Frame) -> Self {
+    pub fn new(mesh: &'m InputMesh, frame: AxisFrame) -> Self {
         let heights = mesh.positions.iter().map(|p| frame.height(p)).collect();
         Slicer {
             mesh,
@@ -53,7 +53,7 @@ impl<'m> Slicer<'m> {
     }
 
     /// The frame of the sections.
-    pub fn frame(&self) -> &Frame {
+    pub fn frame(&self) -> &AxisFrame {
         &self.frame
     }
 
@@ -278,7 +278,7 @@ const BACKTRACK_SHARE: f64 = 0.02;
 
 impl Section {
     /// Samples a closed loop lying in the plane at height `h` (see the module documentation).
-    pub fn from_loop(ring: &[Vec3], frame: &Frame, h: f64, samples: usize) -> Result<Self> {
+    pub fn from_loop(ring: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Self> {
         let n = ring.len();
         if n < 3 {
             return Err(Error::invalid(format!(
@@ -433,7 +433,7 @@ mod tests {
     use super::*;
 
     /// A closed, irregularly triangulated ellipsoid-like body of revolution around z.
-    fn body(rings: usize, around: usize) -> TriMesh {
+    fn body(rings: usize, around: usize) -> InputMesh {
         let mut positions = vec![Vec3::new(0.0, 0.0, -1.0)];
         for i in 1..rings {
             let t = std::f64::consts::PI * i as f64 / rings as f64;
@@ -458,11 +458,11 @@ mod tests {
                 triangles.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
             }
         }
-        TriMesh::new(positions, triangles).unwrap()
+        InputMesh::new(positions, triangles).unwrap()
     }
 
-    fn z_frame() -> Frame {
-        Frame {
+    fn z_frame() -> AxisFrame {
+        AxisFrame {
             origin: Vec3::zeros(),
             e1: Vec3::x(),
             e2: Vec3::y(),

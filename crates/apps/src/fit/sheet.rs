@@ -1,7 +1,7 @@
 //! The sheet mode: an open surface such as a face scan (book §4.6, Figs. 4.6–4.8) as a chain
 //! of biharmonic patches through profile curves cut by parallel planes.
 //!
-//! 1. **Frame.** The principal axes of the triangles: the axis of largest variance runs along
+//! 1. **AxisFrame.** The principal axes of the triangles: the axis of largest variance runs along
 //!    the sheet (the planes are across it), `e₁`, the second, across it, and `e₂` is near the
 //!    sheet's normal.
 //! 2. **Profiles.** `N` planes at equal steps of height, each cutting the sheet in one open
@@ -25,9 +25,9 @@
 //! `π ≤ v ≤ 2π`.
 
 use super::chain::{Chain, Joint, Station};
-use super::mesh::TriMesh;
+use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
-use super::section::{Frame, Piece, Slicer};
+use super::section::{AxisFrame, Piece, Slicer};
 use super::tube::{fit_one_chain, principal_frame, ChainFit, MODES_SHARE};
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
@@ -36,7 +36,7 @@ use rayon::prelude::*;
 pub const SHEET_AM: [f64; 3] = [2.0, 1.0, 0.5];
 
 /// Fits an open mesh (see the module documentation).
-pub fn fit_sheet(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
+pub fn fit_sheet(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     mesh.require_open()?;
     let diag = mesh.diagonal();
@@ -140,10 +140,10 @@ pub fn fit_sheet(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
 /// The arc of the boundary loop `outline` beyond the open piece `piece` (below it if `below`,
 /// else above), from the piece's first point to its last through the boundary's vertices.
 pub(crate) fn end_arc(
-    mesh: &TriMesh,
+    mesh: &InputMesh,
     outline: &[u32],
     piece: &Piece,
-    frame: &Frame,
+    frame: &AxisFrame,
     below: bool,
 ) -> Result<Vec<Vec3>> {
     let len = outline.len();

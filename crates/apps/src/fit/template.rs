@@ -48,9 +48,9 @@
 //! can point at its line and column ([`crate::spec::describe_error`]).
 
 use super::chain::{Chain, Joint, Station};
-use super::mesh::TriMesh;
+use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
-use super::section::{Frame, Piece, Section, Slicer};
+use super::section::{AxisFrame, Piece, Section, Slicer};
 use super::sheet::{end_arc, SHEET_AM};
 use super::tube::{principal_frame, MODES_SHARE, QUANTUM, SAMPLE_SHARE, TRIM_SHARE, TUBE_A};
 use crate::spec::{DesignSpec, SolverSpec};
@@ -397,7 +397,7 @@ fn direction(v: Option<&toml::Value>, place: &str) -> Result<Vec3> {
 /// One fine plane of a part: its frame (origin on the plane, axis its normal) and the place
 /// of the plane given at or after it.
 struct FinePlane {
-    frame: Frame,
+    frame: AxisFrame,
     place: String,
 }
 
@@ -421,7 +421,7 @@ fn fine_planes(part: &Part, mut e1: Vec3) -> Vec<FinePlane> {
         let e = e.normalize();
         *e1 = e;
         out.push(FinePlane {
-            frame: Frame {
+            frame: AxisFrame {
                 origin: point,
                 e1: e,
                 e2: normal.cross(&e),
@@ -452,7 +452,7 @@ fn fine_planes(part: &Part, mut e1: Vec3) -> Vec<FinePlane> {
 }
 
 /// Fits `mesh` as `template` says (module documentation).
-pub fn fit_template(mesh: &TriMesh, template: &Template, opts: &FitOptions) -> Result<Fit> {
+pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     mesh.require_single()?;
     let diag = mesh.diagonal();
@@ -521,7 +521,7 @@ pub fn fit_template(mesh: &TriMesh, template: &Template, opts: &FitOptions) -> R
     };
     let (mut sections, mut dropped, mut modes, mut patches) = (0, 0, 0, 0);
     let mut sample_error: f64 = 0.0;
-    let mut first: Option<(Frame, f64)> = None;
+    let mut first: Option<(AxisFrame, f64)> = None;
     for chain_parts in &chains {
         let mut stations: Vec<Station> = Vec::new();
         let mut forced = Vec::new();
@@ -531,7 +531,7 @@ pub fn fit_template(mesh: &TriMesh, template: &Template, opts: &FitOptions) -> R
             let place = format!("parts[{i}]");
             let fine = fine_planes(part, e1);
             e1 = fine[fine.len() - 1].frame.e1;
-            let mut cut: Vec<(Station, Piece, Frame)> = Vec::with_capacity(fine.len());
+            let mut cut: Vec<(Station, Piece, AxisFrame)> = Vec::with_capacity(fine.len());
             for (k, fp) in fine.iter().enumerate() {
                 if pos > 0 && k == 0 {
                     // The junction: the previous part's last section.
@@ -711,10 +711,10 @@ fn cut_at(
 
 /// The arc of the mesh's boundary beyond `piece` (below its plane if `below`).
 fn edge_line(
-    mesh: &TriMesh,
+    mesh: &InputMesh,
     outlines: &[Vec<u32>],
     piece: &Piece,
-    frame: &Frame,
+    frame: &AxisFrame,
     below: bool,
 ) -> Result<Vec<Vec3>> {
     let key = piece.keys.first().copied();
@@ -732,7 +732,7 @@ fn edge_line(
 }
 
 /// Each vertex's neighbours through triangle edges.
-fn vertex_neighbours(mesh: &TriMesh) -> Vec<Vec<u32>> {
+fn vertex_neighbours(mesh: &InputMesh) -> Vec<Vec<u32>> {
     let mut n: Vec<Vec<u32>> = vec![Vec::new(); mesh.positions.len()];
     for t in &mesh.triangles {
         for k in 0..3 {
@@ -748,10 +748,10 @@ fn vertex_neighbours(mesh: &TriMesh) -> Vec<Vec<u32>> {
 /// above) towards it: the pole, then sections parallel to the plane, denser towards the pole
 /// (not including `piece`'s own plane). Also the number of sections left out next to the pole.
 fn cap_stations(
-    mesh: &TriMesh,
+    mesh: &InputMesh,
     neighbours: &[Vec<u32>],
     piece: &Piece,
-    frame: &Frame,
+    frame: &AxisFrame,
     side: f64,
     part: &Part,
     samples: usize,

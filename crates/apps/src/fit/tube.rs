@@ -18,9 +18,9 @@
 //!    the one that needs the fewest patches.
 
 use super::chain::{Chain, Joint, Station};
-use super::mesh::TriMesh;
+use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
-use super::section::{Frame, Section, Slicer};
+use super::section::{AxisFrame, Section, Slicer};
 use crate::spec::{DesignSpec, SolverSpec};
 use crate::{Error, Result, Vec3};
 use nalgebra::{Matrix3, SymmetricEigen};
@@ -39,7 +39,7 @@ pub(crate) const TRIM_SHARE: f64 = 0.05;
 pub(crate) const QUANTUM: f64 = 1e-7;
 
 /// Fits a closed mesh (see the module documentation).
-pub fn fit_tube(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
+pub fn fit_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     mesh.require_closed()?;
     let diag = mesh.diagonal();
@@ -104,7 +104,7 @@ pub fn fit_tube(mesh: &TriMesh, opts: &FitOptions) -> Result<Fit> {
 /// for its stations in messages.
 pub(crate) struct ChainFit {
     pub mode: FitMode,
-    pub frame: Frame,
+    pub frame: AxisFrame,
     pub sections: usize,
     pub dropped: usize,
     pub stations: &'static str,
@@ -167,7 +167,7 @@ pub(crate) fn fit_one_chain(
 }
 
 /// The vertices (used by triangles) of smallest and largest height along the frame's axis.
-pub(crate) fn extremes(mesh: &TriMesh, frame: &Frame) -> (Vec3, Vec3) {
+pub(crate) fn extremes(mesh: &InputMesh, frame: &AxisFrame) -> (Vec3, Vec3) {
     let (lo, hi) = mesh
         .triangles
         .iter()
@@ -187,7 +187,7 @@ pub(crate) fn extremes(mesh: &TriMesh, frame: &Frame) -> (Vec3, Vec3) {
 
 /// The principal axes of the triangles' area-weighted centroids: the axis of largest variance,
 /// `e₁` the second, `e₂ = axis × e₁`.
-pub(crate) fn principal_frame(mesh: &TriMesh) -> Frame {
+pub(crate) fn principal_frame(mesh: &InputMesh) -> AxisFrame {
     let mut weight = 0.0;
     let mut mean = Vec3::zeros();
     let tris: Vec<(f64, Vec3)> = (0..mesh.triangles.len())
@@ -224,7 +224,7 @@ pub(crate) fn principal_frame(mesh: &TriMesh) -> Frame {
     let axis = pick(0).normalize();
     let e1 = (pick(1) - axis * pick(1).dot(&axis)).normalize();
     let e2 = axis.cross(&e1);
-    Frame {
+    AxisFrame {
         origin: mean,
         e1,
         e2,

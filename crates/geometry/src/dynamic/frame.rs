@@ -4,7 +4,7 @@ use crate::Vec3;
 
 /// The curve at one level of the run.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Frame {
+pub struct CurveFrame {
     /// The level `n`.
     pub step: usize,
     /// `t_n`.

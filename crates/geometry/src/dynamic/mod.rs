@@ -52,7 +52,7 @@
 //! step's (constant coefficients).
 
 pub mod formula;
-pub use frame::Frame;
+pub use frame::CurveFrame;
 mod frame;
 pub mod interp;
 pub mod ode;

@@ -6,11 +6,11 @@ use super::load::Animated;
 use super::Args;
 use crate::common::CliError;
 use pdeshape::anim::{self, Retarget};
-use pdeshape::fit::{MeshFormat, TriMesh};
+use pdeshape::fit::{InputMesh, MeshFormat};
 use pdeshape::render::{self as pic, Polyline};
 use std::path::Path;
 
-fn read_mesh(path: &Path) -> Result<TriMesh, CliError> {
+fn read_mesh(path: &Path) -> Result<InputMesh, CliError> {
     let shown = path.display();
     let bytes = crate::fit::read_mesh_bytes(path, &format!("--retarget {shown}"))?;
     let ext = path
@@ -20,7 +20,7 @@ fn read_mesh(path: &Path) -> Result<TriMesh, CliError> {
         .to_ascii_lowercase();
     let format = MeshFormat::from_extension(&ext)
         .ok_or_else(|| CliError::input(format!("--retarget {shown}: unknown mesh format")))?;
-    TriMesh::read(&bytes, format).map_err(|e| CliError::input(format!("--retarget {shown}: {e}")))
+    InputMesh::read(&bytes, format).map_err(|e| CliError::input(format!("--retarget {shown}: {e}")))
 }
 
 /// What the extra outputs take from the one pass over the frames: the re-targeted mesh's frames

@@ -7,7 +7,7 @@
 //! fit time is the median of `runs`, 3 by default; the measure time, one run, is beside it).
 
 use pdeshape::design::solve_design;
-use pdeshape::fit::{fit_mesh, fit_template, measure, parse_template, FitOptions, TriMesh};
+use pdeshape::fit::{fit_mesh, fit_template, measure, parse_template, FitOptions, InputMesh};
 use pdeshape_testkit::fit_meshes;
 use std::time::Instant;
 
@@ -24,7 +24,7 @@ fn main() {
         .unwrap_or(3)
         .max(1);
     // (name, mesh, tolerance, template)
-    let cases: Vec<(&str, TriMesh, f64, Option<&str>)> = vec![
+    let cases: Vec<(&str, InputMesh, f64, Option<&str>)> = vec![
         (
             "vase (noise 1e-4 of the diagonal)",
             fit_meshes::sweep(fit_meshes::vase, 400, 390, 1e-4 * 3.6, 8),

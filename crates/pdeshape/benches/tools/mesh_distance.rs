@@ -4,7 +4,7 @@
 //! Usage: `mesh_distance MESH.{obj,stl,ply} POINTS.csv` (one `x,y,z` per line); prints one
 //! line per point: `distance,qx,qy,qz` (the closest point of the mesh).
 
-use pdeshape::fit::{MeshDistance, MeshFormat, TriMesh};
+use pdeshape::fit::{InputMesh, MeshDistance, MeshFormat};
 use pdeshape::Vec3;
 
 fn main() -> Result<(), String> {
@@ -18,7 +18,7 @@ fn main() -> Result<(), String> {
         .and_then(MeshFormat::from_extension)
         .ok_or("mesh: extension must be obj, stl or ply")?;
     let bytes = std::fs::read(&args[1]).map_err(|e| e.to_string())?;
-    let mesh = TriMesh::read(&bytes, format).map_err(|e| e.to_string())?;
+    let mesh = InputMesh::read(&bytes, format).map_err(|e| e.to_string())?;
     let index = MeshDistance::new(&mesh);
     let text = std::fs::read_to_string(&args[2]).map_err(|e| e.to_string())?;
     let mut out = String::new();

@@ -10,7 +10,7 @@ use pdeshape::curve::FourierSeries;
 use pdeshape::design::{solve_design, SolvedDesign};
 use pdeshape::fit::{
     fit_mesh, fit_template, measure, parse_template, position_weights, weights, Fit, FitMode,
-    FitOptions, Measures, TriMesh,
+    FitOptions, InputMesh, Measures,
 };
 use pdeshape::spec::{describe_error, parse_design, write_design, CurveKind, DesignSpec};
 use pdeshape::Vec3;
@@ -27,7 +27,7 @@ fn options(target: f64) -> FitOptions {
 
 /// Reads the fit's design back from its file (what is measured is what a user reads back),
 /// solves and measures it.
-fn measured(mesh: &TriMesh, fit: &Fit) -> (DesignSpec, SolvedDesign, Measures) {
+fn measured(mesh: &InputMesh, fit: &Fit) -> (DesignSpec, SolvedDesign, Measures) {
     let text = write_design(&fit.spec).unwrap();
     let spec = parse_design(&text).unwrap();
     assert_eq!(spec, fit.spec);
@@ -37,7 +37,7 @@ fn measured(mesh: &TriMesh, fit: &Fit) -> (DesignSpec, SolvedDesign, Measures) {
 }
 
 /// Fits `mesh` automatically to the relative tolerance `target` and measures the result.
-fn fit_and_measure(mesh: &TriMesh, target: f64) -> (Fit, Measures) {
+fn fit_and_measure(mesh: &InputMesh, target: f64) -> (Fit, Measures) {
     let fit = fit_mesh(mesh, &options(target)).unwrap();
     let (_, _, m) = measured(mesh, &fit);
     (fit, m)

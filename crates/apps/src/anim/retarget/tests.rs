@@ -185,7 +185,7 @@ fn anchors_find_the_foot_points_of_offset_points() {
 }
 
 fn scan() -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let m = crate::fit::TriMesh::read(SCAN, crate::fit::MeshFormat::Obj).unwrap();
+    let m = crate::fit::InputMesh::read(SCAN, crate::fit::MeshFormat::Obj).unwrap();
     (m.positions, m.triangles)
 }
 
