@@ -7,7 +7,7 @@ use pdeshape::analysis_report::{self, integrals_json, integrals_table, num, Curv
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
     /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
@@ -22,7 +22,7 @@ pub struct Args {
     pub tolerance: Option<f64>,
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let q = match args.tolerance {
         None => Quadrature::default(),
         Some(t) if t > 0.0 && t.is_finite() && t < 1.0 => Quadrature {
@@ -86,11 +86,11 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 const TRIM_NU: usize = 129;
 const TRIM_NV: usize = 256;
 
-pub use pdeshape::analysis_report::MeshColors;
+pub(crate) use pdeshape::analysis_report::MeshColors;
 
 /// What `pdeshape render --color` colours by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum ColorBy {
+pub(crate) enum ColorBy {
     /// Gaussian curvature K.
     Gauss,
     /// Mean curvature H (outward normal).
@@ -98,7 +98,7 @@ pub enum ColorBy {
 }
 
 impl ColorBy {
-    pub fn word(self) -> &'static str {
+    pub(crate) fn word(self) -> &'static str {
         match self {
             ColorBy::Gauss => "Gaussian",
             ColorBy::Mean => "mean",
@@ -107,7 +107,7 @@ impl ColorBy {
 }
 
 /// `LO,HI` with finite `LO < HI`.
-pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
+pub(crate) fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
     let bad = || {
         CliError::input(format!(
             "--range: expected two numbers LO,HI with LO < HI (got '{s}')"
@@ -125,7 +125,7 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), CliError> {
 
 /// Per-vertex colours of every mesh by `K` or `H` and the range used
 /// ([`pdeshape::analysis_report::curvature_colors`]).
-pub fn curvature_colors(
+pub(crate) fn curvature_colors(
     built: &pdeshape::design::SolvedDesign,
     meshes: &[pdeshape::mesh::GridMesh],
     by: ColorBy,

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML) with a [blend] section.
     pub design: PathBuf,
     /// Output file; the extension picks the format: obj, stl, ply, glb, csv, or json (the Bézier
@@ -43,7 +43,7 @@ pub struct Args {
 
 /// Solves the design's blend (errors located in the file); its primary surfaces may be
 /// surfaces of the design.
-pub fn solve(design: &Loaded) -> Result<std::sync::Arc<Blend>, CliError> {
+pub(crate) fn solve(design: &Loaded) -> Result<std::sync::Arc<Blend>, CliError> {
     if design.spec.blend.is_none() {
         return Err(design.error(&pdeshape::Error::invalid(
             "the design has no [blend] section (pdeshape blend solves blends; use `pdeshape \
@@ -65,7 +65,7 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     let fpath = common::format_path(
         &args.output,

@@ -9,7 +9,7 @@ use pdeshape::spec::Units;
 use std::path::{Path, PathBuf};
 
 /// Writes the design's surfaces as STEP or IGES.
-pub fn write(
+pub(crate) fn write(
     design_path: &Path,
     output: &Path,
     format: OutputFormat,
@@ -96,7 +96,7 @@ pub fn write(
 }
 
 #[derive(clap::Args, Debug)]
-pub struct RoundtripArgs {
+pub(crate) struct RoundtripArgs {
     /// The design file (TOML).
     pub design: PathBuf,
     /// A STEP (.step, .stp) or IGES (.igs, .iges) file written by `pdeshape surface`.
@@ -110,7 +110,7 @@ pub struct RoundtripArgs {
 
 /// Reads the file back and compares each surface with the design's (status 1 if any deviates by
 /// more than the tolerance).
-pub fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
+pub(crate) fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
     if let Some(t) = args.tolerance {
         if !(t.is_finite() && t > 0.0) {
             return Err(CliError::input(format!(

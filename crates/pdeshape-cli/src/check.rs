@@ -7,7 +7,7 @@ use std::fmt::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
     /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
@@ -21,7 +21,7 @@ pub struct Args {
 }
 
 /// The report for a solved design; the second value lists what deserves a warning.
-pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
+pub(crate) fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
     let d = diagnostics::diagnose(&design.spec, built);
     let text = diagnostics::check_report(&design.file, &design.spec, built, &d);
     (text, d.warnings)
@@ -29,7 +29,7 @@ pub fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
 
 /// The report as JSON: per surface its kind, operator, modes and condition errors; shared edges;
 /// warnings; and the text report.
-pub fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
+pub(crate) fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
     let d = diagnostics::diagnose(&design.spec, built);
     let text = diagnostics::check_report(&design.file, &design.spec, built, &d);
     let mut v = d.to_json();
@@ -49,7 +49,7 @@ fn check_sections(design: &Loaded, built: &SolvedDesign) -> Result<(), CliError>
     Ok(())
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     if args.json {
         let result = common::load(&args.design).and_then(|mut design| {
             common::apply_sets(&mut design, &args.set)?;

@@ -13,7 +13,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML) with a [dynamic] section.
     pub design: PathBuf,
     /// The final curve as CSV (`u,x[,y[,z]]`, one row per grid node, full precision).
@@ -78,7 +78,7 @@ fn progress(total: u64, what: &str) -> ProgressBar {
     pb
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     check_extension(&args.output, "-o", "csv")?;
     if let Some(f) = &args.frames {
         check_extension(f, "--frames", "csv")?;

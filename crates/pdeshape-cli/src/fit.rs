@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one surface: closed (fitted along
     /// its main axis, poles at both ends) or open (a sheet, fitted by profiles across it).
     pub mesh: PathBuf,
@@ -35,7 +35,7 @@ pub struct Args {
     pub picture: Option<PathBuf>,
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.mesh.display().to_string();
     if !(args.tolerance > 0.0 && args.tolerance.is_finite() && args.tolerance < 1.0) {
         return Err(CliError::input(format!(

@@ -13,7 +13,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML) with an [optimize] section.
     pub design: PathBuf,
     /// The optimised design file to write (.toml); the mesh (.obj), picture (.png) and search
@@ -97,7 +97,7 @@ fn search_memory(args: &Args, design: &common::Loaded, problem: &Problem) -> Res
     .map_err(|e| design.error(&e))
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     if args.output.extension().and_then(|e| e.to_str()) != Some("toml") {
         return Err(CliError::input(format!(

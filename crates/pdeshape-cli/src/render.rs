@@ -6,7 +6,7 @@ use pdeshape::Vec3;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
     /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
@@ -42,7 +42,7 @@ pub struct Args {
 
 /// What `pdeshape render --color` colours by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Coloring {
+pub(crate) enum Coloring {
     /// Gaussian curvature K.
     Gauss,
     /// Mean curvature H (outward normal).
@@ -118,7 +118,7 @@ pub(crate) fn parse_view(s: &str) -> Result<Vec3, CliError> {
 }
 
 /// Refuses picture paths that do not end in `.png`.
-pub fn check_png_path(path: &std::path::Path) -> Result<(), CliError> {
+pub(crate) fn check_png_path(path: &std::path::Path) -> Result<(), CliError> {
     let is_png = path
         .extension()
         .and_then(|e| e.to_str())
@@ -133,7 +133,7 @@ pub fn check_png_path(path: &std::path::Path) -> Result<(), CliError> {
     }
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     if !Output::is_stdout(&args.output) {
         check_png_path(&args.output)
@@ -262,7 +262,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 }
 
 /// The colour bar of a curvature picture, with a note saying where its range came from.
-pub fn curvature_bar(
+pub(crate) fn curvature_bar(
     by: crate::analyze::ColorBy,
     lo: f64,
     hi: f64,

@@ -2,7 +2,7 @@
 
 use crate::common::CliError;
 
-pub fn run() -> Result<(), CliError> {
+pub(crate) fn run() -> Result<(), CliError> {
     crate::common::print_stdout(&format!("{}\n", pdeshape::spec::json_schema()));
     Ok(())
 }

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML); its [shell] section, if any, sets up the analysis.
     pub design: PathBuf,
     /// Wall thickness in metres (overrides shell.thickness; default 0.0005).
@@ -38,7 +38,7 @@ fn solver_error(e: &pdeshape::Error) -> CliError {
     }
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let kind = match &args.output {
         None => None,
         Some(p) => match p.extension().and_then(|e| e.to_str()) {

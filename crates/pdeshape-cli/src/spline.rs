@@ -11,7 +11,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML) with a [spline] section.
     pub design: PathBuf,
     /// Output file; the extension picks the format: json (control net and report), igs or iges
@@ -55,7 +55,7 @@ fn kind(path: &std::path::Path) -> Result<Kind, CliError> {
     }
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
     let fpath = common::format_path(
         &args.output,

@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML).
     pub design: PathBuf,
     /// Set a design parameter (a `[[parameters]]` entry) to a value within its bounds;
@@ -71,14 +71,14 @@ pub struct Args {
 
 /// The `--up` values.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum UpAxis {
+pub(crate) enum UpAxis {
     Z,
     Y,
 }
 
 /// The export options of `--scale`, `--up` and `--separate-patches` for `format`, refused with
 /// the flag's name.
-pub fn export_options(
+pub(crate) fn export_options(
     format: Format,
     scale: f64,
     up: Option<UpAxis>,
@@ -109,7 +109,7 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let cad = OutputFormat::from_path(&args.output)
         .ok()
         .filter(|f| f.is_cad());

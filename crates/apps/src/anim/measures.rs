@@ -22,7 +22,7 @@ pub struct Row {
 /// measures are taken for every frame (smooth frames converge within 128 × 256 nodes). A
 /// surface that does not converge within it (a folded or degenerate frame) gets the last
 /// level's estimate instead of 4 million nodes a frame.
-pub const MAX_NODES_PER_FRAME: usize = 1 << 16;
+pub(super) const MAX_NODES_PER_FRAME: usize = 1 << 16;
 
 /// The area and enclosed volume of a solved design (adaptive quadrature to `10⁻⁹` relative
 /// within [`MAX_NODES_PER_FRAME`], caps over open boundaries as in `analyze`).

@@ -32,7 +32,12 @@ const LENGTH_SHARE: f64 = 0.05;
 
 /// The section of an open sheet at height `h` given by the polyline `line` (in the plane), as
 /// the even periodic curve of the module documentation sampled at `samples` angles.
-pub fn from_polyline(line: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Section> {
+pub(super) fn from_polyline(
+    line: &[Vec3],
+    frame: &AxisFrame,
+    h: f64,
+    samples: usize,
+) -> Result<Section> {
     closed_evenly(line, frame, h, samples, Interpolant::Spline)
 }
 
@@ -41,7 +46,12 @@ pub fn from_polyline(line: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -
 /// sharply where it passes from the sides (along the axis, where the parameter hardly grows)
 /// to the end (across it); a spline through such a corner overshoots by about the jump in
 /// speed times the next step (measured: a tenth of the sheet's width on a rectangular sheet).
-pub fn from_edge_arc(line: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Section> {
+pub(super) fn from_edge_arc(
+    line: &[Vec3],
+    frame: &AxisFrame,
+    h: f64,
+    samples: usize,
+) -> Result<Section> {
     closed_evenly(line, frame, h, samples, Interpolant::Linear)
 }
 

@@ -57,9 +57,9 @@ use crate::spec::{DesignSpec, SolverSpec};
 use crate::{Error, Result, Vec3};
 
 /// Most parts in a template.
-pub const MAX_PARTS: usize = 256;
+pub(super) const MAX_PARTS: usize = 256;
 /// Most planes given for one part.
-pub const MAX_PLANES: usize = 1024;
+pub(super) const MAX_PLANES: usize = 1024;
 
 /// A parsed template.
 #[derive(Clone, Debug, PartialEq)]

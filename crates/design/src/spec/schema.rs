@@ -7,7 +7,7 @@ use super::DesignSpec;
 use serde_json::{json, Map, Value};
 
 /// The schema as a JSON value.
-pub fn schema_value() -> Value {
+pub(super) fn schema_value() -> Value {
     let schema = schemars::schema_for!(DesignSpec);
     let mut v = serde_json::to_value(&schema).unwrap_or(Value::Null);
     add_rig(&mut v);

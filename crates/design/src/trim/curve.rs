@@ -3,7 +3,7 @@
 use crate::{Error, Result, TAU};
 
 /// The most samples of one piece of a trim curve.
-pub const MAX_SAMPLES: usize = 1 << 20;
+pub(super) const MAX_SAMPLES: usize = 1 << 20;
 
 /// A closed curve `c(t)`, `t ∈ [0, 1)`, in the `(u, v)` parameter plane of a surface. Its
 /// inside is removed from the surface. Coordinates are those of the plane itself: a curve across

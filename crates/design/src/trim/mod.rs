@@ -232,7 +232,7 @@ impl Frame {
     }
 
     /// Columns of cells.
-    pub fn cols(&self) -> usize {
+    pub(crate) fn cols(&self) -> usize {
         if self.periodic {
             self.nv
         } else {
@@ -241,17 +241,17 @@ impl Frame {
     }
 
     /// `(u, v)` in grid cells: `((u − u₀)/Δu, (v − v₀)/Δv)`.
-    pub fn scaled(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(crate) fn scaled(&self, p: [f64; 2]) -> [f64; 2] {
         [(p[0] - self.u0) / self.du, (p[1] - self.v0) / self.dv]
     }
 
     /// Grid column of an unwrapped column number.
-    pub fn col(&self, j: i64) -> usize {
+    pub(crate) fn col(&self, j: i64) -> usize {
         j.rem_euclid(self.nv as i64) as usize
     }
 
     /// True for a corner on the domain's boundary (`u` ends, and `v` ends unless periodic).
-    pub fn on_boundary(&self, i: usize, j: usize) -> bool {
+    pub(crate) fn on_boundary(&self, i: usize, j: usize) -> bool {
         i == 0 || i + 1 == self.nu || (!self.periodic && (j == 0 || j + 1 == self.nv))
     }
 }

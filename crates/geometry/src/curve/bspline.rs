@@ -23,7 +23,7 @@ pub struct BSpline {
 }
 
 /// Highest degree accepted.
-pub const MAX_DEGREE: usize = 30;
+pub(super) const MAX_DEGREE: usize = 30;
 
 impl BSpline {
     /// Open B-spline with the full knot vector (`control.len() + degree + 1` non-decreasing knots);

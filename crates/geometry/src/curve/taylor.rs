@@ -11,13 +11,13 @@ use std::str::FromStr;
 pub(crate) struct Taylor(pub Series);
 
 impl Taylor {
-    pub fn constant(c: f64) -> Self {
+    pub(super) fn constant(c: f64) -> Self {
         let mut s = [0.0; LEN];
         s[0] = c;
         Taylor(s)
     }
     /// The independent variable at `v`: `v + ε`.
-    pub fn variable(v: f64) -> Self {
+    pub(super) fn variable(v: f64) -> Self {
         let mut s = [0.0; LEN];
         s[0] = v;
         s[1] = 1.0;

@@ -54,14 +54,14 @@ pub(crate) struct LayerBasis {
 }
 
 impl Basis {
-    pub fn kind(&self) -> BasisKind {
+    pub(super) fn kind(&self) -> BasisKind {
         match self {
             Basis::Chebyshev { .. } => BasisKind::Chebyshev,
             Basis::Layers(_) => BasisKind::Layers,
         }
     }
 
-    pub fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         match self {
             Basis::Chebyshev { series } => series.len(),
             Basis::Layers(l) => l.funcs.len(),
@@ -69,7 +69,7 @@ impl Basis {
     }
 
     /// The layer basis of mode `n ≥ 1`.
-    pub fn layers(op: &Operator, n: usize) -> Basis {
+    pub(super) fn layers(op: &Operator, n: usize) -> Basis {
         let mut funcs = Vec::new();
         for (g, group) in op.roots().iter().enumerate() {
             for side in [false, true] {
@@ -91,7 +91,7 @@ impl Basis {
     /// The Chebyshev basis of mode `n` (exactly `T_0 … T_{2N−1}` for `n = 0`). `None` if the
     /// tail does not decay within the largest truncation we allow (modes far in the layer
     /// regime).
-    pub fn chebyshev(op: &Operator, n: usize) -> Option<Basis> {
+    pub(super) fn chebyshev(op: &Operator, n: usize) -> Option<Basis> {
         let two_n = 2 * op.half_order();
         if n == 0 {
             let series = (0..two_n)
@@ -154,7 +154,7 @@ impl Basis {
     }
 
     /// Values and first u-derivatives of every basis function at `u`.
-    pub fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
+    pub(super) fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
         match self {
             Basis::Chebyshev { .. } => {
                 self.eval(u, 0, out0);
@@ -166,7 +166,7 @@ impl Basis {
 
     /// [`Basis::eval`] for `d = 0, 1, 2` into `out[d]`, the same values bit for bit (the layer
     /// basis shares its exponentials and Laguerre values between the three).
-    pub fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
+    pub(super) fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
         match self {
             Basis::Chebyshev { .. } => {
                 for (d, o) in out.into_iter().enumerate() {
@@ -179,7 +179,7 @@ impl Basis {
 
     /// The layer basis's bounds of `sup_{[0, 1]} |ψ_k^{(d)}|` ([`LayerBasis::derivative_sups`]);
     /// `None` for the Chebyshev basis (bounded through its series instead).
-    pub fn layer_derivative_sups(&self, d: usize) -> Option<Vec<f64>> {
+    pub(super) fn layer_derivative_sups(&self, d: usize) -> Option<Vec<f64>> {
         match self {
             Basis::Chebyshev { .. } => None,
             Basis::Layers(l) => Some(l.derivative_sups(d)),
@@ -187,7 +187,7 @@ impl Basis {
     }
 
     /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
-    pub fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+    pub(super) fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         match self {
             Basis::Chebyshev { series } => {
                 for (k, s) in series.iter().enumerate() {

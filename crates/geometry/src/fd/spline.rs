@@ -133,7 +133,14 @@ pub(crate) struct NodeSpline {
 
 impl NodeSpline {
     /// Fits the spline to the node values `x[i * mv + j]`.
-    pub fn new(x: Vec<Vec3>, nu: usize, mv: usize, periodic: bool, v0: f64, hv: f64) -> Self {
+    pub(super) fn new(
+        x: Vec<Vec3>,
+        nu: usize,
+        mv: usize,
+        periodic: bool,
+        v0: f64,
+        hv: f64,
+    ) -> Self {
         let hu = 1.0 / nu as f64;
         let rows = nu + 1;
         let mut data = vec![[Vec3::zeros(); 4]; rows * mv];
@@ -179,7 +186,7 @@ impl NodeSpline {
     }
 
     /// The spline and its partials up to second order at `(u, v)`.
-    pub fn partials(&self, u: f64, v: f64) -> Partials {
+    pub(super) fn partials(&self, u: f64, v: f64) -> Partials {
         let fu = (u.clamp(0.0, 1.0) / self.hu).max(0.0);
         let i = (fu.floor() as usize).min(self.nu - 1);
         let t = fu - i as f64;

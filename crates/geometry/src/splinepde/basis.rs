@@ -12,10 +12,10 @@ use crate::spline::knots::{basis_derivatives, find_span, KnotRule};
 use crate::{Error, Result};
 
 /// Polynomial coefficients `c_0 + c_1 s + …` in a local variable.
-pub type Poly<T> = Vec<T>;
+pub(super) type Poly<T> = Vec<T>;
 
 /// `d^k/ds^k` of a polynomial.
-pub fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
+pub(super) fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
     if k >= p.len() {
         return Vec::new();
     }
@@ -29,7 +29,7 @@ pub fn poly_derivative<T: Scalar>(p: &[T], k: usize) -> Poly<T> {
 }
 
 /// `∫_0^1 p(s) q(s) ds`, exactly as far as the scalar allows.
-pub fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
+pub(super) fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
     let mut acc = T::zero();
     for (a, pa) in p.iter().enumerate() {
         if pa.is_zero() {

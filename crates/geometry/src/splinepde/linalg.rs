@@ -190,12 +190,12 @@ impl Solve for BigRational {
 
 /// Relative size below which a singular value of the row-normalised system counts as zero:
 /// `max(m, n) · ε`, the usual rank threshold (the entries carry a few rounding errors each).
-pub fn rank_tolerance(m: usize, n: usize) -> f64 {
+pub(super) fn rank_tolerance(m: usize, n: usize) -> f64 {
     (m.max(n) as f64) * f64::EPSILON
 }
 
 /// A row of `N` (orthonormal columns) smaller than this is zero: the unknown is determined.
-pub const DETERMINED_TOL: f64 = 1e-8;
+pub(super) const DETERMINED_TOL: f64 = 1e-8;
 
 impl Solve for f64 {
     /// Rows divided by their scales, then the SVD (a wide system padded with zero rows); singular values below [`rank_tolerance`] · σ_max

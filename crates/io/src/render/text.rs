@@ -4,7 +4,7 @@
 use font8x8::UnicodeFonts;
 
 /// Width (and height) of one character at scale 1, in pixels.
-pub const GLYPH: usize = 8;
+pub(super) const GLYPH: usize = 8;
 
 /// An RGB8 picture being annotated: `3 · width · height` bytes, rows top to bottom.
 pub(crate) struct Canvas<'a> {
@@ -15,7 +15,7 @@ pub(crate) struct Canvas<'a> {
 
 impl Canvas<'_> {
     /// Sets one pixel; pixels outside the picture are ignored.
-    pub fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
+    pub(super) fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
         if x < 0 || y < 0 || x as usize >= self.width || y as usize >= self.height {
             return;
         }
@@ -24,7 +24,7 @@ impl Canvas<'_> {
     }
 
     /// Fills the rectangle `[x, x + w) × [y, y + h)` (clipped to the picture).
-    pub fn fill(&mut self, x: i64, y: i64, w: i64, h: i64, c: [u8; 3]) {
+    pub(super) fn fill(&mut self, x: i64, y: i64, w: i64, h: i64, c: [u8; 3]) {
         for yy in y.max(0)..(y + h).min(self.height as i64) {
             for xx in x.max(0)..(x + w).min(self.width as i64) {
                 self.put(xx, yy, c);
@@ -34,7 +34,7 @@ impl Canvas<'_> {
 
     /// Draws `s` with its top-left corner at `(x, y)`, each font pixel a `scale × scale` square.
     /// Characters outside ASCII are drawn as `?`.
-    pub fn text(&mut self, x: i64, y: i64, s: &str, scale: usize, c: [u8; 3]) {
+    pub(super) fn text(&mut self, x: i64, y: i64, s: &str, scale: usize, c: [u8; 3]) {
         let k = scale.max(1) as i64;
         for (n, ch) in s.chars().enumerate() {
             let glyph = font8x8::BASIC_FONTS
@@ -54,7 +54,7 @@ impl Canvas<'_> {
 }
 
 /// Width of `s` in pixels at `scale`.
-pub fn text_width(s: &str, scale: usize) -> usize {
+pub(super) fn text_width(s: &str, scale: usize) -> usize {
     s.chars().count() * GLYPH * scale.max(1)
 }
 

@@ -7,7 +7,7 @@ use pdeshape::spec;
 use std::path::Path;
 
 /// An animation read from a file, with what locates its errors.
-pub struct Animated {
+pub(crate) struct Animated {
     pub anim: Animation,
     /// The file whose paths the design's errors name (the morph's source for a morph).
     pub design: Loaded,
@@ -17,7 +17,7 @@ pub struct Animated {
 }
 
 /// Reads a timed design or a morph file ([`pdeshape::open::open_animation`]).
-pub fn load(path: &Path) -> Result<Animated, CliError> {
+pub(crate) fn load(path: &Path) -> Result<Animated, CliError> {
     let o = pdeshape::open::open_animation(path).map_err(common::opened)?;
     let anim = o
         .animation
@@ -35,7 +35,7 @@ pub fn load(path: &Path) -> Result<Animated, CliError> {
 }
 
 /// The design of `path` at time `t` (`pdeshape surface --time`).
-pub fn load_at(path: &Path, t: f64) -> Result<Loaded, CliError> {
+pub(crate) fn load_at(path: &Path, t: f64) -> Result<Loaded, CliError> {
     if !t.is_finite() {
         return Err(CliError::input(format!("--time: must be finite (got {t})")));
     }

@@ -14,10 +14,10 @@ mod load;
 mod outputs;
 mod pictures;
 mod retarget;
-pub use load::{load, load_at};
+pub(crate) use load::{load, load_at};
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file (TOML) with a [time] section, or a morph file with [morph].
     pub design: PathBuf,
     /// The animation (glTF binary, .glb): one mesh with a morph target per frame and an
@@ -85,7 +85,7 @@ fn progress(total: u64) -> ProgressBar {
     pb
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     common::check_extension(&args.output, "-o", "glb")?;
     if let Some(p) = &args.csv {
         common::check_extension(p, "--csv", "csv")?;

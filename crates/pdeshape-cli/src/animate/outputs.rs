@@ -23,7 +23,7 @@ fn extension_is(path: &Path, ext: &str) -> bool {
 
 /// Checks the flags before any work: extensions, the pairing of `--retarget` with
 /// `--retarget-output`, the size and the view.
-pub fn check(args: &Args) -> Result<(), CliError> {
+pub(super) fn check(args: &Args) -> Result<(), CliError> {
     match (&args.retarget, &args.retarget_output) {
         (Some(m), Some(o)) => {
             let ext = m.extension().and_then(|e| e.to_str()).unwrap_or("");
@@ -90,14 +90,14 @@ pub fn check(args: &Args) -> Result<(), CliError> {
 
 /// Outputs made and not yet committed, with the words of the report.
 #[derive(Default)]
-pub struct Pending {
+pub(super) struct Pending {
     pub outputs: Vec<Output>,
     pub report: String,
 }
 
 /// Makes the outputs these flags ask for from the frames of the one pass (`keys`, and what
 /// `c` took of every frame); nothing when none is asked for.
-pub fn run(
+pub(super) fn run(
     args: &Args,
     l: &Animated,
     times: &[f64],

@@ -61,7 +61,7 @@ pub(super) fn sheet_frames(n: usize) -> Vec<usize> {
 
 /// The PNG pictures of every frame for `--frames-dir` (drawn like `pdeshape render`'s default),
 /// in parallel.
-pub fn frame_pictures(keys: &Keyframes, c: &Collector) -> pdeshape::Result<Vec<Vec<u8>>> {
+pub(super) fn frame_pictures(keys: &Keyframes, c: &Collector) -> pdeshape::Result<Vec<Vec<u8>>> {
     let (lo, hi) = keys.bounds();
     let boxed = frame_box(lo, hi);
     (0..keys.positions.len())

@@ -27,7 +27,7 @@ fn read_mesh(path: &Path) -> Result<InputMesh, CliError> {
 /// and the overlays (condition curves) of every frame for the pictures. The pictures themselves
 /// are drawn after the pass, from the frames' welded meshes, framed by the box around all of
 /// them.
-pub struct Collector {
+pub(super) struct Collector {
     pub(super) retarget: Option<Retarget>,
     overlays: Option<Vec<Vec<Polyline>>>,
 }
@@ -35,7 +35,7 @@ pub struct Collector {
 impl Collector {
     /// Reads the mesh to re-target (anchored on the design at the first time) before any frame
     /// is solved.
-    pub fn new(args: &Args, l: &Animated, times: &[f64]) -> Result<Collector, CliError> {
+    pub(super) fn new(args: &Args, l: &Animated, times: &[f64]) -> Result<Collector, CliError> {
         let located = |e: pdeshape::Error| l.design.error(&e);
         let retarget = match &args.retarget {
             Some(path) => {
@@ -64,7 +64,7 @@ impl Collector {
     }
 
     /// Takes what it needs of a frame (called for every frame, in order).
-    pub fn frame(&mut self, f: &anim::Frame) -> pdeshape::Result<()> {
+    pub(super) fn frame(&mut self, f: &anim::Frame) -> pdeshape::Result<()> {
         if let Some(r) = self.retarget.as_mut() {
             r.push(f.t, f.solved)?;
         }

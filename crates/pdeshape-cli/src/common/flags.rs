@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 /// The path whose extension picks the output format: `--format` when given (it wins over the
 /// extension), else `-o`'s own; `-o -` (standard output) needs `--format`.
-pub fn format_path(
+pub(crate) fn format_path(
     output: &Path,
     format: Option<&str>,
     formats: &str,
@@ -35,7 +35,7 @@ pub fn format_path(
 /// The mesh or sample format of an output: `--format` when given (it wins over the
 /// extension), else `-o`'s extension ([`OutputFormat`]); `-o -` (standard output) needs
 /// `--format`. Errors name the flag.
-pub fn output_format(
+pub(crate) fn output_format(
     output: &Path,
     format: Option<&str>,
     formats: &str,
@@ -68,7 +68,7 @@ pub fn output_format(
 }
 
 /// Refuses an output path of `flag` that does not end in `.ext` (any case).
-pub fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
+pub(crate) fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
     if pdeshape::format::has_extension(path, ext) {
         Ok(())
     } else {
@@ -80,7 +80,7 @@ pub fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliErro
 }
 
 /// Refuses a flag that was given for an output it does not apply to.
-pub fn refuse_flag(given: bool, flag: &str, output: &str) -> Result<(), CliError> {
+pub(crate) fn refuse_flag(given: bool, flag: &str, output: &str) -> Result<(), CliError> {
     if given {
         return Err(CliError::input(format!(
             "{flag}: does not apply to {output}"
@@ -90,7 +90,7 @@ pub fn refuse_flag(given: bool, flag: &str, output: &str) -> Result<(), CliError
 }
 
 /// Refuses `--nu`/`--nv` for an output they do not apply to.
-pub fn refuse_grid_flags(
+pub(crate) fn refuse_grid_flags(
     nu: Option<usize>,
     nv: Option<usize>,
     output: &str,

@@ -8,7 +8,7 @@ use pdeshape::Error;
 use std::path::Path;
 
 /// A design file read and parsed.
-pub struct Loaded {
+pub(crate) struct Loaded {
     pub file: String,
     pub text: String,
     pub spec: DesignSpec,
@@ -16,23 +16,27 @@ pub struct Loaded {
 
 impl Loaded {
     /// `file:line:col: place: message` for an error about this file.
-    pub fn error(&self, e: &Error) -> CliError {
+    pub(crate) fn error(&self, e: &Error) -> CliError {
         CliError::input(spec::describe_error(&self.file, &self.text, e))
     }
 
     /// Compiles and solves the design (every kind, with the solver it asks for).
-    pub fn build(&self) -> Result<SolvedDesign, CliError> {
+    pub(crate) fn build(&self) -> Result<SolvedDesign, CliError> {
         design::solve_design(&self.spec).map_err(|e| self.error(&e))
     }
 
     /// Validates the design without solving it.
-    pub fn validate(&self) -> Result<(), CliError> {
+    pub(crate) fn validate(&self) -> Result<(), CliError> {
         design::validate_design(&self.spec).map_err(|e| self.error(&e))
     }
 
     /// The grid ([`design::grid`]): the command line's `--nu`/`--nv`, else `[output]`, else
     /// 64 × 128, refused before anything is solved or allocated beyond the grid limits.
-    pub fn grid(&self, nu: Option<usize>, nv: Option<usize>) -> Result<(usize, usize), CliError> {
+    pub(crate) fn grid(
+        &self,
+        nu: Option<usize>,
+        nv: Option<usize>,
+    ) -> Result<(usize, usize), CliError> {
         design::grid(&self.spec, nu, nv).map_err(|e| {
             if e.place().starts_with("output") {
                 self.error(&e)
@@ -50,7 +54,7 @@ impl Loaded {
 
 /// `--set NAME=VALUE` (repeatable): the values of the design's `[[parameters]]` entries,
 /// each checked against the entry's bounds; errors name the flag and the parameter.
-pub fn apply_sets(design: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
+pub(crate) fn apply_sets(design: &mut Loaded, sets: &[String]) -> Result<(), CliError> {
     for s in sets {
         let Some((name, value)) = s.split_once('=') else {
             return Err(CliError::input(format!(
@@ -74,13 +78,13 @@ pub fn apply_sets(design: &mut Loaded, sets: &[String]) -> Result<(), CliError> 
 }
 
 /// The message of an error without its place.
-pub fn message_of(e: &Error) -> String {
+pub(crate) fn message_of(e: &Error) -> String {
     e.message()
 }
 
 /// Reads and parses a design file (the library's [`pdeshape::open`]: one size limit, one
 /// treatment of directories, FIFOs and symlinks; a timed design at its start time).
-pub fn load(path: &Path) -> Result<Loaded, CliError> {
+pub(crate) fn load(path: &Path) -> Result<Loaded, CliError> {
     let f = pdeshape::open::DesignFile::read(path).map_err(opened)?;
     let spec = f.parse_still().map_err(opened)?;
     Ok(Loaded {
@@ -91,6 +95,6 @@ pub fn load(path: &Path) -> Result<Loaded, CliError> {
 }
 
 /// A file that could not be opened: its one line.
-pub fn opened(e: pdeshape::open::OpenError) -> CliError {
+pub(crate) fn opened(e: pdeshape::open::OpenError) -> CliError {
     CliError::input(e.message)
 }

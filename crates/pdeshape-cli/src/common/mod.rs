@@ -2,29 +2,31 @@
 //! writing an output file atomically.
 
 /// An I/O error in words, without the "(os error N)" suffix.
-pub use pdeshape::open::io_words;
+pub(crate) use pdeshape::open::io_words;
 
 mod flags;
 mod load;
 mod output;
 mod report;
 mod temp;
-pub use flags::{check_extension, format_path, output_format, refuse_flag, refuse_grid_flags};
-pub use load::{apply_sets, load, message_of, opened, Loaded};
-pub use output::{destination, Output};
-pub use report::{mark_start, print_stdout, quiet, report, set_flags, since_start_ms};
-pub use temp::remove_temporaries_on_signals;
+pub(crate) use flags::{
+    check_extension, format_path, output_format, refuse_flag, refuse_grid_flags,
+};
+pub(crate) use load::{apply_sets, load, message_of, opened, Loaded};
+pub(crate) use output::{destination, Output};
+pub(crate) use report::{mark_start, print_stdout, quiet, report, set_flags, since_start_ms};
+pub(crate) use temp::remove_temporaries_on_signals;
 
 /// A failure: one line for stderr and the exit status.
 #[derive(Debug)]
-pub struct CliError {
+pub(crate) struct CliError {
     pub message: String,
     pub status: u8,
 }
 
 impl CliError {
     /// Bad input (design, arguments, output path): exit status 2.
-    pub fn input(message: impl Into<String>) -> Self {
+    pub(crate) fn input(message: impl Into<String>) -> Self {
         CliError {
             message: message.into(),
             status: 2,
@@ -33,7 +35,7 @@ impl CliError {
 }
 
 /// `s` cut to at most `max` characters, with an ellipsis when cut.
-pub fn shorten(s: &str, max: usize) -> String {
+pub(crate) fn shorten(s: &str, max: usize) -> String {
     if s.chars().count() <= max {
         s.to_string()
     } else {

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 /// How a "wrote …" line names an output: its path, or "standard output" for `-o -`.
-pub fn destination(path: &Path) -> String {
+pub(crate) fn destination(path: &Path) -> String {
     if Output::is_stdout(path) {
         "standard output".to_string()
     } else {
@@ -32,7 +32,7 @@ enum Target {
 /// everything succeeded. Dropped without [`Output::commit`], it leaves nothing behind; stopped by
 /// SIGINT or SIGTERM, neither (see [`remove_temporaries_on_signals`]). `-o -` writes to stdout.
 /// Messages name the user's path, never the temporary one.
-pub struct Output {
+pub(crate) struct Output {
     shown: String,
     target: Target,
 }
@@ -57,14 +57,14 @@ fn resolve(path: &Path) -> PathBuf {
 
 impl Output {
     /// Whether `path` means standard output.
-    pub fn is_stdout(path: &Path) -> bool {
+    pub(crate) fn is_stdout(path: &Path) -> bool {
         path.as_os_str() == "-"
     }
 
     /// Creates the temporary file in the destination's directory (so the final rename is atomic),
     /// after checking the destination: not a directory, in an existing directory, not read-only
     /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
-    pub fn create(path: &Path) -> Result<Self, CliError> {
+    pub(crate) fn create(path: &Path) -> Result<Self, CliError> {
         let shown = path.display().to_string();
         if Self::is_stdout(path) {
             STDOUT_USED.store(true, Ordering::Relaxed);
@@ -122,7 +122,7 @@ impl Output {
     }
 
     /// A buffered writer on the output.
-    pub fn writer(&mut self) -> std::io::BufWriter<OutputWriter<'_>> {
+    pub(crate) fn writer(&mut self) -> std::io::BufWriter<OutputWriter<'_>> {
         std::io::BufWriter::new(match &mut self.target {
             Target::File { temp, .. } => OutputWriter::File {
                 file: temp.as_file_mut(),
@@ -133,7 +133,7 @@ impl Output {
     }
 
     /// Writes `bytes` to the output.
-    pub fn write_all(&mut self, bytes: &[u8]) -> Result<(), CliError> {
+    pub(crate) fn write_all(&mut self, bytes: &[u8]) -> Result<(), CliError> {
         let shown = self.shown.clone();
         let r = match &mut self.target {
             Target::File { temp, .. } => temp.as_file_mut().write_all(bytes),
@@ -147,7 +147,7 @@ impl Output {
 
     /// Flushes and renames the temporary file onto the destination (through a symlink, onto the
     /// file it points to), or writes the collected bytes to stdout.
-    pub fn commit(mut self) -> Result<(), CliError> {
+    pub(crate) fn commit(mut self) -> Result<(), CliError> {
         let shown = self.shown.clone();
         let err = |e: &std::io::Error| CliError::input(format!("-o {shown}: {}", io_words(e)));
         match std::mem::replace(&mut self.target, Target::Stdout(Vec::new())) {
@@ -189,7 +189,7 @@ const WRITE_BACK: u64 = 8 << 20;
 /// waiting), so the disk works while the rest is produced and the fsync of [`Output::commit`]
 /// waits for the last few megabytes only. It changes nothing of what is written, nor of when the
 /// file counts as written: that is still the fsync before the rename.
-pub enum OutputWriter<'a> {
+pub(crate) enum OutputWriter<'a> {
     File {
         file: &'a mut std::fs::File,
         /// Bytes written since write-back was last started.

@@ -11,19 +11,19 @@ pub(super) static FORCE: AtomicBool = AtomicBool::new(false);
 /// Some output went to standard output (`-o -`), so reports go to stderr.
 pub(super) static STDOUT_USED: AtomicBool = AtomicBool::new(false);
 /// Sets `--quiet` and `--force` for the whole run.
-pub fn set_flags(quiet: bool, force: bool) {
+pub(crate) fn set_flags(quiet: bool, force: bool) {
     QUIET.store(quiet, Ordering::Relaxed);
     FORCE.store(force, Ordering::Relaxed);
 }
 
 /// Whether `--quiet` was given.
-pub fn quiet() -> bool {
+pub(crate) fn quiet() -> bool {
     QUIET.load(Ordering::Relaxed)
 }
 
 /// A report line ("wrote …"): on stdout, or on stderr when stdout carries an output; nothing
 /// with `--quiet`.
-pub fn report(text: &str) {
+pub(crate) fn report(text: &str) {
     if quiet() {
         return;
     }
@@ -35,7 +35,7 @@ pub fn report(text: &str) {
 }
 
 /// Writes to stdout, ignoring a closed pipe (`pdeshape schema | head` is fine).
-pub fn print_stdout(text: &str) {
+pub(crate) fn print_stdout(text: &str) {
     let mut out = std::io::stdout().lock();
     let _ = out.write_all(text.as_bytes());
     let _ = out.flush();
@@ -45,12 +45,12 @@ pub fn print_stdout(text: &str) {
 static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
 
 /// Records the start of the process (called first thing in `main`).
-pub fn mark_start() {
+pub(crate) fn mark_start() {
     START.get_or_init(std::time::Instant::now);
 }
 
 /// Milliseconds since [`mark_start`] (since the first call, if it was not called).
-pub fn since_start_ms() -> f64 {
+pub(crate) fn since_start_ms() -> f64 {
     START
         .get_or_init(std::time::Instant::now)
         .elapsed()

@@ -7,12 +7,12 @@ use std::sync::Mutex;
 /// The temporary files being written, removed by the SIGINT/SIGTERM handler.
 static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Exit status of a run stopped by SIGINT or SIGTERM.
-pub const INTERRUPTED: i32 = 130;
+pub(super) const INTERRUPTED: i32 = 130;
 
 /// Removes the temporary files of this run when it is stopped by SIGINT (Ctrl-C) or SIGTERM, then
 /// exits with status 130. (SIGKILL cannot be caught: its leftovers are removed by the next run
 /// that writes into the same directory, see [`Output::create`].)
-pub fn remove_temporaries_on_signals() {
+pub(crate) fn remove_temporaries_on_signals() {
     let _ = ctrlc::set_handler(|| {
         if let Ok(pending) = PENDING.lock() {
             for p in pending.iter() {
@@ -67,7 +67,7 @@ fn process_alive(pid: u32) -> bool {
 
 /// Removes temporary files `.pdeshape-<pid>-XXXXXX.tmp` in `dir` left by runs that were killed
 /// (their process no longer exists). Returns the names removed.
-pub fn remove_stale_temporaries(dir: &Path) -> Vec<String> {
+pub(super) fn remove_stale_temporaries(dir: &Path) -> Vec<String> {
     let mut removed = Vec::new();
     let Ok(entries) = std::fs::read_dir(dir) else {
         return removed;

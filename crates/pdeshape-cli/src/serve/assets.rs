@@ -86,12 +86,12 @@ fn respond(mime: &'static str, text: &'static str) -> Response {
 }
 
 /// The page.
-pub fn page() -> Response {
+pub(super) fn page() -> Response {
     file("index.html").unwrap_or_else(|| respond("text/plain", "missing page"))
 }
 
 /// One of the page's files by name.
-pub fn file(name: &str) -> Option<Response> {
+pub(super) fn file(name: &str) -> Option<Response> {
     FILES
         .iter()
         .find(|(n, _, _)| *n == name)

@@ -6,7 +6,7 @@ use axum::response::{IntoResponse, Response};
 use pdeshape::spec::DesignSpec;
 
 #[derive(Debug, Clone, PartialEq)]
-pub struct ApiError {
+pub(super) struct ApiError {
     pub status: StatusCode,
     pub message: String,
     pub place: String,
@@ -22,38 +22,38 @@ impl ApiError {
         }
     }
     /// A malformed request (400).
-    pub fn bad_request(message: impl Into<String>, place: &str) -> Self {
+    pub(super) fn bad_request(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::BAD_REQUEST, message, place)
     }
     /// A missing token, a foreign Host or Origin, a path leading outside (403).
-    pub fn forbidden(message: impl Into<String>, place: &str) -> Self {
+    pub(super) fn forbidden(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::FORBIDDEN, message, place)
     }
-    pub fn not_found(message: impl Into<String>, place: &str) -> Self {
+    pub(super) fn not_found(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::NOT_FOUND, message, place)
     }
     /// A well-formed request the design refuses (422).
-    pub fn unprocessable(message: impl Into<String>, place: &str) -> Self {
+    pub(super) fn unprocessable(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::UNPROCESSABLE_ENTITY, message, place)
     }
     /// A failure of the server itself (500): a bug or the file system.
-    pub fn internal(message: impl Into<String>) -> Self {
+    pub(super) fn internal(message: impl Into<String>) -> Self {
         Self::new(StatusCode::INTERNAL_SERVER_ERROR, message, "")
     }
 
     /// An edit that does not apply or a design that does not solve (422), with the place in the
     /// design file.
-    pub fn edit(_spec: &DesignSpec, e: &pdeshape::Error) -> Self {
+    pub(super) fn edit(_spec: &DesignSpec, e: &pdeshape::Error) -> Self {
         Self::unprocessable(crate::common::message_of(e), e.place())
     }
 
     /// A design file that does not load (422), located as `file:line:col: place: message`.
-    pub fn design(file: &str, spec: &DesignSpec, e: &pdeshape::Error) -> Self {
+    pub(super) fn design(file: &str, spec: &DesignSpec, e: &pdeshape::Error) -> Self {
         let text = pdeshape::spec::write_design(spec).unwrap_or_default();
         Self::unprocessable(pdeshape::spec::describe_error(file, &text, e), e.place())
     }
 
-    pub fn to_json(&self) -> serde_json::Value {
+    pub(super) fn to_json(&self) -> serde_json::Value {
         serde_json::json!({ "error": self.message, "place": self.place })
     }
 }

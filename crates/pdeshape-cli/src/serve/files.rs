@@ -93,7 +93,7 @@ fn refused(e: OpenError) -> ApiError {
 /// A design file as the designer opens it: the design (at its start time, if it depends on
 /// time) and, for a design whose numbers are formulas in `t` (or that has a `[rig]`) or for a
 /// morph file, its animation.
-pub struct Opened {
+pub(super) struct Opened {
     pub file: String,
     pub spec: DesignSpec,
     pub animation: Option<Animation>,
@@ -102,7 +102,7 @@ pub struct Opened {
 /// Opens the design file `rel` inside `root` ([`pdeshape::open::open_with`]), time-dependent
 /// or not. A morph's source and target must lie inside `root` too (`..` is allowed in them as
 /// long as the file stays inside).
-pub fn open_design(root: &Path, rel: &str) -> Result<Opened, ApiError> {
+pub(super) fn open_design(root: &Path, rel: &str) -> Result<Opened, ApiError> {
     let resolved = existing_file(root, rel)?;
     let dir = Path::new(rel).parent().unwrap_or(Path::new(""));
     let resolve = |key: &str, other: &str| -> Result<(PathBuf, String), OpenError> {
@@ -141,7 +141,7 @@ pub fn open_design(root: &Path, rel: &str) -> Result<Opened, ApiError> {
 }
 
 /// Writes `text` to `rel` inside `root` atomically; returns `rel`.
-pub fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, ApiError> {
+pub(super) fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, ApiError> {
     let path = checked_join(root, rel)?;
     let parent = path.parent().unwrap_or(root);
     let parent_resolved = parent
@@ -179,7 +179,7 @@ pub fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, ApiError>
 
 /// The design files (`*.toml`) under `root`, relative, sorted; hidden folders and `target` are
 /// skipped and symlinked folders are not followed.
-pub fn list(root: &Path) -> Vec<String> {
+pub(super) fn list(root: &Path) -> Vec<String> {
     let mut out = Vec::new();
     let mut stack = vec![(root.to_path_buf(), 0usize)];
     while let Some((dir, depth)) = stack.pop() {

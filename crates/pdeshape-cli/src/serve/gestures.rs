@@ -46,7 +46,7 @@ fn surface_index(
 /// sections follow the spine (`carry`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpineRequest {
+pub(super) struct SpineRequest {
     #[serde(default)]
     pub patch: PatchRef,
     #[serde(default)]
@@ -62,7 +62,7 @@ pub struct SpineRequest {
 /// The `Edit::SetSpine` of a spine request: the patch's current spine control points (the
 /// edited ones, else the solved spine's Bézier form), point `index` moved to `point`; a wave
 /// and the carry of an existing `[[spine]]` table are kept unless `carry` is given.
-pub fn spine_edit(
+pub(super) fn spine_edit(
     spec: &DesignSpec,
     solved: &SolvedDesign,
     r: &SpineRequest,
@@ -132,7 +132,7 @@ pub fn spine_edit(
 }
 
 /// The frame of a local edit of the curve `name` as the design stands.
-pub fn local_frame(
+pub(super) fn local_frame(
     solved: &SolvedDesign,
     name: &str,
     from: f64,
@@ -153,7 +153,7 @@ pub fn local_frame(
 /// `[along, across, normal]` in the frame of [`local_frame`].
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct LocalRequest {
+pub(super) struct LocalRequest {
     pub name: String,
     pub from: f64,
     pub to: f64,
@@ -184,7 +184,7 @@ impl LocalRequest {
 }
 
 /// The local drag under way: its group, the curve and the curve's table when it began.
-pub struct LocalDrag {
+pub(super) struct LocalDrag {
     group: u64,
     name: String,
     base: CurveSpec,
@@ -194,7 +194,7 @@ pub struct LocalDrag {
 /// group); later positions of the same drag set the curve to the local edit of the table the
 /// drag began from (the library's `Edit::LocalEdit` applied to that table). Returns the edit and
 /// the drag state to keep once it applied.
-pub fn local_edit(
+pub(super) fn local_edit(
     spec: &DesignSpec,
     under_way: Option<&LocalDrag>,
     r: &LocalRequest,
@@ -240,7 +240,7 @@ pub fn local_edit(
 }
 
 /// The JSON of a local frame for the page.
-pub fn frame_json(f: &LocalFrame) -> serde_json::Value {
+pub(super) fn frame_json(f: &LocalFrame) -> serde_json::Value {
     let p = |v: &Vec3| [v.x, v.y, v.z];
     serde_json::json!({
         "from": f.from(), "to": f.to(), "at": f.at(),

@@ -44,14 +44,14 @@ use std::time::Instant;
 use tokio::sync::Mutex;
 
 /// Largest request body.
-pub const MAX_BODY: usize = 256 * 1024;
+pub(super) const MAX_BODY: usize = 256 * 1024;
 /// Largest picture side for downloads.
 const MAX_PICTURE: u32 = 4096;
-pub const TOKEN_HEADER: &str = "x-pdeshape-token";
+pub(super) const TOKEN_HEADER: &str = "x-pdeshape-token";
 
 /// What every handler shares.
 #[derive(Clone)]
-pub struct AppState {
+pub(super) struct AppState {
     pub session: Arc<Mutex<Session>>,
     pub token: Arc<str>,
     /// The port the server listens on (Host and Origin must name it).
@@ -61,7 +61,7 @@ pub struct AppState {
 }
 
 /// The router of the designer.
-pub fn router(state: AppState) -> Router {
+pub(super) fn router(state: AppState) -> Router {
     let api = Router::new()
         .route("/frame", get(frame))
         .route("/edit", post(edit))

@@ -7,7 +7,7 @@ use pdeshape::spec::{CurveKind, CurveSpec, V3};
 use pdeshape::TAU;
 
 /// Control points of a periodic cubic B-spline made from an ellipse.
-pub const BSPLINE_POINTS: usize = 8;
+pub(super) const BSPLINE_POINTS: usize = 8;
 
 #[cfg(test)]
 fn v3(p: &V3) -> pdeshape::Vec3 {
@@ -25,7 +25,7 @@ fn v3(p: &V3) -> pdeshape::Vec3 {
 /// ellipse, knot 0 at `C(0)`: `v = 0` stays where it was and the direction of `v` is kept.
 /// (Between knots the radius dips by at most 0.2 % for n = 8.) The result has no transform:
 /// its control points are where they are drawn.
-pub fn bspline_from_ellipse(curve: &dyn Curve) -> Option<CurveSpec> {
+pub(super) fn bspline_from_ellipse(curve: &dyn Curve) -> Option<CurveSpec> {
     if curve.domain() != Domain::Periodic {
         return None;
     }

@@ -27,7 +27,7 @@ use std::net::{IpAddr, SocketAddr};
 use std::sync::Arc;
 
 #[derive(clap::Args, Debug)]
-pub struct Args {
+pub(crate) struct Args {
     /// The design file to start from (relative to the current directory, inside it); without
     /// it, a small starting design.
     pub design: Option<String>,
@@ -57,7 +57,7 @@ fn new_token() -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-pub fn run(args: &Args) -> Result<(), CliError> {
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let root = std::env::current_dir()
         .map_err(|e| CliError::input(format!("cannot read the current directory: {e}")))?;
     let session = session::Session::open(root, args.design.as_deref()).map_err(|e| {

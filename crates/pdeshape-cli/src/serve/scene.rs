@@ -60,7 +60,7 @@ fn operator_json(op: &Option<OperatorSpec>) -> Value {
 }
 
 /// The scene of a solved design.
-pub fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
+pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
     // Curves used as derivative conditions hold vectors, not points: they are drawn as vectors
     // from the position curve of the same patch at the same u.
     let derivative_curves: BTreeSet<&str> = solved
@@ -251,7 +251,7 @@ fn parameters(spec: &DesignSpec) -> Value {
 }
 
 /// The G0/G1 mismatch along every shared edge (measured by the library on 512 values of v).
-pub fn edges(solved: &SolvedDesign) -> Value {
+pub(super) fn edges(solved: &SolvedDesign) -> Value {
     let edges: Vec<Value> = solved
         .edges()
         .iter()
@@ -292,7 +292,7 @@ fn pad4(out: &mut Vec<u8>, fill: u8) {
 }
 
 /// One surface of a frame: its grid, or (with holes) its trimmed triangle mesh.
-pub enum Drawn<'a> {
+pub(super) enum Drawn<'a> {
     Grid(&'a GridMesh),
     Trimmed(&'a GridMesh, &'a TriMesh),
 }
@@ -303,7 +303,7 @@ fn put_u32(out: &mut Vec<u8>, x: usize) {
 
 /// The binary frame of `json` and the surfaces `drawn`, with optional per-vertex colours (one
 /// list per surface, of its vertex count).
-pub fn frame(json: &Value, drawn: &[Drawn], colors: Option<&[Vec<[u8; 3]>]>) -> Vec<u8> {
+pub(super) fn frame(json: &Value, drawn: &[Drawn], colors: Option<&[Vec<[u8; 3]>]>) -> Vec<u8> {
     let text = json.to_string();
     let vertices: usize = drawn
         .iter()

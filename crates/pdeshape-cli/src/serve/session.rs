@@ -16,8 +16,8 @@ use std::path::PathBuf;
 
 /// The largest grid the designer draws (per patch); [`design::grid`] also bounds all patches
 /// together.
-pub const MAX_NU: usize = 512;
-pub const MAX_NV: usize = 1024;
+pub(super) const MAX_NU: usize = 512;
+pub(super) const MAX_NV: usize = 1024;
 /// Undo entries kept (the oldest are forgotten beyond this).
 const MAX_UNDO: usize = 1000;
 
@@ -30,13 +30,13 @@ struct UndoEntry {
 
 /// What surface colouring a frame carries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Coloring {
+pub(super) enum Coloring {
     Shaded,
     Gauss,
     Mean,
 }
 
-pub struct Session {
+pub(super) struct Session {
     root: PathBuf,
     file: String,
     design: CompiledDesign,
@@ -81,7 +81,7 @@ fn target(edit: &Edit) -> Option<String> {
 
 impl Session {
     /// A session on the design file `rel` (inside `root`), or on the built-in starting design.
-    pub fn open(root: PathBuf, rel: Option<&str>) -> Result<Session, ApiError> {
+    pub(super) fn open(root: PathBuf, rel: Option<&str>) -> Result<Session, ApiError> {
         let root = root
             .canonicalize()
             .map_err(|e| ApiError::internal(format!("{}: {e}", root.display())))?;
@@ -109,43 +109,43 @@ impl Session {
         })
     }
 
-    pub fn root(&self) -> &std::path::Path {
+    pub(super) fn root(&self) -> &std::path::Path {
         &self.root
     }
-    pub fn file(&self) -> &str {
+    pub(super) fn file(&self) -> &str {
         &self.file
     }
-    pub fn spec(&self) -> &DesignSpec {
+    pub(super) fn spec(&self) -> &DesignSpec {
         self.design.spec()
     }
-    pub fn design(&self) -> &CompiledDesign {
+    pub(super) fn design(&self) -> &CompiledDesign {
         &self.design
     }
-    pub fn version(&self) -> u64 {
+    pub(super) fn version(&self) -> u64 {
         self.version
     }
-    pub fn can_undo(&self) -> bool {
+    pub(super) fn can_undo(&self) -> bool {
         !self.undo.is_empty()
     }
-    pub fn can_redo(&self) -> bool {
+    pub(super) fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
-    pub fn timeline(&self) -> Option<&Timeline> {
+    pub(super) fn timeline(&self) -> Option<&Timeline> {
         self.timeline.as_ref()
     }
-    pub fn frozen_at(&self) -> Option<f64> {
+    pub(super) fn frozen_at(&self) -> Option<f64> {
         self.frozen_at
     }
     /// Parameter meshes of trimmed surfaces made afresh so far (the others were reused).
     #[cfg(test)]
-    pub fn remeshed(&self) -> usize {
+    pub(super) fn remeshed(&self) -> usize {
         self.trimmed.remeshed
     }
 
     /// Applies `edit` and re-solves; the meshes on `grid` must come out finite too, else the
     /// edit is taken back. On an error nothing changes. Edits of one `group` (a drag) on the
     /// same target make one undo step.
-    pub fn apply(
+    pub(super) fn apply(
         &mut self,
         edit: &Edit,
         group: Option<u64>,
@@ -211,7 +211,7 @@ impl Session {
 
     /// The meshes of a frame on `grid`: every surface's grid mesh and the triangle meshes of
     /// the trimmed ones.
-    pub fn drawn(
+    pub(super) fn drawn(
         &mut self,
         grid: (usize, usize),
     ) -> Result<(&[GridMesh], &TrimmedMeshes), ApiError> {
@@ -226,7 +226,7 @@ impl Session {
 
     /// Moves a spine control point or sets how the sections follow the spine (§5.3); a drag
     /// (`group`) is one undo step.
-    pub fn spine(
+    pub(super) fn spine(
         &mut self,
         request: &gestures::SpineRequest,
         grid: (usize, usize),
@@ -237,7 +237,11 @@ impl Session {
 
     /// A local edit of a curve (§6.2); the positions of one drag (`group`) make one local edit
     /// and one undo step.
-    pub fn local(&mut self, request: &LocalRequest, grid: (usize, usize)) -> Result<(), ApiError> {
+    pub(super) fn local(
+        &mut self,
+        request: &LocalRequest,
+        grid: (usize, usize),
+    ) -> Result<(), ApiError> {
         let (edit, drag) = gestures::local_edit(self.spec(), self.local.as_ref(), request)?;
         self.apply(&edit, request.group, grid)?;
         self.local = drag;
@@ -245,7 +249,7 @@ impl Session {
     }
 
     /// Shows the time-dependent design at time `t` (re-solved incrementally; not an edit).
-    pub fn set_time(&mut self, t: f64, grid: (usize, usize)) -> Result<(), ApiError> {
+    pub(super) fn set_time(&mut self, t: f64, grid: (usize, usize)) -> Result<(), ApiError> {
         let Some(timeline) = &self.timeline else {
             let why = match self.frozen_at {
                 Some(t) => format!(
@@ -276,7 +280,7 @@ impl Session {
     }
 
     /// Undoes the last edit (or drag); false when there is nothing to undo.
-    pub fn undo(&mut self, grid: (usize, usize)) -> Result<bool, ApiError> {
+    pub(super) fn undo(&mut self, grid: (usize, usize)) -> Result<bool, ApiError> {
         let Some(entry) = self.undo.pop() else {
             return Ok(false);
         };
@@ -293,7 +297,7 @@ impl Session {
     }
 
     /// Redoes the last undone edit; false when there is nothing to redo.
-    pub fn redo(&mut self, grid: (usize, usize)) -> Result<bool, ApiError> {
+    pub(super) fn redo(&mut self, grid: (usize, usize)) -> Result<bool, ApiError> {
         let Some(edit) = self.redo.pop() else {
             return Ok(false);
         };
@@ -310,7 +314,7 @@ impl Session {
     }
 
     /// Replaces the design by the file `rel` inside the start directory; the stacks start anew.
-    pub fn load(&mut self, rel: &str) -> Result<(), ApiError> {
+    pub(super) fn load(&mut self, rel: &str) -> Result<(), ApiError> {
         let (file, design, timeline) = compile_opened(files::open_design(&self.root, rel)?)?;
         self.design = design;
         self.file = file;
@@ -331,7 +335,7 @@ impl Session {
     }
 
     /// Replaces the design by the starting design (a new, unsaved design).
-    pub fn reset(&mut self) -> Result<(), ApiError> {
+    pub(super) fn reset(&mut self) -> Result<(), ApiError> {
         let spec = starting_design().map_err(|e| ApiError::internal(e.to_string()))?;
         self.design = design::compile(&spec).map_err(|e| ApiError::edit(&spec, &e))?;
         self.file = "untitled.toml".to_string();
@@ -341,7 +345,7 @@ impl Session {
 
     /// Writes the design as TOML to `rel` inside the start directory (atomically); returns the
     /// path written, relative to the start directory.
-    pub fn save(&mut self, rel: &str) -> Result<String, ApiError> {
+    pub(super) fn save(&mut self, rel: &str) -> Result<String, ApiError> {
         if let Some(t) = &self.timeline {
             if rel == self.file {
                 return Err(ApiError::unprocessable(
@@ -361,7 +365,10 @@ impl Session {
     }
 
     /// The grid `(nu, nv)` checked against the designer's limits and the library's.
-    pub fn checked_grid(&self, (nu, nv): (usize, usize)) -> Result<(usize, usize), ApiError> {
+    pub(super) fn checked_grid(
+        &self,
+        (nu, nv): (usize, usize),
+    ) -> Result<(usize, usize), ApiError> {
         if !(2..=MAX_NU).contains(&nu) {
             return Err(ApiError::bad_request(
                 format!("must be between 2 and {MAX_NU} (got {nu})"),
@@ -379,13 +386,13 @@ impl Session {
     }
 
     /// The grid meshes on `grid`.
-    pub fn meshes(&mut self, grid: (usize, usize)) -> Result<&[GridMesh], ApiError> {
+    pub(super) fn meshes(&mut self, grid: (usize, usize)) -> Result<&[GridMesh], ApiError> {
         Ok(self.drawn(grid)?.0)
     }
 
     /// The `check` report of the design and its diagnostics (the library's, as `pdeshape
     /// check` prints them).
-    pub fn check(&self) -> (String, pdeshape::diagnostics::Diagnostics) {
+    pub(super) fn check(&self) -> (String, pdeshape::diagnostics::Diagnostics) {
         let spec = self.design.spec();
         let solved = self.design.solved();
         let d = pdeshape::diagnostics::diagnose(spec, solved);
@@ -394,13 +401,17 @@ impl Session {
     }
 
     /// The `analyze` numbers as JSON (the same as `pdeshape analyze --json`).
-    pub fn analyze(&self) -> Result<String, ApiError> {
+    pub(super) fn analyze(&self) -> Result<String, ApiError> {
         pdeshape::analysis_report::design_json(self.design.solved())
             .map_err(|e| ApiError::unprocessable(e.to_string(), ""))
     }
 
     /// The design's surfaces in a mesh format, written by the library's writers.
-    pub fn download(&mut self, format: Format, grid: (usize, usize)) -> Result<Vec<u8>, ApiError> {
+    pub(super) fn download(
+        &mut self,
+        format: Format,
+        grid: (usize, usize),
+    ) -> Result<Vec<u8>, ApiError> {
         let (nu, nv) = self.checked_grid(grid)?;
         let mut out = Vec::new();
         self.design
@@ -411,7 +422,7 @@ impl Session {
     }
 
     /// A PNG picture (the `render` subcommand's), seen from `view`.
-    pub fn picture(
+    pub(super) fn picture(
         &mut self,
         grid: (usize, usize),
         size: (u32, u32),
@@ -440,7 +451,7 @@ impl Session {
     }
 
     /// Per-vertex colours of the curvature `by` on the meshes of `grid` (as `render --color`).
-    pub fn colors(
+    pub(super) fn colors(
         &mut self,
         grid: (usize, usize),
         by: Coloring,
@@ -470,7 +481,7 @@ fn compile_opened(
 
 /// The design a session starts from without a file: the book's simplest PDE surface, two
 /// circles joined by a biharmonic patch (§4.3), with a B-spline rim to drag.
-pub fn starting_design() -> pdeshape::Result<DesignSpec> {
+pub(super) fn starting_design() -> pdeshape::Result<DesignSpec> {
     const TEXT: &str = r#"title = "A new design: two curves and a biharmonic patch"
 
 [operator]

@@ -9,7 +9,7 @@ use pdeshape::spec::DesignSpec;
 use serde_json::{json, Value};
 
 /// The animation of a session and the time shown.
-pub struct Timeline {
+pub(super) struct Timeline {
     animation: Animation,
     t: f64,
     frames: usize,
@@ -17,7 +17,7 @@ pub struct Timeline {
 
 impl Timeline {
     /// The timeline of `animation` at its start time.
-    pub fn new(animation: Animation) -> Result<Timeline, ApiError> {
+    pub(super) fn new(animation: Animation) -> Result<Timeline, ApiError> {
         let frames = animation
             .times()
             .map_err(|e| ApiError::unprocessable(crate::common::message_of(&e), e.place()))?
@@ -30,13 +30,13 @@ impl Timeline {
         })
     }
 
-    pub fn t(&self) -> f64 {
+    pub(super) fn t(&self) -> f64 {
         self.t
     }
 
     /// The design at time `t`, checked to lie in the `[time]` interval. Nothing changes here
     /// until [`Timeline::set`] confirms that the design solved.
-    pub fn spec_at(&self, t: f64) -> Result<DesignSpec, ApiError> {
+    pub(super) fn spec_at(&self, t: f64) -> Result<DesignSpec, ApiError> {
         let time = self.animation.time();
         if !(t.is_finite() && time.start <= t && t <= time.end) {
             return Err(ApiError::bad_request(
@@ -53,12 +53,12 @@ impl Timeline {
     }
 
     /// The time now shown.
-    pub fn set(&mut self, t: f64) {
+    pub(super) fn set(&mut self, t: f64) {
         self.t = t;
     }
 
     /// What the page's timeline shows.
-    pub fn json(&self) -> Value {
+    pub(super) fn json(&self) -> Value {
         let time = self.animation.time();
         json!({
             "kind": match self.animation { Animation::Timed(_) => "timed", Animation::Morph { .. } => "morph" },

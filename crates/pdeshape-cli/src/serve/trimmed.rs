@@ -21,7 +21,7 @@ struct Key {
 }
 
 /// The triangle mesh of one trimmed surface and the parameter mesh it was made from.
-pub struct Trimmed {
+pub(super) struct Trimmed {
     key: Key,
     pub param: ParamMesh,
     pub mesh: TriMesh,
@@ -29,14 +29,14 @@ pub struct Trimmed {
 
 /// The trimmed meshes of the last frame, one slot per surface (`None`: drawn as its grid).
 #[derive(Default)]
-pub struct TrimmedMeshes {
+pub(super) struct TrimmedMeshes {
     slots: Vec<Option<Trimmed>>,
     /// Parameter meshes re-made (not reused) since the session started: for tests.
     pub remeshed: usize,
 }
 
 /// A trimmed surface of a solved design: what its mesh is made from.
-pub struct Job {
+pub(super) struct Job {
     k: usize,
     surface: SurfaceKind,
     name: String,
@@ -44,7 +44,7 @@ pub struct Job {
 }
 
 /// The trimmed surfaces of `solved` (their objects shared, not copied).
-pub fn jobs(solved: &SolvedDesign) -> Vec<Job> {
+pub(super) fn jobs(solved: &SolvedDesign) -> Vec<Job> {
     solved
         .trims
         .iter()
@@ -61,7 +61,7 @@ impl TrimmedMeshes {
     /// Re-makes the trimmed meshes of the surfaces `jobs` on the grid meshes `grids` (of every
     /// surface, made on `grid`). On an error (holes that cannot be cut on this grid) nothing
     /// is kept.
-    pub fn update(
+    pub(super) fn update(
         &mut self,
         jobs: &[Job],
         grids: &[GridMesh],
@@ -98,18 +98,18 @@ impl TrimmedMeshes {
     }
 
     /// The trimmed mesh of surface `k`, if it has holes.
-    pub fn get(&self, k: usize) -> Option<&Trimmed> {
+    pub(super) fn get(&self, k: usize) -> Option<&Trimmed> {
         self.slots.get(k).and_then(Option::as_ref)
     }
 
-    pub fn clear(&mut self) {
+    pub(super) fn clear(&mut self) {
         self.slots.clear();
     }
 }
 
 /// Per-vertex colours of a trimmed mesh from its grid's colours: a grid vertex keeps its own,
 /// a vertex on a trim curve takes that of the grid vertex nearest in `(u, v)` (within one cell).
-pub fn colors(t: &Trimmed, grid: &GridMesh, grid_colors: &[[u8; 3]]) -> Vec<[u8; 3]> {
+pub(super) fn colors(t: &Trimmed, grid: &GridMesh, grid_colors: &[[u8; 3]]) -> Vec<[u8; 3]> {
     let nearest = |values: &[f64], x: f64| -> usize {
         let k = values.partition_point(|&y| y < x);
         if k == 0 {

@@ -23,7 +23,7 @@ fn samples(c: &TrimCurveSpec) -> Vec<[f64; 2]> {
 
 /// Every `[[trims]]` entry: its index, the surface it cuts (by name, the single surface when it
 /// names none), its table as the design file states it and its curves' `(u, v)` points.
-pub fn trims(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
+pub(super) fn trims(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
     spec.trims
         .iter()
         .enumerate()
@@ -44,7 +44,7 @@ pub fn trims(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
 
 /// Every `on_patch` curve: its name, its host, whether it trims the host, and its `(u, v)`
 /// points (its table is the curve's `spec` in the scene's curves).
-pub fn attachments(spec: &DesignSpec) -> Value {
+pub(super) fn attachments(spec: &DesignSpec) -> Value {
     spec.curves
         .iter()
         .filter_map(|(name, c)| match &c.kind {
@@ -60,7 +60,7 @@ pub fn attachments(spec: &DesignSpec) -> Value {
 }
 
 /// The images of every trim curve on its surface (the library's overlays of `render`).
-pub fn images(solved: &SolvedDesign) -> Value {
+pub(super) fn images(solved: &SolvedDesign) -> Value {
     solved
         .trim_overlays()
         .iter()

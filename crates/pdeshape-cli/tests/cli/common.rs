@@ -1,39 +1,39 @@
 //! Helpers shared by the end-to-end tests of the `pdeshape` binary.
 #![allow(dead_code)]
 
-pub use std::path::{Path, PathBuf};
-pub use std::process::{Command, Output};
+pub(crate) use std::path::{Path, PathBuf};
+pub(crate) use std::process::{Command, Output};
 
-pub use pdeshape_testkit::{example, example_path, examples_dir};
+pub(crate) use pdeshape_testkit::{example, example_path, examples_dir};
 
 /// A biharmonic design that is valid; the bad cases of the tests each break one thing in it.
-pub use pdeshape_testkit::designs::BIHARMONIC as GOOD;
+pub(crate) use pdeshape_testkit::designs::BIHARMONIC as GOOD;
 
-pub fn pdeshape(args: &[&str]) -> Output {
+pub(crate) fn pdeshape(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_pdeshape"))
         .args(args)
         .output()
         .expect("the pdeshape binary runs")
 }
 
-pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+pub(crate) fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
     p
 }
 
 /// Replaces exactly one occurrence of `from` in `text`.
-pub fn edit(text: &str, from: &str, to: &str) -> String {
+pub(crate) fn edit(text: &str, from: &str, to: &str) -> String {
     assert_eq!(text.matches(from).count(), 1, "'{from}' must occur once");
     text.replace(from, to)
 }
 
-pub fn s(p: &Path) -> &str {
+pub(crate) fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
 /// Status 2, exactly one stderr line `error: …` containing every `needle`, nothing on stdout.
-pub fn assert_bad(out: &Output, needles: &[&str]) -> String {
+pub(crate) fn assert_bad(out: &Output, needles: &[&str]) -> String {
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
     let lines: Vec<&str> = stderr.lines().collect();
@@ -51,7 +51,7 @@ pub fn assert_bad(out: &Output, needles: &[&str]) -> String {
 }
 
 /// The files in `dir` (names), to check that nothing was left behind.
-pub fn files(dir: &Path) -> Vec<String> {
+pub(crate) fn files(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
@@ -62,7 +62,7 @@ pub fn files(dir: &Path) -> Vec<String> {
 
 /// Runs `surface` on a design text that is bad; checks the error and that no output (and no
 /// temporary file) exists afterwards.
-pub fn bad_design(text: &str, needles: &[&str]) -> String {
+pub(crate) fn bad_design(text: &str, needles: &[&str]) -> String {
     let dir = tempfile::tempdir().unwrap();
     let d = write(dir.path(), "d.toml", text);
     let out_path = dir.path().join("out.obj");

@@ -5,7 +5,7 @@ use pdeshape::surface::{Partials, Surface, VDomain};
 use pdeshape::Vec3;
 
 /// The cylinder `(R cos v, R sin v, z0 + H u)`: outward normals.
-pub struct Cylinder {
+pub(crate) struct Cylinder {
     pub r: f64,
     pub z0: f64,
     pub h: f64,
