@@ -35,21 +35,6 @@ const PICTURE_FRAMES: usize = 64;
 const PICTURE_INTERMEDIATE: usize = 4;
 const PICTURE_SIZE: (u32, u32) = (900, 600);
 
-fn check_extension(path: &Path, flag: &str, ext: &str) -> Result<(), CliError> {
-    let ok = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext));
-    if ok {
-        Ok(())
-    } else {
-        Err(CliError::input(format!(
-            "{flag} {}: the file must end in .{ext}",
-            path.display()
-        )))
-    }
-}
-
 /// Keeps at most `PICTURE_FRAMES` frames, evenly thinned, always with the first.
 fn keep_for_picture(kept: &mut Vec<CurveFrame>, frame: CurveFrame) {
     kept.push(frame);
@@ -79,12 +64,12 @@ fn progress(total: u64, what: &str) -> ProgressBar {
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
-    check_extension(&args.output, "-o", "csv")?;
+    common::check_extension(&args.output, "-o", "csv")?;
     if let Some(f) = &args.frames {
-        check_extension(f, "--frames", "csv")?;
+        common::check_extension(f, "--frames", "csv")?;
     }
     if let Some(p) = &args.picture {
-        check_extension(p, "--picture", "svg")?;
+        common::check_extension(p, "--picture", "svg")?;
     }
     let design = common::load(&args.design)?;
     let Some(section) = design.spec.dynamic.as_ref() else {

@@ -77,15 +77,15 @@ fn curve_flags() {
     refused(&[
         (
             &["curve", "dyn.toml", "-o", "x.txt"],
-            &["-o x.txt: the file must end in .csv"],
+            &["-o x.txt: must end in .csv"],
         ),
         (
             &["curve", "dyn.toml", "-o", "x.csv", "--frames", "f.txt"],
-            &["--frames f.txt: the file must end in .csv"],
+            &["--frames f.txt: must end in .csv"],
         ),
         (
             &["curve", "dyn.toml", "-o", "x.csv", "--picture", "p.png"],
-            &["--picture p.png: the file must end in .svg"],
+            &["--picture p.png: must end in .svg"],
         ),
         (
             &["curve", "cup.toml", "-o", "x.csv"],
