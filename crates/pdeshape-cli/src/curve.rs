@@ -10,7 +10,7 @@ use pdeshape::dynamic_output as output;
 use pdeshape::dynamic_run::OutcomeKind;
 use pdeshape::Vec3;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
