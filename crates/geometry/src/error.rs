@@ -74,11 +74,6 @@ impl Error {
         }
     }
 
-    /// The same error of another kind, place and source kept.
-    pub fn with_kind(self, kind: ErrorKind) -> Self {
-        Error { kind, ..self }
-    }
-
     /// The same error with another message (kind, place and source kept).
     pub fn with_message(self, message: impl Into<String>) -> Self {
         Error {
