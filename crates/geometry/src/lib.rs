@@ -21,6 +21,8 @@ pub mod formula;
 pub mod fourier;
 pub mod linalg;
 pub mod majorant;
+pub mod nsided;
+mod quadrature;
 pub mod scalar;
 pub mod spline;
 pub mod splinepde;

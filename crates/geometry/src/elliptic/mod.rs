@@ -7,7 +7,7 @@
 //! conditions, and `R` is the spectral remainder (Eqs. 4.45–4.53) that takes up what the `M`
 //! modes leave of the conditions, so they hold to rounding for any periodic curves.
 
-mod basis;
+pub(crate) mod basis;
 mod bounds;
 mod operator;
 mod patch;

@@ -1,0 +1,814 @@
+//! Patches bounded by a loop of `n = 3 … 8` curves, solving the Bloor–Wilson PDE
+//! `(∂²/∂x² + a² ∂²/∂y²)^N X = 0` (`N = 1, 2`) on a regular n-gon, with the boundary met exactly
+//! and, on any side, a ribbon (cross-boundary derivative) met exactly for G1.
+//!
+//! # Method
+//!
+//! The surface is `X = C + Σ c_k φ_k` on the regular n-gon `Ω` ([`domain`]):
+//! - `C` is a transfinite interpolant of the boundary data (a side-blended patch in the manner
+//!   of Kato): each side `i` gives a ribbon `R_i = P_i(s_i) + (d_i / L) D_i(s_i)` in its own
+//!   coordinates (`d_i` the distance to the side, `s_i = d_{i−1}/(d_{i−1} + d_{i+1})` the
+//!   position along it, `L` the side length), and `C = Σ B_i R_i` with the blends
+//!   `B_i = Π_{j≠i} d_j³ / Σ_k Π_{j≠k} d_j³`. On side `i`, `B_i = 1` and every other blend
+//!   vanishes with two cross derivatives, so `C = P_i` and `∂C/∂n = D_i/L + P_i' ∂s_i/∂n`:
+//!   position and tangent plane are those of the data, exactly.
+//! - `φ_k = w · P_a(x) P_b(y)` ([`basis`]) vanish on every side together with as many
+//!   cross derivatives as the side has conditions, so they change nothing on the boundary.
+//!   Their coefficients minimise the operator's energy `∫_Ω (L X)²` (`N = 2`) or
+//!   `∫_Ω X_x² + a² X_y²` (`N = 1`), whose Euler–Lagrange equation is the PDE: a Galerkin
+//!   (Ritz) solve, spectrally convergent in the degree for smooth data. The matrix depends on
+//!   the polygon, the sides' multiplicities, the operator and the degree only, so it is
+//!   factorised once and cached: an edit of the curves costs one interpolant per quadrature
+//!   point and a back substitution.
+//!
+//! Sides without a ribbon take the natural condition of the energy (for `N = 2`). A ribbon is
+//! explicit ([`Ribbon::Derivative`]) or the tangent plane of a neighbour
+//! ([`Ribbon::TangentPlane`]): then `D = a(s) N × P' + b(s) P'` lies in the neighbour's plane,
+//! with `a`, `b` fixed at the two corners so that the cross derivative there equals the
+//! adjacent side's tangent (the compatibility a surface needs to be `C¹` at a corner), and
+//! linear in between. Where that tangent is not in the neighbour's plane, no surface is G1 to
+//! both neighbours at the corner; the angle is reported ([`Corner::tangent_mismatch`]) and the
+//! ribbon takes its projection. Twists (mixed derivatives at corners) need not agree: the
+//! blends absorb them.
+//!
+//! For `n = 4` the patch is one surface on the square; otherwise it is presented as `n`
+//! four-sided pieces around the centre ([`NSidedSurface`]), each the bilinear image of the
+//! quadrilateral between a corner, the midpoints of its two sides and the centre, so every
+//! consumer of [`Surface`] (meshes, CAD, analysis) takes it; the pieces meet G1 because they
+//! are cuts of one smooth function.
+//!
+//! # Accuracy
+//!
+//! Positions and ribbons are met to rounding by construction. The neighbouring ribbons are
+//! matched to second order at every corner (twists of free and plane ribbons, second cross
+//! derivatives), so the interpolant is `C²` there when the data allow; its third derivatives
+//! still jump at the corners, so the Ritz error falls algebraically in the degree (about
+//! `p^−4` in the maximum norm on the closed-form tests), not spectrally. The magnitude of a
+//! plane ribbon's cross derivative is prescribed (corner-compatible, cubic along the side),
+//! not optimised by the energy.
+
+mod basis;
+mod domain;
+mod jet;
+mod side;
+#[cfg(test)]
+mod tests;
+
+pub use side::{NormalField, Ribbon, Side};
+
+use crate::surface::{Partials, Surface, VDomain};
+use crate::{Error, Result, Vec3};
+use basis::Basis;
+use domain::Polygon;
+use jet::{Jet, VJet};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use side::{BuiltRibbon, BuiltSide, ChebVec};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// The largest number of sides.
+pub const MAX_SIDES: usize = 8;
+
+/// Options of an n-sided patch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NSidedOptions {
+    /// `N`: 1 (Laplace, positions only) or 2 (biharmonic type, positions and ribbons).
+    pub order: usize,
+    /// The smoothing parameter `a > 0` of `∂²/∂x² + a² ∂²/∂y²` (for `n = 4`, `x` runs along
+    /// side 0 and `y` along side 1).
+    pub a: f64,
+    /// The degree `p` of the correction polynomials (`(p + 1)(p + 2)/2` unknowns per
+    /// coordinate), 0 to 24.
+    pub degree: usize,
+    /// The largest gap allowed where two consecutive sides meet, relative to the size of the
+    /// boundary (the diagonal of its bounding box).
+    pub gap_tolerance: f64,
+}
+
+impl Default for NSidedOptions {
+    fn default() -> Self {
+        NSidedOptions {
+            order: 2,
+            a: 1.0,
+            degree: 12,
+            gap_tolerance: 1e-9,
+        }
+    }
+}
+
+/// What happens where side `k − 1` ends and side `k` starts.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Corner {
+    /// The distance between the end of side `k − 1` and the start of side `k`.
+    pub gap: f64,
+    /// The angle (radians) by which an adjacent side's tangent leaves a ribbon's tangent plane
+    /// at this corner: 0 when the patch can be G1 to both neighbours there.
+    pub tangent_mismatch: f64,
+    /// What is left of the disagreement of the two sides' twists (mixed second derivatives)
+    /// after the free parts of the ribbons took what they could, relative to the sides'
+    /// tangents: 0 when the patch can be `C²` at the corner. The blends absorb the rest, so the
+    /// surface stays G1 but its curvature is not continuous at the corner.
+    pub twist_mismatch: f64,
+}
+
+/// The largest errors of a solved patch along its boundary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NSidedReport {
+    /// The diagonal of the boundary's bounding box.
+    pub size: f64,
+    /// Per side, the largest distance between the patch and the side's curve.
+    pub boundary: Vec<f64>,
+    /// Per side with a ribbon, the largest angle (radians) between the patch's tangent plane
+    /// and the ribbon's (the neighbour's normal for [`Ribbon::TangentPlane`]).
+    pub g1: Vec<Option<f64>>,
+    /// Per corner `k` (start of side `k`).
+    pub corners: Vec<Corner>,
+}
+
+/// A solved n-sided patch.
+pub struct NSidedPatch {
+    poly: Polygon,
+    sides: Vec<BuiltSide>,
+    basis: Basis,
+    options: NSidedOptions,
+    coeffs: Vec<Vec3>,
+    size: f64,
+    corners: Vec<Corner>,
+}
+
+impl std::fmt::Debug for NSidedPatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("NSidedPatch")
+            .field("n", &self.poly.n)
+            .field("options", &self.options)
+            .finish()
+    }
+}
+
+/// The Galerkin operator of one polygon, multiplicities, operator and degree: the quadrature,
+/// the operator applied to every basis function at every point, and the factorised matrix.
+struct Galerkin {
+    key: Key,
+    points: Vec<([f64; 2], f64)>,
+    /// Components of the operator per point and function: `[φ_x, a φ_y]` (`N = 1`) or
+    /// `[φ_xx + a² φ_yy]` (`N = 2`); laid out `[point][function][component]`.
+    g: Vec<f64>,
+    comps: usize,
+    /// Jacobi scaling `1/√K_kk` and the Cholesky factor of the scaled matrix (or its
+    /// eigen-decomposition when rounding made it indefinite).
+    scale: Vec<f64>,
+    factor: Factor,
+}
+
+enum Factor {
+    Cholesky(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Eigen(nalgebra::SymmetricEigen<f64, nalgebra::Dyn>),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+struct Key {
+    n: usize,
+    multiplicity: Vec<usize>,
+    order: usize,
+    a: u64,
+    degree: usize,
+}
+
+/// The operators built so far (a few: one per kind of patch a design holds).
+fn cache() -> &'static Mutex<Vec<Arc<Galerkin>>> {
+    static CACHE: OnceLock<Mutex<Vec<Arc<Galerkin>>>> = OnceLock::new();
+    CACHE.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+const CACHE_SIZE: usize = 16;
+
+impl Galerkin {
+    fn get(poly: &Polygon, basis: &Basis, order: usize, a: f64) -> Arc<Galerkin> {
+        let key = Key {
+            n: poly.n,
+            multiplicity: basis.multiplicity.clone(),
+            order,
+            a: a.to_bits(),
+            degree: basis.degree,
+        };
+        if let Ok(c) = cache().lock() {
+            if let Some(g) = c.iter().find(|g| g.key == key) {
+                return g.clone();
+            }
+        }
+        let g = Arc::new(Galerkin::build(key, poly, basis, order, a));
+        if let Ok(mut c) = cache().lock() {
+            if c.len() >= CACHE_SIZE {
+                c.remove(0);
+            }
+            c.push(g.clone());
+        }
+        g
+    }
+
+    fn build(key: Key, poly: &Polygon, basis: &Basis, order: usize, a: f64) -> Galerkin {
+        // φ has degree Σm + p; the energy's integrand at most 2(Σm + p − N); the collapsed map
+        // adds one degree in ξ. A rule with nq points per direction integrates 2nq − 1.
+        let nq = (basis.weight_degree() + basis.degree + 2).max(8);
+        let points = poly.quadrature(nq);
+        let nb = basis.len();
+        let comps = if order == 1 { 2 } else { 1 };
+        let a2 = a * a;
+        let rows: Vec<Vec<f64>> = points
+            .par_iter()
+            .map(|(p, _)| {
+                let mut phi = Vec::with_capacity(nb);
+                basis.eval(poly, *p, &mut phi);
+                let mut row = Vec::with_capacity(nb * comps);
+                for f in &phi {
+                    if order == 1 {
+                        row.push(f.d[0]);
+                        row.push(a * f.d[1]);
+                    } else {
+                        row.push(f.h[0] + a2 * f.h[2]);
+                    }
+                }
+                row
+            })
+            .collect();
+        // K = Σ_q w_q Σ_c g g^T, as Gᵀ G with the rows scaled by √w.
+        let mut gm = DMatrix::<f64>::zeros(points.len() * comps, nb);
+        for (q, ((_, w), row)) in points.iter().zip(&rows).enumerate() {
+            let sw = w.sqrt();
+            for k in 0..nb {
+                for c in 0..comps {
+                    gm[(q * comps + c, k)] = sw * row[k * comps + c];
+                }
+            }
+        }
+        let mut k = gm.tr_mul(&gm);
+        let scale: Vec<f64> = (0..nb)
+            .map(|i| {
+                let d = k[(i, i)];
+                if d > 0.0 {
+                    1.0 / d.sqrt()
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        for i in 0..nb {
+            for j in 0..nb {
+                k[(i, j)] *= scale[i] * scale[j];
+            }
+        }
+        let factor = match nalgebra::Cholesky::new(k.clone()) {
+            Some(c) => Factor::Cholesky(c),
+            None => Factor::Eigen(nalgebra::SymmetricEigen::new(k)),
+        };
+        Galerkin {
+            key,
+            points,
+            g: rows.concat(),
+            comps,
+            scale,
+            factor,
+        }
+    }
+
+    /// The coefficients minimising the energy of `C + Σ c_k φ_k`, given the operator applied
+    /// to `C` at every quadrature point (`lc[q · comps + c]`).
+    fn solve(&self, lc: &[Vec3]) -> Vec<Vec3> {
+        let nb = self.scale.len();
+        let mut rhs = DMatrix::<f64>::zeros(nb, 3);
+        for (q, (_, w)) in self.points.iter().enumerate() {
+            let g = &self.g[q * nb * self.comps..(q + 1) * nb * self.comps];
+            for c in 0..self.comps {
+                let v = lc[q * self.comps + c] * *w;
+                for k in 0..nb {
+                    let gk = g[k * self.comps + c];
+                    rhs[(k, 0)] -= gk * v.x;
+                    rhs[(k, 1)] -= gk * v.y;
+                    rhs[(k, 2)] -= gk * v.z;
+                }
+            }
+        }
+        for k in 0..nb {
+            for c in 0..3 {
+                rhs[(k, c)] *= self.scale[k];
+            }
+        }
+        let sol = match &self.factor {
+            Factor::Cholesky(ch) => ch.solve(&rhs),
+            Factor::Eigen(e) => {
+                let top = e.eigenvalues.amax();
+                let mut inv = DVector::<f64>::zeros(nb);
+                for i in 0..nb {
+                    let l = e.eigenvalues[i];
+                    if l > 1e-13 * top {
+                        inv[i] = 1.0 / l;
+                    }
+                }
+                let y = e.eigenvectors.tr_mul(&rhs);
+                let y = DMatrix::from_fn(nb, 3, |i, c| y[(i, c)] * inv[i]);
+                &e.eigenvectors * y
+            }
+        };
+        (0..nb)
+            .map(|k| Vec3::new(sol[(k, 0)], sol[(k, 1)], sol[(k, 2)]) * self.scale[k])
+            .collect()
+    }
+}
+
+/// The angle between two lines with directions `a` and `b` (0 to π/2).
+fn line_angle(a: Vec3, b: Vec3) -> f64 {
+    a.cross(&b).norm().atan2(a.dot(&b).abs())
+}
+
+impl NSidedPatch {
+    /// Solves the patch bounded by `sides` (in loop order, each ending where the next
+    /// starts).
+    pub fn solve(sides: Vec<Side>, options: &NSidedOptions) -> Result<NSidedPatch> {
+        let n = sides.len();
+        if !(3..=MAX_SIDES).contains(&n) {
+            return Err(Error::invalid(format!(
+                "an n-sided patch has 3 to {MAX_SIDES} sides, not {n}"
+            )));
+        }
+        if !(1..=2).contains(&options.order) {
+            return Err(Error::invalid(format!(
+                "an n-sided patch takes order 1 or 2, not {} (order 3, for G2 ribbons, is not \
+                 available yet)",
+                options.order
+            )));
+        }
+        if !(options.a.is_finite() && options.a > 0.0) {
+            return Err(Error::invalid(format!(
+                "the smoothing parameter a must be finite and positive, not {}",
+                options.a
+            )));
+        }
+        if options.degree > 24 {
+            return Err(Error::invalid(format!(
+                "the degree of an n-sided patch is 0 to 24, not {}",
+                options.degree
+            )));
+        }
+        if !(options.gap_tolerance.is_finite() && options.gap_tolerance >= 0.0) {
+            return Err(Error::invalid("the gap tolerance must be finite and ≥ 0"));
+        }
+        for (i, s) in sides.iter().enumerate() {
+            check_interval(&s.curve, s.t0, s.t1).map_err(|e| e.at(&format!("sides[{i}]")))?;
+            if let Ribbon::Derivative { curve, t0, t1 } = &s.ribbon {
+                check_interval(curve, *t0, *t1).map_err(|e| e.at(&format!("sides[{i}].ribbon")))?;
+            }
+            if options.order == 1 && !matches!(s.ribbon, Ribbon::Position) {
+                return Err(Error::invalid(
+                    "order 1 (Laplace) takes positions only; a ribbon needs order 2",
+                )
+                .at(&format!("sides[{i}]")));
+            }
+        }
+        // Size, degenerate sides, gaps.
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+        let mut lengths = vec![0.0; n];
+        for (i, s) in sides.iter().enumerate() {
+            let mut prev: Option<Vec3> = None;
+            for j in 0..=64 {
+                let mut c = [Vec3::zeros(); 1];
+                s.jet(j as f64 / 64.0, &mut c);
+                let p = c[0];
+                if !p.iter().all(|x| x.is_finite()) {
+                    return Err(Error::invalid("the curve is not finite on the side")
+                        .at(&format!("sides[{i}]")));
+                }
+                lo = lo.inf(&p);
+                hi = hi.sup(&p);
+                if let Some(q) = prev {
+                    lengths[i] += (p - q).norm();
+                }
+                prev = Some(p);
+            }
+        }
+        let size = (hi - lo).norm();
+        if !(size.is_finite() && size > 0.0) {
+            return Err(Error::invalid(
+                "the sides enclose nothing: every point is the same",
+            ));
+        }
+        for (i, l) in lengths.iter().enumerate() {
+            if *l <= 1e-9 * size {
+                return Err(Error::invalid(format!(
+                    "the side is degenerate: its length {l:.3e} is nothing next to the \
+                     boundary's size {size:.3e}"
+                ))
+                .at(&format!("sides[{i}]")));
+            }
+        }
+        let built: Vec<BuiltSide> = sides
+            .iter()
+            .map(|s| BuiltSide {
+                side: s.clone(),
+                ribbon: BuiltRibbon::Free([Vec3::zeros(); 4]),
+                e: [Vec3::zeros(); 2],
+            })
+            .collect();
+        let mut corners = vec![Corner::default(); n];
+        for (k, corner) in corners.iter_mut().enumerate() {
+            let prev = (k + n - 1) % n;
+            let end = built[prev].position(1.0)[0];
+            let start = built[k].position(0.0)[0];
+            let gap = (end - start).norm();
+            if gap > options.gap_tolerance * size {
+                return Err(Error::invalid(format!(
+                    "the loop does not close at corner {k} (end of side {prev}, start of side \
+                     {k}): the gap is {gap:.3e}, more than {:.1e} of the boundary's size \
+                     {size:.3e}",
+                    options.gap_tolerance
+                )));
+            }
+            corner.gap = gap;
+        }
+        let poly = Polygon::new(n);
+        let mut patch = NSidedPatch {
+            basis: Basis::new(&poly, vec![1; n], options.degree),
+            poly,
+            sides: built,
+            options: options.clone(),
+            coeffs: Vec::new(),
+            size,
+            corners,
+        };
+        patch.build_ribbons()?;
+        let multiplicity: Vec<usize> = patch
+            .sides
+            .iter()
+            .map(|s| if s.has_ribbon() { 2 } else { 1 })
+            .collect();
+        patch.basis = Basis::new(&patch.poly, multiplicity, options.degree);
+        patch.solve_coefficients();
+        Ok(patch)
+    }
+
+    /// The corner-compatible cross derivative at the start (`end = false`) or end of side `i`:
+    /// `−(L/c) P'_{i−1}(1)` and `(L/c) P'_{i+1}(0)`.
+    fn corner_target(&self, i: usize, end: bool) -> Vec3 {
+        let n = self.poly.n;
+        let f = self.poly.side / self.poly.reach;
+        if end {
+            self.sides[(i + 1) % n].position(0.0)[1] * f
+        } else {
+            -self.sides[(i + n - 1) % n].position(1.0)[1] * f
+        }
+    }
+
+    fn build_ribbons(&mut self) -> Result<()> {
+        let n = self.poly.n;
+        for i in 0..n {
+            let (t0, t1) = (self.corner_target(i, false), self.corner_target(i, true));
+            let built = match &self.sides[i].side.ribbon {
+                Ribbon::Position => BuiltRibbon::Free([t0, t1 - t0, t1, t1 - t0]),
+                Ribbon::Derivative { curve, t0, t1 } => {
+                    for (end, k) in [(false, i), (true, (i + 1) % n)] {
+                        let s = if end { 1.0 } else { 0.0 };
+                        let mut d = [Vec3::zeros(); 1];
+                        side::curve_jet(curve, *t0, *t1, s, &mut d);
+                        let plane = self.sides[i].position(s)[1].cross(&d[0]);
+                        let t = self.corner_target(i, end);
+                        let angle = std::f64::consts::FRAC_PI_2 - line_angle(plane, t);
+                        let c = &mut self.corners[k];
+                        c.tangent_mismatch = c.tangent_mismatch.max(angle.max(0.0));
+                    }
+                    BuiltRibbon::Derivative {
+                        curve: curve.clone(),
+                        t0: *t0,
+                        t1: *t1,
+                    }
+                }
+                Ribbon::TangentPlane(field) => {
+                    let field = field.clone();
+                    let unit = move |s: f64| {
+                        let v = field(s);
+                        let l = v.norm();
+                        if l > 0.0 && l.is_finite() {
+                            v / l
+                        } else {
+                            Vec3::repeat(f64::NAN)
+                        }
+                    };
+                    for j in 0..=16 {
+                        if !unit(j as f64 / 16.0).iter().all(|x| x.is_finite()) {
+                            return Err(Error::invalid(
+                                "the neighbour's normal is undefined along the side",
+                            )
+                            .at(&format!("sides[{i}].ribbon")));
+                        }
+                    }
+                    let normal = ChebVec::fit(&unit);
+                    let mut ab = [[0.0; 2]; 2];
+                    for (e, (end, k)) in [(false, i), (true, (i + 1) % n)].into_iter().enumerate() {
+                        let s = if end { 1.0 } else { 0.0 };
+                        let tangent = self.sides[i].position(s)[1];
+                        let m = normal.at(0, s).cross(&tangent);
+                        let t = self.corner_target(i, end);
+                        let a = t.dot(&m) / m.norm_squared();
+                        let b = t.dot(&tangent) / tangent.norm_squared();
+                        let fit = m * a + tangent * b;
+                        let angle = line_angle(fit, t).min((t - fit).norm() / t.norm());
+                        let c = &mut self.corners[k];
+                        c.tangent_mismatch = c.tangent_mismatch.max(angle);
+                        ab[e] = [a, b];
+                    }
+                    if ab[0][0] * ab[1][0] <= 0.0 || (ab[0][0] * ab[1][0]).is_nan() {
+                        return Err(Error::invalid(format!(
+                            "the adjacent sides leave the neighbour's tangent plane on \
+                             opposite sides of this one at corners {i} and {} (a fold): check \
+                             the loop's corners and the ribbon's surface",
+                            (i + 1) % n
+                        ))
+                        .at(&format!("sides[{i}].ribbon")));
+                    }
+                    let (a0, a1, b0, b1) = (ab[0][0], ab[1][0], ab[0][1], ab[1][1]);
+                    BuiltRibbon::Plane {
+                        normal,
+                        a: [a0, a1 - a0, a1, a1 - a0],
+                        b: [b0, b1 - b0, b1, b1 - b0],
+                    }
+                }
+            };
+            self.sides[i].ribbon = built;
+        }
+        self.match_corners();
+        Ok(())
+    }
+
+    /// The second-order parts of the corner `k`: `H(R_k) − H(R_{k−1})` at `V_k` in the basis
+    /// `g_a g_aᵀ`, `g_b g_bᵀ`, `g_a g_bᵀ + g_b g_aᵀ` (`g_a`, `g_b` the inward normals of sides
+    /// `k − 1` and `k`), as `[A, B, M]`.
+    fn corner_difference(&self, k: usize) -> [Vec3; 3] {
+        let n = self.poly.n;
+        let j = (k + n - 1) % n;
+        let v = self.poly.verts[k];
+        let d: Vec<Jet> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
+        let (hk, hj) = (self.ribbon_jet(k, &d).h, self.ribbon_jet(j, &d).h);
+        let (ga, gb) = (self.poly.normal(j), self.poly.normal(k));
+        let m = nalgebra::Matrix3::new(
+            ga[0] * ga[0],
+            gb[0] * gb[0],
+            2.0 * ga[0] * gb[0],
+            ga[0] * ga[1],
+            gb[0] * gb[1],
+            ga[0] * gb[1] + ga[1] * gb[0],
+            ga[1] * ga[1],
+            gb[1] * gb[1],
+            2.0 * ga[1] * gb[1],
+        );
+        let inv = m.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+        let delta = [hk[0] - hj[0], hk[1] - hj[1], hk[2] - hj[2]];
+        [0, 1, 2].map(|r| delta[0] * inv[(r, 0)] + delta[1] * inv[(r, 1)] + delta[2] * inv[(r, 2)])
+    }
+
+    /// Makes neighbouring ribbons agree to second order at every corner where the data
+    /// allow: the twists of free and plane ribbons take the mixed part (as far as a plane
+    /// ribbon can: within its tangent plane), the second cross derivatives `E` the rest. What
+    /// remains of the mixed part is the corner's twist mismatch.
+    fn match_corners(&mut self) {
+        let n = self.poly.n;
+        let cl = self.poly.reach * self.poly.side;
+        let l2 = self.poly.side * self.poly.side;
+        for k in 0..n {
+            let j = (k + n - 1) % n;
+            let [_, _, m] = self.corner_difference(k);
+            let delta = -m * cl;
+            let free = |s: &BuiltSide| !matches!(s.ribbon, BuiltRibbon::Derivative { .. });
+            let (fk, fj) = (free(&self.sides[k]), free(&self.sides[j]));
+            let share = if fk && fj { 0.5 } else { 1.0 };
+            if fk {
+                self.sides[k].add_twist(false, delta * share);
+            }
+            if fj {
+                self.sides[j].add_twist(true, delta * share);
+            }
+        }
+        for k in 0..n {
+            let j = (k + n - 1) % n;
+            let [a, b, m] = self.corner_difference(k);
+            self.sides[k].e[0] = -b * (0.5 * l2);
+            self.sides[j].e[1] = a * (0.5 * l2);
+            let scale = self.sides[k].position(0.0)[1]
+                .norm()
+                .max(self.sides[j].position(1.0)[1].norm());
+            self.corners[k].twist_mismatch = m.norm() * cl / scale;
+        }
+    }
+
+    fn solve_coefficients(&mut self) {
+        let galerkin = Galerkin::get(&self.poly, &self.basis, self.options.order, self.options.a);
+        let a2 = self.options.a * self.options.a;
+        let order = self.options.order;
+        let lc: Vec<Vec3> = galerkin
+            .points
+            .par_iter()
+            .flat_map_iter(|(p, _)| {
+                let c = self.interpolant(*p);
+                if order == 1 {
+                    vec![c.d[0], c.d[1] * self.options.a]
+                } else {
+                    vec![c.h[0] + c.h[2] * a2]
+                }
+            })
+            .collect();
+        self.coeffs = galerkin.solve(&lc);
+    }
+
+    /// The number of sides.
+    pub fn n(&self) -> usize {
+        self.poly.n
+    }
+
+    /// The options the patch was solved with.
+    pub fn options(&self) -> &NSidedOptions {
+        &self.options
+    }
+
+    /// The sides as given.
+    pub fn sides(&self) -> impl Iterator<Item = &Side> {
+        self.sides.iter().map(|s| &s.side)
+    }
+
+    /// The diagonal of the boundary's bounding box.
+    pub fn size(&self) -> f64 {
+        self.size
+    }
+
+    /// Side `i`'s ribbon `R_i = P_i(s_i) + t_i D_i(s_i) + t_i² E_i(s_i)` given the distance
+    /// jets `d` of a point (`t_i = d_i / L`).
+    fn ribbon_jet(&self, i: usize, d: &[Jet]) -> VJet {
+        let n = self.poly.n;
+        let side = &self.sides[i];
+        let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
+        let s = dm.div(dm + dp);
+        let t = d[i].scale(1.0 / self.poly.side);
+        VJet::compose(s, side.position(s.v))
+            + VJet::compose(s, side.ribbon(s.v)).times(t)
+            + VJet::compose(s, side.second(s.v)).times(t * t)
+    }
+
+    /// The boundary interpolant `C` at the domain point `p`.
+    fn interpolant(&self, p: [f64; 2]) -> VJet {
+        let n = self.poly.n;
+        let d: Vec<Jet> = (0..n).map(|i| self.poly.distance_jet(i, p)).collect();
+        let cube: Vec<Jet> = d.iter().map(|x| *x * *x * *x).collect();
+        let pis: Vec<Jet> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .filter(|&j| j != i)
+                    .fold(Jet::constant(1.0), |acc, j| acc * cube[j])
+            })
+            .collect();
+        let total = pis.iter().fold(Jet::constant(0.0), |acc, x| acc + *x);
+        let inv_total = total.recip();
+        let mut c = VJet::default();
+        for (i, pi) in pis.iter().enumerate() {
+            c = c + self.ribbon_jet(i, &d).times(*pi * inv_total);
+        }
+        c
+    }
+
+    /// `X` and its partials in the domain coordinates at `p` (inside the polygon).
+    fn eval_domain(&self, p: [f64; 2]) -> VJet {
+        if let Some(k) = self.poly.vertex_near(p, 1e-10) {
+            // The blends are 0/0 at a corner: the position is the corner's; the derivatives
+            // are their limits, taken a hair inside.
+            let q = [p[0] * (1.0 - 1e-7), p[1] * (1.0 - 1e-7)];
+            let mut x = self.eval_domain(q);
+            x.v = self.sides[k].position(0.0)[0];
+            return x;
+        }
+        let mut x = self.interpolant(p);
+        let mut phi = Vec::with_capacity(self.basis.len());
+        self.basis.eval(&self.poly, p, &mut phi);
+        for (c, f) in self.coeffs.iter().zip(&phi) {
+            x.add_scaled(*c, f);
+        }
+        x
+    }
+
+    /// The surfaces that present the patch: one on the square for `n = 4`, else `n` pieces
+    /// around the centre (piece `k` has side `k`'s first half at `v = 0` and side `k − 1`'s
+    /// second half at `u = 0`).
+    pub fn surfaces(self: &Arc<Self>) -> Vec<NSidedSurface> {
+        if self.poly.n == 4 {
+            vec![NSidedSurface {
+                patch: self.clone(),
+                piece: None,
+            }]
+        } else {
+            (0..self.poly.n)
+                .map(|k| NSidedSurface {
+                    patch: self.clone(),
+                    piece: Some(k),
+                })
+                .collect()
+        }
+    }
+
+    /// Measures the patch along its boundary at `samples` points per side.
+    pub fn report(&self, samples: usize) -> NSidedReport {
+        let n = self.poly.n;
+        let m = samples.max(2);
+        let mut boundary = vec![0.0f64; n];
+        let mut g1 = vec![None; n];
+        for (i, side) in self.sides.iter().enumerate() {
+            let mut worst: f64 = 0.0;
+            for j in 0..=m {
+                let s = j as f64 / m as f64;
+                let x = self.eval_domain(self.poly.side_point(i, s));
+                boundary[i] = boundary[i].max((x.v - side.position(s)[0]).norm());
+                if j == 0 || j == m || !side.has_ribbon() {
+                    continue;
+                }
+                let normal = x.d[0].cross(&x.d[1]);
+                let want = match &side.side.ribbon {
+                    Ribbon::TangentPlane(f) => f(s),
+                    _ => side.position(s)[1].cross(&side.ribbon(s)[0]),
+                };
+                worst = worst.max(line_angle(normal, want));
+            }
+            if side.has_ribbon() {
+                g1[i] = Some(worst);
+            }
+        }
+        NSidedReport {
+            size: self.size,
+            boundary,
+            g1,
+            corners: self.corners.clone(),
+        }
+    }
+}
+
+fn check_interval(curve: &crate::curve::SharedCurve, t0: f64, t1: f64) -> Result<()> {
+    if !(t0.is_finite() && t1.is_finite()) || t0 == t1 {
+        return Err(Error::invalid(format!(
+            "the parameter interval [{t0}, {t1}] must be finite and not empty"
+        )));
+    }
+    if let crate::curve::Domain::Interval(a, b) = curve.domain() {
+        let slack = 1e-12 * (b - a).abs().max(1.0);
+        for t in [t0, t1] {
+            if t < a - slack || t > b + slack {
+                return Err(Error::invalid(format!(
+                    "the parameter {t} lies outside the curve's domain [{a}, {b}]"
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An n-sided patch as a [`Surface`] on `[0, 1]²`: the whole square for `n = 4`, or one of
+/// the `n` pieces around the centre.
+#[derive(Clone, Debug)]
+pub struct NSidedSurface {
+    patch: Arc<NSidedPatch>,
+    piece: Option<usize>,
+}
+
+impl NSidedSurface {
+    /// The patch this surface presents.
+    pub fn patch(&self) -> &Arc<NSidedPatch> {
+        &self.patch
+    }
+
+    /// The piece (`None`: the whole square of a four-sided patch).
+    pub fn piece(&self) -> Option<usize> {
+        self.piece
+    }
+}
+
+impl Surface for NSidedSurface {
+    fn v_domain(&self) -> VDomain {
+        VDomain::Interval(0.0, 1.0)
+    }
+
+    fn partials(&self, u: f64, v: f64) -> Partials {
+        let [p, pu, pv, puv] = match self.piece {
+            Some(k) => self.patch.poly.piece(k, u, v),
+            None => {
+                let r = std::f64::consts::FRAC_1_SQRT_2;
+                let w = 2.0 * r;
+                [[-r + w * u, -r + w * v], [w, 0.0], [0.0, w], [0.0, 0.0]]
+            }
+        };
+        let x = self.patch.eval_domain(p);
+        let d = |q: [f64; 2]| x.d[0] * q[0] + x.d[1] * q[1];
+        let h = |a: [f64; 2], b: [f64; 2]| {
+            x.h[0] * (a[0] * b[0]) + x.h[1] * (a[0] * b[1] + a[1] * b[0]) + x.h[2] * (a[1] * b[1])
+        };
+        Partials {
+            x: x.v,
+            xu: d(pu),
+            xv: d(pv),
+            xuu: h(pu, pu),
+            xuv: h(pu, pv) + d(puv),
+            xvv: h(pv, pv),
+        }
+    }
+}

@@ -1,0 +1,341 @@
+//! The sides of an n-sided patch: a curve run over a parameter interval, and the ribbon that
+//! gives the cross-boundary derivative for G1.
+
+use crate::curve::SharedCurve;
+use crate::elliptic::basis::{cheb_diff, clenshaw};
+use crate::Vec3;
+use std::sync::Arc;
+
+/// A unit normal field along a side, as a function of the side's parameter `s ∈ [0, 1]`.
+pub type NormalField = Arc<dyn Fn(f64) -> Vec3 + Send + Sync>;
+
+/// What a side asks of the patch across it, beyond its position.
+#[derive(Clone)]
+pub enum Ribbon {
+    /// Position only (G0): the cross-boundary derivative is left to the PDE (natural
+    /// condition).
+    Position,
+    /// The cross-boundary derivative given explicitly: `∂X/∂t (s)` with `t` the distance from
+    /// the side measured in side lengths of the domain (so `∂X/∂t` has the scale of the side's
+    /// own `∂X/∂s`). The curve is run over `[t0, t1]` like the side's position curve.
+    Derivative {
+        curve: SharedCurve,
+        t0: f64,
+        t1: f64,
+    },
+    /// Tangent to a neighbour whose unit normal along the side is given (any orientation): the
+    /// patch's tangent plane along the side is the neighbour's (G1). The cross-boundary
+    /// derivative lies in that plane; its size and slant are fixed at the corners by
+    /// compatibility with the adjacent sides and interpolated linearly in between.
+    TangentPlane(NormalField),
+}
+
+impl std::fmt::Debug for Ribbon {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Ribbon::Position => f.write_str("Position"),
+            Ribbon::Derivative { curve, t0, t1 } => f
+                .debug_struct("Derivative")
+                .field("curve", curve)
+                .field("t0", t0)
+                .field("t1", t1)
+                .finish(),
+            Ribbon::TangentPlane(_) => f.write_str("TangentPlane"),
+        }
+    }
+}
+
+/// One side of an n-sided patch: `curve` run from parameter `t0` to `t1` (`t1 < t0` runs it
+/// backwards), and its ribbon. Consecutive sides meet end to start.
+#[derive(Clone, Debug)]
+pub struct Side {
+    pub curve: SharedCurve,
+    pub t0: f64,
+    pub t1: f64,
+    pub ribbon: Ribbon,
+}
+
+impl Side {
+    /// A side carrying its position only.
+    pub fn position(curve: SharedCurve, t0: f64, t1: f64) -> Side {
+        Side {
+            curve,
+            t0,
+            t1,
+            ribbon: Ribbon::Position,
+        }
+    }
+
+    /// `C(s), C'(s), …` with respect to the side parameter `s ∈ [0, 1]` (`out.len() ≤ 5`).
+    pub(crate) fn jet(&self, s: f64, out: &mut [Vec3]) {
+        curve_jet(&self.curve, self.t0, self.t1, s, out);
+    }
+}
+
+/// A curve run over `[t0, t1]` as a function of `s ∈ [0, 1]`, with derivatives in `s`.
+pub(crate) fn curve_jet(curve: &SharedCurve, t0: f64, t1: f64, s: f64, out: &mut [Vec3]) {
+    let dt = t1 - t0;
+    curve.jet(t0 + s * dt, out);
+    let mut f = 1.0;
+    for o in out.iter_mut().skip(1) {
+        f *= dt;
+        *o *= f;
+    }
+}
+
+/// A vector function on `[0, 1]` as a Chebyshev series, to derivatives of any order.
+#[derive(Clone, Debug)]
+pub(crate) struct ChebVec {
+    /// Series of the value, first and second derivatives, per coordinate, in `x = 2s − 1`.
+    series: [[Vec<f64>; 3]; 3],
+    /// The largest difference seen between the series and the function at the check points.
+    pub fit_error: f64,
+}
+
+impl ChebVec {
+    /// Interpolates `f` at Chebyshev–Lobatto points, doubling their number (16 … 1024) until
+    /// the series and `f` agree at the midpoints between nodes to `1e-14` of the function's
+    /// size.
+    pub(crate) fn fit(f: &dyn Fn(f64) -> Vec3) -> ChebVec {
+        let mut n = 16;
+        loop {
+            let coeffs = cheb_coefficients(f, n);
+            let series = derivative_series(&coeffs);
+            let mut c = ChebVec {
+                series,
+                fit_error: 0.0,
+            };
+            let mut err: f64 = 0.0;
+            let mut size: f64 = 0.0;
+            for j in 0..n {
+                let x = (std::f64::consts::PI * (j as f64 + 0.5) / n as f64).cos();
+                let s = 0.5 * (x + 1.0);
+                let want = f(s);
+                size = size.max(want.amax());
+                err = err.max((c.value(s) - want).amax());
+            }
+            c.fit_error = err;
+            if err <= 1e-14 * size.max(1e-300) || n >= 1024 {
+                return c;
+            }
+            n *= 2;
+        }
+    }
+
+    fn value(&self, s: f64) -> Vec3 {
+        self.at(0, s)
+    }
+
+    /// The `k`-th derivative (`k ≤ 2`) at `s`.
+    pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
+        let x = 2.0 * s - 1.0;
+        let sc = [1.0, 2.0, 4.0][k];
+        let c = &self.series[k];
+        Vec3::new(clenshaw(&c[0], x), clenshaw(&c[1], x), clenshaw(&c[2], x)) * sc
+    }
+}
+
+/// Chebyshev coefficients of `f(s)`, `s = (x + 1)/2`, from its values at `x_j = cos(πj/n)`.
+fn cheb_coefficients(f: &dyn Fn(f64) -> Vec3, n: usize) -> [Vec<f64>; 3] {
+    let vals: Vec<Vec3> = (0..=n)
+        .map(|j| f(0.5 * ((std::f64::consts::PI * j as f64 / n as f64).cos() + 1.0)))
+        .collect();
+    let mut out = [vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]];
+    for k in 0..=n {
+        let mut acc = Vec3::zeros();
+        for (j, v) in vals.iter().enumerate() {
+            let half = if j == 0 || j == n { 0.5 } else { 1.0 };
+            let c = (std::f64::consts::PI * ((j * k) % (2 * n)) as f64 / n as f64).cos();
+            acc += v * (half * c);
+        }
+        let mut scale = 2.0 / n as f64;
+        if k == 0 || k == n {
+            scale *= 0.5;
+        }
+        for (o, a) in out.iter_mut().zip(acc.iter()) {
+            o[k] = a * scale;
+        }
+    }
+    out
+}
+
+fn derivative_series(c: &[Vec<f64>; 3]) -> [[Vec<f64>; 3]; 3] {
+    let d1 = [cheb_diff(&c[0]), cheb_diff(&c[1]), cheb_diff(&c[2])];
+    let d2 = [cheb_diff(&d1[0]), cheb_diff(&d1[1]), cheb_diff(&d1[2])];
+    [c.clone(), d1, d2]
+}
+
+/// The cubic Hermite basis on `[0, 1]` (`h00, h10, h01, h11`: value at 0, slope at 0, value
+/// at 1, slope at 1) with its first and second derivatives.
+fn hermite(s: f64) -> [[f64; 4]; 3] {
+    let (s2, s3) = (s * s, s * s * s);
+    [
+        [
+            2.0 * s3 - 3.0 * s2 + 1.0,
+            s3 - 2.0 * s2 + s,
+            -2.0 * s3 + 3.0 * s2,
+            s3 - s2,
+        ],
+        [
+            6.0 * s2 - 6.0 * s,
+            3.0 * s2 - 4.0 * s + 1.0,
+            -6.0 * s2 + 6.0 * s,
+            3.0 * s2 - 2.0 * s,
+        ],
+        [
+            12.0 * s - 6.0,
+            6.0 * s - 4.0,
+            -12.0 * s + 6.0,
+            6.0 * s - 2.0,
+        ],
+    ]
+}
+
+/// A cubic on `[0, 1]` from its values and slopes at the ends: `[v0, m0, v1, m1]`.
+pub(crate) fn hermite_scalar(c: &[f64; 4], s: f64) -> [f64; 3] {
+    let h = hermite(s);
+    [0, 1, 2].map(|k| (0..4).map(|j| h[k][j] * c[j]).sum())
+}
+
+/// A cubic curve on `[0, 1]` from its values and slopes at the ends.
+pub(crate) fn hermite_vector(c: &[Vec3; 4], s: f64) -> [Vec3; 3] {
+    let h = hermite(s);
+    [0, 1, 2].map(|k| (0..4).fold(Vec3::zeros(), |acc, j| acc + c[j] * h[k][j]))
+}
+
+/// A side as the patch uses it: the position curve, its cross-boundary derivative `D(s)` and
+/// second cross derivative `E(s)` (both with two derivatives), and whether `D` is a condition
+/// (G1) or only the interpolant's choice.
+#[derive(Clone, Debug)]
+pub(crate) struct BuiltSide {
+    pub side: Side,
+    pub ribbon: BuiltRibbon,
+    /// `E` at the two ends (linear in between): chosen so that neighbouring sides' ribbons
+    /// agree to second order at the corners.
+    pub e: [Vec3; 2],
+}
+
+#[derive(Clone, Debug)]
+pub(crate) enum BuiltRibbon {
+    /// The side's own cross derivative, free (a position-only side): the cubic with the
+    /// corner-compatible values and the twists `[D(0), D'(0), D(1), D'(1)]`.
+    Free([Vec3; 4]),
+    Derivative {
+        curve: SharedCurve,
+        t0: f64,
+        t1: f64,
+    },
+    /// `D(s) = a(s) (N(s) × C'(s)) + b(s) C'(s)`, `a` and `b` cubics from their values and
+    /// slopes at the ends, `N` the Chebyshev series of the neighbour's normal.
+    Plane {
+        normal: ChebVec,
+        a: [f64; 4],
+        b: [f64; 4],
+    },
+}
+
+impl BuiltSide {
+    /// True if the side carries a cross-boundary derivative as a condition (G1).
+    pub(crate) fn has_ribbon(&self) -> bool {
+        !matches!(self.ribbon, BuiltRibbon::Free(_))
+    }
+
+    /// `P(s), P'(s), P''(s)` (`out.len()` of them, at most 5).
+    pub(crate) fn position(&self, s: f64) -> [Vec3; 3] {
+        let mut c = [Vec3::zeros(); 3];
+        self.side.jet(s, &mut c);
+        c
+    }
+
+    /// `E(s), E'(s), E''(s)`.
+    pub(crate) fn second(&self, s: f64) -> [Vec3; 3] {
+        [
+            self.e[0] + (self.e[1] - self.e[0]) * s,
+            self.e[1] - self.e[0],
+            Vec3::zeros(),
+        ]
+    }
+
+    /// `m = N × P'` and `P'` at `s` for a plane ribbon (the two directions `D` is made of).
+    pub(crate) fn plane_frame(&self, s: f64) -> Option<(Vec3, Vec3)> {
+        match &self.ribbon {
+            BuiltRibbon::Plane { normal, .. } => {
+                let t = self.position(s)[1];
+                Some((normal.at(0, s).cross(&t), t))
+            }
+            _ => None,
+        }
+    }
+
+    /// `D(s), D'(s), D''(s)`.
+    pub(crate) fn ribbon(&self, s: f64) -> [Vec3; 3] {
+        match &self.ribbon {
+            BuiltRibbon::Free(c) => hermite_vector(c, s),
+            BuiltRibbon::Derivative { curve, t0, t1 } => {
+                let mut c = [Vec3::zeros(); 3];
+                curve_jet(curve, *t0, *t1, s, &mut c);
+                c
+            }
+            BuiltRibbon::Plane { normal, a, b } => {
+                let mut p = [Vec3::zeros(); 4];
+                self.side.jet(s, &mut p);
+                let n = [normal.at(0, s), normal.at(1, s), normal.at(2, s)];
+                let [a0, a1, a2] = hermite_scalar(a, s);
+                let [b0, b1, b2] = hermite_scalar(b, s);
+                // m = N × P' and its derivatives.
+                let m0 = n[0].cross(&p[1]);
+                let m1 = n[1].cross(&p[1]) + n[0].cross(&p[2]);
+                let m2 = n[2].cross(&p[1]) + n[1].cross(&p[2]) * 2.0 + n[0].cross(&p[3]);
+                [
+                    m0 * a0 + p[1] * b0,
+                    m1 * a0 + m0 * a1 + p[2] * b0 + p[1] * b1,
+                    m2 * a0 + m1 * (2.0 * a1) + m0 * a2 + p[3] * b0 + p[2] * (2.0 * b1) + p[1] * b2,
+                ]
+            }
+        }
+    }
+
+    /// Adds `delta` to the twist `D'` at the start (`end = false`) or end of the side, as far
+    /// as the ribbon allows: all of it for a free ribbon, its part in the neighbour's tangent
+    /// plane for a plane ribbon, nothing for an explicit one.
+    pub(crate) fn add_twist(&mut self, end: bool, delta: Vec3) {
+        let s = if end { 1.0 } else { 0.0 };
+        let frame = self.plane_frame(s);
+        let slot = if end { 3 } else { 1 };
+        match (&mut self.ribbon, frame) {
+            (BuiltRibbon::Free(c), _) => c[slot] += delta,
+            (BuiltRibbon::Plane { a, b, .. }, Some((m, t))) => {
+                a[slot] += delta.dot(&m) / m.norm_squared();
+                b[slot] += delta.dot(&t) / t.norm_squared();
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chebyshev_series_fit_smooth_fields_with_their_derivatives() {
+        let f = |s: f64| Vec3::new((3.0 * s).sin(), s * s * s, (-s).exp());
+        let c = ChebVec::fit(&f);
+        assert!(c.fit_error < 1e-14, "{}", c.fit_error);
+        for s in [0.0f64, 0.13, 0.5, 0.97, 1.0] {
+            let d1 = Vec3::new(3.0 * (3.0 * s).cos(), 3.0 * s * s, -(-s).exp());
+            let d2 = Vec3::new(-9.0 * (3.0 * s).sin(), 6.0 * s, (-s).exp());
+            assert!((c.at(0, s) - f(s)).amax() < 1e-14);
+            assert!(
+                (c.at(1, s) - d1).amax() < 1e-12,
+                "{}",
+                (c.at(1, s) - d1).amax()
+            );
+            assert!(
+                (c.at(2, s) - d2).amax() < 1e-10,
+                "{}",
+                (c.at(2, s) - d2).amax()
+            );
+        }
+    }
+}
