@@ -38,6 +38,9 @@ Figures (distances in the mesh's units, angles in radians):
   the same sum over the mesh's kept triangles at v; largest and RMS over the loop.
   normal_jump_reference_max/_rms: the same measure on the original sphere mesh (the removed
   triangles at their true positions), the jump the discretisation has by itself.
+- flipped_faces: the fill's triangles whose normal (p1 - p0) x (p2 - p0) points towards the
+  sphere's centre (makes an angle over 90 degrees with the outward normal at its centroid): a
+  fold in the fill; 0 for a good one.
 - boundary_dev: 0 by construction (the boundary vertices are fixed), so not printed.
 """
 import json
@@ -65,6 +68,12 @@ def read_obj(path):
 
 def face_normals(V, F):
     return np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+
+
+def flipped(V, F, center):
+    """Triangles of F whose normal points into the sphere (towards its centre)."""
+    nrm = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    return int(np.sum(np.sum(nrm * (V[F].mean(axis=1) - center), axis=1) <= 0.0))
 
 
 def normal_jump(V, F_fill, F_mesh, loop):
@@ -181,6 +190,7 @@ def main():
     filled[used] = W
     out["truth_dev_max"], out["truth_dev_rms"] = deviation(W)
     out["normal_jump_max"], out["normal_jump_rms"] = normal_jump(filled, FR, F, loop)
+    out["flipped_faces"] = flipped(filled, FR, center)
     out["normal_jump_reference_max"], out["normal_jump_reference_rms"] = normal_jump(Vall, FR, F, loop)
     Wo = igl.harmonic(Vtrue, Fb, fixed, bc, 2)
     out["oracle_truth_dev_max"], out["oracle_truth_dev_rms"] = deviation(Wo)
