@@ -7,7 +7,7 @@
 //! (`memory`).
 
 use pdeshape_geometry::{
-    bfs, check, curve, dynamic, elliptic, fd, formula, majorant, splinepde, surface,
+    bfs, check, curve, dynamic, elliptic, fd, formula, majorant, nsided, splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 

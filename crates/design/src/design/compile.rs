@@ -200,7 +200,6 @@ impl CompiledDesign {
             }
         }
         let curves = named_curves(&mut builder)?;
-        let curve_cache = builder.into_cache();
         let mut surfaces = Vec::new();
         let mut patches = Vec::new();
         for (p, kind) in done.into_iter().flatten() {
@@ -246,6 +245,10 @@ impl CompiledDesign {
             });
             parametric.push((p.clone(), surface));
         }
+
+        // [[nsided]]: tangent to any surface before them.
+        super::nsided::build_nsided(&spec.nsided, &mut builder, &mut surfaces)?;
+        let curve_cache = builder.into_cache();
 
         // [blend]: its primary surfaces may be surfaces of this design.
         let blend = match &spec.blend {

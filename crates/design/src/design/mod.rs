@@ -17,6 +17,7 @@ mod dynamic;
 mod edges;
 mod edit;
 mod fd;
+mod nsided;
 mod parametric;
 mod params;
 mod solved;
@@ -56,6 +57,8 @@ mod tests;
 mod tests_attach;
 #[cfg(test)]
 mod tests_local;
+#[cfg(test)]
+mod tests_nsided;
 #[cfg(test)]
 mod tests_params;
 #[cfg(test)]

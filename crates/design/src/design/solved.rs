@@ -68,6 +68,8 @@ pub enum SurfaceKind {
     Spline(Arc<SolvedSpline>, Arc<SplineNet<f64>>),
     /// An analytic PDE patch whose spine a `[[spine]]` table replaced (§5.3).
     SpineEdited(Arc<super::spine::SpineEdited>),
+    /// An `[[nsided]]` patch, or one piece of it.
+    NSided(Arc<crate::nsided::NSidedSurface>),
 }
 
 impl SurfaceKind {
@@ -80,6 +82,7 @@ impl SurfaceKind {
             SurfaceKind::Blend(b) => &b.surface,
             SurfaceKind::Spline(_, n) => &**n,
             SurfaceKind::SpineEdited(s) => &**s,
+            SurfaceKind::NSided(s) => &**s,
         }
     }
 
@@ -92,6 +95,7 @@ impl SurfaceKind {
             SurfaceKind::Blend(_) => "blend (BFS smoothing spline)",
             SurfaceKind::Spline(..) => "spline PDE surface",
             SurfaceKind::SpineEdited(_) => "PDE patch (analytic) with an edited spine",
+            SurfaceKind::NSided(_) => "n-sided PDE patch",
         }
     }
 
@@ -104,6 +108,7 @@ impl SurfaceKind {
             SurfaceKind::Blend(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Spline(_, n) => Arc::as_ptr(n) as usize,
             SurfaceKind::SpineEdited(s) => Arc::as_ptr(s) as usize,
+            SurfaceKind::NSided(s) => Arc::as_ptr(s) as usize,
         }
     }
 }

@@ -60,6 +60,10 @@ pub struct DesignSpec {
     /// the PDE patches.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parametric: Vec<super::parametric::ParametricSpec>,
+    /// Patches bounded by a loop of 3 to 8 curves (`[[nsided]]`), G1 on any side to another
+    /// surface of the design.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nsided: Vec<super::nsided::NSidedSpec>,
     /// Defaults for the command-line tool.
     #[serde(default, skip_serializing_if = "OutputSpec::is_default")]
     pub output: OutputSpec,

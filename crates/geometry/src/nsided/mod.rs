@@ -709,6 +709,13 @@ impl NSidedPatch {
         }
     }
 
+    /// The patch's point and unit normal at parameter `s` of side `i` (`s` inside `(0, 1)`).
+    pub fn boundary_normal(&self, i: usize, s: f64) -> (Vec3, Vec3) {
+        let x = self.eval_domain(self.poly.side_point(i, s));
+        let n = x.d[0].cross(&x.d[1]);
+        (x.v, n / n.norm())
+    }
+
     /// Measures the patch along its boundary at `samples` points per side.
     pub fn report(&self, samples: usize) -> NSidedReport {
         let n = self.poly.n;

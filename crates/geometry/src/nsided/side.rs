@@ -66,6 +66,13 @@ impl Side {
         }
     }
 
+    /// The side's point at `s ∈ [0, 1]`.
+    pub fn point(&self, s: f64) -> Vec3 {
+        let mut c = [Vec3::zeros(); 1];
+        self.jet(s, &mut c);
+        c[0]
+    }
+
     /// `C(s), C'(s), …` with respect to the side parameter `s ∈ [0, 1]` (`out.len() ≤ 5`).
     pub(crate) fn jet(&self, s: f64, out: &mut [Vec3]) {
         curve_jet(&self.curve, self.t0, self.t1, s, out);

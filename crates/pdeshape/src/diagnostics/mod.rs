@@ -138,6 +138,24 @@ pub struct ParameterDiagnostics {
     pub drives: String,
 }
 
+/// An `[[nsided]]` patch: how exactly it meets its sides and its neighbours.
+#[derive(Clone, Debug)]
+pub struct NSidedDiagnostics {
+    pub name: String,
+    /// The number of sides.
+    pub sides: usize,
+    /// The largest distance between the patch and a side's curve, relative to the boundary's
+    /// size.
+    pub boundary: f64,
+    /// Per side: `None` for a position-only side, else the largest angle (radians) between the
+    /// patch's normal and the neighbour's (`tangent_to`, measured against the neighbour
+    /// surface itself) or the ribbon's plane (`derivative`).
+    pub g1: Vec<Option<f64>>,
+    /// Per corner: the tangent mismatch and the twist mismatch (see
+    /// `pdeshape_geometry::nsided::Corner`).
+    pub corners: Vec<(f64, f64)>,
+}
+
 /// Everything `pdeshape check` finds in a solved design.
 #[derive(Clone, Debug)]
 pub struct Diagnostics {
@@ -149,6 +167,8 @@ pub struct Diagnostics {
     pub attachments: Vec<AttachmentDiagnostics>,
     pub trims: Vec<TrimDiagnostics>,
     pub parameters: Vec<ParameterDiagnostics>,
+    /// The `[[nsided]]` patches.
+    pub nsided: Vec<NSidedDiagnostics>,
     /// What deserves a warning, in words (without a `warning: ` prefix).
     pub warnings: Vec<String>,
     pub verdict: Verdict,
@@ -439,6 +459,32 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
             }
         }
     }
+    let nsided = nsided_diagnostics(spec, built);
+    for d in &nsided {
+        if d.boundary.is_nan() || d.boundary > 1e-10 {
+            warnings.push(format!(
+                "n-sided patch '{}': its sides are met only to {:.3e} (relative)",
+                d.name, d.boundary
+            ));
+        }
+        for (i, g) in d.g1.iter().enumerate() {
+            if let Some(g) = g.filter(|g| g.is_nan() || *g > G1_TOLERANCE) {
+                warnings.push(format!(
+                    "n-sided patch '{}': side {i} is G1 only to {g:.3e} rad",
+                    d.name
+                ));
+            }
+        }
+        for (k, (t, _)) in d.corners.iter().enumerate() {
+            if t.is_nan() || *t > G1_TOLERANCE {
+                warnings.push(format!(
+                    "n-sided patch '{}': at corner {k} the adjacent side leaves the neighbour's \
+                     tangent plane by {t:.3e} rad (no surface is G1 to both there)",
+                    d.name
+                ));
+            }
+        }
+    }
     let edges_met = edges.iter().flatten().all(|e| e.g0_met && e.g1_met);
     let verdict = if warnings.is_empty() && edges_met {
         Verdict::Ok
@@ -452,9 +498,66 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
         attachments,
         trims,
         parameters: parameter_diagnostics(spec),
+        nsided,
         warnings,
         verdict,
     }
+}
+
+/// Samples per side for the n-sided checks (between the corners).
+const NSIDED_SAMPLES: usize = 48;
+
+fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiagnostics> {
+    use crate::surface::{ClosestOptions, ClosestPointIndex};
+    let mut out = Vec::new();
+    for (i, ns) in spec.nsided.iter().enumerate() {
+        let place = format!("nsided[{i}]");
+        let Some(patch) = built.surfaces.iter().find_map(|s| match &s.kind {
+            SurfaceKind::NSided(p) if s.place == place => Some(p.patch().clone()),
+            _ => None,
+        }) else {
+            continue;
+        };
+        let report = patch.report(NSIDED_SAMPLES);
+        let boundary = report.boundary.iter().fold(0.0f64, |a, b| a.max(*b)) / report.size;
+        let mut g1 = report.g1.clone();
+        for (j, side) in ns.sides.iter().enumerate() {
+            let Some(name) = &side.tangent_to else {
+                continue;
+            };
+            let Some(target) = built.surfaces.iter().find(|s| &s.name == name) else {
+                continue;
+            };
+            let index = ClosestPointIndex::new(target.surface(), &ClosestOptions::default());
+            let mut worst: f64 = 0.0;
+            for m in 0..NSIDED_SAMPLES {
+                let s = (m as f64 + 0.5) / NSIDED_SAMPLES as f64;
+                let (p, n) = patch.boundary_normal(j, s);
+                let angle = index.closest(p).map_or(f64::NAN, |c| {
+                    let m = target.surface().partials(c.u, c.v).normal();
+                    n.cross(&m).norm().atan2(n.dot(&m).abs())
+                });
+                worst = if angle.is_nan() {
+                    f64::NAN
+                } else {
+                    worst.max(angle)
+                };
+            }
+            g1[j] = Some(worst);
+        }
+        out.push(NSidedDiagnostics {
+            name: ns.name.clone(),
+            sides: patch.n(),
+            boundary,
+            g1,
+            corners: report
+                .corners
+                .iter()
+                .map(|c| (c.tangent_mismatch, c.twist_mismatch))
+                .collect(),
+        });
+    }
+    out
 }
 
 /// A number for JSON: non-finite values as null.
@@ -537,6 +640,16 @@ impl Diagnostics {
             "edges": edges,
             "attachments": attachments,
             "parameters": parameters,
+            "nsided": self.nsided.iter().map(|n| json!({
+                "name": n.name,
+                "sides": n.sides,
+                "boundary": jnum(n.boundary),
+                "g1": n.g1.iter().map(|g| g.map(jnum)).collect::<Vec<_>>(),
+                "corners": n.corners.iter().map(|(t, w)| json!({
+                    "tangent_mismatch": jnum(*t),
+                    "twist_mismatch": jnum(*w),
+                })).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
             "warnings": self.warnings,
         })
     }

@@ -181,7 +181,7 @@ pub fn check_report(
                 s.push_str(&spline_report(net));
                 continue;
             }
-            SurfaceKind::Parametric(_) => {
+            SurfaceKind::Parametric(_) | SurfaceKind::NSided(_) => {
                 let _ = writeln!(s, "surface {i} '{}': {}", patch.name, patch.kind.word());
                 continue;
             }
@@ -293,6 +293,25 @@ pub fn check_report(
                     q.triangles, q.min_angle_deg, q.max_aspect, q.inverted
                 );
             }
+        }
+    }
+    for n in &d.nsided {
+        let _ = writeln!(
+            s,
+            "n-sided patch '{}' ({} sides): sides met to {:.1e} (relative)",
+            n.name, n.sides, n.boundary
+        );
+        for (i, g) in n.g1.iter().enumerate() {
+            let (t, w) = n.corners[i];
+            let g1 = match g {
+                Some(g) => format!("G1 to {g:.1e} rad"),
+                None => "position only".to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "  side {i}: {g1}; corner {i}: tangent mismatch {t:.1e} rad, twist mismatch \
+                 {w:.1e}"
+            );
         }
     }
     if !d.parameters.is_empty() {

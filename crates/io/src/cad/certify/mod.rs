@@ -239,6 +239,13 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
                 BSplineSurface::new(b.degree(), ku, b.knots_v().to_vec(), b.control().to_vec())?;
             Ok(exact(b, [false, false]))
         }
+        SurfaceKind::NSided(s) => {
+            let mut a = approximate_sampled(&**s, tolerance, min_v)?;
+            a.note = Some(
+                "n-sided patches have no derivative bounds yet: the deviation is sampled".into(),
+            );
+            Ok(a)
+        }
         SurfaceKind::Parametric(p) => approximate_formula(p, tolerance),
         SurfaceKind::SpineEdited(s) => match s.derivative_sums() {
             Some(sums) => {

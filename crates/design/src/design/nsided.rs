@@ -1,0 +1,197 @@
+//! Builds the `[[nsided]]` patches: sides from the design's curves, ribbons from its surfaces.
+
+use super::curves::CurveBuilder;
+use super::solved::{DesignSurface, SurfaceKind};
+use crate::curve::Domain;
+use crate::nsided::{NSidedOptions, NSidedPatch, Ribbon, Side};
+use crate::spec::{NSidedSpec, OperatorSpec};
+use crate::surface::{ClosestOptions, ClosestPointIndex, Surface};
+use crate::{Error, Result, Vec3};
+use std::sync::Arc;
+
+/// Chebyshev–Lobatto points on `[0, 1]` at which a neighbour's normal is sampled; the
+/// patch's ribbon interpolates these samples (the check reports the angle to the neighbour's
+/// own normals between them).
+const NORMAL_SAMPLES: usize = 128;
+
+/// How far a side may lie from the surface it is tangent to, relative to the patch's size.
+const ON_SURFACE: f64 = 1e-7;
+
+/// Builds every `[[nsided]]` patch and appends its surfaces (one for four sides, else one per
+/// piece) to `surfaces`; each may be tangent to any surface before it.
+pub(crate) fn build_nsided(
+    specs: &[NSidedSpec],
+    builder: &mut CurveBuilder<'_>,
+    surfaces: &mut Vec<DesignSurface>,
+) -> Result<()> {
+    for (i, spec) in specs.iter().enumerate() {
+        let place = format!("nsided[{i}]");
+        let patch = build_one(spec, builder, surfaces, &place).map_err(|e| e.at(&place))?;
+        let patch = Arc::new(patch);
+        let pieces = patch.surfaces();
+        let many = pieces.len() > 1;
+        for (k, piece) in pieces.into_iter().enumerate() {
+            let name = if many {
+                format!("{}.{k}", spec.name)
+            } else {
+                spec.name.clone()
+            };
+            if surfaces.iter().any(|s| s.name == name) {
+                return Err(
+                    Error::not_unique(format!("the surface name '{name}' is used twice"))
+                        .at(&format!("{place}.name")),
+                );
+            }
+            surfaces.push(DesignSurface {
+                name,
+                place: place.clone(),
+                kind: SurfaceKind::NSided(Arc::new(piece)),
+                operator: Some(OperatorSpec::Polyharmonic {
+                    order: spec.order,
+                    a: spec.a,
+                }),
+                conditions: Vec::new(),
+            });
+        }
+    }
+    Ok(())
+}
+
+fn build_one(
+    spec: &NSidedSpec,
+    builder: &mut CurveBuilder<'_>,
+    surfaces: &[DesignSurface],
+    place: &str,
+) -> Result<NSidedPatch> {
+    let mut sides = Vec::with_capacity(spec.sides.len());
+    for (j, s) in spec.sides.iter().enumerate() {
+        let at = format!("{place}.sides[{j}]");
+        let curve = builder.reference(&s.curve, &format!("{at}.curve"))?;
+        let [t0, t1] = match (s.range, curve.domain()) {
+            (Some(r), _) => r,
+            (None, Domain::Interval(a, b)) => [a, b],
+            (None, Domain::Periodic) => {
+                return Err(Error::invalid(
+                    "a periodic curve needs `range = [t0, t1]` to be a side",
+                )
+                .at(&format!("sides[{j}]")))
+            }
+        };
+        let (t0, t1) = if s.reverse { (t1, t0) } else { (t0, t1) };
+        let ribbon = match (&s.tangent_to, &s.derivative) {
+            (Some(_), Some(_)) => {
+                return Err(
+                    Error::invalid("give `tangent_to` or `derivative`, not both")
+                        .at(&format!("sides[{j}]")),
+                )
+            }
+            (None, None) => Ribbon::Position,
+            (None, Some(d)) => Ribbon::Derivative {
+                curve: builder.reference(d, &format!("{at}.derivative"))?,
+                t0,
+                t1,
+            },
+            (Some(name), None) => {
+                let Some(target) = surfaces.iter().find(|x| &x.name == name) else {
+                    let names: Vec<&str> = surfaces.iter().map(|x| x.name.as_str()).collect();
+                    return Err(Error::invalid(format!(
+                        "no surface '{name}' before this patch (there are: {})",
+                        if names.is_empty() {
+                            "none".to_string()
+                        } else {
+                            names.join(", ")
+                        }
+                    ))
+                    .at(&format!("sides[{j}].tangent_to")));
+                };
+                let side = Side::position(curve.clone(), t0, t1);
+                let normals = sample_normals(&side, target.surface())
+                    .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;
+                Ribbon::TangentPlane(Arc::new(move |s| lobatto_interpolate(&normals, s)))
+            }
+        };
+        sides.push(Side {
+            curve,
+            t0,
+            t1,
+            ribbon,
+        });
+    }
+    let options = NSidedOptions {
+        order: spec.order,
+        a: spec.a,
+        degree: spec.degree,
+        gap_tolerance: spec.gap_tolerance,
+    };
+    NSidedPatch::solve(sides, &options)
+}
+
+/// The neighbour's unit normals at the side's Chebyshev–Lobatto points (by closest point).
+fn sample_normals(side: &Side, surface: &dyn Surface) -> Result<Vec<Vec3>> {
+    let index = ClosestPointIndex::new(surface, &ClosestOptions::default());
+    let mut points = Vec::with_capacity(NORMAL_SAMPLES + 1);
+    let mut size: f64 = 0.0;
+    for j in 0..=NORMAL_SAMPLES {
+        let s = lobatto(j);
+        let p = side.point(s);
+        points.push(p);
+        size = size.max((p - points[0]).norm());
+    }
+    let mut normals = Vec::with_capacity(points.len());
+    for (j, p) in points.iter().enumerate() {
+        let Some(c) = index.closest(*p) else {
+            return Err(Error::invalid(format!(
+                "no point of the surface was found near the side at s = {:.4}",
+                lobatto(j)
+            )));
+        };
+        if c.distance > ON_SURFACE * size.max(1e-300) {
+            return Err(Error::invalid(format!(
+                "the side does not lie on the surface: at s = {:.4} it is {:.3e} away",
+                lobatto(j),
+                c.distance
+            )));
+        }
+        let n = surface.partials(c.u, c.v).normal_or_none().ok_or_else(|| {
+            Error::invalid(format!(
+                "the surface has no normal where the side meets it (s = {:.4})",
+                lobatto(j)
+            ))
+        })?;
+        normals.push(n);
+    }
+    // One orientation along the side (a closest point on a seam may come from either side).
+    for j in 1..normals.len() {
+        if normals[j].dot(&normals[j - 1]) < 0.0 {
+            normals[j] = -normals[j];
+        }
+    }
+    Ok(normals)
+}
+
+/// The `j`-th Chebyshev–Lobatto point of [`NORMAL_SAMPLES`] on `[0, 1]`, increasing.
+fn lobatto(j: usize) -> f64 {
+    0.5 * (1.0 - (std::f64::consts::PI * j as f64 / NORMAL_SAMPLES as f64).cos())
+}
+
+/// The polynomial through `values` at the Chebyshev–Lobatto points, at `s` (barycentric
+/// formula).
+fn lobatto_interpolate(values: &[Vec3], s: f64) -> Vec3 {
+    let n = values.len() - 1;
+    let mut num = Vec3::zeros();
+    let mut den = 0.0;
+    for (j, v) in values.iter().enumerate() {
+        let x = lobatto(j);
+        let d = s - x;
+        if d == 0.0 {
+            return *v;
+        }
+        let mut w = if j % 2 == 0 { 1.0 } else { -1.0 };
+        if j == 0 || j == n {
+            w *= 0.5;
+        }
+        num += v * (w / d);
+        den += w / d;
+    }
+    num / den
+}

@@ -1,0 +1,130 @@
+//! `[[nsided]]` patches in the design file: the examples solve G1 to their neighbours, the
+//! panel reproduces its closed form, the file round-trips, and bad sides are refused with
+//! their place.
+
+use super::*;
+use crate::spec::{parse_design, write_design};
+use crate::Vec3;
+
+fn example(name: &str) -> String {
+    let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+fn patch_of(d: &SolvedDesign, name: &str) -> std::sync::Arc<crate::nsided::NSidedPatch> {
+    d.surfaces
+        .iter()
+        .find_map(|s| match &s.kind {
+            SurfaceKind::NSided(p) if s.name.starts_with(name) => Some(p.patch().clone()),
+            _ => None,
+        })
+        .unwrap()
+}
+
+#[test]
+fn the_vertex_blend_meets_its_fillets_and_lies_near_the_rolling_ball() {
+    let spec = parse_design(&example("nsided_vertex_blend.toml")).unwrap();
+    let d = solve_design(&spec).unwrap();
+    let names: Vec<&str> = d.surfaces.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names[3..], ["corner.0", "corner.1", "corner.2"]);
+    let report = patch_of(&d, "corner").report(64);
+    for b in &report.boundary {
+        assert!(*b < 1e-14, "{report:?}");
+    }
+    // The ribbons interpolate the fillets' normals at 129 Chebyshev points: smooth fields, so
+    // the interpolant is exact to rounding and G1 holds to rounding.
+    for g in &report.g1 {
+        assert!(g.unwrap() < 1e-12, "{report:?}");
+    }
+    // The rolling-ball blend is the sphere of radius 0.2 about (0.8, 0.8, 0.8); the PDE patch
+    // is a different fair surface with the same boundary and tangent planes, not the sphere.
+    // Measured: 2.5 % of r at most (OpenCascade's plate on the unit octant: 1.0 %; the
+    // magnitude of our cross derivative is prescribed, not optimised). The bound 3 % guards
+    // the shape against regressions; the exactness is asserted above.
+    let c = Vec3::repeat(0.8);
+    for s in d.surfaces.iter().filter(|s| s.name.starts_with("corner")) {
+        for i in 0..=10 {
+            for j in 0..=10 {
+                let x = s.surface().point(i as f64 / 10.0, j as f64 / 10.0);
+                let dev = ((x - c).norm() - 0.2).abs();
+                assert!(dev < 0.03 * 0.2, "{}: {dev}", s.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_panel_reproduces_the_extruded_profile() {
+    let spec = parse_design(&example("nsided_panel.toml")).unwrap();
+    let d = solve_design(&spec).unwrap();
+    let panel = d.surfaces.iter().find(|s| s.name == "panel").unwrap();
+    let mut worst: f64 = 0.0;
+    for i in 0..=20 {
+        for j in 0..=20 {
+            let x = panel.surface().point(i as f64 / 20.0, j as f64 / 20.0);
+            let want = 0.8660254037844386 + 0.19245008972987526 * (2.25 - x.y * x.y);
+            worst = worst.max((x.z - want).abs());
+        }
+    }
+    // The profile extruded along x is biharmonic, and the data (positions, the cylinders'
+    // tangent planes, the corner-compatible cross derivatives) are its own: the patch is it
+    // up to the Ritz error, which is zero for a quadratic that the interpolant reproduces.
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+#[test]
+fn nsided_tables_round_trip_through_the_file() {
+    for name in ["nsided_vertex_blend.toml", "nsided_panel.toml"] {
+        let spec = parse_design(&example(name)).unwrap();
+        let text = write_design(&spec).unwrap();
+        assert!(text.contains("[[nsided]]"), "{text}");
+        assert_eq!(parse_design(&text).unwrap(), spec, "{text}");
+    }
+    let mut spec = parse_design(&example("nsided_panel.toml")).unwrap();
+    spec.nsided[0].order = 2;
+    spec.nsided[0].degree = 9;
+    spec.nsided[0].sides[0].reverse = false;
+    spec.nsided[0].sides[0].range = Some([0.0, 1.0]);
+    let text = write_design(&spec).unwrap();
+    assert_eq!(parse_design(&text).unwrap(), spec, "{text}");
+}
+
+fn error_of(edit: &dyn Fn(&mut crate::spec::DesignSpec)) -> String {
+    let mut spec = parse_design(&example("nsided_panel.toml")).unwrap();
+    edit(&mut spec);
+    solve_design(&spec).unwrap_err().to_string()
+}
+
+#[test]
+fn bad_sides_are_refused_with_their_place() {
+    let e = error_of(&|s| s.nsided[0].sides[1].tangent_to = Some("nothing".into()));
+    assert!(
+        e.contains("nsided[0].sides[1].tangent_to") && e.contains("nothing"),
+        "{e}"
+    );
+    // The left wing does not hold the right side.
+    let e = error_of(&|s| s.nsided[0].sides[1].tangent_to = Some("wing_left".into()));
+    assert!(
+        e.contains("nsided[0].sides[1].tangent_to") && e.contains("does not lie"),
+        "{e}"
+    );
+    // A reversed side breaks the loop at both of its corners.
+    let e = error_of(&|s| s.nsided[0].sides[0].reverse = true);
+    assert!(e.contains("does not close at corner"), "{e}");
+    let e = error_of(&|s| {
+        let side = s.nsided[0].sides[0].clone();
+        s.nsided[0].sides.truncate(2);
+        s.nsided[0].sides.truncate(1);
+        s.nsided[0].sides.push(side);
+    });
+    assert!(e.contains("nsided[0]") && e.contains("3 to 8 sides"), "{e}");
+    let e = error_of(&|s| s.nsided[0].sides[2].range = Some([0.0, 2.0]));
+    assert!(
+        e.contains("nsided[0].sides[2]") && e.contains("outside"),
+        "{e}"
+    );
+    let e = error_of(&|s| s.nsided[0].name = "wing_left".into());
+    assert!(e.contains("used twice"), "{e}");
+    let e = error_of(&|s| s.nsided[0].order = 3);
+    assert!(e.contains("order 1 or 2"), "{e}");
+}
