@@ -5,6 +5,8 @@
 //! design for function by optimisation (`optimize`) and fitting triangle meshes with designs
 //! (`fit`).
 
+#![warn(missing_docs)]
+
 use pdeshape_design::{analysis, design, memory, mesh, spec};
 use pdeshape_geometry::{formula, surface};
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};

@@ -15,8 +15,11 @@ pub const MAX_SAMPLES: usize = 1 << 24;
 /// `a0 + Σ_{n=1}^{M} [cos[n-1]·cos(nv) + sin[n-1]·sin(nv)]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FourierSeries {
+    /// The mean `a₀`.
     pub a0: Vec3,
+    /// `aₙ` for `n = 1 … M`: `cos[n − 1]` multiplies `cos nv`.
     pub cos: Vec<Vec3>,
+    /// `bₙ` for `n = 1 … M`: `sin[n − 1]` multiplies `sin nv` (as long as `cos`).
     pub sin: Vec<Vec3>,
 }
 

@@ -8,6 +8,8 @@
 //! file: the layers above (`pdeshape-design`, `pdeshape-io`, `pdeshape-apps`) build on it, and the
 //! `pdeshape` crate re-exports what a user needs.
 
+#![warn(missing_docs)]
+
 pub mod bfs;
 #[doc(hidden)]
 pub mod check;

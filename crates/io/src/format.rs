@@ -12,10 +12,15 @@ use std::path::Path;
 /// An output format of a design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum OutputFormat {
+    /// Wavefront OBJ (`.obj`).
     Obj,
+    /// Binary STL (`.stl`).
     Stl,
+    /// Binary little-endian PLY (`.ply`).
     Ply,
+    /// glTF 2.0 binary (`.glb`).
     Glb,
+    /// Full-precision grid samples as CSV (`.csv`).
     Csv,
     /// STEP (ISO 10303-21; `.step` or `.stp`).
     Step,
@@ -185,7 +190,9 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
 /// A picture size, `WIDTHxHEIGHT` as [`parse_size`] reads it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PictureSize {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
 }
 

@@ -5,6 +5,8 @@
 //! (`cad`: STEP, IGES), pictures (`render`) and the outputs of dynamic-curve runs
 //! (`dynamic_output`).
 
+#![warn(missing_docs)]
+
 use pdeshape_design::{design, memory, mesh, spec, trim};
 use pdeshape_geometry::{curve, dynamic, elliptic, formula, majorant, spline, splinepde, surface};
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};

@@ -30,6 +30,10 @@ fn integrals_map(i: &Integrals) -> serde_json::Map<String, serde_json::Value> {
     m
 }
 
+/// The design's integrals as `pdeshape analyze --json` prints them (without trims), as
+/// pretty-printed JSON ending in a newline: the title, whether the design is closed, each patch's
+/// integrals, curvature ranges and quadrature figures, the total (with the reduced volume and
+/// equivalent radius), the caps and the estimated quadrature error.
 pub fn integrals_json(title: &Option<String>, d: &DesignIntegrals) -> String {
     let patches: Vec<serde_json::Value> = d
         .patches
@@ -79,6 +83,10 @@ pub fn integrals_json(title: &Option<String>, d: &DesignIntegrals) -> String {
     s
 }
 
+/// The design's integrals as `pdeshape analyze` prints them (without trims), as a text table:
+/// the title, each patch's and the total's integrals, each patch's curvature ranges, whether the
+/// design is closed (or which caps close it), the reduced volume and the quadrature's estimated
+/// error.
 pub fn integrals_table(title: &Option<String>, d: &DesignIntegrals) -> String {
     let mut s = String::new();
     if let Some(t) = title {

@@ -17,13 +17,16 @@ pub struct DynamicOutcome {
     pub nodes: Vec<Vec3>,
     /// Wall time of the solve, seconds.
     pub seconds: f64,
+    /// What the run reports, by kind of run.
     pub kind: OutcomeKind,
 }
 
 /// What a general run or an interpolation reports.
 #[derive(Clone, Debug)]
 pub enum OutcomeKind {
+    /// A general run of the scheme.
     Run(RunReport),
+    /// An interpolating curve.
     Interpolate(InterpolationReport),
 }
 
@@ -51,21 +54,25 @@ pub struct RunReport {
 pub struct InterpolationReport {
     /// `J`.
     pub intervals: usize,
+    /// The interior data points `p_1 … p_{n−1}`.
     pub points: Vec<Vec3>,
-    /// The node parameter `u` of each point and the curve's distance from it.
+    /// The node parameter `u_i` of each point.
     pub params: Vec<f64>,
+    /// The curve's distance `|p_i − C(u_i)|` from each point.
     pub distances: Vec<f64>,
+    /// Time steps taken.
     pub steps: usize,
     /// The time step.
     pub dt: f64,
     /// Force updates made.
     pub updates: usize,
-    /// Relative tolerance, and the data's size it is relative to (largest extent of the
-    /// bounding box of the points and the ends).
+    /// Distance tolerance, relative to `size`.
     pub tolerance: f64,
+    /// The data's size: the largest extent of the bounding box of the points and the ends.
     pub size: f64,
     /// Distances of the curve's start, end, start tangent and end tangent from the given ones.
     pub end_errors: [f64; 4],
+    /// The final curve's bending energy.
     pub bending_energy: f64,
     /// The curve's given start and end points.
     pub ends: [Vec3; 2],

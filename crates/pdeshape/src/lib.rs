@@ -24,6 +24,8 @@
 //! for each item: `mesh` holds tessellation and the mesh writers, `design` the solved design and
 //! its writing.
 
+#![warn(missing_docs)]
+
 pub use pdeshape_apps::{anim, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{

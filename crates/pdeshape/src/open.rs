@@ -43,6 +43,7 @@ pub struct OpenError {
     /// The place in the design the error is about (`morph.source`, `curves.rim.radius`, …),
     /// empty for errors of the file itself.
     pub place: String,
+    /// What kind of failure it was.
     pub kind: OpenErrorKind,
 }
 
@@ -94,6 +95,7 @@ pub fn io_words(e: &std::io::Error) -> String {
 pub struct DesignFile {
     /// The name errors are located in (the path as given, or as a shell shows it).
     pub file: String,
+    /// The file's text.
     pub text: String,
 }
 

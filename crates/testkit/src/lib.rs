@@ -5,6 +5,8 @@
 //! A dev-dependency of `pdeshape` and `pdeshape-cli` only; the layer crates' unit tests keep
 //! their own helpers (a dev-dependency on this crate would give them two copies of their types).
 
+#![warn(missing_docs)]
+
 pub mod curves;
 pub mod designs;
 pub mod fit_meshes;

@@ -169,7 +169,9 @@ impl Worker {
 /// worker had solved before (handed over again without solving, tessellating or welding).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Solves {
+    /// Frames solved.
     pub solved: usize,
+    /// Frames equal to the one their worker had solved before, handed over again.
     pub repeated: usize,
 }
 
@@ -274,15 +276,17 @@ pub fn for_each_frame(
 /// every frame (design coordinates).
 #[derive(Clone, Debug, Default)]
 pub struct Keyframes {
-    /// The design's title and unit.
+    /// The design's title.
     pub title: Option<String>,
+    /// The design's length unit.
     pub units: Units,
     /// The times of the frames.
     pub times: Vec<f64>,
     /// The triangles, counter-clockwise seen from the side the normals point to.
     pub triangles: Vec<[u32; 3]>,
-    /// Per frame, per vertex.
+    /// Vertex positions, `positions[frame][vertex]`.
     pub positions: Vec<Vec<[f32; 3]>>,
+    /// Unit vertex normals, `normals[frame][vertex]`.
     pub normals: Vec<Vec<[f32; 3]>>,
     /// Every edge is used by two triangles (in the first frame).
     pub closed: bool,

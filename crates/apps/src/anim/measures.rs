@@ -9,9 +9,11 @@ use std::io::Write;
 /// One frame's measures (design units).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
+    /// The frame's time.
     pub t: f64,
     /// The morph parameter, for a morph.
     pub epsilon: Option<f64>,
+    /// The total area of the design's surfaces (the caps of `volume` not included).
     pub area: f64,
     /// The enclosed volume; an open design is closed by caps over its open boundaries, as
     /// `pdeshape analyze` does ([`crate::analysis::Cap`]).
@@ -39,6 +41,7 @@ pub fn measure(solved: &SolvedDesign) -> Result<(f64, f64)> {
 /// The measures of all frames.
 #[derive(Clone, Debug, Default)]
 pub struct Measures {
+    /// One row per frame, in order.
     pub rows: Vec<Row>,
     /// The design's unit (`mm`, …), for the headers.
     pub units: String,

@@ -21,8 +21,9 @@ use rayon::prelude::*;
 pub struct Anchor {
     /// The index of the surface in `SolvedDesign::surfaces`.
     pub surface: usize,
-    /// The foot point's parameters.
+    /// The foot point's parameter `u`.
     pub u: f64,
+    /// The foot point's parameter `v`.
     pub v: f64,
     /// `X₀ = X(u, v)` on the reference design.
     pub foot: Vec3,
@@ -153,7 +154,9 @@ pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]], fallback: Vec3
 
 /// A re-targeted mesh's frames, collected as [`Keyframes`] for the glTF writer.
 pub struct Retarget {
+    /// Where each vertex of the mesh is anchored on the reference design.
     pub correspondence: Correspondence,
+    /// The frames so far (one per [`Retarget::push`]), with the mesh's triangles.
     pub keys: Keyframes,
 }
 

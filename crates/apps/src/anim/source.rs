@@ -12,8 +12,12 @@ pub enum Animation {
     Timed(TimedDesign),
     /// A morph (§6.4.1) over the interval of `time` with the ease `γ`.
     Morph {
+        /// The two designs interpolated.
         morph: Morph,
+        /// The frames' times; the morph runs from `ε = 0` at `time.start` to `ε = 1` at `time.end`.
         time: TimeSpec,
+        /// The ease exponent `γ`: `ε = τ^γ` with `τ = (t − start)/(end − start)` clamped to
+        /// `[0, 1]`.
         ease: f64,
     },
 }

@@ -61,13 +61,16 @@ const MIN_SPAN: usize = 3;
 /// One station: `S` samples of a periodic curve at `v_k = 2πk/S`, or a pole.
 #[derive(Clone, Debug)]
 pub struct Station {
+    /// The `S` samples, `v_k = 2πk/S`; a pole repeats its point `S` times.
     pub points: Vec<Vec3>,
+    /// True for a pole (one point repeated).
     pub pole: bool,
     /// The name of the part the station belongs to (templates; empty otherwise).
     pub part: String,
 }
 
 impl Station {
+    /// A pole at `p`: `samples` copies of it.
     pub fn at_pole(p: Vec3, samples: usize, part: &str) -> Self {
         Station {
             points: vec![p; samples],
@@ -96,10 +99,12 @@ pub struct Chain {
 
 /// The solved unknown curves and each patch's largest error.
 pub struct Solved {
+    /// The smoothing parameter `a` of the biharmonic patches.
     pub a: f64,
     /// Hermite: the derivative curve at each node. Four points: the two inner curves of each
     /// patch, patch by patch.
     pub curves: Vec<Series>,
+    /// Each patch's largest error (distance along the mesh's normal, design units), one per patch.
     pub errors: Vec<f64>,
 }
 
@@ -204,14 +209,17 @@ impl Chain {
         }
     }
 
+    /// The Fourier modes `M` kept.
     pub fn modes(&self) -> usize {
         self.modes
     }
 
+    /// Number of stations.
     pub fn len(&self) -> usize {
         self.stations.len()
     }
 
+    /// True for a chain without stations.
     pub fn is_empty(&self) -> bool {
         self.stations.is_empty()
     }

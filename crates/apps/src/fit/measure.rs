@@ -131,8 +131,11 @@ impl MeshDistance {
 /// Largest and root-mean-square distance over a set of points.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct Distances {
+    /// Number of points measured.
     pub points: usize,
+    /// Largest distance (0 for no points).
     pub max: f64,
+    /// Root-mean-square distance.
     pub rms: f64,
 }
 
@@ -150,16 +153,23 @@ impl Distances {
 /// The measures of a fit (module documentation).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Measures {
+    /// The diagonal of the mesh's bounding box.
     pub diagonal: f64,
     /// From the mesh's vertices to the fitted surfaces.
     pub mesh_to_fit: Distances,
     /// From samples of the fitted surfaces to the mesh.
     pub fit_to_mesh: Distances,
+    /// Two-sided Hausdorff distance: the larger of the two directions' maxima.
     pub hausdorff: f64,
+    /// `√((rms₁² + rms₂²)/2)` of the two directions' root-mean-square distances.
     pub rms: f64,
+    /// `hausdorff / diagonal`.
     pub hausdorff_relative: f64,
+    /// `rms / diagonal`.
     pub rms_relative: f64,
+    /// Triangles of the mesh.
     pub mesh_triangles: usize,
+    /// Vertices of the mesh (used by a triangle or not).
     pub mesh_vertices: usize,
     /// `12·V + 12·T` bytes.
     pub mesh_bytes: usize,
@@ -180,8 +190,9 @@ pub struct Measures {
 pub struct PointDistances {
     /// Distance of each mesh vertex to the fit (`NaN` for vertices no triangle uses).
     pub mesh: Vec<f64>,
-    /// The fitted surfaces' sample grids and the distance of each sample to the mesh.
+    /// The fitted surfaces' sample grids, one per surface.
     pub grids: Vec<Samples>,
+    /// The distance of each sample to the mesh: `fit[k][i]` for vertex `i` of `grids[k]`.
     pub fit: Vec<Vec<f64>>,
 }
 

@@ -14,7 +14,9 @@ pub const MAX_TRIANGLES: usize = 4_000_000;
 /// design layer's [`crate::mesh::TriMesh`] is the mesh a design is written as.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputMesh {
+    /// Vertex positions.
     pub positions: Vec<Vec3>,
+    /// Triangles as indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -34,8 +36,11 @@ pub struct Topology {
 /// Mesh file formats, by extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MeshFormat {
+    /// Wavefront OBJ (`.obj`).
     Obj,
+    /// STL (`.stl`).
     Stl,
+    /// PLY (`.ply`).
     Ply,
 }
 

@@ -89,6 +89,7 @@ pub enum FitMode {
 pub struct Fit {
     /// The fitted design.
     pub spec: DesignSpec,
+    /// The mode that made it.
     pub mode: FitMode,
     /// The sections' frame (of the first part, for a template).
     pub frame: AxisFrame,
@@ -98,6 +99,7 @@ pub struct Fit {
     pub dropped: usize,
     /// Fourier modes of the curves (the most of any part).
     pub modes: usize,
+    /// Patches of the fitted design (over all parts).
     pub patches: usize,
     /// The smoothing parameter chosen (of the first part, for a template).
     pub a: f64,

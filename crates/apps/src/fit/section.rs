@@ -22,8 +22,11 @@ use std::collections::HashMap;
 pub struct AxisFrame {
     /// A point on the axis: heights are measured from it.
     pub origin: Vec3,
+    /// Unit vector in the section planes: the direction of angle 0 about a section's centroid.
     pub e1: Vec3,
+    /// Unit vector in the section planes, `axis × e₁`: the direction of angle π/2.
     pub e2: Vec3,
+    /// Unit normal of the section planes; heights are measured along it.
     pub axis: Vec3,
 }
 
@@ -249,7 +252,9 @@ fn nearest(pieces: &[Piece], p: Vec3) -> usize {
 /// A piece of a plane section: a closed loop, or an open polyline between two boundary edges.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Piece {
+    /// The points in order, each on a mesh edge.
     pub points: Vec<Vec3>,
+    /// True for a closed loop, false for an open polyline.
     pub closed: bool,
     /// The mesh edge (its vertices, smaller first) of each point: for an open piece, the first
     /// and the last are the boundary edges it ends on.
@@ -266,7 +271,9 @@ impl Piece {
 /// A section: its plane's height, centroid, and the curve sampled at equally spaced angles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
+    /// Height of the section's plane along the frame's axis.
     pub height: f64,
+    /// The area centroid of the section's loop, about which the angles are measured.
     pub centroid: Vec3,
     /// `C(2πk/S)`, `k = 0 … S − 1`.
     pub points: Vec<Vec3>,

@@ -66,17 +66,22 @@ pub(super) const MAX_PLANES: usize = 1024;
 pub struct Template {
     /// The smoothing parameter of every part; `None` chooses per chain.
     pub a: Option<f64>,
+    /// The parts, in the template's order.
     pub parts: Vec<Part>,
 }
 
 /// One part of a template.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    /// The part's name (letters, digits, `_` and `-`).
     pub name: String,
+    /// Closed loops or open profiles.
     pub mode: PartMode,
     /// The planes given (at least two), in order along the part.
     pub planes: Vec<Plane>,
+    /// How the part ends before its first plane.
     pub start: End,
+    /// How the part ends after its last plane.
     pub end: End,
     /// Fine sections of the part.
     pub sections: usize,
@@ -96,15 +101,20 @@ pub enum PartMode {
 /// How a part ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum End {
+    /// The part ends at its plane's section.
     Open,
+    /// The part closes at the mesh's extreme vertex beyond the plane (tube parts).
     Pole,
+    /// The part ends at the arc of the mesh's boundary beyond the plane (sheet parts).
     Edge,
 }
 
 /// A plane through `point` with unit `normal`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plane {
+    /// A point of the plane.
     pub point: Vec3,
+    /// Unit normal of the plane: a part runs the way its planes' normals point.
     pub normal: Vec3,
 }
 

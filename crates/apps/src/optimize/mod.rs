@@ -304,6 +304,7 @@ impl Evaluation {
 pub struct Problem {
     /// The design as written (the parameters act on a copy of it).
     pub base: DesignSpec,
+    /// The parameters searched over, with their bounds.
     pub parameters: Parameters,
     objective: Formula,
     constraints: Vec<Constraint>,
@@ -311,6 +312,7 @@ pub struct Problem {
     pub spontaneous_curvature: f64,
     /// Quadrature points `(u, v)` per patch.
     pub quadrature: (usize, usize),
+    /// Options of the annealing search and its polish.
     pub options: SearchOptions,
     /// The shell analysis, when a formula uses `mass`, `max_shear` or `yield`.
     strength: Option<Strength>,

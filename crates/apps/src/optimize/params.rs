@@ -25,9 +25,13 @@ pub use crate::design::ParamKind;
 pub struct Parameter {
     /// The name as written (`d1Dx`, `a`, `d1cT`, or a `[[parameters]]` entry's).
     pub name: String,
+    /// What the parameter changes.
     pub kind: ParamKind,
+    /// Lower bound.
     pub min: f64,
+    /// Upper bound.
     pub max: f64,
+    /// The value the search starts from, within `[min, max]`.
     pub initial: f64,
     /// The index of the `[[parameters]]` entry it sets, if it names one.
     pub entry: Option<usize>,
@@ -36,6 +40,7 @@ pub struct Parameter {
 /// The parameters of a search, ready to act on its design.
 #[derive(Clone, Debug)]
 pub struct Parameters {
+    /// The parameters, in the order `[optimize] parameters` names them.
     pub list: Vec<Parameter>,
     /// What the book-notation parameters need (centroids, offset directions).
     book: BookEdits,

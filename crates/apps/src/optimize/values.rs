@@ -11,7 +11,9 @@ use crate::Error;
 /// why (the message names the parameter where it is not obvious from the index).
 #[derive(Debug)]
 pub struct ValueError {
+    /// Index of the refused pair in the list given to [`apply_values`].
     pub index: usize,
+    /// Why it was refused.
     pub error: Error,
 }
 

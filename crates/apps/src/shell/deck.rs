@@ -8,21 +8,28 @@ use std::fmt::Write;
 /// vector).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineLoad {
+    /// Index of the patch whose edge is loaded.
     pub patch: usize,
+    /// The loaded edge.
     pub side: Side,
+    /// Force per length of edge (N/m).
     pub force_per_length: f64,
+    /// Unit direction of the force.
     pub direction: [f64; 3],
 }
 
 /// A shell model: mesh, thickness, material, clamped edges and loads.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShellModel {
+    /// The shell mesh of the design's surfaces, in metres.
     pub mesh: ShellMesh,
     /// Wall thickness (m).
     pub thickness: f64,
+    /// The shell's material.
     pub material: Material,
     /// Edges with every displacement and rotation fixed.
     pub clamped: Vec<(usize, Side)>,
+    /// Loads along patch edges.
     pub line_loads: Vec<LineLoad>,
     /// Uniform pressure (Pa) on the side the normals point away from: positive pushes along the
     /// normals (inflates a closed, outward-oriented surface).

@@ -7,6 +7,7 @@ use crate::{Error, Result};
 pub struct FrdResults {
     /// Node number → coordinates (the nodes the file lists, expanded shell nodes included).
     pub nodes: std::collections::BTreeMap<u32, [f64; 3]>,
+    /// Node number → displacement `[u_x, u_y, u_z]`.
     pub displacements: std::collections::BTreeMap<u32, [f64; 3]>,
     /// `[sxx, syy, szz, sxy, syz, szx]`.
     pub stresses: std::collections::BTreeMap<u32, [f64; 6]>,

@@ -41,9 +41,11 @@ pub struct ShellReport {
     pub displacement: Vec<[f64; 3]>,
     /// The largest of `max_shear` and the node where it occurs.
     pub peak: MaxShear,
-    /// Seconds spent writing the deck, in the solver, and reading back.
+    /// Seconds spent writing the deck.
     pub deck_seconds: f64,
+    /// Seconds spent in the solver.
     pub solver_seconds: f64,
+    /// Seconds spent reading the results back onto the shell nodes.
     pub read_seconds: f64,
 }
 

@@ -35,7 +35,9 @@ impl Default for RunOptions {
 /// What one run left behind: the `.frd` result file's text and the solver's wall time.
 #[derive(Clone, Debug)]
 pub struct RunOutput {
+    /// The text of the `.frd` result file.
     pub frd: String,
+    /// The solver's wall time, in seconds.
     pub seconds: f64,
 }
 

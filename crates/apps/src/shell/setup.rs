@@ -24,7 +24,9 @@ pub const BYTES_PER_SHELL_NODE: u64 = 8 * 1024;
 /// A line load of the setup, its direction resolved when the model is built.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoadSetup {
+    /// Index of the patch whose edge is loaded.
     pub patch: usize,
+    /// The loaded edge.
     pub side: Side,
     /// N/m.
     pub force: f64,
@@ -37,13 +39,17 @@ pub struct LoadSetup {
 pub struct ShellSetup {
     /// Wall thickness (m).
     pub thickness: f64,
+    /// The shell's material.
     pub material: Material,
     /// Element grid cells per patch.
     pub elements: (usize, usize),
+    /// Edges `(patch, side)` with every displacement and rotation fixed.
     pub clamped: Vec<(usize, Side)>,
+    /// Loads along patch edges.
     pub loads: Vec<LoadSetup>,
     /// Pa.
     pub pressure: f64,
+    /// Longest a CalculiX run may take (default 300 s).
     pub time_limit: Duration,
     /// Metres per unit of the design's coordinates.
     pub metres: f64,

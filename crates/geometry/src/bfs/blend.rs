@@ -13,9 +13,14 @@ use crate::{Error, Result, Vec3};
 /// parameters when `N` points out of `S`'s domain, as the blend continues `S`).
 #[derive(Clone, Copy)]
 pub struct Join<'a> {
+    /// The primary surface `S`.
     pub surface: &'a dyn Surface,
+    /// Start `(u, v)` of the join line in `S`'s parameter plane, at the blend's `x = 0`.
     pub from: [f64; 2],
+    /// End `(u, v)` of the join line, at the blend's `x = 1`; must differ from `from`.
     pub to: [f64; 2],
+    /// The direction `N` in `S`'s `(u, v)` plane that the blend's `y` derivative follows; not
+    /// parallel to `to − from`.
     pub cross: [f64; 2],
 }
 
@@ -25,15 +30,19 @@ pub struct BlendProblem<'a> {
     pub start: Join<'a>,
     /// The join of the edge `y = 1`.
     pub end: Join<'a>,
-    /// Elements in `x` (along the joins) and `y` (across).
+    /// Elements in `x` (along the joins).
     pub nx: usize,
+    /// Elements in `y` (across, from the `start` join to the `end` join).
     pub ny: usize,
     /// Identify the edges `x = 0` and `x = 1` (a closed tube; both joins must be closed lines).
     pub periodic: bool,
+    /// The energy `(v, v)_L` of Eq. 6 (its Euler–Lagrange operator is the PDE the blend solves).
     pub energy: Energy,
+    /// The weight `ε > 0` of the energy against the data points in Eq. 6 (finite).
     pub epsilon: f64,
-    /// Data sites in `[0, 1]²` and the points the blend should pass near.
+    /// Data sites `a_i` in `[0, 1]²` (the paper's `A`).
     pub sites: Vec<[f64; 2]>,
+    /// The points `β_i` the blend should pass near, one per site.
     pub values: Vec<Vec3>,
 }
 
@@ -55,15 +64,22 @@ pub struct JoinReport {
 /// closed lines that is not periodic, the gap between its edges `x = 0` and `x = 1`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlendReport {
+    /// Mismatch along the join `y = 0`.
     pub start: JoinReport,
+    /// Mismatch along the join `y = 1`.
     pub end: JoinReport,
+    /// Distance `|σ(a_i) − β_i|` from the blend to each data point, in the order of `sites`.
     pub point_distances: Vec<f64>,
+    /// For a blend between closed joins that is not periodic: the largest distance between its
+    /// edges `x = 0` and `x = 1`; `None` otherwise.
     pub seam_gap: Option<f64>,
 }
 
 /// A solved blend.
 pub struct Blend {
+    /// The blend on `[0, 1]²` (`y = 0` on the `start` join, `y = 1` on the `end` join).
     pub surface: BfsSurface,
+    /// How closely it meets the joins and the data points.
     pub report: BlendReport,
 }
 

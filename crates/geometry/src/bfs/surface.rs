@@ -21,8 +21,11 @@ impl crate::surface::SurfaceNearest for BfsSurface {}
 /// `s = (x − x0)/(x1 − x0)`, `t = (y − y0)/(y1 − y0)` and the cubic Bernstein polynomials `B`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BezierPatch {
+    /// The element's extent `[x0, x1]` in `x`.
     pub x: [f64; 2],
+    /// The element's extent `[y0, y1]` in `y`.
     pub y: [f64; 2],
+    /// The 4 × 4 Bézier control points, `control[i][j]` with `i` along `x`.
     pub control: [[Vec3; 4]; 4],
 }
 
@@ -30,8 +33,12 @@ pub struct BezierPatch {
 /// breakpoint doubled (C¹ across it), `control[i][j]` with `i` along `x`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BSplineNet {
+    /// Knot vector in `x`: the partition's breakpoints, the ends four times and every interior one
+    /// twice.
     pub knots_x: Vec<f64>,
+    /// Knot vector in `y`, built like `knots_x`.
     pub knots_y: Vec<f64>,
+    /// Control points, `control[i][j]` with `i` along `x`: `2 nx + 2` rows of `2 ny + 2`.
     pub control: Vec<Vec<Vec3>>,
 }
 

@@ -16,6 +16,7 @@ use std::sync::OnceLock;
 /// curve's interval the inner curve's extension is followed (length measured past the end).
 #[derive(Clone, Debug)]
 pub struct ArcLength {
+    /// The curve being reparametrised.
     pub inner: SharedCurve,
     length: f64,
     /// Panel boundaries `t_i` (increasing) and `s(t_i)`.

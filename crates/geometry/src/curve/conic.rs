@@ -5,10 +5,12 @@ use crate::{Error, Result, Vec3};
 /// A constant curve: the degenerate "curve" that closes a surface to a pole.
 #[derive(Clone, Debug)]
 pub struct Point {
+    /// The point the curve stays at.
     pub p: Vec3,
 }
 
 impl Point {
+    /// The constant curve at `p` (not checked; see [`Point::try_new`]).
     pub fn new(p: Vec3) -> Self {
         Point { p }
     }
@@ -30,7 +32,6 @@ impl Curve for Point {
             *o = if k == 0 { self.p } else { Vec3::zeros() };
         }
     }
-    /// The series with `a₀ = p` and no modes.
     /// `|C| = |p|`, every derivative zero.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
         for (k, o) in out.iter_mut().enumerate() {
@@ -38,6 +39,7 @@ impl Curve for Point {
         }
         t0 < t1 && out.iter().all(|o| o.is_finite())
     }
+    /// The series with `a₀ = p` and no modes.
     fn fourier(&self) -> Option<FourierSeries> {
         Some(FourierSeries {
             a0: self.p,
@@ -50,8 +52,11 @@ impl Curve for Point {
 /// `C(v) = c + cos v · a₁ + sin v · a₂` on `[0, 2π)`: circles and ellipses.
 #[derive(Clone, Debug)]
 pub struct Ellipse {
+    /// Centre `c`.
     pub center: Vec3,
+    /// Semi-axis vector `a₁`: `C(0) = c + a₁`.
     pub axis1: Vec3,
+    /// Semi-axis vector `a₂`: `C(π/2) = c + a₂`.
     pub axis2: Vec3,
 }
 

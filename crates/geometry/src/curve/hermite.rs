@@ -8,13 +8,19 @@ use crate::{Result, Vec3};
 /// extended.
 #[derive(Clone, Debug)]
 pub struct Hermite {
+    /// Start point `p₀ = H(0)`.
     pub p0: Vec3,
+    /// End point `p₁ = H(1)`.
     pub p1: Vec3,
+    /// Start tangent `d₀ = H'(0)`.
     pub d0: Vec3,
+    /// End tangent `d₁ = H'(1)`.
     pub d1: Vec3,
 }
 
 impl Hermite {
+    /// The cubic with end points `p0`, `p1` and end tangents `d0`, `d1` (not checked; see
+    /// [`Hermite::try_new`]).
     pub fn new(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3) -> Self {
         Hermite { p0, p1, d0, d1 }
     }

@@ -42,9 +42,13 @@ pub struct LocalFrame {
     v1: f64,
     len: f64,
     t3: f64,
+    /// `X₁ = C(v₁)`, where the edit starts.
     pub x1: Vec3,
+    /// `X₂ = C(v₂)`, where the edit ends.
     pub x2: Vec3,
+    /// The handle `X₃ = C(v₃)`.
     pub x3: Vec3,
+    /// The unit axis `e₁ = (X₂ − X₁)/|X₂ − X₁|` (the `along` direction of a displacement).
     pub e1: Vec3,
     /// `(e₂, e₃)`; `None` when `X₁`, `X₂`, `X₃` are collinear (no plane).
     pub plane: Option<(Vec3, Vec3)>,

@@ -5,17 +5,21 @@ use crate::{Error, Result, Vec3};
 /// axis through a point, scale about a point).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Affine {
+    /// The matrix `M`.
     pub linear: nalgebra::Matrix3<f64>,
+    /// The translation `t`.
     pub shift: Vec3,
 }
 
 impl Affine {
+    /// The identity map (`M = I`, `t = 0`).
     pub fn identity() -> Self {
         Affine {
             linear: nalgebra::Matrix3::identity(),
             shift: Vec3::zeros(),
         }
     }
+    /// The translation `x ↦ x + d`.
     pub fn translation(d: Vec3) -> Self {
         Affine {
             linear: nalgebra::Matrix3::identity(),
@@ -83,9 +87,12 @@ impl Affine {
             shift: next.linear * self.shift + next.shift,
         }
     }
+    /// The image `M p + t` of a point.
     pub fn apply_point(&self, p: &Vec3) -> Vec3 {
         self.linear * p + self.shift
     }
+    /// The image `M d` of a vector (a difference of points or a derivative: the translation does
+    /// not act).
     pub fn apply_vector(&self, d: &Vec3) -> Vec3 {
         self.linear * d
     }
@@ -94,11 +101,14 @@ impl Affine {
 /// An affine image of a curve.
 #[derive(Clone, Debug)]
 pub struct Transformed {
+    /// The curve that is mapped.
     pub inner: SharedCurve,
+    /// The map applied to it.
     pub map: Affine,
 }
 
 impl Transformed {
+    /// The image of `inner` under `map`.
     pub fn new(inner: SharedCurve, map: Affine) -> Self {
         Transformed { inner, map }
     }
@@ -165,7 +175,9 @@ fn spectral_norm(m: &nalgebra::Matrix3<f64>) -> f64 {
 /// Moves the `v = 0` point of a periodic curve (§6.4): `C̃(v) = C(v + shift)`.
 #[derive(Clone, Debug)]
 pub struct OriginShift {
+    /// The periodic curve whose origin moves.
     pub inner: SharedCurve,
+    /// The parameter shift `s` in radians: `C̃(v) = C(v + s)`.
     pub shift: f64,
 }
 
@@ -246,6 +258,7 @@ impl Curve for OriginShift {
 /// `s·(d − p)`: `Combination::new(vec![(s, d), (-s, p)])`.
 #[derive(Clone, Debug)]
 pub struct Combination {
+    /// The terms `(wᵢ, Cᵢ)`: weight and curve.
     pub terms: Vec<(f64, SharedCurve)>,
 }
 

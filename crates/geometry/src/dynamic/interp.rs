@@ -67,11 +67,13 @@ pub enum ParamMode {
 /// The interpolation problem of §4 and the parameters of the dynamics.
 #[derive(Debug, Clone)]
 pub struct Interpolation {
-    /// End points `p_0`, `p_n`.
+    /// Start point `p_0`.
     pub start: Vec3,
+    /// End point `p_n`.
     pub end: Vec3,
-    /// End tangents `p_0'`, `p_n'` (derivatives with respect to `u ∈ [0, 1]`).
+    /// Start tangent `p_0'` (derivative with respect to `u ∈ [0, 1]`).
     pub start_tangent: Vec3,
+    /// End tangent `p_n'` (derivative with respect to `u ∈ [0, 1]`).
     pub end_tangent: Vec3,
     /// Interior points `p_1 … p_{n−1}`.
     pub points: Vec<Vec3>,
@@ -136,8 +138,9 @@ pub struct Interpolated {
     pub params: Vec<f64>,
     /// Distances `|p_i − C(u_i)|`.
     pub distances: Vec<f64>,
-    /// Steps taken and force updates made.
+    /// Time steps taken.
     pub steps: usize,
+    /// Force updates made (one each time the curve settled with a misfit above the tolerance).
     pub updates: usize,
     /// Discrete bending energy `Σ |δ²C_j|² h` (fairness).
     pub bending_energy: f64,

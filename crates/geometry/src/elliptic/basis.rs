@@ -23,11 +23,17 @@ use nalgebra::{Complex, DMatrix};
 /// Which basis a mode is represented in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BasisKind {
+    /// Chebyshev series in `x = 2u − 1`: the spine's basis (mode 0), and the fallback where the
+    /// layer basis is ill-conditioned.
     Chebyshev,
+    /// Exponential layers built from the operator's characteristic roots, decaying away from
+    /// `u = 0` or from `u = 1` (modes `n ≥ 1`).
     Layers,
 }
 
 impl BasisKind {
+    /// The name the solver reports ([`super::ModeReport::basis`]): `"chebyshev"` or
+    /// `"exponential layers"`.
     pub fn name(self) -> &'static str {
         match self {
             BasisKind::Chebyshev => "chebyshev",

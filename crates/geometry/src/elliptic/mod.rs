@@ -26,9 +26,11 @@ use nalgebra::DMatrix;
 /// `∂ᵈX/∂uᵈ (u, v) = curve(v)` for all `v`.
 #[derive(Clone, Debug)]
 pub struct Condition {
+    /// Where the condition holds, `u ∈ [0, 1]`.
     pub u: f64,
     /// 0 for a position curve, `d` for the `d`-th u-derivative.
     pub derivative: usize,
+    /// The periodic curve `g(v)` the derivative must equal.
     pub curve: SharedCurve,
 }
 
@@ -72,7 +74,9 @@ pub struct ModeReport {
 /// The error of one condition on a fine sample of `v`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConditionError {
+    /// The condition's `u`.
     pub u: f64,
+    /// The condition's derivative order `d` (0 for a position curve).
     pub derivative: usize,
     /// `max_v |∂ᵈX(u,v) − g(v)|`.
     pub absolute: f64,

@@ -19,7 +19,9 @@ pub const MAX_HALF_ORDER: usize = 20;
 /// for the conjugate pair `s, s̄`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RootGroup {
+    /// The root `s`, `Re s > 0`; for a conjugate pair the member with `Im s > 0`.
     pub s: Complex<f64>,
+    /// Its multiplicity `m ≥ 1`.
     pub multiplicity: usize,
 }
 

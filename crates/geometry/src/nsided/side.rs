@@ -19,8 +19,11 @@ pub enum Ribbon {
     /// the side measured in side lengths of the domain (so `∂X/∂t` has the scale of the side's
     /// own `∂X/∂s`). The curve is run over `[t0, t1]` like the side's position curve.
     Derivative {
+        /// The curve `∂X/∂t (s)`, run like the side's position curve.
         curve: SharedCurve,
+        /// The curve's parameter at `s = 0`.
         t0: f64,
+        /// The curve's parameter at `s = 1` (finite, not `t0`; inside the curve's domain).
         t1: f64,
     },
     /// Tangent to a neighbour whose unit normal along the side is given (any orientation): the
@@ -49,9 +52,15 @@ impl std::fmt::Debug for Ribbon {
 /// backwards), and its ribbon. Consecutive sides meet end to start.
 #[derive(Clone, Debug)]
 pub struct Side {
+    /// The boundary curve.
     pub curve: SharedCurve,
+    /// The curve's parameter at the side's start (`s = 0`).
     pub t0: f64,
+    /// The curve's parameter at the side's end (`s = 1`; finite, not `t0`, inside the curve's
+    /// domain).
     pub t1: f64,
+    /// What the side asks of the patch across it: position only, a cross-boundary derivative or a
+    /// tangent plane.
     pub ribbon: Ribbon,
 }
 

@@ -48,7 +48,9 @@ pub(super) fn poly_inner01<T: Scalar>(p: &[T], q: &[T]) -> T {
 /// One direction of a tensor-product spline space: degree and knot vector.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Direction<T> {
+    /// Polynomial degree `p`.
     pub degree: usize,
+    /// Knot vector `u_0 ≤ … ≤ u_{n+p+1}` (see [`Direction::check`]).
     pub knots: Vec<T>,
 }
 

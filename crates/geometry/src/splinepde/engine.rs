@@ -17,8 +17,11 @@ pub type Point<T> = [T; 3];
 /// The problem: spline space, operator and fixed control points.
 #[derive(Clone, Debug)]
 pub struct SplineProblem<T> {
+    /// The spline space in `u`.
     pub u: Direction<T>,
+    /// The spline space in `v`.
     pub v: Direction<T>,
+    /// The PDE every span must satisfy.
     pub operator: Operator,
     /// `([i, j], P_ij)`: control point `i` along u, `j` along v, fixed by the user.
     pub fixed: Vec<([usize; 2], Point<T>)>,
@@ -29,7 +32,9 @@ pub struct SplineProblem<T> {
 /// `t = (v − v_l)/h_v`.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct EquationLabel {
+    /// Knot span indices `[k, l]`: the span `[u_k, u_{k+1}] × [v_l, v_{l+1}]`.
     pub span: [usize; 2],
+    /// Exponents `[a, b]` of the monomial `s^a t^b`.
     pub monomial: [usize; 2],
 }
 
@@ -61,11 +66,15 @@ pub struct SolveReport {
 /// A solved control net.
 #[derive(Clone, Debug)]
 pub struct SplineNet<T> {
+    /// The spline space in `u`.
     pub u: Direction<T>,
+    /// The spline space in `v`.
     pub v: Direction<T>,
+    /// The PDE the net satisfies.
     pub operator: Operator,
     /// Row-major: index `i·n_v + j`, `i` along u.
     pub control: Vec<Point<T>>,
+    /// What the solve found (ranks, determined and free control points).
     pub report: SolveReport,
 }
 

@@ -139,31 +139,43 @@ pub fn iges_timestamp(unix_seconds: u64) -> String {
 /// most eight characters.
 #[derive(Clone, Debug)]
 pub struct IgesSurface {
+    /// Degrees `[p_u, p_v]`.
     pub degree: [usize; 2],
+    /// Full knot vector in `u` (control points in `u` plus `p_u + 1` knots).
     pub knots_u: Vec<f64>,
+    /// Full knot vector in `v` (control points in `v` plus `p_v + 1` knots).
     pub knots_v: Vec<f64>,
+    /// Control points row-major, `i` along `u` (index `i·n_v + j`).
     pub control: Vec<[f64; 3]>,
+    /// Closed in `[u, v]` (the entity's PROP1 and PROP2).
     pub closed: [bool; 2],
+    /// Entity label, at most eight characters.
     pub label: String,
 }
 
 /// The model's length unit in the Global section: IGES unit flag and name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct IgesUnit {
+    /// IGES unit flag (Global section parameter 14).
     pub flag: u32,
+    /// Unit name (Global section parameter 15).
     pub name: &'static str,
 }
 
 impl IgesUnit {
+    /// Millimetres: flag 2, `MM`.
     pub const MILLIMETRE: IgesUnit = IgesUnit {
         flag: 2,
         name: "MM",
     };
+    /// Centimetres: flag 10, `CM`.
     pub const CENTIMETRE: IgesUnit = IgesUnit {
         flag: 10,
         name: "CM",
     };
+    /// Metres: flag 6, `M`.
     pub const METRE: IgesUnit = IgesUnit { flag: 6, name: "M" };
+    /// Inches: flag 1, `INCH`.
     pub const INCH: IgesUnit = IgesUnit {
         flag: 1,
         name: "INCH",
@@ -212,11 +224,17 @@ pub fn to_iges_in<T: Scalar>(
 /// characters and the label's subscript.
 #[derive(Clone, Debug)]
 pub struct IgesEntity {
+    /// Entity type number (128 for a B-spline surface).
     pub number: u32,
+    /// Form number.
     pub form: u32,
+    /// Parameter data after the type number, each formatted.
     pub params: Vec<String>,
+    /// Status number, eight digits ([`IGES_INDEPENDENT`], [`IGES_DEPENDENT`], [`IGES_PARAMETRIC`]).
     pub status: &'static str,
+    /// Entity label, at most eight characters.
     pub label: String,
+    /// Subscript of the label (0 for none).
     pub subscript: usize,
 }
 

@@ -10,8 +10,11 @@ use num_traits::{One, Zero};
 /// A dense row-major matrix.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mat<T> {
+    /// Number of rows.
     pub rows: usize,
+    /// Number of columns.
     pub cols: usize,
+    /// Entries row by row: `(i, j)` at `i·cols + j`.
     pub data: Vec<T>,
 }
 

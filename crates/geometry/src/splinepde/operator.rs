@@ -7,20 +7,32 @@ use crate::{Error, Result, Vec3};
 pub enum Operator {
     /// `a x_uu + b x_uv + c x_vv + d x_u + e x_v + f x = g` (seed 003 §1), `g` a constant vector.
     Second {
+        /// Coefficient of `x_uu`.
         a: f64,
+        /// Coefficient of `x_uv`.
         b: f64,
+        /// Coefficient of `x_vv`.
         c: f64,
+        /// Coefficient of `x_u`.
         d: f64,
+        /// Coefficient of `x_v`.
         e: f64,
+        /// Coefficient of `x`.
         f: f64,
+        /// The constant right-hand side `g`.
         g: Vec3,
     },
     /// `a x_uuuu + b x_uuuv + c x_uuvv + d x_uvvv + e x_vvvv = 0` (seed 003 Eq. 4).
     Fourth {
+        /// Coefficient of `x_uuuu`.
         a: f64,
+        /// Coefficient of `x_uuuv`.
         b: f64,
+        /// Coefficient of `x_uuvv`.
         c: f64,
+        /// Coefficient of `x_uvvv`.
         d: f64,
+        /// Coefficient of `x_vvvv`.
         e: f64,
     },
 }
@@ -28,8 +40,11 @@ pub enum Operator {
 /// One term `w · <∂u^a1 ∂v^b1 x, ∂u^a2 ∂v^b2 x>` of a quadratic functional `∫ Σ terms du dv`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct InnerTerm {
+    /// Weight `w`.
     pub w: f64,
+    /// Derivative orders `[a1, b1]` (in `u`, `v`) of the left factor.
     pub left: [usize; 2],
+    /// Derivative orders `[a2, b2]` (in `u`, `v`) of the right factor.
     pub right: [usize; 2],
 }
 

@@ -6,7 +6,9 @@ use crate::TAU;
 /// A closed parameter interval `[start, end]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
+    /// Lower end.
     pub start: f64,
+    /// Upper end.
     pub end: f64,
 }
 

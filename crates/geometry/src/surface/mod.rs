@@ -20,11 +20,17 @@ pub use spine::Spine;
 /// `X` and its partial derivatives up to second order at one `(u, v)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Partials {
+    /// Position `X(u, v)`.
     pub x: Vec3,
+    /// First partial derivative `∂X/∂u`.
     pub xu: Vec3,
+    /// First partial derivative `∂X/∂v`.
     pub xv: Vec3,
+    /// Second partial derivative `∂²X/∂u²`.
     pub xuu: Vec3,
+    /// Second partial derivative `∂²X/∂u∂v`.
     pub xuv: Vec3,
+    /// Second partial derivative `∂²X/∂v²`.
     pub xvv: Vec3,
 }
 
@@ -170,12 +176,19 @@ impl<S: Surface + ?Sized> PartialsRows for PointwisePartials<'_, S> {
 /// fills (a row buffer lives for many rows on one thread).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RowBuf {
+    /// x coordinates of the positions, one per column.
     pub x: Vec<f64>,
+    /// y coordinates of the positions.
     pub y: Vec<f64>,
+    /// z coordinates of the positions.
     pub z: Vec<f64>,
+    /// x components of the unit normals.
     pub nx: Vec<f64>,
+    /// y components of the unit normals.
     pub ny: Vec<f64>,
+    /// z components of the unit normals.
     pub nz: Vec<f64>,
+    /// Working space an evaluator may keep between the rows it fills; not part of the row's values.
     pub scratch: Vec<f64>,
 }
 

@@ -8,8 +8,11 @@ use crate::{Error, Result, Vec3};
 /// (`knots.len() = points.len() + degree + 1`); its domain is `[knots[p], knots[n]]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BCurve {
+    /// Polynomial degree `p ≥ 1`.
     pub degree: usize,
+    /// Full knot vector, non-decreasing, `points.len() + degree + 1` knots.
     pub knots: Vec<f64>,
+    /// Control points (with `z = 0` for a curve in a surface's `(u, v)` plane).
     pub points: Vec<Vec3>,
 }
 

@@ -22,9 +22,13 @@ pub fn require_surfaces(design: &SolvedDesign) -> Result<()> {
 
 /// What [`export_design`] made: the model, its text, and the tolerance and unit used.
 pub struct CadExport {
+    /// The design in CAD form: every surface's net, deviation and certificate.
     pub model: CadModel,
+    /// The STEP or IGES file.
     pub text: String,
+    /// The tolerance used (absolute, design units): the one given or [`default_tolerance`].
     pub tolerance: f64,
+    /// The length unit the file declares: the one given or the design's.
     pub unit: Units,
 }
 

@@ -31,7 +31,9 @@ use crate::{Error, Result, Vec3, TAU};
 /// One surface of a design in CAD form.
 #[derive(Clone, Debug)]
 pub struct CadSurface {
+    /// The surface's name in the design.
     pub name: String,
+    /// Its B-spline approximation (with the holes' trimming applied to `approx.net`).
     pub approx: Approximation,
     /// The holes of a trimmed surface (`[[trims]]`), on `approx.net` (whose `v` window a hole
     /// across a periodic seam moves: see [`trimmed`]).
@@ -43,6 +45,7 @@ pub struct CadSurface {
 pub struct CadModel {
     /// The design's title (or `design`).
     pub name: String,
+    /// The design's surfaces, in the design's order.
     pub surfaces: Vec<CadSurface>,
     /// The tolerance asked for (absolute, design units).
     pub tolerance: f64,

@@ -14,7 +14,9 @@ use std::collections::HashMap;
 /// A surface read from a file: its name (STEP: the surface's name; IGES: `surface k`) and net.
 #[derive(Clone, Debug)]
 pub struct ReadSurface {
+    /// STEP: the surface entity's name; IGES: `surface k`, counted from 1.
     pub name: String,
+    /// The B-spline net as the file gives it.
     pub net: BSplineSurface,
 }
 

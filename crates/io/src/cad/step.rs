@@ -26,6 +26,7 @@ pub use crate::spec::Units as LengthUnit;
 /// Options of a STEP file.
 #[derive(Clone, Debug)]
 pub struct StepOptions {
+    /// The length unit the file declares (coordinates are written as they are).
     pub unit: LengthUnit,
     /// The file name recorded in the header.
     pub file_name: String,

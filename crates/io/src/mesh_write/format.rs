@@ -5,10 +5,15 @@ use crate::{Error, Result};
 /// Output formats, chosen by file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// Wavefront OBJ (`.obj`).
     Obj,
+    /// Binary STL (`.stl`).
     Stl,
+    /// Binary little-endian PLY (`.ply`).
     Ply,
+    /// glTF 2.0 binary (`.glb`).
     Glb,
+    /// Full-precision grid samples as CSV (`.csv`), written by [`super::write_csv`].
     Csv,
 }
 

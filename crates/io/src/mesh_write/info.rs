@@ -10,6 +10,8 @@ use crate::{Error, Result};
 /// and the up axis of the file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshInfo {
+    /// The design's title, written where the format has room for it (OBJ and PLY comments, the glTF
+    /// root node's name and `asset.extras`).
     pub title: Option<String>,
     /// The unit of the design's coordinates (times `scale`).
     pub units: Units,

@@ -122,7 +122,9 @@ pub fn gif_delay(dt: f64) -> Result<u16> {
 /// A frame reduced to at most 256 colours: `palette` (RGB triples) and one index per pixel.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Quantized {
+    /// The colours, at most 256, as RGB triples (three bytes each).
     pub palette: Vec<u8>,
+    /// One palette index per pixel, rows top to bottom.
     pub indices: Vec<u8>,
 }
 
@@ -300,8 +302,9 @@ impl<W: Write> Gif<W> {
 
 /// Tiles of equal size gathered into a grid, each with a caption.
 pub struct ContactSheet {
-    /// Size of every tile, in pixels.
+    /// Width of every tile, in pixels.
     pub tile_width: u32,
+    /// Height of every tile, in pixels.
     pub tile_height: u32,
     /// Tiles per row.
     pub columns: u32,

@@ -113,9 +113,13 @@ pub fn short_label(x: f64) -> String {
 /// short note under it (how the range was chosen).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ColorBar {
+    /// The quantity's name, written over the bar (wrapped at spaces).
     pub title: String,
+    /// The value at the bottom of the bar (blue); finite and below `hi`.
     pub lo: f64,
+    /// The value at the top of the bar (red); finite.
     pub hi: f64,
+    /// A short note under the bar (how the range was chosen); may be empty.
     pub note: String,
 }
 
@@ -124,8 +128,12 @@ pub struct ColorBar {
 /// `(x, y, w, h)` and the pixel rows of `lo` and `hi`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BarLayout {
+    /// Text scale: every font pixel is `scale × scale` pixels (2 in pictures of at least 640 × 480,
+    /// else 1).
     pub scale: usize,
+    /// Left edge of the bar's panel, in pixels; the surface is drawn in the columns left of it.
     pub panel_x: usize,
+    /// The bar's rectangle `(x, y, w, h)` in pixels, `(x, y)` its top-left corner.
     pub bar: (usize, usize, usize, usize),
 }
 

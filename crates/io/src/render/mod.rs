@@ -36,7 +36,9 @@ use crate::{Error, Result, Vec3};
 /// A polyline drawn over the shaded surface.
 #[derive(Clone, Debug)]
 pub struct Polyline {
+    /// The vertices, in the design's coordinates.
     pub points: Vec<Vec3>,
+    /// Line colour (sRGB).
     pub color: [u8; 3],
     /// Line width in pixels.
     pub width: f32,
@@ -73,7 +75,9 @@ pub fn overlay_lines(overlays: &[Overlay]) -> Vec<Polyline> {
 /// View and picture options.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
+    /// Picture width in pixels (1 to [`MAX_SIDE`]).
     pub width: u32,
+    /// Picture height in pixels (1 to [`MAX_SIDE`]).
     pub height: u32,
     /// Direction from the object towards the eye; `None` picks a default three-quarter view.
     pub view: Option<Vec3>,

@@ -56,6 +56,7 @@ impl Verdict {
 /// One surface's kind, operator, modes and condition errors.
 #[derive(Clone, Debug)]
 pub struct SurfaceDiagnostics {
+    /// The surface's name.
     pub name: String,
     /// [`SurfaceKind::word`].
     pub kind: &'static str,
@@ -77,10 +78,15 @@ pub struct SurfaceDiagnostics {
 pub struct EdgeDiagnostics {
     /// The shared position curve.
     pub curve: String,
+    /// The first patch's name.
     pub a: String,
+    /// The edge's `u` on the first patch.
     pub ua: f64,
+    /// The second patch's name.
     pub b: String,
+    /// The edge's `u` on the second patch.
     pub ub: f64,
+    /// G0 error: `max_v |X_a(ua, v) − X_b(ub, v)|`.
     pub g0: f64,
     /// Radians.
     pub g1: f64,
@@ -93,15 +99,21 @@ pub struct EdgeDiagnostics {
 /// G0/G1 along an attachment (a patch whose condition lies on a host patch).
 #[derive(Clone, Debug)]
 pub struct AttachmentDiagnostics {
+    /// The attached patch's name.
     pub patch: String,
+    /// The `u` of the attached patch's condition on the host (its end, or an intermediate curve).
     pub u: f64,
+    /// The host patch's name.
     pub host: String,
     /// The attaching curve's name (`None`: an inline curve).
     pub curve: Option<String>,
     /// Attached with a tangent field (G1 expected).
     pub tangent: bool,
+    /// Points sampled along the attached patch at `u`.
     pub samples: usize,
+    /// Largest distance from a sample to the host.
     pub g0: f64,
+    /// Largest angle (radians) between the two surfaces' normals at the samples, as lines.
     pub g1: f64,
     /// Samples whose closest-point search did not converge.
     pub unconverged: usize,
@@ -112,7 +124,9 @@ pub struct AttachmentDiagnostics {
 pub struct TrimDiagnostics {
     /// `trims[i]`.
     pub place: String,
+    /// The trimmed surface's name.
     pub surface: String,
+    /// The re-meshing method, as the design file names it.
     pub method: &'static str,
     /// Each curve's kind and the area of `(u, v)` it encloses.
     pub curves: Vec<(&'static str, f64)>,
@@ -125,14 +139,21 @@ pub struct TrimDiagnostics {
 /// A `[[parameters]]` entry: its value, bounds and what it drives.
 #[derive(Clone, Debug)]
 pub struct ParameterDiagnostics {
+    /// The entry's name.
     pub name: String,
     /// The file's word for its kind.
     pub kind: &'static str,
+    /// The curve it drives (`None` for the smoothing parameter `a`).
     pub curve: Option<String>,
+    /// Further curves that follow the same map.
     pub with: Vec<String>,
+    /// Its value: the given one, else the neutral one.
     pub value: f64,
+    /// Lower bound.
     pub min: f64,
+    /// Upper bound.
     pub max: f64,
+    /// The value that leaves the design as written.
     pub neutral: f64,
     /// What it drives, in words.
     pub drives: String,
@@ -159,18 +180,23 @@ pub struct NSidedDiagnostics {
 /// Everything `pdeshape check` finds in a solved design.
 #[derive(Clone, Debug)]
 pub struct Diagnostics {
+    /// The design's title.
     pub title: Option<String>,
     /// Every surface, in the design's order.
     pub surfaces: Vec<SurfaceDiagnostics>,
     /// The shared edges of a multi-patch design (`None` for a single surface).
     pub edges: Option<Vec<EdgeDiagnostics>>,
+    /// Every attachment of a patch to a host patch.
     pub attachments: Vec<AttachmentDiagnostics>,
+    /// Every `[[trims]]` entry, in order.
     pub trims: Vec<TrimDiagnostics>,
+    /// Every `[[parameters]]` entry, in order.
     pub parameters: Vec<ParameterDiagnostics>,
     /// The `[[nsided]]` patches.
     pub nsided: Vec<NSidedDiagnostics>,
     /// What deserves a warning, in words (without a `warning: ` prefix).
     pub warnings: Vec<String>,
+    /// The overall judgement ([`diagnose`] says how it is reached).
     pub verdict: Verdict,
 }
 

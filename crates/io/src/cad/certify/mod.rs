@@ -148,17 +148,23 @@ pub enum Certificate {
     Exact,
     /// A proven bound from bounds of the surface's derivatives (the analytic PDE patch).
     Derivatives {
-        /// `sup|∂_u⁴X|`, `sup|∂_v⁴X|`, `sup|∂_u∂_v⁴X|`.
+        /// `sup|∂_u⁴X|` over the patch.
         m_u4: f64,
+        /// `sup|∂_v⁴X|` over the patch.
         m_v4: f64,
+        /// `sup|∂_u∂_v⁴X|` over the patch.
         m_u1v4: f64,
     },
     /// A proven bound from interval enclosures of the fourth-order partials over every grid
     /// cell (formula surfaces); the largest enclosures over the cells and the number of cells.
     Intervals {
+        /// Largest enclosure of `|∂_u⁴X|` over the cells.
         m_u4: f64,
+        /// Largest enclosure of `|∂_v⁴X|` over the cells.
         m_v4: f64,
+        /// Largest enclosure of `|∂_u∂_v⁴X|` over the cells.
         m_u1v4: f64,
+        /// Number of grid cells.
         cells: usize,
     },
     /// The largest deviation on a dense sample: an estimate, not a bound.
@@ -192,11 +198,13 @@ impl Certificate {
 /// A B-spline approximation of one surface, in the surface's own parameters.
 #[derive(Clone, Debug)]
 pub struct Approximation {
+    /// The tensor B-spline net.
     pub net: BSplineSurface,
     /// Closed in `[u, v]`: the first and last control rows are the same points.
     pub closed: [bool; 2],
     /// The largest deviation `|X − S|` over the whole patch (see `certificate`).
     pub deviation: f64,
+    /// How `deviation` is known: a proven bound or a sampled estimate.
     pub certificate: Certificate,
     /// Why a surface of a kind that is usually certified was only sampled.
     pub note: Option<String>,
