@@ -29,8 +29,8 @@
 pub use pdeshape_apps::{anim, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{
-    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, scalar, spline, splinepde,
-    surface,
+    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, nsided, scalar, spline,
+    splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 pub use pdeshape_io::{cad, dynamic_output, format, render};

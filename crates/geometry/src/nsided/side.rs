@@ -99,19 +99,61 @@ pub(crate) fn curve_jet(curve: &SharedCurve, t0: f64, t1: f64, s: f64, out: &mut
     }
 }
 
-/// A vector function on `[0, 1]` as a Chebyshev series, to derivatives of any order.
+/// A vector function on `[0, 1]` as a Chebyshev series, evaluated with two derivatives from
+/// a table of the series on a uniform grid by quintic Hermite interpolation (so an evaluation
+/// costs the same whatever the series' length; the table's error, `O(h⁶)` with `h = 1/256`, is
+/// far below the series').
 #[derive(Clone, Debug)]
 pub(crate) struct ChebVec {
     /// Series of the value, first and second derivatives, per coordinate, in `x = 2s − 1`.
     series: [[Vec<f64>; 3]; 3],
+    /// `[f, f', f'']` at `s = j / TABLE`, `j = 0 ..= TABLE`.
+    table: Vec<[Vec3; 3]>,
     /// The largest difference seen between the series and the function at the check points.
     pub fit_error: f64,
 }
 
+/// Intervals of the table of a [`ChebVec`].
+const TABLE: usize = 256;
+
+/// The quintic Hermite basis on `[0, 1]` (value, slope and second derivative at 0, then at 1)
+/// with its first and second derivatives.
+fn quintic(x: f64) -> [[f64; 6]; 3] {
+    let (x2, x3, x4, x5) = (x * x, x * x * x, x * x * x * x, x * x * x * x * x);
+    [
+        [
+            1.0 - 10.0 * x3 + 15.0 * x4 - 6.0 * x5,
+            x - 6.0 * x3 + 8.0 * x4 - 3.0 * x5,
+            0.5 * x2 - 1.5 * x3 + 1.5 * x4 - 0.5 * x5,
+            10.0 * x3 - 15.0 * x4 + 6.0 * x5,
+            -4.0 * x3 + 7.0 * x4 - 3.0 * x5,
+            0.5 * x3 - x4 + 0.5 * x5,
+        ],
+        [
+            -30.0 * x2 + 60.0 * x3 - 30.0 * x4,
+            1.0 - 18.0 * x2 + 32.0 * x3 - 15.0 * x4,
+            x - 4.5 * x2 + 6.0 * x3 - 2.5 * x4,
+            30.0 * x2 - 60.0 * x3 + 30.0 * x4,
+            -12.0 * x2 + 28.0 * x3 - 15.0 * x4,
+            1.5 * x2 - 4.0 * x3 + 2.5 * x4,
+        ],
+        [
+            -60.0 * x + 180.0 * x2 - 120.0 * x3,
+            -36.0 * x + 96.0 * x2 - 60.0 * x3,
+            1.0 - 9.0 * x + 18.0 * x2 - 10.0 * x3,
+            60.0 * x - 180.0 * x2 + 120.0 * x3,
+            -24.0 * x + 84.0 * x2 - 60.0 * x3,
+            3.0 * x - 12.0 * x2 + 10.0 * x3,
+        ],
+    ]
+}
+
 impl ChebVec {
-    /// Interpolates `f` at Chebyshev–Lobatto points, doubling their number (16 … 1024) until
+    /// Interpolates `f` at Chebyshev–Lobatto points, doubling their number (16 … 128) until
     /// the series and `f` agree at the midpoints between nodes to `1e-14` of the function's
-    /// size.
+    /// size. A field that needs more (a spline through sampled normals, say) keeps 128 points
+    /// and reports its [`ChebVec::fit_error`]: every evaluation of the patch pays for the
+    /// length of the series.
     pub(crate) fn fit(f: &dyn Fn(f64) -> Vec3) -> ChebVec {
         let mut n = 16;
         loop {
@@ -119,6 +161,7 @@ impl ChebVec {
             let series = derivative_series(&coeffs);
             let mut c = ChebVec {
                 series,
+                table: Vec::new(),
                 fit_error: 0.0,
             };
             let mut err: f64 = 0.0;
@@ -131,7 +174,13 @@ impl ChebVec {
                 err = err.max((c.value(s) - want).amax());
             }
             c.fit_error = err;
-            if err <= 1e-14 * size.max(1e-300) || n >= 1024 {
+            if err <= 1e-14 * size.max(1e-300) || n >= 128 {
+                c.table = (0..=TABLE)
+                    .map(|j| {
+                        let s = j as f64 / TABLE as f64;
+                        [c.series_at(0, s), c.series_at(1, s), c.series_at(2, s)]
+                    })
+                    .collect();
                 return c;
             }
             n *= 2;
@@ -139,11 +188,27 @@ impl ChebVec {
     }
 
     fn value(&self, s: f64) -> Vec3 {
-        self.at(0, s)
+        self.series_at(0, s)
     }
 
-    /// The `k`-th derivative (`k ≤ 2`) at `s`.
+    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]`, from the table.
     pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
+        let h = 1.0 / TABLE as f64;
+        let i = ((s * TABLE as f64).floor().max(0.0) as usize).min(TABLE - 1);
+        let x = (s - i as f64 * h) / h;
+        let b = quintic(x)[k];
+        let (a, c) = (&self.table[i], &self.table[i + 1]);
+        let v = a[0] * b[0]
+            + a[1] * (h * b[1])
+            + a[2] * (h * h * b[2])
+            + c[0] * b[3]
+            + c[1] * (h * b[4])
+            + c[2] * (h * h * b[5]);
+        v / h.powi(k as i32)
+    }
+
+    /// The `k`-th derivative (`k ≤ 2`) at `s` from the series.
+    fn series_at(&self, k: usize, s: f64) -> Vec3 {
         let x = 2.0 * s - 1.0;
         let sc = [1.0, 2.0, 4.0][k];
         let c = &self.series[k];

@@ -5,9 +5,9 @@ use pdeshape::spec::{
     parse_design, write_design, AxisName, AxisSpec, BlendSpec, ComponentSpec, ConditionSpec,
     ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DomainSpec,
     DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
-    OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec,
-    PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec, SurfaceSpec,
-    TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
+    LoopSideSpec, NSidedSpec, OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec,
+    ParametricSpec, ParamsSpec, PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec,
+    SplineSpec, SurfaceSpec, TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -482,6 +482,7 @@ fn empty_design() -> DesignSpec {
         conditions: None,
         patches: None,
         parametric: Vec::new(),
+        nsided: Vec::new(),
         output: OutputSpec::default(),
         dynamic: None,
         optimize: None,
@@ -1072,6 +1073,20 @@ impl Gen {
                 y: g.s(),
                 z: g.s(),
                 domain: g.domain(),
+            }),
+            nsided: self.vec(2, |g| NSidedSpec {
+                name: g.s(),
+                sides: g.vec(8, |g| LoopSideSpec {
+                    curve: g.curve_ref(0),
+                    range: g.opt(|g| [g.f(), g.f()]),
+                    reverse: g.chance(0.5),
+                    tangent_to: g.opt(Self::s),
+                    derivative: g.opt(|g| g.curve_ref(0)),
+                }),
+                order: g.n(),
+                a: g.f(),
+                degree: g.n(),
+                gap_tolerance: g.f(),
             }),
             output: OutputSpec {
                 nu: self.opt(Self::n),
