@@ -6,6 +6,8 @@
 //! weld of a design's grids into one mesh (`mesh`), and the memory budget of one request
 //! (`memory`).
 
+#![warn(missing_docs)]
+
 use pdeshape_geometry::{
     bfs, check, curve, dynamic, elliptic, fd, formula, majorant, nsided, splinepde, surface,
 };

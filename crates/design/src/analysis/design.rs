@@ -18,8 +18,10 @@ use crate::{Result, Vec3};
 /// computed with the periodic trapezoid rule on the curve itself (spectrally accurate).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cap {
-    /// Patch index and the boundary `u` (0 or 1).
+    /// Index of the patch among the surfaces integrated (for [`integrate_design`], its index in
+    /// [`SolvedDesign::surfaces`]).
     pub patch: usize,
+    /// The boundary `u` of the patch that the cap closes: 0 or 1.
     pub u: f64,
     /// This cap's share of the enclosed volume (with the design's outward orientation).
     pub volume: f64,

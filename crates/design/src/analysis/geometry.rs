@@ -15,11 +15,17 @@ use crate::Vec3;
 /// `II = L du² + 2M du dv + N dv²` (book §1.4.1.1).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FundamentalForms {
+    /// `E = X_u·X_u`.
     pub e: f64,
+    /// `F = X_u·X_v`.
     pub f: f64,
+    /// `G = X_v·X_v`.
     pub g: f64,
+    /// `L = X_uu·n`.
     pub l: f64,
+    /// `M = X_uv·n`.
     pub m: f64,
+    /// `N = X_vv·n`.
     pub n: f64,
 }
 
@@ -36,13 +42,14 @@ pub struct Curvature {
     pub gauss: f64,
     /// Mean curvature `H = (κ₁ + κ₂)/2` (Eq. 7.5).
     pub mean: f64,
-    /// Principal curvatures `κ₁ = H + √(H² − K) ≥ κ₂ = H − √(H² − K)`.
+    /// The larger principal curvature `κ₁ = H + √(H² − K)`.
     pub k1: f64,
+    /// The smaller principal curvature `κ₂ = H − √(H² − K) ≤ κ₁`.
     pub k2: f64,
-    /// Unit principal directions in space (tangent to the surface): `II(d) = κ I(d)` with
-    /// `d₁ ⟂ d₂` and `d₁ × d₂ = n`. At an umbilic (`κ₁ = κ₂`) every direction is principal;
-    /// then `d₁ = X_u/|X_u|`.
+    /// Unit principal direction of `κ₁` in space (tangent to the surface): `II(d) = κ I(d)`.
+    /// At an umbilic (`κ₁ = κ₂`) every direction is principal; then `d₁ = X_u/|X_u|`.
     pub d1: Vec3,
+    /// Unit principal direction of `κ₂`: `d₂ = n × d₁`, so that `d₁ ⟂ d₂` and `d₁ × d₂ = n`.
     pub d2: Vec3,
 }
 

@@ -250,16 +250,20 @@ fn pieces_gauss(a: f64, b: f64, breaks: &[f64], panels: usize, order: usize) -> 
 /// Integrals of one surface with what the quadrature learned on the way.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceAnalysis {
+    /// Area, volume share and curvature integrals of the final level.
     pub integrals: Integrals,
-    /// Smallest and largest `K` and `H` at the quadrature nodes of the final level.
+    /// `(min, max)` of the Gaussian curvature `K` at the non-degenerate quadrature nodes of
+    /// the final level (`(+∞, −∞)` if there is none).
     pub gauss_range: (f64, f64),
+    /// `(min, max)` of the mean curvature `H` (with respect to `X_u × X_v`) at the same nodes.
     pub mean_range: (f64, f64),
     /// The estimated relative error (see [`Quadrature`]); 0 for a fixed rule.
     pub error: f64,
     /// The adaptive refinement met the tolerance (always true for a fixed rule).
     pub converged: bool,
-    /// Nodes of the final level in `u` and `v`.
+    /// Nodes of the final level in `u`.
     pub u_nodes: usize,
+    /// Nodes of the final level in `v`.
     pub v_nodes: usize,
     /// Interior nodes where the parametrisation was degenerate (`X_u × X_v ≈ 0`); they add to
     /// no integral.

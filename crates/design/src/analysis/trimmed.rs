@@ -68,9 +68,11 @@ pub fn integrate_trimmed(s: &dyn Surface, pm: &ParamMesh) -> Integrals {
 pub struct TrimmedIntegrals {
     /// The surface's name.
     pub name: String,
-    /// [`integrate_trimmed`] on the finer of two grids; `volume` with the design's outward
-    /// normal (the orientation passed in), as the untrimmed patches' volumes are reported.
+    /// The area that remains, by [`integrate_trimmed`] on the finer of the two grids.
     pub area: f64,
+    /// The remainder's share `(1/3)∫X·n dA` of the enclosed volume on the finer grid, with the
+    /// design's outward normal (the orientation passed in), as the untrimmed patches' volumes
+    /// are reported.
     pub volume: f64,
     /// The change of the area between the two grids (the error of the coarser; the finer's is
     /// about a quarter of it, the chords converging at second order).

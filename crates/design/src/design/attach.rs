@@ -642,6 +642,7 @@ pub(crate) fn find_attachments(spec: &DesignSpec, surfaces: &[DesignSurface]) ->
 /// G0/G1 along one attachment, measured independently of the construction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AttachmentReport {
+    /// The attachment measured.
     pub attachment: Attachment,
     /// Points sampled along the attached patch's end.
     pub samples: usize,

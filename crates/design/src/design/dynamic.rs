@@ -12,8 +12,12 @@ pub const MAX_INTERVALS: usize = 1_000_000;
 
 /// A general run, built.
 pub struct DynamicRun {
+    /// The components `[dynamic.x]` (and `y`, `z` when given), in that order, with their
+    /// coefficients, force, end conditions and initial data parsed.
     pub curve: DynamicCurve,
+    /// The intervals `J`, steps `L` and final time `T` (checked).
     pub grid: TimeGrid,
+    /// `check_positivity`: refuse a level where `a < 0`, `b < 0` or `d ≤ 0`.
     pub positivity: bool,
     /// Exact solutions `x(u, t)` given per component.
     pub exact: Vec<Option<Expression>>,
@@ -21,8 +25,12 @@ pub struct DynamicRun {
 
 /// What a `[dynamic]` section asks for.
 pub enum DynamicPlan {
+    /// A general run of the scheme (the section has components `[dynamic.x]`, …).
     Run(DynamicRun),
+    /// An interpolation of data points (§4; the section has `points`).
     Interpolate {
+        /// The problem: the paper's set-up with the section's points, end conditions and
+        /// constants.
         problem: Interpolation,
         /// 2 or 3: the number of coordinates of the data.
         dim: usize,
@@ -31,6 +39,7 @@ pub enum DynamicPlan {
 
 /// What `pdeshape curve` does with a `[dynamic]` section.
 pub struct BuiltDynamic {
+    /// The run or interpolation to carry out.
     pub plan: DynamicPlan,
     /// Frames every this many levels.
     pub frames_every: usize,

@@ -6,10 +6,13 @@ use crate::TAU;
 /// Position and normal mismatch along an edge shared by two patches.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EdgeReport {
-    /// Patch indices and the `u` of the edge on each.
+    /// Index of the first patch (in [`super::SolvedDesign::surfaces`]).
     pub a: usize,
+    /// The `u` of the edge on patch `a`.
     pub ua: f64,
+    /// Index of the second patch, `b > a`.
     pub b: usize,
+    /// The `u` of the edge on patch `b`.
     pub ub: f64,
     /// G0 error: `max_v |X_a(ua, v) − X_b(ub, v)|`.
     pub g0: f64,

@@ -21,112 +21,200 @@ pub type PatchRef = Option<String>;
 pub enum Edit {
     /// Sets the named curve to `curve` (adding it if there is none), or removes it (`None`).
     SetCurve {
+        /// The curve's name in `[curves]`.
         name: String,
+        /// The new table; `None` removes the curve.
         curve: Option<CurveSpec>,
     },
     /// Moves control point `index` of a B-spline, Bézier or closed-samples curve to `point`.
     MoveControlPoint {
+        /// The curve's name in `[curves]`.
         name: String,
+        /// 0-based index into the curve's `control` (B-spline, Bézier) or `points` (samples).
         index: usize,
+        /// The point's new position `[x, y, z]`, in the curve's own coordinates (before its
+        /// `transform`).
         point: V3,
     },
     /// Appends an affine step to a curve's transform (§6.1).
-    Transform { name: String, step: TransformStep },
-    /// Sets the operator of a patch (`patch`) or of the design (`design = true`; `None`
-    /// removes an override or the design's operator).
+    Transform {
+        /// The curve's name in `[curves]`.
+        name: String,
+        /// The step appended after the curve's existing ones.
+        step: TransformStep,
+    },
+    /// Sets the operator of a patch (`patch`) or of the design (`patch` left out; `operator`
+    /// left out removes an override or the design's operator).
     SetOperator {
+        /// The patch whose `operator` is set; `None` (the default) sets the design's.
         #[serde(default)]
         patch: PatchRef,
+        /// The new operator; `None` removes it (a patch then uses the design's, the design the
+        /// default polyharmonic operator of order 2, `a = 1`).
         operator: Option<OperatorSpec>,
     },
     /// Sets the smoothing parameter `a` of a polyharmonic operator (the patch's own if it has
     /// one, else the design's).
     SetSmoothing {
+        /// The patch (`None`, the default: the design's operator).
         #[serde(default)]
         patch: PatchRef,
+        /// The new smoothing parameter `a` (`> 0`; checked when the design is compiled). A
+        /// missing operator becomes the default polyharmonic one first; any other kind of
+        /// operator is an error.
         a: f64,
     },
     /// Sets the half order `N` of a polyharmonic operator (the patch's own if it has one, else
     /// the design's).
     SetOrder {
+        /// The patch (`None`, the default: the design's operator).
         #[serde(default)]
         patch: PatchRef,
+        /// The new `N` (the PDE has order `2N`, so each affected patch needs `2N` conditions;
+        /// checked when the design is compiled). Only a polyharmonic operator has one.
         order: usize,
     },
     /// Sets the number of Fourier modes of the analytic solver.
-    SetModes { modes: usize },
+    SetModes {
+        /// The new number of modes (`[solver] modes`; 1 to 256, checked when the design is
+        /// compiled). Its undo is a [`Edit::SetSolver`].
+        modes: usize,
+    },
     /// Replaces the solver options.
-    SetSolver { solver: SolverSpec },
+    SetSolver {
+        /// The whole new `[solver]` table.
+        solver: SolverSpec,
+    },
     /// Replaces condition `index` of a patch.
     SetCondition {
+        /// The patch (`None`, the default: the top-level `conditions`).
         #[serde(default)]
         patch: PatchRef,
+        /// 0-based index of an existing condition.
         index: usize,
+        /// The replacement.
         condition: ConditionSpec,
     },
     /// Inserts a condition at `index` of a patch's conditions.
     InsertCondition {
+        /// The patch (`None`, the default: the top-level `conditions`).
         #[serde(default)]
         patch: PatchRef,
+        /// 0-based place of the new condition, at most the number of conditions (that
+        /// number appends).
         index: usize,
+        /// The condition inserted.
         condition: ConditionSpec,
     },
     /// Removes condition `index` of a patch.
     RemoveCondition {
+        /// The patch (`None`, the default: the top-level `conditions`).
         #[serde(default)]
         patch: PatchRef,
+        /// 0-based index of an existing condition.
         index: usize,
     },
     /// Inserts a patch at `index` of `[[patches]]`.
-    InsertPatch { index: usize, patch: PatchSpec },
+    InsertPatch {
+        /// 0-based place in `[[patches]]`, at most their number (that number appends); the
+        /// design must have `[[patches]]` already.
+        index: usize,
+        /// The patch inserted.
+        patch: PatchSpec,
+    },
     /// Removes the named patch.
-    RemovePatch { name: String },
+    RemovePatch {
+        /// The patch's `name`.
+        name: String,
+    },
     /// Sets the `[[spine]]` edit of a patch (§5.3): replaces its table, adds one, or removes
     /// it (`None`).
     SetSpine {
+        /// The patch (`None`, the default: the single patch of a design with top-level
+        /// `conditions`).
         #[serde(default)]
         patch: PatchRef,
+        /// The new `[[spine]]` table of the patch (its own `patch` must name the same patch);
+        /// `None` removes it.
         spine: Option<crate::spec::SpineSpec>,
     },
     /// Replaces every `[[spine]]` table (the undo of a removed one keeps the order).
-    SetSpines { spines: Vec<crate::spec::SpineSpec> },
+    SetSpines {
+        /// The new `[[spine]]` list, in order.
+        spines: Vec<crate::spec::SpineSpec>,
+    },
     /// A local edit of the named curve between `from` and `to` (§6.2): the curve becomes a
     /// `local` curve around its old table, so everything that refers to it follows.
     LocalEdit {
+        /// The curve's name in `[curves]`.
         name: String,
+        /// Start of the edited interval of `v`.
         from: f64,
+        /// End of the edited interval of `v` (below `from`: across `v = 0` on a periodic
+        /// curve).
         to: f64,
+        /// The handle's parameter (`None`, the default: the middle of the interval).
         #[serde(default)]
         at: Option<f64>,
+        /// Move of the handle from `C(from)` towards `C(to)` (default 0), in length units.
         #[serde(default)]
         along: f64,
+        /// Move of the handle in the plane of `C(from)`, `C(to)` and the handle, towards the
+        /// handle (default 0).
         #[serde(default)]
         across: f64,
+        /// Move of the handle perpendicular to that plane (default 0).
         #[serde(default)]
         normal: f64,
     },
     /// Replaces `[[trims]]` entry `index`.
-    SetTrim { index: usize, trim: TrimSpec },
+    SetTrim {
+        /// 0-based index of an existing `[[trims]]` entry.
+        index: usize,
+        /// The replacement entry.
+        trim: TrimSpec,
+    },
     /// Inserts a `[[trims]]` entry at `index`.
-    InsertTrim { index: usize, trim: TrimSpec },
+    InsertTrim {
+        /// 0-based place in `[[trims]]`, at most their number (that number appends).
+        index: usize,
+        /// The entry inserted.
+        trim: TrimSpec,
+    },
     /// Removes `[[trims]]` entry `index`.
-    RemoveTrim { index: usize },
+    RemoveTrim {
+        /// 0-based index of an existing `[[trims]]` entry.
+        index: usize,
+    },
     /// Moves trim curve `curve` of `[[trims]]` entry `index` by `offset = [Δu, Δv]` in the
     /// surface's parameter plane (the hole slides over the surface, §5.2.1).
     MoveTrimCurve {
+        /// 0-based index of the `[[trims]]` entry.
         index: usize,
+        /// 0-based index of the curve in the entry's `curves`.
         curve: usize,
+        /// `[Δu, Δv]`, added to a circle's or ellipse's `center`, or to every point of a
+        /// polyline or B-spline.
         offset: [f64; 2],
     },
     /// Moves the `(u, v)` curve of the `on_patch` curve `name` by `offset = [Δu, Δv]` in its
     /// patch's parameter plane: the attached patch's end slides over the host, and the host's
     /// hole with it (§5.2.1, Fig. 5.11).
-    MoveAttachment { name: String, offset: [f64; 2] },
+    MoveAttachment {
+        /// The name of an `on_patch` curve in `[curves]`.
+        name: String,
+        /// `[Δu, Δv]`, added to the `path`'s centre (circle, ellipse) or to every one of its
+        /// points (polyline, B-spline).
+        offset: [f64; 2],
+    },
     /// Sets the value of the `[[parameters]]` entry `name` (§6.1, §6.4, §7.5; `None`: its
     /// neutral value, the design as written), checked against its bounds: only the curves
     /// and patches the parameter drives are re-solved.
     SetParameter {
+        /// The parameter's `name`.
         name: String,
+        /// The new value, within `[min, max]` (angles in radians); `None` (the default): the
+        /// neutral value. The undo carries the previous `value` as written.
         #[serde(default)]
         value: Option<f64>,
     },

@@ -26,21 +26,26 @@ const CURVE_POINTS: usize = 256;
 /// A named curve of the design, built.
 #[derive(Clone, Debug)]
 pub struct NamedCurve {
+    /// Its name in `[curves]`.
     pub name: String,
     /// The curve kind as written in the file (`circle`, `bspline`, …).
     pub kind: &'static str,
+    /// The built curve, with its `arc_length`, `v_origin` and `transform` applied.
     pub curve: SharedCurve,
 }
 
 /// One condition of a patch as the design file gave it.
 #[derive(Clone, Debug)]
 pub struct ConditionInfo {
+    /// Where the condition holds, `0 ≤ u ≤ 1`.
     pub u: f64,
+    /// 0 for a position condition, `d` for the `d`-th u-derivative.
     pub derivative: usize,
     /// The curve's name, `None` for an inline curve table.
     pub curve_name: Option<String>,
     /// The curve kind (`circle`, `derivative`, …).
     pub kind: &'static str,
+    /// The built curve the condition imposes (modifiers applied).
     pub curve: SharedCurve,
 }
 
@@ -122,6 +127,7 @@ pub struct DesignSurface {
     /// Where it comes from in the design file: `conditions`, `patches[2]`, `parametric[0]`,
     /// `blend` or `spline`.
     pub place: String,
+    /// What solved it, holding the solved object.
     pub kind: SurfaceKind,
     /// The operator of a PDE patch.
     pub operator: Option<OperatorSpec>,
@@ -191,6 +197,7 @@ impl Default for Export {
 
 /// A design with every part solved: the result of [`super::compile`].
 pub struct SolvedDesign {
+    /// The design's `title`, if it has one.
     pub title: Option<String>,
     /// The length unit of the coordinates (`units`, default millimetres).
     pub units: Units,

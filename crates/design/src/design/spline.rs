@@ -41,7 +41,9 @@ impl SplineOperatorSpec {
 /// A solved `[spline]` section in the arithmetic it asked for.
 #[derive(Clone, Debug)]
 pub enum SolvedSpline {
+    /// Solved in `f64` (`exact = false`, the default).
     Float(SplineNet<f64>),
+    /// Solved in exact rational arithmetic (`exact = true`).
     Exact(SplineNet<BigRational>),
 }
 

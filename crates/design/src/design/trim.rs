@@ -14,7 +14,11 @@ pub struct SurfaceTrim {
     pub surface: usize,
     /// Where the trim is in the design file (`trims[2]`).
     pub place: String,
+    /// How the region around the holes is re-meshed (the entry's `method`; `cdt` for a hole
+    /// that only an `on_patch` curve cuts).
     pub method: TrimMethod,
+    /// The closed curves in the surface's `(u, v)` plane whose insides are removed: the
+    /// entry's, then the paths of trimming `on_patch` curves on this surface.
     pub curves: Vec<TrimCurve>,
 }
 

@@ -47,14 +47,21 @@ pub const MAX_VERTICES: usize = 1 << 26;
 /// are the two precisions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Grid<T> {
+    /// Number of rows (values of `u`), at least 2 for a filled grid.
     pub nu: usize,
+    /// Number of columns (values of `v`).
     pub nv: usize,
     /// Faces wrap from the last column to the first.
     pub periodic_v: bool,
-    /// Parameter values of the rows (`nu` of them) and columns (`nv`).
+    /// Parameter values of the rows (`nu` of them).
     pub u: Vec<f64>,
+    /// Parameter values of the columns (`nv` of them).
     pub v: Vec<f64>,
+    /// `X(u_i, v_j)` at index [`Grid::index`]`(i, j) = i·nv + j` (row-major).
     pub positions: Vec<[T; 3]>,
+    /// Unit normals `X_u × X_v / |X_u × X_v|` from the surface's exact derivatives (the limit
+    /// normal at a pole, zero where none exists; see [`crate::surface::Partials::normal`]),
+    /// indexed as `positions`.
     pub normals: Vec<[T; 3]>,
 }
 
@@ -183,6 +190,7 @@ pub fn grid_parameters_in(
 
 /// Scalar types a grid can store.
 pub trait GridScalar: Copy + Send + Sync + Default + 'static {
+    /// `x` in this precision (rounded to nearest for `f32`).
     fn from_f64(x: f64) -> Self;
     /// Neither infinite nor NaN.
     fn is_finite(self) -> bool;

@@ -8,7 +8,9 @@ use std::ops::Range;
 /// A named group of consecutive triangles (a design's patch).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    /// The group's name (the patch's name in the design).
     pub name: String,
+    /// Indices into [`TriMesh::triangles`] of the group's triangles.
     pub triangles: Range<usize>,
 }
 
@@ -16,9 +18,13 @@ pub struct Part {
 /// the normals point to. `uv` is empty or has one `(u, v)` parameter pair per vertex.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriMesh {
+    /// Vertex positions `[x, y, z]`.
     pub positions: Vec<[f32; 3]>,
+    /// Vertex normals (unit, or zero where the surface has none), one per position.
     pub normals: Vec<[f32; 3]>,
+    /// Surface parameters `(u, v)`, one per position, or empty.
     pub uv: Vec<[f32; 2]>,
+    /// Triangles as three indices into `positions`.
     pub triangles: Vec<[u32; 3]>,
     /// Named triangle ranges, in order, covering `triangles` (empty for an unnamed mesh).
     pub parts: Vec<Part>,

@@ -56,21 +56,30 @@ pub enum EnergySpec {
     /// Seed 004 §6: `∂x⁴ + 2a ∂x²∂y² + a² ∂y⁴` with `(u, v)_L = ∫ u_xx v_xx + 2a u_xy v_xy +
     /// a² u_yy v_yy`, `a > 0`.
     #[serde(rename = "section6")]
-    Section6 { a: f64 },
+    Section6 {
+        /// The smoothing parameter a (> 0).
+        a: f64,
+    },
     /// Seed 003's `L_{a,b,c,d,e}`: `∫ a|u_xx|² + b⟨u_xx, u_xy⟩ + c|u_xy|² + d⟨u_xy, u_yy⟩ +
     /// e|u_yy|²`, operator `a ∂x⁴ + b ∂x³∂y + c ∂x²∂y² + d ∂x∂y³ + e ∂y⁴`; optional `mixed`
     /// weighs `⟨u_xx, u_yy⟩`. Must be positive definite in `(u_xx, u_xy, u_yy)`.
     #[serde(rename = "general")]
     General {
+        /// Weight of |u_xx|².
         a: f64,
+        /// Weight of ⟨u_xx, u_xy⟩.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         b: f64,
+        /// Weight of |u_xy|².
         c: f64,
+        /// Weight of ⟨u_xy, u_yy⟩.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         d: f64,
+        /// Weight of |u_yy|².
         e: f64,
+        /// How the mixed terms are formed.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         mixed: f64,
@@ -116,27 +125,38 @@ pub enum SurfaceSpec {
     /// plane normal to `axis` (`+y` if the axis is along `x`), `e₂ = â × e₁`.
     #[serde(rename = "cylinder")]
     Cylinder {
+        /// Centre of the cylinder's base circle.
         base: [f64; 3],
+        /// Axis vector: v runs from base to base + axis.
         axis: [f64; 3],
+        /// Radius (> 0).
         radius: f64,
     },
     /// `origin + u·du + v·dv`.
     #[serde(rename = "plane")]
     Plane {
+        /// The point at u = v = 0.
         origin: [f64; 3],
+        /// The step along u (u ∈ [0, 1]).
         du: [f64; 3],
+        /// The step along v.
         dv: [f64; 3],
     },
     /// A surface of this design by name: a PDE patch (`[[patches]]` name, or the single
     /// patch's name) or a `[[parametric]]` surface, in its own `(u, v)` parameters.
     #[serde(rename = "patch")]
-    Patch { name: String },
+    Patch {
+        /// The name of the design's surface.
+        name: String,
+    },
 }
 
 /// A data point: the site `at` in `[0, 1]²` and the point `value` in space.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PointSpec {
+    /// The site [u, v] in [0, 1]².
     pub at: [f64; 2],
+    /// The point [x, y, z] the surface takes there.
     pub value: [f64; 3],
 }

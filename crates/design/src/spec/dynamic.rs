@@ -11,7 +11,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(untagged)]
 pub enum FormulaText {
+    /// A number: the constant of that value.
     Number(f64),
+    /// A formula in the variables its key allows (`u`, `t`, `x`: see the key), e.g.
+    /// `"0.1*sin(t)"`.
     Text(String),
 }
 
@@ -95,8 +98,10 @@ pub struct DynamicSpec {
     /// Run: the components.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<ComponentSpec>,
+    /// Run: the second component's initial curve (as x).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub y: Option<ComponentSpec>,
+    /// Run: the third component's initial curve (as x).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub z: Option<ComponentSpec>,
     /// Interpolation: the interior points `p_1 … p_{n−1}` (2 or 3 coordinates each).
@@ -105,10 +110,13 @@ pub struct DynamicSpec {
     /// Interpolation: the end points and end tangents (derivatives in `u ∈ [0, 1]`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start: Option<Vec<f64>>,
+    /// Interpolation: the end point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end: Option<Vec<f64>>,
+    /// Interpolation: the derivative at the start (u ∈ [0, 1]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub start_tangent: Option<Vec<f64>>,
+    /// Interpolation: the derivative at the end (u ∈ [0, 1]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end_tangent: Option<Vec<f64>>,
     /// Interpolation: bending stiffness `D` (default 0.01).

@@ -14,7 +14,9 @@ pub struct ParametricSpec {
     pub name: String,
     /// The formulas of the three coordinates in `u` and `v`, e.g. `x = "sin(pi*u)*cos(v)"`.
     pub x: String,
+    /// The y coordinate as a formula in u and v.
     pub y: String,
+    /// The z coordinate as a formula in u and v.
     pub z: String,
     /// The `v` domain: `"periodic"` (`v ∈ [0, 2π)`, the default; the formulas must repeat
     /// after 2π) or an interval `[v0, v1]`.

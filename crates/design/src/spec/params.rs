@@ -112,8 +112,11 @@ pub enum AxisSpec {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum AxisName {
+    /// `"x"`, index 0.
     X,
+    /// `"y"`, index 1.
     Y,
+    /// `"z"`, index 2.
     Z,
 }
 
@@ -132,8 +135,11 @@ impl AxisName {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum PlaneSpec {
+    /// `"xy"`: the curve turns in the xy plane, about the z direction through `X₁`.
     Xy,
+    /// `"xz"`: the curve turns in the xz plane, about the y direction through `X₁`.
     Xz,
+    /// `"yz"`: the curve turns in the yz plane, about the x direction through `X₁`.
     Yz,
 }
 

@@ -120,8 +120,12 @@ pub struct SpineMove {
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SpineHermite {
+    /// A₀(0), the spine's start.
     pub p0: V3,
+    /// A₀(1), the spine's end.
     pub p1: V3,
+    /// A₀'(0), the speed at the start.
     pub d0: V3,
+    /// A₀'(1), the speed at the end.
     pub d1: V3,
 }

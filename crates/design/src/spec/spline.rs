@@ -55,12 +55,17 @@ pub struct SplineSpec {
 /// Which points of `net` are fixed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 pub enum FixSpec {
+    /// The outer ring of the net: rows `i = 0` and `i = n_u − 1`, columns `j = 0` and
+    /// `j = n_v − 1`.
     #[serde(rename = "boundary")]
     Boundary,
+    /// The outer ring and the ring just inside it.
     #[serde(rename = "two-rings")]
     TwoRings,
+    /// Rows `i = 0` and `i = n_u − 1` only (the two u-boundaries).
     #[serde(rename = "first-last-rows")]
     FirstLastRows,
+    /// Every point of the net (nothing left for the PDE to solve).
     #[serde(rename = "all")]
     All,
 }
@@ -83,21 +88,27 @@ pub enum SplineOperatorSpec {
     /// `a x_uu + b x_uv + c x_vv + d x_u + e x_v + f x = g` (coefficients default 0).
     #[serde(rename = "second-order")]
     Second {
+        /// Coefficient of x_uu.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         a: f64,
+        /// Coefficient of x_uv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         b: f64,
+        /// Coefficient of x_vv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         c: f64,
+        /// Coefficient of x_u.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         d: f64,
+        /// Coefficient of x_v.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         e: f64,
+        /// Coefficient of x.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         f: f64,
@@ -108,18 +119,23 @@ pub enum SplineOperatorSpec {
     /// `a x_uuuu + b x_uuuv + c x_uuvv + d x_uvvv + e x_vvvv = 0` (coefficients default 0).
     #[serde(rename = "fourth-order")]
     Fourth {
+        /// Coefficient of x_uuuu.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         a: f64,
+        /// Coefficient of x_uuuv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         b: f64,
+        /// Coefficient of x_uuvv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         c: f64,
+        /// Coefficient of x_uvvv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         d: f64,
+        /// Coefficient of x_vvvv.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         e: f64,
@@ -135,7 +151,10 @@ pub enum SplineOperatorSpec {
     Coons {},
     /// `x_uuuu + 2a² x_uuvv + a⁴ x_vvvv = 0` (`F_a = L_{1,0,2a²,0,a⁴}`).
     #[serde(rename = "modified-biharmonic")]
-    ModifiedBiharmonic { a: f64 },
+    ModifiedBiharmonic {
+        /// The parameter a of F_a.
+        a: f64,
+    },
 }
 
 /// Exactly two whole numbers, one for u and one for v (a fixed-size array would quietly ignore

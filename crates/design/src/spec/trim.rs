@@ -30,9 +30,13 @@ pub struct TrimSpec {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum TrimMethodSpec {
+    /// `"cdt"`: constrained Delaunay triangulation of the band around the holes (any curves;
+    /// the default).
     #[default]
     Cdt,
+    /// `"bilinear"`: the book's bilinear four-region mesh (convex curves, §5.2).
     Bilinear,
+    /// `"laplace"`: the book's Laplace mapping of the annulus (Eq. 5.3; convex curves).
     Laplace,
 }
 
@@ -49,23 +53,36 @@ impl TrimMethodSpec {
 pub enum TrimCurveSpec {
     /// `center + radius (cos θ, sin θ)`.
     #[serde(rename = "circle")]
-    Circle { center: [f64; 2], radius: f64 },
+    Circle {
+        /// Centre [u, v].
+        center: [f64; 2],
+        /// Radius in (u, v) (> 0).
+        radius: f64,
+    },
     /// `center + R(angle) (a cos θ, b sin θ)` with `radii = [a, b]`; `angle` in radians.
     #[serde(rename = "ellipse")]
     Ellipse {
+        /// Centre [u, v].
         center: [f64; 2],
+        /// Semi-axes [a, b] (> 0).
         radii: [f64; 2],
+        /// Rotation of the a axis from the u axis, radians.
         #[serde(default, skip_serializing_if = "super::write::is_zero")]
         angle: f64,
     },
     /// The closed polygon through `points` (the last joins the first).
     #[serde(rename = "polyline")]
-    Polyline { points: Vec<[f64; 2]> },
+    Polyline {
+        /// The corners [u, v] in order.
+        points: Vec<[f64; 2]>,
+    },
     /// The closed uniform B-spline of `degree` (default 3) over `points` taken cyclically.
     #[serde(rename = "bspline")]
     Bspline {
+        /// Degree (default 3).
         #[serde(default = "default_degree")]
         degree: usize,
+        /// Control points [u, v], taken cyclically.
         points: Vec<[f64; 2]>,
     },
 }

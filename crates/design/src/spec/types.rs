@@ -212,10 +212,22 @@ pub enum OperatorSpec {
     /// `a ∂u⁶ + b ∂u⁴∂v² + c ∂u²∂v⁴ + d ∂v⁶` (Eq. 4.54); here `a` is a coefficient, not the
     /// smoothing parameter.
     #[serde(rename = "sixth-order")]
-    SixthOrder { a: f64, b: f64, c: f64, d: f64 },
+    SixthOrder {
+        /// Coefficient of ∂u⁶.
+        a: f64,
+        /// Coefficient of ∂u⁴∂v².
+        b: f64,
+        /// Coefficient of ∂u²∂v⁴.
+        c: f64,
+        /// Coefficient of ∂v⁶.
+        d: f64,
+    },
     /// `Σ_{k=0}^{N} c_k ∂u^{2N−2k} ∂v^{2k}` from `coefficients = [c_0, …, c_N]`; must be elliptic.
     #[serde(rename = "general")]
-    General { coefficients: Vec<f64> },
+    General {
+        /// [c_0, …, c_N]: c_k multiplies ∂u^(2N−2k) ∂v^(2k).
+        coefficients: Vec<f64>,
+    },
 }
 
 fn default_order() -> usize {
@@ -417,6 +429,8 @@ impl<'de> Deserialize<'de> for CurveRef {
 /// A curve: its kind and the modifiers every kind accepts.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurveSpec {
+    /// What the curve is and its own keys, chosen by the file's `type` key (written flat into
+    /// the curve's table, beside the modifiers below).
     pub kind: CurveKind,
     /// Affine maps applied in order (§6.1).
     pub transform: Vec<TransformStep>,
@@ -627,8 +641,11 @@ pub enum CurveKind {
     /// projection of +x on that plane (+y if the normal is along x).
     #[serde(rename = "circle")]
     Circle {
+        /// Centre of the circle [x, y, z].
         center: V3,
+        /// Radius (> 0).
         radius: f64,
+        /// Normal of the circle's plane (default [0, 0, 1]); v runs counter-clockwise about it.
         #[serde(default = "default_normal", skip_serializing_if = "is_z_axis")]
         #[schemars(skip_serializing_if = "never")]
         normal: V3,
@@ -637,45 +654,74 @@ pub enum CurveKind {
     /// start direction) and `ry` in the plane normal to `normal`.
     #[serde(rename = "ellipse")]
     Ellipse {
+        /// Centre of the ellipse [x, y, z].
         center: V3,
+        /// The point at v = 0 minus the centre (with axis2; instead of rx, ry).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         axis1: Option<V3>,
+        /// The point at v = π/2 minus the centre (with axis1).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         axis2: Option<V3>,
+        /// Semi-axis along the start direction (> 0; with ry).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         rx: Option<f64>,
+        /// Semi-axis perpendicular to it in the plane (> 0; with rx).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         ry: Option<f64>,
+        /// Normal of the plane of rx, ry (default [0, 0, 1]).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         normal: Option<V3>,
     },
     /// A constant curve (closes the surface to a pole).
     #[serde(rename = "point")]
-    Point { at: V3 },
+    Point {
+        /// The point [x, y, z] the whole curve sits on (a pole).
+        at: V3,
+    },
     /// A B-spline. Periodic (default): `knots` are the `control.len() + 1` increasing breakpoints
     /// (mapped onto [0, 2π]); open: the full clamped knot vector.
     #[serde(rename = "bspline")]
     BSpline {
+        /// Polynomial degree (1 to 30).
         degree: usize,
+        /// Control points [x, y, z].
         control: Vec<V3>,
+        /// Periodic: the control.len() + 1 increasing breakpoints (default uniform); open: the
+        /// full clamped knot vector.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         knots: Option<Vec<f64>>,
+        /// Closed periodic curve over [0, 2π] (default true) or an open clamped one.
         #[serde(default = "default_true")]
         periodic: bool,
     },
     /// A Bézier curve on [0, 1] (open: for drawing, not as a condition).
     #[serde(rename = "bezier")]
-    Bezier { control: Vec<V3> },
+    Bezier {
+        /// Control points [x, y, z] (degree = count − 1).
+        control: Vec<V3>,
+    },
     /// A cubic Hermite curve on [0, 1] (Eq. 5.4; open).
     #[serde(rename = "hermite")]
-    Hermite { p0: V3, p1: V3, d0: V3, d1: V3 },
+    Hermite {
+        /// Position at the start.
+        p0: V3,
+        /// Position at the end.
+        p1: V3,
+        /// Derivative at the start.
+        d0: V3,
+        /// Derivative at the end.
+        d1: V3,
+    },
     /// `a0 + Σ_{n=1}^{M} [cos[n−1] cos nv + sin[n−1] sin nv]`.
     #[serde(rename = "fourier")]
     Fourier {
+        /// The constant term [x, y, z].
         a0: V3,
+        /// Coefficients of cos v, cos 2v, … (one [x, y, z] each).
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         #[schemars(skip_serializing_if = "never")]
         cos: Vec<V3>,
+        /// Coefficients of sin v, sin 2v, … (one [x, y, z] each).
         #[serde(default, skip_serializing_if = "Vec::is_empty")]
         #[schemars(skip_serializing_if = "never")]
         sin: Vec<V3>,
@@ -683,16 +729,22 @@ pub enum CurveKind {
     /// Closed point samples interpolated by a periodic cubic spline.
     #[serde(rename = "samples")]
     Samples {
+        /// The closed sequence of points [x, y, z] (the last is not repeated).
         points: Vec<V3>,
+        /// How the samples are spread over [0, 2π]: uniform, chord (default) or centripetal.
         #[serde(default)]
         param: ParamSpec,
     },
     /// Three formulas in `v`, e.g. `x = "2*cos(v)"`.
     #[serde(rename = "formula")]
     Formula {
+        /// x as a formula in v.
         x: String,
+        /// y as a formula in v.
         y: String,
+        /// z as a formula in v.
         z: String,
+        /// The range of v: periodic over [0, 2π] (default) or an interval.
         #[serde(default, skip_serializing_if = "DomainSpec::is_periodic")]
         domain: DomainSpec,
     },
@@ -700,8 +752,11 @@ pub enum CurveKind {
     /// `X_u = scale · (direction − position)`.
     #[serde(rename = "derivative")]
     Derivative {
+        /// The position curve (name or inline table).
         position: CurveRef,
+        /// The direction curve (name or inline table).
         direction: CurveRef,
+        /// The factor s of X_u = s (direction − position).
         #[serde(default = "default_a")]
         scale: f64,
     },
@@ -712,17 +767,24 @@ pub enum CurveKind {
     /// (perpendicular to that plane).
     #[serde(rename = "local")]
     Local {
+        /// The curve edited (name or inline table).
         curve: CurveRef,
+        /// Start of the edited interval of v.
         from: f64,
+        /// End of the edited interval of v (below from: across v = 0 on a periodic curve).
         to: f64,
+        /// The handle's parameter (default the middle of the interval).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         at: Option<f64>,
+        /// Move of the handle from C(from) towards C(to).
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         along: f64,
+        /// Move of the handle in the plane of the three points, towards the handle.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         across: f64,
+        /// Move of the handle perpendicular to that plane.
         #[serde(default, skip_serializing_if = "is_zero")]
         #[schemars(skip_serializing_if = "never")]
         normal: f64,
@@ -773,9 +835,12 @@ fn default_normal() -> V3 {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum ParamSpec {
+    /// Equal parameter steps.
     Uniform,
+    /// Steps proportional to the chord lengths between consecutive points (the default).
     #[default]
     Chord,
+    /// Steps proportional to the square roots of the chord lengths.
     Centripetal,
 }
 
@@ -856,16 +921,20 @@ pub enum TransformStep {
     Translate(V3),
     /// Rotation (right-handed, angle in degrees) about the line through `about` along `axis`.
     Rotate {
+        /// Direction of the rotation axis (right-handed).
         axis: V3,
         /// Degrees.
         angle: f64,
+        /// A point on the rotation axis (default the origin).
         #[serde(default, skip_serializing_if = "is_zero3")]
         #[schemars(skip_serializing_if = "never")]
         about: V3,
     },
     /// Uniform scaling by `factor ≠ 0` about the point `about`.
     Scale {
+        /// The factor (non-zero).
         factor: f64,
+        /// The fixed point (default the origin).
         #[serde(default, skip_serializing_if = "is_zero3")]
         #[schemars(skip_serializing_if = "never")]
         about: V3,
@@ -873,7 +942,9 @@ pub enum TransformStep {
     /// Scaling by `factors = [fx, fy, fz]` (each non-zero) along the axes about the point
     /// `about`: the dilations `d_kD_i` of §7.5.
     Dilate {
+        /// [fx, fy, fz], each non-zero.
         factors: V3,
+        /// The fixed point (default the origin).
         #[serde(default, skip_serializing_if = "is_zero3")]
         #[schemars(skip_serializing_if = "never")]
         about: V3,

@@ -13,8 +13,11 @@ pub enum TrimCurve {
     /// `c(t) = center + R(angle) (a cos 2πt, b sin 2πt)` with `radii = [a, b]` (a circle when
     /// `a = b`); `angle` in radians, measured from the `u` axis towards `v`.
     Ellipse {
+        /// Centre `[u, v]`.
         center: [f64; 2],
+        /// Semi-axes `[a, b]`, both positive.
         radii: [f64; 2],
+        /// Rotation of the `a` axis from the `u` axis towards `v`, radians.
         angle: f64,
     },
     /// The closed polygon through the points (the last joins the first); `t = k/n` is point `k`.
@@ -22,7 +25,9 @@ pub enum TrimCurve {
     /// The closed uniform B-spline of `degree` over the control points taken cyclically:
     /// `c(t) = Σ_i P_{i mod n} N_p(nt − i)` with the cardinal B-spline `N_p` on `[0, p+1]`.
     BSpline {
+        /// The degree `p`, 1 to [`MAX_DEGREE`] and below the number of control points.
         degree: usize,
+        /// The control points `P_i = [u, v]`, taken cyclically.
         points: Vec<[f64; 2]>,
     },
 }

@@ -78,6 +78,7 @@ pub struct ParamMesh {
     /// Triangles, counter-clockwise in `(u, v)`: the kept grid cells' triangles first
     /// (`grid_triangles` of them), then the re-meshed ones.
     pub triangles: Vec<[u32; 3]>,
+    /// Number of leading `triangles` taken unchanged from the kept grid cells.
     pub grid_triangles: usize,
     /// Every vertex on a trim curve.
     pub on_trim: Vec<OnTrim>,

@@ -162,6 +162,8 @@ pub struct ParameterDiagnostics {
 /// An `[[nsided]]` patch: how exactly it meets its sides and its neighbours.
 #[derive(Clone, Debug)]
 pub struct NSidedDiagnostics {
+    /// The `[[nsided]]` entry's `name` (a patch of `n ≠ 4` sides is the surfaces `name.0`,
+    /// `name.1`, …).
     pub name: String,
     /// The number of sides.
     pub sides: usize,

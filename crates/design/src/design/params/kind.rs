@@ -7,29 +7,72 @@ use crate::Vec3;
 #[derive(Clone, Debug, PartialEq)]
 pub enum ParamKind {
     /// `c_kT_i`: translation of the curve along axis `i` (0, 1, 2 for x, y, z).
-    Translate { curve: String, axis: usize },
+    Translate {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The axis index `i`: 0, 1 or 2 for x, y, z.
+        axis: usize,
+    },
     /// `c_kR_i`: rotation of the curve by the value (radians) about the axis `i` through the
     /// curve's centroid.
-    Rotate { curve: String, axis: usize },
+    Rotate {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The axis index `i`: 0, 1 or 2 for x, y, z.
+        axis: usize,
+    },
     /// `c_kD_i`: dilation of the curve by the value along axis `i` about its centroid.
-    Dilate { curve: String, axis: usize },
+    Dilate {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The axis index `i`: 0, 1 or 2 for x, y, z.
+        axis: usize,
+    },
     /// The smoothing parameter `a` of every polyharmonic operator of the design.
     Smoothing,
     /// `c_T`: the control point `c_j` of a B-spline curve moves by `(−1)^j c_T n_j`, `n_j` the
     /// unit normal of the control polygon at `c_j` in the `xy` plane, pointing away from the
     /// polygon's centroid (§7.5.1, Fig. 7.5: alternate points out and in make the ridges).
-    ControlOffset { curve: String },
+    ControlOffset {
+        /// The driven B-spline curve's name in `[curves]`.
+        curve: String,
+    },
     /// The position parameter `X₁` (§6.1): the curve translated so that coordinate `axis` of
     /// its point at `v1` becomes the value.
-    Position { curve: String, v1: f64, axis: usize },
+    Position {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The curve parameter of `X₁`.
+        v1: f64,
+        /// The coordinate set: 0, 1 or 2 for x, y, z.
+        axis: usize,
+    },
     /// The angling parameter `θ` (§6.1): the curve rotated by the value (radians, right-handed)
     /// about the line through its point at `v1` along the unit vector `axis`.
-    Angle { curve: String, v1: f64, axis: Vec3 },
+    Angle {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The curve parameter of `X₁`, the point the rotation axis passes through.
+        v1: f64,
+        /// Unit direction of the rotation axis (from the entry's `axis`, or the normal of its
+        /// `plane`).
+        axis: Vec3,
+    },
     /// The scaling parameter `s` (§6.1): the curve scaled uniformly about its point `X₁` at
     /// `v1` so that the distance to its point `X₂` at `v2` becomes the value.
-    Scale { curve: String, v1: f64, v2: f64 },
+    Scale {
+        /// The driven curve's name in `[curves]`.
+        curve: String,
+        /// The curve parameter of `X₁`, the fixed point of the scaling.
+        v1: f64,
+        /// The curve parameter of `X₂`; the value is the distance `|X₁X₂|`.
+        v2: f64,
+    },
     /// The `v = 0` point (§6.4): the curve's `v_origin` becomes the value (radians).
-    VOrigin { curve: String },
+    VOrigin {
+        /// The driven (periodic) curve's name in `[curves]`.
+        curve: String,
+    },
 }
 
 impl ParamKind {
@@ -99,14 +142,23 @@ impl ParamKind {
 /// the design as written) and its value (given, else the neutral one).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DesignParameter {
+    /// The entry's unique `name`, by which `--set`, `[optimize]` and
+    /// [`crate::design::Edit::SetParameter`] refer to it.
     pub name: String,
     /// Where it is in the file: `parameters[i]`.
     pub place: String,
+    /// What the parameter changes, from the entry's `kind` and the keys that kind uses.
     pub kind: ParamKind,
     /// Further curves that follow the same map.
     pub with: Vec<String>,
+    /// Lower bound of the value (the entry's `min`).
     pub min: f64,
+    /// Upper bound of the value (the entry's `max`).
     pub max: f64,
+    /// The value that leaves the design as written: `X₁`'s own coordinate, angle 0, the
+    /// curve's own `|X₁X₂|`, its own `v_origin`, 0 for translations, rotations and
+    /// `control_offset`, 1 for dilations, the design's own `a`.
     pub neutral: f64,
+    /// The value in force: the entry's `value` if given, else `neutral` (angles in radians).
     pub value: f64,
 }

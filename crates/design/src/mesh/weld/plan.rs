@@ -26,6 +26,7 @@ use std::sync::OnceLock;
 /// One grid's part of the welded mesh, as the plan numbers it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanPart {
+    /// The grid's name as given to the weld (`patch{k}` for the `k`-th grid without one).
     pub name: String,
     /// The vertices of earlier grids that this part's triangles use, ascending.
     pub foreign: Vec<u32>,
