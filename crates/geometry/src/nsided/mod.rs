@@ -500,7 +500,7 @@ impl NSidedPatch {
                             .at(&format!("sides[{i}].ribbon")));
                         }
                     }
-                    let normal = ChebVec::fit(&unit);
+                    let normal = Box::new(ChebVec::fit(&unit));
                     let mut ab = [[0.0; 2]; 2];
                     for (e, (end, k)) in [(false, i), (true, (i + 1) % n)].into_iter().enumerate() {
                         let s = if end { 1.0 } else { 0.0 };

@@ -309,7 +309,7 @@ pub(crate) enum BuiltRibbon {
     /// `D(s) = a(s) (N(s) × C'(s)) + b(s) C'(s)`, `a` and `b` cubics from their values and
     /// slopes at the ends, `N` the Chebyshev series of the neighbour's normal.
     Plane {
-        normal: ChebVec,
+        normal: Box<ChebVec>,
         a: [f64; 4],
         b: [f64; 4],
     },
