@@ -66,6 +66,10 @@ use rayon::prelude::*;
 use side::{BuiltRibbon, BuiltSide, ChebVec};
 use std::sync::{Arc, Mutex, OnceLock};
 
+/// Where the quadrature panels of a piece end near a polygon corner (see
+/// [`NSidedSurface`]'s `breaks`).
+const CORNER_GRADING: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
+
 /// The largest number of sides.
 pub const MAX_SIDES: usize = 8;
 
@@ -793,6 +797,22 @@ impl NSidedSurface {
 impl Surface for NSidedSurface {
     fn v_domain(&self) -> VDomain {
         VDomain::Interval(0.0, 1.0)
+    }
+
+    /// Panels graded geometrically towards the polygon's corners (`(0, 0)` of a piece, every
+    /// corner of the square): there the blends leave third derivatives that jump, and graded
+    /// panels keep the quadratures of area and curvature converging at their full order.
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        let near: Vec<f64> = CORNER_GRADING.to_vec();
+        let both: Vec<f64> = CORNER_GRADING
+            .iter()
+            .copied()
+            .chain(CORNER_GRADING.iter().rev().map(|t| 1.0 - t))
+            .collect();
+        match self.piece {
+            Some(_) => (near.clone(), near),
+            None => (both.clone(), both),
+        }
     }
 
     fn partials(&self, u: f64, v: f64) -> Partials {

@@ -99,10 +99,10 @@ pub(crate) fn curve_jet(curve: &SharedCurve, t0: f64, t1: f64, s: f64, out: &mut
     }
 }
 
-/// A vector function on `[0, 1]` as a Chebyshev series, evaluated with two derivatives from
-/// a table of the series on a uniform grid by quintic Hermite interpolation (so an evaluation
-/// costs the same whatever the series' length; the table's error, `O(h⁶)` with `h = 1/256`, is
-/// far below the series').
+/// A vector function on `[0, 1]` as a Chebyshev series with two derivatives. A long series
+/// (a field that is not smooth enough to converge in 64 terms) is evaluated from a table on a
+/// uniform grid by quintic Hermite interpolation, so an evaluation costs the same whatever its
+/// length (the table's error, `O(h⁶)` with `h = 1/256`, is far below the series').
 #[derive(Clone, Debug)]
 pub(crate) struct ChebVec {
     /// Series of the value, first and second derivatives, per coordinate, in `x = 2s − 1`.
@@ -115,6 +115,9 @@ pub(crate) struct ChebVec {
 
 /// Intervals of the table of a [`ChebVec`].
 const TABLE: usize = 256;
+
+/// The longest series a [`ChebVec`] evaluates directly.
+const SHORT: usize = 65;
 
 /// The quintic Hermite basis on `[0, 1]` (value, slope and second derivative at 0, then at 1)
 /// with its first and second derivatives.
@@ -191,8 +194,13 @@ impl ChebVec {
         self.series_at(0, s)
     }
 
-    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]`, from the table.
+    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]`: from a short series itself (a smooth
+    /// field stays analytic, so quadratures over the patch converge at their full order),
+    /// from the table when the series is long.
     pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
+        if self.series[0][0].len() <= SHORT {
+            return self.series_at(k, s);
+        }
         let h = 1.0 / TABLE as f64;
         let i = ((s * TABLE as f64).floor().max(0.0) as usize).min(TABLE - 1);
         let x = (s - i as f64 * h) / h;
@@ -222,12 +230,15 @@ fn cheb_coefficients(f: &dyn Fn(f64) -> Vec3, n: usize) -> [Vec<f64>; 3] {
         .map(|j| f(0.5 * ((std::f64::consts::PI * j as f64 / n as f64).cos() + 1.0)))
         .collect();
     let mut out = [vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]];
+    // cos(π m / n) for m = 0 … 2n − 1: every product j k reduces to one of them.
+    let cosines: Vec<f64> = (0..2 * n)
+        .map(|m| (std::f64::consts::PI * m as f64 / n as f64).cos())
+        .collect();
     for k in 0..=n {
         let mut acc = Vec3::zeros();
         for (j, v) in vals.iter().enumerate() {
             let half = if j == 0 || j == n { 0.5 } else { 1.0 };
-            let c = (std::f64::consts::PI * ((j * k) % (2 * n)) as f64 / n as f64).cos();
-            acc += v * (half * c);
+            acc += v * (half * cosines[(j * k) % (2 * n)]);
         }
         let mut scale = 2.0 / n as f64;
         if k == 0 || k == n {
