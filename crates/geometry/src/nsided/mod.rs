@@ -70,6 +70,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// [`NSidedSurface`]'s `breaks`).
 const CORNER_GRADING: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 
+/// The smallest turn of the boundary's tangent at a corner (radians, 0.5°).
+const MIN_TURN: f64 = 0.5 * std::f64::consts::PI / 180.0;
+
 /// The largest number of sides.
 pub const MAX_SIDES: usize = 8;
 
@@ -428,6 +431,21 @@ impl NSidedPatch {
                 )));
             }
             corner.gap = gap;
+            // The domain's corner turns by 2π/n; a side that continues its predecessor
+            // (a flat corner) or turns back on it (a cusp) maps that turn singularly.
+            let (a, b) = (built[prev].position(1.0)[1], built[k].position(0.0)[1]);
+            let turn = a.cross(&b).norm().atan2(a.dot(&b));
+            if !(MIN_TURN..=std::f64::consts::PI - MIN_TURN).contains(&turn) {
+                return Err(Error::invalid(format!(
+                    "the sides meet without a corner at corner {k} (end of side {prev}, start \
+                     of side {k}): the tangent turns by {:.3}°; every corner of an n-sided \
+                     patch must turn (by more than {:.1}° and less than {:.1}°): join the two \
+                     sides into one",
+                    turn.to_degrees(),
+                    MIN_TURN.to_degrees(),
+                    180.0 - MIN_TURN.to_degrees()
+                )));
+            }
         }
         let poly = Polygon::new(n);
         let mut patch = NSidedPatch {

@@ -455,6 +455,16 @@ fn bad_loops_are_refused_with_the_place() {
         e.to_string().contains("sides[2]") && e.to_string().contains("degenerate"),
         "{e}"
     );
+    // A corner that does not turn: a side split in two at its middle.
+    let mut sides = loop_of(&pts);
+    let mid = (pts[0] + pts[1]) / 2.0;
+    sides[0] = Side::position(line(pts[0], mid), 0.0, 1.0);
+    sides.insert(1, Side::position(line(mid, pts[1]), 0.0, 1.0));
+    let e = NSidedPatch::solve(sides, &opts).unwrap_err();
+    assert!(
+        e.to_string().contains("without a corner at corner 1"),
+        "{e}"
+    );
     // A parameter outside the curve.
     let mut sides = loop_of(&pts);
     sides[1].t1 = 1.5;
