@@ -61,6 +61,33 @@ impl Curve for Hermite {
     }
 }
 
+/// The cubic Hermite basis on `[0, 1]` (value at 0, slope at 0, value at 1, slope at 1) with
+/// its first and second derivatives: `[order][function]`.
+pub(crate) fn hermite_basis(t: f64) -> [[f64; 4]; 3] {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    [
+        [
+            2.0 * t3 - 3.0 * t2 + 1.0,
+            t3 - 2.0 * t2 + t,
+            -2.0 * t3 + 3.0 * t2,
+            t3 - t2,
+        ],
+        [
+            6.0 * t2 - 6.0 * t,
+            3.0 * t2 - 4.0 * t + 1.0,
+            -6.0 * t2 + 6.0 * t,
+            3.0 * t2 - 2.0 * t,
+        ],
+        [
+            12.0 * t - 6.0,
+            6.0 * t - 4.0,
+            -12.0 * t + 6.0,
+            6.0 * t - 2.0,
+        ],
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::testutil::{assert_close, check_fd, jet};

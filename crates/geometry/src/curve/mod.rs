@@ -9,7 +9,7 @@ mod bezier;
 mod bspline;
 mod conic;
 mod formula;
-mod hermite;
+pub(crate) mod hermite;
 mod local;
 mod samples;
 mod series;

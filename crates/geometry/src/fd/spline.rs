@@ -4,6 +4,7 @@
 //! not-a-knot. The interpolant is C² and reproduces cubics in each variable, so between the nodes
 //! it adds an O(h⁴) interpolation error to the O(h²) error of the difference scheme.
 
+use crate::curve::hermite::hermite_basis;
 use crate::surface::Partials;
 use crate::Vec3;
 
@@ -87,33 +88,6 @@ pub(crate) fn periodic_slopes(y: &[Vec3], h: f64) -> Vec<Vec3> {
         *xi -= f * qi.x;
     }
     x
-}
-
-/// Cubic Hermite basis on `[0, 1]` and its first two derivatives: `[value at 0, slope at 0,
-/// value at 1, slope at 1]` for derivative order 0, 1, 2.
-fn hermite(t: f64) -> [[f64; 4]; 3] {
-    let t2 = t * t;
-    let t3 = t2 * t;
-    [
-        [
-            2.0 * t3 - 3.0 * t2 + 1.0,
-            t3 - 2.0 * t2 + t,
-            -2.0 * t3 + 3.0 * t2,
-            t3 - t2,
-        ],
-        [
-            6.0 * t2 - 6.0 * t,
-            3.0 * t2 - 4.0 * t + 1.0,
-            -6.0 * t2 + 6.0 * t,
-            3.0 * t2 - 2.0 * t,
-        ],
-        [
-            12.0 * t - 6.0,
-            6.0 * t - 4.0,
-            -12.0 * t + 6.0,
-            6.0 * t - 2.0,
-        ],
-    ]
 }
 
 /// The bicubic spline through `(nu + 1) × mv` nodes on `[0, 1] × [v0, v0 + mv·hv)` (periodic) or
@@ -208,8 +182,8 @@ impl NodeSpline {
             j + 1
         };
         let (hu, hv) = (self.hu, self.hv);
-        let bu = hermite(t);
-        let bv = hermite(s);
+        let bu = hermite_basis(t);
+        let bv = hermite_basis(s);
         // Node p of the cell (0: i, 1: i+1) in u and q in v.
         let node = |p: usize, q: usize| &self.data[(i + p) * self.mv + if q == 0 { j } else { j1 }];
         let mut out = [[Vec3::zeros(); 3]; 3];

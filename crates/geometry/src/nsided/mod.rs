@@ -674,21 +674,27 @@ impl NSidedPatch {
 
     /// The boundary interpolant `C` at the domain point `p`.
     fn interpolant(&self, p: [f64; 2]) -> VJet {
+        // On the stack: this runs at every quadrature node and every evaluation.
         let n = self.poly.n;
-        let d: Vec<Jet> = (0..n).map(|i| self.poly.distance_jet(i, p)).collect();
-        let cube: Vec<Jet> = d.iter().map(|x| *x * *x * *x).collect();
-        let pis: Vec<Jet> = (0..n)
-            .map(|i| {
-                (0..n)
-                    .filter(|&j| j != i)
-                    .fold(Jet::constant(1.0), |acc, j| acc * cube[j])
-            })
-            .collect();
-        let total = pis.iter().fold(Jet::constant(0.0), |acc, x| acc + *x);
+        let mut d = [Jet::default(); MAX_SIDES];
+        let mut cube = [Jet::default(); MAX_SIDES];
+        for i in 0..n {
+            d[i] = self.poly.distance_jet(i, p);
+            cube[i] = d[i] * d[i] * d[i];
+        }
+        let mut pis = [Jet::constant(1.0); MAX_SIDES];
+        for (i, pi) in pis.iter_mut().enumerate().take(n) {
+            for (j, c) in cube.iter().enumerate().take(n) {
+                if j != i {
+                    *pi = *pi * *c;
+                }
+            }
+        }
+        let total = pis[..n].iter().fold(Jet::constant(0.0), |acc, x| acc + *x);
         let inv_total = total.recip();
         let mut c = VJet::default();
-        for (i, pi) in pis.iter().enumerate() {
-            c = c + self.ribbon_jet(i, &d).times(*pi * inv_total);
+        for (i, pi) in pis[..n].iter().enumerate() {
+            c = c + self.ribbon_jet(i, &d[..n]).times(*pi * inv_total);
         }
         c
     }

@@ -1,6 +1,7 @@
 //! The sides of an n-sided patch: a curve run over a parameter interval, and the ribbon that
 //! gives the cross-boundary derivative for G1.
 
+use crate::curve::hermite::hermite_basis;
 use crate::curve::SharedCurve;
 use crate::elliptic::basis::{cheb_diff, clenshaw};
 use crate::Vec3;
@@ -257,41 +258,15 @@ fn derivative_series(c: &[Vec<f64>; 3]) -> [[Vec<f64>; 3]; 3] {
     [c.clone(), d1, d2]
 }
 
-/// The cubic Hermite basis on `[0, 1]` (`h00, h10, h01, h11`: value at 0, slope at 0, value
-/// at 1, slope at 1) with its first and second derivatives.
-fn hermite(s: f64) -> [[f64; 4]; 3] {
-    let (s2, s3) = (s * s, s * s * s);
-    [
-        [
-            2.0 * s3 - 3.0 * s2 + 1.0,
-            s3 - 2.0 * s2 + s,
-            -2.0 * s3 + 3.0 * s2,
-            s3 - s2,
-        ],
-        [
-            6.0 * s2 - 6.0 * s,
-            3.0 * s2 - 4.0 * s + 1.0,
-            -6.0 * s2 + 6.0 * s,
-            3.0 * s2 - 2.0 * s,
-        ],
-        [
-            12.0 * s - 6.0,
-            6.0 * s - 4.0,
-            -12.0 * s + 6.0,
-            6.0 * s - 2.0,
-        ],
-    ]
-}
-
 /// A cubic on `[0, 1]` from its values and slopes at the ends: `[v0, m0, v1, m1]`.
 pub(crate) fn hermite_scalar(c: &[f64; 4], s: f64) -> [f64; 3] {
-    let h = hermite(s);
+    let h = hermite_basis(s);
     [0, 1, 2].map(|k| (0..4).map(|j| h[k][j] * c[j]).sum())
 }
 
 /// A cubic curve on `[0, 1]` from its values and slopes at the ends.
 pub(crate) fn hermite_vector(c: &[Vec3; 4], s: f64) -> [Vec3; 3] {
-    let h = hermite(s);
+    let h = hermite_basis(s);
     [0, 1, 2].map(|k| (0..4).fold(Vec3::zeros(), |acc, j| acc + c[j] * h[k][j]))
 }
 

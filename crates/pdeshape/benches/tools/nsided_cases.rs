@@ -24,15 +24,15 @@ use std::time::Instant;
 /// to the slope of the cubic through the four nearest points (so tangents are `O(h³)`
 /// accurate up to the ends, where a natural spline's would be `O(h)` off).
 #[derive(Debug)]
-struct Natural {
+struct Clamped {
     t: Vec<f64>,
     p: Vec<Vec3>,
     /// Second derivatives at the knots.
     m: Vec<Vec3>,
 }
 
-impl Natural {
-    fn new(p: Vec<Vec3>, t: Vec<f64>) -> Natural {
+impl Clamped {
+    fn new(p: Vec<Vec3>, t: Vec<f64>) -> Clamped {
         let n = p.len();
         // Tridiagonal system for the second derivatives with clamped ends.
         let mut a = vec![0.0; n];
@@ -82,11 +82,11 @@ impl Natural {
         for i in (0..n - 1).rev() {
             m[i] = (r[i] - m[i + 1] * c[i]) / b[i];
         }
-        Natural { t, p, m }
+        Clamped { t, p, m }
     }
 }
 
-impl Curve for Natural {
+impl Curve for Clamped {
     fn domain(&self) -> Domain {
         Domain::Interval(0.0, 1.0)
     }
@@ -181,13 +181,13 @@ fn main() {
                 .map(vec3)
                 .collect();
             let t = chord_params(&pts);
-            let curve: SharedCurve = Arc::new(Natural::new(pts.clone(), t.clone()));
+            let curve: SharedCurve = Arc::new(Clamped::new(pts.clone(), t.clone()));
             let normals: Option<Vec<Vec3>> = side["normals"]
                 .as_array()
                 .map(|ns| ns.iter().map(vec3).collect());
             let ribbon = match &normals {
                 Some(ns) => {
-                    let spline = Natural::new(ns.clone(), t.clone());
+                    let spline = Clamped::new(ns.clone(), t.clone());
                     Ribbon::TangentPlane(Arc::new(move |s| spline.point(s).normalize()))
                 }
                 None => Ribbon::Position,
