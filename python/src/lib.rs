@@ -688,13 +688,7 @@ impl Design {
         let file = self.file.clone();
         let v = py.detach(|| {
             let d = diagnostics::diagnose(spec, &solved);
-            let text = diagnostics::check_report(&file, spec, &solved, &d);
-            let mut v = d.to_json();
-            v["ok"] = serde_json::json!(true);
-            v["design"] = serde_json::json!(file);
-            v["report"] = serde_json::json!(text);
-            v["verdict"] = serde_json::json!(d.verdict.word());
-            v
+            diagnostics::check_json(&file, spec, &solved, &d)
         });
         py.import("json")?.call_method1("loads", (v.to_string(),))
     }

@@ -1,9 +1,12 @@
 //! `pdeshape check DESIGN`: validate, solve and report.
+//!
+//! The report ends with the library's verdict: `OK`, or `ATTENTION` after the `warning:` and
+//! `attention:` lines that explain it. Both exit with status 0 (the design solved); a refused
+//! design exits with status 2, and a failure that is not the input's (a bug) with 1.
 
 use crate::common::{self, CliError, Loaded};
 use pdeshape::design::SolvedDesign;
 use pdeshape::diagnostics;
-use std::fmt::Write;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -14,29 +17,24 @@ pub(crate) struct Args {
     /// repeatable, e.g. `--set theta=0.3 --set s=1.2`.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Print the report as one JSON object (`"ok": false` and the error when the design is
-    /// refused; the error line still goes to stderr with exit status 2).
+    /// Print the report as one JSON object with the `verdict` (`"ok"` or `"attention"`);
+    /// `"ok": false` and the error when the design is refused (the error line still goes to
+    /// stderr with exit status 2).
     #[arg(long)]
     pub json: bool,
 }
 
-/// The report for a solved design; the second value lists what deserves a warning.
-pub(crate) fn report(design: &Loaded, built: &SolvedDesign) -> (String, Vec<String>) {
+/// The text report of a solved design, ending with its conclusion and verdict.
+fn report(design: &Loaded, built: &SolvedDesign) -> String {
     let d = diagnostics::diagnose(&design.spec, built);
-    let text = diagnostics::check_report(&design.file, &design.spec, built, &d);
-    (text, d.warnings)
+    diagnostics::check_report(&design.file, &design.spec, built, &d) + &d.conclusion()
 }
 
 /// The report as JSON: per surface its kind, operator, modes and condition errors; shared edges;
-/// warnings; and the text report.
-pub(crate) fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
+/// warnings; the verdict; and the text report.
+fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
     let d = diagnostics::diagnose(&design.spec, built);
-    let text = diagnostics::check_report(&design.file, &design.spec, built, &d);
-    let mut v = d.to_json();
-    v["ok"] = serde_json::json!(true);
-    v["design"] = serde_json::json!(design.file);
-    v["report"] = serde_json::json!(text);
-    v
+    diagnostics::check_json(&design.file, &design.spec, built, &d)
 }
 
 /// The sections other commands act on, checked as those commands would read them, so that
@@ -73,12 +71,6 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     common::apply_sets(&mut design, &args.set)?;
     let built = design.build()?;
     check_sections(&design, &built)?;
-    let (text, warnings) = report(&design, &built);
-    let mut text = text;
-    for w in &warnings {
-        let _ = writeln!(text, "warning: {w}");
-    }
-    text.push_str("OK\n");
-    common::print_stdout(&text);
+    common::print_stdout(&report(&design, &built));
     Ok(())
 }

@@ -141,7 +141,7 @@ function edges(list) {
 
 export function reports(check, analyze) {
   edges(check.edges);
-  $('check').textContent = check.report + check.warnings.map((w) => `warning: ${w}\n`).join('');
+  $('check').textContent = check.report + check.conclusion;
   const keys = ['area', 'volume', 'bending_energy', 'willmore', 'gauss_integral', 'mean_integral'];
   const row = (name, v) => `<tr><td>${esc(name)}</td>${keys.map((k) => `<td>${v[k] == null ? '–' : Number(v[k]).toPrecision(6)}</td>`).join('')}</tr>`;
   $('analyze').innerHTML = `<tr><th></th>${keys.map((k) => `<th>${k.replace('_integral', ' ∫').replace('_', ' ')}</th>`).join('')}</tr>` +

@@ -18,7 +18,7 @@
 //! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
 //! | `POST /api/new` | a frame (the starting design) |
 //! | `GET /api/files` | `{"files": [...]}` |
-//! | `GET /api/check`, `GET /api/analyze` | the `check` report with the G0/G1 of shared edges, the `analyze --json` numbers |
+//! | `GET /api/check`, `GET /api/analyze` | the `check` report, its conclusion (warnings, gaps, creases, `OK` or `ATTENTION`), the `verdict` word, the G0/G1 of shared edges and the diagnostics; the `analyze --json` numbers |
 //! | `GET /api/download?format=obj\|stl\|ply\|glb\|png&nu&nv&view&size` | the file |
 
 use super::assets;
@@ -561,14 +561,11 @@ async fn files(State(state): State<AppState>) -> Result<Response, ApiError> {
 }
 
 async fn check(State(state): State<AppState>) -> Result<Response, ApiError> {
-    let (text, d, edges) = with_session(&state, |s| {
-        let (text, d) = s.check();
-        Ok((text, d, scene::edges(s.design().solved())))
-    })
-    .await?;
+    let (text, d) = with_session(&state, |s| Ok(s.check())).await?;
+    let diagnostics = d.to_json();
     Ok(axum::Json(serde_json::json!({
-        "report": text, "warnings": d.warnings, "edges": edges, "verdict": d.verdict.word(),
-        "diagnostics": d.to_json(),
+        "report": text, "conclusion": d.conclusion(), "warnings": d.warnings,
+        "edges": diagnostics["edges"], "verdict": d.verdict.word(), "diagnostics": diagnostics,
     }))
     .into_response())
 }

@@ -3,7 +3,7 @@
 //! patches with their operators and parameter domains, the `(u, v)` curves of trims and
 //! attachments ([`super::uv`]) with their images on the surfaces, design parameters) and the
 //! meshes in a compact binary frame. The G0/G1 of shared edges is measured on request
-//! ([`edges`]), not in every frame of a drag.
+//! (`GET /api/check`, the library's diagnostics), not in every frame of a drag.
 //!
 //! Frame layout (little-endian): `b"PDSF"`, `u32` JSON length, the JSON (UTF-8) padded with
 //! spaces to a multiple of 4, `u32` surface count; then per surface `u32 nu, u32 nv, u32 flags`
@@ -194,7 +194,8 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             "trimmed": solved.trim_of(k).is_some(),
         }));
     }
-    // Curves shared as positions by two patches (their G0/G1 is measured on request: `edges`).
+    // Curves shared as positions by two patches (their G0/G1 is measured on request:
+    // `/api/check`).
     let mut shared: Vec<&str> = Vec::new();
     for name in &position_curves {
         let users = solved
@@ -250,24 +251,7 @@ fn parameters(spec: &DesignSpec) -> Value {
         .collect()
 }
 
-/// The G0/G1 mismatch along every shared edge (measured by the library on 512 values of v).
-pub(super) fn edges(solved: &SolvedDesign) -> Value {
-    let edges: Vec<Value> = solved
-        .edges()
-        .iter()
-        .map(|e| {
-            let r = &e.report;
-            json!({
-                "curve": e.curve,
-                "a": solved.surfaces[r.a].name, "ua": r.ua,
-                "b": solved.surfaces[r.b].name, "ub": r.ub,
-                "g0": num(r.g0), "g1": num(r.g1),
-            })
-        })
-        .collect();
-    Value::Array(edges)
-}
-
+/// A number for JSON: non-finite values as null.
 fn num(x: f64) -> Value {
     serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
 }

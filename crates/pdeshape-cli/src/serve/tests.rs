@@ -666,6 +666,11 @@ async fn reports_and_downloads() {
         report.contains("condition errors") && report.contains("G0 ="),
         "{report}"
     );
+    // The verdict as `pdeshape check` prints it, from the library's diagnostics.
+    assert_eq!(check["verdict"], "ok");
+    assert_eq!(check["conclusion"], "OK\n");
+    assert_eq!(check["edges"], check["diagnostics"]["edges"]);
+    assert_eq!(check["edges"].as_array().unwrap().len(), 1);
     let analyze = send(&app, "GET", "/api/analyze", None, &[]).await.json();
     assert!(analyze["total"]["area"].as_f64().unwrap() > 0.0);
     for (format, magic) in [

@@ -455,7 +455,19 @@ fn check_passes_on_every_example() {
             stdout,
             String::from_utf8_lossy(&out.stderr)
         );
-        assert!(stdout.trim_end().ends_with("OK"), "{stdout}");
+        // Designs whose patches meet at an intended crease (a lid, a flange) end in ATTENTION
+        // after one `attention:` line per crease; every other example ends in OK.
+        let name = p.file_name().unwrap().to_str().unwrap();
+        let creased = ["cup_closed.toml", "yoghurt.toml", "yoghurt_optimize.toml"];
+        let verdict = if creased.contains(&name) {
+            "ATTENTION"
+        } else {
+            "OK"
+        };
+        assert_eq!(stdout.lines().last(), Some(verdict), "{name}: {stdout}");
+        for line in stdout.lines().filter(|l| l.starts_with("attention:")) {
+            assert!(line.ends_with("rad (a crease)"), "{name}: {line}");
+        }
         if spec.conditions.is_some() || spec.patches.is_some() {
             assert!(stdout.contains("condition errors"), "{stdout}");
         }
@@ -471,6 +483,45 @@ fn check_passes_on_every_example() {
         assert!(warnings.is_empty(), "{}: {warnings:?}", p.display());
     }
     assert!(seen >= 7, "only {seen} examples found");
+}
+
+/// The verdict's exit policy: `OK` and `ATTENTION` (a design that solved but deserves a look)
+/// both exit with status 0, with the verdict as the last line and the reasons above it; a
+/// refused design exits with status 2 and prints no verdict. `--json` carries the same word.
+#[test]
+fn check_prints_the_verdict_and_exits_by_policy() {
+    let out = pdeshape(&["check", s(&example_path("cup_closed.toml"))]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.last(), Some(&"ATTENTION"), "{stdout}");
+    assert!(!stdout.contains("\nOK\n"), "{stdout}");
+    let reason = lines[lines.len() - 2];
+    assert!(
+        reason.starts_with(
+            "attention: shared edge 'bowl' u = 1 | 'lid' u = 0 along 'rim': G1 = 1.47"
+        ) && reason.ends_with("rad (a crease)"),
+        "{reason}"
+    );
+
+    let out = pdeshape(&["check", s(&example_path("cup.toml"))]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert_eq!(stdout.lines().last(), Some("OK"), "{stdout}");
+    assert!(!stdout.contains("attention:"), "{stdout}");
+
+    for (name, word) in [("cup_closed.toml", "attention"), ("cup.toml", "ok")] {
+        let out = pdeshape(&["check", "--json", s(&example_path(name))]);
+        assert_eq!(out.status.code(), Some(0));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["verdict"], word, "{name}");
+        assert_eq!(v["ok"], true, "{name}");
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    let bad = write(dir.path(), "d.toml", &edit(GOOD, "a = 1.5", "a = 0.0"));
+    let out = pdeshape(&["check", s(&bad)]);
+    assert_bad(&out, &["operator.a: must be positive"]);
 }
 
 #[test]

@@ -17,6 +17,7 @@ use crate::surface::Surface;
 use crate::trim::MeshQuality;
 use crate::Vec3;
 use serde_json::{json, Value};
+use std::fmt::Write;
 
 /// Samples of `v` for the condition errors.
 pub const ERROR_SAMPLES: usize = 512;
@@ -49,6 +50,14 @@ impl Verdict {
         match self {
             Verdict::Ok => "ok",
             Verdict::Attention => "attention",
+        }
+    }
+
+    /// The last line of `pdeshape check`'s text: `OK` or `ATTENTION`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Ok => "OK",
+            Verdict::Attention => "ATTENTION",
         }
     }
 }
@@ -532,6 +541,17 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
     }
 }
 
+/// `pdeshape check --json`'s object (also Python's `Design.check()`): [`Diagnostics::to_json`]
+/// with `ok` (true: the design solved), `design` (`file` as given) and `report` (the text of
+/// [`check_report`]).
+pub fn check_json(file: &str, spec: &DesignSpec, built: &SolvedDesign, d: &Diagnostics) -> Value {
+    let mut v = d.to_json();
+    v["ok"] = json!(true);
+    v["design"] = json!(file);
+    v["report"] = json!(check_report(file, spec, built, d));
+    v
+}
+
 /// Samples per side for the n-sided checks (between the corners).
 const NSIDED_SAMPLES: usize = 48;
 
@@ -599,10 +619,35 @@ impl Diagnostics {
         self.edges.iter().flatten().filter(|e| !e.g1_met)
     }
 
+    /// What follows [`check_report`] in `pdeshape check`'s text: a `warning: …` line per
+    /// warning, an `attention: …` line per shared edge that is not G0 (a gap) or not G1 (a
+    /// crease), and the verdict's [label](Verdict::label) as the last line.
+    pub fn conclusion(&self) -> String {
+        let mut t = String::new();
+        for w in &self.warnings {
+            let _ = writeln!(t, "warning: {w}");
+        }
+        for e in self.edges.iter().flatten() {
+            let place = format!(
+                "attention: shared edge '{}' u = {} | '{}' u = {} along '{}'",
+                e.a, e.ua, e.b, e.ub, e.curve
+            );
+            if !e.g0_met {
+                let _ = writeln!(t, "{place}: G0 = {:.3e} (a gap)", e.g0);
+            }
+            if !e.g1_met {
+                let _ = writeln!(t, "{place}: G1 = {:.3e} rad (a crease)", e.g1);
+            }
+        }
+        let _ = writeln!(t, "{}", self.verdict.label());
+        t
+    }
+
     /// The data of `pdeshape check --json` (without its `ok`, `design` and `report`): `title`,
     /// per surface its `name`, `kind`, `operator`, and for analytic and finite-difference
     /// patches their `modes` and `condition_errors`; the shared `edges` with `g0`, `g1`;
-    /// `attachments`; `parameters`; `warnings`. Non-finite numbers are null.
+    /// `attachments`; `parameters`; `warnings`; the `verdict`'s [word](Verdict::word).
+    /// Non-finite numbers are null.
     pub fn to_json(&self) -> Value {
         let surfaces: Vec<Value> = self
             .surfaces
@@ -679,6 +724,7 @@ impl Diagnostics {
                 })).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
             "warnings": self.warnings,
+            "verdict": self.verdict.word(),
         })
     }
 }

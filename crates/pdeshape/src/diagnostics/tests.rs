@@ -28,6 +28,18 @@ fn a_crease_fails_g1_and_the_verdict() {
     assert_eq!(d.verdict, Verdict::Attention);
     let json = d.to_json();
     assert_eq!(json["edges"].as_array().unwrap().len(), 2);
+    assert_eq!(json["verdict"], "attention");
+    // The crease is named above the verdict's label.
+    let conclusion = d.conclusion();
+    let lines: Vec<&str> = conclusion.lines().collect();
+    assert_eq!(lines.len(), 2, "{conclusion}");
+    assert!(
+        lines[0]
+            .starts_with("attention: shared edge 'bowl' u = 1 | 'lid' u = 0 along 'rim': G1 = ")
+            && lines[0].ends_with(" rad (a crease)"),
+        "{conclusion}"
+    );
+    assert_eq!(lines[1], "ATTENTION");
 }
 
 /// Without the lid the cup is G1 along its one shared edge: the verdict is OK, and the report
@@ -38,6 +50,8 @@ fn a_smooth_join_is_ok() {
     let built = solve_design(&spec).unwrap();
     let d = diagnose(&spec, &built);
     assert_eq!(d.verdict, Verdict::Ok, "{:?}", d.warnings);
+    assert_eq!(d.conclusion(), "OK\n");
+    assert_eq!(d.to_json()["verdict"], "ok");
     assert_eq!(d.creases().count(), 0);
     for s in &d.surfaces {
         assert!(!s.condition_errors.is_empty());
