@@ -783,6 +783,7 @@ impl Design {
     #[pyo3(signature = (path, nu = None, nv = None, format = None, scale = 1.0, up = None,
                         separate_patches = false, tolerance = None, units = None,
                         timestamp = None))]
+    // One Rust argument per Python keyword argument: the keywords are the Python API.
     #[allow(clippy::too_many_arguments)]
     fn write(
         &mut self,

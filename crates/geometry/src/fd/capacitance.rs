@@ -33,7 +33,7 @@
 //! sparse solver's discrete solution to rounding (`fd::tests::fast_four_sided_solver_equals_the_sparse_one`).
 
 use super::dst::{transform_2d, Dst};
-use super::{FourSided, FourSidedNode, FourSidedProblem, SystemStats};
+use super::{BoundaryCondition, FourSided, FourSidedNode, FourSidedProblem, SystemStats};
 use crate::{Error, Result, Vec3};
 use faer::linalg::solvers::Llt;
 use faer::prelude::*;
@@ -60,14 +60,14 @@ pub(super) fn solve(p: &FourSidedProblem<'_>, s: &FourSided) -> Result<(Vec<Vec3
                 nonzeros += s.stencil.len();
                 f[(i as usize - 1) * mj + j as usize - 1] = v * s.scale;
             }
-            FourSidedNode::Condition {
+            FourSidedNode::Condition(BoundaryCondition {
                 b,
                 k,
                 along_u,
                 wide,
                 val,
                 h,
-            } => match (k, wide) {
+            }) => match (k, wide) {
                 (0, _) => {
                     nonzeros += 1;
                     known[layout.index(i, j)] = val;

@@ -522,7 +522,15 @@ pub fn solve_periodic_sparse(p: &PeriodicProblem<'_>) -> Result<FdSurface> {
                     (nu, (i - nu) as usize, &p.end, "end")
                 };
                 let val = data(edges[k], v, place, k, "v")?;
-                boundary_row(&layout, b, j, k, true, n == 3, val, hu)
+                let c = BoundaryCondition {
+                    b,
+                    k,
+                    along_u: true,
+                    wide: n == 3,
+                    val,
+                    h: hu,
+                };
+                boundary_row(&layout, j, &c)
             };
             rows.push(row);
         }
@@ -536,19 +544,29 @@ pub fn solve_periodic_sparse(p: &PeriodicProblem<'_>) -> Result<FdSurface> {
     })
 }
 
-/// The row of condition `∂ᵏX = val` at boundary node `(b, j)` (`along_u`) or `(j, b)` (along v,
-/// with `b` the v index and `j` the u index).
-#[allow(clippy::too_many_arguments)]
-fn boundary_row(
-    layout: &Layout,
+/// A condition `∂ᵏX = val` centred on the boundary node `b` of a grid line (`along_u`: `b` is a
+/// `u` index and the condition's differences run along `u`; else `b` is a `v` index), scaled by
+/// `hᵏ`; `wide`: the first derivative by the wide stencil of `N = 3`.
+struct BoundaryCondition {
     b: isize,
-    j: isize,
     k: usize,
     along_u: bool,
     wide: bool,
     val: Vec3,
     h: f64,
-) -> Row {
+}
+
+/// The row of condition `c` on grid line `j`: at node `(b, j)` (`along_u`) or `(j, b)` (along v,
+/// with `b` the v index and `j` the u index).
+fn boundary_row(layout: &Layout, j: isize, c: &BoundaryCondition) -> Row {
+    let &BoundaryCondition {
+        b,
+        k,
+        along_u,
+        wide,
+        val,
+        h,
+    } = c;
     let at = |s: isize| {
         if along_u {
             layout.index(b + s, j)
@@ -609,16 +627,9 @@ pub fn solve_four_sided_sparse(p: &FourSidedProblem<'_>) -> Result<FdSurface> {
     setup.walk(p, |i, j, node| {
         rows.push(match node {
             FourSidedNode::Pde(f) => pde_row(layout, &setup.stencil, i, j, f, setup.scale),
-            FourSidedNode::Condition {
-                b,
-                k,
-                along_u,
-                wide,
-                val,
-                h,
-            } => {
-                let line = if along_u { j } else { i };
-                boundary_row(layout, b, line, k, along_u, wide, val, h)
+            FourSidedNode::Condition(c) => {
+                let line = if c.along_u { j } else { i };
+                boundary_row(layout, line, &c)
             }
             FourSidedNode::Unused => Row {
                 entries: vec![(layout.index(i, j), 1.0)],
@@ -635,16 +646,8 @@ pub fn solve_four_sided_sparse(p: &FourSidedProblem<'_>) -> Result<FdSurface> {
 enum FourSidedNode {
     /// An interior node: the PDE, with the source `F` there (not yet scaled by `h_u^{2N}`).
     Pde(Vec3),
-    /// `∂ᵏX = val` centred on the boundary node `b` of the line through the node (`along_u`:
-    /// `b` is a `u` index, the condition's differences run along `u`), scaled by `hᵏ`.
-    Condition {
-        b: isize,
-        k: usize,
-        along_u: bool,
-        wide: bool,
-        val: Vec3,
-        h: f64,
-    },
+    /// A condition on the line through the node.
+    Condition(BoundaryCondition),
     /// A ghost node that no interior stencil reaches (near the corners): `X = 0`.
     Unused,
 }
@@ -758,14 +761,14 @@ impl FourSided {
                     };
                     let val = data(e[k], v, place, k, "v")?;
                     let second = if b == 0 { -2 } else { nu + 2 };
-                    FourSidedNode::Condition {
+                    FourSidedNode::Condition(BoundaryCondition {
                         b,
                         k,
                         along_u: true,
                         wide: n == 3 && referenced[layout.index(second, j)],
                         val,
                         h: hu,
-                    }
+                    })
                 } else if in_u {
                     // Sides v = v₀, v₁ and their ghosts.
                     let (b, k, e, place) = if j <= 0 {
@@ -775,14 +778,14 @@ impl FourSided {
                     };
                     let val = data(e[k], u, place, k, "u")?;
                     let second = if b == 0 { -2 } else { nv + 2 };
-                    FourSidedNode::Condition {
+                    FourSidedNode::Condition(BoundaryCondition {
                         b,
                         k,
                         along_u: false,
                         wide: n == 3 && referenced[layout.index(i, second)],
                         val,
                         h: hv,
-                    }
+                    })
                 } else {
                     unreachable!("corner ghosts are never referenced")
                 };

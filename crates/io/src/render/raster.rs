@@ -260,15 +260,13 @@ pub(crate) fn draw_colored<M: Drawable>(
             let y0 = band * band_samples;
             scratch.clear(sw * (rows + 2));
             let (lo, hi) = (y0.saturating_sub(1), (y0 + rows + 1).min(sh));
+            let rows_of_band = BandRows { y0, lo, hi, sw };
             for &k in &bins[band] {
                 fill(
                     &tris[k as usize],
                     &verts,
                     scratch,
-                    y0,
-                    lo,
-                    hi,
-                    sw,
+                    &rows_of_band,
                     colors.is_some(),
                 );
             }
@@ -424,19 +422,19 @@ fn setup(
     })
 }
 
-/// Fills one triangle into the sample rows `[lo, hi)` of the band starting at row `y0` (row `y`
-/// of the picture is row `y + 1 − y0` of the band's buffers).
-#[allow(clippy::too_many_arguments)]
-fn fill(
-    t: &Tri,
-    verts: &[Vert],
-    s: &mut Scratch,
+/// The sample rows a band's triangles are filled into: the band starts at sample row `y0` (row
+/// `y` of the picture is row `y + 1 − y0` of the band's buffers), triangles are drawn into rows
+/// `[lo, hi)`, and a row has `sw` samples.
+struct BandRows {
     y0: usize,
     lo: usize,
     hi: usize,
     sw: usize,
-    colored: bool,
-) {
+}
+
+/// Fills one triangle into the band's sample rows `band`.
+fn fill(t: &Tri, verts: &[Vert], s: &mut Scratch, band: &BandRows, colored: bool) {
+    let BandRows { y0, lo, hi, sw } = *band;
     let ylo = (t.y0 as usize).max(lo);
     let yhi = (t.y1 as usize).min(hi - 1);
     if ylo > yhi {

@@ -104,24 +104,41 @@ fn grid_facets<const FLIP: bool>(p: &RowPair, lo: usize, hi: usize, out: &mut Fa
     }
 }
 
-/// The unit normals `s·n / |s·n|` of a row's vertices `lo..hi` and their dot products with the
-/// facet sums `a` (six facets each, summed in the mesh's order from quad rows `prev`, `cur`).
-/// Column 0 of a periodic row (whose quads come in another order) is left to the caller.
+/// One row's vertex normals as [`row_normals`] leaves them, by column.
+#[derive(Default)]
+struct RowNormals {
+    /// The unit normal `s·n / |s·n|` of the vertex's copy.
+    units: Vec<[f32; 3]>,
+    /// The sum of the six facets around the vertex, in the mesh's order.
+    sums: Vec<[f64; 3]>,
+    /// The dot product of the unit normal with the facet sum.
+    dots: Vec<f64>,
+}
+
+impl RowNormals {
+    fn new(nv: usize) -> RowNormals {
+        RowNormals {
+            units: vec![[0.0; 3]; nv],
+            sums: vec![[0.0; 3]; nv],
+            dots: vec![0.0; nv],
+        }
+    }
+}
+
+/// The unit normals `s·n / |s·n|` of a row's vertices in `columns` and their dot products with
+/// the facet sums `a` (six facets each, summed in the mesh's order from quad rows `prev`,
+/// `cur`), into `out`. Column 0 of a periodic row (whose quads come in another order) is left to
+/// the caller.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn row_normals(
     normals: &[[f32; 3]],
     s: f64,
-    prev: &Facets,
-    cur: &Facets,
-    lo: usize,
-    hi: usize,
-    unit_out: &mut [[f32; 3]],
-    sum_out: &mut [[f64; 3]],
-    dot_out: &mut [f64],
+    [prev, cur]: [&Facets; 2],
+    columns: std::ops::Range<usize>,
+    out: &mut RowNormals,
 ) {
     let (p, c) = (&prev.f, &cur.f);
-    for j in lo.max(1)..hi {
+    for j in columns.start.max(1)..columns.end {
         let jm = j - 1;
         let mut a = [0.0f64; 3];
         for (q, acc) in a.iter_mut().enumerate() {
@@ -137,11 +154,11 @@ fn row_normals(
         let mut m = [0.0f64; 3];
         add(&mut m, [s * n[0] as f64, s * n[1] as f64, s * n[2] as f64]);
         let u = unit(m);
-        unit_out[j] = u;
-        sum_out[j] = a;
+        out.units[j] = u;
+        out.sums[j] = a;
         // Only its sign is used: whether it is ≤ 0 does not depend on the order of the terms'
         // sum beyond the sign of a zero.
-        dot_out[j] = u[0] as f64 * a[0] + u[1] as f64 * a[1] + u[2] as f64 * a[2];
+        out.dots[j] = u[0] as f64 * a[0] + u[1] as f64 * a[1] + u[2] as f64 * a[2];
     }
 }
 
@@ -153,19 +170,14 @@ unsafe fn grid_facets_avx2<const FLIP: bool>(p: &RowPair, lo: usize, hi: usize, 
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
 unsafe fn row_normals_avx2(
     normals: &[[f32; 3]],
     s: f64,
-    prev: &Facets,
-    cur: &Facets,
-    lo: usize,
-    hi: usize,
-    unit_out: &mut [[f32; 3]],
-    sum_out: &mut [[f64; 3]],
-    dot_out: &mut [f64],
+    facets: [&Facets; 2],
+    columns: std::ops::Range<usize>,
+    out: &mut RowNormals,
 ) {
-    row_normals(normals, s, prev, cur, lo, hi, unit_out, sum_out, dot_out)
+    row_normals(normals, s, facets, columns, out)
 }
 
 /// Whether the processor has AVX2 (the kernels above are compiled for it where it does; the
@@ -179,21 +191,31 @@ pub(super) fn avx2() -> bool {
     false
 }
 
+/// What the vertex normals of one grid are computed from: the grid, the welded positions,
+/// whether the grid's patch is turned, and whether to run the AVX2 kernels ([`avx2`]).
+#[derive(Clone, Copy)]
+pub(super) struct NormalSource<'a> {
+    /// The grid.
+    pub(super) grid: &'a GridMesh,
+    /// The welded positions.
+    pub(super) positions: &'a [[f32; 3]],
+    /// Whether the grid's patch is turned over.
+    pub(super) flip: bool,
+    /// Whether the processor has AVX2.
+    pub(super) fast: bool,
+}
+
 impl GridTopology<'_> {
     /// The facets of quad row `r` into `out`: from the grid's positions where neither vertex
     /// row is explicit (the welded positions there, no triangle collapsed), else from the
     /// welded triangles.
-    #[allow(clippy::too_many_arguments)]
-    fn facet_row(
-        &self,
-        g: &GridMesh,
-        positions: &[[f32; 3]],
-        flip: bool,
-        r: usize,
-        pair: &mut RowPair,
-        out: &mut Facets,
-        fast: bool,
-    ) {
+    fn facet_row(&self, src: NormalSource, r: usize, pair: &mut RowPair, out: &mut Facets) {
+        let NormalSource {
+            grid: g,
+            positions,
+            flip,
+            fast,
+        } = src;
         let (nv, cols) = (self.nv, self.cols);
         for f in &mut out.f {
             f.resize(cols, 0.0);
@@ -287,7 +309,13 @@ pub(super) fn vertex_normals(
     blocks.into_par_iter().for_each(|(k, r0)| {
         let t = &topo[k];
         let r1 = (r0 + BLOCK).min(t.nu - 1);
-        t.inner_normals(&grids[k], positions, flipped[k], r0..r1, fast, |i, row| {
+        let src = NormalSource {
+            grid: &grids[k],
+            positions,
+            flip: flipped[k],
+            fast,
+        };
+        t.inner_normals(src, r0..r1, |i, row| {
             let (lo, hi) = t.inner_columns();
             for (j, &n) in row.iter().enumerate().take(hi).skip(lo) {
                 // SAFETY: the vertex is not a weld candidate, so its welded number belongs
@@ -368,11 +396,8 @@ impl GridTopology<'_> {
     /// row before the first.
     pub(super) fn inner_normals(
         &self,
-        g: &GridMesh,
-        positions: &[[f32; 3]],
-        flip: bool,
+        src: NormalSource,
         rows: std::ops::Range<usize>,
-        fast: bool,
         mut f: impl FnMut(usize, &[[f32; 3]]),
     ) {
         let (r0, r1) = (rows.start, rows.end);
@@ -380,30 +405,30 @@ impl GridTopology<'_> {
         if r0 >= r1 {
             return;
         }
-        let s = if flip { -1.0 } else { 1.0 };
+        let g = src.grid;
+        let s = if src.flip { -1.0 } else { 1.0 };
         let nv = self.nv;
         let mut pair = RowPair::default();
         let (mut prev, mut cur) = (Facets::default(), Facets::default());
-        let mut units = vec![[0.0f32; 3]; nv];
-        let mut sums = vec![[0.0f64; 3]; nv];
-        let mut dots = vec![0.0f64; nv];
+        let mut out = RowNormals::new(nv);
         let mut row = vec![[0.0f32; 3]; nv];
-        self.facet_row(g, positions, flip, r0 - 1, &mut pair, &mut prev, fast);
+        self.facet_row(src, r0 - 1, &mut pair, &mut prev);
         let (lo, hi) = self.inner_columns();
         for i in r0..r1 {
-            self.facet_row(g, positions, flip, i, &mut pair, &mut cur, fast);
+            self.facet_row(src, i, &mut pair, &mut cur);
             if !self.row_explicit(i) {
                 let row_normals_of = &g.normals[i * nv..(i + 1) * nv];
-                let (u, a, d) = (&mut units, &mut sums, &mut dots);
-                if fast {
+                let facets = [&prev, &cur];
+                if src.fast {
                     // SAFETY: only where the processor has AVX2.
                     #[cfg(target_arch = "x86_64")]
                     unsafe {
-                        row_normals_avx2(row_normals_of, s, &prev, &cur, lo, hi, u, a, d)
+                        row_normals_avx2(row_normals_of, s, facets, lo..hi, &mut out)
                     };
                 } else {
-                    row_normals(row_normals_of, s, &prev, &cur, lo, hi, u, a, d);
+                    row_normals(row_normals_of, s, facets, lo..hi, &mut out);
                 }
+                let RowNormals { units, sums, dots } = &out;
                 for j in lo..hi {
                     row[j] = if j == 0 {
                         // Column 0 of a periodic row: quads by column put column 0 first.

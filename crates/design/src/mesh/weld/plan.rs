@@ -11,7 +11,7 @@
 //! vertices that are not weld candidates, checked for the candidates) and every grid's group
 //! is consistently oriented; elsewhere [`Plan::parts`] is `None` and the mesh is built.
 
-use super::normals::{avx2, candidate_normals};
+use super::normals::{avx2, candidate_normals, NormalSource};
 use super::{
     bounding_box, box_union, flipped_of, join, part_names, turned, BoundingBox, CellHasher,
     GridTopology, Joined, WeldOptions, EMPTY_BOX,
@@ -213,21 +213,19 @@ impl<'g> Plan<'g> {
         let mut next = rows.start;
         let inner = rows.start.max(1)..rows.end.min(g.nu.saturating_sub(1));
         if !inner.is_empty() {
-            let flip = turns.flipped[k];
-            t.inner_normals(
-                g,
-                &self.joined.positions,
-                flip,
-                inner,
-                self.fast,
-                |i, row| {
-                    for r in next..i {
-                        emit(r, None);
-                    }
-                    emit(i, Some(row));
-                    next = i + 1;
-                },
-            );
+            let src = NormalSource {
+                grid: g,
+                positions: &self.joined.positions,
+                flip: turns.flipped[k],
+                fast: self.fast,
+            };
+            t.inner_normals(src, inner, |i, row| {
+                for r in next..i {
+                    emit(r, None);
+                }
+                emit(i, Some(row));
+                next = i + 1;
+            });
         }
         for r in next..rows.end {
             emit(r, None);

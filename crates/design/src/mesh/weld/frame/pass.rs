@@ -271,13 +271,16 @@ impl Pass {
         for (k, g) in grids.iter().enumerate() {
             let plan = &self.grids[k];
             let apex = plan.group.map(|i| apex[i]);
-            let ok = grid_pass(
+            let input = GridInput {
                 plan,
-                g,
-                &t.source[k],
-                &mesh.positions,
-                flipped[k],
+                grid: g,
+                map: &t.source[k],
+                positions: &mesh.positions,
                 apex,
+            };
+            let ok = grid_pass(
+                &input,
+                flipped[k],
                 &mut self.buffers,
                 &mut mesh.normals,
                 &mut volumes[k],
@@ -374,16 +377,21 @@ fn turned(t: [u32; 3], flip: bool) -> [u32; 3] {
     }
 }
 
+/// What the pass reads of one grid: its plan, its mesh, its welded numbers, the welded
+/// positions and the apex of its group's volume (`None`: no volume wanted).
+struct GridInput<'a> {
+    plan: &'a GridPlan,
+    grid: &'a GridMesh,
+    map: &'a [u32],
+    positions: &'a [[f32; 3]],
+    apex: Option<[f64; 3]>,
+}
+
 /// One grid: volume terms and facets quad row by quad row, normals of the vertices the row pass
 /// does. False when a number is not finite.
-#[allow(clippy::too_many_arguments)]
 fn grid_pass(
-    plan: &GridPlan,
-    g: &GridMesh,
-    map: &[u32],
-    positions: &[[f32; 3]],
+    input: &GridInput,
     flip: bool,
-    apex: Option<[f64; 3]>,
     buf: &mut Buffers,
     normals: &mut [[f32; 3]],
     volume: &mut Volume,
@@ -393,47 +401,44 @@ fn grid_pass(
         // SAFETY: the processor supports the features the function was compiled for.
         return unsafe {
             if flip {
-                grid_pass_avx2::<true>(plan, g, map, positions, apex, buf, normals, volume)
+                grid_pass_avx2::<true>(input, buf, normals, volume)
             } else {
-                grid_pass_avx2::<false>(plan, g, map, positions, apex, buf, normals, volume)
+                grid_pass_avx2::<false>(input, buf, normals, volume)
             }
         };
     }
     if flip {
-        grid_pass_generic::<true>(plan, g, map, positions, apex, buf, normals, volume)
+        grid_pass_generic::<true>(input, buf, normals, volume)
     } else {
-        grid_pass_generic::<false>(plan, g, map, positions, apex, buf, normals, volume)
+        grid_pass_generic::<false>(input, buf, normals, volume)
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(clippy::too_many_arguments)]
 unsafe fn grid_pass_avx2<const FLIP: bool>(
-    plan: &GridPlan,
-    g: &GridMesh,
-    map: &[u32],
-    positions: &[[f32; 3]],
-    apex: Option<[f64; 3]>,
+    input: &GridInput,
     buf: &mut Buffers,
     normals: &mut [[f32; 3]],
     volume: &mut Volume,
 ) -> bool {
-    grid_pass_generic::<FLIP>(plan, g, map, positions, apex, buf, normals, volume)
+    grid_pass_generic::<FLIP>(input, buf, normals, volume)
 }
 
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn grid_pass_generic<const FLIP: bool>(
-    plan: &GridPlan,
-    g: &GridMesh,
-    map: &[u32],
-    positions: &[[f32; 3]],
-    apex: Option<[f64; 3]>,
+    input: &GridInput,
     buf: &mut Buffers,
     normals: &mut [[f32; 3]],
     volume: &mut Volume,
 ) -> bool {
+    let GridInput {
+        plan,
+        grid: g,
+        map,
+        positions,
+        apex,
+    } = *input;
     let (nu, nv, cols) = (plan.nu, plan.nv, plan.cols);
     *volume = Volume::default();
     if nu < 2 || cols == 0 {
