@@ -1195,12 +1195,7 @@ impl Design {
             .detach(|| cad::export_design(&solved, format, tolerance, unit, &file_name, seconds))
             .map_err(|e| match e {
                 cad::CadExportError::Design(e) => self.located(&e),
-                cad::CadExportError::Approximation(e)
-                    if e.place().is_empty() || e.place() == "tolerance" =>
-                {
-                    err(format!("tolerance: {}", message_of(&e)))
-                }
-                cad::CadExportError::Approximation(e) => self.located(&e),
+                cad::CadExportError::Tolerance(e) => err(format!("tolerance: {}", message_of(&e))),
                 cad::CadExportError::Write(e) => err(format!("path {}: {e}", path.display())),
             })?;
         write_atomically(path, export.text.as_bytes())
@@ -1214,6 +1209,16 @@ fn run_dynamic(
     keep_frames: bool,
 ) -> pdeshape::Result<(DynamicOutcome, Vec<CurveFrame>)> {
     let built = design::build_dynamic(section)?;
+    // Every frame kept, or the one observed and the last.
+    if keep_frames {
+        dynamic_run::check_memory(
+            &built,
+            dynamic_run::frame_count(&built) + 1,
+            Some("frames=True"),
+        )?;
+    } else {
+        dynamic_run::check_memory(&built, 2, None)?;
+    }
     let mut frames = Vec::new();
     let outcome = {
         let mut observer = |n: usize, t: f64, nodes: Option<&[Vec3]>| {

@@ -163,6 +163,30 @@ pub fn write_cad(
     }
 }
 
+/// A `[spline]` design's net as IGES 5.3 (one B-spline surface, entity 128) declaring `unit`,
+/// `file_name` (every character but printable ASCII as `_`) and the date `unix_seconds` (see
+/// [`export_timestamp`]): what `pdeshape spline -o net.igs` writes.
+pub fn write_spline_iges(
+    net: &crate::splinepde::SplineNet<f64>,
+    unit: crate::spec::Units,
+    file_name: &str,
+    unix_seconds: u64,
+) -> Result<String> {
+    use crate::splinepde::export::{iges_timestamp, to_iges_in, IgesOptions, IgesUnit};
+    let file_name = file_name
+        .chars()
+        .map(|c| if c.is_ascii_graphic() { c } else { '_' })
+        .collect();
+    to_iges_in(
+        net,
+        &IgesOptions {
+            file_name,
+            timestamp: iges_timestamp(unix_seconds),
+        },
+        IgesUnit::from(unit),
+    )
+}
+
 /// Whether `path` ends in `.ext` (any case).
 pub fn has_extension(path: &Path, ext: &str) -> bool {
     path.extension()

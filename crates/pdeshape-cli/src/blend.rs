@@ -5,6 +5,7 @@
 use crate::common::{self, CliError, Loaded, Output};
 use pdeshape::bfs::Blend;
 use pdeshape::design::SurfaceKind;
+use pdeshape::format::OutputFormat;
 use pdeshape::mesh::{self, Format};
 use std::fmt::Write as _;
 use std::io::Write;
@@ -67,24 +68,26 @@ fn ms(t: Instant) -> f64 {
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
-    let fpath = common::format_path(
+    let request = common::format_request(
         &args.output,
         args.format.as_deref(),
         "obj, stl, ply, glb, csv or json",
     )?;
-    let is_json = fpath
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-    let format = if is_json {
+    let format = if request.names("json") {
         None
     } else {
-        Some(Format::from_path(&fpath).map_err(|e| {
-            CliError::input(format!(
-                "-o {shown}: {} (or json for the control net)",
-                common::message_of(&e)
-            ))
-        })?)
+        let format = request
+            .output_format()
+            .and_then(OutputFormat::mesh)
+            .map_err(|e| {
+                CliError::input(format!(
+                    "{} {}: {} (or json for the control net)",
+                    request.flag,
+                    request.shown,
+                    common::message_of(&e)
+                ))
+            })?;
+        Some(format)
     };
     let export = match format {
         Some(f) => Some(crate::surface::export_options(

@@ -4,11 +4,11 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::cad::{self, read};
-use pdeshape::format::{export_timestamp, write_cad, OutputFormat};
+use pdeshape::format::{export_timestamp, OutputFormat};
 use pdeshape::spec::Units;
 use std::path::{Path, PathBuf};
 
-/// Writes the design's surfaces as STEP or IGES.
+/// Writes the design's surfaces as STEP or IGES ([`cad::export_design`]) and prints its report.
 pub(crate) fn write(
     design_path: &Path,
     output: &Path,
@@ -33,65 +33,30 @@ pub(crate) fn write(
     design.validate()?;
     let mut out = Output::create(output)?;
     let solved = design.build()?;
-    if solved.surfaces.is_empty() {
-        return Err(design.error(&pdeshape::Error::no_surface()));
-    }
-    let unit = match unit {
-        Some(u) => u,
-        None => solved.units,
-    };
-    let size = cad::design_size(&solved);
-    let tolerance = tolerance.unwrap_or(1e-4 * size);
     let shown = output.display().to_string();
-    let model = cad::approximate_design(&solved, tolerance).map_err(|e| {
-        if e.place().is_empty() || e.place() == "tolerance" {
-            CliError::input(format!("--tolerance: {}", common::message_of(&e)))
-        } else {
-            design.error(&e)
-        }
-    })?;
     let file_name = output
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let text = write_cad(&model, format, unit, &file_name, export_timestamp())
-        .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
-    out.write_all(text.as_bytes())?;
-    out.commit()?;
-    let dest = crate::common::destination(output);
-    let mut report = format!(
-        "wrote {dest}: {} B-spline surface(s), tolerance {tolerance:.3e} ({:.1e} of the design size {size:.4}), unit {}\n",
-        model.surfaces.len(),
-        tolerance / size,
-        unit.as_str()
-    );
-    for s in &model.surfaces {
-        let [nu, nv] = s.approx.net.counts();
-        report.push_str(&format!(
-            "  {}: {nu} × {nv} control points, deviation {} {:.3e} ({}{})\n",
-            s.name,
-            s.approx.certificate.relation(),
-            s.approx.deviation,
-            s.approx.certificate.word(),
-            s.approx
-                .note
-                .as_ref()
-                .map(|n| format!(": {n}"))
-                .unwrap_or_default()
-        ));
-        for h in &s.holes {
-            report.push_str(&format!(
-                "    hole {}: edge of {} control points, {:.3e} from the face ({}), {:.3e} from the trim curve's image ({})\n",
-                h.curve,
-                h.edge.points.len(),
-                h.edge_deviation,
-                if h.edge_certified { "certified" } else { "sampled" },
-                h.deviation,
-                if h.certified { "≤" } else { "≈" }
-            ));
+    let export = cad::export_design(
+        &solved,
+        format,
+        tolerance,
+        unit,
+        &file_name,
+        export_timestamp(),
+    )
+    .map_err(|e| match e {
+        cad::CadExportError::Design(e) => design.error(&e),
+        cad::CadExportError::Tolerance(e) => {
+            CliError::input(format!("--tolerance: {}", common::message_of(&e)))
         }
-    }
-    common::print_stdout(&report);
+        cad::CadExportError::Write(e) => CliError::input(format!("-o {shown}: {e}")),
+    })?;
+    out.write_all(export.text.as_bytes())?;
+    out.commit()?;
+    let dest = common::destination(output);
+    common::print_stdout(&format!("wrote {dest}: {}", export.report()));
     Ok(())
 }
 
@@ -143,7 +108,9 @@ pub(crate) fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
             solved.surfaces.len()
         )));
     }
-    let tolerance = args.tolerance.unwrap_or(1e-4 * cad::design_size(&solved));
+    let tolerance = args
+        .tolerance
+        .unwrap_or_else(|| cad::default_tolerance(&solved));
     let mut report = String::new();
     let mut worst = 0.0f64;
     for (r, s) in read.iter().zip(&solved.surfaces) {

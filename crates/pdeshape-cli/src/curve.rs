@@ -85,36 +85,16 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let mut frames_out = args.frames.as_deref().map(Output::create).transpose()?;
     let mut picture_out = args.picture.as_deref().map(Output::create).transpose()?;
 
-    let dim = match &built.plan {
-        DynamicPlan::Run(r) => r.curve.components.len(),
-        DynamicPlan::Interpolate { dim, .. } => *dim,
-    };
+    let dim = pdeshape::dynamic_run::dimension(&built);
     // The run's storage and the frames held at once (the picture keeps up to
     // `PICTURE_FRAMES + 1`; the last frame and the one being observed), before any of it is
     // allocated.
-    let intervals = match &built.plan {
-        DynamicPlan::Run(r) => r.grid.intervals,
-        DynamicPlan::Interpolate { problem, .. } => problem.intervals,
-    };
-    let held = if args.picture.is_some() {
-        PICTURE_FRAMES + 3
+    let (held, held_for) = if args.picture.is_some() {
+        (PICTURE_FRAMES + 3, Some("--picture"))
     } else {
-        2
+        (2, None)
     };
-    pdeshape::memory::check(
-        pdeshape::memory::dynamic_run(intervals as u64, dim.max(1) as u64, held as u64),
-        &format!(
-            "a run on {intervals} intervals ({dim} component{}, {held} frames held{})",
-            if dim == 1 { "" } else { "s" },
-            if args.picture.is_some() {
-                " for --picture"
-            } else {
-                ""
-            }
-        ),
-        "dynamic.intervals",
-    )
-    .map_err(|e| design.error(&e))?;
+    pdeshape::dynamic_run::check_memory(&built, held, held_for).map_err(|e| design.error(&e))?;
     let frames_shown = args
         .frames
         .as_ref()

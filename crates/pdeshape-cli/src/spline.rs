@@ -5,8 +5,8 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::design::solve_spec;
+use pdeshape::format::OutputFormat;
 use pdeshape::mesh::{self, Format};
-use pdeshape::splinepde::export::{iges_timestamp, to_iges_in, IgesOptions, IgesUnit};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -36,39 +36,41 @@ enum Kind {
     Grid(Format),
 }
 
-fn kind(path: &std::path::Path) -> Result<Kind, CliError> {
-    let shown = path.display();
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
-    match ext.as_deref() {
-        Some("json") => Ok(Kind::Json),
-        Some("igs") | Some("iges") => Ok(Kind::Iges),
-        Some(_) => Format::from_path(path).map(Kind::Grid).map_err(|_| {
-            CliError::input(format!(
+/// What `-o`/`--format` asks for: the control net (`json`), IGES, or a mesh or sample format.
+fn kind(request: &common::FormatRequest) -> Result<Kind, CliError> {
+    let found = if request.names("json") {
+        Some(Kind::Json)
+    } else {
+        match request.output_format() {
+            Ok(OutputFormat::Iges) => Some(Kind::Iges),
+            Ok(f) => f.mesh().ok().map(Kind::Grid),
+            Err(_) => None,
+        }
+    };
+    found.ok_or_else(|| {
+        let shown = &request.shown;
+        CliError::input(match (request.flag, &request.name) {
+            ("--format", _) => format!(
+                "--format {}: unknown format: use json, igs, iges, obj, stl, ply, glb or csv",
+                common::shorten(shown, 40)
+            ),
+            (_, None) => format!(
+                "-o {shown}: no extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
+            ),
+            _ => format!(
                 "-o {shown}: unknown output extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
-            ))
-        }),
-        None => Err(CliError::input(format!(
-            "-o {shown}: no extension: use .json, .igs, .iges, .obj, .stl, .ply, .glb or .csv"
-        ))),
-    }
+            ),
+        })
+    })
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.output.display().to_string();
-    let fpath = common::format_path(
+    let kind = kind(&common::format_request(
         &args.output,
         args.format.as_deref(),
         "json, igs, iges, obj, stl, ply, glb or csv",
-    )?;
-    let kind = kind(&fpath).map_err(|e| match &args.format {
-        Some(f) => CliError::input(format!(
-            "--format {}: unknown format: use json, igs, iges, obj, stl, ply, glb or csv",
-            common::shorten(f, 40)
-        )),
-        None => e,
-    })?;
+    )?)?;
     match kind {
         Kind::Json => common::refuse_grid_flags(args.nu, args.nv, "a .json control net")?,
         Kind::Iges => common::refuse_grid_flags(args.nu, args.nv, "an IGES surface")?,
@@ -96,23 +98,16 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             out.write_all(b"\n")?;
         }
         Kind::Iges => {
-            let seconds = pdeshape::format::export_timestamp();
             let name = args
                 .output
                 .file_name()
                 .map(|n| n.to_string_lossy().to_string())
                 .unwrap_or_default();
-            let name: String = name
-                .chars()
-                .map(|c| if c.is_ascii_graphic() { c } else { '_' })
-                .collect();
-            let text = to_iges_in(
+            let text = pdeshape::format::write_spline_iges(
                 &solved.to_f64(),
-                &IgesOptions {
-                    file_name: name,
-                    timestamp: iges_timestamp(seconds),
-                },
-                IgesUnit::from(design.spec.units.unwrap_or_default()),
+                design.spec.units.unwrap_or_default(),
+                &name,
+                pdeshape::format::export_timestamp(),
             )
             .map_err(|e| CliError::input(format!("-o {shown}: {e}")))?;
             out.write_all(text.as_bytes())?;

@@ -1,7 +1,8 @@
 //! A `[dynamic]` section run to its end, with what `pdeshape curve` reports of it: the final
 //! curve, the errors of the end conditions at the final time, the errors against the exact
 //! solutions a design gives, the bending energy; for an interpolation the data points' nodes
-//! and distances. One function for every shell (the CLI's `curve`, Python's `dynamic()`).
+//! and distances. One function for every shell (the CLI's `curve`, Python's `dynamic()`), and
+//! one memory check before a run ([`check_memory`]).
 
 use crate::design::{BuiltDynamic, DynamicPlan};
 use crate::dynamic::{bending_energy, end_slopes, l2_norm, Observer};
@@ -184,6 +185,49 @@ pub fn run(built: &BuiltDynamic, observer: &mut Observer<'_>) -> Result<DynamicO
             })
         }
     }
+}
+
+/// Coordinates per point of a built run (1 to 3).
+pub fn dimension(built: &BuiltDynamic) -> usize {
+    match &built.plan {
+        DynamicPlan::Run(r) => r.curve.components.len(),
+        DynamicPlan::Interpolate { dim, .. } => *dim,
+    }
+}
+
+/// How many frames [`run`] hands its observer at most: the first and the last level and every
+/// `frames_every`-th level between.
+pub fn frame_count(built: &BuiltDynamic) -> usize {
+    let steps = match &built.plan {
+        DynamicPlan::Run(r) => r.grid.steps,
+        DynamicPlan::Interpolate { problem, .. } => problem.max_steps,
+    };
+    match built.frames_every {
+        0 => 2,
+        every => (steps / every).saturating_add(2),
+    }
+}
+
+/// Refuses, before anything is allocated, a run of `built` whose storage together with `held`
+/// frames of the curve kept at once exceeds the memory budget ([`crate::memory`]), placed at
+/// `dynamic.intervals`. `held` counts every frame a caller keeps, at least the one the observer
+/// is handed and the last (2); `held_for` names in the message what keeps more (such as
+/// `--picture`).
+pub fn check_memory(built: &BuiltDynamic, held: usize, held_for: Option<&str>) -> Result<()> {
+    let dim = dimension(built);
+    let intervals = match &built.plan {
+        DynamicPlan::Run(r) => r.grid.intervals,
+        DynamicPlan::Interpolate { problem, .. } => problem.intervals,
+    };
+    crate::memory::check(
+        crate::memory::dynamic_run(intervals as u64, dim.max(1) as u64, held as u64),
+        &format!(
+            "a run on {intervals} intervals ({dim} component{}, {held} frames held{})",
+            if dim == 1 { "" } else { "s" },
+            held_for.map(|f| format!(" for {f}")).unwrap_or_default()
+        ),
+        "dynamic.intervals",
+    )
 }
 
 /// A number in reports: six decimals without trailing zeros between 1e-3 and 1e6 (and 0),

@@ -6,6 +6,7 @@ use crate::design::SolvedDesign;
 use crate::format::{write_cad, OutputFormat};
 use crate::spec::Units;
 use crate::{Error, Result};
+use std::fmt::Write;
 
 /// The tolerance used when none is given: `1e-4` of the design's size ([`design_size`]).
 pub fn default_tolerance(design: &SolvedDesign) -> f64 {
@@ -30,23 +31,72 @@ pub struct CadExport {
     pub tolerance: f64,
     /// The length unit the file declares: the one given or the design's.
     pub unit: Units,
+    /// The design's size ([`design_size`]), the scale of the relative tolerance.
+    pub size: f64,
+}
+
+impl CadExport {
+    /// What `pdeshape surface` prints after `wrote FILE: `: the number of surfaces, the
+    /// tolerance (absolute and relative to the design's size) and the unit; then per surface
+    /// its control points and deviation with its certificate, and per hole of a trimmed
+    /// surface its edge's size and deviations.
+    pub fn report(&self) -> String {
+        let mut report = format!(
+            "{} B-spline surface(s), tolerance {:.3e} ({:.1e} of the design size {:.4}), unit {}\n",
+            self.model.surfaces.len(),
+            self.tolerance,
+            self.tolerance / self.size,
+            self.size,
+            self.unit.as_str()
+        );
+        for s in &self.model.surfaces {
+            let [nu, nv] = s.approx.net.counts();
+            let _ = writeln!(
+                report,
+                "  {}: {nu} × {nv} control points, deviation {} {:.3e} ({}{})",
+                s.name,
+                s.approx.certificate.relation(),
+                s.approx.deviation,
+                s.approx.certificate.word(),
+                s.approx
+                    .note
+                    .as_ref()
+                    .map(|n| format!(": {n}"))
+                    .unwrap_or_default()
+            );
+            for h in &s.holes {
+                let _ = writeln!(
+                    report,
+                    "    hole {}: edge of {} control points, {:.3e} from the face ({}), {:.3e} from the trim curve's image ({})",
+                    h.curve,
+                    h.edge.points.len(),
+                    h.edge_deviation,
+                    if h.edge_certified { "certified" } else { "sampled" },
+                    h.deviation,
+                    if h.certified { "≤" } else { "≈" }
+                );
+            }
+        }
+        report
+    }
 }
 
 /// Where [`export_design`] failed, so that each shell can name its own argument.
 #[derive(Debug)]
 pub enum CadExportError {
-    /// The design has no surface (a design error).
+    /// The design is to blame: it has no surface, or a surface at the error's place could not
+    /// be approximated.
     Design(Error),
-    /// The approximation failed: with an empty place or `tolerance`, the tolerance is to blame
-    /// (too small for the net sizes allowed); otherwise the design at that place.
-    Approximation(Error),
+    /// The tolerance is to blame: not a positive number, or too small for the net sizes
+    /// allowed. Shells print the message after their own name of the tolerance argument.
+    Tolerance(Error),
     /// The writer refused the model (or `format` is not a CAD format).
     Write(Error),
 }
 
 /// The design's surfaces as STEP or IGES text: `tolerance` (default [`default_tolerance`]) and
 /// `unit` (default the design's `units`), approximated by [`approximate_design`] and written by
-/// [`write_cad`] with the date of `unix_seconds`.
+/// [`write_cad`] with the date of `unix_seconds` (see [`crate::format::export_timestamp`]).
 pub fn export_design(
     design: &SolvedDesign,
     format: OutputFormat,
@@ -57,8 +107,16 @@ pub fn export_design(
 ) -> std::result::Result<CadExport, CadExportError> {
     require_surfaces(design).map_err(CadExportError::Design)?;
     let unit = unit.unwrap_or(design.units);
-    let tolerance = tolerance.unwrap_or_else(|| default_tolerance(design));
-    let model = approximate_design(design, tolerance).map_err(CadExportError::Approximation)?;
+    let size = design_size(design);
+    // `default_tolerance`, from the size computed once.
+    let tolerance = tolerance.unwrap_or(1e-4 * size);
+    let model = approximate_design(design, tolerance).map_err(|e| {
+        if e.place().is_empty() || e.place() == "tolerance" {
+            CadExportError::Tolerance(e)
+        } else {
+            CadExportError::Design(e)
+        }
+    })?;
     let text =
         write_cad(&model, format, unit, file_name, unix_seconds).map_err(CadExportError::Write)?;
     Ok(CadExport {
@@ -66,5 +124,6 @@ pub fn export_design(
         text,
         tolerance,
         unit,
+        size,
     })
 }

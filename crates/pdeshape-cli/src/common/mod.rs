@@ -10,7 +10,7 @@ mod output;
 mod report;
 mod temp;
 pub(crate) use flags::{
-    check_extension, format_path, output_format, refuse_flag, refuse_grid_flags,
+    check_extension, format_request, output_format, refuse_flag, refuse_grid_flags, FormatRequest,
 };
 pub(crate) use load::{apply_sets, load, message_of, opened, Loaded};
 pub(crate) use output::{destination, Output};
