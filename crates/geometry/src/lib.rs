@@ -6,19 +6,20 @@
 //! (`elliptic`), finite differences (`fd`), Bogner–Fox–Schmit splines and blends (`bfs`), spline
 //! solutions of linear PDEs (`splinepde`) and dynamic PDE curves (`dynamic`). No I/O, no design
 //! file: the layers above (`pdeshape-design`, `pdeshape-io`, `pdeshape-apps`) build on it, and the
-//! `pdeshape` crate re-exports what a user needs.
+//! `pdeshape` crate re-exports what a user needs. Two modules serve only those layers and are
+//! not re-exported by `pdeshape`: `check` (the value checks with located messages that every
+//! constructor and the design file share) and `formula` (the formula language and its compiled
+//! programs).
 
 #![warn(missing_docs)]
 
 pub mod bfs;
-#[doc(hidden)]
 pub mod check;
 pub mod curve;
 pub mod dynamic;
 pub mod elliptic;
 mod error;
 pub mod fd;
-#[doc(hidden)]
 pub mod formula;
 pub mod fourier;
 pub mod linalg;

@@ -5,6 +5,7 @@
 //! spaced over the surface's [`Surface::u_range`], `[0, 1]` for nearly all surfaces) and, for a
 //! periodic `v`, `v_j = 2πj/nv` (no repeated seam column: faces wrap from column `nv−1` to 0).
 
+#[cfg(any(test, feature = "test-support"))]
 pub mod test_grids;
 mod trimesh;
 pub mod weld;

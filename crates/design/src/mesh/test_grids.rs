@@ -1,6 +1,7 @@
 //! Grids for the tests of every layer that meshes (the weld, its frames, the writers): a grid
 //! from a position function, spheres, and the sets of grids that cover the weld's cases.
-#![doc(hidden)]
+//! Compiled for this crate's tests and, with the feature `test-support`, for the tests of the
+//! layers above (enabled only by their dev-dependencies).
 
 use super::GridMesh;
 

@@ -249,7 +249,9 @@ pub struct Parsed<T: DataType, OF: MakeOperators<T>>
 where
     <T as FromStr>::Err: Debug,
 {
+    /// The expression, in exmex's form.
     pub expr: Expr<T, OF>,
+    /// For each of the expression's variables, its position in the [`Variables`].
     pub slots: Vec<usize>,
 }
 

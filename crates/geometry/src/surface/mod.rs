@@ -250,10 +250,12 @@ impl<S: Surface + ?Sized> RowEvaluator for PointwiseRows<'_, S> {
 }
 
 /// The unit cylinder `(cos v, sin v, u)`, periodic in `v`: a surface with exact partials for
-/// tests of meshing and sampling (shared by the tests of every layer).
-#[doc(hidden)]
+/// tests of meshing and sampling, shared by the unit tests of the layers above (feature
+/// `test-support`, enabled only by their dev-dependencies).
+#[cfg(any(test, feature = "test-support"))]
 pub struct UnitCylinder;
 
+#[cfg(any(test, feature = "test-support"))]
 impl Surface for UnitCylinder {
     fn v_domain(&self) -> VDomain {
         VDomain::Periodic
