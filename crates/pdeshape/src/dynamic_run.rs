@@ -232,7 +232,7 @@ pub fn check_memory(built: &BuiltDynamic, held: usize, held_for: Option<&str>) -
 
 /// A number in reports: six decimals without trailing zeros between 1e-3 and 1e6 (and 0),
 /// three significant digits in exponent form otherwise.
-pub fn format_number(x: f64) -> String {
+pub(crate) fn format_number(x: f64) -> String {
     if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
         format!("{x:.6}")
             .trim_end_matches('0')

@@ -22,7 +22,10 @@
 //! and edit, trims, analysis, tessellation), `pdeshape-io` (mesh and CAD writers, pictures) and
 //! `pdeshape-apps` (animation, shell analysis, optimisation, fitting). Its modules keep one path
 //! for each item: `mesh` holds tessellation and the mesh writers, `design` the solved design and
-//! its writing.
+//! its writing. The types most programs need are also at the top: [`parse_design`] and
+//! [`DesignSpec`], [`compile`], [`CompiledDesign`], [`Edit`], [`SolvedDesign`] and its
+//! [`WriteDesign`], [`diagnose`], [`solve`] and [`PdePatch`], [`Curve`], [`Surface`], the meshes,
+//! [`OutputFormat`], [`Units`], the CAD model and the integrals.
 
 #![warn(missing_docs)]
 
@@ -34,6 +37,19 @@ pub use pdeshape_geometry::{
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 pub use pdeshape_io::{cad, dynamic_output, format, render};
+
+// The items most programs need, at the top (each also at its module's path).
+pub use analysis::{integrate_design, Quadrature};
+pub use cad::{approximate_design, CadModel};
+pub use curve::{Curve, SharedCurve};
+pub use design::{compile, CompiledDesign, Edit, Export, SolvedDesign, WriteDesign};
+pub use diagnostics::{diagnose, Diagnostics, Verdict};
+pub use elliptic::{solve, Condition, Operator, PdePatch, SolveOptions};
+pub use format::OutputFormat;
+pub use mesh::{GridMesh, TriMesh};
+pub use open::DesignFile;
+pub use spec::{parse_design, DesignSpec, Units};
+pub use surface::{Partials, Surface};
 
 pub mod analysis_report;
 pub mod diagnostics;

@@ -53,7 +53,7 @@ pub enum Joint {
 }
 
 /// The inner knots of a [`Joint::FourPoints`] patch.
-pub const INNER_KNOTS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
+pub(crate) const INNER_KNOTS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 
 /// Patches keep at least two stations inside.
 const MIN_SPAN: usize = 3;

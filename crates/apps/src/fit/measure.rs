@@ -51,7 +51,7 @@ impl PointDistance for Tri {
 /// The closest point of triangle `[a, b, c]` to `p`, and its barycentric coordinates
 /// `(β, γ)` (the point is `a + β(b − a) + γ(c − a)`): the Voronoi regions of the vertices, then
 /// of the edges, then the face.
-pub fn closest_on_triangle(p: Vec3, t: &[Vec3; 3]) -> (Vec3, f64, f64) {
+pub(crate) fn closest_on_triangle(p: Vec3, t: &[Vec3; 3]) -> (Vec3, f64, f64) {
     let [a, b, c] = *t;
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
@@ -347,7 +347,7 @@ pub fn measure(
 }
 
 /// Every number of a design (its JSON form).
-pub fn count_numbers(spec: &DesignSpec) -> usize {
+pub(crate) fn count_numbers(spec: &DesignSpec) -> usize {
     fn count(v: &serde_json::Value) -> usize {
         match v {
             serde_json::Value::Number(_) => 1,

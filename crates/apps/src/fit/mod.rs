@@ -46,9 +46,7 @@ mod template;
 mod tube;
 
 pub use basis::{position_weights, weights};
-pub use measure::{
-    closest_on_triangle, count_numbers, measure, Distances, Measures, MeshDistance, PointDistances,
-};
+pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, MeshFormat, Topology, MAX_TRIANGLES};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use picture::picture;

@@ -33,7 +33,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 /// Value given to points outside the bounds (times `1 + relative violation`).
-pub const BOUND_PENALTY: f64 = 1e15;
+pub(crate) const BOUND_PENALTY: f64 = 1e15;
 
 /// Options of [`minimize`].
 #[derive(Clone, Debug, PartialEq)]

@@ -19,10 +19,9 @@ pub use frd::{read_frd, FrdResults};
 pub use material::Material;
 pub use mesh::{Element, ShellMesh, Side, MAX_NODES};
 pub use output::{csv, vtu};
-pub use run::{run_ccx, RunOptions, RunOutput, INSTALL_HINT};
+pub use run::{run_ccx, RunOptions, RunOutput};
 pub use setup::{
-    LoadSetup, ShellSetup, BOOK_LINE_LOAD, BYTES_PER_SHELL_NODE, DEFAULT_ELEMENTS,
-    DEFAULT_THICKNESS, MAX_ELEMENTS,
+    LoadSetup, ShellSetup, BOOK_LINE_LOAD, DEFAULT_ELEMENTS, DEFAULT_THICKNESS, MAX_ELEMENTS,
 };
 pub use stress::{max_shear, principal_stresses, MaxShear};
 

@@ -6,7 +6,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// How to install the solver, for the message when it is missing.
-pub const INSTALL_HINT: &str = "install CalculiX (Debian/Ubuntu: `apt-get install calculix-ccx`; \
+pub(crate) const INSTALL_HINT: &str =
+    "install CalculiX (Debian/Ubuntu: `apt-get install calculix-ccx`; \
      other systems: https://www.calculix.de) or name the binary with PDESHAPE_CCX";
 
 /// How to run the solver.

@@ -19,7 +19,7 @@ pub const MAX_ELEMENTS: (usize, usize) = (400, 1000);
 /// Bytes per shell node of a solver run, a generous round figure: CalculiX expands each node
 /// into three 3-D nodes (9 unknowns), and the sparse factorisation's fill and the result buffers
 /// cost a few kilobytes per unknown.
-pub const BYTES_PER_SHELL_NODE: u64 = 8 * 1024;
+pub(crate) const BYTES_PER_SHELL_NODE: u64 = 8 * 1024;
 
 /// A line load of the setup, its direction resolved when the model is built.
 #[derive(Clone, Debug, PartialEq)]

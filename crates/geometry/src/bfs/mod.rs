@@ -46,7 +46,7 @@ pub use system::{SplineFactor, SplineSystem};
 use crate::{Error, Result};
 
 /// Degrees of freedom per node: `u, ∂x u, ∂y u, ∂x∂y u` (in this order).
-pub const DOFS_PER_NODE: usize = 4;
+pub(crate) const DOFS_PER_NODE: usize = 4;
 
 /// A tensor-product partition of `Ω = [0, 1]²` into rectangles `[x_i, x_{i+1}] × [y_j, y_{j+1}]`,
 /// optionally periodic in `x` (the nodes at `x = 1` are those at `x = 0`, so every function of

@@ -14,7 +14,7 @@ pub fn default_tolerance(design: &SolvedDesign) -> f64 {
 }
 
 /// Refuses a design without surfaces (only a `[dynamic]` curve).
-pub fn require_surfaces(design: &SolvedDesign) -> Result<()> {
+pub(crate) fn require_surfaces(design: &SolvedDesign) -> Result<()> {
     if design.surfaces.is_empty() {
         return Err(Error::no_surface());
     }

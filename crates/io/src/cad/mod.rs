@@ -20,7 +20,7 @@ mod tests_remainder;
 pub mod trimmed;
 
 pub use certify::{approximate, Approximation, Certificate};
-pub use export::{default_tolerance, export_design, require_surfaces, CadExport, CadExportError};
+pub use export::{default_tolerance, export_design, CadExport, CadExportError};
 pub use hermite::hermite_interpolant;
 
 use crate::design::{SolvedDesign, SurfaceKind};

@@ -72,7 +72,7 @@ const MAX_EDGE_NODES: usize = 1 << 16;
 /// `v`): cut at `start` (reduced into the domain) by inserting the knot to multiplicity `q`,
 /// the two pieces joined the other way round, the knots moved to begin at `start`. The same
 /// surface up to rounding.
-pub fn rotate_v(net: &BSplineSurface, start: f64) -> Result<BSplineSurface> {
+pub(crate) fn rotate_v(net: &BSplineSurface, start: f64) -> Result<BSplineSurface> {
     let t = net.transposed();
     let q = t.degree()[0];
     let [[a, b], _] = t.domain();
@@ -173,7 +173,7 @@ fn pcurve(curve: &TrimCurve, lipschitz: f64, budget: f64) -> Result<(BCurve, f64
 }
 
 /// `L_u`, `L_v`: bounds of `|N_u|`, `|N_v|` over the whole net from its control differences.
-pub fn slope_bounds(net: &BSplineSurface) -> [f64; 2] {
+pub(crate) fn slope_bounds(net: &BSplineSurface) -> [f64; 2] {
     let [p, q] = net.degree();
     let [nu, nv] = net.counts();
     let (ku, kv, c) = (net.knots_u(), net.knots_v(), net.control());
@@ -208,7 +208,7 @@ fn along(net: &BSplineSurface, pc: &BCurve, s: f64, left: bool) -> (Vec3, Vec3) 
 
 /// The largest `|edge(s) − N(pc(s))|`: 9 samples in each piece of the edge, then golden-section
 /// maximisation around the 8 largest.
-pub fn edge_deviation(net: &BSplineSurface, pc: &BCurve, edge: &BCurve) -> f64 {
+pub(crate) fn edge_deviation(net: &BSplineSurface, pc: &BCurve, edge: &BCurve) -> f64 {
     let dev = |s: f64| {
         let q = pc.point(s);
         (edge.point(s) - net.derivative(q.x, q.y, 0, 0)).norm()

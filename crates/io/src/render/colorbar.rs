@@ -62,7 +62,7 @@ pub fn nice_ticks(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// The step of [`nice_ticks`].
-pub fn nice_step(lo: f64, hi: f64) -> f64 {
+pub(crate) fn nice_step(lo: f64, hi: f64) -> f64 {
     let raw = (hi - lo) / 5.0;
     let p = 10f64.powf(raw.log10().floor());
     let m = raw / p;
@@ -81,7 +81,7 @@ pub fn nice_step(lo: f64, hi: f64) -> f64 {
 /// The label of tick `x` among ticks `step` apart: fixed-point with as many decimals as the step
 /// needs when `10⁻³ ≤ max(|x|, step) < 10⁵`, otherwise scientific with the digits the step needs
 /// (`-2.5e-4`). A minus sign is `-` (the font is ASCII).
-pub fn tick_label(x: f64, step: f64) -> String {
+pub(crate) fn tick_label(x: f64, step: f64) -> String {
     let x = if x.abs() < 1e-9 * step { 0.0 } else { x };
     let big = x.abs().max(step);
     if (1e-3..1e5).contains(&big) {

@@ -24,9 +24,11 @@ mod text;
 pub use anim_picture::{
     contact_sheet, frame_delay, gif_delay, quantize, Apng, ContactSheet, Gif, Quantized,
 };
+pub(crate) use colorbar::nice_step;
+pub(crate) use colorbar::tick_label;
 pub use colorbar::{
-    nice_step, nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
-    short_label, tick_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
+    nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
+    short_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
 };
 
 use crate::design::{Overlay, OverlayKind};

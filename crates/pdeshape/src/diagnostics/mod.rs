@@ -212,7 +212,7 @@ pub struct Diagnostics {
 }
 
 /// The name of the `d`-th u-derivative in reports: `position`, `X_u`, `X_uu`, `∂^dX/∂u^d`.
-pub fn derivative_name(d: usize) -> String {
+pub(crate) fn derivative_name(d: usize) -> String {
     match d {
         0 => "position".to_string(),
         1 => "X_u".to_string(),

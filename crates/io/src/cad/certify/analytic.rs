@@ -10,7 +10,7 @@ use crate::{Error, Result, TAU};
 
 /// The derivative sums of the analytic bound: `sup|∂_u⁴X|`, `sup|∂_v⁴X|`, `sup|∂_u∂_v⁴X|` and
 /// the size `Σ_n (αₙ² + βₙ²)^{1/2}` of the patch. `None` with an active remainder.
-pub fn pde_derivative_bounds(patch: &PdePatch) -> Option<[f64; 4]> {
+pub(crate) fn pde_derivative_bounds(patch: &PdePatch) -> Option<[f64; 4]> {
     let b0 = patch.mode_derivative_bounds(0)?;
     let b1 = patch.mode_derivative_bounds(1)?;
     let b4 = patch.mode_derivative_bounds(4)?;
@@ -19,7 +19,7 @@ pub fn pde_derivative_bounds(patch: &PdePatch) -> Option<[f64; 4]> {
 }
 
 /// The analytic bound for steps `hu`, `hv`.
-pub fn hermite_bound(m: [f64; 3], hu: f64, hv: f64) -> f64 {
+pub(crate) fn hermite_bound(m: [f64; 3], hu: f64, hv: f64) -> f64 {
     let [mu4, mv4, mu1v4] = m;
     hu.powi(4) / 384.0 * mu4 + hv.powi(4) / 384.0 * (mv4 + hu / 4.0 * mu1v4)
 }

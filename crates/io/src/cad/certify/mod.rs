@@ -117,7 +117,7 @@ mod exact;
 mod formula;
 mod remainder;
 mod sampled;
-pub use analytic::{approximate_pde, hermite_bound, pde_derivative_bounds, pde_grid};
+pub use analytic::{approximate_pde, pde_grid};
 use analytic::{approximate_with_sums, sums_grid};
 use exact::{clamp_u, exact};
 pub use formula::approximate_formula;
@@ -132,7 +132,7 @@ pub const MAX_NODES: usize = 4096;
 /// The most grid cells (`m × n` intervals) one surface's approximation may use: a net of about
 /// a million control points (≈ 25 MB), and for a sampled surface about 7 million evaluations
 /// of its deviation. Beyond it the tolerance is refused rather than the export run for minutes.
-pub const MAX_CELLS: usize = 1 << 18;
+pub(crate) const MAX_CELLS: usize = 1 << 18;
 
 fn too_many_cells(tolerance: f64) -> Error {
     Error::invalid(format!(
