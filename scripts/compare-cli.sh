@@ -37,9 +37,10 @@
 #      `interpolating curve: ..., N force updates, <s> s`.
 #   N3 stdout of `fit`: `... patches (...) in <ms> ms; Hausdorff ...`.
 #   N4 `fit --json` files: the numbers of the "timings_ms" object.
-#   N5 STEP files written by `surface` (out/surface_*/*.step|stp): the time in FILE_NAME. The
-#      CAD export stamps the wall-clock time (cad.rs `now()`; it does not read SOURCE_DATE_EPOCH,
-#      unlike `spline`'s IGES, which is therefore not normalised).
+#   N5 STEP files written by `surface` (out/surface_*/*.step|stp): the time in FILE_NAME.
+#      Binaries from before the one CAD export (`cad::export_design`) stamp the wall-clock time
+#      and do not read SOURCE_DATE_EPOCH; today's do, as `spline`'s IGES always did (not
+#      normalised). The normalisation keeps such binaries comparable.
 #   N6 IGES files written by `surface` (out/surface_*/*.igs|iges): the two 15HYYYYMMDD.HHMMSS
 #      dates of the global section, replaced by a string of the same length (fixed columns).
 #   N7 `shell` (only run when CalculiX is there): the `time: meshing ... s` line and the numbers
