@@ -16,6 +16,7 @@
 pub mod bfs;
 pub mod check;
 pub mod curve;
+pub mod disk;
 pub mod dynamic;
 pub mod elliptic;
 mod error;

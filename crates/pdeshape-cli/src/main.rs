@@ -8,6 +8,7 @@ mod cad;
 mod check;
 mod common;
 mod curve;
+mod fill;
 mod fit;
 mod optimize;
 mod render;
@@ -66,6 +67,9 @@ enum Command {
     /// Fit PDE patches to a closed triangle mesh (obj, stl, ply) and write the design (toml),
     /// with the two-sided distances and the compression ratio.
     Fit(fit::Args),
+    /// Fill the holes of a triangle mesh (obj, stl, ply) with PDE patches G1 to the mesh and
+    /// weld them in; write the mesh (obj, stl, ply or glb), watertight if it had only holes.
+    Fill(fill::Args),
     /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
     /// design's (the largest deviation per surface).
     Roundtrip(cad::RoundtripArgs),
@@ -90,6 +94,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Spline(args) => spline::run(&args),
         Command::Serve(args) => serve::run(&args),
         Command::Fit(args) => fit::run(&args),
+        Command::Fill(args) => fill::run(&args),
         Command::Roundtrip(args) => cad::roundtrip(&args),
         Command::Animate(args) => animate::run(&args),
         Command::Shell(args) => shell::run(&args),
@@ -109,7 +114,7 @@ fn main() -> ExitCode {
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, roundtrip, animate, shell, schema or serve \
+                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, fill, roundtrip, animate, shell, schema or serve \
                          (see pdeshape --help)"
                     );
                     ExitCode::from(2)

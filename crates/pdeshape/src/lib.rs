@@ -29,7 +29,7 @@
 
 #![warn(missing_docs)]
 
-pub use pdeshape_apps::{anim, fit, optimize, shell};
+pub use pdeshape_apps::{anim, fill, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{
     bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, nsided, scalar, spline,

@@ -10,6 +10,7 @@
 pub mod curves;
 pub mod designs;
 pub mod fit_meshes;
+pub mod hole_meshes;
 pub mod mutate;
 
 use pdeshape::spec::{parse_design, DesignSpec};

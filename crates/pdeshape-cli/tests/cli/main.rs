@@ -13,6 +13,7 @@ mod common;
 mod design_ops;
 mod dynamic;
 mod fd;
+mod fill;
 mod fit;
 mod flags;
 mod kinds;

@@ -4,6 +4,7 @@
 
 mod anim;
 mod campaign;
+mod fill;
 mod fit;
 mod shell_ccx;
 mod shell_common;

@@ -1,0 +1,136 @@
+//! `pdeshape fill MESH -o OUT`: fill the holes of a triangle mesh (obj, stl, ply) with PDE
+//! patches G1 to the mesh, welded in; write the mesh (obj, stl, ply or glb by extension),
+//! print one line per hole and whether the result is watertight.
+
+use crate::common::{self, CliError, Output};
+use pdeshape::fill::{self, Continuity, FillOptions, HoleSelection};
+use pdeshape::fit::{InputMesh, MeshFormat};
+use pdeshape::mesh::{self, Format};
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub(crate) struct Args {
+    /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one manifold, consistently
+    /// oriented surface with holes.
+    pub mesh: PathBuf,
+    /// The filled mesh (obj, stl, ply or glb, by extension).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Which holes: `all` (default); see also --largest and --max-boundary.
+    #[arg(long, value_parser = ["all"], conflicts_with_all = ["largest", "max_boundary"])]
+    pub holes: Option<String>,
+    /// Fill only the K longest holes.
+    #[arg(long, value_name = "K", conflicts_with = "max_boundary")]
+    pub largest: Option<usize>,
+    /// Fill only the holes with at most N boundary vertices.
+    #[arg(long, value_name = "N")]
+    pub max_boundary: Option<usize>,
+    /// How the fill meets the mesh: g1 (tangent planes, default), g2 (tangent planes and
+    /// normal curvatures) or g0 (positions only).
+    #[arg(long, value_parser = ["g0", "g1", "g2"], default_value = "g1")]
+    pub continuity: String,
+    /// How fast the fill's edges grow from the hole's spacing towards its centre, per ring of
+    /// triangles: 0 to 1 (0: the hole's spacing throughout).
+    #[arg(long, default_value_t = 0.1)]
+    pub grading: f64,
+}
+
+const FORMATS: &str = "obj, stl, ply or glb";
+
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
+    let shown = args.mesh.display().to_string();
+    let format = common::output_format(&args.output, None, FORMATS)?;
+    if format == Format::Csv {
+        return Err(CliError::input(format!(
+            "-o {}: fill writes a mesh: {FORMATS}",
+            args.output.display()
+        )));
+    }
+    let input = args
+        .mesh
+        .extension()
+        .and_then(|e| e.to_str())
+        .and_then(MeshFormat::from_extension)
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "{shown}: unknown mesh format (the extension must be obj, stl or ply)"
+            ))
+        })?;
+    let holes = match (args.largest, args.max_boundary) {
+        (Some(k), _) => HoleSelection::Largest(k),
+        (None, Some(n)) => HoleSelection::MaxBoundary(n),
+        (None, None) => HoleSelection::All,
+    };
+    let options = FillOptions {
+        holes,
+        continuity: match args.continuity.as_str() {
+            "g0" => Continuity::G0,
+            "g2" => Continuity::G2,
+            _ => Continuity::G1,
+        },
+        grading: args.grading,
+    };
+    let bytes = crate::fit::read_mesh_bytes(&args.mesh, &shown)?;
+    let mut out = Output::create(&args.output)?;
+    let mesh =
+        InputMesh::read(&bytes, input).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let t = Instant::now();
+    let filled = fill::fill_holes(&mesh, &options).map_err(|e| match e.place() {
+        "largest" | "max-boundary" | "grading" => CliError::input(format!("--{e}")),
+        _ => CliError::input(format!("{shown}: {e}")),
+    })?;
+    let fill_s = t.elapsed().as_secs_f64();
+    let written = filled.to_trimesh();
+    let name = args
+        .mesh
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let info = mesh::MeshInfo {
+        title: Some(format!("{name}, holes filled")),
+        ..mesh::MeshInfo::default()
+    };
+    {
+        let mut w = out.writer();
+        mesh::write_mesh(format, &written, &info, &mut w)
+            .map_err(|e| CliError::input(format!("-o {}: {e}", args.output.display())))?;
+        w.flush()
+            .map_err(|e| CliError::input(format!("-o {}: {e}", args.output.display())))?;
+    }
+    out.commit()?;
+    let mut text = String::new();
+    for (k, h) in filled.holes.iter().enumerate() {
+        let _ = writeln!(
+            text,
+            "hole {} (at vertex {}): {} boundary vertices, {} triangles added; G1 angle {:.3}° \
+             (normal jump max {:.3}°, rms {:.3}°); {:.0} ms",
+            k + 1,
+            h.first_vertex + 1,
+            h.boundary_vertices,
+            h.triangles_added,
+            h.g1_angle.to_degrees(),
+            h.normal_jump.0.to_degrees(),
+            h.normal_jump.1.to_degrees(),
+            h.seconds * 1e3
+        );
+    }
+    let state = if filled.open_edges == 0 {
+        "watertight".to_string()
+    } else {
+        format!("{} boundary edges remain", filled.open_edges)
+    };
+    let _ = writeln!(
+        text,
+        "{shown}: filled {} of {} holes in {:.0} ms: {} triangles, {state}",
+        filled.holes.len(),
+        filled.holes_found,
+        fill_s * 1e3,
+        filled.triangles.len()
+    );
+    common::print_stdout(&text);
+    common::report(&format!("wrote {}\n", common::destination(&args.output)));
+    Ok(())
+}
