@@ -105,12 +105,13 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     for (k, h) in filled.holes.iter().enumerate() {
         let _ = writeln!(
             text,
-            "hole {} (at vertex {}): {} boundary vertices, {} triangles added; G1 angle {:.3}° \
-             (normal jump max {:.3}°, rms {:.3}°); {:.0} ms",
+            "hole {} (at vertex {}): {} boundary vertices, {} triangles added ({} ribbon); G1 \
+             angle {:.3}° (normal jump max {:.3}°, rms {:.3}°); {:.0} ms",
             k + 1,
             h.first_vertex + 1,
             h.boundary_vertices,
             h.triangles_added,
+            h.ribbon,
             h.g1_angle.to_degrees(),
             h.normal_jump.0.to_degrees(),
             h.normal_jump.1.to_degrees(),

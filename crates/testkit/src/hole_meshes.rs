@@ -236,6 +236,11 @@ pub fn sphere_ring_hole(hb: f64) -> Holed {
 /// counterclockwise seen from `+z`) with the triangles whose centroid is within `r` of the
 /// origin removed.
 pub fn plane_hole(k: usize, r: f64, seed: u64) -> Holed {
+    plane_hole_where(k, seed, |x, y| x.hypot(y) < r)
+}
+
+/// [`plane_hole`] with the triangles whose centroid `(x, y)` satisfies `inside` removed.
+pub fn plane_hole_where(k: usize, seed: u64, inside: impl Fn(f64, f64) -> bool) -> Holed {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let h = 2.0 / k as f64;
     let mut pos = Vec::new();
@@ -265,7 +270,7 @@ pub fn plane_hole(k: usize, r: f64, seed: u64) -> Holed {
     let (mut kept, mut gone) = (Vec::new(), Vec::new());
     for t in &tris {
         let c = (pos[t[0] as usize] + pos[t[1] as usize] + pos[t[2] as usize]) / 3.0;
-        if c.norm() < r {
+        if inside(c.x, c.y) {
             gone.push(*t);
         } else {
             kept.push(*t);

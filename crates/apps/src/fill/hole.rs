@@ -16,11 +16,13 @@
 //!
 //! # Ribbon (G1)
 //!
-//! `D_k = T_k × N_k` at the vertices, linear along each edge, with `T_k` the central difference
-//! `(P_{k+1} − P_{k−1}) S/(4π)` (the polyline's mean tangent per unit of `θ`) and `N_k` the
-//! mesh's angle-weighted normal at the vertex: `D` lies in the mesh's tangent plane, points out
-//! of the hole, and has the magnitude of the tangent (the conformal choice: a planar regular
-//! polygon gives a flat fill, any planar loop a planar one). The patch's tangent at a vertex is
+//! `D_k` at the vertices, linear along each edge, lies in the mesh's tangent plane (`N_k` the
+//! mesh's angle-weighted normal at the vertex) and points out of the hole. Its first choice is
+//! `D_k = T_k × N_k`, with `T_k` the central difference `(P_{k+1} − P_{k−1}) S/(4π)` (the
+//! polyline's mean tangent per unit of `θ`): square to the loop and as long as its tangent, the
+//! conformal choice (a circle gives the flat disc, any planar loop a planar fill). For long or
+//! bent holes the conformal map crowds and the fill can fold; the fill then tries the harmonic
+//! and the radial ribbons ([`RibbonChoice`]). The patch's tangent at a vertex is
 //! the mean of its two edges, `T_k`, so its normal is `N_k` made orthogonal to `T_k`: it leaves
 //! the mesh's normal by the angle at which the loop leaves the mesh's tangent plane there, the
 //! loop's own discretisation (reported as the G1 angle).
@@ -29,6 +31,39 @@ use super::curvature::form;
 use super::{Continuity, Neighbours};
 use crate::{Error, Result, Vec3, TAU};
 use pdeshape_geometry::disk::{DiskData, DiskPatch, RingPoint};
+
+/// The magnitude and direction of the ribbon `D` in the mesh's tangent plane (G1, G2): the
+/// fill tries them in this order and keeps the first whose tessellation does not fold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RibbonChoice {
+    /// `T_k × N_k`: square to the loop, as long as its tangent (the disc's conformal map).
+    Conformal,
+    /// The harmonic fill's derivative `∂X/∂r` just inside the loop, turned into the mesh's
+    /// tangent plane (its length kept): for a planar loop the biharmonic fill is then close to
+    /// the harmonic one, which maps the disc one-to-one onto any convex region.
+    Harmonic,
+    /// `P_k − C` (from the loop's centroid), turned into the tangent plane (its length kept):
+    /// an affine image of the disc is reproduced (an ellipse by its angles).
+    Radial,
+}
+
+impl RibbonChoice {
+    /// Every choice, in the order the fill tries them.
+    pub const ALL: [RibbonChoice; 3] = [
+        RibbonChoice::Conformal,
+        RibbonChoice::Harmonic,
+        RibbonChoice::Radial,
+    ];
+
+    /// The choice's name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            RibbonChoice::Conformal => "conformal",
+            RibbonChoice::Harmonic => "harmonic",
+            RibbonChoice::Radial => "radial",
+        }
+    }
+}
 
 /// Boundary samples per edge of the loop.
 const OVERSAMPLE: usize = 8;
@@ -52,6 +87,7 @@ pub(crate) fn build(
     neighbours: &Neighbours,
     loop_vertices: &[u32],
     continuity: Continuity,
+    ribbon: RibbonChoice,
 ) -> Result<HolePatch> {
     let s = loop_vertices.len();
     let p: Vec<Vec3> = loop_vertices
@@ -92,7 +128,36 @@ pub(crate) fn build(
     }
     // The central difference per unit of θ: the polyline's mean tangent at a vertex.
     let scale = s as f64 / (2.0 * TAU);
-    let d_at = |k: usize| (p[(k + 1) % s] - p[(k + s - 1) % s]).cross(&normals[k]) * scale;
+    let conformal = |k: usize| (p[(k + 1) % s] - p[(k + s - 1) % s]).cross(&normals[k]) * scale;
+    let centre = p.iter().sum::<Vec3>() / s as f64;
+    let radial = |k: usize| {
+        let v = p[k] - centre;
+        let t = v - normals[k] * normals[k].dot(&v);
+        let n = t.norm();
+        if n > 0.0 {
+            t * (v.norm() / n)
+        } else {
+            conformal(k)
+        }
+    };
+    // The harmonic fill's derivative, taken a little inside the loop (two steps of the
+    // samples: the Poisson kernel there damps the zigzag's modes).
+    let harm = DiskPatch::solve(1, &data)?.ring(1.0 - 2.0 * TAU / s as f64, s, 0.0);
+    let harmonic = |k: usize| {
+        let v = harm[k].xr;
+        let t = v - normals[k] * normals[k].dot(&v);
+        let n = t.norm();
+        if n > 0.0 {
+            t * (v.norm() / n)
+        } else {
+            conformal(k)
+        }
+    };
+    let d_at = |k: usize| match ribbon {
+        RibbonChoice::Conformal => conformal(k),
+        RibbonChoice::Harmonic => harmonic(k),
+        RibbonChoice::Radial => radial(k),
+    };
     let df = fine(&d_at);
     let g1 = DiskPatch::solve(
         2,

@@ -12,9 +12,10 @@
 //! in three or more triangles, a vertex whose triangles are not one fan: its boundary is not
 //! one loop) or inconsistently oriented; a selection of holes that selects none; and a hole
 //! one patch cannot span sensibly: a loop through one point twice, a fill that would need more
-//! than [`MAX_POINTS`] points, or a triangle of the fill that comes out with its normal against
-//! the patch's (the disk's map folds, as for a loop that winds or is far from convex in its
-//! surface). A loop that is most of the mesh's boundary is filled like any other.
+//! than [`MAX_POINTS`] points, or, for every ribbon tried ([`RibbonChoice`]), a triangle of the
+//! fill that comes out with its normal against the patch's or a normal jump above [`MAX_JUMP`]
+//! at the loop (the disk's map folds or bends over the mesh, as for a loop that is long and
+//! thin, winds, or is far from convex in its surface). A loop that is most of the mesh's boundary is filled like any other.
 
 mod curvature;
 mod hole;
@@ -22,6 +23,7 @@ mod loops;
 mod measure;
 mod tessellate;
 
+pub use hole::RibbonChoice;
 pub use loops::{boundary_loops, open_edges, BoundaryLoop};
 pub use measure::{normal_jump, vertex_normals};
 pub use tessellate::MAX_POINTS;
@@ -30,6 +32,10 @@ use crate::fit::InputMesh;
 use crate::mesh::{Part, TriMesh};
 use crate::{Error, Result, Vec3};
 use std::time::Instant;
+
+/// The largest normal jump (radians) a fill may have at its loop's vertices: a larger one is a
+/// crease, where the patch has bent over the mesh beside a concave stretch of the loop.
+pub const MAX_JUMP: f64 = 45.0 * std::f64::consts::PI / 180.0;
 
 /// Which holes to fill.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -98,6 +104,8 @@ pub struct HoleReport {
     /// The largest and RMS normal jump (radians) at the loop's vertices: the angle between the
     /// area-weighted normals of the fill's and the mesh's triangles there ([`normal_jump`]).
     pub normal_jump: (f64, f64),
+    /// The ribbon the fill kept ([`RibbonChoice`]; `conformal` for G0, which has none).
+    pub ribbon: &'static str,
     /// Wall time of the hole (patch, tessellation, measures), seconds.
     pub seconds: f64,
 }
@@ -202,28 +210,63 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
                 e
             ))
         };
-        let hole = hole::build(
-            &mesh.positions,
-            &normals,
-            &neighbours,
-            &lp.vertices,
-            options.continuity,
-        )
-        .map_err(place)?;
         let base = u32::try_from(positions.len())
             .map_err(|_| Error::invalid("the mesh has too many vertices"))?;
-        let t = tessellate::tessellate(&hole, &mesh.positions, base, options.grading, median)
+        // The ribbons in turn (one for G0), until a tessellation does not fold.
+        let choices: &[RibbonChoice] = if options.continuity == Continuity::G0 {
+            &RibbonChoice::ALL[..1]
+        } else {
+            &RibbonChoice::ALL
+        };
+        let mut fewest: Option<(usize, usize)> = None;
+        let mut crease = f64::INFINITY;
+        let mut found = None;
+        for &ribbon in choices {
+            let hole = hole::build(
+                &mesh.positions,
+                &normals,
+                &neighbours,
+                &lp.vertices,
+                options.continuity,
+                ribbon,
+            )
             .map_err(place)?;
-        if t.folded > 0 {
-            return Err(place(Error::invalid(format!(
-                "the hole is too winding for one patch: the disk's map folds {} of the fill's {} \
-                 triangles (their normals oppose the patch's)",
-                t.folded,
-                t.triangles.len()
-            ))));
+            let t = tessellate::tessellate(&hole, &mesh.positions, base, options.grading, median)
+                .map_err(place)?;
+            if t.folded > 0 {
+                if fewest.is_none_or(|(f, _)| t.folded < f) {
+                    fewest = Some((t.folded, t.triangles.len()));
+                }
+                continue;
+            }
+            // A fill that bends over the mesh (a hole that is not convex enough) meets it at a
+            // crease.
+            let n0 = positions.len();
+            positions.extend_from_slice(&t.positions);
+            let jump = normal_jump(&positions, &t.triangles, &mesh.triangles, &lp.vertices);
+            positions.truncate(n0);
+            if jump.0 > MAX_JUMP {
+                crease = crease.min(jump.0);
+                continue;
+            }
+            found = Some((hole, t, ribbon, jump));
+            break;
         }
+        let Some((hole, t, ribbon, jump)) = found else {
+            return Err(place(Error::invalid(match fewest {
+                Some((folded, of)) if crease.is_infinite() => format!(
+                    "the hole is too long or too winding for one disk patch: its map folds (at \
+                     best {folded} of the fill's {of} triangles face against the patch)"
+                ),
+                _ => format!(
+                    "the hole is too long or too winding for one disk patch: its map folds or \
+                     meets the mesh at a crease (at best {:.0}°, more than {:.0}°)",
+                    crease.to_degrees(),
+                    MAX_JUMP.to_degrees()
+                ),
+            })));
+        };
         positions.extend_from_slice(&t.positions);
-        let jump = normal_jump(&positions, &t.triangles, &mesh.triangles, &lp.vertices);
         triangles.extend_from_slice(&t.triangles);
         reports.push(HoleReport {
             first_vertex: lp.vertices[0],
@@ -232,6 +275,7 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
             vertices_added: t.positions.len(),
             triangles_added: t.triangles.len(),
             g1_angle: hole.g1_angle,
+            ribbon: ribbon.name(),
             normal_jump: jump,
             seconds: start.elapsed().as_secs_f64(),
         });

@@ -196,3 +196,38 @@ fn a_g2_fill_of_a_sphere_hole_is_closer_to_the_sphere_than_the_g1_fill() {
         assert!(g2 < g1, "{name}: G1 {g1:e}, G2 {g2:e}");
     }
 }
+
+#[test]
+fn a_long_hole_is_filled_flat_by_another_ribbon_and_a_u_shaped_one_is_refused() {
+    // An ellipse of axes 0.8 and 0.2: the conformal ribbon folds the fill, the harmonic one
+    // (for a convex planar loop, close to the harmonic map, one-to-one) does not.
+    let holed =
+        hole_meshes::plane_hole_where(60, 3, |x, y| (x / 0.8).powi(2) + (y / 0.2).powi(2) < 1.0);
+    let n0 = holed.mesh.positions.len();
+    let options = FillOptions {
+        holes: HoleSelection::MaxBoundary(200),
+        ..FillOptions::default()
+    };
+    let filled = fill::fill_holes(&holed.mesh, &options).unwrap();
+    let h = &filled.holes[0];
+    assert_ne!(h.ribbon, "conformal", "{h:?}");
+    let z = new_vertices(&filled, n0)
+        .iter()
+        .map(|p| p.z.abs())
+        .fold(0.0, f64::max);
+    assert!(z <= 1e-14, "{z:e}");
+    assert!(new_vertices(&filled, n0)
+        .iter()
+        .all(|p| (p.x / 0.8).powi(2) + (p.y / 0.2).powi(2) < 1.1));
+    // A U: no ribbon keeps the disk's map from folding over the tongue; refused, named.
+    let holed = hole_meshes::plane_hole_where(60, 3, |x, y| {
+        x.abs() < 0.5 && y.abs() < 0.5 && !(x.abs() < 0.2 && y > 0.0)
+    });
+    let e = fill::fill_holes(&holed.mesh, &options)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("hole 2") && e.contains("too long or too winding"),
+        "{e}"
+    );
+}
