@@ -58,10 +58,22 @@ pub(crate) fn tessellate(
             b.xt.norm()
         }
     });
-    let rings = (speed / (edge * 3f64.sqrt() / 2.0)).round().max(1.0) as usize;
-    let dr = 1.0 / rings as f64;
-    // Points of rings at every step from 1 − dr to dr: an upper bound.
-    let total = s * rings / 2 + 1;
+    let rings = (speed / (edge * 3f64.sqrt() / 2.0)).round().max(1.0);
+    let dr = 1.0 / rings;
+    let largest = (dr * max_edge / edge).max(dr);
+    let count = |r: f64, step: f64| ((s as f64 * r * dr / step).round() as usize).max(3);
+    // The points the graded rings will have (the first ring may yet move deeper, by at most
+    // one and a half steps: fewer points).
+    let total = if rings > 1.0 {
+        steps(1.0 - dr, dr, grading, largest)
+            .iter()
+            .map(|&(r, step)| count(r, step))
+            .sum::<usize>()
+            + count(1.0 - dr, dr)
+            + 1
+    } else {
+        1
+    };
     if total > MAX_POINTS {
         return Err(Error::invalid(format!(
             "the fill would need about {total} points (at most {MAX_POINTS}): the hole is too \
@@ -89,7 +101,7 @@ pub(crate) fn tessellate(
     // A ring at radius r whose points are `step` apart along the radius: as many as keep the
     // triangles about equilateral.
     let ring = |r: f64, phase: f64, first: usize, step: f64| {
-        let count = ((s as f64 * r * dr / step).round() as usize).max(3);
+        let count = count(r, step);
         let pts = hole.patch.ring(r, count, phase);
         Ring {
             index: (0..count).map(|l| (first + l) as u32).collect(),
@@ -100,7 +112,7 @@ pub(crate) fn tessellate(
             normal: pts.iter().map(|p| unit(p.xr.cross(&p.xt))).collect(),
         }
     };
-    if rings > 1 {
+    if rings > 1.0 {
         // The patch's forward direction along the loop: N × ∂X/∂r.
         let forward: Vec<Vec3> = hole
             .boundary
@@ -127,25 +139,12 @@ pub(crate) fn tessellate(
             }
             r1 -= 0.5 * dr;
         }
-        // Steps growing by the grading per ring, up to the mesh's own edges; the last ring
-        // is at least a step from the centre.
-        let largest = (dr * max_edge / edge).max(dr);
-        let (mut r, mut step, mut j) = (r1, dr, 1);
-        loop {
-            step = (step * (1.0 + grading)).min(largest);
-            // Spread the last steps evenly down to the centre.
-            let left = (r / step).round().max(1.0);
-            step = r / left;
-            if left <= 1.0 {
-                break;
-            }
-            r -= step;
-            let phase = if j % 2 == 0 { 0.5 } else { 0.0 };
+        for (j, (r, step)) in steps(r1, dr, grading, largest).into_iter().enumerate() {
+            let phase = if j % 2 == 0 { 0.0 } else { 0.5 };
             let inner = ring(r, phase, base as usize + positions.len(), step);
             positions.extend_from_slice(&inner.x);
             folded += zip(&outer, &inner, &mut triangles);
             outer = inner;
-            j += 1;
         }
     }
     let centre = hole.patch.partials(0.0, 0.0);
@@ -168,6 +167,24 @@ pub(crate) fn tessellate(
         triangles,
         folded,
     })
+}
+
+/// The rings inside the first, at `r1`: `(radius, step)` with the step from the ring outside
+/// it, growing by `grading` per ring from `dr` up to `largest`, the last ones spread evenly so
+/// the innermost ring is a step from the centre.
+fn steps(r1: f64, dr: f64, grading: f64, largest: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let (mut r, mut step) = (r1, dr);
+    loop {
+        step = (step * (1.0 + grading)).min(largest);
+        let left = (r / step).round().max(1.0);
+        step = r / left;
+        if left <= 1.0 {
+            return out;
+        }
+        r -= step;
+        out.push((r, step));
+    }
 }
 
 /// The radius of the first ring inside the loop: `1 − dr`, or deeper (by half steps, at most
