@@ -894,3 +894,110 @@ fn runs_meshes_quadratures_and_searches_are_refused_from_their_memory_estimate()
         ]
     );
 }
+
+/// The path of the cup example.
+fn cup_path() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cup.toml").to_string()
+}
+
+/// Makes a FIFO (named pipe) at `path` with `mkfifo`.
+fn mkfifo(path: &std::path::Path) {
+    let st = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(st.success(), "mkfifo {}", path.display());
+}
+
+/// What `path` is now, for checking that a refused run left it as it was.
+fn file_type(path: &std::path::Path) -> String {
+    format!(
+        "{:?}",
+        std::fs::symlink_metadata(path).map(|m| m.file_type())
+    )
+}
+
+/// An existing destination that is not a regular file — a FIFO, a directory, a loop of symbolic
+/// links — is refused with one line before any work, and left as it was. A FIFO without a reader
+/// is never opened (the run would block).
+#[test]
+fn outputs_that_are_not_regular_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.obj");
+    mkfifo(&fifo);
+    let folder = dir.path().join("folder.obj");
+    std::fs::create_dir(&folder).unwrap();
+    let a = dir.path().join("a.obj");
+    let b = dir.path().join("b.obj");
+    std::os::unix::fs::symlink(&b, &a).unwrap();
+    std::os::unix::fs::symlink(&a, &b).unwrap();
+    let design = cup_path();
+    for (target, words) in [
+        (&fifo, "FIFO"),
+        (&folder, "directory"),
+        (&a, "loop of symbolic links"),
+    ] {
+        let before = file_type(target);
+        let out = run_within(&["surface", &design, "-o", s(target)], 10)
+            .unwrap_or_else(|| panic!("-o {} ran past 10 s", target.display()));
+        assert_bad(&out, &[s(target), words]);
+        assert_eq!(file_type(target), before, "{} changed", target.display());
+    }
+    // The same for a second output (the picture) and for STEP output.
+    let fifo_png = dir.path().join("pipe.png");
+    mkfifo(&fifo_png);
+    let mesh = dir.path().join("m.obj");
+    let out = run_within(
+        &[
+            "surface",
+            &design,
+            "-o",
+            s(&mesh),
+            "--picture",
+            s(&fifo_png),
+        ],
+        10,
+    )
+    .expect("ran past 10 s");
+    assert_bad(&out, &["FIFO"]);
+    assert!(!mesh.exists());
+    let fifo_step = dir.path().join("pipe.step");
+    mkfifo(&fifo_step);
+    let out = run_within(&["surface", &design, "-o", s(&fifo_step)], 10).expect("ran past 10 s");
+    assert_bad(&out, &["FIFO"]);
+    let left: Vec<String> = files(dir.path())
+        .into_iter()
+        .filter(|f| f.contains(".pdeshape-"))
+        .collect();
+    assert!(left.is_empty(), "left {left:?}");
+}
+
+/// Two outputs of one command that name the same file — through a symbolic link or a hard
+/// link — are refused before any work; so is an output of `optimize` that is its design file
+/// through a link.
+#[test]
+fn outputs_naming_the_same_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = cup_path();
+    let mesh = dir.path().join("shape.obj");
+    let link = dir.path().join("shape.png");
+    std::os::unix::fs::symlink(&mesh, &link).unwrap();
+    let out = pdeshape(&["surface", &design, "-o", s(&mesh), "--picture", s(&link)]);
+    assert_bad(&out, &["same file as another output"]);
+    assert!(!mesh.exists());
+    // A hard link to an existing file.
+    let old = write(dir.path(), "old.obj", "# old\n");
+    let hard = dir.path().join("hard.png");
+    std::fs::hard_link(&old, &hard).unwrap();
+    let out = pdeshape(&["surface", &design, "-o", s(&old), "--picture", s(&hard)]);
+    assert_bad(&out, &["same file as another output"]);
+    assert_eq!(std::fs::read_to_string(&old).unwrap(), "# old\n");
+    // optimize: best.obj is a link to the design file.
+    let src =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/optimize_curvature.toml");
+    let d = dir.path().join("opt.toml");
+    std::fs::copy(&src, &d).unwrap();
+    let text = std::fs::read_to_string(&d).unwrap();
+    std::os::unix::fs::symlink(&d, dir.path().join("best.obj")).unwrap();
+    let best = dir.path().join("best.toml");
+    let out = pdeshape(&["optimize", s(&d), "-o", s(&best)]);
+    assert_bad(&out, &["would overwrite the design file"]);
+    assert_eq!(std::fs::read_to_string(&d).unwrap(), text);
+}
