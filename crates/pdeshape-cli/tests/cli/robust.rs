@@ -1001,3 +1001,60 @@ fn outputs_naming_the_same_file_are_refused() {
     assert_bad(&out, &["would overwrite the design file"]);
     assert_eq!(std::fs::read_to_string(&d).unwrap(), text);
 }
+
+/// Input files that are not regular files — a FIFO without a writer, a directory — are refused
+/// with one line naming them, never waited on or read without bound: design files, morph
+/// sources, meshes of `fit` and `fill`, templates and the STEP file of `roundtrip`.
+#[test]
+fn inputs_that_are_not_regular_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = |name: &str| {
+        let p = dir.path().join(name);
+        mkfifo(&p);
+        p
+    };
+    let design_fifo = fifo("pipe.toml");
+    let mesh_fifo = fifo("pipe.obj");
+    let step_fifo = fifo("pipe.step");
+    let template_fifo = fifo("template.toml");
+    fifo("source.toml");
+    let morph = write(
+        dir.path(),
+        "morph.toml",
+        &format!(
+            "[time]\nend = 1.0\nframes = 3\n\n[morph]\nsource = \"source.toml\"\ntarget = \"{}\"\n",
+            cup_path()
+        ),
+    );
+    let mesh = write(dir.path(), "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let folder = dir.path().join("folder.obj");
+    std::fs::create_dir(&folder).unwrap();
+    let out_toml = dir.path().join("out.toml");
+    let out_obj = dir.path().join("out.obj");
+    let out_glb = dir.path().join("out.glb");
+    let design = cup_path();
+    let runs: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["check", s(&design_fifo)], "FIFO"),
+        (vec!["animate", s(&morph), "-o", s(&out_glb)], "FIFO"),
+        (vec!["fit", s(&mesh_fifo), "-o", s(&out_toml)], "FIFO"),
+        (vec!["fit", s(&folder), "-o", s(&out_toml)], "directory"),
+        (vec!["fill", s(&mesh_fifo), "-o", s(&out_obj)], "FIFO"),
+        (
+            vec![
+                "fit",
+                s(&mesh),
+                "-o",
+                s(&out_toml),
+                "--template",
+                s(&template_fifo),
+            ],
+            "FIFO",
+        ),
+        (vec!["roundtrip", &design, s(&step_fifo)], "FIFO"),
+    ];
+    for (args, words) in runs {
+        let out = run_within(&args, 10).unwrap_or_else(|| panic!("{args:?} ran past 10 s"));
+        assert_bad(&out, &[words]);
+    }
+    assert!(!out_toml.exists() && !out_obj.exists() && !out_glb.exists());
+}
