@@ -56,7 +56,7 @@ pub(crate) fn write(
     out.write_all(export.text.as_bytes())?;
     out.commit()?;
     let dest = common::destination(output);
-    common::print_stdout(&format!("wrote {dest}: {}", export.report()));
+    common::report(&format!("wrote {dest}: {}", export.report()));
     Ok(())
 }
 

@@ -167,10 +167,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         fit::FitMode::Sheet => "sheet",
         fit::FitMode::Template => "template",
     };
-    println!(
+    crate::common::report(&format!(
         "{}: {} triangles → {} patches ({mode} mode, {} modes, a = {}) in {:.0} ms; Hausdorff \
          {:.3e}, RMS {:.3e} of the diagonal; {} bytes → {} bytes of coefficients (ratio {:.0}), \
-         {} bytes of TOML (ratio {:.1}); wrote {}",
+         {} bytes of TOML (ratio {:.1}); wrote {}\n",
         shown,
         m.mesh_triangles,
         fitted.patches,
@@ -184,8 +184,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         m.ratio,
         m.toml_bytes,
         m.toml_ratio,
-        args.output.display()
-    );
+        crate::common::destination(&args.output)
+    ));
     Ok(())
 }
 

@@ -256,6 +256,18 @@ fn quiet_prints_nothing_on_success() {
     assert!(out.status.success());
     assert!(out.stdout.is_empty() && out.stderr.is_empty());
     assert!(dir.path().join("c.obj").exists());
+    // STEP and IGES outputs too.
+    for name in ["c.step", "c.igs"] {
+        let target = dir.path().join(name);
+        let out = pdeshape(&["surface", "--quiet", s(&design), "-o", s(&target)]);
+        assert!(out.status.success(), "{name}");
+        assert!(
+            out.stdout.is_empty() && out.stderr.is_empty(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert!(target.exists());
+    }
 }
 
 #[test]
