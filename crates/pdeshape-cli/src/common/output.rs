@@ -145,7 +145,7 @@ impl Output {
     /// after checking the destination: not a directory, in an existing directory, not read-only
     /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
     pub(crate) fn create(path: &Path) -> Result<Self, CliError> {
-        let shown = path.display().to_string();
+        let shown = pdeshape::spec::words::user_text(&path.display().to_string());
         if Self::is_stdout(path) {
             STDOUT_USED.store(true, Ordering::Relaxed);
             return Ok(Output {

@@ -1070,3 +1070,37 @@ fn inputs_that_are_not_regular_files_are_refused() {
     }
     assert!(!out_toml.exists() && !out_obj.exists() && !out_glb.exists());
 }
+
+/// Names from the design file are printed as typed, without the escapes of the programming
+/// language, invisible characters shown by their code, and cut to a readable length.
+#[test]
+fn user_names_in_messages_are_readable_and_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = cup();
+    let bom = write(
+        dir.path(),
+        "bom.toml",
+        &edit(&text, "curve = \"rim\" }", "curve = \"\u{feff}rim\" }"),
+    );
+    let line = assert_bad(
+        &pdeshape(&["check", s(&bom)]),
+        &["unknown curve '<U+FEFF>rim'"],
+    );
+    assert!(!line.contains("\\u{"), "{line}");
+    let long = "r".repeat(4096);
+    let f = write(
+        dir.path(),
+        "long.toml",
+        &edit(
+            &text,
+            "curve = \"rim\" }",
+            &format!("curve = \"{long}\" }}"),
+        ),
+    );
+    let line = assert_bad(&pdeshape(&["check", s(&f)]), &["(4096 characters)"]);
+    assert!(
+        line.chars().count() < 400,
+        "{} characters",
+        line.chars().count()
+    );
+}
