@@ -1104,3 +1104,33 @@ fn user_names_in_messages_are_readable_and_short() {
         line.chars().count()
     );
 }
+
+/// A knot multiplicity read from a STEP file does not size an allocation: a multiplicity of
+/// 10¹¹ is refused with one line (the knots a net of that many control points can have), under
+/// an address-space bound that an allocation from it would exceed.
+#[test]
+fn step_knot_multiplicities_are_checked_before_allocating() {
+    let dir = tempfile::tempdir().unwrap();
+    let step = dir.path().join("c.step");
+    let out = pdeshape(&["surface", "--quiet", &cup_path(), "-o", s(&step)]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&step).unwrap();
+    let from = ".UNSPECIFIED.,.F.,.T.,.F.,(4,";
+    assert!(
+        text.contains(from),
+        "the STEP file's knots are not where expected"
+    );
+    let bad = dir.path().join("bad.step");
+    std::fs::write(
+        &bad,
+        text.replacen(from, ".UNSPECIFIED.,.F.,.T.,.F.,(100000000000,", 1),
+    )
+    .unwrap();
+    let out = run_limited(
+        &["roundtrip", &cup_path(), s(&bad)],
+        10,
+        Some(ADDRESS_SPACE_KIB),
+    )
+    .expect("ran past 10 s");
+    assert_bad(&out, &["knot multiplicities sum to"]);
+}
