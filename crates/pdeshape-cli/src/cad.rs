@@ -56,7 +56,7 @@ pub(crate) fn write(
     out.write_all(export.text.as_bytes())?;
     out.commit()?;
     let dest = common::destination(output);
-    common::print_stdout(&format!("wrote {dest}: {}", export.report()));
+    common::report(&format!("wrote {dest}: {}", export.report()));
     Ok(())
 }
 
@@ -92,8 +92,14 @@ pub(crate) fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
                 "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
             ))
         })?;
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let bytes = pdeshape::open::read_held(&args.file)
+        .map_err(|e| CliError::input(format!("{shown}: {}", e.words())))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CliError::input(format!(
+            "{shown}: not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })?;
     let read = match format {
         OutputFormat::Step => read::read_step(&text),
         _ => read::read_iges(&text),

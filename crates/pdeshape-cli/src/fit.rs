@@ -167,10 +167,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         fit::FitMode::Sheet => "sheet",
         fit::FitMode::Template => "template",
     };
-    println!(
+    crate::common::report(&format!(
         "{}: {} triangles → {} patches ({mode} mode, {} modes, a = {}) in {:.0} ms; Hausdorff \
          {:.3e}, RMS {:.3e} of the diagonal; {} bytes → {} bytes of coefficients (ratio {:.0}), \
-         {} bytes of TOML (ratio {:.1}); wrote {}",
+         {} bytes of TOML (ratio {:.1}); wrote {}\n",
         shown,
         m.mesh_triangles,
         fitted.patches,
@@ -184,8 +184,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         m.ratio,
         m.toml_bytes,
         m.toml_ratio,
-        args.output.display()
-    );
+        crate::common::destination(&args.output)
+    ));
     Ok(())
 }
 
@@ -203,20 +203,11 @@ const MAX_TEMPLATE_BYTES: u64 = 1 << 20;
 /// Reads and parses a template; errors as `file:line:col: place: message`.
 fn read_template(path: &std::path::Path) -> Result<(String, String, fit::Template), CliError> {
     let file = path.display().to_string();
-    if let Ok(m) = std::fs::metadata(path) {
-        if m.is_file() && m.len() > MAX_TEMPLATE_BYTES {
-            return Err(CliError::input(format!(
-                "--template {file}: the template has {} bytes; at most {MAX_TEMPLATE_BYTES} are \
-                 read",
-                m.len()
-            )));
-        }
-    }
-    let bytes = std::fs::read(path).map_err(|e| {
-        CliError::input(format!(
-            "--template {file}: cannot read: {}",
-            crate::common::io_words(&e)
-        ))
+    let bytes = pdeshape::open::read_regular(path, MAX_TEMPLATE_BYTES).map_err(|e| match e {
+        pdeshape::open::ReadError::TooLarge(n) => CliError::input(format!(
+            "--template {file}: the template has {n} bytes; at most {MAX_TEMPLATE_BYTES} are read"
+        )),
+        e => CliError::input(format!("--template {file}: {}", e.words())),
     })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         CliError::input(format!(
@@ -229,21 +220,8 @@ fn read_template(path: &std::path::Path) -> Result<(String, String, fit::Templat
     Ok((file, text, t))
 }
 
-/// The bytes of a mesh file, refused from its size before it is read when holding it
-/// ([`pdeshape::memory::mesh_read`]) would not fit in the memory budget.
+/// The bytes of a mesh file: a regular file, refused from its size before it is read when
+/// holding it would not fit in the memory budget ([`pdeshape::open::read_held`]).
 pub(crate) fn read_mesh_bytes(path: &std::path::Path, shown: &str) -> Result<Vec<u8>, CliError> {
-    if let Ok(m) = std::fs::metadata(path) {
-        pdeshape::memory::check(
-            pdeshape::memory::mesh_read(m.len(), 0),
-            &format!("holding the mesh file of {} bytes", m.len()),
-            "",
-        )
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-    }
-    std::fs::read(path).map_err(|e| {
-        CliError::input(format!(
-            "{shown}: cannot read: {}",
-            crate::common::io_words(&e)
-        ))
-    })
+    pdeshape::open::read_held(path).map_err(|e| CliError::input(format!("{shown}: {}", e.words())))
 }

@@ -144,14 +144,14 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         beside(&args.output, "csv"),
     ];
     for p in &paths[1..] {
-        if p == &args.design {
+        if common::same_file(p, &args.design) {
             return Err(CliError::input(format!(
                 "-o {shown}: would overwrite the design file {}",
                 p.display()
             )));
         }
     }
-    if args.output == args.design {
+    if common::same_file(&args.output, &args.design) {
         return Err(CliError::input(format!(
             "-o {shown}: would overwrite the design file"
         )));

@@ -90,6 +90,106 @@ pub fn io_words(e: &std::io::Error) -> String {
     }
 }
 
+/// Why an input file was not read ([`open_regular`], [`read_regular`], [`read_held`]).
+#[derive(Clone, Debug)]
+pub enum ReadError {
+    /// It does not exist or cannot be opened or read: the system's words.
+    Unreadable(String),
+    /// It is not a regular file (a directory, a FIFO, a device or a socket).
+    NotAFile(std::fs::FileType),
+    /// It has (or grew to while it was read) this many bytes, more than the limit.
+    TooLarge(u64),
+    /// Holding it would not fit in the memory budget: the budget's message.
+    OverBudget(String),
+}
+
+impl ReadError {
+    /// What went wrong, in words, for `file: cannot read …` or `file: …`: the system's words,
+    /// "a FIFO (named pipe) is not a regular file", "Is a directory", or the size.
+    pub fn words(&self) -> String {
+        match self {
+            ReadError::Unreadable(w) => format!("cannot read: {w}"),
+            ReadError::NotAFile(t) if t.is_dir() => "cannot read: Is a directory".to_string(),
+            ReadError::NotAFile(t) => {
+                format!("cannot read: {} is not a regular file", kind_words(*t))
+            }
+            ReadError::TooLarge(n) => format!("the file has {n} bytes, more than can be read"),
+            ReadError::OverBudget(m) => m.clone(),
+        }
+    }
+
+    /// The matching [`OpenErrorKind`].
+    pub fn kind(&self) -> OpenErrorKind {
+        match self {
+            ReadError::Unreadable(_) => OpenErrorKind::Unreadable,
+            ReadError::NotAFile(_) => OpenErrorKind::NotAFile,
+            ReadError::TooLarge(_) | ReadError::OverBudget(_) => OpenErrorKind::TooLarge,
+        }
+    }
+}
+
+/// Opens `path` for reading if it is a regular file (symlinks followed), with its length. The
+/// type is checked before the file is opened, so a FIFO is refused rather than waited on, and
+/// again on the open file (opened non-blocking), so a FIFO swapped in between is refused too.
+/// Every input file of the CLI, the designer and the Python package is opened here.
+pub fn open_regular(path: &Path) -> Result<(std::fs::File, u64), ReadError> {
+    let unreadable = |e: std::io::Error| ReadError::Unreadable(io_words(&e));
+    let meta = std::fs::metadata(path).map_err(unreadable)?;
+    if !meta.is_file() {
+        return Err(ReadError::NotAFile(meta.file_type()));
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path).map_err(unreadable)?;
+    let meta = file.metadata().map_err(unreadable)?;
+    if !meta.is_file() {
+        return Err(ReadError::NotAFile(meta.file_type()));
+    }
+    Ok((file, meta.len()))
+}
+
+/// Reads at most `limit` bytes of `file`; more (a file that grew) is refused as
+/// [`ReadError::TooLarge`] after reading one byte past the limit, never all of it.
+pub fn read_bounded(file: std::fs::File, len: u64, limit: u64) -> Result<Vec<u8>, ReadError> {
+    if len > limit {
+        return Err(ReadError::TooLarge(len));
+    }
+    let mut bytes = Vec::with_capacity(len as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| ReadError::Unreadable(io_words(&e)))?;
+    if bytes.len() as u64 > limit {
+        return Err(ReadError::TooLarge(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// The bytes of the regular file `path`, at most `limit` of them ([`open_regular`],
+/// [`read_bounded`]).
+pub fn read_regular(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+    let (file, len) = open_regular(path)?;
+    read_bounded(file, len, limit)
+}
+
+/// The bytes of an input file that is held whole in memory (a mesh, a STEP or IGES file): a
+/// regular file whose size the memory budget ([`crate::memory::check`]) admits, read no further
+/// than that size.
+pub fn read_held(path: &Path) -> Result<Vec<u8>, ReadError> {
+    let (file, len) = open_regular(path)?;
+    crate::memory::check(
+        crate::memory::mesh_read(len, 0),
+        &format!("holding the file of {len} bytes"),
+        "",
+    )
+    .map_err(|e| ReadError::OverBudget(e.to_string()))?;
+    read_bounded(file, len, len)
+}
+
 /// A design file's text with the name its errors are shown under.
 #[derive(Clone, Debug)]
 pub struct DesignFile {
@@ -160,33 +260,12 @@ impl DesignFile {
                 ),
             )
         };
-        let meta = std::fs::metadata(path).map_err(|e| cannot(io_words(&e)))?;
-        if !meta.is_file() {
-            return Err(not_a_file(meta.file_type()));
-        }
-        if meta.len() > MAX_FILE_BYTES {
-            return Err(too_large(meta.len()));
-        }
-        let mut options = std::fs::OpenOptions::new();
-        options.read(true);
-        #[cfg(unix)]
-        {
-            // Never blocks on a FIFO swapped in after the check above.
-            use std::os::unix::fs::OpenOptionsExt;
-            options.custom_flags(libc::O_NONBLOCK);
-        }
-        let file = options.open(path).map_err(|e| cannot(io_words(&e)))?;
-        let meta = file.metadata().map_err(|e| cannot(io_words(&e)))?;
-        if !meta.is_file() {
-            return Err(not_a_file(meta.file_type()));
-        }
-        let mut bytes = Vec::with_capacity(meta.len() as usize);
-        file.take(MAX_FILE_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(|e| cannot(io_words(&e)))?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            return Err(too_large(bytes.len() as u64));
-        }
+        let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| match e {
+            ReadError::Unreadable(words) => cannot(words),
+            ReadError::NotAFile(t) => not_a_file(t),
+            ReadError::TooLarge(n) => too_large(n),
+            ReadError::OverBudget(m) => OpenError::file(OpenErrorKind::TooLarge, m),
+        })?;
         let text = String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
             OpenError::file(

@@ -243,13 +243,19 @@ pub(crate) fn unknown_curve(
     curves: &BTreeMap<String, CurveSpec>,
     place: &str,
 ) -> Error {
-    let known: Vec<&str> = curves.keys().map(String::as_str).collect();
+    use crate::spec::words::user_text;
+    /// Names listed at most; more are counted.
+    const LISTED: usize = 20;
+    let mut known: Vec<String> = curves.keys().take(LISTED).map(|k| user_text(k)).collect();
+    if curves.len() > LISTED {
+        known.push(format!("and {} more", curves.len() - LISTED));
+    }
     let known = if known.is_empty() {
         "no curves are defined".to_string()
     } else {
         format!("known: {}", known.join(", "))
     };
-    Error::invalid(format!("unknown curve '{name}' ({known})")).at(place)
+    Error::invalid(format!("unknown curve '{}' ({known})", user_text(name))).at(place)
 }
 
 /// Every reference exists and the references between named curves have no cycle.

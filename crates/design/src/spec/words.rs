@@ -4,6 +4,40 @@
 /// Longest quoted value kept whole in a message, in characters.
 pub const MAX_QUOTED: usize = 60;
 
+/// Longest user-supplied text (a name, a path) printed whole in a message, in characters.
+pub const MAX_USER_TEXT: usize = 80;
+
+/// A user-supplied text (a curve or patch name, a key, a path) as a message shows it: as typed,
+/// without quotes added or escapes of the programming language, except that control and
+/// invisible characters (a byte order mark, zero-width spaces, line breaks) are shown as
+/// `<U+FEFF>`; longer than [`MAX_USER_TEXT`] characters, it is cut there with an ellipsis and
+/// its length. Messages put it between their own quotes.
+pub fn user_text(s: &str) -> String {
+    let invisible = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}' | '\u{2060}'..='\u{2064}' | '\u{FEFF}')
+    };
+    let n = s.chars().count();
+    let mut out = String::new();
+    for c in s.chars().take(MAX_USER_TEXT) {
+        if invisible(c) {
+            out.push_str(&format!("<U+{:04X}>", c as u32));
+        } else {
+            out.push(c);
+        }
+    }
+    if n > MAX_USER_TEXT {
+        out.push_str(&format!("… ({n} characters)"));
+    }
+    out
+}
+
+/// A number as a message shows it: plain for moderate magnitudes, short scientific form
+/// otherwise (`1e308`, not 309 digits).
+pub fn number(x: f64) -> String {
+    crate::check::num(x)
+}
+
 /// What a Rust type of the design file is called in a message.
 fn type_words(name: &str) -> &'static str {
     match name {
@@ -132,7 +166,23 @@ pub fn shorten_quoted(s: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::plain;
+    use super::{number, plain, user_text, MAX_USER_TEXT};
+
+    #[test]
+    fn user_text_is_cut_and_shows_invisible_characters() {
+        assert_eq!(user_text("rim"), "rim");
+        assert_eq!(user_text("\u{feff}rim"), "<U+FEFF>rim");
+        assert_eq!(user_text("a\nb"), "a<U+000A>b");
+        let long = "r".repeat(4096);
+        let cut = user_text(&long);
+        assert_eq!(
+            cut,
+            format!("{}… (4096 characters)", "r".repeat(MAX_USER_TEXT))
+        );
+        assert_eq!(user_text(&"é".repeat(80)), "é".repeat(80));
+        assert_eq!(number(1e308), "1e308");
+        assert_eq!(number(2.5), "2.5");
+    }
 
     #[test]
     fn rust_names_become_words() {

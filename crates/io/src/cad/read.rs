@@ -289,18 +289,39 @@ pub fn read_step(text: &str) -> Result<Vec<ReadSurface>> {
                     }
                 }
             }
-            let expand = |mults: Vec<f64>, knots: Vec<f64>| -> Result<Vec<f64>> {
+            // The knot vector along a direction of `count` control points and degree `degree`
+            // has `count + degree + 1` knots: multiplicities summing to more are refused before
+            // the vector is allocated (a multiplicity read from the file sizes it).
+            let expand = |mults: Vec<f64>,
+                          knots: Vec<f64>,
+                          count: usize,
+                          degree: usize,
+                          dir: &str|
+             -> Result<Vec<f64>> {
                 if mults.len() != knots.len() {
                     return Err(at("knot multiplicities and knots differ in length"));
                 }
-                let mut out = Vec::new();
+                let most = count.saturating_add(degree).saturating_add(1);
+                let mut total = 0usize;
+                for m in &mults {
+                    total = total.saturating_add(int(&Value::Num(*m))?);
+                }
+                if total > most {
+                    return Err(at(&format!(
+                        "the {dir} knot multiplicities sum to {total}; {count} control points of \
+                         degree {degree} need {most} knots"
+                    )));
+                }
+                let mut out = Vec::with_capacity(total);
                 for (m, k) in mults.iter().zip(knots) {
                     out.extend(std::iter::repeat_n(k, int(&Value::Num(*m))?));
                 }
                 Ok(out)
             };
-            let ku = expand(nums(a.get(8))?, nums(a.get(10))?)?;
-            let kv = expand(nums(a.get(9))?, nums(a.get(11))?)?;
+            let nu = rows.len();
+            let nv = nv.unwrap_or(0);
+            let ku = expand(nums(a.get(8))?, nums(a.get(10))?, nu, p, "u")?;
+            let kv = expand(nums(a.get(9))?, nums(a.get(11))?, nv, q, "v")?;
             let net =
                 BSplineSurface::new([p, q], ku, kv, control).map_err(|e| at(&e.to_string()))?;
             Ok(ReadSurface { name, net })

@@ -13,7 +13,7 @@ pub(crate) use flags::{
     check_extension, format_request, output_format, refuse_flag, refuse_grid_flags, FormatRequest,
 };
 pub(crate) use load::{apply_sets, load, message_of, opened, Loaded};
-pub(crate) use output::{destination, Output};
+pub(crate) use output::{destination, same_file, Output};
 pub(crate) use report::{mark_start, print_stdout, quiet, report, set_flags, since_start_ms};
 pub(crate) use temp::remove_temporaries_on_signals;
 

@@ -35,6 +35,86 @@ enum Target {
 pub(crate) struct Output {
     shown: String,
     target: Target,
+    /// Which file this is, held in [`LIVE`] while the output is open.
+    identity: Option<Identity>,
+}
+
+/// Which file a destination is: its directory's canonical path joined with its name, and its
+/// device and inode when it exists (so hard links count as the same file too).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Identity {
+    path: PathBuf,
+    inode: Option<(u64, u64)>,
+}
+
+impl Identity {
+    /// The identity of `dest` (already resolved through symlinks) in the directory `dir`.
+    fn of(dir: &Path, dest: &Path) -> Option<Identity> {
+        let name = dest.file_name()?;
+        let path = std::fs::canonicalize(dir).ok()?.join(name);
+        #[cfg(unix)]
+        let inode = {
+            use std::os::unix::fs::MetadataExt;
+            std::fs::metadata(&path).ok().map(|m| (m.dev(), m.ino()))
+        };
+        #[cfg(not(unix))]
+        let inode = None;
+        Some(Identity { path, inode })
+    }
+
+    fn same(&self, other: &Identity) -> bool {
+        self.path == other.path || (self.inode.is_some() && self.inode == other.inode)
+    }
+}
+
+/// The files of the outputs open now: a second output naming one of them is refused.
+static LIVE: std::sync::Mutex<Vec<Identity>> = std::sync::Mutex::new(Vec::new());
+
+/// Whether `a` and `b` name the same file (through symlinks, `..` or hard links). Paths that
+/// cannot be resolved are compared as given.
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
+    let id = |p: &Path| {
+        let dest = resolve(p);
+        let dir = match dest.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        Identity::of(&dir, &dest)
+    };
+    match (id(a), id(b)) {
+        (Some(x), Some(y)) => x.same(&y),
+        _ => a == b,
+    }
+}
+
+/// What an existing destination that is not a regular file is, in words; `None` for a regular
+/// file or a path that does not exist (a symlink to nowhere creates its target).
+fn not_a_file(dest: &Path) -> Option<&'static str> {
+    let t = std::fs::symlink_metadata(dest).ok()?.file_type();
+    if t.is_file() {
+        return None;
+    }
+    if t.is_symlink() {
+        // `resolve` stops on a chain that does not end: a loop, or more than 40 links.
+        return Some("a loop of symbolic links");
+    }
+    if t.is_dir() {
+        return Some("a directory");
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return Some("a FIFO (named pipe)");
+        }
+        if t.is_socket() {
+            return Some("a socket");
+        }
+        if t.is_block_device() || t.is_char_device() {
+            return Some("a device");
+        }
+    }
+    Some("not a regular file")
 }
 
 /// The real destination of `path`: itself, or the file a symlink (chain) points to.
@@ -65,17 +145,22 @@ impl Output {
     /// after checking the destination: not a directory, in an existing directory, not read-only
     /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
     pub(crate) fn create(path: &Path) -> Result<Self, CliError> {
-        let shown = path.display().to_string();
+        let shown = pdeshape::spec::words::user_text(&path.display().to_string());
         if Self::is_stdout(path) {
             STDOUT_USED.store(true, Ordering::Relaxed);
             return Ok(Output {
                 shown: "standard output".to_string(),
                 target: Target::Stdout(Vec::new()),
+                identity: None,
             });
         }
         let dest = resolve(path);
-        if dest.is_dir() {
-            return Err(CliError::input(format!("-o {shown}: is a directory")));
+        if let Some(what) = not_a_file(&dest) {
+            return Err(CliError::input(if what == "a directory" {
+                format!("-o {shown}: is a directory")
+            } else {
+                format!("-o {shown}: is {what}, not a regular file; refused")
+            }));
         }
         let dir = match dest.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
@@ -86,6 +171,15 @@ impl Output {
                 "-o {shown}: the directory '{}' does not exist",
                 dir.display()
             )));
+        }
+        let identity = Identity::of(&dir, &dest);
+        if let Some(id) = &identity {
+            let live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
+            if live.iter().any(|other| other.same(id)) {
+                return Err(CliError::input(format!(
+                    "-o {shown}: names the same file as another output of this command"
+                )));
+            }
         }
         if let Ok(m) = std::fs::metadata(&dest) {
             if m.permissions().readonly() && !FORCE.load(Ordering::Relaxed) {
@@ -115,9 +209,15 @@ impl Output {
                 ))
             })?;
         pending_add(temp.path());
+        if let Some(id) = &identity {
+            LIVE.lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .push(id.clone());
+        }
         Ok(Output {
             shown,
             target: Target::File { temp, dest },
+            identity,
         })
     }
 
@@ -240,6 +340,12 @@ impl Drop for Output {
     fn drop(&mut self) {
         if let Target::File { temp, .. } = &self.target {
             pending_remove(temp.path());
+        }
+        if let Some(id) = self.identity.take() {
+            let mut live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some(i) = live.iter().position(|other| *other == id) {
+                live.remove(i);
+            }
         }
     }
 }

@@ -94,6 +94,21 @@ fn fit_writes_a_design_that_surface_reads() {
     );
 }
 
+#[test]
+fn quiet_fit_prints_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(24, 32));
+    let design = dir.path().join("egg.toml");
+    let out = pdeshape(&["fit", "--quiet", s(&mesh), "-o", s(&design)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty() && out.stderr.is_empty());
+    assert!(design.exists());
+}
+
 /// Runs `fit` on a bad mesh file; checks the one-line error and that nothing was written.
 fn bad_mesh(name: &str, bytes: &[u8], needles: &[&str]) {
     let dir = tempfile::tempdir().unwrap();

@@ -256,6 +256,18 @@ fn quiet_prints_nothing_on_success() {
     assert!(out.status.success());
     assert!(out.stdout.is_empty() && out.stderr.is_empty());
     assert!(dir.path().join("c.obj").exists());
+    // STEP and IGES outputs too.
+    for name in ["c.step", "c.igs"] {
+        let target = dir.path().join(name);
+        let out = pdeshape(&["surface", "--quiet", s(&design), "-o", s(&target)]);
+        assert!(out.status.success(), "{name}");
+        assert!(
+            out.stdout.is_empty() && out.stderr.is_empty(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+        assert!(target.exists());
+    }
 }
 
 #[test]
@@ -893,4 +905,232 @@ fn runs_meshes_quadratures_and_searches_are_refused_from_their_memory_estimate()
             "opt.toml"
         ]
     );
+}
+
+/// The path of the cup example.
+fn cup_path() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cup.toml").to_string()
+}
+
+/// Makes a FIFO (named pipe) at `path` with `mkfifo`.
+fn mkfifo(path: &std::path::Path) {
+    let st = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(st.success(), "mkfifo {}", path.display());
+}
+
+/// What `path` is now, for checking that a refused run left it as it was.
+fn file_type(path: &std::path::Path) -> String {
+    format!(
+        "{:?}",
+        std::fs::symlink_metadata(path).map(|m| m.file_type())
+    )
+}
+
+/// An existing destination that is not a regular file — a FIFO, a directory, a loop of symbolic
+/// links — is refused with one line before any work, and left as it was. A FIFO without a reader
+/// is never opened (the run would block).
+#[test]
+fn outputs_that_are_not_regular_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe.obj");
+    mkfifo(&fifo);
+    let folder = dir.path().join("folder.obj");
+    std::fs::create_dir(&folder).unwrap();
+    let a = dir.path().join("a.obj");
+    let b = dir.path().join("b.obj");
+    std::os::unix::fs::symlink(&b, &a).unwrap();
+    std::os::unix::fs::symlink(&a, &b).unwrap();
+    let design = cup_path();
+    for (target, words) in [
+        (&fifo, "FIFO"),
+        (&folder, "directory"),
+        (&a, "loop of symbolic links"),
+    ] {
+        let before = file_type(target);
+        let out = run_within(&["surface", &design, "-o", s(target)], 10)
+            .unwrap_or_else(|| panic!("-o {} ran past 10 s", target.display()));
+        assert_bad(&out, &[s(target), words]);
+        assert_eq!(file_type(target), before, "{} changed", target.display());
+    }
+    // The same for a second output (the picture) and for STEP output.
+    let fifo_png = dir.path().join("pipe.png");
+    mkfifo(&fifo_png);
+    let mesh = dir.path().join("m.obj");
+    let out = run_within(
+        &[
+            "surface",
+            &design,
+            "-o",
+            s(&mesh),
+            "--picture",
+            s(&fifo_png),
+        ],
+        10,
+    )
+    .expect("ran past 10 s");
+    assert_bad(&out, &["FIFO"]);
+    assert!(!mesh.exists());
+    let fifo_step = dir.path().join("pipe.step");
+    mkfifo(&fifo_step);
+    let out = run_within(&["surface", &design, "-o", s(&fifo_step)], 10).expect("ran past 10 s");
+    assert_bad(&out, &["FIFO"]);
+    let left: Vec<String> = files(dir.path())
+        .into_iter()
+        .filter(|f| f.contains(".pdeshape-"))
+        .collect();
+    assert!(left.is_empty(), "left {left:?}");
+}
+
+/// Two outputs of one command that name the same file — through a symbolic link or a hard
+/// link — are refused before any work; so is an output of `optimize` that is its design file
+/// through a link.
+#[test]
+fn outputs_naming_the_same_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = cup_path();
+    let mesh = dir.path().join("shape.obj");
+    let link = dir.path().join("shape.png");
+    std::os::unix::fs::symlink(&mesh, &link).unwrap();
+    let out = pdeshape(&["surface", &design, "-o", s(&mesh), "--picture", s(&link)]);
+    assert_bad(&out, &["same file as another output"]);
+    assert!(!mesh.exists());
+    // A hard link to an existing file.
+    let old = write(dir.path(), "old.obj", "# old\n");
+    let hard = dir.path().join("hard.png");
+    std::fs::hard_link(&old, &hard).unwrap();
+    let out = pdeshape(&["surface", &design, "-o", s(&old), "--picture", s(&hard)]);
+    assert_bad(&out, &["same file as another output"]);
+    assert_eq!(std::fs::read_to_string(&old).unwrap(), "# old\n");
+    // optimize: best.obj is a link to the design file.
+    let src =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/optimize_curvature.toml");
+    let d = dir.path().join("opt.toml");
+    std::fs::copy(&src, &d).unwrap();
+    let text = std::fs::read_to_string(&d).unwrap();
+    std::os::unix::fs::symlink(&d, dir.path().join("best.obj")).unwrap();
+    let best = dir.path().join("best.toml");
+    let out = pdeshape(&["optimize", s(&d), "-o", s(&best)]);
+    assert_bad(&out, &["would overwrite the design file"]);
+    assert_eq!(std::fs::read_to_string(&d).unwrap(), text);
+}
+
+/// Input files that are not regular files — a FIFO without a writer, a directory — are refused
+/// with one line naming them, never waited on or read without bound: design files, morph
+/// sources, meshes of `fit` and `fill`, templates and the STEP file of `roundtrip`.
+#[test]
+fn inputs_that_are_not_regular_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = |name: &str| {
+        let p = dir.path().join(name);
+        mkfifo(&p);
+        p
+    };
+    let design_fifo = fifo("pipe.toml");
+    let mesh_fifo = fifo("pipe.obj");
+    let step_fifo = fifo("pipe.step");
+    let template_fifo = fifo("template.toml");
+    fifo("source.toml");
+    let morph = write(
+        dir.path(),
+        "morph.toml",
+        &format!(
+            "[time]\nend = 1.0\nframes = 3\n\n[morph]\nsource = \"source.toml\"\ntarget = \"{}\"\n",
+            cup_path()
+        ),
+    );
+    let mesh = write(dir.path(), "m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    let folder = dir.path().join("folder.obj");
+    std::fs::create_dir(&folder).unwrap();
+    let out_toml = dir.path().join("out.toml");
+    let out_obj = dir.path().join("out.obj");
+    let out_glb = dir.path().join("out.glb");
+    let design = cup_path();
+    let runs: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["check", s(&design_fifo)], "FIFO"),
+        (vec!["animate", s(&morph), "-o", s(&out_glb)], "FIFO"),
+        (vec!["fit", s(&mesh_fifo), "-o", s(&out_toml)], "FIFO"),
+        (vec!["fit", s(&folder), "-o", s(&out_toml)], "directory"),
+        (vec!["fill", s(&mesh_fifo), "-o", s(&out_obj)], "FIFO"),
+        (
+            vec![
+                "fit",
+                s(&mesh),
+                "-o",
+                s(&out_toml),
+                "--template",
+                s(&template_fifo),
+            ],
+            "FIFO",
+        ),
+        (vec!["roundtrip", &design, s(&step_fifo)], "FIFO"),
+    ];
+    for (args, words) in runs {
+        let out = run_within(&args, 10).unwrap_or_else(|| panic!("{args:?} ran past 10 s"));
+        assert_bad(&out, &[words]);
+    }
+    assert!(!out_toml.exists() && !out_obj.exists() && !out_glb.exists());
+}
+
+/// Names from the design file are printed as typed, without the escapes of the programming
+/// language, invisible characters shown by their code, and cut to a readable length.
+#[test]
+fn user_names_in_messages_are_readable_and_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = cup();
+    let bom = write(
+        dir.path(),
+        "bom.toml",
+        &edit(&text, "curve = \"rim\" }", "curve = \"\u{feff}rim\" }"),
+    );
+    let line = assert_bad(
+        &pdeshape(&["check", s(&bom)]),
+        &["unknown curve '<U+FEFF>rim'"],
+    );
+    assert!(!line.contains("\\u{"), "{line}");
+    let long = "r".repeat(4096);
+    let f = write(
+        dir.path(),
+        "long.toml",
+        &edit(
+            &text,
+            "curve = \"rim\" }",
+            &format!("curve = \"{long}\" }}"),
+        ),
+    );
+    let line = assert_bad(&pdeshape(&["check", s(&f)]), &["(4096 characters)"]);
+    assert!(
+        line.chars().count() < 400,
+        "{} characters",
+        line.chars().count()
+    );
+}
+
+/// A knot multiplicity read from a STEP file does not size an allocation: a multiplicity of
+/// 10¹¹ is refused with one line (the knots a net of that many control points can have), under
+/// an address-space bound that an allocation from it would exceed.
+#[test]
+fn step_knot_multiplicities_are_checked_before_allocating() {
+    let dir = tempfile::tempdir().unwrap();
+    let step = dir.path().join("c.step");
+    let out = pdeshape(&["surface", "--quiet", &cup_path(), "-o", s(&step)]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&step).unwrap();
+    let from = ".UNSPECIFIED.,.F.,.T.,.F.,(4,";
+    assert!(
+        text.contains(from),
+        "the STEP file's knots are not where expected"
+    );
+    let bad = dir.path().join("bad.step");
+    std::fs::write(
+        &bad,
+        text.replacen(from, ".UNSPECIFIED.,.F.,.T.,.F.,(100000000000,", 1),
+    )
+    .unwrap();
+    let out = run_limited(
+        &["roundtrip", &cup_path(), s(&bad)],
+        10,
+        Some(ADDRESS_SPACE_KIB),
+    )
+    .expect("ran past 10 s");
+    assert_bad(&out, &["knot multiplicities sum to"]);
 }

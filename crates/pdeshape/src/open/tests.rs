@@ -132,3 +132,30 @@ fn a_timed_design_and_a_morph_open_as_animations() {
         "{e}"
     );
 }
+
+#[cfg(unix)]
+#[test]
+fn read_regular_refuses_special_files_and_reads_no_more_than_the_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("pipe");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid NUL-terminated path; mkfifo only creates a file.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let e = read_regular(&fifo, 100).unwrap_err();
+    assert!(matches!(e, ReadError::NotAFile(_)), "{e:?}");
+    assert!(e.words().contains("FIFO"), "{}", e.words());
+    assert_eq!(e.kind(), OpenErrorKind::NotAFile);
+    let e = read_held(dir.path()).unwrap_err();
+    assert_eq!(e.words(), "cannot read: Is a directory");
+    let f = dir.path().join("ten");
+    std::fs::write(&f, b"0123456789").unwrap();
+    assert_eq!(read_regular(&f, 10).unwrap(), b"0123456789");
+    assert!(matches!(read_regular(&f, 9), Err(ReadError::TooLarge(10))));
+    // A file longer than it was when its size was taken is cut one byte past the limit.
+    let (file, _) = open_regular(&f).unwrap();
+    assert!(matches!(
+        read_bounded(file, 4, 4),
+        Err(ReadError::TooLarge(5))
+    ));
+    assert_eq!(read_held(&f).unwrap(), b"0123456789");
+}

@@ -71,9 +71,10 @@ pub fn parse_book_name(name: &str, spec: &DesignSpec) -> Result<ParamKind> {
         }
     }
     Err(Error::invalid(format!(
-        "unknown parameter '{name}': expected the name of a [[parameters]] entry, 'a', \
+        "unknown parameter '{}': expected the name of a [[parameters]] entry, 'a', \
          '<curve>cT', or '<curve>' followed by T (translation), R (rotation) or D (dilation) \
-         and an axis x, y or z, e.g. 'd1Dx'"
+         and an axis x, y or z, e.g. 'd1Dx'",
+        crate::spec::words::user_text(name)
     )))
 }
 

@@ -164,9 +164,14 @@ pub(crate) fn set_spine(
     use super::Edit;
     if let Some(s) = spine {
         if &s.patch != patch {
+            let name = |p: &Option<String>| {
+                p.as_deref()
+                    .map_or("(none)".to_string(), crate::spec::words::user_text)
+            };
             return Err(Error::invalid(format!(
-                "the spine table names the patch {:?}, the edit {:?}",
-                s.patch, patch
+                "the spine table names the patch '{}', the edit '{}'",
+                name(&s.patch),
+                name(patch)
             ))
             .at("patch"));
         }
