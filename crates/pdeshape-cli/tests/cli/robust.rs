@@ -787,7 +787,7 @@ fn runs_meshes_quadratures_and_searches_are_refused_from_their_memory_estimate()
     let out = with_budget(d, "100", &["fit", "oct.obj", "-o", "f.toml"]);
     assert_bad(
         &out,
-        &["oct.obj: holding the mesh file of 115 bytes needs about 115 bytes"],
+        &["oct.obj: holding the file of 115 bytes needs about 115 bytes"],
     );
     // 14 elements × 768 B + 115 B = 10.9 kB.
     let out = with_budget(d, "5000", &["fit", "oct.obj", "-o", "f.toml"]);
