@@ -4,7 +4,7 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::fill::{self, Continuity, FillOptions, HoleSelection};
-use pdeshape::fit::{InputMesh, MeshFormat};
+use pdeshape::fit::InputMesh;
 use pdeshape::mesh::{self, Format};
 use std::fmt::Write as _;
 use std::io::Write;
@@ -49,16 +49,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    let input = args
-        .mesh
-        .extension()
-        .and_then(|e| e.to_str())
-        .and_then(MeshFormat::from_extension)
-        .ok_or_else(|| {
-            CliError::input(format!(
-                "{shown}: unknown mesh format (the extension must be obj, stl or ply)"
-            ))
-        })?;
+    let input = crate::fit::input_format(&args.mesh, &shown)?;
     let holes = match (args.largest, args.max_boundary) {
         (Some(k), _) => HoleSelection::Largest(k),
         (None, Some(n)) => HoleSelection::MaxBoundary(n),

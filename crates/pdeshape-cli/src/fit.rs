@@ -43,16 +43,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             args.tolerance
         )));
     }
-    let format = args
-        .mesh
-        .extension()
-        .and_then(|e| e.to_str())
-        .and_then(MeshFormat::from_extension)
-        .ok_or_else(|| {
-            CliError::input(format!(
-                "{shown}: unknown mesh format (the extension must be obj, stl or ply)"
-            ))
-        })?;
+    let format = input_format(&args.mesh, &shown)?;
     let ext = |p: &PathBuf, want: &str, flag: &str| -> Result<(), CliError> {
         match p.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case(want) => Ok(()),
@@ -222,6 +213,18 @@ fn read_template(path: &std::path::Path) -> Result<(String, String, fit::Templat
 
 /// The bytes of a mesh file: a regular file, refused from its size before it is read when
 /// holding it would not fit in the memory budget ([`pdeshape::open::read_held`]).
+/// The format of an input mesh, from its extension.
+pub(crate) fn input_format(path: &std::path::Path, shown: &str) -> Result<MeshFormat, CliError> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .and_then(MeshFormat::from_extension)
+        .ok_or_else(|| {
+            CliError::input(format!(
+                "{shown}: unknown mesh format (the extension must be obj, stl or ply)"
+            ))
+        })
+}
+
 pub(crate) fn read_mesh_bytes(path: &std::path::Path, shown: &str) -> Result<Vec<u8>, CliError> {
     pdeshape::open::read_held(path).map_err(|e| CliError::input(format!("{shown}: {}", e.words())))
 }

@@ -81,10 +81,10 @@ pub(crate) struct HolePatch {
 }
 
 /// Builds and solves the patch of the hole `loop_vertices` (in the fill's direction).
-pub(crate) fn build(
+pub(crate) fn build<'a>(
     positions: &[Vec3],
     vertex_normals: &[Vec3],
-    neighbours: &Neighbours,
+    neighbours: &dyn Fn() -> &'a Neighbours,
     loop_vertices: &[u32],
     continuity: Continuity,
     ribbon: RibbonChoice,
@@ -129,9 +129,8 @@ pub(crate) fn build(
     // The central difference per unit of θ: the polyline's mean tangent at a vertex.
     let scale = s as f64 / (2.0 * TAU);
     let conformal = |k: usize| (p[(k + 1) % s] - p[(k + s - 1) % s]).cross(&normals[k]) * scale;
-    let centre = p.iter().sum::<Vec3>() / s as f64;
-    let radial = |k: usize| {
-        let v = p[k] - centre;
+    // A vector turned into the mesh's tangent plane at vertex k, its length kept.
+    let in_plane = |k: usize, v: Vec3| {
         let t = v - normals[k] * normals[k].dot(&v);
         let n = t.norm();
         if n > 0.0 {
@@ -140,23 +139,18 @@ pub(crate) fn build(
             conformal(k)
         }
     };
+    let centre = p.iter().sum::<Vec3>() / s as f64;
     // The harmonic fill's derivative, taken a little inside the loop (two steps of the
-    // samples: the Poisson kernel there damps the zigzag's modes).
-    let harm = DiskPatch::solve(1, &data)?.ring(1.0 - 2.0 * TAU / s as f64, s, 0.0);
-    let harmonic = |k: usize| {
-        let v = harm[k].xr;
-        let t = v - normals[k] * normals[k].dot(&v);
-        let n = t.norm();
-        if n > 0.0 {
-            t * (v.norm() / n)
-        } else {
-            conformal(k)
-        }
+    // samples: the Poisson kernel there damps the zigzag's modes); only for that ribbon.
+    let harm = if ribbon == RibbonChoice::Harmonic {
+        DiskPatch::solve(1, &data)?.ring(1.0 - 2.0 * TAU / s as f64, s, 0.0)
+    } else {
+        Vec::new()
     };
     let d_at = |k: usize| match ribbon {
         RibbonChoice::Conformal => conformal(k),
-        RibbonChoice::Harmonic => harmonic(k),
-        RibbonChoice::Radial => radial(k),
+        RibbonChoice::Harmonic => in_plane(k, harm[k].xr),
+        RibbonChoice::Radial => in_plane(k, p[k] - centre),
     };
     let df = fine(&d_at);
     let g1 = DiskPatch::solve(
@@ -171,7 +165,8 @@ pub(crate) fn build(
     }
     // G2: ∂²X/∂r² is normal, II(D, D) N with the mesh's fitted form (its tangential part, a
     // matter of parametrisation, is left to be zero: the flat disc's).
-    let rings = |v: u32| neighbours.of(v).to_vec();
+    let table = neighbours();
+    let rings = |v: u32| table.of(v).to_vec();
     let mut e = Vec::with_capacity(s);
     for k in 0..s {
         let n = normals[k];

@@ -193,7 +193,10 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
         }
     }
     let normals = vertex_normals(&mesh.positions, &mesh.triangles);
-    let neighbours = Neighbours::new(mesh.positions.len(), &mesh.triangles);
+    // The neighbour table only G2's curvature fits read, built once when first asked for.
+    let table = std::sync::OnceLock::new();
+    let neighbours =
+        || table.get_or_init(|| Neighbours::new(mesh.positions.len(), &mesh.triangles));
     let median = median_edge(&mesh.positions, &mesh.triangles);
     let mut positions = mesh.positions.clone();
     let mut triangles = mesh.triangles.clone();

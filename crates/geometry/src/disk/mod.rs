@@ -170,7 +170,7 @@ impl DiskPatch {
             std::array::from_fn(|_| vec![Complex::default(); count]);
         let shift = TAU * phase / count as f64;
         for (m, [a, b, g]) in self.modes.iter().enumerate() {
-            let (q, dq) = radial(m, r, a, b, g);
+            let [q, dq, _] = radial(m, r, a, b, g);
             let rot = Complex::from_polar(1.0, m as f64 * shift);
             let slot = m % count;
             let im = Complex::new(0.0, m as f64);
@@ -195,24 +195,32 @@ impl DiskPatch {
     }
 }
 
-/// `q(r)` and `q'(r)` of one mode (module documentation), `q = r^m F(s)`, `s = r² − 1`.
-fn radial(m: usize, r: f64, a: &C3, b: &C3, g: &C3) -> (C3, C3) {
+/// `q(r)`, `q'(r)` and `q''(r)` of one mode (module documentation), `q = r^m F(s)`,
+/// `s = r² − 1`: `q' = m r^{m−1} F + 2 r^{m+1} F_s`,
+/// `q'' = m(m−1) r^{m−2} F + (4m + 2) r^m F_s + 8 r^{m+2} γ`.
+fn radial(m: usize, r: f64, a: &C3, b: &C3, g: &C3) -> [C3; 3] {
     let s = r * r - 1.0;
     let mf = m as f64;
     let rm = pow(r, m as i32);
-    let rm1 = if m == 0 {
+    let c1 = if m == 0 {
         0.0
     } else {
         mf * pow(r, m as i32 - 1)
     };
-    let rp1 = 2.0 * rm * r;
-    let q = std::array::from_fn(|c| (a[c] + b[c] * s + g[c] * (s * s)) * rm);
-    let dq = std::array::from_fn(|c| {
+    let c2 = if m < 2 {
+        0.0
+    } else {
+        mf * (mf - 1.0) * pow(r, m as i32 - 2)
+    };
+    let mut out = [ZERO; 3];
+    for c in 0..3 {
         let f = a[c] + b[c] * s + g[c] * (s * s);
         let fs = b[c] + g[c] * (2.0 * s);
-        f * rm1 + fs * rp1
-    });
-    (q, dq)
+        out[0][c] = f * rm;
+        out[1][c] = f * c1 + fs * (2.0 * rm * r);
+        out[2][c] = f * c2 + fs * ((4.0 * mf + 2.0) * rm) + g[c] * (8.0 * rm * r * r);
+    }
+    out
 }
 
 /// `r^k` for `k ≥ 0`, with `0^0 = 1`.
@@ -261,32 +269,14 @@ impl Surface for DiskPatch {
 
     /// `u = r ∈ [0, 1]`, `v = θ`.
     fn partials(&self, u: f64, v: f64) -> Partials {
-        let r = u;
-        let s = r * r - 1.0;
         let step = Complex::from_polar(1.0, v);
         let mut rot = Complex::new(1.0, 0.0);
         let mut out = Partials::default();
         for (m, [a, b, g]) in self.modes.iter().enumerate() {
             let mf = m as f64;
-            let rm = pow(r, m as i32);
-            // q = r^m F, q' = m r^{m−1} F + 2 r^{m+1} F_s,
-            // q'' = m(m−1) r^{m−2} F + (4m + 2) r^m F_s + 8 r^{m+2} γ.
-            let c1 = if m == 0 {
-                0.0
-            } else {
-                mf * pow(r, m as i32 - 1)
-            };
-            let c2 = if m < 2 {
-                0.0
-            } else {
-                mf * (mf - 1.0) * pow(r, m as i32 - 2)
-            };
+            let [q, dq, ddq] = radial(m, u, a, b, g);
             for c in 0..3 {
-                let f = a[c] + b[c] * s + g[c] * (s * s);
-                let fs = b[c] + g[c] * (2.0 * s);
-                let q = f * rm * rot;
-                let dq = (f * c1 + fs * (2.0 * rm * r)) * rot;
-                let ddq = (f * c2 + fs * ((4.0 * mf + 2.0) * rm) + g[c] * (8.0 * rm * r * r)) * rot;
+                let (q, dq, ddq) = (q[c] * rot, dq[c] * rot, ddq[c] * rot);
                 out.x[c] += q.re;
                 out.xu[c] += dq.re;
                 out.xuu[c] += ddq.re;
