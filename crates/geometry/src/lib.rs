@@ -25,6 +25,7 @@ pub mod formula;
 pub mod fourier;
 pub mod linalg;
 pub mod majorant;
+pub mod network;
 pub mod nsided;
 mod quadrature;
 pub mod scalar;

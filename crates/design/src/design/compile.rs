@@ -248,6 +248,8 @@ impl CompiledDesign {
 
         // [[nsided]]: tangent to any surface before them.
         super::nsided::build_nsided(&spec.nsided, &mut builder, &mut surfaces)?;
+        // [[network]]: faces tangent across inner curves, and to any surface before them.
+        let networks = super::network::build_networks(&spec.network, &mut builder, &mut surfaces)?;
         let curve_cache = builder.into_cache();
 
         // [blend]: its primary surfaces may be surfaces of this design.
@@ -328,6 +330,7 @@ impl CompiledDesign {
             dynamic,
             trims,
             attachments,
+            networks,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;

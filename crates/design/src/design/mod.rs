@@ -17,6 +17,7 @@ mod dynamic;
 mod edges;
 mod edit;
 mod fd;
+mod network;
 mod nsided;
 mod parametric;
 mod params;
@@ -35,6 +36,7 @@ pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTE
 pub use edges::{edge_mismatch, EdgeReport};
 pub use edit::{Edit, PatchRef};
 pub use fd::DEFAULT_GRID;
+pub use network::{Joint, SolvedNetwork, CREASE_ANGLE};
 pub use params::{design_a, parse_book_name, poly_a, top_level_used, BookEdits};
 pub use params::{
     design_parameters, resolve_parameters, set_parameter, DesignParameter, ParamKind,
@@ -57,6 +59,8 @@ mod tests;
 mod tests_attach;
 #[cfg(test)]
 mod tests_local;
+#[cfg(test)]
+mod tests_network;
 #[cfg(test)]
 mod tests_nsided;
 #[cfg(test)]

@@ -12,7 +12,7 @@ use std::sync::Arc;
 /// Chebyshev–Lobatto points on `[0, 1]` at which a neighbour's normal is sampled; the
 /// patch's ribbon interpolates these samples (the check reports the angle to the neighbour's
 /// own normals between them).
-const NORMAL_SAMPLES: usize = 128;
+pub(super) const NORMAL_SAMPLES: usize = 128;
 
 /// How far a side may lie from the surface it is tangent to, relative to the patch's size.
 const ON_SURFACE: f64 = 1e-7;
@@ -127,7 +127,7 @@ fn build_one(
 }
 
 /// The neighbour's unit normals at the side's Chebyshev–Lobatto points (by closest point).
-fn sample_normals(side: &Side, surface: &dyn Surface) -> Result<Vec<Vec3>> {
+pub(super) fn sample_normals(side: &Side, surface: &dyn Surface) -> Result<Vec<Vec3>> {
     let index = ClosestPointIndex::new(surface, &ClosestOptions::default());
     let mut points = Vec::with_capacity(NORMAL_SAMPLES + 1);
     let mut size: f64 = 0.0;
@@ -176,7 +176,7 @@ fn lobatto(j: usize) -> f64 {
 
 /// The polynomial through `values` at the Chebyshev–Lobatto points, at `s` (barycentric
 /// formula).
-fn lobatto_interpolate(values: &[Vec3], s: f64) -> Vec3 {
+pub(super) fn lobatto_interpolate(values: &[Vec3], s: f64) -> Vec3 {
     let n = values.len() - 1;
     let mut num = Vec3::zeros();
     let mut den = 0.0;

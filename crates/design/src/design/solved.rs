@@ -221,6 +221,8 @@ pub struct SolvedDesign {
     /// Position conditions that lie on another patch (§5.2.1; see
     /// [`SolvedDesign::attachment_reports`]).
     pub attachments: Vec<super::attach::Attachment>,
+    /// The `[[network]]`s: their nodes, pieces, faces (surfaces `name.k`) and joints.
+    pub networks: Vec<super::network::SolvedNetwork>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -249,13 +251,22 @@ fn surface_count(spec: &DesignSpec) -> usize {
 }
 
 /// The tessellation grid of a design: the caller's `nu`/`nv`, else the design's `[output]`,
-/// else 64 × 128; refused (before anything is solved or allocated) beyond the grid limits of
+/// else 64 × 128 (square, the larger of the two, for a design with `[[nsided]]` patches or
+/// `[[network]]`s); refused (before anything is solved or allocated) beyond the grid limits of
 /// [`check_grid`], or when all surfaces together would exceed [`MAX_VERTICES`] vertices.
 /// A refused request has the place `nu`, `nv` or `nu × nv`; a refused `[output]` has its place
 /// in the file (`output.nu`, …).
 pub fn grid(spec: &DesignSpec, nu: Option<usize>, nv: Option<usize>) -> Result<(usize, usize)> {
     let nu_v = nu.or(spec.output.nu).unwrap_or(DEFAULT_NU);
     let nv_v = nv.or(spec.output.nv).unwrap_or(DEFAULT_NV);
+    // The pieces of an n-sided patch, and the faces of a network, meet along u-lines of one
+    // surface and v-lines of another: square grids make their vertices match, so the weld
+    // joins them without T-junctions.
+    let (nu_v, nv_v) = if spec.nsided.is_empty() && spec.network.is_empty() {
+        (nu_v, nv_v)
+    } else {
+        (nu_v.max(nv_v), nu_v.max(nv_v))
+    };
     let surfaces = surface_count(spec).max(1);
     let checked = check_grid(nu_v, nv_v).and_then(|()| {
         match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(surfaces)) {
@@ -350,6 +361,7 @@ impl SolvedDesign {
             dynamic: None,
             trims: Vec::new(),
             attachments: Vec::new(),
+            networks: Vec::new(),
             edges: OnceLock::new(),
         }
     }

@@ -461,6 +461,8 @@ pub(crate) fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
         .at("conditions")),
         (None, None)
             if !spec.parametric.is_empty()
+                || !spec.nsided.is_empty()
+                || !spec.network.is_empty()
                 || spec.dynamic.is_some()
                 || spec.blend.is_some()
                 || spec.spline.is_some() =>

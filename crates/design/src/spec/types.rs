@@ -64,6 +64,10 @@ pub struct DesignSpec {
     /// surface of the design.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub nsided: Vec<super::nsided::NSidedSpec>,
+    /// Networks of curves that cross (`[[network]]`): every face they enclose is an n-sided
+    /// patch, G1 across the inner curves.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub network: Vec<super::network::NetworkSpec>,
     /// Defaults for the command-line tool.
     #[serde(default, skip_serializing_if = "OutputSpec::is_default")]
     pub output: OutputSpec,

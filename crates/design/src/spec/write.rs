@@ -393,7 +393,14 @@ const SECTIONS: [&str; 8] = [
     "operator", "solver", "output", "dynamic", "optimize", "blend", "spline", "shell",
 ];
 /// Top-level arrays written as `[[name]]` tables.
-const ARRAYS_OF_TABLES: [&str; 5] = ["patches", "parametric", "nsided", "spine", "parameters"];
+const ARRAYS_OF_TABLES: [&str; 6] = [
+    "patches",
+    "parametric",
+    "nsided",
+    "network",
+    "spine",
+    "parameters",
+];
 /// Sub-tables of sections written as `[section.key]` tables.
 const SUBSECTIONS: [(&str, &str); 5] = [
     ("dynamic", "x"),

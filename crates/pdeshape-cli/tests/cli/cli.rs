@@ -474,6 +474,9 @@ fn check_passes_on_every_example() {
         if !spec.nsided.is_empty() {
             assert!(stdout.contains("n-sided patch"), "{stdout}");
         }
+        if !spec.network.is_empty() {
+            assert!(stdout.contains("network '"), "{stdout}");
+        }
         // Every condition is met to rounding and no patch oscillates (the Klein bottle's
         // sections sit at Chebyshev–Lobatto points of u; see its header).
         let warnings: Vec<&str> = stdout

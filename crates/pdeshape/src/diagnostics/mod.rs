@@ -4,10 +4,12 @@
 //! verdict. [`diagnose`] computes a [`Diagnostics`]; [`Diagnostics::to_json`] is `check
 //! --json`'s data and [`check_report`] its text.
 
+mod network;
 mod report;
 #[cfg(test)]
 mod tests;
 
+pub use network::{NetworkDiagnostics, NetworkFace, NetworkJoint};
 pub use report::{blend_report, check_report, describe_operator, spline_report};
 
 use crate::design::{self, ConditionInfo, SolvedDesign, SurfaceKind};
@@ -205,6 +207,8 @@ pub struct Diagnostics {
     pub parameters: Vec<ParameterDiagnostics>,
     /// The `[[nsided]]` patches.
     pub nsided: Vec<NSidedDiagnostics>,
+    /// The `[[network]]`s.
+    pub networks: Vec<NetworkDiagnostics>,
     /// What deserves a warning, in words (without a `warning: ` prefix).
     pub warnings: Vec<String>,
     /// The overall judgement ([`diagnose`] says how it is reached).
@@ -522,6 +526,10 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
             }
         }
     }
+    let networks = network::network_diagnostics(built);
+    for n in &networks {
+        warnings.extend(n.warnings());
+    }
     let edges_met = edges.iter().flatten().all(|e| e.g0_met && e.g1_met);
     let verdict = if warnings.is_empty() && edges_met {
         Verdict::Ok
@@ -536,6 +544,7 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
         trims,
         parameters: parameter_diagnostics(spec),
         nsided,
+        networks,
         warnings,
         verdict,
     }
@@ -556,7 +565,6 @@ pub fn check_json(file: &str, spec: &DesignSpec, built: &SolvedDesign, d: &Diagn
 const NSIDED_SAMPLES: usize = 48;
 
 fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiagnostics> {
-    use crate::surface::{ClosestOptions, ClosestPointIndex};
     let mut out = Vec::new();
     for (i, ns) in spec.nsided.iter().enumerate() {
         let place = format!("nsided[{i}]");
@@ -576,21 +584,10 @@ fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiag
             let Some(target) = built.surfaces.iter().find(|s| &s.name == name) else {
                 continue;
             };
-            let index = ClosestPointIndex::new(target.surface(), &ClosestOptions::default());
-            let mut worst: f64 = 0.0;
-            for m in 0..NSIDED_SAMPLES {
-                let s = (m as f64 + 0.5) / NSIDED_SAMPLES as f64;
-                let (p, n) = patch.boundary_normal(j, s);
-                let angle = index.closest(p).map_or(f64::NAN, |c| {
-                    let m = target.surface().partials(c.u, c.v).normal();
-                    n.cross(&m).norm().atan2(n.dot(&m).abs())
-                });
-                worst = if angle.is_nan() {
-                    f64::NAN
-                } else {
-                    worst.max(angle)
-                };
-            }
+            let points: Vec<(Vec3, Vec3)> = (0..NSIDED_SAMPLES)
+                .map(|m| patch.boundary_normal(j, (m as f64 + 0.5) / NSIDED_SAMPLES as f64))
+                .collect();
+            let worst = network::g1_to_surface(&points, target.surface());
             g1[j] = Some(worst);
         }
         out.push(NSidedDiagnostics {
@@ -723,6 +720,7 @@ impl Diagnostics {
                     "twist_mismatch": jnum(*w),
                 })).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
+            "networks": self.networks.iter().map(NetworkDiagnostics::to_json).collect::<Vec<_>>(),
             "warnings": self.warnings,
             "verdict": self.verdict.word(),
         })

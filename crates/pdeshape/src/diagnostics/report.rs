@@ -314,6 +314,9 @@ pub fn check_report(
             );
         }
     }
+    for n in &d.networks {
+        n.report(&mut s);
+    }
     if !d.parameters.is_empty() {
         let _ = writeln!(s, "parameters:");
         for p in &d.parameters {

@@ -5,9 +5,10 @@ use pdeshape::spec::{
     parse_design, write_design, AxisName, AxisSpec, BlendSpec, ComponentSpec, ConditionSpec,
     ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DomainSpec,
     DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
-    LoopSideSpec, NSidedSpec, OperatorSpec, OptimizeSpec, OutputSpec, ParamSpec, ParameterSpec,
-    ParametricSpec, ParamsSpec, PatchSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec,
-    SplineSpec, SurfaceSpec, TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
+    LoopSideSpec, NSidedSpec, NetworkCurveSpec, NetworkSpec, OperatorSpec, OptimizeSpec,
+    OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec, PatchSpec, PointSpec,
+    SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec, SurfaceSpec, TransformStep,
+    TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -483,6 +484,7 @@ fn empty_design() -> DesignSpec {
         patches: None,
         parametric: Vec::new(),
         nsided: Vec::new(),
+        network: Vec::new(),
         output: OutputSpec::default(),
         dynamic: None,
         optimize: None,
@@ -1087,6 +1089,19 @@ impl Gen {
                 a: g.f(),
                 degree: g.n(),
                 gap_tolerance: g.f(),
+            }),
+            network: self.vec(2, |g| NetworkSpec {
+                name: g.s(),
+                curves: g.vec(8, |g| NetworkCurveSpec {
+                    curve: g.curve_ref(0),
+                    range: g.opt(|g| [g.f(), g.f()]),
+                    tangent_to: g.opt(Self::s),
+                    crease: g.chance(0.5),
+                }),
+                order: g.n(),
+                a: g.f(),
+                degree: g.n(),
+                tolerance: g.f(),
             }),
             output: OutputSpec {
                 nu: self.opt(Self::n),

@@ -1,0 +1,366 @@
+//! Where the curves of a network meet, and the pieces between those points.
+
+use super::{Edge, NetworkCurve};
+use crate::curve::Domain;
+use crate::{Error, Result, Vec3};
+
+/// Segments of each curve's polyline.
+const SEGMENTS: usize = 512;
+
+/// Segments per box of the broad phase.
+const CHUNK: usize = 16;
+
+/// Gauss–Newton steps of a meeting point's refinement.
+const NEWTON_STEPS: usize = 60;
+
+/// A curve's polyline: `SEGMENTS + 1` points at equal parameter steps.
+pub(super) struct Polyline {
+    pub(super) points: Vec<Vec3>,
+}
+
+/// A point where curves `a` (at `s`) and `b` (at `t`) meet.
+#[derive(Clone, Debug)]
+pub(super) struct Hit {
+    a: usize,
+    s: f64,
+    b: usize,
+    t: f64,
+}
+
+/// Samples every curve, refusing intervals outside a curve's domain and curves that are not
+/// finite.
+pub(super) fn sample_all(curves: &[NetworkCurve]) -> Result<Vec<Polyline>> {
+    let mut out = Vec::with_capacity(curves.len());
+    for (i, c) in curves.iter().enumerate() {
+        let place = format!("curves[{i}]");
+        if !(c.t0.is_finite() && c.t1.is_finite() && c.t0 < c.t1) {
+            return Err(Error::invalid(format!(
+                "the parameter interval [{}, {}] must be finite and increasing",
+                c.t0, c.t1
+            ))
+            .at(&place));
+        }
+        if let Domain::Interval(a, b) = c.curve.domain() {
+            let slack = 1e-12 * (b - a).abs().max(1.0);
+            if c.t0 < a - slack || c.t1 > b + slack {
+                return Err(Error::invalid(format!(
+                    "the interval [{}, {}] leaves the curve's domain [{a}, {b}]",
+                    c.t0, c.t1
+                ))
+                .at(&place));
+            }
+        }
+        let mut points = Vec::with_capacity(SEGMENTS + 1);
+        for j in 0..=SEGMENTS {
+            let t = param(c, j as f64 / SEGMENTS as f64);
+            let p = c.curve.point(t);
+            if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
+                return Err(
+                    Error::invalid(format!("the curve is not finite at t = {t}")).at(&place),
+                );
+            }
+            points.push(p);
+        }
+        out.push(Polyline { points });
+    }
+    Ok(out)
+}
+
+/// The curve's parameter at the fraction `f` of its interval.
+fn param(c: &NetworkCurve, f: f64) -> f64 {
+    if f >= 1.0 {
+        c.t1
+    } else {
+        c.t0 + f * (c.t1 - c.t0)
+    }
+}
+
+/// The diagonal of the bounding box of every polyline.
+pub(super) fn size(polylines: &[Polyline]) -> f64 {
+    let (lo, hi) = bounds(polylines.iter().flat_map(|p| p.points.iter()));
+    (hi - lo).norm()
+}
+
+fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> (Vec3, Vec3) {
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+    for p in points {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    (lo, hi)
+}
+
+/// Every point where two different curves meet within `tol`.
+pub(super) fn intersections(curves: &[NetworkCurve], polylines: &[Polyline], tol: f64) -> Vec<Hit> {
+    // Boxes of CHUNK segments, grown by the largest segment so that the broad phase cannot
+    // miss a meeting between sample points.
+    let boxes: Vec<Vec<(Vec3, Vec3)>> = polylines
+        .iter()
+        .map(|p| {
+            p.points
+                .windows(2)
+                .collect::<Vec<_>>()
+                .chunks(CHUNK)
+                .map(|c| {
+                    let (lo, hi) = bounds(c.iter().flat_map(|w| w.iter()));
+                    (lo, hi)
+                })
+                .collect()
+        })
+        .collect();
+    let mut hits: Vec<Hit> = Vec::new();
+    for a in 0..curves.len() {
+        for b in a + 1..curves.len() {
+            for (ca, ba) in boxes[a].iter().enumerate() {
+                for (cb, bb) in boxes[b].iter().enumerate() {
+                    if !overlap(ba, bb, tol) {
+                        continue;
+                    }
+                    for i in ca * CHUNK..((ca + 1) * CHUNK).min(SEGMENTS) {
+                        for j in cb * CHUNK..((cb + 1) * CHUNK).min(SEGMENTS) {
+                            let pa = &polylines[a].points;
+                            let pb = &polylines[b].points;
+                            let (u, w, d) = segment_closest(pa[i], pa[i + 1], pb[j], pb[j + 1]);
+                            let reach = (pa[i + 1] - pa[i]).norm() + (pb[j + 1] - pb[j]).norm();
+                            if d > reach + tol {
+                                continue;
+                            }
+                            let s0 = param(&curves[a], (i as f64 + u) / SEGMENTS as f64);
+                            let t0 = param(&curves[b], (j as f64 + w) / SEGMENTS as f64);
+                            if let Some((s, t)) = refine(&curves[a], &curves[b], s0, t0, tol) {
+                                push_hit(&mut hits, curves, Hit { a, s, b, t }, tol);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    hits
+}
+
+/// Keeps a hit unless the same pair of curves already meets at that point.
+fn push_hit(hits: &mut Vec<Hit>, curves: &[NetworkCurve], hit: Hit, tol: f64) {
+    let p = curves[hit.a].curve.point(hit.s);
+    let same = hits
+        .iter()
+        .any(|h| h.a == hit.a && h.b == hit.b && (curves[h.a].curve.point(h.s) - p).norm() <= tol);
+    if !same {
+        hits.push(hit);
+    }
+}
+
+fn overlap(a: &(Vec3, Vec3), b: &(Vec3, Vec3), grow: f64) -> bool {
+    (0..3).all(|k| a.0[k] <= b.1[k] + grow && b.0[k] <= a.1[k] + grow)
+}
+
+/// The closest points of segments `[p0, p1]` and `[q0, q1]`: their fractions and distance.
+fn segment_closest(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f64, f64, f64) {
+    let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
+    let (a, e, f) = (d1.dot(&d1), d2.dot(&d2), d2.dot(&r));
+    let tiny = 1e-300;
+    let (s, t);
+    if a <= tiny && e <= tiny {
+        return (0.0, 0.0, r.norm());
+    }
+    if a <= tiny {
+        s = 0.0;
+        t = (f / e).clamp(0.0, 1.0);
+    } else {
+        let c = d1.dot(&r);
+        if e <= tiny {
+            t = 0.0;
+            s = (-c / a).clamp(0.0, 1.0);
+        } else {
+            let b = d1.dot(&d2);
+            let denom = a * e - b * b;
+            let s0 = if denom > tiny {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let t0 = (b * s0 + f) / e;
+            if t0 < 0.0 {
+                t = 0.0;
+                s = (-c / a).clamp(0.0, 1.0);
+            } else if t0 > 1.0 {
+                t = 1.0;
+                s = ((b - c) / a).clamp(0.0, 1.0);
+            } else {
+                t = t0;
+                s = s0;
+            }
+        }
+    }
+    let d = (p0 + d1 * s - (q0 + d2 * t)).norm();
+    (s, t, d)
+}
+
+/// Gauss–Newton on `|A(s) − B(t)|²` from `(s, t)`, the parameters kept in their intervals:
+/// the meeting parameters if the curves come within `tol` of each other there.
+fn refine(
+    a: &NetworkCurve,
+    b: &NetworkCurve,
+    mut s: f64,
+    mut t: f64,
+    tol: f64,
+) -> Option<(f64, f64)> {
+    let mut ja = [Vec3::zeros(); 2];
+    let mut jb = [Vec3::zeros(); 2];
+    let mut best = (f64::INFINITY, s, t);
+    for _ in 0..NEWTON_STEPS {
+        a.curve.jet(s, &mut ja);
+        b.curve.jet(t, &mut jb);
+        let r = ja[0] - jb[0];
+        let d = r.norm();
+        if d < best.0 {
+            best = (d, s, t);
+        }
+        if d == 0.0 {
+            break;
+        }
+        let (da, db) = (ja[1], jb[1]);
+        let (m11, m12, m22) = (da.dot(&da), -da.dot(&db), db.dot(&db));
+        let (g1, g2) = (da.dot(&r), -db.dot(&r));
+        let det = m11 * m22 - m12 * m12;
+        let (ds, dt) = if det > 1e-14 * m11 * m22 {
+            ((-g1 * m22 + g2 * m12) / det, (g1 * m12 - g2 * m11) / det)
+        } else if m11 >= m22 && m11 > 0.0 {
+            (-g1 / m11, 0.0)
+        } else if m22 > 0.0 {
+            (0.0, -g2 / m22)
+        } else {
+            break;
+        };
+        let ns = (s + ds).clamp(a.t0, a.t1);
+        let nt = (t + dt).clamp(b.t0, b.t1);
+        let moved =
+            (ns - s).abs() <= 1e-15 * (a.t1 - a.t0) && (nt - t).abs() <= 1e-15 * (b.t1 - b.t0);
+        s = ns;
+        t = nt;
+        if moved {
+            break;
+        }
+    }
+    a.curve.jet(s, &mut ja);
+    b.curve.jet(t, &mut jb);
+    let d = (ja[0] - jb[0]).norm();
+    if d < best.0 {
+        best = (d, s, t);
+    }
+    (best.0 <= tol).then_some((best.1, best.2))
+}
+
+/// The network's node points and its pieces: the curves cut at every meeting point and at
+/// their ends, meeting points within `tol` made one node, and pieces with a free end dropped
+/// (repeatedly).
+pub(super) fn pieces(
+    curves: &[NetworkCurve],
+    hits: &[Hit],
+    tol: f64,
+) -> Result<(Vec<Vec3>, Vec<Edge>)> {
+    // Incidences: (curve, parameter, point).
+    let mut marks: Vec<(usize, f64, Vec3)> = Vec::new();
+    for (i, c) in curves.iter().enumerate() {
+        marks.push((i, c.t0, c.curve.point(c.t0)));
+        marks.push((i, c.t1, c.curve.point(c.t1)));
+    }
+    for h in hits {
+        let p = curves[h.a].curve.point(h.s);
+        marks.push((h.a, h.s, p));
+        marks.push((h.b, h.t, curves[h.b].curve.point(h.t)));
+    }
+    // One node per cluster of points within `tol` (union–find).
+    let mut parent: Vec<usize> = (0..marks.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..marks.len() {
+        for j in i + 1..marks.len() {
+            if (marks[i].2 - marks[j].2).norm() <= tol {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                if ri != rj {
+                    parent[rj.max(ri)] = rj.min(ri);
+                }
+            }
+        }
+    }
+    let mut node_of_root = vec![usize::MAX; marks.len()];
+    let mut points = Vec::new();
+    let mut node_of = vec![0; marks.len()];
+    for (i, node) in node_of.iter_mut().enumerate() {
+        let r = root(&mut parent, i);
+        if node_of_root[r] == usize::MAX {
+            node_of_root[r] = points.len();
+            points.push(marks[r].2);
+        }
+        *node = node_of_root[r];
+    }
+    // Cut every curve at its marks.
+    let mut edges = Vec::new();
+    for (i, c) in curves.iter().enumerate() {
+        let mut on: Vec<(f64, usize)> = marks
+            .iter()
+            .zip(&node_of)
+            .filter(|(m, _)| m.0 == i)
+            .map(|(m, &n)| (m.1, n))
+            .collect();
+        on.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let close = 1e-12 * (c.t1 - c.t0);
+        on.dedup_by(|later, earlier| later.1 == earlier.1 && later.0 - earlier.0 <= close);
+        for w in on.windows(2) {
+            if w[1].0 - w[0].0 <= close {
+                continue;
+            }
+            if w[0].1 == w[1].1
+                && (c.curve.point(0.5 * (w[0].0 + w[1].0)) - points[w[0].1]).norm() <= tol
+            {
+                continue;
+            }
+            edges.push(Edge {
+                curve: i,
+                t0: w[0].0,
+                t1: w[1].0,
+                start: w[0].1,
+                end: w[1].1,
+            });
+        }
+    }
+    // Drop pieces with a free end, repeatedly.
+    loop {
+        let mut degree = vec![0usize; points.len()];
+        for e in &edges {
+            degree[e.start] += 1;
+            degree[e.end] += 1;
+        }
+        let before = edges.len();
+        edges.retain(|e| degree[e.start] > 1 && degree[e.end] > 1);
+        if edges.len() == before {
+            break;
+        }
+    }
+    if edges.is_empty() {
+        return Err(Error::invalid(
+            "the curves of the network do not enclose anything: no piece of a curve meets \
+             others at both ends",
+        ));
+    }
+    // Keep only the nodes the pieces use.
+    let mut renumber = vec![usize::MAX; points.len()];
+    let mut kept = Vec::new();
+    for e in edges.iter_mut() {
+        for n in [&mut e.start, &mut e.end] {
+            if renumber[*n] == usize::MAX {
+                renumber[*n] = kept.len();
+                kept.push(points[*n]);
+            }
+            *n = renumber[*n];
+        }
+    }
+    Ok((kept, edges))
+}
