@@ -169,7 +169,7 @@ fn a_network_on_a_sphere_converges_to_it() {
         let d = solve_design(&spec).unwrap();
         let net = &d.networks[0];
         assert_eq!(net.faces.len(), 2);
-        assert!(net.joints.iter().any(|j| *j == Joint::Shared));
+        assert!(net.joints.contains(&Joint::Shared));
         let mut worst: f64 = 0.0;
         for s in faces(&d) {
             for i in 0..=12 {
