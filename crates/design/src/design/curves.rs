@@ -7,7 +7,8 @@ use super::trim::trim_curve;
 use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
 use crate::curve::{
     ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
-    LocalEdit, OriginShift, Point, PointSamples, SampleParam, SharedCurve, Transformed,
+    LocalEdit, OriginShift, Point, PointSamples, RationalBSpline, SampleParam, SharedCurve,
+    Transformed,
 };
 use crate::spec::*;
 use crate::{Error, Result, Vec3};
@@ -195,11 +196,26 @@ impl<'a> CurveBuilder<'a> {
                 control,
                 knots,
                 periodic,
+                weights: None,
             } => Arc::new(
                 if *periodic {
                     BSpline::periodic(*degree, pts(control), knots.clone())
                 } else {
                     BSpline::clamped(*degree, pts(control), knots.clone())
+                }
+                .map_err(at)?,
+            ),
+            CurveKind::BSpline {
+                degree,
+                control,
+                knots,
+                periodic,
+                weights: Some(w),
+            } => Arc::new(
+                if *periodic {
+                    RationalBSpline::periodic(*degree, pts(control), w, knots.clone())
+                } else {
+                    RationalBSpline::clamped(*degree, pts(control), w, knots.clone())
                 }
                 .map_err(at)?,
             ),

@@ -128,3 +128,35 @@ fn bad_sides_are_refused_with_their_place() {
     let e = error_of(&|s| s.nsided[0].order = 3);
     assert!(e.contains("order 1 or 2"), "{e}");
 }
+
+#[test]
+fn a_rational_b_spline_side_is_met_and_tangent_like_any_other() {
+    // The vertex blend with its first side given as CAD writes a quarter circle: a rational
+    // quadratic with weights 1, √2/2, 1 (another parametrisation of the same arc).
+    let nurbs = "[curves.end_x]\ntype = \"bspline\"\nperiodic = false\ndegree = 2\n\
+                 control = [[0.8, 1.0, 0.8], [0.8, 1.0, 1.0], [0.8, 0.8, 1.0]]\n\
+                 weights = [1.0, 0.7071067811865476, 1.0]\n\n";
+    let text = example("nsided_vertex_blend.toml");
+    let start = text.find("[curves.end_x]").unwrap();
+    let end = text.find("[curves.end_y]").unwrap();
+    let text = format!("{}{nurbs}{}", &text[..start], &text[end..]);
+    let spec = parse_design(&text).unwrap();
+    let d = solve_design(&spec).unwrap();
+    let c = d.curves.iter().find(|c| c.name == "end_x").unwrap();
+    for i in 0..=50 {
+        let p = c.curve.point(i as f64 / 50.0);
+        let r = (p - Vec3::new(0.8, 0.8, 0.8)).norm();
+        assert!(
+            (r - 0.2).abs() < 1e-15 && (p.x - 0.8).abs() < 1e-15,
+            "{p:?}"
+        );
+    }
+    let report = patch_of(&d, "corner").report(64);
+    for b in &report.boundary {
+        assert!(*b < 1e-14, "{report:?}");
+    }
+    for g in &report.g1 {
+        assert!(g.unwrap() < 1e-12, "{report:?}");
+    }
+    assert_eq!(parse_design(&write_design(&spec).unwrap()).unwrap(), spec);
+}

@@ -682,8 +682,9 @@ pub enum CurveKind {
         /// The point [x, y, z] the whole curve sits on (a pole).
         at: V3,
     },
-    /// A B-spline. Periodic (default): `knots` are the `control.len() + 1` increasing breakpoints
-    /// (mapped onto [0, 2π]); open: the full clamped knot vector.
+    /// A B-spline, rational (NURBS) when it has `weights`. Periodic (default): `knots` are the
+    /// `control.len() + 1` increasing breakpoints (mapped onto [0, 2π]); open: the full clamped
+    /// knot vector.
     #[serde(rename = "bspline")]
     BSpline {
         /// Polynomial degree (1 to 30).
@@ -697,6 +698,10 @@ pub enum CurveKind {
         /// Closed periodic curve over [0, 2π] (default true) or an open clamped one.
         #[serde(default = "default_true")]
         periodic: bool,
+        /// One positive weight per control point: a rational B-spline (NURBS), as CAD systems
+        /// write circles and conics (default: none, a polynomial B-spline).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        weights: Option<Vec<f64>>,
     },
     /// A Bézier curve on [0, 1] (open: for drawing, not as a condition).
     #[serde(rename = "bezier")]

@@ -11,6 +11,7 @@ mod conic;
 mod formula;
 pub(crate) mod hermite;
 mod local;
+mod rational;
 mod samples;
 mod series;
 mod taylor;
@@ -25,6 +26,7 @@ pub use conic::{Ellipse, Point};
 pub use formula::Formula;
 pub use hermite::Hermite;
 pub use local::{LocalEdit, LocalFrame};
+pub use rational::RationalBSpline;
 pub use samples::{PointSamples, SampleParam};
 pub use transform::{Affine, Combination, OriginShift, Transformed};
 

@@ -51,6 +51,7 @@ pub(super) fn bspline_from_ellipse(curve: &dyn Curve) -> Option<CurveSpec> {
             control,
             knots: None,
             periodic: true,
+            weights: None,
         },
         transform: Vec::new(),
         v_origin: 0.0,

@@ -771,6 +771,7 @@ impl Gen {
                 control: self.vec(5, Self::v3),
                 knots: self.opt(|g| g.vec(6, Self::f)),
                 periodic: self.chance(0.5),
+                weights: self.opt(|g| g.vec(5, Self::f)),
             },
             4 => CurveKind::Bezier {
                 control: self.vec(4, Self::v3),
