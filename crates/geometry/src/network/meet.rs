@@ -5,7 +5,7 @@ use crate::curve::Domain;
 use crate::{Error, Result, Vec3};
 
 /// Segments of each curve's polyline.
-const SEGMENTS: usize = 512;
+pub(super) const SEGMENTS: usize = 512;
 
 /// Segments per box of the broad phase.
 const CHUNK: usize = 16;
@@ -13,23 +13,23 @@ const CHUNK: usize = 16;
 /// Gauss–Newton steps of a meeting point's refinement.
 const NEWTON_STEPS: usize = 60;
 
-/// A curve's polyline: `SEGMENTS + 1` points at equal parameter steps.
+/// A curve's polyline: points at equal parameter steps.
 pub(super) struct Polyline {
     pub(super) points: Vec<Vec3>,
 }
 
 /// A point where curves `a` (at `s`) and `b` (at `t`) meet.
 #[derive(Clone, Debug)]
-pub(super) struct Hit {
-    a: usize,
-    s: f64,
-    b: usize,
-    t: f64,
+pub(crate) struct Hit {
+    pub(crate) a: usize,
+    pub(crate) s: f64,
+    pub(crate) b: usize,
+    pub(crate) t: f64,
 }
 
 /// Samples every curve, refusing intervals outside a curve's domain and curves that are not
 /// finite.
-pub(super) fn sample_all(curves: &[NetworkCurve]) -> Result<Vec<Polyline>> {
+pub(super) fn sample_all(curves: &[NetworkCurve], segments: usize) -> Result<Vec<Polyline>> {
     let mut out = Vec::with_capacity(curves.len());
     for (i, c) in curves.iter().enumerate() {
         let place = format!("curves[{i}]");
@@ -50,9 +50,9 @@ pub(super) fn sample_all(curves: &[NetworkCurve]) -> Result<Vec<Polyline>> {
                 .at(&place));
             }
         }
-        let mut points = Vec::with_capacity(SEGMENTS + 1);
-        for j in 0..=SEGMENTS {
-            let t = param(c, j as f64 / SEGMENTS as f64);
+        let mut points = Vec::with_capacity(segments + 1);
+        for j in 0..=segments {
+            let t = param(c, j as f64 / segments as f64);
             let p = c.curve.point(t);
             if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
                 return Err(
@@ -117,17 +117,18 @@ pub(super) fn intersections(curves: &[NetworkCurve], polylines: &[Polyline], tol
                     if !overlap(ba, bb, tol) {
                         continue;
                     }
-                    for i in ca * CHUNK..((ca + 1) * CHUNK).min(SEGMENTS) {
-                        for j in cb * CHUNK..((cb + 1) * CHUNK).min(SEGMENTS) {
-                            let pa = &polylines[a].points;
-                            let pb = &polylines[b].points;
+                    let pa = &polylines[a].points;
+                    let pb = &polylines[b].points;
+                    let (na, nb) = (pa.len() - 1, pb.len() - 1);
+                    for i in ca * CHUNK..((ca + 1) * CHUNK).min(na) {
+                        for j in cb * CHUNK..((cb + 1) * CHUNK).min(nb) {
                             let (u, w, d) = segment_closest(pa[i], pa[i + 1], pb[j], pb[j + 1]);
                             let reach = (pa[i + 1] - pa[i]).norm() + (pb[j + 1] - pb[j]).norm();
                             if d > reach + tol {
                                 continue;
                             }
-                            let s0 = param(&curves[a], (i as f64 + u) / SEGMENTS as f64);
-                            let t0 = param(&curves[b], (j as f64 + w) / SEGMENTS as f64);
+                            let s0 = param(&curves[a], (i as f64 + u) / na as f64);
+                            let t0 = param(&curves[b], (j as f64 + w) / nb as f64);
                             if let Some((s, t)) = refine(&curves[a], &curves[b], s0, t0, tol) {
                                 push_hit(&mut hits, curves, Hit { a, s, b, t }, tol);
                             }
@@ -363,4 +364,79 @@ pub(super) fn pieces(
         }
     }
     Ok((kept, edges))
+}
+
+/// Sub-curves per side of a loop in [`loop_crossing`].
+const LOOP_PIECES: usize = 8;
+
+/// Polyline segments per sub-curve in [`loop_crossing`].
+const LOOP_SEGMENTS: usize = 64;
+
+/// The first place where a loop of curves `(curve, t0, t1)` meets itself other than where
+/// consecutive sides join: sides that cross or touch, or a side that crosses itself (found
+/// between eighths of the sides). Returns the two sides, their parameters `s ∈ [0, 1]` along
+/// them and the point; `ends` is how far from a corner a meeting still counts as the corner.
+pub(crate) fn loop_crossing(
+    sides: &[(crate::curve::SharedCurve, f64, f64)],
+    tol: f64,
+    ends: f64,
+) -> Option<(usize, f64, usize, f64, Vec3)> {
+    let mut pieces = Vec::with_capacity(sides.len() * LOOP_PIECES);
+    for (curve, t0, t1) in sides {
+        let (lo, hi) = (t0.min(*t1), t0.max(*t1));
+        for q in 0..LOOP_PIECES {
+            pieces.push(NetworkCurve {
+                curve: curve.clone(),
+                t0: lo + (hi - lo) * q as f64 / LOOP_PIECES as f64,
+                t1: lo + (hi - lo) * (q + 1) as f64 / LOOP_PIECES as f64,
+            });
+        }
+    }
+    let polylines = sample_all(&pieces, LOOP_SEGMENTS).ok()?;
+    let hits = intersections(&pieces, &polylines, tol);
+    let n = sides.len();
+    // The piece at a side's start and at its end (pieces run with the parameter).
+    let first = |i: usize| {
+        let (_, t0, t1) = &sides[i];
+        i * LOOP_PIECES + if t0 < t1 { 0 } else { LOOP_PIECES - 1 }
+    };
+    let last = |i: usize| {
+        let (_, t0, t1) = &sides[i];
+        i * LOOP_PIECES + if t0 < t1 { LOOP_PIECES - 1 } else { 0 }
+    };
+    // The point two pieces share as neighbours along the loop, if they are neighbours.
+    let joint = |a: usize, b: usize| -> Option<Vec3> {
+        let (i, j) = (a / LOOP_PIECES, b / LOOP_PIECES);
+        let (curve, t0, t1) = &sides[i];
+        if i == j && a.abs_diff(b) == 1 {
+            let pa = &pieces[a];
+            return Some(curve.point(if a < b { pa.t1 } else { pa.t0 }));
+        }
+        if j == (i + 1) % n && a == last(i) && b == first(j) {
+            return Some(curve.point(*t1));
+        }
+        if i == (j + 1) % n && b == last(j) && a == first(i) {
+            return Some(curve.point(*t0));
+        }
+        None
+    };
+    for h in hits {
+        let p = pieces[h.a].curve.point(h.s);
+        // Neighbouring pieces meet where they join, by design.
+        if joint(h.a, h.b).is_some_and(|x| (p - x).norm() <= ends) {
+            continue;
+        }
+        let along = |k: usize, t: f64| {
+            let (_, t0, t1) = &sides[k / LOOP_PIECES];
+            (t - t0) / (t1 - t0)
+        };
+        return Some((
+            h.a / LOOP_PIECES,
+            along(h.a, h.s),
+            h.b / LOOP_PIECES,
+            along(h.b, h.t),
+            p,
+        ));
+    }
+    None
 }

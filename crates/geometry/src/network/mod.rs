@@ -30,7 +30,7 @@
 //!   the same samples, so their tangent planes agree along it.
 
 mod faces;
-mod meet;
+pub(crate) mod meet;
 mod normals;
 #[cfg(test)]
 mod tests;
@@ -159,7 +159,7 @@ impl Network {
         if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
             return Err(Error::invalid("the tolerance must be finite and > 0"));
         }
-        let polylines = meet::sample_all(curves)?;
+        let polylines = meet::sample_all(curves, meet::SEGMENTS)?;
         let size = meet::size(&polylines);
         if !(size > 0.0 && size.is_finite()) {
             return Err(Error::invalid("the curves of the network span no space"));

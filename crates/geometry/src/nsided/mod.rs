@@ -447,6 +447,27 @@ impl NSidedPatch {
                 )));
             }
         }
+        // Sides that cross or touch each other, or themselves, bound no disk.
+        let loop_sides: Vec<_> = sides
+            .iter()
+            .map(|s| (s.curve.clone(), s.t0, s.t1))
+            .collect();
+        let largest_gap = corners.iter().fold(0.0f64, |a, c| a.max(c.gap));
+        let ends = (1e-6 * size).max(4.0 * largest_gap);
+        if let Some((i, s, j, t, p)) =
+            crate::network::meet::loop_crossing(&loop_sides, 1e-9 * size, ends)
+        {
+            let what = if i == j {
+                format!("side {i} crosses itself (at s = {s:.4} and s = {t:.4})")
+            } else {
+                format!("side {i} (at s = {s:.4}) meets side {j} (at s = {t:.4})")
+            };
+            return Err(Error::invalid(format!(
+                "{what} at ({:.4e}, {:.4e}, {:.4e}): the sides of an n-sided patch must bound a \
+                 disk without touching away from their corners",
+                p.x, p.y, p.z
+            )));
+        }
         let poly = Polygon::new(n);
         let mut patch = NSidedPatch {
             basis: Basis::new(&poly, vec![1; n], options.degree),

@@ -494,4 +494,38 @@ fn bad_loops_are_refused_with_the_place() {
     sides[3].ribbon = Ribbon::TangentPlane(Arc::new(|_| Vec3::zeros()));
     let e = NSidedPatch::solve(sides, &opts).unwrap_err();
     assert!(e.to_string().contains("sides[3].ribbon"), "{e}");
+    // A bow tie: sides 0 and 2 cross at (0.5, 0.5).
+    let bow = [
+        Vec3::zeros(),
+        Vec3::new(1.0, 1.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+    ];
+    let e = NSidedPatch::solve(loop_of(&bow), &opts).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("side 0 (at s = 0.5000) meets side 2 (at s = 0.5000)"),
+        "{e}"
+    );
+    // A side that crosses itself: a cubic Bézier with a loop, closed below by two lines.
+    let looped: crate::curve::SharedCurve = Arc::new(
+        crate::curve::Bezier::new(vec![
+            Vec3::zeros(),
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ])
+        .unwrap(),
+    );
+    let sides = vec![
+        Side::position(looped, 0.0, 1.0),
+        Side::position(
+            line(Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.5, -1.0, 0.0)),
+            0.0,
+            1.0,
+        ),
+        Side::position(line(Vec3::new(0.5, -1.0, 0.0), Vec3::zeros()), 0.0, 1.0),
+    ];
+    let e = NSidedPatch::solve(sides, &opts).unwrap_err();
+    assert!(e.to_string().contains("side 0 crosses itself"), "{e}");
 }
