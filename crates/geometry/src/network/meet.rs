@@ -91,10 +91,19 @@ fn bounds<'a>(points: impl Iterator<Item = &'a Vec3>) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
-/// Every point where two different curves meet within `tol`.
-pub(super) fn intersections(curves: &[NetworkCurve], polylines: &[Polyline], tol: f64) -> Vec<Hit> {
-    // Boxes of CHUNK segments, grown by the largest segment so that the broad phase cannot
-    // miss a meeting between sample points.
+/// Every point where two different curves meet within `tol`, except between segment pairs
+/// `(a, i, b, j)` that `skip` leaves out. Two segments are refined when they come within `tol`
+/// plus `reach` times their lengths of each other (1: any meeting between the samples; less
+/// finds crossings, where the polylines cross too, for less work).
+pub(super) fn intersections(
+    curves: &[NetworkCurve],
+    polylines: &[Polyline],
+    tol: f64,
+    reach: f64,
+    skip: &dyn Fn(usize, usize, usize, usize) -> bool,
+) -> Vec<Hit> {
+    // Boxes of CHUNK segments: two segments within `tol` of each other lie in boxes within
+    // `tol` of each other.
     let boxes: Vec<Vec<(Vec3, Vec3)>> = polylines
         .iter()
         .map(|p| {
@@ -122,9 +131,19 @@ pub(super) fn intersections(curves: &[NetworkCurve], polylines: &[Polyline], tol
                     let (na, nb) = (pa.len() - 1, pb.len() - 1);
                     for i in ca * CHUNK..((ca + 1) * CHUNK).min(na) {
                         for j in cb * CHUNK..((cb + 1) * CHUNK).min(nb) {
+                            if skip(a, i, b, j) {
+                                continue;
+                            }
+                            let (la, lb) = ((pa[i + 1] - pa[i]).norm(), (pb[j + 1] - pb[j]).norm());
+                            let near = la + lb;
+                            // The midpoints' distance less the half lengths bounds the
+                            // segments' distance from below.
+                            let mid = ((pa[i] + pa[i + 1]) - (pb[j] + pb[j + 1])).norm() * 0.5;
+                            if mid - 0.5 * near > reach * near + tol {
+                                continue;
+                            }
                             let (u, w, d) = segment_closest(pa[i], pa[i + 1], pb[j], pb[j + 1]);
-                            let reach = (pa[i + 1] - pa[i]).norm() + (pb[j + 1] - pb[j]).norm();
-                            if d > reach + tol {
+                            if d > reach * near + tol {
                                 continue;
                             }
                             let s0 = param(&curves[a], (i as f64 + u) / na as f64);
@@ -370,7 +389,7 @@ pub(super) fn pieces(
 const LOOP_PIECES: usize = 8;
 
 /// Polyline segments per sub-curve in [`loop_crossing`].
-const LOOP_SEGMENTS: usize = 64;
+const LOOP_SEGMENTS: usize = 32;
 
 /// The first place where a loop of curves `(curve, t0, t1)` meets itself other than where
 /// consecutive sides join: sides that cross or touch, or a side that crosses itself (found
@@ -393,7 +412,6 @@ pub(crate) fn loop_crossing(
         }
     }
     let polylines = sample_all(&pieces, LOOP_SEGMENTS).ok()?;
-    let hits = intersections(&pieces, &polylines, tol);
     let n = sides.len();
     // The piece at a side's start and at its end (pieces run with the parameter).
     let first = |i: usize| {
@@ -420,6 +438,17 @@ pub(crate) fn loop_crossing(
         }
         None
     };
+    // The segments of two neighbouring pieces that end at their joint meet there: not
+    // searched (anything else near the joint still is).
+    let at_joint = |a: usize, i: usize, b: usize, j: usize| {
+        let Some(x) = joint(a, b) else {
+            return false;
+        };
+        let (pa, pb) = (&polylines[a].points, &polylines[b].points);
+        let touches = |p: &[Vec3], k: usize| p[k] == x || p[k + 1] == x;
+        touches(pa, i) && touches(pb, j)
+    };
+    let hits = intersections(&pieces, &polylines, tol, 0.25, &at_joint);
     for h in hits {
         let p = pieces[h.a].curve.point(h.s);
         // Neighbouring pieces meet where they join, by design.
