@@ -300,8 +300,14 @@ pub(super) fn pieces(
         }
         i
     }
-    for i in 0..marks.len() {
-        for j in i + 1..marks.len() {
+    // Pairs within `tol`, found along the marks sorted by x.
+    let mut by_x: Vec<usize> = (0..marks.len()).collect();
+    by_x.sort_by(|&a, &b| marks[a].2.x.total_cmp(&marks[b].2.x));
+    for (k, &i) in by_x.iter().enumerate() {
+        for &j in &by_x[k + 1..] {
+            if marks[j].2.x - marks[i].2.x > tol {
+                break;
+            }
             if (marks[i].2 - marks[j].2).norm() <= tol {
                 let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
                 if ri != rj {

@@ -214,9 +214,20 @@ impl Network {
     /// Replaces node `k`'s normal (a neighbour surface's, say), keeping the orientation of the
     /// network's normals.
     pub fn set_normal(&mut self, k: usize, normal: Vec3) {
-        let node = &mut self.nodes[k];
         let n = normal.normalize();
-        node.normal = if n.dot(&node.normal) < 0.0 { -n } else { n };
+        let n = if n.dot(&self.nodes[k].normal) < 0.0 {
+            -n
+        } else {
+            n
+        };
+        // The residual is now measured against this plane.
+        let residual = normals::leaving_by_node(self, self.nodes.len())[k]
+            .iter()
+            .map(|&h| normals::leaving(self, h).dot(&n).abs().min(1.0).asin())
+            .fold(0.0, f64::max);
+        let node = &mut self.nodes[k];
+        node.normal = n;
+        node.residual = residual;
     }
 
     /// The edges that two filled faces share.
