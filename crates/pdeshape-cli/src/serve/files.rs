@@ -178,7 +178,7 @@ pub(super) fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, Ap
         .any(|c| c.as_os_str().len() > MAX_NAME);
     if too_long {
         return Err(refuse(
-            |m, p| ApiError::bad_request(m, p),
+            ApiError::bad_request,
             &format!("a file or folder name is longer than {MAX_NAME} bytes"),
         ));
     }
@@ -188,18 +188,12 @@ pub(super) fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, Ap
         use crate::common::Refusal;
         match r {
             Refusal::NotAFile(what) => refuse(
-                |m, p| ApiError::bad_request(m, p),
+                ApiError::bad_request,
                 &format!("it is {what}, not a regular file"),
             ),
-            Refusal::NoDirectory(_) => refuse(
-                |m, p| ApiError::not_found(m, p),
-                "its folder does not exist",
-            ),
-            Refusal::SameFile => refuse(
-                |m, p| ApiError::conflict(m, p),
-                "another save to it is under way",
-            ),
-            Refusal::ReadOnly => refuse(|m, p| ApiError::forbidden(m, p), "the file is read-only"),
+            Refusal::NoDirectory(_) => refuse(ApiError::not_found, "its folder does not exist"),
+            Refusal::SameFile => refuse(ApiError::conflict, "another save to it is under way"),
+            Refusal::ReadOnly => refuse(ApiError::forbidden, "the file is read-only"),
             Refusal::Create(_, e) => io_refusal(&shown, &e),
         }
     })?;

@@ -12,6 +12,15 @@
 //! - a status other than 0 or 2, an error that is not one clear line (`mutate::unclear`),
 //! - an output file after an error, or any `.pdeshape-*` temporary left behind.
 //!
+//! A quarter of the runs also meet an edge of the operating system (`mutate::Edge`, from a
+//! stream of its own): the first output an existing FIFO, directory or loop of symbolic links
+//! (the run must refuse it and leave it as it was), the second output a link to the first
+//! (refused), the input a FIFO without a writer (refused, not waited on), or SIGTERM during the
+//! run (the run ends with every output or none, and no temporary). `roundtrip` reads mutants of
+//! the STEP and IGES files of `examples/cup.toml` (counts that size allocations: knot
+//! multiplicities, control point counts, degrees). The figures are printed per subcommand and
+//! per edge.
+//!
 //! `shell` runs against a stand-in for CalculiX ([`fake_ccx`], named by `PDESHAPE_CCX`) that
 //! always fails, so the campaign does not depend on whether CalculiX is installed: mutants the
 //! input checks refuse exit with status 2, those that reach the solver must exit with status 1

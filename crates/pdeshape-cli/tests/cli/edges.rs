@@ -282,3 +282,74 @@ fn counts_read_from_files_are_checked_before_allocating() {
     let out = pdeshape(&["fit", s(&mesh), "-o", s(&dir.path().join("fit.toml"))]);
     assert_bad(&out, &["m.ply", "100000 vertex elements", "bytes can hold"]);
 }
+
+/// Messages print each place once, say what the facts are, and show numbers short: a radius of
+/// 1e300 makes the solution non-finite (not "ill-conditioned" with a condition number of 43),
+/// at `patches[0].conditions[0]` (not `patches[0].conditions.conditions[0]`); no number in any
+/// error of a design with one value set to 1e308 or 1e-308 is printed with its hundreds of
+/// digits.
+#[test]
+fn messages_place_once_say_the_facts_and_show_numbers_short() {
+    let dir = tempfile::tempdir().unwrap();
+    let cup = example("cup.toml");
+    let huge = cup.replacen("radius = 1.0", "radius = 1e300", 1);
+    assert_ne!(huge, cup);
+    let f = write(dir.path(), "huge.toml", &huge);
+    let line = assert_bad(
+        &pdeshape(&["check", s(&f)]),
+        &["patches[0].conditions[0]: ", "not finite"],
+    );
+    assert!(!line.contains("conditions.conditions"), "{line}");
+    assert!(!line.contains("ill-conditioned"), "{line}");
+    let long_digits = |l: &str| {
+        l.split(|c: char| !c.is_ascii_digit())
+            .any(|run| run.len() > 17)
+    };
+    for name in ["aeroplane.toml", "cup.toml"] {
+        let text = example(name);
+        let spans: Vec<(usize, usize)> = text
+            .match_indices(|c: char| c.is_ascii_digit())
+            .map(|(i, _)| i)
+            .filter(|&i| {
+                i == 0
+                    || !text.as_bytes()[i - 1].is_ascii_alphanumeric()
+                        && text.as_bytes()[i - 1] != b'.'
+            })
+            .map(|i| {
+                let end = text[i..]
+                    .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+                    .map_or(text.len(), |k| i + k);
+                (i, end)
+            })
+            .take(40)
+            .collect();
+        for (a, b) in spans {
+            for v in ["1e308", "1e-308"] {
+                let m = format!("{}{v}{}", &text[..a], &text[b..]);
+                let f = write(dir.path(), "m.toml", &m);
+                let out = pdeshape(&["check", s(&f)]);
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(!long_digits(&err), "{name} with {v} at byte {a}: {err}");
+            }
+        }
+    }
+}
+
+/// `--quiet` silences the "wrote" line of a picture of a trimmed design too, and the line is
+/// printed once the picture is in place when it is not quiet.
+#[test]
+fn quiet_silences_the_picture_of_a_trimmed_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let design = example_path("trimmed_vase.toml");
+    let png = dir.path().join("vase.png");
+    let args = ["render", s(&design), "-o", s(&png), "--size", "64x48"];
+    let loud = pdeshape(&args);
+    assert!(loud.status.success());
+    assert!(String::from_utf8_lossy(&loud.stdout).starts_with("wrote "));
+    let mut quiet = vec!["--quiet"];
+    quiet.extend(args);
+    let out = pdeshape(&quiet);
+    assert!(out.status.success());
+    assert!(out.stdout.is_empty() && out.stderr.is_empty(), "{out:?}");
+    assert!(png.exists());
+}
