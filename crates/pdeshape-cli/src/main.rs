@@ -150,6 +150,7 @@ fn main() -> ExitCode {
     if !matches!(result, Ok(Ok(()))) {
         common::abandon_outputs();
     }
+    common::end_run();
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) => {

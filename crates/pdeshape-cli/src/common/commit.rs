@@ -50,6 +50,9 @@ struct Journal {
     reports: String,
     /// Outputs made final by [`finish_outputs`] (named by the signal handler's message).
     done: Vec<String>,
+    /// The run has ended ([`end_run`]): its outputs are final or undone and its last line is
+    /// being printed, so a signal changes nothing more.
+    ended: bool,
 }
 
 static JOURNAL: Mutex<Journal> = Mutex::new(Journal {
@@ -58,6 +61,7 @@ static JOURNAL: Mutex<Journal> = Mutex::new(Journal {
     renamed: Vec::new(),
     reports: String::new(),
     done: Vec::new(),
+    ended: false,
 });
 
 fn journal() -> std::sync::MutexGuard<'static, Journal> {
@@ -215,10 +219,21 @@ pub(crate) fn abandon_outputs() {
     j.reports.clear();
 }
 
+/// Marks the run as ended: called by `main` once the outputs are final (or undone), before it
+/// prints its last line and exits with the command's own status. A signal after this does
+/// nothing (a second line "interrupted" after the error would not be true).
+pub(crate) fn end_run() {
+    journal().ended = true;
+}
+
 /// What the signal handler does: undo this run's outputs and say what is true. The journal
-/// stays locked (the process exits), so no rename can follow.
-pub(super) fn on_signal() -> ! {
+/// stays locked (the process exits), so no rename can follow. After [`end_run`] it does
+/// nothing: the run ends as it was ending.
+pub(super) fn on_signal() {
     let mut j = journal();
+    if j.ended {
+        return;
+    }
     let done = std::mem::take(&mut j.done);
     let undone = undo(&mut j);
     let message = if !done.is_empty() {
@@ -317,6 +332,15 @@ mod tests {
             "new a"
         );
         journal().done.clear();
+    }
+
+    #[test]
+    fn a_signal_after_the_run_ended_changes_nothing() {
+        let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+        // Before `end_run`, this call would undo and exit the test process with status 130.
+        end_run();
+        on_signal();
+        assert!(journal().ended);
     }
 
     #[test]

@@ -10,7 +10,7 @@ mod load;
 mod output;
 mod report;
 mod temp;
-pub(crate) use commit::{abandon_outputs, finish_outputs};
+pub(crate) use commit::{abandon_outputs, end_run, finish_outputs};
 pub(crate) use flags::{
     check_extension, format_request, output_format, refuse_flag, refuse_grid_flags, FormatRequest,
 };

@@ -11,7 +11,7 @@ pub(super) const INTERRUPTED: i32 = 130;
 /// status 130. (SIGKILL cannot be caught: its temporaries are removed by the next run that
 /// writes into the same directory, see [`super::Output::create`].)
 pub(crate) fn remove_temporaries_on_signals() {
-    let _ = ctrlc::set_handler(|| super::commit::on_signal());
+    let _ = ctrlc::set_handler(super::commit::on_signal);
 }
 
 /// The prefix of this process's temporary files: `.pdeshape-<pid>-`.
