@@ -972,9 +972,12 @@ fn http(host: &str, token: &str, method: &str, path: &str, body: &[u8]) -> Optio
 
 /// The designer's API under mutated requests: `pdeshape serve` runs as a child (under the
 /// campaign's address-space limit) and gets mutants of [`API_REQUESTS`] (bodies and queries:
-/// `PDESHAPE_CAMPAIGN_MUTANTS` × 40 of them). Every answer must be 200 or a 4xx with a clear
-/// one-line message, each request within [`CPU_SECONDS`] of the server's CPU time, the server
-/// must keep serving, and its directory must hold no temporary file at the end.
+/// `PDESHAPE_CAMPAIGN_MUTANTS` × 40 of them; among them saves to a read-only file and to a
+/// 300-character name, a wrong method and a body the request does not read). Every answer must
+/// be 200 or a 4xx with a clear one-line JSON message that does not name the server's own
+/// directory (a 5xx, a reset, an empty 405 fail), each request within [`CPU_SECONDS`] of the
+/// server's CPU time, the server must keep serving, and its directory must hold no temporary
+/// file at the end.
 #[test]
 fn designer_api_campaign() {
     use std::io::BufRead;
