@@ -15,6 +15,56 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// `text` with every long decimal number in short scientific form: a number with more than 15
+/// digits before its point (`100000…0.0000`, as `{}` or `{:.4}` print 1e308) or a zero with more
+/// than 6 zeros after its point (`0.0000…1`), as [`num`] prints it. Other text, and numbers
+/// already short, are unchanged. Every message of [`Error`] goes through it.
+pub fn short_numbers(text: &str) -> String {
+    let b = text.as_bytes();
+    let mut out = String::with_capacity(text.len());
+    let mut i = 0;
+    let mut copied = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit()
+            && (i == 0
+                || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'.'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let mut j = i;
+        while j < b.len() && b[j].is_ascii_digit() {
+            j += 1;
+        }
+        let int_digits = j - i;
+        let mut end = j;
+        let mut zeros = 0;
+        if j + 1 < b.len() && b[j] == b'.' && b[j + 1].is_ascii_digit() {
+            end = j + 1;
+            while end < b.len() && b[end] == b'0' {
+                end += 1;
+                zeros += 1;
+            }
+            while end < b.len() && b[end].is_ascii_digit() {
+                end += 1;
+            }
+        }
+        let ends = end == b.len() || !(b[end].is_ascii_alphanumeric() || b[end] == b'_');
+        let long = int_digits > 15 || (&text[i..j] == "0" && zeros > 6 && end > j + 1 + zeros);
+        match text[i..end].parse::<f64>() {
+            Ok(x) if long && ends => {
+                out.push_str(&text[copied..i]);
+                out.push_str(&format!("{x:e}"));
+                copied = end;
+            }
+            _ => {}
+        }
+        i = end.max(i + 1);
+    }
+    out.push_str(&text[copied..]);
+    out
+}
+
 /// `x` is finite.
 pub fn finite(x: f64, place: &str) -> Result<()> {
     if x.is_finite() {
@@ -63,6 +113,31 @@ pub fn nonzero_vector(v: &Vec3, place: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn long_numbers_in_messages_are_short() {
+        let huge = format!("{:.4}", 1e308);
+        assert!(huge.len() > 300);
+        assert_eq!(
+            short_numbers(&format!(
+                "its u runs from -{huge} to {}, outside 0 < u < 1",
+                1e30
+            )),
+            "its u runs from -1e308 to 1e30, outside 0 < u < 1"
+        );
+        assert_eq!(short_numbers(&format!("got {}", 1e-300)), "got 1e-300");
+        // Short numbers, names with digits and version-like text are left as they are.
+        for text in [
+            "mode 12 of 0.0001 at u = 0.25, 1e308, 3.0e5",
+            "curve c12345678901234567890x",
+            "v = 0.04908738521234052",
+            "x_12345678901234567890",
+        ] {
+            assert_eq!(short_numbers(text), text);
+        }
+        let e = Error::invalid(format!("radius {}", 1e200)).at("curves.rim");
+        assert_eq!(e.to_string(), "curves.rim: radius 1e200");
+    }
 
     #[test]
     fn messages_and_places() {

@@ -33,11 +33,13 @@ pub struct Error {
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 impl Error {
+    /// Every message's numbers in short form ([`crate::check::short_numbers`]): `1e308`, not
+    /// its 309 digits.
     fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
         Error {
             kind,
             place: String::new(),
-            message: message.into(),
+            message: crate::check::short_numbers(&message.into()),
             source: None,
         }
     }
@@ -77,7 +79,7 @@ impl Error {
     /// The same error with another message (kind, place and source kept).
     pub fn with_message(self, message: impl Into<String>) -> Self {
         Error {
-            message: message.into(),
+            message: crate::check::short_numbers(&message.into()),
             ..self
         }
     }

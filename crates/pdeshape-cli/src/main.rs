@@ -145,7 +145,13 @@ fn main() -> ExitCode {
     }
     // A panic is a bug; report it on one line like every other failure.
     std::panic::set_hook(Box::new(|_| {}));
-    match std::panic::catch_unwind(move || run(cli)) {
+    // The outputs of a command are renamed into place together once it succeeded, all or none.
+    let result = std::panic::catch_unwind(move || run(cli).and_then(|()| common::finish_outputs()));
+    if !matches!(result, Ok(Ok(()))) {
+        common::abandon_outputs();
+    }
+    common::end_run();
+    match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) => {
             // One line, whatever a message quotes from the input.

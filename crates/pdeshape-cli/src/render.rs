@@ -181,7 +181,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         out.write_all(&png)?;
         out.commit()?;
         let dest = crate::common::destination(&args.output);
-        crate::common::print_stdout(&format!(
+        crate::common::report(&format!(
             "wrote {dest}: {width}x{height}, {} triangles (trimmed)\n",
             m.triangles.len()
         ));

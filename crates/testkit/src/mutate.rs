@@ -176,3 +176,40 @@ pub fn unclear(message: &str) -> Option<&'static str> {
     }
     None
 }
+
+/// The edge of the operating system a mutant's run meets besides its mutated input: the classes
+/// of special files, aliasing outputs and signals between outputs. The campaign through the
+/// binary makes the edge in the mutant's directory before the run (or sends the signal during
+/// it) and judges what is left.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// Nothing but the mutated input.
+    Plain,
+    /// The first output is an existing FIFO: refused, left a FIFO.
+    OutputFifo,
+    /// The first output is an existing directory: refused, left as it was.
+    OutputDirectory,
+    /// The first output is a loop of two symbolic links: refused, left as it was.
+    OutputLoop,
+    /// The second output is a symbolic link to the first: refused before any work.
+    OutputsAlias,
+    /// The input is a FIFO without a writer: refused, not waited on.
+    InputFifo,
+    /// SIGTERM after this many milliseconds: the run ends with all its outputs or none.
+    Signal(u64),
+}
+
+/// The edge of one mutant: three in four runs are plain, the others take one class in turn.
+pub fn edge(rng: &mut ChaCha8Rng) -> Edge {
+    if rng.gen_range(0..4) != 0 {
+        return Edge::Plain;
+    }
+    match rng.gen_range(0..6) {
+        0 => Edge::OutputFifo,
+        1 => Edge::OutputDirectory,
+        2 => Edge::OutputLoop,
+        3 => Edge::OutputsAlias,
+        4 => Edge::InputFifo,
+        _ => Edge::Signal(rng.gen_range(0..600)),
+    }
+}

@@ -31,6 +31,15 @@ pub struct Anchor {
     pub distance: f64,
 }
 
+/// Closest-point searches (mesh vertices × design surfaces) a re-targeting does at most: about
+/// 7.5 µs each on one core (20 000 vertices on the four surfaces of
+/// `examples/anim/ventricle.toml` anchored in 0.6 s), so about 5 s; a larger mesh is refused
+/// before the first search (a million vertices there ran past 30 s of CPU).
+pub(crate) const MAX_CLOSEST_SEARCHES: usize = 600_000;
+
+/// Closest-point searches a second, for the refusal's words.
+const SEARCHES_PER_SECOND: usize = 130_000;
+
 /// The closest-point correspondence of a mesh's vertices with a design's surfaces.
 #[derive(Clone, Debug)]
 pub struct Correspondence {
@@ -50,6 +59,17 @@ impl Correspondence {
             return Err(Error::invalid(
                 "the design has no surface to re-target from",
             ));
+        }
+        // Time is priced like memory: the searches are counted before the first one starts.
+        let searches = points.len().saturating_mul(reference.surfaces.len());
+        if searches > MAX_CLOSEST_SEARCHES {
+            let n = reference.surfaces.len();
+            return Err(Error::invalid(format!(
+                "the mesh has {} vertices and the design {n} surface{}: {searches} closest-point searches, more than the {MAX_CLOSEST_SEARCHES} a re-targeting does (about {} s of work); decimate the mesh",
+                points.len(),
+                if n == 1 { "" } else { "s" },
+                MAX_CLOSEST_SEARCHES / SEARCHES_PER_SECOND
+            )));
         }
         let opts = ClosestOptions::default();
         let indices: Vec<_> = reference

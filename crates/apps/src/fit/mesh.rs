@@ -447,6 +447,18 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         .values()
         .fold(0usize, |n, e| n.saturating_add(e.count));
     check_memory(bytes, elements)?;
+    // Every element takes at least one byte of the file: a count the file cannot hold is
+    // refused before the reader sizes anything from it.
+    for (name, e) in &header.elements {
+        if e.count > bytes.len() {
+            return Err(Error::invalid(format!(
+                "not a readable PLY file: the header announces {} {} elements, more than its {} bytes can hold",
+                e.count,
+                crate::spec::words::user_text(name),
+                bytes.len()
+            )));
+        }
+    }
     let payload = vertex_parser
         .read_payload(&mut cursor, &header)
         .map_err(bad_data)?;

@@ -460,9 +460,21 @@ fn solve_patch(p: &Planned, key: &PatchKey) -> Result<SurfaceKind> {
                     curve: c.curve.clone(),
                 })
                 .collect();
+            // The solver places its errors at `conditions[i]…` of the patch: the patch's own
+            // place without its `conditions` (each place printed once).
+            let patch = p
+                .place
+                .strip_suffix("conditions")
+                .map_or(p.place.as_str(), |s| s.trim_end_matches('.'));
             elliptic::solve(&op, conds, &key.options)
                 .map(|s| SurfaceKind::Pde(Arc::new(s)))
-                .map_err(|e| e.at(&p.place))
+                .map_err(|e| {
+                    if e.place().starts_with("conditions") {
+                        e.at(patch)
+                    } else {
+                        e.at(&p.place)
+                    }
+                })
         }
     }
 }

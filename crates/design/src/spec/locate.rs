@@ -81,7 +81,14 @@ fn parse_path(path: &str) -> Option<Vec<Step>> {
                 while let Some(d) = chars.next() {
                     match d {
                         '"' => break,
-                        '\\' => key.push(chars.next()?),
+                        '\\' => match chars.next()? {
+                            e @ ('u' | 'U') => {
+                                let n = if e == 'u' { 4 } else { 8 };
+                                let hex: String = chars.by_ref().take(n).collect();
+                                key.push(char::from_u32(u32::from_str_radix(&hex, 16).ok()?)?);
+                            }
+                            other => key.push(other),
+                        },
                         _ => key.push(d),
                     }
                 }
@@ -195,13 +202,65 @@ pub fn key_path(key: &str) -> String {
     {
         key.to_string()
     } else {
-        format!("{key:?}")
+        // A TOML basic string (what the design file itself would write, and what
+        // [`parse_path`] reads back): quotes and backslashes escaped, invisible characters as
+        // `\uXXXX`. Not Rust's debug quoting (`\u{feff}` is not TOML).
+        let mut out = String::from("\"");
+        for c in key.chars() {
+            match c {
+                '"' => out.push_str("\\\""),
+                '\\' => out.push_str("\\\\"),
+                c if invisible(c) => {
+                    let n = c as u32;
+                    if n > 0xFFFF {
+                        out.push_str(&format!("\\U{n:08X}"));
+                    } else {
+                        out.push_str(&format!("\\u{n:04X}"));
+                    }
+                }
+                c => out.push(c),
+            }
+        }
+        out.push('"');
+        out
     }
+}
+
+/// Characters a key shows escaped: controls, line and paragraph separators, zero-width and
+/// direction marks, the byte order mark.
+fn invisible(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{00AD}' | '\u{200B}'..='\u{200F}' | '\u{2028}'..='\u{202E}' | '\u{2060}'..='\u{2064}' | '\u{FEFF}')
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn keys_with_invisible_characters_are_quoted_as_toml_and_read_back() {
+        for (key, shown) in [
+            ("\u{feff}rim", "\"\\uFEFFrim\""),
+            ("my \"rim\"", "\"my \\\"rim\\\"\""),
+            ("a\\b\n", "\"a\\\\b\\u000A\""),
+        ] {
+            let path = key_path(key);
+            assert_eq!(path, shown);
+            assert!(!path.contains("\\u{"), "{path}");
+            // What the design file would write, and what the locator reads back.
+            let toml_text = format!("{path} = 1\n");
+            let table: toml::Table = toml::from_str(&toml_text).unwrap();
+            assert!(table.contains_key(key), "{toml_text}");
+            assert_eq!(
+                parse_path(&format!("curves.{path}.radius")).unwrap(),
+                vec![
+                    Step::Key("curves".into()),
+                    Step::Key(key.into()),
+                    Step::Key("radius".into())
+                ]
+            );
+        }
+    }
 
     #[test]
     fn paths_parse() {

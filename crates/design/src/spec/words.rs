@@ -129,6 +129,8 @@ fn replace_word(s: &str, from: &str, to: &str) -> String {
 
 /// Shortens values between backticks or double quotes longer than [`MAX_QUOTED`] characters.
 pub fn shorten_quoted(s: &str) -> String {
+    // A number quoted whole (`100000…0.0`, as the TOML reader quotes 1e308) in short form first.
+    let s = &crate::check::short_numbers(s);
     let mut out = String::new();
     let mut chars = s.chars().peekable();
     while let Some(c) = chars.next() {

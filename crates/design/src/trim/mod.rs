@@ -98,8 +98,11 @@ impl ParamMesh {
         if periodic {
             let top = p.iter().map(|q| q[1]).fold(f64::NEG_INFINITY, f64::max);
             for q in &mut p {
-                while top - q[1] > std::f64::consts::PI {
-                    q[1] += TAU;
+                // The number of turns up in one step (a loop of single turns takes forever for
+                // a corner at v = 1e11, and never ends where 2π is below the spacing of floats).
+                let turns = ((top - q[1] - std::f64::consts::PI) / TAU).ceil();
+                if turns > 0.0 {
+                    q[1] += turns * TAU;
                 }
             }
         }

@@ -355,7 +355,13 @@ pub fn same_domain(surface: &dyn Surface, net: &BSplineSurface) -> bool {
     close(u.start, u0) && close(u.end, u1) && v_ok
 }
 
+/// Highest degree of an IGES surface read back (pdeshape writes bicubic nets; a degree read from
+/// a file sizes the knot vectors).
+const MAX_IGES_DEGREE: usize = 64;
+
 /// Every entity 128 of an IGES file written by pdeshape (fixed format), in directory order.
+/// Every count read from the file is checked against the parameters the entity has before
+/// anything is allocated from it.
 pub fn read_iges(text: &str) -> Result<Vec<ReadSurface>> {
     // Parameter data: columns 1–64 text, 65–72 the directory pointer, 73 'P'.
     let mut params: Vec<(usize, usize, String)> = Vec::new(); // (de, first line, text)
@@ -400,6 +406,33 @@ pub fn read_iges(text: &str) -> Result<Vec<ReadSurface>> {
             }
         };
         let (k1, k2, m1, m2) = (int(1)?, int(2)?, int(3)?, int(4)?);
+        // The counts size what is read and allocated below: they must fit in the parameters the
+        // entity has (knots, weights and three coordinates per control point after the ten
+        // leading ones), checked without overflow before anything is allocated from them.
+        let needed = (|| {
+            let nu = k1.checked_add(1)?;
+            let nv = k2.checked_add(1)?;
+            let ku = nu.checked_add(m1)?.checked_add(1)?;
+            let kv = nv.checked_add(m2)?.checked_add(1)?;
+            let points = nu.checked_mul(nv)?;
+            10usize
+                .checked_add(ku)?
+                .checked_add(kv)?
+                .checked_add(points.checked_mul(4)?)
+        })();
+        match needed {
+            Some(n) if n <= fields.len() && m1 <= MAX_IGES_DEGREE && m2 <= MAX_IGES_DEGREE => {}
+            _ => {
+                return Err(at(&format!(
+                    "the counts ({} × {} control points of degree {} × {}) do not fit in the {} parameters of the entity",
+                    pdeshape_geometry::check::num(k1 as f64 + 1.0),
+                    pdeshape_geometry::check::num(k2 as f64 + 1.0),
+                    m1,
+                    m2,
+                    fields.len()
+                )))
+            }
+        }
         let (nu, nv) = (k1 + 1, k2 + 1);
         let mut pos = 10;
         let mut take = |n: usize| -> Result<Vec<f64>> {

@@ -4,16 +4,18 @@
 /// An I/O error in words, without the "(os error N)" suffix.
 pub(crate) use pdeshape::open::io_words;
 
+mod commit;
 mod flags;
 mod load;
 mod output;
 mod report;
 mod temp;
+pub(crate) use commit::{abandon_outputs, end_run, finish_outputs};
 pub(crate) use flags::{
     check_extension, format_request, output_format, refuse_flag, refuse_grid_flags, FormatRequest,
 };
 pub(crate) use load::{apply_sets, load, message_of, opened, Loaded};
-pub(crate) use output::{destination, same_file, Output};
+pub(crate) use output::{destination, same_file, Output, Refusal};
 pub(crate) use report::{mark_start, print_stdout, quiet, report, set_flags, since_start_ms};
 pub(crate) use temp::remove_temporaries_on_signals;
 

@@ -1,8 +1,9 @@
 //! `Output`: a file written atomically (a temporary beside it, renamed into place when complete)
 //! or standard output.
 
+use super::commit::{add_ready, pending_add, pending_remove, Ready};
 use super::report::{quiet, FORCE, STDOUT_USED};
-use super::temp::{pending_add, pending_remove, remove_stale_temporaries, temp_prefix};
+use super::temp::{remove_stale_temporaries, temp_prefix};
 use super::{io_words, CliError};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -29,9 +30,10 @@ enum Target {
 }
 
 /// An output file being written: a temporary file next to the target, renamed over it only when
-/// everything succeeded. Dropped without [`Output::commit`], it leaves nothing behind; stopped by
-/// SIGINT or SIGTERM, neither (see [`remove_temporaries_on_signals`]). `-o -` writes to stdout.
-/// Messages name the user's path, never the temporary one.
+/// every output of the command is complete (`commit.rs`). Dropped without [`Output::commit`], it
+/// leaves nothing behind; stopped by SIGINT, SIGTERM or SIGHUP, neither (see
+/// [`super::remove_temporaries_on_signals`]). `-o -` writes to stdout. Messages name the user's
+/// path, never the temporary one.
 pub(crate) struct Output {
     shown: String,
     target: Target,
@@ -42,7 +44,7 @@ pub(crate) struct Output {
 /// Which file a destination is: its directory's canonical path joined with its name, and its
 /// device and inode when it exists (so hard links count as the same file too).
 #[derive(Clone, Debug, PartialEq, Eq)]
-struct Identity {
+pub(super) struct Identity {
     path: PathBuf,
     inode: Option<(u64, u64)>,
 }
@@ -69,6 +71,32 @@ impl Identity {
 
 /// The files of the outputs open now: a second output naming one of them is refused.
 static LIVE: std::sync::Mutex<Vec<Identity>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes a committed output's file from [`LIVE`] once its run is final or undone.
+pub(super) fn release(identity: Option<Identity>) {
+    if let Some(id) = identity {
+        let mut live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(i) = live.iter().position(|other| *other == id) {
+            live.remove(i);
+        }
+    }
+}
+
+/// Why a destination cannot be written, before any work: the CLI and the designer word these
+/// their own way ([`Output::create`], the designer's save).
+#[derive(Debug)]
+pub(crate) enum Refusal {
+    /// An existing destination that is not a regular file, in words ("a directory", …).
+    NotAFile(&'static str),
+    /// The destination's directory does not exist.
+    NoDirectory(PathBuf),
+    /// Another output of this command names the same file.
+    SameFile,
+    /// The destination is read-only (and `--force` was not given).
+    ReadOnly,
+    /// The temporary file could not be created in the directory.
+    Create(PathBuf, std::io::Error),
+}
 
 /// Whether `a` and `b` name the same file (through symlinks, `..` or hard links). Paths that
 /// cannot be resolved are compared as given.
@@ -146,6 +174,34 @@ impl Output {
     /// (unless `--force`). Removes stale temporaries of killed runs in that directory.
     pub(crate) fn create(path: &Path) -> Result<Self, CliError> {
         let shown = pdeshape::spec::words::user_text(&path.display().to_string());
+        Self::open(path, FORCE.load(Ordering::Relaxed)).map_err(|r| {
+            CliError::input(match r {
+                Refusal::NotAFile("a directory") => format!("-o {shown}: is a directory"),
+                Refusal::NotAFile(what) => {
+                    format!("-o {shown}: is {what}, not a regular file; refused")
+                }
+                Refusal::NoDirectory(dir) => format!(
+                    "-o {shown}: the directory '{}' does not exist",
+                    pdeshape::spec::words::user_text(&dir.display().to_string())
+                ),
+                Refusal::SameFile => {
+                    format!("-o {shown}: names the same file as another output of this command")
+                }
+                Refusal::ReadOnly => {
+                    format!("-o {shown}: the file is read-only; pass --force to replace it")
+                }
+                Refusal::Create(dir, e) => format!(
+                    "-o {shown}: cannot create a file in '{}': {}",
+                    pdeshape::spec::words::user_text(&dir.display().to_string()),
+                    io_words(&e)
+                ),
+            })
+        })
+    }
+
+    /// [`Output::create`] with the refusal as a value; `force` replaces read-only files.
+    pub(crate) fn open(path: &Path, force: bool) -> Result<Self, Refusal> {
+        let shown = pdeshape::spec::words::user_text(&path.display().to_string());
         if Self::is_stdout(path) {
             STDOUT_USED.store(true, Ordering::Relaxed);
             return Ok(Output {
@@ -156,36 +212,25 @@ impl Output {
         }
         let dest = resolve(path);
         if let Some(what) = not_a_file(&dest) {
-            return Err(CliError::input(if what == "a directory" {
-                format!("-o {shown}: is a directory")
-            } else {
-                format!("-o {shown}: is {what}, not a regular file; refused")
-            }));
+            return Err(Refusal::NotAFile(what));
         }
         let dir = match dest.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
             _ => PathBuf::from("."),
         };
         if !dir.is_dir() {
-            return Err(CliError::input(format!(
-                "-o {shown}: the directory '{}' does not exist",
-                dir.display()
-            )));
+            return Err(Refusal::NoDirectory(dir));
         }
         let identity = Identity::of(&dir, &dest);
         if let Some(id) = &identity {
             let live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
             if live.iter().any(|other| other.same(id)) {
-                return Err(CliError::input(format!(
-                    "-o {shown}: names the same file as another output of this command"
-                )));
+                return Err(Refusal::SameFile);
             }
         }
         if let Ok(m) = std::fs::metadata(&dest) {
-            if m.permissions().readonly() && !FORCE.load(Ordering::Relaxed) {
-                return Err(CliError::input(format!(
-                    "-o {shown}: the file is read-only; pass --force to replace it"
-                )));
+            if m.permissions().readonly() && !force {
+                return Err(Refusal::ReadOnly);
             }
         }
         for name in remove_stale_temporaries(&dir) {
@@ -201,13 +246,7 @@ impl Output {
             .prefix(&temp_prefix(std::process::id()))
             .suffix(".tmp")
             .tempfile_in(&dir)
-            .map_err(|e| {
-                CliError::input(format!(
-                    "-o {shown}: cannot create a file in '{}': {}",
-                    dir.display(),
-                    io_words(&e)
-                ))
-            })?;
+            .map_err(|e| Refusal::Create(dir.clone(), e))?;
         pending_add(temp.path());
         if let Some(id) = &identity {
             LIVE.lock()
@@ -245,8 +284,10 @@ impl Output {
         r.map_err(|e| CliError::input(format!("-o {shown}: {}", io_words(&e))))
     }
 
-    /// Flushes and renames the temporary file onto the destination (through a symlink, onto the
-    /// file it points to), or writes the collected bytes to stdout.
+    /// Finishes the output: the temporary file is flushed, synced and given its final
+    /// permissions, then waits for the rename onto the destination (through a symlink, onto the
+    /// file it points to) that [`super::finish_outputs`] does for every output of the command
+    /// together. `-o -`: the collected bytes are written to stdout now.
     pub(crate) fn commit(mut self) -> Result<(), CliError> {
         let shown = self.shown.clone();
         let err = |e: &std::io::Error| CliError::input(format!("-o {shown}: {}", io_words(e)));
@@ -270,10 +311,18 @@ impl Output {
                         .set_permissions(std::fs::Permissions::from_mode(0o644))
                         .map_err(|e| err(&e))?;
                 }
-                temp.as_file().sync_all().map_err(|e| err(&e))?;
-                let r = temp.persist(&dest);
-                pending_remove(&tpath);
-                r.map_err(|e| err(&e.error))?;
+                let synced = temp.as_file().sync_all();
+                if let Err(e) = synced {
+                    pending_remove(&tpath);
+                    return Err(err(&e));
+                }
+                add_ready(Ready {
+                    temp: temp.into_temp_path(),
+                    dest,
+                    shown: self.shown.clone(),
+                    // Held until the run is final: a later output naming it is still refused.
+                    identity: self.identity.take(),
+                });
                 Ok(())
             }
         }
@@ -341,11 +390,6 @@ impl Drop for Output {
         if let Target::File { temp, .. } = &self.target {
             pending_remove(temp.path());
         }
-        if let Some(id) = self.identity.take() {
-            let mut live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
-            if let Some(i) = live.iter().position(|other| *other == id) {
-                live.remove(i);
-            }
-        }
+        release(self.identity.take());
     }
 }

@@ -22,11 +22,17 @@ pub(crate) fn quiet() -> bool {
 }
 
 /// A report line ("wrote …"): on stdout, or on stderr when stdout carries an output; nothing
-/// with `--quiet`.
+/// with `--quiet`. While outputs wait for their rename, the line is held and printed once they
+/// are in place (`commit.rs`).
 pub(crate) fn report(text: &str) {
-    if quiet() {
+    if quiet() || super::commit::hold_report(text) {
         return;
     }
+    print_report(text);
+}
+
+/// Prints a report line now (see [`report`]).
+pub(super) fn print_report(text: &str) {
     if STDOUT_USED.load(Ordering::Relaxed) {
         let _ = std::io::stderr().write_all(text.as_bytes());
     } else {

@@ -1,39 +1,17 @@
 //! Temporary files of outputs being written: removed on Ctrl-C, and those left behind by a
 //! process that no longer runs removed on the next start.
 
-use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::path::Path;
 
-/// The temporary files being written, removed by the SIGINT/SIGTERM handler.
-static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-/// Exit status of a run stopped by SIGINT or SIGTERM.
+/// Exit status of a run stopped by SIGINT, SIGTERM or SIGHUP.
 pub(super) const INTERRUPTED: i32 = 130;
 
-/// Removes the temporary files of this run when it is stopped by SIGINT (Ctrl-C) or SIGTERM, then
-/// exits with status 130. (SIGKILL cannot be caught: its leftovers are removed by the next run
-/// that writes into the same directory, see [`Output::create`].)
+/// When the run is stopped by SIGINT (Ctrl-C), SIGTERM or SIGHUP: removes its temporary files,
+/// undoes the outputs it had already renamed into place (`commit.rs`), says so and exits with
+/// status 130. (SIGKILL cannot be caught: its temporaries are removed by the next run that
+/// writes into the same directory, see [`super::Output::create`].)
 pub(crate) fn remove_temporaries_on_signals() {
-    let _ = ctrlc::set_handler(|| {
-        if let Ok(pending) = PENDING.lock() {
-            for p in pending.iter() {
-                let _ = std::fs::remove_file(p);
-            }
-        }
-        eprintln!("error: interrupted; no output file was written");
-        std::process::exit(INTERRUPTED);
-    });
-}
-
-pub(super) fn pending_add(p: &Path) {
-    if let Ok(mut v) = PENDING.lock() {
-        v.push(p.to_path_buf());
-    }
-}
-
-pub(super) fn pending_remove(p: &Path) {
-    if let Ok(mut v) = PENDING.lock() {
-        v.retain(|q| q != p);
-    }
+    let _ = ctrlc::set_handler(super::commit::on_signal);
 }
 
 /// The prefix of this process's temporary files: `.pdeshape-<pid>-`.

@@ -32,6 +32,23 @@ impl ApiError {
     pub(super) fn not_found(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::NOT_FOUND, message, place)
     }
+    /// A request that collides with another one under way (409).
+    pub(super) fn conflict(message: impl Into<String>, place: &str) -> Self {
+        Self::new(StatusCode::CONFLICT, message, place)
+    }
+    /// A save the file system cannot take now (507: a full disk, an I/O error); the message
+    /// names the file relative to the start directory.
+    pub(super) fn unavailable(message: impl Into<String>, place: &str) -> Self {
+        Self::new(StatusCode::INSUFFICIENT_STORAGE, message, place)
+    }
+    /// A body larger than the limit (413).
+    pub(super) fn too_large(message: impl Into<String>) -> Self {
+        Self::new(StatusCode::PAYLOAD_TOO_LARGE, message, "")
+    }
+    /// A body that did not arrive in time (408).
+    pub(super) fn timeout(message: impl Into<String>) -> Self {
+        Self::new(StatusCode::REQUEST_TIMEOUT, message, "")
+    }
     /// A well-formed request the design refuses (422).
     pub(super) fn unprocessable(message: impl Into<String>, place: &str) -> Self {
         Self::new(StatusCode::UNPROCESSABLE_ENTITY, message, place)
@@ -54,7 +71,12 @@ impl ApiError {
     }
 
     pub(super) fn to_json(&self) -> serde_json::Value {
-        serde_json::json!({ "error": self.message, "place": self.place })
+        Self::json(&self.message, &self.place)
+    }
+
+    /// The JSON of every error answer.
+    pub(super) fn json(message: &str, place: &str) -> serde_json::Value {
+        serde_json::json!({ "error": message, "place": place })
     }
 }
 

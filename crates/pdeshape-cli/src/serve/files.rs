@@ -169,12 +169,65 @@ pub(super) fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, Ap
             }
         }
     }
-    let mut out = crate::common::Output::create(&target)
-        .map_err(|e| ApiError::internal(e.message.replace(&*target.to_string_lossy(), rel)))?;
+    let shown = pdeshape::spec::words::user_text(rel);
+    let refuse = |status: fn(String, &str) -> ApiError, why: &str| {
+        status(format!("'{shown}': cannot save: {why}"), "path")
+    };
+    let too_long = Path::new(rel)
+        .components()
+        .any(|c| c.as_os_str().len() > MAX_NAME);
+    if too_long {
+        return Err(refuse(
+            ApiError::bad_request,
+            &format!("a file or folder name is longer than {MAX_NAME} bytes"),
+        ));
+    }
+    // The same checks as every output of the CLI, in the designer's words: a save never replaces
+    // a read-only file (there is no `--force` here).
+    let mut out = crate::common::Output::open(&target, false).map_err(|r| {
+        use crate::common::Refusal;
+        match r {
+            Refusal::NotAFile(what) => refuse(
+                ApiError::bad_request,
+                &format!("it is {what}, not a regular file"),
+            ),
+            Refusal::NoDirectory(_) => refuse(ApiError::not_found, "its folder does not exist"),
+            Refusal::SameFile => refuse(ApiError::conflict, "another save to it is under way"),
+            Refusal::ReadOnly => refuse(ApiError::forbidden, "the file is read-only"),
+            Refusal::Create(_, e) => io_refusal(&shown, &e),
+        }
+    })?;
     out.write_all(text.as_bytes())
         .and_then(|()| out.commit())
-        .map_err(|e| ApiError::internal(e.message.replace(&*target.to_string_lossy(), rel)))?;
+        .and_then(|()| crate::common::finish_outputs())
+        .map_err(|e| {
+            // A failure of the disk itself (full, an I/O error): the message names the file
+            // relative to the start directory, whatever the CLI's words said.
+            let why = e
+                .message
+                .split_once(": ")
+                .map_or(e.message.as_str(), |(_, w)| w);
+            let why = why.replace(&*target.to_string_lossy(), &shown);
+            let why = why.replace(&*root.to_string_lossy(), ".");
+            ApiError::unavailable(format!("'{shown}': cannot save: {why}"), "path")
+        })?;
     Ok(rel.to_string())
+}
+
+/// Longest file or folder name a save accepts, in bytes (`NAME_MAX` of Linux and macOS).
+const MAX_NAME: usize = 255;
+
+/// An I/O error creating the save's temporary file in its folder, as the designer answers it.
+fn io_refusal(shown: &str, e: &std::io::Error) -> ApiError {
+    let why = crate::common::io_words(e);
+    let message = format!("'{shown}': cannot save: cannot write in its folder: {why}");
+    match e.kind() {
+        std::io::ErrorKind::PermissionDenied | std::io::ErrorKind::ReadOnlyFilesystem => {
+            ApiError::forbidden(message, "path")
+        }
+        std::io::ErrorKind::InvalidFilename => ApiError::bad_request(message, "path"),
+        _ => ApiError::unavailable(message, "path"),
+    }
 }
 
 /// The design files (`*.toml`) under `root`, relative, sorted; hidden folders and `target` are

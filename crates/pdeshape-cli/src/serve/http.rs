@@ -86,7 +86,77 @@ pub(super) fn router(state: AppState) -> Router {
         .nest("/api", api)
         .layer(middleware::from_fn_with_state(state.clone(), host_guard))
         .layer(DefaultBodyLimit::max(MAX_BODY))
+        .layer(middleware::from_fn(edge))
         .with_state(state)
+}
+
+/// A request's body must arrive within this time once its headers have; slower ones get 408.
+pub(super) const BODY_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// The first and last step of every request. The body is read whole before anything answers
+/// (a request answered with its body unread would have its connection reset by the kernel,
+/// losing the answer): at most [`MAX_BODY`] bytes (413 after that) within [`BODY_TIMEOUT`]
+/// (408). Both close the connection. And every error answer carries a JSON message: those
+/// made below without one (405 for a wrong method, …) get one here.
+async fn edge(request: Request, next: Next) -> Response {
+    let (parts, body) = request.into_parts();
+    let method = parts.method.clone();
+    let read = tokio::time::timeout(BODY_TIMEOUT, axum::body::to_bytes(body, MAX_BODY)).await;
+    let bytes = match read {
+        Ok(Ok(b)) => b,
+        Ok(Err(_)) => {
+            return closing(ApiError::too_large(format!(
+                "the request body is larger than {} KiB",
+                MAX_BODY / 1024
+            )))
+        }
+        Err(_) => {
+            return closing(ApiError::timeout(format!(
+                "the request body did not arrive within {} s",
+                BODY_TIMEOUT.as_secs()
+            )))
+        }
+    };
+    let response = next
+        .run(Request::from_parts(parts, Body::from(bytes)))
+        .await;
+    let status = response.status();
+    let is_json = response
+        .headers()
+        .get(header::CONTENT_TYPE)
+        .is_some_and(|v| v.as_bytes().starts_with(b"application/json"));
+    if !(status.is_client_error() || status.is_server_error()) || is_json {
+        return response;
+    }
+    let message = if status == StatusCode::METHOD_NOT_ALLOWED {
+        let allowed = response
+            .headers()
+            .get(header::ALLOW)
+            .and_then(|v| v.to_str().ok())
+            .unwrap_or("another method")
+            .to_string();
+        format!("{method} is not allowed here; use {allowed}")
+    } else {
+        status
+            .canonical_reason()
+            .unwrap_or("the request failed")
+            .to_lowercase()
+    };
+    let mut fixed = (status, axum::Json(ApiError::json(&message, ""))).into_response();
+    for (name, value) in response.headers() {
+        if name != header::CONTENT_TYPE && name != header::CONTENT_LENGTH {
+            fixed.headers_mut().insert(name.clone(), value.clone());
+        }
+    }
+    fixed
+}
+
+/// `e` as an answer that closes the connection.
+fn closing(e: ApiError) -> Response {
+    let mut r = e.into_response();
+    r.headers_mut()
+        .insert(header::CONNECTION, HeaderValue::from_static("close"));
+    r
 }
 
 /// `a == b` in time independent of where they differ.

@@ -57,6 +57,51 @@ fn new_token() -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// Connections open at once: more wait in the listening socket's backlog until one closes.
+const MAX_CONNECTIONS: usize = 64;
+/// A request's headers must arrive within this time (also the wait for the next request on a
+/// kept-alive connection); its body within [`http::BODY_TIMEOUT`]. Slower connections are
+/// closed.
+const HEADER_TIMEOUT: std::time::Duration = std::time::Duration::from_secs(5);
+
+/// Serves `router` on `listener` until Ctrl-C: at most [`MAX_CONNECTIONS`] connections at once,
+/// each closed when its headers take longer than [`HEADER_TIMEOUT`].
+async fn serve_bounded(listener: tokio::net::TcpListener, router: axum::Router) {
+    let open = Arc::new(tokio::sync::Semaphore::new(MAX_CONNECTIONS));
+    let stop = tokio::signal::ctrl_c();
+    tokio::pin!(stop);
+    loop {
+        let permit = tokio::select! {
+            p = open.clone().acquire_owned() => match p {
+                Ok(p) => p,
+                Err(_) => break,
+            },
+            _ = &mut stop => break,
+        };
+        let stream = tokio::select! {
+            a = listener.accept() => match a {
+                Ok((stream, _)) => stream,
+                // Out of descriptors and the like: wait a moment, go on serving.
+                Err(_) => {
+                    tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+                    continue;
+                }
+            },
+            _ = &mut stop => break,
+        };
+        let service = hyper_util::service::TowerToHyperService::new(router.clone());
+        tokio::spawn(async move {
+            let _permit = permit;
+            let _ = hyper::server::conn::http1::Builder::new()
+                .timer(hyper_util::rt::TokioTimer::new())
+                .header_read_timeout(HEADER_TIMEOUT)
+                .serve_connection(hyper_util::rt::TokioIo::new(stream), service)
+                .await;
+        });
+    }
+    note("stopping");
+}
+
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let root = std::env::current_dir()
         .map_err(|e| CliError::input(format!("cannot read the current directory: {e}")))?;
@@ -128,13 +173,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
                 ));
             }
         }
-        axum::serve(listener, http::router(state))
-            .with_graceful_shutdown(async {
-                let _ = tokio::signal::ctrl_c().await;
-                note("stopping");
-            })
-            .await
-            .map_err(|e| CliError::input(format!("the server stopped: {e}")))
+        serve_bounded(listener, http::router(state)).await;
+        Ok::<(), CliError>(())
     })?;
     // Blocking work still queued is not waited for beyond a moment.
     runtime.shutdown_timeout(std::time::Duration::from_secs(2));

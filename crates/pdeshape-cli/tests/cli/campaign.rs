@@ -12,6 +12,15 @@
 //! - a status other than 0 or 2, an error that is not one clear line (`mutate::unclear`),
 //! - an output file after an error, or any `.pdeshape-*` temporary left behind.
 //!
+//! A quarter of the runs also meet an edge of the operating system (`mutate::Edge`, from a
+//! stream of its own): the first output an existing FIFO, directory or loop of symbolic links
+//! (the run must refuse it and leave it as it was), the second output a link to the first
+//! (refused), the input a FIFO without a writer (refused, not waited on), or SIGTERM during the
+//! run (the run ends with every output or none, and no temporary). `roundtrip` reads mutants of
+//! the STEP and IGES files of `examples/cup.toml` (counts that size allocations: knot
+//! multiplicities, control point counts, degrees). The figures are printed per subcommand and
+//! per edge.
+//!
 //! `shell` runs against a stand-in for CalculiX ([`fake_ccx`], named by `PDESHAPE_CCX`) that
 //! always fails, so the campaign does not depend on whether CalculiX is installed: mutants the
 //! input checks refuse exit with status 2, those that reach the solver must exit with status 1
@@ -132,6 +141,11 @@ struct Job {
     ext: String,
     args: &'static [&'static str],
     text: Vec<u8>,
+    /// The edge of the operating system the run meets (special files, aliasing outputs, a
+    /// signal between outputs).
+    edge: mutate::Edge,
+    /// Other files the run reads, unmutated (the design of a `roundtrip`).
+    extra: Vec<(String, Vec<u8>)>,
 }
 
 /// What became of one mutant.
@@ -277,9 +291,15 @@ fn meshes() -> Vec<(String, String)> {
 
 /// Every job of a campaign of `per` mutants per example and subcommand, in rounds (mutant k of
 /// every example and subcommand before mutant k + 1) so that partial figures cover them all.
-fn jobs(per: usize, seed: u64) -> Vec<Job> {
+fn jobs(per: usize, seed: u64, cad: &[(String, String, Vec<u8>)]) -> Vec<Job> {
     let designs = designs();
     let meshes = meshes();
+    // The edges come from a stream of their own, so the mutants are those of the same seed
+    // without them.
+    let mut edges = ChaCha8Rng::seed_from_u64(seed ^ 0xed_9e00);
+    let mut cad_streams: Vec<ChaCha8Rng> = (0..cad.len())
+        .map(|e| ChaCha8Rng::seed_from_u64(seed ^ 0xcad_000 ^ ((e as u64) << 32)))
+        .collect();
     let mut streams: Vec<ChaCha8Rng> = (0..designs.len())
         .map(|e| ChaCha8Rng::seed_from_u64(seed ^ 0xc4_0000 ^ ((e as u64) << 32)))
         .collect();
@@ -313,6 +333,8 @@ fn jobs(per: usize, seed: u64) -> Vec<Job> {
                     ext: ext.to_string(),
                     args,
                     text: m.clone().into_bytes(),
+                    edge: mutate::edge(&mut edges),
+                    extra: Vec::new(),
                 });
             }
         }
@@ -326,6 +348,8 @@ fn jobs(per: usize, seed: u64) -> Vec<Job> {
                     ext: name.rsplit('.').next().unwrap().to_string(),
                     args: &["fit", "-o", "out.toml"],
                     text: m.into_bytes(),
+                    edge: mutate::edge(&mut edges),
+                    extra: Vec::new(),
                 });
             }
         }
@@ -339,6 +363,28 @@ fn jobs(per: usize, seed: u64) -> Vec<Job> {
                     ext: "toml".into(),
                     args: SHELL_RUNS[(k + i) % SHELL_RUNS.len()],
                     text: m.into_bytes(),
+                    edge: mutate::edge(&mut edges),
+                    extra: Vec::new(),
+                });
+            }
+        }
+        // STEP and IGES files read back by `roundtrip`, mutated (counts that size allocations:
+        // knot multiplicities, control point counts, degrees), beside their unmutated design.
+        // As many per round as a design subcommand has.
+        let per_cad = designs.len().div_ceil(cad.len().max(1));
+        for (e, (name, design, bytes)) in cad.iter().enumerate() {
+            for _ in 0..per_cad {
+                let text = String::from_utf8_lossy(bytes);
+                let m = mutate::mutate(&text, &mut cad_streams[e]);
+                out.push(Job {
+                    index: out.len(),
+                    sub: "roundtrip",
+                    example: name.clone(),
+                    ext: name.rsplit('.').next().unwrap().to_string(),
+                    args: &["roundtrip", "design.toml"],
+                    text: m.into_bytes(),
+                    edge: mutate::Edge::Plain,
+                    extra: vec![("design.toml".into(), design.clone().into_bytes())],
                 });
             }
         }
@@ -355,7 +401,12 @@ fn binary() -> String {
 
 /// Runs the binary on `args` in `dir` under the campaign's limits, with `dir` as `TMPDIR` and
 /// `ccx` (if given) as the solver; `None` past [`WALL`].
-fn run_limited(dir: &Path, args: &[String], ccx: Option<&Path>) -> Option<std::process::Output> {
+fn run_limited(
+    dir: &Path,
+    args: &[String],
+    ccx: Option<&Path>,
+    signal_after: Option<Duration>,
+) -> Option<std::process::Output> {
     let mut child = Command::new("sh")
         .arg("-c")
         .arg(format!(
@@ -390,9 +441,16 @@ fn run_limited(dir: &Path, args: &[String], ccx: Option<&Path>) -> Option<std::p
     let start = Instant::now();
     let mut last = (Instant::now(), cpu_seconds(child.id()).unwrap_or(0.0));
     let mut looked = Instant::now();
+    let mut signal_after = signal_after;
     let status = loop {
         if let Some(st) = child.try_wait().unwrap() {
             break Some(st);
+        }
+        if signal_after.is_some_and(|d| start.elapsed() >= d) {
+            signal_after = None;
+            let _ = Command::new("kill")
+                .args(["-TERM", &child.id().to_string()])
+                .status();
         }
         let now = Instant::now();
         if now - looked > Duration::from_secs(1) {
@@ -420,9 +478,21 @@ fn run_limited(dir: &Path, args: &[String], ccx: Option<&Path>) -> Option<std::p
 /// Runs one job in `dir` (which holds only its input) and judges it; `ccx` is the solver of
 /// `shell` jobs.
 fn judge(job: &Job, dir: &Path, input: &str, ccx: Option<&Path>) -> (Outcome, String) {
-    let mut args: Vec<String> = vec![job.args[0].to_string(), input.to_string()];
-    args.extend(job.args[1..].iter().map(|a| a.to_string()));
-    let Some(out) = run_limited(dir, &args, ccx) else {
+    let mut args: Vec<String> = vec![job.args[0].to_string()];
+    if job.sub == "roundtrip" {
+        // `roundtrip DESIGN FILE`: the mutated file is the second.
+        args.extend(job.args[1..].iter().map(|a| a.to_string()));
+        args.push(input.to_string());
+    } else {
+        args.push(input.to_string());
+        args.extend(job.args[1..].iter().map(|a| a.to_string()));
+    }
+    let (edge, made) = make_edge(job, dir, input);
+    let signal_after = match edge {
+        mutate::Edge::Signal(ms) => Some(Duration::from_millis(ms)),
+        _ => None,
+    };
+    let Some(out) = run_limited(dir, &args, ccx, signal_after) else {
         return (
             Outcome::OverBound,
             format!("no CPU used for {STALL:?}, or still running after {WALL:?}"),
@@ -431,12 +501,180 @@ fn judge(job: &Job, dir: &Path, input: &str, ccx: Option<&Path>) -> (Outcome, St
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     let left: Vec<String> = common::files(dir)
         .into_iter()
-        .filter(|f| f != input)
+        .filter(|f| f != input && !job.extra.iter().any(|(n, _)| n == f))
+        .filter(|f| !made.iter().any(|(n, _)| n == f))
         .collect();
+    // A special file or link made as an output is left exactly as it was.
+    for (name, before) in &made {
+        let now = file_type(&dir.join(name));
+        if now != *before {
+            return (
+                Outcome::Leftover,
+                format!("{edge:?}: {name} was {before}, is {now} after the run"),
+            );
+        }
+    }
     let temporaries: Vec<&String> = left
         .iter()
         .filter(|f| f.contains(".pdeshape-") || f.starts_with("pdeshape-ccx-"))
         .collect();
+    if let mutate::Edge::Signal(_) = edge {
+        let temporaries = !temporaries.is_empty();
+        return match (out.status.code(), out.status.signal()) {
+            _ if temporaries => (Outcome::Leftover, format!("left {left:?} after SIGTERM")),
+            // Stopped before its handler was installed, or by it: nothing may be left, unless
+            // the outputs were already all in place (and the message says so).
+            (None, Some(15)) | (Some(130), _)
+                if !left.is_empty() && !stderr.contains("after the outputs were written") =>
+            {
+                (
+                    Outcome::Leftover,
+                    format!("left {left:?} after SIGTERM: {}", first(&stderr)),
+                )
+            }
+            (None, Some(15)) | (Some(130), _) => (Outcome::CleanError, String::new()),
+            // Ended before the signal: judged as any run.
+            _ => judge_status(job, &out, &stderr, &left, &temporaries_of(&left)),
+        };
+    }
+    if matches!(
+        edge,
+        mutate::Edge::OutputFifo
+            | mutate::Edge::OutputDirectory
+            | mutate::Edge::OutputLoop
+            | mutate::Edge::OutputsAlias
+    ) && out.status.success()
+    {
+        return (
+            Outcome::Leftover,
+            format!("{edge:?}: the run succeeded instead of refusing the output"),
+        );
+    }
+    judge_status(job, &out, &stderr, &left, &temporaries)
+}
+
+/// The temporaries among the files `left`.
+fn temporaries_of(left: &[String]) -> Vec<&String> {
+    left.iter()
+        .filter(|f| f.contains(".pdeshape-") || f.starts_with("pdeshape-ccx-"))
+        .collect()
+}
+
+/// What a file is now (its type, or that it does not exist), to compare before and after.
+fn file_type(p: &Path) -> String {
+    match std::fs::symlink_metadata(p) {
+        Ok(m) if m.file_type().is_symlink() => {
+            format!("a link to {:?}", std::fs::read_link(p).ok())
+        }
+        Ok(m) => format!("{:?}", m.file_type()),
+        Err(_) => "missing".into(),
+    }
+}
+
+/// The outputs a job's arguments name (`out.*`).
+fn outputs(job: &Job) -> Vec<&'static str> {
+    job.args
+        .iter()
+        .copied()
+        .filter(|a| a.starts_with("out."))
+        .collect()
+}
+
+/// Makes the job's edge in `dir` (a FIFO, a directory, a loop of links at the first output; a
+/// link from the second output to the first; a FIFO as the input) and returns the edge that
+/// applies (plain when the job has no such output) with the names made and what they are.
+fn make_edge(job: &Job, dir: &Path, input: &str) -> (mutate::Edge, Vec<(String, String)>) {
+    use mutate::Edge;
+    let outs = outputs(job);
+    let mkfifo = |p: &Path| {
+        let _ = std::fs::remove_file(p);
+        Command::new("mkfifo")
+            .arg(p)
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    let edge = match job.edge {
+        Edge::OutputFifo | Edge::OutputDirectory | Edge::OutputLoop if outs.is_empty() => {
+            Edge::Plain
+        }
+        Edge::OutputsAlias if outs.len() < 2 => Edge::Plain,
+        e => e,
+    };
+    let mut made = Vec::new();
+    match edge {
+        Edge::OutputFifo => {
+            if mkfifo(&dir.join(outs[0])) {
+                made.push(outs[0].to_string());
+            }
+        }
+        Edge::OutputDirectory => {
+            std::fs::create_dir(dir.join(outs[0])).unwrap();
+            made.push(outs[0].to_string());
+        }
+        Edge::OutputLoop => {
+            let other = format!("{}.loop", outs[0]);
+            std::os::unix::fs::symlink(&other, dir.join(outs[0])).unwrap();
+            std::os::unix::fs::symlink(outs[0], dir.join(&other)).unwrap();
+            made.push(outs[0].to_string());
+            made.push(other);
+        }
+        Edge::OutputsAlias => {
+            std::os::unix::fs::symlink(outs[0], dir.join(outs[1])).unwrap();
+            made.push(outs[1].to_string());
+        }
+        Edge::InputFifo => {
+            if mkfifo(&dir.join(input)) {
+                made.push(input.to_string());
+            }
+        }
+        Edge::Plain | Edge::Signal(_) => {}
+    }
+    let made = made
+        .into_iter()
+        .map(|n| {
+            let t = file_type(&dir.join(&n));
+            (n, t)
+        })
+        .collect();
+    (edge, made)
+}
+
+/// The edge a job meets: its own, or plain when it has no output of the kind the edge needs.
+fn effective_edge(job: &Job) -> mutate::Edge {
+    use mutate::Edge;
+    let outs = outputs(job);
+    match job.edge {
+        Edge::OutputFifo | Edge::OutputDirectory | Edge::OutputLoop if outs.is_empty() => {
+            Edge::Plain
+        }
+        Edge::OutputsAlias if outs.len() < 2 => Edge::Plain,
+        e => e,
+    }
+}
+
+/// The row of an edge in the campaign's second table.
+fn edge_row(edge: mutate::Edge) -> &'static str {
+    use mutate::Edge;
+    match edge {
+        Edge::Plain => "plain files",
+        Edge::OutputFifo => "output is a FIFO",
+        Edge::OutputDirectory => "output is a directory",
+        Edge::OutputLoop => "output is a symlink loop",
+        Edge::OutputsAlias => "two outputs alias",
+        Edge::InputFifo => "input is a FIFO",
+        Edge::Signal(_) => "SIGTERM during the run",
+    }
+}
+
+/// Judges a run by its status, message and what it left (the rules of every mutant).
+fn judge_status(
+    job: &Job,
+    out: &std::process::Output,
+    stderr: &str,
+    left: &[String],
+    temporaries: &[&String],
+) -> (Outcome, String) {
+    let stderr = stderr.to_string();
     if let Some(sig) = out.status.signal() {
         // SIGXCPU (24) at the soft CPU limit, SIGKILL (9) at the hard one.
         return if sig == 24 || sig == 9 {
@@ -464,7 +702,9 @@ fn judge(job: &Job, dir: &Path, input: &str, ccx: Option<&Path>) -> (Outcome, St
         Some(c)
             if c == 2
                 || (c == 1
-                    && (job.sub == "shell" || stderr.contains("CalculiX solver failed"))
+                    && (job.sub == "shell"
+                        || job.sub == "roundtrip"
+                        || stderr.contains("CalculiX solver failed"))
                     && !stderr.contains("internal error")) =>
         {
             let lines: Vec<&str> = stderr.lines().collect();
@@ -503,7 +743,12 @@ fn campaign(
     jobs: &[Job],
     root: &Path,
     workers: usize,
-) -> (BTreeMap<&'static str, Tally>, Vec<String>) {
+) -> (
+    BTreeMap<&'static str, Tally>,
+    BTreeMap<&'static str, Tally>,
+    Vec<String>,
+) {
+    let by_edge: Mutex<BTreeMap<&'static str, Tally>> = Mutex::new(BTreeMap::new());
     let ccx = &fake_ccx(root);
     let next = AtomicUsize::new(0);
     let tally: Mutex<BTreeMap<&'static str, Tally>> = Mutex::new(BTreeMap::new());
@@ -520,6 +765,9 @@ fn campaign(
                 std::fs::create_dir_all(&dir).unwrap();
                 let input = format!("in.{}", job.ext);
                 std::fs::write(dir.join(&input), &job.text).unwrap();
+                for (name, bytes) in &job.extra {
+                    std::fs::write(dir.join(name), bytes).unwrap();
+                }
                 let (o, why) = judge(job, &dir, &input, Some(ccx.as_path()));
                 if matches!(o, Outcome::Ok | Outcome::CleanError) {
                     let _ = std::fs::remove_dir_all(&dir);
@@ -531,10 +779,18 @@ fn campaign(
                         job.example,
                         dir.display()
                     );
-                    let _ =
-                        std::fs::write(dir.join("why.txt"), format!("{line}\n{:?}\n", job.args));
+                    let _ = std::fs::write(
+                        dir.join("why.txt"),
+                        format!("{line}\n{:?} {:?}\n", job.args, job.edge),
+                    );
                     failures.lock().unwrap().push(line);
                 }
+                by_edge
+                    .lock()
+                    .unwrap()
+                    .entry(edge_row(effective_edge(job)))
+                    .or_default()
+                    .add(&o);
                 let mut t = tally.lock().unwrap();
                 t.entry(job.sub).or_default().add(&o);
                 let done: usize = t.values().map(|t| t.mutants).sum();
@@ -556,7 +812,33 @@ fn campaign(
             });
         }
     });
-    (tally.into_inner().unwrap(), failures.into_inner().unwrap())
+    (
+        tally.into_inner().unwrap(),
+        by_edge.into_inner().unwrap(),
+        failures.into_inner().unwrap(),
+    )
+}
+
+/// The STEP and IGES files `roundtrip` mutants start from: `examples/cup.toml` written by the
+/// binary under test, with its design text.
+fn cad_sources(root: &Path) -> Vec<(String, String, Vec<u8>)> {
+    let dir = root.join("cad-sources");
+    std::fs::create_dir_all(&dir).unwrap();
+    let design = pdeshape_testkit::example("cup.toml");
+    std::fs::write(dir.join("cup.toml"), &design).unwrap();
+    ["cup.igs", "cup.stp"]
+        .iter()
+        .map(|name| {
+            let st = Command::new(binary())
+                .args(["--quiet", "surface", "cup.toml", "-o", name])
+                .current_dir(&dir)
+                .status()
+                .unwrap();
+            assert!(st.success(), "cannot write {name}");
+            let bytes = std::fs::read(dir.join(name)).unwrap();
+            (name.to_string(), design.clone(), bytes)
+        })
+        .collect()
 }
 
 #[test]
@@ -572,9 +854,9 @@ fn mutation_campaign_through_the_binary() {
         .map(PathBuf::from)
         .unwrap_or_else(|_| temp.path().to_path_buf());
     std::fs::create_dir_all(&root).unwrap();
-    let jobs = jobs(per, seed);
+    let jobs = jobs(per, seed, &cad_sources(&root));
     let start = Instant::now();
-    let (tally, failures) = campaign(&jobs, &root, workers);
+    let (tally, by_edge, failures) = campaign(&jobs, &root, workers);
     println!(
         "seed {seed}, {per} mutants per example and subcommand, {} runs, {workers} workers, {:.1} s; bounds: {CPU_SECONDS} s CPU, {} GiB address space, budget {} GiB",
         jobs.len(),
@@ -588,6 +870,11 @@ fn mutation_campaign_through_the_binary() {
     }
     let all = Tally::total(tally.values());
     println!("{}", all.row("all"));
+    println!("\nBy the edge of the operating system the run met:\n");
+    println!("| edge | mutants | successes | clean errors | panics | past bound | leftovers | unclear | crashes |\n|---|---|---|---|---|---|---|---|---|");
+    for (edge, t) in &by_edge {
+        println!("{}", t.row(edge));
+    }
     assert_eq!(all.mutants, jobs.len());
     assert!(all.ok > 0 && all.clean > 0, "both outcomes must occur");
     if !failures.is_empty() {
@@ -646,6 +933,12 @@ const API_REQUESTS: &[(&str, &str, &str)] = &[
     ("POST", "/api/undo?nu=16&nv=32", ""),
     ("GET", "/api/frame?nu=16&nv=32&color=mean", ""),
     ("GET", "/api/analyze", ""),
+    // The server's save errors: a read-only file, a name longer than a file system takes.
+    ("POST", "/api/save", r#"{"path":"locked.toml"}"#),
+    ("POST", "/api/save", r#"{"path":"LONGNAME.toml"}"#),
+    // A wrong method, and a body the request does not read.
+    ("GET", "/api/new", ""),
+    ("POST", "/api/new", r#"{"nu":16,"nv":32}"#),
 ];
 
 /// User and system CPU time of process `pid` so far, in seconds (Linux `/proc/<pid>/stat`).
@@ -679,9 +972,12 @@ fn http(host: &str, token: &str, method: &str, path: &str, body: &[u8]) -> Optio
 
 /// The designer's API under mutated requests: `pdeshape serve` runs as a child (under the
 /// campaign's address-space limit) and gets mutants of [`API_REQUESTS`] (bodies and queries:
-/// `PDESHAPE_CAMPAIGN_MUTANTS` × 40 of them). Every answer must be 200 or a 4xx with a clear
-/// one-line message, each request within [`CPU_SECONDS`] of the server's CPU time, the server
-/// must keep serving, and its directory must hold no temporary file at the end.
+/// `PDESHAPE_CAMPAIGN_MUTANTS` × 40 of them; among them saves to a read-only file and to a
+/// 300-character name, a wrong method and a body the request does not read). Every answer must
+/// be 200 or a 4xx with a clear one-line JSON message that does not name the server's own
+/// directory (a 5xx, a reset, an empty 405 fail), each request within [`CPU_SECONDS`] of the
+/// server's CPU time, the server must keep serving, and its directory must hold no temporary
+/// file at the end.
 #[test]
 fn designer_api_campaign() {
     use std::io::BufRead;
@@ -693,6 +989,19 @@ fn designer_api_campaign() {
         dir.path().join("cup.toml"),
     )
     .unwrap();
+    // A read-only design file the saves must refuse with a 4xx naming it, never 500.
+    let locked = dir.path().join("locked.toml");
+    std::fs::write(&locked, "# locked\n").unwrap();
+    let mut perms = std::fs::metadata(&locked).unwrap().permissions();
+    perms.set_readonly(true);
+    std::fs::set_permissions(&locked, perms).unwrap();
+    // No answer may name the server's own directory.
+    let root_shown = dir
+        .path()
+        .canonicalize()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
     let mut child = Command::new("sh")
         .arg("-c")
         .arg(format!(
@@ -725,6 +1034,8 @@ fn designer_api_campaign() {
     let mut failures = Vec::new();
     for i in 0..per {
         let (method, path, body) = API_REQUESTS[i % API_REQUESTS.len()];
+        let long = "n".repeat(300);
+        let body = &body.replace("LONGNAME", &long);
         // Mostly the body is mutated; one request in four mutates the query instead.
         let (path, body) = if i % 4 == 3 {
             (mutate::mutate(path, &mut rng), body.to_string())
@@ -770,6 +1081,10 @@ fn designer_api_campaign() {
                 // Outside `/api/` (a mutated path) the page's router answers, with a status only.
                 match mutate::unclear(&message) {
                     _ if !path.starts_with("/api/") => (Outcome::CleanError, String::new()),
+                    _ if message.contains(&*root_shown) => (
+                        Outcome::Unclear,
+                        format!("{status}: the server's own path: {}", first(&message)),
+                    ),
                     _ if message.contains('\n') => (
                         Outcome::Unclear,
                         format!("{status}: several lines: {}", first(&message)),
@@ -861,6 +1176,8 @@ fn regression_corpus_through_the_binary() {
                 ext: ext.clone(),
                 args,
                 text: std::fs::read(&p).unwrap(),
+                edge: mutate::Edge::Plain,
+                extra: Vec::new(),
             };
             let work = tempfile::tempdir().unwrap();
             let input = format!("in.{ext}");
@@ -899,7 +1216,7 @@ fn shell_designs_reach_the_stand_in_solver_and_leave_nothing() {
             std::fs::write(work.path().join("in.toml"), text).unwrap();
             let mut a: Vec<String> = vec![args[0].into(), "in.toml".into()];
             a.extend(args[1..].iter().map(|s| s.to_string()));
-            let out = run_limited(work.path(), &a, Some(ccx.as_path())).expect("finishes");
+            let out = run_limited(work.path(), &a, Some(ccx.as_path()), None).expect("finishes");
             let stderr = String::from_utf8_lossy(&out.stderr).to_string();
             assert_eq!(out.status.code(), Some(1), "{name} {args:?}: {stderr}");
             assert_eq!(
@@ -920,6 +1237,8 @@ fn shell_designs_reach_the_stand_in_solver_and_leave_nothing() {
                 ext: "toml".into(),
                 args,
                 text: text.clone().into_bytes(),
+                edge: mutate::Edge::Plain,
+                extra: Vec::new(),
             };
             let (o, why) = judge(&job, work.path(), "in.toml", Some(ccx.as_path()));
             assert_eq!(o, Outcome::CleanError, "{name} {args:?}: {why}");

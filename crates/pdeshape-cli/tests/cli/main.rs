@@ -12,6 +12,7 @@ mod cli;
 mod common;
 mod design_ops;
 mod dynamic;
+mod edges;
 mod fd;
 mod fill;
 mod fit;
