@@ -26,6 +26,7 @@ pub mod fourier;
 pub mod linalg;
 pub mod majorant;
 pub mod nsided;
+pub mod number;
 mod quadrature;
 pub mod scalar;
 pub mod spline;

@@ -32,7 +32,7 @@
 pub use pdeshape_apps::{anim, fill, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{
-    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, nsided, scalar, spline,
+    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, nsided, number, scalar, spline,
     splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
