@@ -23,7 +23,10 @@ from typing import Any
 
 from ._pdeshape import Design, DesignError, fit_mesh, version
 
-__all__ = ["Design", "DesignError", "fit", "version"]
+__all__ = ["Design", "DesignError", "fit", "version", "__version__"]
+
+#: The package's version (the library's: ``pdeshape.version()``).
+__version__: str = version()
 
 #: The mesh file extensions :func:`fit` reads.
 MESH_EXTENSIONS = (".obj", ".stl", ".ply")

@@ -363,29 +363,39 @@ impl Design {
     }
 
     /// The mesh of [`Design::mesh`] as a `trimesh.Trimesh` (needs the trimesh package).
-    #[pyo3(signature = (nu = None, nv = None, separate_patches = false))]
+    /// Each triangle's surface is the face attribute `patch` (an index into the metadata's
+    /// `patches`); the metadata has the design's `title`, `units`, `file`, `patches` and
+    /// `parameters`; `welded=False` gives each surface's grid as sampled, with every vertex's
+    /// `uv` (a welded vertex has several, so the welded mesh has none).
+    #[pyo3(signature = (nu = None, nv = None, separate_patches = false, welded = true))]
     fn to_trimesh<'py>(
         slf: &Bound<'py, Self>,
         nu: Option<usize>,
         nv: Option<usize>,
         separate_patches: bool,
+        welded: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         slf.py()
             .import("pdeshape._convert")?
-            .call_method1("to_trimesh", (slf, nu, nv, separate_patches))
+            .call_method1("to_trimesh", (slf, nu, nv, separate_patches, welded))
     }
 
     /// The mesh of [`Design::mesh`] as a `pyvista.PolyData` (needs the pyvista package).
-    #[pyo3(signature = (nu = None, nv = None, separate_patches = false))]
+    /// Each triangle's surface is the face attribute `patch` (an index into the metadata's
+    /// `patches`); the metadata has the design's `title`, `units`, `file`, `patches` and
+    /// `parameters`; `welded=False` gives each surface's grid as sampled, with every vertex's
+    /// `uv` (a welded vertex has several, so the welded mesh has none).
+    #[pyo3(signature = (nu = None, nv = None, separate_patches = false, welded = true))]
     fn to_pyvista<'py>(
         slf: &Bound<'py, Self>,
         nu: Option<usize>,
         nv: Option<usize>,
         separate_patches: bool,
+        welded: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         slf.py()
             .import("pdeshape._convert")?
-            .call_method1("to_pyvista", (slf, nu, nv, separate_patches))
+            .call_method1("to_pyvista", (slf, nu, nv, separate_patches, welded))
     }
 
     /// The TOML text the design was read from.
@@ -406,6 +416,12 @@ impl Design {
         self.spec.title.clone()
     }
 
+    /// The design's length unit (`units`: `mm`, `cm`, `m` or `in`), if it declares one.
+    #[getter]
+    fn units(&self) -> Option<&'static str> {
+        self.spec.units.map(|u| u.as_str())
+    }
+
     /// The names of the curves of `[curves]`, sorted.
     #[getter]
     fn curves(&self) -> Vec<String> {
@@ -419,22 +435,72 @@ impl Design {
         Ok(s.names().iter().map(|n| n.to_string()).collect())
     }
 
-    /// The parameters of `[optimize]`: dicts of `name`, `min`, `max`, `initial` (empty without
-    /// an `[optimize]` section).
-    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+    /// The design's declared parameters with their bounds and values, as dicts: each
+    /// `[[parameters]]` entry (`source` "parameters": `name`, `kind`, `curve`, `with`, `min`,
+    /// `max`, `value` — the one set by `with_params`, else the file's, else the neutral one —
+    /// `neutral` and `drives`, what it moves in words), then each parameter of `[optimize]`
+    /// (`source` "optimize": `name`, `min`, `max`, `initial`, `value`). Empty when the design
+    /// declares none; [`Design::parameter_names`] lists every other name `with_params` takes.
+    fn parameters<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let out = PyList::empty(py);
+        if !self.spec.parameters.is_empty() {
+            let solved = self.solved(py)?;
+            let d = diagnostics::diagnose(&self.spec, &solved);
+            for p in &d.parameters {
+                let e = PyDict::new(py);
+                e.set_item("source", "parameters")?;
+                e.set_item("name", &p.name)?;
+                e.set_item("kind", p.kind)?;
+                e.set_item("curve", &p.curve)?;
+                e.set_item("with", &p.with)?;
+                e.set_item("min", p.min)?;
+                e.set_item("max", p.max)?;
+                e.set_item("value", p.value)?;
+                e.set_item("neutral", p.neutral)?;
+                e.set_item("drives", &p.drives)?;
+                out.append(e)?;
+            }
+        }
         if let Some(opt) = &self.spec.optimize {
             let ps = Parameters::new(&self.spec, opt).map_err(|e| self.located(&e))?;
             for p in &ps.list {
                 let d = PyDict::new(py);
+                d.set_item("source", "optimize")?;
                 d.set_item("name", &p.name)?;
                 d.set_item("min", p.min)?;
                 d.set_item("max", p.max)?;
                 d.set_item("initial", p.initial)?;
+                let set = self
+                    .params
+                    .iter()
+                    .find(|(n, _)| n == &p.name)
+                    .map(|(_, v)| *v);
+                d.set_item("value", set.unwrap_or(p.initial))?;
                 out.append(d)?;
             }
         }
         Ok(out)
+    }
+
+    /// Every name `with_params` takes: the declared parameters' ([`Design::parameters`]), then
+    /// the book's notation for this design (`a`, and per curve `<curve>T<x|y|z>`,
+    /// `<curve>R<x|y|z>`, `<curve>D<x|y|z>`, `<curve>cT` for a B-spline), which have no bounds.
+    fn parameter_names(&self) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .spec
+            .parameters
+            .iter()
+            .map(|p| p.name.clone())
+            .collect();
+        if let Some(opt) = &self.spec.optimize {
+            out.extend(opt.parameters.iter().map(|p| p.name.clone()));
+        }
+        for n in design::book_names(&self.spec) {
+            if !out.contains(&n) {
+                out.push(n);
+            }
+        }
+        out
     }
 
     /// The parameter values set so far by `set_params`, as a dict.
@@ -572,23 +638,28 @@ impl Design {
         Ok(d)
     }
 
-    /// `X` and its partial derivatives at the points `(u[i], v[i])` of one surface: a dict of
-    /// `x, xu, xv, xuu, xuv, xvv`, each `(n, 3) f64`.
-    #[pyo3(signature = (u, v, patch = None))]
+    /// `X` and its partial derivatives at the points `(u, v)` of one surface: a dict of `x, xu,
+    /// xv, xuu, xuv, xvv`, each shaped like `u` and `v` broadcast together (NumPy's rules:
+    /// scalars, lists, arrays of any shape) with a trailing 3. `patch` (index or name) is
+    /// required when the design has several surfaces. A parameter outside the surface's domain
+    /// raises, unless `clamp=True` moves it to the nearest end; a periodic one is wrapped.
+    #[pyo3(signature = (u, v, patch = None, clamp = false))]
     fn evaluate<'py>(
         &mut self,
         py: Python<'py>,
-        u: PyReadonlyArray1<'py, f64>,
-        v: PyReadonlyArray1<'py, f64>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
         patch: Option<&Bound<'py, PyAny>>,
+        clamp: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (solved, k) = self.surface_of(py, patch)?;
-        let (u, v) = same_length(u.as_slice()?, v.as_slice()?)?;
         let s = solved.surfaces[k].surface();
-        let ps: Vec<_> = py.detach(|| u.iter().zip(v).map(|(&a, &b)| s.partials(a, b)).collect());
+        let grid = Broadcast::new(py, u, v)?;
+        let (u, v) = grid.in_domain(s, &solved.surfaces[k].name, clamp)?;
+        let ps: Vec<_> = py.detach(|| u.iter().zip(&v).map(|(&a, &b)| s.partials(a, b)).collect());
         let d = PyDict::new(py);
         let pick = |f: fn(&pdeshape::surface::Partials) -> pdeshape::Vec3| {
-            vec3s(
+            grid.shaped3(
                 py,
                 ps.iter().map(|p| {
                     let x = f(p);
@@ -596,68 +667,73 @@ impl Design {
                 }),
             )
         };
-        d.set_item("x", pick(|p| p.x))?;
-        d.set_item("xu", pick(|p| p.xu))?;
-        d.set_item("xv", pick(|p| p.xv))?;
-        d.set_item("xuu", pick(|p| p.xuu))?;
-        d.set_item("xuv", pick(|p| p.xuv))?;
-        d.set_item("xvv", pick(|p| p.xvv))?;
+        d.set_item("x", pick(|p| p.x)?)?;
+        d.set_item("xu", pick(|p| p.xu)?)?;
+        d.set_item("xv", pick(|p| p.xv)?)?;
+        d.set_item("xuu", pick(|p| p.xuu)?)?;
+        d.set_item("xuv", pick(|p| p.xuv)?)?;
+        d.set_item("xvv", pick(|p| p.xvv)?)?;
         Ok(d)
     }
 
-    /// Curvatures at the points `(u[i], v[i])` of one surface (with respect to its normal
-    /// `X_u × X_v`): a dict of `gauss, mean, k1, k2` (each `(n,) f64`, NaN where the
-    /// parametrisation is degenerate) and `normal (n, 3)`.
-    #[pyo3(signature = (u, v, patch = None))]
+    /// Curvatures at the points `(u, v)` of one surface (with respect to its normal `X_u ×
+    /// X_v`): a dict of `gauss, mean, k1, k2` (each shaped like `u` and `v` broadcast together,
+    /// NaN where the parametrisation is degenerate) and `normal` (that shape with a trailing
+    /// 3). `patch` and `clamp` as in [`Design::evaluate`].
+    #[pyo3(signature = (u, v, patch = None, clamp = false))]
     fn curvature<'py>(
         &mut self,
         py: Python<'py>,
-        u: PyReadonlyArray1<'py, f64>,
-        v: PyReadonlyArray1<'py, f64>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
         patch: Option<&Bound<'py, PyAny>>,
+        clamp: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let (solved, k) = self.surface_of(py, patch)?;
-        let (u, v) = same_length(u.as_slice()?, v.as_slice()?)?;
         let s = solved.surfaces[k].surface();
+        let grid = Broadcast::new(py, u, v)?;
+        let (u, v) = grid.in_domain(s, &solved.surfaces[k].name, clamp)?;
         let cs: Vec<_> = py.detach(|| {
             u.iter()
-                .zip(v)
+                .zip(&v)
                 .map(|(&a, &b)| analysis::curvature(&s.partials(a, b)))
                 .collect()
         });
         let field = |f: fn(&analysis::Curvature) -> f64| {
-            array1(
+            grid.shaped(
                 py,
                 cs.iter().map(|c| c.as_ref().map_or(f64::NAN, f)).collect(),
             )
         };
         let d = PyDict::new(py);
-        d.set_item("gauss", field(|c| c.gauss))?;
-        d.set_item("mean", field(|c| c.mean))?;
-        d.set_item("k1", field(|c| c.k1))?;
-        d.set_item("k2", field(|c| c.k2))?;
+        d.set_item("gauss", field(|c| c.gauss)?)?;
+        d.set_item("mean", field(|c| c.mean)?)?;
+        d.set_item("k1", field(|c| c.k1)?)?;
+        d.set_item("k2", field(|c| c.k2)?)?;
         d.set_item(
             "normal",
-            vec3s(
+            grid.shaped3(
                 py,
                 cs.iter().map(|c| {
                     c.as_ref()
                         .map_or([f64::NAN; 3], |c| [c.normal.x, c.normal.y, c.normal.z])
                 }),
-            ),
+            )?,
         )?;
         Ok(d)
     }
 
-    /// The spine `A₀(u)` (or its `order`-th u-derivative) of a PDE patch at the values `u`:
-    /// `(n, 3) f64`.
-    #[pyo3(signature = (u, patch = None, order = 0))]
+    /// The spine `A₀(u)` (or its `order`-th u-derivative) of a PDE patch at the values `u` (a
+    /// number, a list or an array of any shape): that shape with a trailing 3. `patch` and
+    /// `clamp` as in [`Design::evaluate`].
+    #[pyo3(signature = (u, patch = None, order = 0, clamp = false))]
     fn spine<'py>(
         &mut self,
         py: Python<'py>,
-        u: PyReadonlyArray1<'py, f64>,
+        u: &Bound<'py, PyAny>,
         patch: Option<&Bound<'py, PyAny>>,
         order: usize,
+        clamp: bool,
     ) -> PyResult<Py<PyAny>> {
         let (solved, k) = self.surface_of(py, patch)?;
         let s = &solved.surfaces[k];
@@ -668,14 +744,16 @@ impl Design {
                 s.kind.word()
             ))
         })?;
-        let u = u.as_slice()?;
-        Ok(vec3s(
+        let zero = 0.0f64.into_pyobject(py)?;
+        let grid = Broadcast::new(py, u, zero.as_any())?;
+        let (u, _) = grid.in_domain(s.surface(), &s.name, clamp)?;
+        grid.shaped3(
             py,
             u.iter().map(|&t| {
                 let p = spine.spine(t, order);
                 [p.x, p.y, p.z]
             }),
-        ))
+        )
     }
 
     /// What `pdeshape check --json` reports, from the library's diagnostics: `ok`, `design`,
@@ -1048,10 +1126,131 @@ impl Design {
             None if solved.surfaces.is_empty() => {
                 return Err(err(format!("patch: {}", Error::no_surface())))
             }
+            None if solved.surfaces.len() > 1 => {
+                return Err(err(format!(
+                "patch: the design has {} surfaces ({}); name one (patch=\"{}\") or give its index",
+                solved.surfaces.len(),
+                solved.names().join(", "),
+                solved.surfaces[0].name
+            )))
+            }
             None => 0,
             Some(p) => Design::patch_index(&solved, p)?,
         };
         Ok((solved, k))
+    }
+}
+
+/// Parameters `u` and `v` broadcast together as NumPy does (scalars, lists, arrays of any
+/// shape): their values in C order and the common shape, which the results take.
+struct Broadcast {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    shape: Vec<usize>,
+}
+
+impl Broadcast {
+    fn new<'py>(
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Broadcast> {
+        let np = py.import("numpy")?;
+        let as_floats = |x: &Bound<'py, PyAny>, name: &str| -> PyResult<Bound<'py, PyAny>> {
+            np.call_method1("asarray", (x,))
+                .and_then(|a| a.call_method1("astype", ("float64",)))
+                .map_err(|_| {
+                    err(format!(
+                        "{name}: must be numbers (a number, a list or an array)"
+                    ))
+                })
+        };
+        let (ua, va) = (as_floats(u, "u")?, as_floats(v, "v")?);
+        let shape_of =
+            |a: &Bound<'_, PyAny>| -> PyResult<Vec<usize>> { a.getattr("shape")?.extract() };
+        let pair = np
+            .call_method1("broadcast_arrays", (&ua, &va))
+            .map_err(|_| {
+                err(format!(
+                    "u and v: shapes {:?} and {:?} do not broadcast together",
+                    shape_of(&ua).unwrap_or_default(),
+                    shape_of(&va).unwrap_or_default()
+                ))
+            })?;
+        let (bu, bv) = (pair.get_item(0)?, pair.get_item(1)?);
+        let shape = shape_of(&bu)?;
+        let flat = |a: &Bound<'_, PyAny>| -> PyResult<Vec<f64>> {
+            let c = np.call_method1("ascontiguousarray", (np.call_method1("ravel", (a,))?,))?;
+            let c: PyReadonlyArray1<'_, f64> = c.extract()?;
+            Ok(c.as_slice()?.to_vec())
+        };
+        Ok(Broadcast {
+            u: flat(&bu)?,
+            v: flat(&bv)?,
+            shape,
+        })
+    }
+
+    /// The parameters in the surface's domain: a periodic one wrapped, a bounded one refused
+    /// outside its range (beyond rounding), or moved to its nearest end with `clamp`.
+    fn in_domain(
+        &self,
+        s: &dyn pdeshape::Surface,
+        name: &str,
+        clamp: bool,
+    ) -> PyResult<(Vec<f64>, Vec<f64>)> {
+        let d = s.parameter_domain();
+        let fit = |values: &[f64],
+                   which: &str,
+                   range: pdeshape::surface::Interval,
+                   periodic: bool| {
+            let slack = 1e-12 * range.length().max(1.0);
+            values
+                .iter()
+                .map(|&t| {
+                    if !t.is_finite() {
+                        return Err(err(format!("{which}: {t} is not a number the surface takes")));
+                    }
+                    if periodic {
+                        return Ok(range.wrap(t));
+                    }
+                    if t >= range.start - slack && t <= range.end + slack {
+                        return Ok(range.clamp(t));
+                    }
+                    if clamp {
+                        return Ok(range.clamp(t));
+                    }
+                    Err(err(format!(
+                        "{which}: {t} is outside the domain [{}, {}] of '{name}' (pass clamp=True to move such values to the nearest end)",
+                        range.start, range.end
+                    )))
+                })
+                .collect::<PyResult<Vec<f64>>>()
+        };
+        Ok((
+            fit(&self.u, "u", d.u, d.u_periodic)?,
+            fit(&self.v, "v", d.v.interval(), d.v.is_periodic())?,
+        ))
+    }
+
+    /// Values, one per point, as an array of the common shape.
+    fn shaped(&self, py: Python<'_>, values: Vec<f64>) -> PyResult<Py<PyAny>> {
+        let a = array1(py, values);
+        Ok(a.bind(py)
+            .call_method1("reshape", (self.shape.clone(),))?
+            .unbind())
+    }
+
+    /// Vectors, one per point, as an array of the common shape with a trailing 3.
+    fn shaped3(
+        &self,
+        py: Python<'_>,
+        rows: impl ExactSizeIterator<Item = [f64; 3]>,
+    ) -> PyResult<Py<PyAny>> {
+        let a = vec3s(py, rows);
+        let mut shape = self.shape.clone();
+        shape.push(3);
+        Ok(a.bind(py).call_method1("reshape", (shape,))?.unbind())
     }
 }
 
@@ -1245,16 +1444,4 @@ fn points_array(py: Python<'_>, points: &[Vec3], dim: usize) -> Py<PyAny> {
 fn node_parameters(n: usize) -> Vec<f64> {
     let jn = (n.max(2) - 1) as f64;
     (0..n).map(|j| j as f64 / jn).collect()
-}
-
-/// The parameter arrays `u`, `v` of point queries, refused unless they pair up.
-fn same_length<'a>(u: &'a [f64], v: &'a [f64]) -> PyResult<(&'a [f64], &'a [f64])> {
-    if u.len() != v.len() {
-        return Err(err(format!(
-            "u, v: must have the same length (got {} and {})",
-            u.len(),
-            v.len()
-        )));
-    }
-    Ok((u, v))
 }

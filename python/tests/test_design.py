@@ -156,8 +156,8 @@ def test_errors_are_located(tmp_path):
         Design.load(pdeshape_example("cup.toml")).tessellate(1, 16)
     with pytest.raises(DesignError, match=r"^patch: no surface is called 'lid'"):
         Design.load(pdeshape_example("cup.toml")).evaluate(np.zeros(1), np.zeros(1), "lid")
-    with pytest.raises(DesignError, match=r"^u, v: must have the same length"):
-        Design.load(pdeshape_example("cup.toml")).evaluate(np.zeros(2), np.zeros(1))
+    with pytest.raises(DesignError, match=r"^u and v: shapes \[2\] and \[3\] do not broadcast"):
+        Design.load(pdeshape_example("cup.toml")).evaluate(np.zeros(2), np.zeros(3), "bowl")
 
 
 def test_write_refuses_bad_input_and_leaves_no_file(tmp_path, cup_path):

@@ -8,7 +8,7 @@
 #![warn(missing_docs)]
 
 use pdeshape_design::{analysis, design, memory, mesh, spec};
-use pdeshape_geometry::{formula, surface};
+use pdeshape_geometry::{formula, number, surface};
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 use pdeshape_io::{mesh_write, render};
 

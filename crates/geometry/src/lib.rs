@@ -27,6 +27,7 @@ pub mod linalg;
 pub mod majorant;
 pub mod network;
 pub mod nsided;
+pub mod number;
 mod quadrature;
 pub mod scalar;
 pub mod spline;

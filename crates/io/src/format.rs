@@ -28,9 +28,6 @@ pub enum OutputFormat {
     Iges,
 }
 
-/// What the errors of the mesh and sample formats suggest.
-const MESH_HINT: &str = "use .obj, .stl, .ply, .glb or .csv";
-
 impl OutputFormat {
     /// Every format, mesh formats first.
     pub const ALL: [OutputFormat; 7] = [
@@ -43,47 +40,48 @@ impl OutputFormat {
         OutputFormat::Iges,
     ];
 
+    /// The extensions (and names) of the format, the canonical one first: `obj`, `stl`, `ply`,
+    /// `glb`, `csv`, `step` and `stp`, `igs` and `iges`.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            OutputFormat::Obj => &["obj"],
+            OutputFormat::Stl => &["stl"],
+            OutputFormat::Ply => &["ply"],
+            OutputFormat::Glb => &["glb"],
+            OutputFormat::Csv => &["csv"],
+            OutputFormat::Step => &["step", "stp"],
+            OutputFormat::Iges => &["igs", "iges"],
+        }
+    }
+
     /// The canonical (lower-case) name, which is also the extension written: `obj`, `stl`,
     /// `ply`, `glb`, `csv`, `step`, `igs`.
     pub fn name(self) -> &'static str {
-        match self {
-            OutputFormat::Obj => "obj",
-            OutputFormat::Stl => "stl",
-            OutputFormat::Ply => "ply",
-            OutputFormat::Glb => "glb",
-            OutputFormat::Csv => "csv",
-            OutputFormat::Step => "step",
-            OutputFormat::Iges => "igs",
-        }
+        self.extensions()[0]
     }
 
-    /// The format of a name or extension, any case, with or without a leading dot: the
-    /// canonical names and `stp`, `iges`.
+    /// The format of a name or extension ([`OutputFormat::extensions`]), any case, with or
+    /// without a leading dot.
     pub fn from_name(name: &str) -> Option<OutputFormat> {
         let name = name.strip_prefix('.').unwrap_or(name);
-        match name.to_ascii_lowercase().as_str() {
-            "obj" => Some(OutputFormat::Obj),
-            "stl" => Some(OutputFormat::Stl),
-            "ply" => Some(OutputFormat::Ply),
-            "glb" => Some(OutputFormat::Glb),
-            "csv" => Some(OutputFormat::Csv),
-            "step" | "stp" => Some(OutputFormat::Step),
-            "igs" | "iges" => Some(OutputFormat::Iges),
-            _ => None,
-        }
+        Self::ALL
+            .into_iter()
+            .find(|f| f.extensions().iter().any(|e| e.eq_ignore_ascii_case(name)))
     }
 
     /// The format of a path's extension (any case); refused, naming the path or the extension,
-    /// when it has none or an unknown one.
+    /// when it has none or an unknown one (with every accepted extension, and the nearest one
+    /// when the extension looks like a typo of it).
     pub fn from_path(path: &Path) -> Result<OutputFormat> {
         let Some(ext) = path.extension() else {
             return Err(Error::invalid(format!(
-                "output path '{}' has no extension: {MESH_HINT}",
-                path.display()
+                "output path '{}' has no extension: {}",
+                path.display(),
+                extensions_hint(&Self::ALL)
             )));
         };
         let ext = ext.to_string_lossy();
-        Self::from_name(&ext).ok_or_else(|| unknown(&ext))
+        Self::from_name(&ext).ok_or_else(|| unknown(&ext, &Self::ALL))
     }
 
     /// Whether this is STEP or IGES (exact B-spline surfaces, no grid).
@@ -100,13 +98,54 @@ impl OutputFormat {
             OutputFormat::Ply => Ok(mesh::Format::Ply),
             OutputFormat::Glb => Ok(mesh::Format::Glb),
             OutputFormat::Csv => Ok(mesh::Format::Csv),
-            OutputFormat::Step | OutputFormat::Iges => Err(unknown(self.name())),
+            OutputFormat::Step | OutputFormat::Iges => Err(unknown(self.name(), &MESH_FORMATS)),
         }
     }
 }
 
-fn unknown(ext: &str) -> Error {
-    Error::invalid(format!("unknown output extension '.{ext}': {MESH_HINT}"))
+/// The mesh and sample formats (those [`OutputFormat::mesh`] turns into a mesh writer's format).
+pub const MESH_FORMATS: [OutputFormat; 5] = [
+    OutputFormat::Obj,
+    OutputFormat::Stl,
+    OutputFormat::Ply,
+    OutputFormat::Glb,
+    OutputFormat::Csv,
+];
+
+/// What a refusal of an extension suggests: "use .obj, .stl, … or .iges", every extension of
+/// `formats` ([`OutputFormat::extensions`]).
+pub fn extensions_hint(formats: &[OutputFormat]) -> String {
+    let all: Vec<String> = formats
+        .iter()
+        .flat_map(|f| f.extensions())
+        .map(|e| format!(".{e}"))
+        .collect();
+    match all.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("use {} or {last}", rest.join(", ")),
+        Some((last, _)) => format!("use {last}"),
+        None => String::new(),
+    }
+}
+
+/// The refusal of an unknown extension `ext` (without its dot) among `formats`: every accepted
+/// extension, and the nearest one when `ext` looks like a typo of it.
+pub fn unknown_extension(ext: &str, formats: &[OutputFormat]) -> Error {
+    unknown(ext, formats)
+}
+
+fn unknown(ext: &str, formats: &[OutputFormat]) -> Error {
+    // A format this output does not take (a CAD extension for a mesh) is no typo.
+    let candidates = formats.iter().flat_map(|f| f.extensions().iter().copied());
+    let guess = match OutputFormat::from_name(ext) {
+        Some(_) => None,
+        None => crate::spec::suggest::nearest(ext, candidates),
+    }
+    .map(|g| format!(" (did you mean .{g}?)"))
+    .unwrap_or_default();
+    Error::invalid(format!(
+        "unknown output extension '.{ext}'{guess}: {}",
+        extensions_hint(formats)
+    ))
 }
 
 impl From<mesh::Format> for OutputFormat {
@@ -127,7 +166,7 @@ impl std::str::FromStr for OutputFormat {
     /// A format by name ([`OutputFormat::from_name`]); an unknown name is refused with the
     /// message of an unknown extension.
     fn from_str(s: &str) -> Result<Self> {
-        Self::from_name(s).ok_or_else(|| unknown(s.strip_prefix('.').unwrap_or(s)))
+        Self::from_name(s).ok_or_else(|| unknown(s.strip_prefix('.').unwrap_or(s), &Self::ALL))
     }
 }
 

@@ -42,7 +42,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let mut text = if args.json {
         integrals_json(&built.title, &di)
     } else {
-        integrals_table(&built.title, &di)
+        integrals_table(&built.title, design.spec.units, &di)
     };
     if !built.trims.is_empty() {
         let trimmed =
@@ -64,12 +64,13 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         } else {
             text.push_str("trimmed (what remains after the holes; above: untrimmed):\n");
             for t in &trimmed {
+                use pdeshape::number::{sig, DIGITS};
                 text.push_str(&format!(
-                    "{:<14}{:>17.10e}{:>17.10e}  (area change {:.2e} from {}×{} to {}×{})\n",
+                    "{:<14}{:>14}{:>14}  (area change {} from {}×{} to {}×{})\n",
                     t.name,
-                    t.area,
-                    t.volume,
-                    t.area_change,
+                    sig(t.area, DIGITS),
+                    sig(t.volume, DIGITS),
+                    sig(t.area_change, 2),
                     t.grids[0][0],
                     t.grids[0][1],
                     t.grids[1][0],

@@ -24,10 +24,10 @@ pub(crate) struct Args {
     pub json: bool,
 }
 
-/// The text report of a solved design, ending with its conclusion and verdict.
+/// The text report of a solved design: the verdict and its reasons first, then the details.
 fn report(design: &Loaded, built: &SolvedDesign) -> String {
     let d = diagnostics::diagnose(&design.spec, built);
-    diagnostics::check_report(&design.file, &design.spec, built, &d) + &d.conclusion()
+    diagnostics::check_text(&design.file, &design.spec, built, &d)
 }
 
 /// The report as JSON: per surface its kind, operator, modes and condition errors; shared edges;

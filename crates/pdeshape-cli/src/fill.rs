@@ -66,13 +66,19 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     };
     let bytes = crate::fit::read_mesh_bytes(&args.mesh, &shown)?;
     let mut out = Output::create(&args.output)?;
-    let mesh =
-        InputMesh::read(&bytes, input).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = InputMesh::read_report(&bytes, input)
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let note = read.note();
+    let mesh = read.mesh;
     let t = Instant::now();
-    let filled = fill::fill_holes(&mesh, &options).map_err(|e| match e.place() {
-        "largest" | "max-boundary" | "grading" => CliError::input(format!("--{e}")),
-        _ => CliError::input(format!("{shown}: {e}")),
+    let filled = fill::fill_holes(&mesh, &options).map_err(|e| match (e.place(), &note) {
+        ("largest" | "max-boundary" | "grading", _) => CliError::input(format!("--{e}")),
+        (_, Some(n)) => CliError::input(format!("{shown}: {e} ({n})")),
+        (_, None) => CliError::input(format!("{shown}: {e}")),
     })?;
+    if let Some(n) = &note {
+        crate::common::note(&format!("{shown}: {n}"));
+    }
     let fill_s = t.elapsed().as_secs_f64();
     let written = filled.to_trimesh();
     let name = args

@@ -76,8 +76,16 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .transpose()?;
 
     let t = Instant::now();
-    let mesh =
-        InputMesh::read(&bytes, format).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = InputMesh::read_report(&bytes, format)
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    // What the reader did (an OBJ's objects welded into one mesh): a note after a fit, the
+    // reason's context after a refusal, so a refusal stays one line.
+    let note = read.note();
+    let with_note = |e: CliError| match &note {
+        Some(n) => CliError::input(format!("{} ({n})", e.message)),
+        None => e,
+    };
+    let mesh = read.mesh;
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let opts = FitOptions {
@@ -97,7 +105,11 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             }
         }),
         None => fit::fit_mesh(&mesh, &opts).map_err(|e| fit_error(e, &shown)),
-    }?;
+    }
+    .map_err(with_note)?;
+    if let Some(n) = &note {
+        crate::common::note(&format!("{shown}: {n}"));
+    }
     let fit_ms = t.elapsed().as_secs_f64() * 1e3;
     let mut spec = fitted.spec.clone();
     let name = args
@@ -153,28 +165,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     if let Some(p) = picture_out {
         p.commit()?;
     }
-    let mode = match fitted.mode {
-        fit::FitMode::Tube => "tube",
-        fit::FitMode::Sheet => "sheet",
-        fit::FitMode::Template => "template",
-    };
     crate::common::report(&format!(
-        "{}: {} triangles → {} patches ({mode} mode, {} modes, a = {}) in {:.0} ms; Hausdorff \
-         {:.3e}, RMS {:.3e} of the diagonal; {} bytes → {} bytes of coefficients (ratio {:.0}), \
-         {} bytes of TOML (ratio {:.1}); wrote {}\n",
-        shown,
-        m.mesh_triangles,
-        fitted.patches,
-        fitted.modes,
-        fitted.a,
+        "{shown}: {} in {:.0} ms; wrote {}\n",
+        m.summary(&fitted, args.tolerance),
         fit_ms,
-        m.hausdorff_relative,
-        m.rms_relative,
-        m.mesh_bytes,
-        m.design_bytes,
-        m.ratio,
-        m.toml_bytes,
-        m.toml_ratio,
         crate::common::destination(&args.output)
     ));
     Ok(())

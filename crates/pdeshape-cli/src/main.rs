@@ -51,8 +51,9 @@ enum Command {
     /// Search the design parameters of [optimize] (simulated annealing, then Nelder–Mead) and
     /// write the optimised design file, its mesh, picture and the search log.
     Optimize(optimize::Args),
-    /// Print the JSON schema of the design file.
-    Schema,
+    /// Print the JSON schema of the design file (or of a morph file or a fit template, with
+    /// --kind), for editors.
+    Schema(schema::Args),
     /// Solve a [blend] design (a smoothing PDE spline joining two surfaces) and write it (obj,
     /// stl, ply, glb, csv, or json for the control net), reporting the G0/G1 mismatch.
     Blend(blend::Args),
@@ -88,7 +89,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Check(args) => check::run(&args),
         Command::Curve(args) => curve::run(&args),
         Command::Optimize(args) => optimize::run(&args),
-        Command::Schema => schema::run(),
+        Command::Schema(args) => schema::run(&args),
         Command::Blend(args) => blend::run(&args),
         Command::Analyze(args) => analyze::run(&args),
         Command::Spline(args) => spline::run(&args),
@@ -99,6 +100,44 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Animate(args) => animate::run(&args),
         Command::Shell(args) => shell::run(&args),
     }
+}
+
+/// The suggestion for a misspelt subcommand, flag or value (clap's "tip" paragraph, which the
+/// one-line error would otherwise drop), as "; did you mean '…'?": of clap's candidates, the
+/// nearest to what was typed by the library's string distance, else clap's best.
+fn did_you_mean(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue};
+    let typed = [
+        ContextKind::InvalidSubcommand,
+        ContextKind::InvalidArg,
+        ContextKind::InvalidValue,
+    ]
+    .into_iter()
+    .find_map(|k| match e.get(k) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        _ => None,
+    });
+    for kind in [
+        ContextKind::SuggestedSubcommand,
+        ContextKind::SuggestedArg,
+        ContextKind::SuggestedValue,
+    ] {
+        let candidates: Vec<String> = match e.get(kind) {
+            Some(ContextValue::String(s)) => vec![s.clone()],
+            Some(ContextValue::Strings(v)) => v.clone(),
+            _ => continue,
+        };
+        let best = typed
+            .as_deref()
+            .and_then(|t| {
+                pdeshape::spec::suggest::nearest(t, candidates.iter().map(String::as_str))
+            })
+            .or(candidates.last().map(String::as_str));
+        if let Some(b) = best {
+            return format!("; did you mean '{b}'?");
+        }
+    }
+    String::new()
 }
 
 fn main() -> ExitCode {
@@ -113,9 +152,16 @@ fn main() -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    use clap::CommandFactory;
+                    let names: Vec<String> = Cli::command()
+                        .get_subcommands()
+                        .filter(|c| !c.is_hide_set())
+                        .map(|c| c.get_name().to_string())
+                        .collect();
+                    let (last, rest) = names.split_last().expect("subcommands");
                     eprintln!(
-                        "error: a subcommand is required: surface, render, check, analyze, curve, spline, blend, optimize, fit, fill, roundtrip, animate, shell, schema or serve \
-                         (see pdeshape --help)"
+                        "error: a subcommand is required: {} or {last} (see pdeshape --help)",
+                        rest.join(", ")
                     );
                     ExitCode::from(2)
                 }
@@ -131,7 +177,7 @@ fn main() -> ExitCode {
                         .collect();
                     let line = paragraph.join(" ");
                     let line = line.strip_prefix("error:").unwrap_or(&line).trim();
-                    eprintln!("error: {line}");
+                    eprintln!("error: {line}{}", did_you_mean(&e));
                     ExitCode::from(2)
                 }
             };

@@ -209,9 +209,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
                     "range: 0 to the largest".into()
                 },
             };
+            let q = |x: f64| pdeshape::number::quantity(x, "MPa");
             let note = format!(
-                ", largest shear stress from {lo:.6} MPa (blue) to {hi:.6} MPa (red), \
-                 peak {peak:.6} MPa, {}",
+                ", largest shear stress from {} (blue) to {} (red), peak {}, {}",
+                q(lo),
+                q(hi),
+                q(peak),
                 bar.note
             );
             Some((colors, bar, note))
@@ -225,9 +228,15 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             };
             let (colors, lo, hi) = crate::analyze::curvature_colors(&built, &meshes, by, range)?;
             let bar = curvature_bar(by, lo, hi, range.is_some());
+            // K is per length², H per length, in the design's units when it has them.
+            let power = if c == Coloring::Mean { -1 } else { -2 };
+            let unit = pdeshape::number::length_power(design.spec.units.map(|u| u.as_str()), power);
+            let q = |x: f64| pdeshape::number::quantity(x, &unit);
             let note = format!(
-                ", {} curvature from {lo:.6e} (blue) to {hi:.6e} (red), {}",
+                ", {} curvature from {} (blue) to {} (red), {}",
                 by.word(),
+                q(lo),
+                q(hi),
                 bar.note
             );
             Some((colors, bar, note))

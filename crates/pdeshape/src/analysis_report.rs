@@ -83,31 +83,72 @@ pub fn integrals_json(title: &Option<String>, d: &DesignIntegrals) -> String {
     s
 }
 
-/// The design's integrals as `pdeshape analyze` prints them (without trims), as a text table:
-/// the title, each patch's and the total's integrals, each patch's curvature ranges, whether the
-/// design is closed (or which caps close it), the reduced volume and the quadrature's estimated
-/// error.
-pub fn integrals_table(title: &Option<String>, d: &DesignIntegrals) -> String {
+/// The design's integrals as `pdeshape analyze` prints them (without trims), as a text table
+/// with [`crate::number::DIGITS`] significant digits and, when the design declares `units`, the
+/// unit of each column: first the total's area and volume, whether the design is closed and the
+/// quadrature's estimated error (the summary), then the title, each patch's and the total's
+/// integrals, each patch's curvature ranges, the caps and the reduced volume.
+pub fn integrals_table(
+    title: &Option<String>,
+    units: Option<crate::spec::Units>,
+    d: &DesignIntegrals,
+) -> String {
+    use crate::number::{length_power, quantity, sig, DIGITS};
+    let l = units.map(|u| u.as_str());
+    let unit = |p: i32| length_power(l, p);
+    let head = |name: &str, p: i32| match unit(p) {
+        u if u.is_empty() => name.to_string(),
+        u => format!("{name} ({u})"),
+    };
+    let v = |x: f64| sig(x, DIGITS);
     let mut s = String::new();
+    let converged = d.analyses.iter().all(|a| a.converged);
+    let _ = writeln!(
+        s,
+        "total: area {}, volume {}; {}; quadrature error {}{}",
+        quantity(d.total.area, &unit(2)),
+        quantity(d.total.volume, &unit(3)),
+        if d.closed {
+            "closed"
+        } else if d.caps.is_empty() {
+            "open"
+        } else {
+            "closed by caps"
+        },
+        sig(d.error, 2),
+        if converged {
+            ""
+        } else {
+            " (NOT converged within the node budget)"
+        }
+    );
     if let Some(t) = title {
         let _ = writeln!(s, "design: {t}");
     }
+    let _ = writeln!(s);
+    let w = 16;
     let _ = writeln!(
         s,
-        "{:<14}{:>17}{:>17}{:>17}{:>17}{:>17}{:>17}",
-        "patch", "area", "volume", "bending", "willmore", "∫K dA", "∫H dA"
+        "{:<14}{:>w$}{:>w$}{:>w$}{:>w$}{:>w$}{:>w$}",
+        "patch",
+        head("area", 2),
+        head("volume", 3),
+        "bending",
+        "willmore",
+        "∫K dA",
+        head("∫H dA", 1)
     );
     let row = |s: &mut String, name: &str, i: &Integrals| {
         let _ = writeln!(
             s,
-            "{:<14}{:>17.10e}{:>17.10e}{:>17.10e}{:>17.10e}{:>17.10e}{:>17.10e}",
+            "{:<14}{:>w$}{:>w$}{:>w$}{:>w$}{:>w$}{:>w$}",
             name,
-            i.area,
-            i.volume,
-            i.bending_energy(),
-            i.willmore(),
-            i.gauss,
-            i.mean
+            v(i.area),
+            v(i.volume),
+            v(i.bending_energy()),
+            v(i.willmore()),
+            v(i.gauss),
+            v(i.mean)
         );
     };
     for (k, i) in d.patches.iter().enumerate() {
@@ -117,20 +158,24 @@ pub fn integrals_table(title: &Option<String>, d: &DesignIntegrals) -> String {
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "{:<14}{:>17}{:>17}{:>17}{:>17}",
-        "patch", "K min", "K max", "H min", "H max"
+        "{:<14}{:>w$}{:>w$}{:>w$}{:>w$}",
+        "patch",
+        head("K min", -2),
+        head("K max", -2),
+        head("H min", -1),
+        head("H max", -1)
     );
     for (k, a) in d.analyses.iter().enumerate() {
         let sgn = d.orientation[k];
         let (h0, h1) = (a.mean_range.0 * sgn, a.mean_range.1 * sgn);
         let _ = writeln!(
             s,
-            "{:<14}{:>17.10e}{:>17.10e}{:>17.10e}{:>17.10e}",
+            "{:<14}{:>w$}{:>w$}{:>w$}{:>w$}",
             d.names[k],
-            a.gauss_range.0,
-            a.gauss_range.1,
-            h0.min(h1),
-            h0.max(h1)
+            v(a.gauss_range.0),
+            v(a.gauss_range.1),
+            v(h0.min(h1)),
+            v(h0.max(h1))
         );
     }
     let _ = writeln!(s);
@@ -147,8 +192,10 @@ pub fn integrals_table(title: &Option<String>, d: &DesignIntegrals) -> String {
                 .iter()
                 .map(|c| {
                     format!(
-                        "'{}' u = {} (planarity {:.1e})",
-                        d.names[c.patch], c.u, c.planarity
+                        "'{}' u = {} (planarity {})",
+                        d.names[c.patch],
+                        c.u,
+                        sig(c.planarity, 2)
                     )
                 })
                 .collect();
@@ -157,19 +204,9 @@ pub fn integrals_table(title: &Option<String>, d: &DesignIntegrals) -> String {
     );
     let _ = writeln!(
         s,
-        "reduced volume ν = {:.10}   (R0 = √(A/4π) = {:.10e})",
-        d.total.reduced_volume(),
-        d.total.equivalent_radius()
-    );
-    let _ = writeln!(
-        s,
-        "quadrature: estimated relative error {:.1e}{}",
-        d.error,
-        if d.analyses.iter().all(|a| a.converged) {
-            ""
-        } else {
-            " (NOT converged within the node budget)"
-        }
+        "reduced volume ν = {}   (R0 = √(A/4π) = {})",
+        v(d.total.reduced_volume()),
+        quantity(d.total.equivalent_radius(), &unit(1))
     );
     s
 }

@@ -32,7 +32,8 @@
 pub use pdeshape_apps::{anim, fill, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{
-    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, network, nsided, scalar, spline,
+    bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, network, nsided, number, scalar,
+    spline,
     splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
@@ -73,3 +74,8 @@ pub mod mesh {
 #[doc = include_str!("../../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The library page's code runs as a doc test.
+#[doc = include_str!("../../../docs/library.md")]
+#[cfg(doctest)]
+pub struct LibraryDocDoctests;

@@ -185,6 +185,44 @@ pub struct Measures {
     pub toml_ratio: f64,
 }
 
+impl Measures {
+    /// What `pdeshape fit` prints of a fit (after the mesh's name): the verdict first (whether
+    /// the Hausdorff distance is within `tolerance`, a fraction of the diagonal), then the
+    /// distances as percentages of the diagonal and in the mesh's units, the patches, and the
+    /// sizes; numbers with [`crate::number::DIGITS`] significant digits.
+    pub fn summary(&self, fitted: &super::Fit, tolerance: f64) -> String {
+        use crate::number::{sig, DIGITS};
+        let n = |x: f64| sig(x, DIGITS);
+        let mode = match fitted.mode {
+            super::FitMode::Tube => "tube",
+            super::FitMode::Sheet => "sheet",
+            super::FitMode::Template => "template",
+        };
+        let verdict = if self.hausdorff_relative <= tolerance {
+            "within"
+        } else {
+            "beyond"
+        };
+        format!(
+            "Hausdorff {}% of the diagonal ({verdict} the tolerance {}%), RMS {}%; \
+             {} triangles → {} patches ({mode} mode, {} modes, a = {}); {} bytes → {} bytes of \
+             coefficients (ratio {}), {} bytes of TOML (ratio {})",
+            n(100.0 * self.hausdorff_relative),
+            n(100.0 * tolerance),
+            n(100.0 * self.rms_relative),
+            self.mesh_triangles,
+            fitted.patches,
+            fitted.modes,
+            n(fitted.a),
+            self.mesh_bytes,
+            self.design_bytes,
+            n(self.ratio),
+            self.toml_bytes,
+            n(self.toml_ratio)
+        )
+    }
+}
+
 /// Per-point distances, kept for pictures.
 #[derive(Clone, Debug)]
 pub struct PointDistances {

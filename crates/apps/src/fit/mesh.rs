@@ -1,6 +1,8 @@
 //! Triangle meshes read from OBJ, STL and PLY files (through `tobj`, `stl_io` and `ply-rs`), and
 //! the checks the fitting needs: finite coordinates, valid indices, a size limit, edge
-//! manifoldness, closedness and connectedness.
+//! manifoldness, closedness and connectedness. An OBJ file of several objects or groups (the
+//! tool's own OBJ has one object per patch, Blender writes one per object) is read as one mesh
+//! welded by position, and [`MeshRead::note`] says so.
 
 use crate::{Error, Result, Vec3};
 use std::collections::HashMap;
@@ -56,6 +58,49 @@ impl MeshFormat {
     }
 }
 
+/// A mesh read from a file, with what the reader did to it beyond parsing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshRead {
+    /// The mesh.
+    pub mesh: InputMesh,
+    /// Set when an OBJ file's several objects or groups were joined into one mesh.
+    pub joined: Option<Joined>,
+}
+
+/// How an OBJ file's objects or groups were joined into one mesh ([`InputMesh::read_report`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Joined {
+    /// Objects, groups or material runs of the file (each a model to the OBJ parser).
+    pub parts: usize,
+    /// Vertices merged into another one at the same position (within [`WELD_FRACTION`] of the
+    /// bounding-box diagonal).
+    pub welded: usize,
+    /// Triangles dropped because welding left two of their corners equal.
+    pub dropped: usize,
+}
+
+/// Vertices of different OBJ objects closer than this fraction of the mesh's bounding-box
+/// diagonal are one vertex (the design layer's weld uses the same fraction).
+pub const WELD_FRACTION: f64 = 1e-6;
+
+impl MeshRead {
+    /// One line for the user when the reader joined parts of the file, `None` otherwise.
+    pub fn note(&self) -> Option<String> {
+        let j = self.joined?;
+        let mut text = format!(
+            "the OBJ file has {} objects or groups, read as one mesh: {} vertices welded by position",
+            j.parts, j.welded
+        );
+        if j.dropped > 0 {
+            text += &format!(
+                ", {} triangles left with two equal corners dropped",
+                j.dropped
+            );
+        }
+        Some(text)
+    }
+}
+
 impl InputMesh {
     /// A mesh from positions and triangles, checked: at least one triangle, finite coordinates
     /// (the error names the vertex), indices in range (naming the triangle), at most
@@ -97,13 +142,43 @@ impl InputMesh {
 
     /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ or PLY file are
     /// split into fans of triangles; coincident STL corners are merged into one vertex.
+    /// An OBJ file of several objects or groups is one mesh, welded by position
+    /// ([`InputMesh::read_report`] says when).
     pub fn read(bytes: &[u8], format: MeshFormat) -> Result<Self> {
-        let (positions, triangles) = match format {
+        Ok(InputMesh::read_report(bytes, format)?.mesh)
+    }
+
+    /// [`InputMesh::read`], with what the reader did: whether an OBJ file's objects or groups
+    /// were joined, and how many vertices were welded.
+    pub fn read_report(bytes: &[u8], format: MeshFormat) -> Result<MeshRead> {
+        let (positions, triangles, parts) = match format {
             MeshFormat::Obj => read_obj(bytes)?,
-            MeshFormat::Stl => read_stl(bytes)?,
-            MeshFormat::Ply => read_ply(bytes)?,
+            MeshFormat::Stl => {
+                let (p, t) = read_stl(bytes)?;
+                (p, t, 1)
+            }
+            MeshFormat::Ply => {
+                let (p, t) = read_ply(bytes)?;
+                (p, t, 1)
+            }
         };
-        InputMesh::new(positions, triangles)
+        if parts < 2 {
+            return Ok(MeshRead {
+                mesh: InputMesh::new(positions, triangles)?,
+                joined: None,
+            });
+        }
+        // Checked before welding, so a bad value or index is named as the file has it.
+        let mesh = InputMesh::new(positions, triangles)?;
+        let (mesh, welded, dropped) = weld_by_position(mesh)?;
+        Ok(MeshRead {
+            mesh,
+            joined: Some(Joined {
+                parts,
+                welded,
+                dropped,
+            }),
+        })
     }
 
     /// The corners of triangle `t`.
@@ -260,6 +335,75 @@ impl InputMesh {
     }
 }
 
+/// Merges vertices closer than [`WELD_FRACTION`] of the bounding-box diagonal into the first of
+/// them (cells of that size, each vertex compared with the kept vertices of the 27 cells around
+/// it), renumbers the triangles and drops those left with two equal corners; returns the mesh,
+/// the number of merged vertices and of dropped triangles.
+fn weld_by_position(mesh: InputMesh) -> Result<(InputMesh, usize, usize)> {
+    let eps = WELD_FRACTION * mesh.diagonal();
+    let (lo, _) = mesh.bounds();
+    let cell = |p: &Vec3| -> [i64; 3] {
+        if eps > 0.0 {
+            [0, 1, 2].map(|c| ((p[c] - lo[c]) / eps).floor() as i64)
+        } else {
+            [0; 3]
+        }
+    };
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut map = vec![u32::MAX; mesh.positions.len()];
+    let mut used = vec![false; mesh.positions.len()];
+    for t in &mesh.triangles {
+        for &i in t {
+            used[i as usize] = true;
+        }
+    }
+    let mut welded = 0;
+    for (k, p) in mesh.positions.iter().enumerate() {
+        if !used[k] {
+            continue;
+        }
+        let c = cell(p);
+        let mut found = None;
+        'search: for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    if let Some(list) = cells.get(&[c[0] + dx, c[1] + dy, c[2] + dz]) {
+                        if let Some(&j) = list
+                            .iter()
+                            .find(|&&j| (positions[j as usize] - p).norm() <= eps)
+                        {
+                            found = Some(j);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        map[k] = match found {
+            Some(j) => {
+                welded += 1;
+                j
+            }
+            None => {
+                let j = positions.len() as u32;
+                positions.push(*p);
+                cells.entry(c).or_default().push(j);
+                j
+            }
+        };
+    }
+    let before = mesh.triangles.len();
+    let triangles: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| map[i as usize]))
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .collect();
+    let dropped = before - triangles.len();
+    Ok((InputMesh::new(positions, triangles)?, welded, dropped))
+}
+
 fn find(parent: &mut [u32], mut a: u32) -> u32 {
     while parent[a as usize] != a {
         let g = parent[parent[a as usize] as usize];
@@ -304,7 +448,9 @@ fn fan(out: &mut Vec<[u32; 3]>, corners: &[u32]) {
     }
 }
 
-fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
+/// The positions and triangles of an OBJ file, and how many models (objects, groups, material
+/// runs) the parser found.
+fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
     // Count faces before parsing, so a huge file is refused before it is stored.
     let (mut faces, mut vertices) = (0, 0);
     for l in bytes.split(|&b| b == b'\n') {
@@ -359,7 +505,7 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
             at += a;
         }
     }
-    Ok((positions, triangles))
+    Ok((positions, triangles, models.len()))
 }
 
 fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
@@ -672,6 +818,58 @@ mod tests {
         fin.triangles.push([0, 1, 4]);
         let e = fin.require_closed().unwrap_err().to_string();
         assert!(e.contains("not manifold: 1 edges"), "{e}");
+    }
+
+    /// An OBJ of two objects, each with its own copies of the shared vertices (as an exporter
+    /// writes one object per part), is one closed mesh once welded; a single object is read as
+    /// it is, without a note.
+    #[test]
+    fn obj_objects_are_welded_into_one_mesh() {
+        let t = tetra();
+        // The second object's copies are moved by `shift` along x.
+        let obj = |shift: f64| {
+            let mut obj = String::new();
+            let mut next = 1;
+            for (name, tris) in [("a", &t.triangles[..2]), ("b", &t.triangles[2..])] {
+                obj += &format!("o {name}\n");
+                for tr in tris {
+                    for &i in tr {
+                        let p = t.positions[i as usize];
+                        let d = if name == "b" { shift } else { 0.0 };
+                        obj += &format!("v {} {} {}\n", p.x + d, p.y, p.z);
+                    }
+                    obj += &format!("f {} {} {}\n", next, next + 1, next + 2);
+                    next += 3;
+                }
+            }
+            obj
+        };
+        // Copies that differ by far less than the weld's distance are one vertex.
+        let obj_close = obj(1e-9);
+        let read = InputMesh::read_report(obj_close.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(read.mesh.positions.len(), 4);
+        assert_eq!(read.mesh.triangles.len(), 4);
+        assert_eq!(read.mesh.require_closed().unwrap().components, 1);
+        let j = read.joined.unwrap();
+        assert_eq!((j.parts, j.welded, j.dropped), (2, 8, 0));
+        let note = read.note().unwrap();
+        assert!(note.contains("2 objects or groups"), "{note}");
+        assert!(note.contains("8 vertices welded"), "{note}");
+        // The same faces as groups weld alike.
+        let groups = obj_close.replace("o a", "g a").replace("o b", "g b");
+        let read = InputMesh::read_report(groups.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(read.mesh.require_closed().unwrap().components, 1);
+        // Objects apart stay apart, and the fit's check says so.
+        let apart = obj(5.0);
+        let read = InputMesh::read_report(apart.as_bytes(), MeshFormat::Obj).unwrap();
+        let e = read.mesh.require_single().unwrap_err().to_string();
+        assert!(e.contains("2 separate components"), "{e}");
+        // One object: no weld, no note.
+        let single = obj_close.replace("o b\n", "");
+        let read = InputMesh::read_report(single.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(read.joined, None);
+        assert_eq!(read.note(), None);
+        assert_eq!(read.mesh.positions.len(), 12);
     }
 
     #[test]

@@ -47,10 +47,12 @@ mod tube;
 
 pub use basis::{position_weights, weights};
 pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
-pub use mesh::{InputMesh, MeshFormat, Topology, MAX_TRIANGLES};
+pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use picture::picture;
 pub use section::{fourier, AxisFrame, Piece, Section, Slicer};
 pub use sheet::{fit_sheet, SHEET_AM};
-pub use template::{fit_template, parse_template, End, Part, PartMode, Plane, Template};
+pub use template::{
+    fit_template, parse_template, template_schema, End, Part, PartMode, Plane, Template,
+};
 pub use tube::{fit_tube, TUBE_A};

@@ -61,6 +61,86 @@ pub(super) const MAX_PARTS: usize = 256;
 /// Most planes given for one part.
 pub(super) const MAX_PLANES: usize = 1024;
 
+/// The JSON schema of a template file (draft 7), for editors: the keys [`parse_template`]
+/// reads, their types and limits. `parse_template` remains the reference (it also checks what a
+/// schema cannot say: unit normals, increasing positions, the ends each mode allows).
+pub fn template_schema() -> serde_json::Value {
+    let v3 = |what: &str| {
+        serde_json::json!({
+            "description": what,
+            "type": "array", "items": { "type": "number" }, "minItems": 3, "maxItems": 3
+        })
+    };
+    let end = |which: &str| {
+        serde_json::json!({
+            "description": format!(
+                "How the part ends {which}: open (at its plane's section; default), pole (a \
+                 tube closed at the mesh's extreme vertex beyond the plane) or edge (a sheet \
+                 ending at the arc of the mesh's boundary beyond the plane)."
+            ),
+            "type": "string", "enum": ["open", "pole", "edge"]
+        })
+    };
+    serde_json::json!({
+        "$schema": "http://json-schema.org/draft-07/schema#",
+        "title": "pdeshape fit template: the sectioning planes and the mode of each part",
+        "type": "object",
+        "additionalProperties": false,
+        "required": ["parts"],
+        "properties": {
+            "a": {
+                "description": "The smoothing parameter of every part (> 0); without it, chosen per chain.",
+                "type": "number", "exclusiveMinimum": 0
+            },
+            "parts": {
+                "description": "The parts, in order ([[parts]]).",
+                "type": "array", "minItems": 1, "maxItems": MAX_PARTS,
+                "items": {
+                    "type": "object",
+                    "additionalProperties": false,
+                    "required": ["name"],
+                    "properties": {
+                        "name": {
+                            "description": "The part's name: letters, digits, '_' and '-'.",
+                            "type": "string", "pattern": "^[A-Za-z0-9_-]+$"
+                        },
+                        "mode": {
+                            "description": "tube (closed loops, G1 Hermite patches; default) or sheet (open profiles, four-position patches).",
+                            "type": "string", "enum": ["tube", "sheet"]
+                        },
+                        "axis": v3("Planes normal to this axis (with positions)."),
+                        "origin": v3("The planes pass through origin + h·axis (default [0, 0, 0])."),
+                        "positions": {
+                            "description": "The values h of the planes along the axis, increasing (at least two).",
+                            "type": "array", "items": { "type": "number" },
+                            "minItems": 2, "maxItems": MAX_PLANES
+                        },
+                        "planes": {
+                            "description": "The planes one by one (at least two; instead of axis and positions).",
+                            "type": "array", "minItems": 2, "maxItems": MAX_PLANES,
+                            "items": {
+                                "type": "object",
+                                "additionalProperties": false,
+                                "required": ["point", "normal"],
+                                "properties": {
+                                    "point": v3("A point of the plane."),
+                                    "normal": v3("The plane's normal: the part runs the way the normals point.")
+                                }
+                            }
+                        },
+                        "start": end("before its first plane"),
+                        "end": end("after its last plane"),
+                        "sections": {
+                            "description": "Fine sections of the part, 4 to 4096 (default 48).",
+                            "type": "integer", "minimum": 4, "maximum": 4096
+                        }
+                    }
+                }
+            }
+        }
+    })
+}
+
 /// A parsed template.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Template {

@@ -135,6 +135,14 @@ fn syntax_and_schema_errors_name_the_place() {
         e.starts_with("curves.rim.radiuss: unknown field `radiuss`"),
         "{e}"
     );
+    assert!(e.ends_with("did you mean `radius`?"), "{e}");
+    // A key every curve accepts is suggested too, and a type name.
+    let e = err_of("[curves.rim]\ntype = \"circle\"\nradius = 1\nv_orign = 1\n");
+    assert!(e.ends_with("did you mean `v_origin`?"), "{e}");
+    let e = err_of("[curves.rim]\ntype = \"circel\"\nradius = 1\n");
+    assert!(e.ends_with("did you mean `circle`?"), "{e}");
+    let e = err_of("[curves.rim]\ntype = \"circle\"\nradius = 1\nzzzzzzzz = 1\n");
+    assert!(!e.contains("did you mean"), "{e}");
     let e = err_of("colour = 1\n");
     assert!(e.starts_with("colour: unknown field `colour`"), "{e}");
     let e = err_of("[solver]\nmodes = \"many\"\n");
@@ -176,7 +184,7 @@ fn semantic_errors_name_the_place() {
         ),
         (
             design(&FOUR.replace("\"rim\" },", "\"rimm\" },"), ""),
-            "conditions[2].curve: unknown curve 'rimm' (known: base, out, rim, tan)",
+            "conditions[2].curve: unknown curve 'rimm' (did you mean 'rim'? known: base, out, rim, tan)",
         ),
         (
             design(
@@ -358,7 +366,7 @@ fn the_schema_is_json_and_lists_the_curve_kinds() {
         assert!(s.contains(&format!("\"{kind}\"")), "{kind}");
     }
     // The common modifiers are part of every curve kind.
-    let variants = v["definitions"]["CurveSpec"]["oneOf"].as_array().unwrap();
+    let variants = crate::spec::schema::curve_variants(&v);
     assert_eq!(variants.len(), 13);
     for variant in variants {
         assert!(variant["properties"]["transform"].is_object());

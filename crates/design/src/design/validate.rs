@@ -255,7 +255,15 @@ pub(crate) fn unknown_curve(
     } else {
         format!("known: {}", known.join(", "))
     };
-    Error::invalid(format!("unknown curve '{}' ({known})", user_text(name))).at(place)
+    let guess = match crate::spec::suggest::nearest(name, curves.keys().map(String::as_str)) {
+        Some(n) => format!("did you mean '{}'? ", user_text(n)),
+        None => String::new(),
+    };
+    Error::invalid(format!(
+        "unknown curve '{}' ({guess}{known})",
+        user_text(name)
+    ))
+    .at(place)
 }
 
 /// Every reference exists and the references between named curves have no cycle.

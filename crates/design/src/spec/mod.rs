@@ -20,10 +20,11 @@ mod optimize;
 mod parametric;
 mod params;
 pub mod rig;
-mod schema;
+pub(crate) mod schema;
 mod shell;
 mod spine;
 mod spline;
+pub mod suggest;
 pub mod time;
 mod trim;
 mod types;
@@ -100,15 +101,21 @@ fn located(e: serde_path_to_error::Error<toml::de::Error>, outer: &str) -> Error
             } else {
                 format!("{path}.{inner}")
             };
-            Error::invalid(one_line(rest)).at(&place)
+            Error::invalid(suggest::with_suggestion(&one_line(rest))).at(&place)
         }
-        (None, rest) => Error::invalid(one_line(rest)).at(&path),
+        (None, rest) => Error::invalid(suggest::with_suggestion(&one_line(rest))).at(&path),
     }
 }
 
 /// The JSON schema of the design file (pretty-printed).
 pub fn json_schema() -> String {
     serde_json::to_string_pretty(&schema::schema_value())
+        .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+/// The JSON schema of a morph file (`[time]`, `[morph]`, `title`, `[output]`; pretty-printed).
+pub fn morph_json_schema() -> String {
+    serde_json::to_string_pretty(&schema::morph_schema_value())
         .unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
 

@@ -15,12 +15,31 @@ pub(super) fn schema_value() -> Value {
     add_limits(&mut v);
     add_descriptions(&mut v);
     allow_time_formulas(&mut v);
+    tag_curves_by_type(&mut v);
     if let Value::Object(root) = &mut v {
         if let Some(Value::Object(props)) = root.get_mut("properties") {
             if let Some(Value::Object(curves)) = props.get_mut("curves") {
                 curves.insert("maxProperties".into(), json!(MAX_CURVES));
             }
         }
+    }
+    v
+}
+
+/// The schema of a morph file ([`super::time::MorphFile`]): schemars' schema without
+/// single-element `allOf` wrappers, the ease's bound and a title saying what it is for.
+pub(super) fn morph_schema_value() -> Value {
+    let schema = schemars::schema_for!(super::time::MorphFile);
+    let mut v = serde_json::to_value(&schema).unwrap_or(Value::Null);
+    unwrap_all_of(&mut v);
+    if let Value::Object(root) = &mut v {
+        root.insert(
+            "title".into(),
+            json!("pdeshape morph file: two designs of one structure interpolated over time"),
+        );
+    }
+    if let Some(Value::Object(ease)) = v.pointer_mut("/definitions/MorphSpec/properties/ease") {
+        ease.insert("exclusiveMinimum".into(), json!(0));
     }
     v
 }
@@ -116,6 +135,106 @@ fn allow_time_formulas(root: &mut Value) {
             _ => {}
         }
     }
+}
+
+/// `CurveSpec`'s `oneOf` of one object per `type` becomes a chain of `if`/`then`/`else` on
+/// `type` (`if type is "circle" then the circle's object else if …`, the last `else` naming the
+/// types), so a validator reports a key the chosen type does not take ("Additional properties
+/// are not allowed ('rx' was unexpected)") or a missing one, instead of "not valid under any of
+/// the schemas listed in the 'oneOf' keyword". The table's own `properties` list every key of
+/// every type with a description that says which types take it, with no further structure: an
+/// editor's language server that completes keys from `properties` without reading `type` (Even
+/// Better TOML's does not read the document's values) offers those 40 names, not the thousands
+/// of nested keys the branches of a `oneOf` expand to.
+fn tag_curves_by_type(root: &mut Value) {
+    let Some(Value::Object(curve)) = root.pointer_mut("/definitions/CurveSpec") else {
+        return;
+    };
+    let Some(Value::Array(variants)) = curve.remove("oneOf") else {
+        return;
+    };
+    let tag_of = |v: &Value| {
+        v.pointer("/properties/type/enum/0")
+            .and_then(Value::as_str)
+            .map(str::to_string)
+    };
+    let types: Vec<String> = variants.iter().filter_map(tag_of).collect();
+    // key → (description, the types that take it), in the order of first use.
+    let mut keys: Vec<(String, String, Vec<String>)> = Vec::new();
+    for v in &variants {
+        let tag = tag_of(v).unwrap_or_default();
+        for (k, p) in v
+            .get("properties")
+            .and_then(Value::as_object)
+            .into_iter()
+            .flatten()
+        {
+            if k == "type" {
+                continue;
+            }
+            let text = p.get("description").and_then(Value::as_str).unwrap_or("");
+            match keys.iter_mut().find(|(name, _, _)| name == k) {
+                Some((_, _, ts)) => ts.push(tag.clone()),
+                None => keys.push((k.clone(), text.to_string(), vec![tag.clone()])),
+            }
+        }
+    }
+    let mut props = Map::new();
+    props.insert(
+        "type".into(),
+        json!({
+            "description": format!("The kind of curve: {}.", types.join(", ")),
+            "type": "string",
+            "enum": types,
+        }),
+    );
+    for (k, text, ts) in keys {
+        let text = if ts.len() == types.len() {
+            format!("{text} (every type)")
+        } else {
+            format!("{text} (type {})", ts.join(", "))
+        };
+        props.insert(k, json!({ "description": text }));
+    }
+    let mut chain = json!({
+        "properties": { "type": {
+            "description": format!("None of the kinds: {}.", types.join(", ")),
+            "enum": types,
+        } },
+    });
+    for v in variants.into_iter().rev() {
+        let tag = tag_of(&v).unwrap_or_default();
+        chain = json!({
+            "if": {
+                "properties": { "type": {
+                    "description": format!("A {tag} curve: the keys below."),
+                    "const": tag,
+                } },
+                "required": ["type"],
+            },
+            "then": v,
+            "else": chain,
+        });
+    }
+    curve.insert("type".into(), json!("object"));
+    curve.insert("required".into(), json!(["type"]));
+    curve.insert("properties".into(), Value::Object(props));
+    if let Value::Object(chain) = chain {
+        curve.extend(chain);
+    }
+}
+
+/// The object of each curve type in the schema's `if`/`then`/`else` chain on `type`
+/// ([`tag_curves_by_type`]), in order.
+#[cfg(test)]
+pub(crate) fn curve_variants(schema: &Value) -> Vec<&Value> {
+    let mut out = Vec::new();
+    let mut at = &schema["definitions"]["CurveSpec"];
+    while at.get("if").is_some() {
+        out.push(&at["then"]);
+        at = &at["else"];
+    }
+    out
 }
 
 /// `{"allOf": [X], ...}` becomes `X` merged with the other keys.
@@ -669,6 +788,9 @@ mod tests {
             .any(|p| get(p, "minimum") == 1e-6 && get(p, "maximum") == 1e6));
         let mut v = Vec::new();
         find(&s, "radius", &mut v);
+        // Where a radius is checked (not the curve table's list of keys, which only names it
+        // with a description).
+        v.retain(|p| p.len() > 1);
         assert!(!v.is_empty() && v.iter().all(|p| get(p, "exclusiveMinimum") == 0));
         for (name, key, value) in [
             ("steps", "maximum", json!(MAX_STEPS)),
@@ -683,6 +805,7 @@ mod tests {
         ] {
             let mut v = Vec::new();
             find(&s, name, &mut v);
+            v.retain(|p| p.len() > 1);
             assert!(!v.is_empty(), "{name}");
             assert!(v.iter().all(|p| get(p, key) == value), "{name}: {v:?}");
         }

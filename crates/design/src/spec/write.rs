@@ -523,10 +523,8 @@ mod tests {
         assert_eq!(default("SplineSpec", "exact"), false);
         assert_eq!(default("OptimizeSpec", "spontaneous_curvature"), 0.0);
         assert_eq!(default("DynamicSpec", "check_positivity"), false);
-        let circle = defs["CurveSpec"]["oneOf"]
-            .as_array()
-            .unwrap()
-            .iter()
+        let circle = crate::spec::schema::curve_variants(&schema)
+            .into_iter()
             .find(|v| v["properties"]["type"]["enum"][0] == "circle")
             .unwrap();
         assert_eq!(

@@ -33,15 +33,29 @@ fn every_format_round_trips_through_its_name_and_its_path() {
 
 #[test]
 fn unknown_formats_are_refused_with_the_mesh_writers_words() {
+    let all = "use .obj, .stl, .ply, .glb, .csv, .step, .stp, .igs or .iges";
     let e = "xyz".parse::<OutputFormat>().unwrap_err();
     assert_eq!(
         e.to_string(),
-        "unknown output extension '.xyz': use .obj, .stl, .ply, .glb or .csv"
+        format!("unknown output extension '.xyz': {all}")
     );
     let e = OutputFormat::from_path(Path::new("out")).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "output path 'out' has no extension: use .obj, .stl, .ply, .glb or .csv"
+        format!("output path 'out' has no extension: {all}")
+    );
+    // The list is the formats' own: every extension of every format is in it.
+    for f in OutputFormat::ALL {
+        for ext in f.extensions() {
+            assert!(all.contains(&format!(".{ext}")), "{ext}");
+        }
+    }
+    assert_eq!(extensions_hint(&OutputFormat::ALL), all);
+    // A typo gets the nearest extension.
+    let e = OutputFormat::from_path(Path::new("part.stpe")).unwrap_err();
+    assert!(
+        e.to_string().contains("'.stpe' (did you mean .step?)"),
+        "{e}"
     );
     assert!("".parse::<OutputFormat>().is_err());
     // The mesh writers keep refusing CAD extensions as they always did, in the user's words.

@@ -17,20 +17,22 @@ pub enum Format {
     Csv,
 }
 
-const EXTENSIONS_HINT: &str = "use .obj, .stl, .ply, .glb or .csv";
-
 impl Format {
     /// The format for a path's extension (case-insensitive): obj, stl, ply, glb, csv (the
     /// mesh and sample formats of [`crate::format::OutputFormat::from_path`]).
     pub fn from_path(path: &std::path::Path) -> Result<Format> {
-        match crate::format::OutputFormat::from_path(path)? {
-            f if f.is_cad() => {
-                let ext = path.extension().unwrap_or_default().to_string_lossy();
-                Err(Error::invalid(format!(
-                    "unknown output extension '.{ext}': {EXTENSIONS_HINT}"
-                )))
-            }
-            f => f.mesh(),
+        use crate::format::{extensions_hint, unknown_extension, OutputFormat, MESH_FORMATS};
+        let Some(ext) = path.extension() else {
+            return Err(Error::invalid(format!(
+                "output path '{}' has no extension: {}",
+                path.display(),
+                extensions_hint(&MESH_FORMATS)
+            )));
+        };
+        let ext = ext.to_string_lossy();
+        match OutputFormat::from_name(&ext) {
+            Some(f) if !f.is_cad() => f.mesh(),
+            _ => Err(unknown_extension(&ext, &MESH_FORMATS)),
         }
     }
 

@@ -95,17 +95,10 @@ pub(crate) fn tick_label(x: f64, step: f64) -> String {
     }
 }
 
-/// A label with three significant digits (the exact ends of the range).
+/// A label with three significant digits (the exact ends of the range), as
+/// [`pdeshape_geometry::number::sig`] writes it.
 pub fn short_label(x: f64) -> String {
-    let a = x.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        let decimals = (2.0 - a.log10().floor()).max(0.0) as usize;
-        format!("{x:.decimals$}")
-    } else {
-        format!("{x:.2e}")
-    }
+    pdeshape_geometry::number::sig(x, 3)
 }
 
 /// What a colour bar shows: the quantity's name (wrapped into words over the bar), the range of

@@ -16,7 +16,7 @@ pub(crate) use flags::{
 };
 pub(crate) use load::{apply_sets, load, message_of, opened, Loaded};
 pub(crate) use output::{destination, same_file, Output, Refusal};
-pub(crate) use report::{mark_start, print_stdout, quiet, report, set_flags, since_start_ms};
+pub(crate) use report::{mark_start, note, print_stdout, quiet, report, set_flags, since_start_ms};
 pub(crate) use temp::remove_temporaries_on_signals;
 
 /// A failure: one line for stderr and the exit status.

@@ -63,3 +63,11 @@ pub(crate) fn since_start_ms() -> f64 {
         .as_secs_f64()
         * 1e3
 }
+
+/// A note about the input (`note: …` on stderr, nothing with `--quiet`): what the library did
+/// beyond reading it, in the library's words.
+pub(crate) fn note(text: &str) {
+    if !quiet() {
+        eprintln!("note: {text}");
+    }
+}

@@ -52,30 +52,68 @@ fn analyze_json_of_a_sphere_matches_closed_forms() {
 #[test]
 fn analyze_table_of_the_cup() {
     let cup = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/cup.toml");
+    // Without `units`, no unit is printed.
     let o = pdeshape(&["analyze", cup]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
+    assert!(out.contains("\npatch") && !out.contains("area ("), "{out}");
+    assert!(out.starts_with("total: area "), "{out}");
+    // With `units = "cm"`, every dimensioned column says its unit.
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("units = \"cm\"\n{}", std::fs::read_to_string(cup).unwrap());
+    let cm = write(dir.path(), "cup.toml", &text);
+    let o = pdeshape(&["analyze", s(&cm)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    // The summary first: the total's area and volume in the design's units (cm), closed or
+    // not, the quadrature's error.
+    let first = out.lines().next().unwrap();
+    assert!(first.starts_with("total: area "), "{out}");
+    for want in [" cm², volume ", " cm³; closed by caps; quadrature error "] {
+        assert!(first.contains(want), "missing '{want}' in\n{out}");
+    }
     for want in [
         "design: Cup",
         "\nbase ",
         "\nbowl ",
         "\ntotal ",
+        "area (cm²)",
+        "K min (1/cm²)",
         "closed: no; volume closed by caps over 'bowl' u = 1",
         "reduced volume ν = ",
-        "quadrature: estimated relative error",
     ] {
         assert!(out.contains(want), "missing '{want}' in\n{out}");
     }
     // The base is a topological disc closed at a point with a flat bottom: ∫K dA there is
     // 2π minus the total geodesic curvature of its top edge, which is vertical (a parallel of
-    // a surface of revolution where the profile is vertical): exactly 2π.
+    // a surface of revolution where the profile is vertical): exactly 2π. The table shows it
+    // with four significant digits; the JSON keeps full precision.
     let base = out.lines().find(|l| l.starts_with("base ")).unwrap();
-    let cols: Vec<f64> = base
-        .split_whitespace()
-        .skip(1)
-        .map(|x| x.parse().unwrap())
-        .collect();
-    assert!(rel(cols[4], 2.0 * std::f64::consts::PI) < 1e-9, "{base}");
+    let cols: Vec<&str> = base.split_whitespace().skip(1).collect();
+    assert_eq!(cols.len(), 6, "{base}");
+    assert_eq!(cols[4], "6.283", "{base}");
+    for c in &cols {
+        let digits = c
+            .trim_start_matches('-')
+            .split('e')
+            .next()
+            .unwrap()
+            .chars()
+            .filter(char::is_ascii_digit)
+            .collect::<String>();
+        let significant = digits.trim_start_matches('0');
+        assert_eq!(significant.len(), 4, "{c} in {base}");
+    }
+    let o = pdeshape(&["analyze", cup, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let base = v["patches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "base")
+        .unwrap();
+    let k = base["gauss_integral"].as_f64().unwrap();
+    assert!(rel(k, 2.0 * std::f64::consts::PI) < 1e-9, "{k}");
 }
 
 #[test]
@@ -151,7 +189,7 @@ fn render_colours_by_curvature() {
     let out = String::from_utf8(o.stdout).unwrap();
     // K = 1/4 everywhere (to rounding): a constant, shown on the range 0.25 ± 1 %.
     assert!(
-        out.contains("Gaussian curvature from 2.475000e-1 (blue) to 2.525000e-1 (red)"),
+        out.contains("Gaussian curvature from 0.2475 (blue) to 0.2525 (red)"),
         "{out}"
     );
     assert!(std::fs::metadata(&png).unwrap().len() > 100);
@@ -168,7 +206,7 @@ fn render_colours_by_curvature() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(String::from_utf8(o.stdout)
         .unwrap()
-        .contains("mean curvature from -1.000000e0 (blue) to 0.000000e0 (red)"));
+        .contains("mean curvature from -1.000 (blue) to 0 (red)"));
     // Bad ranges, and a range without a colouring, leave no picture behind.
     let none = dir.path().join("none.png");
     for (args, want) in [

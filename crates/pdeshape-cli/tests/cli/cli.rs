@@ -19,6 +19,43 @@ fn unknown_key() {
     let text = edit(GOOD, "radius = 1.0\n", "radiuss = 1.0\n");
     bad_design(&text, &["curves.base", "radiuss"]);
     bad_design(&format!("colour = 1\n{GOOD}"), &["colour"]);
+    // A near miss gets the nearest key.
+    bad_design(&text, &["curves.base", "radiuss", "did you mean `radius`?"]);
+}
+
+/// Misspelt subcommands, flags and values get clap's nearest name on the one error line; no
+/// subcommand lists them all.
+#[test]
+fn typos_get_a_suggestion() {
+    let design = example_path("cup.toml");
+    let d = s(&design);
+    for (args, needles) in [
+        (
+            vec!["surfce", d],
+            vec![
+                "unrecognized subcommand 'surfce'",
+                "did you mean 'surface'?",
+            ],
+        ),
+        (
+            vec!["render", d, "-o", "x.png", "--colour", "mean"],
+            vec!["'--colour'", "did you mean '--color'?"],
+        ),
+        (
+            vec!["render", d, "-o", "x.png", "--color", "gaus"],
+            vec!["'gaus'", "did you mean 'gauss'?"],
+        ),
+        (
+            vec!["surface", d, "-o", "x.stpe"],
+            vec!["'.stpe' (did you mean .step?)", ".stp, .igs or .iges"],
+        ),
+    ] {
+        assert_bad(&pdeshape(&args), &needles);
+    }
+    let line = assert_bad(&pdeshape(&[]), &["a subcommand is required"]);
+    for name in ["surface", "fit", "fill", "roundtrip", "schema", "serve"] {
+        assert!(line.contains(name), "{line}");
+    }
 }
 
 #[test]
@@ -145,7 +182,7 @@ fn unknown_curve_name() {
     );
     bad_design(
         &text,
-        &["conditions[2].curve: unknown curve 'rimm' (known: base, base_ahead"],
+        &["conditions[2].curve: unknown curve 'rimm' (did you mean 'rim'? known: base, base_ahead"],
     );
 }
 
@@ -295,7 +332,14 @@ fn schema_is_valid_json() {
     ] {
         assert!(v["properties"][key].is_object(), "{key}");
     }
-    assert!(v["definitions"]["CurveSpec"]["oneOf"].is_array());
+    // A curve table: its keys listed once, and the type's own checks in an if/then/else chain.
+    let curve = &v["definitions"]["CurveSpec"];
+    assert!(curve["properties"]["radius"].is_object(), "{curve}");
+    assert_eq!(
+        curve["if"]["properties"]["type"]["const"], "circle",
+        "{curve}"
+    );
+    assert!(curve["else"]["if"].is_object(), "{curve}");
 }
 
 // The tests below solve designs: they need the solver, the renderer and the writers.
@@ -455,8 +499,8 @@ fn check_passes_on_every_example() {
             stdout,
             String::from_utf8_lossy(&out.stderr)
         );
-        // Designs whose patches meet at an intended crease (a lid, a flange) end in ATTENTION
-        // after one `attention:` line per crease; every other example ends in OK.
+        // Designs whose patches meet at an intended crease (a lid, a flange) start with
+        // ATTENTION and one `attention:` line per crease; every other example starts with OK.
         let name = p.file_name().unwrap().to_str().unwrap();
         let creased = ["cup_closed.toml", "yoghurt.toml", "yoghurt_optimize.toml"];
         let verdict = if creased.contains(&name) {
@@ -464,7 +508,7 @@ fn check_passes_on_every_example() {
         } else {
             "OK"
         };
-        assert_eq!(stdout.lines().last(), Some(verdict), "{name}: {stdout}");
+        assert_eq!(stdout.lines().next(), Some(verdict), "{name}: {stdout}");
         for line in stdout.lines().filter(|l| l.starts_with("attention:")) {
             assert!(line.ends_with("rad (a crease)"), "{name}: {line}");
         }
@@ -489,7 +533,7 @@ fn check_passes_on_every_example() {
 }
 
 /// The verdict's exit policy: `OK` and `ATTENTION` (a design that solved but deserves a look)
-/// both exit with status 0, with the verdict as the last line and the reasons above it; a
+/// both exit with status 0, with the verdict as the first line and the reasons below it; a
 /// refused design exits with status 2 and prints no verdict. `--json` carries the same word.
 #[test]
 fn check_prints_the_verdict_and_exits_by_policy() {
@@ -497,9 +541,12 @@ fn check_prints_the_verdict_and_exits_by_policy() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     let lines: Vec<&str> = stdout.lines().collect();
-    assert_eq!(lines.last(), Some(&"ATTENTION"), "{stdout}");
+    assert_eq!(lines.first(), Some(&"ATTENTION"), "{stdout}");
     assert!(!stdout.contains("\nOK\n"), "{stdout}");
-    let reason = lines[lines.len() - 2];
+    let reason = lines[1];
+    // The details follow the reasons after a blank line.
+    assert_eq!(lines[2], "", "{stdout}");
+    assert!(lines[3].starts_with("design: "), "{stdout}");
     assert!(
         reason.starts_with(
             "attention: shared edge 'bowl' u = 1 | 'lid' u = 0 along 'rim': G1 = 1.47"
@@ -510,7 +557,7 @@ fn check_prints_the_verdict_and_exits_by_policy() {
     let out = pdeshape(&["check", s(&example_path("cup.toml"))]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
-    assert_eq!(stdout.lines().last(), Some("OK"), "{stdout}");
+    assert_eq!(stdout.lines().next(), Some("OK"), "{stdout}");
     assert!(!stdout.contains("attention:"), "{stdout}");
 
     for (name, word) in [("cup_closed.toml", "attention"), ("cup.toml", "ok")] {

@@ -61,7 +61,12 @@ fn fit_writes_a_design_that_surface_reads() {
         "{stdout} {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert!(stdout.contains("Hausdorff"), "{stdout}");
+    // The verdict first, numbers with four significant digits.
+    assert!(
+        stdout.contains("egg.obj: Hausdorff ")
+            && stdout.contains("% of the diagonal (within the tolerance 0.2000%), RMS "),
+        "{stdout}"
+    );
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let m = &report["measures"];
@@ -391,4 +396,153 @@ fn sheet_templates_reach_the_edge() {
     ]);
     assert_bad(&out, &["bad.toml:6:1", "parts[0].start", "tube part"]);
     assert!(!dir.path().join("bad_fit.toml").exists());
+}
+
+/// The ellipsoid of [`ellipsoid_obj`] as two OBJ objects (its lower and upper halves of
+/// triangles, each with its own copies of the vertices it uses, as Blender writes separate
+/// objects), or as two groups of one vertex list.
+fn ellipsoid_two_objects(rings: usize, around: usize, groups: bool) -> String {
+    let text = ellipsoid_obj(rings, around);
+    let vertices: Vec<&str> = text.lines().filter(|l| l.starts_with("v ")).collect();
+    let faces: Vec<Vec<usize>> = text
+        .lines()
+        .filter(|l| l.starts_with("f "))
+        .map(|l| l[2..].split(' ').map(|w| w.parse().unwrap()).collect())
+        .collect();
+    let (lower, upper) = faces.split_at(faces.len() / 2);
+    let mut out = String::new();
+    if groups {
+        for v in &vertices {
+            out += &format!("{v}\n");
+        }
+    }
+    let mut base = 0;
+    for (name, part) in [("lower", lower), ("upper", upper)] {
+        out += &format!("{} {name}\n", if groups { "g" } else { "o" });
+        for f in part {
+            if groups {
+                out += &format!("f {} {} {}\n", f[0], f[1], f[2]);
+            } else {
+                for &i in f {
+                    out += &format!("{}\n", vertices[i - 1]);
+                }
+                out += &format!("f {} {} {}\n", base + 1, base + 2, base + 3);
+                base += 3;
+            }
+        }
+    }
+    out
+}
+
+/// An OBJ of several objects or groups is one mesh welded by position: it fits as the same mesh
+/// in one object does (the same measures to the last digit), with a note that says so.
+#[test]
+fn a_multi_object_obj_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let fit = |name: &str, text: &str| {
+        let mesh = write(dir.path(), name, text);
+        let design = dir.path().join(format!("{name}.toml"));
+        let json = dir.path().join(format!("{name}.json"));
+        let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--json", s(&json)]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{stderr}");
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        (stderr, report)
+    };
+    let (quiet, one) = fit("one.obj", &ellipsoid_obj(24, 32));
+    assert!(!quiet.contains("note:"), "{quiet}");
+    assert_eq!(one["mode"], "tube", "{one}");
+    for groups in [false, true] {
+        let name = if groups { "groups.obj" } else { "objects.obj" };
+        let (stderr, two) = fit(name, &ellipsoid_two_objects(24, 32, groups));
+        assert!(
+            stderr.contains("2 objects or groups, read as one mesh"),
+            "{stderr}"
+        );
+        for key in ["mode", "patches", "modes", "a"] {
+            assert_eq!(two[key], one[key], "{key}: {two} against {one}");
+        }
+        for key in ["hausdorff", "rms", "mesh_triangles"] {
+            assert_eq!(two["measures"][key], one["measures"][key], "{key}");
+        }
+    }
+}
+
+/// Whatever `pdeshape surface` writes (OBJ, the OBJ of separate patches, STL, PLY) of every
+/// bundled example reads back as the same mesh: the same triangles and the same connected
+/// components; `fit` on the OBJ succeeds or gives its reason, which is about separate
+/// components only when the written mesh itself has several.
+#[test]
+fn the_tools_own_meshes_of_every_example_read_back_and_fit() {
+    use pdeshape::fit::{InputMesh, MeshFormat};
+    let dir = tempfile::tempdir().unwrap();
+    let mut checked = 0;
+    for (name, _) in pdeshape_testkit::example_designs() {
+        let path = if examples_dir().join(&name).exists() {
+            examples_dir().join(&name)
+        } else {
+            examples_dir().join("spline").join(&name)
+        };
+        let stem = name.trim_end_matches(".toml");
+        let mut read = Vec::new();
+        for (file, extra) in [
+            ("obj", None),
+            ("sep.obj", Some("--separate-patches")),
+            ("stl", None),
+            ("ply", None),
+        ] {
+            let out_path = dir.path().join(format!("{stem}.{file}"));
+            let mut args = vec!["surface", s(&path), "-o", s(&out_path), "-q"];
+            args.extend(extra);
+            let out = pdeshape(&args);
+            let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+            if !out.status.success() {
+                // Only designs without a surface (a [dynamic] curve) write no mesh.
+                assert!(
+                    stderr.contains("the design has no surface"),
+                    "{name}: {stderr}"
+                );
+                break;
+            }
+            let format = MeshFormat::from_extension(file.rsplit('.').next().unwrap()).unwrap();
+            let mesh = InputMesh::read(&std::fs::read(&out_path).unwrap(), format)
+                .unwrap_or_else(|e| panic!("{name} {file}: {e}"));
+            let t = mesh.topology();
+            read.push((file, mesh.triangles.len(), t.components, t.boundary_edges));
+        }
+        if read.is_empty() {
+            continue;
+        }
+        // The same triangles in every format. The two OBJs (objects welded by position on
+        // reading) are the same mesh; the STL (corners merged where bit-equal) has the same
+        // components, and may keep apart a few corners the OBJ reader's tolerance joins (the
+        // teacup's handle); the PLY keeps the design's own vertices, so patches that only
+        // touch (an attached wing) stay apart there.
+        let (welded, ply) = (read[0], read[3]);
+        for r in &read {
+            assert_eq!(r.1, welded.1, "{name}: {r:?} against {welded:?}");
+        }
+        assert_eq!(
+            (read[1].2, read[1].3),
+            (welded.2, welded.3),
+            "{name}: {read:?}"
+        );
+        assert_eq!(read[2].2, welded.2, "{name}: {read:?}");
+        assert!(ply.2 >= welded.2, "{name}: {ply:?} against {welded:?}");
+        let obj = dir.path().join(format!("{stem}.obj"));
+        let design = dir.path().join(format!("{stem}.fit.toml"));
+        let out = pdeshape(&["fit", s(&obj), "-o", s(&design)]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        if !out.status.success() {
+            assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+            // Separate components only when the parts do not touch even after welding.
+            if stderr.contains("separate components") {
+                assert!(welded.2 > 1, "{name}: {stderr}");
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked >= 20, "{checked} examples checked");
 }

@@ -20,6 +20,7 @@ mod flags;
 mod kinds;
 mod optimize;
 mod params;
+mod readme;
 mod robust;
 mod schema;
 mod serve;

@@ -305,3 +305,95 @@ fn invalid_designs_are_refused_by_the_schema_and_by_check() {
         assert!(!v.is_valid(&json), "{what}: the schema accepts it");
     }
 }
+
+fn validator_of(kind: &str) -> jsonschema::Validator {
+    let out = pdeshape(&["schema", "--kind", kind]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let schema: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    jsonschema::draft7::new(&schema).expect("a valid draft-7 schema")
+}
+
+/// Morph files and fit templates have schemas of their own (`schema --kind morph|template`):
+/// the bundled morph file and the template of the fitting docs are valid under theirs, and a
+/// design is not a morph file.
+#[test]
+fn morph_files_and_templates_have_schemas() {
+    let morph = validator_of("morph");
+    let text = std::fs::read_to_string(examples_dir().join("anim/glass_morph.toml")).unwrap();
+    let errors: Vec<String> = morph
+        .iter_errors(&as_json(&text))
+        .map(|e| e.to_string())
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert!(
+        !validator().is_valid(&as_json(&text)),
+        "a morph file is no design"
+    );
+    let cup = std::fs::read_to_string(examples_dir().join("cup.toml")).unwrap();
+    assert!(!morph.is_valid(&as_json(&cup)));
+    assert!(!morph.is_valid(&as_json(&text.replace("ease = 1.5", "ease = 0.0"))));
+
+    let template = validator_of("template");
+    let good = "a = 0.5\n[[parts]]\nname = \"left\"\nmode = \"tube\"\naxis = [0, 0, 1]\n\
+                origin = [-1, 0, 0]\npositions = [0.0, 2.0]\nstart = \"pole\"\nsections = 32\n\
+                [[parts]]\nname = \"bend\"\nplanes = [\n  { point = [-1, 0, 2], normal = [0, 0, 1] },\n\
+                { point = [0, 0, 3], normal = [1, 0, 0] },\n]\n";
+    assert!(pdeshape::fit::parse_template(good).is_ok());
+    let errors: Vec<String> = template
+        .iter_errors(&as_json(good))
+        .map(|e| e.to_string())
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    for (from, to) in [
+        ("mode = \"tube\"", "mode = \"cube\""),
+        ("sections = 32", "sections = 2"),
+        ("name = \"left\"", "name = \"left arm\""),
+        ("a = 0.5", "a = 0.5\ncolour = 1"),
+    ] {
+        let bad = edit(good, from, to);
+        assert!(pdeshape::fit::parse_template(&bad).is_err(), "{to}");
+        assert!(!template.is_valid(&as_json(&bad)), "{to}");
+    }
+}
+
+/// A curve table is checked against its own `type`: a key another type takes is refused by
+/// name, and the table's property list (what editors complete) names every key once.
+#[test]
+fn curve_tables_are_checked_against_their_type() {
+    let v = validator();
+    let cup = std::fs::read_to_string(examples_dir().join("cup.toml")).unwrap();
+    let bad = edit(&cup, "radius = 1.35", "radius = 1.35\nrx = 2.0");
+    let errors: Vec<String> = v
+        .iter_errors(&as_json(&bad))
+        .map(|e| e.to_string())
+        .collect();
+    assert!(
+        errors.iter().any(|e| e.contains("'rx' was unexpected")),
+        "{errors:?}"
+    );
+    let out = pdeshape(&["schema"]);
+    let schema: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let curve = &schema["definitions"]["CurveSpec"];
+    assert!(curve.get("oneOf").is_none());
+    let keys = curve["properties"].as_object().unwrap();
+    assert!(keys.len() < 60, "{}", keys.len());
+    for k in [
+        "type",
+        "center",
+        "radius",
+        "rx",
+        "control",
+        "transform",
+        "v_origin",
+    ] {
+        assert!(keys.contains_key(k), "{k}");
+    }
+    assert!(keys["rx"]["description"]
+        .as_str()
+        .unwrap()
+        .contains("(type ellipse)"));
+}

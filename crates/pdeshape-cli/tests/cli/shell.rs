@@ -460,6 +460,6 @@ fn render_colours_the_container_by_its_shear_stress() {
         tmp.path(),
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(String::from_utf8_lossy(&o.stdout).contains("from 0.000000 MPa (blue) to 2.000000 MPa"));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("from 0 MPa (blue) to 2.000 MPa"));
     assert_eq!(files(tmp.path()), Vec::<String>::new());
 }

@@ -10,7 +10,7 @@ mod report;
 mod tests;
 
 pub use network::{NetworkDiagnostics, NetworkFace, NetworkJoint};
-pub use report::{blend_report, check_report, describe_operator, spline_report};
+pub use report::{blend_report, check_report, check_text, describe_operator, spline_report};
 
 use crate::design::{self, ConditionInfo, SolvedDesign, SurfaceKind};
 use crate::elliptic::{ConditionError, ModeReport};
@@ -620,6 +620,14 @@ impl Diagnostics {
     /// warning, an `attention: …` line per shared edge that is not G0 (a gap) or not G1 (a
     /// crease), and the verdict's [label](Verdict::label) as the last line.
     pub fn conclusion(&self) -> String {
+        let mut t = self.reasons();
+        let _ = writeln!(t, "{}", self.verdict.label());
+        t
+    }
+
+    /// The reasons for the verdict, a line each: `warning: …` per warning, `attention: …` per
+    /// shared edge that is not G0 (a gap) or not G1 (a crease); empty for `OK`.
+    pub fn reasons(&self) -> String {
         let mut t = String::new();
         for w in &self.warnings {
             let _ = writeln!(t, "warning: {w}");
@@ -629,14 +637,14 @@ impl Diagnostics {
                 "attention: shared edge '{}' u = {} | '{}' u = {} along '{}'",
                 e.a, e.ua, e.b, e.ub, e.curve
             );
+            let n = |x: f64| crate::number::sig(x, crate::number::DIGITS);
             if !e.g0_met {
-                let _ = writeln!(t, "{place}: G0 = {:.3e} (a gap)", e.g0);
+                let _ = writeln!(t, "{place}: G0 = {} (a gap)", n(e.g0));
             }
             if !e.g1_met {
-                let _ = writeln!(t, "{place}: G1 = {:.3e} rad (a crease)", e.g1);
+                let _ = writeln!(t, "{place}: G1 = {} rad (a crease)", n(e.g1));
             }
         }
-        let _ = writeln!(t, "{}", self.verdict.label());
         t
     }
 

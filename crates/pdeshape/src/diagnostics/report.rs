@@ -125,6 +125,23 @@ pub fn spline_report(s: &SolvedSpline) -> String {
     out
 }
 
+/// A number of `pdeshape check`'s text: [`crate::number::DIGITS`] significant digits.
+fn n(x: f64) -> String {
+    crate::number::sig(x, crate::number::DIGITS)
+}
+
+/// The whole text of `pdeshape check`: the verdict first ([`super::Verdict::label`] alone on
+/// the first line), then a line per reason for it (`warning: …`, `attention: …`), then a blank
+/// line and the details of [`check_report`].
+pub fn check_text(file: &str, spec: &DesignSpec, built: &SolvedDesign, d: &Diagnostics) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{}", d.verdict.label());
+    s.push_str(&d.reasons());
+    s.push('\n');
+    s.push_str(&check_report(file, spec, built, d));
+    s
+}
+
 /// The text of `pdeshape check` for the design file `file` (as shown), solved from `spec` into
 /// `built`, with its diagnostics `d` (from [`super::diagnose`]): the solver, the curves, per
 /// surface its operator, conditions, spine, modes and condition errors, the shared edges,
@@ -213,8 +230,10 @@ pub fn check_report(
             for m in modes {
                 let _ = writeln!(
                     s,
-                    "    {:>4}  {:>12.3e}  {}",
-                    m.n, m.condition_number, m.basis
+                    "    {:>4}  {:>12}  {}",
+                    m.n,
+                    n(m.condition_number),
+                    m.basis
                 );
             }
         }
@@ -230,11 +249,11 @@ pub fn check_report(
         for e in &diag.condition_errors {
             let _ = writeln!(
                 s,
-                "    {:<8} {:<9} {:>12.3e}  {:>12.3e}",
+                "    {:<8} {:<9} {:>12}  {:>12}",
                 e.u,
                 derivative_name(e.derivative),
-                e.absolute,
-                e.relative
+                n(e.absolute),
+                n(e.relative)
             );
         }
     }
@@ -246,8 +265,14 @@ pub fn check_report(
         for e in edges {
             let _ = writeln!(
                 s,
-                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {:.3e}  G1 = {:.3e} rad",
-                e.a, e.ua, e.b, e.ub, e.curve, e.g0, e.g1
+                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {}  G1 = {} rad",
+                e.a,
+                e.ua,
+                e.b,
+                e.ub,
+                e.curve,
+                n(e.g0),
+                n(e.g1)
             );
         }
     }
@@ -259,14 +284,14 @@ pub fn check_report(
         for a in &d.attachments {
             let _ = writeln!(
                 s,
-                "  '{}' u = {} on '{}' along '{}'{}:  G0 = {:.3e}  G1 = {:.3e} rad",
+                "  '{}' u = {} on '{}' along '{}'{}:  G0 = {}  G1 = {} rad",
                 a.patch,
                 a.u,
                 a.host,
                 a.curve.as_deref().unwrap_or("(inline curve)"),
                 if a.tangent { " (tangent field)" } else { "" },
-                a.g0,
-                a.g1
+                n(a.g0),
+                n(a.g1)
             );
         }
     }

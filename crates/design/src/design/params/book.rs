@@ -18,6 +18,24 @@ fn axis_of(c: char) -> Option<usize> {
     }
 }
 
+/// Every name of the book's notation that [`parse_book_name`] reads for `spec`: `a`, then for
+/// each curve (in name order) `<curve>T<x|y|z>`, `<curve>R<x|y|z>`, `<curve>D<x|y|z>`, and
+/// `<curve>cT` for a B-spline curve.
+pub fn book_names(spec: &DesignSpec) -> Vec<String> {
+    let mut out = vec!["a".to_string()];
+    for (name, c) in &spec.curves {
+        for kind in ['T', 'R', 'D'] {
+            for axis in ['x', 'y', 'z'] {
+                out.push(format!("{name}{kind}{axis}"));
+            }
+        }
+        if matches!(c.kind, CurveKind::BSpline { .. }) {
+            out.push(format!("{name}cT"));
+        }
+    }
+    out
+}
+
 /// Reads a parameter name in the book's notation (§7.5): `a`, `<curve>cT`, or
 /// `<curve><T|R|D><x|y|z>`.
 pub fn parse_book_name(name: &str, spec: &DesignSpec) -> Result<ParamKind> {
@@ -343,6 +361,29 @@ impl BookEdits {
             .last();
         if let Some(a) = a {
             set_a(spec, a);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every listed name reads back, each curve has its nine names, and a B-spline its `cT`.
+    #[test]
+    fn every_book_name_listed_is_read() {
+        let spec = crate::spec::parse_design(
+            "[curves.rim]\ntype = \"circle\"\ncenter = [0, 0, 1]\nradius = 1\n\
+             [curves.net]\ntype = \"bspline\"\ndegree = 3\n\
+             control = [[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]]\n",
+        )
+        .unwrap();
+        let names = book_names(&spec);
+        assert_eq!(names.len(), 1 + 9 + 10, "{names:?}");
+        assert!(names.contains(&"netcT".to_string()));
+        assert!(!names.contains(&"rimcT".to_string()));
+        for n in &names {
+            parse_book_name(n, &spec).unwrap_or_else(|e| panic!("{n}: {e}"));
         }
     }
 }

@@ -25,7 +25,7 @@ mod book;
 mod kind;
 mod read;
 mod resolve;
-pub use book::{design_a, parse_book_name, poly_a, top_level_used, BookEdits};
+pub use book::{book_names, design_a, parse_book_name, poly_a, top_level_used, BookEdits};
 pub use kind::{DesignParameter, ParamKind};
 use resolve::run;
 
