@@ -33,8 +33,7 @@ pub use pdeshape_apps::{anim, fill, fit, optimize, shell};
 pub use pdeshape_design::{analysis, memory, spec, trim};
 pub use pdeshape_geometry::{
     bfs, curve, dynamic, elliptic, fd, fourier, linalg, majorant, network, nsided, number, scalar,
-    spline,
-    splinepde, surface,
+    spline, splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 pub use pdeshape_io::{cad, dynamic_output, format, render};

@@ -52,16 +52,37 @@ pub(crate) fn real(x: f64) -> String {
     }
 }
 
-/// A STEP string literal: printable ASCII, `'` doubled, `\` doubled, anything else `_`.
+/// A STEP string literal (ISO 10303-21): printable ASCII as is with `'` and `\` doubled; every
+/// other character of the basic plane in a `\X2\…\X0\` run of four hex digits each, one
+/// beyond it in a `\X4\…\X0\` run of eight, so `§` is `\X2\00A7\X0\`.
 fn string(s: &str) -> String {
     let mut out = String::from("'");
+    // The open run: 0 none, else its digits per character (4 or 8).
+    let mut run = 0;
     for c in s.chars() {
-        match c {
-            '\'' => out.push_str("''"),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_ascii() && !c.is_ascii_control() => out.push(c),
-            _ => out.push('_'),
+        let width = if c.is_ascii() && !c.is_ascii_control() {
+            0
+        } else if (c as u32) <= 0xFFFF {
+            4
+        } else {
+            8
+        };
+        if width != run && run != 0 {
+            out.push_str("\\X0\\");
         }
+        if width != run && width != 0 {
+            out.push_str(if width == 4 { "\\X2\\" } else { "\\X4\\" });
+        }
+        run = width;
+        match (c, width) {
+            ('\'', _) => out.push_str("''"),
+            ('\\', _) => out.push_str("\\\\"),
+            (c, 0) => out.push(c),
+            (c, w) => out.push_str(&format!("{:0w$X}", c as u32)),
+        }
+    }
+    if run != 0 {
+        out.push_str("\\X0\\");
     }
     out.push('\'');
     out
@@ -551,4 +572,19 @@ pub fn step_timestamp(unix_seconds: u64) -> String {
         &t[11..13],
         &t[13..15]
     )
+}
+
+#[cfg(test)]
+mod string_tests {
+    #[test]
+    fn strings_keep_every_character_in_the_standard_encoding() {
+        assert_eq!(super::string("cup (§4.6)"), "'cup (\\X2\\00A7\\X0\\4.6)'");
+        assert_eq!(super::string("it's a\\b"), "'it''s a\\\\b'");
+        assert_eq!(super::string("Ωμ"), "'\\X2\\03A903BC\\X0\\'");
+        // Beyond the basic plane in its own run; a control character is encoded too.
+        assert_eq!(
+            super::string("𝑥\na"),
+            "'\\X4\\0001D465\\X0\\\\X2\\000A\\X0\\a'"
+        );
+    }
 }
