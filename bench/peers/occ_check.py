@@ -19,6 +19,7 @@ Exits 1 on the first failed check (every check is a failure, none is skipped).
 import csv
 import math
 import os
+import json
 import re
 import subprocess
 import sys
@@ -86,33 +87,12 @@ def untrimmed(design, tmp):
 
 
 def analyze_tables(binary, design):
-    """`pdeshape analyze`: per surface its area, its largest |H|, and for trimmed surfaces the
-    trimmed area and its change between analyze's two grids."""
-    out = run([binary, "analyze", design]).stdout.splitlines()
-    area, h, trimmed = {}, {}, {}
-    section = "integrals"
-    def numbers(fields):
-        try:
-            return [float(x) for x in fields]
-        except ValueError:
-            return None
-
-    for line in out:
-        f = line.split()
-        if not f or line.startswith("design:"):
-            continue
-        if f[0] == "patch" and "H" in f and "min" in f:
-            section = "curvature"
-            continue
-        if line.startswith("trimmed ("):
-            section = "trimmed"
-            continue
-        if section == "integrals" and len(f) == 7 and f[0] != "total" and numbers(f[1:]):
-            area[f[0]] = float(f[1])
-        elif section == "curvature" and len(f) == 5 and numbers(f[1:]):
-            h[f[0]] = max(abs(float(f[3])), abs(float(f[4])))
-        elif section == "trimmed" and "change" in line:
-            trimmed[f[0]] = (float(f[1]), float(re.search(r"area change ([0-9.eE+-]+)", line).group(1)))
+    """`pdeshape analyze --json` (full precision): per surface its area, its largest |H|, and
+    for trimmed surfaces the trimmed area and its change between analyze's two grids."""
+    data = json.loads(run([binary, "analyze", "--json", design]).stdout)
+    area = {p["name"]: p["area"] for p in data["patches"]}
+    h = {p["name"]: max(abs(p["mean_min"]), abs(p["mean_max"])) for p in data["patches"]}
+    trimmed = {t["name"]: (t["area"], t["area_change"]) for t in data.get("trimmed", [])}
     return area, h, trimmed
 
 
@@ -223,9 +203,8 @@ def main():
             line = f"{name}.{ext}: {len(faces)} faces, {'valid' if valid else 'INVALID'}, largest point deviation " + \
                 ", ".join(f"{w:.2e} (bound {b:.2e})" for w, b in zip(worst, bounds))
             if ext == "step" and solids:
-                a = run([binary, "analyze", design])
-                total = [l for l in a.stdout.splitlines() if l.startswith("total")][0].split()
-                area, volume = float(total[1]), float(total[2])
+                total = json.loads(run([binary, "analyze", "--json", design]).stdout)["total"]
+                area, volume = total["area"], total["volume"]
                 g = GProp_GProps()
                 BRepGProp.VolumeProperties_s(shape, g)
                 allowed = 1.01 * area * max(bounds)
