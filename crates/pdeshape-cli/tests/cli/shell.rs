@@ -419,10 +419,11 @@ fn render_colours_the_container_by_its_shear_stress() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let line = String::from_utf8_lossy(&o.stdout).to_string();
-    // The colour map's top and the peak are the analysis's largest shear stress.
+    // The colour map's top and the peak are the analysis's largest shear stress, in the
+    // reports' four significant digits.
     let o = run_command("shell", &[s(&root), "--json"], &[], tmp.path());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let peak = format!("{:.6}", v["max_shear"].as_f64().unwrap() / 1e6);
+    let peak = pdeshape::number::sig(v["max_shear"].as_f64().unwrap() / 1e6, 4);
     assert!(
         line.contains(&format!("to {peak} MPa (red), peak {peak} MPa")),
         "{peak}: {line}"
