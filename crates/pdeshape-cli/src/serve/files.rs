@@ -64,7 +64,13 @@ fn inside(root: &Path, rel: &str, resolved: &Path) -> Result<(), ApiError> {
 fn existing_file(root: &Path, rel: &str) -> Result<PathBuf, ApiError> {
     let path = checked_join(root, rel)?;
     let resolved = path.canonicalize().map_err(|e| {
-        ApiError::not_found(format!("'{rel}': cannot open the design file: {e}"), "path")
+        ApiError::not_found(
+            format!(
+                "'{rel}': cannot open the design file: {}",
+                open::io_words(&e)
+            ),
+            "path",
+        )
     })?;
     inside(root, rel, &resolved)?;
     Ok(resolved)

@@ -29,6 +29,8 @@ fn refused_starts_exit_2_with_one_line() {
             err.starts_with("error: ") && err.contains(needle),
             "{args:?}: {err}"
         );
+        // The system's words, without Rust's "(os error N)".
+        assert!(!err.contains("os error"), "{args:?}: {err}");
     }
 }
 
