@@ -3,9 +3,10 @@
 //! named surface along outline curves that ask for it.
 
 use super::curves::CurveBuilder;
-use super::nsided::{lobatto_interpolate, sample_normals, NORMAL_SAMPLES};
-use super::solved::{DesignSurface, SurfaceKind};
-use crate::curve::Domain;
+use super::nsided::{
+    find_surface, interval, lobatto_interpolate, push_surfaces, sample_normals, NORMAL_SAMPLES,
+};
+use super::solved::DesignSurface;
 use crate::network::{Network, NetworkCurve, NetworkOptions, Run};
 use crate::nsided::{NSidedOptions, NSidedPatch, Ribbon, Side, MAX_SIDES};
 use crate::spec::{CurveRef, NetworkSpec, OperatorSpec};
@@ -93,32 +94,13 @@ pub(crate) fn build_networks(
     for (i, spec) in specs.iter().enumerate() {
         let place = format!("network[{i}]");
         let solved = build_one(spec, builder, surfaces, &place).map_err(|e| e.at(&place))?;
+        let operator = OperatorSpec::Polyharmonic {
+            order: spec.order,
+            a: spec.a,
+        };
         for (k, patch) in solved.faces.iter().enumerate() {
-            let pieces = patch.surfaces();
-            let many = pieces.len() > 1;
-            for (j, piece) in pieces.into_iter().enumerate() {
-                let name = if many {
-                    format!("{}.{k}.{j}", spec.name)
-                } else {
-                    format!("{}.{k}", spec.name)
-                };
-                if surfaces.iter().any(|s| s.name == name) {
-                    return Err(Error::not_unique(format!(
-                        "the surface name '{name}' is used twice"
-                    ))
-                    .at(&format!("{place}.name")));
-                }
-                surfaces.push(DesignSurface {
-                    name,
-                    place: place.clone(),
-                    kind: SurfaceKind::NSided(Arc::new(piece)),
-                    operator: Some(OperatorSpec::Polyharmonic {
-                        order: spec.order,
-                        a: spec.a,
-                    }),
-                    conditions: Vec::new(),
-                });
-            }
+            let name = format!("{}.{k}", spec.name);
+            push_surfaces(patch, &name, &place, &operator, surfaces)?;
         }
         out.push(solved);
     }
@@ -143,16 +125,7 @@ fn build_one(
     for (j, c) in spec.curves.iter().enumerate() {
         let at = format!("curves[{j}]");
         let curve = builder.reference(&c.curve, &format!("{place}.{at}.curve"))?;
-        let [t0, t1] = match (c.range, curve.domain()) {
-            (Some(r), _) => r,
-            (None, Domain::Interval(a, b)) => [a, b],
-            (None, Domain::Periodic) => {
-                return Err(Error::invalid(
-                    "a periodic curve needs `range = [t0, t1]` in a network",
-                )
-                .at(&at))
-            }
-        };
+        let [t0, t1] = interval(&curve, c.range).map_err(|e| e.at(&at))?;
         curves.push(NetworkCurve {
             curve,
             t0: t0.min(t1),
@@ -281,20 +254,6 @@ fn build_one(
         curve_names,
         faces,
         joints,
-    })
-}
-
-fn find_surface<'a>(surfaces: &'a [DesignSurface], name: &str) -> Result<&'a DesignSurface> {
-    surfaces.iter().find(|x| x.name == name).ok_or_else(|| {
-        let names: Vec<&str> = surfaces.iter().map(|x| x.name.as_str()).collect();
-        Error::invalid(format!(
-            "no surface '{name}' before this network (there are: {})",
-            if names.is_empty() {
-                "none".to_string()
-            } else {
-                names.join(", ")
-            }
-        ))
     })
 }
 

@@ -3,6 +3,7 @@
 use super::curves::CurveBuilder;
 use super::solved::{DesignSurface, SurfaceKind};
 use crate::curve::Domain;
+use crate::curve::SharedCurve;
 use crate::nsided::{NSidedOptions, NSidedPatch, Ribbon, Side};
 use crate::spec::{NSidedSpec, OperatorSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex, Surface};
@@ -27,34 +28,78 @@ pub(crate) fn build_nsided(
     for (i, spec) in specs.iter().enumerate() {
         let place = format!("nsided[{i}]");
         let patch = build_one(spec, builder, surfaces, &place).map_err(|e| e.at(&place))?;
-        let patch = Arc::new(patch);
-        let pieces = patch.surfaces();
-        let many = pieces.len() > 1;
-        for (k, piece) in pieces.into_iter().enumerate() {
-            let name = if many {
-                format!("{}.{k}", spec.name)
-            } else {
-                spec.name.clone()
-            };
-            if surfaces.iter().any(|s| s.name == name) {
-                return Err(
-                    Error::not_unique(format!("the surface name '{name}' is used twice"))
-                        .at(&format!("{place}.name")),
-                );
-            }
-            surfaces.push(DesignSurface {
-                name,
-                place: place.clone(),
-                kind: SurfaceKind::NSided(Arc::new(piece)),
-                operator: Some(OperatorSpec::Polyharmonic {
-                    order: spec.order,
-                    a: spec.a,
-                }),
-                conditions: Vec::new(),
-            });
-        }
+        let operator = OperatorSpec::Polyharmonic {
+            order: spec.order,
+            a: spec.a,
+        };
+        push_surfaces(&Arc::new(patch), &spec.name, &place, &operator, surfaces)?;
     }
     Ok(())
+}
+
+/// Appends the surfaces of an n-sided patch: `name` for four sides, else its pieces
+/// `name.0`, `name.1`, … (refused if a name is taken, at `place.name`).
+pub(super) fn push_surfaces(
+    patch: &Arc<NSidedPatch>,
+    name: &str,
+    place: &str,
+    operator: &OperatorSpec,
+    surfaces: &mut Vec<DesignSurface>,
+) -> Result<()> {
+    let pieces = patch.surfaces();
+    let many = pieces.len() > 1;
+    for (k, piece) in pieces.into_iter().enumerate() {
+        let name = if many {
+            format!("{name}.{k}")
+        } else {
+            name.to_string()
+        };
+        if surfaces.iter().any(|s| s.name == name) {
+            return Err(
+                Error::not_unique(format!("the surface name '{name}' is used twice"))
+                    .at(&format!("{place}.name")),
+            );
+        }
+        surfaces.push(DesignSurface {
+            name,
+            place: place.to_string(),
+            kind: SurfaceKind::NSided(Arc::new(piece)),
+            operator: Some(operator.clone()),
+            conditions: Vec::new(),
+        });
+    }
+    Ok(())
+}
+
+/// The surface `name` among those built before the table that asks for it (a refusal lists
+/// them).
+pub(super) fn find_surface<'a>(
+    surfaces: &'a [DesignSurface],
+    name: &str,
+) -> Result<&'a DesignSurface> {
+    surfaces.iter().find(|x| x.name == name).ok_or_else(|| {
+        let names: Vec<&str> = surfaces.iter().map(|x| x.name.as_str()).collect();
+        Error::invalid(format!(
+            "no surface '{name}' before this table (there are: {})",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        ))
+    })
+}
+
+/// The parameter interval of a side or network curve: `range`, else the curve's domain
+/// (refused for a periodic curve, which has no ends).
+pub(super) fn interval(curve: &SharedCurve, range: Option<[f64; 2]>) -> Result<[f64; 2]> {
+    match (range, curve.domain()) {
+        (Some(r), _) => Ok(r),
+        (None, Domain::Interval(a, b)) => Ok([a, b]),
+        (None, Domain::Periodic) => Err(Error::invalid(
+            "a periodic curve needs `range = [t0, t1]`: it has no ends",
+        )),
+    }
 }
 
 fn build_one(
@@ -67,16 +112,7 @@ fn build_one(
     for (j, s) in spec.sides.iter().enumerate() {
         let at = format!("{place}.sides[{j}]");
         let curve = builder.reference(&s.curve, &format!("{at}.curve"))?;
-        let [t0, t1] = match (s.range, curve.domain()) {
-            (Some(r), _) => r,
-            (None, Domain::Interval(a, b)) => [a, b],
-            (None, Domain::Periodic) => {
-                return Err(Error::invalid(
-                    "a periodic curve needs `range = [t0, t1]` to be a side",
-                )
-                .at(&format!("sides[{j}]")))
-            }
-        };
+        let [t0, t1] = interval(&curve, s.range).map_err(|e| e.at(&format!("sides[{j}]")))?;
         let (t0, t1) = if s.reverse { (t1, t0) } else { (t0, t1) };
         let ribbon = match (&s.tangent_to, &s.derivative) {
             (Some(_), Some(_)) => {
@@ -92,18 +128,8 @@ fn build_one(
                 t1,
             },
             (Some(name), None) => {
-                let Some(target) = surfaces.iter().find(|x| &x.name == name) else {
-                    let names: Vec<&str> = surfaces.iter().map(|x| x.name.as_str()).collect();
-                    return Err(Error::invalid(format!(
-                        "no surface '{name}' before this patch (there are: {})",
-                        if names.is_empty() {
-                            "none".to_string()
-                        } else {
-                            names.join(", ")
-                        }
-                    ))
-                    .at(&format!("sides[{j}].tangent_to")));
-                };
+                let target = find_surface(surfaces, name)
+                    .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;
                 let side = Side::position(curve.clone(), t0, t1);
                 let normals = sample_normals(&side, target.surface())
                     .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;

@@ -2,6 +2,9 @@
 //! n-sided PDE patches that share a tangent plane along every inner curve (see
 //! `pdeshape_geometry::network`).
 
+use super::nsided::{
+    default_a, default_degree, default_order, is_default_a, is_default_degree, is_default_order,
+};
 use super::types::CurveRef;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -54,24 +57,6 @@ pub struct NetworkCurveSpec {
     pub crease: bool,
 }
 
-fn default_order() -> usize {
-    2
-}
-fn is_default_order(n: &usize) -> bool {
-    *n == 2
-}
-fn default_a() -> f64 {
-    1.0
-}
-fn is_default_a(a: &f64) -> bool {
-    *a == 1.0
-}
-fn default_degree() -> usize {
-    12
-}
-fn is_default_degree(d: &usize) -> bool {
-    *d == 12
-}
 fn default_tolerance() -> f64 {
     1e-9
 }

@@ -54,22 +54,22 @@ pub struct LoopSideSpec {
     pub derivative: Option<CurveRef>,
 }
 
-fn default_order() -> usize {
+pub(super) fn default_order() -> usize {
     2
 }
-fn is_default_order(n: &usize) -> bool {
+pub(super) fn is_default_order(n: &usize) -> bool {
     *n == 2
 }
-fn default_a() -> f64 {
+pub(super) fn default_a() -> f64 {
     1.0
 }
-fn is_default_a(a: &f64) -> bool {
+pub(super) fn is_default_a(a: &f64) -> bool {
     *a == 1.0
 }
-fn default_degree() -> usize {
+pub(super) fn default_degree() -> usize {
     12
 }
-fn is_default_degree(d: &usize) -> bool {
+pub(super) fn is_default_degree(d: &usize) -> bool {
     *d == 12
 }
 fn default_gap() -> f64 {

@@ -221,9 +221,13 @@ impl Network {
             n
         };
         // The residual is now measured against this plane.
-        let residual = normals::leaving_by_node(self, self.nodes.len())[k]
-            .iter()
-            .map(|&h| normals::leaving(self, h).dot(&n).abs().min(1.0).asin())
+        let at_k = self.edges.iter().enumerate().flat_map(|(e, edge)| {
+            let start = (edge.start == k).then_some(2 * e);
+            let end = (edge.end == k).then_some(2 * e + 1);
+            start.into_iter().chain(end)
+        });
+        let residual = at_k
+            .map(|h| normals::leaving(self, h).dot(&n).abs().min(1.0).asin())
             .fold(0.0, f64::max);
         let node = &mut self.nodes[k];
         node.normal = n;
