@@ -1,10 +1,11 @@
 //! The interactive loop of the design layer: a one-curve edit, re-solve and re-tessellation into
 //! the previous meshes (64 × 128 per patch), beside compiling and tessellating from scratch, for
-//! the cup (2 patches), the wine glass and the 39-patch Klein bottle.
+//! the cup (2 patches), the wine glass and the 39-patch Klein bottle; and for the five-sided
+//! panel, a control point dragged and the n-sided patch re-solved, with and without its meshes.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::design::{compile, Edit};
-use pdeshape::spec::TransformStep;
+use pdeshape::spec::{CurveKind, TransformStep};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -45,6 +46,40 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // A control point of one side of the five-sided panel dragged up and back: each step one
+    // edit, the patch re-solved (its Galerkin matrix cached, the interpolant and the right-hand
+    // side recomputed), then also re-tessellated.
+    let spec = pdeshape_testkit::example_spec("nsided_pentagon.toml");
+    let CurveKind::BSpline { control, .. } = &spec.curves["side0"].kind else {
+        panic!("nsided_pentagon.toml: side0 is a B-spline")
+    };
+    let low = control[1];
+    let high = [low[0], low[1], low[2] + 0.01];
+    let edits = [low, high].map(|point| Edit::MoveControlPoint {
+        name: "side0".to_string(),
+        index: 1,
+        point,
+    });
+    let mut d = compile(&spec).unwrap();
+    d.meshes(nu, nv).unwrap();
+    let mut k = 0;
+    group.bench_function("nsided_pentagon/move_control_point_resolve", |b| {
+        b.iter(|| {
+            k ^= 1;
+            d.apply(&edits[k]).unwrap();
+            black_box(d.solved().surfaces.len())
+        })
+    });
+    group.bench_function(
+        "nsided_pentagon/move_control_point_resolve_retessellate",
+        |b| {
+            b.iter(|| {
+                k ^= 1;
+                d.apply(&edits[k]).unwrap();
+                black_box(d.meshes(nu, nv).unwrap().len())
+            })
+        },
+    );
     group.finish();
 }
 

@@ -318,27 +318,27 @@ pub(crate) fn clenshaw(a: &[f64], x: f64) -> f64 {
 /// [`clenshaw`] of several series of one length at once: `out[l] = Σ_m a_l[m] T_m(x)`. The
 /// recurrences are interleaved (independent chains, so the processor overlaps their latencies)
 /// and every lane performs exactly the operations of [`clenshaw`], so the values are the same
-/// bit for bit. Series of other lengths and lanes beyond eight go through [`clenshaw`].
-pub(crate) fn clenshaw_lanes(series: &[Vec<f64>], x: f64, scale: f64, out: &mut [f64]) {
-    const LANES: usize = 8;
+/// bit for bit. Series of other lengths and lanes beyond twelve go through [`clenshaw`].
+pub(crate) fn clenshaw_lanes<S: AsRef<[f64]>>(series: &[S], x: f64, scale: f64, out: &mut [f64]) {
+    const LANES: usize = 12;
     let n = series.len().min(out.len());
-    let len = series.first().map_or(0, Vec::len);
-    if n > LANES || series[..n].iter().any(|s| s.len() != len) {
+    let len = series.first().map_or(0, |s| s.as_ref().len());
+    if n > LANES || series[..n].iter().any(|s| s.as_ref().len() != len) {
         for (o, s) in out.iter_mut().zip(series) {
-            *o = clenshaw(s, x) * scale;
+            *o = clenshaw(s.as_ref(), x) * scale;
         }
         return;
     }
     let (mut b1, mut b2) = ([0.0; LANES], [0.0; LANES]);
     for k in (1..len).rev() {
         for l in 0..n {
-            let b0 = 2.0 * x * b1[l] - b2[l] + series[l][k];
+            let b0 = 2.0 * x * b1[l] - b2[l] + series[l].as_ref()[k];
             b2[l] = b1[l];
             b1[l] = b0;
         }
     }
     for l in 0..n {
-        let a0 = series[l].first().copied().unwrap_or(0.0);
+        let a0 = series[l].as_ref().first().copied().unwrap_or(0.0);
         out[l] = (x * b1[l] - b2[l] + a0) * scale;
     }
 }

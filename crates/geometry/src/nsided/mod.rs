@@ -503,11 +503,23 @@ impl NSidedPatch {
 
     fn build_ribbons(&mut self) -> Result<()> {
         let n = self.poly.n;
-        for i in 0..n {
+        // The neighbours' normals as series, one side per task: the costly part of a re-solve
+        // after an edit.
+        let normals: Vec<Option<Box<ChebVec>>> = self
+            .sides
+            .par_iter()
+            .enumerate()
+            .map(|(i, side)| match &side.side.ribbon {
+                Ribbon::TangentPlane(field) => fit_normal(field)
+                    .map(Some)
+                    .map_err(|e| e.at(&format!("sides[{i}].ribbon"))),
+                _ => Ok(None),
+            })
+            .collect::<Result<_>>()?;
+        for (i, normal) in normals.into_iter().enumerate() {
             let (t0, t1) = (self.corner_target(i, false), self.corner_target(i, true));
-            let built = match &self.sides[i].side.ribbon {
-                Ribbon::Position => BuiltRibbon::Free([t0, t1 - t0, t1, t1 - t0]),
-                Ribbon::Derivative { curve, t0, t1 } => {
+            let built = match (&self.sides[i].side.ribbon, normal) {
+                (Ribbon::Derivative { curve, t0, t1 }, _) => {
                     for (end, k) in [(false, i), (true, (i + 1) % n)] {
                         let s = if end { 1.0 } else { 0.0 };
                         let mut d = [Vec3::zeros(); 1];
@@ -524,26 +536,7 @@ impl NSidedPatch {
                         t1: *t1,
                     }
                 }
-                Ribbon::TangentPlane(field) => {
-                    let field = field.clone();
-                    let unit = move |s: f64| {
-                        let v = field(s);
-                        let l = v.norm();
-                        if l > 0.0 && l.is_finite() {
-                            v / l
-                        } else {
-                            Vec3::repeat(f64::NAN)
-                        }
-                    };
-                    for j in 0..=16 {
-                        if !unit(j as f64 / 16.0).iter().all(|x| x.is_finite()) {
-                            return Err(Error::invalid(
-                                "the neighbour's normal is undefined along the side",
-                            )
-                            .at(&format!("sides[{i}].ribbon")));
-                        }
-                    }
-                    let normal = Box::new(ChebVec::fit(&unit));
+                (_, Some(normal)) => {
                     let mut ab = [[0.0; 2]; 2];
                     for (e, (end, k)) in [(false, i), (true, (i + 1) % n)].into_iter().enumerate() {
                         let s = if end { 1.0 } else { 0.0 };
@@ -574,6 +567,7 @@ impl NSidedPatch {
                         b: [b0, b1 - b0, b1, b1 - b0],
                     }
                 }
+                (_, None) => BuiltRibbon::Free([t0, t1 - t0, t1, t1 - t0]),
             };
             self.sides[i].ribbon = built;
         }
@@ -688,9 +682,8 @@ impl NSidedPatch {
         let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
         let s = dm.div(dm + dp);
         let t = d[i].scale(1.0 / self.poly.side);
-        VJet::compose(s, side.position(s.v))
-            + VJet::compose(s, side.ribbon(s.v)).times(t)
-            + VJet::compose(s, side.second(s.v)).times(t * t)
+        let [p, r, e] = side.data(s.v);
+        VJet::compose(s, p) + VJet::compose(s, r).times(t) + VJet::compose(s, e).times(t * t)
     }
 
     /// The boundary interpolant `C` at the domain point `p`.
@@ -798,6 +791,29 @@ impl NSidedPatch {
             corners: self.corners.clone(),
         }
     }
+}
+
+/// The unit normal field of a tangent-plane ribbon as a Chebyshev series; an error where the
+/// field vanishes or is not finite.
+fn fit_normal(field: &NormalField) -> Result<Box<ChebVec>> {
+    let field = field.clone();
+    let unit = move |s: f64| {
+        let v = field(s);
+        let l = v.norm();
+        if l > 0.0 && l.is_finite() {
+            v / l
+        } else {
+            Vec3::repeat(f64::NAN)
+        }
+    };
+    for j in 0..=16 {
+        if !unit(j as f64 / 16.0).iter().all(|x| x.is_finite()) {
+            return Err(Error::invalid(
+                "the neighbour's normal is undefined along the side",
+            ));
+        }
+    }
+    Ok(Box::new(ChebVec::fit(&unit)))
 }
 
 fn check_interval(curve: &crate::curve::SharedCurve, t0: f64, t1: f64) -> Result<()> {

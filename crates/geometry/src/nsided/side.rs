@@ -3,9 +3,9 @@
 
 use crate::curve::hermite::hermite_basis;
 use crate::curve::SharedCurve;
-use crate::elliptic::basis::{cheb_diff, clenshaw};
+use crate::elliptic::basis::{cheb_diff, clenshaw_lanes};
 use crate::Vec3;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// A unit normal field along a side, as a function of the side's parameter `s ∈ [0, 1]`.
 pub type NormalField = Arc<dyn Fn(f64) -> Vec3 + Send + Sync>;
@@ -157,36 +157,42 @@ impl ChebVec {
     /// the series and `f` agree at the midpoints between nodes to `1e-14` of the function's
     /// size. A field that needs more (a spline through sampled normals, say) keeps 128 points
     /// and reports its [`ChebVec::fit_error`]: every evaluation of the patch pays for the
-    /// length of the series.
+    /// length of the series. The midpoints of one level are the new nodes of the next, so `f`
+    /// is called once per node of the last level.
     pub(crate) fn fit(f: &dyn Fn(f64) -> Vec3) -> ChebVec {
+        let node =
+            |j: usize, n: usize| 0.5 * ((std::f64::consts::PI * j as f64 / n as f64).cos() + 1.0);
         let mut n = 16;
+        let mut vals: Vec<Vec3> = (0..=n).map(|j| f(node(j, n))).collect();
         loop {
-            let coeffs = cheb_coefficients(f, n);
-            let series = derivative_series(&coeffs);
+            let series = derivative_series(&cheb_coefficients(&vals));
             let mut c = ChebVec {
                 series,
                 table: Vec::new(),
                 fit_error: 0.0,
             };
+            // The midpoints: the odd nodes of the next level.
+            let odd: Vec<Vec3> = (0..n).map(|j| f(node(2 * j + 1, 2 * n))).collect();
             let mut err: f64 = 0.0;
-            let mut size: f64 = 0.0;
-            for j in 0..n {
-                let x = (std::f64::consts::PI * (j as f64 + 0.5) / n as f64).cos();
-                let s = 0.5 * (x + 1.0);
-                let want = f(s);
+            let mut size = vals.iter().fold(0.0f64, |m, v| m.max(v.amax()));
+            for (j, want) in odd.iter().enumerate() {
                 size = size.max(want.amax());
-                err = err.max((c.value(s) - want).amax());
+                err = err.max((c.value(node(2 * j + 1, 2 * n)) - want).amax());
             }
             c.fit_error = err;
             if err <= 1e-14 * size.max(1e-300) || n >= 128 {
-                c.table = (0..=TABLE)
-                    .map(|j| {
-                        let s = j as f64 / TABLE as f64;
-                        [c.series_at(0, s), c.series_at(1, s), c.series_at(2, s)]
-                    })
-                    .collect();
+                if c.series[0][0].len() > SHORT {
+                    c.table = c.tabulate();
+                }
                 return c;
             }
+            let mut next = Vec::with_capacity(2 * n + 1);
+            for j in 0..n {
+                next.push(vals[j]);
+                next.push(odd[j]);
+            }
+            next.push(vals[n]);
+            vals = next;
             n *= 2;
         }
     }
@@ -195,41 +201,101 @@ impl ChebVec {
         self.series_at(0, s)
     }
 
-    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]`: from a short series itself (a smooth
+    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).
+    pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
+        self.jet(s)[k]
+    }
+
+    /// The value and both derivatives at `s ∈ [0, 1]`: from a short series itself (a smooth
     /// field stays analytic, so quadratures over the patch converge at their full order),
     /// from the table when the series is long.
-    pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
-        if self.series[0][0].len() <= SHORT {
-            return self.series_at(k, s);
+    pub(crate) fn jet(&self, s: f64) -> [Vec3; 3] {
+        if self.table.is_empty() {
+            return self.all_at(s);
         }
         let h = 1.0 / TABLE as f64;
         let i = ((s * TABLE as f64).floor().max(0.0) as usize).min(TABLE - 1);
         let x = (s - i as f64 * h) / h;
-        let b = quintic(x)[k];
+        let basis = quintic(x);
         let (a, c) = (&self.table[i], &self.table[i + 1]);
-        let v = a[0] * b[0]
-            + a[1] * (h * b[1])
-            + a[2] * (h * h * b[2])
-            + c[0] * b[3]
-            + c[1] * (h * b[4])
-            + c[2] * (h * h * b[5]);
-        v / h.powi(k as i32)
+        let mut scale = 1.0;
+        [0, 1, 2].map(|k| {
+            let b = basis[k];
+            let v = a[0] * b[0]
+                + a[1] * (h * b[1])
+                + a[2] * (h * h * b[2])
+                + c[0] * b[3]
+                + c[1] * (h * b[4])
+                + c[2] * (h * h * b[5]);
+            let out = v * scale;
+            scale /= h;
+            out
+        })
     }
 
     /// The `k`-th derivative (`k ≤ 2`) at `s` from the series.
     fn series_at(&self, k: usize, s: f64) -> Vec3 {
-        let x = 2.0 * s - 1.0;
-        let sc = [1.0, 2.0, 4.0][k];
-        let c = &self.series[k];
-        Vec3::new(clenshaw(&c[0], x), clenshaw(&c[1], x), clenshaw(&c[2], x)) * sc
+        let mut out = [0.0; 3];
+        clenshaw_lanes(&self.series[k], 2.0 * s - 1.0, [1.0, 2.0, 4.0][k], &mut out);
+        Vec3::from(out)
+    }
+
+    /// `[f, f', f'']` at the table's points: the series times the Chebyshev polynomials'
+    /// values there (one matrix product; the values come from the three-term recurrence,
+    /// bounded by 1 on `[−1, 1]`, so the sums are as accurate as Clenshaw's).
+    fn tabulate(&self) -> Vec<[Vec3; 3]> {
+        let len = self.series[0][0].len();
+        let t = chebyshev_at_table(len);
+        let c = nalgebra::DMatrix::from_fn(len, 9, |m, l| self.series[l / 3][l % 3][m]);
+        let v = &*t * c;
+        (0..=TABLE)
+            .map(|j| {
+                [0, 1, 2].map(|k| {
+                    Vec3::new(v[(j, 3 * k)], v[(j, 3 * k + 1)], v[(j, 3 * k + 2)])
+                        * [1.0, 2.0, 4.0][k]
+                })
+            })
+            .collect()
+    }
+
+    /// The value and both derivatives at `s` from the series: the nine recurrences at once.
+    fn all_at(&self, s: f64) -> [Vec3; 3] {
+        let lanes: Vec<&[f64]> = self.series.iter().flatten().map(Vec::as_slice).collect();
+        let mut out = [0.0; 9];
+        clenshaw_lanes(&lanes, 2.0 * s - 1.0, 1.0, &mut out);
+        [0, 1, 2]
+            .map(|k| Vec3::new(out[3 * k], out[3 * k + 1], out[3 * k + 2]) * [1.0, 2.0, 4.0][k])
     }
 }
 
-/// Chebyshev coefficients of `f(s)`, `s = (x + 1)/2`, from its values at `x_j = cos(πj/n)`.
-fn cheb_coefficients(f: &dyn Fn(f64) -> Vec3, n: usize) -> [Vec<f64>; 3] {
-    let vals: Vec<Vec3> = (0..=n)
-        .map(|j| f(0.5 * ((std::f64::consts::PI * j as f64 / n as f64).cos() + 1.0)))
-        .collect();
+/// `T_m(2 s_j − 1)` at the table's points `s_j = j / TABLE`, `m < len` (kept per length).
+fn chebyshev_at_table(len: usize) -> Arc<nalgebra::DMatrix<f64>> {
+    static KEPT: OnceLock<Mutex<Vec<Arc<nalgebra::DMatrix<f64>>>>> = OnceLock::new();
+    let kept = KEPT.get_or_init(|| Mutex::new(Vec::new()));
+    if let Some(t) = kept
+        .lock()
+        .ok()
+        .and_then(|k| k.iter().find(|t| t.ncols() == len).cloned())
+    {
+        return t;
+    }
+    let t = Arc::new(nalgebra::DMatrix::from_fn(TABLE + 1, len, |j, m| {
+        let x = 2.0 * j as f64 / TABLE as f64 - 1.0;
+        let (mut a, mut b) = (1.0, x);
+        for _ in 0..m {
+            (a, b) = (b, 2.0 * x * b - a);
+        }
+        a
+    }));
+    if let Ok(mut k) = kept.lock() {
+        k.push(t.clone());
+    }
+    t
+}
+
+/// Chebyshev coefficients from the values at `x_j = cos(πj/n)`, `j = 0 … n`.
+fn cheb_coefficients(vals: &[Vec3]) -> [Vec<f64>; 3] {
+    let n = vals.len() - 1;
     let mut out = [vec![0.0; n + 1], vec![0.0; n + 1], vec![0.0; n + 1]];
     // cos(π m / n) for m = 0 … 2n − 1: every product j k reduces to one of them.
     let cosines: Vec<f64> = (0..2 * n)
@@ -252,10 +318,17 @@ fn cheb_coefficients(f: &dyn Fn(f64) -> Vec3, n: usize) -> [Vec<f64>; 3] {
     out
 }
 
+/// The series and its two derivative series, all padded with zeros to the series' length so
+/// that they evaluate as lanes of one recurrence (a zero top coefficient changes no bit).
 fn derivative_series(c: &[Vec<f64>; 3]) -> [[Vec<f64>; 3]; 3] {
     let d1 = [cheb_diff(&c[0]), cheb_diff(&c[1]), cheb_diff(&c[2])];
     let d2 = [cheb_diff(&d1[0]), cheb_diff(&d1[1]), cheb_diff(&d1[2])];
-    [c.clone(), d1, d2]
+    let len = c[0].len();
+    let pad = |mut v: Vec<f64>| {
+        v.resize(len, 0.0);
+        v
+    };
+    [c.clone(), d1.map(pad), d2.map(pad)]
 }
 
 /// A cubic on `[0, 1]` from its values and slopes at the ends: `[v0, m0, v1, m1]`.
@@ -336,6 +409,23 @@ impl BuiltSide {
 
     /// `D(s), D'(s), D''(s)`.
     pub(crate) fn ribbon(&self, s: f64) -> [Vec3; 3] {
+        let mut p = [Vec3::zeros(); 4];
+        if matches!(self.ribbon, BuiltRibbon::Plane { .. }) {
+            self.side.jet(s, &mut p);
+        }
+        self.ribbon_on(&p, s)
+    }
+
+    /// `P`, `D` and `E` at `s`, each with two derivatives: the side's curve evaluated once.
+    pub(crate) fn data(&self, s: f64) -> [[Vec3; 3]; 3] {
+        let mut p = [Vec3::zeros(); 4];
+        self.side.jet(s, &mut p);
+        [[p[0], p[1], p[2]], self.ribbon_on(&p, s), self.second(s)]
+    }
+
+    /// `D(s), D'(s), D''(s)` given the side's `P, P', P'', P'''` at `s` (used by plane
+    /// ribbons only).
+    fn ribbon_on(&self, p: &[Vec3; 4], s: f64) -> [Vec3; 3] {
         match &self.ribbon {
             BuiltRibbon::Free(c) => hermite_vector(c, s),
             BuiltRibbon::Derivative { curve, t0, t1 } => {
@@ -344,9 +434,7 @@ impl BuiltSide {
                 c
             }
             BuiltRibbon::Plane { normal, a, b } => {
-                let mut p = [Vec3::zeros(); 4];
-                self.side.jet(s, &mut p);
-                let n = [normal.at(0, s), normal.at(1, s), normal.at(2, s)];
+                let n = normal.jet(s);
                 let [a0, a1, a2] = hermite_scalar(a, s);
                 let [b0, b1, b2] = hermite_scalar(b, s);
                 // m = N × P' and its derivatives.
