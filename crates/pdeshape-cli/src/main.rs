@@ -10,6 +10,7 @@ mod common;
 mod curve;
 mod fill;
 mod fit;
+mod import;
 mod optimize;
 mod render;
 mod schema;
@@ -71,6 +72,9 @@ enum Command {
     /// Fill the holes of a triangle mesh (obj, stl, ply) with PDE patches G1 to the mesh and
     /// weld them in; write the mesh (obj, stl, ply or glb), watertight if it had only holes.
     Fill(fill::Args),
+    /// Read a CAD part's faces and edges from a STEP file into a design file (toml); with
+    /// --fill, an n-sided patch tangent to the faces around every gap.
+    Import(import::Args),
     /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
     /// design's (the largest deviation per surface).
     Roundtrip(cad::RoundtripArgs),
@@ -96,6 +100,7 @@ fn run(cli: Cli) -> Result<(), common::CliError> {
         Command::Serve(args) => serve::run(&args),
         Command::Fit(args) => fit::run(&args),
         Command::Fill(args) => fill::run(&args),
+        Command::Import(args) => import::run(&args),
         Command::Roundtrip(args) => cad::roundtrip(&args),
         Command::Animate(args) => animate::run(&args),
         Command::Shell(args) => shell::run(&args),

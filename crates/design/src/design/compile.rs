@@ -308,6 +308,13 @@ impl CompiledDesign {
             }
         };
 
+        // Reference surfaces served as neighbours; they are not part of the output.
+        let (references, surfaces): (Vec<DesignSurface>, Vec<DesignSurface>) =
+            surfaces.into_iter().partition(|s| {
+                spec.parametric.iter().any(|p| {
+                    p.reference && p.name == s.name && matches!(s.kind, SurfaceKind::Parametric(_))
+                })
+            });
         let dynamic = spec.dynamic.as_ref().map(build_dynamic).transpose()?;
         if surfaces.is_empty() && dynamic.is_none() {
             return Err(Error::invalid(
@@ -331,6 +338,7 @@ impl CompiledDesign {
             trims,
             attachments,
             networks,
+            references,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;

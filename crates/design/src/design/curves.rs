@@ -322,6 +322,14 @@ pub(crate) fn named_curves(builder: &mut CurveBuilder<'_>) -> Result<Vec<NamedCu
     Ok(curves)
 }
 
+/// Builds one curve table on its own (a curve that names no other curve or patch), as the
+/// design would.
+pub fn build_curve(curve: &CurveSpec) -> Result<SharedCurve> {
+    let specs = BTreeMap::from([("curve".to_string(), curve.clone())]);
+    let cache = CurveCache::default();
+    CurveBuilder::new(&specs, &cache).named("curve", "curve")
+}
+
 /// Validates the design's patches and builds its named curves (sorted by name, with the
 /// `[[parameters]]` applied), without solving: what a viewer needs to draw the design's curves.
 ///

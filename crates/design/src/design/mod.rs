@@ -31,7 +31,7 @@ mod validate;
 pub use attach::{Attachment, AttachmentReport, CurveOnSurface, TangentField};
 pub use blend::{solve_blend, validate_blend};
 pub use compile::{compile, solve_design, validate_design, CompiledDesign};
-pub use curves::build_curves;
+pub use curves::{build_curve, build_curves};
 pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTERVALS};
 pub use edges::{edge_mismatch, EdgeReport};
 pub use edit::{Edit, PatchRef};

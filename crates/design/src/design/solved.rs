@@ -223,6 +223,9 @@ pub struct SolvedDesign {
     pub attachments: Vec<super::attach::Attachment>,
     /// The `[[network]]`s: their nodes, pieces, faces (surfaces `name.k`) and joints.
     pub networks: Vec<super::network::SolvedNetwork>,
+    /// The `[[parametric]]` surfaces marked `reference`: neighbours of n-sided patches and
+    /// networks, not part of the output.
+    pub references: Vec<DesignSurface>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -347,6 +350,14 @@ pub fn curve_overlay(curve: &dyn Curve) -> Overlay {
 }
 
 impl SolvedDesign {
+    /// The surface called `name`, among the output surfaces and then the reference ones.
+    pub fn surface_named(&self, name: &str) -> Option<&DesignSurface> {
+        self.surfaces
+            .iter()
+            .chain(&self.references)
+            .find(|s| s.name == name)
+    }
+
     /// A design with nothing in it (before the first compile).
     pub(crate) fn empty() -> Self {
         SolvedDesign {
@@ -362,6 +373,7 @@ impl SolvedDesign {
             trims: Vec::new(),
             attachments: Vec::new(),
             networks: Vec::new(),
+            references: Vec::new(),
             edges: OnceLock::new(),
         }
     }

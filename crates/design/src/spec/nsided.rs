@@ -54,6 +54,20 @@ pub struct LoopSideSpec {
     pub derivative: Option<CurveRef>,
 }
 
+impl NSidedSpec {
+    /// A patch with the default order, smoothing parameter, degree and gap tolerance.
+    pub fn new(name: String, sides: Vec<LoopSideSpec>) -> NSidedSpec {
+        NSidedSpec {
+            name,
+            sides,
+            order: default_order(),
+            a: default_a(),
+            degree: default_degree(),
+            gap_tolerance: default_gap(),
+        }
+    }
+}
+
 pub(super) fn default_order() -> usize {
     2
 }

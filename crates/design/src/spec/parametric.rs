@@ -22,4 +22,11 @@ pub struct ParametricSpec {
     /// after 2π) or an interval `[v0, v1]`.
     #[serde(default, skip_serializing_if = "DomainSpec::is_periodic")]
     pub domain: DomainSpec,
+    /// A reference surface (default false): a neighbour that `[[nsided]]` and `[[network]]`
+    /// sides may be tangent to (`tangent_to`) and that `check` measures against, but not part
+    /// of the design's output (meshes, CAD files, pictures, measures). Faces read from a CAD
+    /// part by `pdeshape import` are reference surfaces: their formulas cover the box of their
+    /// parameters, not the trimmed face.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub reference: bool,
 }

@@ -21,7 +21,7 @@ pub struct ReadSurface {
 }
 
 #[derive(Clone, Debug, PartialEq)]
-enum Value {
+pub(super) enum Value {
     Num(f64),
     Str(String),
     Ref(usize),
@@ -31,9 +31,9 @@ enum Value {
     Unset,
 }
 
-struct Parser<'a> {
-    s: &'a [u8],
-    i: usize,
+pub(super) struct Parser<'a> {
+    pub(super) s: &'a [u8],
+    pub(super) i: usize,
 }
 
 impl Parser<'_> {
@@ -67,7 +67,7 @@ impl Parser<'_> {
             }
         }
     }
-    fn value(&mut self) -> std::result::Result<Value, String> {
+    pub(super) fn value(&mut self) -> std::result::Result<Value, String> {
         self.ws();
         let Some(&c) = self.s.get(self.i) else {
             return Err(self.err("unexpected end"));
@@ -153,7 +153,7 @@ impl Parser<'_> {
 }
 
 /// Splits the DATA section into `(line, text)` of each instance `#n=...;`.
-fn instances(text: &str) -> Result<Vec<(usize, String)>> {
+pub(super) fn instances(text: &str) -> Result<Vec<(usize, String)>> {
     let start = text
         .find("DATA;")
         .ok_or_else(|| Error::invalid("not a STEP file: no DATA section"))?;

@@ -255,3 +255,50 @@ fn remainder_patches_are_certified() {
         }
     }
 }
+
+#[test]
+fn import_reads_a_step_part_and_fills_its_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("part.toml");
+    let step = example_path("cad/box_corner_gap.step");
+    let run = pdeshape(&["import", s(&step), "-o", s(&out), "--fill"]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.starts_with("# Imported from box_corner_gap.step"),
+        "{text}"
+    );
+    assert!(text.contains("reference = true") && text.contains("[[nsided]]"));
+    let check = pdeshape(&["check", s(&out)]);
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "{stdout}");
+    assert!(stdout.starts_with("OK"), "{stdout}");
+    // Bad input: one line, status 2, nothing written.
+    let bad = dir.path().join("bad.step");
+    let text = std::fs::read_to_string(&step).unwrap();
+    let broken = text.replacen(
+        "CYLINDRICAL_SURFACE('',",
+        "CYLINDRICAL_SURFACE('',#999999,",
+        1,
+    );
+    std::fs::write(&bad, broken).unwrap();
+    let none = dir.path().join("none.toml");
+    assert_bad(
+        &pdeshape(&["import", s(&bad), "-o", s(&none)]),
+        &["bad.step", "line "],
+    );
+    assert!(!none.exists());
+    assert_bad(
+        &pdeshape(&["import", s(&out), "-o", s(&none)]),
+        &["not a STEP file name"],
+    );
+    assert_bad(
+        &pdeshape(&["import", s(&step), "-o", "x.obj"]),
+        &["design file (.toml)"],
+    );
+    assert!(!none.exists());
+}

@@ -581,7 +581,7 @@ fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiag
             let Some(name) = &side.tangent_to else {
                 continue;
             };
-            let Some(target) = built.surfaces.iter().find(|s| &s.name == name) else {
+            let Some(target) = built.surface_named(name) else {
                 continue;
             };
             let points: Vec<(Vec3, Vec3)> = (0..NSIDED_SAMPLES)

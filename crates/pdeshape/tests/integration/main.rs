@@ -6,6 +6,7 @@ mod anim;
 mod campaign;
 mod fill;
 mod fit;
+mod import_step;
 mod shell_ccx;
 mod shell_common;
 mod shell_mesh;

@@ -1076,6 +1076,7 @@ impl Gen {
                 y: g.s(),
                 z: g.s(),
                 domain: g.domain(),
+                reference: g.chance(0.5),
             }),
             nsided: self.vec(2, |g| NSidedSpec {
                 name: g.s(),
