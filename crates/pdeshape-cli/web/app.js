@@ -22,7 +22,10 @@ let busy = Promise.resolve();
 const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
 
 function query() {
-  return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}`;
+  const lo = $('c-lo').value.trim(), hi = $('c-hi').value.trim();
+  const range = lo !== '' && hi !== '' ? `&range=${encodeURIComponent(`${lo},${hi}`)}` : '';
+  const comb = $('show-combs').checked ? '&comb=1' : '';
+  return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}${range}${comb}`;
 }
 
 function status(text) {
@@ -49,6 +52,7 @@ function fillPanels() {
 function show(frame, onDrawn, gesture = false) {
   lastFrame = frame;
   scene = frame.scene;
+  if (markClean) { cleanVersion = scene.version; markClean = false; }
   view.setSurfaces(frame.surfaces, COLORS.patches);
   local.follow();
   view.setScene(scene);
@@ -75,7 +79,8 @@ function run(area, call, onDrawn) {
   busy = busy.then(async () => {
     try {
       const frame = await call();
-      panels.showError(area, '');
+      // A later success clears every earlier message (they described a state that is gone).
+      panels.clearErrors();
       show(frame, onDrawn);
     } catch (e) {
       panels.showError(area, message(e));
@@ -95,7 +100,7 @@ function edit(area, value, group) {
 const channels = [];
 function channel(area, send) {
   const ch = new Channel(send, (frame, t) => {
-    panels.showError(area, '');
+    panels.clearErrors();
     show(frame, () => {
       perf.latencies.push(performance.now() - t);
       perf.server.push(frame.scene.server_ms);
@@ -114,12 +119,20 @@ function scheduleReports() {
 }
 async function refreshReports() {
   try {
-    const [check, analyze] = await Promise.all([api.check(), api.analyze()]);
+    const [check, analyze] = await Promise.all([api.check(g1Tolerance()), api.analyze()]);
     panels.reports(check, analyze);
+    view.failing = new Set(panels.failing);
+    if (scene) { panels.legend(scene); view.setScene(scene); view.request(); }
     panels.showError('reports', '');
   } catch (e) {
     panels.showError('reports', message(e));
   }
+}
+
+// The seam tolerance of the shared-edge list, in radians (the page asks for degrees).
+function g1Tolerance() {
+  const deg = Number($('g1-tol').value);
+  return Number.isFinite(deg) && deg >= 0 ? (deg * Math.PI) / 180 : (Math.PI / 180);
 }
 
 let groupCounter = Date.now();
@@ -151,7 +164,7 @@ function digest() {
 }
 // True when no gesture has a request in flight or waiting.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null;
-window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle };
+window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
@@ -174,16 +187,27 @@ view.canvas.addEventListener('pointerdown', (ev) => {
   }
   const hit = ev.button === 0 && !ev.shiftKey ? view.pick(x, y) : null;
   if (!hit) {
-    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y] };
+    // A click (no movement) on a curve or a patch selects it; a drag turns the camera.
+    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y], start: [x, y], button: ev.button };
     return;
   }
   view.selected = hit;
+  pointPanel();
+  selectionNote();
   const group = newGroup();
   const mode = $('plane').value;
   if (hit.kind === 'control') {
     $('curve').value = hit.curve;
     panels.curvePanel(scene);
     drag = { ...hit, group, ...{ plane: view.dragPlane(hit.point, mode) } };
+  } else if (hit.kind === 'analytic') {
+    $('curve').value = hit.curve;
+    panels.curvePanel(scene);
+    const c = scene.curves.find((x) => x.name === hit.curve);
+    const n = m.unit(c.spec.normal || [0, 0, 1]);
+    // The radii move in the curve's own plane; the centre in the chosen drag plane.
+    const plane = hit.role === 'center' ? view.dragPlane(hit.point, mode) : { point: hit.point, normal: n };
+    drag = { ...hit, group, plane, spec: c.spec, normal: n };
   } else if (hit.kind === 'spine') {
     $('patch').value = hit.patch;
     panels.patchPanel(scene);
@@ -217,6 +241,17 @@ view.canvas.addEventListener('pointermove', (ev) => {
       group: d.group,
       world: true,
     }), ev.timeStamp);
+  } else if (d.kind === 'analytic') {
+    const spec = { ...d.spec };
+    if (d.role === 'center') {
+      spec.center = m.add(d.spec.center, m.sub(p, d.point));
+    } else {
+      const r = m.sub(p, d.spec.center);
+      const inPlane = m.sub(r, m.scale(d.normal, m.dot(r, d.normal)));
+      const len = Math.max(m.norm(inPlane), 1e-6);
+      if (d.role === 'radius') spec.radius = len; else spec[d.role] = len;
+    }
+    controlChannel.push(() => ({ edit: { edit: 'set_curve', name: d.curve, curve: spec }, group: d.group }), ev.timeStamp);
   } else if (d.kind === 'spine') {
     spineChannel.push(() => ({ patch: patchRefOf(d.patch), index: d.index, point: p, group: d.group }), ev.timeStamp);
   } else {
@@ -224,9 +259,52 @@ view.canvas.addEventListener('pointermove', (ev) => {
   }
 });
 
-function endDrag() {
+// Selects what lies under a click: a curve (within a few pixels of its drawn line), else the
+// patch whose surface is nearest in front.
+function clickSelect(x, y) {
+  if (!scene) return;
+  const curve = view.pickCurve(x, y);
+  if (curve) {
+    view.selected = { kind: 'curve', curve };
+    $('curve').value = curve;
+    panels.curvePanel(scene);
+  } else {
+    const k = view.pickPatch(x, y);
+    if (k < 0) {
+      view.selected = null;
+      view.selectedPatch = -1;
+    } else {
+      const name = scene.surfaces[k].name;
+      view.selected = { kind: 'patch', patch: name };
+      view.selectedPatch = k;
+      $('patch').value = name;
+      panels.patchPanel(scene);
+      syncUvPatch(name);
+    }
+  }
+  pointPanel();
+  selectionNote();
+  view.setScene(scene);
+  view.request();
+}
+
+function selectionNote() {
+  const s = view.selected;
+  $('selection').textContent = !s ? 'nothing selected: click a curve or a patch'
+    : s.kind === 'curve' ? `curve ${s.curve} selected`
+      : s.kind === 'patch' ? `patch ${s.patch} selected`
+        : s.kind === 'control' ? `control point ${s.index} of ${s.curve} selected`
+          : s.kind === 'spine' ? `spine point ${s.index} of ${s.patch} selected` : '';
+}
+
+function endDrag(ev) {
   const was = drag;
   drag = null;
+  if (was && was.camera && was.button === 0 && ev && ev.type === 'pointerup') {
+    const [x, y] = pointerPos(ev);
+    if (Math.hypot(x - was.start[0], y - was.start[1]) < 4) clickSelect(x, y);
+  }
+  if (was && was.kind === 'control') pointPanel();
   // The next drag of the local handle starts from the curve as it is now.
   if (was && was.kind === 'local') {
     const again = () => (localChannel.idle ? local.show(local.curve).then(() => { view.setScene(scene); view.request(); }) : setTimeout(again, 50));
@@ -236,9 +314,13 @@ function endDrag() {
 view.canvas.addEventListener('pointerup', endDrag);
 view.canvas.addEventListener('pointercancel', endDrag);
 view.canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
+// The wheel zooms; a trackpad's two-finger scroll (sideways, or small steps) pans, and its pinch
+// (the wheel with Ctrl) zooms.
 view.canvas.addEventListener('wheel', (ev) => {
   ev.preventDefault();
-  view.zoom(Math.exp(ev.deltaY * 0.001));
+  const trackpad = !ev.ctrlKey && ev.deltaMode === 0 && (ev.deltaX !== 0 || Math.abs(ev.deltaY) < 40);
+  if (trackpad) view.pan(-ev.deltaX, -ev.deltaY);
+  else view.zoom(Math.exp(ev.deltaY * (ev.ctrlKey ? 0.01 : 0.001)));
 }, { passive: false });
 window.addEventListener('resize', () => { view.request(); uv.draw(); });
 
@@ -346,14 +428,29 @@ $('add-patch').onclick = () => {
   if (!scene.has_patches) {
     return panels.showError('add', 'this design has one patch given by top-level conditions; patches can be added to designs with [[patches]]');
   }
-  // A biharmonic patch between two position curves, with X_u from the straight join (s = 1).
+  // A biharmonic patch between two position curves. At an end where a patch already meets the
+  // curve and continues across it (it ends there where the new one starts, or starts where the
+  // new one ends), the new patch shares that patch's derivative curve: the seam is G1. Else X_u
+  // is the straight join (s = 1).
+  const straight = { type: 'derivative', position: from, direction: to, scale: 1 };
+  const shared = (curve, theirU) => {
+    for (const s of scene.surfaces) {
+      const at = s.conditions.find((c) => c.derivative === 0 && c.curve === curve && c.u === theirU);
+      const d = at && s.conditions.find((c) => c.derivative === 1 && c.u === theirU && c.curve);
+      if (d) return { patch: s.name, curve: d.curve };
+    }
+    return null;
+  };
+  const atFrom = shared(from, 1), atTo = shared(to, 0);
   const conditions = [
     { u: 0, curve: from },
-    { u: 0, derivative: 1, curve: { type: 'derivative', position: from, direction: to, scale: 1 } },
+    { u: 0, derivative: 1, curve: atFrom ? atFrom.curve : straight },
     { u: 1, curve: to },
-    { u: 1, derivative: 1, curve: { type: 'derivative', position: from, direction: to, scale: 1 } },
+    { u: 1, derivative: 1, curve: atTo ? atTo.curve : straight },
   ];
-  edit('add', { edit: 'insert_patch', index: scene.surfaces.length, patch: { name, conditions } });
+  const g1 = [atFrom && `with ${atFrom.patch} along ${from}`, atTo && `with ${atTo.patch} along ${to}`].filter(Boolean);
+  edit('add', { edit: 'insert_patch', index: scene.surfaces.length, patch: { name, conditions } })
+    .then(() => { $('add-note').textContent = g1.length ? `G1 ${g1.join(' and ')} (the neighbour's derivative curve shared)` : ''; });
 };
 
 // ---- The (u, v) panel --------------------------------------------------------------------
@@ -424,14 +521,21 @@ function fresh() {
   timeline.pause();
   uv.selected = null;
   view.selected = null;
+  view.selectedPatch = -1;
+  pointPanel();
+  selectionNote();
   view.framed = false;
   view.camera.panned = false;
 }
 $('load').onclick = () => {
+  if (!keepOrDiscard(`load ${$('files').value}`)) return;
+  markClean = true;
   fresh();
   run('file', () => api.load(query(), $('files').value));
 };
 $('new').onclick = () => {
+  if (!keepOrDiscard('start a new design')) return;
+  markClean = true;
   fresh();
   run('file', () => api.reset(query()));
 };
@@ -439,7 +543,8 @@ $('save').onclick = async () => {
   const path = $('save-path').value.trim() || (scene && scene.file) || 'design.toml';
   try {
     const r = await api.save(path);
-    panels.showError('file', '');
+    cleanVersion = scene.version;
+    panels.clearErrors();
     status(`saved ${r.saved}`);
     $('file-name').textContent = r.saved;
     refreshFiles();
@@ -449,6 +554,13 @@ $('save').onclick = async () => {
 };
 $('undo').onclick = () => run('file', () => api.undo(query()));
 $('redo').onclick = () => run('file', () => api.redo(query()));
+// The page's words for the server's summary of a STEP or IGES file.
+function cadNote(format, cad) {
+  const f = Object.fromEntries(cad.split(';').map((kv) => kv.trim().split('=')));
+  const rel = f.certified === 'true' ? '≤' : '≈';
+  return `${format.toUpperCase()}: ${f.surfaces} B-spline surface(s), deviation from the design ${rel} ${f.deviation}` +
+    ` (${f.certified === 'true' ? 'certified' : 'sampled, not certified'}; tolerance ${f.tolerance})`;
+}
 for (const a of document.querySelectorAll('.dl a')) {
   a.onclick = async (ev) => {
     ev.preventDefault();
@@ -459,7 +571,7 @@ for (const a of document.querySelectorAll('.dl a')) {
       q += `&view=${eye.map((x) => x.toFixed(6)).join(',')}&size=1200x900`;
     }
     try {
-      const blob = await api.download(q);
+      const { blob, cad } = await api.download(q);
       const url = URL.createObjectURL(blob);
       const link = document.createElement('a');
       link.href = url;
@@ -467,12 +579,13 @@ for (const a of document.querySelectorAll('.dl a')) {
       link.click();
       setTimeout(() => URL.revokeObjectURL(url), 1000);
       panels.showError('file', '');
+      $('file-note').textContent = cad ? cadNote(format, cad) : '';
     } catch (e) {
       panels.showError('file', message(e));
     }
   };
 }
-for (const id of ['color', 'nu', 'nv']) {
+for (const id of ['color', 'nu', 'nv', 'c-lo', 'c-hi']) {
   $(id).onchange = () => run('view', () => api.frame(query()));
 }
 for (const key of ['curves', 'vectors', 'spines', 'control']) {
@@ -492,8 +605,105 @@ $('legend').onclick = () => {
   $('legend').classList.toggle('folded');
   if (scene) panels.legend(scene);
 };
+// ---- Inspection: zebra stripes and isophotes -----------------------------------------------
+function inspectChanged() {
+  const ins = view.inspect;
+  ins.mode = $('inspect').value;
+  ins.axis = { x: [1, 0, 0], y: [0, 1, 0], z: [0, 0, 1] }[$('stripe-axis').value];
+  ins.stripes = Number($('stripes').value);
+  ins.lockedEye = $('stripe-lock').checked ? (ins.lockedEye || view.eye()) : null;
+  view.request();
+}
+for (const id of ['inspect', 'stripe-axis', 'stripes', 'stripe-lock']) $(id).addEventListener('input', inspectChanged);
+$('g1-tol').onchange = refreshReports;
+// Curvature combs: the scene carries them only while they are shown.
+$('show-combs').onchange = () => {
+  view.comb.show = $('show-combs').checked;
+  run('view', () => api.frame(query()));
+};
+for (const id of ['comb-scale', 'comb-density']) {
+  $(id).addEventListener('input', () => {
+    view.comb.scale = Number($('comb-scale').value);
+    view.comb.every = Number($('comb-density').value);
+    if (scene) { view.setScene(scene); view.request(); }
+  });
+}
+
+// ---- Typed coordinates of the selected control point ---------------------------------------
+function pointPanel() {
+  const s = view.selected;
+  const c = s && s.kind === 'control' && scene && scene.curves.find((x) => x.name === s.curve);
+  const p = c && c.control && c.control[s.index];
+  $('point-row').hidden = !p;
+  if (!p) return;
+  $('point-name').textContent = `${s.curve}[${s.index}]`;
+  const rel = $('point-relative').checked;
+  ['px', 'py', 'pz'].forEach((id, k) => { $(id).value = rel ? '0' : String(p[k]); });
+}
+$('point-relative').onchange = pointPanel;
+$('point-set').onclick = () => {
+  const s = view.selected;
+  const c = s && s.kind === 'control' && scene.curves.find((x) => x.name === s.curve);
+  if (!c) return panels.showError('point', 'select a control point first (click its dot)');
+  const v = ['px', 'py', 'pz'].map((id) => Number($(id).value.trim() === '' ? NaN : $(id).value));
+  const bad = v.findIndex((x) => !Number.isFinite(x));
+  if (bad >= 0) return panels.showError('point', `${'xyz'[bad]}: expected a number (got '${$(['px', 'py', 'pz'][bad]).value}')`);
+  const p0 = c.control[s.index];
+  const point = $('point-relative').checked ? v.map((x, k) => p0[k] + x) : v;
+  run('point', () => api.edit(query(), { edit: { edit: 'move_control_point', name: s.curve, index: s.index, point }, world: true }))
+    .then(pointPanel);
+};
+
+// ---- Unsaved changes -----------------------------------------------------------------------
+// The version of the design as last loaded or saved; another version on screen is unsaved work.
+let cleanVersion = null;
+let markClean = true;
+const dirty = () => !!scene && cleanVersion !== null && scene.version !== cleanVersion;
+function keepOrDiscard(what) {
+  return !dirty() || window.confirm(`The design has unsaved changes. Discard them and ${what}?`);
+}
+window.addEventListener('beforeunload', (ev) => {
+  if (!dirty()) return;
+  ev.preventDefault();
+  ev.returnValue = '';
+});
+
+// ---- Shortcuts and help --------------------------------------------------------------------
+function toggleHelp(open = $('help').hidden) { $('help').hidden = !open; }
+$('help-button').onclick = () => toggleHelp();
+const VIEWS = {
+  1: [-Math.PI / 2, 0], 2: [Math.PI / 2, 0], 3: [0, 0], 4: [Math.PI, 0],
+  5: [-Math.PI / 2, 1.55], 6: [-Math.PI / 2, -1.55], 0: [-0.95, 0.48],
+};
+function toggleBox(id) {
+  const box = $(id);
+  box.checked = !box.checked;
+  box.dispatchEvent(new Event('change'));
+}
 window.addEventListener('keydown', (ev) => {
-  if ((ev.ctrlKey || ev.metaKey) && ev.key === 'z') { ev.preventDefault(); $(ev.shiftKey ? 'redo' : 'undo').click(); }
+  const mod = ev.ctrlKey || ev.metaKey;
+  if (mod && (ev.key === 'z' || ev.key === 'Z')) { ev.preventDefault(); $(ev.shiftKey ? 'redo' : 'undo').click(); return; }
+  if (mod && ev.key === 'y') { ev.preventDefault(); $('redo').click(); return; }
+  if (mod && ev.key === 's') { ev.preventDefault(); $('save').click(); return; }
+  if (mod || ev.altKey) return;
+  const t = ev.target;
+  if (t && (t.tagName === 'INPUT' || t.tagName === 'SELECT' || t.tagName === 'TEXTAREA')) return;
+  if (ev.key === '?') { toggleHelp(); return; }
+  if (ev.key === 'Escape') { toggleHelp(false); return; }
+  const k = ev.key.toLowerCase();
+  if (k === 'f') view.frameAll();
+  else if (ev.key in VIEWS) view.standardView(...VIEWS[ev.key]);
+  else if (k === 'z') {
+    $('inspect').value = $('inspect').value === 'zebra' ? 'shaded' : 'zebra';
+    inspectChanged();
+  } else if (k === 'c') toggleBox('show-curves');
+  else if (k === 'p') toggleBox('show-control');
+  else if ((ev.key === 'Delete' || ev.key === 'Backspace') && view.selected && view.selected.kind === 'curve') {
+    const name = view.selected.curve;
+    view.selected = null;
+    edit('curve', { edit: 'set_curve', name, curve: null });
+  } else return;
+  ev.preventDefault();
 });
 
 run('file', () => api.frame(query())).then(refreshFiles);

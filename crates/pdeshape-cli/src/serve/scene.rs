@@ -49,6 +49,29 @@ fn polyline(c: &dyn Curve) -> (Vec<[f64; 3]>, bool) {
     (points, closed)
 }
 
+/// The curvature comb of a curve: at the parameters of [`polyline`], the point and the
+/// curvature vector `κ N = ((C' × C'') × C') / |C'|⁴` from the curve's exact derivatives (points
+/// where either is not finite, or `C' = 0`, are left out).
+fn comb(c: &dyn Curve) -> Vec<[[f64; 3]; 2]> {
+    let (a, b, n) = match c.domain() {
+        Domain::Periodic => (0.0, pdeshape::TAU, CURVE_POINTS as f64),
+        Domain::Interval(a, b) => (a, b, (CURVE_POINTS - 1) as f64),
+    };
+    let mut jet = [pdeshape::Vec3::zeros(); 3];
+    (0..CURVE_POINTS)
+        .filter_map(|k| {
+            c.jet(a + (b - a) * k as f64 / n, &mut jet);
+            let [p, d1, d2] = jet;
+            let speed2 = d1.norm_squared();
+            if speed2 == 0.0 {
+                return None;
+            }
+            let kappa = d1.cross(&d2).cross(&d1) / (speed2 * speed2);
+            (finite(&p) && finite(&kappa)).then(|| [p3(&p), p3(&kappa)])
+        })
+        .collect()
+}
+
 fn operator_json(op: &Option<OperatorSpec>) -> Value {
     match op {
         Some(OperatorSpec::Polyharmonic { order, a }) => {
@@ -59,8 +82,9 @@ fn operator_json(op: &Option<OperatorSpec>) -> Value {
     }
 }
 
-/// The scene of a solved design.
-pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
+/// The scene of a solved design; `combs`: with the curvature comb of every curve that is not a
+/// derivative curve (the page asks for them only while it shows them).
+pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Value {
     // Curves used as derivative conditions hold vectors, not points: they are drawn as vectors
     // from the position curve of the same patch at the same u.
     let derivative_curves: BTreeSet<&str> = solved
@@ -88,6 +112,11 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             } else {
                 polyline(&*c.curve)
             };
+            let comb = if is_vector || !combs {
+                Vec::new()
+            } else {
+                comb(&*c.curve)
+            };
             let v0 = (!is_vector && c.curve.domain() == Domain::Periodic)
                 .then(|| (c.curve.point(0.0), c.curve.derivative(0.0, 1)))
                 .filter(|(p, d)| finite(p) && finite(d))
@@ -111,6 +140,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
                 "spec": cs,
                 "points": points,
                 "closed": closed,
+                "comb": comb,
                 "control": control,
                 "v0": v0,
                 "scale": scale,
