@@ -372,6 +372,47 @@ test('isophotes and stripe controls change the picture; the lock keeps stripes o
   await page.selectOption('#inspect', 'shaded');
 });
 
+test('draft analysis marks the walls steeper than the least draft angle', async () => {
+  await load('examples/cup.toml');
+  await surfacesOnly();
+  const counts = () => page.evaluate(() => {
+    const c = document.getElementById('view');
+    const off = document.createElement('canvas');
+    off.width = c.width; off.height = c.height;
+    const ctx = off.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const d = ctx.getImageData(0, 0, off.width, off.height).data;
+    let red = 0, green = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (d[i] > 2 * d[i + 1] + 20 && d[i] > 2 * d[i + 2] + 20) red++;
+      if (d[i + 1] > 1.5 * d[i] + 10 && d[i + 1] > 1.5 * d[i + 2] + 10) green++;
+    }
+    return { red, green };
+  });
+  await page.selectOption('#inspect', 'draft');
+  await page.fill('#draft-angle', '3');
+  await page.dispatchEvent('#draft-angle', 'input');
+  await page.waitForTimeout(150);
+  await page.screenshot({ path: path.join(shots, 'draft.png') });
+  const at3 = await counts();
+  // The cup's wall is vertical at the belly (its X_u there is vertical): a red band; the bottom
+  // and the flaring bowl draw green.
+  assert.ok(at3.red > 1000 && at3.green > 5000, JSON.stringify(at3));
+  await page.fill('#draft-angle', '15');
+  await page.dispatchEvent('#draft-angle', 'input');
+  await page.waitForTimeout(150);
+  const at15 = await counts();
+  assert.ok(at15.red > 1.5 * at3.red, `${JSON.stringify(at15)} against ${JSON.stringify(at3)}`);
+  await page.fill('#draft-angle', '0');
+  await page.dispatchEvent('#draft-angle', 'input');
+  await page.waitForTimeout(150);
+  const at0 = await counts();
+  assert.ok(at0.red < at3.red / 5, `${JSON.stringify(at0)} against ${JSON.stringify(at3)}`);
+  await page.fill('#draft-angle', '3');
+  await page.selectOption('#inspect', 'shaded');
+  await surfacesOnly(false);
+});
+
 test('curvature combs are drawn from the curves\' exact curvature', async () => {
   await load('examples/cup.toml');
   const combPixels = () => page.evaluate(() => {
@@ -561,6 +602,60 @@ test('a circle keeps its kind: its centre and radius handles are dragged', async
   assert.equal((await belly()).spec.radius, radius);
 });
 
+test('a dragged control point snaps to the grid; the axis triad turns with the view', async () => {
+  page.acceptDialogs = true;
+  await page.click('#new');
+  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
+  await settled(page);
+  page.acceptDialogs = false;
+  await page.selectOption('#snap', 'grid');
+  await page.fill('#snap-step', '0.25');
+  const [x, y] = await page.evaluate(() => {
+    const { view, state } = window.__pdeshape;
+    const s = view.project(state().curves.find((c) => c.name === 'rim').control[1]);
+    const r = view.canvas.getBoundingClientRect();
+    return [s[0] + r.left, s[1] + r.top];
+  });
+  const v0 = (await state()).version;
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let k = 1; k <= 10; k++) {
+    await page.mouse.move(x + 6 * k, y - 2 * k);
+    await page.waitForTimeout(16);
+  }
+  await page.mouse.up();
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v0);
+  await settled(page);
+  const p = (await state()).curves.find((c) => c.name === 'rim').control[1];
+  assert.notDeepEqual(p, [1.1, 0, 2]);
+  for (const c of p) assert.ok(Number.isInteger(c / 0.25), `${p} is not on the 0.25 grid`);
+  await page.selectOption('#snap', 'off');
+  // The triad: red, green and blue pixels in the bottom-left corner, moving with the view.
+  const corner = () => page.evaluate(() => {
+    const c = document.getElementById('view');
+    const off = document.createElement('canvas');
+    off.width = c.width; off.height = c.height;
+    const ctx = off.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const d = ctx.getImageData(0, c.height - 70, 70, 70).data;
+    const n = { r: 0, g: 0, b: 0, at: [] };
+    for (let i = 0; i < d.length; i += 4) {
+      // Antialiased lines blend with the background: the channel's lead over the other two.
+      const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
+      if (r - Math.max(g, b) > 50) { n.r++; n.at.push(i); }
+      if (g - Math.max(r, b) > 30) n.g++;
+      if (b - Math.max(r, g) > 50) n.b++;
+    }
+    n.at = n.at.join(',');
+    return n;
+  });
+  const a = await corner();
+  assert.ok(a.r > 10 && a.g > 10 && a.b > 10, JSON.stringify({ ...a, at: '' }));
+  await page.evaluate(() => window.__pdeshape.view.orbit(120, 0));
+  await page.waitForTimeout(100);
+  assert.notEqual((await corner()).at, a.at, 'the triad did not turn');
+});
+
 test('typed coordinates move the selected control point exactly', async () => {
   page.acceptDialogs = true;
   await page.click('#new');
@@ -649,6 +744,15 @@ test('unsaved changes are asked about before loading and before closing', async 
   await page.selectOption('#files', 'examples/wine_glass.toml');
   await page.click('#load');
   await page.waitForFunction(() => window.__pdeshape.state().file === 'examples/wine_glass.toml');
+  assert.equal(dialogs.length, before + 1);
+  // Scrubbing a timeline shows the design at another time: nothing to save.
+  await load('examples/anim/ventricle.toml');
+  const s0 = await state();
+  const box = await page.locator('#t-slider').boundingBox();
+  await page.mouse.click(box.x + box.width * 0.5, box.y + box.height / 2);
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v, s0.version);
+  await settled(page);
+  assert.equal(await page.evaluate(() => window.__pdeshape.dirty()), false);
   assert.equal(dialogs.length, before + 1);
   // Closing the tab with unsaved work asks too.
   await page.selectOption('#curve', (await state()).curves[0].name);

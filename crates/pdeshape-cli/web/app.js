@@ -52,7 +52,6 @@ function fillPanels() {
 function show(frame, onDrawn, gesture = false) {
   lastFrame = frame;
   scene = frame.scene;
-  if (markClean) { cleanVersion = scene.version; markClean = false; }
   view.setSurfaces(frame.surfaces, COLORS.patches);
   local.follow();
   view.setScene(scene);
@@ -81,8 +80,11 @@ function run(area, call, onDrawn) {
       const frame = await call();
       // A later success clears every earlier message (they described a state that is gone).
       panels.clearErrors();
+      // Anything but a view change (grid, colouring) or a load changes the design.
+      if (markClean) { unsaved = false; markClean = false; } else if (area !== 'view') unsaved = true;
       show(frame, onDrawn);
     } catch (e) {
+      markClean = false; // a refused load leaves the design (and its unsaved state) as it was
       panels.showError(area, message(e));
       // The controls show the design as it stands (the refused value is not kept).
       if (scene) panels.fill(scene);
@@ -101,6 +103,7 @@ const channels = [];
 function channel(area, send) {
   const ch = new Channel(send, (frame, t) => {
     panels.clearErrors();
+    if (area !== 'time') unsaved = true; // the timeline shows the design at t, it does not edit it
     show(frame, () => {
       perf.latencies.push(performance.now() - t);
       perf.server.push(frame.scene.server_ms);
@@ -230,10 +233,11 @@ view.canvas.addEventListener('pointermove', (ev) => {
     return;
   }
   const ray = view.ray(x, y);
-  const p = drag.line
+  const hitPoint = drag.line
     ? m.rayLine(ray.origin, ray.dir, drag.line.point, drag.line.dir)
     : m.rayPlane(ray.origin, ray.dir, drag.plane.point, drag.plane.normal);
-  if (!p) return;
+  if (!hitPoint) return;
+  const p = drag.kind === 'local' ? hitPoint : snap(hitPoint, x, y, drag);
   const d = drag;
   if (d.kind === 'control') {
     controlChannel.push(() => ({
@@ -295,6 +299,36 @@ function selectionNote() {
       : s.kind === 'patch' ? `patch ${s.patch} selected`
         : s.kind === 'control' ? `control point ${s.index} of ${s.curve} selected`
           : s.kind === 'spine' ? `spine point ${s.index} of ${s.patch} selected` : '';
+}
+
+// Snapping of a dragged point: to the grid (every coordinate a multiple of the step), or to the
+// nearest end of a curve or control point of another curve within 10 pixels on screen.
+function snap(p, sx, sy, d) {
+  const mode = $('snap').value;
+  if (mode === 'grid') {
+    const step = Number($('snap-step').value);
+    if (!(step > 0) || !Number.isFinite(step)) return p;
+    // Rounded to the step, then to the decimal digits the step has (0.1 · 3 is 0.30000000000000004).
+    const digits = Math.min(12, Math.max(0, -Math.floor(Math.log10(step)) + 3));
+    return p.map((c) => Number((Math.round(c / step) * step).toFixed(digits)));
+  }
+  if (mode === 'points' && scene) {
+    const mats = view.matrices();
+    let best = null, bestD = 10;
+    for (const c of scene.curves) {
+      if (c.name === d.curve) continue;
+      const cands = [...(c.control || [])];
+      if (!c.closed && c.points.length) cands.push(c.points[0], c.points[c.points.length - 1]);
+      for (const q of cands) {
+        const s = view.project(q, mats);
+        if (!s) continue;
+        const dist = Math.hypot(s[0] - sx, s[1] - sy);
+        if (dist < bestD) { bestD = dist; best = q; }
+      }
+    }
+    if (best) return [...best];
+  }
+  return p;
 }
 
 function endDrag(ev) {
@@ -543,7 +577,7 @@ $('save').onclick = async () => {
   const path = $('save-path').value.trim() || (scene && scene.file) || 'design.toml';
   try {
     const r = await api.save(path);
-    cleanVersion = scene.version;
+    unsaved = false;
     panels.clearErrors();
     status(`saved ${r.saved}`);
     $('file-name').textContent = r.saved;
@@ -612,9 +646,11 @@ function inspectChanged() {
   ins.axis = { x: [1, 0, 0], y: [0, 1, 0], z: [0, 0, 1] }[$('stripe-axis').value];
   ins.stripes = Number($('stripes').value);
   ins.lockedEye = $('stripe-lock').checked ? (ins.lockedEye || view.eye()) : null;
+  const draft = Number($('draft-angle').value);
+  if (Number.isFinite(draft) && draft >= 0 && draft < 90) ins.draft = draft;
   view.request();
 }
-for (const id of ['inspect', 'stripe-axis', 'stripes', 'stripe-lock']) $(id).addEventListener('input', inspectChanged);
+for (const id of ['inspect', 'stripe-axis', 'stripes', 'stripe-lock', 'draft-angle']) $(id).addEventListener('input', inspectChanged);
 $('g1-tol').onchange = refreshReports;
 // Curvature combs: the scene carries them only while they are shown.
 $('show-combs').onchange = () => {
@@ -655,10 +691,11 @@ $('point-set').onclick = () => {
 };
 
 // ---- Unsaved changes -----------------------------------------------------------------------
-// The version of the design as last loaded or saved; another version on screen is unsaved work.
-let cleanVersion = null;
+// Set by every edit (gestures, buttons, undo and redo), cleared by a load, a new design and a
+// save.
+let unsaved = false;
 let markClean = true;
-const dirty = () => !!scene && cleanVersion !== null && scene.version !== cleanVersion;
+const dirty = () => unsaved;
 function keepOrDiscard(what) {
   return !dirty() || window.confirm(`The design has unsaved changes. Discard them and ${what}?`);
 }

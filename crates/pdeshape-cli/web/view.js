@@ -32,7 +32,8 @@ in vec3 vPos;
 uniform vec3 eyeDir;
 uniform vec3 lightDir;
 uniform vec3 eyePos;
-uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes
+uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft
+uniform float draftAngle; // the least draft angle (radians) of draft analysis
 uniform vec3 stripeAxis; // the stripes' axis (unit)
 uniform float stripes;   // stripes around the axis (zebra) or from the axis to its opposite
 out vec4 outColor;
@@ -46,6 +47,17 @@ void main() {
     float diffuse = max(dot(n, lightDir), 0.0);
     float rim = max(dot(n, eyeDir), 0.0);
     outColor = vec4(vColor * (0.28 + 0.62 * diffuse + 0.15 * rim), 1.0);
+    return;
+  }
+  if (mode == 3) {
+    // Draft analysis along the pull direction (the axis): the draft angle is the angle between
+    // the surface and the pull direction, asin |n · d|, taken without the normal's sign (a
+    // patch's X_u × X_v may point in or out). Below the least angle: red; above: green.
+    float draft = asin(clamp(abs(dot(n, stripeAxis)), 0.0, 1.0));
+    float w = max(fwidth(draft), 1e-4);
+    vec3 c = mix(vec3(0.85, 0.15, 0.12), vec3(0.20, 0.68, 0.30), smoothstep(draftAngle - w, draftAngle + w, draft));
+    float diffuse = max(dot(n, lightDir), 0.0);
+    outColor = vec4(c * (0.45 + 0.55 * diffuse), 1.0);
     return;
   }
   float phase;
@@ -165,14 +177,15 @@ export class View {
     this.show = { curves: true, vectors: true, spines: true, control: true, edges: true };
     this.selected = null; // { kind: 'control', curve, index } or { kind: 'spine', patch, index }
     this.local = null; // a local edit's points: { x1, x2, handle }
-    // Surface inspection: 'shaded', 'zebra' or 'isophotes'; the stripes' axis and count; a
-    // locked eye keeps the stripes on the model while the view turns.
+    // Surface inspection: 'shaded', 'zebra', 'isophotes' or 'draft'; the stripes' axis (the
+    // pull direction of draft analysis) and count; a locked eye keeps the stripes on the model
+    // while the view turns; the least draft angle in degrees.
     this.failing = new Set(); // curves along seams that fail the check
     this.selectedPatch = -1; // the index of a patch selected by a click
     // Curvature combs: shown, tooth scale (1: the most curved tooth is 0.3 of the design's
     // radius), and every how many samples a tooth is drawn.
     this.comb = { show: false, scale: 1, every: 2 };
-    this.inspect = { mode: 'shaded', axis: [0, 0, 1], stripes: 16, lockedEye: null };
+    this.inspect = { mode: 'shaded', axis: [0, 0, 1], stripes: 16, lockedEye: null, draft: 3 };
   }
 
   // Meshes of a frame: one vertex array per surface, buffers reused when the sizes match.
@@ -463,7 +476,8 @@ export class View {
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyeDir'), eyeDir);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'lightDir'), light);
     const ins = this.inspect;
-    const modes = { shaded: 0, zebra: 1, isophotes: 2 };
+    const modes = { shaded: 0, zebra: 1, isophotes: 2, draft: 3 };
+    gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'draftAngle'), (ins.draft * Math.PI) / 180);
     gl.uniform1i(gl.getUniformLocation(this.surfaceProgram, 'mode'), modes[ins.mode] || 0);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyePos'), ins.lockedEye || this.eye());
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'stripeAxis'), m.unit(ins.axis));
@@ -490,8 +504,27 @@ export class View {
       gl.bindVertexArray(this.points.vao);
       gl.drawArrays(gl.POINTS, 0, this.points.count);
     }
+    this.drawTriad(dpr);
     gl.bindVertexArray(null);
     if (this.onDrawn) this.onDrawn();
+  }
+
+  // The axis triad in the bottom-left corner: x red, y green, z blue, turned with the view.
+  drawTriad(dpr) {
+    const gl = this.gl;
+    if (!this.triad) this.triad = this.upload(null,
+      [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1],
+      [0.85, 0.1, 0.1, 0.85, 0.1, 0.1, 0.1, 0.6, 0.1, 0.1, 0.6, 0.1, 0.1, 0.2, 0.9, 0.1, 0.2, 0.9]);
+    const size = Math.round(70 * dpr);
+    gl.viewport(0, 0, size, size);
+    gl.clear(gl.DEPTH_BUFFER_BIT);
+    // The unit axes from 4.2 away fill the corner (a 30° field of view spans ±1.1 there).
+    const eye = m.scale(m.unit(m.sub(this.eye(), this.camera.target)), 4.2);
+    const mvp = m.multiply(m.perspective(Math.PI / 6, 1, 2, 6.5), m.lookAt(eye, [0, 0, 0], [0, 0, 1]));
+    gl.uniformMatrix4fv(gl.getUniformLocation(this.lineProgram, 'mvp'), false, mvp);
+    gl.bindVertexArray(this.triad.vao);
+    gl.drawArrays(gl.LINES, 0, this.triad.count);
+    gl.viewport(0, 0, this.canvas.width, this.canvas.height);
   }
 
   // Screen position (CSS pixels) of a world point.
