@@ -696,6 +696,43 @@ test('typed coordinates move the selected control point exactly', async () => {
   await page.waitForFunction(() => document.querySelector('.err[data-for="point"]').textContent.includes("y: expected a number (got 'two')"));
 });
 
+test('from a new design to a saved G1 multi-patch shape without a text editor', async () => {
+  page.acceptDialogs = true;
+  await page.click('#new');
+  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
+  await settled(page);
+  page.acceptDialogs = false;
+  // A circle above the rim, then a patch from the rim to it: G1 along the rim by default.
+  await page.selectOption('#new-kind', 'circle');
+  await page.fill('#new-name', 'top');
+  await page.fill('#new-center', '0,0,3');
+  await page.fill('#new-radius', '0.7');
+  let v = (await state()).version;
+  await page.click('#add-curve');
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v, v);
+  await page.selectOption('#from', 'rim');
+  await page.selectOption('#to', 'top');
+  await page.fill('#patch-name', 'neck');
+  v = (await state()).version;
+  await page.click('#add-patch');
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v, v);
+  await page.waitForFunction(() => document.getElementById('add-note').textContent.length > 0);
+  assert.match(await page.textContent('#add-note'), /^G1 with body along rim/);
+  await page.click('#refresh-reports');
+  await page.waitForFunction(() => document.querySelector('#edges tr[data-curve]'));
+  const rows = await page.evaluate(() => [...document.querySelectorAll('#edges tr[data-curve]')].map((r) => [r.dataset.curve, r.className]));
+  assert.deepEqual(rows, [['rim', 'ok']]);
+  assert.ok((await page.textContent('#check')).startsWith('OK\n'));
+  await page.screenshot({ path: path.join(shots, 'new-design.png') });
+  await page.fill('#save-path', 'new_shape.toml');
+  await page.click('#save');
+  await page.waitForFunction(() => document.getElementById('status').textContent.startsWith('saved new_shape.toml'));
+  const r = spawnSync(binary(), ['check', 'new_shape.toml'], { cwd: dir });
+  assert.equal(r.status, 0, String(r.stdout) + String(r.stderr));
+  assert.equal(String(r.stdout).split('\n')[0], 'OK');
+  assert.match(String(r.stdout), /shared edges:\n  'body' u = 1 \| 'neck' u = 0  along 'rim'/);
+});
+
 test('a STEP download carries its certified deviation and reads back', async () => {
   await load('examples/cup.toml');
   const [download] = await Promise.all([page.waitForEvent('download'), page.click('.dl a[data-format="step"]')]);
