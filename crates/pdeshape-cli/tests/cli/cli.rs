@@ -680,6 +680,9 @@ fn check_reports_shared_edges_of_the_cup() {
         .unwrap();
     assert!(g0 < 1e-9, "{edge}");
     assert!(g1 < 1e-6, "{edge}");
+    // The two patches curve differently across the belly: G1 but not G2.
+    let g2: f64 = edge.split("G2 = ").nth(1).unwrap().trim().parse().unwrap();
+    assert!(g2 > 1e-3 && g2.is_finite(), "{edge}");
 }
 
 #[test]
