@@ -656,6 +656,48 @@ test('a dragged control point snaps to the grid; the axis triad turns with the v
   assert.notEqual((await corner()).at, a.at, 'the triad did not turn');
 });
 
+test('control points picked with Ctrl-click move together', async () => {
+  page.acceptDialogs = true;
+  await page.click('#new');
+  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
+  await settled(page);
+  page.acceptDialogs = false;
+  const at = (index) => page.evaluate((index) => {
+    const { view, state } = window.__pdeshape;
+    const s = view.project(state().curves.find((c) => c.name === 'rim').control[index]);
+    const r = view.canvas.getBoundingClientRect();
+    return [s[0] + r.left, s[1] + r.top];
+  }, index);
+  const before = (await state()).curves.find((c) => c.name === 'rim').control;
+  const [x2, y2] = await at(2);
+  await page.keyboard.down('Control');
+  await page.mouse.click(x2, y2);
+  const [x1, y1] = await at(1);
+  await page.mouse.click(x1, y1);
+  await page.keyboard.up('Control');
+  assert.match(await page.textContent('#selection'), /control points 1, 2 of rim selected/);
+  const v0 = (await state()).version;
+  await page.mouse.move(x1, y1);
+  await page.mouse.down();
+  for (let k = 1; k <= 8; k++) {
+    await page.mouse.move(x1 + 5 * k, y1 - 3 * k);
+    await page.waitForTimeout(16);
+  }
+  await page.mouse.up();
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v0);
+  await settled(page);
+  const after = (await state()).curves.find((c) => c.name === 'rim').control;
+  const d1 = after[1].map((c, i) => c - before[1][i]);
+  const d2 = after[2].map((c, i) => c - before[2][i]);
+  assert.ok(Math.hypot(...d1) > 0.05, `${after[1]}`);
+  for (let i = 0; i < 3; i++) assert.ok(Math.abs(d1[i] - d2[i]) < 1e-12, `${d1} ${d2}`);
+  for (const k of [0, 3, 4, 5, 6, 7]) assert.deepEqual(after[k], before[k]);
+  // One undo takes the whole group drag back.
+  await page.click('#undo');
+  await page.waitForFunction(() => !window.__pdeshape.state().can_undo);
+  assert.deepEqual((await state()).curves.find((c) => c.name === 'rim').control, before);
+});
+
 test('typed coordinates move the selected control point exactly', async () => {
   page.acceptDialogs = true;
   await page.click('#new');

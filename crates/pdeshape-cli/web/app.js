@@ -194,6 +194,20 @@ view.canvas.addEventListener('pointerdown', (ev) => {
     drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y], start: [x, y], button: ev.button };
     return;
   }
+  if (hit.kind === 'control' && (ev.ctrlKey || ev.metaKey)) {
+    // Ctrl-click adds a control point of the same curve to the selection (or takes it out).
+    const multi = view.multi && view.multi.curve === hit.curve ? view.multi
+      : { curve: hit.curve, indices: new Set(view.selected && view.selected.kind === 'control' && view.selected.curve === hit.curve ? [view.selected.index] : []) };
+    if (multi.indices.has(hit.index)) multi.indices.delete(hit.index); else multi.indices.add(hit.index);
+    view.multi = multi;
+    view.selected = hit;
+    pointPanel();
+    selectionNote();
+    view.setScene(scene);
+    view.request();
+    return;
+  }
+  if (!(hit.kind === 'control' && view.multi && view.multi.curve === hit.curve && view.multi.indices.has(hit.index))) view.multi = null;
   view.selected = hit;
   pointPanel();
   selectionNote();
@@ -202,7 +216,10 @@ view.canvas.addEventListener('pointerdown', (ev) => {
   if (hit.kind === 'control') {
     $('curve').value = hit.curve;
     panels.curvePanel(scene);
-    drag = { ...hit, group, ...{ plane: view.dragPlane(hit.point, mode) } };
+    const c = scene.curves.find((x) => x.name === hit.curve);
+    // The file's control points at the drag's start (a group drag moves them from there).
+    const start = c && c.spec && Array.isArray(c.spec.control) ? c.spec.control.map((q) => [...q]) : null;
+    drag = { ...hit, group, start, ...{ plane: view.dragPlane(hit.point, mode) } };
   } else if (hit.kind === 'analytic') {
     $('curve').value = hit.curve;
     panels.curvePanel(scene);
@@ -239,7 +256,14 @@ view.canvas.addEventListener('pointermove', (ev) => {
   if (!hitPoint) return;
   const p = drag.kind === 'local' ? hitPoint : snap(hitPoint, x, y, drag);
   const d = drag;
-  if (d.kind === 'control') {
+  const c = d.kind === 'control' && view.multi && view.multi.indices.size > 1
+    && scene.curves.find((x) => x.name === d.curve);
+  if (c && c.spec && Array.isArray(c.spec.control) && !(c.spec.transform && c.spec.transform.length)) {
+    // Several points of one curve move together by the drag's displacement: one curve edit.
+    const delta = m.sub(p, d.point);
+    const control = d.start.map((q, i) => (view.multi.indices.has(i) ? m.add(q, delta) : q));
+    controlChannel.push(() => ({ edit: { edit: 'set_curve', name: d.curve, curve: { ...c.spec, control } }, group: d.group }), ev.timeStamp);
+  } else if (d.kind === 'control') {
     controlChannel.push(() => ({
       edit: { edit: 'move_control_point', name: d.curve, index: d.index, point: p },
       group: d.group,
@@ -267,6 +291,7 @@ view.canvas.addEventListener('pointermove', (ev) => {
 // patch whose surface is nearest in front.
 function clickSelect(x, y) {
   if (!scene) return;
+  view.multi = null;
   const curve = view.pickCurve(x, y);
   if (curve) {
     view.selected = { kind: 'curve', curve };
@@ -297,6 +322,8 @@ function selectionNote() {
   $('selection').textContent = !s ? 'nothing selected: click a curve or a patch'
     : s.kind === 'curve' ? `curve ${s.curve} selected`
       : s.kind === 'patch' ? `patch ${s.patch} selected`
+        : s.kind === 'control' && view.multi && view.multi.indices.size > 1
+          ? `control points ${[...view.multi.indices].sort((a, b) => a - b).join(', ')} of ${s.curve} selected (drag one to move them all)`
         : s.kind === 'control' ? `control point ${s.index} of ${s.curve} selected`
           : s.kind === 'spine' ? `spine point ${s.index} of ${s.patch} selected` : '';
 }
@@ -556,6 +583,7 @@ function fresh() {
   uv.selected = null;
   view.selected = null;
   view.selectedPatch = -1;
+  view.multi = null;
   pointPanel();
   selectionNote();
   view.framed = false;

@@ -182,6 +182,7 @@ export class View {
     // while the view turns; the least draft angle in degrees.
     this.failing = new Set(); // curves along seams that fail the check
     this.selectedPatch = -1; // the index of a patch selected by a click
+    this.multi = null; // control points picked with Ctrl-click: { curve, indices: Set }
     // Curvature combs: shown, tooth scale (1: the most curved tooth is 0.3 of the design's
     // radius), and every how many samples a tooth is drawn.
     this.comb = { show: false, scale: 1, every: 2 };
@@ -388,7 +389,8 @@ export class View {
         if (!c.control) continue;
         polyline(c.control, c.closed, COLORS.controlLine);
         c.control.forEach((p, index) => {
-          const isSel = sel.kind === 'control' && sel.curve === c.name && sel.index === index;
+          const isSel = (sel.kind === 'control' && sel.curve === c.name && sel.index === index)
+            || (this.multi && this.multi.curve === c.name && this.multi.indices.has(index));
           pts.push(...p);
           ptsCol.push(...(isSel ? COLORS.selected : COLORS.control));
           this.pickable.push({ kind: 'control', curve: c.name, index, point: p });
