@@ -359,6 +359,14 @@ test('isophotes and stripe controls change the picture; the lock keeps stripes o
   await page.waitForTimeout(150);
   const iso = await digest();
   assert.notEqual(zebra, iso);
+  await page.selectOption('#inspect', 'reflection');
+  await page.waitForTimeout(150);
+  const lines = await digest();
+  assert.notEqual(lines, zebra);
+  assert.notEqual(lines, iso);
+  await page.screenshot({ path: path.join(shots, 'reflection-lines.png') });
+  await page.selectOption('#inspect', 'isophotes');
+  await page.waitForTimeout(150);
   await page.selectOption('#stripe-axis', 'x');
   await page.waitForTimeout(150);
   assert.notEqual(await digest(), iso);

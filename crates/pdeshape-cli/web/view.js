@@ -32,7 +32,7 @@ in vec3 vPos;
 uniform vec3 eyeDir;
 uniform vec3 lightDir;
 uniform vec3 eyePos;
-uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft
+uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft, 4 reflection lines
 uniform float draftAngle; // the least draft angle (radians) of draft analysis
 uniform vec3 stripeAxis; // the stripes' axis (unit)
 uniform float stripes;   // stripes around the axis (zebra) or from the axis to its opposite
@@ -40,7 +40,7 @@ out vec4 outColor;
 const float PI = 3.14159265358979;
 void main() {
   vec3 n = normalize(vNormal);
-  vec3 toEye = mode == 1 ? normalize(eyePos - vPos) : eyeDir;
+  vec3 toEye = mode == 1 || mode == 4 ? normalize(eyePos - vPos) : eyeDir;
   // Two-sided: light the side we see.
   if (dot(n, toEye) < 0.0) n = -n;
   if (mode == 0) {
@@ -67,6 +67,11 @@ void main() {
     vec3 b = normalize(abs(stripeAxis.z) < 0.9 ? cross(stripeAxis, vec3(0.0, 0.0, 1.0)) : cross(stripeAxis, vec3(1.0, 0.0, 0.0)));
     vec3 c = cross(stripeAxis, b);
     phase = (atan(dot(r, c), dot(r, b)) / (2.0 * PI) + 0.5) * stripes;
+  } else if (mode == 4) {
+    // Reflection lines: the reflected view ray's elevation from the plane normal to the axis
+    // (bands of equal latitude of an environment sphere about the axis).
+    vec3 r = reflect(-toEye, n);
+    phase = (asin(clamp(dot(r, stripeAxis), -1.0, 1.0)) / PI + 0.5) * stripes;
   } else {
     // Isophotes: curves of equal angle between the normal and the axis.
     phase = acos(clamp(dot(n, stripeAxis), -1.0, 1.0)) / PI * stripes;
@@ -478,7 +483,7 @@ export class View {
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyeDir'), eyeDir);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'lightDir'), light);
     const ins = this.inspect;
-    const modes = { shaded: 0, zebra: 1, isophotes: 2, draft: 3 };
+    const modes = { shaded: 0, zebra: 1, isophotes: 2, draft: 3, reflection: 4 };
     gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'draftAngle'), (ins.draft * Math.PI) / 180);
     gl.uniform1i(gl.getUniformLocation(this.surfaceProgram, 'mode'), modes[ins.mode] || 0);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyePos'), ins.lockedEye || this.eye());
