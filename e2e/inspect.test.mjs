@@ -64,10 +64,12 @@ after(async () => {
 const state = () => page.evaluate(() => window.__pdeshape.state());
 
 async function load(file) {
+  const v = (await state()).version;
   page.acceptDialogs = true;
   await page.selectOption('#files', file);
   await page.click('#load');
-  await page.waitForFunction((f) => window.__pdeshape.state().file === f, file);
+  // The same file may be on screen already: wait for the load's own frame.
+  await page.waitForFunction(([f, v]) => window.__pdeshape.state().version > v && window.__pdeshape.state().file === f, [file, v]);
   await settled(page);
   page.acceptDialogs = false;
 }
@@ -78,6 +80,16 @@ async function reports() {
   await page.click('#refresh-reports');
   await page.waitForFunction((f) => document.getElementById('check').textContent.includes(`design: ${f}`), file);
   await page.waitForTimeout(100);
+}
+
+// The starting design, anew (its file name is always untitled.toml: wait for its frame).
+async function newDesign() {
+  const v = (await state()).version;
+  page.acceptDialogs = true;
+  await page.click('#new');
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.state().file === 'untitled.toml', v);
+  await settled(page);
+  page.acceptDialogs = false;
 }
 
 async function show(id, on) {
@@ -452,6 +464,18 @@ test('curvature combs are drawn from the curves\' exact curvature', async () => 
   }
   const shown = await combPixels();
   assert.ok(shown > none + 500, `${shown} comb pixels (${none} without combs)`);
+  // Across the seam along 'belly': both patches' normal curvatures, at the same points.
+  const seams = (await state()).seam_combs;
+  assert.equal(seams.length, 1);
+  assert.deepEqual([seams[0].curve, seams[0].a, seams[0].b], ['belly', 'base', 'bowl']);
+  assert.equal(seams[0].teeth.length, 64);
+  const jump = Math.max(...seams[0].teeth.map(([, , a, b]) => Math.abs(a - b)));
+  const check = await page.evaluate(async () => {
+    const token = new URLSearchParams(location.search).get('token');
+    return (await fetch('/api/check', { headers: { 'x-pdeshape-token': token } })).json();
+  });
+  // The largest jump along the seam is the check's G2 figure (64 of its 256 samples).
+  assert.ok(jump > 1e-3 && jump <= check.edges[0].g2 * (1 + 1e-12), `${jump} ${check.edges[0].g2}`);
   await page.$eval('#comb-scale', (e) => { e.value = '2.5'; e.dispatchEvent(new Event('input')); });
   await page.waitForTimeout(150);
   assert.ok((await combPixels()) > shown, 'a larger scale draws longer teeth');
@@ -611,11 +635,7 @@ test('a circle keeps its kind: its centre and radius handles are dragged', async
 });
 
 test('a dragged control point snaps to the grid; the axis triad turns with the view', async () => {
-  page.acceptDialogs = true;
-  await page.click('#new');
-  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
-  await settled(page);
-  page.acceptDialogs = false;
+  await newDesign();
   await page.selectOption('#snap', 'grid');
   await page.fill('#snap-step', '0.25');
   const [x, y] = await page.evaluate(() => {
@@ -665,11 +685,7 @@ test('a dragged control point snaps to the grid; the axis triad turns with the v
 });
 
 test('control points picked with Ctrl-click move together', async () => {
-  page.acceptDialogs = true;
-  await page.click('#new');
-  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
-  await settled(page);
-  page.acceptDialogs = false;
+  await newDesign();
   const at = (index) => page.evaluate((index) => {
     const { view, state } = window.__pdeshape;
     const s = view.project(state().curves.find((c) => c.name === 'rim').control[index]);
@@ -707,11 +723,7 @@ test('control points picked with Ctrl-click move together', async () => {
 });
 
 test('typed coordinates move the selected control point exactly', async () => {
-  page.acceptDialogs = true;
-  await page.click('#new');
-  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
-  await settled(page);
-  page.acceptDialogs = false;
+  await newDesign();
   const [x, y] = await page.evaluate(() => {
     const { view, state } = window.__pdeshape;
     const s = view.project(state().curves.find((c) => c.name === 'rim').control[1]);
@@ -747,11 +759,7 @@ test('typed coordinates move the selected control point exactly', async () => {
 });
 
 test('from a new design to a saved G1 multi-patch shape without a text editor', async () => {
-  page.acceptDialogs = true;
-  await page.click('#new');
-  await page.waitForFunction(() => window.__pdeshape.state().file === 'untitled.toml');
-  await settled(page);
-  page.acceptDialogs = false;
+  await newDesign();
   // A circle above the rim, then a patch from the rim to it: G1 along the rim by default.
   await page.selectOption('#new-kind', 'circle');
   await page.fill('#new-name', 'top');

@@ -61,6 +61,7 @@ export function legend(scene) {
   rows.push(row('#000', 'v = 0 marks (tick: increasing v)'));
   rows.push(row('rgb(217,26,26)', 'axes at the bottom left: x red, y green, z blue'));
   if (scene.curves.some((c) => c.comb && c.comb.length)) rows.push(row(rgb(COLORS.comb), 'curvature combs (teeth ∝ curvature)'));
+  if (scene.seam_combs && scene.seam_combs.length) rows.push(row(rgb(COLORS.combOther), 'across a seam: the second patch\'s normal-curvature comb'));
   if (scene.curves.some((c) => c.control)) rows.push(row(rgb(COLORS.control), 'control points (drag them)', 'dot'));
   if (scene.curves.some((c) => analyticHandles(c).length)) rows.push(row(rgb(COLORS.handle), 'circle and ellipse handles: centre, radii (drag them)', 'dot'));
   if (scene.color_range) {

@@ -119,6 +119,7 @@ export const COLORS = {
   selected: [1.0, 0.85, 0.0],
   fail: [0.90, 0.0, 0.0],
   comb: [0.0, 0.50, 0.45],
+  combOther: [0.60, 0.25, 0.75],
   handle: [0.10, 0.55, 0.15],
 };
 
@@ -338,8 +339,19 @@ export class View {
       // Teeth along -κN (away from the centre of curvature), one scale for every curve so that
       // combs compare; the envelope joins their tips.
       const combs = scene.curves.filter((c) => c.comb && c.comb.length);
-      const kmax = Math.max(1e-300, ...combs.flatMap((c) => c.comb.map(([, k]) => m.norm(k))));
+      const seams = scene.seam_combs || [];
+      const kmax = Math.max(1e-300, ...combs.flatMap((c) => c.comb.map(([, k]) => m.norm(k))),
+        ...seams.flatMap((e) => e.teeth.flatMap(([, , a, b]) => [Math.abs(a), Math.abs(b)])));
       const len = (this.comb.scale * 0.3 * (this.bounds ? this.bounds.radius : 1)) / kmax;
+      // Across each shared edge, a comb per side of the surfaces' normal curvature across it:
+      // where the seam is G2 the two coincide.
+      for (const e of seams) {
+        for (const [side, col] of [[2, COLORS.comb], [3, COLORS.combOther]]) {
+          const tips = e.teeth.map((t) => m.sub(t[0], m.scale(t[1], len * t[side])));
+          e.teeth.forEach((t, i) => { if (i % this.comb.every === 0) line(t[0], tips[i], col); });
+          polyline(tips, true, col);
+        }
+      }
       for (const c of combs) {
         const tips = [];
         c.comb.forEach(([p, k], i) => {

@@ -23,6 +23,8 @@ use std::collections::BTreeSet;
 
 /// Points per drawn curve.
 const CURVE_POINTS: usize = 128;
+/// Teeth of the curvature combs across a shared edge (per side).
+const SEAM_COMB_TEETH: usize = 64;
 /// Derivative vectors drawn per derivative condition.
 const VECTORS: usize = 24;
 
@@ -241,7 +243,38 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
             shared.push(name);
         }
     }
+    // With the combs: the two surfaces' normal curvatures across every shared edge (a comb per
+    // side), from their exact derivatives.
+    let mut seam_combs = Vec::new();
+    if combs {
+        for (ia, a) in solved.surfaces.iter().enumerate() {
+            for b in &solved.surfaces[ia + 1..] {
+                for ca in a.conditions.iter().filter(|c| c.derivative == 0) {
+                    let Some(name) = &ca.curve_name else { continue };
+                    for cb in b.conditions.iter().filter(|c| {
+                        c.derivative == 0 && c.curve_name.as_deref() == Some(name.as_str())
+                    }) {
+                        let teeth: Vec<Value> = pdeshape::diagnostics::seam_curvatures(
+                            a.surface(),
+                            ca.u,
+                            b.surface(),
+                            cb.u,
+                            SEAM_COMB_TEETH,
+                        )
+                        .into_iter()
+                        .filter(|c| finite(&c.point) && c.a.is_finite() && c.b.is_finite())
+                        .map(|c| json!([p3(&c.point), p3(&c.normal), c.a, c.b]))
+                        .collect();
+                        seam_combs.push(
+                            json!({ "curve": name, "a": a.name, "b": b.name, "teeth": teeth }),
+                        );
+                    }
+                }
+            }
+        }
+    }
     json!({
+        "seam_combs": seam_combs,
         "title": solved.title,
         "modes": spec.solver.modes,
         "method": format!("{:?}", spec.solver.method).to_lowercase(),

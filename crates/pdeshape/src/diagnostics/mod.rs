@@ -145,13 +145,34 @@ fn normal_curvature(p: &crate::surface::Partials, n: &Vec3, d: &Vec3) -> Option<
     (first > 0.0).then(|| second / first)
 }
 
-/// The G2 figure of an edge shared by two surfaces along `u = ua` on `a` and `u = ub` on `b`:
-/// over `samples` equally spaced `v`, the largest difference between the two surfaces' normal
-/// curvatures in the direction across the edge (in `a`'s tangent plane and in `b`'s, each
-/// perpendicular to the edge's tangent `X_v`), with `b`'s normal turned to agree with `a`'s.
-/// Samples where a normal or the edge's tangent degenerates (a pole) are skipped; NaN shows.
-pub fn seam_g2(a: &dyn Surface, ua: f64, b: &dyn Surface, ub: f64, samples: usize) -> f64 {
-    let mut worst = 0.0f64;
+/// The normal curvatures of two surfaces across an edge they share, at one `v`: the point on
+/// the first surface, its unit normal, and the normal curvature of each surface in the direction
+/// across the edge ([`seam_curvatures`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SeamCurvature {
+    /// `X_a(ua, v)`.
+    pub point: Vec3,
+    /// The first surface's unit normal there (the second's is turned to agree with it).
+    pub normal: Vec3,
+    /// The first surface's normal curvature across the edge (positive: curving towards
+    /// `normal`).
+    pub a: f64,
+    /// The second surface's.
+    pub b: f64,
+}
+
+/// The normal curvatures of two surfaces across the edge along `u = ua` on `a` and `u = ub` on
+/// `b`, at `samples` equally spaced `v`: in each surface's tangent plane, the direction
+/// perpendicular to the edge's tangent `X_v`, with `b`'s normal turned to agree with `a`'s.
+/// Samples where a normal or the edge's tangent degenerates (a pole) are left out.
+pub fn seam_curvatures(
+    a: &dyn Surface,
+    ua: f64,
+    b: &dyn Surface,
+    ub: f64,
+    samples: usize,
+) -> Vec<SeamCurvature> {
+    let mut out = Vec::with_capacity(samples.max(1));
     for j in 0..samples.max(1) {
         let v = crate::TAU * j as f64 / samples.max(1) as f64;
         let (pa, pb) = (a.partials(ua, v), b.partials(ub, v));
@@ -165,13 +186,28 @@ pub fn seam_g2(a: &dyn Surface, ua: f64, b: &dyn Surface, ub: f64, samples: usiz
         }
         let t = t / t.norm();
         let (da, db) = (na.cross(&t), nb.cross(&t));
-        let (Some(ka), Some(kb)) = (
+        if let (Some(ka), Some(kb)) = (
             normal_curvature(&pa, &na, &da),
             normal_curvature(&pb, &nb, &db),
-        ) else {
-            continue;
-        };
-        let d = (ka - kb).abs();
+        ) {
+            out.push(SeamCurvature {
+                point: pa.x,
+                normal: na,
+                a: ka,
+                b: kb,
+            });
+        }
+    }
+    out
+}
+
+/// The G2 figure of an edge shared by two surfaces along `u = ua` on `a` and `u = ub` on `b`:
+/// over `samples` equally spaced `v`, the largest difference between the two surfaces' normal
+/// curvatures across the edge ([`seam_curvatures`]); NaN shows.
+pub fn seam_g2(a: &dyn Surface, ua: f64, b: &dyn Surface, ub: f64, samples: usize) -> f64 {
+    let mut worst = 0.0f64;
+    for c in seam_curvatures(a, ua, b, ub, samples) {
+        let d = (c.a - c.b).abs();
         if d.is_nan() || d > worst {
             worst = d;
         }
