@@ -777,7 +777,8 @@ test('from a new design to a saved G1 multi-patch shape without a text editor', 
   await page.waitForFunction(() => document.getElementById('add-note').textContent.length > 0);
   assert.match(await page.textContent('#add-note'), /^G1 with body along rim/);
   await page.click('#refresh-reports');
-  await page.waitForFunction(() => document.querySelector('#edges tr[data-curve]'));
+  await page.waitForFunction(() => document.querySelector('#edges tr[data-curve="rim"]')
+    && document.getElementById('check').textContent.includes('curves: 7'));
   const rows = await page.evaluate(() => [...document.querySelectorAll('#edges tr[data-curve]')].map((r) => [r.dataset.curve, r.className]));
   assert.deepEqual(rows, [['rim', 'ok']]);
   assert.ok((await page.textContent('#check')).startsWith('OK\n'));

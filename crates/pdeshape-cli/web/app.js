@@ -120,9 +120,13 @@ function scheduleReports() {
   clearTimeout(reportsTimer);
   reportsTimer = setTimeout(refreshReports, 600);
 }
+// Reports answered out of order (a scheduled refresh and a click) show only the newest.
+let reportsAsked = 0;
 async function refreshReports() {
+  const asked = ++reportsAsked;
   try {
     const [check, analyze] = await Promise.all([api.check(g1Tolerance()), api.analyze()]);
+    if (asked !== reportsAsked) return;
     panels.reports(check, analyze);
     view.failing = new Set(panels.failing);
     if (scene) { panels.legend(scene); view.setScene(scene); view.request(); }
