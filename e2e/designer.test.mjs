@@ -20,6 +20,8 @@ before(async () => {
   server = await startServer(dir);
   browser = await launchBrowser();
   ({ page, errors } = await openPage(browser.context, server.url));
+  // Loading another file after edits asks before discarding them; these tests discard.
+  page.on('dialog', (d) => d.accept());
 });
 
 after(async () => {

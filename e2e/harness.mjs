@@ -58,14 +58,17 @@ export function stopServer(server) {
   });
 }
 
-export async function launchBrowser() {
+// The test viewport is 1280 × 800 with `--disable-gpu`; `renderer: 'swiftshader'` draws WebGL
+// with SwiftShader instead (the benchmarks compare both).
+export async function launchBrowser({ viewport = { width: 1280, height: 800 }, renderer = 'disable-gpu' } = {}) {
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'pdeshape-chromium-'));
+  const gpu = renderer === 'swiftshader' ? ['--use-angle=swiftshader', '--enable-unsafe-swiftshader'] : ['--disable-gpu'];
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: '/usr/bin/chromium',
     headless: true,
-    viewport: { width: 1280, height: 800 },
+    viewport,
     args: [
-      '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--headless', '--no-sandbox', ...gpu, '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync',
     ],
   });

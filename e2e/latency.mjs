@@ -1,21 +1,29 @@
 // Latency of a drag in the real browser: from the pointer event to the new surface drawn (after
-// gl.finish()), for the cup and the wine glass at 64 × 128 per patch. Prints p50/p95 of the
-// whole, of the server's share (its own timing of re-solve + tessellation + frame) and of the
-// round trip; the browser's share is the rest (event handling, decode, upload, draw).
-// Usage: node latency.mjs [moves]   (a benchmark: not part of the tests)
+// gl.finish()), for the cup, the wine glass and the teacup at 64 × 128 per patch. Prints p50/p95
+// of the whole, of the server's share (its own timing of re-solve + tessellation + frame) and of
+// the round trip; the browser's share is the rest (event handling, decode, upload, draw).
+// Usage: node latency.mjs [moves] [WxH] [disable-gpu|swiftshader] [zebra]
+//   (a benchmark: not part of the tests; default 150 moves, 1280x800, --disable-gpu, shaded)
 
 import { startDir, startServer, stopServer, launchBrowser, openPage, percentile } from './harness.mjs';
 
 const moves = Number(process.argv[2] || 150);
+const [width, height] = (process.argv[3] || '1280x800').split('x').map(Number);
+const renderer = process.argv[4] || 'disable-gpu';
+const zebra = process.argv[5] === 'zebra';
 const cases = [
   { file: 'examples/cup.toml', curve: 'rim', index: 3 },
   { file: 'examples/wine_glass.toml', curve: 'belly', index: 3 },
+  { file: 'examples/teacup.toml', curve: 'rim', index: 3 },
 ];
 
 const dir = startDir();
 const server = await startServer(dir);
-const { context } = await launchBrowser();
+const { context } = await launchBrowser({ viewport: { width, height }, renderer });
 const { page } = await openPage(context, server.url);
+// Loading the next design discards the last one's drag.
+page.on('dialog', (d) => d.accept());
+if (zebra) await page.selectOption('#inspect', 'zebra');
 await page.evaluate(() => {
   // Count the GPU's work in: the surface is drawn when gl.finish() returns.
   const gl = window.__pdeshape.view.gl;
@@ -71,6 +79,7 @@ for (const c of cases) {
 }
 await context.close();
 await stopServer(server);
+console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shaded'}`);
 for (const r of rows) {
   const f = (x) => x.toFixed(1);
   console.log(`${r.design}: ${r.patches} patches ${r.grid}, ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);

@@ -1,8 +1,10 @@
 //! `pdeshape check DESIGN`: validate, solve and report.
 //!
-//! The report ends with the library's verdict: `OK`, or `ATTENTION` after the `warning:` and
-//! `attention:` lines that explain it. Both exit with status 0 (the design solved); a refused
-//! design exits with status 2, and a failure that is not the input's (a bug) with 1.
+//! The report starts with the library's verdict: `OK`, `ATTENTION` or `FAIL`, followed by the
+//! `fail:`, `warning:` and `attention:` lines that explain it. A shared edge (seam) creased by
+//! more than `--g1-tolerance` fails the check: `FAIL`, an `error:` line naming the seams on
+//! stderr and exit status 1. `OK` and `ATTENTION` exit with status 0 (the design solved); a
+//! refused design exits with status 2.
 
 use crate::common::{self, CliError, Loaded};
 use pdeshape::design::SolvedDesign;
@@ -22,19 +24,63 @@ pub(crate) struct Args {
     /// stderr with exit status 2).
     #[arg(long)]
     pub json: bool,
+    /// The seam tolerance in radians: a shared edge whose tangent planes meet at a larger angle
+    /// (G1) fails the check (exit status 1). The default is one degree; an intended crease (a
+    /// lid, a flange) passes with a tolerance above its angle, e.g. `--g1-tolerance 1.6`.
+    #[arg(long, value_name = "RAD", default_value_t = diagnostics::SEAM_G1_TOLERANCE)]
+    pub g1_tolerance: f64,
 }
 
-/// The text report of a solved design: the verdict and its reasons first, then the details.
-fn report(design: &Loaded, built: &SolvedDesign) -> String {
-    let d = diagnostics::diagnose(&design.spec, built);
-    diagnostics::check_text(&design.file, &design.spec, built, &d)
+/// The diagnostics of a solved design, its seams judged by `--g1-tolerance`.
+fn judged(args: &Args, design: &Loaded, built: &SolvedDesign) -> diagnostics::Diagnostics {
+    let mut d = diagnostics::diagnose(&design.spec, built);
+    d.judge_seams(args.g1_tolerance);
+    d
 }
 
-/// The report as JSON: per surface its kind, operator, modes and condition errors; shared edges;
-/// warnings; the verdict; and the text report.
-fn report_json(design: &Loaded, built: &SolvedDesign) -> serde_json::Value {
-    let d = diagnostics::diagnose(&design.spec, built);
-    diagnostics::check_json(&design.file, &design.spec, built, &d)
+/// `--g1-tolerance` checked before the design is read: a finite angle, at least 0.
+fn check_tolerance(t: f64) -> Result<(), CliError> {
+    if t.is_finite() && t >= 0.0 {
+        Ok(())
+    } else {
+        Err(CliError::input(format!(
+            "--g1-tolerance: expected an angle in radians, at least 0 (got {t})"
+        )))
+    }
+}
+
+/// Exit status 1 with the failing seams named, when the verdict is `FAIL`.
+fn verdict_status(design: &Loaded, d: &diagnostics::Diagnostics) -> Result<(), CliError> {
+    if d.verdict != diagnostics::Verdict::Fail {
+        return Ok(());
+    }
+    let n = |x: f64| pdeshape::number::sig(x, pdeshape::number::DIGITS);
+    let seams: Vec<String> = d
+        .failed_seams()
+        .map(|e| {
+            format!(
+                "'{}' | '{}' along '{}' (G1 = {} rad)",
+                e.a,
+                e.b,
+                e.curve,
+                n(e.g1)
+            )
+        })
+        .collect();
+    Err(CliError {
+        message: format!(
+            "{}: {} creased beyond the G1 tolerance {} rad: {}",
+            design.file,
+            if seams.len() == 1 {
+                "a shared edge is".to_string()
+            } else {
+                format!("{} shared edges are", seams.len())
+            },
+            n(d.g1_tolerance.unwrap_or(diagnostics::SEAM_G1_TOLERANCE)),
+            seams.join(", ")
+        ),
+        status: 1,
+    })
 }
 
 /// The sections other commands act on, checked as those commands would read them, so that
@@ -48,17 +94,22 @@ fn check_sections(design: &Loaded, built: &SolvedDesign) -> Result<(), CliError>
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
+    check_tolerance(args.g1_tolerance)?;
     if args.json {
+        // The report as JSON: per surface its kind, operator, modes and condition errors;
+        // shared edges; warnings; the verdict; and the text report.
         let result = common::load(&args.design).and_then(|mut design| {
             common::apply_sets(&mut design, &args.set)?;
             let built = design.build()?;
             check_sections(&design, &built)?;
-            Ok(report_json(&design, &built))
+            let d = judged(args, &design, &built);
+            let v = diagnostics::check_json(&design.file, &design.spec, &built, &d);
+            Ok((v, verdict_status(&design, &d)))
         });
         return match result {
-            Ok(v) => {
+            Ok((v, status)) => {
                 common::print_stdout(&format!("{v}\n"));
-                Ok(())
+                status
             }
             Err(e) => {
                 let v = serde_json::json!({ "ok": false, "error": e.message });
@@ -71,6 +122,13 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     common::apply_sets(&mut design, &args.set)?;
     let built = design.build()?;
     check_sections(&design, &built)?;
-    common::print_stdout(&report(&design, &built));
-    Ok(())
+    // The verdict and its reasons first, then the details.
+    let d = judged(args, &design, &built);
+    common::print_stdout(&diagnostics::check_text(
+        &design.file,
+        &design.spec,
+        &built,
+        &d,
+    ));
+    verdict_status(&design, &d)
 }

@@ -43,8 +43,9 @@ enum Command {
     /// Solve a design and render it with its boundary curves and spine to a PNG picture.
     Render(render::Args),
     /// Validate and solve a design and print a report (modes, condition errors, shared edges)
-    /// ending in its verdict: OK, or ATTENTION after the warnings, gaps and creases (both exit
-    /// with status 0; a refused design with 2).
+    /// led by its verdict: OK, ATTENTION (warnings, gaps, small creases; both exit with status
+    /// 0) or FAIL (a shared edge creased beyond --g1-tolerance; status 1); a refused design
+    /// exits with 2.
     Check(check::Args),
     /// Run the [dynamic] section of a design (a dynamic PDE curve) and write the final curve
     /// (csv), optionally its frames (csv) and a picture (svg).

@@ -97,7 +97,10 @@ export const api = {
   load: (q, path) => frameOf('POST', 'load?' + q, { path }),
   save: async (path) => (await (await request('POST', 'save', { path })).response.json()),
   files: async () => (await (await request('GET', 'files')).response.json()),
-  check: async () => (await (await request('GET', 'check')).response.json()),
+  check: async (tolerance) => (await (await request('GET', `check?g1_tolerance=${tolerance}`)).response.json()),
   analyze: async () => (await (await request('GET', 'analyze')).response.json()),
-  download: async (q) => (await request('GET', 'download?' + q)).response.blob(),
+  download: async (q) => {
+    const { response } = await request('GET', 'download?' + q);
+    return { blob: await response.blob(), cad: response.headers.get('x-pdeshape-cad') };
+  },
 };

@@ -22,7 +22,10 @@ let busy = Promise.resolve();
 const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
 
 function query() {
-  return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}`;
+  const lo = $('c-lo').value.trim(), hi = $('c-hi').value.trim();
+  const range = lo !== '' && hi !== '' ? `&range=${encodeURIComponent(`${lo},${hi}`)}` : '';
+  const comb = $('show-combs').checked ? '&comb=1' : '';
+  return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}${range}${comb}`;
 }
 
 function status(text) {
@@ -75,9 +78,13 @@ function run(area, call, onDrawn) {
   busy = busy.then(async () => {
     try {
       const frame = await call();
-      panels.showError(area, '');
+      // A later success clears every earlier message (they described a state that is gone).
+      panels.clearErrors();
+      // Anything but a view change (grid, colouring) or a load changes the design.
+      if (markClean) { unsaved = false; markClean = false; } else if (area !== 'view') unsaved = true;
       show(frame, onDrawn);
     } catch (e) {
+      markClean = false; // a refused load leaves the design (and its unsaved state) as it was
       panels.showError(area, message(e));
       // The controls show the design as it stands (the refused value is not kept).
       if (scene) panels.fill(scene);
@@ -95,7 +102,8 @@ function edit(area, value, group) {
 const channels = [];
 function channel(area, send) {
   const ch = new Channel(send, (frame, t) => {
-    panels.showError(area, '');
+    panels.clearErrors();
+    if (area !== 'time') unsaved = true; // the timeline shows the design at t, it does not edit it
     show(frame, () => {
       perf.latencies.push(performance.now() - t);
       perf.server.push(frame.scene.server_ms);
@@ -112,14 +120,26 @@ function scheduleReports() {
   clearTimeout(reportsTimer);
   reportsTimer = setTimeout(refreshReports, 600);
 }
+// Reports answered out of order (a scheduled refresh and a click) show only the newest.
+let reportsAsked = 0;
 async function refreshReports() {
+  const asked = ++reportsAsked;
   try {
-    const [check, analyze] = await Promise.all([api.check(), api.analyze()]);
+    const [check, analyze] = await Promise.all([api.check(g1Tolerance()), api.analyze()]);
+    if (asked !== reportsAsked) return;
     panels.reports(check, analyze);
+    view.failing = new Set(panels.failing);
+    if (scene) { panels.legend(scene); view.setScene(scene); view.request(); }
     panels.showError('reports', '');
   } catch (e) {
     panels.showError('reports', message(e));
   }
+}
+
+// The seam tolerance of the shared-edge list, in radians (the page asks for degrees).
+function g1Tolerance() {
+  const deg = Number($('g1-tol').value);
+  return Number.isFinite(deg) && deg >= 0 ? (deg * Math.PI) / 180 : (Math.PI / 180);
 }
 
 let groupCounter = Date.now();
@@ -151,7 +171,7 @@ function digest() {
 }
 // True when no gesture has a request in flight or waiting.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null;
-window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle };
+window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
@@ -174,16 +194,44 @@ view.canvas.addEventListener('pointerdown', (ev) => {
   }
   const hit = ev.button === 0 && !ev.shiftKey ? view.pick(x, y) : null;
   if (!hit) {
-    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y] };
+    // A click (no movement) on a curve or a patch selects it; a drag turns the camera.
+    drag = { camera: ev.button === 2 || ev.shiftKey ? 'pan' : 'orbit', last: [x, y], start: [x, y], button: ev.button };
     return;
   }
+  if (hit.kind === 'control' && (ev.ctrlKey || ev.metaKey)) {
+    // Ctrl-click adds a control point of the same curve to the selection (or takes it out).
+    const multi = view.multi && view.multi.curve === hit.curve ? view.multi
+      : { curve: hit.curve, indices: new Set(view.selected && view.selected.kind === 'control' && view.selected.curve === hit.curve ? [view.selected.index] : []) };
+    if (multi.indices.has(hit.index)) multi.indices.delete(hit.index); else multi.indices.add(hit.index);
+    view.multi = multi;
+    view.selected = hit;
+    pointPanel();
+    selectionNote();
+    view.setScene(scene);
+    view.request();
+    return;
+  }
+  if (!(hit.kind === 'control' && view.multi && view.multi.curve === hit.curve && view.multi.indices.has(hit.index))) view.multi = null;
   view.selected = hit;
+  pointPanel();
+  selectionNote();
   const group = newGroup();
   const mode = $('plane').value;
   if (hit.kind === 'control') {
     $('curve').value = hit.curve;
     panels.curvePanel(scene);
-    drag = { ...hit, group, ...{ plane: view.dragPlane(hit.point, mode) } };
+    const c = scene.curves.find((x) => x.name === hit.curve);
+    // The file's control points at the drag's start (a group drag moves them from there).
+    const start = c && c.spec && Array.isArray(c.spec.control) ? c.spec.control.map((q) => [...q]) : null;
+    drag = { ...hit, group, start, ...{ plane: view.dragPlane(hit.point, mode) } };
+  } else if (hit.kind === 'analytic') {
+    $('curve').value = hit.curve;
+    panels.curvePanel(scene);
+    const c = scene.curves.find((x) => x.name === hit.curve);
+    const n = m.unit(c.spec.normal || [0, 0, 1]);
+    // The radii move in the curve's own plane; the centre in the chosen drag plane.
+    const plane = hit.role === 'center' ? view.dragPlane(hit.point, mode) : { point: hit.point, normal: n };
+    drag = { ...hit, group, plane, spec: c.spec, normal: n };
   } else if (hit.kind === 'spine') {
     $('patch').value = hit.patch;
     panels.patchPanel(scene);
@@ -206,17 +254,36 @@ view.canvas.addEventListener('pointermove', (ev) => {
     return;
   }
   const ray = view.ray(x, y);
-  const p = drag.line
+  const hitPoint = drag.line
     ? m.rayLine(ray.origin, ray.dir, drag.line.point, drag.line.dir)
     : m.rayPlane(ray.origin, ray.dir, drag.plane.point, drag.plane.normal);
-  if (!p) return;
+  if (!hitPoint) return;
+  const p = drag.kind === 'local' ? hitPoint : snap(hitPoint, x, y, drag);
   const d = drag;
-  if (d.kind === 'control') {
+  const c = d.kind === 'control' && view.multi && view.multi.indices.size > 1
+    && scene.curves.find((x) => x.name === d.curve);
+  if (c && c.spec && Array.isArray(c.spec.control) && !(c.spec.transform && c.spec.transform.length)) {
+    // Several points of one curve move together by the drag's displacement: one curve edit.
+    const delta = m.sub(p, d.point);
+    const control = d.start.map((q, i) => (view.multi.indices.has(i) ? m.add(q, delta) : q));
+    controlChannel.push(() => ({ edit: { edit: 'set_curve', name: d.curve, curve: { ...c.spec, control } }, group: d.group }), ev.timeStamp);
+  } else if (d.kind === 'control') {
     controlChannel.push(() => ({
       edit: { edit: 'move_control_point', name: d.curve, index: d.index, point: p },
       group: d.group,
       world: true,
     }), ev.timeStamp);
+  } else if (d.kind === 'analytic') {
+    const spec = { ...d.spec };
+    if (d.role === 'center') {
+      spec.center = m.add(d.spec.center, m.sub(p, d.point));
+    } else {
+      const r = m.sub(p, d.spec.center);
+      const inPlane = m.sub(r, m.scale(d.normal, m.dot(r, d.normal)));
+      const len = Math.max(m.norm(inPlane), 1e-6);
+      if (d.role === 'radius') spec.radius = len; else spec[d.role] = len;
+    }
+    controlChannel.push(() => ({ edit: { edit: 'set_curve', name: d.curve, curve: spec }, group: d.group }), ev.timeStamp);
   } else if (d.kind === 'spine') {
     spineChannel.push(() => ({ patch: patchRefOf(d.patch), index: d.index, point: p, group: d.group }), ev.timeStamp);
   } else {
@@ -224,9 +291,85 @@ view.canvas.addEventListener('pointermove', (ev) => {
   }
 });
 
-function endDrag() {
+// Selects what lies under a click: a curve (within a few pixels of its drawn line), else the
+// patch whose surface is nearest in front.
+function clickSelect(x, y) {
+  if (!scene) return;
+  view.multi = null;
+  const curve = view.pickCurve(x, y);
+  if (curve) {
+    view.selected = { kind: 'curve', curve };
+    $('curve').value = curve;
+    panels.curvePanel(scene);
+  } else {
+    const k = view.pickPatch(x, y);
+    if (k < 0) {
+      view.selected = null;
+      view.selectedPatch = -1;
+    } else {
+      const name = scene.surfaces[k].name;
+      view.selected = { kind: 'patch', patch: name };
+      view.selectedPatch = k;
+      $('patch').value = name;
+      panels.patchPanel(scene);
+      syncUvPatch(name);
+    }
+  }
+  pointPanel();
+  selectionNote();
+  view.setScene(scene);
+  view.request();
+}
+
+function selectionNote() {
+  const s = view.selected;
+  $('selection').textContent = !s ? 'nothing selected: click a curve or a patch'
+    : s.kind === 'curve' ? `curve ${s.curve} selected`
+      : s.kind === 'patch' ? `patch ${s.patch} selected`
+        : s.kind === 'control' && view.multi && view.multi.indices.size > 1
+          ? `control points ${[...view.multi.indices].sort((a, b) => a - b).join(', ')} of ${s.curve} selected (drag one to move them all)`
+        : s.kind === 'control' ? `control point ${s.index} of ${s.curve} selected`
+          : s.kind === 'spine' ? `spine point ${s.index} of ${s.patch} selected` : '';
+}
+
+// Snapping of a dragged point: to the grid (every coordinate a multiple of the step), or to the
+// nearest end of a curve or control point of another curve within 10 pixels on screen.
+function snap(p, sx, sy, d) {
+  const mode = $('snap').value;
+  if (mode === 'grid') {
+    const step = Number($('snap-step').value);
+    if (!(step > 0) || !Number.isFinite(step)) return p;
+    // Rounded to the step, then to the decimal digits the step has (0.1 · 3 is 0.30000000000000004).
+    const digits = Math.min(12, Math.max(0, -Math.floor(Math.log10(step)) + 3));
+    return p.map((c) => Number((Math.round(c / step) * step).toFixed(digits)));
+  }
+  if (mode === 'points' && scene) {
+    const mats = view.matrices();
+    let best = null, bestD = 10;
+    for (const c of scene.curves) {
+      if (c.name === d.curve) continue;
+      const cands = [...(c.control || [])];
+      if (!c.closed && c.points.length) cands.push(c.points[0], c.points[c.points.length - 1]);
+      for (const q of cands) {
+        const s = view.project(q, mats);
+        if (!s) continue;
+        const dist = Math.hypot(s[0] - sx, s[1] - sy);
+        if (dist < bestD) { bestD = dist; best = q; }
+      }
+    }
+    if (best) return [...best];
+  }
+  return p;
+}
+
+function endDrag(ev) {
   const was = drag;
   drag = null;
+  if (was && was.camera && was.button === 0 && ev && ev.type === 'pointerup') {
+    const [x, y] = pointerPos(ev);
+    if (Math.hypot(x - was.start[0], y - was.start[1]) < 4) clickSelect(x, y);
+  }
+  if (was && was.kind === 'control') pointPanel();
   // The next drag of the local handle starts from the curve as it is now.
   if (was && was.kind === 'local') {
     const again = () => (localChannel.idle ? local.show(local.curve).then(() => { view.setScene(scene); view.request(); }) : setTimeout(again, 50));
@@ -236,9 +379,13 @@ function endDrag() {
 view.canvas.addEventListener('pointerup', endDrag);
 view.canvas.addEventListener('pointercancel', endDrag);
 view.canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
+// The wheel zooms; a trackpad's two-finger scroll (sideways, or small steps) pans, and its pinch
+// (the wheel with Ctrl) zooms.
 view.canvas.addEventListener('wheel', (ev) => {
   ev.preventDefault();
-  view.zoom(Math.exp(ev.deltaY * 0.001));
+  const trackpad = !ev.ctrlKey && ev.deltaMode === 0 && (ev.deltaX !== 0 || Math.abs(ev.deltaY) < 40);
+  if (trackpad) view.pan(-ev.deltaX, -ev.deltaY);
+  else view.zoom(Math.exp(ev.deltaY * (ev.ctrlKey ? 0.01 : 0.001)));
 }, { passive: false });
 window.addEventListener('resize', () => { view.request(); uv.draw(); });
 
@@ -346,14 +493,29 @@ $('add-patch').onclick = () => {
   if (!scene.has_patches) {
     return panels.showError('add', 'this design has one patch given by top-level conditions; patches can be added to designs with [[patches]]');
   }
-  // A biharmonic patch between two position curves, with X_u from the straight join (s = 1).
+  // A biharmonic patch between two position curves. At an end where a patch already meets the
+  // curve and continues across it (it ends there where the new one starts, or starts where the
+  // new one ends), the new patch shares that patch's derivative curve: the seam is G1. Else X_u
+  // is the straight join (s = 1).
+  const straight = { type: 'derivative', position: from, direction: to, scale: 1 };
+  const shared = (curve, theirU) => {
+    for (const s of scene.surfaces) {
+      const at = s.conditions.find((c) => c.derivative === 0 && c.curve === curve && c.u === theirU);
+      const d = at && s.conditions.find((c) => c.derivative === 1 && c.u === theirU && c.curve);
+      if (d) return { patch: s.name, curve: d.curve };
+    }
+    return null;
+  };
+  const atFrom = shared(from, 1), atTo = shared(to, 0);
   const conditions = [
     { u: 0, curve: from },
-    { u: 0, derivative: 1, curve: { type: 'derivative', position: from, direction: to, scale: 1 } },
+    { u: 0, derivative: 1, curve: atFrom ? atFrom.curve : straight },
     { u: 1, curve: to },
-    { u: 1, derivative: 1, curve: { type: 'derivative', position: from, direction: to, scale: 1 } },
+    { u: 1, derivative: 1, curve: atTo ? atTo.curve : straight },
   ];
-  edit('add', { edit: 'insert_patch', index: scene.surfaces.length, patch: { name, conditions } });
+  const g1 = [atFrom && `with ${atFrom.patch} along ${from}`, atTo && `with ${atTo.patch} along ${to}`].filter(Boolean);
+  edit('add', { edit: 'insert_patch', index: scene.surfaces.length, patch: { name, conditions } })
+    .then(() => { $('add-note').textContent = g1.length ? `G1 ${g1.join(' and ')} (the neighbour's derivative curve shared)` : ''; });
 };
 
 // ---- The (u, v) panel --------------------------------------------------------------------
@@ -424,14 +586,22 @@ function fresh() {
   timeline.pause();
   uv.selected = null;
   view.selected = null;
+  view.selectedPatch = -1;
+  view.multi = null;
+  pointPanel();
+  selectionNote();
   view.framed = false;
   view.camera.panned = false;
 }
 $('load').onclick = () => {
+  if (!keepOrDiscard(`load ${$('files').value}`)) return;
+  markClean = true;
   fresh();
   run('file', () => api.load(query(), $('files').value));
 };
 $('new').onclick = () => {
+  if (!keepOrDiscard('start a new design')) return;
+  markClean = true;
   fresh();
   run('file', () => api.reset(query()));
 };
@@ -439,7 +609,8 @@ $('save').onclick = async () => {
   const path = $('save-path').value.trim() || (scene && scene.file) || 'design.toml';
   try {
     const r = await api.save(path);
-    panels.showError('file', '');
+    unsaved = false;
+    panels.clearErrors();
     status(`saved ${r.saved}`);
     $('file-name').textContent = r.saved;
     refreshFiles();
@@ -449,6 +620,13 @@ $('save').onclick = async () => {
 };
 $('undo').onclick = () => run('file', () => api.undo(query()));
 $('redo').onclick = () => run('file', () => api.redo(query()));
+// The page's words for the server's summary of a STEP or IGES file.
+function cadNote(format, cad) {
+  const f = Object.fromEntries(cad.split(';').map((kv) => kv.trim().split('=')));
+  const rel = f.certified === 'true' ? '≤' : '≈';
+  return `${format.toUpperCase()}: ${f.surfaces} B-spline surface(s), deviation from the design ${rel} ${f.deviation}` +
+    ` (${f.certified === 'true' ? 'certified' : 'sampled, not certified'}; tolerance ${f.tolerance})`;
+}
 for (const a of document.querySelectorAll('.dl a')) {
   a.onclick = async (ev) => {
     ev.preventDefault();
@@ -459,7 +637,7 @@ for (const a of document.querySelectorAll('.dl a')) {
       q += `&view=${eye.map((x) => x.toFixed(6)).join(',')}&size=1200x900`;
     }
     try {
-      const blob = await api.download(q);
+      const { blob, cad } = await api.download(q);
       const url = URL.createObjectURL(blob);
       const link = document.createElement('a');
       link.href = url;
@@ -467,12 +645,13 @@ for (const a of document.querySelectorAll('.dl a')) {
       link.click();
       setTimeout(() => URL.revokeObjectURL(url), 1000);
       panels.showError('file', '');
+      $('file-note').textContent = cad ? cadNote(format, cad) : '';
     } catch (e) {
       panels.showError('file', message(e));
     }
   };
 }
-for (const id of ['color', 'nu', 'nv']) {
+for (const id of ['color', 'nu', 'nv', 'c-lo', 'c-hi']) {
   $(id).onchange = () => run('view', () => api.frame(query()));
 }
 for (const key of ['curves', 'vectors', 'spines', 'control']) {
@@ -492,8 +671,108 @@ $('legend').onclick = () => {
   $('legend').classList.toggle('folded');
   if (scene) panels.legend(scene);
 };
+// ---- Inspection: zebra stripes and isophotes -----------------------------------------------
+function inspectChanged() {
+  const ins = view.inspect;
+  ins.mode = $('inspect').value;
+  ins.axis = { x: [1, 0, 0], y: [0, 1, 0], z: [0, 0, 1] }[$('stripe-axis').value];
+  ins.stripes = Number($('stripes').value);
+  ins.lockedEye = $('stripe-lock').checked ? (ins.lockedEye || view.eye()) : null;
+  const draft = Number($('draft-angle').value);
+  if (Number.isFinite(draft) && draft >= 0 && draft < 90) ins.draft = draft;
+  view.request();
+}
+for (const id of ['inspect', 'stripe-axis', 'stripes', 'stripe-lock', 'draft-angle']) $(id).addEventListener('input', inspectChanged);
+$('g1-tol').onchange = refreshReports;
+// Curvature combs: the scene carries them only while they are shown.
+$('show-combs').onchange = () => {
+  view.comb.show = $('show-combs').checked;
+  run('view', () => api.frame(query()));
+};
+for (const id of ['comb-scale', 'comb-density']) {
+  $(id).addEventListener('input', () => {
+    view.comb.scale = Number($('comb-scale').value);
+    view.comb.every = Number($('comb-density').value);
+    if (scene) { view.setScene(scene); view.request(); }
+  });
+}
+
+// ---- Typed coordinates of the selected control point ---------------------------------------
+function pointPanel() {
+  const s = view.selected;
+  const c = s && s.kind === 'control' && scene && scene.curves.find((x) => x.name === s.curve);
+  const p = c && c.control && c.control[s.index];
+  $('point-row').hidden = !p;
+  if (!p) return;
+  $('point-name').textContent = `${s.curve}[${s.index}]`;
+  const rel = $('point-relative').checked;
+  ['px', 'py', 'pz'].forEach((id, k) => { $(id).value = rel ? '0' : String(p[k]); });
+}
+$('point-relative').onchange = pointPanel;
+$('point-set').onclick = () => {
+  const s = view.selected;
+  const c = s && s.kind === 'control' && scene.curves.find((x) => x.name === s.curve);
+  if (!c) return panels.showError('point', 'select a control point first (click its dot)');
+  const v = ['px', 'py', 'pz'].map((id) => Number($(id).value.trim() === '' ? NaN : $(id).value));
+  const bad = v.findIndex((x) => !Number.isFinite(x));
+  if (bad >= 0) return panels.showError('point', `${'xyz'[bad]}: expected a number (got '${$(['px', 'py', 'pz'][bad]).value}')`);
+  const p0 = c.control[s.index];
+  const point = $('point-relative').checked ? v.map((x, k) => p0[k] + x) : v;
+  run('point', () => api.edit(query(), { edit: { edit: 'move_control_point', name: s.curve, index: s.index, point }, world: true }))
+    .then(pointPanel);
+};
+
+// ---- Unsaved changes -----------------------------------------------------------------------
+// Set by every edit (gestures, buttons, undo and redo), cleared by a load, a new design and a
+// save.
+let unsaved = false;
+let markClean = true;
+const dirty = () => unsaved;
+function keepOrDiscard(what) {
+  return !dirty() || window.confirm(`The design has unsaved changes. Discard them and ${what}?`);
+}
+window.addEventListener('beforeunload', (ev) => {
+  if (!dirty()) return;
+  ev.preventDefault();
+  ev.returnValue = '';
+});
+
+// ---- Shortcuts and help --------------------------------------------------------------------
+function toggleHelp(open = $('help').hidden) { $('help').hidden = !open; }
+$('help-button').onclick = () => toggleHelp();
+const VIEWS = {
+  1: [-Math.PI / 2, 0], 2: [Math.PI / 2, 0], 3: [0, 0], 4: [Math.PI, 0],
+  5: [-Math.PI / 2, 1.55], 6: [-Math.PI / 2, -1.55], 0: [-0.95, 0.48],
+};
+function toggleBox(id) {
+  const box = $(id);
+  box.checked = !box.checked;
+  box.dispatchEvent(new Event('change'));
+}
 window.addEventListener('keydown', (ev) => {
-  if ((ev.ctrlKey || ev.metaKey) && ev.key === 'z') { ev.preventDefault(); $(ev.shiftKey ? 'redo' : 'undo').click(); }
+  const mod = ev.ctrlKey || ev.metaKey;
+  if (mod && (ev.key === 'z' || ev.key === 'Z')) { ev.preventDefault(); $(ev.shiftKey ? 'redo' : 'undo').click(); return; }
+  if (mod && ev.key === 'y') { ev.preventDefault(); $('redo').click(); return; }
+  if (mod && ev.key === 's') { ev.preventDefault(); $('save').click(); return; }
+  if (mod || ev.altKey) return;
+  const t = ev.target;
+  if (t && (t.tagName === 'INPUT' || t.tagName === 'SELECT' || t.tagName === 'TEXTAREA')) return;
+  if (ev.key === '?') { toggleHelp(); return; }
+  if (ev.key === 'Escape') { toggleHelp(false); return; }
+  const k = ev.key.toLowerCase();
+  if (k === 'f') view.frameAll();
+  else if (ev.key in VIEWS) view.standardView(...VIEWS[ev.key]);
+  else if (k === 'z') {
+    $('inspect').value = $('inspect').value === 'zebra' ? 'shaded' : 'zebra';
+    inspectChanged();
+  } else if (k === 'c') toggleBox('show-curves');
+  else if (k === 'p') toggleBox('show-control');
+  else if ((ev.key === 'Delete' || ev.key === 'Backspace') && view.selected && view.selected.kind === 'curve') {
+    const name = view.selected.curve;
+    view.selected = null;
+    edit('curve', { edit: 'set_curve', name, curve: null });
+  } else return;
+  ev.preventDefault();
 });
 
 run('file', () => api.frame(query())).then(refreshFiles);

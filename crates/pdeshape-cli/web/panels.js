@@ -2,7 +2,7 @@
 // shared-edge table, the check report and the analyze numbers, and error messages beside the
 // control that caused them.
 
-import { COLORS } from './view.js';
+import { COLORS, analyticHandles } from './view.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -31,6 +31,9 @@ const esc = (s) => String(s).replace(/[&<>"']/g, (c) => `&#${c.charCodeAt(0)};`)
 const rgb = (c) => `rgb(${c.map((x) => Math.round(x * 255)).join(',')})`;
 
 // The legend (built with DOM calls: the page's content security policy allows no inline styles).
+// The curves along seams that failed the check (drawn red).
+export const failing = new Set();
+
 export function legend(scene) {
   const box = $('legend');
   const row = (color, text, swatch = 'line') => {
@@ -47,21 +50,33 @@ export function legend(scene) {
   const rows = [title];
   rows.push(...scene.surfaces.map((s, k) =>
     row(rgb(COLORS.patches[k % COLORS.patches.length]), `patch ${s.name} (${s.kind})`, 'patch')));
-  rows.push(row(rgb(COLORS.position), 'position curves'));
+  rows.push(row(rgb(COLORS.position), 'position curves (click to select)'));
   rows.push(row(rgb(COLORS.other), 'other curves (derivative directions)'));
-  rows.push(row(rgb(COLORS.vector), 'X_u vectors (1/3 length)'));
+  rows.push(row(rgb(COLORS.vector), 'derivative vectors X_u (1/3 length)'));
   rows.push(row(rgb(COLORS.spine), 'spines'));
   if (scene.surfaces.some((s) => s.spine_control)) rows.push(row(rgb(COLORS.spineControl), 'spine control points (drag them)', 'dot'));
   if (scene.trim_lines && scene.trim_lines.length) rows.push(row(rgb(COLORS.trim), 'trim curves (holes)'));
-  rows.push(row(rgb(COLORS.edge), 'shared edges'));
+  rows.push(row(rgb(COLORS.edge), 'shared edges (seams)'));
+  if (failing && failing.size) rows.push(row(rgb(COLORS.fail), 'seams above the G1 tolerance'));
   rows.push(row('#000', 'v = 0 marks (tick: increasing v)'));
-  rows.push(row(rgb(COLORS.control), 'control points (drag them)', 'dot'));
+  rows.push(row('rgb(217,26,26)', 'axes at the bottom left: x red, y green, z blue'));
+  if (scene.curves.some((c) => c.comb && c.comb.length)) rows.push(row(rgb(COLORS.comb), 'curvature combs (teeth ∝ curvature)'));
+  if (scene.seam_combs && scene.seam_combs.length) rows.push(row(rgb(COLORS.combOther), 'across a seam: the second patch\'s normal-curvature comb'));
+  if (scene.curves.some((c) => c.control)) rows.push(row(rgb(COLORS.control), 'control points (drag them)', 'dot'));
+  if (scene.curves.some((c) => analyticHandles(c).length)) rows.push(row(rgb(COLORS.handle), 'circle and ellipse handles: centre, radii (drag them)', 'dot'));
   if (scene.color_range) {
-    const [lo, hi] = scene.color_range.map((x) => x.toExponential(2));
+    const f = (x) => Number(Number(x).toPrecision(3)).toString();
+    const [lo, hi] = scene.color_range;
     const div = document.createElement('div');
+    div.className = 'colorbar';
     const bar = document.createElement('span');
     bar.className = 'bar';
-    div.append(`${lo} `, bar, ` ${hi}`);
+    const full = scene.color_full_range;
+    div.append(`${f(lo)} `, bar, ` ${f(hi)}`);
+    if (full) {
+      div.title = 'the colours span the 2nd to 98th percentile; beyond them they saturate';
+      div.append(`  (true range ${f(full[0])} … ${f(full[1])})`);
+    }
     rows.push(div);
   }
   box.replaceChildren(...rows);
@@ -128,22 +143,35 @@ export function patchPanel(scene) {
   }
 }
 
+// The shared edges (seams): G0 distance, G1 angle in degrees (radians in the tooltip); a seam
+// above the tolerance is marked red (its `failed` from the check).
 function edges(list) {
   const t = $('edges');
   if (!list.length) {
     t.innerHTML = '<tr><td>none (no position curve shared by two patches)</td></tr>';
     return;
   }
-  t.innerHTML = '<tr><th>edge</th><th>along</th><th>G0</th><th>G1 (rad)</th></tr>' + list.map((e) =>
-    `<tr><td>${esc(e.a)} u=${e.ua} | ${esc(e.b)} u=${e.ub}</td><td>${esc(e.curve)}</td>` +
-    `<td>${e.g0 == null ? 'NaN' : e.g0.toExponential(2)}</td><td>${e.g1 == null ? 'NaN' : e.g1.toExponential(2)}</td></tr>`).join('');
+  const deg = (x) => (x == null ? 'NaN' : `${((x * 180) / Math.PI).toPrecision(3)}°`);
+  t.innerHTML = '<tr><th>seam</th><th>along</th><th title="largest distance between the two sides">G0</th>' +
+    '<th title="largest angle between the two tangent planes">G1</th>' +
+    '<th title="largest jump of the normal curvature across the seam (1/length)">G2</th></tr>' + list.map((e) =>
+    `<tr class="${e.failed ? 'bad' : 'ok'}" data-curve="${esc(e.curve)}"><td>${esc(e.a)} u=${e.ua} | ${esc(e.b)} u=${e.ub}</td><td>${esc(e.curve)}</td>` +
+    `<td>${e.g0 == null ? 'NaN' : e.g0.toExponential(2)}</td>` +
+    `<td class="g1" title="${e.g1 == null ? 'NaN' : e.g1.toExponential(3)} rad">${deg(e.g1)}</td>` +
+    `<td>${e.g2 == null ? 'NaN' : e.g2.toExponential(2)}</td></tr>`).join('');
 }
+
+const PLAIN = { area: 'area', volume: 'volume', bending_energy: 'bending', willmore: 'Willmore',
+  gauss_integral: '∫K', mean_integral: '∫H' };
 
 export function reports(check, analyze) {
   edges(check.edges);
-  $('check').textContent = check.report + check.conclusion;
-  const keys = ['area', 'volume', 'bending_energy', 'willmore', 'gauss_integral', 'mean_integral'];
-  const row = (name, v) => `<tr><td>${esc(name)}</td>${keys.map((k) => `<td>${v[k] == null ? '–' : Number(v[k]).toPrecision(6)}</td>`).join('')}</tr>`;
-  $('analyze').innerHTML = `<tr><th></th>${keys.map((k) => `<th>${k.replace('_integral', ' ∫').replace('_', ' ')}</th>`).join('')}</tr>` +
+  failing.clear();
+  for (const e of check.edges) if (e.failed) failing.add(e.curve);
+  $('check').textContent = check.text;
+  $('check').classList.toggle('fail', check.verdict === 'fail');
+  const keys = Object.keys(PLAIN);
+  const row = (name, v) => `<tr><td>${esc(name)}</td>${keys.map((k) => `<td>${v[k] == null ? '–' : Number(v[k]).toPrecision(4)}</td>`).join('')}</tr>`;
+  $('analyze').innerHTML = `<tr><th></th>${keys.map((k) => `<th title="${k}">${PLAIN[k]}</th>`).join('')}</tr>` +
     analyze.patches.map((p) => row(p.name, p)).join('') + row('total', analyze.total);
 }

@@ -12,27 +12,75 @@ in vec3 color;
 uniform mat4 mvp;
 out vec3 vNormal;
 out vec3 vColor;
+out vec3 vPos;
 void main() {
   vNormal = normal;
   vColor = color;
+  vPos = position;
   gl_Position = mvp * vec4(position, 1.0);
 }`;
 
+// Shaded, zebra or isophotes. The stripes are computed per pixel from the normal interpolated
+// between the vertices' exact unit normals (X_u × X_v from the surface's derivatives, on the
+// frame's grid): a G1 seam keeps the stripes continuous, a crease breaks them, and the stripes
+// do not follow the triangles as per-vertex stripe values would.
 const SURFACE_FS = `#version 300 es
 precision highp float;
 in vec3 vNormal;
 in vec3 vColor;
+in vec3 vPos;
 uniform vec3 eyeDir;
 uniform vec3 lightDir;
+uniform vec3 eyePos;
+uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft, 4 reflection lines
+uniform float draftAngle; // the least draft angle (radians) of draft analysis
+uniform vec3 stripeAxis; // the stripes' axis (unit)
+uniform float stripes;   // stripes around the axis (zebra) or from the axis to its opposite
 out vec4 outColor;
+const float PI = 3.14159265358979;
 void main() {
   vec3 n = normalize(vNormal);
+  vec3 toEye = mode == 1 || mode == 4 ? normalize(eyePos - vPos) : eyeDir;
   // Two-sided: light the side we see.
-  if (dot(n, eyeDir) < 0.0) n = -n;
-  float diffuse = max(dot(n, lightDir), 0.0);
-  float rim = max(dot(n, eyeDir), 0.0);
-  vec3 c = vColor * (0.28 + 0.62 * diffuse + 0.15 * rim);
-  outColor = vec4(c, 1.0);
+  if (dot(n, toEye) < 0.0) n = -n;
+  if (mode == 0) {
+    float diffuse = max(dot(n, lightDir), 0.0);
+    float rim = max(dot(n, eyeDir), 0.0);
+    outColor = vec4(vColor * (0.28 + 0.62 * diffuse + 0.15 * rim), 1.0);
+    return;
+  }
+  if (mode == 3) {
+    // Draft analysis along the pull direction (the axis): the draft angle is the angle between
+    // the surface and the pull direction, asin |n · d|, taken without the normal's sign (a
+    // patch's X_u × X_v may point in or out). Below the least angle: red; above: green.
+    float draft = asin(clamp(abs(dot(n, stripeAxis)), 0.0, 1.0));
+    float w = max(fwidth(draft), 1e-4);
+    vec3 c = mix(vec3(0.85, 0.15, 0.12), vec3(0.20, 0.68, 0.30), smoothstep(draftAngle - w, draftAngle + w, draft));
+    float diffuse = max(dot(n, lightDir), 0.0);
+    outColor = vec4(c * (0.45 + 0.55 * diffuse), 1.0);
+    return;
+  }
+  float phase;
+  if (mode == 1) {
+    // The reflection of the view ray in an infinite cylinder of stripes around the axis.
+    vec3 r = reflect(-toEye, n);
+    vec3 b = normalize(abs(stripeAxis.z) < 0.9 ? cross(stripeAxis, vec3(0.0, 0.0, 1.0)) : cross(stripeAxis, vec3(1.0, 0.0, 0.0)));
+    vec3 c = cross(stripeAxis, b);
+    phase = (atan(dot(r, c), dot(r, b)) / (2.0 * PI) + 0.5) * stripes;
+  } else if (mode == 4) {
+    // Reflection lines: the reflected view ray's elevation from the plane normal to the axis
+    // (bands of equal latitude of an environment sphere about the axis).
+    vec3 r = reflect(-toEye, n);
+    phase = (asin(clamp(dot(r, stripeAxis), -1.0, 1.0)) / PI + 0.5) * stripes;
+  } else {
+    // Isophotes: curves of equal angle between the normal and the axis.
+    phase = acos(clamp(dot(n, stripeAxis), -1.0, 1.0)) / PI * stripes;
+  }
+  float w = clamp(fwidth(phase), 1e-4, 0.25);
+  float t = abs(fract(phase) - 0.5);
+  float v = smoothstep(0.25 - w, 0.25 + w, t);
+  float shade = 0.85 + 0.15 * max(dot(n, eyeDir), 0.0);
+  outColor = vec4(mix(vec3(0.06), vec3(0.97), v) * shade, 1.0);
 }`;
 
 const LINE_VS = `#version 300 es
@@ -69,6 +117,10 @@ export const COLORS = {
   trim: [0.90, 0.55, 0.08],
   local: [0.0, 0.65, 0.65],
   selected: [1.0, 0.85, 0.0],
+  fail: [0.90, 0.0, 0.0],
+  comb: [0.0, 0.50, 0.45],
+  combOther: [0.60, 0.25, 0.75],
+  handle: [0.10, 0.55, 0.15],
 };
 
 function compile(gl, vs, fs) {
@@ -101,6 +153,18 @@ function gridIndices(nu, nv, periodic) {
   return out;
 }
 
+// The handles of a circle (centre, radius) or an ellipse given by rx, ry (centre, the two
+// semi-axes) as [role, point] pairs; none for other curves or curves with a transform.
+export function analyticHandles(c) {
+  const spec = c.spec;
+  if (!spec || (spec.transform && spec.transform.length) || c.role === 'derivative' || !c.points.length) return [];
+  if (spec.type === 'circle' && c.v0) return [['center', spec.center], ['radius', c.v0.point]];
+  if (spec.type === 'ellipse' && spec.rx != null && spec.ry != null && !spec.v_origin && c.points.length === 128) {
+    return [['center', spec.center], ['rx', c.points[0]], ['ry', c.points[32]]];
+  }
+  return [];
+}
+
 export class View {
   constructor(canvas) {
     this.canvas = canvas;
@@ -119,6 +183,16 @@ export class View {
     this.show = { curves: true, vectors: true, spines: true, control: true, edges: true };
     this.selected = null; // { kind: 'control', curve, index } or { kind: 'spine', patch, index }
     this.local = null; // a local edit's points: { x1, x2, handle }
+    // Surface inspection: 'shaded', 'zebra', 'isophotes' or 'draft'; the stripes' axis (the
+    // pull direction of draft analysis) and count; a locked eye keeps the stripes on the model
+    // while the view turns; the least draft angle in degrees.
+    this.failing = new Set(); // curves along seams that fail the check
+    this.selectedPatch = -1; // the index of a patch selected by a click
+    this.multi = null; // control points picked with Ctrl-click: { curve, indices: Set }
+    // Curvature combs: shown, tooth scale (1: the most curved tooth is 0.3 of the design's
+    // radius), and every how many samples a tooth is drawn.
+    this.comb = { show: false, scale: 1, every: 2 };
+    this.inspect = { mode: 'shaded', axis: [0, 0, 1], stripes: 16, lockedEye: null, draft: 3 };
   }
 
   // Meshes of a frame: one vertex array per surface, buffers reused when the sizes match.
@@ -156,10 +230,11 @@ export class View {
         gl.enableVertexAttribArray(loc);
         gl.vertexAttribPointer(loc, 3, gl.UNSIGNED_BYTE, true, 0, 0);
       } else {
+        // A constant attribute value is the context's, not the vertex array's: draw() sets it
+        // before each mesh.
         gl.disableVertexAttribArray(loc);
-        const c = patchColors[k % patchColors.length];
-        gl.vertexAttrib3f(loc, c[0], c[1], c[2]);
       }
+      mesh.color = s.colors ? null : patchColors[k % patchColors.length];
       if (s.indices) {
         // A trimmed surface: its own triangles (the holes cut out).
         gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, mesh.buffers[3]);
@@ -182,16 +257,37 @@ export class View {
       mesh.trimmed = !!s.indices;
       gl.bindVertexArray(null);
     });
+    this.surfaceData = surfaces;
     this.bounds = this.computeBounds(surfaces);
     if (!this.camera.panned && this.bounds) {
       this.camera.target = this.bounds.center;
       if (!this.framed) {
-        // The whole design in view, across the narrower of the view's two sides.
-        const aspect = this.canvas.clientWidth / Math.max(this.canvas.clientHeight, 1);
-        this.camera.distance = Math.max((this.bounds.radius * 4.2) / Math.min(1, aspect || 1), 1e-3);
+        this.camera.distance = this.frameDistance();
         this.framed = true;
       }
     }
+  }
+
+  // The distance that shows the whole design across the narrower of the view's two sides.
+  frameDistance() {
+    const aspect = this.canvas.clientWidth / Math.max(this.canvas.clientHeight, 1);
+    return Math.max((this.bounds.radius * 4.2) / Math.min(1, aspect || 1), 1e-3);
+  }
+
+  // Frame all: the whole design in view, centred.
+  frameAll() {
+    if (!this.bounds) return;
+    this.camera.target = this.bounds.center;
+    this.camera.distance = this.frameDistance();
+    this.camera.panned = false;
+    this.request();
+  }
+
+  // A standard view (yaw, pitch of the eye around the target), framed.
+  standardView(yaw, pitch) {
+    this.camera.yaw = yaw;
+    this.camera.pitch = pitch;
+    this.frameAll();
   }
 
   computeBounds(surfaces) {
@@ -220,11 +316,15 @@ export class View {
     };
     // Curves along shared edges are drawn in the edge colour.
     const edgeCurves = new Set(this.show.edges ? scene.shared_curves : []);
+    const sel = this.selected || {};
     if (this.show.curves) {
       for (const c of scene.curves) {
         if (!c.points.length) continue;
-        const col = edgeCurves.has(c.name) ? COLORS.edge
-          : c.role === 'position' ? COLORS.position : COLORS.other;
+        // A seam above the G1 tolerance is drawn red even with the curves hidden.
+        const col = sel.kind === 'curve' && sel.curve === c.name ? COLORS.selected
+          : this.failing.has(c.name) ? COLORS.fail
+            : edgeCurves.has(c.name) ? COLORS.edge
+              : c.role === 'position' ? COLORS.position : COLORS.other;
         polyline(c.points, c.closed, col);
         if (c.v0) {
           // The v = 0 mark: a dot and a short tick along the direction of increasing v.
@@ -235,13 +335,57 @@ export class View {
         }
       }
     }
+    if (this.comb.show) {
+      // Teeth along -κN (away from the centre of curvature), one scale for every curve so that
+      // combs compare; the envelope joins their tips.
+      const combs = scene.curves.filter((c) => c.comb && c.comb.length);
+      const seams = scene.seam_combs || [];
+      const kmax = Math.max(1e-300, ...combs.flatMap((c) => c.comb.map(([, k]) => m.norm(k))),
+        ...seams.flatMap((e) => e.teeth.flatMap(([, , a, b]) => [Math.abs(a), Math.abs(b)])));
+      const len = (this.comb.scale * 0.3 * (this.bounds ? this.bounds.radius : 1)) / kmax;
+      // Across each shared edge, a comb per side of the surfaces' normal curvature across it:
+      // where the seam is G2 the two coincide.
+      for (const e of seams) {
+        for (const [side, col] of [[2, COLORS.comb], [3, COLORS.combOther]]) {
+          const tips = e.teeth.map((t) => m.sub(t[0], m.scale(t[1], len * t[side])));
+          e.teeth.forEach((t, i) => { if (i % this.comb.every === 0) line(t[0], tips[i], col); });
+          polyline(tips, true, col);
+        }
+      }
+      for (const c of combs) {
+        const tips = [];
+        c.comb.forEach(([p, k], i) => {
+          const tip = m.sub(p, m.scale(k, len));
+          tips.push(tip);
+          if (i % this.comb.every === 0) line(p, tip, COLORS.comb);
+        });
+        polyline(tips, c.closed, COLORS.comb);
+      }
+    }
     if (this.show.vectors) {
       for (const v of scene.vectors) for (const [a, b] of v.segments) line(a, b, COLORS.vector);
     }
     // The trim curves' images on their surfaces (the holes' edges).
     for (const l of scene.trim_lines || []) polyline(l, true, COLORS.trim);
-    const sel = this.selected || {};
+    if (!this.show.curves) {
+      for (const c of scene.curves) if (this.failing.has(c.name)) polyline(c.points, c.closed, COLORS.fail);
+    }
     this.pickable = [];
+    if (this.show.control) {
+      // Circles and ellipses keep their kind: handles at the centre and on the radii (curves
+      // with a transform have none: their file values are not where they are drawn). They are
+      // listed before the spines' points, so a circle's centre wins over the spine's end there.
+      for (const c of scene.curves) {
+        const h = analyticHandles(c);
+        for (const [role, point] of h) {
+          const isSel = sel.kind === 'analytic' && sel.curve === c.name && sel.role === role;
+          pts.push(...point);
+          ptsCol.push(...(isSel ? COLORS.selected : COLORS.handle));
+          this.pickable.push({ kind: 'analytic', curve: c.name, role, point });
+        }
+        if (h.length) for (const [, point] of h.slice(1)) line(h[0][1], point, COLORS.handle);
+      }
+    }
     if (this.show.spines) {
       for (const s of scene.surfaces) {
         polyline(s.spine, false, COLORS.spine);
@@ -262,7 +406,8 @@ export class View {
         if (!c.control) continue;
         polyline(c.control, c.closed, COLORS.controlLine);
         c.control.forEach((p, index) => {
-          const isSel = sel.kind === 'control' && sel.curve === c.name && sel.index === index;
+          const isSel = (sel.kind === 'control' && sel.curve === c.name && sel.index === index)
+            || (this.multi && this.multi.curve === c.name && this.multi.indices.has(index));
           pts.push(...p);
           ptsCol.push(...(isSel ? COLORS.selected : COLORS.control));
           this.pickable.push({ kind: 'control', curve: c.name, index, point: p });
@@ -349,8 +494,22 @@ export class View {
     gl.uniformMatrix4fv(gl.getUniformLocation(this.surfaceProgram, 'mvp'), false, mvp);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyeDir'), eyeDir);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'lightDir'), light);
+    const ins = this.inspect;
+    const modes = { shaded: 0, zebra: 1, isophotes: 2, draft: 3, reflection: 4 };
+    gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'draftAngle'), (ins.draft * Math.PI) / 180);
+    gl.uniform1i(gl.getUniformLocation(this.surfaceProgram, 'mode'), modes[ins.mode] || 0);
+    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyePos'), ins.lockedEye || this.eye());
+    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'stripeAxis'), m.unit(ins.axis));
+    gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'stripes'), Math.max(1, Math.round(ins.stripes)));
+    const colorLoc = gl.getAttribLocation(this.surfaceProgram, 'color');
     for (const mesh of this.meshes) {
       gl.bindVertexArray(mesh.vao);
+      if (mesh.color) {
+        // The selected patch is tinted towards the selection colour.
+        const c = this.meshes.indexOf(mesh) === this.selectedPatch
+          ? mesh.color.map((x, i) => 0.55 * x + 0.45 * COLORS.selected[i]) : mesh.color;
+        gl.vertexAttrib3f(colorLoc, c[0], c[1], c[2]);
+      }
       gl.drawElements(gl.TRIANGLES, mesh.count, gl.UNSIGNED_INT, 0);
     }
     gl.useProgram(this.lineProgram);
@@ -364,8 +523,27 @@ export class View {
       gl.bindVertexArray(this.points.vao);
       gl.drawArrays(gl.POINTS, 0, this.points.count);
     }
+    this.drawTriad(dpr);
     gl.bindVertexArray(null);
     if (this.onDrawn) this.onDrawn();
+  }
+
+  // The axis triad in the bottom-left corner: x red, y green, z blue, turned with the view.
+  drawTriad(dpr) {
+    const gl = this.gl;
+    if (!this.triad) this.triad = this.upload(null,
+      [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1],
+      [0.85, 0.1, 0.1, 0.85, 0.1, 0.1, 0.1, 0.6, 0.1, 0.1, 0.6, 0.1, 0.1, 0.2, 0.9, 0.1, 0.2, 0.9]);
+    const size = Math.round(70 * dpr);
+    gl.viewport(0, 0, size, size);
+    gl.clear(gl.DEPTH_BUFFER_BIT);
+    // The unit axes from 4.2 away fill the corner (a 30° field of view spans ±1.1 there).
+    const eye = m.scale(m.unit(m.sub(this.eye(), this.camera.target)), 4.2);
+    const mvp = m.multiply(m.perspective(Math.PI / 6, 1, 2, 6.5), m.lookAt(eye, [0, 0, 0], [0, 0, 1]));
+    gl.uniformMatrix4fv(gl.getUniformLocation(this.lineProgram, 'mvp'), false, mvp);
+    gl.bindVertexArray(this.triad.vao);
+    gl.drawArrays(gl.LINES, 0, this.triad.count);
+    gl.viewport(0, 0, this.canvas.width, this.canvas.height);
   }
 
   // Screen position (CSS pixels) of a world point.
@@ -416,6 +594,63 @@ export class View {
       const d = Math.hypot(s[0] - sx, s[1] - sy);
       if (d < bestD) { bestD = d; best = p; }
     }
+    return best;
+  }
+
+  // The curve whose drawn line passes within `radius` CSS pixels of a screen position (the
+  // nearest), or null.
+  pickCurve(sx, sy, radius = 6) {
+    if (!this.scene || !this.show.curves) return null;
+    const mats = this.matrices();
+    let best = null, bestD = radius;
+    for (const c of this.scene.curves) {
+      const pts = c.points.map((p) => this.project(p, mats));
+      const n = pts.length;
+      for (let k = 0; k + 1 < n + (c.closed ? 1 : 0); k++) {
+        const a = pts[k], b = pts[(k + 1) % n];
+        if (!a || !b) continue;
+        const dx = b[0] - a[0], dy = b[1] - a[1];
+        const len2 = dx * dx + dy * dy;
+        const t = len2 > 0 ? Math.max(0, Math.min(1, ((sx - a[0]) * dx + (sy - a[1]) * dy) / len2)) : 0;
+        const d = Math.hypot(a[0] + t * dx - sx, a[1] + t * dy - sy);
+        if (d < bestD) { bestD = d; best = c.name; }
+      }
+      if (n === 1 && pts[0]) {
+        const d = Math.hypot(pts[0][0] - sx, pts[0][1] - sy);
+        if (d < bestD) { bestD = d; best = c.name; }
+      }
+    }
+    return best;
+  }
+
+  // The index of the surface under a screen position (the first its triangles meet along the
+  // ray through it), or -1.
+  pickPatch(sx, sy) {
+    const { origin: o, dir: d } = this.ray(sx, sy);
+    let best = -1, bestT = Infinity;
+    (this.surfaceData || []).forEach((s, k) => {
+      const p = s.positions;
+      const idx = s.indices || gridIndices(s.nu, s.nv, s.periodic);
+      for (let t = 0; t < idx.length; t += 3) {
+        const a = 3 * idx[t], b = 3 * idx[t + 1], c = 3 * idx[t + 2];
+        // Möller–Trumbore.
+        const e1 = [p[b] - p[a], p[b + 1] - p[a + 1], p[b + 2] - p[a + 2]];
+        const e2 = [p[c] - p[a], p[c + 1] - p[a + 1], p[c + 2] - p[a + 2]];
+        const h = m.cross(d, e2);
+        const det = m.dot(e1, h);
+        if (Math.abs(det) < 1e-14) continue;
+        const f = 1 / det;
+        const q0 = [o[0] - p[a], o[1] - p[a + 1], o[2] - p[a + 2]];
+        const u = f * m.dot(q0, h);
+        if (u < 0 || u > 1) continue;
+        const q = m.cross(q0, e1);
+        const v = f * m.dot(d, q);
+        if (v < 0 || u + v > 1) continue;
+        const dist = f * m.dot(e2, q);
+        if (dist > 0 && dist < bestT) { bestT = dist; best = k; }
+      }
+    });
+    this.lastPickDistance = bestT; // from the eye to the surface hit (Infinity: none)
     return best;
   }
 

@@ -7,7 +7,7 @@
 //! |---|---|
 //! | `GET /?token=T` | the page |
 //! | `GET /app.js`, `/view.js`, … | the page's modules |
-//! | `GET /api/frame?nu&nv&color` | a frame (scene JSON + meshes, [`super::scene`]) |
+//! | `GET /api/frame?nu&nv&color&range&comb` | a frame (scene JSON + meshes, [`super::scene`]); `color` none, gauss, mean or abs (absolute curvature), `range=lo,hi` its colour range (default: the 2nd–98th percentile by area, the true range in `color_full_range`); `comb=1` adds each curve's curvature comb |
 //! | `POST /api/edit?nu&nv&color` `{"edit": Edit, "group": n?, "world": bool?}` | a frame |
 //! | `POST /api/convert` `{"name": curve}` | a frame (the circle or ellipse as a B-spline) |
 //! | `POST /api/spine?nu&nv&color` `{"patch", "index"?, "point"?, "carry"?, "group"?}` | a frame (a spine control point moved, §5.3) |
@@ -18,8 +18,8 @@
 //! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
 //! | `POST /api/new` | a frame (the starting design) |
 //! | `GET /api/files` | `{"files": [...]}` |
-//! | `GET /api/check`, `GET /api/analyze` | the `check` report, its conclusion (warnings, gaps, creases, `OK` or `ATTENTION`), the `verdict` word, the G0/G1 of shared edges and the diagnostics; the `analyze --json` numbers |
-//! | `GET /api/download?format=obj\|stl\|ply\|glb\|png&nu&nv&view&size` | the file |
+//! | `GET /api/check?g1_tolerance`, `GET /api/analyze` | the `check` report, its `text` as `pdeshape check` prints it (the verdict first), its conclusion (failing seams, warnings, gaps, creases, `OK`, `ATTENTION` or `FAIL`), the `verdict` word, the G0/G1 of shared edges (`failed` above the seam tolerance, radians, one degree by default) and the diagnostics; the `analyze --json` numbers |
+//! | `GET /api/download?format=obj\|stl\|ply\|glb\|png\|step\|igs&nu&nv&view&size` | the file; STEP and IGES with `x-pdeshape-cad: surfaces=N; deviation=D; certified=B; tolerance=T` |
 
 use super::assets;
 use super::error::ApiError;
@@ -273,6 +273,10 @@ async fn with_session<T: Send + 'static>(
 struct View {
     grid: (usize, usize),
     color: Coloring,
+    /// The colour range of a curvature map (`range=lo,hi`), else a robust one.
+    range: Option<(f64, f64)>,
+    /// Curvature combs of the curves in the scene (`comb=1`).
+    combs: bool,
 }
 
 fn parse_usize(q: &HashMap<String, String>, key: &str, default: usize) -> Result<usize, ApiError> {
@@ -290,21 +294,57 @@ fn view_of(q: &HashMap<String, String>) -> Result<View, ApiError> {
         None | Some("") | Some("none") => Coloring::Shaded,
         Some("gauss") => Coloring::Gauss,
         Some("mean") => Coloring::Mean,
+        Some("abs") => Coloring::Absolute,
         Some(other) => {
             return Err(ApiError::bad_request(
-                format!("expected none, gauss or mean (got '{other}')"),
+                format!("expected none, gauss, mean or abs (got '{other}')"),
                 "color",
             ))
         }
     };
-    Ok(View { grid, color })
+    let range = match q.get("range").map(String::as_str) {
+        None | Some("") => None,
+        Some(r) => {
+            let bad = || {
+                ApiError::bad_request(
+                    format!("expected two numbers lo,hi with lo < hi (got '{r}')"),
+                    "range",
+                )
+            };
+            let v: Vec<f64> = r
+                .split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| bad())?;
+            match v[..] {
+                [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => Some((lo, hi)),
+                _ => return Err(bad()),
+            }
+        }
+    };
+    let combs = match q.get("comb").map(String::as_str) {
+        None | Some("") | Some("0") => false,
+        Some("1") => true,
+        Some(other) => {
+            return Err(ApiError::bad_request(
+                format!("expected 0 or 1 (got '{other}')"),
+                "comb",
+            ))
+        }
+    };
+    Ok(View {
+        grid,
+        color,
+        range,
+        combs,
+    })
 }
 
 /// The frame of the session as it stands.
 fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, ApiError> {
     s.meshes(view.grid)?;
-    let colors = s.colors(view.grid, view.color)?;
-    let mut json = scene::scene(s.spec(), s.design().solved());
+    let colors = s.colors(view.grid, view.color, view.range)?;
+    let mut json = scene::scene(s.spec(), s.design().solved(), view.combs);
     json["version"] = s.version().into();
     json["file"] = s.file().into();
     json["can_undo"] = s.can_undo().into();
@@ -312,8 +352,9 @@ fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, 
     json["grid"] = serde_json::json!([view.grid.0, view.grid.1]);
     json["time"] = s.timeline().map_or(serde_json::Value::Null, |t| t.json());
     json["frozen_at"] = s.frozen_at().into();
-    if let Some((_, lo, hi)) = &colors {
-        json["color_range"] = serde_json::json!([lo, hi]);
+    if let Some(c) = &colors {
+        json["color_range"] = serde_json::json!([c.range.0, c.range.1]);
+        json["color_full_range"] = serde_json::json!([c.full.0, c.full.1]);
     }
     json["server_ms"] = (started.elapsed().as_secs_f64() * 1e3).into();
     let (meshes, trimmed) = s.drawn(view.grid)?;
@@ -326,8 +367,9 @@ fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, 
         })
         .collect();
     // Colours of a trimmed surface follow its triangle mesh's vertices.
-    let colors: Option<Vec<Vec<[u8; 3]>>> = colors.map(|(c, ..)| {
-        c.into_iter()
+    let colors: Option<Vec<Vec<[u8; 3]>>> = colors.map(|c| {
+        c.colors
+            .into_iter()
             .enumerate()
             .map(|(k, c)| match trimmed.get(k) {
                 Some(t) if c.len() == meshes[k].len() => trimmed::colors(t, &meshes[k], &c),
@@ -630,12 +672,28 @@ async fn files(State(state): State<AppState>) -> Result<Response, ApiError> {
     Ok(axum::Json(serde_json::json!({ "files": list })).into_response())
 }
 
-async fn check(State(state): State<AppState>) -> Result<Response, ApiError> {
-    let (text, d) = with_session(&state, |s| Ok(s.check())).await?;
+async fn check(
+    State(state): State<AppState>,
+    Query(q): Query<HashMap<String, String>>,
+) -> Result<Response, ApiError> {
+    let tolerance = match q.get("g1_tolerance") {
+        None => pdeshape::diagnostics::SEAM_G1_TOLERANCE,
+        Some(t) => match t.parse::<f64>() {
+            Ok(x) if x.is_finite() && x >= 0.0 => x,
+            _ => {
+                return Err(ApiError::bad_request(
+                    format!("expected an angle in radians, at least 0 (got '{t}')"),
+                    "g1_tolerance",
+                ))
+            }
+        },
+    };
+    let (report, text, d) = with_session(&state, move |s| Ok(s.check(tolerance))).await?;
     let diagnostics = d.to_json();
     Ok(axum::Json(serde_json::json!({
-        "report": text, "conclusion": d.conclusion(), "warnings": d.warnings,
-        "edges": diagnostics["edges"], "verdict": d.verdict.word(), "diagnostics": diagnostics,
+        "report": report, "text": text, "conclusion": d.conclusion(), "warnings": d.warnings,
+        "edges": diagnostics["edges"], "verdict": d.verdict.word(), "g1_tolerance": tolerance,
+        "diagnostics": diagnostics,
     }))
     .into_response())
 }
@@ -691,13 +749,20 @@ async fn download(
     let view = view_of(&q)?;
     let word = q
         .get("format")
-        .ok_or_else(|| ApiError::bad_request("missing (obj, stl, ply, glb or png)", "format"))?
+        .ok_or_else(|| {
+            ApiError::bad_request("missing (obj, stl, ply, glb, png, step or igs)", "format")
+        })?
         .clone();
+    let mut summary = None;
     let (bytes, mime) = if word == "png" {
         let size = parse_size(q.get("size").map(String::as_str).unwrap_or("800x600"))?;
         let dir = q.get("view").map(|v| parse_triple(v, "view")).transpose()?;
         let png = with_session(&state, move |s| s.picture(view.grid, size, dir)).await?;
         (png, "image/png")
+    } else if let Some(f) = OutputFormat::from_name(&word).filter(|f| f.is_cad()) {
+        let (bytes, text) = with_session(&state, move |s| s.cad(f)).await?;
+        summary = Some(text);
+        (bytes, "application/octet-stream")
     } else {
         let format = match OutputFormat::from_name(&word)
             .filter(|f| f.name() == word)
@@ -709,7 +774,7 @@ async fn download(
             )) => f,
             _ => {
                 return Err(ApiError::bad_request(
-                    format!("expected obj, stl, ply, glb or png (got '{word}')"),
+                    format!("expected obj, stl, ply, glb, png, step or igs (got '{word}')"),
                     "format",
                 ))
             }
@@ -735,6 +800,9 @@ async fn download(
     headers.insert(header::CONTENT_TYPE, HeaderValue::from_static(mime));
     if let Ok(v) = HeaderValue::from_str(&disposition) {
         headers.insert(header::CONTENT_DISPOSITION, v);
+    }
+    if let Some(v) = summary.and_then(|t| HeaderValue::from_str(&t).ok()) {
+        headers.insert("x-pdeshape-cad", v);
     }
     Ok((StatusCode::OK, headers, Body::from(bytes)).into_response())
 }

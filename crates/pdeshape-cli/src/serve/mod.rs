@@ -22,15 +22,20 @@ mod timeline;
 mod trimmed;
 mod uv;
 
-use crate::common::CliError;
+use crate::common::{self, CliError};
 use std::net::{IpAddr, SocketAddr};
 use std::sync::Arc;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The design file to start from (relative to the current directory, inside it); without
-    /// it, a small starting design.
+    /// The design file to start from (any path); without it, a small starting design. Files
+    /// are listed, loaded and saved inside the start directory: `--root`, else the current
+    /// directory when the design lies inside it, else the design's own directory.
     pub design: Option<String>,
+    /// The start directory (default: the current directory, or the design's own directory
+    /// when the design lies outside the current one).
+    #[arg(long, value_name = "DIR")]
+    pub root: Option<std::path::PathBuf>,
     /// Port to listen on (0: any free port).
     #[arg(long, default_value_t = 8737)]
     pub port: u16,
@@ -102,10 +107,60 @@ async fn serve_bounded(listener: tokio::net::TcpListener, router: axum::Router) 
     note("stopping");
 }
 
-pub(crate) fn run(args: &Args) -> Result<(), CliError> {
-    let root = std::env::current_dir()
+/// The start directory and the design inside it: `--root` (the design must lie inside it), else
+/// the current directory when the design lies inside it, else the design's own directory. A
+/// design that cannot be resolved (missing) is left to the session to word its error.
+fn start_dir(args: &Args) -> Result<(std::path::PathBuf, Option<String>), CliError> {
+    let cwd = std::env::current_dir()
         .map_err(|e| CliError::input(format!("cannot read the current directory: {e}")))?;
-    let session = session::Session::open(root, args.design.as_deref()).map_err(|e| {
+    let root = match &args.root {
+        Some(r) => {
+            let c = cwd.join(r).canonicalize().map_err(|e| {
+                CliError::input(format!("--root {}: {}", r.display(), common::io_words(&e)))
+            })?;
+            if !c.is_dir() {
+                return Err(CliError::input(format!(
+                    "--root {}: not a directory",
+                    r.display()
+                )));
+            }
+            Some(c)
+        }
+        None => None,
+    };
+    let Some(design) = &args.design else {
+        return Ok((root.unwrap_or(cwd), None));
+    };
+    let Ok(full) = cwd.join(design).canonicalize() else {
+        return Ok((root.unwrap_or(cwd), Some(design.clone())));
+    };
+    let rel_to = |dir: &std::path::Path| {
+        full.strip_prefix(dir)
+            .ok()
+            .and_then(|r| r.to_str())
+            .map(str::to_string)
+    };
+    if let Some(root) = root {
+        return match rel_to(&root) {
+            Some(rel) => Ok((root, Some(rel))),
+            None => Err(CliError::input(format!(
+                "{design}: lies outside --root {}",
+                root.display()
+            ))),
+        };
+    }
+    if let Some(rel) = cwd.canonicalize().ok().and_then(|c| rel_to(&c)) {
+        return Ok((cwd, Some(rel)));
+    }
+    match (full.parent(), full.file_name().and_then(|n| n.to_str())) {
+        (Some(dir), Some(name)) => Ok((dir.to_path_buf(), Some(name.to_string()))),
+        _ => Ok((cwd, Some(design.clone()))),
+    }
+}
+
+pub(crate) fn run(args: &Args) -> Result<(), CliError> {
+    let (root, design) = start_dir(args)?;
+    let session = session::Session::open(root, design.as_deref()).map_err(|e| {
         let place = if e.place.is_empty() || e.message.contains(&e.place) {
             String::new()
         } else {

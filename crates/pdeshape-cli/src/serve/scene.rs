@@ -23,6 +23,8 @@ use std::collections::BTreeSet;
 
 /// Points per drawn curve.
 const CURVE_POINTS: usize = 128;
+/// Teeth of the curvature combs across a shared edge (per side).
+const SEAM_COMB_TEETH: usize = 64;
 /// Derivative vectors drawn per derivative condition.
 const VECTORS: usize = 24;
 
@@ -49,6 +51,29 @@ fn polyline(c: &dyn Curve) -> (Vec<[f64; 3]>, bool) {
     (points, closed)
 }
 
+/// The curvature comb of a curve: at the parameters of [`polyline`], the point and the
+/// curvature vector `κ N = ((C' × C'') × C') / |C'|⁴` from the curve's exact derivatives (points
+/// where either is not finite, or `C' = 0`, are left out).
+fn comb(c: &dyn Curve) -> Vec<[[f64; 3]; 2]> {
+    let (a, b, n) = match c.domain() {
+        Domain::Periodic => (0.0, pdeshape::TAU, CURVE_POINTS as f64),
+        Domain::Interval(a, b) => (a, b, (CURVE_POINTS - 1) as f64),
+    };
+    let mut jet = [pdeshape::Vec3::zeros(); 3];
+    (0..CURVE_POINTS)
+        .filter_map(|k| {
+            c.jet(a + (b - a) * k as f64 / n, &mut jet);
+            let [p, d1, d2] = jet;
+            let speed2 = d1.norm_squared();
+            if speed2 == 0.0 {
+                return None;
+            }
+            let kappa = d1.cross(&d2).cross(&d1) / (speed2 * speed2);
+            (finite(&p) && finite(&kappa)).then(|| [p3(&p), p3(&kappa)])
+        })
+        .collect()
+}
+
 fn operator_json(op: &Option<OperatorSpec>) -> Value {
     match op {
         Some(OperatorSpec::Polyharmonic { order, a }) => {
@@ -59,8 +84,9 @@ fn operator_json(op: &Option<OperatorSpec>) -> Value {
     }
 }
 
-/// The scene of a solved design.
-pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
+/// The scene of a solved design; `combs`: with the curvature comb of every curve that is not a
+/// derivative curve (the page asks for them only while it shows them).
+pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Value {
     // Curves used as derivative conditions hold vectors, not points: they are drawn as vectors
     // from the position curve of the same patch at the same u.
     let derivative_curves: BTreeSet<&str> = solved
@@ -88,6 +114,11 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             } else {
                 polyline(&*c.curve)
             };
+            let comb = if is_vector || !combs {
+                Vec::new()
+            } else {
+                comb(&*c.curve)
+            };
             let v0 = (!is_vector && c.curve.domain() == Domain::Periodic)
                 .then(|| (c.curve.point(0.0), c.curve.derivative(0.0, 1)))
                 .filter(|(p, d)| finite(p) && finite(d))
@@ -111,6 +142,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
                 "spec": cs,
                 "points": points,
                 "closed": closed,
+                "comb": comb,
                 "control": control,
                 "v0": v0,
                 "scale": scale,
@@ -211,7 +243,38 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign) -> Value {
             shared.push(name);
         }
     }
+    // With the combs: the two surfaces' normal curvatures across every shared edge (a comb per
+    // side), from their exact derivatives.
+    let mut seam_combs = Vec::new();
+    if combs {
+        for (ia, a) in solved.surfaces.iter().enumerate() {
+            for b in &solved.surfaces[ia + 1..] {
+                for ca in a.conditions.iter().filter(|c| c.derivative == 0) {
+                    let Some(name) = &ca.curve_name else { continue };
+                    for cb in b.conditions.iter().filter(|c| {
+                        c.derivative == 0 && c.curve_name.as_deref() == Some(name.as_str())
+                    }) {
+                        let teeth: Vec<Value> = pdeshape::diagnostics::seam_curvatures(
+                            a.surface(),
+                            ca.u,
+                            b.surface(),
+                            cb.u,
+                            SEAM_COMB_TEETH,
+                        )
+                        .into_iter()
+                        .filter(|c| finite(&c.point) && c.a.is_finite() && c.b.is_finite())
+                        .map(|c| json!([p3(&c.point), p3(&c.normal), c.a, c.b]))
+                        .collect();
+                        seam_combs.push(
+                            json!({ "curve": name, "a": a.name, "b": b.name, "teeth": teeth }),
+                        );
+                    }
+                }
+            }
+        }
+    }
     json!({
+        "seam_combs": seam_combs,
         "title": solved.title,
         "modes": spec.solver.modes,
         "method": format!("{:?}", spec.solver.method).to_lowercase(),

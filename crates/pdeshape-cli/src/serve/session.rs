@@ -34,6 +34,78 @@ pub(super) enum Coloring {
     Shaded,
     Gauss,
     Mean,
+    /// Absolute curvature `|κ₁| + |κ₂|`.
+    Absolute,
+}
+
+/// Percentiles of the colour range of a curvature map, by surface area (so that a small patch
+/// of high curvature, such as a handle, does not take the whole range from a large body).
+pub(super) const COLOR_PERCENTILES: (f64, f64) = (0.02, 0.98);
+
+/// The curvature colouring of a frame: per-vertex colours, the range they span and the values'
+/// true range.
+pub(super) struct Colors {
+    pub colors: pdeshape::analysis_report::MeshColors,
+    pub range: (f64, f64),
+    pub full: (f64, f64),
+}
+
+/// Area-weighted quantiles `q` of `values` (weights `w`), or `None` when no value is finite.
+fn weighted_quantiles(values: &[f64], w: &[f64], qs: (f64, f64)) -> Option<(f64, f64)> {
+    let mut v: Vec<(f64, f64)> = values
+        .iter()
+        .zip(w)
+        .filter(|(x, w)| x.is_finite() && w.is_finite())
+        .map(|(x, w)| (*x, *w))
+        .collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = v.iter().map(|p| p.1).sum();
+    let at = |q: f64| {
+        if total <= 0.0 {
+            return v[((q * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)].0;
+        }
+        let mut acc = 0.0;
+        for (x, w) in &v {
+            acc += w;
+            if acc >= q * total {
+                return *x;
+            }
+        }
+        v[v.len() - 1].0
+    };
+    Some((at(qs.0), at(qs.1)))
+}
+
+/// The area around each vertex of a grid mesh: a third of the areas of its triangles.
+fn vertex_areas(m: &GridMesh) -> Vec<f64> {
+    let (nu, nv) = (m.nu, m.nv);
+    let mut w = vec![0.0; m.positions.len()];
+    if nu < 2 || nv < 2 || w.len() != nu * nv {
+        return vec![1.0; m.positions.len()];
+    }
+    let p = |i: usize| {
+        let q = m.positions[i];
+        pdeshape::Vec3::new(f64::from(q[0]), f64::from(q[1]), f64::from(q[2]))
+    };
+    let cols = if m.periodic_v { nv } else { nv - 1 };
+    for i in 0..nu - 1 {
+        for j in 0..cols {
+            let j1 = (j + 1) % nv;
+            let (a, b, c, d) = (i * nv + j, (i + 1) * nv + j, (i + 1) * nv + j1, i * nv + j1);
+            for (x, y, z) in [(a, b, c), (a, c, d)] {
+                let area = (p(y) - p(x)).cross(&(p(z) - p(x))).norm() / 2.0;
+                if area.is_finite() {
+                    for k in [x, y, z] {
+                        w[k] += area / 3.0;
+                    }
+                }
+            }
+        }
+    }
+    w
 }
 
 pub(super) struct Session {
@@ -392,18 +464,64 @@ impl Session {
 
     /// The `check` report of the design and its diagnostics (the library's, as `pdeshape
     /// check` prints them).
-    pub(super) fn check(&self) -> (String, pdeshape::diagnostics::Diagnostics) {
+    pub(super) fn check(
+        &self,
+        g1_tolerance: f64,
+    ) -> (String, String, pdeshape::diagnostics::Diagnostics) {
         let spec = self.design.spec();
         let solved = self.design.solved();
-        let d = pdeshape::diagnostics::diagnose(spec, solved);
-        let text = pdeshape::diagnostics::check_report(&self.file, spec, solved, &d);
-        (text, d)
+        let mut d = pdeshape::diagnostics::diagnose(spec, solved);
+        d.judge_seams(g1_tolerance);
+        let report = pdeshape::diagnostics::check_report(&self.file, spec, solved, &d);
+        let text = pdeshape::diagnostics::check_text(&self.file, spec, solved, &d);
+        (report, text, d)
     }
 
     /// The `analyze` numbers as JSON (the same as `pdeshape analyze --json`).
     pub(super) fn analyze(&self) -> Result<String, ApiError> {
         pdeshape::analysis_report::design_json(self.design.solved())
             .map_err(|e| ApiError::unprocessable(e.to_string(), ""))
+    }
+
+    /// The design's surfaces as STEP or IGES (the library's CAD writer at its default
+    /// tolerance), and a summary for the page: the number of surfaces, the largest deviation
+    /// from the design, whether every deviation is certified, and the tolerance.
+    pub(super) fn cad(
+        &self,
+        format: pdeshape::format::OutputFormat,
+    ) -> Result<(Vec<u8>, String), ApiError> {
+        let solved = self.design.solved();
+        let name = std::path::Path::new(&self.file)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "design".to_string());
+        let export = pdeshape::cad::export_design(
+            solved,
+            format,
+            None,
+            None,
+            &format!("{name}.{}", format.name()),
+            pdeshape::format::export_timestamp(),
+        )
+        .map_err(|e| match e {
+            pdeshape::cad::CadExportError::Design(e)
+            | pdeshape::cad::CadExportError::Tolerance(e)
+            | pdeshape::cad::CadExportError::Write(e) => {
+                ApiError::unprocessable(common::message_of(&e), e.place())
+            }
+        })?;
+        let surfaces = &export.model.surfaces;
+        let deviation = surfaces
+            .iter()
+            .map(|s| s.approx.deviation)
+            .fold(0.0, f64::max);
+        let certified = surfaces.iter().all(|s| s.approx.certificate.is_certified());
+        let summary = format!(
+            "surfaces={}; deviation={deviation:.3e}; certified={certified}; tolerance={:.3e}",
+            surfaces.len(),
+            export.tolerance
+        );
+        Ok((export.text.into_bytes(), summary))
     }
 
     /// The design's surfaces in a mesh format, written by the library's writers.
@@ -450,22 +568,86 @@ impl Session {
         picture.map_err(|e| ApiError::unprocessable(common::message_of(&e), e.place()))
     }
 
-    /// Per-vertex colours of the curvature `by` on the meshes of `grid` (as `render --color`).
+    /// Per-vertex colours of the curvature `by` on the meshes of `grid`: over `range`, else
+    /// over the [`COLOR_PERCENTILES`] of the values weighted by area (symmetric about 0 when
+    /// they span it, as `render --color`); with the values' true range.
     pub(super) fn colors(
         &mut self,
         grid: (usize, usize),
         by: Coloring,
-    ) -> Result<Option<(pdeshape::analysis_report::MeshColors, f64, f64)>, ApiError> {
-        use pdeshape::analysis_report::{curvature_colors, Curvature};
-        let by = match by {
-            Coloring::Shaded => return Ok(None),
-            Coloring::Gauss => Curvature::Gauss,
-            Coloring::Mean => Curvature::Mean,
-        };
+        range: Option<(f64, f64)>,
+    ) -> Result<Option<Colors>, ApiError> {
+        if by == Coloring::Shaded {
+            return Ok(None);
+        }
         let meshes = self.meshes(grid)?.to_vec();
-        curvature_colors(self.design.solved(), &meshes, by, None)
-            .map(Some)
-            .map_err(|e| ApiError::unprocessable(e.to_string(), "color"))
+        let solved = self.design.solved();
+        let orientation = match by {
+            Coloring::Mean => {
+                pdeshape::integrate_design(solved, &pdeshape::Quadrature::default())
+                    .map_err(|e| ApiError::unprocessable(common::message_of(&e), "color"))?
+                    .orientation
+            }
+            _ => vec![1.0; solved.surfaces.len()],
+        };
+        let values: Vec<Vec<f64>> = solved
+            .surfaces
+            .iter()
+            .zip(&meshes)
+            .zip(&orientation)
+            .map(|((s, m), sign)| {
+                let (k, h) = pdeshape::analysis::curvature_grid(s.surface(), &m.u, &m.v);
+                match by {
+                    Coloring::Gauss => k,
+                    Coloring::Mean => h.into_iter().map(|x| x * sign).collect(),
+                    _ => k
+                        .iter()
+                        .zip(&h)
+                        .map(|(k, h)| {
+                            if *k >= 0.0 {
+                                2.0 * h.abs()
+                            } else {
+                                2.0 * (h * h - k).sqrt()
+                            }
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        let flat: Vec<f64> = values.iter().flatten().copied().collect();
+        let weights: Vec<f64> = meshes.iter().flat_map(vertex_areas).collect();
+        let finite = flat.iter().copied().filter(|x| x.is_finite());
+        let full = finite
+            .clone()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            });
+        let full = if full.0 <= full.1 { full } else { (-1.0, 1.0) };
+        let range = match range {
+            Some(r) => r,
+            None => match weighted_quantiles(&flat, &weights, COLOR_PERCENTILES) {
+                Some((lo, hi)) if lo < 0.0 && hi > 0.0 => {
+                    let m = lo.abs().max(hi);
+                    (-m, m)
+                }
+                Some((lo, hi)) if hi - lo > 1e-6 * lo.abs().max(hi.abs()) => (lo, hi),
+                Some((lo, hi)) => {
+                    let mid = 0.5 * (lo + hi);
+                    let d = if mid == 0.0 { 1.0 } else { 0.01 * mid.abs() };
+                    (mid - d, mid + d)
+                }
+                None => (-1.0, 1.0),
+            },
+        };
+        let colors = values
+            .iter()
+            .map(|v| pdeshape::render::diverging_colors(v, range.0, range.1))
+            .collect();
+        Ok(Some(Colors {
+            colors,
+            range,
+            full,
+        }))
     }
 }
 

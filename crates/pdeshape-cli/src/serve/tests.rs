@@ -51,6 +51,7 @@ pub(super) fn app(root: &Path, design: Option<&str>) -> axum::Router {
 
 pub(super) struct Answer {
     pub(super) status: StatusCode,
+    pub(super) headers: axum::http::HeaderMap,
     pub(super) body: Vec<u8>,
 }
 
@@ -91,6 +92,7 @@ pub(super) async fn send(
         .unwrap();
     let response = app.clone().oneshot(request).await.unwrap();
     let status = response.status();
+    let headers = response.headers().clone();
     let body = response
         .into_body()
         .collect()
@@ -98,7 +100,11 @@ pub(super) async fn send(
         .unwrap()
         .to_bytes()
         .to_vec();
-    Answer { status, body }
+    Answer {
+        status,
+        headers,
+        body,
+    }
 }
 
 pub(super) async fn post(app: &axum::Router, uri: &str, body: Value) -> Answer {
@@ -703,6 +709,185 @@ async fn reports_and_downloads() {
     let f = decode(&a);
     let range = f.scene["color_range"].as_array().unwrap();
     assert!(range[0].as_f64().unwrap() < range[1].as_f64().unwrap());
+}
+
+/// The seam tolerance of `/api/check`: the cup's smooth seam passes any tolerance; a tolerance
+/// that is not an angle is a 400 naming `g1_tolerance`.
+#[tokio::test]
+async fn check_judges_seams_by_the_tolerance() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/cup.toml"));
+    let check = send(&app, "GET", "/api/check?g1_tolerance=0", None, &[])
+        .await
+        .json();
+    // G1 to rounding (about 1e-16 rad) is above 0: the seam fails at a zero tolerance.
+    assert_eq!(check["verdict"], "fail");
+    assert_eq!(check["edges"][0]["failed"], true);
+    assert!(check["text"]
+        .as_str()
+        .unwrap()
+        .starts_with("FAIL\nfail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly'"));
+    let check = send(&app, "GET", "/api/check", None, &[]).await.json();
+    assert_eq!(check["verdict"], "ok");
+    assert_eq!(check["g1_tolerance"], std::f64::consts::PI / 180.0);
+    assert!(check["text"]
+        .as_str()
+        .unwrap()
+        .starts_with("OK\n\ndesign: examples/cup.toml"));
+    for bad in ["abc", "-1", "NaN", "inf"] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/check?g1_tolerance={bad}"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::BAD_REQUEST, "{bad}");
+        let (message, place) = a.error();
+        assert_eq!(place, "g1_tolerance");
+        assert!(message.contains(&format!("(got '{bad}')")), "{message}");
+    }
+}
+
+/// Curvature maps: a user range is taken as given, the default one lies within the true range
+/// carried beside it; a range that is not `lo,hi` with `lo < hi` is a 400 naming `range`.
+#[tokio::test]
+async fn curvature_ranges() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/teacup.toml"));
+    for color in ["gauss", "mean", "abs"] {
+        let f = decode(
+            &send(
+                &app,
+                "GET",
+                &format!("/api/frame?{GRID}&color={color}"),
+                None,
+                &[],
+            )
+            .await,
+        );
+        let r: Vec<f64> = f.scene["color_range"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let full: Vec<f64> = f.scene["color_full_range"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert!(r[0] < r[1] && full[0] <= full[1], "{color}: {r:?} {full:?}");
+        // Within the true range (or its symmetric extension about 0), and narrower for the
+        // teacup, whose handle is far more curved than its body.
+        let reach = full[0].abs().max(full[1].abs());
+        assert!(
+            r[1] - r[0] < 0.5 * (full[1] - full[0]),
+            "{color}: {r:?} {full:?}"
+        );
+        assert!(r[0] >= -reach && r[1] <= reach, "{color}: {r:?} {full:?}");
+        if color == "abs" {
+            assert!(full[0] >= 0.0, "{full:?}");
+        }
+    }
+    let f = decode(
+        &send(
+            &app,
+            "GET",
+            &format!("/api/frame?{GRID}&color=mean&range=-0.5,2"),
+            None,
+            &[],
+        )
+        .await,
+    );
+    assert_eq!(f.scene["color_range"], json!([-0.5, 2.0]));
+    for bad in ["1", "2,1", "a,b", "1,1", "0,inf"] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/frame?{GRID}&color=gauss&range={bad}"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::BAD_REQUEST, "{bad}");
+        assert_eq!(a.error().1, "range", "{bad}");
+    }
+    let a = send(
+        &app,
+        "GET",
+        &format!("/api/frame?{GRID}&color=curly"),
+        None,
+        &[],
+    )
+    .await;
+    assert_eq!(a.status, StatusCode::BAD_REQUEST);
+    assert_eq!(
+        a.error(),
+        (
+            "expected none, gauss, mean or abs (got 'curly')".to_string(),
+            "color".to_string()
+        )
+    );
+}
+
+/// STEP and IGES downloads: the library's CAD writer, with a summary of the deviation in a
+/// header; another format word is a 400.
+#[tokio::test]
+async fn cad_downloads() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/cup.toml"));
+    for (format, magic) in [("step", "ISO-10303-21;"), ("igs", ""), ("iges", "")] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/download?format={format}"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::OK, "{format}");
+        assert!(
+            a.body.starts_with(magic.as_bytes()) && a.body.len() > 1000,
+            "{format}"
+        );
+        let summary = a
+            .headers
+            .get("x-pdeshape-cad")
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .to_string();
+        let fields: std::collections::HashMap<&str, &str> = summary
+            .split("; ")
+            .filter_map(|kv| kv.split_once('='))
+            .collect();
+        assert_eq!(fields["surfaces"], "2", "{summary}");
+        assert_eq!(fields["certified"], "true", "{summary}");
+        let deviation: f64 = fields["deviation"].parse().unwrap();
+        let tolerance: f64 = fields["tolerance"].parse().unwrap();
+        assert!(deviation > 0.0 && deviation <= tolerance, "{summary}");
+        let disposition = a
+            .headers
+            .get("content-disposition")
+            .unwrap()
+            .to_str()
+            .unwrap();
+        assert_eq!(
+            disposition,
+            format!("attachment; filename=\"cup.{format}\"")
+        );
+    }
+    let a = send(&app, "GET", "/api/download?format=dxf", None, &[]).await;
+    assert_eq!(a.status, StatusCode::BAD_REQUEST);
+    assert_eq!(a.error().1, "format");
+    assert!(
+        a.error().0.contains("step or igs (got 'dxf')"),
+        "{}",
+        a.error().0
+    );
 }
 
 #[tokio::test]

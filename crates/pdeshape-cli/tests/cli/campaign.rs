@@ -698,12 +698,16 @@ fn judge_status(
             }
         }
         // The solver's failure (status 1) is the end of a mutant that passed the checks and
-        // reached CalculiX: `shell`, or `optimize` of a design whose formulas use `max_shear`.
+        // reached CalculiX: `shell`, or `optimize` of a design whose formulas use `max_shear`;
+        // `roundtrip` and `check` fail their verdicts with status 1 (a deviation above the
+        // tolerance, a seam creased beyond the G1 tolerance).
         Some(c)
             if c == 2
                 || (c == 1
                     && (job.sub == "shell"
                         || job.sub == "roundtrip"
+                        || (job.sub == "check"
+                            && stderr.contains("creased beyond the G1 tolerance"))
                         || stderr.contains("CalculiX solver failed"))
                     && !stderr.contains("internal error")) =>
         {

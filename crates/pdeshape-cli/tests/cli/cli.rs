@@ -489,26 +489,41 @@ fn check_passes_on_every_example() {
             continue;
         }
         seen += 1;
-        let out = pdeshape(&["check", s(&p)]);
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}: {}{}",
-            p.display(),
-            stdout,
-            String::from_utf8_lossy(&out.stderr)
-        );
-        // Designs whose patches meet at an intended crease (a lid, a flange) start with
-        // ATTENTION and one `attention:` line per crease; every other example starts with OK.
+        // Designs whose patches meet at an intended crease (a lid, a flange) fail the check
+        // at the default seam tolerance (one degree): FAIL first, one `fail:` line per crease,
+        // exit status 1; with a tolerance above the crease they start with ATTENTION and one
+        // `attention:` line per crease. Every other example starts with OK.
         let name = p.file_name().unwrap().to_str().unwrap();
         let creased = ["cup_closed.toml", "yoghurt.toml", "yoghurt_optimize.toml"];
-        let verdict = if creased.contains(&name) {
-            "ATTENTION"
+        let out = pdeshape(&["check", s(&p)]);
+        let mut stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        if creased.contains(&name) {
+            assert_eq!(out.status.code(), Some(1), "{name}: {stdout}");
+            assert_eq!(stdout.lines().next(), Some("FAIL"), "{name}: {stdout}");
+            let fails: Vec<&str> = stdout.lines().filter(|l| l.starts_with("fail:")).collect();
+            assert!(!fails.is_empty(), "{name}: {stdout}");
+            for line in fails {
+                assert!(
+                    line.ends_with("rad, above the tolerance 0.01745 rad (a crease)"),
+                    "{name}: {line}"
+                );
+            }
+            let lenient = pdeshape(&["check", "--g1-tolerance", "1.6", s(&p)]);
+            stdout = String::from_utf8_lossy(&lenient.stdout).to_string();
+            assert_eq!(lenient.status.code(), Some(0), "{name}: {stdout}");
+            assert_eq!(stdout.lines().next(), Some("ATTENTION"), "{name}: {stdout}");
+            assert!(!stdout.contains("fail:"), "{name}: {stdout}");
         } else {
-            "OK"
-        };
-        assert_eq!(stdout.lines().next(), Some(verdict), "{name}: {stdout}");
+            assert_eq!(
+                out.status.code(),
+                Some(0),
+                "{}: {}{}",
+                p.display(),
+                stdout,
+                String::from_utf8_lossy(&out.stderr)
+            );
+            assert_eq!(stdout.lines().next(), Some("OK"), "{name}: {stdout}");
+        }
         for line in stdout.lines().filter(|l| l.starts_with("attention:")) {
             assert!(line.ends_with("rad (a crease)"), "{name}: {line}");
         }
@@ -533,16 +548,44 @@ fn check_passes_on_every_example() {
 }
 
 /// The verdict's exit policy: `OK` and `ATTENTION` (a design that solved but deserves a look)
-/// both exit with status 0, with the verdict as the first line and the reasons below it; a
-/// refused design exits with status 2 and prints no verdict. `--json` carries the same word.
+/// both exit with status 0, with the verdict as the first line and the reasons below it; `FAIL`
+/// (a shared edge creased beyond `--g1-tolerance`, one degree by default) exits with status 1
+/// and one `error:` line naming the seam; a refused design or tolerance exits with status 2
+/// and prints no verdict. `--json` carries the same word.
 #[test]
 fn check_prints_the_verdict_and_exits_by_policy() {
-    let out = pdeshape(&["check", s(&example_path("cup_closed.toml"))]);
+    let closed = example_path("cup_closed.toml");
+    let out = pdeshape(&["check", s(&closed)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.first(), Some(&"FAIL"), "{stdout}");
+    assert!(
+        lines[1].starts_with("fail: shared edge 'bowl' u = 1 | 'lid' u = 0 along 'rim': G1 = 1.47")
+            && lines[1].ends_with("rad, above the tolerance 0.01745 rad (a crease)"),
+        "{stdout}"
+    );
+    assert_eq!(lines[2], "", "{stdout}");
+    assert!(lines[3].starts_with("design: "), "{stdout}");
+    let err: Vec<&str> = stderr.lines().collect();
+    assert_eq!(err.len(), 1, "{stderr}");
+    assert!(
+        err[0].starts_with("error: ")
+            && err[0].contains("cup_closed.toml: a shared edge is creased beyond the G1 tolerance 0.01745 rad: 'bowl' | 'lid' along 'rim' (G1 = 1.47"),
+        "{stderr}"
+    );
+
+    // A tolerance above the lid's crease: ATTENTION, status 0, the crease named.
+    let out = pdeshape(&["check", "--g1-tolerance", "1.6", s(&closed)]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     let lines: Vec<&str> = stdout.lines().collect();
     assert_eq!(lines.first(), Some(&"ATTENTION"), "{stdout}");
-    assert!(!stdout.contains("\nOK\n"), "{stdout}");
+    assert!(
+        !stdout.contains("\nOK\n") && !stdout.contains("fail:"),
+        "{stdout}"
+    );
     let reason = lines[1];
     // The details follow the reasons after a blank line.
     assert_eq!(lines[2], "", "{stdout}");
@@ -560,12 +603,40 @@ fn check_prints_the_verdict_and_exits_by_policy() {
     assert_eq!(stdout.lines().next(), Some("OK"), "{stdout}");
     assert!(!stdout.contains("attention:"), "{stdout}");
 
-    for (name, word) in [("cup_closed.toml", "attention"), ("cup.toml", "ok")] {
-        let out = pdeshape(&["check", "--json", s(&example_path(name))]);
-        assert_eq!(out.status.code(), Some(0));
+    for (name, tolerance, word, status) in [
+        ("cup_closed.toml", None, "fail", 1),
+        ("cup_closed.toml", Some("1.6"), "attention", 0),
+        ("cup.toml", None, "ok", 0),
+    ] {
+        let path = example_path(name);
+        let mut args = vec!["check", "--json", s(&path)];
+        if let Some(t) = tolerance {
+            args.extend(["--g1-tolerance", t]);
+        }
+        let out = pdeshape(&args);
+        assert_eq!(out.status.code(), Some(status), "{name}");
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["verdict"], word, "{name}");
         assert_eq!(v["ok"], true, "{name}");
+        let failed = v["edges"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["failed"] == true)
+            .count();
+        assert_eq!(failed, usize::from(word == "fail"), "{name}");
+    }
+
+    for bad in [
+        "--g1-tolerance=-1",
+        "--g1-tolerance=nan",
+        "--g1-tolerance=inf",
+    ] {
+        let out = pdeshape(&["check", bad, s(&example_path("cup.toml"))]);
+        assert_bad(
+            &out,
+            &["--g1-tolerance: expected an angle in radians, at least 0"],
+        );
     }
 
     let dir = tempfile::tempdir().unwrap();
@@ -609,6 +680,9 @@ fn check_reports_shared_edges_of_the_cup() {
         .unwrap();
     assert!(g0 < 1e-9, "{edge}");
     assert!(g1 < 1e-6, "{edge}");
+    // The two patches curve differently across the belly: G1 but not G2.
+    let g2: f64 = edge.split("G2 = ").nth(1).unwrap().trim().parse().unwrap();
+    assert!(g2 > 1e-3 && g2.is_finite(), "{edge}");
 }
 
 #[test]

@@ -40,8 +40,17 @@ fn every_command_honours_the_finite_difference_solver() {
         .iter()
         .all(|s| matches!(s.kind, SurfaceKind::Fd(_))));
 
-    // check: reports the finite-difference solver and each patch's position errors.
+    // check: reports the finite-difference solver and each patch's position errors. On this
+    // coarse 8 × 16 grid the seam along 'belly' is G1 only to about 0.019 rad, above the
+    // default seam tolerance of one degree: FAIL with status 1; a tolerance of 0.05 rad passes.
     let out = pdeshape(&["check", s(&fd)]);
+    assert_eq!(out.status.code(), Some(1), "{out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stdout)
+            .starts_with("FAIL\nfail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly'"),
+        "{out:?}"
+    );
+    let out = pdeshape(&["check", "--g1-tolerance", "0.05", s(&fd)]);
     assert!(out.status.success(), "{out:?}");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(

@@ -35,6 +35,10 @@ pub const ATTACH_SAMPLES: usize = 512;
 pub const G0_TOLERANCE: f64 = 1e-10;
 /// G1 above this (radians) along an attachment with a tangent field or a shared edge is a crease.
 pub const G1_TOLERANCE: f64 = 1e-8;
+/// The default of `pdeshape check --g1-tolerance` and of the designer's seam tolerance: one
+/// degree (in radians). A shared edge creased by more than this fails the check
+/// ([`Diagnostics::judge_seams`]); below it, a crease only asks for attention.
+pub const SEAM_G1_TOLERANCE: f64 = std::f64::consts::PI / 180.0;
 
 /// The overall judgement of a solved design.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,22 +48,27 @@ pub enum Verdict {
     /// The design solved, but something deserves a look: a warning, or a shared edge that is
     /// not G0 (a gap) or not G1 (a crease; often intended, as at a lid or a flange).
     Attention,
+    /// A shared edge is creased by more than the seam tolerance given to
+    /// [`Diagnostics::judge_seams`] (never the verdict of [`diagnose`] alone).
+    Fail,
 }
 
 impl Verdict {
-    /// `"ok"` or `"attention"`.
+    /// `"ok"`, `"attention"` or `"fail"`.
     pub fn word(self) -> &'static str {
         match self {
             Verdict::Ok => "ok",
             Verdict::Attention => "attention",
+            Verdict::Fail => "fail",
         }
     }
 
-    /// The last line of `pdeshape check`'s text: `OK` or `ATTENTION`.
+    /// The first line of `pdeshape check`'s text: `OK`, `ATTENTION` or `FAIL`.
     pub fn label(self) -> &'static str {
         match self {
             Verdict::Ok => "OK",
             Verdict::Attention => "ATTENTION",
+            Verdict::Fail => "FAIL",
         }
     }
 }
@@ -105,6 +114,105 @@ pub struct EdgeDiagnostics {
     pub g0_met: bool,
     /// `g1` within [`G1_TOLERANCE`]: no crease.
     pub g1_met: bool,
+    /// `g1` above the seam tolerance of [`Diagnostics::judge_seams`] (or NaN); false until
+    /// judged.
+    pub g1_failed: bool,
+    /// G2 figure: the largest difference (1/length) between the two surfaces' normal curvatures
+    /// across the edge ([`seam_g2`]); 0 to rounding where the edge is curvature-continuous.
+    pub g2: f64,
+}
+
+/// Samples of `v` for [`seam_g2`] in the diagnostics.
+pub const G2_SAMPLES: usize = 256;
+
+/// The normal curvature of a surface at `p` in the tangent direction `d` (with the unit normal
+/// `n`): `II(d, d) / I(d, d)` with `d` written in the basis `X_u, X_v`; `None` where that basis
+/// degenerates.
+fn normal_curvature(p: &crate::surface::Partials, n: &Vec3, d: &Vec3) -> Option<f64> {
+    let (e, f, g) = (p.xu.dot(&p.xu), p.xu.dot(&p.xv), p.xv.dot(&p.xv));
+    let det = e * g - f * f;
+    // NaN refuses too.
+    if det.is_nan() || det <= 1e-24 * (e + g) * (e + g) {
+        return None;
+    }
+    let (du, dv) = (p.xu.dot(d), p.xv.dot(d));
+    let alpha = (g * du - f * dv) / det;
+    let beta = (e * dv - f * du) / det;
+    let second = alpha * alpha * p.xuu.dot(n)
+        + 2.0 * alpha * beta * p.xuv.dot(n)
+        + beta * beta * p.xvv.dot(n);
+    let first = alpha * alpha * e + 2.0 * alpha * beta * f + beta * beta * g;
+    (first > 0.0).then(|| second / first)
+}
+
+/// The normal curvatures of two surfaces across an edge they share, at one `v`: the point on
+/// the first surface, its unit normal, and the normal curvature of each surface in the direction
+/// across the edge ([`seam_curvatures`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SeamCurvature {
+    /// `X_a(ua, v)`.
+    pub point: Vec3,
+    /// The first surface's unit normal there (the second's is turned to agree with it).
+    pub normal: Vec3,
+    /// The first surface's normal curvature across the edge (positive: curving towards
+    /// `normal`).
+    pub a: f64,
+    /// The second surface's.
+    pub b: f64,
+}
+
+/// The normal curvatures of two surfaces across the edge along `u = ua` on `a` and `u = ub` on
+/// `b`, at `samples` equally spaced `v`: in each surface's tangent plane, the direction
+/// perpendicular to the edge's tangent `X_v`, with `b`'s normal turned to agree with `a`'s.
+/// Samples where a normal or the edge's tangent degenerates (a pole) are left out.
+pub fn seam_curvatures(
+    a: &dyn Surface,
+    ua: f64,
+    b: &dyn Surface,
+    ub: f64,
+    samples: usize,
+) -> Vec<SeamCurvature> {
+    let mut out = Vec::with_capacity(samples.max(1));
+    for j in 0..samples.max(1) {
+        let v = crate::TAU * j as f64 / samples.max(1) as f64;
+        let (pa, pb) = (a.partials(ua, v), b.partials(ub, v));
+        let (Some(na), Some(nb)) = (pa.normal_or_none(), pb.normal_or_none()) else {
+            continue;
+        };
+        let nb = if na.dot(&nb) < 0.0 { -nb } else { nb };
+        let t = pa.xv;
+        if t.norm().is_nan() || t.norm() == 0.0 {
+            continue;
+        }
+        let t = t / t.norm();
+        let (da, db) = (na.cross(&t), nb.cross(&t));
+        if let (Some(ka), Some(kb)) = (
+            normal_curvature(&pa, &na, &da),
+            normal_curvature(&pb, &nb, &db),
+        ) {
+            out.push(SeamCurvature {
+                point: pa.x,
+                normal: na,
+                a: ka,
+                b: kb,
+            });
+        }
+    }
+    out
+}
+
+/// The G2 figure of an edge shared by two surfaces along `u = ua` on `a` and `u = ub` on `b`:
+/// over `samples` equally spaced `v`, the largest difference between the two surfaces' normal
+/// curvatures across the edge ([`seam_curvatures`]); NaN shows.
+pub fn seam_g2(a: &dyn Surface, ua: f64, b: &dyn Surface, ub: f64, samples: usize) -> f64 {
+    let mut worst = 0.0f64;
+    for c in seam_curvatures(a, ua, b, ub, samples) {
+        let d = (c.a - c.b).abs();
+        if d.is_nan() || d > worst {
+            worst = d;
+        }
+    }
+    worst
 }
 
 /// G0/G1 along an attachment (a patch whose condition lies on a host patch).
@@ -213,6 +321,9 @@ pub struct Diagnostics {
     pub warnings: Vec<String>,
     /// The overall judgement ([`diagnose`] says how it is reached).
     pub verdict: Verdict,
+    /// The seam tolerance (radians) the shared edges were judged by
+    /// ([`Diagnostics::judge_seams`]), if they were.
+    pub g1_tolerance: Option<f64>,
 }
 
 /// The name of the `d`-th u-derivative in reports: `position`, `X_u`, `X_uu`, `∂^dX/∂u^d`.
@@ -452,6 +563,14 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
                     g1: r.g1,
                     g0_met: r.g0 <= G0_TOLERANCE * size.max(1.0),
                     g1_met: r.g1 <= G1_TOLERANCE,
+                    g1_failed: false,
+                    g2: seam_g2(
+                        built.surfaces[r.a].surface(),
+                        r.ua,
+                        built.surfaces[r.b].surface(),
+                        r.ub,
+                        G2_SAMPLES,
+                    ),
                 }
             })
             .collect::<Vec<_>>()
@@ -547,6 +666,7 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
         networks,
         warnings,
         verdict,
+        g1_tolerance: None,
     }
 }
 
@@ -616,19 +736,55 @@ impl Diagnostics {
         self.edges.iter().flatten().filter(|e| !e.g1_met)
     }
 
-    /// What follows [`check_report`] in `pdeshape check`'s text: a `warning: …` line per
-    /// warning, an `attention: …` line per shared edge that is not G0 (a gap) or not G1 (a
-    /// crease), and the verdict's [label](Verdict::label) as the last line.
+    /// Judges the shared edges (seams) by a G1 tolerance in radians (`pdeshape check
+    /// --g1-tolerance`, the designer's seam tolerance; [`SEAM_G1_TOLERANCE`] by default): a
+    /// seam whose G1 angle exceeds it (or is NaN) fails, and so does the verdict
+    /// ([`Verdict::Fail`]). Seams within it keep the verdict of [`diagnose`].
+    pub fn judge_seams(&mut self, g1_tolerance: f64) {
+        self.g1_tolerance = Some(g1_tolerance);
+        let mut failed = false;
+        for e in self.edges.iter_mut().flatten() {
+            e.g1_failed = e.g1.is_nan() || e.g1 > g1_tolerance;
+            failed |= e.g1_failed;
+        }
+        if failed {
+            self.verdict = Verdict::Fail;
+        }
+    }
+
+    /// The shared edges that failed [`Diagnostics::judge_seams`].
+    pub fn failed_seams(&self) -> impl Iterator<Item = &EdgeDiagnostics> {
+        self.edges.iter().flatten().filter(|e| e.g1_failed)
+    }
+
+    /// The reasons ([`Diagnostics::reasons`]) and the verdict's [label](Verdict::label) as the
+    /// last line (the designer's summary under the report).
     pub fn conclusion(&self) -> String {
         let mut t = self.reasons();
         let _ = writeln!(t, "{}", self.verdict.label());
         t
     }
 
-    /// The reasons for the verdict, a line each: `warning: …` per warning, `attention: …` per
-    /// shared edge that is not G0 (a gap) or not G1 (a crease); empty for `OK`.
+    /// The reasons for the verdict, a line each: `fail: …` per shared edge creased beyond the
+    /// seam tolerance ([`Diagnostics::judge_seams`]), `warning: …` per warning, `attention: …`
+    /// per other shared edge that is not G0 (a gap) or not G1 (a crease); empty for `OK`.
     pub fn reasons(&self) -> String {
         let mut t = String::new();
+        let n = |x: f64| crate::number::sig(x, crate::number::DIGITS);
+        for e in self.failed_seams() {
+            let _ = writeln!(
+                t,
+                "fail: shared edge '{}' u = {} | '{}' u = {} along '{}': G1 = {} rad, above the \
+                 tolerance {} rad (a crease)",
+                e.a,
+                e.ua,
+                e.b,
+                e.ub,
+                e.curve,
+                n(e.g1),
+                n(self.g1_tolerance.unwrap_or(SEAM_G1_TOLERANCE))
+            );
+        }
         for w in &self.warnings {
             let _ = writeln!(t, "warning: {w}");
         }
@@ -637,11 +793,10 @@ impl Diagnostics {
                 "attention: shared edge '{}' u = {} | '{}' u = {} along '{}'",
                 e.a, e.ua, e.b, e.ub, e.curve
             );
-            let n = |x: f64| crate::number::sig(x, crate::number::DIGITS);
             if !e.g0_met {
                 let _ = writeln!(t, "{place}: G0 = {} (a gap)", n(e.g0));
             }
-            if !e.g1_met {
+            if !e.g1_met && !e.g1_failed {
                 let _ = writeln!(t, "{place}: G1 = {} rad (a crease)", n(e.g1));
             }
         }
@@ -650,8 +805,9 @@ impl Diagnostics {
 
     /// The data of `pdeshape check --json` (without its `ok`, `design` and `report`): `title`,
     /// per surface its `name`, `kind`, `operator`, and for analytic and finite-difference
-    /// patches their `modes` and `condition_errors`; the shared `edges` with `g0`, `g1`;
-    /// `attachments`; `parameters`; `warnings`; the `verdict`'s [word](Verdict::word).
+    /// patches their `modes` and `condition_errors`; the shared `edges` with `g0`, `g1`, `g2`
+    /// ([`seam_g2`]) and `failed` ([`Diagnostics::judge_seams`]); `attachments`; `parameters`; `warnings`; the
+    /// `verdict`'s [word](Verdict::word) and the `g1_tolerance` it was judged by (null if not).
     /// Non-finite numbers are null.
     pub fn to_json(&self) -> Value {
         let surfaces: Vec<Value> = self
@@ -687,6 +843,7 @@ impl Diagnostics {
                 json!({
                     "a": e.a, "ua": e.ua, "b": e.b, "ub": e.ub,
                     "curve": e.curve, "g0": jnum(e.g0), "g1": jnum(e.g1),
+                    "g2": jnum(e.g2), "failed": e.g1_failed,
                 })
             })
             .collect();
@@ -731,6 +888,7 @@ impl Diagnostics {
             "networks": self.networks.iter().map(NetworkDiagnostics::to_json).collect::<Vec<_>>(),
             "warnings": self.warnings,
             "verdict": self.verdict.word(),
+            "g1_tolerance": self.g1_tolerance.map(jnum),
         })
     }
 }

@@ -265,14 +265,15 @@ pub fn check_report(
         for e in edges {
             let _ = writeln!(
                 s,
-                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {}  G1 = {} rad",
+                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {}  G1 = {} rad  G2 = {}",
                 e.a,
                 e.ua,
                 e.b,
                 e.ub,
                 e.curve,
                 n(e.g0),
-                n(e.g1)
+                n(e.g1),
+                n(e.g2)
             );
         }
     }

@@ -120,3 +120,93 @@ curve = "d"
     );
     assert_eq!(d.verdict, Verdict::Attention);
 }
+
+/// Judged by a seam tolerance, the lid's crease (1.47 rad) fails: the verdict is FAIL, the
+/// reason names the seam and the tolerance, and the smooth seam along 'belly' neither fails
+/// nor is named. A tolerance above the crease leaves the verdict of `diagnose`.
+#[test]
+fn a_seam_above_the_tolerance_fails() {
+    let spec = example("cup_closed.toml");
+    let built = solve_design(&spec).unwrap();
+    let mut d = diagnose(&spec, &built);
+    d.judge_seams(super::SEAM_G1_TOLERANCE);
+    assert_eq!(d.verdict, Verdict::Fail);
+    assert_eq!(d.verdict.label(), "FAIL");
+    let failed: Vec<&str> = d.failed_seams().map(|e| e.curve.as_str()).collect();
+    assert_eq!(failed, ["rim"]);
+    let conclusion = d.conclusion();
+    let lines: Vec<&str> = conclusion.lines().collect();
+    assert_eq!(lines.len(), 2, "{conclusion}");
+    assert!(
+        lines[0].starts_with("fail: shared edge 'bowl' u = 1 | 'lid' u = 0 along 'rim': G1 = 1.47")
+            && lines[0].ends_with("rad, above the tolerance 0.01745 rad (a crease)"),
+        "{conclusion}"
+    );
+    assert_eq!(lines[1], "FAIL");
+    let json = d.to_json();
+    assert_eq!(json["verdict"], "fail");
+    assert_eq!(json["g1_tolerance"], super::SEAM_G1_TOLERANCE);
+    let edges = json["edges"].as_array().unwrap();
+    let failed_json: Vec<bool> = edges.iter().map(|e| e["failed"] == true).collect();
+    assert_eq!(failed_json.iter().filter(|f| **f).count(), 1);
+
+    let mut lenient = diagnose(&spec, &built);
+    lenient.judge_seams(1.5);
+    assert_eq!(lenient.verdict, Verdict::Attention);
+    assert_eq!(lenient.failed_seams().count(), 0);
+    assert!(lenient.conclusion().starts_with("attention: "));
+
+    let smooth_spec = example("cup.toml");
+    let smooth = solve_design(&smooth_spec).unwrap();
+    let mut ok = diagnose(&smooth_spec, &smooth);
+    ok.judge_seams(super::SEAM_G1_TOLERANCE);
+    assert_eq!(ok.verdict, Verdict::Ok);
+}
+
+/// A surface of revolution about z with radius `1 + c (u − 1)² / 2` and height `u`: at `u = 1`
+/// it meets the unit cylinder tangentially (G1), its profile curving by `c` there.
+struct Bulge(f64);
+
+impl crate::surface::Surface for Bulge {
+    fn v_domain(&self) -> crate::surface::VDomain {
+        crate::surface::VDomain::Periodic
+    }
+    fn partials(&self, u: f64, v: f64) -> crate::surface::Partials {
+        let (s, c) = v.sin_cos();
+        let d = u - 1.0;
+        let (r, r1, r2) = (1.0 + self.0 * d * d / 2.0, self.0 * d, self.0);
+        crate::surface::Partials {
+            x: crate::Vec3::new(r * c, r * s, u),
+            xu: crate::Vec3::new(r1 * c, r1 * s, 1.0),
+            xv: crate::Vec3::new(-r * s, r * c, 0.0),
+            xuu: crate::Vec3::new(r2 * c, r2 * s, 0.0),
+            xuv: crate::Vec3::new(-r1 * s, r1 * c, 0.0),
+            xvv: crate::Vec3::new(-r * c, -r * s, 0.0),
+        }
+    }
+}
+
+/// The G2 figure of a seam is the jump of the normal curvature across it: zero between a
+/// surface and itself and between two cylinders, `|c|` where a profile of curvature `c` meets a
+/// straight one tangentially, whichever way the two run in `u`.
+#[test]
+fn the_g2_figure_is_the_jump_of_the_normal_curvature() {
+    use super::seam_g2;
+    let cylinder = Bulge(0.0);
+    let bulge = Bulge(0.4);
+    assert_eq!(seam_g2(&bulge, 1.0, &bulge, 1.0, 64), 0.0);
+    assert!(seam_g2(&cylinder, 1.0, &cylinder, 1.0, 64) < 1e-15);
+    let g2 = seam_g2(&cylinder, 1.0, &bulge, 1.0, 64);
+    assert!((g2 - 0.4).abs() < 1e-12, "{g2}");
+    let g2 = seam_g2(&bulge, 1.0, &cylinder, 1.0, 64);
+    assert!((g2 - 0.4).abs() < 1e-12, "{g2}");
+    // The cup's seam along 'belly' is G1 but not G2: its two patches curve differently there.
+    let spec = example("cup.toml");
+    let built = solve_design(&spec).unwrap();
+    let d = diagnose(&spec, &built);
+    let belly = &d.edges.as_ref().unwrap()[0];
+    assert!(
+        belly.g1 < 1e-12 && belly.g2 > 1e-3 && belly.g2.is_finite(),
+        "{belly:?}"
+    );
+}
