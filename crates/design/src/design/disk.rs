@@ -91,3 +91,56 @@ pub(super) fn build_one(spec: &DiskSpec) -> Result<DiskPatch> {
         }
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::design::solve_design;
+    use crate::spec::parse_design;
+
+    const CIRCLE: &str = "points = [[1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]]\n";
+
+    fn error(text: &str) -> String {
+        let spec = parse_design(text).unwrap();
+        let e = solve_design(&spec).err().expect("refused");
+        format!("{}: {}", e.place(), e.message())
+    }
+
+    #[test]
+    fn a_circle_with_radial_ribbons_is_the_flat_disc() {
+        let text = format!(
+            "[[disk]]\nname = \"d\"\n{CIRCLE}derivatives = [[1, 0, 0], [0, 1, 0], [-1, 0, 0], \
+             [0, -1, 0]]\n"
+        );
+        let solved = solve_design(&parse_design(&text).unwrap()).unwrap();
+        let s = solved.surfaces[0].kind.surface();
+        for (r, t) in [(0.0, 0.0), (0.5, 1.0), (0.9, 4.0), (1.0, 2.5)] {
+            let x = s.partials(r, t).x;
+            assert!(x.z.abs() < 1e-15, "{x}");
+            // Four samples carry modes 0 to 2: the disc's map is exact for mode 1.
+            assert!((x.x - r * f64::cos(t)).abs() < 1e-15, "{x}");
+            assert!((x.y - r * f64::sin(t)).abs() < 1e-15, "{x}");
+        }
+    }
+
+    #[test]
+    fn bad_disk_tables_are_refused_naming_the_place() {
+        let e = error(&format!("[[disk]]\nname = \"d\"\n{CIRCLE}"));
+        assert!(e.starts_with("disk[0].derivatives:"), "{e}");
+        let e = error(&format!(
+            "[[disk]]\nname = \"d\"\norder = 1\n{CIRCLE}samples_per_edge = 65\n"
+        ));
+        assert!(e.starts_with("disk[0].samples_per_edge:"), "{e}");
+        let e = error("[[disk]]\nname = \"d\"\norder = 1\npoints = [[0, 0, 0], [1, 0, 0]]\n");
+        assert!(e.starts_with("disk[0].points:"), "{e}");
+        let e = error(&format!(
+            "[[disk]]\nname = \"d\"\n{CIRCLE}derivatives = [[1, 0, 0]]\n"
+        ));
+        assert!(e.starts_with("disk[0].derivatives:"), "{e}");
+        let e = error(&format!(
+            "[[disk]]\nname = \"d\"\norder = 1\n{CIRCLE}[[disk]]\nname = \"d\"\norder = 1\n{CIRCLE}"
+        ));
+        assert!(e.starts_with("disk[1].name:"), "{e}");
+        let e = error(&format!("[[disk]]\nname = \"d\"\norder = 4\n{CIRCLE}"));
+        assert!(e.starts_with("disk[0].order:"), "{e}");
+    }
+}
