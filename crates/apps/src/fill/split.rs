@@ -6,7 +6,7 @@
 //! # The chord
 //!
 //! A hole is split before any patch is tried when its best chord is shorter than
-//! [`SPLIT_BELOW`] of the arc it cuts off (a rectangle longer than about 3:1, an L or a U with
+//! [`SPLIT_BELOW`] of the arc it cuts off (a rectangle longer than about 7:3, an L or a U with
 //! narrow arms: one disk patch would crowd its map into the ends), and after every ribbon has
 //! failed otherwise.
 //!
@@ -33,9 +33,9 @@ use crate::Vec3;
 use nalgebra::Matrix3;
 
 /// A chord shorter than this fraction of the arc it cuts off splits the hole before one patch
-/// is tried: an `L × W` rectangle's middle chord is `W/(L + W)` of either arc (1/4 at 3:1), a
-/// circle's diameter `2/π` of a half; a loop that zigzags along the mesh's edges has longer
-/// arcs than its outline.
+/// is tried: an `L × W` rectangle's middle chord is `W/(L + W)` of either arc (0.3 at 7:3,
+/// 1/3 at 2:1), a circle's diameter `2/π` of a half; a loop that zigzags along the mesh's edges
+/// has longer arcs than its outline, so it splits a little earlier.
 pub(crate) const SPLIT_BELOW: f64 = 0.3;
 
 /// The fewest loop edges a chord leaves on either side.

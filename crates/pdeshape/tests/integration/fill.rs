@@ -334,7 +334,7 @@ fn long_and_concave_holes_are_split_and_filled_close_to_the_surface() {
         eprintln!(
             "{name}: {} pieces, {} boundary vertices, {} triangles; deviation {deviation:.3e}; \
              G1 angle {:.3e}, chord G1 {:.3e}, chord jump {:.3e}/{:.3e}, jump {:.3e}/{:.3e} \
-             (mesh's own {:.3e}/{:.3e}); flipped {flips}; open {open}",
+             (mesh's own {:.3e}/{:.3e}); flipped {flips}; open {open}; {:.1} ms",
             h.pieces,
             h.boundary_vertices,
             h.triangles_added,
@@ -346,6 +346,7 @@ fn long_and_concave_holes_are_split_and_filled_close_to_the_surface() {
             h.normal_jump.1,
             reference.0,
             reference.1,
+            h.seconds * 1e3,
         );
         assert!(h.pieces >= 2, "{name}: {h:?}");
         // Watertight (the cylinder's two rims stay open), one surface.
