@@ -101,7 +101,9 @@ mod tests {
 
     fn error(text: &str) -> String {
         let spec = parse_design(text).unwrap();
-        let e = solve_design(&spec).err().expect("refused");
+        let Err(e) = solve_design(&spec) else {
+            panic!("not refused: {text}");
+        };
         format!("{}: {}", e.place(), e.message())
     }
 
