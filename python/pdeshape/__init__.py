@@ -21,9 +21,9 @@ from __future__ import annotations
 import os
 from typing import Any
 
-from ._pdeshape import Design, DesignError, fit_mesh, version
+from ._pdeshape import Design, DesignError, fill_mesh, fit_mesh, version
 
-__all__ = ["Design", "DesignError", "fit", "version", "__version__"]
+__all__ = ["Design", "DesignError", "fill", "fit", "version", "__version__"]
 
 #: The package's version (the library's: ``pdeshape.version()``).
 __version__: str = version()
@@ -63,3 +63,70 @@ def fit(
         except OSError as e:
             raise DesignError(f"{os.fspath(mesh)}: cannot read: {e.strerror or e}") from None
     return fit_mesh(data, name, tolerance, sections)
+
+
+def fill(
+    mesh: str | os.PathLike[str] | bytes | tuple[Any, Any],
+    continuity: str = "g1",
+    largest: int | None = None,
+    max_boundary: int | None = None,
+    grading: float = 0.1,
+    name: str | None = None,
+) -> tuple[dict[str, Any], Design]:
+    """Fills the holes of a triangle mesh with PDE patches, as ``pdeshape fill MESH -o OUT
+    --design D.toml`` does.
+
+    ``mesh``: the path of an OBJ, STL or PLY file, its bytes with ``name`` a file name whose
+    extension gives the format, or a pair ``(positions, triangles)`` of arrays (n × 3 floats,
+    m × 3 vertex indices from 0). ``continuity``: ``"g1"`` (tangent to the mesh), ``"g2"`` or
+    ``"g0"``; ``largest``: only the K longest holes; ``max_boundary``: only the holes of at most
+    N boundary vertices; ``grading``: how fast the fill's edges grow inwards (0 to 1).
+
+    Returns ``(filled, design)``: ``filled`` a dict with ``vertices`` and ``faces`` (numpy
+    arrays: the mesh's, then the fill's), ``mesh_faces``, ``open_edges`` (0: watertight),
+    ``holes_found`` and ``holes`` (one dict per filled hole: ``boundary_vertices``,
+    ``triangles_added``, ``g1_angle``, ``normal_jump``, ``pieces``, ``chord_g1_angle``, …);
+    ``design`` the fill's patches as a :class:`Design` (one ``[[disk]]`` table each). A mesh
+    that cannot be read or filled raises :class:`DesignError` naming it.
+    """
+    if isinstance(mesh, tuple):
+        if len(mesh) != 2:
+            raise DesignError("mesh: a pair (positions, triangles)")
+        import numpy as np
+
+        try:
+            p = np.asarray(mesh[0], dtype=np.float64)
+            t = np.asarray(mesh[1])
+        except (TypeError, ValueError) as e:
+            raise DesignError(f"mesh: not arrays of numbers: {e}") from None
+        if p.ndim != 2 or p.shape[1] != 3 or t.ndim != 2 or t.shape[1] != 3:
+            raise DesignError("mesh: positions and triangles must be n × 3 and m × 3 arrays")
+        if t.size and not np.issubdtype(t.dtype, np.integer):
+            raise DesignError("mesh: triangles must be integer vertex indices")
+        out = fill_mesh(
+            None,
+            name or "<mesh>",
+            p.tolist(),
+            t.astype(np.int64).tolist(),
+            continuity,
+            largest,
+            max_boundary,
+            grading,
+        )
+        label = name or "<mesh>"
+    else:
+        if isinstance(mesh, (bytes, bytearray, memoryview)):
+            if name is None:
+                raise DesignError("name: a file name (.obj, .stl or .ply) is needed with mesh bytes")
+            data = bytes(mesh)
+        else:
+            name = os.fspath(mesh) if name is None else name
+            try:
+                with open(mesh, "rb") as f:
+                    data = f.read()
+            except OSError as e:
+                raise DesignError(f"{os.fspath(mesh)}: cannot read: {e.strerror or e}") from None
+        out = fill_mesh(data, name, None, None, continuity, largest, max_boundary, grading)
+        label = name
+    design = Design.from_toml(out.pop("design"), f"<fill of {label}>")
+    return out, design

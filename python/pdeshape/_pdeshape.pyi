@@ -149,6 +149,16 @@ class Design:
     ) -> Any: ...
 
 def version() -> str: ...
+def fill_mesh(
+    data: bytes | None = None,
+    name: str = "<mesh>",
+    positions: list[list[float]] | None = None,
+    triangles: list[list[int]] | None = None,
+    continuity: str = "g1",
+    largest: int | None = None,
+    max_boundary: int | None = None,
+    grading: float = 0.1,
+) -> dict[str, Any]: ...
 def fit_mesh(
     data: bytes, name: str, tolerance: float = 2e-3, sections: int | None = None
 ) -> tuple[Design, dict[str, Any]]: ...

@@ -1344,6 +1344,150 @@ fn fit_mesh<'py>(
     Ok((design, report))
 }
 
+/// Fills the holes of a triangle mesh with PDE patches as `pdeshape fill MESH -o OUT --design
+/// D.toml` does. The mesh is `data` (the bytes of an OBJ, STL or PLY file, `name` its file
+/// name) or `positions` (n × 3) and `triangles` (m × 3, from 0). Returns a dict: `vertices`
+/// and `faces` (numpy arrays: the mesh's, then the fill's), `mesh_faces` (how many faces are
+/// the mesh's), `open_edges`, `holes_found`, `holes` (one dict per filled hole) and `design`
+/// (the patches' design text, one `[[disk]]` table each).
+#[pyfunction]
+#[pyo3(signature = (data = None, name = "<mesh>", positions = None, triangles = None, continuity = "g1", largest = None, max_boundary = None, grading = 0.1))]
+#[allow(clippy::too_many_arguments)]
+fn fill_mesh<'py>(
+    py: Python<'py>,
+    data: Option<Vec<u8>>,
+    name: &str,
+    positions: Option<Vec<[f64; 3]>>,
+    triangles: Option<Vec<[i64; 3]>>,
+    continuity: &str,
+    largest: Option<usize>,
+    max_boundary: Option<usize>,
+    grading: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    use pdeshape::fill::{self, Continuity, FillOptions, HoleSelection};
+    let continuity = match continuity {
+        "g0" => Continuity::G0,
+        "g1" => Continuity::G1,
+        "g2" => Continuity::G2,
+        other => {
+            return Err(err(format!(
+                "continuity '{other}': must be 'g0', 'g1' or 'g2'"
+            )))
+        }
+    };
+    let holes = match (largest, max_boundary) {
+        (Some(_), Some(_)) => {
+            return Err(err("largest, max_boundary: give one of them, not both"));
+        }
+        (Some(k), None) => HoleSelection::Largest(k),
+        (None, Some(n)) => HoleSelection::MaxBoundary(n),
+        (None, None) => HoleSelection::All,
+    };
+    let mesh = match (data, positions, triangles) {
+        (Some(data), None, None) => {
+            let format = Path::new(name)
+                .extension()
+                .and_then(|e| e.to_str())
+                .and_then(fit::MeshFormat::from_extension)
+                .ok_or_else(|| {
+                    err(format!(
+                        "{name}: unknown mesh format (the extension must be obj, stl or ply)"
+                    ))
+                })?;
+            fit::InputMesh::read(&data, format).map_err(|e| err(format!("{name}: {e}")))?
+        }
+        (None, Some(p), Some(t)) => {
+            let n = p.len();
+            if let Some(k) = p.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+                return Err(err(format!("positions[{k}]: is not finite")));
+            }
+            let mut tris = Vec::with_capacity(t.len());
+            for (k, tri) in t.iter().enumerate() {
+                if tri.iter().any(|&v| v < 0 || v as usize >= n) {
+                    return Err(err(format!(
+                        "triangles[{k}]: refers to a vertex outside 0 … {}",
+                        n.saturating_sub(1)
+                    )));
+                }
+                tris.push(tri.map(|v| v as u32));
+            }
+            fit::InputMesh {
+                positions: p.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect(),
+                triangles: tris,
+            }
+        }
+        _ => {
+            return Err(err(
+                "mesh: give data (a file's bytes) or positions and triangles",
+            ))
+        }
+    };
+    let options = FillOptions {
+        holes,
+        continuity,
+        grading,
+    };
+    let filled = py
+        .detach(|| fill::fill_holes(&mesh, &options))
+        .map_err(|e| match e.place() {
+            "largest" | "max-boundary" | "grading" => err(e.to_string().replace('-', "_")),
+            _ => err(format!("{name}: {e}")),
+        })?;
+    let file_name = Path::new(name)
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let text = spec::write_design(&filled.design(&format!("{file_name}, hole fill")))
+        .map_err(|e| err(format!("{name}: {e}")))?;
+    let d = PyDict::new(py);
+    d.set_item(
+        "vertices",
+        array2(
+            py,
+            filled
+                .positions
+                .iter()
+                .flat_map(|p| [p.x, p.y, p.z])
+                .collect(),
+            3,
+        ),
+    )?;
+    d.set_item(
+        "faces",
+        array2(
+            py,
+            filled
+                .triangles
+                .iter()
+                .flat_map(|t| t.map(i64::from))
+                .collect(),
+            3,
+        ),
+    )?;
+    d.set_item("mesh_faces", filled.mesh_triangles)?;
+    d.set_item("open_edges", filled.open_edges)?;
+    d.set_item("holes_found", filled.holes_found)?;
+    let holes = PyList::empty(py);
+    for h in &filled.holes {
+        let hd = PyDict::new(py);
+        hd.set_item("first_vertex", h.first_vertex)?;
+        hd.set_item("boundary_vertices", h.boundary_vertices)?;
+        hd.set_item("length", h.length)?;
+        hd.set_item("vertices_added", h.vertices_added)?;
+        hd.set_item("triangles_added", h.triangles_added)?;
+        hd.set_item("g1_angle", h.g1_angle)?;
+        hd.set_item("normal_jump", h.normal_jump)?;
+        hd.set_item("ribbon", h.ribbon)?;
+        hd.set_item("pieces", h.pieces)?;
+        hd.set_item("chord_g1_angle", h.chord_g1_angle)?;
+        hd.set_item("chord_jump", h.chord_jump)?;
+        holes.append(hd)?;
+    }
+    d.set_item("holes", holes)?;
+    d.set_item("design", text)?;
+    Ok(d)
+}
+
 /// The library's version.
 #[pyfunction]
 fn version() -> &'static str {
@@ -1356,6 +1500,7 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DesignError", m.py().get_type::<DesignError>())?;
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(fit_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(fill_mesh, m)?)?;
     Ok(())
 }
 

@@ -9,7 +9,7 @@
 #![warn(missing_docs)]
 
 use pdeshape_geometry::{
-    bfs, check, curve, dynamic, elliptic, fd, formula, majorant, network, nsided, splinepde,
+    bfs, check, curve, disk, dynamic, elliptic, fd, formula, majorant, network, nsided, splinepde,
     surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};

@@ -36,6 +36,10 @@ pub(crate) struct Args {
     /// triangles: 0 to 1 (0: the hole's spacing throughout).
     #[arg(long, default_value_t = 0.1)]
     pub grading: f64,
+    /// Also write the fill's patches as a design file, one `[[disk]]` table per patch, that
+    /// check, surface and render read.
+    #[arg(long, value_name = "D.toml")]
+    pub design: Option<PathBuf>,
 }
 
 const FORMATS: &str = "obj, stl, ply or glb";
@@ -64,8 +68,15 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         },
         grading: args.grading,
     };
+    if args.design.as_ref() == Some(&args.output) {
+        return Err(CliError::input(format!(
+            "--design {}: the same file as -o",
+            args.output.display()
+        )));
+    }
     let bytes = crate::fit::read_mesh_bytes(&args.mesh, &shown)?;
     let mut out = Output::create(&args.output)?;
+    let mut design_out = args.design.as_deref().map(Output::create).transpose()?;
     let read = InputMesh::read_report(&bytes, input)
         .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let note = read.note();
@@ -97,13 +108,34 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         w.flush()
             .map_err(|e| CliError::input(format!("-o {}: {e}", args.output.display())))?;
     }
+    if let Some(d) = design_out.as_mut() {
+        let spec = filled.design(&format!("{name}, hole fill"));
+        let text = pdeshape::spec::write_design(&spec)
+            .map_err(|e| CliError::input(format!("--design: {e}")))?;
+        d.write_all(text.as_bytes())?;
+    }
     out.commit()?;
+    if let Some(d) = design_out {
+        d.commit()?;
+    }
     let mut text = String::new();
     for (k, h) in filled.holes.iter().enumerate() {
+        let split = if h.pieces > 1 {
+            format!(
+                "; {} pieces along chords (G1 angle {:.3}°, normal jump max {:.3}°, rms {:.3}° \
+                 across them)",
+                h.pieces,
+                h.chord_g1_angle.to_degrees(),
+                h.chord_jump.0.to_degrees(),
+                h.chord_jump.1.to_degrees()
+            )
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             text,
             "hole {} (at vertex {}): {} boundary vertices, {} triangles added ({} ribbon); G1 \
-             angle {:.3}° (normal jump max {:.3}°, rms {:.3}°); {:.0} ms",
+             angle {:.3}° (normal jump max {:.3}°, rms {:.3}°){split}; {:.0} ms",
             k + 1,
             h.first_vertex + 1,
             h.boundary_vertices,
@@ -130,5 +162,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     );
     common::print_stdout(&text);
     common::report(&format!("wrote {}\n", common::destination(&args.output)));
+    if let Some(d) = &args.design {
+        common::report(&format!("wrote {}\n", common::destination(d)));
+    }
     Ok(())
 }

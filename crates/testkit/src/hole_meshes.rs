@@ -152,14 +152,21 @@ fn zipper(a: &(Vec<u32>, Vec<f64>), b: &(Vec<u32>, Vec<f64>), out: &mut Vec<[u32
 /// every hole's boundary is a simple loop, every kept triangle at a vertex the boundary passes
 /// twice.
 pub fn cut_discs(pos: &[Vec3], tris: &[[u32; 3]], centres: &[Vec3], rho: f64) -> Holed {
+    cut_where(pos, tris, |c| {
+        let c = c.normalize();
+        centres
+            .iter()
+            .any(|z| c.dot(z).clamp(-1.0, 1.0).acos() < rho)
+    })
+}
+
+/// Cuts the triangles whose centroid satisfies `inside` out of a closed mesh, then, until
+/// every hole's boundary is a simple loop, every kept triangle at a vertex the boundary passes
+/// twice.
+pub fn cut_where(pos: &[Vec3], tris: &[[u32; 3]], inside: impl Fn(Vec3) -> bool) -> Holed {
     let mut removed: Vec<bool> = tris
         .iter()
-        .map(|t| {
-            let c = (pos[t[0] as usize] + pos[t[1] as usize] + pos[t[2] as usize]).normalize();
-            centres
-                .iter()
-                .any(|z| c.dot(z).clamp(-1.0, 1.0).acos() < rho)
-        })
+        .map(|t| inside((pos[t[0] as usize] + pos[t[1] as usize] + pos[t[2] as usize]) / 3.0))
         .collect();
     for _ in 0..100 {
         let kept: Vec<[u32; 3]> = tris
@@ -221,6 +228,52 @@ pub fn sphere_hole(boundary: usize, seed: u64) -> Holed {
     let hb = 4.0 * std::f64::consts::PI * RHO.sin() / boundary as f64;
     let (p, t) = graded_sphere(c, hb, 0.25, seed);
     cut_discs(&p, &t, &[c], RHO)
+}
+
+/// The graded, jittered sphere about the north pole (finest edge `hb` at the geodesic distance
+/// [`RHO`] from it, at most 0.04) with the triangles whose centroid `(x, y)` (its upper half
+/// only) satisfies `inside` cut out ([`cut_where`]).
+pub fn sphere_hole_where(hb: f64, seed: u64, inside: impl Fn(f64, f64) -> bool) -> Holed {
+    let (p, t) = graded_sphere(Vec3::new(0.0, 0.0, 1.0), hb, 0.25, seed);
+    cut_where(&p, &t, |c| c.z > 0.0 && inside(c.x, c.y))
+}
+
+/// A jittered mesh of the open unit cylinder `x² + y² = 1`, `|z| ≤ half`: `around` vertices
+/// about it, rows `about` the same spacing apart, every vertex off the two rims moved in its
+/// tangent plane by at most 0.2 of the spacing (and back onto the cylinder), two triangles per
+/// cell facing outwards; with the triangles whose centroid's angle `atan2(y, x)` and height
+/// `z` satisfy `inside` cut out ([`cut_where`]). The two rims are loops too.
+pub fn cylinder_hole_where(
+    around: usize,
+    half: f64,
+    seed: u64,
+    inside: impl Fn(f64, f64) -> bool,
+) -> Holed {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let tau = std::f64::consts::TAU;
+    let h = tau / around as f64;
+    let rows = ((2.0 * half / h).round() as usize).max(1);
+    let dz = 2.0 * half / rows as f64;
+    let mut pos = Vec::with_capacity(around * (rows + 1));
+    for j in 0..=rows {
+        for i in 0..around {
+            let (mut a, mut z) = (i as f64 * h, -half + j as f64 * dz);
+            if j > 0 && j < rows {
+                a += rng.gen_range(-0.2..0.2) * h;
+                z += rng.gen_range(-0.2..0.2) * dz;
+            }
+            pos.push(Vec3::new(a.cos(), a.sin(), z));
+        }
+    }
+    let id = |i: usize, j: usize| (j * around + i % around) as u32;
+    let mut tris = Vec::with_capacity(2 * around * rows);
+    for j in 0..rows {
+        for i in 0..around {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    cut_where(&pos, &tris, |c| inside(c.y.atan2(c.x), c.z))
 }
 
 /// A smooth hole: the graded sphere without jitter, cut between its first two rings inside

@@ -2,7 +2,7 @@
 //! height field over the vertex's two rings of neighbours, in the frame of its normal.
 
 use crate::Vec3;
-use nalgebra::{Matrix5, Vector5};
+use nalgebra::{Matrix3, Matrix5, Vector5};
 
 /// The second fundamental form at one vertex, with respect to its unit normal `n`: for a
 /// tangent vector `w`, `II(w, w) = w · (h w)` with `h` the height field's Hessian.
@@ -20,6 +20,26 @@ impl Form {
     pub(crate) fn at(&self, w: Vec3) -> f64 {
         let (a, b) = (w.dot(&self.e1), w.dot(&self.e2));
         self.h[0] * a * a + 2.0 * self.h[1] * a * b + self.h[2] * b * b
+    }
+
+    /// The form as a symmetric tensor of space: `II(w, w) = wᵀ M w` for tangent `w`.
+    pub(crate) fn tensor(&self) -> Matrix3<f64> {
+        let (a, b) = (self.e1, self.e2);
+        a * a.transpose() * self.h[0]
+            + (a * b.transpose() + b * a.transpose()) * self.h[1]
+            + b * b.transpose() * self.h[2]
+    }
+
+    /// The form of the tensor `m` restricted to the plane square to the unit `normal`.
+    pub(crate) fn from_tensor(normal: Vec3, m: &Matrix3<f64>) -> Form {
+        let (e1, e2) = frame(normal);
+        let h = |x: &Vec3, y: &Vec3| x.dot(&(m * y));
+        Form {
+            n: normal,
+            e1,
+            e2,
+            h: [h(&e1, &e1), h(&e1, &e2), h(&e2, &e2)],
+        }
     }
 
     /// The unit normal the form refers to.
@@ -40,13 +60,7 @@ pub(crate) fn form(
     normal: Vec3,
 ) -> Option<Form> {
     let o = positions[vertex as usize];
-    let helper = if normal.x.abs() < 0.9 {
-        Vec3::x()
-    } else {
-        Vec3::y()
-    };
-    let e1 = normal.cross(&helper).normalize();
-    let e2 = normal.cross(&e1);
+    let (e1, e2) = frame(normal);
     let mut near: Vec<u32> = Vec::new();
     for v in rings(vertex) {
         near.push(v);
@@ -75,4 +89,15 @@ pub(crate) fn form(
         e2,
         h: [c[2], c[3], c[4]],
     })
+}
+
+/// Two unit vectors square to the unit `normal` and to each other.
+fn frame(normal: Vec3) -> (Vec3, Vec3) {
+    let helper = if normal.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    let e1 = normal.cross(&helper).normalize();
+    (e1, normal.cross(&e1))
 }

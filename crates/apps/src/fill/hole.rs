@@ -27,10 +27,10 @@
 //! the mesh's normal by the angle at which the loop leaves the mesh's tangent plane there, the
 //! loop's own discretisation (reported as the G1 angle).
 
-use super::curvature::form;
-use super::{Continuity, Neighbours};
+use super::curvature::Form;
+use super::Continuity;
 use crate::{Error, Result, Vec3, TAU};
-use pdeshape_geometry::disk::{DiskData, DiskPatch, RingPoint};
+use pdeshape_geometry::disk::{polyline, DiskData, DiskPatch, RingPoint};
 
 /// The magnitude and direction of the ribbon `D` in the mesh's tangent plane (G1, G2): the
 /// fill tries them in this order and keeps the first whose tessellation does not fold.
@@ -48,6 +48,15 @@ pub enum RibbonChoice {
 }
 
 impl RibbonChoice {
+    /// The order in which the pieces of a split hole try them: the chord's ends are corners,
+    /// where the conformal ribbon's magnitude (the loop's speed) is too large for the map
+    /// inside and the fill bulges; the harmonic fill's derivative vanishes towards them.
+    pub const PIECES: [RibbonChoice; 3] = [
+        RibbonChoice::Harmonic,
+        RibbonChoice::Conformal,
+        RibbonChoice::Radial,
+    ];
+
     /// Every choice, in the order the fill tries them.
     pub const ALL: [RibbonChoice; 3] = [
         RibbonChoice::Conformal,
@@ -66,11 +75,30 @@ impl RibbonChoice {
 }
 
 /// Boundary samples per edge of the loop.
-const OVERSAMPLE: usize = 8;
+pub(crate) const OVERSAMPLE: usize = 8;
+
+/// A patch's boundary data at the loop's vertices.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct VertexData {
+    /// The positions.
+    pub points: Vec<Vec3>,
+    /// The ribbon `∂X/∂r` (G1, G2).
+    pub derivatives: Option<Vec<Vec3>>,
+    /// `∂²X/∂r²` (G2).
+    pub second: Option<Vec<Vec3>>,
+}
 
 /// A hole's solved patch.
 pub(crate) struct HolePatch {
     pub patch: DiskPatch,
+    /// The data it was solved from, at the loop's vertices (the samples between them are the
+    /// polyline's, [`OVERSAMPLE`] per edge).
+    pub data: VertexData,
+    /// The harmonic patch of the loop's normals (its "position" is a direction): the way the
+    /// fill should face inside; a patch normal against it is a fold of the disk's map onto
+    /// the surface (the patch's normal turns with the fold, so the triangles' check against it
+    /// cannot see one).
+    pub reference: DiskPatch,
     /// The loop's vertices (mesh indices), vertex `k` at angle `2πk/S`.
     pub vertices: Vec<u32>,
     /// The patch at the loop's vertices: `X`, `X_r`, `X_θ`.
@@ -80,11 +108,13 @@ pub(crate) struct HolePatch {
     pub g1_angle: f64,
 }
 
-/// Builds and solves the patch of the hole `loop_vertices` (in the fill's direction).
-pub(crate) fn build<'a>(
+/// Builds and solves the patch of the hole `loop_vertices` (in the fill's direction):
+/// `positions` and `vertex_normals` hold the mesh's vertices and any chord points of a split
+/// hole; `form_at` gives a vertex's second fundamental form (G2 only).
+pub(crate) fn build(
     positions: &[Vec3],
     vertex_normals: &[Vec3],
-    neighbours: &dyn Fn() -> &'a Neighbours,
+    form_at: &dyn Fn(u32) -> Option<Form>,
     loop_vertices: &[u32],
     continuity: Continuity,
     ribbon: RibbonChoice,
@@ -109,12 +139,7 @@ pub(crate) fn build<'a>(
         .collect();
     // The polyline, OVERSAMPLE points per edge (the loop's vertices among them).
     let fine = |f: &dyn Fn(usize) -> Vec3| -> Vec<Vec3> {
-        (0..s * OVERSAMPLE)
-            .map(|i| {
-                let (k, t) = (i / OVERSAMPLE, (i % OVERSAMPLE) as f64 / OVERSAMPLE as f64);
-                f(k) * (1.0 - t) + f((k + 1) % s) * t
-            })
-            .collect()
+        polyline(&(0..s).map(f).collect::<Vec<_>>(), OVERSAMPLE)
     };
     let pf = fine(&|k| p[k]);
     let data = DiskData {
@@ -122,9 +147,24 @@ pub(crate) fn build<'a>(
         derivatives: None,
         second: None,
     };
+    // The loop's normals carried inside (harmonic): which way the fill should face.
+    let nf = fine(&|k| normals[k]);
+    let reference = DiskPatch::solve(
+        1,
+        &DiskData {
+            positions: &nf,
+            derivatives: None,
+            second: None,
+        },
+    )?;
     if continuity == Continuity::G0 {
         let patch = DiskPatch::solve(1, &data)?;
-        return Ok(finish(patch, loop_vertices, &normals));
+        let data = VertexData {
+            points: p,
+            derivatives: None,
+            second: None,
+        };
+        return Ok(finish(patch, data, loop_vertices, &normals, reference));
     }
     // The central difference per unit of θ: the polyline's mean tangent at a vertex.
     let scale = s as f64 / (2.0 * TAU);
@@ -149,10 +189,23 @@ pub(crate) fn build<'a>(
     };
     let d_at = |k: usize| match ribbon {
         RibbonChoice::Conformal => conformal(k),
-        RibbonChoice::Harmonic => in_plane(k, harm[k].xr),
+        RibbonChoice::Harmonic => {
+            // Kept within 60° of the square to the loop (a corner's harmonic derivative can
+            // run along the loop, where it says nothing about the tangent plane).
+            let h = in_plane(k, harm[k].xr);
+            let c = conformal(k);
+            let u = c / c.norm().max(f64::MIN_POSITIVE);
+            let o = h.dot(&u);
+            if o >= 0.5 * h.norm() {
+                h
+            } else {
+                u * o.max(0.1 * c.norm())
+            }
+        }
         RibbonChoice::Radial => in_plane(k, p[k] - centre),
     };
-    let df = fine(&d_at);
+    let d: Vec<Vec3> = (0..s).map(d_at).collect();
+    let df = fine(&|k| d[k]);
     let g1 = DiskPatch::solve(
         2,
         &DiskData {
@@ -161,23 +214,24 @@ pub(crate) fn build<'a>(
         },
     )?;
     if continuity == Continuity::G1 {
-        return Ok(finish(g1, loop_vertices, &normals));
+        let data = VertexData {
+            points: p,
+            derivatives: Some(d),
+            second: None,
+        };
+        return Ok(finish(g1, data, loop_vertices, &normals, reference));
     }
     // G2: ∂²X/∂r² is normal, II(D, D) N with the mesh's fitted form (its tangential part, a
     // matter of parametrisation, is left to be zero: the flat disc's).
-    let table = neighbours();
-    let rings = |v: u32| table.of(v).to_vec();
     let mut e = Vec::with_capacity(s);
-    for k in 0..s {
-        let n = normals[k];
-        let f = form(positions, &rings, loop_vertices[k], n).ok_or_else(|| {
+    for (k, &v) in loop_vertices.iter().enumerate() {
+        let f = form_at(v).ok_or_else(|| {
             Error::invalid(format!(
                 "vertex {} has too few neighbours to fit its curvature (G2)",
-                loop_vertices[k] + 1
+                v + 1
             ))
         })?;
-        let d = d_at(k);
-        e.push(f.normal() * f.at(d));
+        e.push(f.normal() * f.at(d[k]));
     }
     let ef = fine(&|k| e[k]);
     let g2 = DiskPatch::solve(
@@ -188,11 +242,22 @@ pub(crate) fn build<'a>(
             ..data
         },
     )?;
-    Ok(finish(g2, loop_vertices, &normals))
+    let data = VertexData {
+        points: p,
+        derivatives: Some(d),
+        second: Some(e),
+    };
+    Ok(finish(g2, data, loop_vertices, &normals, reference))
 }
 
 /// The hole's patch with its boundary values and G1 angle.
-fn finish(patch: DiskPatch, loop_vertices: &[u32], normals: &[Vec3]) -> HolePatch {
+fn finish(
+    patch: DiskPatch,
+    data: VertexData,
+    loop_vertices: &[u32],
+    normals: &[Vec3],
+    reference: DiskPatch,
+) -> HolePatch {
     let s = loop_vertices.len();
     let boundary = patch.ring(1.0, s, 0.0);
     let g1_angle = boundary
@@ -205,6 +270,8 @@ fn finish(patch: DiskPatch, loop_vertices: &[u32], normals: &[Vec3]) -> HolePatc
         .fold(0.0, f64::max);
     HolePatch {
         patch,
+        data,
+        reference,
         vertices: loop_vertices.to_vec(),
         boundary,
         g1_angle,

@@ -8,19 +8,31 @@
 //! the loop itself (the mesh's indices, not copies), at the loop's spacing (`tessellate.rs`),
 //! and its triangles are appended with the mesh's orientation.
 //!
+//! A hole one patch cannot span (long, L- or U-shaped) is split along bridging chords between
+//! its boundary vertices (`split.rs`): the pieces on either side share the chord's points and
+//! its normal field, so they meet G1 along it, and each is filled like a hole (or split again,
+//! at most [`MAX_DEPTH`] times deep). A hole whose shortest chord is short against the loop it
+//! cuts off is split before one patch is tried.
+//!
+//! A piece's fill is kept when no triangle comes out with its normal against the patch's, no
+//! point of the patch has its normal against the loop's normals carried inside (a harmonic
+//! patch of them: a fold of the disk's map, which turns the patch's normal with it), and the
+//! normal jump at the loop stays below [`MAX_JUMP`], for one of the ribbons tried
+//! ([`RibbonChoice`]).
+//!
 //! What is refused, with one line naming the place: a mesh that is empty, non-manifold (an edge
 //! in three or more triangles, a vertex whose triangles are not one fan: its boundary is not
 //! one loop) or inconsistently oriented; a selection of holes that selects none; and a hole
-//! one patch cannot span sensibly: a loop through one point twice, a fill that would need more
-//! than [`MAX_POINTS`] points, or, for every ribbon tried ([`RibbonChoice`]), a triangle of the
-//! fill that comes out with its normal against the patch's or a normal jump above [`MAX_JUMP`]
-//! at the loop (the disk's map folds or bends over the mesh, as for a loop that is long and
-//! thin, winds, or is far from convex in its surface). A loop that is most of the mesh's boundary is filled like any other.
+//! that cannot be filled sensibly: a loop through one point twice, a fill that would need more
+//! than [`MAX_POINTS`] points, or a piece that no ribbon fills as above when no chord inside it
+//! (in the plane square to its mean normal) splits it further, as for a hole that is most of a
+//! closed surface. A loop that is most of the mesh's boundary is filled like any other.
 
 mod curvature;
 mod hole;
 mod loops;
 mod measure;
+mod split;
 mod tessellate;
 
 pub use hole::RibbonChoice;
@@ -30,7 +42,10 @@ pub use tessellate::MAX_POINTS;
 
 use crate::fit::InputMesh;
 use crate::mesh::{Part, TriMesh};
+use crate::spec::{DesignSpec, DiskSpec};
 use crate::{Error, Result, Vec3};
+use curvature::{form, Form};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// The largest normal jump (radians) a fill may have at its loop's vertices: a larger one is a
@@ -104,8 +119,17 @@ pub struct HoleReport {
     /// The largest and RMS normal jump (radians) at the loop's vertices: the angle between the
     /// area-weighted normals of the fill's and the mesh's triangles there ([`normal_jump`]).
     pub normal_jump: (f64, f64),
-    /// The ribbon the fill kept ([`RibbonChoice`]; `conformal` for G0, which has none).
+    /// The ribbon the fill kept ([`RibbonChoice`]; `conformal` for G0, which has none;
+    /// `mixed` when the pieces of a split hole kept different ones).
     pub ribbon: &'static str,
+    /// The patches the hole was filled with: 1, or more when it was split along chords.
+    pub pieces: usize,
+    /// The largest angle (radians) between the normals of the two patches that meet along a
+    /// chord, at the chord's points (0 for a hole in one piece).
+    pub chord_g1_angle: f64,
+    /// The largest and RMS normal jump (radians) across the chords: the angle between the
+    /// area-weighted normals of the two sides' triangles at the chord's points.
+    pub chord_jump: (f64, f64),
     /// Wall time of the hole (patch, tessellation, measures), seconds.
     pub seconds: f64,
 }
@@ -125,9 +149,54 @@ pub struct Filled {
     pub holes_found: usize,
     /// Edges used by one triangle after the fill (0: watertight).
     pub open_edges: usize,
+    /// The patches, one per filled hole or piece of a split hole, in the order of `holes`.
+    pub patches: Vec<FillPatch>,
+}
+
+/// One patch of a fill: the disk patch and the data it was solved from, as a design file's
+/// `[[disk]]` table holds them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FillPatch {
+    /// `hole<k>` (from 1, in the order of the reports), `hole<k>.<j>` for the pieces of a
+    /// split hole.
+    pub name: String,
+    /// The solved patch.
+    pub patch: pdeshape_geometry::disk::DiskPatch,
+    /// The loop's points (the hole's vertices and chord points).
+    pub points: Vec<Vec3>,
+    /// The ribbon at the points (G1, G2).
+    pub derivatives: Option<Vec<Vec3>>,
+    /// `∂²X/∂r²` at the points (G2).
+    pub second: Option<Vec<Vec3>>,
+    /// Samples per edge of the polyline through the points.
+    pub samples_per_edge: usize,
+}
+
+impl FillPatch {
+    /// The patch as a `[[disk]]` table.
+    pub fn disk_spec(&self) -> DiskSpec {
+        let list = |v: &[Vec3]| v.iter().map(|p| [p.x, p.y, p.z]).collect::<Vec<_>>();
+        DiskSpec {
+            name: self.name.clone(),
+            order: self.patch.order(),
+            points: list(&self.points),
+            derivatives: self.derivatives.as_deref().map(list),
+            second: self.second.as_deref().map(list),
+            samples_per_edge: self.samples_per_edge,
+        }
+    }
 }
 
 impl Filled {
+    /// The fill's patches as a design file (one `[[disk]]` table each), titled `title`.
+    pub fn design(&self, title: &str) -> DesignSpec {
+        DesignSpec {
+            title: Some(title.to_string()),
+            disk: self.patches.iter().map(FillPatch::disk_spec).collect(),
+            ..DesignSpec::default()
+        }
+    }
+
     /// The result as a mesh to write: positions in mesh precision, angle-weighted vertex
     /// normals, parts `mesh` and `fill`.
     pub fn to_trimesh(&self) -> TriMesh {
@@ -198,9 +267,15 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
     let neighbours =
         || table.get_or_init(|| Neighbours::new(mesh.positions.len(), &mesh.triangles));
     let median = median_edge(&mesh.positions, &mesh.triangles);
-    let mut positions = mesh.positions.clone();
-    let mut triangles = mesh.triangles.clone();
+    let mut work = Work {
+        mesh,
+        positions: mesh.positions.clone(),
+        normals,
+        chord_forms: HashMap::new(),
+        triangles: mesh.triangles.clone(),
+    };
     let mut reports = Vec::with_capacity(chosen.len());
+    let mut patches = Vec::new();
     for &k in &chosen {
         let lp = &loops[k];
         let start = Instant::now();
@@ -213,76 +288,137 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
                 e
             ))
         };
-        let base = u32::try_from(positions.len())
-            .map_err(|_| Error::invalid("the mesh has too many vertices"))?;
-        // The ribbons in turn (one for G0), until a tessellation does not fold.
-        let choices: &[RibbonChoice] = if options.continuity == Continuity::G0 {
-            &RibbonChoice::ALL[..1]
-        } else {
-            &RibbonChoice::ALL
+        let (v0, t0) = (work.positions.len(), work.triangles.len());
+        let form_at = |work: &Work, v: u32| -> Option<Form> {
+            if (v as usize) < work.mesh.positions.len() {
+                let table = neighbours();
+                let rings = |w: u32| table.of(w).to_vec();
+                form(&work.mesh.positions, &rings, v, work.normals[v as usize])
+            } else {
+                work.chord_forms.get(&v).copied()
+            }
         };
-        let mut fewest: Option<(usize, usize)> = None;
-        let mut crease = f64::INFINITY;
-        let mut found = None;
-        for &ribbon in choices {
-            let hole = hole::build(
-                &mesh.positions,
-                &normals,
-                &neighbours,
-                &lp.vertices,
-                options.continuity,
-                ribbon,
-            )
-            .map_err(place)?;
-            let t = tessellate::tessellate(&hole, &mesh.positions, base, options.grading, median)
-                .map_err(place)?;
-            if t.folded > 0 {
-                if fewest.is_none_or(|(f, _)| t.folded < f) {
-                    fewest = Some((t.folded, t.triangles.len()));
+        // The pieces still to fill (the hole, or the two sides of a chord) with their depth.
+        let mut stack = vec![(lp.vertices.clone(), 0usize)];
+        let mut leaves: Vec<Leaf> = Vec::new();
+        let mut chord_points: Vec<u32> = Vec::new();
+        while let Some((piece, depth)) = stack.pop() {
+            let p: Vec<Vec3> = piece.iter().map(|&v| work.positions[v as usize]).collect();
+            let n: Vec<Vec3> = piece.iter().map(|&v| work.normals[v as usize]).collect();
+            let chord = if depth < MAX_DEPTH {
+                split::best_chord(&p, &n)
+            } else {
+                None
+            };
+            // A long piece is split at once; any other is tried in one patch first.
+            let split_now = chord.as_ref().is_some_and(|c| c.score < split::SPLIT_BELOW);
+            if !split_now {
+                let refusal =
+                    match fill_piece(&mut work, &form_at, &piece, depth > 0, options, median)
+                        .map_err(place)?
+                    {
+                        Ok(leaf) => {
+                            leaves.push(leaf);
+                            continue;
+                        }
+                        Err(refusal) => refusal,
+                    };
+                if chord.is_none() {
+                    let why = if depth >= MAX_DEPTH {
+                        format!(" (even split into {} pieces)", 1 << depth)
+                    } else if depth > 0 {
+                        format!(
+                            " (a piece of {} vertices after {depth} splits, and no chord \
+                             inside it splits it further)",
+                            piece.len()
+                        )
+                    } else {
+                        ", and no chord inside it splits it".into()
+                    };
+                    return Err(place(Error::invalid(format!("{refusal}{why}"))));
                 }
-                continue;
             }
-            // A fill that bends over the mesh (a hole that is not convex enough) meets it at a
-            // crease.
-            let n0 = positions.len();
-            positions.extend_from_slice(&t.positions);
-            let jump = normal_jump(&positions, &t.triangles, &mesh.triangles, &lp.vertices);
-            positions.truncate(n0);
-            if jump.0 > MAX_JUMP {
-                crease = crease.min(jump.0);
+            let Some(chord) = chord else {
                 continue;
+            };
+            // The chord's points, their normals and (G2) forms.
+            let first = u32::try_from(work.positions.len())
+                .map_err(|_| Error::invalid("the mesh has too many vertices"))?;
+            let ends = [piece[chord.a], piece[chord.b]];
+            if options.continuity == Continuity::G2 {
+                let fa = form_at(&work, ends[0]);
+                let fb = form_at(&work, ends[1]);
+                if let (Some(fa), Some(fb)) = (fa, fb) {
+                    for (i, (&t, &nv)) in chord.params.iter().zip(&chord.normals).enumerate() {
+                        work.chord_forms
+                            .insert(first + i as u32, split::interpolate_form(&fa, &fb, t, nv));
+                    }
+                }
             }
-            found = Some((hole, t, ribbon, jump));
-            break;
+            work.positions.extend_from_slice(&chord.points);
+            work.normals.extend_from_slice(&chord.normals);
+            let inner: Vec<u32> = (0..chord.points.len() as u32).map(|i| first + i).collect();
+            chord_points.extend_from_slice(&inner);
+            // Piece one: a … b along the loop, then the chord back from b to a; piece two:
+            // b … a along the loop, then the chord from a to b.
+            let s = piece.len();
+            let mut one: Vec<u32> = (chord.a..=chord.b).map(|i| piece[i]).collect();
+            one.extend(inner.iter().rev());
+            let mut two: Vec<u32> = (chord.b..chord.a + s + 1).map(|i| piece[i % s]).collect();
+            two.extend(inner.iter());
+            stack.push((two, depth + 1));
+            stack.push((one, depth + 1));
         }
-        let Some((hole, t, ribbon, jump)) = found else {
-            return Err(place(Error::invalid(match fewest {
-                Some((folded, of)) if crease.is_infinite() => format!(
-                    "the hole is too long or too winding for one disk patch: its map folds (at \
-                     best {folded} of the fill's {of} triangles face against the patch)"
-                ),
-                _ => format!(
-                    "the hole is too long or too winding for one disk patch: its map folds or \
-                     meets the mesh at a crease (at best {:.0}°, more than {:.0}°)",
-                    crease.to_degrees(),
-                    MAX_JUMP.to_degrees()
-                ),
-            })));
+        // Along the chords: the two patches' normals at each chord point, and the two sides'
+        // triangles' normals.
+        let (chord_g1_angle, chord_jump) = chord_measures(&work, &leaves, &chord_points);
+        let jump = normal_jump(
+            &work.positions,
+            &work.triangles[t0..],
+            &mesh.triangles,
+            &lp.vertices,
+        );
+        let ribbon = if leaves.iter().all(|l| l.ribbon == leaves[0].ribbon) {
+            leaves[0].ribbon.name()
+        } else {
+            "mixed"
         };
-        positions.extend_from_slice(&t.positions);
-        triangles.extend_from_slice(&t.triangles);
+        let number = reports.len() + 1;
+        let many = leaves.len() > 1;
+        for (j, leaf) in leaves.iter().enumerate() {
+            patches.push(FillPatch {
+                name: if many {
+                    format!("hole{number}.{}", j + 1)
+                } else {
+                    format!("hole{number}")
+                },
+                patch: leaf.patch.clone(),
+                points: leaf.data.points.clone(),
+                derivatives: leaf.data.derivatives.clone(),
+                second: leaf.data.second.clone(),
+                samples_per_edge: hole::OVERSAMPLE,
+            });
+        }
         reports.push(HoleReport {
             first_vertex: lp.vertices[0],
             boundary_vertices: lp.vertices.len(),
             length: lp.length,
-            vertices_added: t.positions.len(),
-            triangles_added: t.triangles.len(),
-            g1_angle: hole.g1_angle,
-            ribbon: ribbon.name(),
+            vertices_added: work.positions.len() - v0,
+            triangles_added: work.triangles.len() - t0,
+            g1_angle: leaves.iter().map(|l| l.g1_angle).fold(0.0, f64::max),
+            ribbon,
             normal_jump: jump,
+            pieces: leaves.len(),
+            chord_g1_angle,
+            chord_jump,
             seconds: start.elapsed().as_secs_f64(),
         });
     }
+    let Work {
+        positions,
+        triangles,
+        ..
+    } = work;
     let open = open_edges(&triangles);
     Ok(Filled {
         positions,
@@ -291,6 +427,7 @@ pub fn fill_holes(mesh: &InputMesh, options: &FillOptions) -> Result<Filled> {
         holes: reports,
         holes_found: loops.len(),
         open_edges: open,
+        patches,
     })
 }
 
@@ -343,4 +480,167 @@ impl Neighbours {
     pub(crate) fn of(&self, v: u32) -> &[u32] {
         &self.list[self.start[v as usize]..self.start[v as usize + 1]]
     }
+}
+
+/// The deepest a hole is split: at most `2^MAX_DEPTH` pieces.
+pub const MAX_DEPTH: usize = 5;
+
+/// The state of a fill: the mesh, then every fill's points (chord points among them) and
+/// triangles so far.
+struct Work<'a> {
+    mesh: &'a InputMesh,
+    positions: Vec<Vec3>,
+    /// A normal per point of `positions`: the mesh's vertex normals, a chord's normal field at
+    /// its points, zero at a patch's interior points.
+    normals: Vec<Vec3>,
+    /// The second fundamental form at chord points (G2).
+    chord_forms: HashMap<u32, Form>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// One filled piece of a hole.
+struct Leaf {
+    /// The patch and its data.
+    patch: pdeshape_geometry::disk::DiskPatch,
+    data: hole::VertexData,
+    /// The piece's loop and the patch's unit normal at each of its vertices.
+    vertices: Vec<u32>,
+    patch_normals: Vec<Vec3>,
+    /// Its triangles in the work's list.
+    triangles: std::ops::Range<usize>,
+    ribbon: RibbonChoice,
+    g1_angle: f64,
+}
+
+/// Fills one piece (a hole's loop or a part of it) with one disk patch: the ribbons in turn
+/// (one for G0; [`RibbonChoice::PIECES`]' order for the pieces of a split hole) until a tessellation neither folds nor meets the mesh at a crease; the piece
+/// is added to `work`. `Ok(Err(why))` when no ribbon gives such a fill; `Err` for a loop that
+/// cannot be filled at all.
+fn fill_piece(
+    work: &mut Work,
+    form_at: &dyn Fn(&Work, u32) -> Option<Form>,
+    piece: &[u32],
+    split: bool,
+    options: &FillOptions,
+    median: f64,
+) -> Result<std::result::Result<Leaf, String>> {
+    let base = u32::try_from(work.positions.len())
+        .map_err(|_| Error::invalid("the mesh has too many vertices"))?;
+    let choices: &[RibbonChoice] = if options.continuity == Continuity::G0 {
+        &RibbonChoice::ALL[..1]
+    } else if split {
+        &RibbonChoice::PIECES
+    } else {
+        &RibbonChoice::ALL
+    };
+    let mut fewest: Option<(usize, usize)> = None;
+    let mut crease = f64::INFINITY;
+    for &ribbon in choices {
+        let hole = hole::build(
+            &work.positions,
+            &work.normals,
+            &|v| form_at(work, v),
+            piece,
+            options.continuity,
+            ribbon,
+        )?;
+        let t = tessellate::tessellate(&hole, &work.positions, base, options.grading, median)?;
+        if t.folded > 0 {
+            if fewest.is_none_or(|(f, _)| t.folded < f) {
+                fewest = Some((t.folded, t.triangles.len()));
+            }
+            continue;
+        }
+        // A fill that bends over the mesh (a hole that is not convex enough) meets it at a
+        // crease.
+        let n0 = work.positions.len();
+        work.positions.extend_from_slice(&t.positions);
+        let jump = normal_jump(&work.positions, &t.triangles, &work.mesh.triangles, piece);
+        if jump.0 > MAX_JUMP {
+            work.positions.truncate(n0);
+            crease = crease.min(jump.0);
+            continue;
+        }
+        work.normals.resize(work.positions.len(), Vec3::zeros());
+        let first = work.triangles.len();
+        work.triangles.extend_from_slice(&t.triangles);
+        return Ok(Ok(Leaf {
+            patch: hole.patch.clone(),
+            data: hole.data.clone(),
+            vertices: piece.to_vec(),
+            patch_normals: hole
+                .boundary
+                .iter()
+                .map(|b| b.xr.cross(&b.xt).normalize())
+                .collect(),
+            triangles: first..work.triangles.len(),
+            ribbon,
+            g1_angle: hole.g1_angle,
+        }));
+    }
+    Ok(Err(match fewest {
+        Some((folded, of)) if crease.is_infinite() => format!(
+            "the hole is too long or too winding for one disk patch: its map folds (at best \
+             {folded} of the fill's {of} triangles face against the patch)"
+        ),
+        _ => format!(
+            "the hole is too long or too winding for one disk patch: its map folds or meets \
+             the mesh at a crease (at best {:.0}°, more than {:.0}°)",
+            crease.to_degrees(),
+            MAX_JUMP.to_degrees()
+        ),
+    }))
+}
+
+/// The G1 of a split hole along its chords: the largest angle between the two patches'
+/// normals at the chord points, and the largest and RMS angle between the area-weighted
+/// normals of the two sides' triangles there. Zeros for a hole in one piece.
+fn chord_measures(work: &Work, leaves: &[Leaf], chord_points: &[u32]) -> (f64, (f64, f64)) {
+    if chord_points.is_empty() {
+        return (0.0, (0.0, 0.0));
+    }
+    let slot: HashMap<u32, usize> = chord_points
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| (v, k))
+        .collect();
+    // Per chord point, per side (in the order the leaves reach it): patch normal, triangles.
+    let mut sides: Vec<Vec<(usize, Vec3, Vec3)>> = vec![Vec::new(); chord_points.len()];
+    for (l, leaf) in leaves.iter().enumerate() {
+        for (&v, &n) in leaf.vertices.iter().zip(&leaf.patch_normals) {
+            if let Some(&k) = slot.get(&v) {
+                sides[k].push((l, n, Vec3::zeros()));
+            }
+        }
+        for t in &work.triangles[leaf.triangles.clone()] {
+            let p = t.map(|i| work.positions[i as usize]);
+            let area = (p[1] - p[0]).cross(&(p[2] - p[0]));
+            for v in t {
+                if let Some(&k) = slot.get(v) {
+                    if let Some(side) = sides[k].iter_mut().find(|s| s.0 == l) {
+                        side.2 += area;
+                    }
+                }
+            }
+        }
+    }
+    let angle = |a: &Vec3, b: &Vec3| a.cross(b).norm().atan2(a.dot(b));
+    let (mut g1, mut worst, mut sq, mut count) = (0.0f64, 0.0f64, 0.0, 0usize);
+    for side in &sides {
+        if let [a, b] = side.as_slice() {
+            g1 = g1.max(angle(&a.1, &b.1));
+            if a.2.norm() > 0.0 && b.2.norm() > 0.0 {
+                let j = angle(&a.2, &b.2);
+                worst = worst.max(j);
+                sq += j * j;
+                count += 1;
+            }
+        }
+    }
+    let rms = if count > 0 {
+        (sq / count as f64).sqrt()
+    } else {
+        0.0
+    };
+    (g1, (worst, rms))
 }

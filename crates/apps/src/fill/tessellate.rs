@@ -94,6 +94,7 @@ pub(crate) fn tessellate(
             .iter()
             .map(|b| unit(b.xr.cross(&b.xt)))
             .collect(),
+        against: 0,
     };
     let mut positions: Vec<Vec3> = Vec::with_capacity(total);
     let mut triangles = Vec::with_capacity(2 * total + s);
@@ -103,6 +104,13 @@ pub(crate) fn tessellate(
     let ring = |r: f64, phase: f64, first: usize, step: f64| {
         let count = count(r, step);
         let pts = hole.patch.ring(r, count, phase);
+        // Points where the patch's normal turns against the loop's normals carried inside.
+        let reference = hole.reference.ring(r, count, phase);
+        let against = pts
+            .iter()
+            .zip(&reference)
+            .filter(|(p, q)| p.xr.cross(&p.xt).dot(&q.x) <= 0.0)
+            .count();
         Ring {
             index: (0..count).map(|l| (first + l) as u32).collect(),
             angle: (0..count)
@@ -110,6 +118,7 @@ pub(crate) fn tessellate(
                 .collect(),
             x: pts.iter().map(|p| p.x).collect(),
             normal: pts.iter().map(|p| unit(p.xr.cross(&p.xt))).collect(),
+            against,
         }
     };
     if rings > 1.0 {
@@ -133,7 +142,7 @@ pub(crate) fn tessellate(
             if f == 0 || attempt == 3 || r1 - 0.5 * dr < 0.5 {
                 positions.extend_from_slice(&inner.x);
                 triangles.extend(band);
-                folded += f;
+                folded += f + inner.against;
                 outer = inner;
                 break;
             }
@@ -143,12 +152,16 @@ pub(crate) fn tessellate(
             let phase = if j % 2 == 0 { 0.0 } else { 0.5 };
             let inner = ring(r, phase, base as usize + positions.len(), step);
             positions.extend_from_slice(&inner.x);
-            folded += zip(&outer, &inner, &mut triangles);
+            folded += inner.against + zip(&outer, &inner, &mut triangles);
             outer = inner;
         }
     }
     let centre = hole.patch.partials(0.0, 0.0);
     let (cx, cn) = (centre.x, centre.normal());
+    if cn.dot(&hole.reference.partials(0.0, 0.0).x) <= 0.0 {
+        folded += 1;
+    }
+
     let c = base + positions.len() as u32;
     positions.push(cx);
     let m = outer.index.len();
@@ -391,6 +404,8 @@ struct Ring {
     angle: Vec<f64>,
     x: Vec<Vec3>,
     normal: Vec<Vec3>,
+    /// Points whose patch normal turns against the loop's normals carried inside.
+    against: usize,
 }
 
 /// The triangles between ring `a` (outer) and ring `b` (inner), counterclockwise in the disk;

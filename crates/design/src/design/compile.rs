@@ -250,6 +250,8 @@ impl CompiledDesign {
         super::nsided::build_nsided(&spec.nsided, &mut builder, &mut surfaces)?;
         // [[network]]: faces tangent across inner curves, and to any surface before them.
         let networks = super::network::build_networks(&spec.network, &mut builder, &mut surfaces)?;
+        // [[disk]]: patches through their own samples.
+        super::disk::build_disks(&spec.disk, &mut surfaces)?;
         let curve_cache = builder.into_cache();
 
         // [blend]: its primary surfaces may be surfaces of this design.

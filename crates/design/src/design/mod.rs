@@ -13,6 +13,7 @@ mod attach;
 mod blend;
 mod compile;
 mod curves;
+mod disk;
 mod dynamic;
 mod edges;
 mod edit;

@@ -75,6 +75,8 @@ pub enum SurfaceKind {
     SpineEdited(Arc<super::spine::SpineEdited>),
     /// An `[[nsided]]` patch, or one piece of it.
     NSided(Arc<crate::nsided::NSidedSurface>),
+    /// A `[[disk]]` patch.
+    Disk(Arc<crate::disk::DiskPatch>),
 }
 
 impl SurfaceKind {
@@ -88,6 +90,7 @@ impl SurfaceKind {
             SurfaceKind::Spline(_, n) => &**n,
             SurfaceKind::SpineEdited(s) => &**s,
             SurfaceKind::NSided(s) => &**s,
+            SurfaceKind::Disk(s) => &**s,
         }
     }
 
@@ -101,6 +104,7 @@ impl SurfaceKind {
             SurfaceKind::Spline(..) => "spline PDE surface",
             SurfaceKind::SpineEdited(_) => "PDE patch (analytic) with an edited spine",
             SurfaceKind::NSided(_) => "n-sided PDE patch",
+            SurfaceKind::Disk(_) => "PDE patch on the unit disk",
         }
     }
 
@@ -114,6 +118,7 @@ impl SurfaceKind {
             SurfaceKind::Spline(_, n) => Arc::as_ptr(n) as usize,
             SurfaceKind::SpineEdited(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::NSided(s) => Arc::as_ptr(s) as usize,
+            SurfaceKind::Disk(s) => Arc::as_ptr(s) as usize,
         }
     }
 }
@@ -250,7 +255,11 @@ fn surface_count(spec: &DesignSpec) -> usize {
         (None, Some(_)) => 1,
         (None, None) => 0,
     };
-    patches + spec.parametric.len() + spec.blend.is_some() as usize + spec.spline.is_some() as usize
+    patches
+        + spec.parametric.len()
+        + spec.disk.len()
+        + spec.blend.is_some() as usize
+        + spec.spline.is_some() as usize
 }
 
 /// The tessellation grid of a design: the caller's `nu`/`nv`, else the design's `[output]`,

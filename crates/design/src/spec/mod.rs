@@ -11,6 +11,7 @@
 //! column, and [`describe_error`] formats `file:line:col: path: message`.
 
 mod blend;
+mod disk;
 mod dynamic;
 pub mod limits;
 mod locate;
@@ -32,6 +33,7 @@ pub mod words;
 mod write;
 
 pub use blend::{BlendSpec, EnergySpec, JoinSpec, PointSpec, SurfaceSpec};
+pub use disk::DiskSpec;
 pub use dynamic::{ComponentSpec, DynamicSpec, FormulaText, ParamsSpec};
 pub use locate::{describe_error, key_path, locate};
 pub use network::{NetworkCurveSpec, NetworkSpec};

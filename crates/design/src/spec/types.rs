@@ -68,6 +68,10 @@ pub struct DesignSpec {
     /// patch, G1 across the inner curves.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub network: Vec<super::network::NetworkSpec>,
+    /// Polyharmonic patches on the unit disk through a loop of samples (`[[disk]]`: the
+    /// patches `pdeshape fill --design` writes).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub disk: Vec<super::disk::DiskSpec>,
     /// Defaults for the command-line tool.
     #[serde(default, skip_serializing_if = "OutputSpec::is_default")]
     pub output: OutputSpec,

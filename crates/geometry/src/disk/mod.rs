@@ -62,6 +62,20 @@ pub struct DiskData<'a> {
     pub second: Option<&'a [Vec3]>,
 }
 
+/// The samples of a closed polyline through `points`, `per_edge` equally spaced ones per edge
+/// (the points among them, at every `per_edge`-th sample): `P_k (1 − t) + P_{k+1} t`,
+/// `t = j/per_edge`. Hole fills sample their loops so, and a design file's `[[disk]]` table
+/// with `samples_per_edge` too, so both solve the same data bit for bit.
+pub fn polyline(points: &[Vec3], per_edge: usize) -> Vec<Vec3> {
+    let s = points.len();
+    (0..s * per_edge)
+        .map(|i| {
+            let (k, t) = (i / per_edge, (i % per_edge) as f64 / per_edge as f64);
+            points[k] * (1.0 - t) + points[(k + 1) % s] * t
+        })
+        .collect()
+}
+
 /// A polyharmonic patch on the unit disk (module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DiskPatch {

@@ -168,7 +168,29 @@ fn bad_meshes_and_options_get_one_line_and_no_output() {
         "o.obj",
         &["--max-boundary", "no hole"],
     );
+    // The hole is all of the sphere but a cap of two rings about the south pole.
+    run(
+        "cap.obj",
+        sphere_obj(12, 16, -1.0).as_bytes(),
+        &[],
+        "o.obj",
+        &[
+            "cap.obj",
+            "hole 1 (at vertex",
+            "no chord inside it splits it",
+        ],
+    );
     run("holed.obj", holed.as_bytes(), &[], "o.csv", &["o.csv"]);
+    // --design: the same file as -o, and a refused hole: neither file is written.
+    let sub = tempfile::tempdir().unwrap();
+    let cap = write(sub.path(), "cap.obj", &sphere_obj(12, 16, -1.0));
+    let o = sub.path().join("o.obj");
+    let d = sub.path().join("d.toml");
+    let out = pdeshape(&["fill", s(&cap), "-o", s(&o), "--design", s(&o)]);
+    assert_bad(&out, &["--design", "the same file as -o"]);
+    let out = pdeshape(&["fill", s(&cap), "-o", s(&o), "--design", s(&d)]);
+    assert_bad(&out, &["cap.obj", "no chord inside it splits it"]);
+    assert_eq!(files(sub.path()), vec!["cap.obj".to_string()]);
     run(
         "holed.txt",
         holed.as_bytes(),
@@ -176,4 +198,75 @@ fn bad_meshes_and_options_get_one_line_and_no_output() {
         "o.obj",
         &["holed.txt", "obj, stl or ply"],
     );
+}
+
+#[test]
+fn fill_splits_a_long_hole_and_says_so() {
+    // An 8:1 strip cut from a graded sphere: split along chords, watertight.
+    let holed = pdeshape_testkit::hole_meshes::sphere_hole_where(0.02, 5, |x, y| {
+        x.abs() < 0.8 && y.abs() < 0.1
+    });
+    let mut text = String::new();
+    for p in &holed.mesh.positions {
+        text += &format!("v {} {} {}\n", p.x, p.y, p.z);
+    }
+    for t in &holed.mesh.triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "strip.obj", &text);
+    let outp = dir.path().join("closed.ply");
+    let design = dir.path().join("fill.toml");
+    let out = pdeshape(&["fill", s(&mesh), "-o", s(&outp), "--design", s(&design)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains(" pieces along chords") && stdout.contains("watertight"),
+        "{stdout}"
+    );
+    let m = read_ply(&outp);
+    assert_eq!(open_edges(&m.triangles), 0);
+    // The patches as a design file: one [[disk]] table per piece, which check, surface and
+    // render read.
+    let text = std::fs::read_to_string(&design).unwrap();
+    let pieces: usize = stdout
+        .split(" pieces along chords")
+        .next()
+        .and_then(|a| a.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert_eq!(text.matches("[[disk]]").count(), pieces, "{text}");
+    let out = pdeshape(&["check", s(&design)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let obj = dir.path().join("patches.obj");
+    let out = pdeshape(&["surface", s(&design), "-o", s(&obj)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let back = InputMesh::read(&std::fs::read(&obj).unwrap(), MeshFormat::Obj).unwrap();
+    // The patches lie near the unit sphere (the strip is 0.2 wide: within its sagitta).
+    let worst = back
+        .positions
+        .iter()
+        .map(|p| (p.norm() - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1.0 - 0.1f64.cos(), "{worst}");
+    let png = dir.path().join("patches.png");
+    let out = pdeshape(&["render", s(&design), "-o", s(&png), "--size", "200x150"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
 }

@@ -3,8 +3,8 @@
 
 use pdeshape::spec::{
     parse_design, write_design, AxisName, AxisSpec, BlendSpec, ComponentSpec, ConditionSpec,
-    ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DomainSpec,
-    DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
+    ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DiskSpec,
+    DomainSpec, DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
     LoopSideSpec, NSidedSpec, NetworkCurveSpec, NetworkSpec, OperatorSpec, OptimizeSpec,
     OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec, PatchSpec, PointSpec,
     SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec, SurfaceSpec, TransformStep,
@@ -485,6 +485,7 @@ fn empty_design() -> DesignSpec {
         parametric: Vec::new(),
         nsided: Vec::new(),
         network: Vec::new(),
+        disk: Vec::new(),
         output: OutputSpec::default(),
         dynamic: None,
         optimize: None,
@@ -1104,6 +1105,14 @@ impl Gen {
                 a: g.f(),
                 degree: g.n(),
                 tolerance: g.f(),
+            }),
+            disk: self.vec(2, |g| DiskSpec {
+                name: g.s(),
+                order: g.n(),
+                points: g.vec(4, |g| [g.f(), g.f(), g.f()]),
+                derivatives: g.opt(|g| g.vec(4, |g| [g.f(), g.f(), g.f()])),
+                second: g.opt(|g| g.vec(4, |g| [g.f(), g.f(), g.f()])),
+                samples_per_edge: g.n(),
             }),
             output: OutputSpec {
                 nu: self.opt(Self::n),

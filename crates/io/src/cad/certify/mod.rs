@@ -254,6 +254,12 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
             );
             Ok(a)
         }
+        SurfaceKind::Disk(s) => {
+            let mut a = approximate_sampled(&**s, tolerance, min_v)?;
+            a.note =
+                Some("disk patches have no derivative bounds yet: the deviation is sampled".into());
+            Ok(a)
+        }
         SurfaceKind::Parametric(p) => approximate_formula(p, tolerance),
         SurfaceKind::SpineEdited(s) => match s.derivative_sums() {
             Some(sums) => {
