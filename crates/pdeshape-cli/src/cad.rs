@@ -73,6 +73,19 @@ pub(crate) struct RoundtripArgs {
     pub tolerance: Option<f64>,
 }
 
+/// A STEP or IGES file's text, read under the library's size limit.
+pub(crate) fn read_text(path: &Path) -> Result<String, CliError> {
+    let shown = path.display().to_string();
+    let bytes = pdeshape::open::read_held(path)
+        .map_err(|e| CliError::input(format!("{shown}: {}", e.words())))?;
+    String::from_utf8(bytes).map_err(|e| {
+        CliError::input(format!(
+            "{shown}: not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })
+}
+
 /// Reads the file back and compares each surface with the design's (status 1 if any deviates by
 /// more than the tolerance).
 pub(crate) fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
@@ -92,14 +105,7 @@ pub(crate) fn roundtrip(args: &RoundtripArgs) -> Result<(), CliError> {
                 "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
             ))
         })?;
-    let bytes = pdeshape::open::read_held(&args.file)
-        .map_err(|e| CliError::input(format!("{shown}: {}", e.words())))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        CliError::input(format!(
-            "{shown}: not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        ))
-    })?;
+    let text = read_text(&args.file)?;
     let read = match format {
         OutputFormat::Step => read::read_step(&text),
         _ => read::read_iges(&text),

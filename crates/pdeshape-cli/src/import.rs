@@ -4,6 +4,7 @@
 
 use crate::common::{self, CliError, Output};
 use pdeshape::cad::import;
+use pdeshape::format::OutputFormat;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -22,12 +23,7 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.file.display().to_string();
-    let is_step = args
-        .file
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("step") || e.eq_ignore_ascii_case("stp"));
-    if !is_step {
+    if OutputFormat::from_path(&args.file).ok() != Some(OutputFormat::Step) {
         return Err(CliError::input(format!(
             "{shown}: not a STEP file name (.step, .stp)"
         )));
@@ -39,14 +35,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             args.output.display()
         )));
     }
-    let bytes = pdeshape::open::read_held(&args.file)
-        .map_err(|e| CliError::input(format!("{shown}: {}", e.words())))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        CliError::input(format!(
-            "{shown}: not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        ))
-    })?;
+    let text = crate::cad::read_text(&args.file)?;
     let imported = import::import_step(&text, args.fill)
         .map_err(|e| CliError::input(format!("{shown}: {}", common::message_of(&e))))?;
     let mut spec = imported.spec.clone();

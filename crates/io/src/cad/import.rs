@@ -9,7 +9,7 @@
 //! Faces on other surfaces (B-spline, offset, swept) are listed as skipped: their edges are
 //! still read, but a gap next to them is filled without a ribbon on that side.
 
-use super::read::{instances, Parser, Value};
+use super::read::{instance_parts, instances, Parser, Value};
 use crate::spec::{
     CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, LoopSideSpec, NSidedSpec,
     ParametricSpec, Units,
@@ -102,15 +102,7 @@ impl Model {
         let mut items = HashMap::new();
         for (line, inst) in instances(text)? {
             let at = |m: String| Error::invalid(format!("line {line}: {m}"));
-            let Some(eq) = inst.find('=') else {
-                return Err(at("an instance without `=`".into()));
-            };
-            let id: usize = inst[..eq]
-                .trim()
-                .trim_start_matches('#')
-                .parse()
-                .map_err(|_| at("a bad instance name".into()))?;
-            let body = inst[eq + 1..].trim();
+            let (id, body) = instance_parts(line, &inst)?;
             let v = match body.strip_prefix('(').and_then(|b| b.strip_suffix(')')) {
                 // A complex instance: typed parts one after another, without commas.
                 Some(inner) => {

@@ -152,6 +152,20 @@ impl Parser<'_> {
     }
 }
 
+/// The id and the body of an instance `#n = body`.
+pub(super) fn instance_parts(line: usize, inst: &str) -> Result<(usize, &str)> {
+    let at = |m: &str| Error::invalid(format!("line {line}: {m}"));
+    let Some(eq) = inst.find('=') else {
+        return Err(at("an instance without `=`"));
+    };
+    let id: usize = inst[..eq]
+        .trim()
+        .trim_start_matches('#')
+        .parse()
+        .map_err(|_| at("a bad instance name"))?;
+    Ok((id, inst[eq + 1..].trim()))
+}
+
 /// Splits the DATA section into `(line, text)` of each instance `#n=...;`.
 pub(super) fn instances(text: &str) -> Result<Vec<(usize, String)>> {
     let start = text
@@ -192,15 +206,7 @@ pub fn read_step(text: &str) -> Result<Vec<ReadSurface>> {
     let mut surfaces: Vec<(usize, Vec<Value>)> = Vec::new();
     for (line, inst) in instances(text)? {
         let at = |m: String| Error::invalid(format!("line {line}: {m}"));
-        let Some(eq) = inst.find('=') else {
-            return Err(at("an instance without `=`".into()));
-        };
-        let id: usize = inst[..eq]
-            .trim()
-            .trim_start_matches('#')
-            .parse()
-            .map_err(|_| at("a bad instance name".into()))?;
-        let body = inst[eq + 1..].trim();
+        let (id, body) = instance_parts(line, &inst)?;
         if body.starts_with('(') {
             continue; // complex instance (units, contexts)
         }
