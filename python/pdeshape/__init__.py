@@ -51,18 +51,23 @@ def fit(
     two-sided distances, …; without the timings). A mesh that cannot be read or fitted raises
     :class:`DesignError` naming the file.
     """
+    data, name = _mesh_bytes(mesh, name)
+    return fit_mesh(data, name, tolerance, sections)
+
+
+def _mesh_bytes(mesh: Any, name: str | None) -> tuple[bytes, str]:
+    """The bytes of a mesh given as a path or as bytes, and the file name its format comes
+    from."""
     if isinstance(mesh, (bytes, bytearray, memoryview)):
         if name is None:
             raise DesignError("name: a file name (.obj, .stl or .ply) is needed with mesh bytes")
-        data = bytes(mesh)
-    else:
-        name = os.fspath(mesh) if name is None else name
-        try:
-            with open(mesh, "rb") as f:
-                data = f.read()
-        except OSError as e:
-            raise DesignError(f"{os.fspath(mesh)}: cannot read: {e.strerror or e}") from None
-    return fit_mesh(data, name, tolerance, sections)
+        return bytes(mesh), name
+    try:
+        with open(mesh, "rb") as f:
+            data = f.read()
+    except OSError as e:
+        raise DesignError(f"{os.fspath(mesh)}: cannot read: {e.strerror or e}") from None
+    return data, os.fspath(mesh) if name is None else name
 
 
 def fill(
@@ -115,17 +120,7 @@ def fill(
         )
         label = name or "<mesh>"
     else:
-        if isinstance(mesh, (bytes, bytearray, memoryview)):
-            if name is None:
-                raise DesignError("name: a file name (.obj, .stl or .ply) is needed with mesh bytes")
-            data = bytes(mesh)
-        else:
-            name = os.fspath(mesh) if name is None else name
-            try:
-                with open(mesh, "rb") as f:
-                    data = f.read()
-            except OSError as e:
-                raise DesignError(f"{os.fspath(mesh)}: cannot read: {e.strerror or e}") from None
+        data, name = _mesh_bytes(mesh, name)
         out = fill_mesh(data, name, None, None, continuity, largest, max_boundary, grading)
         label = name
     design = Design.from_toml(out.pop("design"), f"<fill of {label}>")
