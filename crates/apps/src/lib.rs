@@ -17,3 +17,4 @@ pub mod fill;
 pub mod fit;
 pub mod optimize;
 pub mod shell;
+pub mod work;

@@ -31,14 +31,11 @@ pub struct Anchor {
     pub distance: f64,
 }
 
-/// Closest-point searches (mesh vertices × design surfaces) a re-targeting does at most: about
-/// 7.5 µs each on one core (20 000 vertices on the four surfaces of
-/// `examples/anim/ventricle.toml` anchored in 0.6 s), so about 5 s; a larger mesh is refused
+/// Closest-point searches (mesh vertices × design surfaces) a core does a second: about 7.5 µs
+/// each (20 000 vertices on the four surfaces of `examples/anim/ventricle.toml` anchored in
+/// 0.6 s). A re-targeting that would take more than [`crate::work::MAX_SECONDS`] is refused
 /// before the first search (a million vertices there ran past 30 s of CPU).
-pub(crate) const MAX_CLOSEST_SEARCHES: usize = 600_000;
-
-/// Closest-point searches a second, for the refusal's words.
-const SEARCHES_PER_SECOND: usize = 130_000;
+pub(crate) const SEARCHES_PER_SECOND: f64 = 130_000.0;
 
 /// The closest-point correspondence of a mesh's vertices with a design's surfaces.
 #[derive(Clone, Debug)]
@@ -61,16 +58,21 @@ impl Correspondence {
             ));
         }
         // Time is priced like memory: the searches are counted before the first one starts.
-        let searches = points.len().saturating_mul(reference.surfaces.len());
-        if searches > MAX_CLOSEST_SEARCHES {
-            let n = reference.surfaces.len();
-            return Err(Error::invalid(format!(
-                "the mesh has {} vertices and the design {n} surface{}: {searches} closest-point searches, more than the {MAX_CLOSEST_SEARCHES} a re-targeting does (about {} s of work); decimate the mesh",
+        let n = reference.surfaces.len();
+        crate::work::check(
+            &[crate::work::Work {
+                units: points.len() as f64 * n as f64,
+                per_second: SEARCHES_PER_SECOND,
+            }],
+            &format!(
+                "re-targeting a mesh of {} vertices to a design of {n} surface{} ({} closest-point searches)",
                 points.len(),
                 if n == 1 { "" } else { "s" },
-                MAX_CLOSEST_SEARCHES / SEARCHES_PER_SECOND
-            )));
-        }
+                points.len().saturating_mul(n)
+            ),
+            "decimate the mesh",
+            "",
+        )?;
         let opts = ClosestOptions::default();
         let indices: Vec<_> = reference
             .surfaces

@@ -36,7 +36,7 @@ use crate::spec::{
     ConditionSpec, CurveKind, CurveRef, CurveSpec, DesignSpec, OperatorSpec, PatchSpec, V3,
 };
 use crate::{Vec3, TAU};
-use nalgebra::DMatrix;
+use pdeshape_geometry::linalg::band::BandMatrix;
 use std::collections::BTreeMap;
 
 /// A curve's Fourier coefficients: `[a₀, a₁, b₁, a₂, b₂, …]`.
@@ -336,50 +336,62 @@ impl Chain {
             Joint::FourPoints => 2 * (nodes.len() - 1),
         };
         let mut curves = vec![vec![Vec3::zeros(); width]; unknowns];
+        // Each row touches two neighbouring unknowns (`p, p + 1`, or `2p, 2p + 1`), so the normal
+        // matrix is tridiagonal: assembled and solved in the band, O(rows + unknowns) a mode.
         for n in 0..=self.modes {
             let cols: Vec<usize> = Self::columns(n).collect();
-            let mut m = DMatrix::<f64>::zeros(rows.len(), unknowns);
-            let mut rhs = DMatrix::<f64>::zeros(rows.len(), 3 * cols.len());
-            for (r, &(p, j, u)) in rows.iter().enumerate() {
+            let width_rhs = 3 * cols.len();
+            let mut diag = vec![0.0; unknowns];
+            let mut upper = vec![0.0; unknowns];
+            let mut b = vec![0.0; unknowns * width_rhs];
+            for &(p, j, u) in &rows {
                 let (pa, pb) = (&self.data[nodes[p]], &self.data[nodes[p + 1]]);
-                let (w0, w3) = match self.joint {
+                let (k, m0, m1, w0, w3) = match self.joint {
                     Joint::Hermite => {
                         let w = weights(n, a, u);
                         let l = self.length(nodes, p);
-                        m[(r, p)] = w[1] * l;
-                        m[(r, p + 1)] = w[3] * l;
-                        (w[0], w[2])
+                        (p, w[1] * l, w[3] * l, w[0], w[2])
                     }
                     Joint::FourPoints => {
                         let w =
                             position_weights(n, a, [0.0, INNER_KNOTS[0], INNER_KNOTS[1], 1.0], u);
-                        m[(r, 2 * p)] = w[1];
-                        m[(r, 2 * p + 1)] = w[2];
-                        (w[0], w[3])
+                        (2 * p, w[1], w[2], w[0], w[3])
                     }
                 };
+                diag[k] += m0 * m0;
+                diag[k + 1] += m1 * m1;
+                upper[k] += m0 * m1;
                 for (q, &c) in cols.iter().enumerate() {
                     let target = self.data[j][c] - pa[c] * w0 - pb[c] * w3;
                     for d in 0..3 {
-                        rhs[(r, 3 * q + d)] = target[d];
+                        b[k * width_rhs + 3 * q + d] += m0 * target[d];
+                        b[(k + 1) * width_rhs + 3 * q + d] += m1 * target[d];
                     }
                 }
             }
             // Tikhonov damping far below the data's scale keeps an unknown without data
             // determined.
-            let mut normal = m.transpose() * &m;
-            let trace = normal.trace().max(1e-300);
+            let trace = diag.iter().sum::<f64>().max(1e-300);
+            let mut normal = BandMatrix::zeros(unknowns, 1, 1);
             for k in 0..unknowns {
-                normal[(k, k)] += 1e-12 * trace / unknowns as f64;
+                normal.set(k, k, diag[k] + 1e-12 * trace / unknowns as f64);
+                if k + 1 < unknowns {
+                    normal.set(k, k + 1, upper[k]);
+                    normal.set(k + 1, k, upper[k]);
+                }
             }
-            let b = m.transpose() * rhs;
-            let x = normal
-                .cholesky()
-                .map(|ch| ch.solve(&b))
-                .unwrap_or_else(|| DMatrix::zeros(unknowns, 3 * cols.len()));
-            for (k, curve) in curves.iter_mut().enumerate() {
-                for (q, &c) in cols.iter().enumerate() {
-                    curve[c] = Vec3::new(x[(k, 3 * q)], x[(k, 3 * q + 1)], x[(k, 3 * q + 2)]);
+            let solvable = normal.factorize().is_ok();
+            let mut column = vec![0.0; unknowns];
+            for r in 0..width_rhs {
+                if solvable {
+                    for k in 0..unknowns {
+                        column[k] = b[k * width_rhs + r];
+                    }
+                    normal.solve_in_place(&mut column);
+                }
+                for (k, curve) in curves.iter_mut().enumerate() {
+                    let (q, d) = (r / 3, r % 3);
+                    curve[cols[q]][d] = if solvable { column[k] } else { 0.0 };
                 }
             }
         }

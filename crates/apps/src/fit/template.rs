@@ -54,6 +54,7 @@ use super::section::{AxisFrame, Piece, Section, Slicer};
 use super::sheet::{end_arc, SHEET_AM};
 use super::tube::{principal_frame, MODES_SHARE, QUANTUM, SAMPLE_SHARE, TRIM_SHARE, TUBE_A};
 use crate::spec::{DesignSpec, SolverSpec};
+use crate::work::{self, Work};
 use crate::{Error, Result, Vec3};
 
 /// Most parts in a template.
@@ -492,13 +493,82 @@ struct FinePlane {
 }
 
 /// The fine planes of a part (module documentation), with `e₁` carried from `e1`.
-fn fine_planes(part: &Part, mut e1: Vec3) -> Vec<FinePlane> {
-    let p = &part.planes;
-    let lengths: Vec<f64> = p
+/// The planes interpolated between each pair of a part's given planes (module documentation),
+/// counting the first of the pair.
+fn plane_steps(part: &Part) -> Vec<usize> {
+    let lengths: Vec<f64> = part
+        .planes
         .windows(2)
         .map(|w| (w[1].point - w[0].point).norm())
         .collect();
     let total: f64 = lengths.iter().sum::<f64>().max(1e-300);
+    lengths
+        .iter()
+        .map(|l| ((part.sections as f64 * l / total).round() as usize).max(2))
+        .collect()
+}
+
+/// The sections a part cuts: its fine planes, and those of its caps.
+fn section_count(part: &Part) -> usize {
+    let caps = [part.start, part.end]
+        .iter()
+        .map(|e| match e {
+            End::Pole => cap_count(part),
+            End::Edge => 1,
+            End::Open => 0,
+        })
+        .sum::<usize>();
+    plane_steps(part).iter().sum::<usize>() + 1 + caps
+}
+
+/// Triangles visited a second by the sections (a plane looks at every triangle of the mesh:
+/// 512 sections of a 998 000-triangle ellipsoid took about 5 s).
+const VISITS_PER_SECOND: f64 = 1e8;
+
+/// The node choice solves a chain once per candidate node, each solve linear in its sections:
+/// a chain of `S` sections costs about `S²` over this many seconds (4096 sections in 20 s,
+/// 2048 in 5 s).
+const CHAIN_SQUARES_PER_SECOND: f64 = 8e5;
+
+/// Refuses a template whose sections would take more than [`work::MAX_SECONDS`] to cut and fit,
+/// before the first is cut, naming the part with the most.
+fn price(mesh: &InputMesh, template: &Template, chains: &[Vec<usize>]) -> Result<()> {
+    let (mut slices, mut squares, mut largest) = (0usize, 0.0, (0usize, 0usize));
+    for chain in chains {
+        let mut s = 0;
+        for &i in chain {
+            let n = section_count(&template.parts[i]);
+            s += n;
+            if n > largest.1 {
+                largest = (i, n);
+            }
+        }
+        slices += s;
+        squares += (s as f64).powi(2);
+    }
+    work::check(
+        &[
+            Work {
+                units: slices as f64 * mesh.triangles.len() as f64,
+                per_second: VISITS_PER_SECOND,
+            },
+            Work {
+                units: squares,
+                per_second: CHAIN_SQUARES_PER_SECOND,
+            },
+        ],
+        &format!(
+            "a template of {slices} sections over {} triangles",
+            mesh.triangles.len()
+        ),
+        "give the parts fewer sections (48 by default), or decimate the mesh",
+        &format!("parts[{}].sections", largest.0),
+    )
+}
+
+fn fine_planes(part: &Part, mut e1: Vec3) -> Vec<FinePlane> {
+    let p = &part.planes;
+    let steps = plane_steps(part);
     let mut out = Vec::new();
     let mut push = |point: Vec3, normal: Vec3, place: String, e1: &mut Vec3| {
         let mut e = *e1 - normal * e1.dot(&normal);
@@ -521,9 +591,8 @@ fn fine_planes(part: &Part, mut e1: Vec3) -> Vec<FinePlane> {
         });
     };
     for k in 0..p.len() - 1 {
-        let steps = ((part.sections as f64 * lengths[k] / total).round() as usize).max(2);
-        for i in 0..steps {
-            let t = i as f64 / steps as f64;
+        for i in 0..steps[k] {
+            let t = i as f64 / steps[k] as f64;
             let point = p[k].point * (1.0 - t) + p[k + 1].point * t;
             let normal = (p[k].normal * (1.0 - t) + p[k + 1].normal * t).normalize();
             // A plane between two given ones is reported at the one it leads to.
@@ -602,6 +671,7 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
             chains.push(vec![i]);
         }
     }
+    price(mesh, template, &chains)?;
     let mut spec = DesignSpec {
         solver: SolverSpec {
             modes: 1,
@@ -834,6 +904,11 @@ fn vertex_neighbours(mesh: &InputMesh) -> Vec<Vec<u32>> {
     n
 }
 
+/// The sections of a cap between a part's end plane and its pole.
+fn cap_count(part: &Part) -> usize {
+    (part.sections / 4).max(6)
+}
+
 /// The stations from the pole beyond `piece` (on the side `side` = −1 below its plane, +1
 /// above) towards it: the pole, then sections parallel to the plane, denser towards the pole
 /// (not including `piece`'s own plane). Also the number of sections left out next to the pole.
@@ -877,7 +952,7 @@ fn cap_stations(
     };
     let pole_point = mesh.positions[pv as usize];
     let slicer = Slicer::new(mesh, *frame);
-    let count = (part.sections / 4).max(6);
+    let count = cap_count(part);
     let centre = piece.centre();
     let mut out = vec![Station::at_pole(pole_point, samples, &part.name)];
     let mut dropped = 0;

@@ -193,13 +193,13 @@ fn device_nodes_are_refused_as_outputs_and_inputs() {
 }
 
 /// `animate --retarget` prices its closest-point searches before the first one: a mesh of
-/// 160 000 vertices on the ventricle's four surfaces (640 000 searches, more than half a
-/// minute of CPU before) is refused at once with one line.
+/// 300 000 vertices on the ventricle's four surfaces (1 200 000 searches, about 9 s of work,
+/// more than a minute of CPU before) is refused at once with one line.
 #[test]
 fn retargeting_a_huge_mesh_is_refused_from_its_cost() {
     let dir = tempfile::tempdir().unwrap();
     let mut obj = String::new();
-    let n = 160_000;
+    let n = 300_000;
     for i in 0..n {
         let a = i as f64 * 0.001;
         obj += &format!(

@@ -301,7 +301,29 @@ fn templates_fit_and_bad_ones_are_located() {
     let text = std::fs::read_to_string(&design).unwrap();
     assert!(text.contains("[curves.egg_p00]"), "{text}");
 
-    let cases: [(&str, &[&str]); 4] = [
+    // Sixteen joined parts of 4096 sections: one chain of 65 000 sections, whose node choice
+    // would run for hours; priced and refused before the first section is cut.
+    let many: String = (0..16)
+        .map(|i| {
+            format!(
+                "[[parts]]\nname = \"p{i}\"\naxis = [0, 0, 1]\npositions = [{}, {}]\n\
+                 sections = 4096\n",
+                -1.2 + 0.15 * i as f64,
+                -1.2 + 0.15 * (i + 1) as f64
+            )
+        })
+        .collect();
+    let cases: [(&str, &[&str]); 5] = [
+        (
+            &many,
+            &[
+                ":5:",
+                "parts[0].sections",
+                "sections over",
+                "s of work",
+                "fewer sections",
+            ],
+        ),
         (
             "[[parts]]\nname = \"egg\"\naxis = [0, 0, 1]\npositions = [1.0, -1.0]\n",
             &[":4:", "parts[0].positions[1]", "positions must increase"],
@@ -323,7 +345,9 @@ fn templates_fit_and_bad_ones_are_located() {
         let mesh = write(dir.path(), "egg.obj", &ellipsoid_obj(20, 24));
         let t = write(dir.path(), "t.toml", text);
         let design = dir.path().join("out.toml");
+        let start = std::time::Instant::now();
         let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--template", s(&t)]);
+        assert!(start.elapsed() < std::time::Duration::from_secs(10));
         let line = assert_bad(&out, needles);
         assert!(line.contains("t.toml:"), "{line}");
         assert_eq!(
