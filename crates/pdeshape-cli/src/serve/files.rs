@@ -188,6 +188,14 @@ pub(super) fn save_text(root: &Path, rel: &str, text: &str) -> Result<String, Ap
             &format!("a file or folder name is longer than {MAX_NAME} bytes"),
         ));
     }
+    // A folder without write permission is refused by its mode, as a read-only file is, also
+    // for a server run by a user the permissions do not bind (root).
+    let folder_locked = std::fs::metadata(&parent_resolved)
+        .map(|m| m.permissions().readonly())
+        .unwrap_or(false);
+    if folder_locked {
+        return Err(refuse(ApiError::forbidden, "its folder is read-only"));
+    }
     // The same checks as every output of the CLI, in the designer's words: a save never replaces
     // a read-only file (there is no `--force` here).
     let mut out = crate::common::Output::open(&target, false).map_err(|r| {

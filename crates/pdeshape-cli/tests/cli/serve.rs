@@ -153,7 +153,8 @@ fn status_and_error(answer: &str) -> (u16, String) {
     (status, json["error"].as_str().unwrap_or("").to_string())
 }
 
-/// Saves the server refuses (a read-only file, a name longer than the file system takes)
+/// Saves the server refuses (a read-only file, a file in a read-only folder, a name longer than
+/// the file system takes)
 /// answer a 4xx with one line naming the file relative to the start directory: never 500,
 /// never the server's own path, never the CLI's `--force`.
 #[cfg(unix)]
@@ -165,10 +166,19 @@ fn refused_saves_answer_4xx_naming_the_file() {
         let mut p = std::fs::metadata(&locked).unwrap().permissions();
         p.set_readonly(true);
         std::fs::set_permissions(&locked, p).unwrap();
+        let shelf = dir.join("shelf");
+        std::fs::create_dir(&shelf).unwrap();
+        let mut p = std::fs::metadata(&shelf).unwrap().permissions();
+        p.set_readonly(true);
+        std::fs::set_permissions(&shelf, p).unwrap();
     });
     let root = server.dir.path().canonicalize().unwrap();
     let long = format!("{}.toml", "n".repeat(300));
-    for (name, status) in [("locked.toml", 403), (long.as_str(), 400)] {
+    for (name, status) in [
+        ("locked.toml", 403),
+        ("shelf/new.toml", 403),
+        (long.as_str(), 400),
+    ] {
         let body = format!(r#"{{"path":"{name}"}}"#);
         let answer = server
             .request("POST", "/api/save", body.as_bytes())
@@ -190,6 +200,8 @@ fn refused_saves_answer_4xx_naming_the_file() {
         std::fs::read_to_string(server.dir.path().join("locked.toml")).unwrap(),
         "# locked\n"
     );
+    let shelf = server.dir.path().join("shelf");
+    assert_eq!(std::fs::read_dir(&shelf).unwrap().count(), 0);
     // A good save still works.
     let answer = server
         .request("POST", "/api/save", br#"{"path":"ok.toml"}"#)
