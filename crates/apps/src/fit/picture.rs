@@ -3,12 +3,17 @@
 use super::measure::PointDistances;
 use super::mesh::InputMesh;
 use crate::mesh::GridMesh;
-use crate::render::{default_view, diverging_colors, render_png_colored, RenderOptions};
+use crate::render::{
+    default_view, diverging_colors, encode_png, render_rgb_colored_with_bar, write_caption,
+    BarLayout, ColorBar, RenderOptions,
+};
 use crate::{Result, Vec3};
 
 /// A PNG picture: the mesh on the left (each vertex coloured by its distance to the fit), the
 /// fitted surfaces on the right (each sample coloured by its distance to the mesh), on the
-/// cool–warm scale from 0 (blue) through `scale / 2` (grey) to `scale` and beyond (red).
+/// cool–warm scale from 0 (blue) through `scale / 2` (grey) to `scale` (the tolerance, in the
+/// mesh's units) and beyond (red); captioned "mesh" and "fit", with the scale's colour bar
+/// labelled in the mesh's units on the right.
 pub fn picture(
     mesh: &InputMesh,
     distances: &PointDistances,
@@ -78,5 +83,19 @@ pub fn picture(
         view: Some(view),
         ..options.clone()
     };
-    render_png_colored(&meshes, &colors, &[], &options)
+    let bar = ColorBar {
+        title: "distance".into(),
+        lo: 0.0,
+        hi: scale,
+        note: "in the mesh's units; the top is the tolerance".into(),
+    };
+    let mut rgb = render_rgb_colored_with_bar(&meshes, &colors, &[], &options, &bar)?;
+    // The two objects share the picture's left part, the mesh on its left half.
+    let layout = BarLayout::new(options.width, options.height);
+    let half = layout.panel_x as i64 / 2;
+    let top = (4 * layout.scale) as i64;
+    for (centre, text) in [(half / 2, "mesh"), (half + half / 2, "fit")] {
+        write_caption(&mut rgb, options.width, options.height, centre, top, text);
+    }
+    encode_png(options.width, options.height, &rgb)
 }

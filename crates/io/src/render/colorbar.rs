@@ -217,6 +217,25 @@ pub fn render_rgb_colored_with_bar(
     Ok(rgb)
 }
 
+/// Writes `text` into a picture of `width × height` pixels (`3 · width · height` bytes, as
+/// [`render_rgb_colored_with_bar`] returns), centred on column `centre_x` with its top at row
+/// `top`, in the bar's ink and text scale (a caption over a part of the picture). Text beyond
+/// the picture is clipped; characters outside ASCII are drawn as `?`.
+pub fn write_caption(rgb: &mut [u8], width: u32, height: u32, centre_x: i64, top: i64, text: &str) {
+    let (w, h) = (width as usize, height as usize);
+    if rgb.len() < 3 * w * h {
+        return;
+    }
+    let s = BarLayout::new(width, height).scale;
+    let x = centre_x - text_width(text, s) as i64 / 2;
+    Canvas {
+        rgb,
+        width: w,
+        height: h,
+    }
+    .text(x, top, text, s, INK);
+}
+
 const INK: [u8; 3] = [40, 40, 40];
 
 fn draw_bar(c: &mut Canvas<'_>, layout: &BarLayout, bar: &ColorBar) {

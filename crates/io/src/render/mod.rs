@@ -28,7 +28,7 @@ pub(crate) use colorbar::nice_step;
 pub(crate) use colorbar::tick_label;
 pub use colorbar::{
     nice_ticks, render_png_colored_with_bar, render_rgb_colored_with_bar, robust_range,
-    short_label, BarLayout, ColorBar, ROBUST_RANGE_RULE,
+    short_label, write_caption, BarLayout, ColorBar, ROBUST_RANGE_RULE,
 };
 
 use crate::design::{Overlay, OverlayKind};

@@ -36,6 +36,20 @@ fn ellipsoid_obj(rings: usize, around: usize) -> String {
     out
 }
 
+/// The pixels of an RGB or RGBA PNG file as RGB: `(width, height, 3 · width · height bytes)`.
+fn read_png(path: &std::path::Path) -> (usize, usize, Vec<u8>) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let rgb = buf[..info.buffer_size()]
+        .chunks(channels)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    (info.width as usize, info.height as usize, rgb)
+}
+
 #[test]
 fn fit_writes_a_design_that_surface_reads() {
     let dir = tempfile::tempdir().unwrap();
@@ -73,7 +87,34 @@ fn fit_writes_a_design_that_surface_reads() {
     let h = m["hausdorff_relative"].as_f64().unwrap();
     assert!(h > 0.0 && h <= 2e-3, "{report}");
     assert!(m["ratio"].as_f64().unwrap() >= 20.0, "{report}");
-    assert!(std::fs::read(&pic).unwrap().starts_with(b"\x89PNG"));
+    // The picture: the bar on the right runs from red at the tolerance (top) to blue at zero
+    // (bottom), in the layout the library states; "mesh" and "fit" are written in ink over the
+    // two halves of the rest, nowhere else in that band.
+    let (w, h, rgb) = read_png(&pic);
+    let layout = pdeshape::render::BarLayout::new(w as u32, h as u32);
+    let (bx, by, bw, bh) = layout.bar;
+    let at = |x: usize, y: usize| {
+        let i = 3 * (y * w + x);
+        (rgb[i] as i32, rgb[i + 1] as i32, rgb[i + 2] as i32)
+    };
+    let (r, g, b) = at(bx + bw / 2, by + 1);
+    assert!(r > 2 * g && r > 2 * b, "top of the bar {:?}", (r, g, b));
+    let (r, g, b) = at(bx + bw / 2, by + bh - 2);
+    assert!(b > 2 * r && b > g + 40, "bottom of the bar {:?}", (r, g, b));
+    let ink_in = |x0: usize, x1: usize| {
+        (0..8 * layout.scale + 4 * layout.scale)
+            .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let (r, g, b) = at(x, y);
+                r < 80 && g < 80 && b < 80
+            })
+            .count()
+    };
+    let half = layout.panel_x / 2;
+    let band = 40 * layout.scale;
+    assert!(ink_in(half / 2 - band / 2, half / 2 + band / 2) > 20);
+    assert!(ink_in(half + half / 2 - band / 2, half + half / 2 + band / 2) > 20);
+    assert_eq!(ink_in(half / 2 + band, half - band / 2), 0);
     // The design is an ordinary design file.
     let obj = dir.path().join("egg_fit.obj");
     let out = pdeshape(&[
