@@ -1304,7 +1304,10 @@ fn fit_mesh<'py>(
         .unwrap_or_default();
     let (text, report) = py
         .detach(|| -> Result<(String, String), String> {
-            let mesh = fit::InputMesh::read(&data, format).map_err(|e| format!("{name}: {e}"))?;
+            let read =
+                fit::InputMesh::read_report(&data, format).map_err(|e| format!("{name}: {e}"))?;
+            let (mesh, repairs) = fit::repair(&read.mesh).map_err(|e| format!("{name}: {e}"))?;
+            let notes: Vec<String> = read.note().into_iter().chain(repairs.note()).collect();
             let fitted = fit::fit_mesh(
                 &mesh,
                 &fit::TubeOptions {
@@ -1335,6 +1338,7 @@ fn fit_mesh<'py>(
                 "sample_error_relative": fitted.sample_error,
                 "tolerance": tolerance,
                 "measures": m,
+                "notes": notes,
             });
             Ok((text, report.to_string()))
         })

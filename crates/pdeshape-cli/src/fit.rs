@@ -78,14 +78,17 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let t = Instant::now();
     let read = InputMesh::read_report(&bytes, format)
         .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-    // What the reader did (an OBJ's objects welded into one mesh): a note after a fit, the
-    // reason's context after a refusal, so a refusal stays one line.
-    let note = read.note();
+    // What the reader and the repairs did (an OBJ's objects welded into one mesh, T-junctions
+    // split, fins dropped …): a note after a fit, the reason's context after a refusal, so a
+    // refusal stays one line.
+    let (mesh, repairs) =
+        fit::repair(&read.mesh).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let notes: Vec<String> = read.note().into_iter().chain(repairs.note()).collect();
+    let note = (!notes.is_empty()).then(|| notes.join("; "));
     let with_note = |e: CliError| match &note {
         Some(n) => CliError::input(format!("{} ({n})", e.message)),
         None => e,
     };
-    let mesh = read.mesh;
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let opts = FitOptions {
@@ -138,6 +141,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "sample_error_relative": fitted.sample_error,
             "tolerance": args.tolerance,
             "measures": m,
+            "notes": notes,
             "timings_ms": { "read": read_ms, "fit": fit_ms, "measure": measure_ms },
         });
         let s = serde_json::to_string_pretty(&report)

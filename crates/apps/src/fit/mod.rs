@@ -25,7 +25,8 @@
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
 //! ```
 //!
-//! Modules: `mesh` (reading and topology checks), `section` (plane sections: loops and open
+//! Modules: `mesh` (reading and topology checks), `repair` (what files leave that is not a
+//! surface: degenerate and duplicate triangles, cracks, T-junctions, non-manifold edges, specks), `section` (plane sections: loops and open
 //! pieces, and the periodic curves of loops), `profile` (open profiles as even periodic
 //! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
 //! `chain` (the least squares over a sequence of sections, node choice, the design), `options`
@@ -40,6 +41,7 @@ mod mesh;
 mod options;
 mod picture;
 mod profile;
+mod repair;
 mod section;
 mod sheet;
 mod template;
@@ -50,9 +52,10 @@ pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use picture::picture;
+pub use repair::{repair, Repairs, CRACK_FRACTION, MAX_PASSES, STRAY_SHARE};
 pub use section::{fourier, AxisFrame, Piece, Section, Slicer};
 pub use sheet::{fit_sheet, SHEET_AM};
 pub use template::{
     fit_template, parse_template, template_schema, End, Part, PartMode, Plane, Template,
 };
-pub use tube::{fit_tube, TUBE_A};
+pub use tube::{fit_open_tube, fit_tube, TUBE_A};

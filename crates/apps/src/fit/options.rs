@@ -111,14 +111,18 @@ pub struct Fit {
 /// What the tube mode made (the same as every mode's).
 pub type TubeFit = Fit;
 
-/// The automatic choice: a closed mesh is fitted by the tube mode, an open one by the sheet
-/// mode. Meshes that are not one edge-manifold surface are refused first.
+/// The automatic choice: a closed mesh is fitted by the tube mode; an open one whose boundary is
+/// one or two loops across its main axis at its ends by the tube mode with open ends, any other
+/// open one by the sheet mode. Meshes that are not one edge-manifold surface are refused first.
 pub fn fit_mesh(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     opts.check()?;
     let topology = mesh.require_single()?;
-    if topology.boundary_edges > 0 {
-        super::fit_sheet(mesh, opts)
+    if topology.boundary_edges == 0 {
+        return super::fit_tube(mesh, opts);
+    }
+    if super::tube::open_ends(mesh, opts.target * mesh.diagonal()).is_some() {
+        super::tube::fit_open_tube(mesh, opts)
     } else {
-        super::fit_tube(mesh, opts)
+        super::fit_sheet(mesh, opts)
     }
 }

@@ -1,5 +1,6 @@
 //! The tube mode: a closed tube-like or star-shaped body as a chain of biharmonic patches
-//! along its main axis, closed by poles at both ends.
+//! along its main axis, closed by poles at both ends; or a tube open at one or both ends (a vase,
+//! a pipe), whose boundary loops across the axis are its end stations ([`fit_open_tube`]).
 //!
 //! 1. **Axis.** The principal axis of largest variance of the triangles (area-weighted
 //!    centroids); `e₁` is the second principal axis, `e₂ = axis × e₁`.
@@ -82,6 +83,177 @@ pub fn fit_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
         return Err(Error::invalid("fewer than four usable sections"));
     }
     let sections = stations.len() - 2;
+    let chain = Chain::new(
+        stations,
+        &[],
+        Joint::Hermite,
+        opts.max_modes,
+        MODES_SHARE * tol,
+    );
+    let candidates = opts.a.map_or(TUBE_A.to_vec(), |a| vec![a]);
+    let what = ChainFit {
+        mode: FitMode::Tube,
+        frame,
+        sections,
+        dropped,
+        stations: "sections",
+    };
+    fit_one_chain(&chain, &candidates, tol, diag, opts, what)
+}
+
+/// The open ends of a tube: each boundary loop of `mesh` lying across the tube's axis (its heights
+/// within `tol` of each other) at one end of the mesh (within `tol` of the lowest or the highest
+/// vertex), as `(height, loop points)`, lower end first (`None` for an end closed by a pole).
+type Ends = [Option<(f64, Vec<Vec3>)>; 2];
+
+/// The frame of a tube open at one or both ends and its [`Ends`]: the axis runs through the
+/// centroids of two boundary loops, or square to the plane of one (towards the mesh); `e₁` is
+/// the mesh's second principal axis made square to it. `None` when the mesh has no boundary,
+/// more than two loops, or a loop that is not an end across the axis.
+pub(crate) fn open_ends(mesh: &InputMesh, tol: f64) -> Option<(AxisFrame, Ends)> {
+    let loops = mesh.boundary_loops().ok()?;
+    if loops.is_empty() || loops.len() > 2 {
+        return None;
+    }
+    let rings: Vec<Vec<Vec3>> = loops
+        .iter()
+        .map(|l| l.iter().map(|&i| mesh.positions[i as usize]).collect())
+        .collect();
+    let mean = |r: &[Vec3]| r.iter().fold(Vec3::zeros(), |a, p| a + p) / r.len() as f64;
+    let centres: Vec<Vec3> = rings.iter().map(|r| mean(r)).collect();
+    let principal = principal_frame(mesh);
+    let axis = if rings.len() == 2 {
+        centres[1] - centres[0]
+    } else {
+        let c = centres[0];
+        let cov = rings[0]
+            .iter()
+            .fold(Matrix3::zeros(), |m, p| m + (p - c) * (p - c).transpose());
+        let eig = SymmetricEigen::new(cov);
+        let k = (0..3)
+            .min_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]))
+            .unwrap_or(0);
+        let n: Vec3 = eig.eigenvectors.column(k).into();
+        if n.dot(&(principal.origin - c)) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    };
+    if axis.norm().is_nan() || axis.norm() <= 0.0 {
+        return None;
+    }
+    let axis = axis.normalize();
+    let mut e1 = principal.e1 - axis * principal.e1.dot(&axis);
+    if e1.norm() < 1e-6 {
+        e1 = principal.axis - axis * principal.axis.dot(&axis);
+    }
+    let e1 = e1.normalize();
+    let frame = AxisFrame {
+        origin: principal.origin,
+        e1,
+        e2: axis.cross(&e1),
+        axis,
+    };
+    let (lo, hi) = extremes(mesh, &frame);
+    let (hmin, hmax) = (frame.height(&lo), frame.height(&hi));
+    let mut ends: Ends = [None, None];
+    for points in rings {
+        let (a, b) = points
+            .iter()
+            .map(|p| frame.height(p))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), h| {
+                (a.min(h), b.max(h))
+            });
+        if b - a > tol {
+            return None;
+        }
+        let h = 0.5 * (a + b);
+        let end = if (h - hmin).abs() <= tol {
+            0
+        } else if (hmax - h).abs() <= tol {
+            1
+        } else {
+            return None;
+        };
+        if ends[end].is_some() {
+            return None;
+        }
+        ends[end] = Some((h, points));
+    }
+    Some((frame, ends))
+}
+
+/// Fits a tube open at one or both ends of its main axis (a vase, a pipe, a cup without its
+/// bottom): as [`fit_tube`], with each open end's boundary loop as the first or last station
+/// instead of a pole. Fails unless [`open_ends`] finds the ends.
+pub fn fit_open_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
+    opts.check()?;
+    mesh.require_single()?;
+    let diag = mesh.diagonal();
+    if !(diag.is_finite() && diag > 0.0) {
+        return Err(Error::invalid("the mesh has no extent"));
+    }
+    let tol = opts.target * diag;
+    let (frame, ends) = open_ends(mesh, tol).ok_or_else(|| {
+        Error::invalid(
+            "the mesh's boundary is not one or two loops across its main axis at its ends",
+        )
+    })?;
+    let slicer = Slicer::new(mesh, frame);
+    let (lo, hi) = extremes(mesh, &frame);
+    let h0 = ends[0].as_ref().map_or(frame.height(&lo), |e| e.0);
+    let h1 = ends[1].as_ref().map_or(frame.height(&hi), |e| e.0);
+    let n = opts.sections;
+    // Between the ends (an open end's loop is a station itself).
+    let heights: Vec<f64> = (1..=n)
+        .map(|j| {
+            let t = j as f64 / (n + 1) as f64;
+            let t = match (&ends[0], &ends[1]) {
+                (Some(_), Some(_)) => t,
+                // Denser towards the pole, as in the tube mode.
+                (Some(_), None) => (std::f64::consts::FRAC_PI_2 * t).sin(),
+                (None, Some(_)) => 1.0 - (std::f64::consts::FRAC_PI_2 * t).cos(),
+                (None, None) => 0.5 * (1.0 - (std::f64::consts::PI * t).cos()),
+            };
+            h0 + (h1 - h0) * t
+        })
+        .collect();
+    let cut: Vec<Result<Section>> = heights
+        .par_iter()
+        .map(|&h| slicer.section(h, opts.samples, None))
+        .collect();
+    const EDGE: usize = 3;
+    let end_station = |end: &Option<(f64, Vec<Vec3>)>, pole: Vec3| -> Result<Station> {
+        Ok(match end {
+            Some((h, ring)) => Station {
+                points: Section::from_loop(ring, &frame, *h, opts.samples)?.points,
+                pole: false,
+                part: String::new(),
+            },
+            None => Station::at_pole(pole, opts.samples, ""),
+        })
+    };
+    let mut stations = vec![end_station(&ends[0], lo)?];
+    let mut dropped = 0;
+    for (j, s) in cut.into_iter().enumerate() {
+        match s {
+            Ok(s) => stations.push(Station {
+                points: s.points,
+                pole: false,
+                part: String::new(),
+            }),
+            Err(_) if (ends[0].is_none() && j < EDGE) || (ends[1].is_none() && j + EDGE >= n) => {
+                dropped += 1
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    stations.push(end_station(&ends[1], hi)?);
+    if stations.len() < 6 {
+        return Err(Error::invalid("fewer than four usable sections"));
+    }
+    let sections = stations.iter().filter(|s| !s.pole).count();
     let chain = Chain::new(
         stations,
         &[],

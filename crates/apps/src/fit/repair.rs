@@ -1,0 +1,695 @@
+//! Repairs of meshes as files deliver them, before a fit: what the modelling tool or the scanner
+//! left that is not a surface, removed or mended, each kind counted so the command can say what
+//! it did (and where: a point in the mesh's own coordinates).
+//!
+//! In order:
+//! 1. **Degenerate triangles** (a repeated corner, or no area at all) are dropped.
+//! 2. **Duplicate triangles** (the same three corners, in any order) keep the first.
+//! 3. **Cracks**: boundary vertices closer than the crack tolerance to another boundary vertex
+//!    are welded to it. The tolerance is [`CRACK_FRACTION`] of the bounding-box diagonal, and at
+//!    most a quarter of the shortest boundary edge at either vertex, so that no edge of the
+//!    surface collapses.
+//! 4. **T-junctions**: a boundary vertex lying on a boundary edge of another triangle (within the
+//!    same tolerance, and away from the edge's ends) splits that triangle there, so both sides
+//!    of the seam share the vertex. Repeated until no such vertex is left (at most
+//!    [`MAX_PASSES`] times).
+//! 5. **Non-manifold edges** (three or more triangles): the two triangles of the largest
+//!    manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
+//!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays.
+//! 6. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest are
+//!    dropped (specks of a scan). Components of comparable size stay: the fit decides what to
+//!    do with several bodies.
+//!
+//! Nothing is moved: vertices keep their positions (a welded vertex takes the position of the
+//! one it joins), so the repaired mesh is the file's surface with its defects removed.
+
+use super::mesh::InputMesh;
+use crate::{Result, Vec3};
+use std::collections::HashMap;
+
+/// Boundary vertices closer than this fraction of the bounding-box diagonal are one vertex, and
+/// a boundary vertex this close to a boundary edge lies on it.
+pub const CRACK_FRACTION: f64 = 1e-4;
+
+/// Components with fewer triangles than this share of the largest one are stray.
+pub const STRAY_SHARE: f64 = 0.01;
+
+/// Passes of the T-junction split at most (each splits every edge it can).
+pub const MAX_PASSES: usize = 8;
+
+/// What [`repair`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Repairs {
+    /// Triangles dropped for a repeated corner or no area.
+    pub degenerate: usize,
+    /// Triangles dropped as copies of another.
+    pub duplicates: usize,
+    /// Boundary vertices welded across cracks.
+    pub cracks: usize,
+    /// Boundary vertices that split a triangle's edge (T-junctions).
+    pub t_junctions: usize,
+    /// Edges that had three or more triangles.
+    pub nonmanifold_edges: usize,
+    /// Triangles dropped at those edges.
+    pub nonmanifold_dropped: usize,
+    /// Components dropped as stray, and their triangles.
+    pub stray_components: usize,
+    /// Triangles of the stray components.
+    pub stray_triangles: usize,
+    /// A point of the first repair, in the mesh's coordinates.
+    pub first: Option<Vec3>,
+}
+
+impl Repairs {
+    /// True when nothing was repaired.
+    pub fn is_empty(&self) -> bool {
+        self.first.is_none()
+    }
+
+    /// One line for the user, `None` when nothing was repaired.
+    pub fn note(&self) -> Option<String> {
+        let p = self.first?;
+        let mut parts = Vec::new();
+        let plural =
+            |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        if self.degenerate > 0 {
+            parts.push(format!(
+                "{} dropped",
+                plural(
+                    self.degenerate,
+                    "degenerate triangle",
+                    "degenerate triangles"
+                )
+            ));
+        }
+        if self.duplicates > 0 {
+            parts.push(format!(
+                "{} dropped",
+                plural(self.duplicates, "duplicate triangle", "duplicate triangles")
+            ));
+        }
+        if self.cracks > 0 {
+            parts.push(format!(
+                "{} welded across cracks",
+                plural(self.cracks, "vertex", "vertices")
+            ));
+        }
+        if self.t_junctions > 0 {
+            parts.push(plural(
+                self.t_junctions,
+                "T-junction split",
+                "T-junctions split",
+            ));
+        }
+        if self.nonmanifold_edges > 0 {
+            parts.push(format!(
+                "{} made manifold by dropping {}",
+                plural(self.nonmanifold_edges, "edge", "edges"),
+                plural(self.nonmanifold_dropped, "triangle", "triangles")
+            ));
+        }
+        if self.stray_components > 0 {
+            parts.push(format!(
+                "{} of {} dropped",
+                plural(self.stray_components, "stray piece", "stray pieces"),
+                plural(self.stray_triangles, "triangle", "triangles")
+            ));
+        }
+        Some(format!(
+            "repaired: {} (the first near ({}, {}, {}))",
+            parts.join(", "),
+            crate::number::sig(p.x, 4),
+            crate::number::sig(p.y, 4),
+            crate::number::sig(p.z, 4)
+        ))
+    }
+}
+
+/// The mesh with the defects of the module documentation removed, and what was done.
+pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
+    let mut r = Repairs::default();
+    let positions = mesh.positions.clone();
+    let diag = mesh.diagonal();
+    let centroid = |t: &[u32; 3]| {
+        (positions[t[0] as usize] + positions[t[1] as usize] + positions[t[2] as usize]) / 3.0
+    };
+
+    // 1–2. Degenerate and duplicate triangles.
+    let tiny = (1e-12 * diag).powi(2);
+    let mut seen: HashMap<[u32; 3], ()> = HashMap::with_capacity(mesh.triangles.len());
+    let mut triangles = Vec::with_capacity(mesh.triangles.len());
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || (b - a).cross(&(c - a)).norm() <= tiny {
+            r.degenerate += 1;
+            note_at(&mut r, centroid(t));
+            continue;
+        }
+        let mut key = *t;
+        key.sort_unstable();
+        if seen.insert(key, ()).is_some() {
+            r.duplicates += 1;
+            note_at(&mut r, centroid(t));
+            continue;
+        }
+        triangles.push(*t);
+    }
+
+    // 3. Cracks: boundary vertices welded to a close boundary vertex.
+    let tol = CRACK_FRACTION * diag;
+    let (boundary, nonmanifold) = edge_kinds(&triangles);
+    let mut shortest: HashMap<u32, f64> = HashMap::new();
+    for &(a, b) in &boundary {
+        let l = (positions[a as usize] - positions[b as usize]).norm();
+        for v in [a, b] {
+            let e = shortest.entry(v).or_insert(f64::INFINITY);
+            *e = e.min(l);
+        }
+    }
+    let mut verts: Vec<u32> = shortest.keys().copied().collect();
+    verts.sort_unstable();
+    let grid = Grid::new(tol.max(f64::MIN_POSITIVE));
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut map: HashMap<u32, u32> = HashMap::new();
+    for &v in &verts {
+        let p = positions[v as usize];
+        let reach = tol.min(0.25 * shortest[&v]);
+        let found = grid.around(&p).into_iter().find_map(|c| {
+            cells.get(&c)?.iter().copied().find(|&w| {
+                let d = (positions[w as usize] - p).norm();
+                d <= reach && d <= 0.25 * shortest[&w]
+            })
+        });
+        match found {
+            Some(w) => {
+                map.insert(v, w);
+                r.cracks += 1;
+                note_at(&mut r, p);
+            }
+            None => cells.entry(grid.cell(&p)).or_default().push(v),
+        }
+    }
+    if !map.is_empty() {
+        let mut kept = Vec::with_capacity(triangles.len());
+        for t in &triangles {
+            let t = t.map(|i| *map.get(&i).unwrap_or(&i));
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                r.degenerate += 1;
+                continue;
+            }
+            kept.push(t);
+        }
+        triangles = kept;
+    }
+
+    // 4. T-junctions.
+    for _ in 0..if boundary.is_empty() { 0 } else { MAX_PASSES } {
+        let split = split_t_junctions(&positions, &mut triangles, tol);
+        if split.is_empty() {
+            break;
+        }
+        r.t_junctions += split.len();
+        note_at(&mut r, positions[split[0] as usize]);
+    }
+
+    // 5. Non-manifold edges (looked for again only if the steps before changed the edges).
+    let changed = r.cracks > 0 || r.t_junctions > 0;
+    if nonmanifold > 0 || changed {
+        let (kept, edges, dropped) = resolve_nonmanifold(&triangles);
+        if edges > 0 {
+            r.nonmanifold_edges = edges;
+            r.nonmanifold_dropped = dropped.len();
+            note_at(&mut r, centroid(&triangles[dropped[0]]));
+            triangles = kept;
+        }
+    }
+
+    // 6. Stray pieces.
+    let (kept, stray) = drop_stray(&triangles, positions.len());
+    if !stray.is_empty() {
+        r.stray_components = stray.len();
+        r.stray_triangles = triangles.len() - kept.len();
+        note_at(&mut r, centroid(&triangles[stray[0]]));
+        triangles = kept;
+    }
+    Ok((InputMesh::new(positions, triangles)?, r))
+}
+
+fn note_at(r: &mut Repairs, p: Vec3) {
+    if r.first.is_none() {
+        r.first = Some(p);
+    }
+}
+
+/// The edges of exactly one triangle (as in [`boundary_edges`]) and the number of edges of three
+/// or more, in one pass.
+fn edge_kinds(triangles: &[[u32; 3]]) -> (Vec<(u32, u32)>, usize) {
+    let mut count: HashMap<(u32, u32), (u32, (u32, u32))> =
+        HashMap::with_capacity(3 * triangles.len() / 2 + 1);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let e = count.entry((a.min(b), a.max(b))).or_insert((0, (a, b)));
+            e.0 += 1;
+        }
+    }
+    let nonmanifold = count.values().filter(|(c, _)| *c > 2).count();
+    let mut boundary: Vec<(u32, u32)> = count
+        .into_values()
+        .filter(|(c, _)| *c == 1)
+        .map(|(_, e)| e)
+        .collect();
+    boundary.sort_unstable();
+    (boundary, nonmanifold)
+}
+
+/// Edges of exactly one triangle, as `(a, b)` in that triangle's order.
+fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    edge_kinds(triangles).0
+}
+
+/// A uniform grid of cubes for neighbour searches.
+struct Grid {
+    size: f64,
+}
+
+impl Grid {
+    fn new(size: f64) -> Self {
+        Grid { size }
+    }
+
+    fn cell(&self, p: &Vec3) -> [i64; 3] {
+        [0, 1, 2].map(|c| (p[c] / self.size).floor() as i64)
+    }
+
+    /// The 27 cells around `p`'s.
+    fn around(&self, p: &Vec3) -> Vec<[i64; 3]> {
+        let c = self.cell(p);
+        let mut out = Vec::with_capacity(27);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    out.push([c[0] + dx, c[1] + dy, c[2] + dz]);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Vertices on an edge, each with its parameter along the edge.
+type OnEdge = Vec<(f64, u32)>;
+
+/// One pass of the T-junction split: every boundary edge with boundary vertices on it (within
+/// `tol`, and farther than `tol` from its ends) has its triangle cut into a fan through them.
+/// Returns the vertices that split an edge.
+fn split_t_junctions(positions: &[Vec3], triangles: &mut Vec<[u32; 3]>, tol: f64) -> Vec<u32> {
+    let boundary = boundary_edges(triangles);
+    if boundary.is_empty() {
+        return Vec::new();
+    }
+    // Boundary vertices in cells of the mean boundary edge's length.
+    let mean = boundary
+        .iter()
+        .map(|&(a, b)| (positions[a as usize] - positions[b as usize]).norm())
+        .sum::<f64>()
+        / boundary.len() as f64;
+    let grid = Grid::new(mean.max(tol).max(f64::MIN_POSITIVE));
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    let mut on_boundary: Vec<u32> = boundary.iter().flat_map(|&(a, b)| [a, b]).collect();
+    on_boundary.sort_unstable();
+    on_boundary.dedup();
+    for &v in &on_boundary {
+        cells
+            .entry(grid.cell(&positions[v as usize]))
+            .or_default()
+            .push(v);
+    }
+    let mut found: HashMap<(u32, u32), OnEdge> = HashMap::new();
+    for &(a, b) in &boundary {
+        let (pa, pb) = (positions[a as usize], positions[b as usize]);
+        let d = pb - pa;
+        let len = d.norm();
+        if len <= 2.0 * tol {
+            continue;
+        }
+        let (lo, hi) = (pa.inf(&pb), pa.sup(&pb));
+        let (c0, c1) = (
+            grid.cell(&(lo - Vec3::repeat(tol))),
+            grid.cell(&(hi + Vec3::repeat(tol))),
+        );
+        let mut on = Vec::new();
+        for x in c0[0]..=c1[0] {
+            for y in c0[1]..=c1[1] {
+                for z in c0[2]..=c1[2] {
+                    for &v in cells.get(&[x, y, z]).map_or(&[][..], |l| &l[..]) {
+                        if v == a || v == b {
+                            continue;
+                        }
+                        let p = positions[v as usize];
+                        let s = (p - pa).dot(&d) / (len * len);
+                        if s * len <= tol || (1.0 - s) * len <= tol {
+                            continue;
+                        }
+                        if (pa + d * s - p).norm() <= tol {
+                            on.push((s, v));
+                        }
+                    }
+                }
+            }
+        }
+        if !on.is_empty() {
+            found.insert((a, b), on);
+        }
+    }
+    if found.is_empty() {
+        return Vec::new();
+    }
+    // The triangle of each edge found; one edge of a triangle per pass, its other edges wait
+    // for the next.
+    let mut cuts: HashMap<usize, ((u32, u32), OnEdge)> = HashMap::new();
+    for (i, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let e = (t[k], t[(k + 1) % 3]);
+            if let Some(on) = found.remove(&e) {
+                cuts.entry(i).or_insert((e, on));
+            }
+        }
+    }
+    let mut split = Vec::new();
+    let mut order: Vec<usize> = cuts.keys().copied().collect();
+    order.sort_unstable();
+    for t in order {
+        let ((a, b), mut on) = cuts.remove(&t).unwrap_or_default();
+        on.sort_by(|x, y| x.0.total_cmp(&y.0));
+        on.dedup_by_key(|x| x.1);
+        let tri = triangles[t];
+        let c = tri
+            .iter()
+            .copied()
+            .find(|&v| v != a && v != b)
+            .unwrap_or(tri[0]);
+        // The fan a, v₁, …, b around c keeps the triangle's orientation (a → b → c).
+        let mut chain = vec![a];
+        chain.extend(on.iter().map(|x| x.1));
+        chain.push(b);
+        triangles[t] = [chain[0], chain[1], c];
+        for w in chain.windows(2).skip(1) {
+            triangles.push([w[0], w[1], c]);
+        }
+        split.extend(on.iter().map(|x| x.1));
+    }
+    split
+}
+
+/// Keeps at most two triangles per edge: those of the largest manifold pieces. Returns the kept
+/// triangles, the number of non-manifold edges and the indices of the dropped triangles.
+fn resolve_nonmanifold(triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, usize, Vec<usize>) {
+    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (i, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
+        }
+    }
+    let mut bad: Vec<(u32, u32)> = by_edge
+        .iter()
+        .filter(|(_, l)| l.len() > 2)
+        .map(|(e, _)| *e)
+        .collect();
+    if bad.is_empty() {
+        return (triangles.to_vec(), 0, Vec::new());
+    }
+    bad.sort_unstable();
+    // Pieces joined across manifold edges only.
+    let mut parent: Vec<usize> = (0..triangles.len()).collect();
+    for l in by_edge.values() {
+        if l.len() == 2 {
+            union(&mut parent, l[0], l[1]);
+        }
+    }
+    let mut size: HashMap<usize, usize> = HashMap::new();
+    for i in 0..triangles.len() {
+        *size.entry(find(&mut parent, i)).or_insert(0) += 1;
+    }
+    let mut dropped = vec![false; triangles.len()];
+    for e in &bad {
+        let mut l: Vec<usize> = by_edge[e]
+            .iter()
+            .copied()
+            .filter(|&i| !dropped[i])
+            .collect();
+        if l.len() <= 2 {
+            continue;
+        }
+        l.sort_by_key(|&i| (std::cmp::Reverse(size[&find(&mut parent, i)]), i));
+        for &i in &l[2..] {
+            dropped[i] = true;
+        }
+    }
+    let gone: Vec<usize> = (0..triangles.len()).filter(|&i| dropped[i]).collect();
+    let kept = triangles
+        .iter()
+        .zip(&dropped)
+        .filter(|(_, &d)| !d)
+        .map(|(t, _)| *t)
+        .collect();
+    (kept, bad.len(), gone)
+}
+
+/// Drops the components (through shared vertices) smaller than [`STRAY_SHARE`] of the largest.
+/// Returns the kept triangles and the first triangle of each dropped component.
+fn drop_stray(triangles: &[[u32; 3]], vertices: usize) -> (Vec<[u32; 3]>, Vec<usize>) {
+    let mut parent: Vec<usize> = (0..vertices).collect();
+    for t in triangles {
+        union(&mut parent, t[0] as usize, t[1] as usize);
+        union(&mut parent, t[1] as usize, t[2] as usize);
+    }
+    let roots: Vec<usize> = triangles
+        .iter()
+        .map(|t| find(&mut parent, t[0] as usize))
+        .collect();
+    let mut size: HashMap<usize, usize> = HashMap::new();
+    for &r in &roots {
+        *size.entry(r).or_insert(0) += 1;
+    }
+    let largest = size.values().copied().max().unwrap_or(0);
+    let stray = |r: &usize| (size[r] as f64) < STRAY_SHARE * largest as f64;
+    let mut firsts = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for (i, r) in roots.iter().enumerate() {
+        if stray(r) && seen.insert(*r) {
+            firsts.push(i);
+        }
+    }
+    let kept = triangles
+        .iter()
+        .zip(&roots)
+        .filter(|(_, r)| !stray(r))
+        .map(|(t, _)| *t)
+        .collect();
+    (kept, firsts)
+}
+
+fn find(parent: &mut [usize], mut a: usize) -> usize {
+    while parent[a] != a {
+        let g = parent[parent[a]];
+        parent[a] = g;
+        a = g;
+    }
+    a
+}
+
+fn union(parent: &mut [usize], a: usize, b: usize) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb)] = ra.min(rb);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit cube `[0, 2]³` with its top face (z = 2) cut `n × n` and the other faces
+    /// in two triangles each, outward; the top's vertices on its border are T-junctions of the
+    /// side faces when `n > 1`.
+    fn cube_with_fine_top(n: usize) -> InputMesh {
+        let mut p: Vec<Vec3> = Vec::new();
+        let mut t: Vec<[u32; 3]> = Vec::new();
+        let v = |p: &mut Vec<Vec3>, x: f64, y: f64, z: f64| {
+            if let Some(i) = p
+                .iter()
+                .position(|q| (q - Vec3::new(x, y, z)).norm() < 1e-12)
+            {
+                return i as u32;
+            }
+            p.push(Vec3::new(x, y, z));
+            (p.len() - 1) as u32
+        };
+        let h = 2.0 / n as f64;
+        for i in 0..n {
+            for j in 0..n {
+                let (x0, y0) = (i as f64 * h, j as f64 * h);
+                let a = v(&mut p, x0, y0, 2.0);
+                let b = v(&mut p, x0 + h, y0, 2.0);
+                let c = v(&mut p, x0 + h, y0 + h, 2.0);
+                let d = v(&mut p, x0, y0 + h, 2.0);
+                t.push([a, b, c]);
+                t.push([a, c, d]);
+            }
+        }
+        // Corners of the cube.
+        let c: Vec<u32> = (0..8)
+            .map(|k| {
+                v(
+                    &mut p,
+                    2.0 * (k & 1) as f64,
+                    2.0 * ((k >> 1) & 1) as f64,
+                    2.0 * ((k >> 2) & 1) as f64,
+                )
+            })
+            .collect();
+        // Bottom, and the four sides, outward.
+        let quads = [
+            [c[0], c[2], c[3], c[1]],
+            [c[0], c[1], c[5], c[4]],
+            [c[1], c[3], c[7], c[5]],
+            [c[3], c[2], c[6], c[7]],
+            [c[2], c[0], c[4], c[6]],
+        ];
+        for q in quads {
+            t.push([q[0], q[1], q[2]]);
+            t.push([q[0], q[2], q[3]]);
+        }
+        InputMesh::new(p, t).unwrap()
+    }
+
+    fn closed_and_manifold(m: &InputMesh) {
+        let topo = m.topology();
+        assert_eq!(topo.boundary_edges, 0, "{topo:?}");
+        assert_eq!(topo.nonmanifold_edges, 0, "{topo:?}");
+        assert_eq!(topo.components, 1, "{topo:?}");
+    }
+
+    /// Signed volume: a closed outward mesh of the cube `[0, 2]³` has volume 8.
+    fn volume(m: &InputMesh) -> f64 {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                a.dot(&b.cross(&c)) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn t_junctions_are_split_and_the_cube_closes_with_its_volume() {
+        let m = cube_with_fine_top(4);
+        // Three vertices of the top's border inside each of its four edges.
+        assert_eq!(m.topology().boundary_edges, 4 + 16);
+        let (fixed, r) = repair(&m).unwrap();
+        assert_eq!(r.t_junctions, 12, "{r:?}");
+        assert_eq!(
+            (r.degenerate, r.duplicates, r.cracks, r.nonmanifold_edges),
+            (0, 0, 0, 0)
+        );
+        closed_and_manifold(&fixed);
+        assert!((volume(&fixed) - 8.0).abs() < 1e-12, "{}", volume(&fixed));
+        assert_eq!(fixed.positions, m.positions);
+        assert!(r.note().unwrap().contains("12 T-junctions split"));
+        // A whole mesh is left as it is.
+        let (same, r) = repair(&cube_with_fine_top(1)).unwrap();
+        assert!(r.is_empty() && r.note().is_none());
+        assert_eq!(same, cube_with_fine_top(1));
+    }
+
+    #[test]
+    fn cracks_are_welded_and_nothing_else_moves() {
+        // The top as a separate sheet of its own vertices, 1e-6 above the sides' top edges.
+        let m = cube_with_fine_top(1);
+        let mut p = m.positions.clone();
+        let mut t = m.triangles.clone();
+        let top: Vec<u32> = (0..4).collect();
+        let shift: Vec<u32> = top
+            .iter()
+            .map(|&i| {
+                p.push(m.positions[i as usize] + Vec3::new(0.0, 0.0, 1e-6));
+                (p.len() - 1) as u32
+            })
+            .collect();
+        for tri in t.iter_mut().take(2) {
+            *tri = tri.map(|i| shift[i as usize]);
+        }
+        let cracked = InputMesh::new(p, t).unwrap();
+        assert_eq!(cracked.topology().boundary_edges, 8);
+        let (fixed, r) = repair(&cracked).unwrap();
+        assert_eq!(r.cracks, 4, "{r:?}");
+        closed_and_manifold(&fixed);
+        // A crack wider than the tolerance (1e-4 of the diagonal, 3.5e-4) stays open.
+        let mut p = cracked.positions.clone();
+        for q in p.iter_mut().skip(8) {
+            q.z += 1e-3;
+        }
+        let (open, r) = repair(&InputMesh::new(p, cracked.triangles.clone()).unwrap()).unwrap();
+        assert_eq!(r.cracks, 0);
+        assert_eq!(open.topology().boundary_edges, 8);
+    }
+
+    #[test]
+    fn fins_degenerate_and_duplicate_triangles_and_specks_are_dropped() {
+        let m = cube_with_fine_top(8);
+        let (base, _) = repair(&m).unwrap();
+        let mut p = base.positions.clone();
+        let mut t = base.triangles.clone();
+        // A fin on the edge from (0, 0, 0) to (2, 0, 0), standing out of the cube.
+        let (a, b) = (
+            p.iter().position(|q| q.norm() == 0.0).unwrap() as u32,
+            p.iter()
+                .position(|q| (q - Vec3::new(2.0, 0.0, 0.0)).norm() == 0.0)
+                .unwrap() as u32,
+        );
+        p.push(Vec3::new(1.0, -1.0, -1.0));
+        t.push([a, b, (p.len() - 1) as u32]);
+        // A duplicate, a degenerate triangle and a speck far away.
+        t.push(t[0]);
+        t.push([a, a, b]);
+        let s = p.len() as u32;
+        p.extend([
+            Vec3::new(9.0, 9.0, 9.0),
+            Vec3::new(9.01, 9.0, 9.0),
+            Vec3::new(9.0, 9.01, 9.0),
+        ]);
+        t.push([s, s + 1, s + 2]);
+        let dirty = InputMesh::new(p, t).unwrap();
+        let (fixed, r) = repair(&dirty).unwrap();
+        assert_eq!(
+            (
+                r.degenerate,
+                r.duplicates,
+                r.nonmanifold_edges,
+                r.nonmanifold_dropped,
+                r.stray_components,
+                r.stray_triangles
+            ),
+            (1, 1, 1, 1, 1, 1),
+            "{r:?}"
+        );
+        closed_and_manifold(&fixed);
+        assert_eq!(fixed.triangles, base.triangles);
+        let note = r.note().unwrap();
+        assert!(
+            note.contains("1 edge made manifold by dropping 1 triangle"),
+            "{note}"
+        );
+        // Two bodies of comparable size both stay.
+        let mut p = base.positions.clone();
+        let mut t = base.triangles.clone();
+        let n = p.len() as u32;
+        p.extend(base.positions.iter().map(|q| q + Vec3::new(5.0, 0.0, 0.0)));
+        t.extend(base.triangles.iter().map(|tri| tri.map(|i| i + n)));
+        let (two, r) = repair(&InputMesh::new(p, t).unwrap()).unwrap();
+        assert!(r.is_empty(), "{r:?}");
+        assert_eq!(two.topology().components, 2);
+    }
+}
