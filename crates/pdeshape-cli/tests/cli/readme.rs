@@ -72,7 +72,7 @@ fn run_by_ci(command: &str, root: &Path) -> Result<(), String> {
             .any(|l| l.trim() == command)
             .then_some(())
             .ok_or_else(|| ".ci/run does not run it".to_string()),
-        ["cargo", "install", "--path", path] => read(&format!("{path}/Cargo.toml"))
+        ["cargo", "install", "--locked", "--path", path] => read(&format!("{path}/Cargo.toml"))
             .contains("name = \"pdeshape\"")
             .then_some(())
             .ok_or_else(|| format!("{path} is not the crate of the pdeshape binary")),
@@ -158,8 +158,10 @@ fn readme_commands_run() {
 fn readme_markers_are_not_an_escape() {
     let root = examples_dir().parent().unwrap().to_path_buf();
     assert!(run_by_ci("cargo test --workspace --release", &root).is_ok());
-    assert!(run_by_ci("cargo install --path crates/pdeshape-cli", &root).is_ok());
-    assert!(run_by_ci("cargo install --path crates/geometry", &root).is_err());
+    assert!(run_by_ci("cargo install --locked --path crates/pdeshape-cli", &root).is_ok());
+    assert!(run_by_ci("cargo install --locked --path crates/geometry", &root).is_err());
+    // Without --locked, cargo install ignores Cargo.lock and takes the newest versions.
+    assert!(run_by_ci("cargo install --path crates/pdeshape-cli", &root).is_err());
     assert!(run_by_ci("cargo test --workspace", &root).is_err());
     assert!(run_by_ci("rm -rf examples", &root).is_err());
     let b = blocks("```sh needs: x\na \\\n  b\n# c\n\nd\n```\n");
