@@ -90,10 +90,16 @@ struct Server {
 
 impl Server {
     fn start(prepare: impl FnOnce(&std::path::Path)) -> Server {
+        Server::start_with(&[], prepare)
+    }
+
+    /// [`Server::start`] with more arguments after `serve --port 0`.
+    fn start_with(args: &[&str], prepare: impl FnOnce(&std::path::Path)) -> Server {
         let dir = tempfile::tempdir().unwrap();
         prepare(dir.path());
         let mut child = pdeshape()
             .args(["serve", "--port", "0"])
+            .args(args)
             .current_dir(dir.path())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
@@ -287,4 +293,50 @@ fn slow_connections_are_closed_and_connections_are_bounded() {
         "answered after {waited:?} with 64 connections open"
     );
     drop(idle);
+}
+
+/// A design given by an absolute path outside the current directory is served from its own
+/// folder; with `--root`, from the root (the design named relative to it); a design outside
+/// `--root` is refused with one line.
+#[cfg(unix)]
+#[test]
+fn absolute_design_paths_and_root() {
+    let elsewhere = tempfile::tempdir().unwrap();
+    let sub = elsewhere.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    let cup = sub.join("cup.toml");
+    std::fs::copy(pdeshape_testkit::example_path("cup.toml"), &cup).unwrap();
+    let files = |server: &Server| {
+        let answer = server.request("GET", "/api/files", b"").unwrap();
+        assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
+        let body = answer.split_once("\r\n\r\n").map_or("", |(_, b)| b);
+        serde_json::from_str::<serde_json::Value>(body).unwrap()
+    };
+    let shown = |v: &serde_json::Value| v.to_string();
+    let server = Server::start_with(&[cup.to_str().unwrap()], |_| {});
+    let listed = files(&server);
+    assert!(shown(&listed).contains("\"cup.toml\""), "{listed}");
+    assert!(!shown(&listed).contains("sub/"), "{listed}");
+    drop(server);
+    let root = elsewhere.path().to_str().unwrap().to_string();
+    let server = Server::start_with(&["--root", &root, cup.to_str().unwrap()], |_| {});
+    let listed = files(&server);
+    assert!(shown(&listed).contains("sub/cup.toml"), "{listed}");
+    drop(server);
+    let other = tempfile::tempdir().unwrap();
+    let out = pdeshape()
+        .args([
+            "serve",
+            "--port",
+            "0",
+            "--root",
+            other.path().to_str().unwrap(),
+        ])
+        .arg(&cup)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("lies outside --root"), "{err}");
 }
