@@ -264,7 +264,13 @@ def test_type_stubs_name_every_public_method():
 
 
 def test_check_reports_creases_and_the_verdict():
-    closed = Design.load(EXAMPLES / "cup_closed.toml").check()
+    # The lid's crease along the rim, declared by the design: reported, not judged.
+    declared = Design.load(EXAMPLES / "cup_closed.toml").check()
+    assert declared["verdict"] == "ok"
+    rim = next(e for e in declared["edges"] if e["curve"] == "rim")
+    assert rim["declared_crease"] and rim["g1"] > 1.4
+    text = (EXAMPLES / "cup_closed.toml").read_text().replace('creases = ["rim"]', "")
+    closed = Design.from_toml(text, "cup_closed.toml").check()
     assert closed["ok"] and closed["verdict"] == "attention"
     assert {e["curve"] for e in closed["edges"]} == {"belly", "rim"}
     assert closed["report"].startswith("design: ")

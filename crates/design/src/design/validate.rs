@@ -535,6 +535,11 @@ pub(crate) fn validate_patches(spec: &DesignSpec) -> Result<()> {
         check_curve(c, &curve_place(name))?;
     }
     check_references(&spec.curves)?;
+    for (i, c) in spec.creases.iter().enumerate() {
+        if !spec.curves.contains_key(c) {
+            return Err(unknown_curve(c, &spec.curves, &format!("creases[{i}]")));
+        }
+    }
     super::attach::check_attachment_specs(spec)?;
     super::attach::patch_levels(spec)?;
     let plans = plan(spec)?;

@@ -103,6 +103,10 @@ pub struct DesignSpec {
     /// then be a formula in `t` (see [`super::time`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub time: Option<super::time::TimeSpec>,
+    /// Curves along which shared edges of patches are meant to be creases (a lid on a cup's
+    /// rim): `check` reports their angle but does not count them against the verdict.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub creases: Vec<String>,
     /// The thin-shell strength analysis of `pdeshape shell` (thickness, material, elements,
     /// clamped edges, loads; SI units); without it, the book's set-up of §7.5.1.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -489,16 +489,20 @@ fn check_passes_on_every_example() {
             continue;
         }
         seen += 1;
-        // Designs whose patches meet at an intended crease (a lid, a flange) fail the check
-        // at the default seam tolerance (one degree): FAIL first, one `fail:` line per crease,
-        // exit status 1; with a tolerance above the crease they start with ATTENTION and one
-        // `attention:` line per crease. Every other example starts with OK.
+        // Designs whose patches meet at an intended crease (a lid, a flange) declare it
+        // (`creases`): they start with OK like every other example, and without the
+        // declaration they fail the check at the default seam tolerance (one degree): FAIL
+        // first, one `fail:` line per crease, exit status 1.
         let name = p.file_name().unwrap().to_str().unwrap();
-        let creased = ["cup_closed.toml", "yoghurt.toml", "yoghurt_optimize.toml"];
         let out = pdeshape(&["check", s(&p)]);
-        let mut stdout = String::from_utf8_lossy(&out.stdout).to_string();
-        if creased.contains(&name) {
-            assert_eq!(out.status.code(), Some(1), "{name}: {stdout}");
+        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        if !spec.creases.is_empty() {
+            let dir = tempfile::tempdir().unwrap();
+            let bare = dir.path().join(name);
+            std::fs::write(&bare, text.replace("creases = [\"rim\"]", "")).unwrap();
+            let undeclared = pdeshape(&["check", s(&bare)]);
+            let stdout = String::from_utf8_lossy(&undeclared.stdout).to_string();
+            assert_eq!(undeclared.status.code(), Some(1), "{name}: {stdout}");
             assert_eq!(stdout.lines().next(), Some("FAIL"), "{name}: {stdout}");
             let fails: Vec<&str> = stdout.lines().filter(|l| l.starts_with("fail:")).collect();
             assert!(!fails.is_empty(), "{name}: {stdout}");
@@ -508,22 +512,16 @@ fn check_passes_on_every_example() {
                     "{name}: {line}"
                 );
             }
-            let lenient = pdeshape(&["check", "--g1-tolerance", "1.6", s(&p)]);
-            stdout = String::from_utf8_lossy(&lenient.stdout).to_string();
-            assert_eq!(lenient.status.code(), Some(0), "{name}: {stdout}");
-            assert_eq!(stdout.lines().next(), Some("ATTENTION"), "{name}: {stdout}");
-            assert!(!stdout.contains("fail:"), "{name}: {stdout}");
-        } else {
-            assert_eq!(
-                out.status.code(),
-                Some(0),
-                "{}: {}{}",
-                p.display(),
-                stdout,
-                String::from_utf8_lossy(&out.stderr)
-            );
-            assert_eq!(stdout.lines().next(), Some("OK"), "{name}: {stdout}");
         }
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}: {}{}",
+            p.display(),
+            stdout,
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert_eq!(stdout.lines().next(), Some("OK"), "{name}: {stdout}");
         for line in stdout.lines().filter(|l| l.starts_with("attention:")) {
             assert!(line.ends_with("rad (a crease)"), "{name}: {line}");
         }
@@ -554,7 +552,15 @@ fn check_passes_on_every_example() {
 /// and prints no verdict. `--json` carries the same word.
 #[test]
 fn check_prints_the_verdict_and_exits_by_policy() {
-    let closed = example_path("cup_closed.toml");
+    // The lid's crease without the design's declaration of it.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(example_path("cup_closed.toml")).unwrap();
+    assert!(text.contains("creases = [\"rim\"]"));
+    let closed = write(
+        dir.path(),
+        "cup_closed.toml",
+        &text.replace("creases = [\"rim\"]", ""),
+    );
     let out = pdeshape(&["check", s(&closed)]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -608,7 +614,11 @@ fn check_prints_the_verdict_and_exits_by_policy() {
         ("cup_closed.toml", Some("1.6"), "attention", 0),
         ("cup.toml", None, "ok", 0),
     ] {
-        let path = example_path(name);
+        let path = if name == "cup_closed.toml" {
+            closed.clone()
+        } else {
+            example_path(name)
+        };
         let mut args = vec!["check", "--json", s(&path)];
         if let Some(t) = tolerance {
             args.extend(["--g1-tolerance", t]);
@@ -910,4 +920,16 @@ fn nan_between_checked_points_names_the_curve() {
     );
     assert!(!line.contains("-o"), "{line}");
     assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
+}
+
+/// `creases` names curves of the design: a name that is not one is refused at its place, with
+/// the nearest name suggested.
+#[test]
+fn declared_creases_name_curves() {
+    let text = std::fs::read_to_string(example_path("cup_closed.toml")).unwrap();
+    let line = bad_design(
+        &text.replace("creases = [\"rim\"]", "creases = [\"rin\"]"),
+        &["creases[0]", "unknown curve 'rin'", "did you mean 'rim'?"],
+    );
+    assert!(line.contains("d.toml:"), "{line}");
 }

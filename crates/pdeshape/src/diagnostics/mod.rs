@@ -117,6 +117,9 @@ pub struct EdgeDiagnostics {
     /// `g1` above the seam tolerance of [`Diagnostics::judge_seams`] (or NaN); false until
     /// judged.
     pub g1_failed: bool,
+    /// The edge runs along a curve the design lists in `creases`: a crease there is meant, and
+    /// neither fails the seams nor turns the verdict.
+    pub declared_crease: bool,
     /// G2 figure: the largest difference (1/length) between the two surfaces' normal curvatures
     /// across the edge ([`seam_g2`]); 0 to rounding where the edge is curvature-continuous.
     pub g2: f64,
@@ -564,6 +567,7 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
                     g0_met: r.g0 <= G0_TOLERANCE * size.max(1.0),
                     g1_met: r.g1 <= G1_TOLERANCE,
                     g1_failed: false,
+                    declared_crease: spec.creases.contains(&e.curve),
                     g2: seam_g2(
                         built.surfaces[r.a].surface(),
                         r.ua,
@@ -649,7 +653,10 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
     for n in &networks {
         warnings.extend(n.warnings());
     }
-    let edges_met = edges.iter().flatten().all(|e| e.g0_met && e.g1_met);
+    let edges_met = edges
+        .iter()
+        .flatten()
+        .all(|e| e.g0_met && (e.g1_met || e.declared_crease));
     let verdict = if warnings.is_empty() && edges_met {
         Verdict::Ok
     } else {
@@ -744,7 +751,7 @@ impl Diagnostics {
         self.g1_tolerance = Some(g1_tolerance);
         let mut failed = false;
         for e in self.edges.iter_mut().flatten() {
-            e.g1_failed = e.g1.is_nan() || e.g1 > g1_tolerance;
+            e.g1_failed = !e.declared_crease && (e.g1.is_nan() || e.g1 > g1_tolerance);
             failed |= e.g1_failed;
         }
         if failed {
@@ -796,7 +803,7 @@ impl Diagnostics {
             if !e.g0_met {
                 let _ = writeln!(t, "{place}: G0 = {} (a gap)", n(e.g0));
             }
-            if !e.g1_met && !e.g1_failed {
+            if !e.g1_met && !e.g1_failed && !e.declared_crease {
                 let _ = writeln!(t, "{place}: G1 = {} rad (a crease)", n(e.g1));
             }
         }
@@ -844,6 +851,7 @@ impl Diagnostics {
                     "a": e.a, "ua": e.ua, "b": e.b, "ub": e.ub,
                     "curve": e.curve, "g0": jnum(e.g0), "g1": jnum(e.g1),
                     "g2": jnum(e.g2), "failed": e.g1_failed,
+                    "declared_crease": e.declared_crease,
                 })
             })
             .collect();

@@ -265,7 +265,7 @@ pub fn check_report(
         for e in edges {
             let _ = writeln!(
                 s,
-                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {}  G1 = {} rad  G2 = {}",
+                "  '{}' u = {} | '{}' u = {}  along '{}':  G0 = {}  G1 = {} rad  G2 = {}{}",
                 e.a,
                 e.ua,
                 e.b,
@@ -273,7 +273,12 @@ pub fn check_report(
                 e.curve,
                 n(e.g0),
                 n(e.g1),
-                n(e.g2)
+                n(e.g2),
+                if e.declared_crease {
+                    "  (a crease the design declares)"
+                } else {
+                    ""
+                }
             );
         }
     }

@@ -9,11 +9,19 @@ fn example(name: &str) -> DesignSpec {
     parse_design(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// `cup_closed.toml` without its declaration that the rim is a crease.
+fn undeclared_cup() -> DesignSpec {
+    let mut spec = example("cup_closed.toml");
+    assert_eq!(spec.creases, ["rim"]);
+    spec.creases.clear();
+    spec
+}
+
 /// The lid of `cup_closed.toml` meets the bowl at an angle along 'rim': G0 holds, G1 fails
 /// (about 1.47 rad), and the verdict asks for attention although there is no warning.
 #[test]
 fn a_crease_fails_g1_and_the_verdict() {
-    let spec = example("cup_closed.toml");
+    let spec = undeclared_cup();
     let built = solve_design(&spec).unwrap();
     let d = diagnose(&spec, &built);
     let edges = d.edges.as_ref().unwrap();
@@ -126,7 +134,7 @@ curve = "d"
 /// nor is named. A tolerance above the crease leaves the verdict of `diagnose`.
 #[test]
 fn a_seam_above_the_tolerance_fails() {
-    let spec = example("cup_closed.toml");
+    let spec = undeclared_cup();
     let built = solve_design(&spec).unwrap();
     let mut d = diagnose(&spec, &built);
     d.judge_seams(super::SEAM_G1_TOLERANCE);
@@ -161,6 +169,39 @@ fn a_seam_above_the_tolerance_fails() {
     let mut ok = diagnose(&smooth_spec, &smooth);
     ok.judge_seams(super::SEAM_G1_TOLERANCE);
     assert_eq!(ok.verdict, Verdict::Ok);
+}
+
+/// The same crease declared by the design (`creases = ["rim"]`, as `cup_closed.toml` has it):
+/// measured and marked in the report, but neither a failed seam nor a reason, and the verdict
+/// is OK; the smooth seam along 'belly' is not marked.
+#[test]
+fn a_declared_crease_is_reported_but_not_judged() {
+    let spec = example("cup_closed.toml");
+    let built = solve_design(&spec).unwrap();
+    let mut d = diagnose(&spec, &built);
+    d.judge_seams(super::SEAM_G1_TOLERANCE);
+    let rim = d.edges.iter().flatten().find(|e| e.curve == "rim").unwrap();
+    assert!(
+        rim.declared_crease && !rim.g1_met && !rim.g1_failed,
+        "{rim:?}"
+    );
+    assert!((rim.g1 - 1.471).abs() < 1e-3, "{}", rim.g1);
+    let belly = d
+        .edges
+        .iter()
+        .flatten()
+        .find(|e| e.curve == "belly")
+        .unwrap();
+    assert!(!belly.declared_crease);
+    assert_eq!(d.verdict, Verdict::Ok);
+    assert_eq!(d.conclusion(), "OK\n");
+    assert!(d.to_json()["edges"][0]["declared_crease"].is_boolean());
+    let report = check_report("cup_closed.toml", &spec, &built, &d);
+    assert_eq!(
+        report.matches("(a crease the design declares)").count(),
+        1,
+        "{report}"
+    );
 }
 
 /// A surface of revolution about z with radius `1 + c (u − 1)² / 2` and height `u`: at `u = 1`
