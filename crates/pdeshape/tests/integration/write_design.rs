@@ -495,6 +495,7 @@ fn empty_design() -> DesignSpec {
         trims: Vec::new(),
         parameters: Vec::new(),
         time: None,
+        creases: Vec::new(),
         shell: None,
     }
 }
@@ -1126,6 +1127,7 @@ impl Gen {
             trims: self.vec(2, Self::trim),
             parameters: self.vec(3, Self::parameter),
             time: None,
+            creases: self.vec(2, Self::s),
             shell: None,
         }
     }
