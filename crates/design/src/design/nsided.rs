@@ -4,7 +4,7 @@ use super::curves::CurveBuilder;
 use super::solved::{DesignSurface, SurfaceKind};
 use crate::curve::Domain;
 use crate::curve::SharedCurve;
-use crate::nsided::{NSidedOptions, NSidedPatch, Ribbon, Side};
+use crate::nsided::{shape_tensor, NSidedOptions, NSidedPatch, Ribbon, Side};
 use crate::spec::{NSidedSpec, OperatorSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex, Surface};
 use crate::{Error, Result, Vec3};
@@ -114,6 +114,19 @@ fn build_one(
         let curve = builder.reference(&s.curve, &format!("{at}.curve"))?;
         let [t0, t1] = interval(&curve, s.range).map_err(|e| e.at(&format!("sides[{j}]")))?;
         let (t0, t1) = if s.reverse { (t1, t0) } else { (t0, t1) };
+        if s.g2 && s.tangent_to.is_none() {
+            return Err(Error::invalid(
+                "`g2` needs `tangent_to`: the surface whose curvature the patch takes (or give \
+                 `derivative` and `second_derivative`)",
+            )
+            .at(&format!("sides[{j}].g2")));
+        }
+        if s.second_derivative.is_some() && s.derivative.is_none() {
+            return Err(Error::invalid(
+                "`second_derivative` needs `derivative`: the first cross derivative it goes with",
+            )
+            .at(&format!("sides[{j}].second_derivative")));
+        }
         let ribbon = match (&s.tangent_to, &s.derivative) {
             (Some(_), Some(_)) => {
                 return Err(
@@ -122,11 +135,42 @@ fn build_one(
                 )
             }
             (None, None) => Ribbon::Position,
-            (None, Some(d)) => Ribbon::Derivative {
-                curve: builder.reference(d, &format!("{at}.derivative"))?,
-                t0,
-                t1,
-            },
+            (None, Some(d)) => {
+                let first = builder.reference(d, &format!("{at}.derivative"))?;
+                match &s.second_derivative {
+                    Some(w) => Ribbon::Derivatives {
+                        first,
+                        second: builder.reference(w, &format!("{at}.second_derivative"))?,
+                        t0,
+                        t1,
+                    },
+                    None => Ribbon::Derivative {
+                        curve: first,
+                        t0,
+                        t1,
+                    },
+                }
+            }
+            (Some(name), None) if s.g2 => {
+                let target = find_surface(surfaces, name)
+                    .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;
+                let side = Side::position(curve.clone(), t0, t1);
+                let (normals, shapes) = sample_shapes(&side, target.surface())
+                    .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;
+                let normals = Arc::new(normals);
+                Ribbon::Curvature {
+                    normal: Arc::new(move |s| lobatto_interpolate(&normals, s)),
+                    shape: Arc::new(move |s| {
+                        // Row by row: the interpolant of each row of the tensors.
+                        let rows: [Vec3; 3] = [0, 1, 2].map(|r| lobatto_interpolate(&shapes[r], s));
+                        nalgebra::Matrix3::from_rows(&[
+                            rows[0].transpose(),
+                            rows[1].transpose(),
+                            rows[2].transpose(),
+                        ])
+                    }),
+                }
+            }
             (Some(name), None) => {
                 let target = find_surface(surfaces, name)
                     .map_err(|e| e.at(&format!("sides[{j}].tangent_to")))?;
@@ -193,6 +237,36 @@ pub(super) fn sample_normals(side: &Side, surface: &dyn Surface) -> Result<Vec<V
         }
     }
     Ok(normals)
+}
+
+/// The neighbour's unit normals and second fundamental forms (as tensors, the rows of each
+/// in one list per row) at the side's Chebyshev–Lobatto points, by closest point: the data of
+/// a G2 ribbon. The forms are taken against the normals as oriented by [`sample_normals`].
+pub(super) fn sample_shapes(
+    side: &Side,
+    surface: &dyn Surface,
+) -> Result<(Vec<Vec3>, [Vec<Vec3>; 3])> {
+    let normals = sample_normals(side, surface)?;
+    let index = ClosestPointIndex::new(surface, &ClosestOptions::default());
+    let mut rows = [Vec::new(), Vec::new(), Vec::new()];
+    for (j, n) in normals.iter().enumerate() {
+        let s = lobatto(j);
+        let c = index.closest(side.point(s)).ok_or_else(|| {
+            Error::invalid(format!(
+                "no point of the surface was found near the side at s = {s:.4}"
+            ))
+        })?;
+        let (m, shape) = shape_tensor(&surface.partials(c.u, c.v)).ok_or_else(|| {
+            Error::invalid(format!(
+                "the surface has no curvature where the side meets it (s = {s:.4})"
+            ))
+        })?;
+        let shape = if m.dot(n) < 0.0 { -shape } else { shape };
+        for (r, row) in rows.iter_mut().enumerate() {
+            row.push(shape.row(r).transpose());
+        }
+    }
+    Ok((normals, rows))
 }
 
 /// The `j`-th Chebyshev–Lobatto point of [`NORMAL_SAMPLES`] on `[0, 1]`, increasing.

@@ -1,5 +1,6 @@
 //! The `[[nsided]]` tables of the design file: patches bounded by a loop of 3 to 8 curves,
 //! tangent (G1) on any side to another surface of the design or to a given cross-boundary
+//! derivative, and with order 3 curvature-continuous (G2) to it or to a given second cross
 //! derivative (see `pdeshape_geometry::nsided`).
 
 use super::types::CurveRef;
@@ -16,7 +17,8 @@ pub struct NSidedSpec {
     pub name: String,
     /// The sides in loop order; each ends where the next starts.
     pub sides: Vec<LoopSideSpec>,
-    /// `N`: 1 (Laplace, positions only) or 2 (the default; positions and ribbons).
+    /// `N`: 1 (Laplace, positions only), 2 (the default; positions and ribbons) or 3
+    /// (positions, ribbons and curvature ribbons: `g2`, `second_derivative`).
     #[serde(default = "default_order", skip_serializing_if = "is_default_order")]
     pub order: usize,
     /// The smoothing parameter `a > 0` (default 1) of `∂²/∂x² + a² ∂²/∂y²`, `x` along side 0.
@@ -52,6 +54,14 @@ pub struct LoopSideSpec {
     /// lengths), a curve over the same interval as the side's curve.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub derivative: Option<CurveRef>,
+    /// G2 (with `tangent_to`, order 3): the patch also takes the named surface's normal
+    /// curvature across the side (default false).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub g2: bool,
+    /// G2 (with `derivative`, order 3): the second cross-boundary derivative `∂²X/∂t²`, a
+    /// curve over the same interval as the side's curve.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub second_derivative: Option<CurveRef>,
 }
 
 impl NSidedSpec {

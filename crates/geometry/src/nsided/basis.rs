@@ -8,21 +8,25 @@
 use super::domain::Polygon;
 use super::jet::Jet;
 
-/// Legendre `P_0 … P_p` at `x` with first and second derivatives.
-fn legendre(p: usize, x: f64) -> Vec<[f64; 3]> {
-    let mut out = vec![[1.0, 0.0, 0.0]];
+/// Legendre `P_0 … P_p` at `x` with three derivatives.
+fn legendre(p: usize, x: f64) -> Vec<[f64; 4]> {
+    let mut out = vec![[1.0, 0.0, 0.0, 0.0]];
     if p >= 1 {
-        out.push([x, 1.0, 0.0]);
+        out.push([x, 1.0, 0.0, 0.0]);
     }
     for k in 1..p {
         let kf = k as f64;
-        let [a0, a1, a2] = out[k];
-        let [b0, b1, b2] = out[k - 1];
-        // (k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}, differentiated twice.
-        let c0 = ((2.0 * kf + 1.0) * x * a0 - kf * b0) / (kf + 1.0);
-        let c1 = ((2.0 * kf + 1.0) * (a0 + x * a1) - kf * b1) / (kf + 1.0);
-        let c2 = ((2.0 * kf + 1.0) * (2.0 * a1 + x * a2) - kf * b2) / (kf + 1.0);
-        out.push([c0, c1, c2]);
+        let [a0, a1, a2, a3] = out[k];
+        let [b0, b1, b2, b3] = out[k - 1];
+        // (k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}, differentiated three times
+        // ((x P)^(j) = x P^(j) + j P^(j−1)).
+        let c = 2.0 * kf + 1.0;
+        let k1 = kf + 1.0;
+        let c0 = (c * x * a0 - kf * b0) / k1;
+        let c1 = (c * (a0 + x * a1) - kf * b1) / k1;
+        let c2 = (c * (2.0 * a1 + x * a2) - kf * b2) / k1;
+        let c3 = (c * (3.0 * a2 + x * a3) - kf * b3) / k1;
+        out.push([c0, c1, c2, c3]);
     }
     out
 }
@@ -55,7 +59,7 @@ impl Basis {
     }
 
     /// The weight `w` at `p`.
-    pub(crate) fn weight(&self, poly: &Polygon, p: [f64; 2]) -> Jet {
+    pub(crate) fn weight<const T: bool>(&self, poly: &Polygon, p: [f64; 2]) -> Jet<T> {
         let mut w = Jet::constant(1.0);
         for (i, &m) in self.multiplicity.iter().enumerate() {
             let d = poly.distance_jet(i, p).scale(1.0 / self.inradius);
@@ -67,7 +71,7 @@ impl Basis {
     }
 
     /// Every basis function at `p`, in the order `(a, b)` by total degree, then `a`.
-    pub(crate) fn eval(&self, poly: &Polygon, p: [f64; 2], out: &mut Vec<Jet>) {
+    pub(crate) fn eval<const T: bool>(&self, poly: &Polygon, p: [f64; 2], out: &mut Vec<Jet<T>>) {
         out.clear();
         let w = self.weight(poly, p);
         let lx = legendre(self.degree, p[0]);
@@ -79,6 +83,7 @@ impl Basis {
                     v: fx[0] * fy[0],
                     d: [fx[1] * fy[0], fx[0] * fy[1]],
                     h: [fx[2] * fy[0], fx[1] * fy[1], fx[0] * fy[2]],
+                    t: [fx[3] * fy[0], fx[2] * fy[1], fx[1] * fy[2], fx[0] * fy[3]],
                 };
                 out.push(w * q);
             }
@@ -100,6 +105,8 @@ mod tests {
         assert!((l[4][0] - p4).abs() < 1e-15);
         assert!((l[4][1] - d4).abs() < 1e-14);
         assert!((l[4][2] - dd4).abs() < 1e-13);
+        let ddd4 = 840.0 * x / 8.0;
+        assert!((l[4][3] - ddd4).abs() < 1e-12);
     }
 
     /// On a side of multiplicity 2 every function and its gradient vanish; on a side of
@@ -108,7 +115,7 @@ mod tests {
     fn the_basis_vanishes_to_the_sides_multiplicity() {
         let poly = Polygon::new(5);
         let basis = Basis::new(&poly, vec![2, 2, 1, 2, 2], 4);
-        let mut out = Vec::new();
+        let mut out: Vec<Jet> = Vec::new();
         for side in 0..5 {
             basis.eval(&poly, poly.side_point(side, 0.37), &mut out);
             let nrm = poly.normal(side);
@@ -122,6 +129,33 @@ mod tests {
                 assert!(cross_max > 1e-3);
             } else {
                 assert!(cross_max < 1e-14, "side {side}: {cross_max}");
+            }
+        }
+    }
+
+    /// On a side of multiplicity 3 (G2) the second cross derivative vanishes too; on one of
+    /// multiplicity 2 it does not.
+    #[test]
+    fn a_g2_side_keeps_the_second_cross_derivative() {
+        let poly = Polygon::new(4);
+        let basis = Basis::new(&poly, vec![3, 2, 3, 1], 5);
+        let mut out: Vec<Jet> = Vec::new();
+        for side in 0..4 {
+            basis.eval(&poly, poly.side_point(side, 0.61), &mut out);
+            let g = poly.normal(side);
+            let mut second: f64 = 0.0;
+            for phi in &out {
+                let cross = phi.d[0] * g[0] + phi.d[1] * g[1];
+                if side != 3 {
+                    assert!(cross.abs() < 1e-14, "side {side}");
+                }
+                let nn =
+                    phi.h[0] * g[0] * g[0] + 2.0 * phi.h[1] * g[0] * g[1] + phi.h[2] * g[1] * g[1];
+                second = second.max(nn.abs());
+            }
+            match side {
+                0 | 2 => assert!(second < 1e-13, "side {side}: {second}"),
+                _ => assert!(second > 1e-3, "side {side}: {second}"),
             }
         }
     }

@@ -69,7 +69,7 @@ impl Polygon {
     }
 
     /// [`Polygon::distance`] as a jet.
-    pub(crate) fn distance_jet(&self, i: usize, p: [f64; 2]) -> Jet {
+    pub(crate) fn distance_jet<const T: bool>(&self, i: usize, p: [f64; 2]) -> Jet<T> {
         Jet::affine(self.distance(i, p), self.normals[i])
     }
 

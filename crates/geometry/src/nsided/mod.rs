@@ -1,6 +1,7 @@
 //! Patches bounded by a loop of `n = 3 … 8` curves, solving the Bloor–Wilson PDE
-//! `(∂²/∂x² + a² ∂²/∂y²)^N X = 0` (`N = 1, 2`) on a regular n-gon, with the boundary met exactly
-//! and, on any side, a ribbon (cross-boundary derivative) met exactly for G1.
+//! `(∂²/∂x² + a² ∂²/∂y²)^N X = 0` (`N = 1, 2, 3`) on a regular n-gon, with the boundary met
+//! exactly and, on any side, a ribbon (cross-boundary derivative) met exactly for G1 and, for
+//! `N = 3`, a curvature ribbon (second cross derivative) met exactly for G2.
 //!
 //! # Method
 //!
@@ -14,8 +15,11 @@
 //!   position and tangent plane are those of the data, exactly.
 //! - `φ_k = w · P_a(x) P_b(y)` ([`basis`]) vanish on every side together with as many
 //!   cross derivatives as the side has conditions, so they change nothing on the boundary.
-//!   Their coefficients minimise the operator's energy `∫_Ω (L X)²` (`N = 2`) or
-//!   `∫_Ω X_x² + a² X_y²` (`N = 1`), whose Euler–Lagrange equation is the PDE: a Galerkin
+//!   Their coefficients minimise the operator's energy `∫_Ω (L X)²` (`N = 2`),
+//!   `∫_Ω X_x² + a² X_y²` (`N = 1`) or `∫_Ω (∂_x L X)² + a² (∂_y L X)²` (`N = 3`; its first
+//!   variation is `2 ∫ ∇_a(L X) · ∇_a(L φ) = −2 ∫ L²X · Lφ = −2 ∫ L³X · φ` when `φ` vanishes with
+//!   two cross derivatives on the sides, so `Lφ = 0` there and no boundary term is left), whose
+//!   Euler–Lagrange equation is the PDE: a Galerkin
 //!   (Ritz) solve, spectrally convergent in the degree for smooth data. The matrix depends on
 //!   the polygon, the sides' multiplicities, the operator and the degree only, so it is
 //!   factorised once and cached: an edit of the curves costs one interpolant per quadrature
@@ -30,6 +34,27 @@
 //! both neighbours at the corner; the angle is reported ([`Corner::tangent_mismatch`]) and the
 //! ribbon takes its projection. Twists (mixed derivatives at corners) need not agree: the
 //! blends absorb them.
+//!
+//! # Order 3 and curvature ribbons (G2)
+//!
+//! Every ribbon is `R_i = P_i + t D_i + t² E_i (+ t³ F_i)`; `E_i` is the interpolant's choice
+//! on a G0 or G1 side (fixed at the corners so that neighbouring ribbons agree to second
+//! order). A curvature ribbon makes it a condition: from a neighbour ([`Ribbon::Curvature`],
+//! its normal `N` and second fundamental form `II` along the side), `E = l + N (II(D, D)/2 −
+//! N · l)`, so `N · E = II(D, D)/2` (`R_tt = 2E`, and the neighbour's normal curvature in the
+//! direction `D` is `II(D, D)`; the other parts of the patch's second fundamental form along
+//! the side, `II(P', P') = N · P''` and `II(P', D) = N · D'`, are the neighbour's already once
+//! the side lies on it and the tangent planes agree), `l` the free tangential part; or given
+//! explicitly ([`Ribbon::Derivatives`], `E = W/2`). The blends of order 3 are `Π_{j≠i} d_j⁴`,
+//! so every other blend vanishes with three cross derivatives on side `i` and `C` has `R_i`'s
+//! second-order jet there; the correction vanishes with three cross derivatives on a G2 side
+//! (multiplicity 3), so the patch is G2 to the ribbon surface to rounding. At the corners the
+//! ribbons are matched to third order as well (the cubic terms `t³ F` and the slopes of `E`),
+//! so the interpolant is `C³` there when the data allow; where two curvature ribbons disagree
+//! at a corner (the next side's curve turns in the patch's normal direction with another
+//! curvature than the ribbon asks across it), no surface is G2 to both: the normal part left
+//! is reported ([`Corner::curvature_mismatch`]) and the blends absorb it, with ripples of the
+//! correction nearby.
 //!
 //! For `n = 4` the patch is one surface on the square; otherwise it is presented as `n`
 //! four-sided pieces around the centre ([`NSidedSurface`]), each the bilinear image of the
@@ -53,8 +78,10 @@ mod jet;
 mod side;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_g2;
 
-pub use side::{NormalField, Ribbon, Side};
+pub use side::{NormalField, Ribbon, ShapeField, Side};
 
 use crate::surface::{Partials, Surface, VDomain};
 use crate::{Error, Result, Vec3};
@@ -63,7 +90,7 @@ use domain::Polygon;
 use jet::{Jet, VJet};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
-use side::{BuiltRibbon, BuiltSide, ChebVec};
+use side::{BuiltCurvature, BuiltRibbon, BuiltSide, ChebVec};
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// Where the quadrature panels of a piece end near a polygon corner (see
@@ -79,7 +106,8 @@ pub const MAX_SIDES: usize = 8;
 /// Options of an n-sided patch.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NSidedOptions {
-    /// `N`: 1 (Laplace, positions only) or 2 (biharmonic type, positions and ribbons).
+    /// `N`: 1 (Laplace, positions only), 2 (biharmonic type, positions and ribbons) or 3
+    /// (triharmonic type, positions, ribbons and curvature ribbons).
     pub order: usize,
     /// The smoothing parameter `a > 0` of `∂²/∂x² + a² ∂²/∂y²` (for `n = 4`, `x` runs along
     /// side 0 and `y` along side 1).
@@ -116,6 +144,12 @@ pub struct Corner {
     /// tangents: 0 when the patch can be `C²` at the corner. The blends absorb the rest, so the
     /// surface stays G1 but its curvature is not continuous at the corner.
     pub twist_mismatch: f64,
+    /// What is left of the disagreement of the two sides' second derivatives across the
+    /// corner in the direction of the surface normal, after the free parts of the second
+    /// cross derivatives took what they could: a normal curvature (times the boundary's
+    /// size). 0 unless a curvature ribbon (G2) meets the corner: then no surface is G2 to
+    /// both sides' data there, and the blends absorb the rest.
+    pub curvature_mismatch: f64,
 }
 
 /// The largest errors of a solved patch along its boundary.
@@ -128,6 +162,11 @@ pub struct NSidedReport {
     /// Per side with a ribbon, the largest angle (radians) between the patch's tangent plane
     /// and the ribbon's (the neighbour's normal for [`Ribbon::TangentPlane`]).
     pub g1: Vec<Option<f64>>,
+    /// Per side with a curvature ribbon (G2), the largest difference between the patch's
+    /// normal curvature across the side and the ribbon's (the neighbour's for
+    /// [`Ribbon::Curvature`], the surface `P + t D + t²/2 W` for [`Ribbon::Derivatives`]),
+    /// times the boundary's size.
+    pub g2: Vec<Option<f64>>,
     /// Per corner `k` (start of side `k`).
     pub corners: Vec<Corner>,
 }
@@ -157,8 +196,9 @@ impl std::fmt::Debug for NSidedPatch {
 struct Galerkin {
     key: Key,
     points: Vec<([f64; 2], f64)>,
-    /// Components of the operator per point and function: `[φ_x, a φ_y]` (`N = 1`) or
-    /// `[φ_xx + a² φ_yy]` (`N = 2`); laid out `[point][function][component]`.
+    /// Components of the operator per point and function: `[φ_x, a φ_y]` (`N = 1`),
+    /// `[φ_xx + a² φ_yy]` (`N = 2`) or `[∂_x Lφ, a ∂_y Lφ]` (`N = 3`); laid out
+    /// `[point][function][component]`.
     g: Vec<f64>,
     comps: usize,
     /// Jacobi scaling `1/√K_kk` and the Cholesky factor of the scaled matrix (or its
@@ -219,20 +259,29 @@ impl Galerkin {
         let nq = (basis.weight_degree() + basis.degree + 2).max(8);
         let points = poly.quadrature(nq);
         let nb = basis.len();
-        let comps = if order == 1 { 2 } else { 1 };
+        let comps = if order == 2 { 1 } else { 2 };
         let a2 = a * a;
         let rows: Vec<Vec<f64>> = points
             .par_iter()
             .map(|(p, _)| {
-                let mut phi = Vec::with_capacity(nb);
-                basis.eval(poly, *p, &mut phi);
                 let mut row = Vec::with_capacity(nb * comps);
-                for f in &phi {
-                    if order == 1 {
-                        row.push(f.d[0]);
-                        row.push(a * f.d[1]);
-                    } else {
-                        row.push(f.h[0] + a2 * f.h[2]);
+                if order == 3 {
+                    let mut phi = Vec::<Jet<true>>::with_capacity(nb);
+                    basis.eval(poly, *p, &mut phi);
+                    for f in &phi {
+                        row.push(f.t[0] + a2 * f.t[2]);
+                        row.push(a * (f.t[1] + a2 * f.t[3]));
+                    }
+                } else {
+                    let mut phi = Vec::<Jet>::with_capacity(nb);
+                    basis.eval(poly, *p, &mut phi);
+                    for f in &phi {
+                        if order == 1 {
+                            row.push(f.d[0]);
+                            row.push(a * f.d[1]);
+                        } else {
+                            row.push(f.h[0] + a2 * f.h[2]);
+                        }
                     }
                 }
                 row
@@ -337,10 +386,9 @@ impl NSidedPatch {
                 "an n-sided patch has 3 to {MAX_SIDES} sides, not {n}"
             )));
         }
-        if !(1..=2).contains(&options.order) {
+        if !(1..=3).contains(&options.order) {
             return Err(Error::invalid(format!(
-                "an n-sided patch takes order 1 or 2, not {} (order 3, for G2 ribbons, is not \
-                 available yet)",
+                "an n-sided patch takes order 1, 2 or 3, not {}",
                 options.order
             )));
         }
@@ -364,12 +412,41 @@ impl NSidedPatch {
             if let Ribbon::Derivative { curve, t0, t1 } = &s.ribbon {
                 check_interval(curve, *t0, *t1).map_err(|e| e.at(&format!("sides[{i}].ribbon")))?;
             }
-            if options.order == 1 && !matches!(s.ribbon, Ribbon::Position) {
+            if let Ribbon::Derivatives {
+                first,
+                second,
+                t0,
+                t1,
+            } = &s.ribbon
+            {
+                check_interval(first, *t0, *t1)
+                    .map_err(|e| e.at(&format!("sides[{i}].ribbon.first")))?;
+                check_interval(second, *t0, *t1)
+                    .map_err(|e| e.at(&format!("sides[{i}].ribbon.second")))?;
+            }
+            let m = s.ribbon.multiplicity();
+            if options.order == 1 && m > 1 {
                 return Err(Error::invalid(
                     "order 1 (Laplace) takes positions only; a ribbon needs order 2",
                 )
                 .at(&format!("sides[{i}]")));
             }
+            if options.order < 3 && m > 2 {
+                return Err(Error::invalid(format!(
+                    "a curvature ribbon (G2) needs order 3, not {}",
+                    options.order
+                ))
+                .at(&format!("sides[{i}]")));
+            }
+            if m > 2 {
+                check_c2(&s.curve, s.t0, s.t1).map_err(|e| e.at(&format!("sides[{i}].curve")))?;
+            }
+        }
+        if options.order == 3 && sides.iter().all(|s| s.ribbon.multiplicity() == 1) {
+            return Err(Error::invalid(
+                "order 3 needs a ribbon (G1 or G2) on at least one side: with positions alone \
+                 its energy does not fix the patch (use order 1 or 2)",
+            ));
         }
         // Size, degenerate sides, gaps.
         let mut lo = Vec3::repeat(f64::INFINITY);
@@ -414,6 +491,9 @@ impl NSidedPatch {
                 side: s.clone(),
                 ribbon: BuiltRibbon::Free([Vec3::zeros(); 4]),
                 e: [Vec3::zeros(); 2],
+                e_slope: [Vec3::zeros(); 2],
+                f: [Vec3::zeros(); 2],
+                curvature: BuiltCurvature::Free,
             })
             .collect();
         let mut corners = vec![Corner::default(); n];
@@ -479,11 +559,7 @@ impl NSidedPatch {
             corners,
         };
         patch.build_ribbons()?;
-        let multiplicity: Vec<usize> = patch
-            .sides
-            .iter()
-            .map(|s| if s.has_ribbon() { 2 } else { 1 })
-            .collect();
+        let multiplicity: Vec<usize> = patch.sides.iter().map(BuiltSide::multiplicity).collect();
         patch.basis = Basis::new(&patch.poly, multiplicity, options.degree);
         patch.solve_coefficients();
         Ok(patch)
@@ -505,36 +581,58 @@ impl NSidedPatch {
         let n = self.poly.n;
         // The neighbours' normals as series, one side per task: the costly part of a re-solve
         // after an edit.
-        let normals: Vec<Option<Box<ChebVec>>> = self
+        type Fits = (Option<Box<ChebVec>>, Option<Box<ChebVec>>);
+        let normals: Vec<Fits> = self
             .sides
             .par_iter()
             .enumerate()
             .map(|(i, side)| match &side.side.ribbon {
                 Ribbon::TangentPlane(field) => fit_normal(field)
-                    .map(Some)
+                    .map(|n| (Some(n), None))
                     .map_err(|e| e.at(&format!("sides[{i}].ribbon"))),
-                _ => Ok(None),
+                Ribbon::Curvature { normal, shape } => {
+                    let n = fit_normal(normal).map_err(|e| e.at(&format!("sides[{i}].ribbon")))?;
+                    let k = fit_curvature(&side.side, normal, shape)
+                        .map_err(|e| e.at(&format!("sides[{i}].ribbon")))?;
+                    Ok((Some(n), Some(k)))
+                }
+                _ => Ok((None, None)),
             })
             .collect::<Result<_>>()?;
-        for (i, normal) in normals.into_iter().enumerate() {
+        for (i, (normal, curvature)) in normals.into_iter().enumerate() {
             let (t0, t1) = (self.corner_target(i, false), self.corner_target(i, true));
-            let built = match (&self.sides[i].side.ribbon, normal) {
-                (Ribbon::Derivative { curve, t0, t1 }, _) => {
+            self.sides[i].curvature = match (&self.sides[i].side.ribbon, curvature) {
+                (_, Some(k)) => BuiltCurvature::Neighbour(k),
+                (Ribbon::Derivatives { second, t0, t1, .. }, _) => BuiltCurvature::Explicit {
+                    curve: second.clone(),
+                    t0: *t0,
+                    t1: *t1,
+                },
+                _ => BuiltCurvature::Free,
+            };
+            let explicit = match &self.sides[i].side.ribbon {
+                Ribbon::Derivative { curve, t0, t1 }
+                | Ribbon::Derivatives {
+                    first: curve,
+                    t0,
+                    t1,
+                    ..
+                } => Some((curve.clone(), *t0, *t1)),
+                _ => None,
+            };
+            let built = match (explicit, normal) {
+                (Some((curve, t0, t1)), _) => {
                     for (end, k) in [(false, i), (true, (i + 1) % n)] {
                         let s = if end { 1.0 } else { 0.0 };
                         let mut d = [Vec3::zeros(); 1];
-                        side::curve_jet(curve, *t0, *t1, s, &mut d);
+                        side::curve_jet(&curve, t0, t1, s, &mut d);
                         let plane = self.sides[i].position(s)[1].cross(&d[0]);
                         let t = self.corner_target(i, end);
                         let angle = std::f64::consts::FRAC_PI_2 - line_angle(plane, t);
                         let c = &mut self.corners[k];
                         c.tangent_mismatch = c.tangent_mismatch.max(angle.max(0.0));
                     }
-                    BuiltRibbon::Derivative {
-                        curve: curve.clone(),
-                        t0: *t0,
-                        t1: *t1,
-                    }
+                    BuiltRibbon::Derivative { curve, t0, t1 }
                 }
                 (_, Some(normal)) => {
                     let mut ab = [[0.0; 2]; 2];
@@ -623,15 +721,75 @@ impl NSidedPatch {
                 self.sides[j].add_twist(true, delta * share);
             }
         }
+        // The second cross derivatives: `E_k(0)` moves only the `g_b g_bᵀ` part of corner k
+        // (by `2 E / L²`), `E_j(1)` only its `g_a g_aᵀ` part; where `E` carries a curvature
+        // ribbon, only its tangential part moves.
+        for k in 0..n {
+            let j = (k + n - 1) % n;
+            let [a, b, _] = self.corner_difference(k);
+            self.sides[k].e[0] -= b * (0.5 * l2);
+            self.sides[j].e[1] += a * (0.5 * l2);
+        }
         for k in 0..n {
             let j = (k + n - 1) % n;
             let [a, b, m] = self.corner_difference(k);
-            self.sides[k].e[0] = -b * (0.5 * l2);
-            self.sides[j].e[1] = a * (0.5 * l2);
-            let scale = self.sides[k].position(0.0)[1]
-                .norm()
-                .max(self.sides[j].position(1.0)[1].norm());
+            let (tk, tj) = (
+                self.sides[k].position(0.0)[1],
+                self.sides[j].position(1.0)[1],
+            );
+            let scale = tk.norm().max(tj.norm());
             self.corners[k].twist_mismatch = m.norm() * cl / scale;
+            // The normal parts left: a normal curvature ≈ (N · A) / |X_d|², with |X_d| ≈ |P'| / L.
+            let normal = tj.cross(&tk);
+            let normal = normal / normal.norm();
+            let left = normal.dot(&a).abs().max(normal.dot(&b).abs());
+            self.corners[k].curvature_mismatch = left * l2 / (scale * scale) * self.size;
+        }
+        if self.options.order == 3 {
+            self.match_third_order();
+        }
+    }
+
+    /// The third-order parts of the corner `k`: the third partials of `R_k − R_{k−1}` at `V_k`
+    /// as the coefficients of the cubics `a³, a²b, ab², b³` (`a = g_a · p`, `b = g_b · p`,
+    /// `g_a`, `g_b` the inward normals of sides `k − 1` and `k`).
+    fn corner_third(&self, k: usize) -> [Vec3; 4] {
+        let n = self.poly.n;
+        let j = (k + n - 1) % n;
+        let v = self.poly.verts[k];
+        let d: Vec<Jet<true>> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
+        let (tk, tj) = (self.ribbon_jet(k, &d).t, self.ribbon_jet(j, &d).t);
+        let a = Jet::<true>::affine(0.0, self.poly.normal(j));
+        let b = Jet::<true>::affine(0.0, self.poly.normal(k));
+        let cubics = [a * a * a, a * a * b, a * b * b, b * b * b];
+        let m = nalgebra::Matrix4::from_fn(|r, c| cubics[c].t[r]);
+        let inv = m.try_inverse().unwrap_or_else(nalgebra::Matrix4::zeros);
+        let delta = [0, 1, 2, 3].map(|r| tk[r] - tj[r]);
+        [0, 1, 2, 3].map(|c| (0..4).fold(Vec3::zeros(), |acc, r| acc + delta[r] * inv[(c, r)]))
+    }
+
+    /// Order 3: makes neighbouring ribbons agree to third order at every corner, so the
+    /// interpolant is `C³` there (its blends `Π d_j⁴` vanish to fourth order): the cubic
+    /// terms `t³ F` take the pure parts (`a³` by `F_{k−1}(1)`, `b³` by `F_k(0)`, each entering
+    /// its ribbon as `F/L³`), the slopes of the second cross derivatives the mixed ones
+    /// (`t_k² E_k(s_k)` has the cubic part `E_k'(0) a b² / (L² ρ)` near `V_k`, `s_k ≈ a/ρ`,
+    /// `ρ` the reach; `E_{k−1}` the part `−E'_{k−1}(1) a² b / (L² ρ)`), as far as a curvature
+    /// ribbon lets them (tangentially) and an explicit one not at all.
+    fn match_third_order(&mut self) {
+        let n = self.poly.n;
+        let l = self.poly.side;
+        let (l3, l2r) = (l * l * l, l * l * self.poly.reach);
+        for k in 0..n {
+            let j = (k + n - 1) % n;
+            let [c0, c1, c2, c3] = self.corner_third(k);
+            self.sides[j].f[1] += c0 * l3;
+            self.sides[k].f[0] -= c3 * l3;
+            if !matches!(self.sides[j].curvature, BuiltCurvature::Explicit { .. }) {
+                self.sides[j].e_slope[1] -= c1 * l2r;
+            }
+            if !matches!(self.sides[k].curvature, BuiltCurvature::Explicit { .. }) {
+                self.sides[k].e_slope[0] -= c2 * l2r;
+            }
         }
     }
 
@@ -639,13 +797,18 @@ impl NSidedPatch {
         let galerkin = Galerkin::get(&self.poly, &self.basis, self.options.order, self.options.a);
         let a2 = self.options.a * self.options.a;
         let order = self.options.order;
+        let a = self.options.a;
         let lc: Vec<Vec3> = galerkin
             .points
             .par_iter()
             .flat_map_iter(|(p, _)| {
-                let c = self.interpolant(*p);
+                if order == 3 {
+                    let c = self.interpolant::<true>(*p);
+                    return vec![c.t[0] + c.t[2] * a2, (c.t[1] + c.t[3] * a2) * a];
+                }
+                let c = self.interpolant::<false>(*p);
                 if order == 1 {
-                    vec![c.d[0], c.d[1] * self.options.a]
+                    vec![c.d[0], c.d[1] * a]
                 } else {
                     vec![c.h[0] + c.h[2] * a2]
                 }
@@ -664,6 +827,11 @@ impl NSidedPatch {
         &self.options
     }
 
+    /// Per side, true if it carries a curvature ribbon (G2).
+    pub fn g2_sides(&self) -> Vec<bool> {
+        self.sides.iter().map(BuiltSide::has_curvature).collect()
+    }
+
     /// The sides as given.
     pub fn sides(&self) -> impl Iterator<Item = &Side> {
         self.sides.iter().map(|s| &s.side)
@@ -675,28 +843,41 @@ impl NSidedPatch {
     }
 
     /// Side `i`'s ribbon `R_i = P_i(s_i) + t_i D_i(s_i) + t_i² E_i(s_i)` given the distance
-    /// jets `d` of a point (`t_i = d_i / L`).
-    fn ribbon_jet(&self, i: usize, d: &[Jet]) -> VJet {
+    /// jets `d` of a point (`t_i = d_i / L`), to third order.
+    fn ribbon_jet<const T: bool>(&self, i: usize, d: &[Jet<T>]) -> VJet<T> {
         let n = self.poly.n;
         let side = &self.sides[i];
         let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
         let s = dm.div(dm + dp);
         let t = d[i].scale(1.0 / self.poly.side);
-        let [p, r, e] = side.data(s.v);
-        VJet::compose(s, p) + VJet::compose(s, r).times(t) + VJet::compose(s, e).times(t * t)
+        let [p, r, e, f] = side.data(s.v);
+        let t2 = t * t;
+        let x = VJet::compose(s, p) + VJet::compose(s, r).times(t) + VJet::compose(s, e).times(t2);
+        if self.options.order == 3 {
+            x + VJet::compose(s, f).times(t2 * t)
+        } else {
+            x
+        }
     }
 
     /// The boundary interpolant `C` at the domain point `p`.
-    fn interpolant(&self, p: [f64; 2]) -> VJet {
+    fn interpolant<const T: bool>(&self, p: [f64; 2]) -> VJet<T> {
         // On the stack: this runs at every quadrature node and every evaluation.
         let n = self.poly.n;
-        let mut d = [Jet::default(); MAX_SIDES];
-        let mut cube = [Jet::default(); MAX_SIDES];
+        let mut d = [Jet::<T>::default(); MAX_SIDES];
+        let mut cube = [Jet::<T>::default(); MAX_SIDES];
+        // Blends `Π_{j≠i} d_j^q`: q = 3 leaves the other blends vanishing with two cross
+        // derivatives on a side (enough up to G1, and the interpolant C² at the corners); order
+        // 3 takes q = 4 (three cross derivatives for G2, and C³ at the corners).
+        let fourth = self.options.order == 3;
         for i in 0..n {
             d[i] = self.poly.distance_jet(i, p);
             cube[i] = d[i] * d[i] * d[i];
+            if fourth {
+                cube[i] = cube[i] * d[i];
+            }
         }
-        let mut pis = [Jet::constant(1.0); MAX_SIDES];
+        let mut pis = [Jet::<T>::constant(1.0); MAX_SIDES];
         for (i, pi) in pis.iter_mut().enumerate().take(n) {
             for (j, c) in cube.iter().enumerate().take(n) {
                 if j != i {
@@ -723,8 +904,8 @@ impl NSidedPatch {
             x.v = self.sides[k].position(0.0)[0];
             return x;
         }
-        let mut x = self.interpolant(p);
-        let mut phi = Vec::with_capacity(self.basis.len());
+        let mut x = self.interpolant::<false>(p);
+        let mut phi = Vec::<Jet>::with_capacity(self.basis.len());
         self.basis.eval(&self.poly, p, &mut phi);
         for (c, f) in self.coeffs.iter().zip(&phi) {
             x.add_scaled(*c, f);
@@ -758,14 +939,30 @@ impl NSidedPatch {
         (x.v, n / n.norm())
     }
 
+    /// The patch at parameter `s` of side `i` (`s` inside `(0, 1)`): its point, unit normal,
+    /// the tangent `u` of the domain's line square to the side (the cross direction), and its
+    /// normal curvature `N · X'' / |u|²` along that line.
+    pub fn boundary_curvature(&self, i: usize, s: f64) -> (Vec3, Vec3, Vec3, f64) {
+        let x = self.eval_domain(self.poly.side_point(i, s));
+        let g = self.poly.normal(i);
+        let u = x.d[0] * g[0] + x.d[1] * g[1];
+        let xx = x.h[0] * (g[0] * g[0]) + x.h[1] * (2.0 * g[0] * g[1]) + x.h[2] * (g[1] * g[1]);
+        let n = x.d[0].cross(&x.d[1]);
+        let n = n / n.norm();
+        (x.v, n, u, n.dot(&xx) / u.norm_squared())
+    }
+
     /// Measures the patch along its boundary at `samples` points per side.
     pub fn report(&self, samples: usize) -> NSidedReport {
         let n = self.poly.n;
         let m = samples.max(2);
         let mut boundary = vec![0.0f64; n];
         let mut g1 = vec![None; n];
+        let mut g2 = vec![None; n];
         for (i, side) in self.sides.iter().enumerate() {
             let mut worst: f64 = 0.0;
+            let mut worst2: f64 = 0.0;
+            let g = self.poly.normal(i);
             for j in 0..=m {
                 let s = j as f64 / m as f64;
                 let x = self.eval_domain(self.poly.side_point(i, s));
@@ -776,21 +973,153 @@ impl NSidedPatch {
                 let normal = x.d[0].cross(&x.d[1]);
                 let want = match &side.side.ribbon {
                     Ribbon::TangentPlane(f) => f(s),
+                    Ribbon::Curvature { normal, .. } => normal(s),
                     _ => side.position(s)[1].cross(&side.ribbon(s)[0]),
                 };
                 worst = worst.max(line_angle(normal, want));
+                if let Some((nt, shape)) = self.target_shape(i, s) {
+                    // Normal curvatures along the domain's line across the side: the patch's
+                    // `N · X''/|X'|²` and the target's `uᵀ S u / |u|²` at `u = X'`.
+                    let u = x.d[0] * g[0] + x.d[1] * g[1];
+                    let xx = x.h[0] * (g[0] * g[0])
+                        + x.h[1] * (2.0 * g[0] * g[1])
+                        + x.h[2] * (g[1] * g[1]);
+                    let unit = normal / normal.norm();
+                    let sign = if unit.dot(&nt) < 0.0 { -1.0 } else { 1.0 };
+                    let patch = sign * unit.dot(&xx) / u.norm_squared();
+                    let target = u.dot(&(shape * u)) / u.norm_squared();
+                    worst2 = worst2.max((patch - target).abs() * self.size);
+                }
             }
             if side.has_ribbon() {
                 g1[i] = Some(worst);
+            }
+            if side.has_curvature() {
+                g2[i] = Some(worst2);
             }
         }
         NSidedReport {
             size: self.size,
             boundary,
             g1,
+            g2,
             corners: self.corners.clone(),
         }
     }
+
+    /// The unit normal and second fundamental form (as a tensor, see [`ShapeField`]) that a
+    /// curvature ribbon asks of the patch at `s` on side `i`, from the data as given (not
+    /// their series).
+    fn target_shape(&self, i: usize, s: f64) -> Option<(Vec3, nalgebra::Matrix3<f64>)> {
+        match &self.sides[i].side.ribbon {
+            Ribbon::Curvature { normal, shape } => {
+                let n = normal(s);
+                Some((n / n.norm(), shape(s)))
+            }
+            Ribbon::Derivatives {
+                first,
+                second,
+                t0,
+                t1,
+            } => {
+                let mut p = [Vec3::zeros(); 3];
+                self.sides[i].side.jet(s, &mut p);
+                let (mut d, mut w) = ([Vec3::zeros(); 2], [Vec3::zeros(); 1]);
+                side::curve_jet(first, *t0, *t1, s, &mut d);
+                side::curve_jet(second, *t0, *t1, s, &mut w);
+                shape_tensor(&Partials {
+                    x: p[0],
+                    xu: p[1],
+                    xv: d[0],
+                    xuu: p[2],
+                    xuv: d[1],
+                    xvv: w[0],
+                })
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The unit normal `N = X_u × X_v / |…|` of a surface and its second fundamental form as the
+/// symmetric tensor `S = J I⁻¹ II I⁻¹ Jᵀ` (`J = [X_u X_v]`, `I` and `II` the fundamental forms
+/// in `(u, v)`, `II` against `N`), so that `II(w, w) = wᵀ S w` for every tangent vector `w`
+/// (`w = J α` gives `αᵀ JᵀJ I⁻¹ II I⁻¹ JᵀJ α = αᵀ II α`, as `JᵀJ = I`). `None` where the
+/// normal is undefined.
+pub fn shape_tensor(p: &Partials) -> Option<(Vec3, nalgebra::Matrix3<f64>)> {
+    let n = p.normal_or_none()?;
+    let first = nalgebra::Matrix2::new(
+        p.xu.dot(&p.xu),
+        p.xu.dot(&p.xv),
+        p.xu.dot(&p.xv),
+        p.xv.dot(&p.xv),
+    );
+    let second = nalgebra::Matrix2::new(n.dot(&p.xuu), n.dot(&p.xuv), n.dot(&p.xuv), n.dot(&p.xvv));
+    let inv = first.try_inverse()?;
+    let j = nalgebra::Matrix3x2::from_columns(&[p.xu, p.xv]);
+    let s = j * inv * second * inv * j.transpose();
+    s.iter().all(|x| x.is_finite()).then_some((n, s))
+}
+
+/// `K = [II(m, m), II(m, P'), II(P', P')]` along a side with a curvature ribbon (`m = N × P'`,
+/// `N` the unit normal), as a Chebyshev series; an error where the data are not finite.
+fn fit_curvature(side: &Side, normal: &NormalField, shape: &ShapeField) -> Result<Box<ChebVec>> {
+    let (side, normal, shape) = (side.clone(), normal.clone(), shape.clone());
+    let k = move |s: f64| {
+        let mut p = [Vec3::zeros(); 2];
+        side.jet(s, &mut p);
+        let n = normal(s);
+        let n = n / n.norm();
+        let m = n.cross(&p[1]);
+        let sh = shape(s);
+        Vec3::new(
+            m.dot(&(sh * m)),
+            m.dot(&(sh * p[1])),
+            p[1].dot(&(sh * p[1])),
+        )
+    };
+    for j in 0..=16 {
+        if !k(j as f64 / 16.0).iter().all(|x| x.is_finite()) {
+            return Err(Error::invalid(
+                "the neighbour's curvature is undefined along the side",
+            ));
+        }
+    }
+    Ok(Box::new(ChebVec::fit(&k)))
+}
+
+/// An error if the curve's first or second derivative jumps inside `(t0, t1)` (at one of its
+/// [`crate::curve::Curve::breaks`]): a curvature ribbon needs a side with a continuous
+/// curvature.
+fn check_c2(curve: &crate::curve::SharedCurve, t0: f64, t1: f64) -> Result<()> {
+    let (lo, hi) = (t0.min(t1), t0.max(t1));
+    let span = hi - lo;
+    let eps = 1e-9 * span.max(1e-300);
+    for b in curve.breaks() {
+        if !(b > lo + 2.0 * eps && b < hi - 2.0 * eps) {
+            continue;
+        }
+        let (mut l, mut r) = ([Vec3::zeros(); 3], [Vec3::zeros(); 3]);
+        curve.jet(b - eps, &mut l);
+        curve.jet(b + eps, &mut r);
+        let speed = l[1].norm().max(r[1].norm());
+        for k in 1..=2 {
+            let jump = (r[k] - l[k]).norm();
+            let size = l[k]
+                .norm()
+                .max(r[k].norm())
+                .max(speed / span.powi(k as i32 - 1));
+            if jump > 1e-6 * size {
+                return Err(Error::invalid(format!(
+                    "the curve's {} derivative jumps at t = {b} (a break of its kind): a \
+                     curvature ribbon (G2) needs a side whose curve has a continuous second \
+                     derivative",
+                    if k == 1 { "first" } else { "second" }
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The unit normal field of a tangent-plane ribbon as a Chebyshev series; an error where the

@@ -10,6 +10,13 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// A unit normal field along a side, as a function of the side's parameter `s ∈ [0, 1]`.
 pub type NormalField = Arc<dyn Fn(f64) -> Vec3 + Send + Sync>;
 
+/// A neighbour's second fundamental form along a side, as a function of the side's parameter
+/// `s ∈ [0, 1]`: the symmetric tensor `S(s)` with `II(u, w) = uᵀ S w` for vectors `u`, `w` in
+/// the neighbour's tangent plane, taken against the orientation of the [`NormalField`] it comes
+/// with (for a surface `X(u, v)` with unit normal `N`: `S = J I⁻¹ II I⁻¹ Jᵀ`, `J = [X_u X_v]`,
+/// `I`, `II` its first and second fundamental forms in `(u, v)`).
+pub type ShapeField = Arc<dyn Fn(f64) -> nalgebra::Matrix3<f64> + Send + Sync>;
+
 /// What a side asks of the patch across it, beyond its position.
 #[derive(Clone)]
 pub enum Ribbon {
@@ -32,6 +39,41 @@ pub enum Ribbon {
     /// derivative lies in that plane; its size and slant are fixed at the corners by
     /// compatibility with the adjacent sides and interpolated linearly in between.
     TangentPlane(NormalField),
+    /// G2 to a neighbour: tangent to it as [`Ribbon::TangentPlane`], and with its normal
+    /// curvature across the side: the patch's second cross derivative has the normal component
+    /// `II(D, D)` for the cross derivative `D` (its tangential part, free, is the
+    /// interpolant's choice). Needs order 3.
+    Curvature {
+        /// The neighbour's unit normal along the side (any orientation).
+        normal: NormalField,
+        /// The neighbour's second fundamental form along the side, against `normal`.
+        shape: ShapeField,
+    },
+    /// G1 and G2 given explicitly: the cross derivative `∂X/∂t` (as
+    /// [`Ribbon::Derivative`]) and the second cross derivative `∂²X/∂t²`, both run over
+    /// `[t0, t1]`: the patch meets the surface `P(s) + t D(s) + t²/2 W(s)` to second order along
+    /// the side. Needs order 3.
+    Derivatives {
+        /// The curve `∂X/∂t (s)`.
+        first: SharedCurve,
+        /// The curve `∂²X/∂t² (s)`.
+        second: SharedCurve,
+        /// The curves' parameter at `s = 0`.
+        t0: f64,
+        /// The curves' parameter at `s = 1`.
+        t1: f64,
+    },
+}
+
+impl Ribbon {
+    /// The number of conditions the side carries: 1 (position), 2 (G1) or 3 (G2).
+    pub fn multiplicity(&self) -> usize {
+        match self {
+            Ribbon::Position => 1,
+            Ribbon::Derivative { .. } | Ribbon::TangentPlane(_) => 2,
+            Ribbon::Curvature { .. } | Ribbon::Derivatives { .. } => 3,
+        }
+    }
 }
 
 impl std::fmt::Debug for Ribbon {
@@ -45,6 +87,19 @@ impl std::fmt::Debug for Ribbon {
                 .field("t1", t1)
                 .finish(),
             Ribbon::TangentPlane(_) => f.write_str("TangentPlane"),
+            Ribbon::Curvature { .. } => f.write_str("Curvature"),
+            Ribbon::Derivatives {
+                first,
+                second,
+                t0,
+                t1,
+            } => f
+                .debug_struct("Derivatives")
+                .field("first", first)
+                .field("second", second)
+                .field("t0", t0)
+                .field("t1", t1)
+                .finish(),
         }
     }
 }
@@ -83,7 +138,7 @@ impl Side {
         c[0]
     }
 
-    /// `C(s), C'(s), …` with respect to the side parameter `s ∈ [0, 1]` (`out.len() ≤ 5`).
+    /// `C(s), C'(s), …` with respect to the side parameter `s ∈ [0, 1]` (`out.len() ≤ 9`).
     pub(crate) fn jet(&self, s: f64, out: &mut [Vec3]) {
         curve_jet(&self.curve, self.t0, self.t1, s, out);
     }
@@ -100,14 +155,14 @@ pub(crate) fn curve_jet(curve: &SharedCurve, t0: f64, t1: f64, s: f64, out: &mut
     }
 }
 
-/// A vector function on `[0, 1]` as a Chebyshev series with two derivatives. A long series
+/// A vector function on `[0, 1]` as a Chebyshev series with three derivatives. A long series
 /// (a field that is not smooth enough to converge in 64 terms) is evaluated from a table on a
 /// uniform grid by quintic Hermite interpolation, so an evaluation costs the same whatever its
 /// length (the table's error, `O(h⁶)` with `h = 1/256`, is far below the series').
 #[derive(Clone, Debug)]
 pub(crate) struct ChebVec {
-    /// Series of the value, first and second derivatives, per coordinate, in `x = 2s − 1`.
-    series: [[Vec<f64>; 3]; 3],
+    /// Series of the value and its first three derivatives, per coordinate, in `x = 2s − 1`.
+    series: [[Vec<f64>; 3]; 4],
     /// `[f, f', f'']` at `s = j / TABLE`, `j = 0 ..= TABLE`.
     table: Vec<[Vec3; 3]>,
     /// The largest difference seen between the series and the function at the check points.
@@ -121,8 +176,8 @@ const TABLE: usize = 256;
 const SHORT: usize = 65;
 
 /// The quintic Hermite basis on `[0, 1]` (value, slope and second derivative at 0, then at 1)
-/// with its first and second derivatives.
-fn quintic(x: f64) -> [[f64; 6]; 3] {
+/// with its first three derivatives.
+fn quintic(x: f64) -> [[f64; 6]; 4] {
     let (x2, x3, x4, x5) = (x * x, x * x * x, x * x * x * x, x * x * x * x * x);
     [
         [
@@ -148,6 +203,14 @@ fn quintic(x: f64) -> [[f64; 6]; 3] {
             60.0 * x - 180.0 * x2 + 120.0 * x3,
             -24.0 * x + 84.0 * x2 - 60.0 * x3,
             3.0 * x - 12.0 * x2 + 10.0 * x3,
+        ],
+        [
+            -60.0 + 360.0 * x - 360.0 * x2,
+            -36.0 + 192.0 * x - 180.0 * x2,
+            -9.0 + 36.0 * x - 30.0 * x2,
+            60.0 - 360.0 * x + 360.0 * x2,
+            -24.0 + 168.0 * x - 180.0 * x2,
+            3.0 - 24.0 * x + 30.0 * x2,
         ],
     ]
 }
@@ -201,15 +264,16 @@ impl ChebVec {
         self.series_at(0, s)
     }
 
-    /// The `k`-th derivative (`k ≤ 2`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).
+    /// The `k`-th derivative (`k ≤ 3`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).
     pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
         self.jet(s)[k]
     }
 
-    /// The value and both derivatives at `s ∈ [0, 1]`: from a short series itself (a smooth
+    /// The value and three derivatives at `s ∈ [0, 1]`: from a short series itself (a smooth
     /// field stays analytic, so quadratures over the patch converge at their full order),
-    /// from the table when the series is long.
-    pub(crate) fn jet(&self, s: f64) -> [Vec3; 3] {
+    /// from the table when the series is long (the third derivative is then the quintic's,
+    /// accurate to `O(h³)`).
+    pub(crate) fn jet(&self, s: f64) -> [Vec3; 4] {
         if self.table.is_empty() {
             return self.all_at(s);
         }
@@ -219,7 +283,7 @@ impl ChebVec {
         let basis = quintic(x);
         let (a, c) = (&self.table[i], &self.table[i + 1]);
         let mut scale = 1.0;
-        [0, 1, 2].map(|k| {
+        [0, 1, 2, 3].map(|k| {
             let b = basis[k];
             let v = a[0] * b[0]
                 + a[1] * (h * b[1])
@@ -233,10 +297,15 @@ impl ChebVec {
         })
     }
 
-    /// The `k`-th derivative (`k ≤ 2`) at `s` from the series.
+    /// The `k`-th derivative (`k ≤ 3`) at `s` from the series.
     fn series_at(&self, k: usize, s: f64) -> Vec3 {
         let mut out = [0.0; 3];
-        clenshaw_lanes(&self.series[k], 2.0 * s - 1.0, [1.0, 2.0, 4.0][k], &mut out);
+        clenshaw_lanes(
+            &self.series[k],
+            2.0 * s - 1.0,
+            [1.0, 2.0, 4.0, 8.0][k],
+            &mut out,
+        );
         Vec3::from(out)
     }
 
@@ -258,13 +327,15 @@ impl ChebVec {
             .collect()
     }
 
-    /// The value and both derivatives at `s` from the series: the nine recurrences at once.
-    fn all_at(&self, s: f64) -> [Vec3; 3] {
+    /// The value and three derivatives at `s` from the series: the twelve recurrences at
+    /// once.
+    fn all_at(&self, s: f64) -> [Vec3; 4] {
         let lanes: Vec<&[f64]> = self.series.iter().flatten().map(Vec::as_slice).collect();
-        let mut out = [0.0; 9];
+        let mut out = [0.0; 12];
         clenshaw_lanes(&lanes, 2.0 * s - 1.0, 1.0, &mut out);
-        [0, 1, 2]
-            .map(|k| Vec3::new(out[3 * k], out[3 * k + 1], out[3 * k + 2]) * [1.0, 2.0, 4.0][k])
+        [0, 1, 2, 3].map(|k| {
+            Vec3::new(out[3 * k], out[3 * k + 1], out[3 * k + 2]) * [1.0, 2.0, 4.0, 8.0][k]
+        })
     }
 }
 
@@ -318,41 +389,67 @@ fn cheb_coefficients(vals: &[Vec3]) -> [Vec<f64>; 3] {
     out
 }
 
-/// The series and its two derivative series, all padded with zeros to the series' length so
-/// that they evaluate as lanes of one recurrence (a zero top coefficient changes no bit).
-fn derivative_series(c: &[Vec<f64>; 3]) -> [[Vec<f64>; 3]; 3] {
+/// The series and its three derivative series, all padded with zeros to the series' length
+/// so that they evaluate as lanes of one recurrence (a zero top coefficient changes no bit).
+fn derivative_series(c: &[Vec<f64>; 3]) -> [[Vec<f64>; 3]; 4] {
     let d1 = [cheb_diff(&c[0]), cheb_diff(&c[1]), cheb_diff(&c[2])];
     let d2 = [cheb_diff(&d1[0]), cheb_diff(&d1[1]), cheb_diff(&d1[2])];
+    let d3 = [cheb_diff(&d2[0]), cheb_diff(&d2[1]), cheb_diff(&d2[2])];
     let len = c[0].len();
     let pad = |mut v: Vec<f64>| {
         v.resize(len, 0.0);
         v
     };
-    [c.clone(), d1.map(pad), d2.map(pad)]
+    [c.clone(), d1.map(pad), d2.map(pad), d3.map(pad)]
+}
+
+/// The cubic Hermite basis with its first three derivatives (the third is constant).
+fn hermite_basis3(s: f64) -> [[f64; 4]; 4] {
+    let [h0, h1, h2] = hermite_basis(s);
+    [h0, h1, h2, [12.0, 6.0, -12.0, 6.0]]
 }
 
 /// A cubic on `[0, 1]` from its values and slopes at the ends: `[v0, m0, v1, m1]`.
-pub(crate) fn hermite_scalar(c: &[f64; 4], s: f64) -> [f64; 3] {
-    let h = hermite_basis(s);
-    [0, 1, 2].map(|k| (0..4).map(|j| h[k][j] * c[j]).sum())
+pub(crate) fn hermite_scalar(c: &[f64; 4], s: f64) -> [f64; 4] {
+    let h = hermite_basis3(s);
+    [0, 1, 2, 3].map(|k| (0..4).map(|j| h[k][j] * c[j]).sum())
 }
 
 /// A cubic curve on `[0, 1]` from its values and slopes at the ends.
-pub(crate) fn hermite_vector(c: &[Vec3; 4], s: f64) -> [Vec3; 3] {
-    let h = hermite_basis(s);
-    [0, 1, 2].map(|k| (0..4).fold(Vec3::zeros(), |acc, j| acc + c[j] * h[k][j]))
+pub(crate) fn hermite_vector(c: &[Vec3; 4], s: f64) -> [Vec3; 4] {
+    let h = hermite_basis3(s);
+    [0, 1, 2, 3].map(|k| (0..4).fold(Vec3::zeros(), |acc, j| acc + c[j] * h[k][j]))
+}
+
+/// The product of two functions of one variable given with three derivatives (Leibniz).
+fn mul1(f: [f64; 4], g: [f64; 4]) -> [f64; 4] {
+    [
+        f[0] * g[0],
+        f[1] * g[0] + f[0] * g[1],
+        f[2] * g[0] + 2.0 * f[1] * g[1] + f[0] * g[2],
+        f[3] * g[0] + 3.0 * (f[2] * g[1] + f[1] * g[2]) + f[0] * g[3],
+    ]
 }
 
 /// A side as the patch uses it: the position curve, its cross-boundary derivative `D(s)` and
-/// second cross derivative `E(s)` (both with two derivatives), and whether `D` is a condition
-/// (G1) or only the interpolant's choice.
+/// second cross derivative `E(s)` (the ribbon is `P + t D + t² E`; each with three
+/// derivatives), and whether `D` and `E` are conditions (G1, G2) or the interpolant's choice.
 #[derive(Clone, Debug)]
 pub(crate) struct BuiltSide {
     pub side: Side,
     pub ribbon: BuiltRibbon,
-    /// `E` at the two ends (linear in between): chosen so that neighbouring sides' ribbons
-    /// agree to second order at the corners.
+    /// `E` at the two ends (linear in between) where `E` is free, its tangential part where
+    /// `E` carries the neighbour's curvature: chosen so that neighbouring sides' ribbons agree
+    /// to second order at the corners.
     pub e: [Vec3; 2],
+    /// Changes of the slope `E'` at the two ends (a cubic added to the linear `E`, zero at
+    /// both ends): chosen, for order 3, so that neighbouring ribbons agree to third order at
+    /// the corners.
+    pub e_slope: [Vec3; 2],
+    /// `F` at the two ends (linear in between), the coefficient of `t³` in the ribbon
+    /// (order 3 only; zero otherwise).
+    pub f: [Vec3; 2],
+    pub curvature: BuiltCurvature,
 }
 
 #[derive(Clone, Debug)]
@@ -374,26 +471,53 @@ pub(crate) enum BuiltRibbon {
     },
 }
 
+/// What fixes the second cross derivative `E` of a side.
+#[derive(Clone, Debug)]
+pub(crate) enum BuiltCurvature {
+    /// Nothing: `E` is linear between its corner values.
+    Free,
+    /// The neighbour's normal curvature (with a plane ribbon): `N · E = II(D, D) / 2`, with
+    /// `II(D, D) = a² K₀ + 2ab K₁ + b² K₂` and `K = [II(m, m), II(m, P'), II(P', P')]`,
+    /// `m = N × P'`, as a Chebyshev series; the tangential part of `E` is linear between its
+    /// corner values.
+    Neighbour(Box<ChebVec>),
+    /// `E = W/2` for the given second cross derivative `W`.
+    Explicit {
+        curve: SharedCurve,
+        t0: f64,
+        t1: f64,
+    },
+}
+
+/// Binomial coefficients `C(k, j)`, `k ≤ 3`.
+const BINOM: [[f64; 4]; 4] = [
+    [1.0, 0.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0, 0.0],
+    [1.0, 2.0, 1.0, 0.0],
+    [1.0, 3.0, 3.0, 1.0],
+];
+
 impl BuiltSide {
     /// True if the side carries a cross-boundary derivative as a condition (G1).
     pub(crate) fn has_ribbon(&self) -> bool {
         !matches!(self.ribbon, BuiltRibbon::Free(_))
     }
 
-    /// `P(s), P'(s), P''(s)` (`out.len()` of them, at most 5).
+    /// True if the side carries a second cross derivative as a condition (G2).
+    pub(crate) fn has_curvature(&self) -> bool {
+        !matches!(self.curvature, BuiltCurvature::Free)
+    }
+
+    /// The number of conditions the side carries.
+    pub(crate) fn multiplicity(&self) -> usize {
+        1 + usize::from(self.has_ribbon()) + usize::from(self.has_curvature())
+    }
+
+    /// `P(s), P'(s), P''(s)`.
     pub(crate) fn position(&self, s: f64) -> [Vec3; 3] {
         let mut c = [Vec3::zeros(); 3];
         self.side.jet(s, &mut c);
         c
-    }
-
-    /// `E(s), E'(s), E''(s)`.
-    pub(crate) fn second(&self, s: f64) -> [Vec3; 3] {
-        [
-            self.e[0] + (self.e[1] - self.e[0]) * s,
-            self.e[1] - self.e[0],
-            Vec3::zeros(),
-        ]
     }
 
     /// `m = N × P'` and `P'` at `s` for a plane ribbon (the two directions `D` is made of).
@@ -407,45 +531,112 @@ impl BuiltSide {
         }
     }
 
-    /// `D(s), D'(s), D''(s)`.
-    pub(crate) fn ribbon(&self, s: f64) -> [Vec3; 3] {
-        let mut p = [Vec3::zeros(); 4];
+    /// `D(s), D'(s), D''(s), D'''(s)`.
+    pub(crate) fn ribbon(&self, s: f64) -> [Vec3; 4] {
+        let mut p = [Vec3::zeros(); 5];
         if matches!(self.ribbon, BuiltRibbon::Plane { .. }) {
             self.side.jet(s, &mut p);
         }
         self.ribbon_on(&p, s)
     }
 
-    /// `P`, `D` and `E` at `s`, each with two derivatives: the side's curve evaluated once.
-    pub(crate) fn data(&self, s: f64) -> [[Vec3; 3]; 3] {
-        let mut p = [Vec3::zeros(); 4];
-        self.side.jet(s, &mut p);
-        [[p[0], p[1], p[2]], self.ribbon_on(&p, s), self.second(s)]
+    /// `E(s)` and its first three derivatives.
+    pub(crate) fn second(&self, s: f64) -> [Vec3; 4] {
+        // The free part: linear between the ends, plus the cubic `h₁₀ δ₀ + h₁₁ δ₁` (zero at
+        // both ends, slopes δ₀ and δ₁ there) of the slope changes.
+        let h = hermite_basis3(s);
+        let [d0, d1] = self.e_slope;
+        let lin: [Vec3; 4] = [0, 1, 2, 3].map(|k| {
+            let base = match k {
+                0 => self.e[0] + (self.e[1] - self.e[0]) * s,
+                1 => self.e[1] - self.e[0],
+                _ => Vec3::zeros(),
+            };
+            base + d0 * h[k][1] + d1 * h[k][3]
+        });
+        match (&self.curvature, &self.ribbon) {
+            (BuiltCurvature::Explicit { curve, t0, t1 }, _) => {
+                let mut w = [Vec3::zeros(); 4];
+                curve_jet(curve, *t0, *t1, s, &mut w);
+                w.map(|x| x * 0.5)
+            }
+            (BuiltCurvature::Neighbour(k), BuiltRibbon::Plane { normal, a, b }) => {
+                let n = normal.jet(s);
+                let (a, b) = (hermite_scalar(a, s), hermite_scalar(b, s));
+                let kk = k.jet(s);
+                let comp = |i: usize| [kk[0][i], kk[1][i], kk[2][i], kk[3][i]];
+                // κ = a² K₀ + 2ab K₁ + b² K₂ = II(D, D).
+                let (aa, ab, bb) = (mul1(a, a), mul1(a, b), mul1(b, b));
+                let (k0, k1, k2) = (mul1(aa, comp(0)), mul1(ab, comp(1)), mul1(bb, comp(2)));
+                let kappa: [f64; 4] = [0, 1, 2, 3].map(|j| k0[j] + 2.0 * k1[j] + k2[j]);
+                // E = l + N g with g = κ/2 − N·l (l the free part): N·E = κ/2 wherever
+                // |N| = 1, and l moves only the tangential part of E.
+                let g: [f64; 4] = [0, 1, 2, 3].map(|k| {
+                    0.5 * kappa[k]
+                        - (0..=k)
+                            .map(|j| n[j].dot(&lin[k - j]) * BINOM[k][j])
+                            .sum::<f64>()
+                });
+                let ng: [Vec3; 4] = [0, 1, 2, 3].map(|k| {
+                    (0..=k).fold(Vec3::zeros(), |acc, j| {
+                        acc + n[j] * (g[k - j] * BINOM[k][j])
+                    })
+                });
+                [0, 1, 2, 3].map(|k| lin[k] + ng[k])
+            }
+            _ => lin,
+        }
     }
 
-    /// `D(s), D'(s), D''(s)` given the side's `P, P', P'', P'''` at `s` (used by plane
+    /// `P`, `D`, `E` and `F` at `s`, each with three derivatives: the side's curve evaluated
+    /// once.
+    pub(crate) fn data(&self, s: f64) -> [[Vec3; 4]; 4] {
+        let mut p = [Vec3::zeros(); 5];
+        self.side.jet(s, &mut p);
+        let z = Vec3::zeros();
+        [
+            [p[0], p[1], p[2], p[3]],
+            self.ribbon_on(&p, s),
+            self.second(s),
+            [
+                self.f[0] + (self.f[1] - self.f[0]) * s,
+                self.f[1] - self.f[0],
+                z,
+                z,
+            ],
+        ]
+    }
+
+    /// `m = N × P'` and its first three derivatives, given `N … N'''` and `P … P''''`.
+    fn frame_m(n: &[Vec3; 4], p: &[Vec3; 5]) -> [Vec3; 4] {
+        [0, 1, 2, 3].map(|k| {
+            (0..=k).fold(Vec3::zeros(), |acc, j| {
+                acc + n[j].cross(&p[1 + k - j]) * BINOM[k][j]
+            })
+        })
+    }
+
+    /// `D` and its first three derivatives given the side's `P … P''''` at `s` (used by plane
     /// ribbons only).
-    fn ribbon_on(&self, p: &[Vec3; 4], s: f64) -> [Vec3; 3] {
+    fn ribbon_on(&self, p: &[Vec3; 5], s: f64) -> [Vec3; 4] {
         match &self.ribbon {
             BuiltRibbon::Free(c) => hermite_vector(c, s),
             BuiltRibbon::Derivative { curve, t0, t1 } => {
-                let mut c = [Vec3::zeros(); 3];
+                let mut c = [Vec3::zeros(); 4];
                 curve_jet(curve, *t0, *t1, s, &mut c);
                 c
             }
             BuiltRibbon::Plane { normal, a, b } => {
                 let n = normal.jet(s);
-                let [a0, a1, a2] = hermite_scalar(a, s);
-                let [b0, b1, b2] = hermite_scalar(b, s);
-                // m = N × P' and its derivatives.
-                let m0 = n[0].cross(&p[1]);
-                let m1 = n[1].cross(&p[1]) + n[0].cross(&p[2]);
-                let m2 = n[2].cross(&p[1]) + n[1].cross(&p[2]) * 2.0 + n[0].cross(&p[3]);
-                [
-                    m0 * a0 + p[1] * b0,
-                    m1 * a0 + m0 * a1 + p[2] * b0 + p[1] * b1,
-                    m2 * a0 + m1 * (2.0 * a1) + m0 * a2 + p[3] * b0 + p[2] * (2.0 * b1) + p[1] * b2,
-                ]
+                let a = hermite_scalar(a, s);
+                let b = hermite_scalar(b, s);
+                let m = Self::frame_m(&n, p);
+                // (a m + b P')^(k) by Leibniz.
+                [0, 1, 2, 3].map(|k| {
+                    (0..=k).fold(Vec3::zeros(), |acc, j| {
+                        acc + (m[k - j] * a[j] + p[1 + k - j] * b[j]) * BINOM[k][j]
+                    })
+                })
             }
         }
     }

@@ -25,7 +25,7 @@ impl Curve for Line {
 
 /// The great-circle arc of the sphere `|X − c| = r` from direction `a` to direction `b`.
 #[derive(Debug)]
-struct GreatArc {
+pub(super) struct GreatArc {
     c: Vec3,
     r: f64,
     a: Vec3,
@@ -34,7 +34,7 @@ struct GreatArc {
 }
 
 impl GreatArc {
-    fn new(c: Vec3, r: f64, a: Vec3, b: Vec3) -> GreatArc {
+    pub(super) fn new(c: Vec3, r: f64, a: Vec3, b: Vec3) -> GreatArc {
         let (a, b) = (a.normalize(), b.normalize());
         let e = (b - a * a.dot(&b)).normalize();
         GreatArc {
@@ -316,7 +316,7 @@ fn a_planar_loop_gives_the_plane() {
 
 /// The spherical n-gon of angular radius `rho` about the north pole of the unit sphere, its
 /// sides great-circle arcs, tangent to the sphere (G1) on every side.
-fn spherical_polygon(n: usize, rho: f64) -> Vec<Side> {
+pub(super) fn spherical_polygon(n: usize, rho: f64) -> Vec<Side> {
     let offset = 0.37;
     let verts: Vec<Vec3> = (0..n)
         .map(|k| {
@@ -344,7 +344,7 @@ fn spherical_polygon(n: usize, rho: f64) -> Vec<Side> {
 }
 
 /// The largest distance of the patch from the unit sphere over a grid of every piece.
-fn sphere_distance(patch: &Arc<NSidedPatch>) -> f64 {
+pub(super) fn sphere_distance(patch: &Arc<NSidedPatch>) -> f64 {
     let mut worst: f64 = 0.0;
     for s in patch.surfaces() {
         for i in 0..=12 {
@@ -470,7 +470,7 @@ fn bad_loops_are_refused_with_the_place() {
     sides[1].t1 = 1.5;
     let e = NSidedPatch::solve(sides, &opts).unwrap_err();
     assert!(e.to_string().contains("sides[1]"), "{e}");
-    // Order 3 and a ribbon with order 1.
+    // Order 3 without a ribbon, and a ribbon with order 1.
     let e = NSidedPatch::solve(
         loop_of(&pts),
         &NSidedOptions {
@@ -478,7 +478,7 @@ fn bad_loops_are_refused_with_the_place() {
             ..opts.clone()
         },
     );
-    assert!(e.unwrap_err().to_string().contains("order 1 or 2"));
+    assert!(e.unwrap_err().to_string().contains("needs a ribbon"));
     let mut sides = loop_of(&pts);
     sides[0].ribbon = Ribbon::TangentPlane(Arc::new(|_| Vec3::z()));
     let e = NSidedPatch::solve(

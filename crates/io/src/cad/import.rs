@@ -645,6 +645,8 @@ pub fn import_step(text: &str, fill: bool) -> Result<Imported> {
                         reverse: !fwd,
                         tangent_to: face.imported.then(|| face.name.clone()),
                         derivative: None,
+                        g2: false,
+                        second_derivative: None,
                     }
                 })
                 .collect();

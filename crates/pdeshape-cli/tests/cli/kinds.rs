@@ -165,3 +165,49 @@ fn blend_and_spline_designs_render_and_analyze() {
         assert_eq!(std::fs::read(&obj).unwrap(), expected, "{file}");
     }
 }
+
+/// An order 3 n-sided patch: `check` prints and writes (JSON) its G2 per side and the corners'
+/// curvature mismatch; G2 asked where it cannot be met is one line, status 2, no output.
+#[test]
+fn check_reports_g2_sides_and_refuses_bad_g2_input() {
+    let octant = std::fs::read_to_string(examples_dir().join("nsided_g2_octant.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "octant.toml", &octant);
+    let out = pdeshape(&["check", s(&f), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ns = &v["nsided"][0];
+    for k in 0..3 {
+        let g2 = ns["g2"][k].as_f64().unwrap();
+        assert!(g2 < 1e-9, "{ns}");
+        let c = ns["corners"][k]["curvature_mismatch"].as_f64().unwrap();
+        assert!(c < 1e-9, "{ns}");
+    }
+    assert_eq!(v["verdict"], "ok", "{v}");
+    let report = v["report"].as_str().unwrap();
+    assert!(report.contains("G2 to "), "{report}");
+    // G2 at order 2, on a side without a neighbour, and a fourth order.
+    bad_design(
+        &edit(&octant, "order = 3\n", "order = 2\n"),
+        &[
+            "nsided[0].sides[0]",
+            "a curvature ribbon (G2) needs order 3, not 2",
+        ],
+    );
+    bad_design(
+        &edit(
+            &octant,
+            "{ curve = \"equator\", tangent_to = \"sphere\", g2 = true }",
+            "{ curve = \"equator\", g2 = true }",
+        ),
+        &["nsided[0].sides[0].g2", "`g2` needs `tangent_to`"],
+    );
+    bad_design(
+        &edit(&octant, "order = 3\n", "order = 4\n"),
+        &["nsided[0]", "order 1, 2 or 3, not 4"],
+    );
+}

@@ -15,7 +15,7 @@ pub use report::{blend_report, check_report, check_text, describe_operator, spli
 use crate::design::{self, ConditionInfo, SolvedDesign, SurfaceKind};
 use crate::elliptic::{ConditionError, ModeReport};
 use crate::spec::DesignSpec;
-use crate::surface::Surface;
+use crate::surface::{ClosestOptions, ClosestPointIndex, Surface};
 use crate::trim::MeshQuality;
 use crate::Vec3;
 use serde_json::{json, Value};
@@ -35,6 +35,10 @@ pub const ATTACH_SAMPLES: usize = 512;
 pub const G0_TOLERANCE: f64 = 1e-10;
 /// G1 above this (radians) along an attachment with a tangent field or a shared edge is a crease.
 pub const G1_TOLERANCE: f64 = 1e-8;
+/// A G2 side of an n-sided patch whose normal curvature across it differs from its
+/// neighbour's by more than this, times the boundary's size, asks for attention; so does a
+/// corner where G2 data disagree by more.
+pub const G2_TOLERANCE: f64 = 1e-6;
 /// The default of `pdeshape check --g1-tolerance` and of the designer's seam tolerance: one
 /// degree (in radians). A shared edge creased by more than this fails the check
 /// ([`Diagnostics::judge_seams`]); below it, a crease only asks for attention.
@@ -299,6 +303,15 @@ pub struct NSidedDiagnostics {
     /// Per corner: the tangent mismatch and the twist mismatch (see
     /// `pdeshape_geometry::nsided::Corner`).
     pub corners: Vec<(f64, f64)>,
+    /// Per side: `None` unless the side is G2 (order 3), else the largest difference between
+    /// the patch's normal curvature across the side and the neighbour's (`tangent_to` with
+    /// `g2`, measured against the neighbour surface itself) or the ribbon surface's
+    /// (`second_derivative`), times the boundary's size.
+    pub g2: Vec<Option<f64>>,
+    /// Per corner: `None` unless a G2 side meets it, else how far the two sides' curvature
+    /// data disagree there (a normal curvature times the boundary's size; see
+    /// `pdeshape_geometry::nsided::Corner::curvature_mismatch`).
+    pub corner_curvature: Vec<Option<f64>>,
 }
 
 /// Everything `pdeshape check` finds in a solved design.
@@ -648,6 +661,24 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
                 ));
             }
         }
+        for (i, g) in d.g2.iter().enumerate() {
+            if let Some(g) = g.filter(|g| g.is_nan() || *g > G2_TOLERANCE) {
+                warnings.push(format!(
+                    "n-sided patch '{}': side {i} is G2 only to {g:.3e} (normal curvature × \
+                     size)",
+                    d.name
+                ));
+            }
+        }
+        for (k, c) in d.corner_curvature.iter().enumerate() {
+            if let Some(c) = c.filter(|c| c.is_nan() || *c > G2_TOLERANCE) {
+                warnings.push(format!(
+                    "n-sided patch '{}': at corner {k} the sides' curvature data disagree by \
+                     {c:.3e} (normal curvature × size): no surface is G2 to both there",
+                    d.name
+                ));
+            }
+        }
     }
     let networks = network::network_diagnostics(built);
     for n in &networks {
@@ -704,6 +735,7 @@ fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiag
         let report = patch.report(NSIDED_SAMPLES);
         let boundary = report.boundary.iter().fold(0.0f64, |a, b| a.max(*b)) / report.size;
         let mut g1 = report.g1.clone();
+        let mut g2 = report.g2.clone();
         for (j, side) in ns.sides.iter().enumerate() {
             let Some(name) = &side.tangent_to else {
                 continue;
@@ -716,7 +748,23 @@ fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiag
                 .collect();
             let worst = network::g1_to_surface(&points, target.surface());
             g1[j] = Some(worst);
+            if side.g2 && report.g2.get(j).is_some_and(Option::is_some) {
+                let along: Vec<(Vec3, Vec3, Vec3, f64)> = (0..NSIDED_SAMPLES)
+                    .map(|m| patch.boundary_curvature(j, (m as f64 + 0.5) / NSIDED_SAMPLES as f64))
+                    .collect();
+                g2[j] = Some(g2_to_surface(&along, target.surface()) * report.size);
+            }
         }
+        let g2_sides = patch.g2_sides();
+        let n = g2_sides.len();
+        let corner_curvature = report
+            .corners
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                (g2_sides[k] || g2_sides[(k + n - 1) % n]).then_some(c.curvature_mismatch)
+            })
+            .collect();
         out.push(NSidedDiagnostics {
             name: ns.name.clone(),
             sides: patch.n(),
@@ -727,9 +775,35 @@ fn nsided_diagnostics(spec: &DesignSpec, built: &SolvedDesign) -> Vec<NSidedDiag
                 .iter()
                 .map(|c| (c.tangent_mismatch, c.twist_mismatch))
                 .collect(),
+            g2,
+            corner_curvature,
         });
     }
     out
+}
+
+/// The largest difference between the normal curvatures `κ` of a patch along the directions
+/// `u` at its points `(p, n, u, κ)` and those of `surface` at its closest points in the same
+/// directions (`uᵀ S u / |u|²`, `S` the surface's second fundamental form against the patch's
+/// normal `n`); NaN where a closest point or the curvature is missing.
+fn g2_to_surface(points: &[(Vec3, Vec3, Vec3, f64)], surface: &dyn Surface) -> f64 {
+    let index = ClosestPointIndex::new(surface, &ClosestOptions::default());
+    let mut worst: f64 = 0.0;
+    for (p, n, u, k) in points {
+        let diff = index
+            .closest(*p)
+            .and_then(|c| crate::nsided::shape_tensor(&surface.partials(c.u, c.v)))
+            .map_or(f64::NAN, |(m, s)| {
+                let sign = if m.dot(n) < 0.0 { -1.0 } else { 1.0 };
+                (sign * u.dot(&(s * u)) / u.norm_squared() - k).abs()
+            });
+        worst = if worst.is_nan() || diff.is_nan() {
+            f64::NAN
+        } else {
+            worst.max(diff)
+        };
+    }
+    worst
 }
 
 /// A number for JSON: non-finite values as null.
@@ -888,9 +962,11 @@ impl Diagnostics {
                 "sides": n.sides,
                 "boundary": jnum(n.boundary),
                 "g1": n.g1.iter().map(|g| g.map(jnum)).collect::<Vec<_>>(),
-                "corners": n.corners.iter().map(|(t, w)| json!({
+                "g2": n.g2.iter().map(|g| g.map(jnum)).collect::<Vec<_>>(),
+                "corners": n.corners.iter().zip(&n.corner_curvature).map(|((t, w), c)| json!({
                     "tangent_mismatch": jnum(*t),
                     "twist_mismatch": jnum(*w),
+                    "curvature_mismatch": c.map(jnum),
                 })).collect::<Vec<_>>(),
             })).collect::<Vec<_>>(),
             "networks": self.networks.iter().map(NetworkDiagnostics::to_json).collect::<Vec<_>>(),

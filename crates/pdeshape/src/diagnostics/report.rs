@@ -338,10 +338,18 @@ pub fn check_report(
                 Some(g) => format!("G1 to {g:.1e} rad"),
                 None => "position only".to_string(),
             };
+            let g2 = match n.g2.get(i).copied().flatten() {
+                Some(g) => format!(", G2 to {g:.1e} (normal curvature × size)"),
+                None => String::new(),
+            };
+            let c = match n.corner_curvature.get(i).copied().flatten() {
+                Some(c) => format!(", curvature mismatch {c:.1e}"),
+                None => String::new(),
+            };
             let _ = writeln!(
                 s,
-                "  side {i}: {g1}; corner {i}: tangent mismatch {t:.1e} rad, twist mismatch \
-                 {w:.1e}"
+                "  side {i}: {g1}{g2}; corner {i}: tangent mismatch {t:.1e} rad, twist mismatch \
+                 {w:.1e}{c}"
             );
         }
     }

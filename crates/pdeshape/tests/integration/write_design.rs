@@ -1088,6 +1088,8 @@ impl Gen {
                     reverse: g.chance(0.5),
                     tangent_to: g.opt(Self::s),
                     derivative: g.opt(|g| g.curve_ref(0)),
+                    g2: g.chance(0.5),
+                    second_derivative: g.opt(|g| g.curve_ref(0)),
                 }),
                 order: g.n(),
                 a: g.f(),
