@@ -69,4 +69,6 @@ mod tests_nsided;
 #[cfg(test)]
 mod tests_params;
 #[cfg(test)]
+mod tests_patchwork;
+#[cfg(test)]
 mod tests_spine;
