@@ -47,58 +47,7 @@ pub fn fit_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     if !(diag.is_finite() && diag > 0.0) {
         return Err(Error::invalid("the mesh has no extent"));
     }
-    let tol = opts.target * diag;
-    let frame = principal_frame(mesh);
-    let slicer = Slicer::new(mesh, frame);
-    let (lo, hi) = extremes(mesh, &frame);
-    let (hmin, hmax) = (frame.height(&lo), frame.height(&hi));
-    let n = opts.sections;
-    let heights: Vec<f64> = (1..=n)
-        .map(|j| {
-            let t = j as f64 / (n + 1) as f64;
-            hmin + (hmax - hmin) * 0.5 * (1.0 - (std::f64::consts::PI * t).cos())
-        })
-        .collect();
-    let cut: Vec<Result<Section>> = heights
-        .par_iter()
-        .map(|&h| slicer.section(h, opts.samples, None))
-        .collect();
-    // Degenerate sections right next to a pole (a handful of triangles) are left out.
-    const EDGE: usize = 3;
-    let mut stations = vec![Station::at_pole(lo, opts.samples, "")];
-    let mut dropped = 0;
-    for (j, s) in cut.into_iter().enumerate() {
-        match s {
-            Ok(s) => stations.push(Station {
-                points: s.points,
-                pole: false,
-                part: String::new(),
-            }),
-            Err(_) if j < EDGE || j + EDGE >= n => dropped += 1,
-            Err(e) => return Err(e),
-        }
-    }
-    stations.push(Station::at_pole(hi, opts.samples, ""));
-    if stations.len() < 6 {
-        return Err(Error::invalid("fewer than four usable sections"));
-    }
-    let sections = stations.len() - 2;
-    let chain = Chain::new(
-        stations,
-        &[],
-        Joint::Hermite,
-        opts.max_modes,
-        MODES_SHARE * tol,
-    );
-    let candidates = opts.a.map_or(TUBE_A.to_vec(), |a| vec![a]);
-    let what = ChainFit {
-        mode: FitMode::Tube,
-        frame,
-        sections,
-        dropped,
-        stations: "sections",
-    };
-    fit_one_chain(&chain, &candidates, tol, diag, opts, what)
+    fit_along(mesh, opts, principal_frame(mesh), [None, None])
 }
 
 /// The open ends of a tube: each boundary loop of `mesh` lying across the tube's axis (its heights
@@ -200,6 +149,14 @@ pub fn fit_open_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
             "the mesh's boundary is not one or two loops across its main axis at its ends",
         )
     })?;
+    fit_along(mesh, opts, frame, ends)
+}
+
+/// The chain of a tube along `frame`'s axis between its two ends, each a pole (the extreme
+/// vertex) or an open end's loop ([`Ends`]): sections between them, denser towards the poles.
+fn fit_along(mesh: &InputMesh, opts: &FitOptions, frame: AxisFrame, ends: Ends) -> Result<Fit> {
+    let diag = mesh.diagonal();
+    let tol = opts.target * diag;
     let slicer = Slicer::new(mesh, frame);
     let (lo, hi) = extremes(mesh, &frame);
     let h0 = ends[0].as_ref().map_or(frame.height(&lo), |e| e.0);
@@ -209,14 +166,13 @@ pub fn fit_open_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     let heights: Vec<f64> = (1..=n)
         .map(|j| {
             let t = j as f64 / (n + 1) as f64;
-            let t = match (&ends[0], &ends[1]) {
-                (Some(_), Some(_)) => t,
-                // Denser towards the pole, as in the tube mode.
-                (Some(_), None) => (std::f64::consts::FRAC_PI_2 * t).sin(),
-                (None, Some(_)) => 1.0 - (std::f64::consts::FRAC_PI_2 * t).cos(),
-                (None, None) => 0.5 * (1.0 - (std::f64::consts::PI * t).cos()),
-            };
-            h0 + (h1 - h0) * t
+            // Denser towards a pole, where a round end's radius grows like `√(h − h_pole)`.
+            match (&ends[0], &ends[1]) {
+                (Some(_), Some(_)) => h0 + (h1 - h0) * t,
+                (Some(_), None) => h0 + (h1 - h0) * (std::f64::consts::FRAC_PI_2 * t).sin(),
+                (None, Some(_)) => h0 + (h1 - h0) * (1.0 - (std::f64::consts::FRAC_PI_2 * t).cos()),
+                (None, None) => h0 + (h1 - h0) * 0.5 * (1.0 - (std::f64::consts::PI * t).cos()),
+            }
         })
         .collect();
     let cut: Vec<Result<Section>> = heights
