@@ -1,6 +1,8 @@
 //! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply): a
-//! closed one by the tube mode, an open one by the sheet mode, or any as a template says; write
-//! the design, print the two-sided distances and the compression ratio.
+//! closed one by the tube mode, an open one by the sheet mode, any other manifold mesh by the
+//! general mode (a layout of n-sided patches, G1 across its edges), or any as a template says;
+//! write the design, print the two-sided distances and the compression ratio. A fit that misses
+//! the tolerance is not written (exit status 1) unless `--best-effort` is given.
 
 use crate::common::{CliError, Output};
 use pdeshape::fit::{self, FitOptions, InputMesh, MeshFormat};
@@ -16,10 +18,19 @@ pub(crate) struct Args {
     /// The fitted design file (TOML).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Largest distance between the mesh's sections and the fit, relative to the mesh's
-    /// bounding-box diagonal; patches are split until it holds and merged while it does.
-    #[arg(long, default_value_t = 2e-3)]
-    pub tolerance: f64,
+    /// Largest two-sided Hausdorff distance between the mesh and the fit, relative to the
+    /// mesh's bounding-box diagonal (default 0.02; the tube and sheet modes then refine their
+    /// sections to 0.002): a fit that misses it is not written and the exit status is 1 (see
+    /// --best-effort).
+    #[arg(long)]
+    pub tolerance: Option<f64>,
+    /// The mode: auto (tube for a closed mesh, sheet for an open one, the general mode when
+    /// that mode refuses the mesh or misses the tolerance), tube, sheet or general.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "tube", "sheet", "general"], conflicts_with = "template")]
+    pub mode: String,
+    /// Write the fit even when it misses the tolerance (the miss is still reported).
+    #[arg(long)]
+    pub best_effort: bool,
     /// A fixed number of patches, evenly spread along the axis, instead of the adaptive choice.
     #[arg(long, conflicts_with = "template")]
     pub sections: Option<usize>,
@@ -37,12 +48,17 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.mesh.display().to_string();
-    if !(args.tolerance > 0.0 && args.tolerance.is_finite() && args.tolerance < 1.0) {
-        return Err(CliError::input(format!(
-            "--tolerance {}: must be a number between 0 and 1 (a fraction of the diagonal)",
-            args.tolerance
-        )));
+    if let Some(t) = args.tolerance {
+        if !(t > 0.0 && t.is_finite() && t < 1.0) {
+            return Err(CliError::input(format!(
+                "--tolerance {t}: must be a number between 0 and 1 (a fraction of the diagonal)"
+            )));
+        }
     }
+    // The tube and sheet modes refine towards `fast_tolerance`; every fit is accepted (written,
+    // exit 0) when its two-sided Hausdorff distance is within `tolerance`.
+    let fast_tolerance = args.tolerance.unwrap_or(FAST_TOLERANCE);
+    let tolerance = args.tolerance.unwrap_or(GENERAL_TOLERANCE);
     let format = input_format(&args.mesh, &shown)?;
     let ext = |p: &PathBuf, want: &str, flag: &str| -> Result<(), CliError> {
         match p.extension().and_then(|e| e.to_str()) {
@@ -92,12 +108,18 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
     let opts = FitOptions {
-        target: args.tolerance,
+        target: fast_tolerance,
         patches: args.sections,
         ..FitOptions::default()
     };
-    let fitted = match &template {
-        Some((file, text, t)) => fit::fit_template(&mesh, t, &opts).map_err(|e| {
+    let general_opts = FitOptions {
+        target: tolerance,
+        ..opts.clone()
+    };
+    // The fast paths first; the general mode where they refuse the mesh or miss.
+    let mut fallback: Option<String> = None;
+    let fast = match (&template, args.mode.as_str()) {
+        (Some((file, text, t)), _) => Some(fit::fit_template(&mesh, t, &opts).map_err(|e| {
             if e.place().starts_with("parts") {
                 CliError::input(format!(
                     "{} (fitting {shown})",
@@ -106,14 +128,70 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             } else {
                 fit_error(e, &shown)
             }
-        }),
-        None => fit::fit_mesh(&mesh, &opts).map_err(|e| fit_error(e, &shown)),
+        })),
+        (None, "tube") => Some(fit::fit_tube(&mesh, &opts).map_err(|e| fit_error(e, &shown))),
+        (None, "sheet") => Some(fit::fit_sheet(&mesh, &opts).map_err(|e| fit_error(e, &shown))),
+        (None, "general") => None,
+        _ => match fit::fit_mesh(&mesh, &opts) {
+            Ok(f) => Some(Ok(f)),
+            Err(e) if matches!(e.place(), "tolerance" | "sections") => {
+                Some(Err(fit_error(e, &shown)))
+            }
+            Err(e) => {
+                fallback = Some(e.message().to_string());
+                None
+            }
+        },
+    };
+    let fast = fast.transpose().map_err(with_note)?;
+    let mut measured = None;
+    let mut measure_ms = 0.0;
+    if let Some(f) = fast {
+        let tm = Instant::now();
+        let solved = pdeshape::design::solve_design(&f.spec).map_err(|e| {
+            CliError::input(format!("{shown}: the fitted design does not solve: {e}"))
+        })?;
+        let (m, d) = fit::measure(&mesh, &f.spec, &solved, 48, 96)
+            .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+        measure_ms += tm.elapsed().as_secs_f64() * 1e3;
+        if m.hausdorff_relative > tolerance && args.mode == "auto" && template.is_none() {
+            fallback = Some(format!(
+                "the {} mode misses the tolerance ({}% of the diagonal)",
+                mode_name(f.mode),
+                pct(m.hausdorff_relative)
+            ));
+        } else {
+            let miss = worst_point(&mesh, &d);
+            measured = Some((f, m, d, miss));
+        }
     }
-    .map_err(with_note)?;
-    if let Some(n) = &note {
-        crate::common::note(&format!("{shown}: {n}"));
-    }
-    let fit_ms = t.elapsed().as_secs_f64() * 1e3;
+    let (fitted, m, distances, miss) = match measured {
+        Some(x) => x,
+        None => {
+            let (f, _) = fit::fit_general(&mesh, &general_opts)
+                .map_err(|e| {
+                    let e = fit_error(e, &shown);
+                    match &fallback {
+                        Some(why) if !e.message.contains(why.as_str()) => {
+                            CliError::input(format!("{} ({why})", e.message))
+                        }
+                        _ => e,
+                    }
+                })
+                .map_err(with_note)?;
+            let tm = Instant::now();
+            let solved = pdeshape::design::solve_design(&f.spec).map_err(|e| {
+                CliError::input(format!("{shown}: the fitted design does not solve: {e}"))
+            })?;
+            let g = fit::MEASURE_GRID;
+            let (m, d) = fit::measure(&mesh, &f.spec, &solved, g, g)
+                .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+            let miss = worst_point(&mesh, &d);
+            measure_ms += tm.elapsed().as_secs_f64() * 1e3;
+            (f, m, d, miss)
+        }
+    };
+    let fit_ms = t.elapsed().as_secs_f64() * 1e3 - measure_ms;
     let mut spec = fitted.spec.clone();
     let name = args
         .mesh
@@ -122,12 +200,29 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .unwrap_or_default();
     spec.title = Some(format!("fitted to {name}"));
     let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
-    let t = Instant::now();
-    let solved = pdeshape::design::solve_design(&spec)
-        .map_err(|e| CliError::input(format!("{shown}: the fitted design does not solve: {e}")))?;
-    let (m, distances) = fit::measure(&mesh, &spec, &solved, 48, 96)
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-    let measure_ms = t.elapsed().as_secs_f64() * 1e3;
+    let missed = m.hausdorff_relative > tolerance;
+    if missed && !args.best_effort {
+        return Err(CliError {
+            message: format!(
+                "{shown}: the fit misses the tolerance {}% of the diagonal: the Hausdorff \
+                 distance is {} ({}% of the diagonal) at ({}, {}, {}); nothing written (a larger \
+                 --tolerance, or --best-effort to write it anyway)",
+                pct(tolerance),
+                num(m.hausdorff),
+                pct(m.hausdorff_relative),
+                num(miss.x),
+                num(miss.y),
+                num(miss.z)
+            ),
+            status: 1,
+        });
+    }
+    if let Some(why) = &fallback {
+        crate::common::note(&format!("{shown}: {why}; fitted by the general mode"));
+    }
+    if let Some(n) = &note {
+        crate::common::note(&format!("{shown}: {n}"));
+    }
     out.write_all(text.as_bytes())?;
     if let Some(j) = json_out.as_mut() {
         let report = serde_json::json!({
@@ -139,7 +234,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "sections": fitted.sections,
             "sections_dropped": fitted.dropped,
             "sample_error_relative": fitted.sample_error,
-            "tolerance": args.tolerance,
+            // The target the fit was refined to (the sections' for tube and sheet).
+            "tolerance": if fitted.mode == fit::FitMode::General { tolerance } else { fast_tolerance },
             "measures": m,
             "notes": notes,
             "timings_ms": { "read": read_ms, "fit": fit_ms, "measure": measure_ms },
@@ -152,7 +248,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         let png = fit::picture(
             &mesh,
             &distances,
-            args.tolerance * m.diagonal,
+            tolerance * m.diagonal,
             &pdeshape::render::RenderOptions {
                 width: 1200,
                 height: 600,
@@ -171,14 +267,73 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     }
     crate::common::report(&format!(
         "{shown}: {} in {:.0} ms; wrote {}\n",
-        m.summary(&fitted, args.tolerance),
+        m.summary(&fitted, tolerance),
         fit_ms,
         crate::common::destination(&args.output)
     ));
+    if m.toml_bytes > m.mesh_bytes {
+        crate::common::note(&format!(
+            "{shown}: the design file ({} bytes) is larger than the mesh ({} bytes as 12·V + \
+             12·T): ratio {:.3}",
+            m.toml_bytes, m.mesh_bytes, m.toml_ratio
+        ));
+    }
+    if missed {
+        crate::common::note(&format!(
+            "{shown}: written anyway (--best-effort): the fit misses the tolerance {}% of the \
+             diagonal by {} at ({}, {}, {})",
+            pct(tolerance),
+            num(m.hausdorff - tolerance * m.diagonal),
+            num(miss.x),
+            num(miss.y),
+            num(miss.z)
+        ));
+    }
     Ok(())
 }
 
 /// A fit's error as one line: an option's name, or the mesh's.
+/// The sections' target of the tube and sheet modes when no `--tolerance` is given.
+const FAST_TOLERANCE: f64 = 2e-3;
+/// The default `--tolerance`: the Hausdorff distance a fit must meet to be written.
+const GENERAL_TOLERANCE: f64 = 2e-2;
+
+fn mode_name(mode: fit::FitMode) -> &'static str {
+    match mode {
+        fit::FitMode::Tube => "tube",
+        fit::FitMode::Sheet => "sheet",
+        fit::FitMode::Template => "template",
+        fit::FitMode::General => "general",
+    }
+}
+
+fn num(x: f64) -> String {
+    pdeshape::number::sig(x, 6)
+}
+
+fn pct(x: f64) -> String {
+    pdeshape::number::sig(100.0 * x, 4)
+}
+
+/// The point, in the mesh's coordinates, farthest from the other surface: a mesh vertex or a
+/// sample of the fit.
+fn worst_point(mesh: &InputMesh, d: &fit::PointDistances) -> pdeshape::Vec3 {
+    let mut best = (f64::NEG_INFINITY, pdeshape::Vec3::zeros());
+    for (p, &x) in mesh.positions.iter().zip(&d.mesh) {
+        if x > best.0 {
+            best = (x, *p);
+        }
+    }
+    for (g, dist) in d.grids.iter().zip(&d.fit) {
+        for (p, &x) in g.positions.iter().zip(dist) {
+            if x > best.0 {
+                best = (x, pdeshape::Vec3::new(p[0], p[1], p[2]));
+            }
+        }
+    }
+    best.1
+}
+
 fn fit_error(e: pdeshape::Error, shown: &str) -> CliError {
     match e.place() {
         "tolerance" | "sections" => CliError::input(format!("--{e}")),

@@ -11,6 +11,7 @@ pub mod curves;
 pub mod designs;
 pub mod fit_meshes;
 pub mod hole_meshes;
+pub mod implicit;
 pub mod mutate;
 
 use pdeshape::spec::{parse_design, DesignSpec};

@@ -197,6 +197,7 @@ impl Measures {
             super::FitMode::Tube => "tube",
             super::FitMode::Sheet => "sheet",
             super::FitMode::Template => "template",
+            super::FitMode::General => "general",
         };
         let verdict = if self.hausdorff_relative <= tolerance {
             "within"

@@ -36,6 +36,7 @@
 
 mod basis;
 pub mod chain;
+mod layout;
 mod measure;
 mod mesh;
 mod options;
@@ -48,6 +49,10 @@ mod template;
 mod tube;
 
 pub use basis::{position_weights, weights};
+pub use layout::{
+    decimate, fit_general, layout_spec, require_oriented, vertex_normals, Facing, Layout, Miss,
+    MAX_ROUNDS, MEASURE_GRID,
+};
 pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};

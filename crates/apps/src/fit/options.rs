@@ -82,6 +82,8 @@ pub enum FitMode {
     Sheet,
     /// Parts sectioned as a template says ([`super::fit_template`]).
     Template,
+    /// Any manifold mesh as one layout of n-sided patches ([`super::fit_general`]).
+    General,
 }
 
 /// What a fit made.

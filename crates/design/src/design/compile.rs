@@ -249,7 +249,13 @@ impl CompiledDesign {
         // [[nsided]]: tangent to any surface before them.
         super::nsided::build_nsided(&spec.nsided, &mut builder, &mut surfaces)?;
         // [[network]]: faces tangent across inner curves, and to any surface before them.
-        let networks = super::network::build_networks(&spec.network, &mut builder, &mut surfaces)?;
+        let mut networks =
+            super::network::build_networks(&spec.network, &mut builder, &mut surfaces)?;
+        // [[patchwork]]: layouts given corner by corner, checked as networks.
+        networks.extend(super::patchwork::build_patchworks(
+            &spec.patchwork,
+            &mut surfaces,
+        )?);
         // [[disk]]: patches through their own samples.
         super::disk::build_disks(&spec.disk, &mut surfaces)?;
         let curve_cache = builder.into_cache();

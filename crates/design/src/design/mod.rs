@@ -22,6 +22,7 @@ mod network;
 mod nsided;
 mod parametric;
 mod params;
+mod patchwork;
 mod solved;
 mod spine;
 mod spline;
@@ -42,6 +43,7 @@ pub use params::{book_names, design_a, parse_book_name, poly_a, top_level_used, 
 pub use params::{
     design_parameters, resolve_parameters, set_parameter, DesignParameter, ParamKind,
 };
+pub use patchwork::MAX_PATCHWORK_ITEMS;
 pub use solved::{
     curve_overlay, grid, ConditionInfo, DesignSurface, Export, NamedCurve, Overlay, OverlayKind,
     SharedEdge, SolvedDesign, SurfaceKind,
@@ -66,5 +68,7 @@ mod tests_network;
 mod tests_nsided;
 #[cfg(test)]
 mod tests_params;
+#[cfg(test)]
+mod tests_patchwork;
 #[cfg(test)]
 mod tests_spine;

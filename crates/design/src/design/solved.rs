@@ -274,11 +274,12 @@ pub fn grid(spec: &DesignSpec, nu: Option<usize>, nv: Option<usize>) -> Result<(
     // The pieces of an n-sided patch, and the faces of a network, meet along u-lines of one
     // surface and v-lines of another: square grids make their vertices match, so the weld
     // joins them without T-junctions.
-    let (nu_v, nv_v) = if spec.nsided.is_empty() && spec.network.is_empty() {
-        (nu_v, nv_v)
-    } else {
-        (nu_v.max(nv_v), nu_v.max(nv_v))
-    };
+    let (nu_v, nv_v) =
+        if spec.nsided.is_empty() && spec.network.is_empty() && spec.patchwork.is_empty() {
+            (nu_v, nv_v)
+        } else {
+            (nu_v.max(nv_v), nu_v.max(nv_v))
+        };
     let surfaces = surface_count(spec).max(1);
     let checked = check_grid(nu_v, nv_v).and_then(|()| {
         match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(surfaces)) {

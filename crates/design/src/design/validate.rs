@@ -471,6 +471,7 @@ pub(crate) fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
             if !spec.parametric.is_empty()
                 || !spec.nsided.is_empty()
                 || !spec.network.is_empty()
+                || !spec.patchwork.is_empty()
                 || !spec.disk.is_empty()
                 || spec.dynamic.is_some()
                 || spec.blend.is_some()

@@ -20,6 +20,7 @@ mod nsided;
 mod optimize;
 mod parametric;
 mod params;
+mod patchwork;
 pub mod rig;
 pub(crate) mod schema;
 mod shell;
@@ -41,6 +42,7 @@ pub use nsided::{LoopSideSpec, NSidedSpec};
 pub use optimize::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use parametric::ParametricSpec;
 pub use params::{AxisName, AxisSpec, DesignParameterSpec, DriveKind, PlaneSpec};
+pub use patchwork::{PatchworkEdgeSpec, PatchworkSpec};
 pub use shell::{EdgeSpec, LineLoadSpec, MaterialSpec, ShellSpec, SideSpec};
 pub use spine::{
     SpineCarry, SpineHermite, SpineMove, SpineSpec, SpineWave, WaveKind, MAX_WAVE_TERMS,

@@ -68,6 +68,10 @@ pub struct DesignSpec {
     /// patch, G1 across the inner curves.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub network: Vec<super::network::NetworkSpec>,
+    /// Patch layouts given corner by corner (`[[patchwork]]`, what `pdeshape fit` writes for a
+    /// general mesh): every face an n-sided patch, G1 across the edges the faces share.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub patchwork: Vec<super::patchwork::PatchworkSpec>,
     /// Polyharmonic patches on the unit disk through a loop of samples (`[[disk]]`: the
     /// patches `pdeshape fill --design` writes).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -6,6 +6,7 @@ mod anim;
 mod campaign;
 mod fill;
 mod fit;
+mod fit_general;
 mod import_step;
 mod shell_ccx;
 mod shell_common;

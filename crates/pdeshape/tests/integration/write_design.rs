@@ -6,9 +6,9 @@ use pdeshape::spec::{
     ConstraintSpec, CurveKind, CurveRef, CurveSpec, DesignParameterSpec, DesignSpec, DiskSpec,
     DomainSpec, DriveKind, DynamicSpec, EnergySpec, FixSpec, FixedPointSpec, FormulaText, JoinSpec,
     LoopSideSpec, NSidedSpec, NetworkCurveSpec, NetworkSpec, OperatorSpec, OptimizeSpec,
-    OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec, PatchSpec, PointSpec,
-    SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec, SurfaceSpec, TransformStep,
-    TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
+    OutputSpec, ParamSpec, ParameterSpec, ParametricSpec, ParamsSpec, PatchSpec, PatchworkEdgeSpec,
+    PatchworkSpec, PointSpec, SolverMethod, SolverSpec, SplineOperatorSpec, SplineSpec,
+    SurfaceSpec, TransformStep, TrimCurveSpec, TrimMethodSpec, TrimSpec, V3,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -485,6 +485,7 @@ fn empty_design() -> DesignSpec {
         parametric: Vec::new(),
         nsided: Vec::new(),
         network: Vec::new(),
+        patchwork: Vec::new(),
         disk: Vec::new(),
         output: OutputSpec::default(),
         dynamic: None,
@@ -1108,6 +1109,21 @@ impl Gen {
                 a: g.f(),
                 degree: g.n(),
                 tolerance: g.f(),
+            }),
+            patchwork: self.vec(2, |g| PatchworkSpec {
+                name: g.s(),
+                order: g.n(),
+                a: g.f(),
+                degree: g.n(),
+                points: g.vec(4, |g| [g.f(), g.f(), g.f()]),
+                normals: g.vec(4, |g| [g.f(), g.f(), g.f()]),
+                edges: g.vec(5, |g| PatchworkEdgeSpec {
+                    ends: [g.n(), g.n()],
+                    tangents: [[g.f(), g.f(), g.f()], [g.f(), g.f(), g.f()]],
+                    normals: g.vec(3, |g| [g.f(), g.f(), g.f()]),
+                    crease: g.chance(0.5),
+                }),
+                faces: g.vec(3, |g| g.vec(4, Self::n)),
             }),
             disk: self.vec(2, |g| DiskSpec {
                 name: g.s(),

@@ -1,0 +1,993 @@
+//! The general mode: any edge-manifold, consistently oriented mesh (closed or open, any genus)
+//! as one `[[patchwork]]` of n-sided PDE patches, G1 across every layout edge.
+//!
+//! 1. **Layout** ([`decimate`]): half-edge collapses ordered by the quadric error of the fine
+//!    triangles' planes (plus a small term in the edge's length, so the layout stays even),
+//!    each refused unless the link condition holds (the surface's topology, its genus and its
+//!    boundary loops are kept), no triangle turns by more than 60° or against the mesh's
+//!    normals at its corners, and no sliver is made. Layout vertices are vertices of the mesh.
+//! 2. **Faces**: the layout's triangles. They are not paired into quads: an n-sided patch of
+//!    four sides is one surface on its square, while faces of 3 (or 5 to 8) sides are
+//!    presented as pieces each over half of two sides, so a quad beside a triangle would be
+//!    tessellated at different points along their shared edge (T-junctions: a closed mesh
+//!    would not come out watertight).
+//! 3. **Curves and tangent planes**: each layout vertex takes the mesh's (area-weighted)
+//!    normal; each layout edge is a cubic Hermite curve between its corners whose end
+//!    derivatives lie in the corners' tangent planes, fitted by least squares to the closest
+//!    mesh points of samples along the chord; its normal field is the mesh's interpolated
+//!    normals at the curve's inner Chebyshev–Lobatto points. Both faces along an edge take
+//!    its tangent planes (G1 by construction).
+//! 4. **Tolerance** ([`fit_general`]): the design is solved and measured both ways; where the
+//!    distance exceeds the target the mesh's vertices there weigh more and the layout is made
+//!    again with more vertices, up to [`MAX_ROUNDS`] times.
+
+use super::measure::{closest_on_triangle, measure, MeshDistance};
+use super::mesh::InputMesh;
+use super::options::{Fit, FitMode, FitOptions};
+use super::section::AxisFrame;
+use crate::design::solve_design;
+use crate::spec::{DesignSpec, PatchworkEdgeSpec, PatchworkSpec};
+use crate::{Error, Result, Vec3};
+use rstar::primitives::GeomWithData;
+use rstar::RTree;
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashMap};
+
+/// The most layout rounds of [`fit_general`].
+pub const MAX_ROUNDS: usize = 5;
+
+/// The samples per layout piece at which a round is measured (an `n × n` grid).
+pub const MEASURE_GRID: usize = 10;
+
+/// Inner normal samples per layout edge (the Chebyshev–Lobatto points of degree 4).
+const EDGE_NORMALS: usize = 4;
+
+/// Chord samples per layout edge for its curve's least squares.
+const EDGE_SAMPLES: usize = 8;
+
+/// The smallest cosine between a layout triangle's normal and the mesh's at its corners.
+const MIN_FACING_COS: f64 = 0.2;
+
+/// The smallest quality `4√3·area/Σ edge²` of a triangle a collapse may make.
+const MIN_QUALITY: f64 = 0.15;
+
+/// The smallest corner angle (degrees) of a layout triangle in its corners' tangent planes.
+const MIN_CORNER: f64 = 12.0;
+
+/// The weight of the squared edge length in a collapse's cost, against the quadric error.
+const LENGTH_WEIGHT: f64 = 0.02;
+
+/// A coarse layout of a mesh: vertices (indices of the mesh's vertices) and faces (loops of
+/// 3 or 4 layout vertices, counterclockwise about the mesh's normals).
+#[derive(Clone, Debug)]
+pub struct Layout {
+    /// The mesh vertices kept.
+    pub vertices: Vec<usize>,
+    /// The faces, as indices into `vertices`.
+    pub faces: Vec<Vec<usize>>,
+}
+
+/// The mesh's area-weighted vertex normals (unit; zero where no triangle has area).
+pub fn vertex_normals(mesh: &InputMesh) -> Vec<Vec3> {
+    let mut n = vec![Vec3::zeros(); mesh.positions.len()];
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        let f = (b - a).cross(&(c - a));
+        for &i in t {
+            n[i as usize] += f;
+        }
+    }
+    for v in &mut n {
+        let l = v.norm();
+        if l > 0.0 {
+            *v /= l;
+        }
+    }
+    n
+}
+
+/// Refuses a mesh whose triangles are not consistently oriented (an edge run the same way by
+/// two triangles), naming the edge's midpoint in the mesh's coordinates.
+pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
+    let mut seen: HashMap<(u32, u32), usize> = HashMap::with_capacity(mesh.triangles.len() * 3);
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            if let Some(&other) = seen.get(&(a, b)) {
+                let m = (mesh.positions[a as usize] + mesh.positions[b as usize]) * 0.5;
+                return Err(Error::invalid(format!(
+                    "the triangles are not consistently oriented: triangles {other} and {k} run \
+                     the edge at ({:.6}, {:.6}, {:.6}) the same way (flip one of them)",
+                    m.x, m.y, m.z
+                )));
+            }
+            seen.insert((a, b), k);
+        }
+    }
+    Ok(())
+}
+
+#[derive(Clone, Copy)]
+struct Quadric([f64; 10]);
+
+impl Quadric {
+    fn plane(n: Vec3, d: f64, w: f64) -> Quadric {
+        let (a, b, c) = (n.x, n.y, n.z);
+        Quadric([
+            w * a * a,
+            w * a * b,
+            w * a * c,
+            w * a * d,
+            w * b * b,
+            w * b * c,
+            w * b * d,
+            w * c * c,
+            w * c * d,
+            w * d * d,
+        ])
+    }
+    fn add(&mut self, o: &Quadric) {
+        for (x, y) in self.0.iter_mut().zip(o.0.iter()) {
+            *x += y;
+        }
+    }
+    fn eval(&self, p: Vec3) -> f64 {
+        let q = &self.0;
+        let (x, y, z) = (p.x, p.y, p.z);
+        q[0] * x * x
+            + 2.0 * q[1] * x * y
+            + 2.0 * q[2] * x * z
+            + 2.0 * q[3] * x
+            + q[4] * y * y
+            + 2.0 * q[5] * y * z
+            + 2.0 * q[6] * y
+            + q[7] * z * z
+            + 2.0 * q[8] * z
+            + q[9]
+    }
+}
+
+#[derive(PartialEq)]
+struct Candidate {
+    cost: f64,
+    from: u32,
+    to: u32,
+    version: u32,
+}
+
+impl Eq for Candidate {}
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Candidate {
+    // The cheapest first out of a max-heap.
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .cost
+            .total_cmp(&self.cost)
+            .then(other.from.cmp(&self.from))
+    }
+}
+
+/// How far (radians) the corner at `p` of a triangle running `p → next → prev` lies outside
+/// the range of counterclockwise angles about `n` between [`MIN_CORNER`] and 180° −
+/// [`MIN_CORNER`] (in the plane normal to `n`: the layout's curves leave their corners in
+/// that plane); 0 inside it.
+fn corner_badness(p: Vec3, next: Vec3, prev: Vec3, n: Vec3) -> f64 {
+    let (x, y) = (next - p, prev - p);
+    let x = x - n * x.dot(&n);
+    let y = y - n * y.dot(&n);
+    let angle = x.cross(&y).dot(&n).atan2(x.dot(&y));
+    let min = MIN_CORNER.to_radians();
+    (min - angle)
+        .max(angle - (std::f64::consts::PI - min))
+        .max(0.0)
+}
+
+fn quality(a: Vec3, b: Vec3, c: Vec3) -> f64 {
+    let area2 = (b - a).cross(&(c - a)).norm();
+    let s = (b - a).norm_squared() + (c - b).norm_squared() + (a - c).norm_squared();
+    if s > 0.0 {
+        2.0 * 3f64.sqrt() * area2 / s
+    } else {
+        0.0
+    }
+}
+
+/// The worst of a set of triangles: the smallest cosine between a triangle's normal and the
+/// mesh's at its corners, the largest [`corner_badness`], the smallest [`quality`] and area.
+#[derive(Clone, Copy)]
+struct Shape {
+    facing: f64,
+    corner: f64,
+    corner_sum: f64,
+    quality: f64,
+    area: f64,
+}
+
+impl Shape {
+    const BEST: Shape = Shape {
+        facing: 1.0,
+        corner: 0.0,
+        corner_sum: 0.0,
+        quality: 1.0,
+        area: f64::INFINITY,
+    };
+    fn worst(self, o: Shape) -> Shape {
+        Shape {
+            facing: self.facing.min(o.facing),
+            corner: self.corner.max(o.corner),
+            corner_sum: self.corner_sum + o.corner_sum,
+            quality: self.quality.min(o.quality),
+            area: self.area.min(o.area),
+        }
+    }
+}
+
+struct Collapser<'a> {
+    pos: &'a [Vec3],
+    normals: &'a [Vec3],
+    weight: &'a [f64],
+    tris: Vec<[u32; 3]>,
+    alive: Vec<bool>,
+    vtris: Vec<Vec<u32>>,
+    removed: Vec<bool>,
+    boundary: Vec<bool>,
+    quadric: Vec<Quadric>,
+    version: Vec<u32>,
+}
+
+impl Collapser<'_> {
+    /// The shape of the triangle at `p` whose corners take the normals of `corners`.
+    fn shape(&self, p: [Vec3; 3], corners: [u32; 3]) -> Shape {
+        let n = (p[1] - p[0]).cross(&(p[2] - p[0]));
+        let area = n.norm();
+        let n = n / area.max(1e-300);
+        let mut out = Shape {
+            facing: 1.0,
+            corner: 0.0,
+            corner_sum: 0.0,
+            quality: quality(p[0], p[1], p[2]),
+            area,
+        };
+        for k in 0..3 {
+            let nm = self.normals[corners[k] as usize];
+            out.facing = out.facing.min(n.dot(&nm));
+            let bad = corner_badness(p[k], p[(k + 1) % 3], p[(k + 2) % 3], nm);
+            out.corner = out.corner.max(bad);
+            out.corner_sum += bad;
+        }
+        out
+    }
+
+    fn neighbours(&self, u: u32) -> Vec<u32> {
+        let mut out: Vec<u32> = Vec::with_capacity(8);
+        for &t in &self.vtris[u as usize] {
+            if !self.alive[t as usize] {
+                continue;
+            }
+            for &w in &self.tris[t as usize] {
+                if w != u && !out.contains(&w) {
+                    out.push(w);
+                }
+            }
+        }
+        out
+    }
+
+    /// The star of `u` before and after moving `u` onto `v`, or `None` when the link
+    /// condition refuses the collapse (or a boundary would move inside).
+    fn stars(&self, u: u32, v: u32) -> Option<(Shape, Shape)> {
+        let (ui, vi) = (u as usize, v as usize);
+        // Triangles on the edge, and the link condition.
+        let mut opposite: Vec<u32> = Vec::with_capacity(2);
+        for &t in &self.vtris[ui] {
+            let tri = &self.tris[t as usize];
+            if self.alive[t as usize] && tri.contains(&v) {
+                opposite.extend(tri.iter().filter(|&&w| w != u && w != v));
+            }
+        }
+        let on_boundary_edge = opposite.len() == 1;
+        if self.boundary[ui] && !on_boundary_edge {
+            // A boundary vertex moves only along its boundary.
+            return None;
+        }
+        let nu = self.neighbours(u);
+        let nv = self.neighbours(v);
+        let common = nu.iter().filter(|w| nv.contains(w)).count();
+        if common != opposite.len() {
+            return None;
+        }
+        let p = self.pos[vi];
+        // The star of `u` before and after: its worst facing, corner and shape. A collapse
+        // may not make any of them worse than the limits unless it was already so (slivers of
+        // the mesh do not block the collapses that remove them).
+        let mut old_star = Shape::BEST;
+        for &t in &self.vtris[ui] {
+            if self.alive[t as usize] {
+                let tri = self.tris[t as usize];
+                old_star = old_star.worst(self.shape(tri.map(|w| self.pos[w as usize]), tri));
+            }
+        }
+        let mut new_star = Shape::BEST;
+        for &t in &self.vtris[ui] {
+            let tri = self.tris[t as usize];
+            if !self.alive[t as usize] || tri.contains(&v) {
+                continue;
+            }
+            let corners = tri.map(|w| if w == u { v } else { w });
+            let new = tri.map(|w| if w == u { p } else { self.pos[w as usize] });
+            new_star = new_star.worst(self.shape(new, corners));
+        }
+        Some((old_star, new_star))
+    }
+
+    /// The cost of moving `u` onto `v`, or `None` when the collapse is not allowed.
+    fn cost(&self, u: u32, v: u32) -> Option<f64> {
+        let (ui, vi) = (u as usize, v as usize);
+        let p = self.pos[vi];
+        let (old_star, new_star) = self.stars(u, v)?;
+        if new_star.area.is_nan() || new_star.area <= 0.0 {
+            return None;
+        }
+        if new_star.facing < MIN_FACING_COS && new_star.facing < old_star.facing {
+            return None;
+        }
+        if new_star.corner > 0.0 && new_star.corner > old_star.corner {
+            return None;
+        }
+        if new_star.quality < MIN_QUALITY && new_star.quality < old_star.quality {
+            return None;
+        }
+        let mut q = self.quadric[ui];
+        q.add(&self.quadric[vi]);
+        let len2 = (self.pos[ui] - p).norm_squared();
+        let w = self.weight[ui].max(self.weight[vi]);
+        Some(w * (q.eval(p).max(0.0) + LENGTH_WEIGHT * len2))
+    }
+
+    fn best(&self, u: u32) -> Option<Candidate> {
+        if self.removed[u as usize] {
+            return None;
+        }
+        let mut best: Option<Candidate> = None;
+        for v in self.neighbours(u) {
+            if let Some(cost) = self.cost(u, v) {
+                if best.as_ref().is_none_or(|b| cost < b.cost) {
+                    best = Some(Candidate {
+                        cost,
+                        from: u,
+                        to: v,
+                        version: self.version[u as usize],
+                    });
+                }
+            }
+        }
+        best
+    }
+
+    /// Flips an edge of triangle `t` where that makes the corners of the two triangles on it
+    /// better (an obtuse cap of the mesh), returning whether it did.
+    fn flip_better(&mut self, t: usize) -> bool {
+        let tri = self.tris[t];
+        for k in 0..3 {
+            let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            // The other triangle on a–b runs b → a → d.
+            let Some(&t2) = self.vtris[a as usize].iter().find(|&&o| {
+                let o = o as usize;
+                o != t && self.alive[o] && self.tris[o].contains(&b)
+            }) else {
+                continue;
+            };
+            let t2 = t2 as usize;
+            let Some(&d) = self.tris[t2].iter().find(|&&w| w != a && w != b) else {
+                continue;
+            };
+            if d == c || self.neighbours(c).contains(&d) {
+                continue;
+            }
+            let pos = |w: u32| self.pos[w as usize];
+            let old = self
+                .shape([a, b, c].map(pos), [a, b, c])
+                .worst(self.shape(self.tris[t2].map(pos), self.tris[t2]));
+            let (n1, n2) = ([a, d, c], [d, b, c]);
+            let new = self
+                .shape(n1.map(pos), n1)
+                .worst(self.shape(n2.map(pos), n2));
+            if new.area > 0.0 && new.facing > 0.0 && new.corner_sum < old.corner_sum {
+                self.tris[t] = n1;
+                self.tris[t2] = n2;
+                self.vtris[a as usize].retain(|&o| o as usize != t2);
+                self.vtris[b as usize].retain(|&o| o as usize != t);
+                self.vtris[c as usize].push(t2 as u32);
+                self.vtris[d as usize].push(t as u32);
+                return true;
+            }
+        }
+        false
+    }
+
+    fn collapse(&mut self, u: u32, v: u32) {
+        let (ui, vi) = (u as usize, v as usize);
+        let list = std::mem::take(&mut self.vtris[ui]);
+        for t in list {
+            if !self.alive[t as usize] {
+                continue;
+            }
+            let tri = &mut self.tris[t as usize];
+            if tri.contains(&v) {
+                self.alive[t as usize] = false;
+            } else {
+                for w in tri.iter_mut() {
+                    if *w == u {
+                        *w = v;
+                    }
+                }
+                self.vtris[vi].push(t);
+            }
+        }
+        let q = self.quadric[ui];
+        self.quadric[vi].add(&q);
+        self.removed[ui] = true;
+        self.vtris[vi].retain(|&t| self.alive[t as usize]);
+    }
+}
+
+/// Collapses the mesh's edges (module documentation) until `target` vertices remain or no
+/// collapse is allowed; `weight` multiplies the cost of moving each vertex.
+pub fn decimate(mesh: &InputMesh, normals: &[Vec3], weight: &[f64], target: usize) -> Layout {
+    let n = mesh.positions.len();
+    let pos = &mesh.positions;
+    let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut quadric = vec![Quadric([0.0; 10]); n];
+    let mut edge_count: HashMap<(u32, u32), (usize, u32)> = HashMap::new();
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        let [a, b, c] = t.map(|i| pos[i as usize]);
+        let f = (b - a).cross(&(c - a));
+        let l = f.norm();
+        if l > 0.0 {
+            let nrm = f / l;
+            let q = Quadric::plane(nrm, -nrm.dot(&a), 1.0);
+            for &i in t {
+                quadric[i as usize].add(&q);
+            }
+        }
+        for j in 0..3 {
+            vtris[t[j] as usize].push(k as u32);
+            let (x, y) = (t[j], t[(j + 1) % 3]);
+            let e = edge_count
+                .entry((x.min(y), x.max(y)))
+                .or_insert((0, k as u32));
+            e.0 += 1;
+        }
+    }
+    // Boundary edges: a plane through the edge across the surface, weighted heavily, so the
+    // boundary keeps its shape.
+    let mut boundary = vec![false; n];
+    for (&(x, y), &(count, t)) in &edge_count {
+        if count != 1 {
+            continue;
+        }
+        boundary[x as usize] = true;
+        boundary[y as usize] = true;
+        let tri = mesh.triangles[t as usize].map(|i| pos[i as usize]);
+        let face = (tri[1] - tri[0]).cross(&(tri[2] - tri[0]));
+        let along = pos[y as usize] - pos[x as usize];
+        let side = along.cross(&face);
+        let l = side.norm();
+        if l > 0.0 {
+            let nrm = side / l;
+            let q = Quadric::plane(nrm, -nrm.dot(&pos[x as usize]), 10.0);
+            quadric[x as usize].add(&q);
+            quadric[y as usize].add(&q);
+        }
+    }
+    let mut used = vec![false; n];
+    for t in &mesh.triangles {
+        for &i in t {
+            used[i as usize] = true;
+        }
+    }
+    let mut c = Collapser {
+        pos,
+        normals,
+        weight,
+        tris: mesh.triangles.clone(),
+        alive: vec![true; mesh.triangles.len()],
+        vtris,
+        removed: used.iter().map(|u| !u).collect(),
+        boundary,
+        quadric,
+        version: vec![0; n],
+    };
+    let mut remaining = used.iter().filter(|&&u| u).count();
+    let mut heap: BinaryHeap<Candidate> = (0..n as u32).filter_map(|u| c.best(u)).collect();
+    let mut since_rebuild = 0usize;
+    while remaining > target {
+        let Some(cand) = heap.pop() else {
+            // Refused collapses may have become possible through changes two rings away:
+            // look again at every vertex, once per batch of collapses.
+            if since_rebuild == 0 {
+                break;
+            }
+            since_rebuild = 0;
+            heap = (0..n as u32).filter_map(|u| c.best(u)).collect();
+            continue;
+        };
+        let (u, v) = (cand.from, cand.to);
+        if c.removed[u as usize] || c.version[u as usize] != cand.version {
+            continue;
+        }
+        if c.removed[v as usize] || c.cost(u, v).is_none() {
+            c.version[u as usize] += 1;
+            if let Some(b) = c.best(u) {
+                heap.push(b);
+            }
+            continue;
+        }
+        let around = c.neighbours(u);
+        c.collapse(u, v);
+        remaining -= 1;
+        since_rebuild += 1;
+        let mut touched = c.neighbours(v);
+        touched.push(v);
+        for w in around {
+            if !touched.contains(&w) {
+                touched.push(w);
+            }
+        }
+        for w in touched {
+            c.version[w as usize] += 1;
+            if let Some(b) = c.best(w) {
+                heap.push(b);
+            }
+        }
+    }
+    // Triangles whose corners are still too sharp or too flat in their tangent planes
+    // (slivers of the mesh no cheap collapse removed): collapse an edge of each where that
+    // makes its star better, whatever it costs.
+    for _pass in 0..8 {
+        let mut changed = false;
+        for t in 0..c.tris.len() {
+            if !c.alive[t] {
+                continue;
+            }
+            let tri = c.tris[t];
+            if c.shape(tri.map(|w| pos[w as usize]), tri).corner == 0.0 {
+                continue;
+            }
+            if c.flip_better(t) {
+                changed = true;
+                continue;
+            }
+            let mut best: Option<(f64, u32, u32)> = None;
+            for k in 0..3 {
+                for (u, v) in [(tri[k], tri[(k + 1) % 3]), (tri[(k + 1) % 3], tri[k])] {
+                    let Some((old, new)) = c.stars(u, v) else {
+                        continue;
+                    };
+                    if new.area > 0.0
+                        && new.facing > 0.0
+                        && new.corner_sum < old.corner_sum
+                        && best.is_none_or(|b| new.corner_sum < b.0)
+                    {
+                        best = Some((new.corner_sum, u, v));
+                    }
+                }
+            }
+            if let Some((_, u, v)) = best {
+                c.collapse(u, v);
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let mut index = vec![usize::MAX; n];
+    let mut vertices = Vec::with_capacity(remaining);
+    for (i, r) in c.removed.iter().enumerate() {
+        if !r {
+            index[i] = vertices.len();
+            vertices.push(i);
+        }
+    }
+    let faces = c
+        .tris
+        .iter()
+        .zip(&c.alive)
+        .filter(|(_, a)| **a)
+        .map(|(t, _)| t.iter().map(|&i| index[i as usize]).collect())
+        .collect();
+    Layout { vertices, faces }
+}
+
+/// The mesh's triangles by their centroids, for closest points on the side a normal faces.
+pub struct Facing {
+    tree: RTree<GeomWithData<[f64; 3], usize>>,
+}
+
+/// Candidate triangles looked at per closest point (by their centroids' distance).
+const FACING_CANDIDATES: usize = 24;
+
+impl Facing {
+    /// Indexes the mesh's triangles.
+    pub fn new(mesh: &InputMesh) -> Facing {
+        let items = (0..mesh.triangles.len())
+            .map(|t| {
+                let [a, b, c] = mesh.corners(t);
+                let m = (a + b + c) / 3.0;
+                GeomWithData::new([m.x, m.y, m.z], t)
+            })
+            .collect();
+        Facing {
+            tree: RTree::bulk_load(items),
+        }
+    }
+
+    /// The closest triangle to `x` among the nearest few whose normal points along `side`
+    /// (so a thin wall's far side is not taken), else the closest of all.
+    fn triangle(&self, index: &MeshDistance, mesh: &InputMesh, x: Vec3, side: Vec3) -> usize {
+        let mut best: Option<(f64, usize)> = None;
+        for item in self
+            .tree
+            .nearest_neighbor_iter(&[x.x, x.y, x.z])
+            .take(FACING_CANDIDATES)
+        {
+            let t = item.data;
+            let c = mesh.corners(t);
+            let n = (c[1] - c[0]).cross(&(c[2] - c[0]));
+            if n.dot(&side) <= 0.0 {
+                continue;
+            }
+            let d = (closest_on_triangle(x, &c).0 - x).norm();
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, t));
+            }
+        }
+        match best {
+            Some((_, t)) => t,
+            None => index.closest(x).map_or(0, |c| c.2),
+        }
+    }
+}
+
+/// The closest point of the mesh to `x` on the side `side` faces, and the mesh's normal there
+/// (interpolated from the vertex normals).
+fn closest_with_normal(
+    (index, facing): (&MeshDistance, &Facing),
+    mesh: &InputMesh,
+    normals: &[Vec3],
+    x: Vec3,
+    side: Vec3,
+) -> (Vec3, Vec3) {
+    if mesh.triangles.is_empty() {
+        return (x, Vec3::z());
+    }
+    let t = facing.triangle(index, mesh, x, side);
+    let tri = mesh.triangles[t];
+    let (q, v, w) = closest_on_triangle(x, &mesh.corners(t));
+    let n = normals[tri[0] as usize] * (1.0 - v - w)
+        + normals[tri[1] as usize] * v
+        + normals[tri[2] as usize] * w;
+    let n = if n.norm() > 0.0 {
+        n.normalize()
+    } else {
+        let c = mesh.corners(t);
+        (c[1] - c[0]).cross(&(c[2] - c[0])).normalize()
+    };
+    (q, n)
+}
+
+fn hermite(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
+    let (t2, t3) = (t * t, t * t * t);
+    p0 * (2.0 * t3 - 3.0 * t2 + 1.0)
+        + p1 * (-2.0 * t3 + 3.0 * t2)
+        + d0 * (t3 - 2.0 * t2 + t)
+        + d1 * (t3 - t2)
+}
+
+fn hermite_tangent(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
+    let t2 = t * t;
+    p0 * (6.0 * t2 - 6.0 * t)
+        + p1 * (-6.0 * t2 + 6.0 * t)
+        + d0 * (3.0 * t2 - 4.0 * t + 1.0)
+        + d1 * (3.0 * t2 - 2.0 * t)
+}
+
+/// A unit vector in the plane normal to `n`, nearest `x`.
+fn in_plane(x: Vec3, n: Vec3) -> Option<Vec3> {
+    let y = x - n * x.dot(&n);
+    let l = y.norm();
+    (l > 1e-12 * x.norm().max(1e-300)).then(|| y / l)
+}
+
+/// The edge's curve from `a` to `b`: end derivatives in the tangent planes, fitted to the mesh.
+fn fit_edge(
+    index: (&MeshDistance, &Facing),
+    mesh: &InputMesh,
+    normals: &[Vec3],
+    (pa, na): (Vec3, Vec3),
+    (pb, nb): (Vec3, Vec3),
+) -> ([Vec3; 2], Vec<Vec3>) {
+    let chord = pb - pa;
+    let len = chord.norm();
+    let e1a = in_plane(chord, na).unwrap_or_else(|| chord / len);
+    let e1b = in_plane(chord, nb).unwrap_or_else(|| chord / len);
+    let e2a = na.cross(&e1a);
+    let e2b = nb.cross(&e1b);
+    // Samples of the mesh along the chord, parametrised by their polyline's length.
+    let mut pts = vec![pa];
+    for j in 1..EDGE_SAMPLES {
+        let x = pa + chord * (j as f64 / EDGE_SAMPLES as f64);
+        pts.push(closest_with_normal(index, mesh, normals, x, na + nb).0);
+    }
+    pts.push(pb);
+    let mut s = vec![0.0];
+    for j in 1..pts.len() {
+        s.push(s[j - 1] + (pts[j] - pts[j - 1]).norm());
+    }
+    let total = s[s.len() - 1].max(1e-300);
+    // Least squares for d0 = α₁e1a + α₂e2a, d1 = β₁e1b + β₂e2b, nudged towards the chord.
+    let basis = [e1a, e2a, e1b, e2b];
+    let mut ata = nalgebra::Matrix4::<f64>::zeros();
+    let mut atb = nalgebra::Vector4::<f64>::zeros();
+    for j in 1..pts.len() - 1 {
+        let t = s[j] / total;
+        let (t2, t3) = (t * t, t * t * t);
+        let h10 = t3 - 2.0 * t2 + t;
+        let h11 = t3 - t2;
+        let r = pts[j] - pa * (2.0 * t3 - 3.0 * t2 + 1.0) - pb * (-2.0 * t3 + 3.0 * t2);
+        let cols = [
+            basis[0] * h10,
+            basis[1] * h10,
+            basis[2] * h11,
+            basis[3] * h11,
+        ];
+        for x in 0..4 {
+            for y in 0..4 {
+                ata[(x, y)] += cols[x].dot(&cols[y]);
+            }
+            atb[x] += cols[x].dot(&r);
+        }
+    }
+    let lambda = 1e-3;
+    for (x, target) in [total, 0.0, total, 0.0].iter().enumerate() {
+        ata[(x, x)] += lambda;
+        atb[x] += lambda * target;
+    }
+    let sol = ata
+        .lu()
+        .solve(&atb)
+        .unwrap_or(nalgebra::Vector4::new(total, 0.0, total, 0.0));
+    // The directions stay within 4° of the chord's in each tangent plane, so the corners of
+    // a thin face keep turning.
+    let lean = 4f64.to_radians().tan();
+    let mut d0 = e1a * sol[0] + e2a * sol[1].clamp(-lean * sol[0].abs(), lean * sol[0].abs());
+    let mut d1 = e1b * sol[2] + e2b * sol[3].clamp(-lean * sol[2].abs(), lean * sol[2].abs());
+    if !(d0.dot(&chord) > 0.0 && d0.norm() < 3.0 * total) {
+        d0 = e1a * total;
+    }
+    if !(d1.dot(&chord) > 0.0 && d1.norm() < 3.0 * total) {
+        d1 = e1b * total;
+    }
+    // The normal field at the inner Chebyshev–Lobatto points, made normal to the curve.
+    let mut inner = Vec::with_capacity(EDGE_NORMALS - 1);
+    for j in 1..EDGE_NORMALS {
+        let t = 0.5 * (1.0 - (std::f64::consts::PI * j as f64 / EDGE_NORMALS as f64).cos());
+        let x = hermite(pa, pb, d0, d1, t);
+        let (_, mut n) = closest_with_normal(index, mesh, normals, x, na + nb);
+        if n.dot(&(na + nb)) < 0.0 {
+            n = -n;
+        }
+        let tan = hermite_tangent(pa, pb, d0, d1, t);
+        inner.push(in_plane(n, tan.normalize()).unwrap_or(n));
+    }
+    ([d0, d1], inner)
+}
+
+fn arr(v: Vec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// The `[[patchwork]]` of a layout: corners and normals from the mesh, each edge's curve and
+/// normal field fitted to it.
+pub fn layout_spec(
+    mesh: &InputMesh,
+    normals: &[Vec3],
+    index: (&MeshDistance, &Facing),
+    layout: &Layout,
+    degree: usize,
+) -> Result<PatchworkSpec> {
+    let pos = |i: usize| mesh.positions[layout.vertices[i]];
+    let nrm = |i: usize| normals[layout.vertices[i]];
+    for (i, &v) in layout.vertices.iter().enumerate() {
+        if normals[v].norm() == 0.0 {
+            let p = pos(i);
+            return Err(Error::invalid(format!(
+                "the mesh has no normal at ({:.6}, {:.6}, {:.6}) (its triangles there have no \
+                 area)",
+                p.x, p.y, p.z
+            )));
+        }
+    }
+    let mut edge_of: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut ends: Vec<[usize; 2]> = Vec::new();
+    for face in &layout.faces {
+        for k in 0..face.len() {
+            let (a, b) = (face[k], face[(k + 1) % face.len()]);
+            edge_of.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                ends.push([a.min(b), a.max(b)]);
+                ends.len() - 1
+            });
+        }
+    }
+    let edges: Vec<PatchworkEdgeSpec> = {
+        use rayon::prelude::*;
+        ends.par_iter()
+            .map(|&[a, b]| {
+                let (tangents, inner) =
+                    fit_edge(index, mesh, normals, (pos(a), nrm(a)), (pos(b), nrm(b)));
+                PatchworkEdgeSpec {
+                    ends: [a, b],
+                    tangents: [arr(tangents[0]), arr(tangents[1])],
+                    normals: inner.into_iter().map(arr).collect(),
+                    crease: false,
+                }
+            })
+            .collect()
+    };
+    Ok(PatchworkSpec {
+        name: "fit".to_string(),
+        order: 2,
+        a: 1.0,
+        degree,
+        points: (0..layout.vertices.len()).map(|i| arr(pos(i))).collect(),
+        normals: (0..layout.vertices.len()).map(|i| arr(nrm(i))).collect(),
+        edges,
+        faces: layout.faces.clone(),
+    })
+}
+
+/// Where a general fit misses its target: the worst point (in the mesh's coordinates) and the
+/// distance there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Miss {
+    /// The point of the mesh or of the fit farthest from the other.
+    pub at: Vec3,
+    /// The distance there (the two-sided Hausdorff distance).
+    pub distance: f64,
+}
+
+/// The general mode (module documentation): `opts.target` is the two-sided Hausdorff
+/// distance sought, as a fraction of the diagonal; `opts.patches`, when given, is the first
+/// round's number of layout vertices. Returns the round with the smallest Hausdorff distance
+/// and, when it misses the target, where.
+pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<Miss>)> {
+    opts.check()?;
+    let topology = mesh.require_single()?;
+    require_oriented(mesh)?;
+    let normals = vertex_normals(mesh);
+    let index = MeshDistance::new(mesh);
+    let facing = Facing::new(mesh);
+    let diagonal = mesh.diagonal();
+    let tol = opts.target * diagonal;
+    let used = {
+        let mut u = vec![false; mesh.positions.len()];
+        for t in &mesh.triangles {
+            for &i in t {
+                u[i as usize] = true;
+            }
+        }
+        u
+    };
+    let vertices = used.iter().filter(|&&u| u).count();
+    // Euler characteristic: the genus asks for more layout vertices.
+    let mut edges = std::collections::HashSet::new();
+    for t in &mesh.triangles {
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            edges.insert((a.min(b), a.max(b)));
+        }
+    }
+    let chi = vertices as i64 - edges.len() as i64 + mesh.triangles.len() as i64;
+    let handles = ((2 - chi).max(0) as usize) / 2;
+    let mut target = match opts.patches {
+        Some(p) => p.max(8),
+        None => 40 + 24 * handles + topology.boundary_edges.min(200) / 8,
+    }
+    .min(vertices);
+    let mut weight = vec![1.0; mesh.positions.len()];
+    let mut best: Option<(Fit, Option<Miss>, f64)> = None;
+    let mut previous = 0usize;
+    for _round in 0..MAX_ROUNDS {
+        let layout = decimate(mesh, &normals, &weight, target);
+        // Not paired into quads: a four-sided face is one surface on its square while faces
+        // of 3 (or 5 to 8) sides are presented as pieces, each over half of two sides, so a
+        // quad beside a triangle would tessellate their shared edge at different points
+        // (T-junctions; the closed mesh would not come out watertight).
+        if layout.vertices.len() < previous + previous / 20 {
+            // The last round could not add layout vertices: refining further is pointless.
+            break;
+        }
+        previous = layout.vertices.len();
+        let patchwork = layout_spec(mesh, &normals, (&index, &facing), &layout, 10)?;
+        let spec = DesignSpec {
+            patchwork: vec![patchwork],
+            ..DesignSpec::default()
+        };
+        let solved = solve_design(&spec)?;
+        let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
+        // The worst places both ways.
+        let mut worst = Miss {
+            at: Vec3::zeros(),
+            distance: -1.0,
+        };
+        let mut bad: Vec<Vec3> = Vec::new();
+        for (i, &x) in d.mesh.iter().enumerate() {
+            if x.is_finite() {
+                if x > worst.distance {
+                    worst = Miss {
+                        at: mesh.positions[i],
+                        distance: x,
+                    };
+                }
+                if x > tol {
+                    bad.push(mesh.positions[i]);
+                }
+            }
+        }
+        for (g, dist) in d.grids.iter().zip(&d.fit) {
+            for (p, &x) in g.positions.iter().zip(dist) {
+                let p = Vec3::new(p[0], p[1], p[2]);
+                if x.is_finite() && x > worst.distance {
+                    worst = Miss { at: p, distance: x };
+                }
+                if x > tol {
+                    bad.push(p);
+                }
+            }
+        }
+        let faces = layout.faces.len();
+        let fit = Fit {
+            spec,
+            mode: FitMode::General,
+            frame: AxisFrame {
+                origin: Vec3::zeros(),
+                e1: Vec3::x(),
+                e2: Vec3::y(),
+                axis: Vec3::z(),
+            },
+            sections: 0,
+            dropped: 0,
+            modes: 0,
+            patches: faces,
+            a: 1.0,
+            sample_error: m.hausdorff_relative,
+        };
+        let miss = (m.hausdorff > tol).then_some(worst);
+        let better = best.as_ref().is_none_or(|b| m.hausdorff < b.2);
+        let done = miss.is_none() || target >= vertices;
+        if better {
+            best = Some((fit, miss, m.hausdorff));
+        }
+        if done {
+            break;
+        }
+        // Refine where the error is: the mesh vertices near the misses weigh more, and the
+        // layout gets more vertices.
+        for p in &bad {
+            if let Some((_, _, t)) = index.closest(*p) {
+                for &i in &mesh.triangles[t] {
+                    weight[i as usize] *= 4.0;
+                }
+            }
+        }
+        let extra = (bad.len() / 4).clamp(target / 4, target);
+        target = (target + extra).min(vertices);
+    }
+    let (fit, miss, _) = best.ok_or_else(|| Error::invalid("no layout was made"))?;
+    Ok((fit, miss))
+}

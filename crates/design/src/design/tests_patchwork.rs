@@ -1,0 +1,145 @@
+//! `[[patchwork]]`s in the design file: an octahedron's layout on the unit sphere (corners on
+//! the sphere, its normals, quarter-circle Hermite edges) is one G1 surface near the sphere,
+//! and bad layouts are refused with their place.
+
+use super::*;
+use crate::spec::parse_design;
+use crate::Vec3;
+use std::fmt::Write;
+
+const CORNERS: [[f64; 3]; 6] = [
+    [1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [0.0, 0.0, 1.0],
+    [0.0, 0.0, -1.0],
+];
+
+/// The eight faces, counterclockwise seen from outside.
+const FACES: [[usize; 3]; 8] = [
+    [0, 1, 4],
+    [1, 2, 4],
+    [2, 3, 4],
+    [3, 0, 4],
+    [1, 0, 5],
+    [2, 1, 5],
+    [3, 2, 5],
+    [0, 3, 5],
+];
+
+/// The octahedron's patchwork, `faces` replaced by `faces` when given.
+fn octahedron(faces: Option<&str>) -> String {
+    let v = |i: usize| Vec3::from(CORNERS[i]);
+    let mut t = String::from("[[patchwork]]\nname = \"ball\"\npoints = [");
+    for c in CORNERS {
+        let _ = write!(t, "[{:?}, {:?}, {:?}], ", c[0], c[1], c[2]);
+    }
+    t += "]\nnormals = [";
+    for c in CORNERS {
+        let _ = write!(t, "[{:?}, {:?}, {:?}], ", c[0], c[1], c[2]);
+    }
+    t += "]\nedges = [\n";
+    let mut pairs = Vec::new();
+    for f in FACES {
+        for k in 0..3 {
+            let (a, b) = (f[k].min(f[(k + 1) % 3]), f[k].max(f[(k + 1) % 3]));
+            if !pairs.contains(&(a, b)) {
+                pairs.push((a, b));
+            }
+        }
+    }
+    for (a, b) in pairs {
+        // A quarter circle from a to b: the derivatives are π/2 times the unit tangents.
+        let q = std::f64::consts::FRAC_PI_2;
+        let (d0, d1) = (v(b) * q, -v(a) * q);
+        let mid = (v(a) + v(b)).normalize();
+        let _ = writeln!(
+            t,
+            "  {{ ends = [{a}, {b}], tangents = [[{:?}, {:?}, {:?}], [{:?}, {:?}, {:?}]], \
+             normals = [[{:?}, {:?}, {:?}]] }},",
+            d0.x, d0.y, d0.z, d1.x, d1.y, d1.z, mid.x, mid.y, mid.z
+        );
+    }
+    t += "]\n";
+    match faces {
+        Some(f) => t += &format!("faces = {f}\n"),
+        None => {
+            t += "faces = [";
+            for f in FACES {
+                let _ = write!(t, "[{}, {}, {}], ", f[0], f[1], f[2]);
+            }
+            t += "]\n";
+        }
+    }
+    t
+}
+
+#[test]
+fn an_octahedron_layout_is_one_g1_surface_near_the_sphere() {
+    let spec = parse_design(&octahedron(None)).unwrap();
+    let d = solve_design(&spec).unwrap();
+    let net = &d.networks[0];
+    assert_eq!(net.faces.len(), 8);
+    assert!(net.joints.iter().all(|j| *j == Joint::Shared));
+    let mut g1: f64 = 0.0;
+    for e in 0..net.network.edges.len() {
+        let along = net.network.faces_of(e);
+        assert_eq!(along.len(), 2);
+        for j in 1..16 {
+            let s = j as f64 / 16.0;
+            let mut n = Vec::new();
+            for &(f, side) in &along {
+                let forward = net.network.faces[f].sides[side][0].forward;
+                n.push(net.faces[f].boundary_normal(side, if forward { s } else { 1.0 - s }));
+            }
+            assert!(
+                (n[0].0 - n[1].0).norm() < 1e-12,
+                "the faces part along edge {e}"
+            );
+            g1 = g1.max(n[0].1.cross(&n[1].1).norm());
+        }
+    }
+    assert!(g1 < 1e-9, "G1 {g1}");
+    // Near the sphere: eight faces over a sphere stay within 4 % of it (3.1 % measured).
+    for s in &d.surfaces {
+        for i in 0..=8 {
+            for j in 0..=8 {
+                let p = s.surface().point(i as f64 / 8.0, j as f64 / 8.0);
+                let r = p.norm();
+                assert!((r - 1.0).abs() < 0.04, "{}: radius {r}", s.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_layouts_are_refused_with_their_place() {
+    let bad = |faces: &str, place: &str, needle: &str| {
+        let spec = parse_design(&octahedron(Some(faces))).unwrap();
+        let e = solve_design(&spec).unwrap_err();
+        assert_eq!(e.place(), place, "{e}");
+        assert!(e.to_string().contains(needle), "{e}");
+    };
+    bad(
+        "[[0, 1, 2]]",
+        "patchwork[0].faces[0]",
+        "no edge joins corners 2 and 0",
+    );
+    bad("[[0, 1]]", "patchwork[0].faces[0]", "a face of 2 corners");
+    bad(
+        "[[0, 1, 4], [0, 1, 4]]",
+        "patchwork[0].faces[1]",
+        "opposite directions",
+    );
+    bad(
+        "[[0, 1, 9]]",
+        "patchwork[0].faces[0]",
+        "corner 9 does not exist",
+    );
+    let mut text = octahedron(None);
+    text = text.replacen("ends = [0, 1]", "ends = [0, 0]", 1);
+    let e = solve_design(&parse_design(&text).unwrap()).unwrap_err();
+    assert!(e.place().starts_with("patchwork[0].edges["), "{e}");
+    assert!(e.to_string().contains("joins a corner to itself"), "{e}");
+}

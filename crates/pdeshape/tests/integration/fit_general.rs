@@ -1,0 +1,183 @@
+//! The general fitting mode on closed meshes of any genus and on open ones, made by marching
+//! tetrahedra of implicit functions (`pdeshape_testkit::implicit`, a construction the fitting
+//! code does not share): the fit must be within the stated bounds both ways (Hausdorff and RMS,
+//! relative to the mesh's bounding-box diagonal), G1 across every layout edge, watertight after
+//! tessellation where the mesh is closed, and read back from its file unchanged.
+
+use pdeshape::design::{solve_design, SolvedDesign};
+use pdeshape::fit::{fit_general, measure, FitMode, FitOptions, InputMesh, Measures};
+use pdeshape::spec::{parse_design, write_design, DesignSpec};
+use pdeshape_testkit::implicit;
+use std::collections::HashMap;
+
+/// Fits `mesh` in the general mode to the Hausdorff target `target` (of the diagonal); returns
+/// the design read back from its file, solved, and its measures.
+fn fit(name: &str, mesh: &InputMesh, target: f64) -> (SolvedDesign, Measures) {
+    let t = std::time::Instant::now();
+    let opts = FitOptions {
+        target,
+        ..FitOptions::default()
+    };
+    let (fit, miss) = fit_general(mesh, &opts).unwrap();
+    assert_eq!(fit.mode, FitMode::General);
+    let text = write_design(&fit.spec).unwrap();
+    let spec = parse_design(&text).unwrap();
+    assert_eq!(spec, fit.spec, "{name}: the design does not round-trip");
+    let solved = solve_design(&spec).unwrap();
+    let (m, _) = measure(mesh, &spec, &solved, 12, 12).unwrap();
+    eprintln!(
+        "{name}: {} triangles → {} faces, Hausdorff {:.3e}, RMS {:.3e} of the diagonal, {} \
+         TOML bytes (mesh {}), miss {:?}, {:.2} s",
+        mesh.triangles.len(),
+        fit.patches,
+        m.hausdorff_relative,
+        m.rms_relative,
+        text.len(),
+        m.mesh_bytes,
+        miss,
+        t.elapsed().as_secs_f64()
+    );
+    (solved, m)
+}
+
+/// What `check` measures of the layout: the largest G1 angle (radians) across a shared layout
+/// edge, the largest corner tangent mismatch and the largest gap between a face and its sides
+/// (relative); and the number of shared edges.
+fn checked(solved: &SolvedDesign) -> (f64, f64, f64, usize) {
+    let d = pdeshape::diagnose(&DesignSpec::default(), solved);
+    let net = &d.networks[0];
+    let shared: Vec<f64> = net
+        .joints
+        .iter()
+        .filter(|j| j.kind == "g1")
+        .map(|j| j.g1.unwrap_or(f64::NAN))
+        .collect();
+    let nan_max = |a: f64, b: f64| {
+        if a.is_nan() || b.is_nan() {
+            f64::NAN
+        } else {
+            a.max(b)
+        }
+    };
+    (
+        shared.iter().copied().fold(0.0, nan_max),
+        net.faces
+            .iter()
+            .map(|f| f.tangent_mismatch)
+            .fold(0.0, nan_max),
+        net.faces.iter().map(|f| f.boundary).fold(0.0, nan_max),
+        shared.len(),
+    )
+}
+
+/// Edges of the tessellation used by one triangle only.
+fn open_edges(solved: &SolvedDesign) -> usize {
+    let grids = solved.meshes(6, 6).unwrap();
+    let mesh = pdeshape::mesh::weld(&grids, &solved.names(), Default::default());
+    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in &mesh.triangles {
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    count.values().filter(|&&c| c == 1).count()
+}
+
+fn check_closed(name: &str, mesh: &InputMesh) {
+    let (solved, m) = fit(name, mesh, 0.01);
+    assert!(m.rms_relative < 0.01, "{name}: RMS {}", m.rms_relative);
+    assert!(
+        m.hausdorff_relative < 0.05,
+        "{name}: Hausdorff {}",
+        m.hausdorff_relative
+    );
+    let (g1, corner, boundary, shared) = checked(&solved);
+    eprintln!(
+        "{name}: G1 {g1:.3e} rad over {shared} edges, corners {corner:.3e}, sides {boundary:.3e}"
+    );
+    assert!(shared > 0);
+    assert!(g1 < 1e-6, "{name}: G1 {g1} rad");
+    assert!(
+        corner < 1e-6,
+        "{name}: corner tangent mismatch {corner} rad"
+    );
+    assert!(boundary < 1e-9, "{name}: sides met to {boundary}");
+    assert_eq!(
+        open_edges(&solved),
+        0,
+        "{name}: the tessellation is not watertight"
+    );
+}
+
+#[test]
+fn a_torus_is_one_g1_surface() {
+    check_closed("torus", &implicit::torus(32));
+}
+
+#[test]
+fn a_double_torus_is_one_g1_surface() {
+    check_closed("double torus", &implicit::double_torus(44));
+}
+
+#[test]
+fn a_body_with_limbs_is_one_g1_surface() {
+    check_closed("limbs", &implicit::limbs(40));
+}
+
+#[test]
+fn a_mug_with_a_handle_is_one_g1_surface() {
+    check_closed("mug", &implicit::mug(40));
+}
+
+#[test]
+fn an_open_mesh_keeps_its_boundary() {
+    let mesh = implicit::half_torus(32);
+    assert!(mesh.topology().boundary_edges > 0);
+    let (solved, m) = fit("half torus", &mesh, 0.01);
+    assert!(m.rms_relative < 0.01, "RMS {}", m.rms_relative);
+    assert!(
+        m.hausdorff_relative < 0.05,
+        "Hausdorff {}",
+        m.hausdorff_relative
+    );
+    let (g1, corner, boundary, shared) = checked(&solved);
+    assert!(shared > 0);
+    assert!(g1 < 1e-6, "G1 {g1} rad");
+    assert!(corner < 1e-6, "corner tangent mismatch {corner} rad");
+    assert!(boundary < 1e-9, "sides met to {boundary}");
+    // Open only along the mesh's two boundary loops: every open edge of the tessellation
+    // lies on the plane y = 0 where the torus was cut (to the layout's chord error there).
+    let grids = solved.meshes(6, 6).unwrap();
+    let welded = pdeshape::mesh::weld(&grids, &solved.names(), Default::default());
+    let mut count: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in &welded.triangles {
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let mut open = 0;
+    for (&(a, b), &c) in &count {
+        assert!(c <= 2);
+        if c == 1 {
+            open += 1;
+            let y = 0.5 * (welded.positions[a as usize][1] + welded.positions[b as usize][1]);
+            assert!(y.abs() < 0.05, "an open edge inside the surface at y = {y}");
+        }
+    }
+    assert!(open > 0);
+}
+
+#[test]
+fn a_mesh_with_flipped_triangles_is_refused_with_a_point() {
+    let mut mesh = implicit::torus(16);
+    mesh.triangles[5].swap(1, 2);
+    let opts = FitOptions {
+        target: 0.01,
+        ..FitOptions::default()
+    };
+    let e = fit_general(&mesh, &opts).unwrap_err();
+    assert!(e.to_string().contains("not consistently oriented"), "{e}");
+    assert!(e.to_string().contains("the edge at ("), "{e}");
+}
