@@ -36,6 +36,9 @@ use std::collections::{BinaryHeap, HashMap};
 /// The most layout rounds of [`fit_general`].
 pub const MAX_ROUNDS: usize = 5;
 
+/// Triangles a layout round decimates a second (80 000 in about 5.7 s), for the work bound.
+const LAYOUT_TRIANGLES_PER_SECOND: f64 = 14_000.0;
+
 /// The samples per layout piece at which a round is measured (an `n × n` grid).
 pub const MEASURE_GRID: usize = 10;
 
@@ -867,6 +870,21 @@ pub struct Miss {
 /// and, when it misses the target, where.
 pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<Miss>)> {
     opts.check()?;
+    // Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for
+    // 80 000 triangles on the development machine), so a mesh whose first round alone would
+    // exceed the work bound is refused before it starts.
+    crate::work::check(
+        &[crate::work::Work {
+            units: mesh.triangles.len() as f64,
+            per_second: LAYOUT_TRIANGLES_PER_SECOND,
+        }],
+        &format!(
+            "the general mode's layout of a mesh of {} triangles",
+            mesh.triangles.len()
+        ),
+        "decimate the mesh (to about 100 000 triangles), or fit it by a template",
+        "",
+    )?;
     let topology = mesh.require_single()?;
     require_oriented(mesh)?;
     let normals = vertex_normals(mesh);

@@ -181,3 +181,38 @@ fn a_mesh_with_flipped_triangles_is_refused_with_a_point() {
     assert!(e.to_string().contains("not consistently oriented"), "{e}");
     assert!(e.to_string().contains("the edge at ("), "{e}");
 }
+
+/// A mesh whose first layout round alone would exceed the work bound (a torus of about 270 000
+/// triangles: some 20 s of decimation) is refused at once, with the estimate and what to do.
+#[test]
+fn a_mesh_too_large_for_the_layout_is_refused_from_its_cost() {
+    let (n, m) = (300usize, 450usize);
+    let mut positions = Vec::with_capacity(n * m);
+    for i in 0..n {
+        for j in 0..m {
+            let (a, b) = (
+                std::f64::consts::TAU * i as f64 / n as f64,
+                std::f64::consts::TAU * j as f64 / m as f64,
+            );
+            let r = 2.0 + 0.7 * b.cos();
+            positions.push(pdeshape::Vec3::new(r * a.cos(), r * a.sin(), 0.7 * b.sin()));
+        }
+    }
+    let at = |i: usize, j: usize| ((i % n) * m + j % m) as u32;
+    let mut triangles = Vec::with_capacity(2 * n * m);
+    for i in 0..n {
+        for j in 0..m {
+            triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    let mesh = InputMesh::new(positions, triangles).unwrap();
+    let t = std::time::Instant::now();
+    let e = fit_general(&mesh, &FitOptions::default()).unwrap_err();
+    assert!(t.elapsed().as_secs_f64() < 5.0);
+    let e = e.to_string();
+    assert!(
+        e.contains("270000 triangles") && e.contains("s of work") && e.contains("decimate"),
+        "{e}"
+    );
+}
