@@ -48,8 +48,9 @@ const EDGE_NORMALS: usize = 4;
 /// Chord samples per layout edge for its curve's least squares.
 const EDGE_SAMPLES: usize = 8;
 
-/// The smallest cosine between a layout triangle's normal and the mesh's at its corners.
-const MIN_FACING_COS: f64 = 0.2;
+/// The smallest cosine between a layout triangle's normal and the mesh's at its corners (60°:
+/// a face across a rounded edge, its corners facing two ways, bulged far off the mesh).
+const MIN_FACING_COS: f64 = 0.5;
 
 /// The smallest quality `4√3·area/Σ edge²` of a triangle a collapse may make.
 const MIN_QUALITY: f64 = 0.15;
@@ -944,6 +945,7 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
             distance: -1.0,
         };
         let mut bad: Vec<Vec3> = Vec::new();
+        let mut bad_grids: Vec<usize> = Vec::new();
         for (i, &x) in d.mesh.iter().enumerate() {
             if x.is_finite() {
                 if x > worst.distance {
@@ -957,15 +959,17 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
                 }
             }
         }
-        for (g, dist) in d.grids.iter().zip(&d.fit) {
+        for (k, (g, dist)) in d.grids.iter().zip(&d.fit).enumerate() {
+            let mut missed = false;
             for (p, &x) in g.positions.iter().zip(dist) {
                 let p = Vec3::new(p[0], p[1], p[2]);
                 if x.is_finite() && x > worst.distance {
                     worst = Miss { at: p, distance: x };
                 }
-                if x > tol {
-                    bad.push(p);
-                }
+                missed |= x > tol;
+            }
+            if missed {
+                bad_grids.push(k);
             }
         }
         let faces = layout.faces.len();
@@ -994,16 +998,32 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
         if done {
             break;
         }
-        // Refine where the error is: the mesh vertices near the misses weigh more, and the
-        // layout gets more vertices.
+        // Refine where the error is: the mesh near the misses weighs more, and the layout
+        // gets more vertices. A mesh vertex far from the fit weighs its own triangles; a piece
+        // of the fit far from the mesh weighs the mesh under the whole piece (the closest
+        // points of all its samples), not only under the samples that miss: a piece that
+        // bulges away has its far samples closest to some unrelated part of the mesh.
+        let mut heavier: std::collections::HashSet<usize> = std::collections::HashSet::new();
         for p in &bad {
             if let Some((_, _, t)) = index.closest(*p) {
-                for &i in &mesh.triangles[t] {
-                    weight[i as usize] *= 4.0;
+                heavier.insert(t);
+            }
+        }
+        for &k in &bad_grids {
+            for p in &d.grids[k].positions {
+                let p = Vec3::new(p[0], p[1], p[2]);
+                if let Some((_, _, t)) = index.closest(p) {
+                    heavier.insert(t);
                 }
             }
         }
-        let extra = (bad.len() / 4).clamp(target / 4, target);
+        for &t in &heavier {
+            for &i in &mesh.triangles[t] {
+                weight[i as usize] *= 4.0;
+            }
+        }
+        let misses = bad.len() + bad_grids.len() * MEASURE_GRID * MEASURE_GRID;
+        let extra = (misses / 4).clamp(target / 4, target);
         target = (target + extra).min(vertices);
     }
     let (fit, miss, _) = best.ok_or_else(|| Error::invalid("no layout was made"))?;
