@@ -34,25 +34,32 @@ MESH_EXTENSIONS = (".obj", ".stl", ".ply")
 
 def fit(
     mesh: str | os.PathLike[str] | bytes,
-    tolerance: float = 2e-3,
+    tolerance: float | None = None,
     sections: int | None = None,
     name: str | None = None,
+    mode: str = "auto",
+    best_effort: bool = False,
 ) -> tuple[Design, dict[str, Any]]:
-    """Fits PDE patches to a triangle mesh (closed: tube mode; open: sheet mode), as ``pdeshape fit MESH -o design.toml --json
-    report.json`` does.
+    """Fits PDE patches to a triangle mesh, as ``pdeshape fit MESH -o design.toml --json
+    report.json`` does (with ``--tolerance``, ``--sections``, ``--mode`` and ``--best-effort``).
 
     ``mesh``: the path of an OBJ, STL or PLY file, or its bytes with ``name`` a file name whose
-    extension gives the format. ``tolerance``: the largest distance between the mesh's sections
-    and the fit, relative to the mesh's bounding-box diagonal. ``sections``: a fixed number of
-    patches instead of the adaptive choice.
+    extension gives the format. ``tolerance``: the largest two-sided Hausdorff distance between
+    the mesh and the fit, relative to the mesh's bounding-box diagonal (default 0.02; the tube
+    and sheet modes then refine their sections to 0.002). ``sections``: a fixed number of
+    patches instead of the adaptive choice. ``mode``: ``"auto"`` (tube for a closed body, sheet
+    for an open one, the general mode — n-sided patches over a layout of the mesh, G1 across
+    its edges — where those refuse the mesh or miss the tolerance), ``"tube"``, ``"sheet"`` or
+    ``"general"``. ``best_effort``: return a fit that misses the tolerance instead of raising.
 
     Returns ``(design, report)``: the fitted :class:`Design` (its ``text`` is the file ``-o``
-    writes) and the ``--json`` report as a dict (``patches``, ``modes``, ``measures`` with the
-    two-sided distances, …; without the timings). A mesh that cannot be read or fitted raises
-    :class:`DesignError` naming the file.
+    writes) and the ``--json`` report as a dict (``mode``, ``patches``, ``measures`` with the
+    two-sided distances, ``missed``, ``fallback``, …; without the timings). A mesh that cannot
+    be read or fitted, or a fit that misses the tolerance, raises :class:`DesignError` naming
+    the file (and the farthest point, for a miss).
     """
     data, name = _mesh_bytes(mesh, name)
-    return fit_mesh(data, name, tolerance, sections)
+    return fit_mesh(data, name, tolerance, sections, mode, best_effort)
 
 
 def _mesh_bytes(mesh: Any, name: str | None) -> tuple[bytes, str]:

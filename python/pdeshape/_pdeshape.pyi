@@ -160,5 +160,10 @@ def fill_mesh(
     grading: float = 0.1,
 ) -> dict[str, Any]: ...
 def fit_mesh(
-    data: bytes, name: str, tolerance: float = 2e-3, sections: int | None = None
+    data: bytes,
+    name: str,
+    tolerance: float | None = None,
+    sections: int | None = None,
+    mode: str = "auto",
+    best_effort: bool = False,
 ) -> tuple[Design, dict[str, Any]]: ...

@@ -144,7 +144,7 @@ def _run_designs(
     designs: Sequence[tuple],
     measures: Sequence[str],
     tolerance: Any,
-    fit_options: tuple[float, int | None] = (2e-3, None),
+    fit_options: tuple[float | None, int | None] = (None, None),
 ) -> tuple[np.ndarray, list[str | None], np.ndarray]:
     """The work of one task of a sweep over a list: each item is ``("design", text, file,
     params)``, ``("mesh", bytes, name)`` (fitted first) or ``("error", message)`` (a row that
@@ -159,7 +159,7 @@ def _run_designs(
             continue
         try:
             if kind == "mesh":
-                d, report = fit_mesh(item[1], item[2], *fit_options)
+                d, report = fit_mesh(item[1], item[2], *fit_options, "auto", True)
                 fits[i] = _fit_row(report)
             else:
                 _, text, file, params = item
@@ -239,7 +239,7 @@ def sweep(
     tolerance: float | None = None,
     as_pandas: bool | None = None,
     quadrature: tuple[int, int] | None = None,
-    fit_tolerance: float = 2e-3,
+    fit_tolerance: float | None = None,
     fit_sections: int | None = None,
 ):
     """Measures every variant of a design, or every design or mesh of a list.

@@ -1271,24 +1271,33 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
         })
 }
 
-/// Fits PDE patches to a triangle mesh (closed: tube mode; open: sheet mode) as
-/// `pdeshape fit MESH -o design.toml --json r.json` does: `data` are the bytes of an OBJ, STL or PLY file, `name` its file name (the extension
-/// gives the format; errors name it). Returns the fitted design (its text is the `-o` file)
-/// and the report of `--json` as a dict (without `timings_ms`).
+/// Fits PDE patches to a triangle mesh as `pdeshape fit MESH -o design.toml --json r.json
+/// [--tolerance T] [--sections N] [--mode M] [--best-effort]` does: `data` are the bytes of an
+/// OBJ, STL or PLY file, `name` its file name (the extension gives the format; errors name it).
+/// The mode and its fallback, the tolerance and the measures are the library's
+/// ([`fit::fit_measured`]). Returns the fitted design (its text is the `-o` file) and the
+/// report of `--json` as a dict (without `timings_ms`); a fit that misses the tolerance raises
+/// unless `best_effort`.
 #[pyfunction]
-#[pyo3(signature = (data, name, tolerance = 2e-3, sections = None))]
+#[pyo3(signature = (data, name, tolerance = None, sections = None, mode = "auto", best_effort = false))]
 fn fit_mesh<'py>(
     py: Python<'py>,
     data: Vec<u8>,
     name: &str,
-    tolerance: f64,
+    tolerance: Option<f64>,
     sections: Option<usize>,
+    mode: &str,
+    best_effort: bool,
 ) -> PyResult<(Design, Bound<'py, PyAny>)> {
-    if !(tolerance > 0.0 && tolerance.is_finite() && tolerance < 1.0) {
-        return Err(err(format!(
-            "tolerance {tolerance}: must be a number between 0 and 1 (a fraction of the diagonal)"
-        )));
+    if let Some(t) = tolerance {
+        if !(t > 0.0 && t.is_finite() && t < 1.0) {
+            return Err(err(format!(
+                "tolerance {t}: must be a number between 0 and 1 (a fraction of the diagonal)"
+            )));
+        }
     }
+    let mode = fit::ModeChoice::parse(mode)
+        .map_err(|e| err(format!("mode '{mode}': {}", message_of(&e))))?;
     let format = Path::new(name)
         .extension()
         .and_then(|e| e.to_str())
@@ -1308,36 +1317,39 @@ fn fit_mesh<'py>(
                 fit::InputMesh::read_report(&data, format).map_err(|e| format!("{name}: {e}"))?;
             let (mesh, repairs) = fit::repair(&read.mesh).map_err(|e| format!("{name}: {e}"))?;
             let notes: Vec<String> = read.note().into_iter().chain(repairs.note()).collect();
-            let fitted = fit::fit_mesh(
-                &mesh,
-                &fit::TubeOptions {
-                    target: tolerance,
-                    patches: sections,
-                    ..fit::TubeOptions::default()
-                },
-            )
-            .map_err(|e| match e.place() {
+            let request = fit::Request {
+                mode,
+                template: None,
+                tolerance,
+                patches: sections,
+            };
+            let fitted = fit::fit_measured(&mesh, &request).map_err(|e| match e.place() {
                 "tolerance" | "sections" => e.to_string(),
                 _ => format!("{name}: {e}"),
             })?;
-            let mut spec = fitted.spec.clone();
+            if let (Some(words), false) = (fitted.miss(), best_effort) {
+                return Err(format!(
+                    "{name}: {words} (a larger tolerance, or best_effort=True to have it anyway)"
+                ));
+            }
+            let mut spec = fitted.fit.spec.clone();
             spec.title = Some(format!("fitted to {file_name}"));
             let text = spec::write_design(&spec).map_err(|e| format!("{name}: {e}"))?;
-            let solved = design::solve_design(&spec)
-                .map_err(|e| format!("{name}: the fitted design does not solve: {e}"))?;
-            let (m, _) =
-                fit::measure(&mesh, &spec, &solved, 48, 96).map_err(|e| format!("{name}: {e}"))?;
+            let f = &fitted.fit;
             let report = serde_json::json!({
                 "mesh": name,
-                "mode": fitted.mode,
-                "a": fitted.a,
-                "patches": fitted.patches,
-                "modes": fitted.modes,
-                "sections": fitted.sections,
-                "sections_dropped": fitted.dropped,
-                "sample_error_relative": fitted.sample_error,
-                "tolerance": tolerance,
-                "measures": m,
+                "mode": f.mode,
+                "a": f.a,
+                "patches": f.patches,
+                "modes": f.modes,
+                "sections": f.sections,
+                "sections_dropped": f.dropped,
+                "sample_error_relative": f.sample_error,
+                "tolerance": fitted.target,
+                "accept_tolerance": fitted.tolerance,
+                "missed": fitted.missed(),
+                "fallback": fitted.fallback,
+                "measures": fitted.measures,
                 "notes": notes,
             });
             Ok((text, report.to_string()))

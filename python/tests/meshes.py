@@ -29,3 +29,24 @@ def ellipsoid_obj(rings: int, around: int, a: float = 1.0, c: float = 1.5) -> st
             out.append(f"f {at(i, j)} {at(i, j + 1)} {at(i + 1, j + 1)}")
             out.append(f"f {at(i, j)} {at(i + 1, j + 1)} {at(i + 1, j)}")
     return "\n".join(out) + "\n"
+
+
+def torus_obj(around: int, tube: int, big: float = 1.0, small: float = 0.35) -> str:
+    """The torus of radii `big` and `small` about z, as an OBJ of `around` × `tube` quads split
+    into outward-facing triangles (a closed mesh of genus 1: neither a tube nor a sheet)."""
+    out = ["# torus"]
+    for i in range(around):
+        phi = 2 * math.pi * i / around
+        for j in range(tube):
+            theta = 2 * math.pi * j / tube
+            r = big + small * math.cos(theta)
+            out.append(f"v {r * math.cos(phi)!r} {r * math.sin(phi)!r} {small * math.sin(theta)!r}")
+
+    def at(i: int, j: int) -> int:
+        return 1 + (i % around) * tube + j % tube
+
+    for i in range(around):
+        for j in range(tube):
+            out.append(f"f {at(i, j)} {at(i + 1, j)} {at(i + 1, j + 1)}")
+            out.append(f"f {at(i, j)} {at(i + 1, j + 1)} {at(i, j + 1)}")
+    return "\n".join(out) + "\n"

@@ -10,7 +10,7 @@ import pytest
 
 import pdeshape
 from pdeshape import Design, DesignError
-from meshes import ellipsoid_obj
+from meshes import ellipsoid_obj, torus_obj
 from test_cli import cli_error
 
 
@@ -50,7 +50,17 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
     good = ellipsoid_obj(12, 16)
     cases = {
         "empty.obj": "",
-        "open.obj": good[: good.rindex("\nf ")] + "\n",  # one triangle short of closed
+        # Two bodies apart: neither mode fits two components.
+        "two.obj": good + "".join(
+            f"v {float(line.split()[1]) + 5.0!r} {' '.join(line.split()[2:])}\n"
+            if line.startswith("v ")
+            else (
+                "f " + " ".join(str(int(k) + good.count("\nv ")) for k in line.split()[1:]) + "\n"
+                if line.startswith("f ")
+                else ""
+            )
+            for line in good.splitlines()
+        ),
         "nan.obj": good.replace("v 0 0 -1.5", "v 0 0 nan", 1),
     }
     for name, text in cases.items():
@@ -60,7 +70,8 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
         with pytest.raises(DesignError) as e:
             pdeshape.fit(mesh)
         assert str(e.value) == cli_error(r), name
-    mesh = tmp_path / "open.obj"
+    mesh = tmp_path / "egg.obj"
+    mesh.write_text(good)
     r = cli("fit", str(mesh), "-o", str(tmp_path / "out.toml"), "--tolerance", "0", check=False)
     with pytest.raises(DesignError) as e:
         pdeshape.fit(mesh, tolerance=0.0)
@@ -103,3 +114,40 @@ def test_open_meshes_fit_as_sheets_as_the_cli_does(cli, tmp_path):
     assert report == want
     assert report["mode"] == "sheet"
     assert 0 < report["measures"]["hausdorff_relative"] <= 2e-3
+
+
+def test_a_torus_falls_back_to_the_general_mode_as_the_cli_does(cli, tmp_path):
+    """Neither a tube nor a sheet: the automatic choice fits it by the general mode, in Python
+    exactly as in the command (the same design text and report)."""
+    mesh = tmp_path / "torus.obj"
+    mesh.write_text(torus_obj(48, 16))
+    cli("fit", str(mesh), "-o", str(tmp_path / "t.toml"), "--json", str(tmp_path / "t.json"))
+    d, report = pdeshape.fit(mesh)
+    assert d.text == (tmp_path / "t.toml").read_text()
+    want = json.loads((tmp_path / "t.json").read_text())
+    del want["timings_ms"]
+    assert report == want
+    assert report["mode"] == "general" and report["fallback"] and not report["missed"]
+    assert report["measures"]["hausdorff_relative"] <= 0.02
+    # the fit is one closed surface: its volume is the torus's, 2 pi^2 R r^2, within what the
+    # Hausdorff distance h allows (area x h) plus the polyhedron's own shortfall (chord sag
+    # (pi/16)^2/8 of the tube radius, times 3 for a volume)
+    total = d.analysis()["total"]
+    exact = 2 * math.pi**2 * 1.0 * 0.35**2
+    h = report["measures"]["hausdorff"]
+    assert abs(total["volume"] - exact) <= total["area"] * h + 3 * (math.pi / 16) ** 2 / 8 * exact
+
+
+def test_a_miss_raises_with_its_point_unless_best_effort(cli, tmp_path):
+    mesh = tmp_path / "torus.obj"
+    mesh.write_text(torus_obj(24, 8))
+    args = ("--mode", "general", "--sections", "8", "--tolerance", "1e-5")
+    r = cli("fit", str(mesh), "-o", str(tmp_path / "t.toml"), *args, check=False)
+    assert r.returncode == 1 and not (tmp_path / "t.toml").exists()
+    with pytest.raises(DesignError, match=r"misses the tolerance [^ ]+% of the diagonal.* at \(") as e:
+        pdeshape.fit(mesh, tolerance=1e-5, sections=8, mode="general")
+    assert cli_error(r).split("; nothing written")[0] == str(e.value).split(" (a larger")[0]
+    d, report = pdeshape.fit(mesh, tolerance=1e-5, sections=8, mode="general", best_effort=True)
+    assert report["missed"] and report["mode"] == "general" and report["patches"] > 0
+    with pytest.raises(DesignError, match=r"mode 'tubular': 'tubular' is not a mode"):
+        pdeshape.fit(mesh, mode="tubular")

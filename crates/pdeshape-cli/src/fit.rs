@@ -5,7 +5,7 @@
 //! the tolerance is not written (exit status 1) unless `--best-effort` is given.
 
 use crate::common::{CliError, Output};
-use pdeshape::fit::{self, FitOptions, InputMesh, MeshFormat};
+use pdeshape::fit::{self, InputMesh, MeshFormat};
 use pdeshape::spec::{self, write_design};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -55,10 +55,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             )));
         }
     }
-    // The tube and sheet modes refine towards `fast_tolerance`; every fit is accepted (written,
-    // exit 0) when its two-sided Hausdorff distance is within `tolerance`.
-    let fast_tolerance = args.tolerance.unwrap_or(FAST_TOLERANCE);
-    let tolerance = args.tolerance.unwrap_or(GENERAL_TOLERANCE);
+    let mode = fit::ModeChoice::parse(&args.mode)
+        .map_err(|e| CliError::input(format!("--mode {}: {}", args.mode, e.message())))?;
     let format = input_format(&args.mesh, &shown)?;
     let ext = |p: &PathBuf, want: &str, flag: &str| -> Result<(), CliError> {
         match p.extension().and_then(|e| e.to_str()) {
@@ -107,91 +105,33 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     };
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
-    let opts = FitOptions {
-        target: fast_tolerance,
+    let request = fit::Request {
+        mode,
+        template: template.as_ref().map(|(_, _, t)| t),
+        tolerance: args.tolerance,
         patches: args.sections,
-        ..FitOptions::default()
     };
-    let general_opts = FitOptions {
-        target: tolerance,
-        ..opts.clone()
-    };
-    // The fast paths first; the general mode where they refuse the mesh or miss.
-    let mut fallback: Option<String> = None;
-    let fast = match (&template, args.mode.as_str()) {
-        (Some((file, text, t)), _) => Some(fit::fit_template(&mesh, t, &opts).map_err(|e| {
-            if e.place().starts_with("parts") {
-                CliError::input(format!(
-                    "{} (fitting {shown})",
-                    spec::describe_error(file, text, &e)
-                ))
-            } else {
-                fit_error(e, &shown)
-            }
-        })),
-        (None, "tube") => Some(fit::fit_tube(&mesh, &opts).map_err(|e| fit_error(e, &shown))),
-        (None, "sheet") => Some(fit::fit_sheet(&mesh, &opts).map_err(|e| fit_error(e, &shown))),
-        (None, "general") => None,
-        _ => match fit::fit_mesh(&mesh, &opts) {
-            Ok(f) => Some(Ok(f)),
-            Err(e) if matches!(e.place(), "tolerance" | "sections") => {
-                Some(Err(fit_error(e, &shown)))
-            }
-            Err(e) => {
-                fallback = Some(e.message().to_string());
-                None
-            }
-        },
-    };
-    let fast = fast.transpose().map_err(with_note)?;
-    let mut measured = None;
-    let mut measure_ms = 0.0;
-    if let Some(f) = fast {
-        let tm = Instant::now();
-        let solved = pdeshape::design::solve_design(&f.spec).map_err(|e| {
-            CliError::input(format!("{shown}: the fitted design does not solve: {e}"))
-        })?;
-        let (m, d) = fit::measure(&mesh, &f.spec, &solved, 48, 96)
-            .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-        measure_ms += tm.elapsed().as_secs_f64() * 1e3;
-        if m.hausdorff_relative > tolerance && args.mode == "auto" && template.is_none() {
-            fallback = Some(format!(
-                "the {} mode misses the tolerance ({}% of the diagonal)",
-                mode_name(f.mode),
-                pct(m.hausdorff_relative)
-            ));
-        } else {
-            let miss = worst_point(&mesh, &d);
-            measured = Some((f, m, d, miss));
-        }
-    }
-    let (fitted, m, distances, miss) = match measured {
-        Some(x) => x,
-        None => {
-            let (f, _) = fit::fit_general(&mesh, &general_opts)
-                .map_err(|e| {
-                    let e = fit_error(e, &shown);
-                    match &fallback {
-                        Some(why) if !e.message.contains(why.as_str()) => {
-                            CliError::input(format!("{} ({why})", e.message))
-                        }
-                        _ => e,
-                    }
-                })
-                .map_err(with_note)?;
-            let tm = Instant::now();
-            let solved = pdeshape::design::solve_design(&f.spec).map_err(|e| {
-                CliError::input(format!("{shown}: the fitted design does not solve: {e}"))
-            })?;
-            let g = fit::MEASURE_GRID;
-            let (m, d) = fit::measure(&mesh, &f.spec, &solved, g, g)
-                .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-            let miss = worst_point(&mesh, &d);
-            measure_ms += tm.elapsed().as_secs_f64() * 1e3;
-            (f, m, d, miss)
-        }
-    };
-    let fit_ms = t.elapsed().as_secs_f64() * 1e3 - measure_ms;
+    let fitted = fit::fit_measured(&mesh, &request)
+        .map_err(|e| match &template {
+            Some((file, text, _)) if e.place().starts_with("parts") => CliError::input(format!(
+                "{} (fitting {shown})",
+                spec::describe_error(file, text, &e)
+            )),
+            _ => fit_error(e, &shown),
+        })
+        .map_err(with_note)?;
+    let elapsed_ms = t.elapsed().as_secs_f64() * 1e3;
+    let miss_words = fitted.miss();
+    let fit::Fitted {
+        fit: fitted,
+        measures: m,
+        distances,
+        worst: miss,
+        tolerance,
+        target,
+        fallback,
+    } = fitted;
+    let missed = miss_words.is_some();
     let mut spec = fitted.spec.clone();
     let name = args
         .mesh
@@ -200,19 +140,11 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .unwrap_or_default();
     spec.title = Some(format!("fitted to {name}"));
     let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
-    let missed = m.hausdorff_relative > tolerance;
-    if missed && !args.best_effort {
+    if let (Some(words), false) = (&miss_words, args.best_effort) {
         return Err(CliError {
             message: format!(
-                "{shown}: the fit misses the tolerance {}% of the diagonal: the Hausdorff \
-                 distance is {} ({}% of the diagonal) at ({}, {}, {}); nothing written (a larger \
-                 --tolerance, or --best-effort to write it anyway)",
-                pct(tolerance),
-                num(m.hausdorff),
-                pct(m.hausdorff_relative),
-                num(miss.x),
-                num(miss.y),
-                num(miss.z)
+                "{shown}: {words}; nothing written (a larger --tolerance, or --best-effort to \
+                 write it anyway)"
             ),
             status: 1,
         });
@@ -235,10 +167,14 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "sections_dropped": fitted.dropped,
             "sample_error_relative": fitted.sample_error,
             // The target the fit was refined to (the sections' for tube and sheet).
-            "tolerance": if fitted.mode == fit::FitMode::General { tolerance } else { fast_tolerance },
+            "tolerance": target,
+            "accept_tolerance": tolerance,
+            "missed": missed,
+            "fallback": fallback,
             "measures": m,
             "notes": notes,
-            "timings_ms": { "read": read_ms, "fit": fit_ms, "measure": measure_ms },
+            // The measures are taken inside the fit (the general mode measures every round).
+            "timings_ms": { "read": read_ms, "fit": elapsed_ms },
         });
         let s = serde_json::to_string_pretty(&report)
             .map_err(|e| CliError::input(format!("--json: {e}")))?;
@@ -268,7 +204,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     crate::common::report(&format!(
         "{shown}: {} in {:.0} ms; wrote {}\n",
         m.summary(&fitted, tolerance),
-        fit_ms,
+        elapsed_ms,
         crate::common::destination(&args.output)
     ));
     if m.toml_bytes > m.mesh_bytes {
@@ -292,46 +228,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
-/// A fit's error as one line: an option's name, or the mesh's.
-/// The sections' target of the tube and sheet modes when no `--tolerance` is given.
-const FAST_TOLERANCE: f64 = 2e-3;
-/// The default `--tolerance`: the Hausdorff distance a fit must meet to be written.
-const GENERAL_TOLERANCE: f64 = 2e-2;
-
-fn mode_name(mode: fit::FitMode) -> &'static str {
-    match mode {
-        fit::FitMode::Tube => "tube",
-        fit::FitMode::Sheet => "sheet",
-        fit::FitMode::Template => "template",
-        fit::FitMode::General => "general",
-    }
-}
-
 fn num(x: f64) -> String {
     pdeshape::number::sig(x, 6)
 }
 
 fn pct(x: f64) -> String {
     pdeshape::number::sig(100.0 * x, 4)
-}
-
-/// The point, in the mesh's coordinates, farthest from the other surface: a mesh vertex or a
-/// sample of the fit.
-fn worst_point(mesh: &InputMesh, d: &fit::PointDistances) -> pdeshape::Vec3 {
-    let mut best = (f64::NEG_INFINITY, pdeshape::Vec3::zeros());
-    for (p, &x) in mesh.positions.iter().zip(&d.mesh) {
-        if x > best.0 {
-            best = (x, *p);
-        }
-    }
-    for (g, dist) in d.grids.iter().zip(&d.fit) {
-        for (p, &x) in g.positions.iter().zip(dist) {
-            if x > best.0 {
-                best = (x, pdeshape::Vec3::new(p[0], p[1], p[2]));
-            }
-        }
-    }
-    best.1
 }
 
 fn fit_error(e: pdeshape::Error, shown: &str) -> CliError {

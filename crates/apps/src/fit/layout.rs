@@ -21,7 +21,7 @@
 //!    distance exceeds the target the mesh's vertices there weigh more and the layout is made
 //!    again with more vertices, up to [`MAX_ROUNDS`] times.
 
-use super::measure::{closest_on_triangle, measure, MeshDistance};
+use super::measure::{closest_on_triangle, measure, Measures, MeshDistance, PointDistances};
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
 use super::section::AxisFrame;
@@ -870,6 +870,16 @@ pub struct Miss {
 /// round's number of layout vertices. Returns the round with the smallest Hausdorff distance
 /// and, when it misses the target, where.
 pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<Miss>)> {
+    let (fit, _, _, miss) = fit_general_measured(mesh, opts)?;
+    Ok((fit, miss))
+}
+
+/// [`fit_general`] with the measures of the round it returns (on [`MEASURE_GRID`] samples
+/// per piece), so they need not be taken again.
+pub fn fit_general_measured(
+    mesh: &InputMesh,
+    opts: &FitOptions,
+) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
     opts.check()?;
     // Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for
     // 80 000 triangles on the development machine), so a mesh whose first round alone would
@@ -919,7 +929,7 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
     }
     .min(vertices);
     let mut weight = vec![1.0; mesh.positions.len()];
-    let mut best: Option<(Fit, Option<Miss>, f64)> = None;
+    let mut best: Option<(Fit, Measures, PointDistances, Option<Miss>)> = None;
     let mut previous = 0usize;
     for _round in 0..MAX_ROUNDS {
         let layout = decimate(mesh, &normals, &weight, target);
@@ -990,32 +1000,34 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
             sample_error: m.hausdorff_relative,
         };
         let miss = (m.hausdorff > tol).then_some(worst);
-        let better = best.as_ref().is_none_or(|b| m.hausdorff < b.2);
+        let better = best.as_ref().is_none_or(|b| m.hausdorff < b.1.hausdorff);
         let done = miss.is_none() || target >= vertices;
-        if better {
-            best = Some((fit, miss, m.hausdorff));
-        }
-        if done {
-            break;
-        }
         // Refine where the error is: the mesh near the misses weighs more, and the layout
         // gets more vertices. A mesh vertex far from the fit weighs its own triangles; a piece
         // of the fit far from the mesh weighs the mesh under the whole piece (the closest
         // points of all its samples), not only under the samples that miss: a piece that
         // bulges away has its far samples closest to some unrelated part of the mesh.
         let mut heavier: std::collections::HashSet<usize> = std::collections::HashSet::new();
-        for p in &bad {
-            if let Some((_, _, t)) = index.closest(*p) {
-                heavier.insert(t);
-            }
-        }
-        for &k in &bad_grids {
-            for p in &d.grids[k].positions {
-                let p = Vec3::new(p[0], p[1], p[2]);
-                if let Some((_, _, t)) = index.closest(p) {
+        if !done {
+            for p in &bad {
+                if let Some((_, _, t)) = index.closest(*p) {
                     heavier.insert(t);
                 }
             }
+            for &k in &bad_grids {
+                for p in &d.grids[k].positions {
+                    let p = Vec3::new(p[0], p[1], p[2]);
+                    if let Some((_, _, t)) = index.closest(p) {
+                        heavier.insert(t);
+                    }
+                }
+            }
+        }
+        if better {
+            best = Some((fit, m, d, miss));
+        }
+        if done {
+            break;
         }
         for &t in &heavier {
             for &i in &mesh.triangles[t] {
@@ -1026,6 +1038,5 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
         let extra = (misses / 4).clamp(target / 4, target);
         target = (target + extra).min(vertices);
     }
-    let (fit, miss, _) = best.ok_or_else(|| Error::invalid("no layout was made"))?;
-    Ok((fit, miss))
+    best.ok_or_else(|| Error::invalid("no layout was made"))
 }

@@ -193,12 +193,7 @@ impl Measures {
     pub fn summary(&self, fitted: &super::Fit, tolerance: f64) -> String {
         use crate::number::{sig, DIGITS};
         let n = |x: f64| sig(x, DIGITS);
-        let mode = match fitted.mode {
-            super::FitMode::Tube => "tube",
-            super::FitMode::Sheet => "sheet",
-            super::FitMode::Template => "template",
-            super::FitMode::General => "general",
-        };
+        let mode = fitted.mode.name();
         let verdict = if self.hausdorff_relative <= tolerance {
             "within"
         } else {
@@ -233,6 +228,27 @@ pub struct PointDistances {
     pub grids: Vec<Samples>,
     /// The distance of each sample to the mesh: `fit[k][i]` for vertex `i` of `grids[k]`.
     pub fit: Vec<Vec<f64>>,
+}
+
+impl PointDistances {
+    /// The point, in the mesh's coordinates, farthest from the other surface (a mesh vertex
+    /// or a sample of the fit), and its distance.
+    pub fn worst(&self, mesh: &InputMesh) -> (Vec3, f64) {
+        let mut best = (Vec3::zeros(), f64::NEG_INFINITY);
+        for (p, &x) in mesh.positions.iter().zip(&self.mesh) {
+            if x > best.1 {
+                best = (*p, x);
+            }
+        }
+        for (g, dist) in self.grids.iter().zip(&self.fit) {
+            for (p, &x) in g.positions.iter().zip(dist) {
+                if x > best.1 {
+                    best = (Vec3::new(p[0], p[1], p[2]), x);
+                }
+            }
+        }
+        best
+    }
 }
 
 /// Measures `solved` (the design `spec`, solved) against `mesh`, sampling each surface on an

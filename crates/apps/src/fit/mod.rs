@@ -15,8 +15,15 @@
 //! - **template** ([`fit_template`]): the user names the planes of each part and its mode, for
 //!   shapes the automatic modes cannot split.
 //!
-//! [`fit_mesh`] chooses tube or sheet by whether the mesh is closed. In every mode patches are
+//! - **general** ([`fit_general`]): any edge-manifold, oriented mesh, closed or open, of any
+//!   genus, as one `[[patchwork]]` of n-sided patches over a coarse layout of the mesh, G1
+//!   across every layout edge (`layout`).
+//!
+//! [`fit_mesh`] chooses tube or sheet by whether the mesh is closed. In those modes patches are
 //! split where the error exceeds the target and merged where it allows ([`chain`]).
+//! [`fit_measured`] (`auto`) is what the command and Python call: the mode a user asks for, or
+//! the automatic choice falling back to the general mode where the fast modes refuse the mesh
+//! or miss the tolerance, measured.
 //!
 //! ```text
 //! OBJ/STL/PLY bytes ──InputMesh::read──▶ InputMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
@@ -25,7 +32,7 @@
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
 //! ```
 //!
-//! Modules: `mesh` (reading and topology checks), `repair` (what files leave that is not a
+//! Modules: `auto` (the tolerance and the choice of mode), `layout` (the general mode), `mesh` (reading and topology checks), `repair` (what files leave that is not a
 //! surface: degenerate and duplicate triangles, cracks, T-junctions, non-manifold edges, specks), `section` (plane sections: loops and open
 //! pieces, and the periodic curves of loops), `profile` (open profiles as even periodic
 //! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
@@ -34,6 +41,7 @@
 //! `measure` (distances and sizes), `picture` (the mesh and the fit side by side, coloured by
 //! distance).
 
+mod auto;
 mod basis;
 pub mod chain;
 mod layout;
@@ -48,10 +56,11 @@ mod sheet;
 mod template;
 mod tube;
 
+pub use auto::{fit_measured, Fitted, ModeChoice, Request, DEFAULT_TOLERANCE, FAST_TARGET};
 pub use basis::{position_weights, weights};
 pub use layout::{
-    decimate, fit_general, layout_spec, require_oriented, vertex_normals, Facing, Layout, Miss,
-    MAX_ROUNDS, MEASURE_GRID,
+    decimate, fit_general, fit_general_measured, layout_spec, require_oriented, vertex_normals,
+    Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,
 };
 pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};

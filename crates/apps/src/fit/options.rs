@@ -86,6 +86,18 @@ pub enum FitMode {
     General,
 }
 
+impl FitMode {
+    /// The mode's name, as `--mode` and reports spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FitMode::Tube => "tube",
+            FitMode::Sheet => "sheet",
+            FitMode::Template => "template",
+            FitMode::General => "general",
+        }
+    }
+}
+
 /// What a fit made.
 #[derive(Clone, Debug)]
 pub struct Fit {

@@ -700,7 +700,8 @@ fn judge_status(
         // The solver's failure (status 1) is the end of a mutant that passed the checks and
         // reached CalculiX: `shell`, or `optimize` of a design whose formulas use `max_shear`;
         // `roundtrip` and `check` fail their verdicts with status 1 (a deviation above the
-        // tolerance, a seam creased beyond the G1 tolerance).
+        // tolerance, a seam creased beyond the G1 tolerance), and so does `fit` whose fit
+        // misses its tolerance (nothing written).
         Some(c)
             if c == 2
                 || (c == 1
@@ -708,6 +709,9 @@ fn judge_status(
                         || job.sub == "roundtrip"
                         || (job.sub == "check"
                             && stderr.contains("creased beyond the G1 tolerance"))
+                        || (job.sub == "fit"
+                            && stderr.contains("the fit misses the tolerance")
+                            && stderr.contains("nothing written"))
                         || stderr.contains("CalculiX solver failed"))
                     && !stderr.contains("internal error")) =>
         {

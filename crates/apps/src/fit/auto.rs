@@ -1,0 +1,218 @@
+//! The tolerance a fit is held to, and the choice of mode with its fallback: what `pdeshape
+//! fit` and Python's `fit` both ask for.
+//!
+//! A fit is accepted when its two-sided Hausdorff distance to the mesh is within the
+//! tolerance ([`DEFAULT_TOLERANCE`] of the diagonal unless one is given). The fast modes (tube,
+//! sheet, template) refine their sections towards a finer target ([`FAST_TARGET`], or the
+//! tolerance when one is given). In the automatic choice, a mesh the fast modes refuse (not a
+//! tube, not a sheet: a torus, a mug, a body with limbs) or fit beyond the tolerance is fitted
+//! by the general mode ([`super::fit_general`]) instead, and why is kept to be said. A forced
+//! mode or a template is measured and returned as it is, so the caller decides what a miss
+//! means ([`Fitted::missed`]).
+
+use super::layout::fit_general_measured;
+use super::measure::{measure, Measures, PointDistances};
+use super::mesh::InputMesh;
+use super::options::{fit_mesh, Fit, FitOptions};
+use super::template::{fit_template, Template};
+use crate::design::solve_design;
+use crate::number::sig;
+use crate::{Error, Result, Vec3};
+
+/// The two-sided Hausdorff distance, as a fraction of the mesh's bounding-box diagonal, a fit
+/// must meet when no tolerance is given.
+pub const DEFAULT_TOLERANCE: f64 = 2e-2;
+
+/// The sample error the tube and sheet modes refine their sections to when no tolerance is
+/// given (a tenth of [`DEFAULT_TOLERANCE`]: their patches between sections add to it).
+pub const FAST_TARGET: f64 = 2e-3;
+
+/// The samples per patch (`u × v`) at which the fast modes' fits are measured.
+const FAST_GRID: (usize, usize) = (48, 96);
+
+/// Which mode fits a mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeChoice {
+    /// Tube or sheet as the mesh's shape says, the general mode where they refuse it or miss.
+    Auto,
+    /// The tube mode only.
+    Tube,
+    /// The sheet mode only.
+    Sheet,
+    /// The general mode only.
+    General,
+}
+
+impl ModeChoice {
+    /// The names a user gives, in the order of [`ModeChoice::parse`].
+    pub const NAMES: [&'static str; 4] = ["auto", "tube", "sheet", "general"];
+
+    /// The choice named `name`, or an error listing the names.
+    pub fn parse(name: &str) -> Result<ModeChoice> {
+        match name {
+            "auto" => Ok(ModeChoice::Auto),
+            "tube" => Ok(ModeChoice::Tube),
+            "sheet" => Ok(ModeChoice::Sheet),
+            "general" => Ok(ModeChoice::General),
+            other => Err(Error::invalid(format!(
+                "'{other}' is not a mode (one of {})",
+                ModeChoice::NAMES.join(", ")
+            ))
+            .at("mode")),
+        }
+    }
+}
+
+/// What is asked of a fit.
+#[derive(Clone, Copy, Debug)]
+pub struct Request<'a> {
+    /// The mode (ignored when a template is given: the template names its parts' modes).
+    pub mode: ModeChoice,
+    /// A template of parts, instead of an automatic mode.
+    pub template: Option<&'a Template>,
+    /// The tolerance (a fraction of the diagonal, in `(0, 1)`); [`DEFAULT_TOLERANCE`] when
+    /// `None`.
+    pub tolerance: Option<f64>,
+    /// A fixed number of patches (tube and sheet) or of first-round layout vertices
+    /// (general), instead of the adaptive choice.
+    pub patches: Option<usize>,
+}
+
+impl Default for Request<'_> {
+    fn default() -> Self {
+        Request {
+            mode: ModeChoice::Auto,
+            template: None,
+            tolerance: None,
+            patches: None,
+        }
+    }
+}
+
+/// A fit with its measures.
+#[derive(Clone, Debug)]
+pub struct Fitted {
+    /// The fit.
+    pub fit: Fit,
+    /// Its distances to the mesh and sizes.
+    pub measures: Measures,
+    /// The per-point distances (for pictures).
+    pub distances: PointDistances,
+    /// The point, in the mesh's coordinates, farthest from the other surface.
+    pub worst: Vec3,
+    /// The tolerance the fit is held to (a fraction of the diagonal).
+    pub tolerance: f64,
+    /// The target the fit was refined to: the sections' for tube, sheet and template fits,
+    /// the tolerance for the general mode.
+    pub target: f64,
+    /// Why the automatic choice fell back to the general mode, when it did.
+    pub fallback: Option<String>,
+}
+
+impl Fitted {
+    /// True when the fit is farther from the mesh than the tolerance.
+    pub fn missed(&self) -> bool {
+        !(self.measures.hausdorff_relative <= self.tolerance)
+    }
+
+    /// How the fit misses its tolerance, with the farthest point in the mesh's coordinates
+    /// (`None` when it does not); the caller adds what to do about it in its own words.
+    pub fn miss(&self) -> Option<String> {
+        let m = &self.measures;
+        let w = self.worst;
+        self.missed().then(|| {
+            format!(
+                "the fit misses the tolerance {}% of the diagonal: the Hausdorff distance is {} \
+                 ({}% of the diagonal) at ({}, {}, {})",
+                sig(100.0 * self.tolerance, 4),
+                sig(m.hausdorff, 6),
+                sig(100.0 * m.hausdorff_relative, 4),
+                sig(w.x, 6),
+                sig(w.y, 6),
+                sig(w.z, 6)
+            )
+        })
+    }
+}
+
+/// Fits `mesh` as `request` asks (module documentation) and measures the fit. Errors are the
+/// modes' own (a template's are placed at its `parts`); when the automatic choice fell back to
+/// the general mode and that mode refuses the mesh too, the error says why the fast mode was
+/// left.
+pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
+    if let Some(t) = request.tolerance {
+        if !(t > 0.0 && t < 1.0) {
+            return Err(Error::invalid(format!(
+                "{t}: must be a number between 0 and 1 (a fraction of the diagonal)"
+            ))
+            .at("tolerance"));
+        }
+    }
+    let tolerance = request.tolerance.unwrap_or(DEFAULT_TOLERANCE);
+    let opts = FitOptions {
+        target: request.tolerance.unwrap_or(FAST_TARGET),
+        patches: request.patches,
+        ..FitOptions::default()
+    };
+    let mut fallback: Option<String> = None;
+    let fast = match (request.template, request.mode) {
+        (Some(t), _) => Some(fit_template(mesh, t, &opts)?),
+        (None, ModeChoice::Tube) => Some(super::fit_tube(mesh, &opts)?),
+        (None, ModeChoice::Sheet) => Some(super::fit_sheet(mesh, &opts)?),
+        (None, ModeChoice::General) => None,
+        (None, ModeChoice::Auto) => match fit_mesh(mesh, &opts) {
+            Ok(f) => Some(f),
+            Err(e) if matches!(e.place(), "tolerance" | "sections") => return Err(e),
+            Err(e) => {
+                fallback = Some(e.message());
+                None
+            }
+        },
+    };
+    if let Some(fit) = fast {
+        let solved = solve_design(&fit.spec).map_err(|e| {
+            Error::invalid(format!("the fitted design does not solve: {}", e.message()))
+        })?;
+        let (measures, distances) = measure(mesh, &fit.spec, &solved, FAST_GRID.0, FAST_GRID.1)?;
+        let auto = request.mode == ModeChoice::Auto && request.template.is_none();
+        if auto && measures.hausdorff_relative > tolerance {
+            fallback = Some(format!(
+                "the {} mode misses the tolerance ({}% of the diagonal)",
+                fit.mode.name(),
+                sig(100.0 * measures.hausdorff_relative, 4)
+            ));
+        } else {
+            let (worst, _) = distances.worst(mesh);
+            return Ok(Fitted {
+                fit,
+                measures,
+                distances,
+                worst,
+                tolerance,
+                target: opts.target,
+                fallback: None,
+            });
+        }
+    }
+    let general = FitOptions {
+        target: tolerance,
+        ..opts
+    };
+    let (fit, measures, distances, _) =
+        fit_general_measured(mesh, &general).map_err(|e| match &fallback {
+            Some(why) if !e.message().contains(why.as_str()) => {
+                Error::invalid(format!("{} ({why})", e.message())).at(e.place())
+            }
+            _ => e,
+        })?;
+    let (worst, _) = distances.worst(mesh);
+    Ok(Fitted {
+        fit,
+        measures,
+        distances,
+        worst,
+        tolerance,
+        target: tolerance,
+        fallback,
+    })
+}
