@@ -110,9 +110,11 @@ pub struct Fitted {
 }
 
 impl Fitted {
-    /// True when the fit is farther from the mesh than the tolerance.
+    /// True when the fit is farther from the mesh than the tolerance (or its distance is not
+    /// a number).
     pub fn missed(&self) -> bool {
-        !(self.measures.hausdorff_relative <= self.tolerance)
+        self.measures.hausdorff_relative.is_nan()
+            || self.measures.hausdorff_relative > self.tolerance
     }
 
     /// How the fit misses its tolerance, with the farthest point in the mesh's coordinates
