@@ -50,17 +50,6 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
     good = ellipsoid_obj(12, 16)
     cases = {
         "empty.obj": "",
-        # Two bodies apart: neither mode fits two components.
-        "two.obj": good + "".join(
-            f"v {float(line.split()[1]) + 5.0!r} {' '.join(line.split()[2:])}\n"
-            if line.startswith("v ")
-            else (
-                "f " + " ".join(str(int(k) + good.count("\nv ")) for k in line.split()[1:]) + "\n"
-                if line.startswith("f ")
-                else ""
-            )
-            for line in good.splitlines()
-        ),
         "nan.obj": good.replace("v 0 0 -1.5", "v 0 0 nan", 1),
     }
     for name, text in cases.items():

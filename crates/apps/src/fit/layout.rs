@@ -876,14 +876,80 @@ pub fn fit_general(mesh: &InputMesh, opts: &FitOptions) -> Result<(Fit, Option<M
 
 /// [`fit_general`] with the measures of the round it returns (on [`MEASURE_GRID`] samples
 /// per piece), so they need not be taken again.
+///
+/// A mesh of several components (a model of separate parts, an animal whose legs are
+/// separate bodies) is fitted component by component, each to the same distance (the
+/// target is a fraction of the whole mesh's diagonal), one `[[patchwork]]` each (`fit1`,
+/// `fit2`, …), and measured as a whole.
 pub fn fit_general_measured(
     mesh: &InputMesh,
     opts: &FitOptions,
 ) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
     opts.check()?;
-    // Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for
-    // 80 000 triangles on the development machine), so a mesh whose first round alone would
-    // exceed the work bound is refused before it starts.
+    let topology = mesh.topology();
+    if topology.nonmanifold_edges > 0 || topology.components <= 1 {
+        return fit_component(mesh, opts);
+    }
+    price_layout(mesh)?;
+    let parts = mesh.components();
+    let count = parts.len();
+    let diagonal = mesh.diagonal();
+    let mut patchwork = Vec::with_capacity(count);
+    let mut faces = 0;
+    for (k, part) in parts.iter().enumerate() {
+        let own = part.diagonal();
+        let target = if own > 0.0 {
+            (opts.target * diagonal / own).min(0.5)
+        } else {
+            opts.target
+        };
+        let (fit, _, _, _) = fit_component(
+            part,
+            &FitOptions {
+                target,
+                ..opts.clone()
+            },
+        )
+        .map_err(|e| {
+            Error::invalid(format!("component {} of {count}: {}", k + 1, e.message())).at(e.place())
+        })?;
+        faces += fit.patches;
+        for mut p in fit.spec.patchwork {
+            p.name = format!("fit{}", k + 1);
+            patchwork.push(p);
+        }
+    }
+    let spec = DesignSpec {
+        patchwork,
+        ..DesignSpec::default()
+    };
+    let solved = solve_design(&spec)?;
+    let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
+    let (at, distance) = d.worst(mesh);
+    let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
+    let fit = Fit {
+        spec,
+        mode: FitMode::General,
+        frame: AxisFrame {
+            origin: Vec3::zeros(),
+            e1: Vec3::x(),
+            e2: Vec3::y(),
+            axis: Vec3::z(),
+        },
+        sections: 0,
+        dropped: 0,
+        modes: 0,
+        patches: faces,
+        a: 1.0,
+        sample_error: m.hausdorff_relative,
+    };
+    Ok((fit, m, d, miss))
+}
+
+/// Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for 80 000
+/// triangles on the development machine), so a mesh whose first round alone would exceed the
+/// work bound is refused before it starts.
+fn price_layout(mesh: &InputMesh) -> Result<()> {
     crate::work::check(
         &[crate::work::Work {
             units: mesh.triangles.len() as f64,
@@ -895,7 +961,16 @@ pub fn fit_general_measured(
         ),
         "decimate the mesh (to about 100 000 triangles), or fit it by a template",
         "",
-    )?;
+    )
+}
+
+/// [`fit_general_measured`] of one connected mesh.
+fn fit_component(
+    mesh: &InputMesh,
+    opts: &FitOptions,
+) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
+    opts.check()?;
+    price_layout(mesh)?;
     let topology = mesh.require_single()?;
     require_oriented(mesh)?;
     let normals = vertex_normals(mesh);

@@ -244,6 +244,40 @@ impl InputMesh {
         }
     }
 
+    /// The connected components (through shared vertices), each a mesh of its own triangles
+    /// and the vertices they use, in the order of their first triangle.
+    pub fn components(&self) -> Vec<InputMesh> {
+        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
+        for t in &self.triangles {
+            union(&mut parent, t[0], t[1]);
+            union(&mut parent, t[1], t[2]);
+        }
+        let mut part_of: HashMap<u32, usize> = HashMap::new();
+        let mut parts: Vec<(Vec<Vec3>, Vec<[u32; 3]>, HashMap<u32, u32>)> = Vec::new();
+        for t in &self.triangles {
+            let root = find(&mut parent, t[0]);
+            let k = *part_of.entry(root).or_insert_with(|| {
+                parts.push((Vec::new(), Vec::new(), HashMap::new()));
+                parts.len() - 1
+            });
+            let (positions, triangles, index) = &mut parts[k];
+            let tri = t.map(|i| {
+                *index.entry(i).or_insert_with(|| {
+                    positions.push(self.positions[i as usize]);
+                    (positions.len() - 1) as u32
+                })
+            });
+            triangles.push(tri);
+        }
+        parts
+            .into_iter()
+            .map(|(positions, triangles, _)| InputMesh {
+                positions,
+                triangles,
+            })
+            .collect()
+    }
+
     /// The closed loops of boundary edges (edges of one triangle), each as its vertices in
     /// order. Fails, naming the vertex, where the boundary passes a vertex twice.
     pub fn boundary_loops(&self) -> Result<Vec<Vec<u32>>> {

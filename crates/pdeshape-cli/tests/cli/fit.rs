@@ -191,7 +191,25 @@ fn bad_meshes_get_one_line_and_no_output() {
             two += &format!("f {} {} {}\n", c[0] + n, c[1] + n, c[2] + n);
         }
     }
-    bad_mesh("two.obj", two.as_bytes(), &["2 separate components"]);
+    // Neither a tube nor a sheet: each component is fitted by the general mode, one
+    // patchwork each, and the whole measured within the default tolerance.
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(dir.path(), "two.obj", &two);
+    let design = dir.path().join("two.toml");
+    let json = dir.path().join("two.json");
+    let out = pdeshape(&["fit", s(&mesh), "-o", s(&design), "--json", s(&json)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("2 separate components") && err.contains("general mode"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&design).unwrap();
+    assert_eq!(text.matches("[[patchwork]]").count(), 2, "{text}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let h = report["measures"]["hausdorff_relative"].as_f64().unwrap();
+    assert!(h <= 0.02, "Hausdorff {h}");
     // Non-manifold: a fin on an edge of the first ring is dropped with a note, and the rest
     // fitted.
     let fin = format!("{good}v 3 3 3\nf 2 3 {}\n", n + 1);
