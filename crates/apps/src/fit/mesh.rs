@@ -253,29 +253,28 @@ impl InputMesh {
             union(&mut parent, t[1], t[2]);
         }
         let mut part_of: HashMap<u32, usize> = HashMap::new();
-        let mut parts: Vec<(Vec<Vec3>, Vec<[u32; 3]>, HashMap<u32, u32>)> = Vec::new();
+        let mut parts: Vec<InputMesh> = Vec::new();
+        // Each vertex's index in its part.
+        let mut index: HashMap<u32, u32> = HashMap::new();
         for t in &self.triangles {
             let root = find(&mut parent, t[0]);
             let k = *part_of.entry(root).or_insert_with(|| {
-                parts.push((Vec::new(), Vec::new(), HashMap::new()));
+                parts.push(InputMesh {
+                    positions: Vec::new(),
+                    triangles: Vec::new(),
+                });
                 parts.len() - 1
             });
-            let (positions, triangles, index) = &mut parts[k];
+            let part = &mut parts[k];
             let tri = t.map(|i| {
                 *index.entry(i).or_insert_with(|| {
-                    positions.push(self.positions[i as usize]);
-                    (positions.len() - 1) as u32
+                    part.positions.push(self.positions[i as usize]);
+                    (part.positions.len() - 1) as u32
                 })
             });
-            triangles.push(tri);
+            part.triangles.push(tri);
         }
         parts
-            .into_iter()
-            .map(|(positions, triangles, _)| InputMesh {
-                positions,
-                triangles,
-            })
-            .collect()
     }
 
     /// The closed loops of boundary edges (edges of one triangle), each as its vertices in
