@@ -216,3 +216,41 @@ fn a_mesh_too_large_for_the_layout_is_refused_from_its_cost() {
         "{e}"
     );
 }
+
+/// A real mesh that a registry package ships (see `tests/data/meshes/README.md`): PyVista's
+/// hexagonal nut (closed, genus 1, flat faces meeting at rounded edges), through the automatic
+/// choice with the default tolerance, as `pdeshape fit nut.ply` runs it. The bounds for
+/// real meshes: RMS within 1 % and Hausdorff within 5 % of the diagonal; the default tolerance
+/// is 2 %. Watertight after tessellation, G1 across every shared layout edge.
+#[test]
+fn a_real_nut_from_a_registry_package_is_fitted_by_the_automatic_choice() {
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/meshes/nut.ply"
+    ))
+    .unwrap();
+    let mesh = InputMesh::read(&bytes, pdeshape::fit::MeshFormat::Ply).unwrap();
+    let (mesh, _) = pdeshape::fit::repair(&mesh).unwrap();
+    let fitted = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
+    assert_eq!(fitted.fit.mode, FitMode::General);
+    assert!(fitted.fallback.is_some());
+    let m = &fitted.measures;
+    eprintln!(
+        "nut: {} faces, Hausdorff {:.3e}, RMS {:.3e}",
+        fitted.fit.patches, m.hausdorff_relative, m.rms_relative
+    );
+    assert!(!fitted.missed(), "Hausdorff {}", m.hausdorff_relative);
+    assert!(
+        m.hausdorff_relative <= 0.02,
+        "Hausdorff {}",
+        m.hausdorff_relative
+    );
+    assert!(m.rms_relative <= 0.01, "RMS {}", m.rms_relative);
+    let solved = solve_design(&fitted.fit.spec).unwrap();
+    let (g1, corner, boundary, shared) = checked(&solved);
+    assert!(shared > 0);
+    assert!(g1 < 1e-6, "G1 {g1} rad");
+    assert!(corner < 1e-6, "corner tangent mismatch {corner} rad");
+    assert!(boundary < 1e-9, "sides met to {boundary}");
+    assert_eq!(open_edges(&solved), 0, "the tessellation is not watertight");
+}
