@@ -14,9 +14,10 @@
 //! grid, whose faces are implied (quads `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when
 //! periodic), or the vertex count of a trimmed surface's triangle mesh (holes cut out).
 //!
-//! Points that are only drawn (curves' polylines, derivative vectors, combs, spines, trim
-//! lines) go to seven significant digits ([`short`]); control points, spine handles and the
-//! other points a user types, snaps to or rotates about are sent exact.
+//! Points that are only drawn (curves' polylines, derivative vectors, spines, trim lines) go
+//! to seven significant digits ([`short`]); control points, spine handles, the other points a
+//! user types, snaps to or rotates about, and the curvature combs (sent only while shown, and
+//! read as exact curvatures) are sent exact.
 
 use pdeshape::curve::{Curve, Domain};
 use pdeshape::design::SolvedDesign;
@@ -60,7 +61,7 @@ pub(super) fn short(x: f64) -> f64 {
     }
 }
 
-/// A point that is only drawn (polylines, vectors, combs, spines, trim lines), to seven
+/// A point that is only drawn (polylines, vectors, spines, trim lines), to seven
 /// significant digits ([`short`]: WebGL draws in single precision anyway), in about half the
 /// JSON of a double's shortest form; `None` where it is not finite. Points a user types or
 /// snaps to (control points, spine handles, the `v = 0` marks, centroids) stay exact ([`p3`]).
@@ -104,7 +105,7 @@ fn comb(c: &dyn Curve) -> Vec<[[f64; 3]; 2]> {
                 return None;
             }
             let kappa = d1.cross(&d2).cross(&d1) / (speed2 * speed2);
-            Some([d3(&p)?, d3(&kappa)?])
+            (finite(&p) && finite(&kappa)).then(|| [p3(&p), p3(&kappa)])
         })
         .collect()
 }
@@ -299,8 +300,8 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
                             SEAM_COMB_TEETH,
                         )
                         .into_iter()
-                        .filter(|c| c.a.is_finite() && c.b.is_finite())
-                        .filter_map(|c| Some(json!([d3(&c.point)?, d3(&c.normal)?, c.a, c.b])))
+                        .filter(|c| finite(&c.point) && c.a.is_finite() && c.b.is_finite())
+                        .map(|c| json!([p3(&c.point), p3(&c.normal), c.a, c.b]))
                         .collect();
                         seam_combs.push(
                             json!({ "curve": name, "a": a.name, "b": b.name, "teeth": teeth }),
