@@ -124,11 +124,17 @@ function channel(area, send) {
   return ch;
 }
 
-// The check and analyze panels follow the design a moment after it settles.
+// The check and analyze panels follow the design a moment after it settles: not while a drag
+// runs or a gesture's request waits (the reports take the design for as long as a few frames,
+// e.g. 0.5 s for the teacup's analysis, and a frame that waited for them would let the next
+// reports start before the next frame: a drag stuck behind its own reports).
 let reportsTimer = null;
 function scheduleReports() {
   clearTimeout(reportsTimer);
-  reportsTimer = setTimeout(refreshReports, 600);
+  reportsTimer = setTimeout(() => {
+    if (drag || !channels.every((c) => c.idle)) scheduleReports();
+    else refreshReports();
+  }, 600);
 }
 // Reports answered out of order (a scheduled refresh and a click) show only the newest.
 let reportsAsked = 0;
