@@ -221,7 +221,7 @@ function refine() {
 }
 // True when no gesture has a request in flight or waiting and the full grid is on screen.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null && refineTimer === null && !refining;
-window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
+window.__pdeshape = { perf, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
