@@ -757,6 +757,9 @@ test('a dragged control point snaps to the coordinate planes; a click on the tri
   assert.notEqual(free[1], 0, `the free drag stayed on y = 0: ${free}`);
   const snapped = await drag('planes');
   assert.equal(snapped[1], 0, `not snapped to y = 0: ${snapped}`);
+  // The typed-coordinates fields show where the drag left the point.
+  const typed = await page.evaluate(() => ['px', 'py', 'pz'].map((id) => Number(document.getElementById(id).value)));
+  assert.deepEqual(typed, snapped);
   assert.ok(Math.abs(snapped[0] - 1.1) > 1e-3 || Math.abs(snapped[2] - 2) > 1e-3, `the point did not move: ${snapped}`);
   await page.selectOption('#snap', 'off');
 

@@ -448,7 +448,11 @@ function endDrag(ev) {
     const [x, y] = pointerPos(ev);
     if (Math.hypot(x - was.start[0], y - was.start[1]) < 4) clickSelect(x, y);
   }
-  if (was && was.kind === 'control') pointPanel();
+  // The point's coordinates as the drag left it: once its last frame is in.
+  if (was && was.kind === 'control') {
+    const again = () => (controlChannel.idle ? pointPanel() : setTimeout(again, 50));
+    again();
+  }
   // The next drag of the local handle starts from the curve as it is now.
   if (was && was.kind === 'local') {
     const again = () => (localChannel.idle ? local.show(local.curve).then(() => { view.setScene(scene); view.request(); }) : setTimeout(again, 50));
