@@ -1,6 +1,7 @@
 // End-to-end tests of drawing and surface inspection in headless Chromium: per-patch colours
 // sampled from pixels, the legend and panels beside (not over) the model, stale messages
-// cleared, a seam creased beyond the G1 tolerance failing the check and drawn red, zebra
+// cleared, a seam creased beyond the G1 tolerance or curved unlike its neighbour beyond the G2
+// tolerance failing the check and drawn red, zebra
 // stripes that flow across a G1 seam and break at a crease, curvature maps with a robust range,
 // click-to-select, shortcuts and help, typed coordinates, the unsaved-changes question, STEP
 // downloads read back, and `serve` with a design outside the start directory. Screenshots go
@@ -232,6 +233,50 @@ test('a seam creased beyond the G1 tolerance fails the check and is drawn red', 
   assert.equal(px2.filter(([r, g, b]) => r > 170 && g < 70 && b < 70).length, 0);
   await page.fill('#g1-tol', '1');
   await page.dispatchEvent('#g1-tol', 'change');
+  await surfacesOnly(false);
+});
+
+test('a seam whose curvature jumps beyond the G2 tolerance fails the check and is drawn red', async () => {
+  // The cup's belly is G1 (a shared derivative curve) but its two patches curve differently.
+  await load('examples/cup.toml');
+  await reports();
+  assert.ok((await page.textContent('#check')).startsWith('OK\n'));
+  const g2 = await page.evaluate(async () => (await (await fetch('/api/check', {
+    headers: { 'x-pdeshape-token': new URLSearchParams(location.search).get('token') },
+  })).json()).edges[0].g2);
+  assert.ok(g2 > 1e-3, `G2 figure ${g2}`);
+  await surfacesOnly();
+  const seam = await page.evaluate(() => {
+    const v = window.__pdeshape.view;
+    return window.__pdeshape.state().curves.find((c) => c.name === 'belly').points.map((p) => v.project(p)).filter(Boolean);
+  });
+  const around = seam.flatMap(([x, y]) => [[x, y], [x, y - 1], [x, y + 1], [x - 1, y], [x + 1, y]]);
+  const redOf = (px) => px.filter(([r, g, b]) => r > 170 && g < 70 && b < 70).length;
+  assert.equal(redOf(await pixels(around)), 0, 'no red before a G2 tolerance is set');
+  // Just below the figure: the seam fails, its G2 cell marked, red in the view.
+  await page.fill('#g2-tol', (0.99 * g2).toPrecision(4));
+  await page.dispatchEvent('#g2-tol', 'change');
+  await page.waitForFunction(() => document.getElementById('check').textContent.startsWith('FAIL'));
+  const check = await page.textContent('#check');
+  assert.ok(check.startsWith("FAIL\nfail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly': G2 = "), check.slice(0, 200));
+  const row = await page.evaluate(() => {
+    const r = document.querySelector('#edges tr[data-curve="belly"]');
+    return { cls: r.className, g1: r.querySelector('td.g1').className, g2: r.querySelector('td.g2').className };
+  });
+  assert.deepEqual(row, { cls: 'bad', g1: 'g1', g2: 'g2 over' });
+  await page.waitForTimeout(150);
+  await page.screenshot({ path: path.join(shots, 'seam-g2-red.png') });
+  const red = redOf(await pixels(around));
+  assert.ok(red > seam.length / 3, `${red} red pixels along ${seam.length} seam points`);
+  // Just above: it passes; empty: not judged.
+  await page.fill('#g2-tol', (1.01 * g2).toPrecision(4));
+  await page.dispatchEvent('#g2-tol', 'change');
+  await page.waitForFunction(() => document.getElementById('check').textContent.startsWith('OK'));
+  assert.equal(await page.evaluate(() => document.querySelector('#edges tr[data-curve="belly"]').className), 'ok');
+  await page.waitForTimeout(150);
+  assert.equal(redOf(await pixels(around)), 0);
+  await page.fill('#g2-tol', '');
+  await page.dispatchEvent('#g2-tol', 'change');
   await surfacesOnly(false);
 });
 
@@ -682,6 +727,109 @@ test('a dragged control point snaps to the grid; the axis triad turns with the v
   await page.evaluate(() => window.__pdeshape.view.orbit(120, 0));
   await page.waitForTimeout(100);
   assert.notEqual((await corner()).at, a.at, 'the triad did not turn');
+});
+
+test('a dragged control point snaps to the coordinate planes; a click on the triad sets the view', async () => {
+  // The same small drag of the rim's point [1.1, 0, 2] (on the plane y = 0) in the view plane,
+  // without snapping and snapping to the planes: only the snapped one stays exactly on y = 0.
+  const drag = async (mode) => {
+    await newDesign();
+    await page.selectOption('#snap', mode);
+    const [x, y] = await page.evaluate(() => {
+      const { view, state } = window.__pdeshape;
+      const s = view.project(state().curves.find((c) => c.name === 'rim').control[1]);
+      const r = view.canvas.getBoundingClientRect();
+      return [s[0] + r.left, s[1] + r.top];
+    });
+    const v0 = (await state()).version;
+    await page.mouse.move(x, y);
+    await page.mouse.down();
+    for (let k = 1; k <= 4; k++) {
+      await page.mouse.move(x + 2 * k, y - 1 * k);
+      await page.waitForTimeout(16);
+    }
+    await page.mouse.up();
+    await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v0);
+    await settled(page);
+    return (await state()).curves.find((c) => c.name === 'rim').control[1];
+  };
+  const free = await drag('off');
+  assert.notEqual(free[1], 0, `the free drag stayed on y = 0: ${free}`);
+  const snapped = await drag('planes');
+  assert.equal(snapped[1], 0, `not snapped to y = 0: ${snapped}`);
+  // The typed-coordinates fields show where the drag left the point.
+  const typed = await page.evaluate(() => ['px', 'py', 'pz'].map((id) => Number(document.getElementById(id).value)));
+  assert.deepEqual(typed, snapped);
+  assert.ok(Math.abs(snapped[0] - 1.1) > 1e-3 || Math.abs(snapped[2] - 2) > 1e-3, `the point did not move: ${snapped}`);
+  await page.selectOption('#snap', 'off');
+
+  // The triad's +z end gives the top view, its +x end the view from +x (the right view).
+  const clickEnd = async (axis) => {
+    const [x, y] = await page.evaluate((a) => {
+      const v = window.__pdeshape.view;
+      const [tx, ty] = v.triadTip(a);
+      const r = v.canvas.getBoundingClientRect();
+      return [tx + r.left, ty + r.top];
+    }, axis);
+    await page.mouse.click(x, y);
+    await page.waitForTimeout(100);
+    return page.evaluate(() => { const c = window.__pdeshape.view.camera; return [c.yaw, c.pitch]; });
+  };
+  const version = (await state()).version;
+  const [, pitch] = await clickEnd('+z');
+  assert.equal(pitch, 1.55);
+  await page.screenshot({ path: path.join(shots, 'triad-top.png') });
+  const [yaw, pitch2] = await clickEnd('+x');
+  assert.deepEqual([yaw, pitch2], [0, 0]);
+  assert.equal((await state()).version, version, 'a click on the triad changed the design');
+  await page.screenshot({ path: path.join(shots, 'triad-right.png') });
+  await page.keyboard.press('0');
+});
+
+test('a drag shows a grid half as fine while it runs and the full grid when it ends', async () => {
+  await load('examples/cup.toml');
+  await page.selectOption('#curve', 'rim');
+  await page.click('#convert');
+  await page.waitForFunction(() => window.__pdeshape.state().curves.find((c) => c.name === 'rim').control);
+  await settled(page);
+  const [px, py] = await page.evaluate(() => {
+    const { view, state } = window.__pdeshape;
+    const s = view.project(state().curves.find((c) => c.name === 'rim').control[2]);
+    const r = view.canvas.getBoundingClientRect();
+    return [s[0] + r.left, s[1] + r.top];
+  });
+  const v0 = (await state()).version;
+  const grids = [];
+  await page.mouse.move(px, py);
+  await page.mouse.down();
+  for (let k = 1; k <= 12; k++) {
+    await page.mouse.move(px + 3 * k, py - k);
+    await page.waitForTimeout(30);
+    grids.push((await state()).grid.join('x'));
+  }
+  const during = await page.evaluate(() => window.__pdeshape.view.meshes.map((m) => m.count));
+  await page.mouse.up();
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v0);
+  await settled(page);
+  assert.ok(grids.includes('32x64'), `no coarse frame during the drag: ${grids}`);
+  assert.deepEqual((await state()).grid, [64, 128]);
+  const after = await page.evaluate(() => window.__pdeshape.view.meshes.map((m) => m.count));
+  assert.ok(after[0] > 3 * during[0], `triangles drawn ${during} during, ${after} after`);
+  // With "full grid while dragging" every frame of a drag is on the full grid.
+  await page.check('#full-drag');
+  const grids2 = [];
+  const v1 = (await state()).version;
+  await page.mouse.move(px + 36, py - 12);
+  await page.mouse.down();
+  for (let k = 1; k <= 6; k++) {
+    await page.mouse.move(px + 36 - 3 * k, py - 12 + k);
+    await page.waitForTimeout(30);
+    grids2.push((await state()).grid.join('x'));
+  }
+  await page.mouse.up();
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v1);
+  assert.ok(grids2.every((g) => g === '64x128'), `${grids2}`);
+  await page.uncheck('#full-drag');
 });
 
 test('control points picked with Ctrl-click move together', async () => {

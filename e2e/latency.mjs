@@ -11,11 +11,14 @@ const moves = Number(process.argv[2] || 150);
 const [width, height] = (process.argv[3] || '1280x800').split('x').map(Number);
 const renderer = process.argv[4] || 'disable-gpu';
 const zebra = process.argv[5] === 'zebra';
+// DESIGNS=teacup,cup runs only those; FULL_DRAG=1 keeps the full grid while dragging (the
+// page's "full grid while dragging").
+const only = (process.env.DESIGNS || '').split(',').filter(Boolean);
 const cases = [
   { file: 'examples/cup.toml', curve: 'rim', index: 3 },
   { file: 'examples/wine_glass.toml', curve: 'belly', index: 3 },
   { file: 'examples/teacup.toml', curve: 'rim', index: 3 },
-];
+].filter((c) => !only.length || only.includes(c.file.replace(/^examples\/|\.toml$/g, '')));
 
 const dir = startDir();
 const server = await startServer(dir);
@@ -24,6 +27,7 @@ const { page } = await openPage(context, server.url);
 // Loading the next design discards the last one's drag.
 page.on('dialog', (d) => d.accept());
 if (zebra) await page.selectOption('#inspect', 'zebra');
+if (process.env.FULL_DRAG === '1') await page.check('#full-drag');
 await page.evaluate(() => {
   // Count the GPU's work in: the surface is drawn when gl.finish() returns.
   const gl = window.__pdeshape.view.gl;
@@ -79,7 +83,7 @@ for (const c of cases) {
 }
 await context.close();
 await stopServer(server);
-console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shaded'}`);
+console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shaded'}, ${process.env.FULL_DRAG === '1' ? 'full grid' : 'half grid'} while dragging`);
 for (const r of rows) {
   const f = (x) => x.toFixed(1);
   console.log(`${r.design}: ${r.patches} patches ${r.grid}, ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);

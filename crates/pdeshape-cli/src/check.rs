@@ -2,7 +2,8 @@
 //!
 //! The report starts with the library's verdict: `OK`, `ATTENTION` or `FAIL`, followed by the
 //! `fail:`, `warning:` and `attention:` lines that explain it. A shared edge (seam) creased by
-//! more than `--g1-tolerance` fails the check: `FAIL`, an `error:` line naming the seams on
+//! more than `--g1-tolerance`, or (when `--g2-tolerance` is given) whose normal curvature jumps
+//! across it by more than that, fails the check: `FAIL`, an `error:` line naming the seams on
 //! stderr and exit status 1. `OK` and `ATTENTION` exit with status 0 (the design solved); a
 //! refused design exits with status 2.
 
@@ -29,23 +30,37 @@ pub(crate) struct Args {
     /// lid, a flange) passes with a tolerance above its angle, e.g. `--g1-tolerance 1.6`.
     #[arg(long, value_name = "RAD", default_value_t = diagnostics::SEAM_G1_TOLERANCE)]
     pub g1_tolerance: f64,
+    /// The curvature tolerance (1/length): a shared edge across which the two patches' normal
+    /// curvatures differ by more (its G2 figure) fails the check (exit status 1). Not judged
+    /// unless given: patches that share a derivative curve meet G1, not G2, so a default
+    /// would fail designs that are as intended.
+    #[arg(long, value_name = "1/LENGTH")]
+    pub g2_tolerance: Option<f64>,
 }
 
 /// The diagnostics of a solved design, its seams judged by `--g1-tolerance`.
 fn judged(args: &Args, design: &Loaded, built: &SolvedDesign) -> diagnostics::Diagnostics {
     let mut d = diagnostics::diagnose(&design.spec, built);
     d.judge_seams(args.g1_tolerance);
+    if let Some(t) = args.g2_tolerance {
+        d.judge_curvature(t);
+    }
     d
 }
 
-/// `--g1-tolerance` checked before the design is read: a finite angle, at least 0.
-fn check_tolerance(t: f64) -> Result<(), CliError> {
-    if t.is_finite() && t >= 0.0 {
-        Ok(())
-    } else {
-        Err(CliError::input(format!(
+/// `--g1-tolerance` and `--g2-tolerance` checked before the design is read: finite, at least 0.
+fn check_tolerance(args: &Args) -> Result<(), CliError> {
+    let t = args.g1_tolerance;
+    if !(t.is_finite() && t >= 0.0) {
+        return Err(CliError::input(format!(
             "--g1-tolerance: expected an angle in radians, at least 0 (got {t})"
-        )))
+        )));
+    }
+    match args.g2_tolerance {
+        Some(t) if !(t.is_finite() && t >= 0.0) => Err(CliError::input(format!(
+            "--g2-tolerance: expected a curvature (1/length), at least 0 (got {t})"
+        ))),
+        _ => Ok(()),
     }
 }
 
@@ -55,8 +70,21 @@ fn verdict_status(design: &Loaded, d: &diagnostics::Diagnostics) -> Result<(), C
         return Ok(());
     }
     let n = |x: f64| pdeshape::number::sig(x, pdeshape::number::DIGITS);
-    let seams: Vec<String> = d
+    let list = |seams: Vec<String>, what: &str, tolerance: String| {
+        format!(
+            "{} {}: {}",
+            if seams.len() == 1 {
+                "a shared edge is".to_string()
+            } else {
+                format!("{} shared edges are", seams.len())
+            },
+            format_args!("{what} {tolerance}"),
+            seams.join(", ")
+        )
+    };
+    let creased: Vec<String> = d
         .failed_seams()
+        .filter(|e| e.g1_failed)
         .map(|e| {
             format!(
                 "'{}' | '{}' along '{}' (G1 = {} rad)",
@@ -67,18 +95,38 @@ fn verdict_status(design: &Loaded, d: &diagnostics::Diagnostics) -> Result<(), C
             )
         })
         .collect();
+    let jumps: Vec<String> = d
+        .failed_seams()
+        .filter(|e| e.g2_failed)
+        .map(|e| {
+            format!(
+                "'{}' | '{}' along '{}' (G2 = {})",
+                e.a,
+                e.b,
+                e.curve,
+                n(e.g2)
+            )
+        })
+        .collect();
+    let mut parts = Vec::new();
+    if !creased.is_empty() {
+        let t = n(d.g1_tolerance.unwrap_or(diagnostics::SEAM_G1_TOLERANCE));
+        parts.push(list(
+            creased,
+            "creased beyond the G1 tolerance",
+            format!("{t} rad"),
+        ));
+    }
+    if !jumps.is_empty() {
+        let t = n(d.g2_tolerance.unwrap_or(f64::NAN));
+        parts.push(list(
+            jumps,
+            "curved unlike its neighbour beyond the G2 tolerance",
+            t,
+        ));
+    }
     Err(CliError {
-        message: format!(
-            "{}: {} creased beyond the G1 tolerance {} rad: {}",
-            design.file,
-            if seams.len() == 1 {
-                "a shared edge is".to_string()
-            } else {
-                format!("{} shared edges are", seams.len())
-            },
-            n(d.g1_tolerance.unwrap_or(diagnostics::SEAM_G1_TOLERANCE)),
-            seams.join(", ")
-        ),
+        message: format!("{}: {}", design.file, parts.join("; ")),
         status: 1,
     })
 }
@@ -94,7 +142,7 @@ fn check_sections(design: &Loaded, built: &SolvedDesign) -> Result<(), CliError>
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
-    check_tolerance(args.g1_tolerance)?;
+    check_tolerance(args)?;
     if args.json {
         // The report as JSON: per surface its kind, operator, modes and condition errors;
         // shared edges; warnings; the verdict; and the text report.

@@ -44,8 +44,8 @@ enum Command {
     Render(render::Args),
     /// Validate and solve a design and print a report (modes, condition errors, shared edges)
     /// led by its verdict: OK, ATTENTION (warnings, gaps, small creases; both exit with status
-    /// 0) or FAIL (a shared edge creased beyond --g1-tolerance; status 1); a refused design
-    /// exits with 2.
+    /// 0) or FAIL (a shared edge creased beyond --g1-tolerance, or curved unlike its
+    /// neighbour beyond --g2-tolerance if given; status 1); a refused design exits with 2.
     Check(check::Args),
     /// Run the [dynamic] section of a design (a dynamic PDE curve) and write the final curve
     /// (csv), optionally its frames (csv) and a picture (svg).

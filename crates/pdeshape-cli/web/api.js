@@ -97,7 +97,7 @@ export const api = {
   load: (q, path) => frameOf('POST', 'load?' + q, { path }),
   save: async (path) => (await (await request('POST', 'save', { path })).response.json()),
   files: async () => (await (await request('GET', 'files')).response.json()),
-  check: async (tolerance) => (await (await request('GET', `check?g1_tolerance=${tolerance}`)).response.json()),
+  check: async (g1, g2 = '') => (await (await request('GET', `check?g1_tolerance=${g1}&g2_tolerance=${g2}`)).response.json()),
   analyze: async () => (await (await request('GET', 'analyze')).response.json()),
   download: async (q) => {
     const { response } = await request('GET', 'download?' + q);

@@ -21,11 +21,20 @@ let busy = Promise.resolve();
 // Measurements for tests and benchmarks: pointer event → new surface on screen.
 const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
 
-function query() {
+// The view's query. While a gesture runs (`coarse`), frames come on a grid half as fine in each
+// direction (at least 8 × 8): a quarter of the tessellation, of the bytes and of the upload;
+// the full grid follows when the gesture ends (scheduleRefine). "full grid while dragging"
+// turns that off.
+function query(coarse = false) {
   const lo = $('c-lo').value.trim(), hi = $('c-hi').value.trim();
   const range = lo !== '' && hi !== '' ? `&range=${encodeURIComponent(`${lo},${hi}`)}` : '';
   const comb = $('show-combs').checked ? '&comb=1' : '';
-  return `nu=${$('nu').value}&nv=${$('nv').value}&color=${$('color').value}${range}${comb}`;
+  let nu = $('nu').value, nv = $('nv').value;
+  if (coarse && !$('full-drag').checked && Number(nu) >= 16 && Number(nv) >= 16) {
+    nu = Math.max(8, Math.round(Number(nu) / 2));
+    nv = Math.max(8, Math.round(Number(nv) / 2));
+  }
+  return `nu=${nu}&nv=${nv}&color=${$('color').value}${range}${comb}`;
 }
 
 function status(text) {
@@ -109,23 +118,30 @@ function channel(area, send) {
       perf.server.push(frame.scene.server_ms);
       perf.roundTrips.push(frame.roundTripMs);
     }, area !== 'time'); // the timeline's label follows playback
+    scheduleRefine();
   }, (e) => panels.showError(area, message(e)), perf);
   channels.push(ch);
   return ch;
 }
 
-// The check and analyze panels follow the design a moment after it settles.
+// The check and analyze panels follow the design a moment after it settles: not while a drag
+// runs or a gesture's request waits (the reports take the design for as long as a few frames,
+// e.g. 0.5 s for the teacup's analysis, and a frame that waited for them would let the next
+// reports start before the next frame: a drag stuck behind its own reports).
 let reportsTimer = null;
 function scheduleReports() {
   clearTimeout(reportsTimer);
-  reportsTimer = setTimeout(refreshReports, 600);
+  reportsTimer = setTimeout(() => {
+    if (drag || !channels.every((c) => c.idle)) scheduleReports();
+    else refreshReports();
+  }, 600);
 }
 // Reports answered out of order (a scheduled refresh and a click) show only the newest.
 let reportsAsked = 0;
 async function refreshReports() {
   const asked = ++reportsAsked;
   try {
-    const [check, analyze] = await Promise.all([api.check(g1Tolerance()), api.analyze()]);
+    const [check, analyze] = await Promise.all([api.check(g1Tolerance(), g2Tolerance()), api.analyze()]);
     if (asked !== reportsAsked) return;
     panels.reports(check, analyze);
     view.failing = new Set(panels.failing);
@@ -142,14 +158,20 @@ function g1Tolerance() {
   return Number.isFinite(deg) && deg >= 0 ? (deg * Math.PI) / 180 : (Math.PI / 180);
 }
 
+// The curvature tolerance (1/length), or '' when the field is empty (G2 not judged).
+function g2Tolerance() {
+  const t = $('g2-tol').value.trim();
+  return t !== '' && Number.isFinite(Number(t)) && Number(t) >= 0 ? t : '';
+}
+
 let groupCounter = Date.now();
 const newGroup = () => ++groupCounter;
 
 // ---- Channels of the gestures ------------------------------------------------------------
-const controlChannel = channel('drag', (body) => api.edit(query(), body));
-const spineChannel = channel('spine', (body) => api.spine(query(), body));
-const localChannel = channel('local', (body) => api.local(query(), body));
-const uvChannel = channel('uv', (body) => api.edit(query(), body));
+const controlChannel = channel('drag', (body) => api.edit(query(true), body));
+const spineChannel = channel('spine', (body) => api.spine(query(true), body));
+const localChannel = channel('local', (body) => api.local(query(true), body));
+const uvChannel = channel('uv', (body) => api.edit(query(true), body));
 const timeChannel = channel('time', (body) => api.time(query(), body.t));
 
 const timeline = new Timeline(timeChannel);
@@ -169,9 +191,37 @@ function digest() {
   }
   return h;
 }
-// True when no gesture has a request in flight or waiting.
-const idle = () => channels.every((c) => c.idle) && panelsTimer === null;
-window.__pdeshape = { perf, state: () => scene, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
+// The full grid after a gesture's coarse frames: once no drag runs and no gesture's request is
+// in flight or waiting (a slider held still counts as ended), one frame on the full grid. It
+// is not an edit (no version, no unsaved state) and clears no message.
+let refineTimer = null;
+let refining = false;
+function scheduleRefine() {
+  clearTimeout(refineTimer);
+  refineTimer = setTimeout(refine, 150);
+}
+function refine() {
+  if (drag || !channels.every((c) => c.idle)) {
+    refineTimer = setTimeout(refine, 100);
+    return;
+  }
+  refineTimer = null;
+  const full = [Number($('nu').value), Number($('nv').value)];
+  if (!lastFrame || (lastFrame.scene.grid[0] === full[0] && lastFrame.scene.grid[1] === full[1])) return;
+  refining = true;
+  busy = busy.then(async () => {
+    try {
+      show(await api.frame(query()));
+    } catch (e) {
+      panels.showError('view', message(e));
+    } finally {
+      refining = false;
+    }
+  });
+}
+// True when no gesture has a request in flight or waiting and the full grid is on screen.
+const idle = () => channels.every((c) => c.idle) && panelsTimer === null && refineTimer === null && !refining;
+window.__pdeshape = { perf, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
@@ -190,6 +240,12 @@ view.canvas.addEventListener('pointerdown', (ev) => {
     local.picked(scene, view.pickCurvePoint(x, y, local.curve));
     view.setScene(scene);
     view.request();
+    return;
+  }
+  // A click on an end of the axis triad looks from that side.
+  const end = ev.button === 0 ? view.triadPick(x, y) : null;
+  if (end) {
+    view.standardView(end.yaw, end.pitch);
     return;
   }
   const hit = ev.button === 0 && !ev.shiftKey ? view.pick(x, y) : null;
@@ -332,8 +388,9 @@ function selectionNote() {
           : s.kind === 'spine' ? `spine point ${s.index} of ${s.patch} selected` : '';
 }
 
-// Snapping of a dragged point: to the grid (every coordinate a multiple of the step), or to the
-// nearest end of a curve or control point of another curve within 10 pixels on screen.
+// Snapping of a dragged point: to the grid (every coordinate a multiple of the step), to the
+// coordinate planes (x = 0, y = 0, z = 0) within 10 pixels on screen, or to the nearest end of
+// a curve or control point of another curve within 10 pixels on screen.
 function snap(p, sx, sy, d) {
   const mode = $('snap').value;
   if (mode === 'grid') {
@@ -342,6 +399,28 @@ function snap(p, sx, sy, d) {
     // Rounded to the step, then to the decimal digits the step has (0.1 · 3 is 0.30000000000000004).
     const digits = Math.min(12, Math.max(0, -Math.floor(Math.log10(step)) + 3));
     return p.map((c) => Number((Math.round(c / step) * step).toFixed(digits)));
+  }
+  if (mode === 'planes') {
+    // Each coordinate plane (x = 0, y = 0, z = 0) the point is within 10 pixels of on screen
+    // takes it exactly: the coordinate becomes 0.
+    const mats = view.matrices();
+    const at = view.project(p, mats);
+    if (!at) return p;
+    const q = [...p];
+    const r = view.bounds ? view.bounds.radius : 1;
+    for (let c = 0; c < 3; c++) {
+      // Not along an axis that points at the eye (its plane is seen edge-on: every point is
+      // on it on screen).
+      const step = [...p];
+      step[c] += 0.1 * r;
+      const t = view.project(step, mats);
+      if (!t || Math.hypot(t[0] - at[0], t[1] - at[1]) < 3) continue;
+      const on = [...p];
+      on[c] = 0;
+      const s = view.project(on, mats);
+      if (s && Math.hypot(s[0] - at[0], s[1] - at[1]) < 10) q[c] = 0;
+    }
+    return q;
   }
   if (mode === 'points' && scene) {
     const mats = view.matrices();
@@ -369,7 +448,11 @@ function endDrag(ev) {
     const [x, y] = pointerPos(ev);
     if (Math.hypot(x - was.start[0], y - was.start[1]) < 4) clickSelect(x, y);
   }
-  if (was && was.kind === 'control') pointPanel();
+  // The point's coordinates as the drag left it: once its last frame is in.
+  if (was && was.kind === 'control') {
+    const again = () => (controlChannel.idle ? pointPanel() : setTimeout(again, 50));
+    again();
+  }
   // The next drag of the local handle starts from the curve as it is now.
   if (was && was.kind === 'local') {
     const again = () => (localChannel.idle ? local.show(local.curve).then(() => { view.setScene(scene); view.request(); }) : setTimeout(again, 50));
@@ -430,7 +513,7 @@ $('scale').onclick = () => edit('curve', { edit: 'transform', name: selectedCurv
 // Sliders: one undo step per slider gesture, edits coalesced like drags.
 function slider(input, area, makeEdit, label) {
   let group = null;
-  const ch = channel(area, (body) => api.edit(query(), body));
+  const ch = channel(area, (body) => api.edit(query(true), body));
   input.addEventListener('pointerdown', () => { group = newGroup(); input.dataset.active = '1'; });
   input.addEventListener('input', (ev) => {
     if (group === null) group = newGroup();
@@ -684,6 +767,7 @@ function inspectChanged() {
 }
 for (const id of ['inspect', 'stripe-axis', 'stripes', 'stripe-lock', 'draft-angle']) $(id).addEventListener('input', inspectChanged);
 $('g1-tol').onchange = refreshReports;
+$('g2-tol').onchange = refreshReports;
 // Curvature combs: the scene carries them only while they are shown.
 $('show-combs').onchange = () => {
   view.comb.show = $('show-combs').checked;

@@ -57,7 +57,7 @@ export function legend(scene) {
   if (scene.surfaces.some((s) => s.spine_control)) rows.push(row(rgb(COLORS.spineControl), 'spine control points (drag them)', 'dot'));
   if (scene.trim_lines && scene.trim_lines.length) rows.push(row(rgb(COLORS.trim), 'trim curves (holes)'));
   rows.push(row(rgb(COLORS.edge), 'shared edges (seams)'));
-  if (failing && failing.size) rows.push(row(rgb(COLORS.fail), 'seams above the G1 tolerance'));
+  if (failing && failing.size) rows.push(row(rgb(COLORS.fail), 'seams above the G1 or G2 tolerance'));
   rows.push(row('#000', 'v = 0 marks (tick: increasing v)'));
   rows.push(row('rgb(217,26,26)', 'axes at the bottom left: x red, y green, z blue'));
   if (scene.curves.some((c) => c.comb && c.comb.length)) rows.push(row(rgb(COLORS.comb), 'curvature combs (teeth ∝ curvature)'));
@@ -143,8 +143,9 @@ export function patchPanel(scene) {
   }
 }
 
-// The shared edges (seams): G0 distance, G1 angle in degrees (radians in the tooltip); a seam
-// above the tolerance is marked red (its `failed` from the check).
+// The shared edges (seams): G0 distance, G1 angle in degrees (radians in the tooltip), G2 figure;
+// a seam above the G1 or the G2 tolerance is marked red (its `failed` from the check) with ✗
+// beside the figure that failed.
 function edges(list) {
   const t = $('edges');
   if (!list.length) {
@@ -157,8 +158,8 @@ function edges(list) {
     '<th title="largest jump of the normal curvature across the seam (1/length)">G2</th></tr>' + list.map((e) =>
     `<tr class="${e.failed ? 'bad' : 'ok'}" data-curve="${esc(e.curve)}"><td>${esc(e.a)} u=${e.ua} | ${esc(e.b)} u=${e.ub}</td><td>${esc(e.curve)}</td>` +
     `<td>${e.g0 == null ? 'NaN' : e.g0.toExponential(2)}</td>` +
-    `<td class="g1" title="${e.g1 == null ? 'NaN' : e.g1.toExponential(3)} rad">${deg(e.g1)}</td>` +
-    `<td>${e.g2 == null ? 'NaN' : e.g2.toExponential(2)}</td></tr>`).join('');
+    `<td class="g1${e.g1_failed ? ' over' : ''}" title="${e.g1 == null ? 'NaN' : e.g1.toExponential(3)} rad">${deg(e.g1)}</td>` +
+    `<td class="g2${e.g2_failed ? ' over' : ''}">${e.g2 == null ? 'NaN' : e.g2.toExponential(2)}</td></tr>`).join('');
 }
 
 const PLAIN = { area: 'area', volume: 'volume', bending_energy: 'bending', willmore: 'Willmore',

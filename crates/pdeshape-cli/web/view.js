@@ -5,6 +5,18 @@
 
 import * as m from './math.js';
 
+// The axis triad: its corner's size (CSS pixels) and its six ends, each with the standard view
+// (eye yaw and pitch about the target) from that side; a click on an end sets that view.
+const TRIAD = 70;
+const TRIAD_ENDS = [
+  { axis: '+x', tip: [1, 0, 0], yaw: 0, pitch: 0 },
+  { axis: '-x', tip: [-0.6, 0, 0], yaw: Math.PI, pitch: 0 },
+  { axis: '+y', tip: [0, 1, 0], yaw: Math.PI / 2, pitch: 0 },
+  { axis: '-y', tip: [0, -0.6, 0], yaw: -Math.PI / 2, pitch: 0 },
+  { axis: '+z', tip: [0, 0, 1], yaw: -Math.PI / 2, pitch: 1.55 },
+  { axis: '-z', tip: [0, 0, -0.6], yaw: -Math.PI / 2, pitch: -1.55 },
+];
+
 const SURFACE_VS = `#version 300 es
 in vec3 position;
 in vec3 normal;
@@ -528,22 +540,59 @@ export class View {
     if (this.onDrawn) this.onDrawn();
   }
 
-  // The axis triad in the bottom-left corner: x red, y green, z blue, turned with the view.
+  // The triad's projection: the unit axes from 4.2 away fill the corner (a 30° field of view
+  // spans ±1.1 there).
+  triadMvp() {
+    const eye = m.scale(m.unit(m.sub(this.eye(), this.camera.target)), 4.2);
+    return m.multiply(m.perspective(Math.PI / 6, 1, 2, 6.5), m.lookAt(eye, [0, 0, 0], [0, 0, 1]));
+  }
+
+  // The axis triad in the bottom-left corner (TRIAD CSS pixels square): x red, y green, z
+  // blue, their negative halves grey and shorter, turned with the view.
   drawTriad(dpr) {
     const gl = this.gl;
-    if (!this.triad) this.triad = this.upload(null,
-      [0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1],
-      [0.85, 0.1, 0.1, 0.85, 0.1, 0.1, 0.1, 0.6, 0.1, 0.1, 0.6, 0.1, 0.1, 0.2, 0.9, 0.1, 0.2, 0.9]);
-    const size = Math.round(70 * dpr);
+    if (!this.triad) {
+      const pos = [], col = [];
+      TRIAD_ENDS.forEach(({ tip }, k) => {
+        pos.push(0, 0, 0, ...tip);
+        const c = k % 2 ? [0.55, 0.55, 0.55] : [[0.85, 0.1, 0.1], [0.1, 0.6, 0.1], [0.1, 0.2, 0.9]][k >> 1];
+        col.push(...c, ...c);
+      });
+      this.triad = this.upload(null, pos, col);
+    }
+    const size = Math.round(TRIAD * dpr);
     gl.viewport(0, 0, size, size);
     gl.clear(gl.DEPTH_BUFFER_BIT);
-    // The unit axes from 4.2 away fill the corner (a 30° field of view spans ±1.1 there).
-    const eye = m.scale(m.unit(m.sub(this.eye(), this.camera.target)), 4.2);
-    const mvp = m.multiply(m.perspective(Math.PI / 6, 1, 2, 6.5), m.lookAt(eye, [0, 0, 0], [0, 0, 1]));
+    const mvp = this.triadMvp();
     gl.uniformMatrix4fv(gl.getUniformLocation(this.lineProgram, 'mvp'), false, mvp);
     gl.bindVertexArray(this.triad.vao);
     gl.drawArrays(gl.LINES, 0, this.triad.count);
     gl.viewport(0, 0, this.canvas.width, this.canvas.height);
+  }
+
+  // The end of the triad under a click at (sx, sy) (CSS pixels in the canvas), within 12
+  // pixels of its tip, the nearest: { axis: '+x' …, yaw, pitch } of the standard view from that
+  // side; null elsewhere.
+  triadPick(sx, sy) {
+    const h = this.canvas.clientHeight;
+    if (sx > TRIAD || sy < h - TRIAD) return null;
+    const mvp = this.triadMvp();
+    let best = null, bestD = 12;
+    for (const end of TRIAD_ENDS) {
+      const [x, y, , w] = m.transform(mvp, end.tip);
+      if (w <= 0) continue;
+      const px = ((x / w) * 0.5 + 0.5) * TRIAD, py = h - ((y / w) * 0.5 + 0.5) * TRIAD;
+      const d = Math.hypot(px - sx, py - sy);
+      if (d < bestD) { bestD = d; best = end; }
+    }
+    return best;
+  }
+
+  // Where the triad draws the tip of `axis` ('+x' …), in CSS pixels of the canvas.
+  triadTip(axis) {
+    const end = TRIAD_ENDS.find((e) => e.axis === axis);
+    const [x, y, , w] = m.transform(this.triadMvp(), end.tip);
+    return [((x / w) * 0.5 + 0.5) * TRIAD, this.canvas.clientHeight - ((y / w) * 0.5 + 0.5) * TRIAD];
   }
 
   // Screen position (CSS pixels) of a world point.

@@ -18,7 +18,7 @@
 //! | `POST /api/load` `{"path": p}`, `POST /api/save` `{"path": p}` | a frame / `{"saved": p}` |
 //! | `POST /api/new` | a frame (the starting design) |
 //! | `GET /api/files` | `{"files": [...]}` |
-//! | `GET /api/check?g1_tolerance`, `GET /api/analyze` | the `check` report, its `text` as `pdeshape check` prints it (the verdict first), its conclusion (failing seams, warnings, gaps, creases, `OK`, `ATTENTION` or `FAIL`), the `verdict` word, the G0/G1 of shared edges (`failed` above the seam tolerance, radians, one degree by default) and the diagnostics; the `analyze --json` numbers |
+//! | `GET /api/check?g1_tolerance&g2_tolerance`, `GET /api/analyze` | the `check` report, its `text` as `pdeshape check` prints it (the verdict first), its conclusion (failing seams, warnings, gaps, creases, `OK`, `ATTENTION` or `FAIL`), the `verdict` word, the G0/G1/G2 of shared edges (`failed` above the seam tolerance, radians, one degree by default, or above the curvature tolerance, 1/length, not judged unless given; `g1_failed`, `g2_failed` say which) and the diagnostics; the `analyze --json` numbers |
 //! | `GET /api/download?format=obj\|stl\|ply\|glb\|png\|step\|igs&nu&nv&view&size` | the file; STEP and IGES with `x-pdeshape-cad: surfaces=N; deviation=D; certified=B; tolerance=T` |
 
 use super::assets;
@@ -688,12 +688,26 @@ async fn check(
             }
         },
     };
-    let (report, text, d) = with_session(&state, move |s| Ok(s.check(tolerance))).await?;
+    // The curvature tolerance (1/length): not judged unless given (or given empty).
+    let g2_tolerance = match q.get("g2_tolerance").map(String::as_str) {
+        None | Some("") => None,
+        Some(t) => match t.parse::<f64>() {
+            Ok(x) if x.is_finite() && x >= 0.0 => Some(x),
+            _ => {
+                return Err(ApiError::bad_request(
+                    format!("expected a curvature (1/length), at least 0 (got '{t}')"),
+                    "g2_tolerance",
+                ))
+            }
+        },
+    };
+    let (report, text, d) =
+        with_session(&state, move |s| Ok(s.check(tolerance, g2_tolerance))).await?;
     let diagnostics = d.to_json();
     Ok(axum::Json(serde_json::json!({
         "report": report, "text": text, "conclusion": d.conclusion(), "warnings": d.warnings,
         "edges": diagnostics["edges"], "verdict": d.verdict.word(), "g1_tolerance": tolerance,
-        "diagnostics": diagnostics,
+        "g2_tolerance": g2_tolerance, "diagnostics": diagnostics,
     }))
     .into_response())
 }

@@ -94,6 +94,8 @@ async fn serve_bounded(listener: tokio::net::TcpListener, router: axum::Router) 
             },
             _ = &mut stop => break,
         };
+        // Frames go out as soon as they are written (no Nagle delay on the last segment).
+        let _ = stream.set_nodelay(true);
         let service = hyper_util::service::TowerToHyperService::new(router.clone());
         tokio::spawn(async move {
             let _permit = permit;

@@ -13,6 +13,11 @@
 //! `u32 × 3 × triangles`, each block padded to a multiple of 4 bytes. `n` is `nu·nv` for a
 //! grid, whose faces are implied (quads `(i,j) (i+1,j) (i+1,j+1) (i,j+1)`, wrapping in v when
 //! periodic), or the vertex count of a trimmed surface's triangle mesh (holes cut out).
+//!
+//! Points that are only drawn (curves' polylines, derivative vectors, spines, trim lines) go
+//! to seven significant digits ([`short`]); control points, spine handles, the other points a
+//! user types, snaps to or rotates about, and the curvature combs (sent only while shown, and
+//! read as exact curvatures) are sent exact.
 
 use pdeshape::curve::{Curve, Domain};
 use pdeshape::design::SolvedDesign;
@@ -32,13 +37,45 @@ fn p3(p: &pdeshape::Vec3) -> [f64; 3] {
     [p.x, p.y, p.z]
 }
 
+/// `x` to seven significant digits, as the double nearest that decimal (so that its shortest
+/// form, which JSON carries, is at most seven digits long); zero, tiny (below 1e-16) and
+/// non-finite numbers as they are.
+pub(super) fn short(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let e = 6 - x.abs().log10().floor() as i32;
+    if e > 22 {
+        return x;
+    }
+    let p = 10f64.powi(e.abs());
+    let y = if e >= 0 {
+        (x * p).round() / p
+    } else {
+        (x / p).round() * p
+    };
+    if y.is_finite() {
+        y
+    } else {
+        x
+    }
+}
+
+/// A point that is only drawn (polylines, vectors, spines, trim lines), to seven
+/// significant digits ([`short`]: WebGL draws in single precision anyway), in about half the
+/// JSON of a double's shortest form; `None` where it is not finite. Points a user types or
+/// snaps to (control points, spine handles, the `v = 0` marks, centroids) stay exact ([`p3`]).
+pub(super) fn d3(p: &pdeshape::Vec3) -> Option<[f64; 3]> {
+    finite(p).then(|| [short(p.x), short(p.y), short(p.z)])
+}
+
 /// Finite points only (JSON has no NaN).
 fn finite(p: &pdeshape::Vec3) -> bool {
     p.iter().all(|x| x.is_finite())
 }
 
-/// Points along a curve: over `[0, 2π)` (closed) or its interval.
-fn polyline(c: &dyn Curve) -> (Vec<[f64; 3]>, bool) {
+/// Points along a curve: over `[0, 2π)` (closed) or its interval (finite ones only).
+fn samples(c: &dyn Curve) -> (Vec<pdeshape::Vec3>, bool) {
     let (a, b, closed, n) = match c.domain() {
         Domain::Periodic => (0.0, pdeshape::TAU, true, CURVE_POINTS as f64),
         Domain::Interval(a, b) => (a, b, false, (CURVE_POINTS - 1) as f64),
@@ -46,12 +83,11 @@ fn polyline(c: &dyn Curve) -> (Vec<[f64; 3]>, bool) {
     let points = (0..CURVE_POINTS)
         .map(|k| c.point(a + (b - a) * k as f64 / n))
         .filter(finite)
-        .map(|p| p3(&p))
         .collect();
     (points, closed)
 }
 
-/// The curvature comb of a curve: at the parameters of [`polyline`], the point and the
+/// The curvature comb of a curve: at the parameters of [`samples`], the point and the
 /// curvature vector `κ N = ((C' × C'') × C') / |C'|⁴` from the curve's exact derivatives (points
 /// where either is not finite, or `C' = 0`, are left out).
 fn comb(c: &dyn Curve) -> Vec<[[f64; 3]; 2]> {
@@ -109,10 +145,13 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
         .map(|c| {
             let cs = spec.curves.get(&c.name);
             let is_vector = derivative_curves.contains(c.name.as_str());
-            let (points, closed) = if is_vector {
+            // Sampled once: the drawn points (seven digits) and the centroid (exact).
+            let (sampled, closed) = samples(&*c.curve);
+            let centre = centroid(&sampled);
+            let (points, closed): (Vec<[f64; 3]>, bool) = if is_vector {
                 (Vec::new(), false)
             } else {
-                polyline(&*c.curve)
+                (sampled.iter().filter_map(d3).collect(), closed)
             };
             let comb = if is_vector || !combs {
                 Vec::new()
@@ -147,7 +186,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
                 "v0": v0,
                 "scale": scale,
                 "v_origin": cs.map(|s| s.v_origin),
-                "centroid": centroid(&*c.curve).map(|p| p3(&p)),
+                "centroid": centre.map(|p| p3(&p)),
                 // The parameter interval the drawn points span evenly (closed: without its end).
                 "range": match c.curve.domain() {
                     Domain::Periodic => [0.0, pdeshape::TAU],
@@ -172,7 +211,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
                     let d = c.curve.point(v);
                     // Fig. 5.2 draws X_u at a third of its length to keep the picture legible.
                     let to = from + d / 3.0;
-                    (finite(&from) && finite(&to)).then(|| [p3(&from), p3(&to)])
+                    Some([d3(&from)?, d3(&to)?])
                 })
                 .collect();
             vectors.push(json!({
@@ -181,8 +220,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
         }
         let spine: Vec<[f64; 3]> = (0..CURVE_POINTS)
             .filter_map(|k| s.spine(k as f64 / (CURVE_POINTS - 1) as f64, 0))
-            .filter(finite)
-            .map(|p| p3(&p))
+            .filter_map(|p| d3(&p))
             .collect();
         // The spine's Bézier control points (§5.3): the edited ones, else the solved spine's.
         let report = s.spine_report();
@@ -319,17 +357,19 @@ fn num(x: f64) -> Value {
     serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number)
 }
 
-/// The mean of a curve's drawn points: the default centre of rotations and scalings.
-fn centroid(c: &dyn Curve) -> Option<pdeshape::Vec3> {
-    let (points, _) = polyline(c);
+/// The mean of a curve's drawn points ([`samples`]): the default centre of rotations and
+/// scalings.
+fn centroid(points: &[pdeshape::Vec3]) -> Option<pdeshape::Vec3> {
     if points.is_empty() {
         return None;
     }
     let n = points.len() as f64;
-    let s = points.iter().fold(pdeshape::Vec3::zeros(), |acc, p| {
-        acc + pdeshape::Vec3::new(p[0], p[1], p[2])
-    });
-    Some(s / n)
+    Some(
+        points
+            .iter()
+            .fold(pdeshape::Vec3::zeros(), |acc, p| acc + p)
+            / n,
+    )
 }
 
 fn pad4(out: &mut Vec<u8>, fill: u8) {

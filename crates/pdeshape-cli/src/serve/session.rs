@@ -463,15 +463,19 @@ impl Session {
     }
 
     /// The `check` report of the design and its diagnostics (the library's, as `pdeshape
-    /// check` prints them).
+    /// check` prints them), the seams judged by the G1 and (if given) the G2 tolerance.
     pub(super) fn check(
         &self,
         g1_tolerance: f64,
+        g2_tolerance: Option<f64>,
     ) -> (String, String, pdeshape::diagnostics::Diagnostics) {
         let spec = self.design.spec();
         let solved = self.design.solved();
         let mut d = pdeshape::diagnostics::diagnose(spec, solved);
         d.judge_seams(g1_tolerance);
+        if let Some(t) = g2_tolerance {
+            d.judge_curvature(t);
+        }
         let report = pdeshape::diagnostics::check_report(&self.file, spec, solved, &d);
         let text = pdeshape::diagnostics::check_text(&self.file, spec, solved, &d);
         (report, text, d)

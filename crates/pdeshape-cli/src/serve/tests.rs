@@ -750,6 +750,62 @@ async fn check_judges_seams_by_the_tolerance() {
     }
 }
 
+/// The curvature tolerance of `/api/check`: the cup's belly (G1, with a curvature jump) passes
+/// without one and above its G2 figure, fails below it (`g2_failed`, the text leading with
+/// FAIL); a tolerance that is not a curvature is a 400 naming `g2_tolerance`.
+#[tokio::test]
+async fn check_judges_curvature_by_the_g2_tolerance() {
+    let dir = root();
+    let app = app(dir.path(), Some("examples/cup.toml"));
+    let check = send(&app, "GET", "/api/check", None, &[]).await.json();
+    assert_eq!(check["verdict"], "ok");
+    assert_eq!(check["g2_tolerance"], serde_json::Value::Null);
+    let g2 = check["edges"][0]["g2"].as_f64().unwrap();
+    assert!(g2 > 1e-3, "{g2}");
+    let below = send(
+        &app,
+        "GET",
+        &format!("/api/check?g2_tolerance={}", 0.99 * g2),
+        None,
+        &[],
+    )
+    .await
+    .json();
+    assert_eq!(below["verdict"], "fail");
+    assert_eq!(below["edges"][0]["failed"], true);
+    assert_eq!(below["edges"][0]["g2_failed"], true);
+    assert_eq!(below["edges"][0]["g1_failed"], false);
+    assert!(below["text"]
+        .as_str()
+        .unwrap()
+        .starts_with("FAIL\nfail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly': G2 = "));
+    let above = send(
+        &app,
+        "GET",
+        &format!("/api/check?g2_tolerance={}", 1.01 * g2),
+        None,
+        &[],
+    )
+    .await
+    .json();
+    assert_eq!(above["verdict"], "ok");
+    assert_eq!(above["g2_tolerance"], 1.01 * g2);
+    for bad in ["abc", "-1", "NaN", "inf"] {
+        let a = send(
+            &app,
+            "GET",
+            &format!("/api/check?g2_tolerance={bad}"),
+            None,
+            &[],
+        )
+        .await;
+        assert_eq!(a.status, StatusCode::BAD_REQUEST, "{bad}");
+        let (message, place) = a.error();
+        assert_eq!(place, "g2_tolerance");
+        assert!(message.contains(&format!("(got '{bad}')")), "{message}");
+    }
+}
+
 /// Curvature maps: a user range is taken as given, the default one lies within the true range
 /// carried beside it; a range that is not `lo,hi` with `lo < hi` is a 400 naming `range`.
 #[tokio::test]
@@ -1039,4 +1095,38 @@ async fn transforms_sliders_and_library_curves() {
         .unwrap()
         .iter()
         .all(|c| c["name"] != "top"));
+}
+
+/// Drawn points go to seven significant digits: within half a unit of the seventh digit, and
+/// printed (as JSON prints a double) in at most seven digits; zero, tiny and non-finite numbers
+/// stay as they are.
+#[test]
+fn drawn_points_are_sent_to_seven_digits() {
+    use super::scene::short;
+    for x in [
+        1.0 / 3.0,
+        -2.0 / 3.0,
+        std::f64::consts::PI * 1e-5,
+        123456.789123,
+        9.999_999_95,
+        -0.000_123_456_789,
+        1.35 * std::f64::consts::FRAC_1_SQRT_2,
+        6.02e23,
+    ] {
+        let y = short(x);
+        let digits: String = serde_json::json!(y)
+            .to_string()
+            .chars()
+            .take_while(|c| *c != 'e')
+            .filter(char::is_ascii_digit)
+            .collect();
+        let significant = digits.trim_start_matches('0').len();
+        assert!(significant <= 7, "{x} -> {y}");
+        let unit = 10f64.powi(x.abs().log10().floor() as i32 - 6);
+        assert!((y - x).abs() <= 0.5 * unit * (1.0 + 1e-9), "{x} -> {y}");
+    }
+    assert_eq!(short(0.0), 0.0);
+    assert_eq!(short(1e-300), 1e-300);
+    assert!(short(f64::NAN).is_nan());
+    assert_eq!(short(f64::INFINITY), f64::INFINITY);
 }

@@ -67,8 +67,7 @@ pub(super) fn images(solved: &SolvedDesign) -> Value {
         .map(|line| {
             line.points
                 .iter()
-                .filter(|p| p.iter().all(|x| x.is_finite()))
-                .map(|p| [p.x, p.y, p.z])
+                .filter_map(super::scene::d3)
                 .collect::<Vec<_>>()
         })
         .collect()

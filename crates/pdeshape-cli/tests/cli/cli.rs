@@ -655,6 +655,66 @@ fn check_prints_the_verdict_and_exits_by_policy() {
     assert_bad(&out, &["operator.a: must be positive"]);
 }
 
+/// `--g2-tolerance` (not judged unless given): the cup's belly is G1 with a curvature jump
+/// (its G2 figure from `--json`); a tolerance just below it fails (FAIL first, status 1, one
+/// `error:` line naming the seam and its figure), just above it passes (OK, status 0); a bad
+/// tolerance is refused with status 2.
+#[test]
+fn check_judges_the_g2_figure_by_the_curvature_tolerance() {
+    let cup = example_path("cup.toml");
+    let out = pdeshape(&["check", "--json", s(&cup)]);
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["g2_tolerance"], serde_json::Value::Null);
+    let g2 = v["edges"][0]["g2"].as_f64().unwrap();
+    assert!(g2 > 1e-3, "{g2}");
+
+    let below = format!("{}", 0.99 * g2);
+    let out = pdeshape(&["check", "--g2-tolerance", &below, s(&cup)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines[0], "FAIL", "{stdout}");
+    assert!(
+        lines[1].starts_with("fail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly': G2 = ")
+            && lines[1].ends_with("(a curvature jump)"),
+        "{stdout}"
+    );
+    let err: Vec<&str> = stderr.lines().collect();
+    assert_eq!(err.len(), 1, "{stderr}");
+    assert!(
+        err[0].contains(
+            "cup.toml: a shared edge is curved unlike its neighbour beyond the G2 tolerance"
+        ) && err[0].contains("'base' | 'bowl' along 'belly' (G2 = "),
+        "{stderr}"
+    );
+    let out = pdeshape(&["check", "--json", "--g2-tolerance", &below, s(&cup)]);
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["verdict"], "fail");
+    assert_eq!(v["edges"][0]["g2_failed"], true);
+    assert_eq!(v["edges"][0]["g1_failed"], false);
+
+    let above = format!("{}", 1.01 * g2);
+    let out = pdeshape(&["check", "--g2-tolerance", &above, s(&cup)]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert_eq!(stdout.lines().next(), Some("OK"), "{stdout}");
+
+    for bad in [
+        "--g2-tolerance=-1",
+        "--g2-tolerance=nan",
+        "--g2-tolerance=inf",
+    ] {
+        let out = pdeshape(&["check", bad, s(&cup)]);
+        assert_bad(
+            &out,
+            &["--g2-tolerance: expected a curvature (1/length), at least 0"],
+        );
+    }
+}
+
 #[test]
 fn check_reports_shared_edges_of_the_cup() {
     let out = pdeshape(&["check", s(&examples_dir().join("cup.toml"))]);

@@ -53,7 +53,8 @@ pub enum Verdict {
     /// not G0 (a gap) or not G1 (a crease; often intended, as at a lid or a flange).
     Attention,
     /// A shared edge is creased by more than the seam tolerance given to
-    /// [`Diagnostics::judge_seams`] (never the verdict of [`diagnose`] alone).
+    /// [`Diagnostics::judge_seams`], or its curvature jumps by more than the tolerance given
+    /// to [`Diagnostics::judge_curvature`] (never the verdict of [`diagnose`] alone).
     Fail,
 }
 
@@ -121,6 +122,9 @@ pub struct EdgeDiagnostics {
     /// `g1` above the seam tolerance of [`Diagnostics::judge_seams`] (or NaN); false until
     /// judged.
     pub g1_failed: bool,
+    /// `g2` above the curvature tolerance of [`Diagnostics::judge_curvature`] (or NaN); false
+    /// until judged (and never for a declared crease).
+    pub g2_failed: bool,
     /// The edge runs along a curve the design lists in `creases`: a crease there is meant, and
     /// neither fails the seams nor turns the verdict.
     pub declared_crease: bool,
@@ -340,6 +344,9 @@ pub struct Diagnostics {
     /// The seam tolerance (radians) the shared edges were judged by
     /// ([`Diagnostics::judge_seams`]), if they were.
     pub g1_tolerance: Option<f64>,
+    /// The curvature tolerance (1/length) the shared edges' G2 figures were judged by
+    /// ([`Diagnostics::judge_curvature`]), if they were.
+    pub g2_tolerance: Option<f64>,
 }
 
 /// The name of the `d`-th u-derivative in reports: `position`, `X_u`, `X_uu`, `∂^dX/∂u^d`.
@@ -580,6 +587,7 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
                     g0_met: r.g0 <= G0_TOLERANCE * size.max(1.0),
                     g1_met: r.g1 <= G1_TOLERANCE,
                     g1_failed: false,
+                    g2_failed: false,
                     declared_crease: spec.creases.contains(&e.curve),
                     g2: seam_g2(
                         built.surfaces[r.a].surface(),
@@ -705,6 +713,7 @@ pub fn diagnose(spec: &DesignSpec, built: &SolvedDesign) -> Diagnostics {
         warnings,
         verdict,
         g1_tolerance: None,
+        g2_tolerance: None,
     }
 }
 
@@ -833,9 +842,31 @@ impl Diagnostics {
         }
     }
 
-    /// The shared edges that failed [`Diagnostics::judge_seams`].
+    /// Judges the shared edges' G2 figures ([`seam_g2`], the largest jump of the normal
+    /// curvature across the seam, 1/length) by `g2_tolerance` (`pdeshape check
+    /// --g2-tolerance`, the designer's curvature tolerance; not judged unless asked, since the
+    /// library's patches meet G1, not G2, where they share a derivative curve): a seam whose
+    /// figure exceeds it (or is NaN) fails, and so does the verdict ([`Verdict::Fail`]). A
+    /// declared crease is not judged.
+    pub fn judge_curvature(&mut self, g2_tolerance: f64) {
+        self.g2_tolerance = Some(g2_tolerance);
+        let mut failed = false;
+        for e in self.edges.iter_mut().flatten() {
+            e.g2_failed = !e.declared_crease && (e.g2.is_nan() || e.g2 > g2_tolerance);
+            failed |= e.g2_failed;
+        }
+        if failed {
+            self.verdict = Verdict::Fail;
+        }
+    }
+
+    /// The shared edges that failed [`Diagnostics::judge_seams`] or
+    /// [`Diagnostics::judge_curvature`].
     pub fn failed_seams(&self) -> impl Iterator<Item = &EdgeDiagnostics> {
-        self.edges.iter().flatten().filter(|e| e.g1_failed)
+        self.edges
+            .iter()
+            .flatten()
+            .filter(|e| e.g1_failed || e.g2_failed)
     }
 
     /// The reasons ([`Diagnostics::reasons`]) and the verdict's [label](Verdict::label) as the
@@ -852,7 +883,7 @@ impl Diagnostics {
     pub fn reasons(&self) -> String {
         let mut t = String::new();
         let n = |x: f64| crate::number::sig(x, crate::number::DIGITS);
-        for e in self.failed_seams() {
+        for e in self.failed_seams().filter(|e| e.g1_failed) {
             let _ = writeln!(
                 t,
                 "fail: shared edge '{}' u = {} | '{}' u = {} along '{}': G1 = {} rad, above the \
@@ -864,6 +895,20 @@ impl Diagnostics {
                 e.curve,
                 n(e.g1),
                 n(self.g1_tolerance.unwrap_or(SEAM_G1_TOLERANCE))
+            );
+        }
+        for e in self.failed_seams().filter(|e| e.g2_failed) {
+            let _ = writeln!(
+                t,
+                "fail: shared edge '{}' u = {} | '{}' u = {} along '{}': G2 = {} 1/length, above \
+                 the tolerance {} (a curvature jump)",
+                e.a,
+                e.ua,
+                e.b,
+                e.ub,
+                e.curve,
+                n(e.g2),
+                n(self.g2_tolerance.unwrap_or(f64::NAN))
             );
         }
         for w in &self.warnings {
@@ -887,8 +932,10 @@ impl Diagnostics {
     /// The data of `pdeshape check --json` (without its `ok`, `design` and `report`): `title`,
     /// per surface its `name`, `kind`, `operator`, and for analytic and finite-difference
     /// patches their `modes` and `condition_errors`; the shared `edges` with `g0`, `g1`, `g2`
-    /// ([`seam_g2`]) and `failed` ([`Diagnostics::judge_seams`]); `attachments`; `parameters`; `warnings`; the
-    /// `verdict`'s [word](Verdict::word) and the `g1_tolerance` it was judged by (null if not).
+    /// ([`seam_g2`]), `failed` (either judgement) and `g1_failed`, `g2_failed`
+    /// ([`Diagnostics::judge_seams`], [`Diagnostics::judge_curvature`]); `attachments`;
+    /// `parameters`; `warnings`; the `verdict`'s [word](Verdict::word) and the `g1_tolerance`
+    /// and `g2_tolerance` it was judged by (null if not).
     /// Non-finite numbers are null.
     pub fn to_json(&self) -> Value {
         let surfaces: Vec<Value> = self
@@ -924,7 +971,8 @@ impl Diagnostics {
                 json!({
                     "a": e.a, "ua": e.ua, "b": e.b, "ub": e.ub,
                     "curve": e.curve, "g0": jnum(e.g0), "g1": jnum(e.g1),
-                    "g2": jnum(e.g2), "failed": e.g1_failed,
+                    "g2": jnum(e.g2), "failed": e.g1_failed || e.g2_failed,
+                    "g1_failed": e.g1_failed, "g2_failed": e.g2_failed,
                     "declared_crease": e.declared_crease,
                 })
             })
@@ -973,6 +1021,7 @@ impl Diagnostics {
             "warnings": self.warnings,
             "verdict": self.verdict.word(),
             "g1_tolerance": self.g1_tolerance.map(jnum),
+            "g2_tolerance": self.g2_tolerance.map(jnum),
         })
     }
 }

@@ -251,3 +251,57 @@ fn the_g2_figure_is_the_jump_of_the_normal_curvature() {
         "{belly:?}"
     );
 }
+
+/// Judged by a curvature tolerance, a seam whose G2 figure exceeds it fails (FAIL, a `fail:`
+/// line naming the seam, its figure and the tolerance; `g2_failed` in the JSON), one within it
+/// does not; a declared crease is not judged. The cup's belly is G1 but jumps in curvature.
+#[test]
+fn a_seam_above_the_curvature_tolerance_fails() {
+    let spec = example("cup.toml");
+    let built = solve_design(&spec).unwrap();
+    let g2 = diagnose(&spec, &built).edges.unwrap()[0].g2;
+    assert!(g2 > 1e-3 && g2.is_finite(), "{g2}");
+
+    let mut strict = diagnose(&spec, &built);
+    strict.judge_seams(super::SEAM_G1_TOLERANCE);
+    assert_eq!(strict.verdict, Verdict::Ok);
+    strict.judge_curvature(0.99 * g2);
+    assert_eq!(strict.verdict, Verdict::Fail);
+    let belly = &strict.edges.as_ref().unwrap()[0];
+    assert!(belly.g2_failed && !belly.g1_failed, "{belly:?}");
+    assert_eq!(strict.failed_seams().count(), 1);
+    let conclusion = strict.conclusion();
+    let lines: Vec<&str> = conclusion.lines().collect();
+    assert_eq!(lines.len(), 2, "{conclusion}");
+    assert!(
+        lines[0].starts_with("fail: shared edge 'base' u = 1 | 'bowl' u = 0 along 'belly': G2 = ")
+            && lines[0].ends_with("(a curvature jump)"),
+        "{conclusion}"
+    );
+    assert_eq!(lines[1], "FAIL");
+    let json = strict.to_json();
+    assert_eq!(json["edges"][0]["g2_failed"], true);
+    assert_eq!(json["edges"][0]["g1_failed"], false);
+    assert_eq!(json["edges"][0]["failed"], true);
+    assert_eq!(json["g2_tolerance"], 0.99 * g2);
+
+    let mut lenient = diagnose(&spec, &built);
+    lenient.judge_curvature(1.01 * g2);
+    assert_eq!(lenient.verdict, Verdict::Ok);
+    assert_eq!(lenient.failed_seams().count(), 0);
+
+    // The lid's rim is a declared crease: neither its angle nor its curvature is judged.
+    let closed = example("cup_closed.toml");
+    let built = solve_design(&closed).unwrap();
+    let mut d = diagnose(&closed, &built);
+    d.judge_curvature(0.0);
+    let rim = d.edges.iter().flatten().find(|e| e.curve == "rim").unwrap();
+    assert!(rim.declared_crease && !rim.g2_failed, "{rim:?}");
+    let belly = d
+        .edges
+        .iter()
+        .flatten()
+        .find(|e| e.curve == "belly")
+        .unwrap();
+    assert!(belly.g2_failed);
+}
