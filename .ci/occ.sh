@@ -14,4 +14,5 @@ bin="${CARGO_TARGET_DIR:-target}/release/pdeshape"
 "$venv/bin/python" bench/peers/occ_check.py "$bin" examples
 # The designer's STEP downloads read back by OpenCascade (headless Chromium, after .ci/e2e.sh
 # has installed the browser and the driver).
-(cd e2e && npm ci --no-audit --no-fund >/dev/null && OCC_PYTHON="$PWD/../$venv/bin/python" npm run test:occ)
+occ_python="$(cd "$venv/bin" && pwd)/python"
+(cd e2e && npm ci --no-audit --no-fund >/dev/null && OCC_PYTHON="$occ_python" npm run test:occ)
