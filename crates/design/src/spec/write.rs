@@ -393,9 +393,10 @@ const SECTIONS: [&str; 8] = [
     "operator", "solver", "output", "dynamic", "optimize", "blend", "spline", "shell",
 ];
 /// Top-level arrays written as `[[name]]` tables.
-const ARRAYS_OF_TABLES: [&str; 7] = [
+const ARRAYS_OF_TABLES: [&str; 8] = [
     "patches",
     "parametric",
+    "nurbs",
     "nsided",
     "network",
     "disk",
