@@ -9,8 +9,8 @@
 #![warn(missing_docs)]
 
 use pdeshape_geometry::{
-    bfs, check, curve, disk, dynamic, elliptic, fd, formula, majorant, network, nsided, splinepde,
-    surface,
+    bfs, check, curve, disk, dynamic, elliptic, fd, formula, majorant, network, nsided, spline,
+    splinepde, surface,
 };
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 

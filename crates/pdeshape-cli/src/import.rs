@@ -1,6 +1,8 @@
-//! `pdeshape import PART.step -o part.toml [--fill]`: a CAD part's faces and edges as a design
-//! file (faces on planes, cylinders, cones, spheres and tori as `[[parametric]]` surfaces, edges
-//! as curves), with `--fill` an `[[nsided]]` patch tangent to the faces around every gap.
+//! `pdeshape import PART.step -o part.toml [--fill | --fill-g2]`: a CAD part's faces and edges
+//! as a design file (faces on planes, cylinders, cones, spheres and tori as `[[parametric]]`
+//! surfaces, on (rational) B-spline surfaces as `[[nurbs]]` surfaces, edges as curves), with
+//! `--fill` an `[[nsided]]` patch tangent to the faces around every gap (`--fill-g2`: of order
+//! 3, curvature-continuous to them).
 
 use crate::common::{self, CliError, Output};
 use pdeshape::cad::import;
@@ -19,6 +21,10 @@ pub(crate) struct Args {
     /// beside it.
     #[arg(long)]
     pub fill: bool,
+    /// Fill the gaps (as --fill) with patches of order 3, curvature-continuous (G2) to the
+    /// faces beside them; `check` reports their G2 residuals.
+    #[arg(long)]
+    pub fill_g2: bool,
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
@@ -36,7 +42,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         )));
     }
     let text = crate::cad::read_text(&args.file)?;
-    let imported = import::import_step(&text, args.fill)
+    let fill = match (args.fill, args.fill_g2) {
+        (_, true) => import::Fill::G2,
+        (true, false) => import::Fill::G1,
+        (false, false) => import::Fill::None,
+    };
+    let imported = import::import_step(&text, fill)
         .map_err(|e| CliError::input(format!("{shown}: {}", common::message_of(&e))))?;
     let mut spec = imported.spec.clone();
     spec.title = args
@@ -82,9 +93,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     }
     for g in &imported.gaps {
         let to = match (&g.patch, &g.note) {
+            (Some(p), _) if fill == import::Fill::G2 => format!("filled by [[nsided]] {p} (G2)"),
             (Some(p), _) => format!("filled by [[nsided]] {p}"),
             (None, Some(n)) => format!("not filled: {n}"),
-            (None, None) => "not filled (pass --fill)".to_string(),
+            (None, None) => "not filled (pass --fill or --fill-g2)".to_string(),
         };
         let _ = writeln!(
             report,

@@ -66,6 +66,7 @@ pub struct CompiledDesign {
     curves: CurveCache,
     patches: Vec<CachedPatch>,
     parametric: Vec<(ParametricSpec, Arc<crate::surface::ParametricSurface>)>,
+    nurbs: Vec<(crate::spec::NurbsSpec, Arc<super::NurbsSurface>)>,
     blend: Option<(BlendSpec, Vec<usize>, SurfaceKind)>,
     spline: Option<(SplineSpec, SurfaceKind)>,
     /// `[[spine]]` edits with the identity of the patch each was applied to.
@@ -92,6 +93,7 @@ pub fn compile(spec: &DesignSpec) -> Result<CompiledDesign> {
         curves: CurveCache::default(),
         patches: Vec::new(),
         parametric: Vec::new(),
+        nurbs: Vec::new(),
         blend: None,
         spline: None,
         spines: Vec::new(),
@@ -246,6 +248,24 @@ impl CompiledDesign {
             parametric.push((p.clone(), surface));
         }
 
+        // [[nurbs]]: reference surfaces, rebuilt only if the table changed.
+        let mut nurbs = Vec::with_capacity(spec.nurbs.len());
+        for (i, n) in spec.nurbs.iter().enumerate() {
+            let place = format!("nurbs[{i}]");
+            let surface = match self.nurbs.iter().find(|(s, _)| s == n) {
+                Some((_, built)) => built.clone(),
+                None => Arc::new(super::NurbsSurface::from_spec(n, &place)?),
+            };
+            surfaces.push(DesignSurface {
+                name: n.name.clone(),
+                place,
+                kind: SurfaceKind::Nurbs(surface.clone()),
+                operator: None,
+                conditions: Vec::new(),
+            });
+            nurbs.push((n.clone(), surface));
+        }
+
         // [[nsided]]: tangent to any surface before them.
         super::nsided::build_nsided(&spec.nsided, &mut builder, &mut surfaces)?;
         // [[network]]: faces tangent across inner curves, and to any surface before them.
@@ -319,9 +339,12 @@ impl CompiledDesign {
         // Reference surfaces served as neighbours; they are not part of the output.
         let (references, surfaces): (Vec<DesignSurface>, Vec<DesignSurface>) =
             surfaces.into_iter().partition(|s| {
-                spec.parametric.iter().any(|p| {
-                    p.reference && p.name == s.name && matches!(s.kind, SurfaceKind::Parametric(_))
-                })
+                matches!(s.kind, SurfaceKind::Nurbs(_))
+                    || spec.parametric.iter().any(|p| {
+                        p.reference
+                            && p.name == s.name
+                            && matches!(s.kind, SurfaceKind::Parametric(_))
+                    })
             });
         let dynamic = spec.dynamic.as_ref().map(build_dynamic).transpose()?;
         if surfaces.is_empty() && dynamic.is_none() {
@@ -352,6 +375,7 @@ impl CompiledDesign {
         self.curves = curve_cache;
         self.patches = patches;
         self.parametric = parametric;
+        self.nurbs = nurbs;
         self.blend = blend;
         self.spline = spline;
         self.spines = spines;

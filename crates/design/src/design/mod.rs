@@ -20,6 +20,7 @@ mod edit;
 mod fd;
 mod network;
 mod nsided;
+mod nurbs;
 mod parametric;
 mod params;
 mod patchwork;
@@ -39,6 +40,7 @@ pub use edges::{edge_mismatch, EdgeReport};
 pub use edit::{Edit, PatchRef};
 pub use fd::DEFAULT_GRID;
 pub use network::{Joint, SolvedNetwork, CREASE_ANGLE};
+pub use nurbs::NurbsSurface;
 pub use params::{book_names, design_a, parse_book_name, poly_a, top_level_used, BookEdits};
 pub use params::{
     design_parameters, resolve_parameters, set_parameter, DesignParameter, ParamKind,

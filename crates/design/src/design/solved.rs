@@ -67,6 +67,8 @@ pub enum SurfaceKind {
     Fd(Arc<FdSurface>),
     /// A `[[parametric]]` formula surface.
     Parametric(Arc<ParametricSurface>),
+    /// A `[[nurbs]]` (rational) B-spline reference surface.
+    Nurbs(Arc<super::NurbsSurface>),
     /// The `[blend]` surface (BFS smoothing spline).
     Blend(Arc<Blend>),
     /// The `[spline]` net, as solved (maybe exact) and in `f64`.
@@ -86,6 +88,7 @@ impl SurfaceKind {
             SurfaceKind::Pde(s) => &**s,
             SurfaceKind::Fd(s) => &**s,
             SurfaceKind::Parametric(s) => &**s,
+            SurfaceKind::Nurbs(s) => &**s,
             SurfaceKind::Blend(b) => &b.surface,
             SurfaceKind::Spline(_, n) => &**n,
             SurfaceKind::SpineEdited(s) => &**s,
@@ -100,6 +103,8 @@ impl SurfaceKind {
             SurfaceKind::Pde(_) => "PDE patch (analytic)",
             SurfaceKind::Fd(_) => "PDE patch (finite differences)",
             SurfaceKind::Parametric(_) => "parametric surface",
+            SurfaceKind::Nurbs(s) if s.is_rational() => "NURBS surface",
+            SurfaceKind::Nurbs(_) => "B-spline surface",
             SurfaceKind::Blend(_) => "blend (BFS smoothing spline)",
             SurfaceKind::Spline(..) => "spline PDE surface",
             SurfaceKind::SpineEdited(_) => "PDE patch (analytic) with an edited spine",
@@ -114,6 +119,7 @@ impl SurfaceKind {
             SurfaceKind::Pde(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Fd(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Parametric(s) => Arc::as_ptr(s) as usize,
+            SurfaceKind::Nurbs(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Blend(s) => Arc::as_ptr(s) as usize,
             SurfaceKind::Spline(_, n) => Arc::as_ptr(n) as usize,
             SurfaceKind::SpineEdited(s) => Arc::as_ptr(s) as usize,
@@ -228,8 +234,8 @@ pub struct SolvedDesign {
     pub attachments: Vec<super::attach::Attachment>,
     /// The `[[network]]`s: their nodes, pieces, faces (surfaces `name.k`) and joints.
     pub networks: Vec<super::network::SolvedNetwork>,
-    /// The `[[parametric]]` surfaces marked `reference`: neighbours of n-sided patches and
-    /// networks, not part of the output.
+    /// The `[[parametric]]` surfaces marked `reference` and the `[[nurbs]]` surfaces:
+    /// neighbours of n-sided patches and networks, not part of the output.
     pub references: Vec<DesignSurface>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }

@@ -469,6 +469,7 @@ pub(crate) fn plan(spec: &DesignSpec) -> Result<Vec<PatchPlan<'_>>> {
         .at("conditions")),
         (None, None)
             if !spec.parametric.is_empty()
+                || !spec.nurbs.is_empty()
                 || !spec.nsided.is_empty()
                 || !spec.network.is_empty()
                 || !spec.patchwork.is_empty()
@@ -546,6 +547,9 @@ pub(crate) fn validate_patches(spec: &DesignSpec) -> Result<()> {
     let plans = plan(spec)?;
     let names: Vec<String> = plans.iter().map(|p| p.name.clone()).collect();
     super::parametric::validate_parametric(&spec.parametric, &names)?;
+    let mut taken = names.clone();
+    taken.extend(spec.parametric.iter().map(|p| p.name.clone()));
+    super::nurbs::validate_nurbs_names(&spec.nurbs, &taken)?;
     for p in plans {
         check_operator_values(p.operator, &p.operator_place)?;
         check_conditions(

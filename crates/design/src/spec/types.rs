@@ -60,6 +60,10 @@ pub struct DesignSpec {
     /// the PDE patches.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parametric: Vec<super::parametric::ParametricSpec>,
+    /// Reference surfaces given as (rational) B-spline nets (`[[nurbs]]`): neighbours of
+    /// `[[nsided]]` and `[[network]]` sides, not output.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nurbs: Vec<super::nurbs::NurbsSpec>,
     /// Patches bounded by a loop of 3 to 8 curves (`[[nsided]]`), G1 on any side to another
     /// surface of the design.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -396,6 +396,7 @@ const SECTIONS: [&str; 8] = [
 const ARRAYS_OF_TABLES: [&str; 8] = [
     "patches",
     "parametric",
+    "nurbs",
     "nsided",
     "network",
     "patchwork",

@@ -6,12 +6,17 @@
 //! asked, every loop of 3 to 8 free edges (edges with a face on one side only: a gap in the
 //! part) becomes an `[[nsided]]` patch tangent to the faces around it.
 //!
-//! Faces on other surfaces (B-spline, offset, swept) are listed as skipped: their edges are
-//! still read, but a gap next to them is filled without a ribbon on that side.
+//! Faces on (rational) B-spline surfaces (`B_SPLINE_SURFACE_WITH_KNOTS`, alone or in a
+//! complex instance with `RATIONAL_B_SPLINE_SURFACE`) become `[[nurbs]]` reference surfaces:
+//! the file's net, knots and weights as they are, so the design evaluates the face exactly as
+//! the file defines it.
+//!
+//! Faces on other surfaces (offset, swept, …) are listed as skipped: their edges are still
+//! read, but a gap next to them is filled without a ribbon on that side.
 
 use super::read::{instance_parts, instances, Parser, Value};
 use crate::spec::{
-    CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, LoopSideSpec, NSidedSpec,
+    CurveKind, CurveRef, CurveSpec, DesignSpec, DomainSpec, LoopSideSpec, NSidedSpec, NurbsSpec,
     ParametricSpec, Units,
 };
 use crate::{Error, Result, Vec3};
@@ -21,8 +26,9 @@ use std::f64::consts::PI;
 /// What was read.
 #[derive(Clone, Debug)]
 pub struct Imported {
-    /// The design: the faces as `[[parametric]]` surfaces, the edges as curves, and the gaps
-    /// as `[[nsided]]` patches (when asked).
+    /// The design: the faces as `[[parametric]]` (analytic) or `[[nurbs]]` (B-spline)
+    /// reference surfaces, the edges as curves, and the gaps as `[[nsided]]` patches (when
+    /// asked).
     pub spec: DesignSpec,
     /// Per face of the file, in its order.
     pub faces: Vec<ImportedFace>,
@@ -439,9 +445,23 @@ fn units(model: &Model) -> Option<Units> {
     None
 }
 
+/// Whether and how `import_step` fills the gaps of a part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fill {
+    /// Faces and edges only.
+    None,
+    /// Every loop of 3 to 8 free edges an `[[nsided]]` patch (order 2) tangent (G1) to the
+    /// faces beside it.
+    G1,
+    /// The same patches of order 3, curvature-continuous (G2, `g2 = true`) to the faces beside
+    /// them: their normal curvature across each side is the face's.
+    G2,
+}
+
 /// Reads the faces and edges of a STEP file; with `fill`, also makes every loop of 3 to 8 free
-/// edges an `[[nsided]]` patch tangent to the faces around it.
-pub fn import_step(text: &str, fill: bool) -> Result<Imported> {
+/// edges an `[[nsided]]` patch tangent (G1) or curvature-continuous (G2) to the faces around
+/// it. A side whose face was not read has no ribbon (and no `g2`).
+pub fn import_step(text: &str, fill: Fill) -> Result<Imported> {
     let model = Model::parse(text)?;
     let mut ids: Vec<usize> = model.items.keys().copied().collect();
     ids.sort_unstable();
@@ -525,7 +545,13 @@ pub fn import_step(text: &str, fill: bool) -> Result<Imported> {
             Some((t, sa)) => (t.to_string(), analytic(&model, surface_id, t, sa)?),
             None => ("?".to_string(), None),
         };
-        let imported = analytic.is_some();
+        let (kind, imported) = match bspline_surface(&model, surface_id, &name)? {
+            Some((net, kind)) => {
+                spec.nurbs.push(net);
+                (kind.to_string(), true)
+            }
+            None => (kind, analytic.is_some()),
+        };
         if let Some(surf) = analytic {
             let mut pts = Vec::new();
             for e in face_edges
@@ -633,7 +659,8 @@ pub fn import_step(text: &str, fill: bool) -> Result<Imported> {
         } else {
             None
         };
-        let patch = (fill && note.is_none()).then(|| format!("fill{}", gaps.len() + 1));
+        let patch =
+            (fill != Fill::None && note.is_none()).then(|| format!("fill{}", gaps.len() + 1));
         if let Some(p) = &patch {
             let sides = chain
                 .iter()
@@ -645,12 +672,16 @@ pub fn import_step(text: &str, fill: bool) -> Result<Imported> {
                         reverse: !fwd,
                         tangent_to: face.imported.then(|| face.name.clone()),
                         derivative: None,
-                        g2: false,
+                        g2: fill == Fill::G2 && face.imported,
                         second_derivative: None,
                     }
                 })
                 .collect();
-            spec.nsided.push(NSidedSpec::new(p.clone(), sides));
+            let mut patch = NSidedSpec::new(p.clone(), sides);
+            if fill == Fill::G2 {
+                patch.order = 3;
+            }
+            spec.nsided.push(patch);
         }
         gaps.push(Gap {
             edges: names,
@@ -703,6 +734,120 @@ fn analytic(model: &Model, id: usize, t: &str, a: &[Value]) -> Result<Option<Ana
         ),
         _ => return Ok(None),
     }))
+}
+
+/// The surface of a face as a `[[nurbs]]` table named `name`, when it is a
+/// `B_SPLINE_SURFACE_WITH_KNOTS` (simple, or complex with `RATIONAL_B_SPLINE_SURFACE`), with
+/// the entity name to report; `None` for other surfaces.
+fn bspline_surface(
+    model: &Model,
+    id: usize,
+    name: &str,
+) -> Result<Option<(NurbsSpec, &'static str)>> {
+    let parts = model.parts(id);
+    let find = |t: &str| parts.iter().find(|(n, _)| *n == t).map(|(_, a)| *a);
+    let Some(a) = find("B_SPLINE_SURFACE_WITH_KNOTS") else {
+        return Ok(None);
+    };
+    // Simple: (name, p, q, points, form, u_closed, v_closed, self, u_mults, v_mults, u_knots,
+    // v_knots, spec); complex: B_SPLINE_SURFACE(p, q, points, …) and
+    // B_SPLINE_SURFACE_WITH_KNOTS(u_mults, v_mults, u_knots, v_knots, spec).
+    let (head, knots_at) = match find("B_SPLINE_SURFACE") {
+        Some(b) => (b, 0),
+        None => (a.get(1..).unwrap_or(&[]), 8),
+    };
+    let degree = |v: Option<&Value>, which: &str| -> Result<usize> {
+        match num(v) {
+            Some(d) if (1.0..=30.0).contains(&d) && d.fract() == 0.0 => Ok(d as usize),
+            _ => Err(model.bad(id, &format!("a B-spline surface of a bad {which} degree"))),
+        }
+    };
+    let degree = [degree(head.first(), "u")?, degree(head.get(1), "v")?];
+    let rows = |v: Option<&Value>, what: &str| -> Result<Vec<Vec<Value>>> {
+        match v {
+            Some(Value::List(r)) => r
+                .iter()
+                .map(|row| match row {
+                    Value::List(c) => Ok(c.clone()),
+                    _ => Err(model.bad(id, &format!("{what}: expected a list of rows"))),
+                })
+                .collect(),
+            _ => Err(model.bad(id, &format!("{what}: expected a list of rows"))),
+        }
+    };
+    let control = rows(head.get(2), "control points")?
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|r| match r {
+                    Value::Ref(r) => model
+                        .point(*r)
+                        .map(|p| [p.x, p.y, p.z])
+                        .map_err(|e| model.bad(id, &e.to_string())),
+                    _ => Err(model.bad(id, "a control point that is not a reference")),
+                })
+                .collect::<Result<Vec<_>>>()
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let list = |v: Option<&Value>| -> Vec<f64> {
+        match v {
+            Some(Value::List(l)) => l.iter().filter_map(|x| num(Some(x))).collect(),
+            _ => Vec::new(),
+        }
+    };
+    let full = |mults: Vec<f64>, knots: Vec<f64>, which: &str| -> Result<Vec<f64>> {
+        if mults.is_empty()
+            || mults.len() != knots.len()
+            || mults
+                .iter()
+                .any(|m| !(1.0..=31.0).contains(m) || m.fract() != 0.0)
+        {
+            return Err(model.bad(id, &format!("bad knot multiplicities in {which}")));
+        }
+        Ok(mults
+            .iter()
+            .zip(&knots)
+            .flat_map(|(m, k)| std::iter::repeat_n(*k, *m as usize))
+            .collect())
+    };
+    let knots_u = full(list(a.get(knots_at)), list(a.get(knots_at + 2)), "u")?;
+    let knots_v = full(list(a.get(knots_at + 1)), list(a.get(knots_at + 3)), "v")?;
+    let (weights, kind) = match find("RATIONAL_B_SPLINE_SURFACE") {
+        Some(r) => {
+            let w = rows(r.first(), "weights")?
+                .iter()
+                .map(|row| {
+                    row.iter()
+                        .map(|x| {
+                            num(Some(x))
+                                .ok_or_else(|| model.bad(id, "a weight that is not a number"))
+                        })
+                        .collect::<Result<Vec<f64>>>()
+                })
+                .collect::<Result<Vec<_>>>()?;
+            (Some(w), "RATIONAL_B_SPLINE_SURFACE")
+        }
+        None => (None, "B_SPLINE_SURFACE_WITH_KNOTS"),
+    };
+    let net = NurbsSpec {
+        name: name.to_string(),
+        degree,
+        knots_u,
+        knots_v,
+        control,
+        weights,
+    };
+    // Checked now, so that a bad net is refused with its line.
+    crate::design::NurbsSurface::from_spec(&net, "").map_err(|e| {
+        let at = e.place().trim_start_matches('.');
+        let at = if at.is_empty() {
+            String::new()
+        } else {
+            format!("{at}: ")
+        };
+        model.bad(id, &format!("{kind}: {at}{}", e.message()))
+    })?;
+    Ok(Some((net, kind)))
 }
 
 /// The geometry of an edge: its curve over the interval between its vertices.
@@ -803,9 +948,9 @@ fn read_edge(
     if let Some(a) = find("B_SPLINE_CURVE_WITH_KNOTS") {
         // Simple: (name, degree, points, form, closed, self, mults, knots, spec); complex:
         // B_SPLINE_CURVE(degree, points, …) + B_SPLINE_CURVE_WITH_KNOTS(mults, knots, spec).
-        let (head, knots_at) = match find("B_SPLINE_CURVE") {
+        let (head, mults_at) = match find("B_SPLINE_CURVE") {
             Some(b) => (b, 0),
-            None => (&a[1..], 5),
+            None => (a.get(1..).unwrap_or(&[]), 6),
         };
         let degree = num(head.first()).filter(|d| *d >= 1.0 && d.fract() == 0.0 && *d <= 30.0);
         let Some(degree) = degree.map(|d| d as usize) else {
@@ -830,7 +975,7 @@ fn read_edge(
                 _ => Vec::new(),
             }
         };
-        let (mults, knots) = (list(a.get(knots_at + 1)), list(a.get(knots_at + 2)));
+        let (mults, knots) = (list(a.get(mults_at)), list(a.get(mults_at + 1)));
         if mults.len() != knots.len() || mults.iter().any(|m| *m < 1.0 || m.fract() != 0.0) {
             return Err(model.bad(geom, "bad knot multiplicities"));
         }

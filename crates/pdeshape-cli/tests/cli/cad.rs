@@ -302,3 +302,52 @@ fn import_reads_a_step_part_and_fills_its_gap() {
     );
     assert!(!none.exists());
 }
+
+#[test]
+fn import_reads_nurbs_faces_and_fills_their_gap_g1_or_g2() {
+    let dir = tempfile::tempdir().unwrap();
+    let step = example_path("cad/box_corner_gap_nurbs.step");
+    let g1 = dir.path().join("g1.toml");
+    let run = pdeshape(&["import", s(&step), "-o", s(&g1), "--fill"]);
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(run.status.success(), "{said}");
+    assert!(said.contains("9 of 9 faces"), "{said}");
+    assert_eq!(
+        said.matches("RATIONAL_B_SPLINE_SURFACE").count(),
+        3,
+        "{said}"
+    );
+    let text = std::fs::read_to_string(&g1).unwrap();
+    assert_eq!(text.matches("[[nurbs]]").count(), 9);
+    assert!(!text.contains("g2 = true"));
+    let check = pdeshape(&["check", s(&g1)]);
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert!(
+        check.status.success() && stdout.starts_with("OK"),
+        "{stdout}"
+    );
+    // G2: order 3 with curvature ribbons; `check` reports each side's G2 residual, and the
+    // corners where the three fillets' curvatures cannot all be met.
+    let g2 = dir.path().join("g2.toml");
+    let run = pdeshape(&["import", s(&step), "-o", s(&g2), "--fill-g2"]);
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert!(run.status.success(), "{said}");
+    assert!(said.contains("fill1 (G2)"), "{said}");
+    let text = std::fs::read_to_string(&g2).unwrap();
+    assert_eq!(text.matches("g2 = true").count(), 3, "{text}");
+    assert!(text.contains("order = 3"), "{text}");
+    let check = pdeshape(&["check", s(&g2)]);
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert!(check.status.success(), "{stdout}");
+    let sides: Vec<&str> = stdout.lines().filter(|l| l.contains(", G2 to ")).collect();
+    assert_eq!(sides.len(), 3, "{stdout}");
+    assert!(stdout.contains("curvature data disagree"), "{stdout}");
+}

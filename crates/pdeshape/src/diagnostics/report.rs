@@ -198,7 +198,10 @@ pub fn check_report(
                 s.push_str(&spline_report(net));
                 continue;
             }
-            SurfaceKind::Parametric(_) | SurfaceKind::NSided(_) | SurfaceKind::Disk(_) => {
+            SurfaceKind::Parametric(_)
+            | SurfaceKind::Nurbs(_)
+            | SurfaceKind::NSided(_)
+            | SurfaceKind::Disk(_) => {
                 let _ = writeln!(s, "surface {i} '{}': {}", patch.name, patch.kind.word());
                 continue;
             }

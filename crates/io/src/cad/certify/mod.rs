@@ -261,6 +261,12 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
             Ok(a)
         }
         SurfaceKind::Parametric(p) => approximate_formula(p, tolerance),
+        SurfaceKind::Nurbs(s) => {
+            // Reference surfaces are not exported; a direct caller gets a sampled fit.
+            let mut a = approximate_sampled(&**s, tolerance, min_v)?;
+            a.note = Some("a [[nurbs]] reference surface: the deviation is sampled".into());
+            Ok(a)
+        }
         SurfaceKind::SpineEdited(s) => match s.derivative_sums() {
             Some(sums) => {
                 let (m, n) = sums_grid(sums, tolerance, min_v)?;
