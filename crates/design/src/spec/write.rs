@@ -393,7 +393,7 @@ const SECTIONS: [&str; 8] = [
     "operator", "solver", "output", "dynamic", "optimize", "blend", "spline", "shell",
 ];
 /// Top-level arrays written as `[[name]]` tables.
-const ARRAYS_OF_TABLES: [&str; 8] = [
+const ARRAYS_OF_TABLES: [&str; 9] = [
     "patches",
     "parametric",
     "nurbs",
