@@ -927,7 +927,14 @@ pub fn fit_general_measured(
     let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
     let (at, distance) = d.worst(mesh);
     let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
-    let fit = Fit {
+    let fit = general_fit(spec, faces, m.hausdorff_relative);
+    Ok((fit, m, d, miss))
+}
+
+/// A general fit of `faces` faces (no sections, modes or axis: the frame is the identity)
+/// whose measured two-sided distance is `distance` of the diagonal.
+fn general_fit(spec: DesignSpec, faces: usize, distance: f64) -> Fit {
+    Fit {
         spec,
         mode: FitMode::General,
         frame: AxisFrame {
@@ -941,9 +948,8 @@ pub fn fit_general_measured(
         modes: 0,
         patches: faces,
         a: 1.0,
-        sample_error: m.hausdorff_relative,
-    };
-    Ok((fit, m, d, miss))
+        sample_error: distance,
+    }
 }
 
 /// Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for 80 000
@@ -1058,22 +1064,7 @@ fn fit_component(
             }
         }
         let faces = layout.faces.len();
-        let fit = Fit {
-            spec,
-            mode: FitMode::General,
-            frame: AxisFrame {
-                origin: Vec3::zeros(),
-                e1: Vec3::x(),
-                e2: Vec3::y(),
-                axis: Vec3::z(),
-            },
-            sections: 0,
-            dropped: 0,
-            modes: 0,
-            patches: faces,
-            a: 1.0,
-            sample_error: m.hausdorff_relative,
-        };
+        let fit = general_fit(spec, faces, m.hausdorff_relative);
         let miss = (m.hausdorff > tol).then_some(worst);
         let better = best.as_ref().is_none_or(|b| m.hausdorff < b.1.hausdorff);
         let done = miss.is_none() || target >= vertices;
