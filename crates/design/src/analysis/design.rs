@@ -85,8 +85,10 @@ pub fn integrate_design(d: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegr
 /// found by comparing boundary rows `X(u_b, v)`, `u_b ∈ {0, 1}`, to `10⁻⁸` of the design's
 /// size) are oriented consistently: the boundary at `u = 1` runs along `+v` for the normal
 /// `X_u × X_v` and the one at `u = 0` along `−v`, so sharing ends `1`–`0` keeps both normals and
-/// `0`–`0` or `1`–`1` reverses one. Each connected group of patches is then turned outward: its
-/// enclosed volume (patches plus caps) must be positive. Open `u`-boundaries that are not poles
+/// `0`–`0` or `1`–`1` reverses one. Patches on an interval `v` domain linked to none are one
+/// group (the design orients them: n-sided pieces, network and patchwork faces). Each connected
+/// group of patches is then turned outward: its enclosed volume (patches plus caps) must be
+/// positive. Open `u`-boundaries that are not poles
 /// get a [`Cap`]; boundaries in `v` of an interval domain get none (then `volume` is only the
 /// patches' `(1/3)∫X·n dA`).
 pub fn integrate_surfaces(
@@ -233,6 +235,22 @@ pub fn integrate_surfaces(
                 area: cap.2,
                 planarity: cap.3,
             });
+        }
+    }
+    // Patches on an interval `v` domain share no boundary rows (n-sided pieces, the faces of a
+    // network or patchwork, sheets): their parametrisations are oriented by the design itself
+    // (an n-sided patch's pieces alike, a network's faces by their loops), so they are one
+    // group, turned outward together. Each turned on its own, a closed patchwork's pieces
+    // where `X·n < 0` (the inside of a torus's hole, seen from its centre) would be counted
+    // with the wrong sign.
+    let loose: Vec<usize> = (0..n)
+        .filter(|&i| {
+            rows[i][0].is_none() && group[i] == i && !links.iter().any(|l| l.0 == i || l.2 == i)
+        })
+        .collect();
+    if let Some(&first) = loose.first() {
+        for &i in &loose {
+            group[i] = first;
         }
     }
     // Outward: each group's volume positive.
