@@ -44,6 +44,14 @@ pub(crate) struct Args {
     /// Draw the mesh and the fit side by side, coloured by distance, into this PNG file.
     #[arg(long)]
     pub picture: Option<PathBuf>,
+    /// Fit at each of these tolerances (fractions of the diagonal, comma-separated) and
+    /// decimate the mesh beside them: -o is then a CSV table of bytes against distances
+    /// (rate and distortion), and --plot draws it.
+    #[arg(long, value_delimiter = ',', num_args = 1.., conflicts_with_all = ["template", "tolerance", "best_effort", "picture", "json", "sections"])]
+    pub sweep: Option<Vec<f64>>,
+    /// With --sweep: the plot of bytes against the Hausdorff distance, as an SVG file.
+    #[arg(long, requires = "sweep")]
+    pub plot: Option<PathBuf>,
 }
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
@@ -67,6 +75,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             ))),
         }
     };
+    if let Some(tolerances) = &args.sweep {
+        return sweep(args, tolerances, mode, format, &shown, ext);
+    }
     ext(&args.output, "toml", "-o")?;
     if let Some(p) = &args.json {
         ext(p, "json", "--json")?;
@@ -225,6 +236,67 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             num(miss.z)
         ));
     }
+    Ok(())
+}
+
+/// `fit --sweep`: the rate–distortion table and its plot.
+fn sweep(
+    args: &Args,
+    tolerances: &[f64],
+    mode: fit::ModeChoice,
+    format: MeshFormat,
+    shown: &str,
+    ext: impl Fn(&PathBuf, &str, &str) -> Result<(), CliError>,
+) -> Result<(), CliError> {
+    ext(&args.output, "csv", "-o (with --sweep)")?;
+    if let Some(p) = &args.plot {
+        ext(p, "svg", "--plot")?;
+    }
+    let bytes = read_mesh_bytes(&args.mesh, shown)?;
+    let mut out = Output::create(&args.output)?;
+    let mut plot = args.plot.as_ref().map(|p| Output::create(p)).transpose()?;
+    let read = InputMesh::read_report(&bytes, format)
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let (mesh, _) =
+        fit::repair(&read.mesh).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let t = Instant::now();
+    let rd = fit::rate_distortion(&mesh, tolerances, mode).map_err(|e| {
+        if e.place().starts_with("tolerances") {
+            CliError::input(format!("--sweep {}", e.message()))
+        } else {
+            CliError::input(format!("{shown}: {}", e.message()))
+        }
+    })?;
+    out.write_all(rd.csv().as_bytes())?;
+    if let Some(p) = plot.as_mut() {
+        let name = args
+            .mesh
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        p.write_all(
+            rd.svg(&format!("{name}: {} triangles", rd.mesh_triangles))
+                .as_bytes(),
+        )?;
+    }
+    out.commit()?;
+    if let Some(p) = plot {
+        p.commit()?;
+    }
+    for r in &rd.refused {
+        crate::common::note(&format!(
+            "{shown}: at the tolerance {}%: {}",
+            pct(r.tolerance),
+            r.reason
+        ));
+    }
+    crate::common::report(&format!(
+        "{shown}: {} fits, {} levels of decimation in {:.1} s; wrote {}\n",
+        rd.fits.len(),
+        rd.decimated.len(),
+        t.elapsed().as_secs_f64(),
+        crate::common::destination(&args.output)
+    ));
     Ok(())
 }
 

@@ -10,13 +10,14 @@
 //! mode or a template is measured and returned as it is, so the caller decides what a miss
 //! means ([`Fitted::missed`]).
 
-use super::layout::fit_general_measured;
+use super::layout::{fit_general_measured, MEASURE_GRID};
 use super::measure::{measure, Measures, PointDistances};
 use super::mesh::InputMesh;
-use super::options::{fit_mesh, Fit, FitOptions};
+use super::options::{fit_mesh, Fit, FitMode, FitOptions};
 use super::template::{fit_template, Template};
 use crate::design::solve_design;
 use crate::number::sig;
+use crate::spec::DesignSpec;
 use crate::{Error, Result, Vec3};
 
 /// The two-sided Hausdorff distance, as a fraction of the mesh's bounding-box diagonal, a fit
@@ -135,6 +136,22 @@ impl Fitted {
             )
         })
     }
+}
+
+/// Measures `spec` against `mesh` on the samples the mode of `fit` is measured with (a
+/// variant of the fit's design, such as its packed form).
+pub fn measure_like(
+    mesh: &InputMesh,
+    fit: &Fit,
+    spec: &DesignSpec,
+) -> Result<(Measures, PointDistances)> {
+    let (nu, nv) = match fit.mode {
+        FitMode::General => (MEASURE_GRID, MEASURE_GRID),
+        _ => FAST_GRID,
+    };
+    let solved = solve_design(spec)
+        .map_err(|e| Error::invalid(format!("the design does not solve: {}", e.message())))?;
+    measure(mesh, spec, &solved, nu, nv)
 }
 
 /// Fits `mesh` as `request` asks (module documentation) and measures the fit. Errors are the

@@ -442,170 +442,223 @@ impl Collapser<'_> {
 /// Collapses the mesh's edges (module documentation) until `target` vertices remain or no
 /// collapse is allowed; `weight` multiplies the cost of moving each vertex.
 pub fn decimate(mesh: &InputMesh, normals: &[Vec3], weight: &[f64], target: usize) -> Layout {
-    let n = mesh.positions.len();
-    let pos = &mesh.positions;
-    let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); n];
-    let mut quadric = vec![Quadric([0.0; 10]); n];
-    let mut edge_count: HashMap<(u32, u32), (usize, u32)> = HashMap::new();
-    for (k, t) in mesh.triangles.iter().enumerate() {
-        let [a, b, c] = t.map(|i| pos[i as usize]);
-        let f = (b - a).cross(&(c - a));
-        let l = f.norm();
-        if l > 0.0 {
-            let nrm = f / l;
-            let q = Quadric::plane(nrm, -nrm.dot(&a), 1.0);
-            for &i in t {
-                quadric[i as usize].add(&q);
-            }
-        }
-        for j in 0..3 {
-            vtris[t[j] as usize].push(k as u32);
-            let (x, y) = (t[j], t[(j + 1) % 3]);
-            let e = edge_count
-                .entry((x.min(y), x.max(y)))
-                .or_insert((0, k as u32));
-            e.0 += 1;
-        }
-    }
-    // Boundary edges: a plane through the edge across the surface, weighted heavily, so the
-    // boundary keeps its shape.
-    let mut boundary = vec![false; n];
-    for (&(x, y), &(count, t)) in &edge_count {
-        if count != 1 {
-            continue;
-        }
-        boundary[x as usize] = true;
-        boundary[y as usize] = true;
-        let tri = mesh.triangles[t as usize].map(|i| pos[i as usize]);
-        let face = (tri[1] - tri[0]).cross(&(tri[2] - tri[0]));
-        let along = pos[y as usize] - pos[x as usize];
-        let side = along.cross(&face);
-        let l = side.norm();
-        if l > 0.0 {
-            let nrm = side / l;
-            let q = Quadric::plane(nrm, -nrm.dot(&pos[x as usize]), 10.0);
-            quadric[x as usize].add(&q);
-            quadric[y as usize].add(&q);
-        }
-    }
-    let mut used = vec![false; n];
-    for t in &mesh.triangles {
-        for &i in t {
-            used[i as usize] = true;
-        }
-    }
-    let mut c = Collapser {
-        pos,
-        normals,
-        weight,
-        tris: mesh.triangles.clone(),
-        alive: vec![true; mesh.triangles.len()],
-        vtris,
-        removed: used.iter().map(|u| !u).collect(),
-        boundary,
-        quadric,
-        version: vec![0; n],
-    };
-    let mut remaining = used.iter().filter(|&&u| u).count();
-    let mut heap: BinaryHeap<Candidate> = (0..n as u32).filter_map(|u| c.best(u)).collect();
-    let mut since_rebuild = 0usize;
-    while remaining > target {
-        let Some(cand) = heap.pop() else {
-            // Refused collapses may have become possible through changes two rings away:
-            // look again at every vertex, once per batch of collapses.
-            if since_rebuild == 0 {
-                break;
-            }
-            since_rebuild = 0;
-            heap = (0..n as u32).filter_map(|u| c.best(u)).collect();
-            continue;
-        };
-        let (u, v) = (cand.from, cand.to);
-        if c.removed[u as usize] || c.version[u as usize] != cand.version {
-            continue;
-        }
-        if c.removed[v as usize] || c.cost(u, v).is_none() {
-            c.version[u as usize] += 1;
-            if let Some(b) = c.best(u) {
-                heap.push(b);
-            }
-            continue;
-        }
-        let around = c.neighbours(u);
-        c.collapse(u, v);
-        remaining -= 1;
-        since_rebuild += 1;
-        let mut touched = c.neighbours(v);
-        touched.push(v);
-        for w in around {
-            if !touched.contains(&w) {
-                touched.push(w);
-            }
-        }
-        for w in touched {
-            c.version[w as usize] += 1;
-            if let Some(b) = c.best(w) {
-                heap.push(b);
-            }
-        }
-    }
-    // Triangles whose corners are still too sharp or too flat in their tangent planes
-    // (slivers of the mesh no cheap collapse removed): collapse an edge of each where that
-    // makes its star better, whatever it costs.
-    for _pass in 0..8 {
-        let mut changed = false;
-        for t in 0..c.tris.len() {
-            if !c.alive[t] {
-                continue;
-            }
-            let tri = c.tris[t];
-            if c.shape(tri.map(|w| pos[w as usize]), tri).corner == 0.0 {
-                continue;
-            }
-            if c.flip_better(t) {
-                changed = true;
-                continue;
-            }
-            let mut best: Option<(f64, u32, u32)> = None;
-            for k in 0..3 {
-                for (u, v) in [(tri[k], tri[(k + 1) % 3]), (tri[(k + 1) % 3], tri[k])] {
-                    let Some((old, new)) = c.stars(u, v) else {
-                        continue;
-                    };
-                    if new.area > 0.0
-                        && new.facing > 0.0
-                        && new.corner_sum < old.corner_sum
-                        && best.is_none_or(|b| new.corner_sum < b.0)
-                    {
-                        best = Some((new.corner_sum, u, v));
-                    }
+    let mut d = Decimation::new(mesh, normals, weight);
+    d.collapse_to(target);
+    d.clean_slivers();
+    d.layout()
+}
+
+/// The state of a decimation between targets: the mesh with the collapses so far, and the
+/// queue of candidate collapses. [`decimate`] is one run of it; a sequence of decreasing
+/// targets gives the levels of detail of one run ([`crate::fit::rate_distortion`]).
+pub struct Decimation<'a> {
+    c: Collapser<'a>,
+    heap: BinaryHeap<Candidate>,
+    remaining: usize,
+    since_rebuild: usize,
+}
+
+impl<'a> Decimation<'a> {
+    /// The quadrics of `mesh` and every vertex's best collapse.
+    pub fn new(mesh: &'a InputMesh, normals: &'a [Vec3], weight: &'a [f64]) -> Self {
+        let n = mesh.positions.len();
+        let pos = &mesh.positions;
+        let mut vtris: Vec<Vec<u32>> = vec![Vec::new(); n];
+        let mut quadric = vec![Quadric([0.0; 10]); n];
+        let mut edge_count: HashMap<(u32, u32), (usize, u32)> = HashMap::new();
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            let [a, b, c] = t.map(|i| pos[i as usize]);
+            let f = (b - a).cross(&(c - a));
+            let l = f.norm();
+            if l > 0.0 {
+                let nrm = f / l;
+                let q = Quadric::plane(nrm, -nrm.dot(&a), 1.0);
+                for &i in t {
+                    quadric[i as usize].add(&q);
                 }
             }
-            if let Some((_, u, v)) = best {
-                c.collapse(u, v);
-                changed = true;
+            for j in 0..3 {
+                vtris[t[j] as usize].push(k as u32);
+                let (x, y) = (t[j], t[(j + 1) % 3]);
+                let e = edge_count
+                    .entry((x.min(y), x.max(y)))
+                    .or_insert((0, k as u32));
+                e.0 += 1;
             }
         }
-        if !changed {
-            break;
+        // Boundary edges: a plane through the edge across the surface, weighted heavily, so the
+        // boundary keeps its shape.
+        let mut boundary = vec![false; n];
+        for (&(x, y), &(count, t)) in &edge_count {
+            if count != 1 {
+                continue;
+            }
+            boundary[x as usize] = true;
+            boundary[y as usize] = true;
+            let tri = mesh.triangles[t as usize].map(|i| pos[i as usize]);
+            let face = (tri[1] - tri[0]).cross(&(tri[2] - tri[0]));
+            let along = pos[y as usize] - pos[x as usize];
+            let side = along.cross(&face);
+            let l = side.norm();
+            if l > 0.0 {
+                let nrm = side / l;
+                let q = Quadric::plane(nrm, -nrm.dot(&pos[x as usize]), 10.0);
+                quadric[x as usize].add(&q);
+                quadric[y as usize].add(&q);
+            }
+        }
+        let mut used = vec![false; n];
+        for t in &mesh.triangles {
+            for &i in t {
+                used[i as usize] = true;
+            }
+        }
+        let c = Collapser {
+            pos,
+            normals,
+            weight,
+            tris: mesh.triangles.clone(),
+            alive: vec![true; mesh.triangles.len()],
+            vtris,
+            removed: used.iter().map(|u| !u).collect(),
+            boundary,
+            quadric,
+            version: vec![0; n],
+        };
+        let remaining = used.iter().filter(|&&u| u).count();
+        let heap: BinaryHeap<Candidate> = (0..n as u32).filter_map(|u| c.best(u)).collect();
+        Decimation {
+            c,
+            heap,
+            remaining,
+            since_rebuild: 0,
         }
     }
-    let mut index = vec![usize::MAX; n];
-    let mut vertices = Vec::with_capacity(remaining);
-    for (i, r) in c.removed.iter().enumerate() {
-        if !r {
-            index[i] = vertices.len();
-            vertices.push(i);
+
+    /// The vertices left.
+    pub fn remaining(&self) -> usize {
+        self.remaining
+    }
+
+    /// Collapses until `target` vertices remain or no collapse is allowed.
+    pub fn collapse_to(&mut self, target: usize) {
+        let n = self.c.pos.len();
+        let Decimation {
+            c,
+            heap,
+            remaining,
+            since_rebuild,
+        } = self;
+        while *remaining > target {
+            let Some(cand) = heap.pop() else {
+                // Refused collapses may have become possible through changes two rings away:
+                // look again at every vertex, once per batch of collapses.
+                if *since_rebuild == 0 {
+                    break;
+                }
+                *since_rebuild = 0;
+                *heap = (0..n as u32).filter_map(|u| c.best(u)).collect();
+                continue;
+            };
+            let (u, v) = (cand.from, cand.to);
+            if c.removed[u as usize] || c.version[u as usize] != cand.version {
+                continue;
+            }
+            if c.removed[v as usize] || c.cost(u, v).is_none() {
+                c.version[u as usize] += 1;
+                if let Some(b) = c.best(u) {
+                    heap.push(b);
+                }
+                continue;
+            }
+            let around = c.neighbours(u);
+            c.collapse(u, v);
+            *remaining -= 1;
+            *since_rebuild += 1;
+            let mut touched = c.neighbours(v);
+            touched.push(v);
+            for w in around {
+                if !touched.contains(&w) {
+                    touched.push(w);
+                }
+            }
+            for w in touched {
+                c.version[w as usize] += 1;
+                if let Some(b) = c.best(w) {
+                    heap.push(b);
+                }
+            }
         }
     }
-    let faces = c
-        .tris
-        .iter()
-        .zip(&c.alive)
-        .filter(|(_, a)| **a)
-        .map(|(t, _)| t.iter().map(|&i| index[i as usize]).collect())
-        .collect();
-    Layout { vertices, faces }
+
+    /// Triangles whose corners are still too sharp or too flat in their tangent planes
+    /// (slivers of the mesh no cheap collapse removed): collapses an edge of each where that
+    /// makes its star better, whatever it costs.
+    pub fn clean_slivers(&mut self) {
+        let c = &mut self.c;
+        let pos = c.pos;
+        for _pass in 0..8 {
+            let mut changed = false;
+            for t in 0..c.tris.len() {
+                if !c.alive[t] {
+                    continue;
+                }
+                let tri = c.tris[t];
+                if c.shape(tri.map(|w| pos[w as usize]), tri).corner == 0.0 {
+                    continue;
+                }
+                if c.flip_better(t) {
+                    changed = true;
+                    continue;
+                }
+                let mut best: Option<(f64, u32, u32)> = None;
+                for k in 0..3 {
+                    for (u, v) in [(tri[k], tri[(k + 1) % 3]), (tri[(k + 1) % 3], tri[k])] {
+                        let Some((old, new)) = c.stars(u, v) else {
+                            continue;
+                        };
+                        if new.area > 0.0
+                            && new.facing > 0.0
+                            && new.corner_sum < old.corner_sum
+                            && best.is_none_or(|b| new.corner_sum < b.0)
+                        {
+                            best = Some((new.corner_sum, u, v));
+                        }
+                    }
+                }
+                if let Some((_, u, v)) = best {
+                    c.collapse(u, v);
+                    self.remaining -= 1;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+    }
+
+    /// The layout of the mesh as the collapses so far left it.
+    pub fn layout(&self) -> Layout {
+        let c = &self.c;
+        let n = c.pos.len();
+        let mut index = vec![usize::MAX; n];
+        let mut vertices = Vec::with_capacity(self.remaining);
+        for (i, r) in c.removed.iter().enumerate() {
+            if !r {
+                index[i] = vertices.len();
+                vertices.push(i);
+            }
+        }
+        let faces = c
+            .tris
+            .iter()
+            .zip(&c.alive)
+            .filter(|(_, a)| **a)
+            .map(|(t, _)| t.iter().map(|&i| index[i as usize]).collect())
+            .collect();
+        Layout { vertices, faces }
+    }
 }
 
 /// The mesh's triangles by their centroids, for closest points on the side a normal faces.

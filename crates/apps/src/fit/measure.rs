@@ -189,7 +189,8 @@ impl Measures {
     /// What `pdeshape fit` prints of a fit (after the mesh's name): the verdict first (whether
     /// the Hausdorff distance is within `tolerance`, a fraction of the diagonal), then the
     /// distances as percentages of the diagonal and in the mesh's units, the patches, and the
-    /// sizes; numbers with [`crate::number::DIGITS`] significant digits.
+    /// sizes (with the packed size of [`super::pack`]); numbers with
+    /// [`crate::number::DIGITS`] significant digits.
     pub fn summary(&self, fitted: &super::Fit, tolerance: f64) -> String {
         use crate::number::{sig, DIGITS};
         let n = |x: f64| sig(x, DIGITS);
@@ -202,7 +203,7 @@ impl Measures {
         format!(
             "Hausdorff {}% of the diagonal ({verdict} the tolerance {}%), RMS {}%; \
              {} triangles → {} patches ({mode} mode, {} modes, a = {}); {} bytes → {} bytes of \
-             coefficients (ratio {}), {} bytes of TOML (ratio {})",
+             coefficients (ratio {}), {} bytes of TOML (ratio {}), {}",
             n(100.0 * self.hausdorff_relative),
             n(100.0 * tolerance),
             n(100.0 * self.rms_relative),
@@ -214,7 +215,11 @@ impl Measures {
             self.design_bytes,
             n(self.ratio),
             self.toml_bytes,
-            n(self.toml_ratio)
+            n(self.toml_ratio),
+            super::pack(&fitted.spec, self.diagonal, tolerance).map_or_else(
+                |e| format!("no packed size ({})", e.message()),
+                |p| format!("{} bytes packed ({})", p.bytes, p.describe())
+            )
         )
     }
 }

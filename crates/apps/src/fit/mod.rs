@@ -38,7 +38,7 @@
 //! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
 //! `chain` (the least squares over a sequence of sections, node choice, the design), `options`
 //! (options, results and the automatic choice), `tube`, `sheet` and `template` (the modes),
-//! `measure` (distances and sizes), `picture` (the mesh and the fit side by side, coloured by
+//! `measure` (distances and sizes), `pack` (the packed size: numbers quantised to what the tolerance allows), `rate` (the rate–distortion sweep beside decimation, CSV and SVG), `picture` (the mesh and the fit side by side, coloured by
 //! distance).
 
 mod auto;
@@ -48,24 +48,32 @@ mod layout;
 mod measure;
 mod mesh;
 mod options;
+mod pack;
 mod picture;
 mod profile;
+mod rate;
 mod repair;
 mod section;
 mod sheet;
 mod template;
 mod tube;
 
-pub use auto::{fit_measured, Fitted, ModeChoice, Request, DEFAULT_TOLERANCE, FAST_TARGET};
+pub use auto::{
+    fit_measured, measure_like, Fitted, ModeChoice, Request, DEFAULT_TOLERANCE, FAST_TARGET,
+};
 pub use basis::{position_weights, weights};
 pub use layout::{
     decimate, fit_general, fit_general_measured, layout_spec, require_oriented, vertex_normals,
-    Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,
+    Decimation, Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,
 };
 pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
+pub use pack::{pack, Packed, STEP_FRACTION};
 pub use picture::picture;
+pub use rate::{
+    rate_distortion, DecimatedPoint, RateDistortion, RatePoint, Refusal, MAX_TOLERANCES,
+};
 pub use repair::{repair, Repairs, CRACK_FRACTION, MAX_PASSES, STRAY_SHARE};
 pub use section::{fourier, AxisFrame, Piece, Section, Slicer};
 pub use sheet::{fit_sheet, SHEET_AM};

@@ -845,3 +845,84 @@ fn a_mesh_the_general_mode_cannot_orient_is_refused_with_a_point() {
     );
     assert_eq!(files(dir.path()), vec!["flip.obj".to_string()]);
 }
+
+#[test]
+fn a_sweep_writes_bytes_against_distances_beside_decimation() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = write(
+        dir.path(),
+        "torus.obj",
+        &obj(&pdeshape_testkit::implicit::torus(16)),
+    );
+    let csv = dir.path().join("rd.csv");
+    let svg = dir.path().join("rd.svg");
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "--sweep",
+        "0.02,0.04",
+        "-o",
+        s(&csv),
+        "--plot",
+        s(&svg),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (mut fits, mut levels) = (0, 0);
+    for line in lines {
+        let r: Vec<&str> = line.split(',').collect();
+        assert_eq!(r.len(), header.len(), "{text}");
+        let num = |name: &str| r[col(name)].parse::<f64>().unwrap();
+        match r[col("kind")] {
+            "fit" => {
+                fits += 1;
+                let t = num("tolerance_percent");
+                assert!(num("hausdorff_percent") <= t, "{text}");
+                // The packed design's numbers move by a few steps of 1/64 of the tolerance
+                // (pack.rs): allow four.
+                let moved = (num("packed_hausdorff_percent") - num("hausdorff_percent")).abs();
+                assert!(moved <= t / 16.0, "{text}");
+                assert!(num("packed_bytes") < num("f64_bytes"), "{text}");
+                assert!(num("toml_gz_bytes") < num("toml_bytes"), "{text}");
+            }
+            "decimation" => {
+                levels += 1;
+                assert!(num("hausdorff_percent") > 0.0, "{text}");
+            }
+            k => panic!("kind {k}"),
+        }
+    }
+    assert_eq!(fits, 2, "{text}");
+    assert!(levels >= 5, "{text}");
+    let plot = std::fs::read_to_string(&svg).unwrap();
+    assert!(plot.starts_with("<svg") && plot.trim_end().ends_with("</svg>"));
+    assert!(plot.contains("decimation, packed") && plot.contains("PDE patches, packed"));
+    // A tolerance outside (0, 1): one line naming it, exit 2, nothing written.
+    let bad = dir.path().join("bad.csv");
+    let out = pdeshape(&["fit", s(&mesh), "--sweep", "0.02,1.5", "-o", s(&bad)]);
+    assert_bad(&out, &["--sweep 1.5", "between 0 and 1"]);
+    assert!(!bad.exists());
+    // The table must be CSV, and --plot needs --sweep.
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "--sweep",
+        "0.02",
+        "-o",
+        s(&dir.path().join("x.toml")),
+    ]);
+    assert_bad(&out, &[".csv"]);
+    let out = pdeshape(&[
+        "fit",
+        s(&mesh),
+        "-o",
+        s(&dir.path().join("y.toml")),
+        "--plot",
+        s(&svg),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}

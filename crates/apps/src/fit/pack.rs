@@ -1,0 +1,214 @@
+//! The packed size of a fit: how many bytes its numbers need once quantised to what the
+//! tolerance allows, beside the TOML text and the plain `f64` count.
+//!
+//! Only the `[[patchwork]]` tables of the general mode are quantised (the tube and sheet
+//! modes write a few hundred numbers, counted at 8 bytes each). Per patchwork:
+//!
+//! - corners and edge tangents (lengths): each an integer multiple of the step `s`, stored as
+//!   its offset from the smallest in `⌈log₂(range/s + 1)⌉` bits, one width per table (corners,
+//!   tangents), with that smallest value and the width in the header;
+//! - normals (corner normals and the edge samples, directions only): octahedral coordinates
+//!   (the unit sphere unfolded onto the square `|x| + |y| ≤ 1` and its folded corners), two
+//!   integers of `b` bits;
+//! - corner indices (edge ends, face loops): `⌈log₂ V⌉` bits each, a face's side count in 3
+//!   bits, an edge's sample count in 5 bits and its crease flag in 1 bit;
+//! - the name, the counts and `order`, `a`, `degree` in a header of whole bytes.
+//!
+//! [`pack`] returns that size with the design as a decoder would restore it (every quantised
+//! number replaced by its quantised value), so the cost of quantising is measured, not
+//! assumed: [`crate::fit::rate_distortion`] solves and measures it. The step is `s =
+//! tolerance · diagonal / 64` ([`STEP_FRACTION`]); a corner moves by at most `√3 s / 2`, a
+//! Hermite edge by at most `(1 + 4/27)·√3 s / 2`, and `b = ⌈log₂(diagonal / s)⌉ + 1` keeps a
+//! normal's angle error (at most about `2.2 / 2ᵇ` rad) times the diagonal below `s`, so the
+//! quantised fit stays within a few steps (a few percent of the tolerance) of the fit. The
+//! size is computed, not written: no file format is defined for it.
+
+use crate::spec::{DesignSpec, PatchworkSpec};
+use crate::{Error, Result};
+
+/// The step of the lengths as a fraction of `tolerance · diagonal`.
+pub const STEP_FRACTION: f64 = 1.0 / 64.0;
+
+/// A fit's numbers, quantised.
+#[derive(Clone, Debug)]
+pub struct Packed {
+    /// The size in bytes of the packed numbers (module documentation).
+    pub bytes: usize,
+    /// The design with every quantised number replaced by its quantised value.
+    pub spec: DesignSpec,
+    /// The step of the lengths.
+    pub step: f64,
+    /// Bits per octahedral coordinate of a normal (0 when nothing was quantised).
+    pub normal_bits: u32,
+}
+
+impl Packed {
+    /// The quantisation in words, for reports.
+    pub fn describe(&self) -> String {
+        if self.normal_bits == 0 {
+            "8 bytes per number".to_string()
+        } else {
+            format!(
+                "lengths to a step of {} (1/64 of the tolerance), normals in 2 × {} bits",
+                crate::number::sig(self.step, 3),
+                self.normal_bits
+            )
+        }
+    }
+}
+
+/// Bits for the integers `0 ..= max`.
+fn bits_for(max: u64) -> u32 {
+    64 - max.leading_zeros()
+}
+
+/// Lengths quantised to multiples of `step` in one table: `(bits, header bytes, the values)`.
+fn lengths(values: &[f64], step: f64) -> (u64, usize, Vec<f64>) {
+    if values.is_empty() {
+        return (0, 0, Vec::new());
+    }
+    let q: Vec<i64> = values.iter().map(|x| (x / step).round() as i64).collect();
+    let lo = *q.iter().min().unwrap_or(&0);
+    let hi = *q.iter().max().unwrap_or(&0);
+    let width = bits_for((hi - lo) as u64) as u64;
+    // The smallest multiple as an `i64` and the width as a byte.
+    (
+        width * q.len() as u64,
+        9,
+        q.iter().map(|&k| k as f64 * step).collect(),
+    )
+}
+
+/// The unit vector `n` in octahedral coordinates quantised to `bits` bits each, and back.
+fn octahedral(n: [f64; 3], bits: u32) -> [f64; 3] {
+    let l1 = n[0].abs() + n[1].abs() + n[2].abs();
+    if !(l1 > 0.0 && l1.is_finite()) {
+        return n;
+    }
+    let (mut x, mut y) = (n[0] / l1, n[1] / l1);
+    if n[2] < 0.0 {
+        (x, y) = ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum());
+    }
+    let levels = ((1u64 << bits) - 1) as f64;
+    let q = |t: f64| ((t + 1.0) / 2.0 * levels).round() / levels * 2.0 - 1.0;
+    let (x, y) = (q(x), q(y));
+    let z = 1.0 - x.abs() - y.abs();
+    let (x, y) = if z < 0.0 {
+        ((1.0 - y.abs()) * x.signum(), (1.0 - x.abs()) * y.signum())
+    } else {
+        (x, y)
+    };
+    let l = (x * x + y * y + z * z).sqrt();
+    [x / l, y / l, z / l]
+}
+
+/// One patchwork quantised: `(bits, header bytes)`, the table changed in place.
+fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, usize) {
+    let flat: Vec<f64> = p.points.iter().flatten().copied().collect();
+    let (mut bits, mut header, q) = lengths(&flat, step);
+    for (k, x) in q.into_iter().enumerate() {
+        p.points[k / 3][k % 3] = x;
+    }
+    let flat: Vec<f64> = p
+        .edges
+        .iter()
+        .flat_map(|e| e.tangents.iter().flatten().copied())
+        .collect();
+    let (b, h, q) = lengths(&flat, step);
+    bits += b;
+    header += h;
+    for (k, x) in q.into_iter().enumerate() {
+        p.edges[k / 6].tangents[(k / 3) % 2][k % 3] = x;
+    }
+    let per_normal = 2 * normal_bits as u64;
+    for n in p.normals.iter_mut() {
+        *n = octahedral(*n, normal_bits);
+        bits += per_normal;
+    }
+    let index = bits_for(p.points.len().saturating_sub(1) as u64).max(1) as u64;
+    for e in p.edges.iter_mut() {
+        for n in e.normals.iter_mut() {
+            *n = octahedral(*n, normal_bits);
+            bits += per_normal;
+        }
+        bits += 2 * index + 5 + 1;
+    }
+    for f in &p.faces {
+        bits += 3 + index * f.len() as u64;
+    }
+    // Name, three counts, order, a, degree and the normals' width.
+    header += p.name.len() + 1 + 3 * 4 + 1 + 8 + 1 + 1;
+    (bits, header)
+}
+
+/// The numbers of `spec` (a fit of a mesh whose bounding box has the diagonal `diagonal`)
+/// packed for `tolerance` (module documentation).
+pub fn pack(spec: &DesignSpec, diagonal: f64, tolerance: f64) -> Result<Packed> {
+    let step = tolerance * diagonal * STEP_FRACTION;
+    if !(step > 0.0 && step.is_finite()) {
+        return Err(Error::invalid(format!(
+            "no quantisation step for the tolerance {tolerance} and the diagonal {diagonal}"
+        )));
+    }
+    let mut out = spec.clone();
+    let mut patchworks = std::mem::take(&mut out.patchwork);
+    let rest = super::measure::count_numbers(&out);
+    let normal_bits = if patchworks.is_empty() {
+        0
+    } else {
+        ((diagonal / step).log2().ceil() as u32 + 3).clamp(4, 30)
+    };
+    let (mut bits, mut header) = (0u64, 0usize);
+    for p in patchworks.iter_mut() {
+        let (b, h) = pack_patchwork(p, step, normal_bits);
+        bits += b;
+        header += h;
+    }
+    out.patchwork = patchworks;
+    Ok(Packed {
+        bytes: 8 * rest + header + bits.div_ceil(8) as usize,
+        spec: out,
+        step,
+        normal_bits,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn octahedral_coordinates_keep_directions_to_their_resolution() {
+        // Directions on every octant, near the poles and the folds.
+        let mut worst: f64 = 0.0;
+        for i in 0..40 {
+            for j in 0..80 {
+                let th = std::f64::consts::PI * (i as f64 + 0.5) / 40.0;
+                let ph = std::f64::consts::TAU * j as f64 / 80.0;
+                let n = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
+                let m = octahedral(n, 12);
+                let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+                assert!((l - 1.0).abs() < 1e-15);
+                let dot = n[0] * m[0] + n[1] * m[1] + n[2] * m[2];
+                worst = worst.max(dot.min(1.0).acos());
+            }
+        }
+        // The bound of the module documentation: 3√2 / (2¹² − 1) rad.
+        assert!(
+            worst > 0.0 && worst <= 3.0 * 2f64.sqrt() / 4095.0,
+            "{worst}"
+        );
+    }
+
+    #[test]
+    fn lengths_are_multiples_of_the_step_within_half_a_step() {
+        let v = [0.123456, -3.5, 7.25, 2.0];
+        let (bits, _, q) = lengths(&v, 0.01);
+        for (a, b) in v.iter().zip(&q) {
+            assert!((a - b).abs() <= 0.005 + 1e-15);
+            assert!(((b / 0.01).round() * 0.01 - b).abs() < 1e-12);
+        }
+        // Range 1075 steps: 11 bits each.
+        assert_eq!(bits, 4 * 11);
+    }
+}
