@@ -195,6 +195,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         let png = fit::picture(
             &mesh,
             &distances,
+            &fit::layout_edges(&fitted.spec, &distances),
             tolerance * m.diagonal,
             &pdeshape::render::RenderOptions {
                 width: 1200,

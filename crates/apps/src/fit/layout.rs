@@ -738,7 +738,7 @@ fn closest_with_normal(
     (q, n)
 }
 
-fn hermite(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
+pub(super) fn hermite(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
     let (t2, t3) = (t * t, t * t * t);
     p0 * (2.0 * t3 - 3.0 * t2 + 1.0)
         + p1 * (-2.0 * t3 + 3.0 * t2)

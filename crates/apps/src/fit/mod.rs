@@ -70,7 +70,7 @@ pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
 pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use pack::{pack, Packed, STEP_FRACTION};
-pub use picture::picture;
+pub use picture::{layout_edges, picture};
 pub use rate::{
     rate_distortion, DecimatedPoint, RateDistortion, RatePoint, Refusal, MAX_TOLERANCES,
 };

@@ -1,22 +1,38 @@
-//! The mesh and its fit side by side, each coloured by its distance to the other.
+//! The mesh and its fit side by side, each coloured by its distance to the other, the fit's
+//! layout edges drawn over it.
 
 use super::measure::PointDistances;
 use super::mesh::InputMesh;
 use crate::mesh::GridMesh;
 use crate::render::{
     default_view, diverging_colors, encode_png, render_rgb_colored_with_bar, write_caption,
-    BarLayout, ColorBar, RenderOptions,
+    BarLayout, ColorBar, Polyline, RenderOptions,
 };
+use crate::spec::DesignSpec;
 use crate::{Result, Vec3};
 
 /// A PNG picture: the mesh on the left (each vertex coloured by its distance to the fit), the
 /// fitted surfaces on the right (each sample coloured by its distance to the mesh), on the
 /// cool–warm scale from 0 (blue) through `scale / 2` (grey) to `scale` (the tolerance, in the
 /// mesh's units) and beyond (red); captioned "mesh" and "fit", with the scale's colour bar
-/// labelled in the mesh's units on the right.
+/// labelled in the mesh's units on the right; `edges` (in the mesh's coordinates, see
+/// [`layout_edges`]) drawn over the fit as dark lines.
 pub fn picture(
     mesh: &InputMesh,
     distances: &PointDistances,
+    edges: &[Vec<Vec3>],
+    scale: f64,
+    options: &RenderOptions,
+) -> Result<Vec<u8>> {
+    let rgb = picture_rgb(mesh, distances, edges, scale, options)?;
+    encode_png(options.width, options.height, &rgb)
+}
+
+/// The pixels of [`picture`] (`3 · width · height` bytes, sRGB).
+fn picture_rgb(
+    mesh: &InputMesh,
+    distances: &PointDistances,
+    edges: &[Vec<Vec3>],
     scale: f64,
     options: &RenderOptions,
 ) -> Result<Vec<u8>> {
@@ -89,13 +105,133 @@ pub fn picture(
         hi: scale,
         note: "in the mesh's units; the top is the tolerance".into(),
     };
-    let mut rgb = render_rgb_colored_with_bar(&meshes, &colors, &[], &options, &bar)?;
+    let lines: Vec<Polyline> = edges
+        .iter()
+        .filter(|e| e.len() >= 2)
+        .map(|e| Polyline {
+            points: e.iter().map(|p| p + shift).collect(),
+            color: [35, 35, 35],
+            width: 1.5,
+            closed: false,
+        })
+        .collect();
+    let mut rgb = render_rgb_colored_with_bar(&meshes, &colors, &lines, &options, &bar)?;
     // The two objects share the picture's left part, the mesh on its left half.
     let layout = BarLayout::new(options.width, options.height);
     let half = layout.panel_x as i64 / 2;
     let top = (4 * layout.scale) as i64;
-    for (centre, text) in [(half / 2, "mesh"), (half + half / 2, "fit")] {
+    for (centre, text) in [(half / 2, "mesh"), (half + half / 2, "fit and its layout")] {
         write_caption(&mut rgb, options.width, options.height, centre, top, text);
     }
-    encode_png(options.width, options.height, &rgb)
+    Ok(rgb)
+}
+
+/// Segments per patchwork edge in [`layout_edges`].
+const EDGE_SEGMENTS: usize = 24;
+
+/// The edges of a fit's layout as polylines: every `[[patchwork]]` edge (its cubic Hermite
+/// curve), and for the other patches the borders of their sample grids in `distances` (the
+/// sections of a tube or a sheet, and a sheet's sides).
+pub fn layout_edges(spec: &DesignSpec, distances: &PointDistances) -> Vec<Vec<Vec3>> {
+    let mut out = Vec::new();
+    let v3 = |p: [f64; 3]| Vec3::new(p[0], p[1], p[2]);
+    for p in &spec.patchwork {
+        for e in &p.edges {
+            let (Some(&a), Some(&b)) = (p.points.get(e.ends[0]), p.points.get(e.ends[1])) else {
+                continue;
+            };
+            let (a, b) = (v3(a), v3(b));
+            let (d0, d1) = (v3(e.tangents[0]), v3(e.tangents[1]));
+            out.push(
+                (0..=EDGE_SEGMENTS)
+                    .map(|k| super::layout::hermite(a, b, d0, d1, k as f64 / EDGE_SEGMENTS as f64))
+                    .collect(),
+            );
+        }
+    }
+    if !spec.patchwork.is_empty() {
+        return out;
+    }
+    for g in &distances.grids {
+        let at = |i: usize, j: usize| v3(g.positions[i * g.nv + j]);
+        if g.nu < 2 || g.nv < 2 {
+            continue;
+        }
+        for i in [0, g.nu - 1] {
+            let mut row: Vec<Vec3> = (0..g.nv).map(|j| at(i, j)).collect();
+            if g.periodic_v {
+                row.push(at(i, 0));
+            }
+            out.push(row);
+        }
+        if !g.periodic_v {
+            for j in [0, g.nv - 1] {
+                out.push((0..g.nu).map(|i| at(i, j)).collect());
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Samples;
+
+    /// A unit square as a mesh of two triangles and as a 5 × 5 sample grid, at distance 0.
+    fn square() -> (InputMesh, PointDistances) {
+        let mesh = InputMesh::new(
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap();
+        let n = 5;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / (n - 1) as f64).collect();
+        let grid = Samples {
+            nu: n,
+            nv: n,
+            periodic_v: false,
+            u: t.clone(),
+            v: t.clone(),
+            positions: (0..n * n).map(|k| [t[k / n], t[k % n], 0.0]).collect(),
+            normals: vec![[0.0, 0.0, 1.0]; n * n],
+        };
+        let d = PointDistances {
+            mesh: vec![0.0; 4],
+            grids: vec![grid],
+            fit: vec![vec![0.0; n * n]],
+        };
+        (mesh, d)
+    }
+
+    #[test]
+    fn the_borders_of_a_grid_are_its_layout_and_are_drawn() {
+        let (mesh, d) = square();
+        let edges = layout_edges(&DesignSpec::default(), &d);
+        // Two rows and two columns of 5 samples.
+        assert_eq!(edges.len(), 4);
+        assert!(edges.iter().all(|e| e.len() == 5));
+        let options = RenderOptions {
+            width: 400,
+            height: 200,
+            view: Some(Vec3::new(0.0, 0.0, 1.0)),
+            up: Vec3::new(0.0, 1.0, 0.0),
+            ..Default::default()
+        };
+        let dark = |rgb: &[u8]| rgb.chunks(3).filter(|p| p.iter().all(|&c| c < 60)).count();
+        let plain = picture_rgb(&mesh, &d, &[], 1.0, &options).unwrap();
+        let drawn = picture_rgb(&mesh, &d, &edges, 1.0, &options).unwrap();
+        // The lines add dark pixels (the captions and the bar's text are in both).
+        assert!(
+            dark(&drawn) > dark(&plain) + 100,
+            "{} {}",
+            dark(&drawn),
+            dark(&plain)
+        );
+    }
 }
