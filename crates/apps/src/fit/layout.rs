@@ -183,8 +183,16 @@ fn corner_badness(p: Vec3, next: Vec3, prev: Vec3, n: Vec3) -> f64 {
     let (x, y) = (next - p, prev - p);
     let x = x - n * x.dot(&n);
     let y = y - n * y.dot(&n);
-    let angle = x.cross(&y).dot(&n).atan2(x.dot(&y));
+    let (sin, cos) = (x.cross(&y).dot(&n), x.dot(&y));
     let min = MIN_CORNER.to_radians();
+    // Inside the range by more than rounding: `atan2(sin, cos)` lies in `[min, π − min]` when
+    // `sin·cos(min) ≥ |cos|·sin(min)` with `sin > 0`; the margin keeps the answer the one
+    // `atan2` gives, which is taken otherwise (most corners are inside, and `atan2` is slow).
+    let margin = 1e-9 * (sin.abs() + cos.abs());
+    if sin > 0.0 && sin * min.cos() - cos.abs() * min.sin() > margin {
+        return 0.0;
+    }
+    let angle = sin.atan2(cos);
     (min - angle)
         .max(angle - (std::f64::consts::PI - min))
         .max(0.0)
@@ -281,9 +289,27 @@ impl Collapser<'_> {
         out
     }
 
+    /// The worst shape of the triangles around `u`.
+    fn old_star(&self, u: u32) -> Shape {
+        let mut star = Shape::BEST;
+        for &t in &self.vtris[u as usize] {
+            if self.alive[t as usize] {
+                let tri = self.tris[t as usize];
+                star = star.worst(self.shape(tri.map(|w| self.pos[w as usize]), tri));
+            }
+        }
+        star
+    }
+
     /// The star of `u` before and after moving `u` onto `v`, or `None` when the link
     /// condition refuses the collapse (or a boundary would move inside).
     fn stars(&self, u: u32, v: u32) -> Option<(Shape, Shape)> {
+        self.stars_with(u, v, &self.neighbours(u), self.old_star(u))
+    }
+
+    /// [`Self::stars`] given `u`'s neighbours `nu` and [`Self::old_star`] (the same for every
+    /// `v`).
+    fn stars_with(&self, u: u32, v: u32, nu: &[u32], old_star: Shape) -> Option<(Shape, Shape)> {
         let (ui, vi) = (u as usize, v as usize);
         // Triangles on the edge, and the link condition.
         let mut opposite: Vec<u32> = Vec::with_capacity(2);
@@ -298,7 +324,6 @@ impl Collapser<'_> {
             // A boundary vertex moves only along its boundary.
             return None;
         }
-        let nu = self.neighbours(u);
         let nv = self.neighbours(v);
         let common = nu.iter().filter(|w| nv.contains(w)).count();
         if common != opposite.len() {
@@ -308,13 +333,6 @@ impl Collapser<'_> {
         // The star of `u` before and after: its worst facing, corner and shape. A collapse
         // may not make any of them worse than the limits unless it was already so (slivers of
         // the mesh do not block the collapses that remove them).
-        let mut old_star = Shape::BEST;
-        for &t in &self.vtris[ui] {
-            if self.alive[t as usize] {
-                let tri = self.tris[t as usize];
-                old_star = old_star.worst(self.shape(tri.map(|w| self.pos[w as usize]), tri));
-            }
-        }
         let mut new_star = Shape::BEST;
         for &t in &self.vtris[ui] {
             let tri = self.tris[t as usize];
@@ -330,9 +348,14 @@ impl Collapser<'_> {
 
     /// The cost of moving `u` onto `v`, or `None` when the collapse is not allowed.
     fn cost(&self, u: u32, v: u32) -> Option<f64> {
+        self.cost_with(u, v, &self.neighbours(u), self.old_star(u))
+    }
+
+    /// [`Self::cost`] given what [`Self::stars_with`] takes.
+    fn cost_with(&self, u: u32, v: u32, nu: &[u32], old: Shape) -> Option<f64> {
         let (ui, vi) = (u as usize, v as usize);
         let p = self.pos[vi];
-        let (old_star, new_star) = self.stars(u, v)?;
+        let (old_star, new_star) = self.stars_with(u, v, nu, old)?;
         if new_star.area.is_nan() || new_star.area <= 0.0 {
             return None;
         }
@@ -357,8 +380,10 @@ impl Collapser<'_> {
             return None;
         }
         let mut best: Option<Candidate> = None;
-        for v in self.neighbours(u) {
-            if let Some(cost) = self.cost(u, v) {
+        let nu = self.neighbours(u);
+        let old = self.old_star(u);
+        for &v in &nu {
+            if let Some(cost) = self.cost_with(u, v, &nu, old) {
                 if best.as_ref().is_none_or(|b| cost < b.cost) {
                     best = Some(Candidate {
                         cost,
