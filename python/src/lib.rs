@@ -1349,6 +1349,7 @@ fn fit_mesh<'py>(
                 "accept_tolerance": fitted.tolerance,
                 "missed": fitted.missed(),
                 "fallback": fitted.fallback,
+                "general_declined": fitted.declined,
                 "measures": fitted.measures,
                 "notes": notes,
             });

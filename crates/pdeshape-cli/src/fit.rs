@@ -141,6 +141,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         tolerance,
         target,
         fallback,
+        declined,
     } = fitted;
     let missed = miss_words.is_some();
     let mut spec = fitted.spec.clone();
@@ -160,7 +161,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             status: 1,
         });
     }
-    if let Some(why) = &fallback {
+    if let Some(why) = &declined {
+        crate::common::note(&format!(
+            "{shown}: the {} mode's fit misses the tolerance and {why}: that fit is kept",
+            fitted.mode.name()
+        ));
+    } else if let Some(why) = &fallback {
         crate::common::note(&format!("{shown}: {why}; fitted by the general mode"));
     }
     if let Some(n) = &note {
@@ -182,6 +188,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "accept_tolerance": tolerance,
             "missed": missed,
             "fallback": fallback,
+            "general_declined": declined,
             "measures": m,
             "notes": notes,
             // The measures are taken inside the fit (the general mode measures every round).

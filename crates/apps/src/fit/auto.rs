@@ -108,6 +108,10 @@ pub struct Fitted {
     pub target: f64,
     /// Why the automatic choice fell back to the general mode, when it did.
     pub fallback: Option<String>,
+    /// Why the automatic choice kept the fast mode's fit after all, when it fell back because
+    /// that fit missed the tolerance and the general mode then refused the mesh or did no
+    /// better (the fit returned is then the fast mode's, and it misses).
+    pub declined: Option<String>,
 }
 
 impl Fitted {
@@ -188,42 +192,68 @@ pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
             }
         },
     };
+    // The fast mode's fit when it missed: kept if the general mode refuses the mesh or does
+    // no better.
+    let mut missed_fast: Option<Fitted> = None;
     if let Some(fit) = fast {
         let solved = solve_design(&fit.spec).map_err(|e| {
             Error::invalid(format!("the fitted design does not solve: {}", e.message()))
         })?;
         let (measures, distances) = measure(mesh, &fit.spec, &solved, FAST_GRID.0, FAST_GRID.1)?;
         let auto = request.mode == ModeChoice::Auto && request.template.is_none();
-        if auto && measures.hausdorff_relative > tolerance {
+        let (worst, _) = distances.worst(mesh);
+        let fitted = Fitted {
+            fit,
+            measures,
+            distances,
+            worst,
+            tolerance,
+            target: opts.target,
+            fallback: None,
+            declined: None,
+        };
+        if auto && fitted.missed() {
             fallback = Some(format!(
                 "the {} mode misses the tolerance ({}% of the diagonal)",
-                fit.mode.name(),
-                sig(100.0 * measures.hausdorff_relative, 4)
+                fitted.fit.mode.name(),
+                sig(100.0 * fitted.measures.hausdorff_relative, 4)
             ));
+            missed_fast = Some(fitted);
         } else {
-            let (worst, _) = distances.worst(mesh);
-            return Ok(Fitted {
-                fit,
-                measures,
-                distances,
-                worst,
-                tolerance,
-                target: opts.target,
-                fallback: None,
-            });
+            return Ok(fitted);
         }
     }
     let general = FitOptions {
         target: tolerance,
         ..opts
     };
-    let (fit, measures, distances, _) =
-        fit_general_measured(mesh, &general).map_err(|e| match &fallback {
-            Some(why) if !e.message().contains(why.as_str()) => {
-                Error::invalid(format!("{} ({why})", e.message())).at(e.place())
+    let (fit, measures, distances) = match (fit_general_measured(mesh, &general), missed_fast) {
+        (Ok((fit, measures, distances, _)), fast) => match fast {
+            Some(mut f) if !(measures.hausdorff_relative < f.measures.hausdorff_relative) => {
+                f.declined = Some(format!(
+                    "the general mode did no better ({}% of the diagonal)",
+                    sig(100.0 * measures.hausdorff_relative, 4)
+                ));
+                return Ok(f);
             }
-            _ => e,
-        })?;
+            _ => (fit, measures, distances),
+        },
+        (Err(e), Some(mut f)) => {
+            f.declined = Some(format!(
+                "the general mode refused the mesh: {}",
+                e.message()
+            ));
+            return Ok(f);
+        }
+        (Err(e), None) => {
+            return Err(match &fallback {
+                Some(why) if !e.message().contains(why.as_str()) => {
+                    Error::invalid(format!("{} ({why})", e.message())).at(e.place())
+                }
+                _ => e,
+            })
+        }
+    };
     let (worst, _) = distances.worst(mesh);
     Ok(Fitted {
         fit,
@@ -233,5 +263,6 @@ pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
         tolerance,
         target: tolerance,
         fallback,
+        declined: None,
     })
 }

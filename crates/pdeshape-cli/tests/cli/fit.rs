@@ -926,3 +926,51 @@ fn a_sweep_writes_bytes_against_distances_beside_decimation() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn a_missed_tube_fit_is_kept_when_the_general_mode_refuses_the_mesh() {
+    // An ellipsoid with one triangle turned the other way: the tube mode fits it (sections do
+    // not care about orientation) but, at a tolerance below its facets' depth, misses; the
+    // general mode refuses an inconsistently oriented mesh. The tube fit is the one returned:
+    // a miss (exit 1, nothing written), or with --best-effort written with a note saying why.
+    let dir = tempfile::tempdir().unwrap();
+    let text = ellipsoid_obj(24, 32);
+    let first = text
+        .lines()
+        .find(|l| l.starts_with("f "))
+        .unwrap()
+        .to_string();
+    let p: Vec<&str> = first.split_whitespace().collect();
+    let flipped = text.replacen(&first, &format!("f {} {} {}", p[1], p[3], p[2]), 1);
+    let mesh = write(dir.path(), "flip.obj", &flipped);
+    let design = dir.path().join("out.toml");
+    let json = dir.path().join("out.json");
+    let args = ["fit", s(&mesh), "-o", s(&design), "--tolerance", "1e-4"];
+    let out = pdeshape(&args);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!design.exists());
+    let mut more = args.to_vec();
+    more.extend(["--best-effort", "--json", s(&json)]);
+    let out = pdeshape(&more);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("the tube mode's fit misses the tolerance and the general mode refused")
+            && err.contains("not consistently oriented")
+            && err.contains("that fit is kept"),
+        "{err}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["mode"], "tube");
+    assert_eq!(report["missed"], true);
+    assert!(report["general_declined"]
+        .as_str()
+        .unwrap()
+        .contains("refused the mesh"));
+}
