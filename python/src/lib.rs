@@ -1351,7 +1351,7 @@ fn fit_mesh<'py>(
                 "fallback": fitted.fallback,
                 "general_declined": fitted.declined,
                 "measures": fitted.measures,
-                "notes": notes,
+                "notes": notes.iter().chain(&fitted.fit.notes).collect::<Vec<_>>(),
             });
             Ok((text, report.to_string()))
         })

@@ -153,10 +153,15 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     spec.title = Some(format!("fitted to {name}"));
     let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
     if let (Some(words), false) = (&miss_words, args.best_effort) {
+        let why = if fitted.notes.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", fitted.notes.join("; "))
+        };
         return Err(CliError {
             message: format!(
                 "{shown}: {words}; nothing written (a larger --tolerance, or --best-effort to \
-                 write it anyway)"
+                 write it anyway){why}"
             ),
             status: 1,
         });
@@ -172,6 +177,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     if let Some(n) = &note {
         crate::common::note(&format!("{shown}: {n}"));
     }
+    for n in &fitted.notes {
+        crate::common::note(&format!("{shown}: {n}"));
+    }
+    let notes: Vec<&String> = notes.iter().chain(&fitted.notes).collect();
     out.write_all(text.as_bytes())?;
     if let Some(j) = json_out.as_mut() {
         let report = serde_json::json!({

@@ -229,7 +229,12 @@ pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
     };
     let (fit, measures, distances) = match (fit_general_measured(mesh, &general), missed_fast) {
         (Ok((fit, measures, distances, _)), fast) => match fast {
-            Some(mut f) if !(measures.hausdorff_relative < f.measures.hausdorff_relative) => {
+            Some(mut f)
+                if measures
+                    .hausdorff_relative
+                    .partial_cmp(&f.measures.hausdorff_relative)
+                    != Some(std::cmp::Ordering::Less) =>
+            {
                 f.declined = Some(format!(
                     "the general mode did no better ({}% of the diagonal)",
                     sig(100.0 * measures.hausdorff_relative, 4)

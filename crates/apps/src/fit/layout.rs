@@ -25,7 +25,8 @@ use super::measure::{closest_on_triangle, measure, Measures, MeshDistance, Point
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
 use super::section::AxisFrame;
-use crate::design::solve_design;
+use crate::design::{solve_design, SolvedDesign};
+use crate::number::sig;
 use crate::spec::{DesignSpec, PatchworkEdgeSpec, PatchworkSpec};
 use crate::{Error, Result, Vec3};
 use rstar::primitives::GeomWithData;
@@ -974,6 +975,7 @@ pub fn fit_general_measured(
     let diagonal = mesh.diagonal();
     let mut patchwork = Vec::with_capacity(count);
     let mut faces = 0;
+    let mut refused: Vec<String> = Vec::new();
     for (k, part) in parts.iter().enumerate() {
         let own = part.diagonal();
         let target = if own > 0.0 {
@@ -981,21 +983,43 @@ pub fn fit_general_measured(
         } else {
             opts.target
         };
-        let (fit, _, _, _) = fit_component(
+        let fitted = fit_component(
             part,
             &FitOptions {
                 target,
                 ..opts.clone()
             },
-        )
-        .map_err(|e| {
-            Error::invalid(format!("component {} of {count}: {}", k + 1, e.message())).at(e.place())
-        })?;
+        );
+        let fit = match fitted {
+            Ok((fit, _, _, _)) => fit,
+            // A component the mode cannot lay out is left out, said, and measured as a miss
+            // (the whole mesh's work bound was checked above).
+            Err(e) if e.place() == "tolerance" => return Err(e),
+            Err(e) => {
+                let (lo, hi) = part.bounds();
+                let c = (lo + hi) / 2.0;
+                refused.push(format!(
+                    "component {} of {count} (about ({}, {}, {})) is left out: {}",
+                    k + 1,
+                    sig(c.x, 6),
+                    sig(c.y, 6),
+                    sig(c.z, 6),
+                    e.message()
+                ));
+                continue;
+            }
+        };
         faces += fit.patches;
         for mut p in fit.spec.patchwork {
             p.name = format!("fit{}", k + 1);
             patchwork.push(p);
         }
+    }
+    if patchwork.is_empty() {
+        let first = refused.first().cloned().unwrap_or_default();
+        return Err(Error::invalid(format!(
+            "no component could be fitted: {first}"
+        )));
     }
     let spec = DesignSpec {
         patchwork,
@@ -1005,14 +1029,30 @@ pub fn fit_general_measured(
     let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
     let (at, distance) = d.worst(mesh);
     let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
-    let fit = general_fit(spec, faces, m.hausdorff_relative);
+    let mut fit = general_fit(spec, faces, m.hausdorff_relative);
+    fit.notes.extend(refused);
     Ok((fit, m, d, miss))
 }
 
 /// A general fit of `faces` faces (no sections, modes or axis: the frame is the identity)
 /// whose measured two-sided distance is `distance` of the diagonal.
 fn general_fit(spec: DesignSpec, faces: usize, distance: f64) -> Fit {
+    let creases: usize = spec
+        .patchwork
+        .iter()
+        .map(|p| p.edges.iter().filter(|e| e.crease).count())
+        .sum();
+    let notes = (creases > 0)
+        .then(|| {
+            format!(
+                "{creases} layout edges made creases (G0) where the tangent planes fold across \
+                 them (sharp edges of the mesh)"
+            )
+        })
+        .into_iter()
+        .collect();
     Fit {
+        notes,
         spec,
         mode: FitMode::General,
         frame: AxisFrame {
@@ -1046,6 +1086,50 @@ fn price_layout(mesh: &InputMesh) -> Result<()> {
         "decimate the mesh (to about 100 000 triangles), or fit it by a template",
         "",
     )
+}
+
+/// The face and side of a patchwork's fold error: `patchwork[0].faces[F].sides[I].ribbon`.
+fn fold_at(place: &str) -> Option<(usize, usize, usize)> {
+    let index = |key: &str| -> Option<usize> {
+        let rest = &place[place.find(key)? + key.len()..];
+        rest[..rest.find(']')?].parse().ok()
+    };
+    Some((index("patchwork[")?, index("faces[")?, index("sides[")?))
+}
+
+/// Solves a layout's design; where a face's side folds (the tangent planes along a layout edge
+/// turn against the corners' planes, as they do across a sharp edge of the mesh: a box's edge,
+/// a low-polygon model's), that edge is made a crease (G0: the faces on either side meet
+/// without a shared tangent plane) and the design solved again, until it solves or a fold
+/// cannot be creased. Returns the design as solved.
+fn solve_creasing_folds(mut spec: DesignSpec) -> Result<(DesignSpec, SolvedDesign)> {
+    let limit: usize = spec.patchwork.iter().map(|p| p.edges.len()).sum();
+    for _ in 0..=limit {
+        let e = match solve_design(&spec) {
+            Ok(solved) => return Ok((spec, solved)),
+            Err(e) => e,
+        };
+        let Some((p, f, i)) = fold_at(e.place()).filter(|_| e.message().contains("(a fold)"))
+        else {
+            return Err(e);
+        };
+        let Some(edge) = spec.patchwork.get_mut(p).and_then(|pw| {
+            let face = pw.faces.get(f)?;
+            let (a, b) = (*face.get(i)?, face[(i + 1) % face.len()]);
+            pw.edges
+                .iter_mut()
+                .find(|x| x.ends == [a, b] || x.ends == [b, a])
+        }) else {
+            return Err(e);
+        };
+        if edge.crease {
+            return Err(e);
+        }
+        edge.crease = true;
+    }
+    Err(Error::invalid(
+        "the layout's folds could not all be creased",
+    ))
 }
 
 /// [`fit_general_measured`] of one connected mesh.
@@ -1102,11 +1186,10 @@ fn fit_component(
         }
         previous = layout.vertices.len();
         let patchwork = layout_spec(mesh, &normals, (&index, &facing), &layout, 10)?;
-        let spec = DesignSpec {
+        let (spec, solved) = solve_creasing_folds(DesignSpec {
             patchwork: vec![patchwork],
             ..DesignSpec::default()
-        };
-        let solved = solve_design(&spec)?;
+        })?;
         let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
         // The worst places both ways.
         let mut worst = Miss {

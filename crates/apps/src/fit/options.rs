@@ -120,6 +120,9 @@ pub struct Fit {
     /// Largest distance, along the mesh's normal, between a fine section's samples and the
     /// fitted patch at its `u`, relative to the diagonal.
     pub sample_error: f64,
+    /// What the mode changed or left out, in words (the general mode's creased edges, the
+    /// components it could not fit); empty for the tube, sheet and template modes.
+    pub notes: Vec<String>,
 }
 
 /// What the tube mode made (the same as every mode's).

@@ -221,7 +221,6 @@ mod tests {
             height: 200,
             view: Some(Vec3::new(0.0, 0.0, 1.0)),
             up: Vec3::new(0.0, 1.0, 0.0),
-            ..Default::default()
         };
         let dark = |rgb: &[u8]| rgb.chunks(3).filter(|p| p.iter().all(|&c| c < 60)).count();
         let plain = picture_rgb(&mesh, &d, &[], 1.0, &options).unwrap();

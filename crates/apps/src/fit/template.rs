@@ -824,6 +824,7 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
         patches,
         a,
         sample_error,
+        notes: Vec::new(),
     })
 }
 

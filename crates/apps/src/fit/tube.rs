@@ -291,6 +291,7 @@ pub(crate) fn fit_one_chain(
         patches: nodes.len() - 1,
         a: solved.a,
         sample_error,
+        notes: Vec::new(),
     })
 }
 

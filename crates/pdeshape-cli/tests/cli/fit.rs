@@ -974,3 +974,50 @@ fn a_missed_tube_fit_is_kept_when_the_general_mode_refuses_the_mesh() {
         .unwrap()
         .contains("refused the mesh"));
 }
+
+#[test]
+fn a_component_the_general_mode_cannot_lay_out_is_left_out_and_named() {
+    // Two tori side by side, the second with one triangle turned the other way: the first is
+    // fitted, the second left out with a point near it; the fit misses (the second's vertices
+    // are far from it), so it is written only with --best-effort.
+    let dir = tempfile::tempdir().unwrap();
+    let a = pdeshape_testkit::implicit::torus(12);
+    let mut b = a.clone();
+    for p in b.positions.iter_mut() {
+        p.x += 10.0;
+    }
+    b.triangles[5].swap(1, 2);
+    let offset = a.positions.len() as u32;
+    let both = pdeshape::fit::InputMesh::new(
+        a.positions.iter().chain(&b.positions).copied().collect(),
+        a.triangles
+            .iter()
+            .copied()
+            .chain(b.triangles.iter().map(|t| t.map(|i| i + offset)))
+            .collect(),
+    )
+    .unwrap();
+    let mesh = write(dir.path(), "two.obj", &obj(&both));
+    let design = dir.path().join("two.toml");
+    let args = ["fit", s(&mesh), "-o", s(&design), "--mode", "general"];
+    let out = pdeshape(&args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("component 2 of 2 (about (") && err.contains("is left out"),
+        "{err}"
+    );
+    assert!(!design.exists());
+    let mut more = args.to_vec();
+    more.push("--best-effort");
+    let out = pdeshape(&more);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("not consistently oriented"), "{err}");
+    let text = std::fs::read_to_string(&design).unwrap();
+    let spec = pdeshape::spec::parse_design(&text).unwrap();
+    assert_eq!(spec.patchwork.len(), 1);
+    // The one fitted lies about the first torus (x near 0), not the second (x near 10).
+    assert!(spec.patchwork[0].points.iter().all(|p| p[0] < 5.0));
+}

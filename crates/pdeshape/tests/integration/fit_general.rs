@@ -254,3 +254,65 @@ fn a_real_nut_from_a_registry_package_is_fitted_by_the_automatic_choice() {
     assert!(boundary < 1e-9, "sides met to {boundary}");
     assert_eq!(open_edges(&solved), 0, "the tessellation is not watertight");
 }
+
+/// PyVista's ant (see `tests/data/meshes/README.md`): 15 closed low-polygon components. Layout
+/// edges across which the tangent planes fold (sharp edges of the model) are made creases;
+/// components whose slivers no n-sided patch takes are left out, each named with a point
+/// near it, and measured as a miss; every other component is fitted, its faces meeting their
+/// sides to rounding and G1 across every edge that is not a crease.
+#[test]
+fn a_real_ant_is_fitted_where_it_can_be_and_the_components_left_out_are_named() {
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/meshes/ant.ply"
+    ))
+    .unwrap();
+    let mesh = InputMesh::read(&bytes, pdeshape::fit::MeshFormat::Ply).unwrap();
+    let (mesh, _) = pdeshape::fit::repair(&mesh).unwrap();
+    let components = mesh.components().len();
+    assert_eq!(components, 15);
+    let fitted = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
+    assert_eq!(fitted.fit.mode, FitMode::General);
+    let notes = &fitted.fit.notes;
+    eprintln!("ant: {notes:#?}");
+    let left: Vec<&String> = notes.iter().filter(|n| n.contains("is left out")).collect();
+    assert!(
+        notes.iter().any(|n| n.contains("made creases (G0)")),
+        "{notes:?}"
+    );
+    let parts = fitted.fit.spec.patchwork.len();
+    assert!(parts >= 1, "{notes:?}");
+    assert_eq!(parts + left.len(), components, "{notes:?}");
+    for n in &left {
+        assert!(
+            n.starts_with("component ") && n.contains(&format!(" of {components} (about (")),
+            "{n}"
+        );
+    }
+    // The components left out are part of the mesh: their vertices are far from the fit.
+    assert_eq!(fitted.missed(), !left.is_empty());
+    let solved = solve_design(&fitted.fit.spec).unwrap();
+    let d = pdeshape::diagnose(&DesignSpec::default(), &solved);
+    for net in &d.networks {
+        for j in net.joints.iter().filter(|j| j.kind == "g1") {
+            let g1 = j.g1.unwrap_or(f64::NAN);
+            assert!(g1 < 1e-6, "{}: G1 {g1} rad", net.name);
+        }
+        for f in &net.faces {
+            assert!(
+                f.boundary < 1e-9,
+                "{}: sides met to {}",
+                net.name,
+                f.boundary
+            );
+        }
+    }
+    let creases: usize = fitted
+        .fit
+        .spec
+        .patchwork
+        .iter()
+        .map(|p| p.edges.iter().filter(|e| e.crease).count())
+        .sum();
+    assert!(creases > 0);
+}
