@@ -140,7 +140,8 @@ pub struct Distances {
 }
 
 impl Distances {
-    fn of(d: &[f64]) -> Self {
+    /// The largest and root-mean-square of `d`.
+    pub(crate) fn of(d: &[f64]) -> Self {
         let n = d.len().max(1) as f64;
         Distances {
             points: d.len(),

@@ -14,7 +14,7 @@
 
 use super::auto::{fit_measured, measure_like, ModeChoice, Request};
 use super::layout::{vertex_normals, Decimation};
-use super::measure::MeshDistance;
+use super::measure::{Distances, MeshDistance};
 use super::mesh::InputMesh;
 use super::pack::{pack, STEP_FRACTION};
 use crate::number::sig;
@@ -247,15 +247,8 @@ fn measure_decimated(
             d
         })
         .collect();
-    let stats = |d: &[f64]| {
-        let n = d.len().max(1) as f64;
-        (
-            d.iter().cloned().fold(0.0, f64::max),
-            (d.iter().map(|x| x * x).sum::<f64>() / n).sqrt(),
-        )
-    };
-    let (h1, r1) = stats(&to_coarse);
-    let (h2, r2) = stats(&to_mesh);
+    let (a, b) = (Distances::of(&to_coarse), Distances::of(&to_mesh));
+    let (h1, r1, h2, r2) = (a.max, a.rms, b.max, b.rms);
     let hausdorff = h1.max(h2);
     let (v, t) = (coarse.positions.len(), coarse.triangles.len());
     let step = (hausdorff * STEP_FRACTION).max(diagonal * 1e-9);
