@@ -23,14 +23,20 @@ for ex in optimize_curvature vesicle; do
     cp "$out/$ex-$method.csv" "$out/$ex-$method.last.csv"
   done
   # The gradient search's solves until its value first reaches annealing's best: the search
-  # re-run with its evaluations capped there (it is deterministic).
+  # re-run with its evaluations capped, the cap raised until the capped run reaches it (the
+  # search is deterministic; the cap counts SLSQP's calls, which may repeat a point).
   target=$(awk -F, 'NR > 1 && ($5 < m || m == "") { m = $5 } END { print m }' "$out/$ex-anneal.last.csv")
   hit=$(awk -F, -v t="$target" 'NR > 1 && $5 <= t { print NR - 1; exit }' "$out/$ex-gradient.last.csv")
-  if [ -n "$hit" ]; then
-    "$bin" optimize "examples/$ex.toml" -o "$out/cap.toml" --method gradient --evaluations "$hit" \
-      --timings 2>"$out/t" >/dev/null
-    echo "  annealing's best $target: the gradient search reaches it at evaluation $hit, $(grep '^{' "$out/t")"
-  else
-    echo "  annealing's best $target: not reached by the gradient search"
-  fi
+  reached=""
+  for cap in $(seq "${hit:-1}" $(( ${hit:-1} + 20 ))); do
+    [ -n "$hit" ] || break
+    "$bin" optimize "examples/$ex.toml" -o "$out/cap.toml" --method gradient --evaluations "$cap" \
+      --timings 2>"$out/t" >"$out/report"
+    best=$(head -1 "$out/report" | sed 's/.*best \([0-9.e+-]*\).*/\1/')
+    if awk -v b="$best" -v t="$target" 'BEGIN { exit !(b <= t) }'; then
+      reached="best $best with --evaluations $cap: $(grep '^{' "$out/t")"
+      break
+    fi
+  done
+  echo "  annealing's best $target: the gradient search reaches it: ${reached:-not reached}"
 done

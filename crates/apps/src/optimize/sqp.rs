@@ -392,6 +392,33 @@ mod tests {
         assert!(best.total() < start.total());
     }
 
+    /// Two starts: the second is drawn within the bounds and logged as chain 1; the result is
+    /// the better of the two, so never worse than the first start's alone.
+    #[test]
+    fn a_second_start_is_logged_and_never_worsens_the_result() {
+        let p = Problem::new(&example("vesicle.toml")).unwrap();
+        let one = p
+            .run_gradient(&GradientOptions::default(), &|_, _| {})
+            .unwrap();
+        let o = GradientOptions {
+            starts: 2,
+            ..GradientOptions::default()
+        };
+        let two = p.run_gradient(&o, &|_, _| {}).unwrap();
+        assert_eq!(two.search.chains.len(), 2);
+        assert!(two.search.log.iter().any(|r| r.chain == 1));
+        let first: Vec<_> = two.search.log.iter().filter(|r| r.chain == 0).collect();
+        assert_eq!(first.len(), one.search.log.len());
+        assert!(!better(&one.best.1, &two.best.1));
+        let (lo, hi): (Vec<f64>, Vec<f64>) = p.parameters.bounds().into_iter().unzip();
+        let x1 = &two.search.chains[1].0;
+        assert!(x1
+            .iter()
+            .zip(lo.iter().zip(&hi))
+            .all(|(x, (l, h))| l <= x && x <= h));
+        assert_ne!(x1, &p.parameters.initial());
+    }
+
     /// Shell stress is refused, before any analysis.
     #[test]
     fn max_shear_is_refused() {
