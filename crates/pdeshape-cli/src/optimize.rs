@@ -141,7 +141,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     if let Some(s) = args.seed {
         o.seed = s;
     }
-    if let Some(n) = args.evaluations {
+    // With --method gradient, --evaluations counts gradient evaluations (below).
+    if let Some(n) = args.evaluations.filter(|_| args.method == Method::Anneal) {
         o.evaluations = n;
     }
     if let Some(n) = args.chains {

@@ -252,6 +252,24 @@ fn gradient_search_writes_the_same_files_and_improves_the_start() {
         files(dir.path()),
         ["best.csv", "best.obj", "best.png", "best.toml", "d.toml"]
     );
+    // One gradient evaluation is a search of its own (not refused as annealing's budget of
+    // fewer evaluations than chains would be).
+    let out = pdeshape(&[
+        "optimize",
+        s(&d),
+        "-o",
+        s(&best),
+        "--method",
+        "gradient",
+        "--evaluations",
+        "1",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("after 1 gradient evaluations"));
     let (report2, text2, log2, _) = run("2");
     assert_eq!((&report, &text, &log), (&report2, &text2, &log2));
     let first = report.lines().next().unwrap();
