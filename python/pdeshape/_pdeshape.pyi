@@ -64,6 +64,26 @@ class DynamicCurve(TypedDict, total=False):
     distances: F64  # (P,) |p_i - C(u_i)|
     updates: int
 
+class ConstraintValue(TypedDict):
+    expr: str
+    value: float  # the formula's value
+    equal: float | None
+    min: float | None
+    max: float | None
+    weight: float
+
+class ProblemValue(TypedDict):
+    x: dict[str, float]  # every [optimize] parameter's value
+    value: float  # objective + penalty
+    objective: float
+    penalty: float
+    feasible: bool
+    measures: dict[str, float]  # the formulas' variables (area, volume, mean, …, nu, c0, …)
+    constraints: list[ConstraintValue]
+
+#: An equality constraint holds within this tolerance relative to max(|target|, 1).
+EQUALITY_TOLERANCE: float
+
 class Design:
     @staticmethod
     def load(path: str | PathLike[str]) -> Design: ...
@@ -133,6 +153,7 @@ class Design:
         chains: int | None = None,
         polish: int | None = None,
     ) -> dict[str, Any]: ...
+    def evaluate_problem(self, values: Mapping[str, float] | None = None) -> ProblemValue: ...
     def to_trimesh(
         self,
         nu: int | None = None,

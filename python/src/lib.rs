@@ -1063,6 +1063,75 @@ impl Design {
         Ok(d)
     }
 
+    /// The design's `[optimize]` problem evaluated at one point, as the optimiser evaluates it
+    /// (one solve, the integrals at the problem's fixed quadrature, the objective and penalty
+    /// formulas): the point is `values` (`{name: value}` of `[optimize]` parameters, each
+    /// within its bounds), else the values `with_params` set, else the initial values. The
+    /// design is the one as read with the other values `with_params` set. Returns a dict:
+    /// `x` (every parameter's value), `value` (objective + penalty, what the search minimises),
+    /// `objective`, `penalty`, `feasible`, `measures` (the formulas' variables by name: `area`,
+    /// `volume`, `mean`, …; NaN for shell measures no formula uses) and `constraints` (per
+    /// constraint: `expr`, `value` of its formula, `equal`/`min`/`max`, `weight`).
+    #[pyo3(signature = (values = None))]
+    fn evaluate_problem<'py>(
+        &self,
+        py: Python<'py>,
+        values: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (problem, x) = self.problem_at(values)?;
+        let ev = py
+            .detach(|| problem.evaluate(&x))
+            .map_err(|e| self.located(&e))?;
+        let v = &ev.variables;
+        let totals = Integrals {
+            area: v[0],
+            volume: v[1],
+            mean: v[2],
+            mean_sq: v[3],
+            gauss: v[4],
+        };
+        let shell = problem.shell_setup().map(|_| [v[11], v[12], v[13]]);
+        let constraints = PyList::empty(py);
+        let opt = problem.base.optimize.as_ref();
+        for c in opt.map(|o| &o.constraints[..]).unwrap_or(&[]) {
+            // The constraint's formula as the objective of a problem of its own, evaluated on
+            // the same measures (no second solve).
+            let mut spec = problem.base.clone();
+            if let Some(o) = spec.optimize.as_mut() {
+                o.objective = c.expr.clone();
+                o.constraints.clear();
+            }
+            let one = py
+                .detach(|| Problem::new(&spec))
+                .map_err(|e| self.located(&e))?;
+            let d = PyDict::new(py);
+            d.set_item("expr", &c.expr)?;
+            d.set_item("value", one.evaluate_with(&totals, shell).objective)?;
+            d.set_item("equal", c.equal)?;
+            d.set_item("min", c.min)?;
+            d.set_item("max", c.max)?;
+            d.set_item("weight", c.weight)?;
+            constraints.append(d)?;
+        }
+        let xs = PyDict::new(py);
+        for (p, value) in problem.parameters.list.iter().zip(&x) {
+            xs.set_item(&p.name, value)?;
+        }
+        let measures = PyDict::new(py);
+        for (name, value) in pdeshape::optimize::VARIABLES.iter().zip(v) {
+            measures.set_item(name, value)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("x", xs)?;
+        d.set_item("value", ev.total())?;
+        d.set_item("objective", ev.objective)?;
+        d.set_item("penalty", ev.penalty)?;
+        d.set_item("feasible", ev.feasible)?;
+        d.set_item("measures", measures)?;
+        d.set_item("constraints", constraints)?;
+        Ok(d)
+    }
+
     /// For the benchmark of the Python call's overhead: the seconds of each of `repeats` calls
     /// of the library's `SolvedDesign::samples(nu, nv)` alone (`flat = False`) or with the flat
     /// arrays `tessellate` returns assembled (`flat = True`), timed in Rust: `tessellate`
@@ -1116,6 +1185,55 @@ impl Design {
 }
 
 impl Design {
+    /// The `[optimize]` problem of the design as read with the values `with_params` set for
+    /// names other than its parameters, and the point of [`Design::evaluate_problem`].
+    fn problem_at(&self, values: Option<&Bound<'_, PyDict>>) -> PyResult<(Problem, Vec<f64>)> {
+        let Some(opt) = self.spec.optimize.as_ref() else {
+            return Err(self
+                .located(&Error::invalid("the design has no [optimize] section").at("optimize")));
+        };
+        let names: Vec<&str> = opt.parameters.iter().map(|p| p.name.as_str()).collect();
+        let original = Design::parse(self.file.clone(), self.text.clone())?.spec;
+        let others: Vec<(String, f64)> = self
+            .params
+            .iter()
+            .filter(|(n, _)| !names.contains(&n.as_str()))
+            .cloned()
+            .collect();
+        let base = apply_params(&original, &others)?.unwrap_or(original);
+        let problem = Problem::new(&base).map_err(|e| self.located(&e))?;
+        let list = &problem.parameters.list;
+        let mut x = problem.parameters.initial();
+        for (k, p) in list.iter().enumerate() {
+            if let Some((_, v)) = self.params.iter().find(|(n, _)| n == &p.name) {
+                x[k] = *v;
+            }
+        }
+        for (key, value) in values.into_iter().flat_map(|v| v.iter()) {
+            let name: String = key
+                .extract()
+                .map_err(|_| err("values: the keys must be parameter names (str)"))?;
+            let value: f64 = value
+                .extract()
+                .map_err(|_| err(format!("values['{name}']: must be a number")))?;
+            let Some(k) = list.iter().position(|p| p.name == name) else {
+                return Err(err(format!(
+                    "values['{name}']: not a parameter of [optimize] (they are {})",
+                    names.join(", ")
+                )));
+            };
+            let p = &list[k];
+            if !(p.min..=p.max).contains(&value) {
+                return Err(err(format!(
+                    "values['{name}']: {value} lies outside the bounds [{}, {}] of [optimize]",
+                    p.min, p.max
+                )));
+            }
+            x[k] = value;
+        }
+        Ok((problem, x))
+    }
+
     fn surface_of(
         &mut self,
         py: Python<'_>,
@@ -1517,6 +1635,7 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(fit_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(fill_mesh, m)?)?;
+    m.add("EQUALITY_TOLERANCE", pdeshape::optimize::EQUALITY_TOLERANCE)?;
     Ok(())
 }
 
