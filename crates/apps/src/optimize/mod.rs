@@ -47,6 +47,7 @@
 //! §7.4.2 (see [`anneal`]).
 
 pub mod anneal;
+mod gradient;
 #[cfg(test)]
 mod measure;
 mod params;
@@ -54,6 +55,10 @@ mod values;
 
 pub use crate::spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
+pub use gradient::{
+    d_variables, nonlinear_design, sensitivities, ConstraintGradient, Method, ProblemGradient,
+    Sensitivities,
+};
 pub use params::{ParamKind, Parameter, Parameters};
 pub use values::{apply_values, ValueError};
 
@@ -63,7 +68,7 @@ use crate::formula::{self, Parsed, Variables};
 use crate::shell::ShellSetup;
 use crate::spec::DesignSpec;
 use crate::{Error, Result};
-use exmex::FloatOpsFactory;
+use exmex::{Differentiate, FloatOpsFactory};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -160,6 +165,9 @@ pub fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Integrals> 
 struct Formula {
     text: String,
     parsed: Parsed<f64, FloatOpsFactory<f64>>,
+    /// The symbolic partial derivatives in the formula's own variables (`parsed.slots` order),
+    /// or why exmex cannot differentiate it.
+    partials: std::result::Result<Vec<Parsed<f64, FloatOpsFactory<f64>>>, String>,
 }
 
 impl Formula {
@@ -178,10 +186,38 @@ impl Formula {
             }
             .at(place)
         })?;
+        let partials = (0..parsed.slots.len())
+            .map(|i| {
+                parsed
+                    .expr
+                    .clone()
+                    .partial(i)
+                    .map(|expr| Parsed {
+                        expr,
+                        slots: parsed.slots.clone(),
+                    })
+                    .map_err(|e| e.to_string())
+            })
+            .collect();
         Ok(Formula {
             text: text.to_string(),
             parsed,
+            partials,
         })
+    }
+
+    /// The value and the partial derivatives `∂f/∂VARIABLES[j]` (0 for variables the formula
+    /// does not use), by exmex's symbolic differentiation.
+    fn gradient(&self, vars: &[f64; NVARS]) -> Result<(f64, [f64; NVARS])> {
+        let partials = self
+            .partials
+            .as_ref()
+            .map_err(|e| Error::invalid(format!("cannot differentiate '{}': {e}", self.text)))?;
+        let mut grad = [0.0; NVARS];
+        for (p, &slot) in partials.iter().zip(&self.parsed.slots) {
+            grad[slot] += p.eval(vars).unwrap_or(f64::NAN);
+        }
+        Ok((self.eval(vars), grad))
     }
 
     fn eval(&self, vars: &[f64; NVARS]) -> f64 {
@@ -351,6 +387,9 @@ pub struct Outcome {
     pub solver_failures: usize,
     /// The first failed analysis's message.
     pub first_failure: Option<String>,
+    /// Design solves made by the search (an annealing evaluation is one; a gradient is one
+    /// per affine parameter, two per rotation, four per approximate one, plus the point).
+    pub solves: usize,
 }
 
 impl Problem {
@@ -500,6 +539,11 @@ impl Problem {
         if let Some(s) = shell {
             variables[MASS..=YIELD].copy_from_slice(&s);
         }
+        self.evaluate_variables(variables)
+    }
+
+    /// The objective and penalties for given values of [`VARIABLES`].
+    pub fn evaluate_variables(&self, variables: [f64; NVARS]) -> Evaluation {
         let objective = self.objective.eval(&variables);
         let penalty = 0.0
             + self
@@ -619,6 +663,7 @@ impl Problem {
             solver_failures,
             first_failure,
             start: (x0, start),
+            solves: search.evaluations,
             search,
         })
     }

@@ -59,7 +59,7 @@ pub struct DesignIntegrals {
 type BoundaryRow = Vec<(Vec3, Vec3)>;
 
 /// Trapezoid nodes on boundary curves.
-const CURVE_NODES: usize = 512;
+pub(super) const CURVE_NODES: usize = 512;
 /// Boundary rows closer than this (relative to the design's size) are the same curve.
 const SAME_CURVE: f64 = 1e-8;
 
@@ -330,4 +330,19 @@ fn cap_of(row: &[(Vec3, Vec3)], w: &[f64]) -> (f64, f64, f64, f64) {
         0.0
     };
     (c.dot(&s) / 3.0, radius, area, planarity)
+}
+
+/// The derivative of a cap's `(1/3) c·S` (see [`cap_of`]) along a tangent: `rows` holds
+/// `(C, C', Ċ, Ċ')` at the trapezoid nodes with weights `w`; the result is
+/// `(1/3)(ċ·S + c·Ṡ)`, `ċ` the mean of `Ċ`, `Ṡ = (1/2)∮ (Ċ − ċ) × C' + (C − c) × Ċ' dv`.
+pub(super) fn cap_derivative(rows: &[(Vec3, Vec3, Vec3, Vec3)], w: &[f64]) -> f64 {
+    let period: f64 = w.iter().sum();
+    let c = rows.iter().zip(w).map(|(r, w)| r.0 * *w).sum::<Vec3>() / period;
+    let dc = rows.iter().zip(w).map(|(r, w)| r.2 * *w).sum::<Vec3>() / period;
+    let (mut s, mut ds) = (Vec3::zeros(), Vec3::zeros());
+    for ((x, xv, dx, dxv), w) in rows.iter().zip(w) {
+        s += (x - c).cross(xv) * (0.5 * w);
+        ds += ((dx - dc).cross(xv) + (x - c).cross(dxv)) * (0.5 * w);
+    }
+    (dc.dot(&s) + c.dot(&ds)) / 3.0
 }
