@@ -1132,6 +1132,125 @@ impl Design {
         Ok(d)
     }
 
+    /// The measures of the design and their derivatives with respect to parameters, from the
+    /// library's sensitivities (`optimize::sensitivities`, `Problem::gradient`). `names`: the
+    /// parameters (`[[parameters]]` entries or names in the book's notation, a book name taken
+    /// from its neutral value on the design as it is); by default the `[optimize]` parameters at
+    /// the point `evaluate_problem` uses (then the objective and the constraints are
+    /// differentiated too), else the `[[parameters]]` entries. `quadrature = (qu, qv)`: the
+    /// fixed rule of the integrals (default the `[optimize]` one, else 24 × 48). Returns a dict:
+    /// `names`, `x` (the parameters' values), `measures` (the formulas' variables by name),
+    /// `d_measures` (`{measure: array (k,)}`, ∂measure/∂parameter), `errors` (the same shape:
+    /// the library's estimate of each derivative's absolute error), `methods` (per parameter,
+    /// `linear`, `rotation` — exact up to rounding — or `richardson`, extrapolated differences),
+    /// `exact` (per parameter), `solves`; and for the `[optimize]` problem `objective`,
+    /// `d_objective`, `penalty`, `d_penalty`, `value`, `d_value` (objective + penalty) and
+    /// `constraints` (per constraint: `expr`, `value`, `gradient`, `equal`, `min`, `max`).
+    #[pyo3(signature = (names = None, quadrature = None))]
+    fn gradient<'py>(
+        &self,
+        py: Python<'py>,
+        names: Option<Vec<String>>,
+        quadrature: Option<(usize, usize)>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        // The limits of `[optimize]`'s quadrature_u and quadrature_v.
+        if let Some((qu, qv)) = quadrature {
+            if !((2..=4096).contains(&qu) && (3..=4096).contains(&qv)) {
+                return Err(err(format!(
+                    "quadrature: qu must lie in 2..=4096 and qv in 3..=4096 (got ({qu}, {qv}))"
+                )));
+            }
+        }
+        let d = PyDict::new(py);
+        let s = match (&names, &self.spec.optimize) {
+            (None, Some(_)) => {
+                let (mut problem, x) = self.problem_at(None)?;
+                if let Some(q) = quadrature {
+                    problem.quadrature = q;
+                }
+                let g = py
+                    .detach(|| problem.gradient(&x))
+                    .map_err(|e| self.located(&e))?;
+                let value: Vec<f64> = g
+                    .d_objective
+                    .iter()
+                    .zip(&g.d_penalty)
+                    .map(|(a, b)| a + b)
+                    .collect();
+                d.set_item("objective", g.objective)?;
+                d.set_item("d_objective", array1(py, g.d_objective.clone()))?;
+                d.set_item("penalty", g.penalty)?;
+                d.set_item("d_penalty", array1(py, g.d_penalty.clone()))?;
+                d.set_item("value", g.objective + g.penalty)?;
+                d.set_item("d_value", array1(py, value))?;
+                let constraints = PyList::empty(py);
+                for c in &g.constraints {
+                    let e = PyDict::new(py);
+                    e.set_item("expr", &c.text)?;
+                    e.set_item("value", c.value)?;
+                    e.set_item("gradient", array1(py, c.gradient.clone()))?;
+                    e.set_item("equal", c.equal)?;
+                    e.set_item("min", c.min)?;
+                    e.set_item("max", c.max)?;
+                    constraints.append(e)?;
+                }
+                d.set_item("constraints", constraints)?;
+                g.sensitivities
+            }
+            _ => {
+                let names = match names {
+                    Some(n) => n,
+                    None if !self.spec.parameters.is_empty() => self
+                        .spec
+                        .parameters
+                        .iter()
+                        .map(|p| p.name.clone())
+                        .collect(),
+                    None => {
+                        return Err(err(
+                            "names: the design declares no parameters ([[parameters]] or \
+                             [optimize]); name them, e.g. ['a', '<curve>Tx']",
+                        ))
+                    }
+                };
+                let (qu, qv) = quadrature.unwrap_or((24, 48));
+                let spec = &self.spec;
+                py.detach(|| pdeshape::optimize::sensitivities(spec, &names, qu, qv))
+                    .map_err(|e| {
+                        if e.place().starts_with("names") {
+                            err(format!("{}: {}", e.place(), message_of(&e)))
+                        } else {
+                            self.located(&e)
+                        }
+                    })?
+            }
+        };
+        let vars = pdeshape::optimize::VARIABLES;
+        let measures = PyDict::new(py);
+        let d_measures = PyDict::new(py);
+        let errors = PyDict::new(py);
+        for (j, name) in vars.iter().enumerate() {
+            measures.set_item(name, s.values[j])?;
+            d_measures.set_item(name, array1(py, s.d_values.iter().map(|r| r[j]).collect()))?;
+            errors.set_item(name, array1(py, s.errors.iter().map(|r| r[j]).collect()))?;
+        }
+        let x = PyDict::new(py);
+        for (n, v) in s.names.iter().zip(&s.parameters) {
+            x.set_item(n, v)?;
+        }
+        d.set_item("names", &s.names)?;
+        d.set_item("x", x)?;
+        d.set_item("measures", measures)?;
+        d.set_item("d_measures", d_measures)?;
+        d.set_item("errors", errors)?;
+        let methods: Vec<&str> = s.methods.iter().map(|m| m.label()).collect();
+        let exact: Vec<bool> = s.methods.iter().map(|m| m.is_exact()).collect();
+        d.set_item("methods", methods)?;
+        d.set_item("exact", exact)?;
+        d.set_item("solves", s.solves)?;
+        Ok(d)
+    }
+
     /// For the benchmark of the Python call's overhead: the seconds of each of `repeats` calls
     /// of the library's `SolvedDesign::samples(nu, nv)` alone (`flat = False`) or with the flat
     /// arrays `tessellate` returns assembled (`flat = True`), timed in Rust: `tessellate`
