@@ -106,3 +106,29 @@ def test_gradient_names_and_errors():
         d.gradient(quadrature=(0, 5))
     with pytest.raises(DesignError, match="names"):
         Design.load(EXAMPLES / "cup.toml").gradient()
+
+
+def test_shell_problem_gradient_is_refused_but_named_parameters_work():
+    # yoghurt_optimize.toml's constraint uses max_shear (CalculiX), which is not differentiated;
+    # its geometric measures are, by names, on the design at a point inside the bounds.
+    base = Design.load(EXAMPLES / "yoghurt_optimize.toml")
+    with pytest.raises(DesignError, match="max_shear"):
+        base.gradient()
+    x = interior(base)
+    d = base.with_params(x)
+    q = (24, 128)
+    # a book name is differentiated from its neutral value on the design as it is: for a
+    # translation, `a` and cT that is the derivative in the absolute value; for a dilation the
+    # factor multiplies the current one (d/ds at 1 = s0 · d/ds at s0)
+    names = ["d1Tz", "d2Tz", "a", "d1cT", "d1Dx"]
+    g = d.gradient(names=names, quadrature=q)
+    assert g["names"] == names and g["methods"][2] == "richardson" and not g["exact"][2]
+    assert g["x"]["d1Dx"] == 1.0 and g["x"]["a"] == pytest.approx(x["a"], rel=1e-15)
+
+    def measure(v, m):
+        return base.with_params(v).analysis(quadrature=q)["total"][m]
+
+    for k, name in enumerate(names):
+        scale = x[name] if name == "d1Dx" else 1.0
+        for m in ("area", "volume"):
+            check(lambda v, m=m: measure(v, m), x, name, step(base, name), g["d_measures"][m][k] / scale)
