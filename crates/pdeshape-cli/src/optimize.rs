@@ -1,16 +1,26 @@
 //! `pdeshape optimize DESIGN -o BEST.toml`: search the design parameters of `[optimize]` by
-//! simulated annealing and a Nelder–Mead polish (book §7.3–7.5), then write the optimised design
-//! file (the original text with the parameters applied), its mesh (`BEST.obj`), its picture
-//! (`BEST.png`) and the log of the search (`BEST.csv`). With the shell measures (`mass`,
+//! simulated annealing and a Nelder–Mead polish (book §7.3–7.5), or with `--method gradient` by
+//! SLSQP on the exact sensitivities ([`pdeshape::optimize::Problem::run_gradient`]), then write
+//! the optimised design file (the original text with the parameters applied), its mesh
+//! (`BEST.obj`), its picture (`BEST.png`) and the log of the search (`BEST.csv`). With the shell measures (`mass`,
 //! `max_shear`, `yield`) the progress line shows the best feasible design so far, and the report
 //! the count of failed shell analyses (designs counted as infeasible).
 
 use crate::common::{self, CliError, Output};
 use pdeshape::design::WriteDesign as _;
 use pdeshape::mesh;
-use pdeshape::optimize::{Problem, VARIABLES};
+use pdeshape::optimize::{GradientOptions, Problem, VARIABLES};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// The search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Method {
+    /// Simulated annealing and a Nelder–Mead polish (the book's).
+    Anneal,
+    /// SLSQP with the exact sensitivities, bounds and constraints.
+    Gradient,
+}
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
@@ -23,7 +33,11 @@ pub(crate) struct Args {
     /// Seed of the random numbers (default from [optimize], else 1).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Annealing evaluations, all chains together (default from [optimize], else 2000).
+    /// The search: simulated annealing (default) or gradient (SLSQP on exact sensitivities).
+    #[arg(long, value_enum, default_value_t = Method::Anneal)]
+    pub method: Method,
+    /// Annealing evaluations, all chains together (default from [optimize], else 2000); with
+    /// --method gradient, gradient evaluations per start (default 100).
     #[arg(long)]
     pub evaluations: Option<usize>,
     /// Independent annealing chains (default from [optimize], else 4).
@@ -32,6 +46,14 @@ pub(crate) struct Args {
     /// Nelder–Mead polish evaluations (default from [optimize], else 200).
     #[arg(long)]
     pub polish: Option<usize>,
+    /// Starts of the gradient search (default 1: the initial values; the others drawn within
+    /// the bounds from --seed).
+    #[arg(long)]
+    pub starts: Option<usize>,
+    /// Print one JSON line on stderr: the search's wall time (ms), its evaluations and its
+    /// design solves.
+    #[arg(long)]
+    pub timings: bool,
     /// Worker threads (default: all cores). The result does not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -63,10 +85,18 @@ fn csv_number(x: f64) -> String {
 /// Prices the search before it starts ([`pdeshape::memory`]): the log of every evaluation
 /// (named by `--evaluations`/`--polish` or `optimize.evaluations`), and the quadrature of the
 /// evaluations running at once, one per worker (`optimize.quadrature_u × quadrature_v`).
-fn search_memory(args: &Args, design: &common::Loaded, problem: &Problem) -> Result<(), CliError> {
+fn search_memory(
+    args: &Args,
+    design: &common::Loaded,
+    problem: &Problem,
+    gradient: Option<&GradientOptions>,
+) -> Result<(), CliError> {
     use pdeshape::memory;
     let o = &problem.options;
-    let records = o.evaluations.saturating_add(o.polish) as u64;
+    let records = match gradient {
+        Some(g) => g.evaluations.saturating_mul(g.starts),
+        None => o.evaluations.saturating_add(o.polish),
+    } as u64;
     let parameters = problem.parameters.list.len() as u64;
     let what = format!(
         "the search log of {} + {} evaluations ({parameters} parameters)",
@@ -136,7 +166,38 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "--threads: at most {max_threads} worker threads (got {n})"
         )));
     }
-    search_memory(args, &design, &problem)?;
+    let gradient = match args.method {
+        Method::Anneal => {
+            if args.starts.is_some() {
+                return Err(CliError::input("--starts: only with --method gradient"));
+            }
+            None
+        }
+        Method::Gradient => {
+            for (flag, given) in [("chains", args.chains), ("polish", args.polish)] {
+                if given.is_some() {
+                    return Err(CliError::input(format!(
+                        "--{flag}: only with --method anneal"
+                    )));
+                }
+            }
+            let g = GradientOptions {
+                evaluations: args.evaluations.unwrap_or(100),
+                starts: args.starts.unwrap_or(1),
+                seed: problem.options.seed,
+                ..GradientOptions::default()
+            };
+            if let Err(e) = g.check() {
+                return Err(CliError::input(format!(
+                    "--{}: {}",
+                    e.place(),
+                    common::message_of(&e)
+                )));
+            }
+            Some(g)
+        }
+    };
+    search_memory(args, &design, &problem, gradient.as_ref())?;
     let paths = [
         args.output.clone(),
         beside(&args.output, "obj"),
@@ -161,7 +222,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .map(|p| Output::create(p))
         .collect::<Result<Vec<_>, _>>()?;
 
-    let total = (problem.options.evaluations + problem.options.polish) as u64;
+    let total = match &gradient {
+        Some(g) => (g.evaluations * g.starts) as u64,
+        None => (problem.options.evaluations + problem.options.polish) as u64,
+    };
     let bar = if common::quiet() {
         indicatif::ProgressBar::hidden()
     } else {
@@ -185,14 +249,20 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             bar.set_message(format!("best {best:.6}"));
         }
     };
+    let clock = std::time::Instant::now();
+    let search = || match &gradient {
+        Some(g) => problem.run_gradient(g, &report),
+        None => problem.run(&report),
+    };
     let outcome = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .map_err(|e| CliError::input(format!("--threads: {e}")))?
-            .install(|| problem.run(&report)),
-        None => problem.run(&report),
+            .install(search),
+        None => search(),
     };
+    let seconds = clock.elapsed().as_secs_f64();
     bar.finish_and_clear();
     let outcome = outcome.map_err(|e| match e {
         // A solver that is missing, fails or times out on the starting design.
@@ -281,11 +351,14 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .as_ref()
         .map_or("failed".to_string(), |e| format!("{:.9}", e.total()));
     report.push_str(&format!(
-        "objective {}: start {start_value}, best {:.9} (penalty {:.3e}) after {} evaluations\n",
+        "objective {}: start {start_value}, best {:.9} (penalty {:.3e}) after {} {}evaluations \
+         ({} solves)\n",
         problem.objective_text(),
         best.total(),
         best.penalty,
-        outcome.search.evaluations
+        outcome.search.evaluations,
+        if gradient.is_some() { "gradient " } else { "" },
+        outcome.solves,
     ));
     report.push_str("parameter        initial          best\n");
     for (p, x) in problem.parameters.list.iter().zip(best_x) {
@@ -343,5 +416,16 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         paths[3].display()
     ));
     common::report(&report);
+    if args.timings {
+        // Not part of the report, which does not depend on the machine.
+        eprintln!(
+            "{}",
+            serde_json::json!({
+                "search_ms": seconds * 1e3,
+                "evaluations": outcome.search.evaluations,
+                "solves": outcome.solves,
+            })
+        );
+    }
     Ok(())
 }

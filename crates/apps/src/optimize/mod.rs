@@ -51,6 +51,7 @@ mod gradient;
 #[cfg(test)]
 mod measure;
 mod params;
+mod sqp;
 mod values;
 
 pub use crate::spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
@@ -60,6 +61,7 @@ pub use gradient::{
     Sensitivities,
 };
 pub use params::{ParamKind, Parameter, Parameters};
+pub use sqp::GradientOptions;
 pub use values::{apply_values, ValueError};
 
 use crate::analysis::{integrate_design, Integrals, Quadrature};

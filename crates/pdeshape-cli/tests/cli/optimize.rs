@@ -217,3 +217,107 @@ fn output_must_be_toml() {
     assert!(String::from_utf8_lossy(&out.stderr).contains(".toml"));
     assert_eq!(files(dir.path()), vec!["d.toml".to_string()]);
 }
+
+/// `--method gradient`: the same files, a result below the start reached in gradient
+/// evaluations (the log's phase `gradient`), the same for any thread count, and `--timings`
+/// prints the search's time, evaluations and solves as one JSON line.
+#[test]
+fn gradient_search_writes_the_same_files_and_improves_the_start() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", DESIGN);
+    let best = dir.path().join("best.toml");
+    let run = |threads: &str| {
+        let out = pdeshape(&[
+            "optimize",
+            s(&d),
+            "-o",
+            s(&best),
+            "--method",
+            "gradient",
+            "--threads",
+            threads,
+            "--timings",
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{stderr}");
+        (
+            String::from_utf8_lossy(&out.stdout).to_string(),
+            std::fs::read_to_string(&best).unwrap(),
+            std::fs::read_to_string(dir.path().join("best.csv")).unwrap(),
+            stderr,
+        )
+    };
+    let (report, text, log, stderr) = run("1");
+    assert_eq!(
+        files(dir.path()),
+        ["best.csv", "best.obj", "best.png", "best.toml", "d.toml"]
+    );
+    let (report2, text2, log2, _) = run("2");
+    assert_eq!((&report, &text, &log), (&report2, &text2, &log2));
+    let first = report.lines().next().unwrap();
+    assert!(first.contains("gradient evaluations"), "{first}");
+    let num = |key: &str| -> f64 {
+        let rest = &first[first.find(key).unwrap() + key.len()..];
+        rest.split([',', ' ']).next().unwrap().parse().unwrap()
+    };
+    let (start, best_value) = (num("start "), num("best "));
+    assert!(best_value < start, "{first}");
+    // Every logged evaluation is a gradient one, and the best is the lowest logged value.
+    let rows: Vec<Vec<&str>> = log
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert!(!rows.is_empty());
+    assert!(rows.iter().all(|r| r[0] == "gradient"), "{log}");
+    let min_value = rows
+        .iter()
+        .map(|r| r[4].parse::<f64>().unwrap())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        (min_value - best_value).abs() <= 1e-6 * best_value.abs(),
+        "{min_value} vs {best_value}"
+    );
+    let timings: serde_json::Value = serde_json::from_str(
+        stderr
+            .lines()
+            .find(|l| l.starts_with('{'))
+            .unwrap_or_else(|| panic!("no timings line in {stderr}")),
+    )
+    .unwrap();
+    assert_eq!(timings["evaluations"].as_u64(), Some(rows.len() as u64));
+    // d1Dx and d1Tz are exact (one solve each), `a` takes at least 6: at least 9 per gradient.
+    assert!(timings["solves"].as_u64().unwrap() >= 9 * rows.len() as u64);
+    assert!(timings["search_ms"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn gradient_search_bad_input() {
+    let gradient = ["--method", "gradient"];
+    bad(
+        DESIGN,
+        &[&gradient[..], &["--chains", "2"]].concat(),
+        &["--chains", "anneal"],
+    );
+    bad(DESIGN, &["--starts", "2"], &["--starts", "gradient"]);
+    bad(
+        DESIGN,
+        &[&gradient[..], &["--starts", "0"]].concat(),
+        &["--starts"],
+    );
+    bad(
+        DESIGN,
+        &[&gradient[..], &["--evaluations", "0"]].concat(),
+        &["--evaluations"],
+    );
+    // Shell stress is not differentiated: refused plainly, before any analysis.
+    bad(
+        &edit(
+            DESIGN,
+            "parameters = [",
+            "constraints = [{ expr = \"max_shear / yield\", max = 0.3 }]\nparameters = [",
+        ),
+        &gradient,
+        &["d.toml:", "optimize", "max_shear", "--method anneal"],
+    );
+}
