@@ -64,6 +64,52 @@ class DynamicCurve(TypedDict, total=False):
     distances: F64  # (P,) |p_i - C(u_i)|
     updates: int
 
+class ConstraintValue(TypedDict):
+    expr: str
+    value: float  # the formula's value
+    equal: float | None
+    min: float | None
+    max: float | None
+    weight: float
+
+class ProblemValue(TypedDict):
+    x: dict[str, float]  # every [optimize] parameter's value
+    value: float  # objective + penalty
+    objective: float
+    penalty: float
+    feasible: bool
+    measures: dict[str, float]  # the formulas' variables (area, volume, mean, …, nu, c0, …)
+    constraints: list[ConstraintValue]
+
+class ConstraintGradient(TypedDict):
+    expr: str
+    value: float
+    gradient: F64  # (k,)
+    equal: float | None
+    min: float | None
+    max: float | None
+
+class Gradient(TypedDict, total=False):
+    names: list[str]  # the k parameters
+    x: dict[str, float]
+    measures: dict[str, float]  # area, volume, mean, mean_sq, gauss, bending, willmore, …
+    d_measures: dict[str, F64]  # (k,) ∂measure/∂parameter
+    errors: dict[str, F64]  # (k,) estimated absolute error of each derivative
+    methods: list[str]  # "linear", "rotation" (exact up to rounding) or "richardson"
+    exact: list[bool]
+    solves: int
+    # with the [optimize] problem (names None):
+    objective: float
+    d_objective: F64
+    penalty: float
+    d_penalty: F64
+    value: float
+    d_value: F64
+    constraints: list[ConstraintGradient]
+
+#: An equality constraint holds within this tolerance relative to max(|target|, 1).
+EQUALITY_TOLERANCE: float
+
 class Design:
     @staticmethod
     def load(path: str | PathLike[str]) -> Design: ...
@@ -133,6 +179,10 @@ class Design:
         chains: int | None = None,
         polish: int | None = None,
     ) -> dict[str, Any]: ...
+    def evaluate_problem(self, values: Mapping[str, float] | None = None) -> ProblemValue: ...
+    def gradient(
+        self, names: list[str] | None = None, quadrature: tuple[int, int] | None = None
+    ) -> Gradient: ...
     def to_trimesh(
         self,
         nu: int | None = None,

@@ -21,7 +21,8 @@ Dask's own rescheduling of the tasks of a lost worker). Without a client the sam
 this process, so a serial run and a cluster run give identical tables.
 
 :func:`anneal` runs independent annealing chains of a design's ``[optimize]`` problem (one task
-per chain, seeds ``seed, seed + 1, …``) and keeps the best.
+per chain, seeds ``seed, seed + 1, …``) and keeps the best; :func:`evaluate_problem` evaluates
+that problem at a list of points (what :mod:`pdeshape.optuna` sends to the cluster).
 """
 
 from __future__ import annotations
@@ -36,7 +37,16 @@ import numpy as np
 from ._pdeshape import Design, DesignError, fit_mesh
 from . import MESH_EXTENSIONS
 
-__all__ = ["sweep", "grid", "anneal", "MEASURES", "FIT_COLUMNS", "run_chunk"]
+__all__ = [
+    "sweep",
+    "grid",
+    "anneal",
+    "evaluate_problem",
+    "MEASURES",
+    "FIT_COLUMNS",
+    "run_chunk",
+    "run_problem_chunk",
+]
 
 #: The measures a sweep can report: the totals of :meth:`Design.analysis` (the keys of
 #: ``pdeshape analyze --json``'s ``total``).
@@ -344,3 +354,46 @@ def anneal(
     results = _run(_chain, args, client, retries)
     best = min(results, key=lambda r: (r["value"], r["seed"]))
     return {"best": best, "chains": results}
+
+
+def run_problem_chunk(
+    text: str, file: str, base_params: Mapping[str, float], points: Sequence[Mapping[str, float]]
+) -> list[dict]:
+    """Evaluates the ``[optimize]`` problem of the design (TOML ``text`` with ``base_params``
+    set) at each point: the work of one task. Returns one dict per point,
+    :meth:`Design.evaluate_problem`'s, or ``{"error": message}`` where it fails."""
+    try:
+        base = Design.from_toml(text, file)
+        if base_params:
+            base = base.with_params(dict(base_params))
+    except DesignError as e:
+        return [{"error": str(e)} for _ in points]
+    out: list[dict] = []
+    for point in points:
+        try:
+            out.append(base.evaluate_problem(dict(point)))
+        except DesignError as e:
+            out.append({"error": str(e)})
+    return out
+
+
+def evaluate_problem(
+    design: Design,
+    points: Sequence[Mapping[str, float]],
+    client: Any = None,
+    chunk_size: int | None = None,
+    retries: int = 3,
+) -> list[dict]:
+    """The design's ``[optimize]`` problem evaluated at each point (``{name: value}`` of its
+    parameters; the others at the values ``with_params`` set, else their initial ones), in
+    chunks of ``chunk_size`` points per task on ``client`` (or here, serially).
+
+    Returns one dict per point in the input's order: :meth:`Design.evaluate_problem`'s (``x``,
+    ``value``, ``objective``, ``penalty``, ``feasible``, ``measures``, ``constraints``), or
+    ``{"error": message}`` for a point the design refuses or cannot be solved at.
+    """
+    rows = [dict(p) for p in points]
+    size = _chunk_size(len(rows), client, chunk_size)
+    base = dict(design.params())
+    args = [(design.text, design.file, base, rows[i : i + size]) for i in range(0, len(rows), size)]
+    return list(itertools.chain.from_iterable(_run(run_problem_chunk, args, client, retries)))

@@ -1063,6 +1063,194 @@ impl Design {
         Ok(d)
     }
 
+    /// The design's `[optimize]` problem evaluated at one point, as the optimiser evaluates it
+    /// (one solve, the integrals at the problem's fixed quadrature, the objective and penalty
+    /// formulas): the point is `values` (`{name: value}` of `[optimize]` parameters, each
+    /// within its bounds), else the values `with_params` set, else the initial values. The
+    /// design is the one as read with the other values `with_params` set. Returns a dict:
+    /// `x` (every parameter's value), `value` (objective + penalty, what the search minimises),
+    /// `objective`, `penalty`, `feasible`, `measures` (the formulas' variables by name: `area`,
+    /// `volume`, `mean`, …; NaN for shell measures no formula uses) and `constraints` (per
+    /// constraint: `expr`, `value` of its formula, `equal`/`min`/`max`, `weight`).
+    #[pyo3(signature = (values = None))]
+    fn evaluate_problem<'py>(
+        &self,
+        py: Python<'py>,
+        values: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (problem, x) = self.problem_at(values)?;
+        let ev = py
+            .detach(|| problem.evaluate(&x))
+            .map_err(|e| self.located(&e))?;
+        let v = &ev.variables;
+        let totals = Integrals {
+            area: v[0],
+            volume: v[1],
+            mean: v[2],
+            mean_sq: v[3],
+            gauss: v[4],
+        };
+        let shell = problem.shell_setup().map(|_| [v[11], v[12], v[13]]);
+        let constraints = PyList::empty(py);
+        let opt = problem.base.optimize.as_ref();
+        for c in opt.map(|o| &o.constraints[..]).unwrap_or(&[]) {
+            // The constraint's formula as the objective of a problem of its own, evaluated on
+            // the same measures (no second solve).
+            let mut spec = problem.base.clone();
+            if let Some(o) = spec.optimize.as_mut() {
+                o.objective = c.expr.clone();
+                o.constraints.clear();
+            }
+            let one = py
+                .detach(|| Problem::new(&spec))
+                .map_err(|e| self.located(&e))?;
+            let d = PyDict::new(py);
+            d.set_item("expr", &c.expr)?;
+            d.set_item("value", one.evaluate_with(&totals, shell).objective)?;
+            d.set_item("equal", c.equal)?;
+            d.set_item("min", c.min)?;
+            d.set_item("max", c.max)?;
+            d.set_item("weight", c.weight)?;
+            constraints.append(d)?;
+        }
+        let xs = PyDict::new(py);
+        for (p, value) in problem.parameters.list.iter().zip(&x) {
+            xs.set_item(&p.name, value)?;
+        }
+        let measures = PyDict::new(py);
+        for (name, value) in pdeshape::optimize::VARIABLES.iter().zip(v) {
+            measures.set_item(name, value)?;
+        }
+        let d = PyDict::new(py);
+        d.set_item("x", xs)?;
+        d.set_item("value", ev.total())?;
+        d.set_item("objective", ev.objective)?;
+        d.set_item("penalty", ev.penalty)?;
+        d.set_item("feasible", ev.feasible)?;
+        d.set_item("measures", measures)?;
+        d.set_item("constraints", constraints)?;
+        Ok(d)
+    }
+
+    /// The measures of the design and their derivatives with respect to parameters, from the
+    /// library's sensitivities (`optimize::sensitivities`, `Problem::gradient`). `names`: the
+    /// parameters (`[[parameters]]` entries or names in the book's notation, a book name taken
+    /// from its neutral value on the design as it is); by default the `[optimize]` parameters at
+    /// the point `evaluate_problem` uses (then the objective and the constraints are
+    /// differentiated too), else the `[[parameters]]` entries. `quadrature = (qu, qv)`: the
+    /// fixed rule of the integrals (default the `[optimize]` one, else 24 × 48). Returns a dict:
+    /// `names`, `x` (the parameters' values), `measures` (the formulas' variables by name),
+    /// `d_measures` (`{measure: array (k,)}`, ∂measure/∂parameter), `errors` (the same shape:
+    /// the library's estimate of each derivative's absolute error), `methods` (per parameter,
+    /// `linear`, `rotation` — exact up to rounding — or `richardson`, extrapolated differences),
+    /// `exact` (per parameter), `solves`; and for the `[optimize]` problem `objective`,
+    /// `d_objective`, `penalty`, `d_penalty`, `value`, `d_value` (objective + penalty) and
+    /// `constraints` (per constraint: `expr`, `value`, `gradient`, `equal`, `min`, `max`).
+    #[pyo3(signature = (names = None, quadrature = None))]
+    fn gradient<'py>(
+        &self,
+        py: Python<'py>,
+        names: Option<Vec<String>>,
+        quadrature: Option<(usize, usize)>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        // The limits of `[optimize]`'s quadrature_u and quadrature_v.
+        if let Some((qu, qv)) = quadrature {
+            if !((2..=4096).contains(&qu) && (3..=4096).contains(&qv)) {
+                return Err(err(format!(
+                    "quadrature: qu must lie in 2..=4096 and qv in 3..=4096 (got ({qu}, {qv}))"
+                )));
+            }
+        }
+        let d = PyDict::new(py);
+        let s = match (&names, &self.spec.optimize) {
+            (None, Some(_)) => {
+                let (mut problem, x) = self.problem_at(None)?;
+                if let Some(q) = quadrature {
+                    problem.quadrature = q;
+                }
+                let g = py
+                    .detach(|| problem.gradient(&x))
+                    .map_err(|e| self.located(&e))?;
+                let value: Vec<f64> = g
+                    .d_objective
+                    .iter()
+                    .zip(&g.d_penalty)
+                    .map(|(a, b)| a + b)
+                    .collect();
+                d.set_item("objective", g.objective)?;
+                d.set_item("d_objective", array1(py, g.d_objective.clone()))?;
+                d.set_item("penalty", g.penalty)?;
+                d.set_item("d_penalty", array1(py, g.d_penalty.clone()))?;
+                d.set_item("value", g.objective + g.penalty)?;
+                d.set_item("d_value", array1(py, value))?;
+                let constraints = PyList::empty(py);
+                for c in &g.constraints {
+                    let e = PyDict::new(py);
+                    e.set_item("expr", &c.text)?;
+                    e.set_item("value", c.value)?;
+                    e.set_item("gradient", array1(py, c.gradient.clone()))?;
+                    e.set_item("equal", c.equal)?;
+                    e.set_item("min", c.min)?;
+                    e.set_item("max", c.max)?;
+                    constraints.append(e)?;
+                }
+                d.set_item("constraints", constraints)?;
+                g.sensitivities
+            }
+            _ => {
+                let names = match names {
+                    Some(n) => n,
+                    None if !self.spec.parameters.is_empty() => self
+                        .spec
+                        .parameters
+                        .iter()
+                        .map(|p| p.name.clone())
+                        .collect(),
+                    None => {
+                        return Err(err(
+                            "names: the design declares no parameters ([[parameters]] or \
+                             [optimize]); name them, e.g. ['a', '<curve>Tx']",
+                        ))
+                    }
+                };
+                let (qu, qv) = quadrature.unwrap_or((24, 48));
+                let spec = &self.spec;
+                py.detach(|| pdeshape::optimize::sensitivities(spec, &names, qu, qv))
+                    .map_err(|e| {
+                        if e.place().starts_with("names") {
+                            err(format!("{}: {}", e.place(), message_of(&e)))
+                        } else {
+                            self.located(&e)
+                        }
+                    })?
+            }
+        };
+        let vars = pdeshape::optimize::VARIABLES;
+        let measures = PyDict::new(py);
+        let d_measures = PyDict::new(py);
+        let errors = PyDict::new(py);
+        for (j, name) in vars.iter().enumerate() {
+            measures.set_item(name, s.values[j])?;
+            d_measures.set_item(name, array1(py, s.d_values.iter().map(|r| r[j]).collect()))?;
+            errors.set_item(name, array1(py, s.errors.iter().map(|r| r[j]).collect()))?;
+        }
+        let x = PyDict::new(py);
+        for (n, v) in s.names.iter().zip(&s.parameters) {
+            x.set_item(n, v)?;
+        }
+        d.set_item("names", &s.names)?;
+        d.set_item("x", x)?;
+        d.set_item("measures", measures)?;
+        d.set_item("d_measures", d_measures)?;
+        d.set_item("errors", errors)?;
+        let methods: Vec<&str> = s.methods.iter().map(|m| m.label()).collect();
+        let exact: Vec<bool> = s.methods.iter().map(|m| m.is_exact()).collect();
+        d.set_item("methods", methods)?;
+        d.set_item("exact", exact)?;
+        d.set_item("solves", s.solves)?;
+        Ok(d)
+    }
+
     /// For the benchmark of the Python call's overhead: the seconds of each of `repeats` calls
     /// of the library's `SolvedDesign::samples(nu, nv)` alone (`flat = False`) or with the flat
     /// arrays `tessellate` returns assembled (`flat = True`), timed in Rust: `tessellate`
@@ -1116,6 +1304,55 @@ impl Design {
 }
 
 impl Design {
+    /// The `[optimize]` problem of the design as read with the values `with_params` set for
+    /// names other than its parameters, and the point of [`Design::evaluate_problem`].
+    fn problem_at(&self, values: Option<&Bound<'_, PyDict>>) -> PyResult<(Problem, Vec<f64>)> {
+        let Some(opt) = self.spec.optimize.as_ref() else {
+            return Err(self
+                .located(&Error::invalid("the design has no [optimize] section").at("optimize")));
+        };
+        let names: Vec<&str> = opt.parameters.iter().map(|p| p.name.as_str()).collect();
+        let original = Design::parse(self.file.clone(), self.text.clone())?.spec;
+        let others: Vec<(String, f64)> = self
+            .params
+            .iter()
+            .filter(|(n, _)| !names.contains(&n.as_str()))
+            .cloned()
+            .collect();
+        let base = apply_params(&original, &others)?.unwrap_or(original);
+        let problem = Problem::new(&base).map_err(|e| self.located(&e))?;
+        let list = &problem.parameters.list;
+        let mut x = problem.parameters.initial();
+        for (k, p) in list.iter().enumerate() {
+            if let Some((_, v)) = self.params.iter().find(|(n, _)| n == &p.name) {
+                x[k] = *v;
+            }
+        }
+        for (key, value) in values.into_iter().flat_map(|v| v.iter()) {
+            let name: String = key
+                .extract()
+                .map_err(|_| err("values: the keys must be parameter names (str)"))?;
+            let value: f64 = value
+                .extract()
+                .map_err(|_| err(format!("values['{name}']: must be a number")))?;
+            let Some(k) = list.iter().position(|p| p.name == name) else {
+                return Err(err(format!(
+                    "values['{name}']: not a parameter of [optimize] (they are {})",
+                    names.join(", ")
+                )));
+            };
+            let p = &list[k];
+            if !(p.min..=p.max).contains(&value) {
+                return Err(err(format!(
+                    "values['{name}']: {value} lies outside the bounds [{}, {}] of [optimize]",
+                    p.min, p.max
+                )));
+            }
+            x[k] = value;
+        }
+        Ok((problem, x))
+    }
+
     fn surface_of(
         &mut self,
         py: Python<'_>,
@@ -1518,6 +1755,7 @@ fn _pdeshape(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(version, m)?)?;
     m.add_function(wrap_pyfunction!(fit_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(fill_mesh, m)?)?;
+    m.add("EQUALITY_TOLERANCE", pdeshape::optimize::EQUALITY_TOLERANCE)?;
     Ok(())
 }
 
