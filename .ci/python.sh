@@ -8,6 +8,8 @@ venv="${PY_VENV:-.ci/.venv-python}"
 if [ ! -x "$venv/bin/python" ]; then
   python3.11 -m venv "$venv" || python3 -m venv "$venv"
 fi
+# An absolute path, so a relative or absolute PY_VENV both work after the `cd` below.
+venv="$(cd "$venv" && pwd)"
 "$venv/bin/pip" install -q --upgrade pip
 "$venv/bin/pip" install -q -r python/requirements-test.txt
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
@@ -18,4 +20,4 @@ cargo clippy --manifest-path python/Cargo.toml -- -D warnings
 cargo test --workspace --release --no-run --quiet
 export PDESHAPE_CLI="$CARGO_TARGET_DIR/release/pdeshape"
 cd python/tests
-"../../$venv/bin/python" -m pytest -q -p no:cacheprovider .
+"$venv/bin/python" -m pytest -q -p no:cacheprovider .
