@@ -19,6 +19,7 @@
 
 use super::anneal::{Record, SearchResult};
 use super::{Evaluation, Outcome, Problem, EQUALITY_TOLERANCE};
+use crate::spec::limits::{MAX_GRADIENT_EVALUATIONS, MAX_STARTS};
 use crate::{Error, Result};
 use rand::{Rng, SeedableRng};
 use std::cell::RefCell;
@@ -50,16 +51,16 @@ impl Default for GradientOptions {
 impl GradientOptions {
     /// Checks the options: errors name the option (`evaluations`, `starts`, `ftol_rel`).
     pub fn check(&self) -> Result<()> {
-        if !(1..=100_000).contains(&self.evaluations) {
+        if !(1..=MAX_GRADIENT_EVALUATIONS).contains(&self.evaluations) {
             return Err(Error::invalid(format!(
-                "must be between 1 and 100000 (got {})",
+                "must be between 1 and {MAX_GRADIENT_EVALUATIONS} (got {})",
                 self.evaluations
             ))
             .at("evaluations"));
         }
-        if !(1..=1000).contains(&self.starts) {
+        if !(1..=MAX_STARTS).contains(&self.starts) {
             return Err(Error::invalid(format!(
-                "must be between 1 and 1000 (got {})",
+                "must be between 1 and {MAX_STARTS} (got {})",
                 self.starts
             ))
             .at("starts"));

@@ -40,6 +40,11 @@ pub const MAX_CHAINS: usize = 1024;
 /// Most worker threads of `pdeshape optimize --threads` (each takes a stack of its own; the
 /// chains, at most [`MAX_CHAINS`], are the parallel work).
 pub const MAX_THREADS: usize = 1024;
+/// Most gradient evaluations of one start of `pdeshape optimize --method gradient`
+/// (`--evaluations`).
+pub const MAX_GRADIENT_EVALUATIONS: usize = 100_000;
+/// Most starts of `pdeshape optimize --method gradient` (`--starts`).
+pub const MAX_STARTS: usize = 1000;
 /// Most constraints of `[optimize]`.
 pub const MAX_CONSTRAINTS: usize = 256;
 /// Most parameters of `[optimize]`, and most `[[parameters]]` entries.
@@ -154,6 +159,16 @@ pub const LIMITS: &[Limit] = &[
         field: "optimize --threads",
         bound: "1 … 1024",
         reason: "threads and memory",
+    },
+    Limit {
+        field: "optimize --method gradient --evaluations",
+        bound: "1 … 100000 gradient evaluations per start",
+        reason: "run time",
+    },
+    Limit {
+        field: "optimize --starts",
+        bound: "1 … 1000",
+        reason: "run time",
     },
     Limit {
         field: "optimize.constraints",
