@@ -7,6 +7,7 @@ import pathlib
 import subprocess
 
 import pytest
+from dask.distributed import Client, LocalCluster
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
@@ -40,3 +41,12 @@ def cli():
 @pytest.fixture
 def cup_path() -> pathlib.Path:
     return EXAMPLES / "cup.toml"
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A dask.distributed LocalCluster of 2 single-threaded worker processes, one per test module."""
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    with Client(cluster) as c:
+        yield c
+    cluster.close()

@@ -7,7 +7,6 @@ import math
 
 import optuna
 import pytest
-from dask.distributed import Client, LocalCluster
 
 from conftest import EXAMPLES
 from pdeshape import Design, DesignError
@@ -18,14 +17,6 @@ optuna.logging.set_verbosity(optuna.logging.WARNING)
 CURVATURE = EXAMPLES / "optimize_curvature.toml"
 #: The quadrature of optimize_curvature.toml's [optimize] (the defaults: 24 × 48).
 QUADRATURE = (24, 48)
-
-
-@pytest.fixture(scope="module")
-def client():
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
-    with Client(cluster) as c:
-        yield c
-    cluster.close()
 
 
 def test_evaluate_problem_is_the_design_measured():

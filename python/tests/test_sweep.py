@@ -20,14 +20,6 @@ from pdeshape.sweep import anneal, grid, sweep
 MEASURES = ["area", "volume", "bending_energy"]
 
 
-@pytest.fixture(scope="module")
-def client():
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
-    with Client(cluster) as c:
-        yield c
-    cluster.close()
-
-
 def cup_grid(n):
     return grid(bellyDx=np.linspace(0.8, 1.2, n), rimDy=np.linspace(0.9, 1.1, n))
 
