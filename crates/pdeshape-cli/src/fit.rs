@@ -153,10 +153,15 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     spec.title = Some(format!("fitted to {name}"));
     let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
     if let (Some(words), false) = (&miss_words, args.best_effort) {
-        let why = if fitted.notes.is_empty() {
+        let reasons: Vec<String> = declined
+            .iter()
+            .map(|d| format!("the {} mode's fit is kept: {d}", fitted.mode.name()))
+            .chain(fitted.notes.iter().cloned())
+            .collect();
+        let why = if reasons.is_empty() {
             String::new()
         } else {
-            format!(" ({})", fitted.notes.join("; "))
+            format!(" ({})", reasons.join("; "))
         };
         return Err(CliError {
             message: format!(

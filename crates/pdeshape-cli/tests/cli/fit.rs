@@ -947,11 +947,12 @@ fn a_missed_tube_fit_is_kept_when_the_general_mode_refuses_the_mesh() {
     let json = dir.path().join("out.json");
     let args = ["fit", s(&mesh), "-o", s(&design), "--tolerance", "1e-4"];
     let out = pdeshape(&args);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("the tube mode's fit is kept: the general mode refused"),
+        "{err}"
     );
     assert!(!design.exists());
     let mut more = args.to_vec();
