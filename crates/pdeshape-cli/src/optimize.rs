@@ -182,11 +182,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
                     )));
                 }
             }
+            let defaults = GradientOptions::default();
             let g = GradientOptions {
-                evaluations: args.evaluations.unwrap_or(100),
-                starts: args.starts.unwrap_or(1),
+                evaluations: args.evaluations.unwrap_or(defaults.evaluations),
+                starts: args.starts.unwrap_or(defaults.starts),
                 seed: problem.options.seed,
-                ..GradientOptions::default()
+                ..defaults
             };
             if let Err(e) = g.check() {
                 return Err(CliError::input(format!(
