@@ -58,7 +58,7 @@ impl Packed {
 }
 
 /// Bits for the integers `0 ..= max`.
-fn bits_for(max: u64) -> u32 {
+pub(super) fn bits_for(max: u64) -> u32 {
     64 - max.leading_zeros()
 }
 

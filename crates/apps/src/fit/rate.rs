@@ -7,8 +7,10 @@
 //! general mode's layout starts from, without the sliver clean-up): vertices stay on the mesh,
 //! as with a vertex-subset decimation; a decimator that moves vertices to their quadrics'
 //! optima (such as `fast-simplification`) is somewhat more accurate at the same size
-//! (BENCHMARKS.md has both). Its packed size uses the rule of [`super::pack`]: positions to a
-//! step of 1/64 of its own Hausdorff distance, indices in `⌈log₂ V⌉` bits. Its distances are
+//! (BENCHMARKS.md has both). Its packed size follows [`super::pack`]: positions to a step of
+//! 1/64 of its own Hausdorff distance, each coordinate axis in as many bits as its own range
+//! needs (a fit's corners share one width for all three: this favours the decimation by at
+//! most a bit or two a vertex), indices in `⌈log₂ V⌉` bits. Its distances are
 //! two-sided like a fit's: every vertex of the mesh to the decimated mesh, and 10 points of
 //! each decimated triangle (the cubic barycentric lattice) to the mesh.
 
@@ -16,7 +18,7 @@ use super::auto::{fit_measured, measure_like, ModeChoice, Request};
 use super::layout::{vertex_normals, Decimation};
 use super::measure::{Distances, MeshDistance};
 use super::mesh::InputMesh;
-use super::pack::{pack, STEP_FRACTION};
+use super::pack::{bits_for, pack, STEP_FRACTION};
 use crate::number::sig;
 use crate::spec::write_design;
 use crate::{Error, Result, Vec3};
@@ -260,10 +262,10 @@ fn measure_decimated(
                 .map(|p| (p[axis] / step).round() as i64)
                 .collect();
             let span = q.iter().max().unwrap_or(&0) - q.iter().min().unwrap_or(&0);
-            (64 - (span as u64).leading_zeros()) as usize
+            bits_for(span as u64) as usize
         })
         .sum::<usize>();
-    let index_bits = (64 - (v.saturating_sub(1) as u64).leading_zeros()).max(1) as usize;
+    let index_bits = bits_for(v.saturating_sub(1) as u64).max(1) as usize;
     let bits = v * coordinate_bits + 3 * t * index_bits;
     DecimatedPoint {
         vertices: v,

@@ -94,17 +94,27 @@ pub(crate) fn build_networks(
     for (i, spec) in specs.iter().enumerate() {
         let place = format!("network[{i}]");
         let solved = build_one(spec, builder, surfaces, &place).map_err(|e| e.at(&place))?;
-        let operator = OperatorSpec::Polyharmonic {
-            order: spec.order,
-            a: spec.a,
-        };
-        for (k, patch) in solved.faces.iter().enumerate() {
-            let name = format!("{}.{k}", spec.name);
-            push_surfaces(patch, &name, &place, &operator, surfaces)?;
-        }
+        push_faces(&solved, spec.order, spec.a, &place, surfaces)?;
         out.push(solved);
     }
     Ok(out)
+}
+
+/// The faces of a solved network (or patchwork) as the design's surfaces `name.k` (their pieces
+/// `name.k.j`), each with the polyharmonic operator of order `order` and parameter `a`.
+pub(super) fn push_faces(
+    solved: &SolvedNetwork,
+    order: usize,
+    a: f64,
+    place: &str,
+    surfaces: &mut Vec<DesignSurface>,
+) -> Result<()> {
+    let operator = OperatorSpec::Polyharmonic { order, a };
+    for (k, patch) in solved.faces.iter().enumerate() {
+        let name = format!("{}.{k}", solved.name);
+        push_surfaces(patch, &name, place, &operator, surfaces)?;
+    }
+    Ok(())
 }
 
 fn build_one(

@@ -5,13 +5,12 @@
 //! The result is presented as a [`SolvedNetwork`] (its nodes, pieces and faces are the
 //! layout's), so `check` measures it like any network.
 
-use super::network::{Joint, SolvedNetwork, CREASE_ANGLE};
-use super::nsided::push_surfaces;
+use super::network::{push_faces, Joint, SolvedNetwork, CREASE_ANGLE};
 use super::solved::DesignSurface;
 use crate::curve::{Hermite, SharedCurve};
 use crate::network::{Edge, Face, Network, NetworkCurve, Node, Run};
 use crate::nsided::{NSidedOptions, NSidedPatch, Ribbon, Side, MAX_SIDES};
-use crate::spec::{OperatorSpec, PatchworkSpec};
+use crate::spec::PatchworkSpec;
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -29,14 +28,7 @@ pub(crate) fn build_patchworks(
     for (i, spec) in specs.iter().enumerate() {
         let place = format!("patchwork[{i}]");
         let solved = build_one(spec, &place).map_err(|e| e.at(&place))?;
-        let operator = OperatorSpec::Polyharmonic {
-            order: spec.order,
-            a: spec.a,
-        };
-        for (k, patch) in solved.faces.iter().enumerate() {
-            let name = format!("{}.{k}", spec.name);
-            push_surfaces(patch, &name, &place, &operator, surfaces)?;
-        }
+        push_faces(&solved, spec.order, spec.a, &place, surfaces)?;
         out.push(solved);
     }
     Ok(out)
