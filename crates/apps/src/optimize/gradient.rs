@@ -35,10 +35,8 @@
 //! arc-length curve, and every parameter of a design that is not made of PDE patches alone or
 //! has curves derived non-linearly from others (`local`, `on_patch`, `tangent_field`).
 
-use super::{variables, Problem, MASS, NVARS, YIELD};
-use crate::analysis::{
-    integrals_derivative, integrate_design, DesignIntegrals, Integrals, Quadrature,
-};
+use super::{measure_patches, variables, Problem, MASS, NVARS, YIELD};
+use crate::analysis::{integrals_derivative, Integrals, Quadrature};
 use crate::design::{design_a, design_parameters, parse_book_name, solve_design, SolvedDesign};
 use crate::optimize::{ParamKind, Parameters};
 use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec};
@@ -239,23 +237,6 @@ struct Point<'a> {
     c0: f64,
 }
 
-/// The integrals of a built design (finite, as [`super::measure`] requires).
-fn integrals(built: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegrals> {
-    let d = integrate_design(built, q)?;
-    let t = d.total;
-    if [t.area, t.volume, t.mean, t.mean_sq, t.gauss]
-        .iter()
-        .all(|x| x.is_finite())
-    {
-        Ok(d)
-    } else {
-        Err(Error::invalid(format!(
-            "the design's integrals are not finite (area {}, volume {}, ∫H² dA {})",
-            t.area, t.volume, t.mean_sq
-        )))
-    }
-}
-
 fn sub(a: &Integrals, b: &Integrals, s: f64) -> Integrals {
     Integrals {
         area: (a.area - b.area) * s,
@@ -270,7 +251,7 @@ impl Point<'_> {
     fn run(&self) -> Result<Sensitivities> {
         let q = Quadrature::fixed(self.quadrature.0, self.quadrature.1);
         let built = solve_design(&self.spec)?;
-        let at = integrals(&built, &q)?;
+        let at = measure_patches(&built, &q)?;
         let t = at.total;
         let values = variables(&t, self.c0);
         let size = t.area.abs().sqrt().max(f64::MIN_POSITIVE);
@@ -325,7 +306,7 @@ impl Point<'_> {
                     None => {
                         let h0 = RICHARDSON_STEP * u;
                         let m = |v: f64| -> Result<Integrals> {
-                            Ok(integrals(&solve(k, v)?, &q)?.total)
+                            Ok(measure_patches(&solve(k, v)?, &q)?.total)
                         };
                         // Central differences D_i at h_i = h0 / 2^i until they are in their
                         // asymptotic regime (see `richardson_regime`).

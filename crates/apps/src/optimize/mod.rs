@@ -64,7 +64,7 @@ pub use params::{ParamKind, Parameter, Parameters};
 pub use sqp::GradientOptions;
 pub use values::{apply_values, ValueError};
 
-use crate::analysis::{integrate_design, Integrals, Quadrature};
+use crate::analysis::{integrate_design, DesignIntegrals, Integrals, Quadrature};
 use crate::design::{solve_design, SolvedDesign};
 use crate::formula::{self, Parsed, Variables};
 use crate::shell::ShellSetup;
@@ -148,12 +148,19 @@ pub fn variables(t: &Integrals, c0_abs: f64) -> [f64; NVARS] {
 /// ([`Quadrature::fixed`]): cheap and, for the smooth patches of a search, accurate (see the
 /// tests).
 pub fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Integrals> {
-    let t = integrate_design(built, &Quadrature::fixed(qu, qv))?.total;
+    Ok(measure_patches(built, &Quadrature::fixed(qu, qv))?.total)
+}
+
+/// The integrals of a built design per patch and in total with the quadrature `q`; a total
+/// that is not finite is an error.
+fn measure_patches(built: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegrals> {
+    let d = integrate_design(built, q)?;
+    let t = d.total;
     if [t.area, t.volume, t.mean, t.mean_sq, t.gauss]
         .iter()
         .all(|x| x.is_finite())
     {
-        Ok(t)
+        Ok(d)
     } else {
         Err(Error::invalid(format!(
             "the design's integrals are not finite (area {}, volume {}, ∫H² dA {})",
