@@ -171,8 +171,10 @@ export function analyticHandles(c) {
   const spec = c.spec;
   if (!spec || (spec.transform && spec.transform.length) || c.role === 'derivative' || !c.points.length) return [];
   if (spec.type === 'circle' && c.v0) return [['center', spec.center], ['radius', c.v0.point]];
-  if (spec.type === 'ellipse' && spec.rx != null && spec.ry != null && !spec.v_origin && c.points.length === 128) {
-    return [['center', spec.center], ['rx', c.points[0]], ['ry', c.points[32]]];
+  // Every sample finite (none left out) and a whole number per quarter: point n/4 is at v = π/2.
+  const n = c.points.length;
+  if (spec.type === 'ellipse' && spec.rx != null && spec.ry != null && !spec.v_origin && n === c.samples && n % 4 === 0) {
+    return [['center', spec.center], ['rx', c.points[0]], ['ry', c.points[n / 4]]];
   }
   return [];
 }

@@ -36,17 +36,28 @@ const W: f64 = TAU;
 fn host_jet(host: &dyn Surface, path: &TrimCurve, s: f64) -> (Partials, [f64; 2], [f64; 2]) {
     let t = s / W;
     let [p, d1, d2] = path.jet(t);
-    let v = if host.v_domain().is_periodic() {
-        p[1].rem_euclid(TAU)
-    } else {
-        p[1]
-    };
-    let pt = host.partials(p[0], v);
+    let pt = host.partials(p[0], host_v(host, p[1]));
     (
         pt,
         [d1[0] / W, d1[1] / W],
         [d2[0] / (W * W), d2[1] / (W * W)],
     )
+}
+
+/// The point of the image curve at `s` ([`host_jet`]'s position: the path's point is its jet's
+/// first entry).
+fn host_point(host: &dyn Surface, path: &TrimCurve, s: f64) -> Vec3 {
+    let [u, v] = path.point(s / W);
+    host.point(u, host_v(host, v))
+}
+
+/// `v` as the host takes it: in `[0, 2π)` on a periodic host.
+fn host_v(host: &dyn Surface, v: f64) -> f64 {
+    if host.v_domain().is_periodic() {
+        v.rem_euclid(TAU)
+    } else {
+        v
+    }
 }
 
 /// `C'` and `C''` of the image curve from the host's partials and the `(u, v)` derivatives.
@@ -124,6 +135,11 @@ impl Curve for CurveOnSurface {
     }
 
     fn jet(&self, s: f64, out: &mut [Vec3]) {
+        if let [o] = out {
+            // The position alone: the host's point, without its partials.
+            *o = host_point(self.host.surface(), &self.path, s);
+            return;
+        }
         let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
         let (c1, c2) = image_derivatives(&p, d1, d2);
         for (k, o) in out.iter_mut().enumerate().take(3) {

@@ -568,7 +568,7 @@ impl SolvedDesign {
                 closed: false,
             });
         }
-        lines.extend(self.trim_overlays());
+        lines.extend(self.trim_overlays(super::trim::TRIM_POINTS));
         lines.retain(|l| l.points.iter().all(|p| p.iter().all(|x| x.is_finite())));
         lines
     }

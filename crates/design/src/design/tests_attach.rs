@@ -104,6 +104,12 @@ fn curves_on_the_bowl_have_their_derivatives_and_the_field_points_into_the_hole(
             let v = TAU * (k as f64 + 0.3) / 50.0;
             let mut j = [Vec3::zeros(); 3];
             c.jet(v, &mut j);
+            // The position alone (the host's point, not its partials) is the jet's, bit for bit.
+            let (x, y) = (c.point(v), j[0]);
+            assert!(x
+                .iter()
+                .zip(y.iter())
+                .all(|(a, b)| a.to_bits() == b.to_bits()));
             let d1 = (c.point(v + h) - c.point(v - h)) / (2.0 * h);
             let d2 = (c.derivative(v + h, 1) - c.derivative(v - h, 1)) / (2.0 * h);
             assert!((d1 - j[1]).norm() < 1e-6, "{root} {v}: {d1} {}", j[1]);

@@ -181,16 +181,17 @@ impl super::SolvedDesign {
         Ok(out)
     }
 
-    /// The images on their surfaces of every trim curve (3D polylines for pictures).
-    pub fn trim_overlays(&self) -> Vec<super::Overlay> {
+    /// The images on their surfaces of every trim curve (3D polylines for pictures), `points`
+    /// points each (256 in pictures).
+    pub fn trim_overlays(&self, points: usize) -> Vec<super::Overlay> {
         let mut lines = Vec::new();
         for t in &self.trims {
             let s = self.surfaces[t.surface].surface();
             let periodic = s.v_domain().is_periodic();
             for c in &t.curves {
-                let points = (0..TRIM_POINTS)
+                let points = (0..points)
                     .map(|k| {
-                        let [u, v] = c.point(k as f64 / TRIM_POINTS as f64);
+                        let [u, v] = c.point(k as f64 / points as f64);
                         let v = if periodic {
                             v.rem_euclid(crate::TAU)
                         } else {
@@ -210,8 +211,8 @@ impl super::SolvedDesign {
     }
 }
 
-/// Points along a drawn trim curve.
-const TRIM_POINTS: usize = 256;
+/// Points along a drawn trim curve in pictures.
+pub(crate) const TRIM_POINTS: usize = 256;
 
 /// The grid with each end row that collapses to a point (a pole: every vertex within the weld
 /// tolerance of the row's first, relative to the grid's diagonal) set exactly to that point,

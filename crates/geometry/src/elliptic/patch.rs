@@ -43,16 +43,21 @@ pub(crate) struct Remainder {
 }
 
 impl Remainder {
-    /// `Δ_i(v)` and its first two v-derivatives (zero for inactive conditions).
-    fn delta(&self, conditions: &[Condition], i: usize, v: f64) -> [Vec3; 3] {
-        if !self.active[i] {
-            return [Vec3::zeros(); 3];
-        }
+    /// `Δ_i(v)` and its v-derivatives up to `order ≤ 2` (the rest zero; all zero for inactive
+    /// conditions). Asking only for what is used matters: a condition curve on another patch
+    /// (an attachment's) evaluates that patch for each derivative it is asked for.
+    fn delta(&self, conditions: &[Condition], i: usize, v: f64, order: usize) -> [Vec3; 3] {
         let mut g = [Vec3::zeros(); 3];
+        if !self.active[i] {
+            return g;
+        }
         let mut f = [Vec3::zeros(); 3];
-        conditions[i].curve.jet(v, &mut g);
-        self.fitted[i].jet(v, &mut f);
-        [g[0] - f[0], g[1] - f[1], g[2] - f[2]]
+        conditions[i].curve.jet(v, &mut g[..=order]);
+        self.fitted[i].jet(v, &mut f[..=order]);
+        for (g, f) in g.iter_mut().zip(f) {
+            *g -= f;
+        }
+        g
     }
 }
 
@@ -139,7 +144,7 @@ impl PdePatch {
             let mut w = vec![0.0; self.conditions.len()];
             r.cardinal.eval(u, d, &mut w);
             for (i, wi) in w.iter().enumerate() {
-                x += r.delta(&self.conditions, i, v)[0] * *wi;
+                x += r.delta(&self.conditions, i, v, 0)[0] * *wi;
             }
         }
         x
@@ -158,6 +163,23 @@ impl PdePatch {
     ) -> Vec<ConditionError> {
         let samples = samples.max(1);
         let k = self.conditions.len();
+        let vs: Vec<f64> = (0..samples)
+            .map(|j| TAU * j as f64 / samples as f64)
+            .collect();
+        // `Δ_i(v_j)` of the remainder's conditions, once for every condition measured (a
+        // condition curve on another patch evaluates that patch at each call).
+        let deltas: Vec<Vec<Vec3>> = match &self.remainder {
+            Some(r) if (0..k).any(&pick) => (0..k)
+                .map(|i| match r.active[i] {
+                    true => vs
+                        .iter()
+                        .map(|&v| r.delta(&self.conditions, i, v, 0)[0])
+                        .collect(),
+                    false => Vec::new(),
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
         self.conditions
             .iter()
             .enumerate()
@@ -176,14 +198,13 @@ impl PdePatch {
                     r.cardinal.eval(c.u, c.derivative, &mut w);
                 }
                 let (mut abs, mut size) = (0.0f64, 0.0f64);
-                for j in 0..samples {
-                    let v = TAU * j as f64 / samples as f64;
+                for (j, &v) in vs.iter().enumerate() {
                     let g = c.curve.point(v);
                     let mut x = fitted.point(v);
                     if let Some(r) = &self.remainder {
                         for (i, wi) in w.iter().enumerate() {
                             if r.active[i] {
-                                x += r.delta(&self.conditions, i, v)[0] * *wi;
+                                x += deltas[i][j] * *wi;
                             }
                         }
                     }
@@ -283,7 +304,7 @@ impl Surface for PdePatch {
             let [w0, w1, w2] = &mut w;
             r.cardinal.eval012(u, [w0, w1, w2]);
             for (i, ((&w0, &w1), &w2)) in w[0].iter().zip(&w[1]).zip(&w[2]).enumerate() {
-                let [dl, dl1, dl2] = r.delta(&self.conditions, i, v);
+                let [dl, dl1, dl2] = r.delta(&self.conditions, i, v, 2);
                 let w = [w0, w1, w2];
                 p.x += dl * w[0];
                 p.xu += dl * w[1];
@@ -294,6 +315,27 @@ impl Surface for PdePatch {
             }
         }
         p
+    }
+
+    /// `X` alone: [`Self::partials`]'s position by the same operations in the same order (so
+    /// the same bits), without the derivatives (the basis, the remainder's cardinal functions
+    /// and its condition curves are evaluated to order 0 only).
+    fn point(&self, u: f64, v: f64) -> Vec3 {
+        let mut x = Vec3::zeros();
+        let mut o = [0.0; 6];
+        for (n, mode) in self.modes.iter().enumerate().filter(|(_, m)| !m.zero) {
+            mode.eval(u, 0, &mut o);
+            let (s, c) = (n as f64 * v).sin_cos();
+            x += col3(&o, 0) * c + col3(&o, 3) * s;
+        }
+        if let Some(r) = &self.remainder {
+            let mut w = vec![0.0; self.conditions.len()];
+            r.cardinal.eval(u, 0, &mut w);
+            for (i, &w0) in w.iter().enumerate() {
+                x += r.delta(&self.conditions, i, v, 0)[0] * w0;
+            }
+        }
+        x
     }
 
     fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
@@ -370,7 +412,7 @@ impl<'a> PdeRows<'a> {
             delta = vec![Vec3::zeros(); 2 * k * nv];
             for i in 0..k {
                 for (j, &v) in vs.iter().enumerate() {
-                    let d = r.delta(&patch.conditions, i, v);
+                    let d = r.delta(&patch.conditions, i, v, 1);
                     delta[(2 * i) * nv + j] = d[0];
                     delta[(2 * i + 1) * nv + j] = d[1];
                 }

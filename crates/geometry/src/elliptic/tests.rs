@@ -609,10 +609,12 @@ fn high_order_with_many_modes_is_a_solution_or_refused() {
 }
 
 /// The joint evaluation of orders 0, 1, 2 that `partials` uses gives the values of three
-/// separate evaluations bit for bit, in both bases, for the modes and the remainder.
+/// separate evaluations bit for bit, in both bases, for the modes and the remainder; and
+/// `point` gives `partials`' position bit for bit.
 #[test]
 fn joint_derivative_evaluation_is_bit_identical() {
     let mut kinds = Vec::new();
+    let mut remainders = 0;
     for (nn, a, m, bumpy) in [
         (2usize, 2.0, 12usize, false),
         (3, 0.3, 8, false),
@@ -643,6 +645,18 @@ fn joint_derivative_evaluation_is_bit_identical() {
             },
         )
         .unwrap();
+        // `point` is `partials`' position without the derivatives, bit for bit.
+        for u in [0.0, 1e-3, 0.27, 0.5, 0.999, 1.0] {
+            for v in [0.0, 0.7, 3.0, 6.2] {
+                let (p, x) = (patch.point(u, v), patch.partials(u, v).x);
+                let same = p
+                    .iter()
+                    .zip(x.iter())
+                    .all(|(a, b)| a.to_bits() == b.to_bits());
+                assert!(same, "u = {u}, v = {v}: point {p:?} vs partials {x:?}");
+            }
+        }
+        remainders += usize::from(patch.remainder.is_some());
         let mut fns: Vec<&ModeFn> = patch.modes.iter().collect();
         if let Some(r) = &patch.remainder {
             fns.push(&r.cardinal);
@@ -667,6 +681,7 @@ fn joint_derivative_evaluation_is_bit_identical() {
         }
     }
     assert!(kinds.contains(&BasisKind::Layers) && kinds.contains(&BasisKind::Chebyshev));
+    assert!(remainders > 0, "no case had a spectral remainder");
 }
 
 /// A mode system whose SVD does not converge within the iteration cap is an error naming the

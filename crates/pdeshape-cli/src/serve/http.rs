@@ -344,7 +344,8 @@ fn view_of(q: &HashMap<String, String>) -> Result<View, ApiError> {
 fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, ApiError> {
     s.meshes(view.grid)?;
     let colors = s.colors(view.grid, view.color, view.range)?;
-    let mut json = scene::scene(s.spec(), s.design().solved(), view.combs);
+    let points = scene::curve_points(view.grid);
+    let mut json = scene::scene(s.spec(), s.design().solved(), view.combs, points);
     json["version"] = s.version().into();
     json["file"] = s.file().into();
     json["can_undo"] = s.can_undo().into();

@@ -26,8 +26,19 @@ use pdeshape::spec::{CurveKind, DesignSpec, OperatorSpec, SpineCarry};
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 
-/// Points per drawn curve.
+/// Points per drawn curve on the default grid (and at most).
 const CURVE_POINTS: usize = 128;
+/// Points per drawn curve at least, on the coarsest grids.
+const MIN_CURVE_POINTS: usize = 32;
+/// Samples of a curve that is not drawn (a derivative condition's vectors) for its centroid.
+const CENTROID_POINTS: usize = 32;
+
+/// Points per drawn curve for a frame on `grid`: as many as the grid has columns, between
+/// [`MIN_CURVE_POINTS`] and [`CURVE_POINTS`], so the coarse frames of a gesture (a grid half as
+/// fine) also sample their curves half as finely; trim lines take twice as many.
+pub(super) fn curve_points(grid: (usize, usize)) -> usize {
+    grid.1.clamp(MIN_CURVE_POINTS, CURVE_POINTS)
+}
 /// Teeth of the curvature combs across a shared edge (per side).
 const SEAM_COMB_TEETH: usize = 64;
 /// Derivative vectors drawn per derivative condition.
@@ -74,13 +85,13 @@ fn finite(p: &pdeshape::Vec3) -> bool {
     p.iter().all(|x| x.is_finite())
 }
 
-/// Points along a curve: over `[0, 2π)` (closed) or its interval (finite ones only).
-fn samples(c: &dyn Curve) -> (Vec<pdeshape::Vec3>, bool) {
+/// `count` points along a curve: over `[0, 2π)` (closed) or its interval (finite ones only).
+fn samples(c: &dyn Curve, count: usize) -> (Vec<pdeshape::Vec3>, bool) {
     let (a, b, closed, n) = match c.domain() {
-        Domain::Periodic => (0.0, pdeshape::TAU, true, CURVE_POINTS as f64),
-        Domain::Interval(a, b) => (a, b, false, (CURVE_POINTS - 1) as f64),
+        Domain::Periodic => (0.0, pdeshape::TAU, true, count as f64),
+        Domain::Interval(a, b) => (a, b, false, (count - 1) as f64),
     };
-    let points = (0..CURVE_POINTS)
+    let points = (0..count)
         .map(|k| c.point(a + (b - a) * k as f64 / n))
         .filter(finite)
         .collect();
@@ -90,13 +101,13 @@ fn samples(c: &dyn Curve) -> (Vec<pdeshape::Vec3>, bool) {
 /// The curvature comb of a curve: at the parameters of [`samples`], the point and the
 /// curvature vector `κ N = ((C' × C'') × C') / |C'|⁴` from the curve's exact derivatives (points
 /// where either is not finite, or `C' = 0`, are left out).
-fn comb(c: &dyn Curve) -> Vec<[[f64; 3]; 2]> {
+fn comb(c: &dyn Curve, count: usize) -> Vec<[[f64; 3]; 2]> {
     let (a, b, n) = match c.domain() {
-        Domain::Periodic => (0.0, pdeshape::TAU, CURVE_POINTS as f64),
-        Domain::Interval(a, b) => (a, b, (CURVE_POINTS - 1) as f64),
+        Domain::Periodic => (0.0, pdeshape::TAU, count as f64),
+        Domain::Interval(a, b) => (a, b, (count - 1) as f64),
     };
     let mut jet = [pdeshape::Vec3::zeros(); 3];
-    (0..CURVE_POINTS)
+    (0..count)
         .filter_map(|k| {
             c.jet(a + (b - a) * k as f64 / n, &mut jet);
             let [p, d1, d2] = jet;
@@ -122,7 +133,14 @@ fn operator_json(op: &Option<OperatorSpec>) -> Value {
 
 /// The scene of a solved design; `combs`: with the curvature comb of every curve that is not a
 /// derivative curve (the page asks for them only while it shows them).
-pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Value {
+/// The scene of a frame: curves sampled at `per_curve` points each ([`curve_points`]), trim
+/// lines at twice that.
+pub(super) fn scene(
+    spec: &DesignSpec,
+    solved: &SolvedDesign,
+    combs: bool,
+    per_curve: usize,
+) -> Value {
     // Curves used as derivative conditions hold vectors, not points: they are drawn as vectors
     // from the position curve of the same patch at the same u.
     let derivative_curves: BTreeSet<&str> = solved
@@ -145,8 +163,14 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
         .map(|c| {
             let cs = spec.curves.get(&c.name);
             let is_vector = derivative_curves.contains(c.name.as_str());
-            // Sampled once: the drawn points (seven digits) and the centroid (exact).
-            let (sampled, closed) = samples(&*c.curve);
+            // Sampled once: the drawn points (seven digits) and the centroid (exact). A
+            // derivative curve is not drawn: fewer samples serve its centroid.
+            let count = if is_vector {
+                CENTROID_POINTS
+            } else {
+                per_curve
+            };
+            let (sampled, closed) = samples(&*c.curve, count);
             let centre = centroid(&sampled);
             let (points, closed): (Vec<[f64; 3]>, bool) = if is_vector {
                 (Vec::new(), false)
@@ -156,7 +180,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
             let comb = if is_vector || !combs {
                 Vec::new()
             } else {
-                comb(&*c.curve)
+                comb(&*c.curve, per_curve)
             };
             let v0 = (!is_vector && c.curve.domain() == Domain::Periodic)
                 .then(|| (c.curve.point(0.0), c.curve.derivative(0.0, 1)))
@@ -182,6 +206,8 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
                 "points": points,
                 "closed": closed,
                 "comb": comb,
+                // How many points were asked for (`points` leaves out those not finite).
+                "samples": count,
                 "control": control,
                 "v0": v0,
                 "scale": scale,
@@ -218,8 +244,8 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
                 "patch": s.name, "u": c.u, "curve": c.curve_name, "segments": segments,
             }));
         }
-        let spine: Vec<[f64; 3]> = (0..CURVE_POINTS)
-            .filter_map(|k| s.spine(k as f64 / (CURVE_POINTS - 1) as f64, 0))
+        let spine: Vec<[f64; 3]> = (0..per_curve)
+            .filter_map(|k| s.spine(k as f64 / (per_curve - 1) as f64, 0))
             .filter_map(|p| d3(&p))
             .collect();
         // The spine's Bézier control points (§5.3): the edited ones, else the solved spine's.
@@ -324,7 +350,7 @@ pub(super) fn scene(spec: &DesignSpec, solved: &SolvedDesign, combs: bool) -> Va
         "shared_curves": shared,
         "trims": super::uv::trims(spec, solved),
         "attachments": super::uv::attachments(spec),
-        "trim_lines": super::uv::images(solved),
+        "trim_lines": super::uv::images(solved, 2 * per_curve),
         "parameters": parameters(spec),
     })
 }

@@ -729,3 +729,30 @@ async fn a_morph_reads_only_inside_the_start_directory() {
     assert_eq!(a.status, StatusCode::NOT_FOUND);
     assert_eq!(frame(&app).await.scene["version"], 0);
 }
+
+/// Curves and trim lines are sampled at the grid's resolution (a gesture's half grid samples
+/// them half as finely), between 32 and 128 points a curve; a derivative curve, not drawn, at 32
+/// for its centroid; every frame says how many points each curve was asked for.
+#[tokio::test]
+async fn curves_are_sampled_at_the_grids_resolution() {
+    let dir = root();
+    let app = open(dir.path(), Some("examples/teacup.toml"));
+    for (grid, per_curve) in [("nu=64&nv=128", 128), ("nu=32&nv=64", 64), ("nu=8&nv=16", 32)] {
+        let f = decode(&send(&app, "GET", &format!("/api/frame?{grid}"), None, &[]).await);
+        for name in ["rim", "top_root"] {
+            let c = curve(&f.scene, name);
+            assert_eq!(c["samples"], json!(per_curve), "{grid} {name}");
+            assert_eq!(c["points"].as_array().unwrap().len(), per_curve, "{grid} {name}");
+        }
+        let field = curve(&f.scene, "top_arrive");
+        assert_eq!(field["role"], json!("derivative"));
+        assert_eq!(field["samples"], json!(32), "{grid}");
+        assert!(field["points"].as_array().unwrap().is_empty());
+        assert!(field["centroid"].is_array());
+        let lines = f.scene["trim_lines"].as_array().unwrap();
+        assert_eq!(lines.len(), 2);
+        for l in lines {
+            assert_eq!(l.as_array().unwrap().len(), 2 * per_curve, "{grid}");
+        }
+    }
+}

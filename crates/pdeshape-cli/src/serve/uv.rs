@@ -59,10 +59,11 @@ pub(super) fn attachments(spec: &DesignSpec) -> Value {
         .collect()
 }
 
-/// The images of every trim curve on its surface (the library's overlays of `render`).
-pub(super) fn images(solved: &SolvedDesign) -> Value {
+/// The images of every trim curve on its surface (the library's overlays of `render`), `points`
+/// points each.
+pub(super) fn images(solved: &SolvedDesign, points: usize) -> Value {
     solved
-        .trim_overlays()
+        .trim_overlays(points)
         .iter()
         .map(|line| {
             line.points

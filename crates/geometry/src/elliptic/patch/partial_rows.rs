@@ -54,7 +54,7 @@ impl<'a> PdePartialRows<'a> {
             delta = Vec::with_capacity(k * nv);
             for i in 0..k {
                 for &v in vs {
-                    delta.push(r.delta(&patch.conditions, i, v));
+                    delta.push(r.delta(&patch.conditions, i, v, 2));
                 }
             }
         }
