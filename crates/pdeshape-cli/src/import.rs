@@ -1,4 +1,5 @@
-//! `pdeshape import PART.step -o part.toml [--fill | --fill-g2]`: a CAD part's faces and edges
+//! `pdeshape import PART.step|PART.igs -o part.toml [--fill | --fill-g2]`: a CAD part's faces
+//! and edges
 //! as a design file (faces on planes, cylinders, cones, spheres and tori as `[[parametric]]`
 //! surfaces, on (rational) B-spline surfaces as `[[nurbs]]` surfaces, edges as curves), with
 //! `--fill` an `[[nsided]]` patch tangent to the faces around every gap (`--fill-g2`: of order
@@ -12,7 +13,8 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The part: a STEP file (.step, .stp) of faces (ADVANCED_FACE) with their edges.
+    /// The part: a STEP file (.step, .stp) of faces (ADVANCED_FACE) with their edges, or an
+    /// IGES file (.igs, .iges) of a B-rep (entities 186/514/510) or of trimmed surfaces (144).
     pub file: PathBuf,
     /// The design file to write (toml).
     #[arg(short, long)]
@@ -29,9 +31,10 @@ pub(crate) struct Args {
 
 pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let shown = args.file.display().to_string();
-    if OutputFormat::from_path(&args.file).ok() != Some(OutputFormat::Step) {
+    let format = OutputFormat::from_path(&args.file).ok();
+    if !matches!(format, Some(OutputFormat::Step | OutputFormat::Iges)) {
         return Err(CliError::input(format!(
-            "{shown}: not a STEP file name (.step, .stp)"
+            "{shown}: not a STEP or IGES file name (.step, .stp, .igs, .iges)"
         )));
     }
     let out_ext = args.output.extension().and_then(|e| e.to_str());
@@ -47,7 +50,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         (true, false) => import::Fill::G1,
         (false, false) => import::Fill::None,
     };
-    let imported = import::import_step(&text, fill)
+    let read = if format == Some(OutputFormat::Iges) {
+        import::import_iges
+    } else {
+        import::import_step
+    };
+    let imported = read(&text, fill)
         .map_err(|e| CliError::input(format!("{shown}: {}", common::message_of(&e))))?;
     let mut spec = imported.spec.clone();
     spec.title = args
@@ -84,9 +92,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         };
         let _ = writeln!(
             report,
-            "  {} (line {}): {}{what}; edges {}",
+            "  {} ({}): {}{what}; edges {}",
             f.name,
-            f.line,
+            f.place,
             f.kind,
             f.edges.join(", ")
         );

@@ -73,8 +73,8 @@ enum Command {
     /// Fill the holes of a triangle mesh (obj, stl, ply) with PDE patches G1 to the mesh and
     /// weld them in; write the mesh (obj, stl, ply or glb), watertight if it had only holes.
     Fill(fill::Args),
-    /// Read a CAD part's faces and edges from a STEP file into a design file (toml); with
-    /// --fill, an n-sided patch tangent to the faces around every gap.
+    /// Read a CAD part's faces and edges from a STEP or IGES file into a design file (toml);
+    /// with --fill, an n-sided patch tangent to the faces around every gap.
     Import(import::Args),
     /// Read a STEP or IGES file written by `surface` back and measure its surfaces against the
     /// design's (the largest deviation per surface).

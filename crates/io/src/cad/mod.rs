@@ -9,6 +9,7 @@ pub mod certify;
 pub mod curve;
 mod export;
 mod hermite;
+pub mod iges_read;
 pub mod import;
 pub mod read;
 pub mod step;

@@ -294,7 +294,7 @@ fn import_reads_a_step_part_and_fills_its_gap() {
     assert!(!none.exists());
     assert_bad(
         &pdeshape(&["import", s(&out), "-o", s(&none)]),
-        &["not a STEP file name"],
+        &["not a STEP or IGES file name"],
     );
     assert_bad(
         &pdeshape(&["import", s(&step), "-o", "x.obj"]),
@@ -350,4 +350,69 @@ fn import_reads_nurbs_faces_and_fills_their_gap_g1_or_g2() {
     let sides: Vec<&str> = stdout.lines().filter(|l| l.contains(", G2 to ")).collect();
     assert_eq!(sides.len(), 3, "{stdout}");
     assert!(stdout.contains("curvature data disagree"), "{stdout}");
+}
+
+#[test]
+fn import_reads_iges_parts_and_fills_their_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in [
+        "box_corner_gap_brep.igs",
+        "box_corner_gap_nurbs_trimmed.igs",
+    ] {
+        let iges = example_path(&format!("cad/{name}"));
+        let out = dir.path().join("part.toml");
+        let run = pdeshape(&["import", s(&iges), "-o", s(&out), "--fill"]);
+        let said = String::from_utf8_lossy(&run.stdout).to_string();
+        assert!(
+            run.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(
+            said.contains("9 of 9 faces") && said.contains("(D "),
+            "{said}"
+        );
+        assert!(said.contains("filled by [[nsided]] fill1"), "{said}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert!(
+            text.starts_with(&format!("# Imported from {name}")),
+            "{text}"
+        );
+        let check = pdeshape(&["check", s(&out)]);
+        let stdout = String::from_utf8_lossy(&check.stdout);
+        assert!(
+            check.status.success() && stdout.starts_with("OK"),
+            "{stdout}"
+        );
+    }
+    // Bad input: one line naming the IGES place, status 2, nothing written.
+    let text = std::fs::read_to_string(example_path("cad/box_corner_gap_brep.igs")).unwrap();
+    let none = dir.path().join("none.toml");
+    let bad = dir.path().join("bad.igs");
+    let lines: Vec<&str> = text.lines().collect();
+    // The last parameter lines lost, the Terminate line kept: its counts no longer hold.
+    let cut = [&lines[..lines.len() - 10], &lines[lines.len() - 1..]].concat();
+    std::fs::write(&bad, cut.join("\n")).unwrap();
+    assert_bad(
+        &pdeshape(&["import", s(&bad), "-o", s(&none)]),
+        &["bad.igs", "T 1", "truncated"],
+    );
+    let broken: Vec<String> = lines
+        .iter()
+        .map(|l| {
+            if l.starts_with("     100") && l.as_bytes().get(72) == Some(&b'D') {
+                l.replacen("     100", "     125", 1)
+            } else if l.starts_with("100,") && l.as_bytes().get(72) == Some(&b'P') {
+                l.replacen("100,", "125,", 1)
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    std::fs::write(&bad, broken.join("\n")).unwrap();
+    assert_bad(
+        &pdeshape(&["import", s(&bad), "-o", s(&none)]),
+        &["bad.igs", "D ", "entity 125"],
+    );
+    assert!(!none.exists());
 }

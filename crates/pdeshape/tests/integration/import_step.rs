@@ -151,7 +151,7 @@ fn occ_points() -> Vec<Vec<[f64; 20]>> {
 }
 
 /// The largest distance from points of `ours` to the surfaces of `theirs` (closest points).
-fn distance_between(ours: &[&dyn Surface], theirs: &[&dyn Surface]) -> f64 {
+pub(crate) fn distance_between(ours: &[&dyn Surface], theirs: &[&dyn Surface]) -> f64 {
     let indices: Vec<ClosestPointIndex<_>> = theirs
         .iter()
         .map(|s| ClosestPointIndex::new(*s, &ClosestOptions::default()))

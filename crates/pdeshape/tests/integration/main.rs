@@ -7,6 +7,7 @@ mod campaign;
 mod fill;
 mod fit;
 mod fit_general;
+mod import_iges;
 mod import_step;
 mod shell_ccx;
 mod shell_common;
