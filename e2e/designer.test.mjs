@@ -1,7 +1,8 @@
 // End-to-end tests of `pdeshape serve` in headless Chromium: open the page, drag a control point
 // with real mouse events, save, undo, a bad edit, and the shaded surface on screen; drag a spine
 // handle, a trim curve and an attachment in the (u, v) panel, a local-edit handle, a parameter
-// slider, and scrub and play the timeline. Screenshots of each state go to e2e/out/.
+// slider, a side of an n-sided patch, and scrub and play the timeline. Screenshots of each state
+// go to e2e/out/.
 
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -450,6 +451,37 @@ test('the timeline scrubs and plays a time-dependent design', async () => {
   // A design without time has none.
   await load('examples/cup.toml');
   assert.equal(await page.isVisible('#timeline'), false);
+  assert.deepEqual(errors, []);
+});
+
+test('an n-sided patch: a side\'s control point dragged re-solves the pieces; undo restores', async () => {
+  await load('examples/nsided_pentagon.toml');
+  const before = await state();
+  assert.deepEqual(before.surfaces.map((s) => s.name), ['panel.0', 'panel.1', 'panel.2', 'panel.3', 'panel.4']);
+  const d0 = await digest();
+  const p0 = controlPoint(before, 'side0', 1);
+  const s0 = await shading();
+  assert.ok(s0.covered > 0.05 && s0.levels > 30, `the patch is not drawn shaded: ${JSON.stringify(s0)}`);
+  await page.screenshot({ path: path.join(shots, 'nsided.png') });
+  const [x, y] = await screenOf('side0', 1);
+  await dragMouse(x, y, 30, -40, 10, 'nsided-drag.png');
+  await idle();
+  const after = await state();
+  const moved = controlPoint(after, 'side0', 1);
+  assert.ok(after.version > before.version, 'no edit reached the server');
+  assert.ok(Math.hypot(...moved.map((c, i) => c - p0[i])) > 0.02, `the point did not move: ${moved}`);
+  assert.notEqual(await digest(), d0, 'the patch on screen did not change');
+  // Every piece is still drawn from the new solve, and the page shows no error.
+  assert.equal(after.surfaces.length, 5);
+  const shown = await page.evaluate(() => [...document.querySelectorAll('.err')].map((e) => e.textContent).join(''));
+  assert.equal(shown, '', 'the page shows an error');
+  await page.screenshot({ path: path.join(shots, 'nsided-dragged.png') });
+  // One undo takes the whole drag back: the same point and the same meshes.
+  await page.click('#undo');
+  await page.waitForFunction((v) => window.__pdeshape.state().version > v, after.version);
+  await idle();
+  assert.deepEqual(controlPoint(await state(), 'side0', 1), p0);
+  assert.equal(await digest(), d0);
   assert.deepEqual(errors, []);
 });
 

@@ -21,7 +21,7 @@ export function startDir() {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'pdeshape-e2e-'));
   fs.mkdirSync(path.join(dir, 'examples', 'anim'), { recursive: true });
   for (const f of ['cup.toml', 'wine_glass.toml', 'teacup.toml', 'trimmed_vase.toml', 'aeroplane.toml', 'swirl_port_params.toml',
-    'anim/ventricle.toml', 'anim/fish.toml']) {
+    'anim/ventricle.toml', 'anim/fish.toml', 'nsided_pentagon.toml']) {
     fs.copyFileSync(path.join(repo, 'examples', f), path.join(dir, 'examples', f));
   }
   return dir;

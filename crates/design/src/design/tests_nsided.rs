@@ -261,3 +261,76 @@ fn a_rational_b_spline_side_is_met_and_tangent_like_any_other() {
     }
     assert_eq!(parse_design(&write_design(&spec).unwrap()).unwrap(), spec);
 }
+
+/// The rows a tessellation asks for (first-order jets) agree with the surface's partials on
+/// every n-sided piece of every example holding one, at and near the polygon's corners and
+/// sides (where the blends are 0/0 or nearly so) and inside. Positions are the same
+/// operations on the same numbers: a few units of rounding. A normal comes from the same
+/// `X_u`, `X_v` scaled by another power of the largest partial: rounding amplified by
+/// `1/sin θ`, `θ` the angle between `X_u` and `X_v`.
+#[test]
+fn rows_of_every_example_piece_agree_with_the_partials() {
+    use crate::surface::{RowBuf, Surface};
+    const TS: [f64; 14] = [
+        0.0,
+        1e-13,
+        1e-10,
+        1e-7,
+        1e-4,
+        0.01,
+        0.2,
+        0.5,
+        0.63,
+        0.9,
+        0.9999,
+        1.0 - 1e-10,
+        1.0 - 1e-13,
+        1.0,
+    ];
+    let eps = f64::EPSILON;
+    for file in [
+        "nsided_pentagon.toml",
+        "nsided_panel.toml",
+        "nsided_vertex_blend.toml",
+        "nsided_g2_octant.toml",
+        "network_dome.toml",
+        "step_corner_fill.toml",
+        "step_nurbs_corner_fill.toml",
+    ] {
+        let d = solve_design(&parse_design(&example(file)).unwrap()).unwrap();
+        let mut pieces = 0;
+        let (mut worst_x, mut worst_n) = (0.0f64, 0.0f64);
+        for s in &d.surfaces {
+            let SurfaceKind::NSided(ns) = &s.kind else {
+                continue;
+            };
+            pieces += 1;
+            let size = ns.patch().size();
+            let rows = ns.row_evaluator(&TS);
+            let mut row = RowBuf::new(TS.len());
+            for &u in &TS {
+                rows.eval_row(u, &mut row);
+                for (j, &v) in TS.iter().enumerate() {
+                    let p = ns.partials(u, v);
+                    let dx = (row.point(j) - p.x).norm();
+                    let bound_x = 4.0 * eps * p.x.norm().max(size);
+                    let sin = p.xu.cross(&p.xv).norm() / (p.xu.norm() * p.xv.norm());
+                    let dn = (row.normal(j) - p.normal()).norm();
+                    let bound_n = 16.0 * eps / sin;
+                    assert!(
+                        dx <= bound_x && dn <= bound_n,
+                        "{file}, {} at ({u}, {v}): position off by {dx:e} (bound {bound_x:e}), \
+                         normal by {dn:e} (bound {bound_n:e})",
+                        s.name
+                    );
+                    worst_x = worst_x.max(dx / bound_x);
+                    worst_n = worst_n.max(dn / bound_n);
+                }
+            }
+        }
+        eprintln!(
+            "{file}: {pieces} pieces, worst/bound: positions {worst_x:.3}, normals {worst_n:.3}"
+        );
+        assert!(pieces > 0, "{file} has no n-sided piece");
+    }
+}

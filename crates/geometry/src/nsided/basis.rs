@@ -6,27 +6,51 @@
 //! exactly as they were: the boundary is met by construction, not by the solve.
 
 use super::domain::Polygon;
-use super::jet::Jet;
+use super::jet::{Jet, VJet};
+use crate::Vec3;
+
+/// The largest degree of the correction polynomials.
+pub(crate) const MAX_DEGREE: usize = 24;
 
 /// Legendre `P_0 … P_p` at `x` with three derivatives.
 fn legendre(p: usize, x: f64) -> Vec<[f64; 4]> {
-    let mut out = vec![[1.0, 0.0, 0.0, 0.0]];
+    legendre_array::<3>(p, x)[..=p].to_vec()
+}
+
+/// The coefficients `((2k + 1)/(k + 1), k/(k + 1))` of the three-term recurrence, `k <
+/// MAX_DEGREE`, as a table: a step of the recurrence then costs no division.
+const RECURRENCE: [[f64; 2]; MAX_DEGREE] = {
+    let mut t = [[0.0; 2]; MAX_DEGREE];
+    let mut k = 0;
+    while k < MAX_DEGREE {
+        let kf = k as f64;
+        t[k] = [(2.0 * kf + 1.0) / (kf + 1.0), kf / (kf + 1.0)];
+        k += 1;
+    }
+    t
+};
+
+/// Legendre `P_0 … P_p` (`p ≤ MAX_DEGREE`) at `x` with `D ≤ 3` derivatives, on the stack; the
+/// entries above `p` and the derivatives above `D` are zero.
+fn legendre_array<const D: usize>(p: usize, x: f64) -> [[f64; 4]; MAX_DEGREE + 1] {
+    let mut out = [[0.0; 4]; MAX_DEGREE + 1];
+    out[0][0] = 1.0;
     if p >= 1 {
-        out.push([x, 1.0, 0.0, 0.0]);
+        out[1][0] = x;
+        if D >= 1 {
+            out[1][1] = 1.0;
+        }
     }
     for k in 1..p {
-        let kf = k as f64;
-        let [a0, a1, a2, a3] = out[k];
-        let [b0, b1, b2, b3] = out[k - 1];
-        // (k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}, differentiated three times
+        // P_{k+1} = ((2k + 1) x P_k − k P_{k−1}) / (k + 1), differentiated j times
         // ((x P)^(j) = x P^(j) + j P^(j−1)).
-        let c = 2.0 * kf + 1.0;
-        let k1 = kf + 1.0;
-        let c0 = (c * x * a0 - kf * b0) / k1;
-        let c1 = (c * (a0 + x * a1) - kf * b1) / k1;
-        let c2 = (c * (2.0 * a1 + x * a2) - kf * b2) / k1;
-        let c3 = (c * (3.0 * a2 + x * a3) - kf * b3) / k1;
-        out.push([c0, c1, c2, c3]);
+        let [alpha, beta] = RECURRENCE[k];
+        let (a, b) = (out[k], out[k - 1]);
+        let mut c = [alpha * x * a[0] - beta * b[0], 0.0, 0.0, 0.0];
+        for j in 1..=D.min(3) {
+            c[j] = alpha * (j as f64 * a[j - 1] + x * a[j]) - beta * b[j];
+        }
+        out[k + 1] = c;
     }
     out
 }
@@ -59,7 +83,7 @@ impl Basis {
     }
 
     /// The weight `w` at `p`.
-    pub(crate) fn weight<const T: bool>(&self, poly: &Polygon, p: [f64; 2]) -> Jet<T> {
+    pub(crate) fn weight<const O: usize>(&self, poly: &Polygon, p: [f64; 2]) -> Jet<O> {
         let mut w = Jet::constant(1.0);
         for (i, &m) in self.multiplicity.iter().enumerate() {
             let d = poly.distance_jet(i, p).scale(1.0 / self.inradius);
@@ -70,8 +94,68 @@ impl Basis {
         w
     }
 
+    /// The coefficients `c_ab` of [`Basis::eval`]'s order (by total degree, then `a`) in the
+    /// order [`Basis::combine`] takes them: by `a`, then `b = 0 … p − a`.
+    pub(crate) fn by_a(&self, c: &[Vec3]) -> Vec<Vec3> {
+        let deg = self.degree;
+        let mut out = Vec::with_capacity(c.len());
+        for a in 0..=deg {
+            for b in 0..=deg - a {
+                let t = a + b;
+                out.push(c[t * (t + 1) / 2 + a]);
+            }
+        }
+        out
+    }
+
+    /// `Σ_ab c_ab φ_ab` at `p` to order `O ≤ 2`, for coefficients `c` ordered by
+    /// [`Basis::by_a`]: `w · Q` with `Q = Σ_a P_a(x) S_a(y)`, `S_a = Σ_b c_ab P_b(y)`. Each
+    /// coefficient costs one multiply-add per partial of `S_a`, not a jet product per
+    /// function, and nothing is allocated: the sum every evaluation of the patch makes.
+    pub(crate) fn combine<const O: usize>(
+        &self,
+        poly: &Polygon,
+        p: [f64; 2],
+        c: &[Vec3],
+    ) -> VJet<O> {
+        debug_assert!(O <= 2 && c.len() == self.len());
+        let deg = self.degree;
+        let lx = legendre_array::<O>(deg, p[0]);
+        let ly = legendre_array::<O>(deg, p[1]);
+        let z = Vec3::zeros();
+        let mut q = VJet::<O>::default();
+        let mut rest = c;
+        for (a, fx) in lx.iter().enumerate().take(deg + 1) {
+            // S_a and its first two derivatives in y.
+            let (mut s0, mut s1, mut s2) = (z, z, z);
+            let (column, tail) = rest.split_at(deg + 1 - a);
+            rest = tail;
+            for (ck, fy) in column.iter().zip(&ly) {
+                let ck = *ck;
+                s0 += ck * fy[0];
+                if O >= 1 {
+                    s1 += ck * fy[1];
+                }
+                if O >= 2 {
+                    s2 += ck * fy[2];
+                }
+            }
+            q.v += s0 * fx[0];
+            if O >= 1 {
+                q.d[0] += s0 * fx[1];
+                q.d[1] += s1 * fx[0];
+            }
+            if O >= 2 {
+                q.h[0] += s0 * fx[2];
+                q.h[1] += s1 * fx[1];
+                q.h[2] += s2 * fx[0];
+            }
+        }
+        q.times(self.weight::<O>(poly, p))
+    }
+
     /// Every basis function at `p`, in the order `(a, b)` by total degree, then `a`.
-    pub(crate) fn eval<const T: bool>(&self, poly: &Polygon, p: [f64; 2], out: &mut Vec<Jet<T>>) {
+    pub(crate) fn eval<const O: usize>(&self, poly: &Polygon, p: [f64; 2], out: &mut Vec<Jet<O>>) {
         out.clear();
         let w = self.weight(poly, p);
         let lx = legendre(self.degree, p[0]);

@@ -69,7 +69,7 @@ impl Polygon {
     }
 
     /// [`Polygon::distance`] as a jet.
-    pub(crate) fn distance_jet<const T: bool>(&self, i: usize, p: [f64; 2]) -> Jet<T> {
+    pub(crate) fn distance_jet<const O: usize>(&self, i: usize, p: [f64; 2]) -> Jet<O> {
         Jet::affine(self.distance(i, p), self.normals[i])
     }
 
@@ -84,11 +84,14 @@ impl Polygon {
         self.normals[i]
     }
 
-    /// The index of the vertex within `tol` of `p`, if any.
+    /// The index of the vertex within `tol` of `p`, if any (asked at every evaluation: the
+    /// squared distances, no `hypot`).
     pub(crate) fn vertex_near(&self, p: [f64; 2], tol: f64) -> Option<usize> {
-        self.verts
-            .iter()
-            .position(|v| (v[0] - p[0]).hypot(v[1] - p[1]) <= tol)
+        let tol2 = tol * tol;
+        self.verts.iter().position(|v| {
+            let (dx, dy) = (v[0] - p[0], v[1] - p[1]);
+            dx * dx + dy * dy <= tol2
+        })
     }
 
     /// A rule `(point, weight)` integrating polynomials of degree `≤ 2 nq − 2` exactly over the

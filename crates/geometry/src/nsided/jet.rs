@@ -1,11 +1,12 @@
-//! Third-order jets in the two domain coordinates `(x, y)`: a value with its gradient, Hessian
-//! and third partials, carried through sums, products, quotients and compositions by the chain
-//! rule. The transfinite interpolant and the correction basis are built from them, so every
-//! partial the patch reports is exact up to rounding (no finite differences); the third
-//! partials feed the energy of order 3 (`∫ |∇ L X|²`). The third partials are carried only by
-//! `Jet<true>` and `VJet<true>` (the parameter is a compile-time switch: `Jet` alone is
-//! `Jet<false>`, whose `t` stays zero and costs nothing), so the evaluations that need only
-//! second partials (every surface evaluation, orders 1 and 2) pay nothing for them.
+//! Jets of order 1 to 3 in the two domain coordinates `(x, y)`: a value with its gradient,
+//! Hessian and third partials, carried through sums, products, quotients and compositions by
+//! the chain rule. The transfinite interpolant and the correction basis are built from them, so
+//! every partial the patch reports is exact up to rounding (no finite differences); the third
+//! partials feed the energy of order 3 (`∫ |∇ L X|²`). The order is a compile-time parameter:
+//! `Jet<O>` and `VJet<O>` carry the partials up to order `O` (`Jet` alone is `Jet<2>`); the
+//! higher ones stay zero and cost nothing, so the evaluations that need only second partials
+//! (surface partials, orders 1 and 2) pay nothing for the third, and those that need positions
+//! and normals alone (rows of a tessellation, `Jet<1>`) nothing for the second.
 
 use crate::Vec3;
 use std::ops::{Add, Mul, Sub};
@@ -13,16 +14,17 @@ use std::ops::{Add, Mul, Sub};
 /// A scalar `f(x, y)` to third order: `v = f`, `d = (f_x, f_y)`, `h = (f_xx, f_xy, f_yy)`,
 /// `t = (f_xxx, f_xxy, f_xyy, f_yyy)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Jet<const T: bool = false> {
+pub(crate) struct Jet<const O: usize = 2> {
     pub(crate) v: f64,
     pub(crate) d: [f64; 2],
     pub(crate) h: [f64; 3],
     pub(crate) t: [f64; 4],
 }
 
-impl<const T: bool> Jet<T> {
+impl<const O: usize> Jet<O> {
     /// The constant `c`.
-    pub(crate) fn constant(c: f64) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn constant(c: f64) -> Jet<O> {
         Jet {
             v: c,
             ..Jet::default()
@@ -30,7 +32,8 @@ impl<const T: bool> Jet<T> {
     }
 
     /// The affine function `c + g · (x, y)` evaluated where it equals `c`.
-    pub(crate) fn affine(c: f64, g: [f64; 2]) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn affine(c: f64, g: [f64; 2]) -> Jet<O> {
         Jet {
             v: c,
             d: g,
@@ -42,19 +45,24 @@ impl<const T: bool> Jet<T> {
     /// `f(self)` for a function of one variable given by `f`, `f'`, `f''`, `f'''` at `self.v`
     /// (Faà di Bruno: `(f∘g)_ijk = f''' g_i g_j g_k + f'' (g_ij g_k + g_ik g_j + g_jk g_i) +
     /// f' g_ijk`).
-    pub(crate) fn compose(self, f: [f64; 4]) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn compose(self, f: [f64; 4]) -> Jet<O> {
         let [f0, f1, f2, f3] = f;
         let [gx, gy] = self.d;
         let [gxx, gxy, gyy] = self.h;
         Jet {
             v: f0,
             d: [f1 * gx, f1 * gy],
-            h: [
-                f2 * gx * gx + f1 * gxx,
-                f2 * gx * gy + f1 * gxy,
-                f2 * gy * gy + f1 * gyy,
-            ],
-            t: if T {
+            h: if O >= 2 {
+                [
+                    f2 * gx * gx + f1 * gxx,
+                    f2 * gx * gy + f1 * gxy,
+                    f2 * gy * gy + f1 * gyy,
+                ]
+            } else {
+                [0.0; 3]
+            },
+            t: if O >= 3 {
                 [
                     f3 * gx * gx * gx + 3.0 * f2 * gxx * gx + f1 * self.t[0],
                     f3 * gx * gx * gy + f2 * (gxx * gy + 2.0 * gxy * gx) + f1 * self.t[1],
@@ -68,24 +76,31 @@ impl<const T: bool> Jet<T> {
     }
 
     /// `1 / self` (the caller keeps `self.v` away from zero).
-    pub(crate) fn recip(self) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn recip(self) -> Jet<O> {
         let r = 1.0 / self.v;
         let r2 = r * r;
         self.compose([r, -r2, 2.0 * r2 * r, -6.0 * r2 * r2])
     }
 
     /// `self / other`.
-    pub(crate) fn div(self, other: Jet<T>) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn div(self, other: Jet<O>) -> Jet<O> {
         self * other.recip()
     }
 
     /// `self` times the constant `c`.
-    pub(crate) fn scale(self, c: f64) -> Jet<T> {
+    #[inline(always)]
+    pub(crate) fn scale(self, c: f64) -> Jet<O> {
         Jet {
             v: self.v * c,
             d: [self.d[0] * c, self.d[1] * c],
-            h: [self.h[0] * c, self.h[1] * c, self.h[2] * c],
-            t: if T {
+            h: if O >= 2 {
+                [self.h[0] * c, self.h[1] * c, self.h[2] * c]
+            } else {
+                [0.0; 3]
+            },
+            t: if O >= 3 {
                 [self.t[0] * c, self.t[1] * c, self.t[2] * c, self.t[3] * c]
             } else {
                 [0.0; 4]
@@ -94,44 +109,59 @@ impl<const T: bool> Jet<T> {
     }
 }
 
-impl<const T: bool> Add for Jet<T> {
-    type Output = Jet<T>;
-    fn add(self, o: Jet<T>) -> Jet<T> {
+impl<const O: usize> Add for Jet<O> {
+    type Output = Jet<O>;
+    #[inline(always)]
+    fn add(self, o: Jet<O>) -> Jet<O> {
         Jet {
             v: self.v + o.v,
             d: [self.d[0] + o.d[0], self.d[1] + o.d[1]],
-            h: [self.h[0] + o.h[0], self.h[1] + o.h[1], self.h[2] + o.h[2]],
-            t: [
-                self.t[0] + o.t[0],
-                self.t[1] + o.t[1],
-                self.t[2] + o.t[2],
-                self.t[3] + o.t[3],
-            ],
+            h: if O >= 2 {
+                [self.h[0] + o.h[0], self.h[1] + o.h[1], self.h[2] + o.h[2]]
+            } else {
+                [0.0; 3]
+            },
+            t: if O >= 3 {
+                [
+                    self.t[0] + o.t[0],
+                    self.t[1] + o.t[1],
+                    self.t[2] + o.t[2],
+                    self.t[3] + o.t[3],
+                ]
+            } else {
+                self.t
+            },
         }
     }
 }
 
-impl<const T: bool> Sub for Jet<T> {
-    type Output = Jet<T>;
-    fn sub(self, o: Jet<T>) -> Jet<T> {
+impl<const O: usize> Sub for Jet<O> {
+    type Output = Jet<O>;
+    #[inline(always)]
+    fn sub(self, o: Jet<O>) -> Jet<O> {
         self + o.scale(-1.0)
     }
 }
 
-impl<const T: bool> Mul for Jet<T> {
-    type Output = Jet<T>;
-    fn mul(self, o: Jet<T>) -> Jet<T> {
+impl<const O: usize> Mul for Jet<O> {
+    type Output = Jet<O>;
+    #[inline(always)]
+    fn mul(self, o: Jet<O>) -> Jet<O> {
         let (a, b) = (self, o);
         Jet {
             v: a.v * b.v,
             d: [a.v * b.d[0] + b.v * a.d[0], a.v * b.d[1] + b.v * a.d[1]],
-            h: [
-                a.v * b.h[0] + 2.0 * a.d[0] * b.d[0] + b.v * a.h[0],
-                a.v * b.h[1] + a.d[0] * b.d[1] + a.d[1] * b.d[0] + b.v * a.h[1],
-                a.v * b.h[2] + 2.0 * a.d[1] * b.d[1] + b.v * a.h[2],
-            ],
+            h: if O >= 2 {
+                [
+                    a.v * b.h[0] + 2.0 * a.d[0] * b.d[0] + b.v * a.h[0],
+                    a.v * b.h[1] + a.d[0] * b.d[1] + a.d[1] * b.d[0] + b.v * a.h[1],
+                    a.v * b.h[2] + 2.0 * a.d[1] * b.d[1] + b.v * a.h[2],
+                ]
+            } else {
+                [0.0; 3]
+            },
             // Leibniz: every split of the three derivatives between the factors.
-            t: if T {
+            t: if O >= 3 {
                 [
                     a.v * b.t[0] + 3.0 * (a.d[0] * b.h[0] + a.h[0] * b.d[0]) + a.t[0] * b.v,
                     a.v * b.t[1]
@@ -156,14 +186,15 @@ impl<const T: bool> Mul for Jet<T> {
 /// A point-valued `X(x, y)` to third order: `v = X`, `d = (X_x, X_y)`,
 /// `h = (X_xx, X_xy, X_yy)`, `t = (X_xxx, X_xxy, X_xyy, X_yyy)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct VJet<const T: bool = false> {
+pub(crate) struct VJet<const O: usize = 2> {
     pub(crate) v: Vec3,
     pub(crate) d: [Vec3; 2],
     pub(crate) h: [Vec3; 3],
     pub(crate) t: [Vec3; 4],
 }
 
-impl<const T: bool> Default for VJet<T> {
+impl<const O: usize> Default for VJet<O> {
+    #[inline(always)]
     fn default() -> Self {
         VJet {
             v: Vec3::zeros(),
@@ -174,21 +205,26 @@ impl<const T: bool> Default for VJet<T> {
     }
 }
 
-impl<const T: bool> VJet<T> {
+impl<const O: usize> VJet<O> {
     /// `C(s(x, y))` for a curve given by `C`, `C'`, `C''`, `C'''` at `s.v` (the chain rule of
     /// [`Jet::compose`]).
-    pub(crate) fn compose(s: Jet<T>, c: [Vec3; 4]) -> VJet<T> {
+    #[inline(always)]
+    pub(crate) fn compose(s: Jet<O>, c: [Vec3; 4]) -> VJet<O> {
         let [gx, gy] = s.d;
         let [gxx, gxy, gyy] = s.h;
         VJet {
             v: c[0],
             d: [c[1] * gx, c[1] * gy],
-            h: [
-                c[2] * (gx * gx) + c[1] * gxx,
-                c[2] * (gx * gy) + c[1] * gxy,
-                c[2] * (gy * gy) + c[1] * gyy,
-            ],
-            t: if T {
+            h: if O >= 2 {
+                [
+                    c[2] * (gx * gx) + c[1] * gxx,
+                    c[2] * (gx * gy) + c[1] * gxy,
+                    c[2] * (gy * gy) + c[1] * gyy,
+                ]
+            } else {
+                [Vec3::zeros(); 3]
+            },
+            t: if O >= 3 {
                 [
                     c[3] * (gx * gx * gx) + c[2] * (3.0 * gxx * gx) + c[1] * s.t[0],
                     c[3] * (gx * gx * gy) + c[2] * (gxx * gy + 2.0 * gxy * gx) + c[1] * s.t[1],
@@ -202,17 +238,22 @@ impl<const T: bool> VJet<T> {
     }
 
     /// `self · f` for a scalar jet `f` (Leibniz, as [`Jet`]'s product).
-    pub(crate) fn times(&self, f: Jet<T>) -> VJet<T> {
+    #[inline(always)]
+    pub(crate) fn times(&self, f: Jet<O>) -> VJet<O> {
         let a = self;
         VJet {
             v: a.v * f.v,
             d: [a.v * f.d[0] + a.d[0] * f.v, a.v * f.d[1] + a.d[1] * f.v],
-            h: [
-                a.v * f.h[0] + a.d[0] * (2.0 * f.d[0]) + a.h[0] * f.v,
-                a.v * f.h[1] + a.d[0] * f.d[1] + a.d[1] * f.d[0] + a.h[1] * f.v,
-                a.v * f.h[2] + a.d[1] * (2.0 * f.d[1]) + a.h[2] * f.v,
-            ],
-            t: if T {
+            h: if O >= 2 {
+                [
+                    a.v * f.h[0] + a.d[0] * (2.0 * f.d[0]) + a.h[0] * f.v,
+                    a.v * f.h[1] + a.d[0] * f.d[1] + a.d[1] * f.d[0] + a.h[1] * f.v,
+                    a.v * f.h[2] + a.d[1] * (2.0 * f.d[1]) + a.h[2] * f.v,
+                ]
+            } else {
+                [Vec3::zeros(); 3]
+            },
+            t: if O >= 3 {
                 [
                     a.v * f.t[0] + (a.d[0] * f.h[0] + a.h[0] * f.d[0]) * 3.0 + a.t[0] * f.v,
                     a.v * f.t[1]
@@ -232,36 +273,30 @@ impl<const T: bool> VJet<T> {
             },
         }
     }
-
-    /// `self + c · f` for a constant vector `c` and a scalar jet `f`.
-    pub(crate) fn add_scaled(&mut self, c: Vec3, f: &Jet<T>) {
-        self.v += c * f.v;
-        self.d[0] += c * f.d[0];
-        self.d[1] += c * f.d[1];
-        self.h[0] += c * f.h[0];
-        self.h[1] += c * f.h[1];
-        self.h[2] += c * f.h[2];
-        if T {
-            for k in 0..4 {
-                self.t[k] += c * f.t[k];
-            }
-        }
-    }
 }
 
-impl<const T: bool> Add for VJet<T> {
-    type Output = VJet<T>;
-    fn add(self, o: VJet<T>) -> VJet<T> {
+impl<const O: usize> Add for VJet<O> {
+    type Output = VJet<O>;
+    #[inline(always)]
+    fn add(self, o: VJet<O>) -> VJet<O> {
         VJet {
             v: self.v + o.v,
             d: [self.d[0] + o.d[0], self.d[1] + o.d[1]],
-            h: [self.h[0] + o.h[0], self.h[1] + o.h[1], self.h[2] + o.h[2]],
-            t: [
-                self.t[0] + o.t[0],
-                self.t[1] + o.t[1],
-                self.t[2] + o.t[2],
-                self.t[3] + o.t[3],
-            ],
+            h: if O >= 2 {
+                [self.h[0] + o.h[0], self.h[1] + o.h[1], self.h[2] + o.h[2]]
+            } else {
+                [Vec3::zeros(); 3]
+            },
+            t: if O >= 3 {
+                [
+                    self.t[0] + o.t[0],
+                    self.t[1] + o.t[1],
+                    self.t[2] + o.t[2],
+                    self.t[3] + o.t[3],
+                ]
+            } else {
+                self.t
+            },
         }
     }
 }
@@ -274,7 +309,7 @@ mod tests {
     #[test]
     fn products_and_quotients_follow_the_chain_rule() {
         let (x0, y0) = (0.3, -0.7);
-        let x = Jet::<false>::affine(x0, [1.0, 0.0]);
+        let x = Jet::<2>::affine(x0, [1.0, 0.0]);
         let y = Jet::affine(y0, [0.0, 1.0]);
         let f = (x * x * y).div(x + Jet::constant(1.0));
         let q = 1.0 + x0;
@@ -295,8 +330,8 @@ mod tests {
     #[test]
     fn third_partials_are_the_derivatives_of_the_hessian() {
         let f = |x0: f64, y0: f64| {
-            let x = Jet::<true>::affine(x0, [1.0, 0.0]);
-            let y = Jet::<true>::affine(y0, [0.0, 1.0]);
+            let x = Jet::<3>::affine(x0, [1.0, 0.0]);
+            let y = Jet::<3>::affine(y0, [0.0, 1.0]);
             let q = (x * x * y).div(x + Jet::constant(1.0) + y * y);
             let e = (x * y).compose([(x0 * y0).exp(); 4]);
             // C(z) = (sin z, z³, e^z) with its three derivatives at z = q.

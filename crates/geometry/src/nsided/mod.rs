@@ -75,6 +75,7 @@
 mod basis;
 mod domain;
 mod jet;
+mod rows;
 mod side;
 #[cfg(test)]
 mod tests;
@@ -83,7 +84,7 @@ mod tests_g2;
 
 pub use side::{NormalField, Ribbon, ShapeField, Side};
 
-use crate::surface::{Partials, Surface, VDomain};
+use crate::surface::{Partials, RowEvaluator, Surface, VDomain};
 use crate::{Error, Result, Vec3};
 use basis::Basis;
 use domain::Polygon;
@@ -177,6 +178,7 @@ pub struct NSidedPatch {
     sides: Vec<BuiltSide>,
     basis: Basis,
     options: NSidedOptions,
+    /// The correction's coefficients, in the order of [`Basis::by_a`].
     coeffs: Vec<Vec3>,
     size: f64,
     corners: Vec<Corner>,
@@ -266,7 +268,7 @@ impl Galerkin {
             .map(|(p, _)| {
                 let mut row = Vec::with_capacity(nb * comps);
                 if order == 3 {
-                    let mut phi = Vec::<Jet<true>>::with_capacity(nb);
+                    let mut phi = Vec::<Jet<3>>::with_capacity(nb);
                     basis.eval(poly, *p, &mut phi);
                     for f in &phi {
                         row.push(f.t[0] + a2 * f.t[2]);
@@ -398,7 +400,7 @@ impl NSidedPatch {
                 options.a
             )));
         }
-        if options.degree > 24 {
+        if options.degree > basis::MAX_DEGREE {
             return Err(Error::invalid(format!(
                 "the degree of an n-sided patch is 0 to 24, not {}",
                 options.degree
@@ -757,10 +759,10 @@ impl NSidedPatch {
         let n = self.poly.n;
         let j = (k + n - 1) % n;
         let v = self.poly.verts[k];
-        let d: Vec<Jet<true>> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
+        let d: Vec<Jet<3>> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
         let (tk, tj) = (self.ribbon_jet(k, &d).t, self.ribbon_jet(j, &d).t);
-        let a = Jet::<true>::affine(0.0, self.poly.normal(j));
-        let b = Jet::<true>::affine(0.0, self.poly.normal(k));
+        let a = Jet::<3>::affine(0.0, self.poly.normal(j));
+        let b = Jet::<3>::affine(0.0, self.poly.normal(k));
         let cubics = [a * a * a, a * a * b, a * b * b, b * b * b];
         let m = nalgebra::Matrix4::from_fn(|r, c| cubics[c].t[r]);
         let inv = m.try_inverse().unwrap_or_else(nalgebra::Matrix4::zeros);
@@ -803,10 +805,10 @@ impl NSidedPatch {
             .par_iter()
             .flat_map_iter(|(p, _)| {
                 if order == 3 {
-                    let c = self.interpolant::<true>(*p);
+                    let c = self.interpolant::<3>(*p);
                     return vec![c.t[0] + c.t[2] * a2, (c.t[1] + c.t[3] * a2) * a];
                 }
-                let c = self.interpolant::<false>(*p);
+                let c = self.interpolant::<2>(*p);
                 if order == 1 {
                     vec![c.d[0], c.d[1] * a]
                 } else {
@@ -814,7 +816,7 @@ impl NSidedPatch {
                 }
             })
             .collect();
-        self.coeffs = galerkin.solve(&lc);
+        self.coeffs = self.basis.by_a(&galerkin.solve(&lc));
     }
 
     /// The number of sides.
@@ -843,14 +845,15 @@ impl NSidedPatch {
     }
 
     /// Side `i`'s ribbon `R_i = P_i(s_i) + t_i D_i(s_i) + t_i² E_i(s_i)` given the distance
-    /// jets `d` of a point (`t_i = d_i / L`), to third order.
-    fn ribbon_jet<const T: bool>(&self, i: usize, d: &[Jet<T>]) -> VJet<T> {
+    /// jets `d` of a point (`t_i = d_i / L`), to order `O`.
+    #[inline(always)]
+    fn ribbon_jet<const O: usize>(&self, i: usize, d: &[Jet<O>]) -> VJet<O> {
         let n = self.poly.n;
         let side = &self.sides[i];
         let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
         let s = dm.div(dm + dp);
         let t = d[i].scale(1.0 / self.poly.side);
-        let [p, r, e, f] = side.data(s.v);
+        let [p, r, e, f] = side.data::<O>(s.v);
         let t2 = t * t;
         let x = VJet::compose(s, p) + VJet::compose(s, r).times(t) + VJet::compose(s, e).times(t2);
         if self.options.order == 3 {
@@ -861,11 +864,11 @@ impl NSidedPatch {
     }
 
     /// The boundary interpolant `C` at the domain point `p`.
-    fn interpolant<const T: bool>(&self, p: [f64; 2]) -> VJet<T> {
+    fn interpolant<const O: usize>(&self, p: [f64; 2]) -> VJet<O> {
         // On the stack: this runs at every quadrature node and every evaluation.
         let n = self.poly.n;
-        let mut d = [Jet::<T>::default(); MAX_SIDES];
-        let mut cube = [Jet::<T>::default(); MAX_SIDES];
+        let mut d = [Jet::<O>::default(); MAX_SIDES];
+        let mut cube = [Jet::<O>::default(); MAX_SIDES];
         // Blends `Π_{j≠i} d_j^q`: q = 3 leaves the other blends vanishing with two cross
         // derivatives on a side (enough up to G1, and the interpolant C² at the corners); order
         // 3 takes q = 4 (three cross derivatives for G2, and C³ at the corners).
@@ -877,7 +880,7 @@ impl NSidedPatch {
                 cube[i] = cube[i] * d[i];
             }
         }
-        let mut pis = [Jet::<T>::constant(1.0); MAX_SIDES];
+        let mut pis = [Jet::<O>::constant(1.0); MAX_SIDES];
         for (i, pi) in pis.iter_mut().enumerate().take(n) {
             for (j, c) in cube.iter().enumerate().take(n) {
                 if j != i {
@@ -896,21 +899,22 @@ impl NSidedPatch {
 
     /// `X` and its partials in the domain coordinates at `p` (inside the polygon).
     fn eval_domain(&self, p: [f64; 2]) -> VJet {
+        self.eval_domain_to::<2>(p)
+    }
+
+    /// `X` and its partials up to order `O ≤ 2` in the domain coordinates at `p` (inside the
+    /// polygon): the interpolant plus the correction. Order 1 is what positions and normals
+    /// need (the rows of a tessellation); its values are those of order 2's, to rounding.
+    fn eval_domain_to<const O: usize>(&self, p: [f64; 2]) -> VJet<O> {
         if let Some(k) = self.poly.vertex_near(p, 1e-10) {
             // The blends are 0/0 at a corner: the position is the corner's; the derivatives
             // are their limits, taken a hair inside.
             let q = [p[0] * (1.0 - 1e-7), p[1] * (1.0 - 1e-7)];
-            let mut x = self.eval_domain(q);
+            let mut x = self.eval_domain_to::<O>(q);
             x.v = self.sides[k].position(0.0)[0];
             return x;
         }
-        let mut x = self.interpolant::<false>(p);
-        let mut phi = Vec::<Jet>::with_capacity(self.basis.len());
-        self.basis.eval(&self.poly, p, &mut phi);
-        for (c, f) in self.coeffs.iter().zip(&phi) {
-            x.add_scaled(*c, f);
-        }
-        x
+        self.interpolant::<O>(p) + self.basis.combine::<O>(&self.poly, p, &self.coeffs)
     }
 
     /// The surfaces that present the patch: one on the square for `n = 4`, else `n` pieces
@@ -1173,6 +1177,19 @@ pub struct NSidedSurface {
 }
 
 impl NSidedSurface {
+    /// The domain point of `(u, v)` with `∂/∂u`, `∂/∂v` and `∂²/∂u∂v` of the map (see
+    /// [`Polygon::piece`]; for `n = 4` the square is `[−r, r]²` scaled from `[0, 1]²`).
+    fn domain_map(&self, u: f64, v: f64) -> [[f64; 2]; 4] {
+        match self.piece {
+            Some(k) => self.patch.poly.piece(k, u, v),
+            None => {
+                let r = std::f64::consts::FRAC_1_SQRT_2;
+                let w = 2.0 * r;
+                [[-r + w * u, -r + w * v], [w, 0.0], [0.0, w], [0.0, 0.0]]
+            }
+        }
+    }
+
     /// The patch this surface presents.
     pub fn patch(&self) -> &Arc<NSidedPatch> {
         &self.patch
@@ -1205,15 +1222,14 @@ impl Surface for NSidedSurface {
         }
     }
 
+    /// Positions and normals from first-order jets (see the `rows` module): the rows of a
+    /// tessellation pay neither for second derivatives nor for allocations.
+    fn row_evaluator<'a>(&'a self, vs: &'a [f64]) -> Box<dyn RowEvaluator + 'a> {
+        Box::new(rows::Rows::new(self, vs))
+    }
+
     fn partials(&self, u: f64, v: f64) -> Partials {
-        let [p, pu, pv, puv] = match self.piece {
-            Some(k) => self.patch.poly.piece(k, u, v),
-            None => {
-                let r = std::f64::consts::FRAC_1_SQRT_2;
-                let w = 2.0 * r;
-                [[-r + w * u, -r + w * v], [w, 0.0], [0.0, w], [0.0, 0.0]]
-            }
-        };
+        let [p, pu, pv, puv] = self.domain_map(u, v);
         let x = self.patch.eval_domain(p);
         let d = |q: [f64; 2]| x.d[0] * q[0] + x.d[1] * q[1];
         let h = |a: [f64; 2], b: [f64; 2]| {

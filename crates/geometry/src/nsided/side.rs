@@ -266,16 +266,17 @@ impl ChebVec {
 
     /// The `k`-th derivative (`k ≤ 3`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).
     pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
-        self.jet(s)[k]
+        self.jet::<3>(s)[k]
     }
 
-    /// The value and three derivatives at `s ∈ [0, 1]`: from a short series itself (a smooth
-    /// field stays analytic, so quadratures over the patch converge at their full order),
-    /// from the table when the series is long (the third derivative is then the quintic's,
-    /// accurate to `O(h³)`).
-    pub(crate) fn jet(&self, s: f64) -> [Vec3; 4] {
+    /// The value and derivatives up to `O` (`≤ 3`) at `s ∈ [0, 1]`: from a short series
+    /// itself (a smooth field stays analytic, so quadratures over the patch converge at their
+    /// full order), from the table when the series is long (the third derivative is then the
+    /// quintic's, accurate to `O(h³)`). Only the derivatives up to `O` (`≤ 3`) are computed; the higher entries are zero and
+    /// cost nothing, and the others do not depend on `O` (the same recurrences, to the bit).
+    pub(crate) fn jet<const O: usize>(&self, s: f64) -> [Vec3; 4] {
         if self.table.is_empty() {
-            return self.all_at(s);
+            return self.all_at::<O>(s);
         }
         let h = 1.0 / TABLE as f64;
         let i = ((s * TABLE as f64).floor().max(0.0) as usize).min(TABLE - 1);
@@ -284,6 +285,9 @@ impl ChebVec {
         let (a, c) = (&self.table[i], &self.table[i + 1]);
         let mut scale = 1.0;
         [0, 1, 2, 3].map(|k| {
+            if k > O {
+                return Vec3::zeros();
+            }
             let b = basis[k];
             let v = a[0] * b[0]
                 + a[1] * (h * b[1])
@@ -327,12 +331,16 @@ impl ChebVec {
             .collect()
     }
 
-    /// The value and three derivatives at `s` from the series: the twelve recurrences at
-    /// once.
-    fn all_at(&self, s: f64) -> [Vec3; 4] {
-        let lanes: Vec<&[f64]> = self.series.iter().flatten().map(Vec::as_slice).collect();
+    /// The value and derivatives up to `O` at `s` from the series: their recurrences (up
+    /// to twelve) at once.
+    fn all_at<const O: usize>(&self, s: f64) -> [Vec3; 4] {
+        let mut lanes: [&[f64]; 12] = [&[]; 12];
+        for (l, series) in lanes.iter_mut().zip(self.series.iter().flatten()) {
+            *l = series.as_slice();
+        }
         let mut out = [0.0; 12];
-        clenshaw_lanes(&lanes, 2.0 * s - 1.0, 1.0, &mut out);
+        let used = 3 * (O.min(3) + 1);
+        clenshaw_lanes(&lanes[..used], 2.0 * s - 1.0, 1.0, &mut out[..used]);
         [0, 1, 2, 3].map(|k| {
             Vec3::new(out[3 * k], out[3 * k + 1], out[3 * k + 2]) * [1.0, 2.0, 4.0, 8.0][k]
         })
@@ -537,11 +545,11 @@ impl BuiltSide {
         if matches!(self.ribbon, BuiltRibbon::Plane { .. }) {
             self.side.jet(s, &mut p);
         }
-        self.ribbon_on(&p, s)
+        self.ribbon_on::<3>(&p, s)
     }
 
-    /// `E(s)` and its first three derivatives.
-    pub(crate) fn second(&self, s: f64) -> [Vec3; 4] {
+    /// `E(s)` and its derivatives up to `O` (`≤ 3`; the higher entries are zero).
+    pub(crate) fn second<const O: usize>(&self, s: f64) -> [Vec3; 4] {
         // The free part: linear between the ends, plus the cubic `h₁₀ δ₀ + h₁₁ δ₁` (zero at
         // both ends, slopes δ₀ and δ₁ there) of the slope changes.
         let h = hermite_basis3(s);
@@ -557,13 +565,13 @@ impl BuiltSide {
         match (&self.curvature, &self.ribbon) {
             (BuiltCurvature::Explicit { curve, t0, t1 }, _) => {
                 let mut w = [Vec3::zeros(); 4];
-                curve_jet(curve, *t0, *t1, s, &mut w);
+                curve_jet(curve, *t0, *t1, s, &mut w[..=O.min(3)]);
                 w.map(|x| x * 0.5)
             }
             (BuiltCurvature::Neighbour(k), BuiltRibbon::Plane { normal, a, b }) => {
-                let n = normal.jet(s);
+                let n = normal.jet::<O>(s);
                 let (a, b) = (hermite_scalar(a, s), hermite_scalar(b, s));
-                let kk = k.jet(s);
+                let kk = k.jet::<O>(s);
                 let comp = |i: usize| [kk[0][i], kk[1][i], kk[2][i], kk[3][i]];
                 // κ = a² K₀ + 2ab K₁ + b² K₂ = II(D, D).
                 let (aa, ab, bb) = (mul1(a, a), mul1(a, b), mul1(b, b));
@@ -572,67 +580,81 @@ impl BuiltSide {
                 // E = l + N g with g = κ/2 − N·l (l the free part): N·E = κ/2 wherever
                 // |N| = 1, and l moves only the tangential part of E.
                 let g: [f64; 4] = [0, 1, 2, 3].map(|k| {
+                    if k > O {
+                        return 0.0;
+                    }
                     0.5 * kappa[k]
                         - (0..=k)
                             .map(|j| n[j].dot(&lin[k - j]) * BINOM[k][j])
                             .sum::<f64>()
                 });
                 let ng: [Vec3; 4] = [0, 1, 2, 3].map(|k| {
+                    if k > O {
+                        return Vec3::zeros();
+                    }
                     (0..=k).fold(Vec3::zeros(), |acc, j| {
                         acc + n[j] * (g[k - j] * BINOM[k][j])
                     })
                 });
-                [0, 1, 2, 3].map(|k| lin[k] + ng[k])
+                [0, 1, 2, 3].map(|k| if k > O { Vec3::zeros() } else { lin[k] + ng[k] })
             }
-            _ => lin,
+            _ => [0, 1, 2, 3].map(|k| if k > O { Vec3::zeros() } else { lin[k] }),
         }
     }
 
-    /// `P`, `D`, `E` and `F` at `s`, each with three derivatives: the side's curve evaluated
-    /// once.
-    pub(crate) fn data(&self, s: f64) -> [[Vec3; 4]; 4] {
+    /// `P`, `D`, `E` and `F` at `s`, each with its derivatives up to `O` (`≤ 3`; the
+    /// higher entries are zero and cost nothing): the side's curve evaluated once.
+    pub(crate) fn data<const O: usize>(&self, s: f64) -> [[Vec3; 4]; 4] {
         let mut p = [Vec3::zeros(); 5];
-        self.side.jet(s, &mut p);
+        // A plane ribbon's `D = a N × P' + b P'` takes one derivative of `P` more.
+        let plane = matches!(self.ribbon, BuiltRibbon::Plane { .. });
+        self.side
+            .jet(s, &mut p[..O.min(3) + 1 + usize::from(plane)]);
         let z = Vec3::zeros();
+        let f1 = if O >= 1 { self.f[1] - self.f[0] } else { z };
         [
-            [p[0], p[1], p[2], p[3]],
-            self.ribbon_on(&p, s),
-            self.second(s),
-            [
-                self.f[0] + (self.f[1] - self.f[0]) * s,
-                self.f[1] - self.f[0],
-                z,
-                z,
-            ],
+            [0, 1, 2, 3].map(|k| if k > O { z } else { p[k] }),
+            self.ribbon_on::<O>(&p, s),
+            self.second::<O>(s),
+            [self.f[0] + (self.f[1] - self.f[0]) * s, f1, z, z],
         ]
     }
 
-    /// `m = N × P'` and its first three derivatives, given `N … N'''` and `P … P''''`.
-    fn frame_m(n: &[Vec3; 4], p: &[Vec3; 5]) -> [Vec3; 4] {
+    /// `m = N × P'` and its derivatives up to `O`, given `N … N'''` and `P … P''''`.
+    fn frame_m<const O: usize>(n: &[Vec3; 4], p: &[Vec3; 5]) -> [Vec3; 4] {
         [0, 1, 2, 3].map(|k| {
+            if k > O {
+                return Vec3::zeros();
+            }
             (0..=k).fold(Vec3::zeros(), |acc, j| {
                 acc + n[j].cross(&p[1 + k - j]) * BINOM[k][j]
             })
         })
     }
 
-    /// `D` and its first three derivatives given the side's `P … P''''` at `s` (used by plane
-    /// ribbons only).
-    fn ribbon_on(&self, p: &[Vec3; 5], s: f64) -> [Vec3; 4] {
+    /// `D` and its derivatives up to `O` (`≤ 3`; the higher entries are zero) given the
+    /// side's `P … P^(O + 1)` at `s` (used by plane ribbons only).
+    fn ribbon_on<const O: usize>(&self, p: &[Vec3; 5], s: f64) -> [Vec3; 4] {
         match &self.ribbon {
-            BuiltRibbon::Free(c) => hermite_vector(c, s),
+            BuiltRibbon::Free(c) => {
+                let d = hermite_vector(c, s);
+                [0, 1, 2, 3].map(|k| if k > O { Vec3::zeros() } else { d[k] })
+            }
             BuiltRibbon::Derivative { curve, t0, t1 } => {
                 let mut c = [Vec3::zeros(); 4];
-                curve_jet(curve, *t0, *t1, s, &mut c);
+                curve_jet(curve, *t0, *t1, s, &mut c[..=O.min(3)]);
                 c
             }
             BuiltRibbon::Plane { normal, a, b } => {
-                let n = normal.jet(s);
+                let n = normal.jet::<O>(s);
                 let a = hermite_scalar(a, s);
                 let b = hermite_scalar(b, s);
-                let m = Self::frame_m(&n, p);
+                let m = Self::frame_m::<O>(&n, p);
                 // (a m + b P')^(k) by Leibniz.
                 [0, 1, 2, 3].map(|k| {
+                    if k > O {
+                        return Vec3::zeros();
+                    }
                     (0..=k).fold(Vec3::zeros(), |acc, j| {
                         acc + (m[k - j] * a[j] + p[1 + k - j] * b[j]) * BINOM[k][j]
                     })

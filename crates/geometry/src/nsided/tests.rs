@@ -168,6 +168,18 @@ fn square_error(patch: &Arc<NSidedPatch>, f: Field) -> f64 {
     worst
 }
 
+/// The square patch of `biharmonic`'s data (order 2 and its ribbons, or positions only) or
+/// `harmonic`'s (order 1, positions), degree 8.
+pub(super) fn square_patch(order: usize, ribbons: bool) -> Arc<NSidedPatch> {
+    let f: Field = if order == 1 { harmonic } else { biharmonic };
+    let opts = NSidedOptions {
+        order,
+        degree: 8,
+        ..Default::default()
+    };
+    Arc::new(NSidedPatch::solve(square_sides(f, ribbons), &opts).unwrap())
+}
+
 /// `e^u sin v`, harmonic.
 fn harmonic(u: f64, v: f64) -> [f64; 10] {
     let (e, (s, c)) = (u.exp(), v.sin_cos());

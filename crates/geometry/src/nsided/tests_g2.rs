@@ -195,7 +195,7 @@ fn a_planar_loop_gives_the_plane_at_order_three() {
 
 /// The spherical n-gon of `tests.rs` with G2 ribbons from the unit sphere: outward normal
 /// `X`, second fundamental form `−(I − X Xᵀ)` (every normal curvature −1 against `X`).
-fn spherical_polygon_g2(n: usize, rho: f64) -> Vec<Side> {
+pub(super) fn spherical_polygon_g2(n: usize, rho: f64) -> Vec<Side> {
     let offset = 0.37;
     let verts: Vec<Vec3> = (0..n)
         .map(|k| {
