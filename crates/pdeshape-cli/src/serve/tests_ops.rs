@@ -737,12 +737,20 @@ async fn a_morph_reads_only_inside_the_start_directory() {
 async fn curves_are_sampled_at_the_grids_resolution() {
     let dir = root();
     let app = open(dir.path(), Some("examples/teacup.toml"));
-    for (grid, per_curve) in [("nu=64&nv=128", 128), ("nu=32&nv=64", 64), ("nu=8&nv=16", 32)] {
+    for (grid, per_curve) in [
+        ("nu=64&nv=128", 128),
+        ("nu=32&nv=64", 64),
+        ("nu=8&nv=16", 32),
+    ] {
         let f = decode(&send(&app, "GET", &format!("/api/frame?{grid}"), None, &[]).await);
         for name in ["rim", "top_root"] {
             let c = curve(&f.scene, name);
             assert_eq!(c["samples"], json!(per_curve), "{grid} {name}");
-            assert_eq!(c["points"].as_array().unwrap().len(), per_curve, "{grid} {name}");
+            assert_eq!(
+                c["points"].as_array().unwrap().len(),
+                per_curve,
+                "{grid} {name}"
+            );
         }
         let field = curve(&f.scene, "top_arrive");
         assert_eq!(field["role"], json!("derivative"));
