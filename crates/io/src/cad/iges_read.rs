@@ -63,6 +63,23 @@ impl IgesFile {
     }
 }
 
+/// A cursor over an entity's real parameters ([`Entity::reals_from`]).
+pub struct Reals<'a> {
+    entity: &'a Entity,
+    at: usize,
+}
+
+impl Reals<'_> {
+    /// The next `n` parameters as finite reals ([`Entity::real`], `what` naming them).
+    pub fn take(&mut self, n: usize, what: &str) -> Result<Vec<f64>> {
+        let v = (self.at..self.at + n)
+            .map(|k| self.entity.real(k, what))
+            .collect::<Result<Vec<f64>>>()?;
+        self.at += n;
+        Ok(v)
+    }
+}
+
 impl Entity {
     /// `D 37, P 112: entity 126`: where an error about this entity is.
     pub fn place(&self) -> String {
@@ -94,6 +111,14 @@ impl Entity {
                 "parameter {k} ({what}) is missing: the entity has {}",
                 self.params.len()
             ))),
+        }
+    }
+
+    /// The real parameters from `k` on, taken a run at a time ([`Reals::take`]).
+    pub fn reals_from(&self, k: usize) -> Reals<'_> {
+        Reals {
+            entity: self,
+            at: k,
         }
     }
 

@@ -2,7 +2,7 @@
 //! (`bench/peers/occ_box_corner_gap_iges.py`: as a B-rep, entities 186/514/510, and as
 //! trimmed surfaces, entities 144) read as the STEP parts are, and their gap filled alike.
 
-use super::import_step::distance_between;
+use super::import_step::{distance_between, match_occ_faces, occ_points};
 use pdeshape::cad::import::{import_iges, import_step, Fill, Imported};
 use pdeshape::design::{solve_design, NurbsSurface, SolvedDesign};
 use pdeshape::surface::{ClosestOptions, ClosestPointIndex, Surface};
@@ -77,24 +77,6 @@ fn iges_parts_are_read_with_the_faces_edges_and_gap_of_their_step_parts() {
     }
 }
 
-/// OpenCascade's evaluation of the faces of an IGES file as it reads them back (the format of
-/// `box_corner_gap_nurbs.points`).
-fn occ_points(name: &str) -> Vec<Vec<[f64; 20]>> {
-    let mut faces: Vec<Vec<[f64; 20]>> = Vec::new();
-    for line in read(name).lines() {
-        if line.starts_with("face") {
-            faces.push(Vec::new());
-            continue;
-        }
-        let v: Vec<f64> = line
-            .split_whitespace()
-            .map(|x| x.parse().unwrap())
-            .collect();
-        faces.last_mut().unwrap().push(v.try_into().unwrap());
-    }
-    faces
-}
-
 #[test]
 fn iges_nurbs_faces_evaluate_as_opencascade_evaluates_them() {
     for name in ["box_corner_gap_nurbs_brep", "box_corner_gap_nurbs_trimmed"] {
@@ -107,77 +89,8 @@ fn iges_nurbs_faces_evaluate_as_opencascade_evaluates_them() {
             .collect();
         let truth = occ_points(&format!("{name}.points"));
         assert_eq!(truth.len(), 9);
-        // Each of OpenCascade's faces is one of ours, once; positions and partials (rescaled
-        // from the knot parameter of `u` to the design's u ∈ [0, 1]) agree to rounding.
-        let mut matched = vec![false; ours.len()];
-        for (k, rows) in truth.iter().enumerate() {
-            let mut found = None;
-            for (r, n) in ours.iter().enumerate() {
-                let [[u0, u1], _] = n.knot_domain();
-                let h = u1 - u0;
-                let err = rows
-                    .iter()
-                    .map(|t| {
-                        let p = n.partials((t[0] - u0) / h, t[1]);
-                        let at = |i: usize| pdeshape::Vec3::new(t[i], t[i + 1], t[i + 2]);
-                        [
-                            (p.x, at(2)),
-                            (p.xu, at(5) * h),
-                            (p.xv, at(8)),
-                            (p.xuu, at(11) * h * h),
-                            (p.xvv, at(14)),
-                            (p.xuv, at(17) * h),
-                        ]
-                        .iter()
-                        .map(|(a, b)| (a - b).norm() / (1.0 + b.norm()))
-                        .fold(0.0, f64::max)
-                    })
-                    .fold(0.0, f64::max);
-                if err < 1e-12 {
-                    assert!(
-                        found.is_none(),
-                        "{name}: OpenCascade's face {k} matches two"
-                    );
-                    found = Some(r);
-                }
-            }
-            let r =
-                found.unwrap_or_else(|| panic!("{name}: OpenCascade's face {k} is none of ours"));
-            assert!(!matched[r], "{name}: nurbs[{r}] matched twice");
-            matched[r] = true;
-        }
+        match_occ_faces(&ours, &truth, name);
     }
-}
-
-/// The largest distance from points of `ours`, over their whole parameter domains, to the
-/// surfaces of `theirs` (closest points).
-fn faces_off(ours: &[&dyn Surface], theirs: &[&dyn Surface]) -> f64 {
-    let indices: Vec<ClosestPointIndex<_>> = theirs
-        .iter()
-        .map(|s| ClosestPointIndex::new(*s, &ClosestOptions::default()))
-        .collect();
-    let mut worst: f64 = 0.0;
-    for s in ours {
-        let (v0, v1) = match s.v_domain() {
-            pdeshape::surface::VDomain::Interval(a, b) => (a, b),
-            pdeshape::surface::VDomain::Periodic => (0.0, std::f64::consts::TAU),
-        };
-        for i in 0..=12 {
-            for j in 0..=12 {
-                let p = s.point(
-                    s.u_range().lerp(i as f64 / 12.0),
-                    v0 + (v1 - v0) * j as f64 / 12.0,
-                );
-                let d = theirs
-                    .iter()
-                    .zip(&indices)
-                    .filter_map(|(q, idx)| idx.closest(p).map(|c| (q.point(c.u, c.v) - p).norm()))
-                    .fold(f64::INFINITY, f64::min);
-                worst = worst.max(d);
-            }
-        }
-    }
-    worst
 }
 
 #[test]
@@ -196,7 +109,7 @@ fn analytic_iges_faces_are_the_step_faces() {
         assert_eq!(spec.parametric.len(), 9, "{iges}");
         let d = solve_design(&spec).unwrap();
         let ours: Vec<&dyn Surface> = d.references.iter().map(|s| s.surface()).collect();
-        let gap = faces_off(&ours, &theirs).max(faces_off(&theirs, &ours));
+        let gap = distance_between(&ours, &theirs).max(distance_between(&theirs, &ours));
         // The two files write the same decimal numbers here (0.2, 0.8, 1: exact in the ten
         // digits of the IGES file), so the surfaces agree to rounding (measured 2.5e-14).
         assert!(gap < 1e-12, "{iges}: {gap:e}");

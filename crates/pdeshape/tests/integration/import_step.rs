@@ -133,8 +133,10 @@ fn nurbs_part() -> String {
 
 /// OpenCascade's evaluation of the faces of `box_corner_gap_nurbs.step` as it reads them back:
 /// per face, rows of `u v X Xu Xv Xuu Xvv Xuv` in the surface's knot parameters.
-fn occ_points() -> Vec<Vec<[f64; 20]>> {
-    let text = std::fs::read_to_string(example_path("cad/box_corner_gap_nurbs.points")).unwrap();
+/// OpenCascade's evaluation of a part's B-spline faces (`examples/cad/NAME`): per face, rows of
+/// `u v` and the position and partials to second order.
+pub(crate) fn occ_points(name: &str) -> Vec<Vec<[f64; 20]>> {
+    let text = std::fs::read_to_string(example_path(&format!("cad/{name}"))).unwrap();
     let mut faces: Vec<Vec<[f64; 20]>> = Vec::new();
     for line in text.lines() {
         if line.starts_with("face") {
@@ -150,7 +152,58 @@ fn occ_points() -> Vec<Vec<[f64; 20]>> {
     faces
 }
 
-/// The largest distance from points of `ours` to the surfaces of `theirs` (closest points).
+/// Matches each of OpenCascade's faces (`truth`, [`occ_points`]) to exactly one of `ours`, by
+/// positions and partials (rescaled from the knot parameter of `u` to the design's `u ∈ [0, 1]`)
+/// agreeing to 1e-12 (relative); every one of ours is matched once. Returns the largest
+/// difference of the matches.
+pub(crate) fn match_occ_faces(ours: &[NurbsSurface], truth: &[Vec<[f64; 20]>], label: &str) -> f64 {
+    let mut matched = vec![false; ours.len()];
+    let mut worst: f64 = 0.0;
+    for (k, rows) in truth.iter().enumerate() {
+        let mut found = None;
+        for (r, n) in ours.iter().enumerate() {
+            let [[u0, u1], _] = n.knot_domain();
+            let h = u1 - u0;
+            let err = rows
+                .iter()
+                .map(|t| {
+                    let p = n.partials((t[0] - u0) / h, t[1]);
+                    let at = |i: usize| pdeshape::Vec3::new(t[i], t[i + 1], t[i + 2]);
+                    [
+                        (p.x, at(2)),
+                        (p.xu, at(5) * h),
+                        (p.xv, at(8)),
+                        (p.xuu, at(11) * h * h),
+                        (p.xvv, at(14)),
+                        (p.xuv, at(17) * h),
+                    ]
+                    .iter()
+                    .map(|(a, b)| (a - b).norm() / (1.0 + b.norm()))
+                    .fold(0.0, f64::max)
+                })
+                .fold(0.0, f64::max);
+            if err < 1e-12 {
+                assert!(
+                    found.is_none(),
+                    "{label}: OpenCascade's face {k} matches two of ours"
+                );
+                found = Some(r);
+                worst = worst.max(err);
+            }
+        }
+        let r = found.unwrap_or_else(|| panic!("{label}: OpenCascade's face {k} is none of ours"));
+        assert!(!matched[r], "{label}: nurbs[{r}] matched twice");
+        matched[r] = true;
+    }
+    assert!(
+        matched.iter().all(|&m| m),
+        "{label}: a face of ours matched none"
+    );
+    worst
+}
+
+/// The largest distance from points of `ours`, over their whole parameter domains, to the
+/// surfaces of `theirs` (closest points).
 pub(crate) fn distance_between(ours: &[&dyn Surface], theirs: &[&dyn Surface]) -> f64 {
     let indices: Vec<ClosestPointIndex<_>> = theirs
         .iter()
@@ -158,9 +211,16 @@ pub(crate) fn distance_between(ours: &[&dyn Surface], theirs: &[&dyn Surface]) -
         .collect();
     let mut worst: f64 = 0.0;
     for s in ours {
+        let (v0, v1) = match s.v_domain() {
+            pdeshape::surface::VDomain::Interval(a, b) => (a, b),
+            pdeshape::surface::VDomain::Periodic => (0.0, std::f64::consts::TAU),
+        };
         for i in 0..=12 {
             for j in 0..=12 {
-                let p = s.point(i as f64 / 12.0, j as f64 / 12.0);
+                let p = s.point(
+                    s.u_range().lerp(i as f64 / 12.0),
+                    v0 + (v1 - v0) * j as f64 / 12.0,
+                );
                 let d = theirs
                     .iter()
                     .zip(&indices)
@@ -228,49 +288,9 @@ fn nurbs_faces_evaluate_as_opencascade_evaluates_them() {
         .iter()
         .map(|n| NurbsSurface::from_spec(n, "").unwrap())
         .collect();
-    let truth = occ_points();
+    let truth = occ_points("box_corner_gap_nurbs.points");
     assert_eq!(truth.len(), 9);
-    // Each of OpenCascade's faces is one of ours (matched by the points), and every one of
-    // ours is matched once; positions and partials (rescaled from the knot parameter of `u`
-    // to the design's u ∈ [0, 1]) agree to rounding.
-    let mut matched = vec![false; ours.len()];
-    let mut worst: f64 = 0.0;
-    for (k, rows) in truth.iter().enumerate() {
-        let mut found = None;
-        for (r, n) in ours.iter().enumerate() {
-            let [[u0, u1], _] = n.knot_domain();
-            let h = u1 - u0;
-            let err = rows
-                .iter()
-                .map(|t| {
-                    let p = n.partials((t[0] - u0) / h, t[1]);
-                    let at = |i: usize| pdeshape::Vec3::new(t[i], t[i + 1], t[i + 2]);
-                    [
-                        (p.x, at(2)),
-                        (p.xu, at(5) * h),
-                        (p.xv, at(8)),
-                        (p.xuu, at(11) * h * h),
-                        (p.xvv, at(14)),
-                        (p.xuv, at(17) * h),
-                    ]
-                    .iter()
-                    .map(|(a, b)| (a - b).norm() / (1.0 + b.norm()))
-                    .fold(0.0, f64::max)
-                })
-                .fold(0.0, f64::max);
-            if err < 1e-12 {
-                assert!(
-                    found.is_none(),
-                    "OpenCascade's face {k} matches two of ours"
-                );
-                found = Some(r);
-                worst = worst.max(err);
-            }
-        }
-        let r = found.unwrap_or_else(|| panic!("OpenCascade's face {k} is none of ours"));
-        assert!(!matched[r], "nurbs[{r}] matched twice");
-        matched[r] = true;
-    }
+    let worst = match_occ_faces(&ours, &truth, "box_corner_gap_nurbs.step");
     assert!(worst < 1e-12, "{worst:e}");
 }
 

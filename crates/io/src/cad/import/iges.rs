@@ -417,18 +417,11 @@ impl<'a> Reader<'a> {
                 e.params.len()
             )));
         }
-        let mut at = 10;
-        let mut take = |n: usize, what: &str| -> Result<Vec<f64>> {
-            let v = (at..at + n)
-                .map(|k| e.real(k, what))
-                .collect::<Result<Vec<f64>>>()?;
-            at += n;
-            Ok(v)
-        };
-        let knots_u = take(nu + m1 + 1, "knot in u")?;
-        let knots_v = take(nv + m2 + 1, "knot in v")?;
-        let w = take(nu * nv, "weight")?;
-        let pts = take(3 * nu * nv, "control point")?;
+        let mut reals = e.reals_from(10);
+        let knots_u = reals.take(nu + m1 + 1, "knot in u")?;
+        let knots_v = reals.take(nv + m2 + 1, "knot in v")?;
+        let w = reals.take(nu * nv, "weight")?;
+        let pts = reals.take(3 * nu * nv, "control point")?;
         // The first index (u) varies fastest in the file.
         let control = (0..nu)
             .map(|i| {
@@ -594,18 +587,11 @@ impl<'a> Reader<'a> {
                 e.params.len()
             )));
         }
-        let mut at = 7;
-        let mut take = |n: usize, what: &str| -> Result<Vec<f64>> {
-            let v = (at..at + n)
-                .map(|k| e.real(k, what))
-                .collect::<Result<Vec<f64>>>()?;
-            at += n;
-            Ok(v)
-        };
-        let knots = take(count + m + 1, "knot")?;
-        let w = take(count, "weight")?;
-        let pts = take(3 * count, "control point")?;
-        let v = take(2, "parameter range")?;
+        let mut reals = e.reals_from(7);
+        let knots = reals.take(count + m + 1, "knot")?;
+        let w = reals.take(count, "weight")?;
+        let pts = reals.take(3 * count, "control point")?;
+        let v = reals.take(2, "parameter range")?;
         let control = (0..count)
             .map(|i| {
                 let p = a.point(Vec3::new(pts[3 * i], pts[3 * i + 1], pts[3 * i + 2]));
