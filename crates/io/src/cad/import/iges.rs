@@ -413,7 +413,7 @@ impl<'a> Reader<'a> {
             return Err(e.bad(&format!(
                 "{nu} × {nv} control points of degree {m1} × {m2} need {} parameters, the \
                  entity has {}",
-                9 + needed + 4,
+                9 + needed,
                 e.params.len()
             )));
         }
