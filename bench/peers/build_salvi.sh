@@ -16,7 +16,7 @@
 # the library's biharmonic patch meshes its domain with its own regular grid.
 #
 # TRANSFINITE_REPO and LIBGEOM_REPO override where the sources are cloned from (a URL or a
-# local git directory holding the pinned commits).
+# local git directory holding the pinned commits). TWIST_STEP: see the end of this script.
 set -euo pipefail
 
 TRANSFINITE_COMMIT=2324dcb781844e98aca686441e156b820a993baa # 2026-03-02
@@ -78,4 +78,22 @@ printf '%s\n' "${jobs[@]}" |
     xargs -P "${JOBS:-2}" -I{} bash -c 'read -r -a FLAGS <<< "$FLAGS_STR"; compile "$1"' _ {}
 
 g++ "${flags[@]}" -o "$out/salvi_fill" "$here/salvi_fill.cc" "$out"/obj/*.o
+
+# TWIST_STEP=1e-6 also builds OUTDIR/salvi_fill_twist: the same driver with a copy of the
+# library's surface.cc whose corner twists (one-sided differences of the ribbons' cross
+# derivatives in Surface::updateCorner, step 1e-4) use that step instead. Only for checking
+# where the corner-blended patches' G1 error comes from; the figures use the library as it is.
+if [ -n "${TWIST_STEP:-}" ]; then
+    grep -q 'static const double step = 1.0e-4;' "$tf/surface.cc" || {
+        echo "build_salvi.sh: the twist step is no longer where this script expects it" >&2
+        exit 1
+    }
+    mkdir -p "$out/twist"
+    sed "s/static const double step = 1.0e-4;/static const double step = $TWIST_STEP;/" \
+        "$tf/surface.cc" > "$out/twist/surface.cc"
+    g++ "${flags[@]}" -c "$out/twist/surface.cc" -o "$out/twist/surface.o"
+    g++ "${flags[@]}" -o "$out/salvi_fill_twist" "$here/salvi_fill.cc" \
+        $(ls "$out"/obj/*.o | grep -v '/transfinite_surface\.o$') "$out/twist/surface.o"
+    echo "built $out/salvi_fill_twist (corner twist step $TWIST_STEP)"
+fi
 echo "built $out/salvi_fill (transfinite $TRANSFINITE_COMMIT, libgeom $LIBGEOM_COMMIT)"
