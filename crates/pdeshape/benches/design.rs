@@ -46,16 +46,18 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
-    // A control point of one side of the five-sided panel dragged up and back: each step one
+    // A control point of one side of the five-sided panel moved up and back: each step one
     // edit, the patch re-solved (its Galerkin matrix cached, the interpolant and the right-hand
-    // side recomputed), then also re-tessellated.
+    // side recomputed), then also re-tessellated; `drag_control_point` moves it frame after
+    // frame as a drag (`apply_dragging`), as the designer does, where the meshes come from the
+    // drag's affine model (made before the timing starts).
     let spec = pdeshape_testkit::example_spec("nsided_pentagon.toml");
     let CurveKind::BSpline { control, .. } = &spec.curves["side0"].kind else {
         panic!("nsided_pentagon.toml: side0 is a B-spline")
     };
     let low = control[1];
     let high = [low[0], low[1], low[2] + 0.01];
-    let edits = [low, high].map(|point| Edit::MoveControlPoint {
+    let one = [low, high].map(|point| Edit::MoveControlPoint {
         name: "side0".to_string(),
         index: 1,
         point,
@@ -66,7 +68,7 @@ fn bench(c: &mut Criterion) {
     group.bench_function("nsided_pentagon/move_control_point_resolve", |b| {
         b.iter(|| {
             k ^= 1;
-            d.apply(&edits[k]).unwrap();
+            d.apply(&one[k]).unwrap();
             black_box(d.solved().surfaces.len())
         })
     });
@@ -75,11 +77,27 @@ fn bench(c: &mut Criterion) {
         |b| {
             b.iter(|| {
                 k ^= 1;
-                d.apply(&edits[k]).unwrap();
+                d.apply(&one[k]).unwrap();
                 black_box(d.meshes(nu, nv).unwrap().len())
             })
         },
     );
+    let predicted = d.predicted_meshes();
+    assert_eq!(predicted, 0, "edits outside a drag were predicted");
+    let mut k = 0;
+    for _ in 0..2 {
+        k ^= 1;
+        d.apply_dragging(&one[k]).unwrap();
+        d.meshes(nu, nv).unwrap();
+    }
+    group.bench_function("nsided_pentagon/drag_control_point", |b| {
+        b.iter(|| {
+            k ^= 1;
+            d.apply_dragging(&one[k]).unwrap();
+            black_box(d.meshes(nu, nv).unwrap().len())
+        })
+    });
+    assert!(d.predicted_meshes() > predicted, "the drag had no model");
     group.finish();
 }
 

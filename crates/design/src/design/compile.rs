@@ -9,15 +9,16 @@ use super::curves::{curve_id, named_curves, CurveBuilder, CurveCache};
 use super::dynamic::build_dynamic;
 use super::edit::Edit;
 use super::parametric::build_parametric;
+use super::preview::{self, AffineGrid, Drag, DragKey};
 use super::solved::{ConditionInfo, DesignSurface, SolvedDesign, SurfaceKind};
 use super::spline::solve_spec;
 use super::validate::{build_operator, check_solver, kind_name, plan, validate_patches};
 use crate::elliptic::{self, Condition, SolveOptions};
-use crate::mesh::GridMesh;
+use crate::mesh::{self, GridMesh};
 use crate::spec::{
     BlendSpec, CurveRef, DesignSpec, OperatorSpec, ParametricSpec, SolverMethod, SplineSpec,
 };
-use crate::{Error, Result};
+use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 
@@ -72,6 +73,8 @@ pub struct CompiledDesign {
     /// `[[spine]]` edits with the identity of the patch each was applied to.
     spines: Vec<(crate::spec::SpineSpec, usize, SurfaceKind)>,
     meshes: MeshCache,
+    /// The control point being dragged and the affine model of what it moves.
+    drag: Drag,
 }
 
 impl std::fmt::Debug for CompiledDesign {
@@ -98,6 +101,7 @@ pub fn compile(spec: &DesignSpec) -> Result<CompiledDesign> {
         spline: None,
         spines: Vec::new(),
         meshes: MeshCache::default(),
+        drag: Drag::default(),
     };
     d.rebuild(spec.clone())?;
     Ok(d)
@@ -127,12 +131,38 @@ impl CompiledDesign {
     /// Replaces the design by `spec` and re-solves what changed. On an error the compiled
     /// design is left as it was.
     pub fn set_spec(&mut self, spec: DesignSpec) -> Result<()> {
-        self.rebuild(spec)
+        self.rebuild(spec)?;
+        self.drag = Drag::default();
+        Ok(())
     }
 
     /// Applies an edit and re-solves what it touched; returns the edit that undoes it. On an
     /// error (an edit that does not apply, or a design that no longer solves) nothing changes.
+    /// Ends any drag: the next meshes are tessellated.
     pub fn apply(&mut self, edit: &Edit) -> Result<Edit> {
+        let undo = self.edit(edit)?;
+        self.drag.note(None);
+        Ok(undo)
+    }
+
+    /// [`CompiledDesign::apply`] for an edit that continues a gesture (a drag). Moves of one
+    /// control point in a row are a drag, whose meshes [`CompiledDesign::meshes`] may predict
+    /// from its affine model ([`super::preview`]): the meshes a tessellation gives to a unit in
+    /// the last place of their single precision, not always bit for bit. An edit applied with
+    /// [`CompiledDesign::apply`] after it is tessellated again.
+    pub fn apply_dragging(&mut self, edit: &Edit) -> Result<Edit> {
+        let undo = self.edit(edit)?;
+        self.drag.note(match edit {
+            Edit::MoveControlPoint { name, index, .. } => Some(DragKey {
+                curve: name.clone(),
+                index: *index,
+            }),
+            _ => None,
+        });
+        Ok(undo)
+    }
+
+    fn edit(&mut self, edit: &Edit) -> Result<Edit> {
         let mut spec = self.spec.clone();
         let undo = edit.apply(&mut spec)?;
         self.rebuild(spec)?;
@@ -141,17 +171,41 @@ impl CompiledDesign {
 
     /// The meshes of every surface on an `nu × nv` grid, re-tessellating into the previous
     /// meshes only the surfaces that changed since the last call (or all, for another grid).
+    /// While one control point is dragged ([`CompiledDesign::apply_dragging`]), the surfaces
+    /// affine in it are predicted from a model made once per drag instead
+    /// ([`super::preview`]), each frame checked against the surface.
     pub fn meshes(&mut self, nu: usize, nv: usize) -> Result<&[GridMesh]> {
+        if self.drag.frame((nu, nv)) {
+            self.drag.model = Some(self.make_model((nu, nv)));
+        }
+        let predicted = self.predicted((nu, nv));
         let sources = &self.meshes.sources;
         let surfaces = &self.solved.surfaces;
         let fresh = |k: usize| {
-            sources
-                .get(k)
-                .is_none_or(|s| s.id() != surfaces[k].kind.id())
+            !predicted.iter().any(|(j, _)| *j == k)
+                && sources
+                    .get(k)
+                    .is_none_or(|s| s.id() != surfaces[k].kind.id())
         };
-        let result = self
+        let mut result = self
             .solved
             .meshes_into(nu, nv, &mut self.meshes.meshes, fresh);
+        if result.is_ok() {
+            if let Some(Some(model)) = &self.drag.model {
+                for (k, d) in &predicted {
+                    let Some((_, affine)) = model.surfaces.iter().find(|(j, _)| j == k) else {
+                        continue;
+                    };
+                    let mesh = &mut self.meshes.meshes[*k];
+                    affine.fill(self.solved.surfaces[*k].surface(), *d, mesh);
+                    self.drag.predicted += 1;
+                    result = self.solved.check_finite(*k, mesh);
+                    if result.is_err() {
+                        break;
+                    }
+                }
+            }
+        }
         if let Err(e) = result {
             // Meshes half rewritten: forget them.
             self.meshes = MeshCache::default();
@@ -159,6 +213,150 @@ impl CompiledDesign {
         }
         self.meshes.sources = surfaces.iter().map(|s| s.kind.clone()).collect();
         Ok(&self.meshes.meshes)
+    }
+
+    /// The surfaces whose meshes on `grid` the drag's model gives this time, with the point's
+    /// move since the model was made: those that changed since the last meshes, whose mesh on
+    /// this grid is at hand, and that agree with the model at its probes (a surface that does
+    /// not is dropped from the model).
+    fn predicted(&mut self, grid: (usize, usize)) -> Vec<(usize, Vec3)> {
+        let Some(Some(model)) = &mut self.drag.model else {
+            return Vec::new();
+        };
+        let Some(point) = self
+            .drag
+            .key
+            .as_ref()
+            .and_then(|key| preview::control_point(&self.spec, key))
+        else {
+            return Vec::new();
+        };
+        if model.grid != grid {
+            return Vec::new();
+        }
+        let d = point - model.origin;
+        let (meshes, sources, surfaces) = (
+            &self.meshes.meshes,
+            &self.meshes.sources,
+            &self.solved.surfaces,
+        );
+        let mut out = Vec::new();
+        model.surfaces.retain(|(k, affine)| {
+            let k = *k;
+            let (Some(mesh), Some(source), Some(s)) =
+                (meshes.get(k), sources.get(k), surfaces.get(k))
+            else {
+                return true;
+            };
+            if source.id() == s.kind.id() || (mesh.nu, mesh.nv) != grid {
+                return true;
+            }
+            let agrees = affine.probe(s.surface(), d, &mesh.u, &mesh.v);
+            if agrees {
+                out.push((k, d));
+            }
+            agrees
+        });
+        out
+    }
+
+    /// The affine model of the surfaces the dragged point moves, on `grid` (`None` if no
+    /// surface is affine in it, or the design does not solve at the steps).
+    fn make_model(&self, grid: (usize, usize)) -> Option<preview::Model> {
+        let key = self.drag.key.as_ref()?;
+        let origin = preview::control_point(&self.spec, key)?;
+        let h = preview::step(&self.spec, key)?;
+        let mut scratch = self.scratch();
+        let mut solve = |d: Vec3| -> Option<Vec<SurfaceKind>> {
+            let p = origin + d;
+            scratch
+                .edit(&Edit::MoveControlPoint {
+                    name: key.curve.clone(),
+                    index: key.index,
+                    point: [p.x, p.y, p.z],
+                })
+                .ok()?;
+            Some(
+                scratch
+                    .solved
+                    .surfaces
+                    .iter()
+                    .map(|s| s.kind.clone())
+                    .collect(),
+            )
+        };
+        let check = Vec3::new(0.5, -0.75, 0.3) * h;
+        let axes = [Vec3::x(), Vec3::y(), Vec3::z()].map(|e| solve(e * h));
+        let checked = solve(check)?;
+        let [Some(ax), Some(ay), Some(az)] = axes else {
+            return None;
+        };
+        let base = &self.solved.surfaces;
+        if [&ax, &ay, &az, &checked]
+            .iter()
+            .any(|s| s.len() != base.len())
+        {
+            return None;
+        }
+        let moved = |k: usize| {
+            [&ax, &ay, &az, &checked]
+                .iter()
+                .any(|s| s[k].id() != base[k].kind.id())
+        };
+        if (0..base.len()).filter(|&k| moved(k)).count() * grid.0 * grid.1
+            > preview::MAX_MODEL_VERTICES
+        {
+            return None;
+        }
+        let mut surfaces = Vec::new();
+        for k in 0..base.len() {
+            if !moved(k) {
+                continue;
+            }
+            let s = base[k].surface();
+            let Ok((us, vs)) = mesh::grid_parameters_in(s.u_range(), s.v_domain(), grid.0, grid.1)
+            else {
+                continue;
+            };
+            let jets = |kind: &SurfaceKind| preview::jets(kind.surface(), &us, &vs);
+            let model = AffineGrid::new(
+                preview::jets(s, &us, &vs),
+                [jets(&ax[k]), jets(&ay[k]), jets(&az[k])],
+                h,
+                (&jets(&checked[k]), check),
+            );
+            if let Some(m) = model {
+                surfaces.push((k, m));
+            }
+        }
+        Some(preview::Model {
+            grid,
+            origin,
+            surfaces,
+        })
+    }
+
+    /// How many meshes [`CompiledDesign::meshes`] took from a drag's model instead of
+    /// evaluating the surface (for tests and benchmarks).
+    pub fn predicted_meshes(&self) -> usize {
+        self.drag.predicted
+    }
+
+    /// A copy of the compiled design with its caches but no meshes, to solve variations in.
+    fn scratch(&self) -> CompiledDesign {
+        CompiledDesign {
+            spec: self.spec.clone(),
+            solved: SolvedDesign::empty(),
+            curves: self.curves.clone(),
+            patches: self.patches.clone(),
+            parametric: self.parametric.clone(),
+            nurbs: self.nurbs.clone(),
+            blend: self.blend.clone(),
+            spline: self.spline.clone(),
+            spines: self.spines.clone(),
+            meshes: MeshCache::default(),
+            drag: Drag::default(),
+        }
     }
 
     /// Builds and solves `spec`, reusing what the caches hold; swaps everything in only when

@@ -24,6 +24,7 @@ mod nurbs;
 mod parametric;
 mod params;
 mod patchwork;
+mod preview;
 mod solved;
 mod spine;
 mod spline;
@@ -72,5 +73,7 @@ mod tests_nsided;
 mod tests_params;
 #[cfg(test)]
 mod tests_patchwork;
+#[cfg(test)]
+mod tests_preview;
 #[cfg(test)]
 mod tests_spine;

@@ -419,7 +419,11 @@ impl SolvedDesign {
     /// Refuses a grid of surface `k` that is not finite somewhere, naming the condition curve
     /// that is not finite there (formula curves are checked at sample points only when they are
     /// read, so a NaN between them shows up here).
-    fn check_finite<T: Copy + Into<f64> + Sync>(&self, k: usize, g: &mesh::Grid<T>) -> Result<()> {
+    pub(super) fn check_finite<T: Copy + Into<f64> + Sync>(
+        &self,
+        k: usize,
+        g: &mesh::Grid<T>,
+    ) -> Result<()> {
         use rayon::prelude::*;
         // Blocks in parallel, each folded without a branch per number (which vectorises); the
         // first number that is not finite is looked for only when there is one.

@@ -1228,6 +1228,15 @@ impl Surface for NSidedSurface {
         Box::new(rows::Rows::new(self, vs))
     }
 
+    /// From first-order jets (`eval_domain_to::<1>`): the operations of
+    /// [`Surface::partials`] without the second-order ones.
+    fn first_partials(&self, u: f64, v: f64) -> [Vec3; 3] {
+        let [p, pu, pv, _] = self.domain_map(u, v);
+        let x = self.patch.eval_domain_to::<1>(p);
+        let d = |q: [f64; 2]| x.d[0] * q[0] + x.d[1] * q[1];
+        [x.v, d(pu), d(pv)]
+    }
+
     fn partials(&self, u: f64, v: f64) -> Partials {
         let [p, pu, pv, puv] = self.domain_map(u, v);
         let x = self.patch.eval_domain(p);

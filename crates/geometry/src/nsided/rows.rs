@@ -94,6 +94,13 @@ mod tests {
                 eval.eval_row(u, &mut row);
                 for (j, &v) in TS.iter().enumerate() {
                     let p = s.partials(u, v);
+                    // The first partials without the second: the same operations on the same
+                    // numbers (bit for bit).
+                    assert_eq!(
+                        s.first_partials(u, v),
+                        [p.x, p.xu, p.xv],
+                        "{what}, ({u}, {v})"
+                    );
                     let dx = (row.point(j) - p.x).norm();
                     let bound_x = 4.0 * eps * p.x.norm().max(patch.size());
                     let sin = p.xu.cross(&p.xv).norm() / (p.xu.norm() * p.xv.norm());

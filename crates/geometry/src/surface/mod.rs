@@ -137,6 +137,14 @@ pub trait Surface: Send + Sync {
         self.partials(u, v).x
     }
 
+    /// `[X, X_u, X_v]`: the first three of [`Surface::partials`] (the same values), for
+    /// callers that need no second derivatives; surfaces whose second derivatives cost much
+    /// override it.
+    fn first_partials(&self, u: f64, v: f64) -> [Vec3; 3] {
+        let p = self.partials(u, v);
+        [p.x, p.xu, p.xv]
+    }
+
     /// An evaluator for whole rows of a tensor grid with the given `v` values. Surfaces with
     /// structure (the PDE patch: a sum of products) override this with per-column tables so a
     /// grid is a few small matrix products.

@@ -223,7 +223,7 @@ impl Session {
         group: Option<u64>,
         grid: (usize, usize),
     ) -> Result<(), ApiError> {
-        let undo = self.apply_checked(edit, grid)?;
+        let undo = self.apply_checked(edit, grid, group.is_some())?;
         // An edited time-dependent design is the still design at the time shown.
         if let Some(t) = self.timeline.take() {
             self.frozen_at = Some(t.t());
@@ -244,12 +244,23 @@ impl Session {
         Ok(())
     }
 
-    /// [`CompiledDesign::apply`], then the meshes on `grid`; a design whose meshes fail (a
-    /// surface that is not finite) is put back as it was.
-    fn apply_checked(&mut self, edit: &Edit, grid: (usize, usize)) -> Result<Edit, ApiError> {
+    /// [`CompiledDesign::apply`] (or, for an edit of a gesture, `apply_dragging`, whose
+    /// meshes may come from the drag's model), then the meshes on `grid`; a design whose
+    /// meshes fail (a surface that is not finite) is put back as it was.
+    fn apply_checked(
+        &mut self,
+        edit: &Edit,
+        grid: (usize, usize),
+        gesture: bool,
+    ) -> Result<Edit, ApiError> {
         let err = |s: &Session, e: &pdeshape::Error| ApiError::edit(s.design.spec(), e);
         let grid = self.checked_grid(grid)?;
-        let undo = self.design.apply(edit).map_err(|e| err(self, &e))?;
+        let applied = if gesture {
+            self.design.apply_dragging(edit)
+        } else {
+            self.design.apply(edit)
+        };
+        let undo = applied.map_err(|e| err(self, &e))?;
         self.trimmed_for = None;
         if let Err(e) = self.refresh(grid) {
             let back = self.design.apply(&undo);
@@ -356,7 +367,7 @@ impl Session {
         let Some(entry) = self.undo.pop() else {
             return Ok(false);
         };
-        match self.apply_checked(&entry.undo, grid) {
+        match self.apply_checked(&entry.undo, grid, false) {
             Ok(redo) => {
                 self.redo.push(redo);
                 Ok(true)
@@ -373,7 +384,7 @@ impl Session {
         let Some(edit) = self.redo.pop() else {
             return Ok(false);
         };
-        match self.apply_checked(&edit, grid) {
+        match self.apply_checked(&edit, grid, false) {
             Ok(undo) => {
                 self.undo.push(UndoEntry { undo, group: None });
                 Ok(true)
