@@ -142,7 +142,7 @@ class OptimizeResult(TypedDict):
     solves: int  # design solves
     start_value: float  # objective + penalty at the initial values
     measures: dict[str, float]  # the formulas' variables at the result
-    gradient: GradientSearch | None  # None for annealing
+    gradient: GradientSearch | None  # None for annealing; the hybrid's gradient stage
 
 #: An equality constraint holds within this tolerance relative to max(|target|, 1).
 EQUALITY_TOLERANCE: float
@@ -215,7 +215,7 @@ class Design:
         evaluations: int | None = None,
         chains: int | None = None,
         polish: int | None = None,
-        method: Literal["anneal", "gradient"] = "anneal",
+        method: Literal["anneal", "gradient", "hybrid"] = "anneal",
         starts: int | None = None,
     ) -> OptimizeResult: ...
     def evaluate_problem(self, values: Mapping[str, float] | None = None) -> ProblemValue: ...

@@ -1021,7 +1021,8 @@ impl Design {
     /// same library call (`Problem::plan`, `Problem::run_search`): `method` "anneal"
     /// (simulated annealing and a Nelder–Mead polish; `evaluations` all chains together,
     /// `chains`, `polish`) or "gradient" (SLSQP on the exact sensitivities; `evaluations` per
-    /// start, `starts`); options not given keep the file's (annealing) or the library's
+    /// start, `starts`) or "hybrid" (annealing, then SLSQP from each chain's best point, the
+    /// better result; the annealing options); options not given keep the file's (annealing) or the library's
     /// defaults; `seed` seeds both. Returns a dict of `x` (the best parameter values by name),
     /// `value` (objective + penalty), `objective`, `penalty`, `feasible`, `method`,
     /// `evaluations`, `solves`, `start_value`, `measures`, and `gradient` (None for annealing;

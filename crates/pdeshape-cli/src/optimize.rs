@@ -21,6 +21,8 @@ pub(crate) enum Method {
     Anneal,
     /// SLSQP with the exact sensitivities, bounds and constraints.
     Gradient,
+    /// Annealing, then SLSQP from each chain's best point; the better result.
+    Hybrid,
 }
 
 #[derive(clap::Args, Debug)]
@@ -34,11 +36,13 @@ pub(crate) struct Args {
     /// Seed of the random numbers (default from [optimize], else 1).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// The search: simulated annealing (default) or gradient (SLSQP on exact sensitivities).
+    /// The search: simulated annealing (default), gradient (SLSQP on exact sensitivities) or
+    /// hybrid (annealing, then SLSQP from each chain's best point).
     #[arg(long, value_enum, default_value_t = Method::Anneal)]
     pub method: Method,
-    /// Annealing evaluations, all chains together (default from [optimize], else 2000); with
-    /// --method gradient, gradient evaluations per start (default 100).
+    /// Annealing evaluations, all chains together (default from [optimize], else 2000; also
+    /// with --method hybrid); with --method gradient, gradient evaluations per start (default
+    /// 100).
     #[arg(long)]
     pub evaluations: Option<usize>,
     /// Independent annealing chains (default from [optimize], else 4).
@@ -149,6 +153,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         method: match args.method {
             Method::Anneal => SearchMethod::Anneal,
             Method::Gradient => SearchMethod::Gradient,
+            Method::Hybrid => SearchMethod::Hybrid,
         },
         seed: args.seed,
         evaluations: args.evaluations,

@@ -7,9 +7,15 @@
 //! |---|---|---|---|---|
 //! | `anneal` | simulated annealing and a Nelder–Mead polish ([`super::anneal`]) | annealing evaluations, all chains together | yes | refused |
 //! | `gradient` | SLSQP on the exact sensitivities ([`super::sqp`]) | gradient evaluations per start | refused | yes (default 1) |
+//! | `hybrid` | annealing as `anneal`, then the gradient search from each chain's best point ([`Problem::run_hybrid`]) | annealing's | yes | refused (the starts are the chains) |
 //!
 //! Options not given keep the values of the design's `[optimize]` section (annealing) or of
-//! [`GradientOptions::default`] (gradient); `seed` seeds both.
+//! [`GradientOptions::default`] (gradient; the hybrid's gradient stage too); `seed` seeds both.
+//!
+//! The hybrid is a method of its own rather than a flag of the gradient search (such as
+//! `--starts-from anneal`) so that every option keeps its annealing meaning (`evaluations` all
+//! chains together, `chains`, `polish`) and its result compares directly with `anneal`'s at the
+//! same seed: it contains that run, and is never worse than it (see [`Problem::run_hybrid`]).
 
 use super::{GradientOptions, Outcome, Problem};
 use crate::{Error, Result};
@@ -21,17 +27,24 @@ pub enum SearchMethod {
     Anneal,
     /// SLSQP on the exact sensitivities, with bounds and constraints.
     Gradient,
+    /// Annealing, then the gradient search from each chain's best point.
+    Hybrid,
 }
 
 impl SearchMethod {
     /// Every method, in the order of [`SearchMethod::name`]'s list.
-    pub const ALL: [SearchMethod; 2] = [SearchMethod::Anneal, SearchMethod::Gradient];
+    pub const ALL: [SearchMethod; 3] = [
+        SearchMethod::Anneal,
+        SearchMethod::Gradient,
+        SearchMethod::Hybrid,
+    ];
 
-    /// The method's name: `anneal`, `gradient`.
+    /// The method's name: `anneal`, `gradient`, `hybrid`.
     pub fn name(self) -> &'static str {
         match self {
             SearchMethod::Anneal => "anneal",
             SearchMethod::Gradient => "gradient",
+            SearchMethod::Hybrid => "hybrid",
         }
     }
 
@@ -96,12 +109,16 @@ impl SearchPlan {
     /// The most evaluations the search makes (annealing's and the polish's, or gradient
     /// evaluations over all starts), for a progress bar and the log's memory.
     pub fn evaluations(&self, problem: &Problem) -> usize {
-        match &self.gradient {
-            Some(g) => g.evaluations.saturating_mul(g.starts),
-            None => problem
-                .options
-                .evaluations
-                .saturating_add(problem.options.polish),
+        let anneal = problem
+            .options
+            .evaluations
+            .saturating_add(problem.options.polish);
+        let gradient = |g: &GradientOptions| g.evaluations.saturating_mul(g.starts);
+        match (self.method, &self.gradient) {
+            (SearchMethod::Anneal, _) => anneal,
+            (SearchMethod::Hybrid, Some(g)) => anneal.saturating_add(gradient(g)),
+            (_, Some(g)) => gradient(g),
+            (_, None) => anneal,
         }
     }
 }
@@ -120,7 +137,7 @@ impl Problem {
             .at(name))
         };
         match r.method {
-            SearchMethod::Anneal => {
+            SearchMethod::Anneal | SearchMethod::Hybrid => {
                 if r.starts.is_some() {
                     return refuse("starts", "gradient");
                 }
@@ -138,7 +155,7 @@ impl Problem {
         if let Some(s) = r.seed {
             options.seed = s;
         }
-        if r.method == SearchMethod::Anneal {
+        if r.method != SearchMethod::Gradient {
             if let Some(n) = r.evaluations {
                 options.evaluations = n;
             }
@@ -167,6 +184,14 @@ impl Problem {
                 self.refuse_shell_gradient()?;
                 Some(g)
             }
+            SearchMethod::Hybrid => {
+                self.refuse_shell_gradient()?;
+                Some(GradientOptions {
+                    starts: options.chains,
+                    seed: options.seed,
+                    ..GradientOptions::default()
+                })
+            }
         };
         self.options = options;
         Ok(SearchPlan {
@@ -186,6 +211,14 @@ impl Problem {
             (SearchMethod::Gradient, Some(g)) => self.run_gradient(g, report),
             (SearchMethod::Gradient, None) => {
                 self.run_gradient(&GradientOptions::default(), report)
+            }
+            (SearchMethod::Hybrid, g) => {
+                let d = GradientOptions {
+                    starts: self.options.chains,
+                    seed: self.options.seed,
+                    ..GradientOptions::default()
+                };
+                self.run_hybrid(g.as_ref().unwrap_or(&d), report)
             }
             (SearchMethod::Anneal, _) => self.run(report),
         }
@@ -211,7 +244,7 @@ mod tests {
         let e = SearchMethod::parse("newton").unwrap_err();
         assert_eq!(e.place(), "method");
         assert!(e.to_string().contains("'newton'"), "{e}");
-        assert!(e.to_string().contains("anneal, gradient"), "{e}");
+        assert!(e.to_string().contains("anneal, gradient, hybrid"), "{e}");
         let mut p = problem();
         let before = p.options.clone();
         let cases = [
@@ -244,6 +277,15 @@ mod tests {
                 "evaluations",
             ),
             (SearchMethod::Anneal, None, Some(0), None, None, "chains"),
+            (SearchMethod::Hybrid, None, None, None, Some(2), "starts"),
+            (
+                SearchMethod::Hybrid,
+                Some(1),
+                Some(2),
+                None,
+                None,
+                "evaluations",
+            ),
         ];
         for (method, evaluations, chains, polish, starts, place) in cases {
             let r = SearchRequest {
@@ -291,5 +333,69 @@ mod tests {
         // --evaluations counts gradient evaluations: annealing's budget is untouched.
         assert_eq!(p.options.evaluations, file.evaluations);
         assert_eq!(plan.evaluations(&p), 21);
+    }
+
+    fn example(name: &str) -> Problem {
+        let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+        Problem::new(&parse_design(&std::fs::read_to_string(path).unwrap()).unwrap()).unwrap()
+    }
+
+    /// The hybrid's annealing stage is annealing's run (the same log), its gradient starts are
+    /// the chains' best points, its counts are the two stages' sums, and its result is never
+    /// worse than annealing's alone (`better`: feasible first, then the objective): a theorem
+    /// of the construction, checked on §7.5 (bounds only) and on §7.5.2 (the ν = 0.8 equality),
+    /// where the result is feasible.
+    #[test]
+    fn hybrid_is_never_worse_than_annealing_alone() {
+        for (name, constrained) in [("optimize_curvature.toml", false), ("vesicle.toml", true)] {
+            let anneal_request = SearchRequest {
+                seed: Some(5),
+                evaluations: Some(120),
+                chains: Some(3),
+                polish: Some(20),
+                ..SearchRequest::new(SearchMethod::Anneal)
+            };
+            let mut a = example(name);
+            let plan = a.plan(&anneal_request).unwrap();
+            let anneal = a.run_search(&plan, &|_, _| {}).unwrap();
+            let mut h = example(name);
+            let plan = h
+                .plan(&SearchRequest {
+                    method: SearchMethod::Hybrid,
+                    ..anneal_request
+                })
+                .unwrap();
+            assert_eq!(plan.gradient.as_ref().unwrap().starts, 3);
+            let hybrid = h.run_search(&plan, &|_, _| {}).unwrap();
+            let n = anneal.search.log.len();
+            assert_eq!(hybrid.search.log[..n], anneal.search.log[..], "{name}");
+            assert!(hybrid.search.log[n..].iter().all(|r| r.phase == "gradient"));
+            let g = hybrid.gradient.as_ref().unwrap();
+            assert!((1..=3).contains(&g.starts.len()));
+            let bounds = h.parameters.bounds();
+            for s in &g.starts {
+                let from_chain = anneal.search.chains.iter().any(|(x, _)| {
+                    x.iter()
+                        .zip(&s.x)
+                        .zip(&bounds)
+                        .all(|((a, b), (lo, hi))| (a - b).abs() <= 1e-12 * (hi - lo))
+                });
+                assert!(from_chain, "{name}: start {:?}", s.x);
+            }
+            assert_eq!(
+                hybrid.search.evaluations,
+                anneal.search.evaluations + g.evaluations
+            );
+            assert_eq!(hybrid.solves, anneal.solves + g.solves);
+            assert!(
+                !crate::optimize::sqp::better(&anneal.best.1, &hybrid.best.1),
+                "{name}: annealing {:?} beats the hybrid {:?}",
+                anneal.best.1,
+                hybrid.best.1
+            );
+            if constrained {
+                assert!(hybrid.best.1.feasible, "{:?}", hybrid.best.1.variables);
+            }
+        }
     }
 }

@@ -319,6 +319,65 @@ impl Problem {
         self.gradient_from(&starts, o, report)
     }
 
+    /// The hybrid search (see [`super::search`]): annealing as [`Problem::run`] runs it, then
+    /// the gradient search from each chain's best point (the same point once), the result the
+    /// better ([`better`]) of annealing's and the gradient search's. Refused when a formula
+    /// uses `max_shear`.
+    pub fn run_hybrid(
+        &self,
+        o: &GradientOptions,
+        report: &(dyn Fn(usize, f64) + Sync),
+    ) -> Result<Outcome> {
+        // Its starts are the chains (checked by annealing's options), not `o.starts`.
+        GradientOptions {
+            starts: 1,
+            ..o.clone()
+        }
+        .check()?;
+        self.refuse_shell_gradient()?;
+        let anneal = self.run(report)?;
+        let mut starts: Vec<Vec<f64>> = Vec::new();
+        for (x, _) in &anneal.search.chains {
+            let y = self.to_unit(x);
+            if !starts.contains(&y) {
+                starts.push(y);
+            }
+        }
+        let done = anneal.search.evaluations;
+        let so_far = anneal.best.1.total();
+        let grad = self.gradient_from(&starts, o, &|k, best| report(done + k, best.min(so_far)))?;
+        let (best, best_feasible) = if better(&grad.best.1, &anneal.best.1) {
+            (grad.best.clone(), grad.best_feasible.clone())
+        } else {
+            let f = match (&anneal.best_feasible, &grad.best_feasible) {
+                (Some(a), Some(g)) if better(&g.1, &a.1) => Some(g.clone()),
+                (None, Some(g)) => Some(g.clone()),
+                (a, _) => a.clone(),
+            };
+            (anneal.best.clone(), f)
+        };
+        let mut log = anneal.search.log;
+        log.extend(grad.search.log);
+        let search = SearchResult {
+            x: best.0.clone(),
+            value: best.1.total(),
+            start_value: anneal.search.start_value,
+            chains: anneal.search.chains,
+            log,
+            evaluations: done + grad.search.evaluations,
+        };
+        Ok(Outcome {
+            search,
+            start: anneal.start,
+            best,
+            best_feasible,
+            solver_failures: anneal.solver_failures,
+            first_failure: anneal.first_failure,
+            solves: anneal.solves + grad.solves,
+            gradient: grad.gradient,
+        })
+    }
+
     /// `x` scaled to `[0, 1]` by the parameters' bounds.
     pub(crate) fn to_unit(&self, x: &[f64]) -> Vec<f64> {
         x.iter()
