@@ -141,7 +141,7 @@ class OptimizeResult(TypedDict):
     evaluations: int  # annealing and polish evaluations, or gradient evaluations
     solves: int  # design solves
     start_value: float  # objective + penalty at the initial values
-    measures: dict[str, float]  # the formulas' variables at the result
+    measures: dict[str, float]  # the formulas' variables at the result (shell ones where set up)
     gradient: GradientSearch | None  # None for annealing; the hybrid's gradient stage
 
 #: An equality constraint holds within this tolerance relative to max(|target|, 1).

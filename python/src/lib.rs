@@ -1025,7 +1025,8 @@ impl Design {
     /// better result; the annealing options); options not given keep the file's (annealing) or the library's
     /// defaults; `seed` seeds both. Returns a dict of `x` (the best parameter values by name),
     /// `value` (objective + penalty), `objective`, `penalty`, `feasible`, `method`,
-    /// `evaluations`, `solves`, `start_value`, `measures`, and `gradient` (None for annealing;
+    /// `evaluations`, `solves`, `start_value`, `measures` (the shell ones only where the problem
+    /// has them), and `gradient` (None for annealing;
     /// else `evaluations`, `solves`, `converged`, `best_start`, `starts` — per start `x`,
     /// `best`, `status`, `converged`, `evaluations` — and `kkt`: `stationarity`,
     /// `dual_infeasibility`, `primal_infeasibility`, `active_constraints`, `active_bounds`).
@@ -1084,9 +1085,17 @@ impl Design {
         for (p, v) in problem.parameters.list.iter().zip(x) {
             xs.set_item(&p.name, v)?;
         }
+        // The shell measures only where they have values (NaN is not equal to itself, and
+        // results are compared as dicts).
         let measures = PyDict::new(py);
-        for (name, value) in pdeshape::optimize::VARIABLES.iter().zip(&ev.variables) {
-            measures.set_item(name, value)?;
+        for (j, (name, value)) in pdeshape::optimize::VARIABLES
+            .iter()
+            .zip(&ev.variables)
+            .enumerate()
+        {
+            if j < 11 || !value.is_nan() {
+                measures.set_item(name, value)?;
+            }
         }
         let names: Vec<&str> = problem
             .parameters
