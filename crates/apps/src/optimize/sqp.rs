@@ -12,8 +12,8 @@
 //!   documentation.
 //! - Every evaluation is one gradient ([`Problem::gradient`]: the point's solve plus one per
 //!   affine parameter, two per rotation, four per approximate parameter); the result is the best
-//!   feasible point evaluated (else the least penalised one), as for the annealing search with
-//!   shell measures.
+//!   feasible point evaluated that also meets the search's own constraints (to [`KKT_ACTIVE`]),
+//!   else the best feasible point, else the least penalised one.
 //! - More than one start (`starts`): the first from the parameters' initial values, the others
 //!   drawn uniformly within the bounds (seeded), each run to its own end; the best result wins.
 
