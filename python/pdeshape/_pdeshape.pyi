@@ -1,7 +1,7 @@
 """Type stubs of the compiled extension (see the docstrings for the array layouts)."""
 
 from os import PathLike
-from typing import Any, Mapping, TypedDict
+from typing import Any, Literal, Mapping, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -107,6 +107,43 @@ class Gradient(TypedDict, total=False):
     d_value: F64
     constraints: list[ConstraintGradient]
 
+class StartResult(TypedDict):
+    x: dict[str, float]  # the start point
+    best: float  # the best value (objective + penalty) this start evaluated
+    status: str  # SLSQP's ending: "success", "ftol_reached", "xtol_reached", "max_evaluations", "roundoff_limited", …
+    converged: bool  # ended on a convergence test
+    evaluations: int  # gradient evaluations of this start
+
+class Kkt(TypedDict):
+    # first-order conditions at the result in the scaled variables (parameters in [0, 1], the
+    # objective over its value at the first point, constraints c <= 0 over max(|bound|, 1))
+    stationarity: float  # projected gradient of the Lagrangian (0 at a first-order optimum)
+    dual_infeasibility: float  # max(-multiplier, 0) over the active constraints
+    primal_infeasibility: float  # largest scaled constraint violation
+    active_constraints: int
+    active_bounds: int
+
+class GradientSearch(TypedDict):
+    evaluations: int  # gradient evaluations, all starts
+    solves: int
+    converged: bool  # the start that found the result converged
+    best_start: int
+    starts: list[StartResult]
+    kkt: Kkt
+
+class OptimizeResult(TypedDict):
+    x: dict[str, float]  # the best parameter values
+    value: float  # objective + penalty
+    objective: float
+    penalty: float
+    feasible: bool
+    method: str
+    evaluations: int  # annealing and polish evaluations, or gradient evaluations
+    solves: int  # design solves
+    start_value: float  # objective + penalty at the initial values
+    measures: dict[str, float]  # the formulas' variables at the result (shell ones where set up)
+    gradient: GradientSearch | None  # None for annealing; the hybrid's gradient stage
+
 #: An equality constraint holds within this tolerance relative to max(|target|, 1).
 EQUALITY_TOLERANCE: float
 
@@ -178,7 +215,9 @@ class Design:
         evaluations: int | None = None,
         chains: int | None = None,
         polish: int | None = None,
-    ) -> dict[str, Any]: ...
+        method: Literal["anneal", "gradient", "hybrid"] = "anneal",
+        starts: int | None = None,
+    ) -> OptimizeResult: ...
     def evaluate_problem(self, values: Mapping[str, float] | None = None) -> ProblemValue: ...
     def gradient(
         self, names: list[str] | None = None, quadrature: tuple[int, int] | None = None

@@ -1017,49 +1017,142 @@ impl Design {
         Ok(d)
     }
 
-    /// Simulated annealing over the design's `[optimize]` parameters with `chains` chains and
-    /// `evaluations` evaluations from `seed` (defaults: the file's): returns a dict of `x` (the
-    /// best parameter values by name), `value` (objective + penalty), `objective`, `penalty`.
-    #[pyo3(signature = (seed = None, evaluations = None, chains = None, polish = None))]
+    /// Searches the design's `[optimize]` parameters as `pdeshape optimize` does, through the
+    /// same library call (`Problem::plan`, `Problem::run_search`): `method` "anneal"
+    /// (simulated annealing and a Nelder–Mead polish; `evaluations` all chains together,
+    /// `chains`, `polish`) or "gradient" (SLSQP on the exact sensitivities; `evaluations` per
+    /// start, `starts`) or "hybrid" (annealing, then SLSQP from each chain's best point, the
+    /// better result; the annealing options); options not given keep the file's (annealing) or the library's
+    /// defaults; `seed` seeds both. Returns a dict of `x` (the best parameter values by name),
+    /// `value` (objective + penalty), `objective`, `penalty`, `feasible`, `method`,
+    /// `evaluations`, `solves`, `start_value`, `measures` (the shell ones only where the problem
+    /// has them), and `gradient` (None for annealing;
+    /// else `evaluations`, `solves`, `converged`, `best_start`, `starts` — per start `x`,
+    /// `best`, `status`, `converged`, `evaluations` — and `kkt`: `stationarity`,
+    /// `dual_infeasibility`, `primal_infeasibility`, `active_constraints`, `active_bounds`).
+    #[pyo3(signature = (seed = None, evaluations = None, chains = None, polish = None, method = "anneal", starts = None))]
+    #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
         &self,
         py: Python<'py>,
-        seed: Option<u64>,
-        evaluations: Option<usize>,
-        chains: Option<usize>,
-        polish: Option<usize>,
+        seed: Option<i128>,
+        evaluations: Option<i64>,
+        chains: Option<i64>,
+        polish: Option<i64>,
+        method: &str,
+        starts: Option<i64>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let mut spec = self.spec.clone();
-        let Some(opt) = spec.optimize.as_mut() else {
+        let count = |name: &str, v: Option<i64>| -> PyResult<Option<usize>> {
+            v.map(|n| {
+                usize::try_from(n)
+                    .map_err(|_| err(format!("{name}: must be a non-negative integer (got {n})")))
+            })
+            .transpose()
+        };
+        let seed = seed
+            .map(|s| {
+                u64::try_from(s)
+                    .map_err(|_| err(format!("seed: must be an integer in 0..=2**64-1 (got {s})")))
+            })
+            .transpose()?;
+        let argument = |e: &Error| err(format!("{}: {}", e.place(), message_of(e)));
+        let method = pdeshape::optimize::SearchMethod::parse(method).map_err(|e| argument(&e))?;
+        let request = pdeshape::optimize::SearchRequest {
+            method,
+            seed,
+            evaluations: count("evaluations", evaluations)?,
+            chains: count("chains", chains)?,
+            polish: count("polish", polish)?,
+            starts: count("starts", starts)?,
+        };
+        if self.spec.optimize.is_none() {
             return Err(self
                 .located(&Error::invalid("the design has no [optimize] section").at("optimize")));
-        };
-        if let Some(s) = seed {
-            opt.seed = s;
         }
-        if let Some(e) = evaluations {
-            opt.evaluations = e;
-        }
-        if let Some(c) = chains {
-            opt.chains = c;
-        }
-        if let Some(p) = polish {
-            opt.polish = p;
-        }
-        let problem = Problem::new(&spec).map_err(|e| self.located(&e))?;
+        let mut problem = Problem::new(&self.spec).map_err(|e| self.located(&e))?;
+        let plan = problem.plan(&request).map_err(|e| {
+            if e.place() == "optimize" {
+                self.located(&e)
+            } else {
+                argument(&e)
+            }
+        })?;
         let outcome = py
-            .detach(|| problem.run(&|_, _| {}))
+            .detach(|| problem.run_search(&plan, &|_, _| {}))
             .map_err(|e| self.located(&e))?;
         let (x, ev) = &outcome.best;
         let xs = PyDict::new(py);
         for (p, v) in problem.parameters.list.iter().zip(x) {
             xs.set_item(&p.name, v)?;
         }
+        // The shell measures only where they have values (NaN is not equal to itself, and
+        // results are compared as dicts).
+        let measures = PyDict::new(py);
+        for (j, (name, value)) in pdeshape::optimize::VARIABLES
+            .iter()
+            .zip(&ev.variables)
+            .enumerate()
+        {
+            if j < 11 || !value.is_nan() {
+                measures.set_item(name, value)?;
+            }
+        }
+        let names: Vec<&str> = problem
+            .parameters
+            .list
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect();
+        let by_name = |x: &[f64]| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            for (n, v) in names.iter().zip(x) {
+                d.set_item(n, v)?;
+            }
+            Ok(d)
+        };
         let d = PyDict::new(py);
         d.set_item("x", xs)?;
         d.set_item("value", ev.total())?;
         d.set_item("objective", ev.objective)?;
         d.set_item("penalty", ev.penalty)?;
+        d.set_item("feasible", ev.feasible)?;
+        d.set_item("method", plan.method.name())?;
+        d.set_item("evaluations", outcome.search.evaluations)?;
+        d.set_item("solves", outcome.solves)?;
+        d.set_item(
+            "start_value",
+            outcome.start.1.as_ref().map_or(f64::NAN, |e| e.total()),
+        )?;
+        d.set_item("measures", measures)?;
+        match &outcome.gradient {
+            None => d.set_item("gradient", py.None())?,
+            Some(g) => {
+                let gd = PyDict::new(py);
+                gd.set_item("evaluations", g.evaluations)?;
+                gd.set_item("solves", g.solves)?;
+                gd.set_item("converged", g.converged)?;
+                gd.set_item("best_start", g.best_start)?;
+                let starts = PyList::empty(py);
+                for s in &g.starts {
+                    let sd = PyDict::new(py);
+                    sd.set_item("x", by_name(&s.x)?)?;
+                    sd.set_item("best", s.best)?;
+                    sd.set_item("status", s.status)?;
+                    sd.set_item("converged", s.converged)?;
+                    sd.set_item("evaluations", s.evaluations)?;
+                    starts.append(sd)?;
+                }
+                gd.set_item("starts", starts)?;
+                let k = PyDict::new(py);
+                k.set_item("stationarity", g.kkt.stationarity)?;
+                k.set_item("dual_infeasibility", g.kkt.dual_infeasibility)?;
+                k.set_item("primal_infeasibility", g.kkt.primal_infeasibility)?;
+                k.set_item("active_constraints", g.kkt.active_constraints)?;
+                k.set_item("active_bounds", g.kkt.active_bounds)?;
+                gd.set_item("kkt", k)?;
+                d.set_item("gradient", gd)?;
+            }
+        }
         Ok(d)
     }
 

@@ -1,6 +1,7 @@
 //! `pdeshape optimize DESIGN -o BEST.toml`: search the design parameters of `[optimize]` by
 //! simulated annealing and a Nelder–Mead polish (book §7.3–7.5), or with `--method gradient` by
-//! SLSQP on the exact sensitivities ([`pdeshape::optimize::Problem::run_gradient`]), then write
+//! SLSQP on the exact sensitivities ([`pdeshape::optimize::Problem::run_gradient`]; the options
+//! checked and the search run by [`pdeshape::optimize::Problem::plan`] and `run_search`), then write
 //! the optimised design file (the original text with the parameters applied), its mesh
 //! (`BEST.obj`), its picture (`BEST.png`) and the log of the search (`BEST.csv`). With the shell measures (`mass`,
 //! `max_shear`, `yield`) the progress line shows the best feasible design so far, and the report
@@ -9,7 +10,7 @@
 use crate::common::{self, CliError, Output};
 use pdeshape::design::WriteDesign as _;
 use pdeshape::mesh;
-use pdeshape::optimize::{GradientOptions, Problem, VARIABLES};
+use pdeshape::optimize::{Problem, SearchMethod, SearchPlan, SearchRequest, VARIABLES};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -20,6 +21,8 @@ pub(crate) enum Method {
     Anneal,
     /// SLSQP with the exact sensitivities, bounds and constraints.
     Gradient,
+    /// Annealing, then SLSQP from each chain's best point; the better result.
+    Hybrid,
 }
 
 #[derive(clap::Args, Debug)]
@@ -33,11 +36,13 @@ pub(crate) struct Args {
     /// Seed of the random numbers (default from [optimize], else 1).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// The search: simulated annealing (default) or gradient (SLSQP on exact sensitivities).
+    /// The search: simulated annealing (default), gradient (SLSQP on exact sensitivities) or
+    /// hybrid (annealing, then SLSQP from each chain's best point).
     #[arg(long, value_enum, default_value_t = Method::Anneal)]
     pub method: Method,
-    /// Annealing evaluations, all chains together (default from [optimize], else 2000); with
-    /// --method gradient, gradient evaluations per start (default 100).
+    /// Annealing evaluations, all chains together (default from [optimize], else 2000; also
+    /// with --method hybrid); with --method gradient, gradient evaluations per start (default
+    /// 100).
     #[arg(long)]
     pub evaluations: Option<usize>,
     /// Independent annealing chains (default from [optimize], else 4).
@@ -89,14 +94,11 @@ fn search_memory(
     args: &Args,
     design: &common::Loaded,
     problem: &Problem,
-    gradient: Option<&GradientOptions>,
+    plan: &SearchPlan,
 ) -> Result<(), CliError> {
     use pdeshape::memory;
     let o = &problem.options;
-    let records = match gradient {
-        Some(g) => g.evaluations.saturating_mul(g.starts),
-        None => o.evaluations.saturating_add(o.polish),
-    } as u64;
+    let records = plan.evaluations(problem) as u64;
     let parameters = problem.parameters.list.len() as u64;
     let what = format!(
         "the search log of {} + {} evaluations ({parameters} parameters)",
@@ -137,27 +139,6 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let design = common::load(&args.design)?;
     let mut problem = Problem::new(&design.spec).map_err(|e| design.error(&e))?;
     let (nu, nv) = design.grid(args.nu, args.nv)?;
-    let o = &mut problem.options;
-    if let Some(s) = args.seed {
-        o.seed = s;
-    }
-    // With --method gradient, --evaluations counts gradient evaluations (below).
-    if let Some(n) = args.evaluations.filter(|_| args.method == Method::Anneal) {
-        o.evaluations = n;
-    }
-    if let Some(n) = args.chains {
-        o.chains = n;
-    }
-    if let Some(n) = args.polish {
-        o.polish = n;
-    }
-    if let Err(e) = problem.options.check() {
-        let flag = e.place().trim_start_matches("optimize.").to_string();
-        return Err(CliError::input(format!(
-            "--{flag}: {}",
-            common::message_of(&e)
-        )));
-    }
     if args.threads == Some(0) {
         return Err(CliError::input("--threads: must be at least 1 (got 0)"));
     }
@@ -167,39 +148,27 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             "--threads: at most {max_threads} worker threads (got {n})"
         )));
     }
-    let gradient = match args.method {
-        Method::Anneal => {
-            if args.starts.is_some() {
-                return Err(CliError::input("--starts: only with --method gradient"));
-            }
-            None
-        }
-        Method::Gradient => {
-            for (flag, given) in [("chains", args.chains), ("polish", args.polish)] {
-                if given.is_some() {
-                    return Err(CliError::input(format!(
-                        "--{flag}: only with --method anneal"
-                    )));
-                }
-            }
-            let defaults = GradientOptions::default();
-            let g = GradientOptions {
-                evaluations: args.evaluations.unwrap_or(defaults.evaluations),
-                starts: args.starts.unwrap_or(defaults.starts),
-                seed: problem.options.seed,
-                ..defaults
-            };
-            if let Err(e) = g.check() {
-                return Err(CliError::input(format!(
-                    "--{}: {}",
-                    e.place(),
-                    common::message_of(&e)
-                )));
-            }
-            Some(g)
-        }
+    // What each option means for each method, and which it refuses, is the library's.
+    let request = SearchRequest {
+        method: match args.method {
+            Method::Anneal => SearchMethod::Anneal,
+            Method::Gradient => SearchMethod::Gradient,
+            Method::Hybrid => SearchMethod::Hybrid,
+        },
+        seed: args.seed,
+        evaluations: args.evaluations,
+        chains: args.chains,
+        polish: args.polish,
+        starts: args.starts,
     };
-    search_memory(args, &design, &problem, gradient.as_ref())?;
+    let plan = problem.plan(&request).map_err(|e| {
+        if e.place() == "optimize" {
+            design.error(&e)
+        } else {
+            CliError::input(format!("--{}: {}", e.place(), common::message_of(&e)))
+        }
+    })?;
+    search_memory(args, &design, &problem, &plan)?;
     let paths = [
         args.output.clone(),
         beside(&args.output, "obj"),
@@ -224,10 +193,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .map(|p| Output::create(p))
         .collect::<Result<Vec<_>, _>>()?;
 
-    let total = match &gradient {
-        Some(g) => (g.evaluations * g.starts) as u64,
-        None => (problem.options.evaluations + problem.options.polish) as u64,
-    };
+    let total = plan.evaluations(&problem) as u64;
     let bar = if common::quiet() {
         indicatif::ProgressBar::hidden()
     } else {
@@ -252,10 +218,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         }
     };
     let clock = std::time::Instant::now();
-    let search = || match &gradient {
-        Some(g) => problem.run_gradient(g, &report),
-        None => problem.run(&report),
-    };
+    let search = || problem.run_search(&plan, &report);
     let outcome = match args.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -359,7 +322,11 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         best.total(),
         best.penalty,
         outcome.search.evaluations,
-        if gradient.is_some() { "gradient " } else { "" },
+        if plan.method == SearchMethod::Gradient {
+            "gradient "
+        } else {
+            ""
+        },
         outcome.solves,
     ));
     report.push_str("parameter        initial          best\n");
@@ -375,6 +342,24 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .map(|(_, (n, v))| format!("{n} = {v:.9}"))
         .collect();
     report.push_str(&format!("{}\n", vars.join(", ")));
+    if let Some(g) = &outcome.gradient {
+        let k = &g.kkt;
+        let s = &g.starts[g.best_start];
+        report.push_str(&format!(
+            "gradient search: {} start(s), {} converged; the result from start {} ({}); \
+             first-order conditions (scaled): stationarity {:.3e}, dual {:.3e}, primal {:.3e} \
+             ({} active constraints, {} parameters at a bound)\n",
+            g.starts.len(),
+            g.starts.iter().filter(|s| s.converged).count(),
+            g.best_start,
+            s.status,
+            k.stationarity,
+            k.dual_infeasibility,
+            k.primal_infeasibility,
+            k.active_constraints,
+            k.active_bounds,
+        ));
+    }
     if strength {
         // The start's and the result's shell measures (the first line's values include the
         // penalties).

@@ -51,6 +51,7 @@ mod gradient;
 #[cfg(test)]
 mod measure;
 mod params;
+mod search;
 mod sqp;
 mod values;
 
@@ -61,7 +62,8 @@ pub use gradient::{
     Sensitivities,
 };
 pub use params::{ParamKind, Parameter, Parameters};
-pub use sqp::GradientOptions;
+pub use search::{SearchMethod, SearchPlan, SearchRequest};
+pub use sqp::{GradientOptions, GradientReport, Kkt, StartReport, KKT_ACTIVE};
 pub use values::{apply_values, ValueError};
 
 use crate::analysis::{integrate_design, DesignIntegrals, Integrals, Quadrature};
@@ -399,6 +401,8 @@ pub struct Outcome {
     /// Design solves made by the search (an annealing evaluation is one; a gradient is one
     /// per affine parameter, two per rotation, four per approximate one, plus the point).
     pub solves: usize,
+    /// What the gradient search reports (`None` for annealing alone).
+    pub gradient: Option<GradientReport>,
 }
 
 impl Problem {
@@ -674,6 +678,7 @@ impl Problem {
             start: (x0, start),
             solves: search.evaluations,
             search,
+            gradient: None,
         })
     }
 }

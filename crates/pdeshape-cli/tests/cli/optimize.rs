@@ -339,3 +339,45 @@ fn gradient_search_bad_input() {
         &["d.toml:", "optimize", "max_shear", "--method anneal"],
     );
 }
+
+/// `--method hybrid`: annealing's evaluations in the log, then gradient ones from each chain's
+/// best point; its result is never above annealing's at the same seed (a bounds-only problem,
+/// so every design is feasible and the order is the value's); `--starts` is refused.
+#[test]
+fn hybrid_search_starts_from_the_chains_and_is_never_worse_than_annealing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = write(dir.path(), "d.toml", DESIGN);
+    let best = dir.path().join("best.toml");
+    let run = |method: &str| {
+        let out = pdeshape(&["optimize", s(&d), "-o", s(&best), "--method", method]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (
+            String::from_utf8_lossy(&out.stdout).to_string(),
+            std::fs::read_to_string(dir.path().join("best.csv")).unwrap(),
+        )
+    };
+    let (anneal, anneal_log) = run("anneal");
+    let (hybrid, log) = run("hybrid");
+    let best_of = |report: &str| -> f64 {
+        let first = report.lines().next().unwrap();
+        let rest = &first[first.find("best ").unwrap() + 5..];
+        rest.split(' ').next().unwrap().parse().unwrap()
+    };
+    assert!(best_of(&hybrid) <= best_of(&anneal), "{hybrid}\n{anneal}");
+    assert!(hybrid.contains("gradient search: 2 start(s)"), "{hybrid}");
+    // Annealing's rows first, as annealing alone logs them, then the gradient rows.
+    let n = anneal_log.lines().count();
+    let lines: Vec<&str> = log.lines().collect();
+    assert_eq!(lines[..n], anneal_log.lines().collect::<Vec<_>>()[..]);
+    assert!(lines[n..].iter().all(|l| l.starts_with("gradient,")));
+    assert!(lines.len() > n);
+    bad(
+        DESIGN,
+        &["--method", "hybrid", "--starts", "2"],
+        &["--starts", "gradient"],
+    );
+}
