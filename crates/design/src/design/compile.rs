@@ -251,7 +251,7 @@ impl CompiledDesign {
             if source.id() == s.kind.id() || (mesh.nu, mesh.nv) != grid {
                 return true;
             }
-            let agrees = affine.probe(s.surface(), d, &mesh.u, &mesh.v);
+            let agrees = affine.probe(s.surface(), d);
             if agrees {
                 out.push((k, d));
             }
@@ -320,6 +320,7 @@ impl CompiledDesign {
             };
             let jets = |kind: &SurfaceKind| preview::jets(kind.surface(), &us, &vs);
             let model = AffineGrid::new(
+                (us.clone(), vs.clone()),
                 preview::jets(s, &us, &vs),
                 [jets(&ax[k]), jets(&ay[k]), jets(&az[k])],
                 h,

@@ -15,7 +15,7 @@
 //! partials as [`crate::surface::RowEvaluator`]s compute them; where `X_u × X_v` degenerates (a
 //! pole), from the surface's own [`Surface::partials`].
 
-use crate::mesh::GridMesh;
+use crate::mesh::{grid_parameters_in, GridMesh};
 use crate::spec::{CurveKind, DesignSpec, V3};
 use crate::surface::{normal_degenerates, Surface};
 use crate::Vec3;
@@ -107,16 +107,21 @@ pub(super) struct AffineGrid {
     slope: Vec<[[Vec3; 3]; 3]>,
     /// The largest `|X|`, `|X_u|`, `|X_v|` over the grid: the scales of [`AGREEMENT`].
     scale: [f64; 3],
+    /// The grid's parameters: a surface whose grid has others is not predicted.
+    us: Vec<f64>,
+    vs: Vec<f64>,
 }
 
-/// `[X, X_u, X_v]` of `surface` at every `(u, v)` of the grid.
+/// `[X, X_u, X_v]` of `surface` at every `(u, v)` of the grid, rows in parallel.
 pub(super) fn jets(surface: &dyn Surface, us: &[f64], vs: &[f64]) -> Vec<[Vec3; 3]> {
     let nv = vs.len();
-    (0..us.len() * nv)
-        .into_par_iter()
-        .with_min_len(64)
-        .map(|i| surface.first_partials(us[i / nv], vs[i % nv]))
-        .collect()
+    let mut out = vec![[Vec3::zeros(); 3]; us.len() * nv];
+    let rows = surface.first_partials_rows(vs);
+    let rows = &*rows;
+    out.par_chunks_mut(nv)
+        .zip(us.par_iter())
+        .for_each(|(row, &u)| rows.eval_row(u, row));
+    out
 }
 
 fn largest(values: &[[Vec3; 3]]) -> [f64; 3] {
@@ -131,8 +136,10 @@ fn largest(values: &[[Vec3; 3]]) -> [f64; 3] {
 
 impl AffineGrid {
     /// The model from the surface at `P₀` (`base`), at `P₀ + h e_c` (`axes[c]`), checked
-    /// against the surface at `P₀ + check_step` (`check`). `None` if they are not affine.
+    /// against the surface at `P₀ + check_step` (`check`), all on the grid `(us, vs)`. `None`
+    /// if they are not affine.
     pub(super) fn new(
+        (us, vs): (Vec<f64>, Vec<f64>),
         base: Vec<[Vec3; 3]>,
         axes: [Vec<[Vec3; 3]>; 3],
         h: f64,
@@ -148,7 +155,13 @@ impl AffineGrid {
                 scale[q] = scale[q].max(s[q]);
             }
         }
-        let model = AffineGrid { base, slope, scale };
+        let model = AffineGrid {
+            base,
+            slope,
+            scale,
+            us,
+            vs,
+        };
         let (values, step) = check;
         let all: Vec<usize> = (0..values.len()).collect();
         model.agrees(step, &all, |i| values[i]).then_some(model)
@@ -169,11 +182,16 @@ impl AffineGrid {
         })
     }
 
-    /// True if `surface` (the one solved for the point moved by `d`) agrees with the prediction
-    /// at [`PROBES`] vertices of the grid `(us, vs)`.
-    pub(super) fn probe(&self, surface: &dyn Surface, d: Vec3, us: &[f64], vs: &[f64]) -> bool {
+    /// True if `surface` (the one solved for the point moved by `d`) has the model's grid
+    /// parameters and agrees with the prediction at [`PROBES`] vertices.
+    pub(super) fn probe(&self, surface: &dyn Surface, d: Vec3) -> bool {
+        let (nu, nv) = (self.us.len(), self.vs.len());
+        match grid_parameters_in(surface.u_range(), surface.v_domain(), nu, nv) {
+            Ok((us, vs)) if us == self.us && vs == self.vs => {}
+            _ => return false,
+        }
+        let (us, vs) = (&self.us, &self.vs);
         let n = self.base.len();
-        let nv = vs.len();
         // Spread over the grid: a stride prime to most grid sizes, the corners included.
         let mut at: Vec<usize> = (0..PROBES).map(|k| (k * 7919) % n).collect();
         at.extend([0, nv - 1, n - nv, n - 1]);
@@ -184,7 +202,7 @@ impl AffineGrid {
     /// model's); `surface` gives the normal where the predicted partials degenerate.
     pub(super) fn fill(&self, surface: &dyn Surface, d: Vec3, mesh: &mut GridMesh) {
         let nv = mesh.nv;
-        let (us, vs) = (&mesh.u, &mesh.v);
+        let (us, vs) = (&self.us, &self.vs);
         mesh.positions
             .par_chunks_mut(nv)
             .zip(mesh.normals.par_chunks_mut(nv))
@@ -261,7 +279,9 @@ mod tests {
     fn model(f: &impl Fn(usize, Vec3) -> [Vec3; 3], h: f64) -> Option<AffineGrid> {
         let check = Vec3::new(0.5, -0.75, 0.3) * h;
         let axes = [Vec3::x(), Vec3::y(), Vec3::z()].map(|e| values(f, e * h));
+        let grid = (vec![0.0, 1.0], vec![0.0, 1.0]);
         AffineGrid::new(
+            grid,
             values(f, Vec3::zeros()),
             axes,
             h,

@@ -84,7 +84,9 @@ mod tests_g2;
 
 pub use side::{NormalField, Ribbon, ShapeField, Side};
 
-use crate::surface::{Partials, RowEvaluator, Surface, VDomain};
+use crate::surface::{
+    FirstPartialsRows, Partials, PointwiseFirstPartials, RowEvaluator, Surface, VDomain,
+};
 use crate::{Error, Result, Vec3};
 use basis::Basis;
 use domain::Polygon;
@@ -1235,6 +1237,10 @@ impl Surface for NSidedSurface {
         let x = self.patch.eval_domain_to::<1>(p);
         let d = |q: [f64; 2]| x.d[0] * q[0] + x.d[1] * q[1];
         [x.v, d(pu), d(pv)]
+    }
+
+    fn first_partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn FirstPartialsRows + 'a> {
+        Box::new(PointwiseFirstPartials { surface: self, vs })
     }
 
     fn partials(&self, u: f64, v: f64) -> Partials {

@@ -158,6 +158,48 @@ pub trait Surface: Send + Sync {
     fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
         Box::new(PointwisePartials { surface: self, vs })
     }
+
+    /// An evaluator of `[X, X_u, X_v]` along whole rows `u = const` at the given `v` values: by
+    /// default the first three of [`Surface::partials_rows`] (whose per-column tables serve
+    /// structured surfaces); surfaces whose second derivatives cost much override it with
+    /// [`Surface::first_partials`] point by point.
+    fn first_partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn FirstPartialsRows + 'a> {
+        Box::new(FirstOfPartials(self.partials_rows(vs)))
+    }
+}
+
+/// Evaluates `[X, X_u, X_v]` along one grid row `u = const`.
+pub trait FirstPartialsRows: Send + Sync {
+    /// `out[j] = [X, X_u, X_v](u, v_j)` for every column `j`.
+    fn eval_row(&self, u: f64, out: &mut [[Vec3; 3]]);
+}
+
+struct FirstOfPartials<'a>(Box<dyn PartialsRows + 'a>);
+
+impl FirstPartialsRows for FirstOfPartials<'_> {
+    fn eval_row(&self, u: f64, out: &mut [[Vec3; 3]]) {
+        let mut row = vec![Partials::default(); out.len()];
+        self.0.eval_row(u, &mut row);
+        for (o, p) in out.iter_mut().zip(&row) {
+            *o = [p.x, p.xu, p.xv];
+        }
+    }
+}
+
+/// [`FirstPartialsRows`] from [`Surface::first_partials`] at every point.
+pub struct PointwiseFirstPartials<'a, S: Surface + ?Sized> {
+    /// The surface.
+    pub surface: &'a S,
+    /// The row's `v` values.
+    pub vs: &'a [f64],
+}
+
+impl<S: Surface + ?Sized> FirstPartialsRows for PointwiseFirstPartials<'_, S> {
+    fn eval_row(&self, u: f64, out: &mut [[Vec3; 3]]) {
+        for (o, &v) in out.iter_mut().zip(self.vs) {
+            *o = self.surface.first_partials(u, v);
+        }
+    }
 }
 
 /// Evaluates [`Partials`] along one grid row `u = const`.
