@@ -17,7 +17,7 @@
 
 use crate::mesh::{grid_parameters_in, GridMesh};
 use crate::spec::{CurveKind, DesignSpec, V3};
-use crate::surface::{normal_degenerates, Surface};
+use crate::surface::{first_order_normal, Surface};
 use crate::Vec3;
 use rayon::prelude::*;
 
@@ -210,21 +210,8 @@ impl AffineGrid {
             .for_each(|(r, (prow, nrow))| {
                 for j in 0..nv {
                     let [x, xu, xv] = self.at(r * nv + j, d);
-                    // Scaled as the row evaluators scale, so tiny or huge patches neither
-                    // underflow nor overflow.
-                    let m = xu.amax().max(xv.amax());
-                    let (a, b) = if m > 0.0 && m.is_finite() {
-                        (xu / m, xv / m)
-                    } else {
-                        (xu, xv)
-                    };
-                    let c = a.cross(&b);
-                    let len = c.norm();
-                    let n = if normal_degenerates(len, a.norm_squared() + b.norm_squared()) {
-                        surface.partials(us[r], vs[j]).normal()
-                    } else {
-                        c / len
-                    };
+                    let n = first_order_normal(xu, xv)
+                        .unwrap_or_else(|| surface.partials(us[r], vs[j]).normal());
                     prow[j] = [x.x as f32, x.y as f32, x.z as f32];
                     nrow[j] = [n.x as f32, n.y as f32, n.z as f32];
                 }

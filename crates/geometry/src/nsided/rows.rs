@@ -3,11 +3,11 @@
 //! derivatives, the sides' data to their first derivatives, the correction as one nested sum,
 //! nothing allocated per point). The values are those of [`Surface::partials`] to rounding:
 //! the same operations on the same numbers, only the second-order ones left out. Where
-//! `X_u × X_v` degenerates ([`normal_degenerates`]), the point takes the normal of
+//! `X_u × X_v` degenerates ([`first_order_normal`] gives none), the point takes the normal of
 //! [`Surface::partials`], whose second derivatives give the limit normal there.
 
 use super::NSidedSurface;
-use crate::surface::{normal_degenerates, RowBuf, RowEvaluator, Surface};
+use crate::surface::{first_order_normal, RowBuf, RowEvaluator, Surface};
 
 /// The row evaluator of one [`NSidedSurface`] at the given `v` values.
 pub(super) struct Rows<'a> {
@@ -29,21 +29,8 @@ impl RowEvaluator for Rows<'_> {
             let x = patch.eval_domain_to::<1>(p);
             let xu = x.d[0] * pu[0] + x.d[1] * pu[1];
             let xv = x.d[0] * pv[0] + x.d[1] * pv[1];
-            // Scaled as `Partials::normal_or_none` scales, so huge or tiny patches neither
-            // overflow nor underflow.
-            let m = xu.amax().max(xv.amax());
-            let (a, b) = if m > 0.0 && m.is_finite() {
-                (xu / m, xv / m)
-            } else {
-                (xu, xv)
-            };
-            let n = a.cross(&b);
-            let len = n.norm();
-            let normal = if normal_degenerates(len, a.norm_squared() + b.norm_squared()) {
-                self.surface.partials(u, v).normal()
-            } else {
-                n / len
-            };
+            let normal =
+                first_order_normal(xu, xv).unwrap_or_else(|| self.surface.partials(u, v).normal());
             row.set(j, x.v, normal);
         }
     }

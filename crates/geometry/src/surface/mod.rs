@@ -76,6 +76,22 @@ impl Partials {
     }
 }
 
+/// The unit normal `X_u × X_v / |X_u × X_v|` from the first partials alone, both scaled by the
+/// larger's largest component first (so huge or tiny surfaces neither overflow nor underflow);
+/// `None` where it degenerates ([`normal_degenerates`]), where [`Partials::normal`] takes the
+/// limit from the second partials. What the row evaluators that skip second partials compute.
+pub fn first_order_normal(xu: Vec3, xv: Vec3) -> Option<Vec3> {
+    let m = xu.amax().max(xv.amax());
+    let (a, b) = if m > 0.0 && m.is_finite() {
+        (xu / m, xv / m)
+    } else {
+        (xu, xv)
+    };
+    let n = a.cross(&b);
+    let len = n.norm();
+    (!normal_degenerates(len, a.norm_squared() + b.norm_squared())).then(|| n / len)
+}
+
 /// The parameter domain in `v`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum VDomain {
