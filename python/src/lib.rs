@@ -1097,12 +1097,7 @@ impl Design {
                 measures.set_item(name, value)?;
             }
         }
-        let names: Vec<&str> = problem
-            .parameters
-            .list
-            .iter()
-            .map(|p| p.name.as_str())
-            .collect();
+        let names: Vec<&str> = problem.parameters.names();
         let by_name = |x: &[f64]| -> PyResult<Bound<'py, PyDict>> {
             let d = PyDict::new(py);
             for (n, v) in names.iter().zip(x) {

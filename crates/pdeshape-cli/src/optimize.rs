@@ -273,12 +273,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     .map_err(|e| CliError::input(format!("-o {}: {e}", paths[2].display())))?;
     outs[2].write_all(&png)?;
     {
-        let names: Vec<&str> = problem
-            .parameters
-            .list
-            .iter()
-            .map(|p| p.name.as_str())
-            .collect();
+        let names: Vec<&str> = problem.parameters.names();
         let mut w = outs[3].writer();
         let io = |e: std::io::Error| CliError::input(format!("-o {}: {e}", paths[3].display()));
         writeln!(

@@ -47,6 +47,11 @@ pub struct Parameters {
 }
 
 impl Parameters {
+    /// The parameters' names, in order.
+    pub fn names(&self) -> Vec<&str> {
+        self.list.iter().map(|p| p.name.as_str()).collect()
+    }
+
     /// Reads and checks the parameters of `[optimize]`: a name of a `[[parameters]]` entry
     /// (bounds default to the entry's and must lie within them; the start is its value), else
     /// a name in the book's notation (curves must exist; `cT` only on B-splines; `a` only with a
