@@ -786,7 +786,7 @@ test('a dragged control point snaps to the coordinate planes; a click on the tri
   await page.keyboard.press('0');
 });
 
-test('a drag shows a grid half as fine while it runs and the full grid when it ends', async () => {
+test('a drag shows a coarser grid (and, on a software renderer, fewer pixels) while it runs and the full detail when it ends', async () => {
   await load('examples/cup.toml');
   await page.selectOption('#curve', 'rim');
   await page.click('#convert');
@@ -807,15 +807,45 @@ test('a drag shows a grid half as fine while it runs and the full grid when it e
     await page.waitForTimeout(30);
     grids.push((await state()).grid.join('x'));
   }
-  const during = await page.evaluate(() => window.__pdeshape.view.meshes.map((m) => m.count));
+  const drawn = () => page.evaluate(() => {
+    const { view } = window.__pdeshape;
+    return {
+      triangles: view.meshes.reduce((n, m) => n + m.count / 3, 0),
+      counts: view.meshes.map((m) => m.count),
+      buffer: [view.canvas.width, view.canvas.height],
+      css: [view.canvas.clientWidth, view.canvas.clientHeight],
+      software: view.software,
+    };
+  });
+  const during = await drawn();
   await page.mouse.up();
   await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v0);
   await settled(page);
-  assert.ok(grids.includes('32x64'), `no coarse frame during the drag: ${grids}`);
+  const budget = await page.evaluate(() => window.__pdeshape.gestureBudget);
+  // At most half the grid in each direction, and the same grid all through the drag.
+  const coarse = grids.filter((g) => g !== '64x128');
+  assert.ok(coarse.length > 0, `no coarse frame during the drag: ${grids}`);
+  const [cu, cv] = coarse[0].split('x').map(Number);
+  assert.ok(cu <= 32 && cv <= 64 && coarse.every((g) => g === coarse[0]), `${grids}`);
+  // This test's Chromium draws without a GPU (SwiftShader): the gesture's frames hold at most
+  // budget.triangles triangles, up to the grid's rounding (each side rounded by ≤ 0.5 on ≥ 8
+  // points: a factor ≤ (1 + 0.5/8)² ≈ 1.13), and at most budget.pixels device pixels (each side
+  // rounded by ≤ 0.5 pixel).
+  assert.ok(during.software, 'the test expects a software renderer');
+  assert.ok(during.triangles <= 1.13 * budget.triangles, `triangles drawn during the drag: ${during.triangles}`);
+  const [bw, bh] = during.buffer;
+  assert.ok(bw * bh <= budget.pixels + (bw + bh) / 2 + 1, `drawing buffer during the drag: ${bw}x${bh}`);
+  const dpr = await page.evaluate(() => window.devicePixelRatio || 1);
+  const full = (d) => d.css.map((x) => Math.round(x * dpr));
+  if (during.css[0] * during.css[1] * dpr * dpr > 1.1 * budget.pixels) {
+    assert.ok(bw < full(during)[0], `the drawing buffer is not reduced: ${bw}x${bh} for ${during.css}`);
+  }
   assert.deepEqual((await state()).grid, [64, 128]);
-  const after = await page.evaluate(() => window.__pdeshape.view.meshes.map((m) => m.count));
-  assert.ok(after[0] > 3 * during[0], `triangles drawn ${during} during, ${after} after`);
-  // With "full grid while dragging" every frame of a drag is on the full grid.
+  const after = await drawn();
+  assert.ok(after.counts[0] > 3 * during.counts[0], `triangles drawn ${during.counts} during, ${after.counts} after`);
+  assert.deepEqual(after.buffer, full(after), 'the full resolution after the drag');
+  // With "full detail while dragging" every frame of a drag is on the full grid, drawn at full
+  // resolution.
   await page.check('#full-drag');
   const grids2 = [];
   const v1 = (await state()).version;
@@ -826,9 +856,11 @@ test('a drag shows a grid half as fine while it runs and the full grid when it e
     await page.waitForTimeout(30);
     grids2.push((await state()).grid.join('x'));
   }
+  const during2 = await drawn();
   await page.mouse.up();
   await page.waitForFunction((v) => window.__pdeshape.state().version > v && window.__pdeshape.idle(), v1);
   assert.ok(grids2.every((g) => g === '64x128'), `${grids2}`);
+  assert.deepEqual(during2.buffer, full(during2), 'the full resolution during a full-detail drag');
   await page.uncheck('#full-drag');
 });
 

@@ -5,7 +5,7 @@
 
 import { api, ApiError } from './api.js';
 import { Channel } from './channel.js';
-import { View, COLORS } from './view.js';
+import { View, COLORS, GESTURE_PIXELS } from './view.js';
 import { UvPanel } from './uv.js';
 import { Timeline } from './timeline.js';
 import { LocalTool } from './local.js';
@@ -21,18 +21,34 @@ let busy = Promise.resolve();
 // Measurements for tests and benchmarks: pointer event → new surface on screen.
 const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
 
-// The view's query. While a gesture runs (`coarse`), frames come on a grid half as fine in each
-// direction (at least 8 × 8): a quarter of the tessellation, of the bytes and of the upload;
-// the full grid follows when the gesture ends (scheduleRefine). "full grid while dragging"
-// turns that off.
+// The view's query. While a gesture runs (`coarse`), frames come on a coarser grid (at least
+// 8 × 8): half as fine in each direction (a quarter of the tessellation, of the bytes and of
+// the upload), and on a software renderer, which spends about a microsecond of the CPU on each
+// triangle it draws, as coarse as it takes to hold GESTURE_TRIANGLES triangles in all. The
+// grid is chosen at the gesture's first frame and kept to its end (the server's drag model is
+// made for one grid); the full grid follows when the gesture ends (scheduleRefine).
+// "Full detail while dragging" turns that off (and the view's lower resolution, view.js).
+const GESTURE_TRIANGLES = 4000;
+let gestureGrid = null;
+function coarseGrid(nu, nv) {
+  let k = 2;
+  if (view.software && lastFrame) {
+    // The last frame's triangles, scaled to the full grid (it may be a coarse frame itself).
+    const [lu, lv] = lastFrame.scene.grid;
+    const drawn = view.meshes.reduce((n, mesh) => n + mesh.count / 3, 0);
+    const full = (drawn * nu * nv) / Math.max(lu * lv, 1);
+    k = Math.max(k, Math.sqrt(full / GESTURE_TRIANGLES));
+  }
+  return [Math.max(8, Math.round(nu / k)), Math.max(8, Math.round(nv / k))];
+}
 function query(coarse = false) {
   const lo = $('c-lo').value.trim(), hi = $('c-hi').value.trim();
   const range = lo !== '' && hi !== '' ? `&range=${encodeURIComponent(`${lo},${hi}`)}` : '';
   const comb = $('show-combs').checked ? '&comb=1' : '';
   let nu = $('nu').value, nv = $('nv').value;
   if (coarse && !$('full-drag').checked && Number(nu) >= 16 && Number(nv) >= 16) {
-    nu = Math.max(8, Math.round(Number(nu) / 2));
-    nv = Math.max(8, Math.round(Number(nv) / 2));
+    gestureGrid = gestureGrid || coarseGrid(Number(nu), Number(nv));
+    [nu, nv] = gestureGrid;
   }
   return `nu=${nu}&nv=${nv}&color=${$('color').value}${range}${comb}`;
 }
@@ -206,6 +222,7 @@ function refine() {
     return;
   }
   refineTimer = null;
+  gestureGrid = null; // the next gesture chooses its grid afresh
   const full = [Number($('nu').value), Number($('nv').value)];
   if (!lastFrame || (lastFrame.scene.grid[0] === full[0] && lastFrame.scene.grid[1] === full[1])) return;
   refining = true;
@@ -221,7 +238,7 @@ function refine() {
 }
 // True when no gesture has a request in flight or waiting and the full grid is on screen.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null && refineTimer === null && !refining;
-window.__pdeshape = { perf, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
+window.__pdeshape = { perf, gestureBudget: { triangles: GESTURE_TRIANGLES, pixels: GESTURE_PIXELS }, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
@@ -302,6 +319,7 @@ view.canvas.addEventListener('pointerdown', (ev) => {
 
 view.canvas.addEventListener('pointermove', (ev) => {
   if (!drag) return;
+  view.setGesture(true);
   const [x, y] = pointerPos(ev);
   if (drag.camera) {
     const [dx, dy] = [x - drag.last[0], y - drag.last[1]];
@@ -444,6 +462,7 @@ function snap(p, sx, sy, d) {
 function endDrag(ev) {
   const was = drag;
   drag = null;
+  view.setGesture(false);
   if (was && was.camera && was.button === 0 && ev && ev.type === 'pointerup') {
     const [x, y] = pointerPos(ev);
     if (Math.hypot(x - was.start[0], y - was.start[1]) < 4) clickSelect(x, y);
@@ -464,8 +483,13 @@ view.canvas.addEventListener('pointercancel', endDrag);
 view.canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
 // The wheel zooms; a trackpad's two-finger scroll (sideways, or small steps) pans, and its pinch
 // (the wheel with Ctrl) zooms.
+// A burst of wheel events is a gesture until 200 ms after its last event.
+let wheelTimer = null;
 view.canvas.addEventListener('wheel', (ev) => {
   ev.preventDefault();
+  view.setGesture(true);
+  clearTimeout(wheelTimer);
+  wheelTimer = setTimeout(() => { if (!drag) view.setGesture(false); }, 200);
   const trackpad = !ev.ctrlKey && ev.deltaMode === 0 && (ev.deltaX !== 0 || Math.abs(ev.deltaY) < 40);
   if (trackpad) view.pan(-ev.deltaX, -ev.deltaY);
   else view.zoom(Math.exp(ev.deltaY * (ev.ctrlKey ? 0.01 : 0.001)));
@@ -518,12 +542,13 @@ function slider(input, area, makeEdit, label) {
   input.addEventListener('input', (ev) => {
     if (group === null) group = newGroup();
     input.dataset.active = '1';
+    view.setGesture(true);
     if (label) label.textContent = Number(input.value).toFixed(label.dataset.digits ? Number(label.dataset.digits) : 2);
     const value = Number(input.value);
     const g = group;
     ch.push(() => ({ edit: makeEdit(value), group: g }), ev.timeStamp);
   });
-  input.addEventListener('change', () => { group = null; input.dataset.active = ''; });
+  input.addEventListener('change', () => { group = null; input.dataset.active = ''; view.setGesture(false); });
 }
 const paramSlider = (input, makeEdit, label) => {
   label.dataset.digits = '3';
@@ -734,6 +759,9 @@ for (const a of document.querySelectorAll('.dl a')) {
     }
   };
 }
+// "Full detail while dragging": the full grid and the full resolution during gestures.
+view.fullDetail = $('full-drag').checked;
+$('full-drag').onchange = () => { view.fullDetail = $('full-drag').checked; };
 for (const id of ['color', 'nu', 'nv', 'c-lo', 'c-hi']) {
   $(id).onchange = () => run('view', () => api.frame(query()));
 }

@@ -481,8 +481,17 @@ pub(crate) fn check_attachment_specs(spec: &DesignSpec) -> Result<()> {
 const EXTENT_SAMPLES: usize = 4096;
 
 /// The checks of a `(u, v)` curve that do not need its host (see [`check_attachment_specs`]).
+/// When a box holding the curve ([`TrimCurve::bounds`]) meets the conditions on `u` and on the
+/// width in `v`, and the curve's first point lies in `0 < v < 2π`, the sampled extent (inside
+/// the box, and holding that point) meets them all: the curve passes without its samples (this
+/// runs on every edit, every frame of a drag).
 fn check_path(c: &TrimCurve) -> Result<()> {
     c.validate()?;
+    let (blo, bhi) = c.bounds();
+    let first = c.point(0.0);
+    if blo[0] > 0.0 && bhi[0] < 1.0 && bhi[1] - blo[1] < TAU && first[1] > 0.0 && first[1] < TAU {
+        return Ok(());
+    }
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for k in 0..EXTENT_SAMPLES {
         let p = c.point(k as f64 / EXTENT_SAMPLES as f64);
@@ -726,6 +735,62 @@ mod tests {
     use super::*;
     use crate::design::solve_design;
     use crate::spec::parse_design;
+
+    /// The sampled extent check alone (the rule `check_path` decides by when its box does not).
+    fn sampled_check(c: &TrimCurve) -> bool {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for k in 0..EXTENT_SAMPLES {
+            let p = c.point(k as f64 / EXTENT_SAMPLES as f64);
+            for i in 0..2 {
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        lo[0] > 0.0 && hi[0] < 1.0 && hi[1] - lo[1] < TAU && hi[1] > 0.0 && lo[1] < TAU
+    }
+
+    /// `check_path` (box first, samples when the box cannot decide) accepts and refuses the
+    /// same paths as the samples alone: paths well inside, across each limit, curves whose
+    /// control points leave the patch while the curve stays in it, and curves across v = 0.
+    #[test]
+    fn a_path_s_box_decides_as_its_samples_do() {
+        let mut curves = vec![
+            TrimCurve::circle([0.5, 1.0], 0.2),
+            TrimCurve::circle([0.5, 0.1], 0.2),
+            TrimCurve::circle([0.9, 1.0], 0.2),
+            TrimCurve::circle([0.5, -0.5], 0.2),
+            TrimCurve::Ellipse {
+                center: [0.5, 3.0],
+                radii: [0.3, 3.2],
+                angle: 0.0,
+            },
+            TrimCurve::Polyline(vec![[0.1, 0.2], [0.9, 0.4], [0.5, 1.7]]),
+            TrimCurve::Polyline(vec![[0.0, 0.2], [0.9, 0.4], [0.5, 1.7]]),
+        ];
+        // A quadratic B-spline whose control points reach u = 1.02 while the curve stays
+        // below u = 1 (the curve touches each control polygon edge's midpoint), and the same
+        // one moved right until the curve leaves.
+        for shift in [0.0, 0.03, 0.06] {
+            curves.push(TrimCurve::BSpline {
+                degree: 2,
+                points: vec![
+                    [0.5 + shift, 0.5],
+                    [1.02 + shift, 1.0],
+                    [0.5 + shift, 1.5],
+                    [0.3 + shift, 1.0],
+                ],
+            });
+        }
+        let mut boxed = 0;
+        for (k, c) in curves.iter().enumerate() {
+            assert_eq!(check_path(c).is_ok(), sampled_check(c), "path {k}");
+            let (lo, hi) = c.bounds();
+            boxed += usize::from(lo[0] > 0.0 && hi[0] < 1.0);
+        }
+        // Both branches ran: some paths decided by the box, some by the samples.
+        assert!(boxed >= 3 && boxed < curves.len());
+        assert!(check_path(&curves[7]).is_ok() && curves[7].bounds().1[0] > 1.0);
+    }
 
     /// The teacup's bowl as a host, with an ellipse, a cubic B-spline and a polyline path near
     /// the handle's ends: on intervals of `s` between the breaks the proven bounds of the curve

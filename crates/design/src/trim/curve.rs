@@ -113,6 +113,41 @@ impl TrimCurve {
         Ok(())
     }
 
+    /// A box `(lo, hi)` that holds the whole curve: the ellipse's own extent (`a cos θ`,
+    /// `b sin θ` combined per axis), the polygon's vertices, and the B-spline's control points
+    /// (its basis functions are non-negative and sum to one, so every point of the curve is a
+    /// convex combination of control points). Exact for ellipses and polygons.
+    pub fn bounds(&self) -> ([f64; 2], [f64; 2]) {
+        match self {
+            TrimCurve::Ellipse {
+                center,
+                radii,
+                angle,
+            } => {
+                let (s, c) = angle.sin_cos();
+                // u = cu + a cos θ cos φ − b sin θ sin φ: amplitude hypot(a cos θ, b sin θ).
+                let half = [
+                    (radii[0] * c).hypot(radii[1] * s),
+                    (radii[0] * s).hypot(radii[1] * c),
+                ];
+                (
+                    [center[0] - half[0], center[1] - half[1]],
+                    [center[0] + half[0], center[1] + half[1]],
+                )
+            }
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => {
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for q in p {
+                    for i in 0..2 {
+                        lo[i] = lo[i].min(q[i]);
+                        hi[i] = hi[i].max(q[i]);
+                    }
+                }
+                (lo, hi)
+            }
+        }
+    }
+
     /// `c(t)` for `t ∈ [0, 1]` (`c(1) = c(0)`).
     pub fn point(&self, t: f64) -> [f64; 2] {
         match self {
@@ -479,6 +514,48 @@ mod tests {
         }
         // Quadratic: N_2(1.5) = 3/4.
         assert!((cardinal_bspline(2, 1.5) - 0.75).abs() < 1e-15);
+    }
+
+    #[test]
+    fn bounds_hold_the_curve_and_are_exact_for_ellipses_and_polygons() {
+        let curves = [
+            TrimCurve::Ellipse {
+                center: [0.4, 2.0],
+                radii: [0.3, 0.1],
+                angle: 0.7,
+            },
+            TrimCurve::circle([0.5, 1.0], 0.2),
+            TrimCurve::Polyline(vec![[0.1, 0.2], [0.9, 0.4], [0.5, 1.7]]),
+            TrimCurve::BSpline {
+                degree: 3,
+                points: vec![[0.2, 1.0], [0.5, 0.6], [0.8, 1.0], [0.6, 1.8], [0.4, 1.8]],
+            },
+        ];
+        for (k, c) in curves.iter().enumerate() {
+            let (lo, hi) = c.bounds();
+            let (mut slo, mut shi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            // A multiple of the polygon's 3 vertices, so its samples take them in.
+            let n = 21000;
+            for j in 0..n {
+                let p = c.point(j as f64 / n as f64);
+                for i in 0..2 {
+                    assert!(lo[i] - 1e-15 <= p[i] && p[i] <= hi[i] + 1e-15, "{k}: {p:?}");
+                    slo[i] = slo[i].min(p[i]);
+                    shi[i] = shi[i].max(p[i]);
+                }
+            }
+            if k < 3 {
+                // Samples 2π/21000 apart reach the extremes of an ellipse to within
+                // (1 − cos(π/21000)) of the semi-axis, ~1.2e-8 · 0.3; the polygon's at its
+                // vertices.
+                for i in 0..2 {
+                    assert!(
+                        slo[i] - lo[i] < 1e-8 && hi[i] - shi[i] < 1e-8,
+                        "{k}: {lo:?} {hi:?} {slo:?} {shi:?}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]
