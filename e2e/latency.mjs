@@ -71,10 +71,17 @@ for (const c of cases) {
   }, [c.curve, c.index]);
   await page.mouse.move(x, y);
   await page.mouse.down();
+  let dragGrid = '';
   for (let k = 1; k <= moves; k++) {
     const a = (k / moves) * 2 * Math.PI;
     await page.mouse.move(x + 40 * Math.sin(a), y - 25 * Math.sin(2 * a));
     await page.waitForTimeout(16);
+    if (k === moves >> 1) {
+      dragGrid = await page.evaluate(() => {
+        const { state, view } = window.__pdeshape;
+        return `${state().grid.join('x')} at ${view.canvas.width}x${view.canvas.height} px`;
+      });
+    }
   }
   await page.mouse.up();
   await page.waitForTimeout(500);
@@ -83,7 +90,7 @@ for (const c of cases) {
   const browser = p.latencies.map((l, i) => l - p.roundTrips[i]);
   const vertices = s.surfaces.length * s.grid[0] * s.grid[1];
   rows.push({
-    design: c.file, patches: s.surfaces.length, grid: s.grid.join('x'), vertices, moves,
+    design: c.file, patches: s.surfaces.length, grid: s.grid.join('x'), dragGrid, vertices, moves,
     requests: p.sent, coalesced: p.coalesced, frames: p.latencies.length,
     p50: percentile(p.latencies, 50), p95: percentile(p.latencies, 95),
     server_p50: percentile(p.server, 50), server_p95: percentile(p.server, 95),
@@ -93,9 +100,9 @@ for (const c of cases) {
 }
 await context.close();
 await stopServer(server);
-console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shaded'}, ${process.env.FULL_DRAG === '1' ? 'full grid' : 'half grid'} while dragging`);
+console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shaded'}, ${process.env.FULL_DRAG === '1' ? 'full' : 'coarse'} detail while dragging`);
 for (const r of rows) {
   const f = (x) => x.toFixed(1);
-  console.log(`${r.design}: ${r.patches} patches ${r.grid}, ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);
+  console.log(`${r.design}: ${r.patches} patches ${r.grid} (${r.dragGrid} while dragging), ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);
   console.log(`  pointer→drawn p50 ${f(r.p50)} ms p95 ${f(r.p95)} ms | server p50 ${f(r.server_p50)} p95 ${f(r.server_p95)} | round trip p50 ${f(r.roundtrip_p50)} p95 ${f(r.roundtrip_p95)} | browser p50 ${f(r.browser_p50)} p95 ${f(r.browser_p95)}`);
 }
