@@ -55,8 +55,8 @@ pub(crate) struct Args {
     /// the bounds from --seed).
     #[arg(long)]
     pub starts: Option<usize>,
-    /// Print one JSON line on stderr: the search's wall time (ms), its evaluations and its
-    /// design solves.
+    /// Print one JSON line on stderr: the search's wall time (ms), its evaluations, its
+    /// design solves and its batched tangent solves (the gradient's exact parameters).
     #[arg(long)]
     pub timings: bool,
     /// Worker threads (default: all cores). The result does not depend on it.
@@ -312,7 +312,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .map_or("failed".to_string(), |e| format!("{:.9}", e.total()));
     report.push_str(&format!(
         "objective {}: start {start_value}, best {:.9} (penalty {:.3e}) after {} {}evaluations \
-         ({} solves)\n",
+         ({} solves{})\n",
         problem.objective_text(),
         best.total(),
         best.penalty,
@@ -323,6 +323,11 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             ""
         },
         outcome.solves,
+        if outcome.tangent_solves > 0 {
+            format!(", {} batched tangent solves", outcome.tangent_solves)
+        } else {
+            String::new()
+        },
     ));
     report.push_str("parameter        initial          best\n");
     for (p, x) in problem.parameters.list.iter().zip(best_x) {
@@ -406,6 +411,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
                 "search_ms": seconds * 1e3,
                 "evaluations": outcome.search.evaluations,
                 "solves": outcome.solves,
+                "tangent_solves": outcome.tangent_solves,
             })
         );
     }

@@ -1,6 +1,13 @@
 //! An optimisation of 5000 evaluations (the curvature example of §7.5,
 //! examples/optimize_curvature.toml: 19 parameters, 4 chains, no polish) with 1 and 2 worker
 //! threads: the chains run in parallel, and the result is the same for both.
+//!
+//! `gradient_7_5`: on one thread, one evaluation of §7.5's problem (a solve of the design and its
+//! integrals) against one full gradient (the objective's and constraints' derivatives with
+//! respect to all 19 parameters) at the starting point; their ratio is the cost of a gradient
+//! in solves. Beside it: the sensitivities with each exact parameter by its own solves (the
+//! path before the batched tangent solve), and the gradient of the same problem without `a`
+//! (the 18 exact parameters only: the point's solve and one batched tangent solve).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use pdeshape::optimize::Problem;
@@ -40,5 +47,46 @@ fn bench(c: &mut Criterion) {
     assert!(values.windows(2).all(|w| w[0] == w[1]), "{values:?}");
 }
 
-criterion_group!(benches, bench);
+fn gradient(c: &mut Criterion) {
+    let p = problem();
+    let x = p.parameters.initial();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a thread pool");
+    let mut group = c.benchmark_group("gradient_7_5");
+    group.sample_size(30);
+    group.measurement_time(Duration::from_secs(10));
+    group.warm_up_time(Duration::from_secs(1));
+    group.bench_function("solve", |b| {
+        b.iter(|| pool.install(|| p.evaluate(&x).expect("the design solves").total()))
+    });
+    group.bench_function("gradient", |b| {
+        b.iter(|| pool.install(|| p.gradient(&x).expect("the gradient").d_objective))
+    });
+    group.bench_function("sensitivities_per_parameter", |b| {
+        b.iter(|| {
+            pool.install(|| {
+                p.sensitivities_per_parameter(&x)
+                    .expect("the sensitivities")
+                    .d_values
+            })
+        })
+    });
+    let text = include_str!("../../../examples/optimize_curvature.toml");
+    let without_a: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("{ name = \"a\""))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let q = Problem::new(&parse_design(&without_a).expect("parses")).expect("valid");
+    assert_eq!(q.parameters.list.len(), 18);
+    let y = q.parameters.initial();
+    group.bench_function("gradient_without_a", |b| {
+        b.iter(|| pool.install(|| q.gradient(&y).expect("the gradient").d_objective))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench, gradient);
 criterion_main!(benches);

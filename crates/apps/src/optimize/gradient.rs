@@ -13,11 +13,16 @@
 //! `X(θ ± h) = S[A] + S[B] cos(θ ± h) + S[D] sin(θ ± h)`, so
 //! `(X(θ + h) − X(θ − h)) / (2 sin h) = −S[B] sin θ + S[D] cos θ = ∂X/∂θ` exactly; with
 //! `h = π/2` the divisor is 2. This is differentiating the solve by its linearity: the tangent
-//! surface `∂X/∂p` is the solve of the tangent curves, obtained from solves the design already
-//! knows how to make (every solver, the spectral remainder and the multi-patch conditions as
-//! they are), one solve per affine parameter and two per rotation. (Building the tangent curves
-//! and solving them directly would save nothing for the affine kinds and would need a tangent
-//! path through every curve kind and solver.)
+//! surface `∂X/∂p` is the solve of the tangent curves. The same identities hold for the curves
+//! themselves (`Ċ = (C(p + h) − C(p))/h`, `(C(θ + h) − C(θ − h))/(2 sin h)`), so for a design
+//! of analytic PDE patches the tangent curves of all exact parameters are built from the
+//! designs at the steps without solving those designs, and every patch solves them as one block
+//! of right-hand sides of its own mode systems ([`crate::design::tangent_patches`]): one
+//! batched tangent solve per gradient, with the integrals' derivatives of all parameters from
+//! one pass over the quadrature nodes ([`crate::analysis::integrals_derivatives`]). Designs of
+//! other solvers (finite differences) take the same differences of solved designs: one solve
+//! per affine parameter and two per rotation, which every solver, the spectral remainder and
+//! the multi-patch conditions support as they are.
 //!
 //! The measures are then differentiated exactly at the same quadrature nodes
 //! ([`crate::analysis::integrals_derivative`]: the chain rule through the area element, `X·n`,
@@ -36,22 +41,30 @@
 //! has curves derived non-linearly from others (`local`, `on_patch`, `tangent_field`).
 
 use super::{measure_patches, variables, Problem, MASS, NVARS, YIELD};
-use crate::analysis::{integrals_derivative, Integrals, Quadrature};
-use crate::design::{design_a, design_parameters, parse_book_name, solve_design, SolvedDesign};
+use crate::analysis::{
+    integrals_derivative, integrals_derivatives, DesignIntegrals, Integrals, Quadrature,
+};
+use crate::design::{
+    design_a, design_parameters, parse_book_name, solve_design, tangent_patches, SolvedDesign,
+    SurfaceKind,
+};
 use crate::optimize::{ParamKind, Parameters};
-use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec};
+use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec, SolverMethod};
+use crate::surface::Surface;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
 /// How a parameter's derivatives were computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
-    /// Exact: the surface is affine in the parameter; one extra solve at `p + step`.
+    /// Exact: the surface is affine in the parameter; its tangent from the curves at
+    /// `p + step` (in the batched tangent solve, or one extra solve at `p + step`).
     Linear {
         /// The step `h` of `(X(p + h) − X(p))/h`.
         step: f64,
     },
-    /// Exact: the surface is `A + B cos θ + D sin θ`; two extra solves at `θ ± step`.
+    /// Exact: the surface is `A + B cos θ + D sin θ`; its tangent from the curves at
+    /// `θ ± step` (in the batched tangent solve, or two extra solves at `θ ± step`).
     Rotation {
         /// The step `h` of `(X(θ + h) − X(θ − h))/(2 sin h)`.
         step: f64,
@@ -104,8 +117,17 @@ pub struct Sensitivities {
     /// methods the rounding, about `10⁻¹² (|value| + h |derivative|) / h`; for
     /// [`Method::Richardson`] `|D(h/2) − D(h)|/3` plus that rounding.
     pub errors: Vec<[f64; NVARS]>,
-    /// Design solves made (the point itself included).
+    /// Design solves made (the point itself included, and two per level of each
+    /// [`Method::Richardson`] parameter; none for the exact parameters of a design of analytic
+    /// PDE patches, whose derivatives come from [`Sensitivities::tangent_solves`]).
     pub solves: usize,
+    /// Batched tangent solves made: 1 when the exact parameters' derivatives came from one
+    /// block solve of their tangent curves with the point's operator (designs of analytic PDE
+    /// patches), else 0 (each exact parameter then costs one or two design solves, counted in
+    /// `solves`).
+    pub tangent_solves: usize,
+    /// The parameters in that batch.
+    pub batch: usize,
 }
 
 impl Sensitivities {
@@ -235,6 +257,84 @@ struct Point<'a> {
     at: &'a (dyn Fn(usize, f64) -> DesignSpec + Sync),
     quadrature: (usize, usize),
     c0: f64,
+    /// Whether the exact parameters of a design of analytic PDE patches share one batched
+    /// tangent solve (else each costs its own solves of the design at its steps).
+    batched: bool,
+}
+
+impl Point<'_> {
+    /// The derivatives of the parameters `batch` (exact kinds, a design of analytic PDE
+    /// patches) from one batched tangent solve: each parameter's tangent condition curves are
+    /// the exact differences of the curves of designs at steps of the parameter (built, not
+    /// solved: `(C(p + h) − C(p))/h` for an affine parameter, `(C(θ + h) − C(θ − h))/(2 sin h)`
+    /// for a rotation), every patch solves all of them as one block of right-hand sides, and
+    /// the integrals' derivatives come from one pass over the quadrature nodes.
+    fn batch(
+        &self,
+        batch: &[usize],
+        built: &SolvedDesign,
+        at: &DesignIntegrals,
+        q: &Quadrature,
+        size: f64,
+        rounding: &dyn Fn(&[f64; NVARS], f64) -> [f64; NVARS],
+    ) -> Result<Vec<Derivatives>> {
+        if batch.is_empty() {
+            return Ok(Vec::new());
+        }
+        let rotation = |k: usize| matches!(exact_kind(&self.spec, &self.kinds[k]), Some(true));
+        let steps: Vec<(f64, f64)> = batch
+            .iter()
+            .map(|&k| {
+                let u = unit(&self.kinds[k], self.values[k], size);
+                if rotation(k) {
+                    (ROTATION_STEP, u)
+                } else {
+                    (LINEAR_STEP * u, u)
+                }
+            })
+            .collect();
+        // The designs at the steps: `p + h` for an affine parameter, `θ ± h` for a rotation.
+        let designs: Vec<(DesignSpec, Option<DesignSpec>)> = batch
+            .iter()
+            .zip(&steps)
+            .map(|(&k, &(h, _))| {
+                let p = self.values[k];
+                let minus = rotation(k).then(|| (self.at)(k, p - h));
+                ((self.at)(k, p + h), minus)
+            })
+            .collect();
+        let directions: Vec<Vec<(f64, &DesignSpec)>> = designs
+            .iter()
+            .zip(&steps)
+            .map(|((plus, minus), &(h, _))| match minus {
+                Some(minus) => {
+                    let c = 1.0 / (2.0 * h.sin());
+                    vec![(c, plus), (-c, minus)]
+                }
+                None => vec![(1.0 / h, plus), (-1.0 / h, &self.spec)],
+            })
+            .collect();
+        let patches = tangent_patches(built, &self.spec, &directions)?;
+        let surfaces: Vec<Vec<&dyn Surface>> = patches
+            .iter()
+            .map(|t| t.iter().map(|p| &**p as &dyn Surface).collect())
+            .collect();
+        let dts = integrals_derivatives(built, at, &surfaces, q)?;
+        Ok(batch
+            .iter()
+            .zip(&steps)
+            .zip(dts)
+            .map(|((&k, &(h, u)), dt)| {
+                let d = d_variables(&at.total, &dt, self.c0);
+                let method = if rotation(k) {
+                    Method::Rotation { step: h }
+                } else {
+                    Method::Linear { step: h }
+                };
+                (method, d, rounding(&d, h), 0, u)
+            })
+            .collect())
+    }
 }
 
 fn sub(a: &Integrals, b: &Integrals, s: f64) -> Integrals {
@@ -266,21 +366,41 @@ impl Point<'_> {
                 e.with_message(message)
             })
         };
+        let rounding = |d: &[f64; NVARS], h: f64| -> [f64; NVARS] {
+            std::array::from_fn(|j| ROUNDING * (values[j].abs() + h * d[j].abs()) / h)
+        };
+        let exact = |k: usize| {
+            if design_reason.is_none() {
+                exact_kind(&self.spec, &self.kinds[k])
+            } else {
+                None
+            }
+        };
+        // The exact parameters of a design of analytic PDE patches: one batched tangent solve.
+        let batchable = self.batched
+            && self.spec.solver.method == SolverMethod::Analytic
+            && built
+                .surfaces
+                .iter()
+                .all(|s| matches!(s.kind, SurfaceKind::Pde(_)));
+        let batch: Vec<usize> = if batchable {
+            (0..self.kinds.len())
+                .filter(|&k| exact(k).is_some())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let batched = self.batch(&batch, &built, &at, &q, size, &rounding)?;
         let per: Vec<Result<Derivatives>> = (0..self.kinds.len())
             .into_par_iter()
             .map(|k| {
                 let p = self.values[k];
                 let kind = &self.kinds[k];
                 let u = unit(kind, p, size);
-                let rounding = |d: &[f64; NVARS], h: f64| -> [f64; NVARS] {
-                    std::array::from_fn(|j| ROUNDING * (values[j].abs() + h * d[j].abs()) / h)
-                };
-                let exact = if design_reason.is_none() {
-                    exact_kind(&self.spec, kind)
-                } else {
-                    None
-                };
-                match exact {
+                if batch.contains(&k) {
+                    return Ok(batched[batch.iter().position(|&b| b == k).unwrap_or(0)]);
+                }
+                match exact(k) {
                     Some(false) => {
                         let h = LINEAR_STEP * u;
                         let plus = solve(k, p + h)?;
@@ -350,6 +470,8 @@ impl Point<'_> {
             scales: Vec::new(),
             errors: Vec::new(),
             solves: 1,
+            tangent_solves: usize::from(!batch.is_empty()),
+            batch: batch.len(),
         };
         for r in per {
             let (m, d, e, s, u) = r?;
@@ -458,6 +580,7 @@ pub fn sensitivities(
         at: &at,
         quadrature: (qu, qv),
         c0,
+        batched: true,
     }
     .run()
 }
@@ -501,6 +624,20 @@ impl Problem {
     /// `[optimize].parameters`), with `mass` and `yield` filled in when the problem has a shell
     /// set-up (`max_shear` stays NaN: the shell analysis is not differentiated).
     pub fn sensitivities(&self, x: &[f64]) -> Result<Sensitivities> {
+        self.sensitivities_with(x, true)
+    }
+
+    /// [`Problem::sensitivities`] with every exact parameter differentiated by its own solves
+    /// of the design at its steps (one per affine parameter, two per rotation) instead of the
+    /// batched tangent solve: the same derivatives to rounding, at the cost of a solve per
+    /// parameter; a check of the batch, and what designs of other solvers always take.
+    pub fn sensitivities_per_parameter(&self, x: &[f64]) -> Result<Sensitivities> {
+        self.sensitivities_with(x, false)
+    }
+
+    /// [`Problem::sensitivities`], the exact parameters batched into one tangent solve where the
+    /// design allows it (`batched`) or each differentiated by its own solves.
+    fn sensitivities_with(&self, x: &[f64], batched: bool) -> Result<Sensitivities> {
         if x.len() != self.parameters.len() {
             return Err(Error::invalid(format!(
                 "expected {} parameter values, got {}",
@@ -532,6 +669,7 @@ impl Problem {
             at: &at,
             quadrature: self.quadrature,
             c0: self.spontaneous_curvature,
+            batched,
         }
         .run()?;
         if let Some(st) = &self.strength {

@@ -398,9 +398,14 @@ pub struct Outcome {
     pub solver_failures: usize,
     /// The first failed analysis's message.
     pub first_failure: Option<String>,
-    /// Design solves made by the search (an annealing evaluation is one; a gradient is one
-    /// per affine parameter, two per rotation, four per approximate one, plus the point).
+    /// Design solves made by the search (an annealing evaluation is one; a gradient is the
+    /// point plus two per level of each approximate parameter, and, where its exact parameters
+    /// are not batched, one per affine parameter and two per rotation).
     pub solves: usize,
+    /// Batched tangent solves made by the gradient search: one per gradient of a design of
+    /// analytic PDE patches, all its exact parameters' tangent curves as one block of
+    /// right-hand sides ([`gradient::Sensitivities::tangent_solves`]); not counted in `solves`.
+    pub tangent_solves: usize,
     /// What the gradient search reports (`None` for annealing alone).
     pub gradient: Option<GradientReport>,
 }
@@ -677,6 +682,7 @@ impl Problem {
             first_failure,
             start: (x0, start),
             solves: search.evaluations,
+            tangent_solves: 0,
             search,
             gradient: None,
         })

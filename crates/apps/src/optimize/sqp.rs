@@ -91,6 +91,7 @@ struct State {
     last: Option<Scaled>,
     gradients: usize,
     solves: usize,
+    tangent_solves: usize,
     log: Vec<Record>,
     best: Option<(Vec<f64>, Evaluation)>,
     /// Whether `best` meets the search's own constraints (see [`Problem::gradient_from`]).
@@ -150,6 +151,8 @@ pub struct GradientReport {
     pub evaluations: usize,
     /// Design solves they made.
     pub solves: usize,
+    /// Batched tangent solves they made (see [`super::Outcome::tangent_solves`]).
+    pub tangent_solves: usize,
     /// Each start, in order.
     pub starts: Vec<StartReport>,
     /// The start that found the result.
@@ -374,6 +377,7 @@ impl Problem {
             solver_failures: anneal.solver_failures,
             first_failure: anneal.first_failure,
             solves: anneal.solves + grad.solves,
+            tangent_solves: grad.tangent_solves,
             gradient: grad.gradient,
         })
     }
@@ -409,6 +413,7 @@ impl Problem {
             last: None,
             gradients: 0,
             solves: 0,
+            tangent_solves: 0,
             log: Vec::new(),
             best: None,
             best_inside: false,
@@ -434,6 +439,7 @@ impl Problem {
                     Ok(g) => {
                         st.gradients += 1;
                         st.solves += g.sensitivities.solves;
+                        st.tangent_solves += g.sensitivities.tangent_solves;
                         let e = self.evaluate_variables(g.sensitivities.values);
                         if st.start.is_none() {
                             st.start = Some(e.clone());
@@ -587,6 +593,7 @@ impl Problem {
         let gradient = GradientReport {
             evaluations: st.gradients,
             solves: st.solves,
+            tangent_solves: st.tangent_solves,
             converged: reports[best_start].converged,
             starts: reports,
             best_start,
@@ -600,6 +607,7 @@ impl Problem {
             solver_failures: 0,
             first_failure: st.failure,
             solves: st.solves,
+            tangent_solves: st.tangent_solves,
             gradient: Some(gradient),
         })
     }

@@ -104,6 +104,130 @@ pub fn integrals_derivative(
     Ok(total)
 }
 
+/// The derivatives of the integrals `at` of `base` (as in [`integrals_derivative`]) along `K`
+/// tangent surfaces at once: `tangents[k][i]` is the derivative of patch `i` along direction
+/// `k` (such as [`crate::design::tangent_patches`]' patches). One pass over the quadrature nodes:
+/// each row of the base's partials is evaluated once for all directions, and each direction's
+/// partials once (not as differences of designs). The same chain rule at the same nodes as
+/// [`integrals_derivative`], so the same derivatives to rounding.
+pub fn integrals_derivatives(
+    base: &SolvedDesign,
+    at: &DesignIntegrals,
+    tangents: &[Vec<&dyn Surface>],
+    q: &Quadrature,
+) -> Result<Vec<Integrals>> {
+    let n = base.surfaces.len();
+    if at.patches.len() != n {
+        return Err(Error::invalid(format!(
+            "the integrals are of {} patches, the design has {n}",
+            at.patches.len()
+        )));
+    }
+    if let Some(t) = tangents.iter().find(|t| t.len() != n) {
+        return Err(Error::invalid(format!(
+            "a tangent has {} patches, the base design {n}",
+            t.len()
+        )));
+    }
+    let kk = tangents.len();
+    let mut totals = vec![Integrals::default(); kk];
+    for i in 0..n {
+        let s = base.surfaces[i].surface();
+        let surfaces: Vec<&dyn Surface> = tangents.iter().map(|t| t[i]).collect();
+        let (ru, rv) = rules_of(s, q, at.analyses[i].u_nodes, at.analyses[i].v_nodes)?;
+        let d = patch_derivatives(s, &surfaces, &ru, &rv);
+        let sign = at.orientation[i];
+        for (total, d) in totals.iter_mut().zip(&d) {
+            if d.iter().any(|x| !x.is_finite()) {
+                return Err(Error::invalid(
+                    "the derivative of the integrals is not finite at some quadrature node",
+                )
+                .at(&format!("patch '{}'", base.surfaces[i].name)));
+            }
+            total.area += d[0];
+            total.volume += sign * d[1];
+            total.mean += sign * d[2];
+            total.mean_sq += d[3];
+            total.gauss += d[4];
+        }
+    }
+    let rule = periodic_trapezoid(CURVE_NODES);
+    for cap in &at.caps {
+        let i = cap.patch;
+        let row = |s: &dyn Surface| {
+            let eval = s.partials_rows(&rule.nodes);
+            let mut buf = vec![Partials::default(); rule.nodes.len()];
+            eval.eval_row(cap.u, &mut buf);
+            buf
+        };
+        let b = row(base.surfaces[i].surface());
+        let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
+        for (total, t) in totals.iter_mut().zip(tangents) {
+            let rows: Vec<_> = b
+                .iter()
+                .zip(row(t[i]))
+                .map(|(p, d)| (p.x, p.xv, d.x, d.xv))
+                .collect();
+            total.volume += sign * at.orientation[i] * cap_derivative(&rows, &rule.weights);
+        }
+    }
+    Ok(totals)
+}
+
+/// [`patch_derivative`] along each of the tangent surfaces `tangents` (their own partials).
+fn patch_derivatives(
+    s: &dyn Surface,
+    tangents: &[&dyn Surface],
+    ru: &Rule,
+    rv: &Rule,
+) -> Vec<[f64; 5]> {
+    let kk = tangents.len();
+    let base = s.partials_rows(&rv.nodes);
+    let evals: Vec<Box<dyn crate::surface::PartialsRows + '_>> = tangents
+        .iter()
+        .map(|t| t.partials_rows(&rv.nodes))
+        .collect();
+    let rows: Vec<Vec<[f64; 5]>> = ru
+        .nodes
+        .par_iter()
+        .zip(&ru.weights)
+        .map_init(
+            || {
+                (
+                    vec![Partials::default(); rv.nodes.len()],
+                    vec![Partials::default(); rv.nodes.len()],
+                )
+            },
+            |(pb, pt), (&u, &wu)| {
+                base.eval_row(u, pb);
+                evals
+                    .iter()
+                    .map(|e| {
+                        e.eval_row(u, pt);
+                        let mut sum = [0.0; 5];
+                        for ((p, t), &wv) in pb.iter().zip(pt.iter()).zip(&rv.weights) {
+                            let d = node_derivative(p, t);
+                            for (s, d) in sum.iter_mut().zip(d) {
+                                *s += wu * wv * d;
+                            }
+                        }
+                        sum
+                    })
+                    .collect()
+            },
+        )
+        .collect();
+    let mut total = vec![[0.0; 5]; kk];
+    for r in &rows {
+        for (t, r) in total.iter_mut().zip(r) {
+            for (t, x) in t.iter_mut().zip(r) {
+                *t += x;
+            }
+        }
+    }
+    total
+}
+
 /// The rules of the level of `q` that has `nu × nv` nodes on `s` (the level the analysis ended
 /// at).
 fn rules_of(s: &dyn Surface, q: &Quadrature, nu: usize, nv: usize) -> Result<(Rule, Rule)> {

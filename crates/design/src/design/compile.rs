@@ -13,6 +13,7 @@ use super::preview::{self, AffineGrid, Drag, DragKey};
 use super::solved::{ConditionInfo, DesignSurface, SolvedDesign, SurfaceKind};
 use super::spline::solve_spec;
 use super::validate::{build_operator, check_solver, kind_name, plan, validate_patches};
+use crate::curve::SharedCurve;
 use crate::elliptic::{self, Condition, SolveOptions};
 use crate::mesh::{self, GridMesh};
 use crate::spec::{
@@ -640,6 +641,135 @@ fn plan_patches(
         ));
     }
     Ok(planned)
+}
+
+/// The derivatives of the PDE patches of `base` (the design `spec`, solved) along directions
+/// of its parameters, without solving any other design: direction `k` is `Σ c_j spec_j` over
+/// the pairs `(c_j, spec_j)` of `directions[k]`, designs with the same patches and condition
+/// places as `spec` (such as `[(1/h, spec(p + h)), (−1/h, spec)]`), whose surfaces are linear
+/// in their condition curves. Each design's condition curves are built (its `[[parameters]]`
+/// applied) but not solved; the derivative of condition `i` of a patch along direction `k` is
+/// `Σ c_j C_ij`, and every patch solves all directions as one block
+/// ([`crate::elliptic::PdePatch::solve_tangents`]). The result's `[k][i]` is patch `i`'s
+/// derivative along direction `k`. Refused unless every surface of `base` is a PDE patch solved
+/// by the analytic solver, with no curve on another patch.
+pub fn tangent_patches(
+    base: &SolvedDesign,
+    spec: &DesignSpec,
+    directions: &[Vec<(f64, &DesignSpec)>],
+) -> Result<Vec<Vec<Arc<elliptic::PdePatch>>>> {
+    let patches: Vec<&Arc<elliptic::PdePatch>> = base
+        .surfaces
+        .iter()
+        .map(|s| match &s.kind {
+            SurfaceKind::Pde(p) => Ok(p),
+            _ => Err(Error::invalid(format!(
+                "surface '{}' is not a PDE patch of the analytic solver: its derivatives need \
+                 solves of the design",
+                s.name
+            ))),
+        })
+        .collect::<Result<_>>()?;
+    let (options, _) = condition_curves(spec)?;
+    // The curves of each distinct design once (a direction's designs are often shared, such as
+    // the point itself).
+    let mut designs: Vec<&DesignSpec> = Vec::new();
+    let index: Vec<Vec<(f64, usize)>> = directions
+        .iter()
+        .map(|d| {
+            d.iter()
+                .map(|&(c, s)| {
+                    let j = match designs.iter().position(|&t| std::ptr::eq(t, s)) {
+                        Some(j) => j,
+                        None => {
+                            designs.push(s);
+                            designs.len() - 1
+                        }
+                    };
+                    (c, j)
+                })
+                .collect()
+        })
+        .collect();
+    let curves: Vec<Vec<Vec<SharedCurve>>> = designs
+        .par_iter()
+        .map(|s| condition_curves(s).map(|(_, c)| c))
+        .collect::<Result<_>>()?;
+    for c in &curves {
+        if c.len() != patches.len()
+            || c.iter()
+                .zip(&patches)
+                .any(|(c, p)| c.len() != p.conditions().len())
+        {
+            return Err(Error::invalid(
+                "a design of a derivative has other patches or conditions than the point",
+            ));
+        }
+    }
+    let per_patch: Vec<Vec<Arc<elliptic::PdePatch>>> = patches
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let dirs: Vec<Vec<SharedCurve>> = index
+                .iter()
+                .map(|d| {
+                    (0..p.conditions().len())
+                        .map(|c| {
+                            elliptic::combination(
+                                d.iter()
+                                    .map(|&(w, j)| (w, curves[j][i][c].clone()))
+                                    .collect(),
+                            )
+                        })
+                        .collect()
+                })
+                .collect();
+            Ok(p.solve_tangents(&dirs, &options)?
+                .into_iter()
+                .map(Arc::new)
+                .collect())
+        })
+        .collect::<Result<_>>()?;
+    Ok((0..directions.len())
+        .map(|k| per_patch.iter().map(|p| p[k].clone()).collect())
+        .collect())
+}
+
+/// The solver options and the condition curves of every PDE patch of `spec` (its
+/// `[[parameters]]` applied), in the order of the solved design's surfaces, built without
+/// solving. Refused for the finite-difference solver and for curves on other patches.
+fn condition_curves(spec: &DesignSpec) -> Result<(SolveOptions, Vec<Vec<SharedCurve>>)> {
+    let resolved = super::params::resolve_parameters(spec)?;
+    let spec: &DesignSpec = &resolved;
+    validate_patches(spec)?;
+    let options = check_solver(&spec.solver)?;
+    if spec.solver.method != SolverMethod::Analytic {
+        return Err(Error::invalid(
+            "derivatives by tangent solves need the analytic solver",
+        ));
+    }
+    if super::attach::patch_levels(spec)?.len() > 1 {
+        return Err(Error::invalid(
+            "derivatives by tangent solves need patches whose curves lie on no other patch",
+        ));
+    }
+    let cache = CurveCache::default();
+    let mut builder = CurveBuilder::new(&spec.curves, &cache);
+    let planned = plan_patches(
+        spec,
+        &mut builder,
+        spec.solver.method,
+        &options,
+        None,
+        &|_| true,
+    )?;
+    Ok((
+        options,
+        planned
+            .into_iter()
+            .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
+            .collect(),
+    ))
 }
 
 /// Validates a design without solving anything (but a design with curves on its patches, which

@@ -34,7 +34,7 @@ mod validate;
 
 pub use attach::{Attachment, AttachmentReport, CurveOnSurface, TangentField};
 pub use blend::{solve_blend, validate_blend};
-pub use compile::{compile, solve_design, validate_design, CompiledDesign};
+pub use compile::{compile, solve_design, tangent_patches, validate_design, CompiledDesign};
 pub use curves::{build_curve, build_curves};
 pub use dynamic::{build_dynamic, BuiltDynamic, DynamicPlan, DynamicRun, MAX_INTERVALS};
 pub use edges::{edge_mismatch, EdgeReport};

@@ -11,11 +11,13 @@ pub(crate) mod basis;
 mod bounds;
 mod operator;
 mod patch;
+mod tangent;
 
 pub use basis::BasisKind;
 pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
 pub use patch::PdePatch;
+pub use tangent::{combination, TangentCurve};
 
 use crate::curve::SharedCurve;
 use crate::fourier::FourierSeries;
@@ -137,6 +139,14 @@ impl ModeFn {
 
     fn ncols(&self) -> usize {
         self.coef.ncols()
+    }
+
+    /// The mode of columns `start .. start + count` (one direction of a block solve).
+    fn columns(&self, start: usize, count: usize) -> ModeFn {
+        ModeFn::new(
+            self.basis.clone(),
+            self.coef.columns(start, count).into_owned(),
+        )
     }
 
     /// Values and first u-derivatives of every column at `u` (one basis evaluation for both).
@@ -266,6 +276,39 @@ pub fn solve(
         reports.push(report);
     }
 
+    let mut cardinal = None;
+    let (patch, distances, active) = assemble(
+        operator,
+        conditions,
+        &series,
+        modes,
+        reports,
+        options,
+        &at,
+        &mut cardinal,
+    )?;
+    check_a_posteriori(&patch, &distances, &active, patch.remainder.is_some())?;
+    Ok(patch)
+}
+
+/// The patch of the solved `modes` of `conditions` (whose Fourier series are `series`), with
+/// the spectral remainder when a condition needs it; also each condition's coefficient distance
+/// and whether it takes part in the remainder. `cardinal` holds the remainder's cardinal
+/// functions and their report once solved (they depend on the operator and the conditions'
+/// places only, so a batch of patches with the same operator and places shares them).
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    operator: &Operator,
+    conditions: Vec<Condition>,
+    series: &[FourierSeries],
+    modes: Vec<ModeFn>,
+    mut reports: Vec<ModeReport>,
+    options: &SolveOptions,
+    at: &[(f64, usize)],
+    cardinal: &mut Option<(ModeFn, ModeReport)>,
+) -> Result<(PdePatch, Vec<f64>, Vec<bool>)> {
+    let nn = operator.half_order();
+    let m = modes.len() - 1;
     // The remainder (Eqs. 4.50–4.53) takes up Δ_i(v) = g_i(v) − ∂ᵈX̃(u_i, v): the Fourier tail of
     // curves that are not finite series within M modes, and whatever the mode systems left at
     // the conditions beyond rounding (high modes with intermediate conditions have solutions as
@@ -294,8 +337,15 @@ pub fn solve(
         })
         .collect();
     let remainder = if options.remainder && active.iter().any(|&a| a) {
-        let (cardinal, report) =
-            solve_mode(operator, m + 1, &at, DMatrix::identity(2 * nn, 2 * nn))?;
+        if cardinal.is_none() {
+            *cardinal = Some(solve_mode(
+                operator,
+                m + 1,
+                at,
+                DMatrix::identity(2 * nn, 2 * nn),
+            )?);
+        }
+        let (cardinal, report) = cardinal.clone().expect("solved above");
         reports.push(report);
         Some(patch::Remainder {
             cardinal,
@@ -305,10 +355,8 @@ pub fn solve(
     } else {
         None
     };
-    let has_remainder = remainder.is_some();
     let patch = PdePatch::new(operator.clone(), conditions, modes, remainder, reports);
-    check_a_posteriori(&patch, &distances, &active, has_remainder)?;
-    Ok(patch)
+    Ok((patch, distances, active))
 }
 
 /// Leftover of a condition (relative to the size of its Fourier coefficients) below which it

@@ -717,3 +717,97 @@ fn mode_systems_and_roots_past_the_iteration_cap_are_errors_naming_them() {
         "{e}"
     );
 }
+
+/// The batched tangent solve equals solving each direction's curves on their own
+/// ([`solve`] of the combination curves: the same mode systems, the same set-ups, one block of
+/// right-hand sides instead of six columns each, so the same arithmetic per column), and the
+/// derivative of a patch along an affine family of curves is the difference quotient of two
+/// solves: the solution is linear in the curves, so `(X(p + h) − X(p))/h` is exact up to the
+/// rounding of the two solves divided by `h` (relative `10⁻¹³ · |X|/h` here, well-conditioned
+/// mode systems). Curves with and without exact Fourier series, so the remainder takes part.
+#[test]
+fn tangent_solves_equal_solves_of_the_tangent_curves() {
+    let op = Operator::polyharmonic(2, 1.5).unwrap();
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy = |b: f64| -> SharedCurve { Arc::new(Bumpy { r: 0.8, h: 1.0, b }) };
+    let at = |s: f64| {
+        vec![
+            cond(0.0, 0, circle(0.0, 1.0 + s)),
+            cond(0.0, 1, circle(1.0, 0.5)),
+            cond(1.0, 0, bumpy(0.2 + s)),
+            cond(1.0, 1, circle(1.0 + 2.0 * s, 0.3)),
+        ]
+    };
+    let base = solve(&op, at(0.0), &options).unwrap();
+    assert!(base.has_remainder());
+    let h = 0.25;
+    let plus = solve(&op, at(h), &options).unwrap();
+    let curves =
+        |c: Vec<Condition>| -> Vec<SharedCurve> { c.into_iter().map(|c| c.curve).collect() };
+    let (cp, c0) = (curves(at(h)), curves(at(0.0)));
+    let difference: Vec<SharedCurve> = cp
+        .iter()
+        .zip(&c0)
+        .map(|(p, b)| combination(vec![(1.0 / h, p.clone()), (-1.0 / h, b.clone())]))
+        .collect();
+    // A second direction: only the lower circle, an exact series.
+    let lower: Vec<SharedCurve> = vec![
+        circle(0.0, 1.0),
+        combination(vec![(0.0, circle(1.0, 0.5))]),
+        combination(vec![(0.0, bumpy(0.2))]),
+        combination(vec![(0.0, circle(1.0, 0.3))]),
+    ];
+    let dirs = vec![difference.clone(), lower.clone()];
+    let tangents = base.solve_tangents(&dirs, &options).unwrap();
+    assert_eq!(tangents.len(), 2);
+    assert!(tangents[0].has_remainder());
+    assert!(!tangents[1].has_remainder());
+    let alone: Vec<PdePatch> = dirs
+        .iter()
+        .map(|d| {
+            let c = d
+                .iter()
+                .zip(base.conditions())
+                .map(|(curve, c)| cond(c.u, c.derivative, curve.clone()))
+                .collect();
+            solve(&op, c, &options).unwrap()
+        })
+        .collect();
+    let scale = base.scale();
+    for i in 0..=6 {
+        for j in 0..8 {
+            let (u, v) = (i as f64 / 6.0, j as f64 * TAU / 8.0 + 0.1);
+            for (t, a) in tangents.iter().zip(&alone) {
+                let (pt, pa) = (t.partials(u, v), a.partials(u, v));
+                for (x, y) in [
+                    (pt.x, pa.x),
+                    (pt.xu, pa.xu),
+                    (pt.xv, pa.xv),
+                    (pt.xuu, pa.xuu),
+                ] {
+                    assert!((x - y).norm() <= 1e-13 * scale, "{x:?} vs {y:?}");
+                }
+            }
+            let (t, p, b) = (
+                tangents[0].partials(u, v),
+                plus.partials(u, v),
+                base.partials(u, v),
+            );
+            for (x, (y, z)) in [
+                (t.x, (p.x, b.x)),
+                (t.xu, (p.xu, b.xu)),
+                (t.xvv, (p.xvv, b.xvv)),
+            ] {
+                let q = (y - z) / h;
+                assert!((x - q).norm() <= 1e-13 * scale / h, "{x:?} vs {q:?}");
+            }
+        }
+    }
+    // Directions of the wrong length are refused.
+    assert!(base
+        .solve_tangents(&[lower[..3].to_vec()], &options)
+        .is_err());
+}

@@ -223,6 +223,42 @@ fn nonlinear_parameters_are_reported_approximate() {
     assert_eq!(labels, ["linear", "rotation", "linear", "richardson"]);
 }
 
+/// The batched tangent solve against each parameter's own solves, on every example with
+/// parameters: both are exact derivatives of the same discrete measures (the tangent of the
+/// solve of curve differences against the difference of two solves), so they differ only by
+/// rounding, which each bounds by its own error estimate (`10⁻¹² (|value| + h |derivative|)/h`:
+/// the rounding of a solve and its integrals divided by the step). The methods and steps are
+/// the same; §7.5's 18 exact parameters are one batch, and its `a` is not in it.
+#[test]
+fn batched_derivatives_equal_the_per_parameter_ones() {
+    let mut compared = 0;
+    for (name, p) in problems() {
+        let x = p.parameters.initial();
+        let b = p.sensitivities_with(&x, true).unwrap();
+        let s = p.sensitivities_with(&x, false).unwrap();
+        assert_eq!(s.tangent_solves, 0, "{name}");
+        assert_eq!(b.methods, s.methods, "{name}");
+        if name == "optimize_curvature.toml" {
+            assert_eq!((b.tangent_solves, b.batch), (1, 18), "{name}");
+            // The point and a's Richardson levels only.
+            assert_eq!(s.solves - b.solves, 12 + 2 * 6, "{name}");
+        }
+        for k in 0..b.names.len() {
+            for (j, variable) in VARIABLES.iter().enumerate().take(11) {
+                let (db, ds) = (b.d_values[k][j], s.d_values[k][j]);
+                let bound = b.errors[k][j] + s.errors[k][j];
+                assert!(
+                    (db - ds).abs() <= bound,
+                    "{name} {} {variable}: batched {db} vs {ds} (bound {bound:e})",
+                    b.names[k],
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 200, "{compared}");
+}
+
 /// The library function at a design's own values and the problem's at the same point agree.
 #[test]
 fn sensitivities_of_a_design_and_of_its_problem_agree() {
