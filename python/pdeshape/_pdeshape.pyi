@@ -97,7 +97,9 @@ class Gradient(TypedDict, total=False):
     errors: dict[str, F64]  # (k,) estimated absolute error of each derivative
     methods: list[str]  # "linear", "rotation" (exact up to rounding) or "richardson"
     exact: list[bool]
-    solves: int
+    solves: int  # design solves (the steps of the parameters not in the batch)
+    tangent_solves: int  # batched tangent solves (one block of right-hand sides each)
+    batch: int  # parameters differentiated by the batched tangent solve
     # with the [optimize] problem (names None):
     objective: float
     d_objective: F64
@@ -140,6 +142,7 @@ class OptimizeResult(TypedDict):
     method: str
     evaluations: int  # annealing and polish evaluations, or gradient evaluations
     solves: int  # design solves
+    tangent_solves: int  # batched tangent solves of the gradients (not in solves)
     start_value: float  # objective + penalty at the initial values
     measures: dict[str, float]  # the formulas' variables at the result (shell ones where set up)
     gradient: GradientSearch | None  # None for annealing; the hybrid's gradient stage

@@ -1025,7 +1025,7 @@ impl Design {
     /// better result; the annealing options); options not given keep the file's (annealing) or the library's
     /// defaults; `seed` seeds both. Returns a dict of `x` (the best parameter values by name),
     /// `value` (objective + penalty), `objective`, `penalty`, `feasible`, `method`,
-    /// `evaluations`, `solves`, `start_value`, `measures` (the shell ones only where the problem
+    /// `evaluations`, `solves`, `tangent_solves`, `start_value`, `measures` (the shell ones only where the problem
     /// has them), and `gradient` (None for annealing;
     /// else `evaluations`, `solves`, `converged`, `best_start`, `starts` — per start `x`,
     /// `best`, `status`, `converged`, `evaluations` — and `kkt`: `stationarity`,
@@ -1114,6 +1114,7 @@ impl Design {
         d.set_item("method", plan.method.name())?;
         d.set_item("evaluations", outcome.search.evaluations)?;
         d.set_item("solves", outcome.solves)?;
+        d.set_item("tangent_solves", outcome.tangent_solves)?;
         d.set_item(
             "start_value",
             outcome.start.1.as_ref().map_or(f64::NAN, |e| e.total()),
@@ -1336,6 +1337,8 @@ impl Design {
         d.set_item("methods", methods)?;
         d.set_item("exact", exact)?;
         d.set_item("solves", s.solves)?;
+        d.set_item("tangent_solves", s.tangent_solves)?;
+        d.set_item("batch", s.batch)?;
         Ok(d)
     }
 

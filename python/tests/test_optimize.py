@@ -51,6 +51,8 @@ def test_gradient_result_is_no_worse_than_its_start_and_inside_its_bounds(curvat
     g = r["gradient"]
     assert g["evaluations"] == r["evaluations"] == g["starts"][0]["evaluations"]
     assert g["solves"] == r["solves"] >= r["evaluations"]
+    # Each gradient: one batched tangent solve for the parameters the solve is affine in.
+    assert r["tangent_solves"] == r["evaluations"]
     assert len(g["starts"]) == 1 and g["best_start"] == 0
     assert g["starts"][0]["x"] == pytest.approx(d.evaluate_problem()["x"])
 
@@ -101,6 +103,7 @@ def test_gradient_result_equals_the_cli(curvature_gradient, cli, tmp_path):
     assert {k: float(best[k]) for k in r["x"]} == r["x"]
     timings = next(line for line in p.stderr.splitlines() if line.startswith("{"))
     assert f'"solves":{r["solves"]}' in timings.replace(" ", "")
+    assert f'"tangent_solves":{r["tangent_solves"]}' in timings.replace(" ", "")
     # The report's line of the first-order conditions is the same search's.
     line = next(line for line in p.stdout.splitlines() if line.startswith("gradient search:"))
     shown = float(line.split("stationarity ")[1].split(",")[0])
@@ -129,6 +132,7 @@ def test_annealing_keeps_its_keys_and_reports_its_counts():
     assert r["method"] == "anneal" and r["gradient"] is None
     assert {"x", "value", "objective", "penalty"} <= r.keys()
     assert r["evaluations"] == r["solves"] <= 50
+    assert r["tangent_solves"] == 0
     assert r["value"] <= r["start_value"]
     # The same call by keyword and positionally (the order before `method` is kept).
     assert d.optimize(2, 40, 2, 10)["x"] == r["x"]
