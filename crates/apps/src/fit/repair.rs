@@ -23,10 +23,11 @@
 //!    ways. Walking each piece (joined across such edges) from its first triangle, a triangle
 //!    that disagrees with the one it was reached from is flipped; a piece most of whose
 //!    triangles were flipped is flipped back whole, so the file's own majority orientation
-//!    stays. Where a piece cannot be oriented (a Möbius band, or a crude decimation's folded
-//!    triangles: an edge still run the same way by its two triangles after the walk), one
-//!    triangle at each such edge is dropped, so the piece becomes an orientable surface with a
-//!    few holes.
+//!    stays. A piece that cannot be oriented (a Möbius band, a Klein bottle, a crude
+//!    decimation's folded triangles: an edge still run the same way by its two triangles after
+//!    the walk) is left as it is, and the general mode refuses it with a point. (Dropping a
+//!    triangle at each such edge makes it orientable, but a Klein bottle then became a surface
+//!    whose layouts kept failing, round after round, for minutes.)
 //!
 //! Nothing is moved: vertices keep their positions (a welded vertex takes the position of the
 //! one it joins), so the repaired mesh is the file's surface with its defects removed.
@@ -66,8 +67,6 @@ pub struct Repairs {
     pub stray_triangles: usize,
     /// Triangles flipped to run their edges opposite to their neighbours.
     pub flipped: usize,
-    /// Triangles dropped where a piece could not be oriented.
-    pub unorientable: usize,
     /// A point of the first repair, in the mesh's coordinates.
     pub first: Option<Vec3>,
 }
@@ -131,12 +130,6 @@ impl Repairs {
             parts.push(format!(
                 "{} flipped to agree with their neighbours",
                 plural(self.flipped, "triangle", "triangles")
-            ));
-        }
-        if self.unorientable > 0 {
-            parts.push(format!(
-                "{} dropped where the surface could not be oriented",
-                plural(self.unorientable, "triangle", "triangles")
             ));
         }
         Some(format!(
@@ -270,31 +263,17 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     }
 
     // 7. Orientation.
-    let (flipped, unorientable) = orient(&mut triangles);
+    let flipped = orient(&mut triangles);
     if let Some(&first) = flipped.first() {
         r.flipped = flipped.len();
         note_at(&mut r, centroid(&triangles[first]));
-    }
-    if let Some(&first) = unorientable.first() {
-        r.unorientable = unorientable.len();
-        note_at(&mut r, centroid(&triangles[first]));
-        let mut gone = vec![false; triangles.len()];
-        for &t in &unorientable {
-            gone[t] = true;
-        }
-        let mut k = 0;
-        triangles.retain(|_| {
-            k += 1;
-            !gone[k - 1]
-        });
     }
     Ok((InputMesh::new(positions, triangles)?, r))
 }
 
 /// Flips triangles so that every edge of two triangles is run both ways (module
-/// documentation, step 7). Returns the indices of the flipped triangles and of those to drop
-/// where a piece cannot be oriented.
-fn orient(triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<usize>) {
+/// documentation, step 7). Returns the indices of the flipped triangles.
+fn orient(triangles: &mut [[u32; 3]]) -> Vec<usize> {
     // Each edge's triangles, and whether each runs it from its smaller end.
     let mut sides: Vec<((u32, u32), usize, bool)> = Vec::with_capacity(3 * triangles.len());
     for (i, t) in triangles.iter().enumerate() {
@@ -323,7 +302,6 @@ fn orient(triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<usize>) {
     }
     let mut flip: Vec<Option<bool>> = vec![None; triangles.len()];
     let mut out = Vec::new();
-    let mut drop = Vec::new();
     for seed in 0..triangles.len() {
         if flip[seed].is_some() {
             continue;
@@ -343,14 +321,15 @@ fn orient(triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<usize>) {
         }
         let flipped = piece.iter().filter(|&&t| flip[t] == Some(true)).count();
         let back = 2 * flipped > piece.len();
-        // Where the piece cannot be oriented (an edge still run the same way after the walk),
-        // the later of the edge's two triangles goes.
-        for &t in &piece {
-            for &(o, same) in &next[t] {
-                if o > t && (flip[t] == flip[o]) == same {
-                    drop.push(o);
-                }
-            }
+        // A piece that cannot be oriented (an edge still run the same way after the walk) is
+        // left as it is.
+        let consistent = piece.iter().all(|&t| {
+            next[t]
+                .iter()
+                .all(|&(o, same)| (flip[t] == flip[o]) != same)
+        });
+        if !consistent || flipped == 0 {
+            continue;
         }
         for &t in &piece {
             if (flip[t] == Some(true)) != back {
@@ -360,9 +339,7 @@ fn orient(triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<usize>) {
         }
     }
     out.sort_unstable();
-    drop.sort_unstable();
-    drop.dedup();
-    (out, drop)
+    out
 }
 
 fn note_at(r: &mut Repairs, p: Vec3) {
@@ -839,7 +816,6 @@ mod tests {
         assert!(crate::fit::require_oriented(&m).is_err());
         let (r, rep) = repair(&m).unwrap();
         assert_eq!(rep.flipped, 1, "{rep:?}");
-        assert_eq!(rep.unorientable, 0, "{rep:?}");
         assert!(
             rep.note().unwrap().contains("1 triangle flipped"),
             "{:?}",
@@ -864,10 +840,10 @@ mod tests {
         assert!((volume(&r) + 8.0).abs() < 1e-12, "{}", volume(&r));
     }
 
-    /// A Möbius band of `n` quads: no orientation exists, so a triangle at the edge where the
-    /// walk meets itself run the same way is dropped and the rest is oriented.
+    /// A Möbius band of `n` quads: no orientation exists, so it is left as it is (and refused
+    /// by the general mode), one triangle turned or not.
     #[test]
-    fn a_mobius_band_loses_one_triangle_and_is_oriented() {
+    fn a_mobius_band_is_left_as_it_is() {
         let n = 12;
         let point = |i: usize, w: f64| {
             let t = std::f64::consts::TAU * i as f64 / n as f64;
@@ -891,17 +867,15 @@ mod tests {
             t.push([top(i), bottom(i), nb]);
             t.push([top(i), nb, nt]);
         }
-        let m = InputMesh::new(p, t).unwrap();
-        let (r, rep) = repair(&m).unwrap();
-        assert_eq!(rep.unorientable, 1, "{rep:?}");
-        assert_eq!(r.triangles.len(), 2 * n - 1);
-        assert!(
-            rep.note()
-                .unwrap()
-                .contains("1 triangle dropped where the surface could not be oriented"),
-            "{:?}",
-            rep.note()
-        );
-        crate::fit::require_oriented(&r).unwrap();
+        let mut m = InputMesh::new(p, t).unwrap();
+        for turned in [false, true] {
+            if turned {
+                m.triangles[3].swap(1, 2);
+            }
+            let (r, rep) = repair(&m).unwrap();
+            assert_eq!(rep.flipped, 0, "{rep:?}");
+            assert_eq!(r.triangles, m.triangles);
+            assert!(crate::fit::require_oriented(&r).is_err());
+        }
     }
 }
