@@ -875,7 +875,118 @@ fn arr(v: Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
-/// The `[[patchwork]]` of a layout: corners and normals from the mesh, each edge's curve and
+/// The smallest interior angle (degrees) of a layout face's corner seen in its corner's
+/// tangent plane, and its supplement the largest, below which [`corner_normals`] looks for a
+/// better plane: the edges' end tangents lean up to 4° from their chords in that plane
+/// ([`fit_edge`]), and an n-sided patch takes corners turning by 0.5° to 179.5°.
+const MIN_PROJECTED_CORNER: f64 = 10.0;
+
+/// The smallest cosine between a corner's plane's normal and the normals of its faces that
+/// [`corner_normals`] takes (about 72.5°): a plane nearly square to one of them makes that
+/// face's ribbons run almost along the face, and its patch bulge far off the mesh (PyVista's
+/// aeroplane gave faces hundreds of diagonals away with no such bound).
+const MIN_CORNER_FACING_COS: f64 = 0.3;
+
+/// The interior angle (radians, in `(−π, π]`) at `p` of a face running `p → next → prev`, seen
+/// in the plane normal to `n` (counterclockwise about `n`; negative where the face is seen
+/// from behind).
+fn projected_corner(p: Vec3, next: Vec3, prev: Vec3, n: Vec3) -> f64 {
+    let (x, y) = (next - p, prev - p);
+    let x = x - n * x.dot(&n);
+    let y = y - n * y.dot(&n);
+    x.cross(&y).dot(&n).atan2(x.dot(&y))
+}
+
+/// How far (radians) the corners `(p, next, prev)` around one vertex, seen in the plane normal
+/// to `n`, lie outside [`MIN_PROJECTED_CORNER`]`..180° − `[`MIN_PROJECTED_CORNER`]: the worst.
+fn projected_badness(corners: &[(Vec3, Vec3, Vec3)], n: Vec3) -> f64 {
+    let min = MIN_PROJECTED_CORNER.to_radians();
+    corners
+        .iter()
+        .map(|&(p, next, prev)| {
+            let a = projected_corner(p, next, prev, n);
+            (min - a).max(a - (std::f64::consts::PI - min)).max(0.0)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Each layout vertex's normal: the mesh's (area-weighted) normal, unless some layout face's
+/// corner there, seen in the plane normal to it, is sharper than [`MIN_PROJECTED_CORNER`] or
+/// flatter than its supplement. That happens at the sharp vertices of low-polygon models (the
+/// tip of an antenna, a thin leg's ridge, a wing's edge: faces meeting at a vertex turn so far
+/// that the average normal is nearly square to some of them, and those faces' corners fold
+/// flat in its plane, which no n-sided patch takes). There the normal is the direction that
+/// sees every face around the vertex best: among the directions that maximise the smallest
+/// cosine to the faces' normals (the centre of the smallest cap of the unit sphere holding
+/// them, which two or three of them fix: the bisector of two, or the direction equally far
+/// from three), the one whose worst projected corner is best; the mesh's normal is kept when
+/// none does better. The faces along the vertex's edges then meet G1 in that plane, or the
+/// edge is creased where its tangent planes fold ([`solve_creasing_folds`]).
+pub(super) fn corner_normals(mesh: &InputMesh, normals: &[Vec3], layout: &Layout) -> Vec<Vec3> {
+    let pos = |i: usize| mesh.positions[layout.vertices[i]];
+    // Per layout vertex: its faces' corners there and the faces' unit normals.
+    let mut corners: Vec<Vec<(Vec3, Vec3, Vec3)>> = vec![Vec::new(); layout.vertices.len()];
+    let mut face_normals: Vec<Vec<Vec3>> = vec![Vec::new(); layout.vertices.len()];
+    for face in &layout.faces {
+        let m = face.len();
+        // Newell's normal of the face's polygon.
+        let mut f = Vec3::zeros();
+        for (k, &v) in face.iter().enumerate() {
+            f += pos(v).cross(&pos(face[(k + 1) % m]));
+        }
+        let f = (f.norm() > 0.0).then(|| f.normalize());
+        for (k, &v) in face.iter().enumerate() {
+            corners[v].push((pos(v), pos(face[(k + 1) % m]), pos(face[(k + m - 1) % m])));
+            if let Some(f) = f {
+                face_normals[v].push(f);
+            }
+        }
+    }
+    (0..layout.vertices.len())
+        .map(|i| {
+            let n0 = normals[layout.vertices[i]];
+            let here = &corners[i];
+            let bad0 = projected_badness(here, n0);
+            if bad0 == 0.0 || n0.norm() == 0.0 {
+                return n0;
+            }
+            let f = &face_normals[i];
+            let min_cos = |n: Vec3| f.iter().map(|x| x.dot(&n)).fold(f64::INFINITY, f64::min);
+            let mut candidates: Vec<Vec3> = f.clone();
+            for a in 0..f.len() {
+                for b in a + 1..f.len() {
+                    candidates.push(f[a] + f[b]);
+                    // (Three at a time only for the few faces of a sharp vertex.)
+                    for c in (b + 1..f.len()).filter(|_| f.len() <= 16) {
+                        let d = (f[b] - f[a]).cross(&(f[c] - f[a]));
+                        candidates.push(d);
+                        candidates.push(-d);
+                    }
+                }
+            }
+            let mut best = (bad0, min_cos(n0), n0);
+            for c in candidates {
+                let l = c.norm();
+                if l.is_nan() || l <= 1e-12 {
+                    continue;
+                }
+                let n = c / l;
+                let cos = min_cos(n);
+                if cos < MIN_CORNER_FACING_COS {
+                    continue;
+                }
+                let bad = projected_badness(here, n);
+                if bad < best.0 || (bad == best.0 && cos > best.1) {
+                    best = (bad, cos, n);
+                }
+            }
+            best.2
+        })
+        .collect()
+}
+
+/// The `[[patchwork]]` of a layout: corners and normals from the mesh (the planes of sharp
+/// vertices chosen again: [`corner_normals`]), each edge's curve and
 /// normal field fitted to it.
 pub fn layout_spec(
     mesh: &InputMesh,
@@ -884,8 +995,26 @@ pub fn layout_spec(
     layout: &Layout,
     degree: usize,
 ) -> Result<PatchworkSpec> {
+    layout_spec_planes(mesh, normals, index, layout, degree, true)
+}
+
+/// [`layout_spec`], its sharp vertices' planes chosen again ([`corner_normals`]) when `sharp`,
+/// else every layout vertex with the mesh's normal.
+fn layout_spec_planes(
+    mesh: &InputMesh,
+    normals: &[Vec3],
+    index: (&MeshDistance, &Facing),
+    layout: &Layout,
+    degree: usize,
+    sharp: bool,
+) -> Result<PatchworkSpec> {
     let pos = |i: usize| mesh.positions[layout.vertices[i]];
-    let nrm = |i: usize| normals[layout.vertices[i]];
+    let corner = if sharp {
+        corner_normals(mesh, normals, layout)
+    } else {
+        layout.vertices.iter().map(|&v| normals[v]).collect()
+    };
+    let nrm = |i: usize| corner[i];
     for (i, &v) in layout.vertices.iter().enumerate() {
         if normals[v].norm() == 0.0 {
             let p = pos(i);
@@ -1090,11 +1219,22 @@ fn price_layout(mesh: &InputMesh) -> Result<()> {
 
 /// The face and side of a patchwork's fold error: `patchwork[0].faces[F].sides[I].ribbon`.
 fn fold_at(place: &str) -> Option<(usize, usize, usize)> {
-    let index = |key: &str| -> Option<usize> {
-        let rest = &place[place.find(key)? + key.len()..];
-        rest[..rest.find(']')?].parse().ok()
-    };
-    Some((index("patchwork[")?, index("faces[")?, index("sides[")?))
+    let (p, f) = face_at(place)?;
+    Some((p, f, place_index(place, "sides[")?))
+}
+
+/// The index after `key` in an error's place (`faces[3]` → 3).
+fn place_index(place: &str, key: &str) -> Option<usize> {
+    let rest = &place[place.find(key)? + key.len()..];
+    rest[..rest.find(']')?].parse().ok()
+}
+
+/// The patchwork and face an error's place names: `patchwork[P].faces[F]…`.
+fn face_at(place: &str) -> Option<(usize, usize)> {
+    Some((
+        place_index(place, "patchwork[")?,
+        place_index(place, "faces[")?,
+    ))
 }
 
 /// Solves a layout's design; where a face's side folds (the tangent planes along a layout edge
@@ -1174,6 +1314,7 @@ fn fit_component(
     let mut weight = vec![1.0; mesh.positions.len()];
     let mut best: Option<(Fit, Measures, PointDistances, Option<Miss>)> = None;
     let mut previous = 0usize;
+    let mut first_error: Option<Error> = None;
     for _round in 0..MAX_ROUNDS {
         let layout = decimate(mesh, &normals, &weight, target);
         // Not paired into quads: a four-sided face is one surface on its square while faces
@@ -1185,11 +1326,48 @@ fn fit_component(
             break;
         }
         previous = layout.vertices.len();
-        let patchwork = layout_spec(mesh, &normals, (&index, &facing), &layout, 10)?;
-        let (spec, solved) = solve_creasing_folds(DesignSpec {
-            patchwork: vec![patchwork],
-            ..DesignSpec::default()
-        })?;
+        // With the sharp vertices' planes chosen again, and where that layout has a face no
+        // patch takes, with the mesh's normals everywhere (the layout may be one that they
+        // suit).
+        let solve = |sharp: bool| {
+            layout_spec_planes(mesh, &normals, (&index, &facing), &layout, 10, sharp).and_then(
+                |p| {
+                    solve_creasing_folds(DesignSpec {
+                        patchwork: vec![p],
+                        ..DesignSpec::default()
+                    })
+                },
+            )
+        };
+        let solved = solve(true).or_else(|e| solve(false).map_err(|_| e));
+        let (spec, solved) = match solved {
+            Ok(x) => x,
+            Err(e) => {
+                // A layout some face of which no patch takes (a corner whose sides leave it
+                // almost the same way or straight on: a sliver left by the collapses, a sharp
+                // vertex's faces folded flat in its tangent plane) is not the end: the mesh
+                // around that face weighs more and the next round's layout, finer there,
+                // makes other faces. The first such refusal is the answer when no round
+                // solves.
+                let Some(face) = face_at(e.place()).and_then(|(_, f)| layout.faces.get(f)) else {
+                    return Err(first_error.unwrap_or(e));
+                };
+                for &c in face {
+                    let p = mesh.positions[layout.vertices[c]];
+                    if let Some((_, _, t)) = index.closest(p) {
+                        for &i in &mesh.triangles[t] {
+                            weight[i as usize] *= 16.0;
+                        }
+                    }
+                }
+                first_error.get_or_insert(e);
+                if target >= vertices {
+                    break;
+                }
+                target = (target + target / 4).min(vertices);
+                continue;
+            }
+        };
         let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
         // The worst places both ways.
         let mut worst = Miss {
@@ -1262,8 +1440,12 @@ fn fit_component(
             }
         }
         let misses = bad.len() + bad_grids.len() * MEASURE_GRID * MEASURE_GRID;
-        let extra = (misses / 4).clamp(target / 4, target);
-        target = (target + extra).min(vertices);
+        // From the layout's own size: the collapses may stop above the target (where every
+        // further one would make a bad triangle), and a larger target would then change
+        // nothing.
+        let reached = target.max(layout.vertices.len());
+        let extra = (misses / 4).clamp(reached / 4, reached);
+        target = (reached + extra).min(vertices);
     }
-    best.ok_or_else(|| Error::invalid("no layout was made"))
+    best.ok_or_else(|| first_error.unwrap_or_else(|| Error::invalid("no layout was made")))
 }

@@ -19,6 +19,15 @@
 //! 6. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest are
 //!    dropped (specks of a scan). Components of comparable size stay: the fit decides what to
 //!    do with several bodies.
+//! 7. **Orientation**: across every edge of two triangles, the two must run the edge opposite
+//!    ways. Walking each piece (joined across such edges) from its first triangle, a triangle
+//!    that disagrees with the one it was reached from is flipped; a piece most of whose
+//!    triangles were flipped is flipped back whole, so the file's own majority orientation
+//!    stays. A piece that cannot be oriented (a Möbius band, a Klein bottle, a crude
+//!    decimation's folded triangles: an edge still run the same way by its two triangles after
+//!    the walk) is left as it is, and the general mode refuses it with a point. (Dropping a
+//!    triangle at each such edge makes it orientable, but a Klein bottle then became a surface
+//!    whose layouts kept failing, round after round, for minutes.)
 //!
 //! Nothing is moved: vertices keep their positions (a welded vertex takes the position of the
 //! one it joins), so the repaired mesh is the file's surface with its defects removed.
@@ -56,6 +65,8 @@ pub struct Repairs {
     pub stray_components: usize,
     /// Triangles of the stray components.
     pub stray_triangles: usize,
+    /// Triangles flipped to run their edges opposite to their neighbours.
+    pub flipped: usize,
     /// A point of the first repair, in the mesh's coordinates.
     pub first: Option<Vec3>,
 }
@@ -113,6 +124,12 @@ impl Repairs {
                 "{} of {} dropped",
                 plural(self.stray_components, "stray piece", "stray pieces"),
                 plural(self.stray_triangles, "triangle", "triangles")
+            ));
+        }
+        if self.flipped > 0 {
+            parts.push(format!(
+                "{} flipped to agree with their neighbours",
+                plural(self.flipped, "triangle", "triangles")
             ));
         }
         Some(format!(
@@ -244,7 +261,85 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
         note_at(&mut r, centroid(&triangles[stray[0]]));
         triangles = kept;
     }
+
+    // 7. Orientation.
+    let flipped = orient(&mut triangles);
+    if let Some(&first) = flipped.first() {
+        r.flipped = flipped.len();
+        note_at(&mut r, centroid(&triangles[first]));
+    }
     Ok((InputMesh::new(positions, triangles)?, r))
+}
+
+/// Flips triangles so that every edge of two triangles is run both ways (module
+/// documentation, step 7). Returns the indices of the flipped triangles.
+fn orient(triangles: &mut [[u32; 3]]) -> Vec<usize> {
+    // Each edge's triangles, and whether each runs it from its smaller end.
+    let mut sides: Vec<((u32, u32), usize, bool)> = Vec::with_capacity(3 * triangles.len());
+    for (i, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            sides.push(((a.min(b), a.max(b)), i, a < b));
+        }
+    }
+    sides.sort_unstable();
+    // Neighbours across edges of exactly two triangles: (other, same way).
+    let mut next: Vec<Vec<(usize, bool)>> = vec![Vec::new(); triangles.len()];
+    let mut k = 0;
+    while k < sides.len() {
+        let mut j = k + 1;
+        while j < sides.len() && sides[j].0 == sides[k].0 {
+            j += 1;
+        }
+        if j - k == 2 {
+            let (s, t) = (sides[k], sides[k + 1]);
+            if s.1 != t.1 {
+                next[s.1].push((t.1, s.2 == t.2));
+                next[t.1].push((s.1, s.2 == t.2));
+            }
+        }
+        k = j;
+    }
+    let mut flip: Vec<Option<bool>> = vec![None; triangles.len()];
+    let mut out = Vec::new();
+    for seed in 0..triangles.len() {
+        if flip[seed].is_some() {
+            continue;
+        }
+        flip[seed] = Some(false);
+        let mut piece = vec![seed];
+        let mut stack = vec![seed];
+        while let Some(t) = stack.pop() {
+            let f = flip[t] == Some(true);
+            for &(o, same) in &next[t] {
+                if flip[o].is_none() {
+                    flip[o] = Some(f ^ same);
+                    piece.push(o);
+                    stack.push(o);
+                }
+            }
+        }
+        let flipped = piece.iter().filter(|&&t| flip[t] == Some(true)).count();
+        let back = 2 * flipped > piece.len();
+        // A piece that cannot be oriented (an edge still run the same way after the walk) is
+        // left as it is.
+        let consistent = piece.iter().all(|&t| {
+            next[t]
+                .iter()
+                .all(|&(o, same)| (flip[t] == flip[o]) != same)
+        });
+        if !consistent || flipped == 0 {
+            continue;
+        }
+        for &t in &piece {
+            if (flip[t] == Some(true)) != back {
+                triangles[t].swap(1, 2);
+                out.push(t);
+            }
+        }
+    }
+    out.sort_unstable();
+    out
 }
 
 fn note_at(r: &mut Repairs, p: Vec3) {
@@ -712,5 +807,75 @@ mod tests {
         let (two, r) = repair(&InputMesh::new(p, t).unwrap()).unwrap();
         assert!(r.is_empty(), "{r:?}");
         assert_eq!(two.topology().components, 2);
+    }
+
+    #[test]
+    fn a_flipped_triangle_is_flipped_back_and_the_cube_keeps_its_volume() {
+        let mut m = cube_with_fine_top(3);
+        m.triangles[4].swap(0, 1);
+        assert!(crate::fit::require_oriented(&m).is_err());
+        let (r, rep) = repair(&m).unwrap();
+        assert_eq!(rep.flipped, 1, "{rep:?}");
+        assert!(
+            rep.note().unwrap().contains("1 triangle flipped"),
+            "{:?}",
+            rep.note()
+        );
+        crate::fit::require_oriented(&r).unwrap();
+        closed_and_manifold(&r);
+        assert!((volume(&r) - 8.0).abs() < 1e-12, "{}", volume(&r));
+    }
+
+    #[test]
+    fn the_majority_orientation_stays_when_most_triangles_are_flipped() {
+        let mut m = cube_with_fine_top(3);
+        let n = m.triangles.len();
+        for t in &mut m.triangles[1..] {
+            t.swap(1, 2);
+        }
+        let (r, rep) = repair(&m).unwrap();
+        assert_eq!(rep.flipped, 1, "{rep:?}");
+        assert!(n > 2);
+        crate::fit::require_oriented(&r).unwrap();
+        assert!((volume(&r) + 8.0).abs() < 1e-12, "{}", volume(&r));
+    }
+
+    /// A Möbius band of `n` quads: no orientation exists, so it is left as it is (and refused
+    /// by the general mode), one triangle turned or not.
+    #[test]
+    fn a_mobius_band_is_left_as_it_is() {
+        let n = 12;
+        let point = |i: usize, w: f64| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = 1.0 + 0.5 * w * (t / 2.0).cos();
+            Vec3::new(r * t.cos(), r * t.sin(), 0.5 * w * (t / 2.0).sin())
+        };
+        let mut p = Vec::new();
+        for i in 0..n {
+            p.push(point(i, 1.0));
+            p.push(point(i, -1.0));
+        }
+        let (top, bottom) = (|i: usize| (2 * i) as u32, |i: usize| (2 * i + 1) as u32);
+        let mut t = Vec::new();
+        for i in 0..n {
+            // The last quad joins the first with its rows swapped: the half twist.
+            let (nt, nb) = if i + 1 < n {
+                (top(i + 1), bottom(i + 1))
+            } else {
+                (bottom(0), top(0))
+            };
+            t.push([top(i), bottom(i), nb]);
+            t.push([top(i), nb, nt]);
+        }
+        let mut m = InputMesh::new(p, t).unwrap();
+        for turned in [false, true] {
+            if turned {
+                m.triangles[3].swap(1, 2);
+            }
+            let (r, rep) = repair(&m).unwrap();
+            assert_eq!(rep.flipped, 0, "{rep:?}");
+            assert_eq!(r.triangles, m.triangles);
+            assert!(crate::fit::require_oriented(&r).is_err());
+        }
     }
 }

@@ -257,9 +257,11 @@ fn a_real_nut_from_a_registry_package_is_fitted_by_the_automatic_choice() {
 
 /// PyVista's ant (see `tests/data/meshes/README.md`): 15 closed low-polygon components. Layout
 /// edges across which the tangent planes fold (sharp edges of the model) are made creases;
-/// components whose slivers no n-sided patch takes are left out, each named with a point
-/// near it, and measured as a miss; every other component is fitted, its faces meeting their
-/// sides to rounding and G1 across every edge that is not a crease.
+/// every component is now laid out and fitted (its sharp vertices' planes chosen again, a
+/// round with a face no patch takes followed by a finer one), its faces meeting their sides to
+/// rounding and G1 across every edge that is not a crease. The whole still misses the default
+/// tolerance (its legs' slivers: docs/fitting.md, "Limits"); a component left out would be
+/// named with a point near it.
 #[test]
 fn a_real_ant_is_fitted_where_it_can_be_and_the_components_left_out_are_named() {
     let bytes = std::fs::read(concat!(
@@ -289,8 +291,13 @@ fn a_real_ant_is_fitted_where_it_can_be_and_the_components_left_out_are_named() 
             "{n}"
         );
     }
-    // The components left out are part of the mesh: their vertices are far from the fit.
-    assert_eq!(fitted.missed(), !left.is_empty());
+    assert!(left.is_empty(), "{left:?}");
+    eprintln!(
+        "ant: Hausdorff {:.3e}, RMS {:.3e} of the diagonal, missed {}",
+        fitted.measures.hausdorff_relative,
+        fitted.measures.rms_relative,
+        fitted.missed()
+    );
     let solved = solve_design(&fitted.fit.spec).unwrap();
     let d = pdeshape::diagnose(&DesignSpec::default(), &solved);
     for net in &d.networks {
@@ -315,4 +322,108 @@ fn a_real_ant_is_fitted_where_it_can_be_and_the_components_left_out_are_named() 
         .map(|p| p.edges.iter().filter(|e| e.crease).count())
         .sum();
     assert!(creases > 0);
+}
+
+/// Reads a mesh of `tests/data/meshes/`, repaired as `pdeshape fit` repairs it, and fits it by
+/// the automatic choice with the default options, as `pdeshape fit MESH -o OUT` runs it.
+fn fit_real(file: &str) -> (InputMesh, pdeshape::fit::Fitted, String) {
+    let path = format!("{}/tests/data/meshes/{file}", env!("CARGO_MANIFEST_DIR"));
+    let bytes = std::fs::read(&path).unwrap();
+    let format = if file.ends_with(".ply") {
+        pdeshape::fit::MeshFormat::Ply
+    } else {
+        pdeshape::fit::MeshFormat::Obj
+    };
+    let mesh = InputMesh::read(&bytes, format).unwrap();
+    let (mesh, repairs) = pdeshape::fit::repair(&mesh).unwrap();
+    let t = std::time::Instant::now();
+    let fitted = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
+    let m = &fitted.measures;
+    eprintln!(
+        "{file}: {} triangles → {} faces, Hausdorff {:.3e}, RMS {:.3e} of the diagonal, {:.2} s",
+        mesh.triangles.len(),
+        fitted.fit.patches,
+        m.hausdorff_relative,
+        m.rms_relative,
+        t.elapsed().as_secs_f64()
+    );
+    (mesh, fitted, repairs.note().unwrap_or_default())
+}
+
+/// The bounds for real meshes through `pdeshape fit` with the default options: the fit
+/// is written (it meets the default tolerance, a two-sided Hausdorff distance of 2 % of the
+/// diagonal, well within the 5 %), and its RMS distance is within 1 % of the diagonal.
+/// Every face meets its sides to rounding and is G1 across every shared edge that is not a
+/// crease; a closed mesh comes out watertight when `watertight`.
+fn assert_real_fit(name: &str, fitted: &pdeshape::fit::Fitted, watertight: bool) {
+    let m = &fitted.measures;
+    assert_eq!(fitted.fit.mode, FitMode::General);
+    assert!(
+        !fitted.missed(),
+        "{name}: Hausdorff {}",
+        m.hausdorff_relative
+    );
+    assert!(
+        m.hausdorff_relative <= 0.02,
+        "{name}: Hausdorff {}",
+        m.hausdorff_relative
+    );
+    assert!(m.rms_relative <= 0.01, "{name}: RMS {}", m.rms_relative);
+    assert!(
+        !fitted.fit.notes.iter().any(|n| n.contains("is left out")),
+        "{name}: {:?}",
+        fitted.fit.notes
+    );
+    let solved = solve_design(&fitted.fit.spec).unwrap();
+    let d = pdeshape::diagnose(&DesignSpec::default(), &solved);
+    let mut shared = 0;
+    for net in &d.networks {
+        for j in net.joints.iter().filter(|j| j.kind == "g1") {
+            let g1 = j.g1.unwrap_or(f64::NAN);
+            assert!(g1 < 1e-6, "{name} {}: G1 {g1} rad", net.name);
+            shared += 1;
+        }
+        for f in &net.faces {
+            assert!(
+                f.boundary < 1e-9,
+                "{name} {}: sides met to {}",
+                net.name,
+                f.boundary
+            );
+        }
+    }
+    assert!(shared > 0, "{name}: no shared G1 edge");
+    let open = open_edges(&solved);
+    eprintln!("{name}: {open} open edges in the tessellation");
+    if watertight {
+        assert_eq!(open, 0, "{name}: the tessellation is not watertight");
+    }
+}
+
+/// The Stanford bunny as the npm package `bunny` ships it (see `tests/data/meshes/README.md`):
+/// 3674 triangles, closed, genus 0, with thin ears. The tube mode refuses it (a section has two
+/// loops: the ears) and the general mode fits it; its first layout stops well above the
+/// target of layout vertices (every further collapse would make a bad triangle), so the rounds
+/// must refine from the layout's own size to meet the tolerance.
+#[test]
+fn the_stanford_bunny_is_fitted_within_the_default_tolerance() {
+    let (mesh, fitted, _) = fit_real("bunny.obj");
+    assert_eq!(mesh.triangles.len(), 3674);
+    assert!(fitted.fallback.is_some());
+    assert_real_fit("bunny", &fitted, true);
+}
+
+/// PyVista's aeroplane (see `tests/data/meshes/README.md`): 7 closed low-polygon components
+/// (fuselage, wings, tailplane, fin, engines) with a non-manifold edge. The edge is made
+/// manifold with a note; every component is fitted, the thin wings and tailplane too (their
+/// vertices' tangent planes are chosen to see every face around them), and the whole is
+/// within the default tolerance. Not yet watertight: its tessellation has open edges (a
+/// limit stated in docs/fitting.md), so that is not asserted here.
+#[test]
+fn a_real_aeroplane_of_thin_low_polygon_parts_is_fitted_whole() {
+    let (mesh, fitted, repairs) = fit_real("airplane.ply");
+    assert_eq!(mesh.components().len(), 7);
+    assert!(repairs.contains("made manifold by dropping"), "{repairs}");
+    assert_eq!(fitted.fit.spec.patchwork.len(), 7);
+    assert_real_fit("aeroplane", &fitted, false);
 }
