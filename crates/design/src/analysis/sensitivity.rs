@@ -63,18 +63,7 @@ pub fn integrals_derivative(
             .collect();
         let (ru, rv) = rules_of(s, q, at.analyses[i].u_nodes, at.analyses[i].v_nodes)?;
         let d = patch_derivative(s, &others, &ru, &rv);
-        if d.iter().any(|x| !x.is_finite()) {
-            return Err(Error::invalid(
-                "the derivative of the integrals is not finite at some quadrature node",
-            )
-            .at(&format!("patch '{}'", base.surfaces[i].name)));
-        }
-        let sign = at.orientation[i];
-        total.area += d[0];
-        total.volume += sign * d[1];
-        total.mean += sign * d[2];
-        total.mean_sq += d[3];
-        total.gauss += d[4];
+        add_patch_derivative(&mut total, &d, at.orientation[i], &base.surfaces[i].name)?;
     }
     let rule = periodic_trapezoid(CURVE_NODES);
     for cap in &at.caps {
@@ -136,19 +125,8 @@ pub fn integrals_derivatives(
         let surfaces: Vec<&dyn Surface> = tangents.iter().map(|t| t[i]).collect();
         let (ru, rv) = rules_of(s, q, at.analyses[i].u_nodes, at.analyses[i].v_nodes)?;
         let d = patch_derivatives(s, &surfaces, &ru, &rv);
-        let sign = at.orientation[i];
         for (total, d) in totals.iter_mut().zip(&d) {
-            if d.iter().any(|x| !x.is_finite()) {
-                return Err(Error::invalid(
-                    "the derivative of the integrals is not finite at some quadrature node",
-                )
-                .at(&format!("patch '{}'", base.surfaces[i].name)));
-            }
-            total.area += d[0];
-            total.volume += sign * d[1];
-            total.mean += sign * d[2];
-            total.mean_sq += d[3];
-            total.gauss += d[4];
+            add_patch_derivative(total, d, at.orientation[i], &base.surfaces[i].name)?;
         }
     }
     let rule = periodic_trapezoid(CURVE_NODES);
@@ -175,6 +153,23 @@ pub fn integrals_derivatives(
 }
 
 /// [`patch_derivative`] along each of the tangent surfaces `tangents` (their own partials).
+/// Adds one patch's derivative of (area, volume, mean, mean², Gauss) to `total`, the signed
+/// ones turned by the patch's orientation `sign`; a non-finite value is an error naming the patch.
+fn add_patch_derivative(total: &mut Integrals, d: &[f64; 5], sign: f64, patch: &str) -> Result<()> {
+    if d.iter().any(|x| !x.is_finite()) {
+        return Err(Error::invalid(
+            "the derivative of the integrals is not finite at some quadrature node",
+        )
+        .at(&format!("patch '{patch}'")));
+    }
+    total.area += d[0];
+    total.volume += sign * d[1];
+    total.mean += sign * d[2];
+    total.mean_sq += d[3];
+    total.gauss += d[4];
+    Ok(())
+}
+
 fn patch_derivatives(
     s: &dyn Surface,
     tangents: &[&dyn Surface],

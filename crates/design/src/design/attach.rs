@@ -492,14 +492,7 @@ fn check_path(c: &TrimCurve) -> Result<()> {
     if blo[0] > 0.0 && bhi[0] < 1.0 && bhi[1] - blo[1] < TAU && first[1] > 0.0 && first[1] < TAU {
         return Ok(());
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for k in 0..EXTENT_SAMPLES {
-        let p = c.point(k as f64 / EXTENT_SAMPLES as f64);
-        for i in 0..2 {
-            lo[i] = lo[i].min(p[i]);
-            hi[i] = hi[i].max(p[i]);
-        }
-    }
+    let (lo, hi) = c.sampled_extent(EXTENT_SAMPLES);
     if !(lo[0] > 0.0 && hi[0] < 1.0) {
         return Err(Error::invalid(format!(
             "the curve leaves the patch: its u runs from {:.4} to {:.4}, outside 0 < u < 1",
@@ -738,14 +731,7 @@ mod tests {
 
     /// The sampled extent check alone (the rule `check_path` decides by when its box does not).
     fn sampled_check(c: &TrimCurve) -> bool {
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for k in 0..EXTENT_SAMPLES {
-            let p = c.point(k as f64 / EXTENT_SAMPLES as f64);
-            for i in 0..2 {
-                lo[i] = lo[i].min(p[i]);
-                hi[i] = hi[i].max(p[i]);
-            }
-        }
+        let (lo, hi) = c.sampled_extent(EXTENT_SAMPLES);
         lo[0] > 0.0 && hi[0] < 1.0 && hi[1] - lo[1] < TAU && hi[1] > 0.0 && lo[1] < TAU
     }
 

@@ -135,17 +135,14 @@ impl TrimCurve {
                     [center[0] + half[0], center[1] + half[1]],
                 )
             }
-            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => {
-                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-                for q in p {
-                    for i in 0..2 {
-                        lo[i] = lo[i].min(q[i]);
-                        hi[i] = hi[i].max(q[i]);
-                    }
-                }
-                (lo, hi)
-            }
+            TrimCurve::Polyline(p) | TrimCurve::BSpline { points: p, .. } => bbox(p),
         }
+    }
+
+    /// The extent `(lo, hi)` of `n` points `c(k/n)`, `k = 0, …, n − 1`.
+    pub fn sampled_extent(&self, n: usize) -> ([f64; 2], [f64; 2]) {
+        let points: Vec<[f64; 2]> = (0..n).map(|k| self.point(k as f64 / n as f64)).collect();
+        bbox(&points)
     }
 
     /// `c(t)` for `t ∈ [0, 1]` (`c(1) = c(0)`).
@@ -533,16 +530,10 @@ mod tests {
         ];
         for (k, c) in curves.iter().enumerate() {
             let (lo, hi) = c.bounds();
-            let (mut slo, mut shi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
             // A multiple of the polygon's 3 vertices, so its samples take them in.
-            let n = 21000;
-            for j in 0..n {
-                let p = c.point(j as f64 / n as f64);
-                for i in 0..2 {
-                    assert!(lo[i] - 1e-15 <= p[i] && p[i] <= hi[i] + 1e-15, "{k}: {p:?}");
-                    slo[i] = slo[i].min(p[i]);
-                    shi[i] = shi[i].max(p[i]);
-                }
+            let (slo, shi) = c.sampled_extent(21000);
+            for i in 0..2 {
+                assert!(lo[i] - 1e-15 <= slo[i] && shi[i] <= hi[i] + 1e-15, "{k}");
             }
             if k < 3 {
                 // Samples 2π/21000 apart reach the extremes of an ellipse to within
