@@ -68,12 +68,7 @@ pub fn integrals_derivative(
     let rule = periodic_trapezoid(CURVE_NODES);
     for cap in &at.caps {
         let i = cap.patch;
-        let row = |s: &dyn Surface| {
-            let eval = s.partials_rows(&rule.nodes);
-            let mut buf = vec![Partials::default(); rule.nodes.len()];
-            eval.eval_row(cap.u, &mut buf);
-            buf
-        };
+        let row = |s: &dyn Surface| cap_row(s, &rule.nodes, cap.u);
         let b = row(base.surfaces[i].surface());
         let mut t = vec![Partials::default(); b.len()];
         for (c, d) in tangent {
@@ -132,12 +127,7 @@ pub fn integrals_derivatives(
     let rule = periodic_trapezoid(CURVE_NODES);
     for cap in &at.caps {
         let i = cap.patch;
-        let row = |s: &dyn Surface| {
-            let eval = s.partials_rows(&rule.nodes);
-            let mut buf = vec![Partials::default(); rule.nodes.len()];
-            eval.eval_row(cap.u, &mut buf);
-            buf
-        };
+        let row = |s: &dyn Surface| cap_row(s, &rule.nodes, cap.u);
         let b = row(base.surfaces[i].surface());
         let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
         for (total, t) in totals.iter_mut().zip(tangents) {
@@ -153,6 +143,13 @@ pub fn integrals_derivatives(
 }
 
 /// [`patch_derivative`] along each of the tangent surfaces `tangents` (their own partials).
+/// The partials of `s` along its parameter line `u` at the nodes `v` (a cap's boundary row).
+fn cap_row(s: &dyn Surface, v: &[f64], u: f64) -> Vec<Partials> {
+    let mut buf = vec![Partials::default(); v.len()];
+    s.partials_rows(v).eval_row(u, &mut buf);
+    buf
+}
+
 /// Adds one patch's derivative of (area, volume, mean, mean², Gauss) to `total`, the signed
 /// ones turned by the patch's orientation `sign`; a non-finite value is an error naming the patch.
 fn add_patch_derivative(total: &mut Integrals, d: &[f64; 5], sign: f64, patch: &str) -> Result<()> {
