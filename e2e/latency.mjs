@@ -1,6 +1,6 @@
 // Latency of a drag in the real browser: from the pointer event to the new surface drawn (a
-// pixel of it read back, which waits for the rasteriser), for the cup, the wine glass, the teacup and the five-sided panel at 64 × 128 per
-// patch. Prints p50/p95 of the whole, of the server's share (its own timing of re-solve +
+// pixel of it read back, which waits for the rasteriser), for the cup, the wine glass, the
+// teacup and the five-sided panel at 64 × 128 per patch. Prints p50/p95 of the whole, of the server's share (its own timing of re-solve +
 // tessellation + frame) and of the round trip; the browser's share is the rest (event handling,
 // decode, upload, draw).
 // Usage: node latency.mjs [moves] [WxH] [disable-gpu|swiftshader] [zebra]
