@@ -487,9 +487,7 @@ const EXTENT_SAMPLES: usize = 4096;
 /// runs on every edit, every frame of a drag).
 fn check_path(c: &TrimCurve) -> Result<()> {
     c.validate()?;
-    let (blo, bhi) = c.bounds();
-    let first = c.point(0.0);
-    if blo[0] > 0.0 && bhi[0] < 1.0 && bhi[1] - blo[1] < TAU && first[1] > 0.0 && first[1] < TAU {
+    if box_accepts(c) {
         return Ok(());
     }
     let (lo, hi) = c.sampled_extent(EXTENT_SAMPLES);
@@ -506,6 +504,14 @@ fn check_path(c: &TrimCurve) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// True when a box holding the curve meets the conditions on `u` and on the width in `v` and
+/// the curve's first point lies in `0 < v < 2π` (see [`check_path`]).
+fn box_accepts(c: &TrimCurve) -> bool {
+    let (lo, hi) = c.bounds();
+    let first = c.point(0.0);
+    lo[0] > 0.0 && hi[0] < 1.0 && hi[1] - lo[1] < TAU && first[1] > 0.0 && first[1] < TAU
 }
 
 /// Every `on_patch` curve with `trim = true` (named, in name order, then inline in conditions)
@@ -770,8 +776,7 @@ mod tests {
         let mut boxed = 0;
         for (k, c) in curves.iter().enumerate() {
             assert_eq!(check_path(c).is_ok(), sampled_check(c), "path {k}");
-            let (lo, hi) = c.bounds();
-            boxed += usize::from(lo[0] > 0.0 && hi[0] < 1.0);
+            boxed += usize::from(box_accepts(c));
         }
         // Both branches ran: some paths decided by the box, some by the samples.
         assert!(boxed >= 3 && boxed < curves.len());
