@@ -2,7 +2,8 @@
 """The server's share of a drag in the designer: starts `pdeshape serve DESIGN`, then posts N
 `move_control_point` edits of control point INDEX of CURVE (one drag: one group), moving it
 round a circle of radius 0.05 in x and y, and prints the server's own time per frame (the
-frame's `server_ms`), the wall time per request and the frame size.
+frame's `server_ms`, and its phases: the edit with the re-solve, the meshes, the colours, the
+scene's curves), the wall time per request and the frame size.
 
 usage: serve_drag.py PDESHAPE DESIGN CURVE N [INDEX] [GRID]
 
@@ -63,7 +64,7 @@ def main() -> int:
             frame = urllib.request.urlopen(req).read()
         c = [k for k in scene_of(frame)["curves"] if k["name"] == curve][0]
         p = c["control"][index]
-        server, wall = [], []
+        server, wall, split = [], [], {}
         for i in range(n):
             a = 2 * math.pi * i / 50
             q = [p[0] + 0.05 * math.cos(a), p[1] + 0.05 * math.sin(a), p[2]]
@@ -72,7 +73,10 @@ def main() -> int:
                                                        "index": index, "point": q},
                                               "group": 1, "world": True})
             wall.append((time.perf_counter() - t0) * 1000)
-            server.append(scene_of(frame)["server_ms"])
+            scene = scene_of(frame)
+            server.append(scene["server_ms"])
+            for k, v in scene.get("server_split", {}).items():
+                split.setdefault(k, []).append(v)
     finally:
         proc.send_signal(2)
         proc.wait()
@@ -83,6 +87,9 @@ def main() -> int:
     print("slowest frames (ms):", " ".join(f"{x:.1f}" for x in sorted(server)[-5:]))
     print(f"server p50 {q(server, .5):.2f} p95 {q(server, .95):.2f} ms; "
           f"wall p50 {q(wall, .5):.2f} p95 {q(wall, .95):.2f} ms; bytes {len(frame)}")
+    if split:
+        print("server phases p50 / p95 (ms): " + ", ".join(
+            f"{k} {q(v, .5):.2f} / {q(v, .95):.2f}" for k, v in split.items()))
     return 0
 
 

@@ -59,7 +59,7 @@ for (const c of cases) {
   await page.waitForTimeout(1500);
   await page.evaluate(() => {
     const p = window.__pdeshape.perf;
-    p.latencies.length = 0; p.server.length = 0; p.roundTrips.length = 0;
+    p.latencies.length = 0; p.server.length = 0; if (p.serverSplit) p.serverSplit.length = 0; p.roundTrips.length = 0;
     p.sent = 0; p.coalesced = 0;
   });
   const [x, y] = await page.evaluate(([curve, index]) => {
@@ -94,6 +94,9 @@ for (const c of cases) {
     requests: p.sent, coalesced: p.coalesced, frames: p.latencies.length,
     p50: percentile(p.latencies, 50), p95: percentile(p.latencies, 95),
     server_p50: percentile(p.server, 50), server_p95: percentile(p.server, 95),
+    // (the phases of the server's time: pages of builds before them have none)
+    edit_p50: percentile((p.serverSplit || []).map((x) => x.edit), 50),
+    scene_p50: percentile((p.serverSplit || []).map((x) => x.scene), 50),
     roundtrip_p50: percentile(p.roundTrips, 50), roundtrip_p95: percentile(p.roundTrips, 95),
     browser_p50: percentile(browser, 50), browser_p95: percentile(browser, 95),
   });
@@ -104,5 +107,5 @@ console.log(`viewport ${width}x${height}, ${renderer}, ${zebra ? 'zebra' : 'shad
 for (const r of rows) {
   const f = (x) => x.toFixed(1);
   console.log(`${r.design}: ${r.patches} patches ${r.grid} (${r.dragGrid} while dragging), ${r.moves} moves, ${r.requests} requests (${r.coalesced} positions coalesced), ${r.frames} frames`);
-  console.log(`  pointer→drawn p50 ${f(r.p50)} ms p95 ${f(r.p95)} ms | server p50 ${f(r.server_p50)} p95 ${f(r.server_p95)} | round trip p50 ${f(r.roundtrip_p50)} p95 ${f(r.roundtrip_p95)} | browser p50 ${f(r.browser_p50)} p95 ${f(r.browser_p95)}`);
+  console.log(`  pointer→drawn p50 ${f(r.p50)} ms p95 ${f(r.p95)} ms | server p50 ${f(r.server_p50)} p95 ${f(r.server_p95)} (edit and re-solve ${f(r.edit_p50)}, scene ${f(r.scene_p50)}) | round trip p50 ${f(r.roundtrip_p50)} p95 ${f(r.roundtrip_p95)} | browser p50 ${f(r.browser_p50)} p95 ${f(r.browser_p95)}`);
 }

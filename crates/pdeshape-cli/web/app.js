@@ -19,7 +19,7 @@ let scene = null;
 let busy = Promise.resolve();
 
 // Measurements for tests and benchmarks: pointer event → new surface on screen.
-const perf = { latencies: [], server: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
+const perf = { latencies: [], server: [], serverSplit: [], roundTrips: [], frames: 0, drags: 0, sent: 0, coalesced: 0 };
 
 // The view's query. While a gesture runs (`coarse`), frames come on a coarser grid (at least
 // 8 × 8): half as fine in each direction (a quarter of the tessellation, of the bytes and of
@@ -132,6 +132,7 @@ function channel(area, send) {
     show(frame, () => {
       perf.latencies.push(performance.now() - t);
       perf.server.push(frame.scene.server_ms);
+      perf.serverSplit.push(frame.scene.server_split);
       perf.roundTrips.push(frame.roundTripMs);
     }, area !== 'time'); // the timeline's label follows playback
     scheduleRefine();

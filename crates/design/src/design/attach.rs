@@ -15,16 +15,16 @@
 //! patch's end is projected onto the host by the closest-point search.
 
 use super::solved::{DesignSurface, SolvedDesign, SurfaceKind};
-use super::trim::{trim_curve, SurfaceTrim};
+use super::trim::{trim_curve, SurfaceTrim, TrimChecks};
 use super::validate::{curve_place, plan, references};
-use super::{DEFAULT_NU, DEFAULT_NV};
 use crate::curve::{Curve, Domain};
 use crate::spec::{CurveKind, CurveRef, CurveSpec, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex, Partials, Surface};
-use crate::trim::{trim_domain, TrimCurve, TrimMethod};
+use crate::trim::{TrimCurve, TrimMethod};
 use crate::{Error, Result, Vec3, TAU};
-use std::collections::BTreeMap;
-use std::sync::{Arc, OnceLock};
+use std::collections::{BTreeMap, HashMap};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
 
 mod bounds;
 
@@ -88,25 +88,98 @@ fn differenced(f: &dyn Fn(f64) -> Vec3, s: f64, exact: usize, out: &mut [Vec3]) 
     }
 }
 
-/// A curve on a surface: `C(s) = X(u(s), v(s))` for a closed `(u, v)` curve, `s ∈ [0, 2π)`.
-/// Value and first two derivatives exact (chain rule with the surface's exact partials); higher
-/// derivatives (used by nothing in the solvers) by central differences of the second.
-#[derive(Clone)]
-pub struct CurveOnSurface {
+/// The host's jet at `s` of a path: its partials and the path's `(u, v)` derivatives in `s`.
+type HostJet = (Partials, [f64; 2], [f64; 2]);
+
+/// Most jets a [`PathOnHost`] keeps (a frame asks for a few hundred, at the same `s` again and
+/// again: the Fourier samples, the mesh columns, the drawn points).
+const MAX_KEPT_JETS: usize = 4096;
+
+/// A closed `(u, v)` path on a solved host, shared by the `on_patch` curve on it and the
+/// `tangent_field` across it: both evaluate the host at the same points of the path (the
+/// solve's Fourier samples, the mesh columns, the drawn points all fall on `s = 2πk/2^m`), so
+/// the host's jets are kept by `s` and computed once, for as long as the host is the same
+/// solved surface (a rebuild that keeps the host keeps its paths). A kept jet is the value a
+/// fresh evaluation gives; a point taken from it is the host's partials' position, the same
+/// bits as its point for analytic patches (whose point and partials share their arithmetic)
+/// and the same to rounding for others.
+pub struct PathOnHost {
     host: SurfaceKind,
     path: TrimCurve,
+    jets: Mutex<HashMap<u64, HostJet>>,
+    /// A [`TangentField`] lies across the path: it will ask for the jets wherever the curve
+    /// asks for points, so a point is computed as a jet and kept.
+    crossed: AtomicBool,
     /// The host's bounds for [`Curve::derivative_bounds`], made on first use.
     bounds: OnceLock<Option<Arc<bounds::Host>>>,
 }
 
-impl CurveOnSurface {
-    /// The image on `host` of the closed `(u, v)` curve `path`.
-    pub fn new(host: SurfaceKind, path: TrimCurve) -> Self {
-        CurveOnSurface {
+impl PathOnHost {
+    /// The closed `(u, v)` curve `path` on `host`.
+    pub fn new(host: SurfaceKind, path: TrimCurve) -> Arc<Self> {
+        Arc::new(PathOnHost {
             host,
             path,
+            jets: Mutex::new(HashMap::new()),
+            crossed: AtomicBool::new(false),
             bounds: OnceLock::new(),
+        })
+    }
+
+    /// [`host_jet`] at `s`, kept.
+    fn jet(&self, s: f64) -> HostJet {
+        let key = s.to_bits();
+        let kept = |j: &HashMap<u64, HostJet>| j.get(&key).copied();
+        if let Some(j) = self.jets.lock().ok().and_then(|j| kept(&j)) {
+            return j;
         }
+        let jet = host_jet(self.host.surface(), &self.path, s);
+        if let Ok(mut jets) = self.jets.lock() {
+            if jets.len() < MAX_KEPT_JETS {
+                jets.insert(key, jet);
+            }
+        }
+        jet
+    }
+
+    /// The image's point at `s`: a kept jet's position; else, on a path a tangent field
+    /// crosses, the jet (kept); else the host's point alone (a position is cheaper than a jet).
+    fn point(&self, s: f64) -> Vec3 {
+        if let Some(p) = self.kept_point(s) {
+            return p;
+        }
+        if self.crossed.load(Ordering::Relaxed) {
+            return self.jet(s).0.x;
+        }
+        host_point(self.host.surface(), &self.path, s)
+    }
+
+    /// The position of the jet kept at `s`, if one is.
+    fn kept_point(&self, s: f64) -> Option<Vec3> {
+        let jets = self.jets.lock().ok()?;
+        jets.get(&s.to_bits()).map(|(p, _, _)| p.x)
+    }
+
+    /// The image's point at the path's parameter `t` (`s = 2π t`): a kept jet's position, or
+    /// the host's point at the path's point at `t`.
+    pub(crate) fn point_at(&self, t: f64) -> Vec3 {
+        self.kept_point(W * t).unwrap_or_else(|| {
+            let host = self.host.surface();
+            let [u, v] = self.path.point(t);
+            host.point(u, host_v(host, v))
+        })
+    }
+
+    /// The host, the path and how many jets are kept (for tests).
+    #[cfg(test)]
+    pub(crate) fn parts(&self) -> (&SurfaceKind, &TrimCurve, usize) {
+        let kept = self.jets.lock().map_or(0, |j| j.len());
+        (&self.host, &self.path, kept)
+    }
+
+    /// True when this is the path `path` on `host` (the same solved surface).
+    pub(crate) fn lies_on(&self, host: &SurfaceKind, path: &TrimCurve) -> bool {
+        self.host.id() == host.id() && self.path == *path
     }
 
     fn host_bounds(&self) -> Option<&bounds::Host> {
@@ -114,9 +187,29 @@ impl CurveOnSurface {
             .get_or_init(|| bounds::Host::new(&self.host, &self.path))
             .as_deref()
     }
+}
+
+/// A curve on a surface: `C(s) = X(u(s), v(s))` for a closed `(u, v)` curve, `s ∈ [0, 2π)`.
+/// Value and first two derivatives exact (chain rule with the surface's exact partials); higher
+/// derivatives (used by nothing in the solvers) by central differences of the second.
+#[derive(Clone)]
+pub struct CurveOnSurface {
+    on: Arc<PathOnHost>,
+}
+
+impl CurveOnSurface {
+    /// The image on `host` of the closed `(u, v)` curve `path`.
+    pub fn new(host: SurfaceKind, path: TrimCurve) -> Self {
+        Self::on(PathOnHost::new(host, path))
+    }
+
+    /// The image of a path on its host (shared with the path's [`TangentField`]).
+    pub fn on(on: Arc<PathOnHost>) -> Self {
+        CurveOnSurface { on }
+    }
 
     fn second(&self, s: f64) -> Vec3 {
-        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        let (p, d1, d2) = self.on.jet(s);
         image_derivatives(&p, d1, d2).1
     }
 }
@@ -124,7 +217,7 @@ impl CurveOnSurface {
 impl std::fmt::Debug for CurveOnSurface {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("CurveOnSurface")
-            .field("path", &self.path)
+            .field("path", &self.on.path)
             .finish_non_exhaustive()
     }
 }
@@ -137,10 +230,10 @@ impl Curve for CurveOnSurface {
     fn jet(&self, s: f64, out: &mut [Vec3]) {
         if let [o] = out {
             // The position alone: the host's point, without its partials.
-            *o = host_point(self.host.surface(), &self.path, s);
+            *o = self.on.point(s);
             return;
         }
-        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        let (p, d1, d2) = self.on.jet(s);
         let (c1, c2) = image_derivatives(&p, d1, d2);
         for (k, o) in out.iter_mut().enumerate().take(3) {
             *o = [p.x, c1, c2][k];
@@ -152,7 +245,7 @@ impl Curve for CurveOnSurface {
 
     /// The breaks of the `(u, v)` curve, `s = 2π t`.
     fn breaks(&self) -> Vec<f64> {
-        self.path.breaks().into_iter().map(|t| W * t).collect()
+        self.on.path.breaks().into_iter().map(|t| W * t).collect()
     }
 
     /// Bounds by the majorant of the composition `X(u(s), v(s))` with the host's partials
@@ -169,35 +262,30 @@ impl Curve for CurveOnSurface {
 /// derivatives by central differences of the first.
 #[derive(Clone)]
 pub struct TangentField {
-    host: SurfaceKind,
-    path: TrimCurve,
+    on: Arc<PathOnHost>,
     /// `−σ·scale`.
     factor: f64,
-    /// The host's bounds for [`Curve::derivative_bounds`], made on first use.
-    bounds: OnceLock<Option<Arc<bounds::Host>>>,
 }
 
 impl TangentField {
     /// The field across the image on `host` of `path`, `scale` long, into the hole.
     pub fn new(host: SurfaceKind, path: TrimCurve, scale: f64) -> Self {
-        let sigma = path.orientation();
-        TangentField {
-            host,
-            path,
-            factor: -sigma * scale,
-            bounds: OnceLock::new(),
-        }
+        Self::on(PathOnHost::new(host, path), scale)
     }
 
-    fn host_bounds(&self) -> Option<&bounds::Host> {
-        self.bounds
-            .get_or_init(|| bounds::Host::new(&self.host, &self.path))
-            .as_deref()
+    /// The field across a path on its host (shared with the path's [`CurveOnSurface`]).
+    pub fn on(on: Arc<PathOnHost>, scale: f64) -> Self {
+        on.crossed.store(true, Ordering::Relaxed);
+        let sigma = on.path.orientation();
+        TangentField {
+            on,
+            factor: -sigma * scale,
+        }
     }
 
     /// `D` and `D'` at `s`.
     fn value_and_slope(&self, s: f64) -> (Vec3, Vec3) {
-        let (p, d1, d2) = host_jet(self.host.surface(), &self.path, s);
+        let (p, d1, d2) = self.on.jet(s);
         let (c1, c2) = image_derivatives(&p, d1, d2);
         let n = p.xu.cross(&p.xv);
         let xu1 = p.xuu * d1[0] + p.xuv * d1[1];
@@ -215,7 +303,7 @@ impl TangentField {
 impl std::fmt::Debug for TangentField {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("TangentField")
-            .field("path", &self.path)
+            .field("path", &self.on.path)
             .field("factor", &self.factor)
             .finish_non_exhaustive()
     }
@@ -241,7 +329,7 @@ impl Curve for TangentField {
 
     /// The breaks of the `(u, v)` curve, `s = 2π t`.
     fn breaks(&self) -> Vec<f64> {
-        self.path.breaks().into_iter().map(|t| W * t).collect()
+        self.on.path.breaks().into_iter().map(|t| W * t).collect()
     }
 
     /// Bounds through a lower bound of `|C' × N|` on short pieces and the majorant of the
@@ -551,6 +639,8 @@ pub(crate) fn add_attachment_trims(
     spec: &DesignSpec,
     surfaces: &[DesignSurface],
     trims: &mut Vec<SurfaceTrim>,
+    previous: &TrimChecks,
+    checks: &mut TrimChecks,
 ) -> Result<()> {
     for (place, host, curve) in trimming_curves(spec) {
         let Some(k) = surfaces.iter().position(|s| s.name == host) else {
@@ -564,13 +654,9 @@ pub(crate) fn add_attachment_trims(
             }
             None => (vec![curve.clone()], TrimMethod::Cdt, None),
         };
-        trim_domain(
-            surfaces[k].surface().parameter_domain(),
-            DEFAULT_NU,
-            DEFAULT_NV,
-            &curves,
-            method,
-        )
+        let domain = surfaces[k].surface().parameter_domain();
+        checks
+            .check(previous, domain, &curves, method)
         .map_err(|e| {
             let what = match &other {
                 Some(o) => format!(

@@ -12,6 +12,7 @@ use super::parametric::build_parametric;
 use super::preview::{self, AffineGrid, Drag, DragKey};
 use super::solved::{ConditionInfo, DesignSurface, SolvedDesign, SurfaceKind};
 use super::spline::solve_spec;
+use super::trim::TrimChecks;
 use super::validate::{build_operator, check_solver, kind_name, plan, validate_patches};
 use crate::curve::SharedCurve;
 use crate::elliptic::{self, Condition, SolveOptions};
@@ -74,6 +75,8 @@ pub struct CompiledDesign {
     /// `[[spine]]` edits with the identity of the patch each was applied to.
     spines: Vec<(crate::spec::SpineSpec, usize, SurfaceKind)>,
     meshes: MeshCache,
+    /// The holes cut without error in the last build ([`TrimChecks`]).
+    trim_checks: TrimChecks,
     /// The control point being dragged and the affine model of what it moves.
     drag: Drag,
 }
@@ -102,6 +105,7 @@ pub fn compile(spec: &DesignSpec) -> Result<CompiledDesign> {
         spline: None,
         spines: Vec::new(),
         meshes: MeshCache::default(),
+        trim_checks: TrimChecks::default(),
         drag: Drag::default(),
     };
     d.rebuild(spec.clone())?;
@@ -357,6 +361,7 @@ impl CompiledDesign {
             spline: self.spline.clone(),
             spines: self.spines.clone(),
             meshes: MeshCache::default(),
+            trim_checks: self.trim_checks.clone(),
             drag: Drag::default(),
         }
     }
@@ -478,6 +483,7 @@ impl CompiledDesign {
         )?);
         // [[disk]]: patches through their own samples.
         super::disk::build_disks(&spec.disk, &mut surfaces)?;
+        let paths = builder.paths();
         let curve_cache = builder.into_cache();
 
         // [blend]: its primary surfaces may be surfaces of this design.
@@ -553,8 +559,15 @@ impl CompiledDesign {
             ));
         }
 
-        let mut trims = super::trim::build_trims(spec, &surfaces)?;
-        super::attach::add_attachment_trims(spec, &surfaces, &mut trims)?;
+        let mut checks = TrimChecks::default();
+        let mut trims = super::trim::build_trims(spec, &surfaces, &self.trim_checks, &mut checks)?;
+        super::attach::add_attachment_trims(
+            spec,
+            &surfaces,
+            &mut trims,
+            &self.trim_checks,
+            &mut checks,
+        )?;
         let attachments = super::attach::find_attachments(spec, &surfaces);
         self.solved = SolvedDesign {
             title: spec.title.clone(),
@@ -570,9 +583,11 @@ impl CompiledDesign {
             attachments,
             networks,
             references,
+            paths,
             edges: OnceLock::new(),
         };
         self.curves = curve_cache;
+        self.trim_checks = checks;
         self.patches = patches;
         self.parametric = parametric;
         self.nurbs = nurbs;

@@ -1,7 +1,7 @@
 //! Building a design's curves from their specs, each once, following references; curves whose
 //! spec and dependencies did not change since the last build are reused as they are.
 
-use super::attach::{CurveOnSurface, TangentField};
+use super::attach::{CurveOnSurface, PathOnHost, TangentField};
 use super::solved::{NamedCurve, SurfaceKind};
 use super::trim::trim_curve;
 use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
@@ -32,6 +32,8 @@ struct Built {
 pub(crate) struct CurveCache {
     named: HashMap<String, Built>,
     inline: HashMap<String, Built>,
+    /// The paths on hosts (host identity, path): kept while their host is unchanged.
+    paths: Vec<(usize, TrimCurveSpec, Arc<PathOnHost>)>,
 }
 
 /// The address of a shared curve (its identity: equal addresses are the same built curve).
@@ -49,6 +51,9 @@ pub(crate) struct CurveBuilder<'a> {
     next: CurveCache,
     /// The solved PDE patches curves may lie on (`on_patch`), by name.
     hosts: HashMap<String, SurfaceKind>,
+    /// The paths on hosts built so far (host identity, path): an `on_patch` curve and its
+    /// `tangent_field` share one, and with it the host's jets along it.
+    paths: Vec<(usize, TrimCurveSpec, Arc<PathOnHost>)>,
 }
 
 impl<'a> CurveBuilder<'a> {
@@ -59,6 +64,7 @@ impl<'a> CurveBuilder<'a> {
             previous,
             next: CurveCache::default(),
             hosts: HashMap::new(),
+            paths: Vec::new(),
         }
     }
 
@@ -78,6 +84,33 @@ impl<'a> CurveBuilder<'a> {
         })
     }
 
+    /// The path `path` on the host `name`, shared by the curves built on it (and kept from the
+    /// last build while the host is the same object).
+    fn path_on(
+        &mut self,
+        name: &str,
+        path: &TrimCurveSpec,
+        place: &str,
+    ) -> Result<Arc<PathOnHost>> {
+        let host = self.host(name, place)?;
+        let id = host.id();
+        let same = |(h, p, _): &&(usize, TrimCurveSpec, Arc<PathOnHost>)| *h == id && p == path;
+        if let Some((_, _, on)) = self.paths.iter().find(same) {
+            return Ok(on.clone());
+        }
+        let on = match self.previous.paths.iter().find(same) {
+            Some((_, _, on)) => on.clone(),
+            None => PathOnHost::new(host, trim_curve(path)),
+        };
+        self.paths.push((id, path.clone(), on.clone()));
+        Ok(on)
+    }
+
+    /// The paths on hosts of the curves built so far.
+    pub(crate) fn paths(&self) -> Vec<Arc<PathOnHost>> {
+        self.paths.iter().map(|(_, _, on)| on.clone()).collect()
+    }
+
     /// The `(host name, (u, v) curve)` of an `on_patch` spec, or of the `on_patch` curve a
     /// `tangent_field` names.
     fn on_patch_of<'s>(&'s self, spec: &'s CurveSpec) -> Option<(&'s str, &'s TrimCurveSpec)> {
@@ -92,7 +125,8 @@ impl<'a> CurveBuilder<'a> {
     }
 
     /// The cache of this build, for the next one.
-    pub(crate) fn into_cache(self) -> CurveCache {
+    pub(crate) fn into_cache(mut self) -> CurveCache {
+        self.next.paths = self.paths;
         self.next
     }
 
@@ -147,6 +181,11 @@ impl<'a> CurveBuilder<'a> {
                     .zip(&deps)
                     .all(|(a, b)| curve_id(a) == curve_id(b));
             if same_deps && old.spec == *spec {
+                // The reused curve's path on its host stays this build's (and the next's).
+                if let Some((h, path)) = self.on_patch_of(spec) {
+                    let (h, path) = (h.to_string(), path.clone());
+                    self.path_on(&h, &path, &format!("{place}.patch"))?;
+                }
                 return Ok(old.clone());
             }
         }
@@ -275,8 +314,8 @@ impl<'a> CurveBuilder<'a> {
                 )
             }
             CurveKind::OnPatch { patch, path, .. } => {
-                let host = self.host(patch, &format!("{place}.patch"))?;
-                Arc::new(CurveOnSurface::new(host, trim_curve(path)))
+                let on = self.path_on(patch, path, &format!("{place}.patch"))?;
+                Arc::new(CurveOnSurface::on(on))
             }
             CurveKind::TangentField { curve, scale } => {
                 let Some((patch, path)) = self.on_patch_of(spec) else {
@@ -285,8 +324,9 @@ impl<'a> CurveBuilder<'a> {
                             .at(&format!("{place}.curve")),
                     );
                 };
-                let host = self.host(patch, &format!("{place}.curve"))?;
-                Arc::new(TangentField::new(host, trim_curve(path), *scale))
+                let (patch, path) = (patch.to_string(), path.clone());
+                let on = self.path_on(&patch, &path, &format!("{place}.curve"))?;
+                Arc::new(TangentField::on(on, *scale))
             }
         };
         if spec.arc_length {

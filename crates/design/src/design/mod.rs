@@ -32,7 +32,7 @@ mod transform;
 mod trim;
 mod validate;
 
-pub use attach::{Attachment, AttachmentReport, CurveOnSurface, TangentField};
+pub use attach::{Attachment, AttachmentReport, CurveOnSurface, PathOnHost, TangentField};
 pub use blend::{solve_blend, validate_blend};
 pub use compile::{compile, solve_design, tangent_patches, validate_design, CompiledDesign};
 pub use curves::{build_curve, build_curves};

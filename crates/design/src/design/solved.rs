@@ -237,6 +237,9 @@ pub struct SolvedDesign {
     /// The `[[parametric]]` surfaces marked `reference` and the `[[nurbs]]` surfaces:
     /// neighbours of n-sided patches and networks, not part of the output.
     pub references: Vec<DesignSurface>,
+    /// The `(u, v)` paths of the `on_patch` curves on their hosts, with the host's jets kept
+    /// along them (drawn trim lines take their points from there).
+    pub(crate) paths: Vec<Arc<super::attach::PathOnHost>>,
     pub(crate) edges: OnceLock<Vec<SharedEdge>>,
 }
 
@@ -390,6 +393,7 @@ impl SolvedDesign {
             attachments: Vec::new(),
             networks: Vec::new(),
             references: Vec::new(),
+            paths: Vec::new(),
             edges: OnceLock::new(),
         }
     }

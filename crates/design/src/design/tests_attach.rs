@@ -436,3 +436,123 @@ fn moving_an_attachment_moves_the_handle_end_and_undo_restores_it() {
     assert_eq!(e.place(), "curves.top_root.path", "{e}");
     assert_eq!(d.spec(), &spec);
 }
+
+/// Jets of `c` at `s` to order `order` (`order + 1` entries).
+fn jets(c: &dyn crate::curve::Curve, s: f64, order: usize) -> Vec<Vec3> {
+    let mut out = vec![Vec3::zeros(); order + 1];
+    c.jet(s, &mut out);
+    out
+}
+
+/// The `on_patch` curve and its `tangent_field` share one path on the bowl, whose kept jets
+/// (filled by the solve's Fourier samples) are the values a fresh curve on the same host and
+/// path computes, bit for bit, at the kept samples and elsewhere, to every order asked.
+#[test]
+fn a_path_on_the_bowl_is_shared_and_its_kept_jets_are_fresh_values() {
+    use super::attach::{CurveOnSurface, TangentField};
+    let d = compile(&example("teacup.toml")).unwrap();
+    let paths = &d.solved().paths;
+    // Two attachments, each with a curve and a field: two paths, not four.
+    assert_eq!(paths.len(), 2);
+    for on in paths {
+        let (host, path, kept) = on.parts();
+        // The solve sampled both curves at the same 128 points (modes = 16).
+        assert!(kept >= 128, "{kept} jets kept");
+        let shared = CurveOnSurface::on(on.clone());
+        let fresh = CurveOnSurface::new(host.clone(), path.clone());
+        let shared_field = TangentField::on(on.clone(), 1.3);
+        let fresh_field = TangentField::new(host.clone(), path.clone(), 1.3);
+        let kept_s = (0..128).map(|k| TAU * k as f64 / 128.0);
+        let other_s = (0..40).map(|k| 0.013 + 0.157 * k as f64);
+        for s in kept_s.chain(other_s) {
+            for order in 0..4 {
+                assert_eq!(jets(&shared, s, order), jets(&fresh, s, order), "s = {s}");
+                assert_eq!(
+                    jets(&shared_field, s, order),
+                    jets(&fresh_field, s, order),
+                    "s = {s}"
+                );
+            }
+        }
+    }
+}
+
+/// A rebuild that keeps the bowl keeps its paths (and their jets); one that changes the bowl
+/// makes new ones; either way the meshes and the drawn trim lines are those of a fresh compile
+/// of the same file, bit for bit.
+#[test]
+fn edits_that_keep_or_change_the_bowl_give_a_fresh_compiles_meshes() {
+    let mut d = compile(&example("teacup.toml")).unwrap();
+    let same_as_fresh = |d: &mut CompiledDesign| {
+        let mut fresh = compile(d.spec()).unwrap();
+        assert_eq!(d.meshes(16, 32).unwrap(), fresh.meshes(16, 32).unwrap());
+        let lines = |d: &CompiledDesign| -> Vec<Vec<Vec3>> {
+            d.solved()
+                .trim_overlays(64)
+                .into_iter()
+                .map(|l| l.points)
+                .collect()
+        };
+        assert_eq!(lines(d), lines(&fresh));
+    };
+    let ptrs = |d: &CompiledDesign| -> Vec<usize> {
+        d.solved()
+            .paths
+            .iter()
+            .map(|p| std::sync::Arc::as_ptr(p) as usize)
+            .collect()
+    };
+    same_as_fresh(&mut d);
+    let before = ptrs(&d);
+    // The grip is the handle's own curve: the bowl and its paths stay.
+    let mut grip = d.spec().curves["grip"].clone();
+    let CurveKind::Circle { radius, .. } = &mut grip.kind else {
+        panic!("the grip is a circle")
+    };
+    *radius *= 1.1;
+    d.apply(&Edit::SetCurve {
+        name: "grip".into(),
+        curve: Some(grip),
+    })
+    .unwrap();
+    assert_eq!(ptrs(&d), before);
+    same_as_fresh(&mut d);
+    // The rim shapes the bowl: new paths on the new bowl.
+    let mut rim = d.spec().curves["rim"].clone();
+    let CurveKind::Circle { radius, .. } = &mut rim.kind else {
+        panic!("the rim is a circle")
+    };
+    *radius *= 1.05;
+    d.apply(&Edit::SetCurve {
+        name: "rim".into(),
+        curve: Some(rim),
+    })
+    .unwrap();
+    let after = ptrs(&d);
+    assert_eq!(after.len(), 2);
+    assert!(after.iter().all(|p| !before.contains(p)));
+    same_as_fresh(&mut d);
+}
+
+/// Holes cut before are not cut again, but a changed hole is: moving the upper attachment onto
+/// the lower one's hole is refused after a valid build as it is by a fresh compile.
+#[test]
+fn a_moved_hole_is_cut_again_and_refused_where_it_crosses_another() {
+    let mut d = compile(&example("teacup.toml")).unwrap();
+    let edit = Edit::MoveAttachment {
+        name: "top_root".into(),
+        offset: [-0.4, 0.0],
+    };
+    let err = d.apply(&edit).unwrap_err().to_string();
+    assert!(err.contains("cannot be cut out"), "{err}");
+    let mut spec = d.spec().clone();
+    edit.apply(&mut spec).unwrap();
+    let fresh = compile(&spec).unwrap_err().to_string();
+    assert_eq!(err, fresh);
+    // The refused edit left the design as it was, and it still rebuilds.
+    d.apply(&Edit::MoveAttachment {
+        name: "top_root".into(),
+        offset: [0.02, 0.0],
+    })
+    .unwrap();
+}

@@ -4,6 +4,7 @@ use super::solved::DesignSurface;
 use super::validate::{DEFAULT_NU, DEFAULT_NV};
 use crate::mesh::TriMesh;
 use crate::spec::{DesignSpec, TrimCurveSpec, TrimMethodSpec};
+use crate::surface::ParameterDomain;
 use crate::trim::{to_trimesh, trim_domain, ParamMesh, TrimCurve, TrimMethod};
 use crate::{Error, Result};
 
@@ -52,12 +53,41 @@ pub fn trim_method(m: TrimMethodSpec) -> TrimMethod {
     }
 }
 
+/// The holes that were cut on the default grid without error in the last build: a domain,
+/// its curves and the method. Cutting depends on nothing else (not on the surface's shape), so a
+/// rebuild that keeps them (a drag of the host's curves) need not cut them again.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct TrimChecks(Vec<(ParameterDomain, Vec<TrimCurve>, TrimMethod)>);
+
+impl TrimChecks {
+    /// Checks that `curves` can be cut out of `domain` on the default grid ([`trim_domain`]),
+    /// unless `previous` saw them cut; either way `self` notes them for the next build.
+    pub(crate) fn check(
+        &mut self,
+        previous: &TrimChecks,
+        domain: ParameterDomain,
+        curves: &[TrimCurve],
+        method: TrimMethod,
+    ) -> Result<()> {
+        let same = |(d, c, m): &&(ParameterDomain, Vec<TrimCurve>, TrimMethod)| {
+            *d == domain && *m == method && c.as_slice() == curves
+        };
+        if !previous.0.iter().any(|x| same(&x)) {
+            trim_domain(domain, DEFAULT_NU, DEFAULT_NV, curves, method)?;
+        }
+        self.0.push((domain, curves.to_vec(), method));
+        Ok(())
+    }
+}
+
 /// Every `[[trims]]` entry resolved to its surface and checked: the surface exists (by name, or
 /// the only surface), is trimmed by one entry only, the curves are valid, and the holes can be
 /// cut on the default grid (inside the domain, not crossing, not nested).
 pub(crate) fn build_trims(
     spec: &DesignSpec,
     surfaces: &[DesignSurface],
+    previous: &TrimChecks,
+    checks: &mut TrimChecks,
 ) -> Result<Vec<SurfaceTrim>> {
     let mut out: Vec<SurfaceTrim> = Vec::with_capacity(spec.trims.len());
     for (k, t) in spec.trims.iter().enumerate() {
@@ -100,15 +130,10 @@ pub(crate) fn build_trims(
         }
         let curves: Vec<TrimCurve> = t.curves.iter().map(trim_curve).collect();
         let method = trim_method(t.method);
-        let s = surfaces[surface].surface();
-        trim_domain(
-            s.parameter_domain(),
-            DEFAULT_NU,
-            DEFAULT_NV,
-            &curves,
-            method,
-        )
-        .map_err(|e| e.at(&place))?;
+        let domain = surfaces[surface].surface().parameter_domain();
+        checks
+            .check(previous, domain, &curves, method)
+            .map_err(|e| e.at(&place))?;
         out.push(SurfaceTrim {
             surface,
             place,
@@ -186,12 +211,19 @@ impl super::SolvedDesign {
     pub fn trim_overlays(&self, points: usize) -> Vec<super::Overlay> {
         let mut lines = Vec::new();
         for t in &self.trims {
-            let s = self.surfaces[t.surface].surface();
+            let kind = &self.surfaces[t.surface].kind;
+            let s = kind.surface();
             let periodic = s.v_domain().is_periodic();
             for c in &t.curves {
+                // An attachment's hole: the host's points kept along its path.
+                let on = self.paths.iter().find(|p| p.lies_on(kind, c));
                 let points = (0..points)
                     .map(|k| {
-                        let [u, v] = c.point(k as f64 / points as f64);
+                        let t = k as f64 / points as f64;
+                        if let Some(on) = on {
+                            return on.point_at(t);
+                        }
+                        let [u, v] = c.point(t);
                         let v = if periodic {
                             v.rem_euclid(crate::TAU)
                         } else {

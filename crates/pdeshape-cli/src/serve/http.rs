@@ -342,10 +342,25 @@ fn view_of(q: &HashMap<String, String>) -> Result<View, ApiError> {
 
 /// The frame of the session as it stands.
 fn make_frame(s: &mut Session, view: View, started: Instant) -> Result<Vec<u8>, ApiError> {
+    // The server's time in its phases (ms): the request and its edit with the re-solve, the
+    // meshes (grids and trimmed triangles), the colours and the scene's curves.
+    let ms = |t: Instant| t.elapsed().as_secs_f64() * 1e3;
+    let edit_ms = ms(started);
+    let t = Instant::now();
     s.meshes(view.grid)?;
+    let meshes_ms = ms(t);
+    let t = Instant::now();
     let colors = s.colors(view.grid, view.color, view.range)?;
+    let colors_ms = ms(t);
+    let t = Instant::now();
     let points = scene::curve_points(view.grid);
     let mut json = scene::scene(s.spec(), s.design().solved(), view.combs, points);
+    json["server_split"] = serde_json::json!({
+        "edit": edit_ms,
+        "meshes": meshes_ms,
+        "colors": colors_ms,
+        "scene": ms(t),
+    });
     json["version"] = s.version().into();
     json["file"] = s.file().into();
     json["can_undo"] = s.can_undo().into();

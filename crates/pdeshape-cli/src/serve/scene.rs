@@ -42,7 +42,7 @@ pub(super) fn curve_points(grid: (usize, usize)) -> usize {
 /// Teeth of the curvature combs across a shared edge (per side).
 const SEAM_COMB_TEETH: usize = 64;
 /// Derivative vectors drawn per derivative condition.
-const VECTORS: usize = 24;
+const VECTORS: usize = 32;
 
 fn p3(p: &pdeshape::Vec3) -> [f64; 3] {
     [p.x, p.y, p.z]

@@ -207,12 +207,12 @@ impl CurveOnSurface {
     /// `out[k] ≥ sup|C⁽ᵏ⁾|` on the pieces of `(s0, s1)` (module docs); `false` without a
     /// qualifying host.
     pub(super) fn bounds(&self, s0: f64, s1: f64, out: &mut [f64]) -> bool {
-        let Some(host) = self.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
+        let Some(host) = self.on.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
             return false;
         };
         out.fill(0.0);
         for [a, b] in pieces(&self.breaks(), s0, s1) {
-            let p = Piece::new(&self.path, a, b);
+            let p = Piece::new(&self.on.path, a, b);
             let series = p.along(host, &p.centre_partials(host), [0, 0]);
             for (k, o) in out.iter_mut().enumerate() {
                 *o = o.max(series.derivative(k));
@@ -227,7 +227,7 @@ impl TangentField {
     /// qualifying host or where no positive lower bound of `|w|` is found within
     /// [`MAX_DEPTH`] halvings.
     pub(super) fn bounds(&self, s0: f64, s1: f64, out: &mut [f64]) -> bool {
-        let Some(host) = self.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
+        let Some(host) = self.on.host_bounds().filter(|_| request_ok(s0, s1, out)) else {
             return false;
         };
         let mut worst = [0.0; ORDER + 1];
@@ -251,13 +251,13 @@ impl TangentField {
         depth: usize,
         worst: &mut [f64; ORDER + 1],
     ) -> bool {
-        let p = Piece::new(&self.path, s0, s1);
+        let p = Piece::new(&self.on.path, s0, s1);
         let at = p.centre_partials(host);
         let xu = p.along(host, &at, [1, 0]);
         let xv = p.along(host, &at, [0, 1]);
         let c1 = xu.mul(&p.slope[0]).add(&xv.mul(&p.slope[1]));
         let w = c1.mul(&xu.mul(&xv));
-        let (pt, d1, d2) = host_jet(self.host.surface(), &self.path, p.mid);
+        let (pt, d1, d2) = host_jet(self.on.host.surface(), &self.on.path, p.mid);
         let (c1m, _) = image_derivatives(&pt, d1, d2);
         let wm = c1m.cross(&pt.xu.cross(&pt.xv)).norm() * (1.0 - 1e-9);
         let drop = p.half * w.derivative(1);
