@@ -427,3 +427,20 @@ fn a_real_aeroplane_of_thin_low_polygon_parts_is_fitted_whole() {
     assert_eq!(fitted.fit.spec.patchwork.len(), 7);
     assert_real_fit("aeroplane", &fitted, false);
 }
+
+/// The Utah teapot as the npm package `teapot` ships it (see `tests/data/meshes/README.md`):
+/// 992 triangles in pieces whose vertices are not shared along their seams, welded into three
+/// open components (the body with its handle, the spout, the lid). Its body's layout
+/// has thin faces along the rim whose fitted tangents closed a corner to nothing, which no
+/// n-sided patch takes; they are turned apart in the corner's tangent plane, and every
+/// component is fitted within the default tolerance. Open input: watertightness is not asked.
+#[test]
+fn the_utah_teapot_is_fitted_whole() {
+    let (mesh, fitted, repairs) = fit_real("teapot.obj");
+    assert_eq!(mesh.triangles.len(), 992);
+    assert!(repairs.contains("welded across cracks"), "{repairs}");
+    let components = mesh.components().len();
+    assert!(mesh.topology().boundary_edges > 0);
+    assert_eq!(fitted.fit.spec.patchwork.len(), components);
+    assert_real_fit("teapot", &fitted, false);
+}
