@@ -42,7 +42,8 @@
 
 use super::{measure_patches, variables, Problem, MASS, NVARS, YIELD};
 use crate::analysis::{
-    integrals_derivative, integrals_derivatives, DesignIntegrals, Integrals, Quadrature,
+    integrals_derivative, integrals_derivatives, DesignIntegrals, Integrals, PatchTangent,
+    Quadrature,
 };
 use crate::design::{
     design_a, design_parameters, parse_book_name, solve_design, tangent_patches, SolvedDesign,
@@ -50,7 +51,6 @@ use crate::design::{
 };
 use crate::optimize::{ParamKind, Parameters};
 use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec, SolverMethod};
-use crate::surface::Surface;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -315,11 +315,18 @@ impl Point<'_> {
             })
             .collect();
         let patches = tangent_patches(built, &self.spec, &directions)?;
-        let surfaces: Vec<Vec<&dyn Surface>> = patches
-            .iter()
-            .map(|t| t.iter().map(|p| &**p as &dyn Surface).collect())
+        let tangents: Vec<Vec<PatchTangent>> = patches
+            .into_iter()
+            .map(|t| {
+                t.into_iter()
+                    .map(|patch| PatchTangent {
+                        patch,
+                        stretch: 0.0,
+                    })
+                    .collect()
+            })
             .collect();
-        let dts = integrals_derivatives(built, at, &surfaces, q)?;
+        let dts = integrals_derivatives(built, at, &tangents, q)?;
         Ok(batch
             .iter()
             .zip(&steps)

@@ -811,3 +811,159 @@ fn tangent_solves_equal_solves_of_the_tangent_curves() {
         .solve_tangents(&[lower[..3].to_vec()], &options)
         .is_err());
 }
+
+/// The adjoint of a quadrature ([`PdePatch::quadrature_adjoint`]) against the same functional
+/// summed node by node over each tangent's own partials. Both are the same finite sum of
+/// products `G · ψ⁽ᵈ⁾(u) · coefficient · (n^k cos | sin)` (and `G · w⁽ᵈ⁾ · Δ⁽ᵏ⁾` for the remainder)
+/// in different orders, so each is within `γ_N · A` of the exact sum (recursive summation of
+/// `N` products of at most four rounded factors, Higham's `γ_N = Nε/(1 − Nε)`), with `A` the
+/// sum of the products' magnitudes computed here from the bases' and cardinal functions' values;
+/// `N` counts every product, a Chebyshev basis function counting its series' length (the
+/// forward path sums the combined series by Clenshaw's recurrence).
+#[test]
+fn quadrature_adjoint_equals_the_functional_node_by_node() {
+    let op = Operator::polyharmonic(2, 1.5).unwrap();
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy = |b: f64| -> SharedCurve { Arc::new(Bumpy { r: 0.8, h: 1.0, b }) };
+    let base = solve(
+        &op,
+        vec![
+            cond(0.0, 0, circle(0.0, 1.0)),
+            cond(0.0, 1, circle(1.0, 0.5)),
+            cond(1.0, 0, bumpy(0.2)),
+            cond(1.0, 1, circle(1.0, 0.3)),
+        ],
+        &options,
+    )
+    .unwrap();
+    assert!(base.has_remainder());
+    let zero = |c: SharedCurve| combination(vec![(0.0, c)]);
+    let dirs = vec![
+        // A remainder (the bumpy curve) and every mode.
+        vec![
+            zero(circle(0.0, 1.0)),
+            circle(0.3, 0.2),
+            bumpy(0.5),
+            Arc::new(FourierSeries {
+                a0: Vec3::new(0.1, 0.2, 0.3),
+                cos: (1..=4)
+                    .map(|n| Vec3::new(0.3, -0.1, 0.2) / n as f64)
+                    .collect(),
+                sin: (1..=4)
+                    .map(|n| Vec3::new(-0.2, 0.1, 0.4) / n as f64)
+                    .collect(),
+            }) as SharedCurve,
+        ],
+        // Exact series only: no remainder.
+        vec![
+            circle(0.0, 1.0),
+            zero(circle(1.0, 0.5)),
+            zero(bumpy(0.2)),
+            circle(0.5, 0.7),
+        ],
+    ];
+    let tangents = base.solve_tangents(&dirs, &options).unwrap();
+    assert!(tangents[0].has_remainder() && !tangents[1].has_remainder());
+    let us: Vec<f64> = (0..9).map(|a| (a as f64 + 0.5) / 9.0).collect();
+    let vs: Vec<f64> = (0..16).map(|b| TAU * b as f64 / 16.0).collect();
+    let outputs = 3;
+    let g = |a: usize, b: usize, o: usize, q: usize| {
+        let (u, v) = (us[a], vs[b]);
+        ((1 + q + 3 * o) as f64 * 0.37 + u * (q as f64 + 1.0)).sin() * (v * (o + 1) as f64).cos()
+            + 0.1 * (q as f64 - 8.0) * u
+    };
+    let weights = |a: usize, row: &mut [f64]| {
+        for b in 0..vs.len() {
+            for o in 0..outputs {
+                for q in 0..NODE_WEIGHTS {
+                    row[(b * outputs + o) * NODE_WEIGHTS + q] = g(a, b, o, q);
+                }
+            }
+        }
+    };
+    let list: Vec<AdjointTangent> = tangents
+        .iter()
+        .map(|patch| AdjointTangent {
+            patch,
+            stretch: 0.0,
+        })
+        .collect();
+    let adjoint = base
+        .quadrature_adjoint(&us, &vs, outputs, &weights, &list)
+        .unwrap();
+    let eps = f64::EPSILON;
+    for (t, adj) in tangents.iter().zip(&adjoint) {
+        // The node-by-node sums, and the magnitudes of their products.
+        let mut forward = vec![0.0; outputs];
+        let mut magnitude = vec![0.0; outputs];
+        let mut terms = 0usize;
+        for (a, &u) in us.iter().enumerate() {
+            // |Σ_j ψ_j^{(d)} coef_j| ≤ Σ_j |ψ_j^{(d)}| |coef_j| per mode, derivative and column.
+            let mut bound = vec![[[0.0f64; 6]; 3]; t.modes.len()];
+            for (n, mode) in t.modes.iter().enumerate() {
+                let len = mode.basis.len();
+                let mut phi = vec![0.0; len];
+                for (d, bd) in bound[n].iter_mut().enumerate() {
+                    mode.basis.eval(u, d, &mut phi);
+                    for (c, x) in bd.iter_mut().enumerate() {
+                        *x = (0..len)
+                            .map(|j| phi[j].abs() * mode.coef[(j, c)].abs())
+                            .sum();
+                    }
+                }
+                terms += match &mode.basis {
+                    basis::Basis::Chebyshev { series } => series.iter().map(Vec::len).sum(),
+                    basis::Basis::Layers(_) => len,
+                } * 6;
+            }
+            for (b, &v) in vs.iter().enumerate() {
+                let p = t.partials(u, v);
+                let parts = [p.x, p.xu, p.xv, p.xuu, p.xuv, p.xvv];
+                // (u-derivative, power of n) of each partial.
+                let orders = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
+                for o in 0..outputs {
+                    for (k, (part, (d, e))) in parts.iter().zip(orders).enumerate() {
+                        let mut size = Vec3::zeros();
+                        for (n, bn) in bound.iter().enumerate() {
+                            let f = (n as f64).powi(e);
+                            for c in 0..3 {
+                                size[c] += f * (bn[d][c] + bn[d][3 + c]);
+                            }
+                        }
+                        if let Some(r) = &t.remainder {
+                            let mut w = vec![0.0; t.conditions().len()];
+                            r.cardinal.eval(u, d, &mut w);
+                            for (i, wi) in w.iter().enumerate() {
+                                let dl = r.delta(t.conditions(), i, v, 2)[e as usize];
+                                size += dl.abs() * wi.abs();
+                            }
+                        }
+                        for c in 0..3 {
+                            let gq = g(a, b, o, 3 * k + c);
+                            forward[o] += gq * part[c];
+                            magnitude[o] += gq.abs() * size[c];
+                        }
+                    }
+                }
+            }
+        }
+        let n_terms = (terms + 4 * t.conditions().len()) * vs.len() * 3 + 4;
+        let gamma = n_terms as f64 * eps / (1.0 - n_terms as f64 * eps);
+        for o in 0..outputs {
+            let bound = 2.0 * gamma * magnitude[o];
+            assert!(
+                (adj[o] - forward[o]).abs() <= bound,
+                "{o}: adjoint {} forward {} bound {bound}",
+                adj[o],
+                forward[o]
+            );
+            assert!(
+                forward[o].abs() > 1e3 * bound,
+                "{o}: a functional near zero"
+            );
+        }
+    }
+}
