@@ -12,6 +12,7 @@ pub(crate) mod basis;
 mod bounds;
 mod operator;
 mod patch;
+mod smoothing;
 mod tangent;
 
 pub use adjoint::{AdjointTangent, NODE_WEIGHTS};

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::curve::{Curve, Domain, Ellipse};
-use crate::surface::Surface;
+use crate::surface::{Partials, Surface};
 use crate::{Vec3, TAU};
 use std::sync::Arc;
 
@@ -964,6 +964,119 @@ fn quadrature_adjoint_equals_the_functional_node_by_node() {
                 forward[o].abs() > 1e3 * bound,
                 "{o}: a functional near zero"
             );
+        }
+    }
+}
+
+/// The derivative with respect to the smoothing parameter, `(1/a) u X_u + T`
+/// ([`PdePatch::smoothing_tangent_curves`]), against central differences of solves at `a ± h`:
+/// `D(h) = (X(a + h) − X(a − h))/(2h)` errs by the truncation `h²/6 |X'''|` (with `X'''` estimated
+/// by the third difference `(X(a + 2h) − 2X(a + h) + 2X(a − h) − X(a − 2h))/(2h³)`) plus the
+/// rounding of the solves (relative `10⁻¹³` of the design's size each, as in the tangent test
+/// above) divided by `h`; the estimate's own rounding (`6 · 10⁻¹³ · size/(2h³) · h²/6`) is of the
+/// same order and counted in. Biharmonic with and without a remainder, and a triharmonic patch
+/// with second-derivative conditions.
+#[test]
+fn smoothing_derivative_matches_central_differences() {
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy: SharedCurve = Arc::new(Bumpy {
+        r: 0.8,
+        h: 1.0,
+        b: 0.2,
+    });
+    let shifted = |z: f64, r: f64, dx: f64| -> SharedCurve {
+        Arc::new(
+            Ellipse::new(
+                Vec3::new(dx, 0.1, z),
+                Vec3::new(r, 0.2 * r, 0.0),
+                Vec3::new(0.0, r, 0.3 * r),
+            )
+            .unwrap(),
+        )
+    };
+    let cases: Vec<(usize, Vec<Condition>)> = vec![
+        (
+            2,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(1.0, 0, shifted(1.0, 0.7, -0.1)),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+            ],
+        ),
+        (
+            2,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(1.0, 0, bumpy.clone()),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+            ],
+        ),
+        (
+            3,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(0.0, 2, shifted(0.3, 0.4, 0.1)),
+                cond(1.0, 0, shifted(1.0, 0.7, -0.1)),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+                cond(1.0, 2, shifted(-0.2, 0.2, 0.0)),
+            ],
+        ),
+    ];
+    for (case, (order, conditions)) in cases.into_iter().enumerate() {
+        let a = 1.2;
+        let at = |a: f64| {
+            solve(
+                &Operator::polyharmonic(order, a).unwrap(),
+                conditions.clone(),
+                &options,
+            )
+            .unwrap()
+        };
+        let base = Arc::new(at(a));
+        assert_eq!(base.has_remainder(), case == 1);
+        let (s, curves) = base.smoothing_tangent_curves().unwrap();
+        assert_eq!(s, 1.0 / a);
+        let t = base.solve_tangents(&[curves], &options).unwrap().remove(0);
+        let h = 1e-3 * a;
+        let x: Vec<PdePatch> = [-2.0, -1.0, 1.0, 2.0]
+            .iter()
+            .map(|k| at(a + k * h))
+            .collect();
+        let size = base.scale();
+        for i in 0..=6 {
+            for j in 0..7 {
+                let (u, v) = (i as f64 / 6.0, j as f64 * TAU / 7.0 + 0.2);
+                let (pb, pt) = (base.partials(u, v), t.partials(u, v));
+                let exact = [
+                    pb.xu * (s * u) + pt.x,
+                    (pb.xu + pb.xuu * u) * s + pt.xu,
+                    pb.xuv * (s * u) + pt.xv,
+                ];
+                let p: Vec<Partials> = x.iter().map(|x| x.partials(u, v)).collect();
+                let parts = |p: &Partials| [p.x, p.xu, p.xv];
+                for (c, exact) in exact.iter().enumerate() {
+                    let (m2, m1, p1, p2) = (
+                        parts(&p[0])[c],
+                        parts(&p[1])[c],
+                        parts(&p[2])[c],
+                        parts(&p[3])[c],
+                    );
+                    let d = (p1 - m1) / (2.0 * h);
+                    let third = (p2 - p1 * 2.0 + m1 * 2.0 - m2) / (2.0 * h * h * h);
+                    let bound = 2.0 * h * h / 6.0 * third.norm() + 4.0 * 1e-13 * size / h;
+                    let err = (exact - d).norm();
+                    assert!(
+                        err <= bound,
+                        "case {case}, ({u}, {v}), partial {c}: {exact:?} vs {d:?} ({err:e} > {bound:e})",
+                    );
+                }
+            }
         }
     }
 }
