@@ -269,23 +269,23 @@ impl PdePatch {
                 }
             })
             .collect();
-        let acc = (0..us.len())
+        // Each row's sums, then their total in row order: the same bits whatever the number
+        // of threads.
+        let rows: Vec<Vec<f64>> = (0..us.len())
             .into_par_iter()
-            .fold(
+            .map_init(
                 || Scratch::new(total, block, outputs, len, lay.conditions),
-                |mut s, a| {
+                |s, a| {
+                    s.acc.fill(0.0);
                     s.row(a, us[a], weights, &lay, self, cardinal, &active, &trig);
-                    s
+                    s.acc.clone()
                 },
             )
-            .map(|s| s.acc)
-            .reduce(
-                || vec![0.0; total],
-                |mut x, y| {
-                    x.iter_mut().zip(&y).for_each(|(x, y)| *x += y);
-                    x
-                },
-            );
+            .collect();
+        let mut acc = vec![0.0; total];
+        for r in &rows {
+            acc.iter_mut().zip(r).for_each(|(x, y)| *x += y);
+        }
         let mb = lay.mode_block();
         let mut base_part = vec![0.0; outputs];
         if stretch {
