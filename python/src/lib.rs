@@ -1231,7 +1231,8 @@ impl Design {
     /// `names`, `x` (the parameters' values), `measures` (the formulas' variables by name),
     /// `d_measures` (`{measure: array (k,)}`, ∂measure/∂parameter), `errors` (the same shape:
     /// the library's estimate of each derivative's absolute error), `methods` (per parameter,
-    /// `linear`, `rotation` — exact up to rounding — or `richardson`, extrapolated differences),
+    /// `linear`, `rotation`, `exact` (the smoothing parameter `a`) — exact up to rounding — or
+    /// `richardson`, extrapolated differences),
     /// `exact` (per parameter), `solves`; and for the `[optimize]` problem `objective`,
     /// `d_objective`, `penalty`, `d_penalty`, `value`, `d_value` (objective + penalty) and
     /// `constraints` (per constraint: `expr`, `value`, `gradient`, `equal`, `min`, `max`).

@@ -35,10 +35,19 @@
 //! asymptotic regime (the ratio of their changes near 4), then Richardson-extrapolated,
 //! `D(h) + (D(h) − D(2h))/3`, with the error estimate `|D(h) − D(2h)|/3` (which bounds the error
 //! of `D(h)`, so pessimistically that of the extrapolated value); if no regime is reached in 8
-//! levels, the estimate is the spread of the last three. That is the smoothing parameter `a` (the operator itself changes),
-//! the `v = 0` point (a reparametrisation, not an affine map), control-point offsets of an
-//! arc-length curve, and every parameter of a design that is not made of PDE patches alone or
-//! has curves derived non-linearly from others (`local`, `on_patch`, `tangent_field`).
+//! levels, the estimate is the spread of the last three. That is the `v = 0` point (a
+//! reparametrisation, not an affine map), control-point offsets of an arc-length curve, every
+//! parameter of a design that is not made of PDE patches alone or has curves derived
+//! non-linearly from others (`local`, `on_patch`, `tangent_field`), and the smoothing parameter
+//! `a` of designs outside the batch below.
+//!
+//! **The smoothing parameter `a`** changes the operator `(∂²/∂u² + a² ∂²/∂v²)^N`, not the
+//! curves. Mode `n`'s solutions are `g(a u)` with `g` fixed, so `(u/a) X_u` solves the
+//! differentiated equation, and `∂X/∂a = (1/a) u X_u + T` with `T` the patch's tangent solve of
+//! the conditions `−(1/a) ∂_u^{d_i}[u X_u](u_i, ·)` (the remainder included: see
+//! [`crate::elliptic::PdePatch::smoothing_tangent_curves`]). For a design of analytic PDE
+//! patches that is one more direction of the batched tangent solve, labelled
+//! [`Method::Smoothing`] (`exact`); the per-parameter path keeps Richardson differences for it.
 
 use super::{measure_patches, variables, Problem, MASS, NVARS, YIELD};
 use crate::analysis::{
@@ -50,7 +59,6 @@ use crate::design::{
 };
 use crate::optimize::{ParamKind, Parameters};
 use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec, SolverMethod};
-use crate::surface::Surface;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -77,6 +85,10 @@ pub enum Method {
         /// The smallest step `h` used (the one before it is `2h`).
         step: f64,
     },
+    /// Exact: the smoothing parameter `a` of the polyharmonic operators, whose derivative is
+    /// `(1/a) u X_u` plus one more direction of the batched tangent solve (see
+    /// [`crate::elliptic::PdePatch::smoothing_tangent_curves`]).
+    Smoothing,
 }
 
 impl Method {
@@ -85,11 +97,12 @@ impl Method {
         !matches!(self, Method::Richardson { .. })
     }
 
-    /// `"linear"`, `"rotation"` or `"richardson"`.
+    /// `"linear"`, `"rotation"`, `"exact"` (the smoothing parameter) or `"richardson"`.
     pub fn label(&self) -> &'static str {
         match self {
             Method::Linear { .. } => "linear",
             Method::Rotation { .. } => "rotation",
+            Method::Smoothing => "exact",
             Method::Richardson { .. } => "richardson",
         }
     }
@@ -269,16 +282,21 @@ impl Point<'_> {
     /// solved: `(C(p + h) − C(p))/h` for an affine parameter, `(C(θ + h) − C(θ − h))/(2 sin h)`
     /// for a rotation), every patch solves all of them as one block of right-hand sides, and
     /// the integrals' derivatives come from one pass over the quadrature nodes.
+    ///
+    /// With `smoothing`, the derivative with respect to the operators' `a` joins the batch as
+    /// one more direction (its tangent curves from the point's patches) and is returned last.
+    #[allow(clippy::too_many_arguments)]
     fn batch(
         &self,
         batch: &[usize],
+        smoothing: bool,
         built: &SolvedDesign,
         at: &DesignIntegrals,
         q: &Quadrature,
         size: f64,
         rounding: &dyn Fn(&[f64; NVARS], f64) -> [f64; NVARS],
     ) -> Result<Vec<Derivatives>> {
-        if batch.is_empty() {
+        if batch.is_empty() && !smoothing {
             return Ok(Vec::new());
         }
         let rotation = |k: usize| matches!(exact_kind(&self.spec, &self.kinds[k]), Some(true));
@@ -314,18 +332,14 @@ impl Point<'_> {
                 None => vec![(1.0 / h, plus), (-1.0 / h, &self.spec)],
             })
             .collect();
-        let patches = tangent_patches(built, &self.spec, &directions)?;
-        let surfaces: Vec<Vec<&dyn Surface>> = patches
-            .iter()
-            .map(|t| t.iter().map(|p| &**p as &dyn Surface).collect())
-            .collect();
-        let dts = integrals_derivatives(built, at, &surfaces, q)?;
-        Ok(batch
+        let tangents = tangent_patches(built, &self.spec, &directions, smoothing)?;
+        let dts = integrals_derivatives(built, at, &tangents, q)?;
+        let mut out: Vec<Derivatives> = batch
             .iter()
             .zip(&steps)
-            .zip(dts)
+            .zip(&dts)
             .map(|((&k, &(h, u)), dt)| {
-                let d = d_variables(&at.total, &dt, self.c0);
+                let d = d_variables(&at.total, dt, self.c0);
                 let method = if rotation(k) {
                     Method::Rotation { step: h }
                 } else {
@@ -333,7 +347,14 @@ impl Point<'_> {
                 };
                 (method, d, rounding(&d, h), 0, u)
             })
-            .collect())
+            .collect();
+        if smoothing {
+            let a = design_a(&self.spec).unwrap_or(1.0);
+            let u = unit(&ParamKind::Smoothing, a, size);
+            let d = d_variables(&at.total, &dts[batch.len()], self.c0);
+            out.push((Method::Smoothing, d, rounding(&d, u), 0, u));
+        }
+        Ok(out)
     }
 }
 
@@ -390,7 +411,23 @@ impl Point<'_> {
         } else {
             Vec::new()
         };
-        let batched = self.batch(&batch, &built, &at, &q, size, &rounding)?;
+        // The smoothing parameter `a` of such a design joins the batch as one more direction.
+        let smoothing: Vec<usize> = if batchable && design_reason.is_none() {
+            (0..self.kinds.len())
+                .filter(|&k| self.kinds[k] == ParamKind::Smoothing)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let batched = self.batch(
+            &batch,
+            !smoothing.is_empty(),
+            &built,
+            &at,
+            &q,
+            size,
+            &rounding,
+        )?;
         let per: Vec<Result<Derivatives>> = (0..self.kinds.len())
             .into_par_iter()
             .map(|k| {
@@ -399,6 +436,9 @@ impl Point<'_> {
                 let u = unit(kind, p, size);
                 if batch.contains(&k) {
                     return Ok(batched[batch.iter().position(|&b| b == k).unwrap_or(0)]);
+                }
+                if smoothing.contains(&k) {
+                    return Ok(batched[batch.len()]);
                 }
                 match exact(k) {
                     Some(false) => {
@@ -470,8 +510,8 @@ impl Point<'_> {
             scales: Vec::new(),
             errors: Vec::new(),
             solves: 1,
-            tangent_solves: usize::from(!batch.is_empty()),
-            batch: batch.len(),
+            tangent_solves: usize::from(!batch.is_empty() || !smoothing.is_empty()),
+            batch: batch.len() + smoothing.len(),
         };
         for r in per {
             let (m, d, e, s, u) = r?;

@@ -19,7 +19,7 @@ pub use design::{integrate_design, integrate_surfaces, Cap, DesignIntegrals};
 pub use geometry::{curvature, curvature_at, Curvature, FundamentalForms};
 #[cfg(test)]
 pub(crate) use quadrature::gauss_legendre;
-pub use sensitivity::{integrals_derivative, integrals_derivatives};
+pub use sensitivity::{integrals_derivative, integrals_derivatives, PatchTangent};
 pub use trimmed::{integrate_trimmed, integrate_trimmed_design, TrimmedIntegrals};
 
 use crate::surface::{Interval, Partials, Surface, VDomain};

@@ -22,10 +22,14 @@
 use super::design::{cap_derivative, CURVE_NODES};
 use super::quadrature::{periodic_trapezoid, Rule};
 use super::{DesignIntegrals, Integrals, Quadrature};
-use crate::design::SolvedDesign;
+use crate::design::{SolvedDesign, SurfaceKind};
+use crate::elliptic::{AdjointTangent, PdePatch, NODE_WEIGHTS};
 use crate::surface::{normal_degenerates, Partials, Surface};
-use crate::{Error, Result};
+use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
+
+/// Node weights per integrand: 18 ([`NODE_WEIGHTS`]) per integral, five integrals.
+const NODE: usize = 5 * NODE_WEIGHTS;
 
 /// The derivative of the integrals `at` of `base` (from [`super::integrate_design`] with the
 /// quadrature `q`) along the tangent surface `Ẋ = Σ c_k X_k` given as `(c_k, design_k)` pairs:
@@ -88,16 +92,32 @@ pub fn integrals_derivative(
     Ok(total)
 }
 
+/// The derivative of one PDE patch of a design along one direction: `patch + stretch · u X_u`,
+/// with `X` the design's patch at the point. `patch` is a tangent solve with the point's
+/// operator and condition places (such as [`crate::design::tangent_patches`]' patches); the
+/// stretch is non-zero only along the smoothing parameter `a`
+/// ([`crate::elliptic::PdePatch::smoothing_tangent_curves`]).
+#[derive(Clone, Debug)]
+pub struct PatchTangent {
+    /// The tangent solve.
+    pub patch: std::sync::Arc<PdePatch>,
+    /// The factor of `u X_u`.
+    pub stretch: f64,
+}
+
 /// The derivatives of the integrals `at` of `base` (as in [`integrals_derivative`]) along `K`
-/// tangent surfaces at once: `tangents[k][i]` is the derivative of patch `i` along direction
-/// `k` (such as [`crate::design::tangent_patches`]' patches). One pass over the quadrature nodes:
-/// each row of the base's partials is evaluated once for all directions, and each direction's
-/// partials once (not as differences of designs). The same chain rule at the same nodes as
-/// [`integrals_derivative`], so the same derivatives to rounding.
+/// directions at once: `tangents[k][i]` is the derivative of patch `i` along direction `k`.
+/// Every surface of `base` must be a PDE patch of the analytic solver. The chain rule at a node
+/// is linear in the tangent's partials, and those are linear in the tangent's mode
+/// coefficients, so the weights that map a direction's coefficients to each integral's
+/// derivative are gathered in one pass over the quadrature nodes whatever `K`
+/// ([`crate::elliptic::PdePatch::quadrature_adjoint`], with the node weights of
+/// [`node_gradient`]) and applied to each direction's coefficients: the same derivatives as
+/// [`integrals_derivative`]'s node-by-node chain rule up to the rounding of the sums.
 pub fn integrals_derivatives(
     base: &SolvedDesign,
     at: &DesignIntegrals,
-    tangents: &[Vec<&dyn Surface>],
+    tangents: &[Vec<PatchTangent>],
     q: &Quadrature,
 ) -> Result<Vec<Integrals>> {
     let n = base.surfaces.len();
@@ -116,25 +136,55 @@ pub fn integrals_derivatives(
     let kk = tangents.len();
     let mut totals = vec![Integrals::default(); kk];
     for i in 0..n {
+        let name = &base.surfaces[i].name;
+        let SurfaceKind::Pde(pde) = &base.surfaces[i].kind else {
+            return Err(Error::invalid(
+                "the batched derivatives need PDE patches of the analytic solver",
+            )
+            .at(&format!("patch '{name}'")));
+        };
         let s = base.surfaces[i].surface();
-        let surfaces: Vec<&dyn Surface> = tangents.iter().map(|t| t[i]).collect();
         let (ru, rv) = rules_of(s, q, at.analyses[i].u_nodes, at.analyses[i].v_nodes)?;
-        let d = patch_derivatives(s, &surfaces, &ru, &rv);
+        let rows = s.partials_rows(&rv.nodes);
+        let nv = rv.nodes.len();
+        let weights = |a: usize, out: &mut [f64]| {
+            let mut row = vec![Partials::default(); nv];
+            rows.eval_row(ru.nodes[a], &mut row);
+            let wu = ru.weights[a];
+            for ((p, &wv), out) in row.iter().zip(&rv.weights).zip(out.chunks_exact_mut(NODE)) {
+                node_gradient(p, wu * wv, out);
+            }
+        };
+        let list: Vec<AdjointTangent> = tangents
+            .iter()
+            .map(|t| AdjointTangent {
+                patch: &t[i].patch,
+                stretch: t[i].stretch,
+            })
+            .collect();
+        let d = pde
+            .quadrature_adjoint(&ru.nodes, &rv.nodes, 5, &weights, &list)
+            .map_err(|e| e.at(&format!("patch '{name}'")))?;
         for (total, d) in totals.iter_mut().zip(&d) {
-            add_patch_derivative(total, d, at.orientation[i], &base.surfaces[i].name)?;
+            let d: [f64; 5] = std::array::from_fn(|o| d[o]);
+            add_patch_derivative(total, &d, at.orientation[i], name)?;
         }
     }
     let rule = periodic_trapezoid(CURVE_NODES);
     for cap in &at.caps {
         let i = cap.patch;
-        let row = |s: &dyn Surface| cap_row(s, &rule.nodes, cap.u);
-        let b = row(base.surfaces[i].surface());
+        let b = cap_row(base.surfaces[i].surface(), &rule.nodes, cap.u);
         let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
         for (total, t) in totals.iter_mut().zip(tangents) {
+            let t = &t[i];
             let rows: Vec<_> = b
                 .iter()
-                .zip(row(t[i]))
-                .map(|(p, d)| (p.x, p.xv, d.x, d.xv))
+                .zip(cap_row(&*t.patch, &rule.nodes, cap.u))
+                .map(|(p, d)| {
+                    // `patch + stretch · u X_u` and its v-derivative on the row.
+                    let s = t.stretch * cap.u;
+                    (p.x, p.xv, d.x + s * p.xu, d.xv + s * p.xuv)
+                })
                 .collect();
             total.volume += sign * at.orientation[i] * cap_derivative(&rows, &rule.weights);
         }
@@ -142,7 +192,6 @@ pub fn integrals_derivatives(
     Ok(totals)
 }
 
-/// [`patch_derivative`] along each of the tangent surfaces `tangents` (their own partials).
 /// The partials of `s` along its parameter line `u` at the nodes `v` (a cap's boundary row).
 fn cap_row(s: &dyn Surface, v: &[f64], u: f64) -> Vec<Partials> {
     let mut buf = vec![Partials::default(); v.len()];
@@ -165,59 +214,6 @@ fn add_patch_derivative(total: &mut Integrals, d: &[f64; 5], sign: f64, patch: &
     total.mean_sq += d[3];
     total.gauss += d[4];
     Ok(())
-}
-
-fn patch_derivatives(
-    s: &dyn Surface,
-    tangents: &[&dyn Surface],
-    ru: &Rule,
-    rv: &Rule,
-) -> Vec<[f64; 5]> {
-    let kk = tangents.len();
-    let base = s.partials_rows(&rv.nodes);
-    let evals: Vec<Box<dyn crate::surface::PartialsRows + '_>> = tangents
-        .iter()
-        .map(|t| t.partials_rows(&rv.nodes))
-        .collect();
-    let rows: Vec<Vec<[f64; 5]>> = ru
-        .nodes
-        .par_iter()
-        .zip(&ru.weights)
-        .map_init(
-            || {
-                (
-                    vec![Partials::default(); rv.nodes.len()],
-                    vec![Partials::default(); rv.nodes.len()],
-                )
-            },
-            |(pb, pt), (&u, &wu)| {
-                base.eval_row(u, pb);
-                evals
-                    .iter()
-                    .map(|e| {
-                        e.eval_row(u, pt);
-                        let mut sum = [0.0; 5];
-                        for ((p, t), &wv) in pb.iter().zip(pt.iter()).zip(&rv.weights) {
-                            let d = node_derivative(p, t);
-                            for (s, d) in sum.iter_mut().zip(d) {
-                                *s += wu * wv * d;
-                            }
-                        }
-                        sum
-                    })
-                    .collect()
-            },
-        )
-        .collect();
-    let mut total = vec![[0.0; 5]; kk];
-    for r in &rows {
-        for (t, r) in total.iter_mut().zip(r) {
-            for (t, x) in t.iter_mut().zip(r) {
-                *t += x;
-            }
-        }
-    }
-    total
 }
 
 /// The rules of the level of `q` that has `nu × nv` nodes on `s` (the level the analysis ended
@@ -346,11 +342,178 @@ pub(crate) fn node_derivative(p: &Partials, t: &Partials) -> [f64; 5] {
     ]
 }
 
+/// The weights of [`node_derivative`] times `w`: `out[o·18 + q]` is `w` times the derivative of
+/// integrand `o` (`J, (1/3)X·N, HJ, H²J, KJ`) with respect to component `q` of the tangent's
+/// partials (`Ẋ, Ẋ_u, Ẋ_v, Ẋ_uu, Ẋ_uv, Ẋ_vv`, x, y, z each), so that
+/// `Σ_q out[o·18 + q] t_q = w · node_derivative(p, t)[o]` for every tangent `t`.
+///
+/// [`node_derivative`] is linear in the scalars `J̇ = n·Ṅ`, `Ė, Ḟ, Ġ`, `L̇, Ṁ, Ṅ` (with
+/// `L̇ = Ẋ_uu·n + (X_uu − L n)·Ṅ / J`, `Ṁ`, `Ṅ` alike): with `κ` the coefficients of those scalars
+/// in integrand `o`, the covector of `Ṅ = Ẋ_u × X_v + X_u × Ẋ_v` is
+/// `r = κ_J n + (κ_L (X_uu − L n) + κ_M (X_uv − M n) + κ_N (X_vv − N n)) / J`, and the weights are
+/// `Ẋ_u: X_v × r + 2κ_E X_u + κ_F X_v`, `Ẋ_v: r × X_u + κ_F X_u + 2κ_G X_v`,
+/// `Ẋ_uu: κ_L n`, `Ẋ_uv: κ_M n`, `Ẋ_vv: κ_N n` (and `(1/3)(Ẋ·N + X·Ṅ)` for the volume). Zero
+/// curvature weights at degenerate nodes, as in [`node_derivative`].
+pub(crate) fn node_gradient(p: &Partials, w: f64, out: &mut [f64]) {
+    out[..NODE].fill(0.0);
+    let cross = p.xu.cross(&p.xv);
+    let put = |out: &mut [f64], o: usize, q: usize, v: Vec3| {
+        let at = o * NODE_WEIGHTS + q;
+        out[at] = w * v.x;
+        out[at + 1] = w * v.y;
+        out[at + 2] = w * v.z;
+    };
+    // The volume: (1/3)(Ẋ·N + X·Ṅ).
+    let r = p.x / 3.0;
+    put(out, 1, 0, cross / 3.0);
+    put(out, 1, 3, p.xv.cross(&r));
+    put(out, 1, 6, r.cross(&p.xu));
+    let jac = cross.norm();
+    let size = p.xu.norm_squared() + p.xv.norm_squared();
+    if normal_degenerates(jac, size) || !jac.is_finite() {
+        return;
+    }
+    let n = cross / jac;
+    let (e, f, g) = (p.xu.dot(&p.xu), p.xu.dot(&p.xv), p.xv.dot(&p.xv));
+    let (l, m, nn) = (p.xuu.dot(&n), p.xuv.dot(&n), p.xvv.dot(&n));
+    let ww = jac * jac;
+    let gauss = (l * nn - m * m) / ww;
+    let mean = (e * nn - 2.0 * f * m + g * l) / (2.0 * ww);
+    // The area: J̇ alone.
+    let mut kappa = [[0.0f64; 7]; 5];
+    kappa[0][0] = 1.0;
+    if gauss.is_finite() && mean.is_finite() {
+        // Ḣ and K̇ in the scalars [J̇, Ė, Ḟ, Ġ, L̇, Ṁ, Ṅ].
+        let dh = [
+            -2.0 * mean / jac,
+            nn / (2.0 * ww),
+            -m / ww,
+            l / (2.0 * ww),
+            g / (2.0 * ww),
+            -f / ww,
+            e / (2.0 * ww),
+        ];
+        let dk = [
+            -2.0 * gauss / jac,
+            0.0,
+            0.0,
+            0.0,
+            nn / ww,
+            -2.0 * m / ww,
+            l / ww,
+        ];
+        for s in 0..7 {
+            kappa[2][s] = jac * dh[s];
+            kappa[3][s] = 2.0 * mean * jac * dh[s];
+            kappa[4][s] = jac * dk[s];
+        }
+        kappa[2][0] += mean;
+        kappa[3][0] += mean * mean;
+        kappa[4][0] += gauss;
+    }
+    let (pl, pm, pn) = (
+        (p.xuu - n * l) / jac,
+        (p.xuv - n * m) / jac,
+        (p.xvv - n * nn) / jac,
+    );
+    for (o, k) in kappa.iter().enumerate() {
+        if o == 1 || k.iter().all(|&x| x == 0.0) {
+            continue;
+        }
+        let r = n * k[0] + pl * k[4] + pm * k[5] + pn * k[6];
+        put(
+            out,
+            o,
+            3,
+            p.xv.cross(&r) + p.xu * (2.0 * k[1]) + p.xv * k[2],
+        );
+        put(
+            out,
+            o,
+            6,
+            r.cross(&p.xu) + p.xu * k[2] + p.xv * (2.0 * k[3]),
+        );
+        put(out, o, 9, n * k[4]);
+        put(out, o, 12, n * k[5]);
+        put(out, o, 15, n * k[6]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::surface::UnitCylinder;
     use crate::Vec3;
+
+    /// The node weights against the node derivative on tangents along each of the 18
+    /// components and on a generic one, at generic nodes and at a pole (zero curvature
+    /// weights). Both evaluate the same expression with different groupings: a weight is a sum
+    /// of at most 8 products of at most 5 rounded factors and the dot product has 18 terms, so
+    /// each side is within `γ_40 · Σ_q |w_q t_q|` of the exact value (node_derivative's
+    /// groupings are no deeper), about `40ε` of the sum of the magnitudes; the differences are
+    /// checked against twice that.
+    #[test]
+    fn node_weights_are_the_gradient_of_the_node_derivative() {
+        let c = UnitCylinder;
+        let bend = |p: &mut Partials, s: f64| {
+            p.xuu += Vec3::new(0.3 * s, -0.2, 0.5);
+            p.xuv += Vec3::new(0.1, 0.4 * s, -0.3);
+            p.xvv += Vec3::new(-0.2, 0.1, 0.2 * s);
+            p.xu += Vec3::new(0.2 * s, 0.1, 0.0);
+        };
+        let mut nodes = Vec::new();
+        for (k, (u, v)) in [(0.3f64, 0.7f64), (0.9, 2.5), (0.1, 4.0)]
+            .into_iter()
+            .enumerate()
+        {
+            let mut p = c.partials(u, v);
+            bend(&mut p, k as f64 - 1.0);
+            nodes.push(p);
+        }
+        // A pole: X_v = 0.
+        let mut pole = c.partials(0.5, 1.0);
+        pole.xv = Vec3::zeros();
+        nodes.push(pole);
+        let eps = f64::EPSILON;
+        let gamma = 40.0 * eps / (1.0 - 40.0 * eps);
+        for (i, p) in nodes.iter().enumerate() {
+            let w = 0.37;
+            let mut g = [0.0; NODE];
+            node_gradient(p, w, &mut g);
+            let mut tangents: Vec<[f64; NODE_WEIGHTS]> = (0..NODE_WEIGHTS)
+                .map(|q| std::array::from_fn(|r| if r == q { 1.0 } else { 0.0 }))
+                .collect();
+            tangents.push(std::array::from_fn(|r| ((r as f64) * 0.7 + 0.3).sin()));
+            for t in &tangents {
+                let v3 = |q: usize| Vec3::new(t[q], t[q + 1], t[q + 2]);
+                let tp = Partials {
+                    x: v3(0),
+                    xu: v3(3),
+                    xv: v3(6),
+                    xuu: v3(9),
+                    xuv: v3(12),
+                    xvv: v3(15),
+                };
+                let d = node_derivative(p, &tp);
+                for (o, d) in d.iter().enumerate() {
+                    let gw = &g[o * NODE_WEIGHTS..(o + 1) * NODE_WEIGHTS];
+                    let dot: f64 = gw.iter().zip(t).map(|(a, b)| a * b).sum();
+                    let size: f64 = gw.iter().zip(t).map(|(a, b)| (a * b).abs()).sum();
+                    let bound = 2.0 * gamma * (size + (w * d).abs());
+                    assert!(
+                        (dot - w * d).abs() <= bound,
+                        "node {i}, integrand {o}: {dot} vs {} (bound {bound:e})",
+                        w * d
+                    );
+                }
+            }
+            if i == 3 {
+                // At the pole only the volume has weights.
+                assert!(g[..NODE_WEIGHTS].iter().all(|&x| x == 0.0));
+                assert!(g[2 * NODE_WEIGHTS..].iter().all(|&x| x == 0.0));
+            }
+        }
+    }
 
     /// The node derivative against central differences of the integrands on a surface moved
     /// along a fixed tangent (`X + s·T` with `T` the partials of a smooth field).

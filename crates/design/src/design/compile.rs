@@ -14,6 +14,7 @@ use super::solved::{ConditionInfo, DesignSurface, SolvedDesign, SurfaceKind};
 use super::spline::solve_spec;
 use super::trim::TrimChecks;
 use super::validate::{build_operator, check_solver, kind_name, plan, validate_patches};
+use crate::analysis::PatchTangent;
 use crate::curve::SharedCurve;
 use crate::elliptic::{self, Condition, SolveOptions};
 use crate::mesh::{self, GridMesh};
@@ -668,11 +669,17 @@ fn plan_patches(
 /// ([`crate::elliptic::PdePatch::solve_tangents`]). The result's `[k][i]` is patch `i`'s
 /// derivative along direction `k`. Refused unless every surface of `base` is a PDE patch solved
 /// by the analytic solver, with no curve on another patch.
+///
+/// With `smoothing`, one more direction follows: the derivative with respect to the smoothing
+/// parameter `a` of the polyharmonic operators, `(1/a) u X_u` plus the tangent solve of
+/// [`elliptic::PdePatch::smoothing_tangent_curves`] in the same block (zero for a patch whose
+/// operator has no `a`).
 pub fn tangent_patches(
     base: &SolvedDesign,
     spec: &DesignSpec,
     directions: &[Vec<(f64, &DesignSpec)>],
-) -> Result<Vec<Vec<Arc<elliptic::PdePatch>>>> {
+    smoothing: bool,
+) -> Result<Vec<Vec<PatchTangent>>> {
     let patches: Vec<&Arc<elliptic::PdePatch>> = base
         .surfaces
         .iter()
@@ -721,11 +728,11 @@ pub fn tangent_patches(
             ));
         }
     }
-    let per_patch: Vec<Vec<Arc<elliptic::PdePatch>>> = patches
+    let per_patch: Vec<Vec<PatchTangent>> = patches
         .par_iter()
         .enumerate()
         .map(|(i, p)| {
-            let dirs: Vec<Vec<SharedCurve>> = index
+            let mut dirs: Vec<Vec<SharedCurve>> = index
                 .iter()
                 .map(|d| {
                     (0..p.conditions().len())
@@ -739,13 +746,36 @@ pub fn tangent_patches(
                         .collect()
                 })
                 .collect();
+            let mut stretch = 0.0;
+            if smoothing {
+                let curves = match p.smoothing_tangent_curves() {
+                    Some((s, curves)) => {
+                        stretch = s;
+                        curves
+                    }
+                    None => (0..p.conditions().len())
+                        .map(|_| elliptic::combination(Vec::new()))
+                        .collect(),
+                };
+                dirs.push(curves);
+            }
+            let count = dirs.len();
             Ok(p.solve_tangents(&dirs, &options)?
                 .into_iter()
-                .map(Arc::new)
+                .enumerate()
+                .map(|(k, t)| PatchTangent {
+                    patch: Arc::new(t),
+                    stretch: if k + 1 == count && smoothing {
+                        stretch
+                    } else {
+                        0.0
+                    },
+                })
                 .collect())
         })
         .collect::<Result<_>>()?;
-    Ok((0..directions.len())
+    let count = directions.len() + usize::from(smoothing);
+    Ok((0..count)
         .map(|k| per_patch.iter().map(|p| p[k].clone()).collect())
         .collect())
 }

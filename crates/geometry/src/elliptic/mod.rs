@@ -7,12 +7,15 @@
 //! conditions, and `R` is the spectral remainder (Eqs. 4.45–4.53) that takes up what the `M`
 //! modes leave of the conditions, so they hold to rounding for any periodic curves.
 
+mod adjoint;
 pub(crate) mod basis;
 mod bounds;
 mod operator;
 mod patch;
+mod smoothing;
 mod tangent;
 
+pub use adjoint::{AdjointTangent, NODE_WEIGHTS};
 pub use basis::BasisKind;
 pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};

@@ -46,7 +46,13 @@ impl Remainder {
     /// `Δ_i(v)` and its v-derivatives up to `order ≤ 2` (the rest zero; all zero for inactive
     /// conditions). Asking only for what is used matters: a condition curve on another patch
     /// (an attachment's) evaluates that patch for each derivative it is asked for.
-    fn delta(&self, conditions: &[Condition], i: usize, v: f64, order: usize) -> [Vec3; 3] {
+    pub(super) fn delta(
+        &self,
+        conditions: &[Condition],
+        i: usize,
+        v: f64,
+        order: usize,
+    ) -> [Vec3; 3] {
         let mut g = [Vec3::zeros(); 3];
         if !self.active[i] {
             return g;

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::curve::{Curve, Domain, Ellipse};
-use crate::surface::Surface;
+use crate::surface::{Partials, Surface};
 use crate::{Vec3, TAU};
 use std::sync::Arc;
 
@@ -810,4 +810,273 @@ fn tangent_solves_equal_solves_of_the_tangent_curves() {
     assert!(base
         .solve_tangents(&[lower[..3].to_vec()], &options)
         .is_err());
+}
+
+/// The adjoint of a quadrature ([`PdePatch::quadrature_adjoint`]) against the same functional
+/// summed node by node over each tangent's own partials. Both are the same finite sum of
+/// products `G · ψ⁽ᵈ⁾(u) · coefficient · (n^k cos | sin)` (and `G · w⁽ᵈ⁾ · Δ⁽ᵏ⁾` for the remainder)
+/// in different orders, so each is within `γ_N · A` of the exact sum (recursive summation of
+/// `N` products of at most four rounded factors, Higham's `γ_N = Nε/(1 − Nε)`), with `A` the
+/// sum of the products' magnitudes computed here from the bases' and cardinal functions' values;
+/// `N` counts every product, a Chebyshev basis function counting its series' length (the
+/// forward path sums the combined series by Clenshaw's recurrence).
+#[test]
+fn quadrature_adjoint_equals_the_functional_node_by_node() {
+    let op = Operator::polyharmonic(2, 1.5).unwrap();
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy = |b: f64| -> SharedCurve { Arc::new(Bumpy { r: 0.8, h: 1.0, b }) };
+    let base = solve(
+        &op,
+        vec![
+            cond(0.0, 0, circle(0.0, 1.0)),
+            cond(0.0, 1, circle(1.0, 0.5)),
+            cond(1.0, 0, bumpy(0.2)),
+            cond(1.0, 1, circle(1.0, 0.3)),
+        ],
+        &options,
+    )
+    .unwrap();
+    assert!(base.has_remainder());
+    let zero = |c: SharedCurve| combination(vec![(0.0, c)]);
+    let dirs = vec![
+        // A remainder (the bumpy curve) and every mode.
+        vec![
+            zero(circle(0.0, 1.0)),
+            circle(0.3, 0.2),
+            bumpy(0.5),
+            Arc::new(FourierSeries {
+                a0: Vec3::new(0.1, 0.2, 0.3),
+                cos: (1..=4)
+                    .map(|n| Vec3::new(0.3, -0.1, 0.2) / n as f64)
+                    .collect(),
+                sin: (1..=4)
+                    .map(|n| Vec3::new(-0.2, 0.1, 0.4) / n as f64)
+                    .collect(),
+            }) as SharedCurve,
+        ],
+        // Exact series only: no remainder.
+        vec![
+            circle(0.0, 1.0),
+            zero(circle(1.0, 0.5)),
+            zero(bumpy(0.2)),
+            circle(0.5, 0.7),
+        ],
+    ];
+    let tangents = base.solve_tangents(&dirs, &options).unwrap();
+    assert!(tangents[0].has_remainder() && !tangents[1].has_remainder());
+    let us: Vec<f64> = (0..9).map(|a| (a as f64 + 0.5) / 9.0).collect();
+    let vs: Vec<f64> = (0..16).map(|b| TAU * b as f64 / 16.0).collect();
+    let outputs = 3;
+    let g = |a: usize, b: usize, o: usize, q: usize| {
+        let (u, v) = (us[a], vs[b]);
+        ((1 + q + 3 * o) as f64 * 0.37 + u * (q as f64 + 1.0)).sin() * (v * (o + 1) as f64).cos()
+            + 0.1 * (q as f64 - 8.0) * u
+    };
+    let weights = |a: usize, row: &mut [f64]| {
+        for b in 0..vs.len() {
+            for o in 0..outputs {
+                for q in 0..NODE_WEIGHTS {
+                    row[(b * outputs + o) * NODE_WEIGHTS + q] = g(a, b, o, q);
+                }
+            }
+        }
+    };
+    let list: Vec<AdjointTangent> = tangents
+        .iter()
+        .map(|patch| AdjointTangent {
+            patch,
+            stretch: 0.0,
+        })
+        .collect();
+    let adjoint = base
+        .quadrature_adjoint(&us, &vs, outputs, &weights, &list)
+        .unwrap();
+    let eps = f64::EPSILON;
+    for (t, adj) in tangents.iter().zip(&adjoint) {
+        // The node-by-node sums, and the magnitudes of their products.
+        let mut forward = vec![0.0; outputs];
+        let mut magnitude = vec![0.0; outputs];
+        let mut terms = 0usize;
+        for (a, &u) in us.iter().enumerate() {
+            // |Σ_j ψ_j^{(d)} coef_j| ≤ Σ_j |ψ_j^{(d)}| |coef_j| per mode, derivative and column.
+            let mut bound = vec![[[0.0f64; 6]; 3]; t.modes.len()];
+            for (n, mode) in t.modes.iter().enumerate() {
+                let len = mode.basis.len();
+                let mut phi = vec![0.0; len];
+                for (d, bd) in bound[n].iter_mut().enumerate() {
+                    mode.basis.eval(u, d, &mut phi);
+                    for (c, x) in bd.iter_mut().enumerate() {
+                        *x = (0..len)
+                            .map(|j| phi[j].abs() * mode.coef[(j, c)].abs())
+                            .sum();
+                    }
+                }
+                terms += match &mode.basis {
+                    basis::Basis::Chebyshev { series } => series.iter().map(Vec::len).sum(),
+                    basis::Basis::Layers(_) => len,
+                } * 6;
+            }
+            for (b, &v) in vs.iter().enumerate() {
+                let p = t.partials(u, v);
+                let parts = [p.x, p.xu, p.xv, p.xuu, p.xuv, p.xvv];
+                // (u-derivative, power of n) of each partial.
+                let orders = [(0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)];
+                for o in 0..outputs {
+                    for (k, (part, (d, e))) in parts.iter().zip(orders).enumerate() {
+                        let mut size = Vec3::zeros();
+                        for (n, bn) in bound.iter().enumerate() {
+                            let f = (n as f64).powi(e);
+                            for c in 0..3 {
+                                size[c] += f * (bn[d][c] + bn[d][3 + c]);
+                            }
+                        }
+                        if let Some(r) = &t.remainder {
+                            let mut w = vec![0.0; t.conditions().len()];
+                            r.cardinal.eval(u, d, &mut w);
+                            for (i, wi) in w.iter().enumerate() {
+                                let dl = r.delta(t.conditions(), i, v, 2)[e as usize];
+                                size += dl.abs() * wi.abs();
+                            }
+                        }
+                        for c in 0..3 {
+                            let gq = g(a, b, o, 3 * k + c);
+                            forward[o] += gq * part[c];
+                            magnitude[o] += gq.abs() * size[c];
+                        }
+                    }
+                }
+            }
+        }
+        let n_terms = (terms + 4 * t.conditions().len()) * vs.len() * 3 + 4;
+        let gamma = n_terms as f64 * eps / (1.0 - n_terms as f64 * eps);
+        for o in 0..outputs {
+            let bound = 2.0 * gamma * magnitude[o];
+            assert!(
+                (adj[o] - forward[o]).abs() <= bound,
+                "{o}: adjoint {} forward {} bound {bound}",
+                adj[o],
+                forward[o]
+            );
+            assert!(
+                forward[o].abs() > 1e3 * bound,
+                "{o}: a functional near zero"
+            );
+        }
+    }
+}
+
+/// The derivative with respect to the smoothing parameter, `(1/a) u X_u + T`
+/// ([`PdePatch::smoothing_tangent_curves`]), against central differences of solves at `a ± h`:
+/// `D(h) = (X(a + h) − X(a − h))/(2h)` errs by the truncation `h²/6 |X'''|` (with `X'''` estimated
+/// by the third difference `(X(a + 2h) − 2X(a + h) + 2X(a − h) − X(a − 2h))/(2h³)`) plus the
+/// rounding of the solves (relative `10⁻¹³` of the design's size each, as in the tangent test
+/// above) divided by `h`; the estimate's own rounding (`6 · 10⁻¹³ · size/(2h³) · h²/6`) is of the
+/// same order and counted in. Biharmonic with and without a remainder, and a triharmonic patch
+/// with second-derivative conditions.
+#[test]
+fn smoothing_derivative_matches_central_differences() {
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy: SharedCurve = Arc::new(Bumpy {
+        r: 0.8,
+        h: 1.0,
+        b: 0.2,
+    });
+    let shifted = |z: f64, r: f64, dx: f64| -> SharedCurve {
+        Arc::new(
+            Ellipse::new(
+                Vec3::new(dx, 0.1, z),
+                Vec3::new(r, 0.2 * r, 0.0),
+                Vec3::new(0.0, r, 0.3 * r),
+            )
+            .unwrap(),
+        )
+    };
+    let cases: Vec<(usize, Vec<Condition>)> = vec![
+        (
+            2,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(1.0, 0, shifted(1.0, 0.7, -0.1)),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+            ],
+        ),
+        (
+            2,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(1.0, 0, bumpy.clone()),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+            ],
+        ),
+        (
+            3,
+            vec![
+                cond(0.0, 0, shifted(0.0, 1.0, 0.0)),
+                cond(0.0, 1, shifted(1.0, 0.5, 0.2)),
+                cond(0.0, 2, shifted(0.3, 0.4, 0.1)),
+                cond(1.0, 0, shifted(1.0, 0.7, -0.1)),
+                cond(1.0, 1, shifted(1.0, 0.3, 0.0)),
+                cond(1.0, 2, shifted(-0.2, 0.2, 0.0)),
+            ],
+        ),
+    ];
+    for (case, (order, conditions)) in cases.into_iter().enumerate() {
+        let a = 1.2;
+        let at = |a: f64| {
+            solve(
+                &Operator::polyharmonic(order, a).unwrap(),
+                conditions.clone(),
+                &options,
+            )
+            .unwrap()
+        };
+        let base = Arc::new(at(a));
+        assert_eq!(base.has_remainder(), case == 1);
+        let (s, curves) = base.smoothing_tangent_curves().unwrap();
+        assert_eq!(s, 1.0 / a);
+        let t = base.solve_tangents(&[curves], &options).unwrap().remove(0);
+        let h = 1e-3 * a;
+        let x: Vec<PdePatch> = [-2.0, -1.0, 1.0, 2.0]
+            .iter()
+            .map(|k| at(a + k * h))
+            .collect();
+        let size = base.scale();
+        for i in 0..=6 {
+            for j in 0..7 {
+                let (u, v) = (i as f64 / 6.0, j as f64 * TAU / 7.0 + 0.2);
+                let (pb, pt) = (base.partials(u, v), t.partials(u, v));
+                let exact = [
+                    pb.xu * (s * u) + pt.x,
+                    (pb.xu + pb.xuu * u) * s + pt.xu,
+                    pb.xuv * (s * u) + pt.xv,
+                ];
+                let p: Vec<Partials> = x.iter().map(|x| x.partials(u, v)).collect();
+                let parts = |p: &Partials| [p.x, p.xu, p.xv];
+                for (c, exact) in exact.iter().enumerate() {
+                    let (m2, m1, p1, p2) = (
+                        parts(&p[0])[c],
+                        parts(&p[1])[c],
+                        parts(&p[2])[c],
+                        parts(&p[3])[c],
+                    );
+                    let d = (p1 - m1) / (2.0 * h);
+                    let third = (p2 - p1 * 2.0 + m1 * 2.0 - m2) / (2.0 * h * h * h);
+                    let bound = 2.0 * h * h / 6.0 * third.norm() + 4.0 * 1e-13 * size / h;
+                    let err = (exact - d).norm();
+                    assert!(
+                        err <= bound,
+                        "case {case}, ({u}, {v}), partial {c}: {exact:?} vs {d:?} ({err:e} > {bound:e})",
+                    );
+                }
+            }
+        }
+    }
 }

@@ -1,0 +1,473 @@
+//! The adjoint of a quadrature over a patch's partials: linear functionals of the tangents of a
+//! patch, gathered once over the nodes and applied to each tangent's mode coefficients.
+//!
+//! A linear functional of a surface's partials at a tensor grid of nodes `(u_a, v_b)`,
+//! `ℓ[T] = Σ_ab G_ab · (T, T_u, T_v, T_uu, T_uv, T_vv)(u_a, v_b)` (the weights `G_ab`, 18 numbers
+//! per node and functional, include the quadrature weights), is for a PDE patch
+//! `T = Σ_n Σ_j ψ_nj(u) (a_nj cos nv + b_nj sin nv) + Σ_i w_i(u) Δ_i(v)` linear in its mode
+//! coefficients `a_nj, b_nj` and its remainder's `Δ_i(v_b)`:
+//!
+//! ```text
+//! ℓ[T] = Σ_n Σ_j a_nj · α_nj + b_nj · β_nj + Σ_i Σ_b Σ_{k≤2} Δ_i^{(k)}(v_b) · ρ_ibk
+//! α_nj = Σ_a ψ_nj(u_a) (C_x − n² C_vv − n S_v) + ψ'_nj(u_a) (C_u − n S_uv) + ψ''_nj(u_a) C_uu
+//! β_nj = Σ_a ψ_nj(u_a) (S_x − n² S_vv + n C_v) + ψ'_nj(u_a) (S_u + n C_uv) + ψ''_nj(u_a) S_uu
+//! ```
+//!
+//! with `C_q = Σ_b G_ab,q cos n v_b`, `S_q = Σ_b G_ab,q sin n v_b` per row `a`, and
+//! `ρ_ib0 = Σ_a w_i G_x + w_i' G_u + w_i'' G_uu`, `ρ_ib1 = Σ_a w_i G_v + w_i' G_uv`,
+//! `ρ_ib2 = Σ_a w_i G_vv`. The tangents of one patch share its mode bases and cardinal
+//! functions (the same operator and condition places), so the weights `α, β, ρ` are gathered in
+//! one pass over the nodes whatever the number of tangents, and each tangent costs a dot
+//! product of its coefficients (and, with a remainder, its `Δ_i` at the `v` nodes).
+//!
+//! A tangent may also carry `s · u X_u` of the patch `X` itself (the derivative along the
+//! smoothing parameter, [`PdePatch::smoothing_tangent_curves`]): the same sums with the basis
+//! `u ψ'` (derivatives `ψ' + u ψ''`, `2ψ'' + u ψ'''`) and cardinal functions `u w_i'`, applied
+//! to `X`'s own coefficients.
+
+use super::{ModeFn, PdePatch};
+use crate::{Error, Result, Vec3};
+use rayon::prelude::*;
+
+/// Numbers per node and functional: `X, X_u, X_v, X_uu, X_uv, X_vv` (x, y, z each).
+pub const NODE_WEIGHTS: usize = 18;
+
+/// The offsets of the six partials in a node's 18 weights.
+const X: usize = 0;
+const XU: usize = 3;
+const XV: usize = 6;
+const XUU: usize = 9;
+const XUV: usize = 12;
+const XVV: usize = 15;
+
+/// A tangent of a patch for [`PdePatch::quadrature_adjoint`]: `patch + stretch · u X_u` with `X`
+/// the patch the adjoint is gathered on.
+#[derive(Clone, Copy)]
+pub struct AdjointTangent<'a> {
+    /// The tangent patch (solved with the same operator and condition places).
+    pub patch: &'a PdePatch,
+    /// The factor of `u X_u` (0 for a direction of the condition curves).
+    pub stretch: f64,
+}
+
+/// What one pass gathers: the offsets of each part in one flat accumulator.
+struct Layout {
+    outputs: usize,
+    /// The basis functions per mode (`2N`).
+    len: usize,
+    /// The modes gathered (with the tangents' patches' coefficients).
+    live: Vec<usize>,
+    /// The modes gathered in the stretched basis (`X`'s own non-zero modes), when a tangent
+    /// has a stretch.
+    stretched: Vec<usize>,
+    /// The remainder's weights are gathered (some tangent has a remainder), with the cardinal
+    /// functions of that tangent.
+    remainder: Option<usize>,
+    /// The stretched remainder's weights (a tangent has a stretch and `X` a remainder).
+    stretched_remainder: bool,
+    conditions: usize,
+    nv: usize,
+}
+
+impl Layout {
+    fn mode_block(&self) -> usize {
+        self.outputs * self.len * 6
+    }
+    fn remainder_block(&self) -> usize {
+        self.conditions * self.nv * 3 * self.outputs * 3
+    }
+    fn stretched_at(&self) -> usize {
+        self.live.len() * self.mode_block()
+    }
+    fn remainder_at(&self) -> usize {
+        self.stretched_at() + self.stretched.len() * self.mode_block()
+    }
+    fn stretched_remainder_at(&self) -> usize {
+        self.remainder_at()
+            + if self.remainder.is_some() {
+                self.remainder_block()
+            } else {
+                0
+            }
+    }
+    fn total(&self) -> usize {
+        self.stretched_remainder_at()
+            + if self.stretched_remainder {
+                self.remainder_block()
+            } else {
+                0
+            }
+    }
+}
+
+/// The basis functions of a mode and their first three u-derivatives at `u` (the third only
+/// when `third`): `out[d][j]`.
+fn basis_at(mode: &ModeFn, u: f64, third: bool, out: &mut [Vec<f64>; 4]) {
+    let [b0, b1, b2, b3] = out;
+    mode.basis
+        .eval012(u, [&mut b0[..], &mut b1[..], &mut b2[..]]);
+    if third {
+        mode.basis.eval(u, 3, b3);
+    }
+}
+
+/// Adds `f_d(u)`-weighted row sums into a mode's block `w[(o·len + j)·6 + c]`: `phi[d][j]` are
+/// the basis function `j`'s values and derivatives at the row, `p[o][d]`, `q[o][d]` the row's
+/// cosine and sine combinations (see the module documentation).
+#[allow(clippy::needless_range_loop)] // j indexes three basis rows and the block
+fn add_mode(w: &mut [f64], phi: [&[f64]; 3], p: &[[Vec3; 3]], q: &[[Vec3; 3]], len: usize) {
+    for (o, (p, q)) in p.iter().zip(q).enumerate() {
+        for j in 0..len {
+            let (f0, f1, f2) = (phi[0][j], phi[1][j], phi[2][j]);
+            let a = p[0] * f0 + p[1] * f1 + p[2] * f2;
+            let b = q[0] * f0 + q[1] * f1 + q[2] * f2;
+            let at = (o * len + j) * 6;
+            for k in 0..3 {
+                w[at + k] += a[k];
+                w[at + 3 + k] += b[k];
+            }
+        }
+    }
+}
+
+/// Adds a row's remainder weights `ρ` into `r[((i·nv + b)·3 + k)·outputs + o]` (Vec3 as three
+/// numbers): `card[d][i]` the cardinal functions' values and derivatives at the row, `g` the
+/// row's node weights `[b][o][18]`.
+fn add_remainder(r: &mut [f64], card: [&[f64]; 3], g: &[f64], lay: &Layout, active: &[bool]) {
+    let (nv, outputs) = (lay.nv, lay.outputs);
+    for (i, _) in active.iter().enumerate().filter(|(_, a)| **a) {
+        let (w0, w1, w2) = (card[0][i], card[1][i], card[2][i]);
+        for b in 0..nv {
+            for o in 0..outputs {
+                let gq = &g[(b * outputs + o) * NODE_WEIGHTS..][..NODE_WEIGHTS];
+                let at = ((i * nv + b) * 3) * outputs * 3 + o * 3;
+                let step = outputs * 3;
+                for c in 0..3 {
+                    r[at + c] += w0 * gq[X + c] + w1 * gq[XU + c] + w2 * gq[XUU + c];
+                    r[at + step + c] += w0 * gq[XV + c] + w1 * gq[XUV + c];
+                    r[at + 2 * step + c] += w0 * gq[XVV + c];
+                }
+            }
+        }
+    }
+}
+
+/// `Σ_i Σ_b Σ_k Δ_i^{(k)}(v_b) · ρ_ibk` for `outputs` functionals, with `Δ` of `patch`.
+fn apply_remainder(r: &[f64], patch: &PdePatch, vs: &[f64], outputs: usize, out: &mut [f64]) {
+    let Some(rem) = &patch.remainder else {
+        return;
+    };
+    let nv = vs.len();
+    let conditions = patch.conditions();
+    for i in (0..conditions.len()).filter(|&i| rem.active[i]) {
+        for (b, &v) in vs.iter().enumerate() {
+            let d = rem.delta(conditions, i, v, 2);
+            for (k, dk) in d.iter().enumerate() {
+                let at = ((i * nv + b) * 3 + k) * outputs * 3;
+                for (o, out) in out.iter_mut().enumerate() {
+                    let w = &r[at + o * 3..at + o * 3 + 3];
+                    *out += w[0] * dk.x + w[1] * dk.y + w[2] * dk.z;
+                }
+            }
+        }
+    }
+}
+
+/// `Σ_j Σ_c w[(o·len + j)·6 + c] · coef[(j, c)]` for every functional `o`.
+fn apply_mode(w: &[f64], mode: &ModeFn, outputs: usize, len: usize, out: &mut [f64]) {
+    for (o, out) in out.iter_mut().enumerate().take(outputs) {
+        let mut s = 0.0;
+        for j in 0..len {
+            for c in 0..6 {
+                s += w[(o * len + j) * 6 + c] * mode.coef[(j, c)];
+            }
+        }
+        *out += s;
+    }
+}
+
+impl PdePatch {
+    /// `outputs` linear functionals of the partials of each tangent in `tangents`, gathered
+    /// once over the nodes `us × vs` (see the module documentation): `weights(a, row)` writes
+    /// the weights of row `u_a` into `row[(b·outputs + o)·18 + q]` (`q` over `X, X_u, X_v, X_uu,
+    /// X_uv, X_vv`, x, y, z each; the quadrature weights included). The result's `[k][o]` is
+    /// functional `o` of tangent `k`, equal to the sum over the nodes of the weights times the
+    /// tangent's partials up to the rounding of the sums.
+    ///
+    /// Every tangent must be a solution with this patch's operator and condition places (such
+    /// as [`PdePatch::solve_tangents`]' patches), so it shares this patch's mode bases and the
+    /// remainder's cardinal functions.
+    pub fn quadrature_adjoint(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        outputs: usize,
+        weights: &(dyn Fn(usize, &mut [f64]) + Sync),
+        tangents: &[AdjointTangent],
+    ) -> Result<Vec<Vec<f64>>> {
+        let nm = self.modes.len();
+        let len = self.modes[0].basis.len();
+        for (k, t) in tangents.iter().enumerate() {
+            let p = t.patch;
+            let same = p.modes.len() == nm
+                && p.conditions().len() == self.conditions().len()
+                && p.modes.iter().zip(&self.modes).all(|(a, b)| {
+                    a.basis.kind() == b.basis.kind() && a.basis.len() == b.basis.len()
+                });
+            if !same {
+                return Err(Error::invalid(format!(
+                    "tangent {k} is not solved with the patch's modes and bases"
+                )));
+            }
+        }
+        let live: Vec<usize> = (0..nm)
+            .filter(|&n| tangents.iter().any(|t| !t.patch.modes[n].zero))
+            .collect();
+        let stretch = tangents.iter().any(|t| t.stretch != 0.0);
+        let stretched: Vec<usize> = if stretch {
+            (0..nm).filter(|&n| !self.modes[n].zero).collect()
+        } else {
+            Vec::new()
+        };
+        let remainder = tangents.iter().position(|t| t.patch.remainder.is_some());
+        let lay = Layout {
+            outputs,
+            len,
+            live,
+            stretched,
+            remainder,
+            stretched_remainder: stretch && self.remainder.is_some(),
+            conditions: self.conditions().len(),
+            nv: vs.len(),
+        };
+        // The cardinal functions of the tangents' remainder (all the same), and every
+        // condition that is active in some tangent.
+        let cardinal = lay
+            .remainder
+            .and_then(|k| tangents[k].patch.remainder.as_ref());
+        let active: Vec<bool> = (0..lay.conditions)
+            .map(|i| {
+                tangents
+                    .iter()
+                    .any(|t| t.patch.remainder.as_ref().is_some_and(|r| r.active[i]))
+            })
+            .collect();
+        let total = lay.total();
+        let block = vs.len() * outputs * NODE_WEIGHTS;
+        // cos(n v_b), sin(n v_b) of the live and stretched modes.
+        let trig: Vec<(Vec<f64>, Vec<f64>)> = (0..nm)
+            .map(|n| {
+                if lay.live.contains(&n) || lay.stretched.contains(&n) {
+                    vs.iter()
+                        .map(|&v| {
+                            let (s, c) = (n as f64 * v).sin_cos();
+                            (c, s)
+                        })
+                        .unzip()
+                } else {
+                    (Vec::new(), Vec::new())
+                }
+            })
+            .collect();
+        // Each row's sums, then their total in row order: the same bits whatever the number
+        // of threads.
+        let rows: Vec<Vec<f64>> = (0..us.len())
+            .into_par_iter()
+            .map_init(
+                || Scratch::new(total, block, outputs, len, lay.conditions),
+                |s, a| {
+                    s.acc.fill(0.0);
+                    s.row(a, us[a], weights, &lay, self, cardinal, &active, &trig);
+                    s.acc.clone()
+                },
+            )
+            .collect();
+        let mut acc = vec![0.0; total];
+        for r in &rows {
+            acc.iter_mut().zip(r).for_each(|(x, y)| *x += y);
+        }
+        let mb = lay.mode_block();
+        let mut base_part = vec![0.0; outputs];
+        if stretch {
+            for (k, &n) in lay.stretched.iter().enumerate() {
+                let w = &acc[lay.stretched_at() + k * mb..][..mb];
+                apply_mode(w, &self.modes[n], outputs, len, &mut base_part);
+            }
+            if lay.stretched_remainder {
+                let r = &acc[lay.stretched_remainder_at()..][..lay.remainder_block()];
+                apply_remainder(r, self, vs, outputs, &mut base_part);
+            }
+        }
+        Ok(tangents
+            .iter()
+            .map(|t| {
+                let mut out = vec![0.0; outputs];
+                for (k, &n) in lay.live.iter().enumerate() {
+                    if !t.patch.modes[n].zero {
+                        apply_mode(
+                            &acc[k * mb..][..mb],
+                            &t.patch.modes[n],
+                            outputs,
+                            len,
+                            &mut out,
+                        );
+                    }
+                }
+                if lay.remainder.is_some() {
+                    let r = &acc[lay.remainder_at()..][..lay.remainder_block()];
+                    apply_remainder(r, t.patch, vs, outputs, &mut out);
+                }
+                for (o, b) in out.iter_mut().zip(&base_part) {
+                    *o += t.stretch * b;
+                }
+                out
+            })
+            .collect())
+    }
+}
+
+/// One thread's accumulator and row buffers.
+struct Scratch {
+    acc: Vec<f64>,
+    g: Vec<f64>,
+    /// Per functional: the row's cosine and sine sums of the 18 weights.
+    cs: Vec<[f64; NODE_WEIGHTS]>,
+    sn: Vec<[f64; NODE_WEIGHTS]>,
+    phi: [Vec<f64>; 4],
+    stretched: [Vec<f64>; 3],
+    card: [Vec<f64>; 4],
+    card_stretched: [Vec<f64>; 3],
+    p: Vec<[Vec3; 3]>,
+    q: Vec<[Vec3; 3]>,
+}
+
+impl Scratch {
+    fn new(total: usize, block: usize, outputs: usize, len: usize, conditions: usize) -> Self {
+        let v = |n: usize| vec![0.0; n];
+        Scratch {
+            acc: v(total),
+            g: v(block),
+            cs: vec![[0.0; NODE_WEIGHTS]; outputs],
+            sn: vec![[0.0; NODE_WEIGHTS]; outputs],
+            phi: [v(len), v(len), v(len), v(len)],
+            stretched: [v(len), v(len), v(len)],
+            card: [v(conditions), v(conditions), v(conditions), v(conditions)],
+            card_stretched: [v(conditions), v(conditions), v(conditions)],
+            p: vec![[Vec3::zeros(); 3]; outputs],
+            q: vec![[Vec3::zeros(); 3]; outputs],
+        }
+    }
+
+    /// The sums of row `a` (at `u`) into the accumulator.
+    #[allow(clippy::too_many_arguments)]
+    fn row(
+        &mut self,
+        a: usize,
+        u: f64,
+        weights: &(dyn Fn(usize, &mut [f64]) + Sync),
+        lay: &Layout,
+        patch: &PdePatch,
+        cardinal: Option<&super::patch::Remainder>,
+        active: &[bool],
+        trig: &[(Vec<f64>, Vec<f64>)],
+    ) {
+        weights(a, &mut self.g);
+        let outputs = lay.outputs;
+        let mb = lay.mode_block();
+        let modes = lay
+            .live
+            .iter()
+            .map(|&n| (n, false))
+            .chain(lay.stretched.iter().map(|&n| (n, true)));
+        for (k, (n, stretched)) in modes.enumerate() {
+            let (cos, sin) = &trig[n];
+            // The row's cosine and sine sums of every functional's 18 weights.
+            for (c, s) in self.cs.iter_mut().zip(self.sn.iter_mut()) {
+                *c = [0.0; NODE_WEIGHTS];
+                *s = [0.0; NODE_WEIGHTS];
+            }
+            for (b, (&cb, &sb)) in cos.iter().zip(sin).enumerate() {
+                for o in 0..outputs {
+                    let g = &self.g[(b * outputs + o) * NODE_WEIGHTS..][..NODE_WEIGHTS];
+                    let (c, s) = (&mut self.cs[o], &mut self.sn[o]);
+                    for q in 0..NODE_WEIGHTS {
+                        c[q] += g[q] * cb;
+                        s[q] += g[q] * sb;
+                    }
+                }
+            }
+            let nf = n as f64;
+            let v3 = |x: &[f64; NODE_WEIGHTS], q: usize| Vec3::new(x[q], x[q + 1], x[q + 2]);
+            for o in 0..outputs {
+                let (c, s) = (&self.cs[o], &self.sn[o]);
+                self.p[o] = [
+                    v3(c, X) - v3(c, XVV) * (nf * nf) - v3(s, XV) * nf,
+                    v3(c, XU) - v3(s, XUV) * nf,
+                    v3(c, XUU),
+                ];
+                self.q[o] = [
+                    v3(s, X) - v3(s, XVV) * (nf * nf) + v3(c, XV) * nf,
+                    v3(s, XU) + v3(c, XUV) * nf,
+                    v3(s, XUU),
+                ];
+            }
+            basis_at(&patch.modes[n], u, stretched, &mut self.phi);
+            let w = &mut self.acc[k * mb..][..mb];
+            if stretched {
+                // u ψ' and its two u-derivatives.
+                let [f0, f1, f2] = &mut self.stretched;
+                for j in 0..lay.len {
+                    let [p1, p2, p3] = [self.phi[1][j], self.phi[2][j], self.phi[3][j]];
+                    f0[j] = u * p1;
+                    f1[j] = p1 + u * p2;
+                    f2[j] = 2.0 * p2 + u * p3;
+                }
+                add_mode(w, [f0, f1, f2], &self.p, &self.q, lay.len);
+            } else {
+                add_mode(
+                    w,
+                    [&self.phi[0], &self.phi[1], &self.phi[2]],
+                    &self.p,
+                    &self.q,
+                    lay.len,
+                );
+            }
+        }
+        if let Some(r) = cardinal {
+            for (d, c) in self.card.iter_mut().take(3).enumerate() {
+                r.cardinal.eval(u, d, c);
+            }
+            let at = lay.remainder_at();
+            let card = [&self.card[0][..], &self.card[1][..], &self.card[2][..]];
+            add_remainder(
+                &mut self.acc[at..at + lay.remainder_block()],
+                card,
+                &self.g,
+                lay,
+                active,
+            );
+        }
+        if lay.stretched_remainder {
+            if let Some(r) = &patch.remainder {
+                for d in 1..4 {
+                    r.cardinal.eval(u, d, &mut self.card[d]);
+                }
+                let [f0, f1, f2] = &mut self.card_stretched;
+                for i in 0..lay.conditions {
+                    let [w1, w2, w3] = [self.card[1][i], self.card[2][i], self.card[3][i]];
+                    f0[i] = u * w1;
+                    f1[i] = w1 + u * w2;
+                    f2[i] = 2.0 * w2 + u * w3;
+                }
+                let at = lay.stretched_remainder_at();
+                add_remainder(
+                    &mut self.acc[at..at + lay.remainder_block()],
+                    [f0, f1, f2],
+                    &self.g,
+                    lay,
+                    &r.active,
+                );
+            }
+        }
+    }
+}
