@@ -98,9 +98,9 @@ def test_gradient_names_and_errors():
     assert g["names"] == ["a", "d1Tx"] and "d_objective" not in g
     assert g["d_measures"]["area"].shape == (2,)
     full = d.gradient()
-    # The exact parameters (all but `a`) in one batched tangent solve.
-    assert full["batch"] == sum(full["exact"]) == len(full["names"]) - 1 == 18
-    assert full["tangent_solves"] == 1 and g["batch"] == 1
+    # Every parameter (`a` included: exact too) in one batched tangent solve.
+    assert full["batch"] == sum(full["exact"]) == len(full["names"]) == 19
+    assert full["tangent_solves"] == 1 and g["batch"] == 2
     k = full["names"].index("d1Tx")
     assert g["d_measures"]["area"][1] == pytest.approx(full["d_measures"]["area"][k], rel=1e-12)
     with pytest.raises(DesignError, match="nosuch"):
