@@ -1681,6 +1681,29 @@ mod tests {
         }
     }
 
+    /// The unit vector at `deg` degrees in the xy-plane.
+    fn dir(deg: f64) -> Vec3 {
+        let r = deg.to_radians();
+        Vec3::new(r.cos(), r.sin(), 0.0)
+    }
+
+    /// Four faces about vertex 0 (the origin, normal +z) in the xy-plane: points, layout and
+    /// normals.
+    fn fan() -> (Vec<Vec3>, Layout, Vec<Vec3>) {
+        let points = vec![
+            Vec3::zeros(),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(0.0, -1.0, 0.0),
+        ];
+        let layout = Layout {
+            vertices: (0..5).collect(),
+            faces: vec![vec![0, 1, 2], vec![0, 2, 3], vec![0, 3, 4], vec![0, 4, 1]],
+        };
+        (points, layout, vec![Vec3::z(); 5])
+    }
+
     fn tangent_at(e: &PatchworkEdgeSpec, v: usize) -> Vec3 {
         let t = |k: usize| Vec3::new(e.tangents[k][0], e.tangents[k][1], e.tangents[k][2]);
         if e.ends[0] == v {
@@ -1721,22 +1744,7 @@ mod tests {
     /// lengths, and the tangents at the other vertices (whose corners were fine) do not move.
     #[test]
     fn a_closed_corner_is_opened_in_the_tangent_plane() {
-        let points = vec![
-            Vec3::zeros(),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(-1.0, 0.0, 0.0),
-            Vec3::new(0.0, -1.0, 0.0),
-        ];
-        let layout = Layout {
-            vertices: (0..5).collect(),
-            faces: vec![vec![0, 1, 2], vec![0, 2, 3], vec![0, 3, 4], vec![0, 4, 1]],
-        };
-        let normals = vec![Vec3::z(); 5];
-        let dir = |deg: f64| {
-            let r = deg.to_radians();
-            Vec3::new(r.cos(), r.sin(), 0.0)
-        };
+        let (points, layout, normals) = fan();
         let chord = |a: usize, b: usize| points[b] - points[a];
         let mut edges = vec![
             // Leaving 0 at 0°, 0.2°, 180.1° and 270°: the first face's corner 0.2°, the
@@ -1793,10 +1801,6 @@ mod tests {
         let mut normals = vec![-Vec3::z(); 4];
         normals[0] = Vec3::z();
         let chord = |a: usize, b: usize| points[b] - points[a];
-        let dir = |deg: f64| {
-            let r = deg.to_radians();
-            Vec3::new(r.cos(), r.sin(), 0.0)
-        };
         let mut edges = vec![
             edge(0, 1, dir(0.0), chord(0, 1)),
             edge(0, 2, dir(0.2), chord(0, 2)),
@@ -1827,22 +1831,7 @@ mod tests {
     /// and 0–3 are marked, 0–4 and the rim not.
     #[test]
     fn folds_are_creased_before_the_solve() {
-        let points = [
-            Vec3::zeros(),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(-1.0, 0.0, 0.0),
-            Vec3::new(0.0, -1.0, 0.0),
-        ];
-        let layout = Layout {
-            vertices: (0..5).collect(),
-            faces: vec![vec![0, 1, 2], vec![0, 2, 3], vec![0, 3, 4], vec![0, 4, 1]],
-        };
-        let normals = vec![Vec3::z(); 5];
-        let dir = |deg: f64| {
-            let r = deg.to_radians();
-            Vec3::new(r.cos(), r.sin(), 0.0)
-        };
+        let (points, layout, normals) = fan();
         let chord = |a: usize, b: usize| points[b] - points[a];
         let edges = vec![
             edge(0, 1, dir(0.0), chord(0, 1)),
