@@ -1000,6 +1000,25 @@ const MIN_FACE_CORNER: f64 = 5.0;
 /// Rounds of [`spread_corners`]' relaxation at a vertex.
 const SPREAD_ROUNDS: usize = 64;
 
+/// The index of every edge by its ends, in the order the edge gives them.
+fn edge_index(edges: &[PatchworkEdgeSpec]) -> HashMap<(usize, usize), usize> {
+    let mut edge_of = HashMap::with_capacity(edges.len());
+    for (e, edge) in edges.iter().enumerate() {
+        edge_of.insert((edge.ends[0], edge.ends[1]), e);
+    }
+    edge_of
+}
+
+/// The tangent of edge `e` leaving its end `v`.
+fn leaving(edges: &[PatchworkEdgeSpec], e: usize, v: usize) -> Vec3 {
+    let vec = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
+    if edges[e].ends[0] == v {
+        vec(edges[e].tangents[0])
+    } else {
+        -vec(edges[e].tangents[1])
+    }
+}
+
 /// Where some face's corner at a layout vertex has its two sides' end tangents within
 /// [`MIN_SIDE_ANGLE`] of the same or the opposite direction, turns the edges' tangents there
 /// in the vertex's tangent plane until every face's corner opens by at least
@@ -1020,19 +1039,7 @@ fn spread_corners(
     corner: &[Vec3],
     edges: &mut [PatchworkEdgeSpec],
 ) {
-    let vec = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
-    let mut edge_of: HashMap<(usize, usize), usize> = HashMap::with_capacity(edges.len());
-    for (e, edge) in edges.iter().enumerate() {
-        edge_of.insert((edge.ends[0], edge.ends[1]), e);
-    }
-    // The tangent of edge `e` leaving its end `v`.
-    let leaving = |edges: &[PatchworkEdgeSpec], e: usize, v: usize| -> Vec3 {
-        if edges[e].ends[0] == v {
-            vec(edges[e].tangents[0])
-        } else {
-            -vec(edges[e].tangents[1])
-        }
-    };
+    let edge_of = edge_index(edges);
     // Per vertex: its faces' corners as (edge to the next corner, edge from the previous one).
     let mut corners: Vec<Vec<(usize, usize)>> = vec![Vec::new(); layout.vertices.len()];
     for face in &layout.faces {
@@ -1149,18 +1156,7 @@ fn spread_corners(
 /// on the layout's tangents, made once before the first solve, so that loop is left with the
 /// rare fold it does not foresee.
 fn crease_folds(layout: &Layout, corner: &[Vec3], edges: &mut [PatchworkEdgeSpec]) {
-    let vec = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
-    let mut edge_of: HashMap<(usize, usize), usize> = HashMap::with_capacity(edges.len());
-    for (e, edge) in edges.iter().enumerate() {
-        edge_of.insert((edge.ends[0], edge.ends[1]), e);
-    }
-    let leaving = |edges: &[PatchworkEdgeSpec], e: usize, v: usize| -> Vec3 {
-        if edges[e].ends[0] == v {
-            vec(edges[e].tangents[0])
-        } else {
-            -vec(edges[e].tangents[1])
-        }
-    };
+    let edge_of = edge_index(edges);
     let mut fold = vec![false; edges.len()];
     for face in &layout.faces {
         let m = face.len();
