@@ -41,7 +41,8 @@ pub(super) fn curve_points(grid: (usize, usize)) -> usize {
 }
 /// Teeth of the curvature combs across a shared edge (per side).
 const SEAM_COMB_TEETH: usize = 64;
-/// Derivative vectors drawn per derivative condition.
+/// Derivative vectors drawn per derivative condition (a power of two: on an attachment their
+/// `v` are the solve's samples, whose host jets are kept).
 const VECTORS: usize = 32;
 
 fn p3(p: &pdeshape::Vec3) -> [f64; 3] {
