@@ -121,6 +121,9 @@ test('dragging a control point re-solves the surface; save and undo follow', asy
   assert.notDeepEqual(digestAfter.bounds, digestBefore.bounds, 'the surface did not change');
   const perf = await page.evaluate(() => window.__pdeshape.perf);
   assert.ok(perf.sent <= 20, `${perf.sent} requests for 20 moves`);
+  // The drag's frames came over the page's socket, not one fetch each.
+  const transport = await page.evaluate(() => window.__pdeshape.transport);
+  assert.ok(transport.socket >= perf.sent, `${transport.socket} frames over the socket for ${perf.sent} requests`);
 
   // Save: the file holds the dragged point and the CLI reads it back.
   await page.fill('#save-path', 'dragged.toml');

@@ -74,12 +74,83 @@ export function decodeFrame(buffer) {
   return { scene, surfaces };
 }
 
+// The frames' requests go over one WebSocket while it is open (a browser's fetch costs a few
+// milliseconds of its own per request, a message on an open socket well under one; see
+// serve/socket.rs), else over HTTP. A request whose socket closes before its answer fails
+// (the server may or may not have done it; the next frame shows which).
+class Socket {
+  constructor() {
+    this.ws = null;
+    this.next = 1;
+    this.waiting = new Map();
+    this.retryAt = 0;
+  }
+
+  // True when requests can go over the socket now; else starts opening it (at most every 2 s).
+  ready() {
+    if (this.ws && this.ws.readyState === WebSocket.OPEN) return true;
+    if (typeof WebSocket === 'undefined' || this.ws || performance.now() < this.retryAt) return false;
+    this.retryAt = performance.now() + 2000;
+    const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
+    const ws = new WebSocket(`${scheme}//${location.host}/socket?token=${encodeURIComponent(token)}`);
+    ws.binaryType = 'arraybuffer';
+    ws.onmessage = (ev) => this.answer(ev.data);
+    ws.onclose = () => {
+      this.ws = null;
+      for (const w of this.waiting.values()) w.reject(new ApiError(0, 'the connection to the server closed', ''));
+      this.waiting.clear();
+    };
+    this.ws = ws;
+    return false;
+  }
+
+  send(method, path, body) {
+    const id = this.next++;
+    const message = { id, method, path };
+    if (body !== undefined) message.body = body;
+    return new Promise((resolve, reject) => {
+      this.waiting.set(id, { resolve, reject, started: performance.now() });
+      this.ws.send(JSON.stringify(message));
+    });
+  }
+
+  // An answer: id (u32), HTTP status (u16), kind (u16: 0 a frame, 1 JSON), then its bytes.
+  answer(data) {
+    if (!(data instanceof ArrayBuffer) || data.byteLength < 8) return;
+    const head = new DataView(data, 0, 8);
+    const id = head.getUint32(0, true), status = head.getUint16(4, true), kind = head.getUint16(6, true);
+    const w = this.waiting.get(id);
+    if (!w) return;
+    this.waiting.delete(id);
+    const body = data.slice(8);
+    if (status >= 200 && status < 300 && kind === 0) {
+      try {
+        const frame = decodeFrame(body);
+        frame.roundTripMs = performance.now() - w.started;
+        frame.bytes = body.byteLength;
+        transport.socket += 1;
+        w.resolve(frame);
+      } catch (e) { w.reject(e); }
+      return;
+    }
+    let j = {};
+    try { j = JSON.parse(new TextDecoder().decode(body)); } catch (_) { /* not JSON */ }
+    w.reject(new ApiError(status, j.error || `the server answered ${status}`, j.place || ''));
+  }
+}
+const socket = new Socket();
+// Frames received by each way (the tests check that a drag's go over the socket).
+export const transport = { socket: 0, http: 0 };
+socket.ready(); // opened with the page, so the first gesture finds it open
+
 async function frameOf(method, path, body) {
+  if (socket.ready()) return socket.send(method, path, body);
   const { response, started } = await request(method, path, body);
   const buffer = await response.arrayBuffer();
   const frame = decodeFrame(buffer);
   frame.roundTripMs = performance.now() - started;
   frame.bytes = buffer.byteLength;
+  transport.http += 1;
   return frame;
 }
 

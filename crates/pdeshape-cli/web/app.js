@@ -3,7 +3,7 @@
 // drag, a slider gesture or playback runs, at most one of its requests is in flight and only
 // the newest value waits (channel.js: coalesced, never queued).
 
-import { api, ApiError } from './api.js';
+import { api, ApiError, transport } from './api.js';
 import { Channel } from './channel.js';
 import { View, COLORS, GESTURE_PIXELS } from './view.js';
 import { UvPanel } from './uv.js';
@@ -239,7 +239,7 @@ function refine() {
 }
 // True when no gesture has a request in flight or waiting and the full grid is on screen.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null && refineTimer === null && !refining;
-window.__pdeshape = { perf, gestureBudget: { triangles: GESTURE_TRIANGLES, pixels: GESTURE_PIXELS }, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
+window.__pdeshape = { perf, transport, gestureBudget: { triangles: GESTURE_TRIANGLES, pixels: GESTURE_PIXELS }, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;

@@ -6,6 +6,7 @@
 //! | request | answer |
 //! |---|---|
 //! | `GET /?token=T` | the page |
+//! | `GET /socket?token=T` | a WebSocket carrying the `/api/` requests below ([`super::socket`]) |
 //! | `GET /app.js`, `/view.js`, … | the page's modules |
 //! | `GET /api/frame?nu&nv&color&range&comb` | a frame (scene JSON + meshes, [`super::scene`]); `color` none, gauss, mean or abs (absolute curvature), `range=lo,hi` its colour range (default: the 2nd–98th percentile by area, the true range in `color_full_range`); `comb=1` adds each curve's curvature comb |
 //! | `POST /api/edit?nu&nv&color` `{"edit": Edit, "group": n?, "world": bool?}` | a frame |
@@ -27,6 +28,7 @@ use super::gestures::{self, LocalRequest, SpineRequest};
 use super::library;
 use super::scene::{self, Drawn};
 use super::session::{Coloring, Session};
+use super::socket;
 use super::trimmed;
 use axum::body::{Body, Bytes};
 use axum::extract::{DefaultBodyLimit, Query, Request, State};
@@ -80,14 +82,26 @@ pub(super) fn router(state: AppState) -> Router {
         .route("/download", get(download))
         .fallback(|| async { ApiError::not_found("no such API request", "") })
         .layer(middleware::from_fn_with_state(state.clone(), api_guard));
-    Router::new()
+    let pages = Router::new()
         .route("/", get(page))
         .route("/{file}", get(asset))
-        .nest("/api", api)
+        .nest("/api", api);
+    // The socket's requests run through the same routes and guards as HTTP's.
+    let inner = guarded(pages.clone(), &state);
+    let with_socket = pages.route(
+        "/socket",
+        get(move |st, q, headers, upgrade| socket::open(st, q, headers, inner.clone(), upgrade)),
+    );
+    guarded(with_socket, &state)
+}
+
+/// `routes` behind the checks of every request: Host and Origin, the body's size and time.
+fn guarded(routes: Router<AppState>, state: &AppState) -> Router {
+    routes
         .layer(middleware::from_fn_with_state(state.clone(), host_guard))
         .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(middleware::from_fn(edge))
-        .with_state(state)
+        .with_state(state.clone())
 }
 
 /// A request's body must arrive within this time once its headers have; slower ones get 408.
@@ -160,7 +174,7 @@ fn closing(e: ApiError) -> Response {
 }
 
 /// `a == b` in time independent of where they differ.
-fn same_secret(a: &[u8], b: &[u8]) -> bool {
+pub(super) fn same_secret(a: &[u8], b: &[u8]) -> bool {
     a.len() == b.len() && a.iter().zip(b).fold(0u8, |acc, (x, y)| acc | (x ^ y)) == 0
 }
 

@@ -14,10 +14,13 @@ mod http;
 mod library;
 mod scene;
 mod session;
+mod socket;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tests_ops;
+#[cfg(test)]
+mod tests_socket;
 mod timeline;
 mod trimmed;
 mod uv;
@@ -103,6 +106,7 @@ async fn serve_bounded(listener: tokio::net::TcpListener, router: axum::Router) 
                 .timer(hyper_util::rt::TokioTimer::new())
                 .header_read_timeout(HEADER_TIMEOUT)
                 .serve_connection(hyper_util::rt::TokioIo::new(stream), service)
+                .with_upgrades()
                 .await;
         });
     }
