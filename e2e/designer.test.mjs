@@ -121,6 +121,8 @@ test('dragging a control point re-solves the surface; save and undo follow', asy
   assert.notDeepEqual(digestAfter.bounds, digestBefore.bounds, 'the surface did not change');
   const perf = await page.evaluate(() => window.__pdeshape.perf);
   assert.ok(perf.sent <= 20, `${perf.sent} requests for 20 moves`);
+  // Chromium on loopback (a secure context) gives the raw pointer updates the drag follows.
+  assert.equal(await page.evaluate(() => window.__pdeshape.moveEvent), 'pointerrawupdate');
   // The drag's frames came over the page's socket, not one fetch each.
   const transport = await page.evaluate(() => window.__pdeshape.transport);
   assert.ok(transport.socket >= perf.sent, `${transport.socket} frames over the socket for ${perf.sent} requests`);

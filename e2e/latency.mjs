@@ -1,5 +1,7 @@
-// Latency of a drag in the real browser: from the pointer event to the new surface drawn (a
-// pixel of it read back, which waits for the rasteriser), for the cup, the wine glass, the
+// Latency of a drag in the real browser: from the pointer event to the new surface on its way
+// to the screen — the page draws a frame as it arrives and the measure ends at the next
+// animation frame (the one that takes the drawing to the compositor), or later if a pixel of it
+// read back then (which waits for the rasteriser) is not ready — for the cup, the wine glass, the
 // teacup and the five-sided panel at 64 × 128 per patch. Prints p50/p95 of the whole, of the server's share (its own timing of re-solve +
 // tessellation + frame) and of the round trip; the browser's share is the rest (event handling,
 // decode, upload, draw).

@@ -4,7 +4,7 @@
 // the newest value waits (channel.js: coalesced, never queued).
 
 import { api, ApiError, transport } from './api.js';
-import { Channel } from './channel.js';
+import { Channel, MOVE_EVENT } from './channel.js';
 import { View, COLORS, GESTURE_PIXELS } from './view.js';
 import { UvPanel } from './uv.js';
 import { Timeline } from './timeline.js';
@@ -90,11 +90,8 @@ function show(frame, onDrawn, gesture = false) {
   status(`v${scene.version}  ${frame.surfaces.length} surfaces${trimmed ? ` (${trimmed} trimmed)` : ''}, ` +
     `${verts} vertices, ${(frame.bytes / 1024).toFixed(0)} KiB, server ${scene.server_ms.toFixed(1)} ms, ` +
     `round trip ${frame.roundTripMs.toFixed(1)} ms`);
-  view.onDrawn = () => {
-    view.onDrawn = null;
-    if (onDrawn) onDrawn();
-  };
-  view.request();
+  view.onDrawn = onDrawn || null;
+  view.drawNow();
   scheduleReports();
 }
 
@@ -239,7 +236,7 @@ function refine() {
 }
 // True when no gesture has a request in flight or waiting and the full grid is on screen.
 const idle = () => channels.every((c) => c.idle) && panelsTimer === null && refineTimer === null && !refining;
-window.__pdeshape = { perf, transport, gestureBudget: { triangles: GESTURE_TRIANGLES, pixels: GESTURE_PIXELS }, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
+window.__pdeshape = { perf, transport, moveEvent: MOVE_EVENT, gestureBudget: { triangles: GESTURE_TRIANGLES, pixels: GESTURE_PIXELS }, state: () => scene, lastFrame: () => lastFrame, view, uv, local, timeline, digest, idle, dirty: () => dirty() };
 
 // ---- Dragging in the 3D view: control points, spine handles, the local-edit handle ----------
 let drag = null;
@@ -318,7 +315,7 @@ view.canvas.addEventListener('pointerdown', (ev) => {
   view.request();
 });
 
-view.canvas.addEventListener('pointermove', (ev) => {
+view.canvas.addEventListener(MOVE_EVENT, (ev) => {
   if (!drag) return;
   view.setGesture(true);
   const [x, y] = pointerPos(ev);

@@ -41,3 +41,8 @@ export class Channel {
     return !this.inflight && !this.pending;
   }
 }
+
+// The pointer event gestures follow: Chromium's pointerrawupdate where the page has it (a secure
+// context, such as loopback) comes as the input arrives, where pointermove waits for the next
+// animation frame (up to 16.7 ms at 60 Hz) before a request could leave.
+export const MOVE_EVENT = 'onpointerrawupdate' in window ? 'pointerrawupdate' : 'pointermove';

@@ -4,6 +4,8 @@
 // Drag a curve to move it (MoveTrimCurve / MoveAttachment by offsets), drag its handles (centre,
 // radii, points) to reshape it (SetTrim / SetCurve); every drag is one undo step.
 
+import { MOVE_EVENT } from './channel.js';
+
 const MARGIN = { left: 36, right: 12, top: 12, bottom: 26 };
 const PERIOD = 2 * Math.PI;
 
@@ -68,7 +70,7 @@ export class UvPanel {
     this.selected = null; // { type: 'trim', index, curve } | { type: 'attach', name }
     this.drag = null;
     canvas.addEventListener('pointerdown', (ev) => this.down(ev));
-    canvas.addEventListener('pointermove', (ev) => this.move(ev));
+    canvas.addEventListener(MOVE_EVENT, (ev) => this.move(ev));
     canvas.addEventListener('pointerup', () => this.up());
     canvas.addEventListener('pointercancel', () => this.up());
   }

@@ -219,7 +219,9 @@ export class View {
     this.points = null;
     this.camera = { target: [0, 0, 1], distance: 8, yaw: -0.95, pitch: 0.48, panned: false };
     this.pending = false;
-    this.onDrawn = null;
+    this.dirty = false; // something asked for a draw that has not happened yet
+    this.immediate = false; // drawing outside an animation frame (drawNow)
+    this.onDrawn = null; // runs once, when the next drawing is in a frame going to the screen
     this.show = { curves: true, vectors: true, spines: true, control: true, edges: true };
     this.selected = null; // { kind: 'control', curve, index } or { kind: 'spine', patch, index }
     this.local = null; // a local edit's points: { x1, x2, handle }
@@ -505,14 +507,31 @@ export class View {
     return { proj, view: viewM, mvp: m.multiply(proj, viewM), w, h };
   }
 
-  // Asks for a draw at the next animation frame (several requests make one draw).
+  // Asks for a draw at the next animation frame (several requests make one draw; none when a
+  // draw since the request showed it already).
   request() {
+    this.dirty = true;
     if (this.pending) return;
     this.pending = true;
     requestAnimationFrame(() => {
       this.pending = false;
-      this.draw();
+      if (this.dirty) this.draw();
     });
+  }
+
+  // Draws now, outside the animation frames: a frame from the server is drawn as it arrives, so
+  // that its rasterising (milliseconds on a software renderer) is done before the next frame is
+  // put together instead of delaying it. `onDrawn` then runs at that next frame, when the
+  // drawing goes to the screen.
+  drawNow() {
+    this.immediate = true;
+    try {
+      this.draw();
+      // Hands the commands to the GPU process now (they would wait for the next frame).
+      this.gl.flush();
+    } finally {
+      this.immediate = false;
+    }
   }
 
   // Marks the start (true) or the end (false) of a gesture; its end draws at full resolution.
@@ -532,6 +551,7 @@ export class View {
   }
 
   draw() {
+    this.dirty = false;
     const gl = this.gl;
     const dpr = this.resolution();
     const w = Math.round(this.canvas.clientWidth * dpr), h = Math.round(this.canvas.clientHeight * dpr);
@@ -581,7 +601,10 @@ export class View {
     }
     this.drawTriad(dpr);
     gl.bindVertexArray(null);
-    if (this.onDrawn) this.onDrawn();
+    const drawn = this.onDrawn;
+    this.onDrawn = null;
+    if (drawn && this.immediate) requestAnimationFrame(() => drawn());
+    else if (drawn) drawn();
   }
 
   // The triad's projection: the unit axes from 4.2 away fill the corner (a 30° field of view
