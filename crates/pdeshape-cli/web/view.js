@@ -44,7 +44,9 @@ in vec3 vPos;
 uniform vec3 eyeDir;
 uniform vec3 lightDir;
 uniform vec3 eyePos;
-uniform int mode;        // 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft, 4 reflection lines
+// 0 shaded, 1 zebra (reflected stripes), 2 isophotes, 3 draft, 4 reflection lines: a constant
+// of each mode's own program (a software renderer would run every branch of a uniform's).
+const int mode = MODE;
 uniform float draftAngle; // the least draft angle (radians) of draft analysis
 uniform vec3 stripeAxis; // the stripes' axis (unit)
 uniform float stripes;   // stripes around the axis (zebra) or from the axis to its opposite
@@ -135,8 +137,15 @@ export const COLORS = {
   handle: [0.10, 0.55, 0.15],
 };
 
-function compile(gl, vs, fs) {
+// The surface programs' attributes, at the same locations in every program (the meshes' vertex
+// arrays serve all of them).
+const SURFACE_ATTRIBUTES = ['position', 'normal', 'color'];
+// The surface shading modes and their programs' MODE.
+const SURFACE_MODES = { shaded: 0, zebra: 1, isophotes: 2, draft: 3, reflection: 4 };
+
+function compile(gl, vs, fs, attributes = []) {
   const p = gl.createProgram();
+  attributes.forEach((name, k) => gl.bindAttribLocation(p, k, name));
   for (const [type, src] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
     const s = gl.createShader(type);
     gl.shaderSource(s, src);
@@ -211,7 +220,9 @@ export class View {
     this.gl = gl;
     this.gesture = false; // a gesture runs (see setGesture)
     this.fullDetail = false; // the full resolution even while a gesture runs
-    this.surfaceProgram = compile(gl, SURFACE_VS, SURFACE_FS);
+    // One program per shading mode, compiled when first drawn (the shaded one now).
+    this.surfacePrograms = new Map();
+    this.surfaceProgram = this.surfaceProgramFor('shaded');
     this.lineProgram = compile(gl, LINE_VS, LINE_FS);
     this.meshes = [];
     this.indexCache = new Map();
@@ -254,18 +265,17 @@ export class View {
         this.meshes[k] = mesh;
       }
       gl.bindVertexArray(mesh.vao);
-      const p = this.surfaceProgram;
       gl.bindBuffer(gl.ARRAY_BUFFER, mesh.buffers[0]);
       gl.bufferData(gl.ARRAY_BUFFER, s.positions, gl.DYNAMIC_DRAW);
-      let loc = gl.getAttribLocation(p, 'position');
+      let loc = SURFACE_ATTRIBUTES.indexOf('position');
       gl.enableVertexAttribArray(loc);
       gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
       gl.bindBuffer(gl.ARRAY_BUFFER, mesh.buffers[1]);
       gl.bufferData(gl.ARRAY_BUFFER, s.normals, gl.DYNAMIC_DRAW);
-      loc = gl.getAttribLocation(p, 'normal');
+      loc = SURFACE_ATTRIBUTES.indexOf('normal');
       gl.enableVertexAttribArray(loc);
       gl.vertexAttribPointer(loc, 3, gl.SHORT, true, 0, 0);
-      loc = gl.getAttribLocation(p, 'color');
+      loc = SURFACE_ATTRIBUTES.indexOf('color');
       if (s.colors) {
         gl.bindBuffer(gl.ARRAY_BUFFER, mesh.buffers[2]);
         gl.bufferData(gl.ARRAY_BUFFER, s.colors, gl.DYNAMIC_DRAW);
@@ -507,6 +517,16 @@ export class View {
     return { proj, view: viewM, mvp: m.multiply(proj, viewM), w, h };
   }
 
+  // The program of a shading mode (the shaded one for a mode it does not know).
+  surfaceProgramFor(mode) {
+    const k = SURFACE_MODES[mode] ?? 0;
+    if (!this.surfacePrograms.has(k)) {
+      const fs = SURFACE_FS.replace('#version 300 es', `#version 300 es\n#define MODE ${k}`);
+      this.surfacePrograms.set(k, compile(this.gl, SURFACE_VS, fs, SURFACE_ATTRIBUTES));
+    }
+    return this.surfacePrograms.get(k);
+  }
+
   // Asks for a draw at the next animation frame (several requests make one draw; none when a
   // draw since the request showed it already).
   request() {
@@ -566,18 +586,17 @@ export class View {
     const { mvp } = this.matrices();
     const eyeDir = m.unit(m.sub(this.eye(), this.camera.target));
     const light = m.unit(m.add(eyeDir, [0.3, 0.2, 0.8]));
+    const ins = this.inspect;
+    this.surfaceProgram = this.surfaceProgramFor(ins.mode);
     gl.useProgram(this.surfaceProgram);
     gl.uniformMatrix4fv(gl.getUniformLocation(this.surfaceProgram, 'mvp'), false, mvp);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyeDir'), eyeDir);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'lightDir'), light);
-    const ins = this.inspect;
-    const modes = { shaded: 0, zebra: 1, isophotes: 2, draft: 3, reflection: 4 };
     gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'draftAngle'), (ins.draft * Math.PI) / 180);
-    gl.uniform1i(gl.getUniformLocation(this.surfaceProgram, 'mode'), modes[ins.mode] || 0);
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyePos'), ins.lockedEye || this.eye());
     gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'stripeAxis'), m.unit(ins.axis));
     gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'stripes'), Math.max(1, Math.round(ins.stripes)));
-    const colorLoc = gl.getAttribLocation(this.surfaceProgram, 'color');
+    const colorLoc = SURFACE_ATTRIBUTES.indexOf('color');
     for (const mesh of this.meshes) {
       gl.bindVertexArray(mesh.vao);
       if (mesh.color) {
