@@ -114,6 +114,8 @@ test('dragging a control point re-solves the surface; save and undo follow', asy
   });
   await page.waitForTimeout(500);
   const afterDrag = await page.evaluate(() => window.__pdeshape.state());
+  // The (u, v) panel, which follows a 3-D drag a moment after its newest frame, shows it.
+  assert.ok(await page.evaluate(() => window.__pdeshape.uv.scene === window.__pdeshape.state()), 'the (u, v) panel did not follow the drag');
   const moved = controlPoint(afterDrag, 'rim', 1);
   assert.ok(afterDrag.version > before.version, 'no edit reached the server');
   assert.ok(Math.hypot(...moved.map((c, i) => c - original[i])) > 0.05, `the point did not move: ${moved}`);

@@ -74,16 +74,24 @@ function fillPanels() {
   params.fill(scene, paramSlider);
   timeline.update(scene);
 }
-function show(frame, onDrawn, gesture = false) {
+// The (u, v) panel follows every frame of its own drags and of the timeline, other gestures' a
+// moment after their newest frame as the side panels do (a software renderer rasterises its 2-D
+// canvas in the same GPU process as the view: the teacup's drag under SwiftShader took 40–57 ms
+// a frame with it redrawn every frame, 23–24 ms without).
+function show(frame, onDrawn, gesture = false, uvFollows = true) {
   lastFrame = frame;
   scene = frame.scene;
   view.setSurfaces(frame.surfaces, COLORS.patches);
   local.follow();
   view.setScene(scene);
   clearTimeout(panelsTimer);
-  if (gesture) panelsTimer = setTimeout(fillPanels, 120);
-  else fillPanels();
-  syncUvPatch();
+  if (gesture) {
+    panelsTimer = setTimeout(() => {
+      fillPanels();
+      if (!uvFollows) syncUvPatch();
+    }, 120);
+  } else fillPanels();
+  if (uvFollows) syncUvPatch();
   perf.frames += 1;
   const verts = frame.surfaces.reduce((n, s) => n + s.positions.length / 3, 0);
   const trimmed = frame.surfaces.filter((s) => s.indices).length;
@@ -131,7 +139,7 @@ function channel(area, send) {
       perf.server.push(frame.scene.server_ms);
       perf.serverSplit.push(frame.scene.server_split);
       perf.roundTrips.push(frame.roundTripMs);
-    }, area !== 'time'); // the timeline's label follows playback
+    }, area !== 'time', area === 'uv' || area === 'time'); // the timeline's label follows playback
     scheduleRefine();
   }, (e) => panels.showError(area, message(e)), perf);
   channels.push(ch);
