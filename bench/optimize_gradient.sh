@@ -24,7 +24,7 @@ for ex in optimize_curvature vesicle; do
   done
   # The gradient search's solves until its value first reaches annealing's best: the search
   # re-run with its evaluations capped, the cap raised until the capped run reaches it (the
-  # search is deterministic; the cap counts SLSQP's calls, which may repeat a point).
+  # search is deterministic; the cap counts gradient evaluations, the rows of the log).
   target=$(awk -F, 'NR > 1 && ($5 < m || m == "") { m = $5 } END { print m }' "$out/$ex-anneal.last.csv")
   hit=$(awk -F, -v t="$target" 'NR > 1 && $5 <= t { print NR - 1; exit }' "$out/$ex-gradient.last.csv")
   reached=""

@@ -112,7 +112,7 @@ class Gradient(TypedDict, total=False):
 class StartResult(TypedDict):
     x: dict[str, float]  # the start point
     best: float  # the best value (objective + penalty) this start evaluated
-    status: str  # SLSQP's ending: "success", "ftol_reached", "xtol_reached", "max_evaluations", "roundoff_limited", …
+    status: str  # how the start ended: "first_order", or SLSQP's "success", "ftol_reached", "xtol_reached" (converged); "max_evaluations", "roundoff_limited", … (not)
     converged: bool  # ended on a convergence test
     evaluations: int  # gradient evaluations of this start
 

@@ -23,7 +23,7 @@ use super::design::{cap_derivative, CURVE_NODES};
 use super::quadrature::{periodic_trapezoid, Rule};
 use super::{DesignIntegrals, Integrals, Quadrature};
 use crate::design::{SolvedDesign, SurfaceKind};
-use crate::elliptic::{AdjointTangent, PdePatch, NODE_WEIGHTS};
+use crate::elliptic::{AdjointTangent, PdePatch, RowTables, NODE_WEIGHTS};
 use crate::surface::{normal_degenerates, Partials, Surface};
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
@@ -171,21 +171,35 @@ pub fn integrals_derivatives(
         }
     }
     let rule = periodic_trapezoid(CURVE_NODES);
+    // The caps' rows of every direction on the same nodes: one table of `cos nv`, `sin nv`
+    // for all (the values each patch's own would hold).
+    let modes = tangents
+        .iter()
+        .flatten()
+        .map(|t| t.patch.modes())
+        .max()
+        .unwrap_or(0);
+    if at.caps.is_empty() {
+        return Ok(totals);
+    }
+    let tables = RowTables::new(&rule.nodes, modes);
+    let mut d = vec![Partials::default(); rule.nodes.len()];
+    let mut rows = Vec::with_capacity(rule.nodes.len());
     for cap in &at.caps {
         let i = cap.patch;
         let b = cap_row(base.surfaces[i].surface(), &rule.nodes, cap.u);
         let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
         for (total, t) in totals.iter_mut().zip(tangents) {
             let t = &t[i];
-            let rows: Vec<_> = b
-                .iter()
-                .zip(cap_row(&*t.patch, &rule.nodes, cap.u))
-                .map(|(p, d)| {
-                    // `patch + stretch · u X_u` and its v-derivative on the row.
-                    let s = t.stretch * cap.u;
-                    (p.x, p.xv, d.x + s * p.xu, d.xv + s * p.xuv)
-                })
-                .collect();
+            t.patch
+                .partials_rows_sharing(&rule.nodes, &tables)
+                .eval_row(cap.u, &mut d);
+            rows.clear();
+            rows.extend(b.iter().zip(&d).map(|(p, d)| {
+                // `patch + stretch · u X_u` and its v-derivative on the row.
+                let s = t.stretch * cap.u;
+                (p.x, p.xv, d.x + s * p.xu, d.xv + s * p.xuv)
+            }));
             total.volume += sign * at.orientation[i] * cap_derivative(&rows, &rule.weights);
         }
     }

@@ -692,7 +692,7 @@ pub fn tangent_patches(
             ))),
         })
         .collect::<Result<_>>()?;
-    let (options, _) = condition_curves(spec)?;
+    let (options, own) = condition_curves(spec)?;
     // The curves of each distinct design once (a direction's designs are often shared, such as
     // the point itself).
     let mut designs: Vec<&DesignSpec> = Vec::new();
@@ -713,9 +713,17 @@ pub fn tangent_patches(
                 .collect()
         })
         .collect();
+    // `spec` is checked above; the other designs differ from it in their parameters' values
+    // only (their structure is compared below), so their curves are built unchecked.
     let curves: Vec<Vec<Vec<SharedCurve>>> = designs
         .par_iter()
-        .map(|s| condition_curves(s).map(|(_, c)| c))
+        .map(|&s| {
+            if std::ptr::eq(s, spec) {
+                Ok(own.clone())
+            } else {
+                step_condition_curves(s)
+            }
+        })
         .collect::<Result<_>>()?;
     for c in &curves {
         if c.len() != patches.len()
@@ -815,6 +823,30 @@ fn condition_curves(spec: &DesignSpec) -> Result<(SolveOptions, Vec<Vec<SharedCu
             .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
             .collect(),
     ))
+}
+
+/// The condition curves of every PDE patch of `spec` as [`condition_curves`] builds them, but
+/// without validating the design: for the designs at the steps of a derivative, which differ
+/// from a validated design in the values of its `[[parameters]]` only. A curve its constructor
+/// refuses is still an error.
+fn step_condition_curves(spec: &DesignSpec) -> Result<Vec<Vec<SharedCurve>>> {
+    let resolved = super::params::resolve_parameters(spec)?;
+    let spec: &DesignSpec = &resolved;
+    let options = check_solver(&spec.solver)?;
+    let cache = CurveCache::default();
+    let mut builder = CurveBuilder::new(&spec.curves, &cache);
+    let planned = plan_patches(
+        spec,
+        &mut builder,
+        spec.solver.method,
+        &options,
+        None,
+        &|_| true,
+    )?;
+    Ok(planned
+        .into_iter()
+        .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
+        .collect())
 }
 
 /// Validates a design without solving anything (but a design with curves on its patches, which

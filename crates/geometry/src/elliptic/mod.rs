@@ -19,7 +19,7 @@ pub use adjoint::{AdjointTangent, NODE_WEIGHTS};
 pub use basis::BasisKind;
 pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
-pub use patch::PdePatch;
+pub use patch::{PdePatch, RowTables};
 pub use tangent::{combination, TangentCurve};
 
 use crate::curve::SharedCurve;

@@ -10,6 +10,7 @@ use crate::surface::{
 
 mod partial_rows;
 use crate::{Vec3, TAU};
+pub use partial_rows::RowTables;
 
 /// A solved Bloor–Wilson patch `X(u,v) = A₀(u) + Σ [Aₙ(u) cos nv + Bₙ(u) sin nv] + R(u,v)`
 /// (Eqs. 4.36, 4.53). Evaluation is cheap and every partial derivative is exact.
@@ -350,6 +351,23 @@ impl Surface for PdePatch {
 
     fn partials_rows<'a>(&'a self, vs: &'a [f64]) -> Box<dyn PartialsRows + 'a> {
         Box::new(partial_rows::PdePartialRows::new(self, vs))
+    }
+}
+
+impl PdePatch {
+    /// [`Surface::partials_rows`] with the `cos n v_j`, `sin n v_j` tables of `tables` when
+    /// they are of the nodes `vs` and of at least this patch's modes (else its own): the same
+    /// values, for patches evaluated on the same nodes (a patch and its tangents).
+    pub fn partials_rows_sharing<'a>(
+        &'a self,
+        vs: &'a [f64],
+        tables: &'a RowTables,
+    ) -> Box<dyn PartialsRows + 'a> {
+        Box::new(partial_rows::PdePartialRows::with_tables(
+            self,
+            vs,
+            Some(tables),
+        ))
     }
 }
 
@@ -857,6 +875,37 @@ mod row_tests {
                         let p = patch.partials(u, v);
                         assert!((row.point(j) - p.x).norm() < 1e-14, "nv={nv} u={u} j={j}");
                         assert!((row.normal(j) - p.normal()).norm() < 1e-12);
+                    }
+                }
+            }
+        }
+        // Shared tables of more modes (3) serve both patches with the very values of their own
+        // tables, bit for bit (with and without remainder, symmetric grid or not); tables of
+        // other nodes, or of fewer modes, are not used.
+        let shared_nodes =
+            |nv: usize| -> Vec<f64> { (0..nv).map(|j| TAU * j as f64 / nv as f64).collect() };
+        for nv in [16usize, 15] {
+            let vs = shared_nodes(nv);
+            let tables = RowTables::new(&vs, 3);
+            let other = RowTables::new(&shared_nodes(nv + 4), 3);
+            let fewer = RowTables::new(&vs, 1);
+            for modes in [3usize, 2] {
+                let patch = solve(
+                    &op,
+                    conds.clone(),
+                    &SolveOptions {
+                        modes,
+                        ..Default::default()
+                    },
+                )
+                .unwrap();
+                for &u in &[0.0, 0.3, 1.0] {
+                    let mut own = vec![Partials::default(); nv];
+                    patch.partials_rows(&vs).eval_row(u, &mut own);
+                    for t in [&tables, &other, &fewer] {
+                        let mut row = vec![Partials::default(); nv];
+                        patch.partials_rows_sharing(&vs, t).eval_row(u, &mut row);
+                        assert_eq!(row, own, "nv={nv} modes={modes} u={u}");
                     }
                 }
             }

@@ -5,15 +5,20 @@
 use super::PdePatch;
 use crate::surface::{Partials, PartialsRows};
 use crate::Vec3;
+use std::borrow::Cow;
 
 /// Quantities per vertex: `X, X_u, X_v, X_uu, X_uv, X_vv` (x, y, z each).
 const Q: usize = 18;
 /// Columns per block (the block's accumulators stay in L1).
 const BLOCK: usize = 32;
 
-pub(super) struct PdePartialRows<'a> {
-    patch: &'a PdePatch,
-    nv: usize,
+/// The tables of `cos n v_j`, `sin n v_j` (`n = 1..=modes`) on the nodes `v_j` of a row, which
+/// depend on the nodes only: patches evaluated on the same nodes (a patch and its tangents)
+/// can share them ([`PdePatch::partials_rows_sharing`]), with the same values as their own.
+#[derive(Clone, Debug)]
+pub struct RowTables {
+    vs: Vec<f64>,
+    modes: usize,
     /// On the standard periodic grid `v_j = 2πj/nv` with `4 | nv` the tables cover the columns
     /// `0..=nv/4` only: with the sums split by the parity of `n`, `cos n(π ∓ v) = (−1)ⁿ cos nv`,
     /// `sin n(π ∓ v) = ∓(−1)ⁿ sin nv` and `v ↦ 2π − v` give the columns `nv/2 ∓ j` and `nv − j`
@@ -24,13 +29,11 @@ pub(super) struct PdePartialRows<'a> {
     /// `cos[(n−1)·cols + j] = cos(n v_j)`, likewise `sin`.
     cos: Vec<f64>,
     sin: Vec<f64>,
-    /// `delta[i·nv + j] = [Δ_i, Δ_i', Δ_i''](v_j)`.
-    delta: Vec<[Vec3; 3]>,
 }
 
-impl<'a> PdePartialRows<'a> {
-    pub(super) fn new(patch: &'a PdePatch, vs: &[f64]) -> Self {
-        let m = patch.modes();
+impl RowTables {
+    /// The tables of modes `1..=modes` on the nodes `vs`.
+    pub fn new(vs: &[f64], modes: usize) -> Self {
         let nv = vs.len();
         let symmetric = nv >= 8
             && nv.is_multiple_of(4)
@@ -39,15 +42,62 @@ impl<'a> PdePartialRows<'a> {
                 .enumerate()
                 .all(|(j, &v)| v == crate::TAU * j as f64 / nv as f64);
         let cols = if symmetric { nv / 4 + 1 } else { nv };
-        let mut cos = vec![0.0; m * cols];
-        let mut sin = vec![0.0; m * cols];
-        for n in 1..=m {
+        let mut cos = vec![0.0; modes * cols];
+        let mut sin = vec![0.0; modes * cols];
+        for n in 1..=modes {
             for (j, &v) in vs.iter().take(cols).enumerate() {
                 let (s, c) = (n as f64 * v).sin_cos();
                 cos[(n - 1) * cols + j] = c;
                 sin[(n - 1) * cols + j] = s;
             }
         }
+        RowTables {
+            vs: vs.to_vec(),
+            modes,
+            symmetric,
+            cols,
+            cos,
+            sin,
+        }
+    }
+
+    /// Whether the tables serve a patch of `modes` modes on the nodes `vs`.
+    fn serve(&self, vs: &[f64], modes: usize) -> bool {
+        self.modes >= modes && self.vs == vs
+    }
+}
+
+pub(super) struct PdePartialRows<'a> {
+    patch: &'a PdePatch,
+    nv: usize,
+    /// Whether the tables cover a quarter of the standard periodic grid (see [`RowTables`]).
+    symmetric: bool,
+    /// Columns of the tables.
+    cols: usize,
+    /// The patch's own tables, or shared ones of at least as many modes on the same nodes.
+    tables: Cow<'a, RowTables>,
+    /// `delta[i·nv + j] = [Δ_i, Δ_i', Δ_i''](v_j)`.
+    delta: Vec<[Vec3; 3]>,
+}
+
+impl<'a> PdePartialRows<'a> {
+    pub(super) fn new(patch: &'a PdePatch, vs: &[f64]) -> Self {
+        Self::with_tables(patch, vs, None)
+    }
+
+    /// With `shared` tables when they serve the patch on `vs`, else its own.
+    pub(super) fn with_tables(
+        patch: &'a PdePatch,
+        vs: &[f64],
+        shared: Option<&'a RowTables>,
+    ) -> Self {
+        let m = patch.modes();
+        let nv = vs.len();
+        let tables = match shared {
+            Some(t) if t.serve(vs, m) => Cow::Borrowed(t),
+            _ => Cow::Owned(RowTables::new(vs, m)),
+        };
+        let (symmetric, cols) = (tables.symmetric, tables.cols);
         let mut delta = Vec::new();
         if let Some(r) = &patch.remainder {
             let k = patch.conditions.len();
@@ -63,8 +113,7 @@ impl<'a> PdePartialRows<'a> {
             nv,
             symmetric,
             cols,
-            cos,
-            sin,
+            tables,
             delta,
         }
     }
@@ -171,8 +220,8 @@ impl PdePartialRows<'_> {
             }
             for n in 1..=m {
                 let at = (n - 1) * self.cols + j0;
-                let c = &self.cos[at..at + len];
-                let s = &self.sin[at..at + len];
+                let c = &self.tables.cos[at..at + len];
+                let s = &self.tables.sin[at..at + len];
                 let p = n % 2;
                 for q in 0..Q {
                     let (an, bn) = (alpha[n * Q + q], beta[n * Q + q]);
