@@ -54,7 +54,7 @@ const LAYOUT_FACES_PER_SECOND: f64 = 240.0;
 /// and decimations, at the rates above): the rounds stop before one that would take the
 /// estimate past it, and the best round so far is the answer (with a note saying why they
 /// stopped).
-const ROUNDS_SECONDS: f64 = 60.0;
+const ROUNDS_SECONDS: f64 = 90.0;
 
 /// The largest share of the mesh's triangles a refining round's layout may have as faces: a
 /// layout about as fine as the mesh is no design (each face costs far more bytes than the
