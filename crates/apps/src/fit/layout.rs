@@ -14,12 +14,16 @@
 //! 3. **Curves and tangent planes**: each layout vertex takes the mesh's (area-weighted)
 //!    normal; each layout edge is a cubic Hermite curve between its corners whose end
 //!    derivatives lie in the corners' tangent planes, fitted by least squares to the closest
-//!    mesh points of samples along the chord; its normal field is the mesh's interpolated
+//!    mesh points of samples along the chord (their lengths between [`MIN_TANGENT`] and
+//!    [`MAX_TANGENT`] chords); its normal field is the mesh's interpolated
 //!    normals at the curve's inner Chebyshev–Lobatto points. Both faces along an edge take
 //!    its tangent planes (G1 by construction).
 //! 4. **Tolerance** ([`fit_general`]): the design is solved and measured both ways; where the
 //!    distance exceeds the target the mesh's vertices there weigh more and the layout is made
-//!    again with more vertices, up to [`MAX_ROUNDS`] times.
+//!    again with more vertices, up to [`MAX_ROUNDS`] times, while the rounds' estimated work
+//!    stays within [`ROUNDS_SECONDS`] and a refining layout's faces within [`MAX_FACE_SHARE`]
+//!    of the mesh's triangles (the best round is the answer, with a note saying why the rounds
+//!    stopped).
 
 use super::measure::{closest_on_triangle, measure, Measures, MeshDistance, PointDistances};
 use super::mesh::InputMesh;
@@ -31,6 +35,7 @@ use crate::spec::{DesignSpec, PatchworkEdgeSpec, PatchworkSpec};
 use crate::{Error, Result, Vec3};
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
+use std::cell::Cell;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 
@@ -40,6 +45,22 @@ pub const MAX_ROUNDS: usize = 5;
 /// Triangles a layout round decimates a second (80 000 in about 5.7 s), for the work bound.
 const LAYOUT_TRIANGLES_PER_SECOND: f64 = 14_000.0;
 
+/// Layout faces solved and measured a second, for the rounds' work bound (the `snowden`
+/// bust's first layout, 3858 faces, solved and measured in about 16 s on the development
+/// machine under load).
+const LAYOUT_FACES_PER_SECOND: f64 = 240.0;
+
+/// The estimated seconds the layout rounds of one fit may take together (solves, measures
+/// and decimations, at the rates above): the rounds stop before one that would take the
+/// estimate past it, and the best round so far is the answer (with a note saying why they
+/// stopped).
+const ROUNDS_SECONDS: f64 = 90.0;
+
+/// The largest share of the mesh's triangles a refining round's layout may have as faces: a
+/// layout about as fine as the mesh is no design (each face costs far more bytes than the
+/// triangles it replaces), so the rounds stop before such a layout is solved.
+const MAX_FACE_SHARE: f64 = 0.5;
+
 /// The samples per layout piece at which a round is measured (an `n × n` grid).
 pub const MEASURE_GRID: usize = 10;
 
@@ -48,6 +69,17 @@ const EDGE_NORMALS: usize = 4;
 
 /// Chord samples per layout edge for its curve's least squares.
 const EDGE_SAMPLES: usize = 8;
+
+/// The shortest and longest end tangent of a layout edge's curve, in chord lengths. A cubic
+/// Hermite curve along a circular arc of angle `θ` has end tangents of `2 tan(θ/4)/sin(θ/2)`
+/// chords: 1 for a straight edge, 1.17 at 90°, 2 at 180°. A much shorter tangent stalls the
+/// curve at its corner, and the n-sided patch's ribbons there, fixed by its sides' end
+/// tangents, blow up: the `snowden` bust's worst faces, 1000–2000 % of the diagonal off the
+/// mesh, each had a side leaving a corner with a tangent of 0.00–0.02 chords (fitted to
+/// closest points that jumped to another part of the mesh).
+const MIN_TANGENT: f64 = 0.5;
+/// See [`MIN_TANGENT`].
+const MAX_TANGENT: f64 = 2.0;
 
 /// The smallest cosine between a layout triangle's normal and the mesh's at its corners (60°:
 /// a face across a rounded edge, its corners facing two ways, bulged far off the mesh).
@@ -801,11 +833,16 @@ fn fit_edge(
     let e1b = in_plane(chord, nb).unwrap_or_else(|| chord / len);
     let e2a = na.cross(&e1a);
     let e2b = nb.cross(&e1b);
-    // Samples of the mesh along the chord, parametrised by their polyline's length.
+    // Samples of the mesh along the chord, parametrised by their polyline's length; a closest
+    // point farther from the chord than the chord is long is another part of the mesh (across
+    // a hole, a fold or a thin gap), not the surface the edge runs over, and is left out.
     let mut pts = vec![pa];
     for j in 1..EDGE_SAMPLES {
         let x = pa + chord * (j as f64 / EDGE_SAMPLES as f64);
-        pts.push(closest_with_normal(index, mesh, normals, x, na + nb).0);
+        let q = closest_with_normal(index, mesh, normals, x, na + nb).0;
+        if (q - x).norm() <= len {
+            pts.push(q);
+        }
     }
     pts.push(pb);
     let mut s = vec![0.0];
@@ -856,6 +893,9 @@ fn fit_edge(
     if !(d1.dot(&chord) > 0.0 && d1.norm() < 3.0 * total) {
         d1 = e1b * total;
     }
+    // Lengths between [`MIN_TANGENT`] and [`MAX_TANGENT`] chords.
+    let bounded = |d: Vec3| d * (d.norm().clamp(MIN_TANGENT * len, MAX_TANGENT * len) / d.norm());
+    let (d0, d1) = (bounded(d0), bounded(d1));
     // The normal field at the inner Chebyshev–Lobatto points, made normal to the curve.
     let mut inner = Vec::with_capacity(EDGE_NORMALS - 1);
     for j in 1..EDGE_NORMALS {
@@ -1304,13 +1344,15 @@ pub fn fit_general_measured(
 ) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
     opts.check()?;
     let topology = mesh.topology();
+    let mut rounds = Rounds::new(ROUNDS_SECONDS);
     if topology.nonmanifold_edges > 0 || topology.components <= 1 {
-        return fit_component(mesh, opts);
+        return fit_component(mesh, opts, &mut rounds, 1.0);
     }
     price_layout(mesh)?;
     let parts = mesh.components();
     let count = parts.len();
     let diagonal = mesh.diagonal();
+    let all = mesh.triangles.len().max(1) as f64;
     let mut patchwork = Vec::with_capacity(count);
     let mut faces = 0;
     let mut refused: Vec<String> = Vec::new();
@@ -1327,6 +1369,8 @@ pub fn fit_general_measured(
                 target,
                 ..opts.clone()
             },
+            &mut rounds,
+            part.triangles.len() as f64 / all,
         );
         let fit = match fitted {
             Ok((fit, _, _, _)) => fit,
@@ -1426,6 +1470,56 @@ fn price_layout(mesh: &InputMesh) -> Result<()> {
     )
 }
 
+/// Estimated seconds of one solve of a layout of `faces` faces, and of one measure of it
+/// against the mesh (the two take about as long: [`LAYOUT_FACES_PER_SECOND`] is for both).
+fn solve_seconds(faces: usize) -> f64 {
+    faces as f64 / (2.0 * LAYOUT_FACES_PER_SECOND)
+}
+
+/// Estimated seconds of one layout round's decimation of a mesh of `triangles` triangles.
+fn decimation_seconds(triangles: usize) -> f64 {
+    triangles as f64 / LAYOUT_TRIANGLES_PER_SECOND
+}
+
+/// The work bound of a fit's layout rounds, shared by a mesh's components: estimated seconds
+/// spent (decimations, solves and measures at the rates above, not the clock, so the same
+/// mesh always gets the same rounds) against [`ROUNDS_SECONDS`].
+#[derive(Clone, Copy, Debug)]
+struct Rounds {
+    spent: f64,
+    limit: f64,
+}
+
+impl Rounds {
+    fn new(limit: f64) -> Rounds {
+        Rounds { spent: 0.0, limit }
+    }
+}
+
+/// Why a component's refining rounds stopped before the target was met: the next round's
+/// layout of `faces` faces, over a mesh of `triangles`, is finer than [`MAX_FACE_SHARE`] of
+/// it, or its solve and measure would take the estimated work past `limit` seconds.
+fn stop_reason(faces: usize, triangles: usize, limit: f64) -> String {
+    if faces as f64 > MAX_FACE_SHARE * triangles as f64 {
+        format!(
+            "the layout rounds stopped: the next layout ({faces} faces) would have more than \
+             half as many faces as the mesh has triangles ({triangles}), a design larger than \
+             the mesh"
+        )
+    } else {
+        let next = if faces > 0 {
+            format!("solving the next layout ({faces} faces)")
+        } else {
+            "the next round".to_string()
+        };
+        format!(
+            "the layout rounds stopped: {next} would take them past their work bound (about \
+             {} s of estimated work); a larger tolerance, or a decimated mesh",
+            sig(limit, 3)
+        )
+    }
+}
+
 /// The face and side of a patchwork's fold error: `patchwork[0].faces[F].sides[I].ribbon`.
 fn fold_at(place: &str) -> Option<(usize, usize, usize)> {
     let (p, f) = face_at(place)?;
@@ -1450,10 +1544,22 @@ fn face_at(place: &str) -> Option<(usize, usize)> {
 /// turn against the corners' planes, as they do across a sharp edge of the mesh: a box's edge,
 /// a low-polygon model's), that edge is made a crease (G0: the faces on either side meet
 /// without a shared tangent plane) and the design solved again, until it solves or a fold
-/// cannot be creased. Returns the design as solved.
-fn solve_creasing_folds(mut spec: DesignSpec) -> Result<(DesignSpec, SolvedDesign)> {
+/// cannot be creased. Returns the design as solved. Each solve counts one in `solves`; none is
+/// started once `solves` has reached `max_solves` (the rounds' work bound: an error then, and
+/// `solves` is left at `max_solves` so the caller can tell).
+fn solve_creasing_folds(
+    mut spec: DesignSpec,
+    max_solves: usize,
+    solves: &Cell<usize>,
+) -> Result<(DesignSpec, SolvedDesign)> {
     let limit: usize = spec.patchwork.iter().map(|p| p.edges.len()).sum();
     for _ in 0..=limit {
+        if solves.get() >= max_solves {
+            return Err(Error::invalid(
+                "the layout's folds could not all be creased within the work bound",
+            ));
+        }
+        solves.set(solves.get() + 1);
         let e = match solve_design(&spec) {
             Ok(solved) => return Ok((spec, solved)),
             Err(e) => e,
@@ -1481,10 +1587,16 @@ fn solve_creasing_folds(mut spec: DesignSpec) -> Result<(DesignSpec, SolvedDesig
     ))
 }
 
-/// [`fit_general_measured`] of one connected mesh.
+/// [`fit_general_measured`] of one connected mesh, within the work bound `rounds` (shared by
+/// the mesh's components): the first round is run while the bound allows it (refused
+/// otherwise), the refining rounds while their layouts stay within [`MAX_FACE_SHARE`] of the
+/// mesh's triangles and their work within `share` of the bound (this component's share of the
+/// whole mesh's triangles).
 fn fit_component(
     mesh: &InputMesh,
     opts: &FitOptions,
+    rounds: &mut Rounds,
+    share: f64,
 ) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
     opts.check()?;
     price_layout(mesh)?;
@@ -1524,8 +1636,22 @@ fn fit_component(
     let mut best: Option<(Fit, Measures, PointDistances, Option<Miss>)> = None;
     let mut previous = 0usize;
     let mut first_error: Option<Error> = None;
-    for _round in 0..MAX_ROUNDS {
+    let triangles = mesh.triangles.len();
+    // This component's refining rounds may spend up to `own` estimated seconds from `start`.
+    let start = rounds.spent;
+    let own = share.clamp(0.0, 1.0) * rounds.limit;
+    let mut stopped: Option<String> = None;
+    for round in 0..MAX_ROUNDS {
+        let within = |rounds: &Rounds, more: f64| {
+            rounds.spent + more <= rounds.limit
+                && (round == 0 || rounds.spent - start + more <= own)
+        };
+        if !within(rounds, decimation_seconds(triangles)) {
+            stopped = Some(stop_reason(0, triangles, own));
+            break;
+        }
         let layout = decimate(mesh, &normals, &weight, target);
+        rounds.spent += decimation_seconds(triangles);
         // Not paired into quads: a four-sided face is one surface on its square while faces
         // of 3 (or 5 to 8) sides are presented as pieces, each over half of two sides, so a
         // quad beside a triangle would tessellate their shared edge at different points
@@ -1535,20 +1661,61 @@ fn fit_component(
             break;
         }
         previous = layout.vertices.len();
+        let faces = layout.faces.len();
+        // A refining round stops before a layout about as fine as the mesh, or one whose
+        // solve and measure would take the rounds past their bound; a first round whose
+        // layout alone would is refused.
+        let round_cost = 2.0 * solve_seconds(faces);
+        if round > 0
+            && (faces as f64 > MAX_FACE_SHARE * triangles as f64 || !within(rounds, round_cost))
+        {
+            stopped = Some(stop_reason(faces, triangles, own));
+            break;
+        }
+        if round == 0 && !within(rounds, round_cost) {
+            return Err(Error::invalid(format!(
+                "the general mode's first layout of this mesh has {faces} faces, and solving \
+                 it would take about {} s, more than the {} s its rounds may take; decimate \
+                 the mesh, or fit it by a template",
+                sig(round_cost + rounds.spent, 3),
+                sig(rounds.limit, 3)
+            )));
+        }
+        // Solves beyond the bound are not started (the measure's share kept aside).
+        let max_solves = (((rounds.limit - rounds.spent) / solve_seconds(faces).max(1e-12))
+            .floor()
+            .max(2.0)
+            - 1.0) as usize;
+        let solves = Cell::new(0usize);
         // With the sharp vertices' planes chosen again, and where that layout has a face no
         // patch takes, with the mesh's normals everywhere (the layout may be one that they
         // suit).
         let solve = |sharp: bool| {
             layout_spec_planes(mesh, &normals, (&index, &facing), &layout, 10, sharp).and_then(
                 |p| {
-                    solve_creasing_folds(DesignSpec {
-                        patchwork: vec![p],
-                        ..DesignSpec::default()
-                    })
+                    solve_creasing_folds(
+                        DesignSpec {
+                            patchwork: vec![p],
+                            ..DesignSpec::default()
+                        },
+                        max_solves,
+                        &solves,
+                    )
                 },
             )
         };
-        let solved = solve(true).or_else(|e| solve(false).map_err(|_| e));
+        let solved = solve(true).or_else(|e| {
+            if solves.get() >= max_solves {
+                Err(e)
+            } else {
+                solve(false).map_err(|_| e)
+            }
+        });
+        rounds.spent += solves.get() as f64 * solve_seconds(faces);
+        if solved.is_err() && solves.get() >= max_solves {
+            stopped = Some(stop_reason(faces, triangles, own));
+            break;
+        }
         let (spec, solved) = match solved {
             Ok(x) => x,
             Err(e) => {
@@ -1581,6 +1748,7 @@ fn fit_component(
             }
         };
         let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
+        rounds.spent += solve_seconds(faces);
         // The worst places both ways.
         let mut worst = Miss {
             at: Vec3::zeros(),
@@ -1659,7 +1827,23 @@ fn fit_component(
         let extra = (misses / 4).clamp(reached / 4, reached);
         target = (reached + extra).min(vertices);
     }
-    best.ok_or_else(|| first_error.unwrap_or_else(|| Error::invalid("no layout was made")))
+    match best {
+        Some(mut b) => {
+            // Why a fit that misses stopped refining, when the bound stopped it.
+            if let (Some(why), Some(_)) = (stopped, b.3) {
+                b.0.notes.push(why);
+            }
+            Ok(b)
+        }
+        None => Err(match (first_error, stopped) {
+            (Some(e), Some(why)) => {
+                Error::invalid(format!("{} ({why})", e.message())).at(e.place())
+            }
+            (Some(e), None) => e,
+            (None, Some(why)) => Error::invalid(why),
+            (None, None) => Error::invalid("no layout was made"),
+        }),
+    }
 }
 
 #[cfg(test)]
@@ -1868,5 +2052,130 @@ mod tests {
         fine[1].tangents[0] = arr(dir(90.0));
         crease_folds(&layout, &normals, &mut fine);
         assert!(creases(&spec(fine)).is_empty());
+    }
+
+    /// A closed UV sphere of `rings` rings of `segments` vertices between two poles (`2 ·
+    /// segments · (rings − 1)` triangles), its radius varied by ±10 % from vertex to vertex by
+    /// a fixed hash: bumps at the mesh's own spacing, which no layout coarser than the mesh
+    /// follows to a small tolerance.
+    fn bumpy_sphere(rings: usize, segments: usize) -> InputMesh {
+        let bump = |k: usize| {
+            let h = (k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40;
+            1.0 + 0.1 * (2.0 * (h as f64 / (1u64 << 24) as f64) - 1.0)
+        };
+        let mut positions = vec![Vec3::new(0.0, 0.0, bump(0))];
+        for k in 1..rings {
+            let th = std::f64::consts::PI * k as f64 / rings as f64;
+            for j in 0..segments {
+                let ph = std::f64::consts::TAU * j as f64 / segments as f64;
+                let r = bump(positions.len());
+                positions.push(Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()) * r);
+            }
+        }
+        let south = positions.len() as u32;
+        positions.push(Vec3::new(0.0, 0.0, -bump(positions.len())));
+        let at = |k: usize, j: usize| (1 + (k - 1) * segments + j % segments) as u32;
+        let mut triangles = Vec::new();
+        for j in 0..segments {
+            triangles.push([0, at(1, j), at(1, j + 1)]);
+            for k in 1..rings - 1 {
+                triangles.push([at(k, j), at(k + 1, j), at(k + 1, j + 1)]);
+                triangles.push([at(k, j), at(k + 1, j + 1), at(k, j + 1)]);
+            }
+            triangles.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
+        }
+        InputMesh::new(positions, triangles).unwrap()
+    }
+
+    /// The options of a target no layout coarser than [`bumpy_sphere`] meets (10⁻⁴ of the
+    /// diagonal, against bumps of ±10 % of the radius).
+    fn unreachable() -> FitOptions {
+        FitOptions {
+            target: 1e-4,
+            ..FitOptions::default()
+        }
+    }
+
+    /// The faces of the first round's layout of a closed genus-0 mesh (40 vertices asked for).
+    fn first_faces(mesh: &InputMesh) -> usize {
+        let normals = vertex_normals(mesh);
+        decimate(mesh, &normals, &vec![1.0; mesh.positions.len()], 40)
+            .faces
+            .len()
+    }
+
+    #[test]
+    fn refining_rounds_stop_before_a_layout_finer_than_half_the_mesh() {
+        let mesh = bumpy_sphere(12, 24);
+        let triangles = mesh.triangles.len();
+        assert_eq!(triangles, 2 * 24 * 11);
+        let mut rounds = Rounds::new(1e9);
+        let (fit, _, _, miss) = fit_component(&mesh, &unreachable(), &mut rounds, 1.0).unwrap();
+        assert!(miss.is_some());
+        // Each refining round at least doubles a layout that misses everywhere (40, 80, 160
+        // vertices asked for: about 76, 156, 316 faces), so the third layout is past the
+        // bound of 264 faces and is not solved; the answer is a round within the bound.
+        assert!(
+            fit.patches as f64 <= MAX_FACE_SHARE * triangles as f64,
+            "{} faces",
+            fit.patches
+        );
+        assert!(
+            fit.notes
+                .iter()
+                .any(|n| n.contains("more than half as many faces")
+                    && n.contains(&format!("({triangles})"))),
+            "{:?}",
+            fit.notes
+        );
+    }
+
+    #[test]
+    fn rounds_stop_at_the_work_bound_after_the_round_it_allows() {
+        let mesh = bumpy_sphere(12, 24);
+        let triangles = mesh.triangles.len();
+        let faces = first_faces(&mesh);
+        // Room for the first round (a decimation, a solve and a measure) and less than the
+        // next round's decimation.
+        let first = decimation_seconds(triangles) + 2.0 * solve_seconds(faces);
+        let mut rounds = Rounds::new(first + 0.5 * decimation_seconds(triangles));
+        let (fit, _, _, miss) = fit_component(&mesh, &unreachable(), &mut rounds, 1.0).unwrap();
+        assert!(miss.is_some());
+        assert_eq!(fit.patches, faces);
+        assert!((rounds.spent - first).abs() < 1e-9, "{}", rounds.spent);
+        assert!(
+            fit.notes.iter().any(|n| n.contains("work bound")),
+            "{:?}",
+            fit.notes
+        );
+        // A bound below the first round alone refuses the mesh, naming the layout's size.
+        let mut rounds = Rounds::new(first - 0.5 * solve_seconds(faces));
+        let e = fit_component(&mesh, &unreachable(), &mut rounds, 1.0).unwrap_err();
+        assert!(
+            e.message()
+                .contains(&format!("first layout of this mesh has {faces} faces")),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn end_tangents_stay_between_half_and_twice_the_chord() {
+        let mesh = bumpy_sphere(12, 24);
+        let normals = vertex_normals(&mesh);
+        let index = MeshDistance::new(&mesh);
+        let facing = Facing::new(&mesh);
+        let layout = decimate(&mesh, &normals, &vec![1.0; mesh.positions.len()], 40);
+        let spec = layout_spec(&mesh, &normals, (&index, &facing), &layout, 10).unwrap();
+        let v = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
+        for e in &spec.edges {
+            let chord = (v(spec.points[e.ends[1]]) - v(spec.points[e.ends[0]])).norm();
+            for t in e.tangents {
+                let r = v(t).norm() / chord;
+                assert!(
+                    (MIN_TANGENT - 1e-12..=MAX_TANGENT + 1e-12).contains(&r),
+                    "{r}"
+                );
+            }
+        }
     }
 }
