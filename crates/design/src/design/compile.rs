@@ -806,23 +806,30 @@ fn condition_curves(spec: &DesignSpec) -> Result<(SolveOptions, Vec<Vec<SharedCu
             "derivatives by tangent solves need patches whose curves lie on no other patch",
         ));
     }
+    let curves = planned_condition_curves(spec, &options)?;
+    Ok((options, curves))
+}
+
+/// The condition curves of every PDE patch of `spec` as the patches' plan builds them (no
+/// solve), in the order of the solved design's surfaces.
+fn planned_condition_curves(
+    spec: &DesignSpec,
+    options: &SolveOptions,
+) -> Result<Vec<Vec<SharedCurve>>> {
     let cache = CurveCache::default();
     let mut builder = CurveBuilder::new(&spec.curves, &cache);
     let planned = plan_patches(
         spec,
         &mut builder,
         spec.solver.method,
-        &options,
+        options,
         None,
         &|_| true,
     )?;
-    Ok((
-        options,
-        planned
-            .into_iter()
-            .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
-            .collect(),
-    ))
+    Ok(planned
+        .into_iter()
+        .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
+        .collect())
 }
 
 /// The condition curves of every PDE patch of `spec` as [`condition_curves`] builds them, but
@@ -833,20 +840,7 @@ fn step_condition_curves(spec: &DesignSpec) -> Result<Vec<Vec<SharedCurve>>> {
     let resolved = super::params::resolve_parameters(spec)?;
     let spec: &DesignSpec = &resolved;
     let options = check_solver(&spec.solver)?;
-    let cache = CurveCache::default();
-    let mut builder = CurveBuilder::new(&spec.curves, &cache);
-    let planned = plan_patches(
-        spec,
-        &mut builder,
-        spec.solver.method,
-        &options,
-        None,
-        &|_| true,
-    )?;
-    Ok(planned
-        .into_iter()
-        .map(|(_, p)| p.conditions.into_iter().map(|c| c.curve).collect())
-        .collect())
+    planned_condition_curves(spec, &options)
 }
 
 /// Validates a design without solving anything (but a design with curves on its patches, which
