@@ -222,7 +222,7 @@ export class View {
     this.fullDetail = false; // the full resolution even while a gesture runs
     // One program per shading mode, compiled when first drawn (the shaded one now).
     this.surfacePrograms = new Map();
-    this.surfaceProgram = this.surfaceProgramFor('shaded');
+    this.surfaceProgramFor('shaded');
     this.lineProgram = compile(gl, LINE_VS, LINE_FS);
     this.meshes = [];
     this.indexCache = new Map();
@@ -587,15 +587,15 @@ export class View {
     const eyeDir = m.unit(m.sub(this.eye(), this.camera.target));
     const light = m.unit(m.add(eyeDir, [0.3, 0.2, 0.8]));
     const ins = this.inspect;
-    this.surfaceProgram = this.surfaceProgramFor(ins.mode);
-    gl.useProgram(this.surfaceProgram);
-    gl.uniformMatrix4fv(gl.getUniformLocation(this.surfaceProgram, 'mvp'), false, mvp);
-    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyeDir'), eyeDir);
-    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'lightDir'), light);
-    gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'draftAngle'), (ins.draft * Math.PI) / 180);
-    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'eyePos'), ins.lockedEye || this.eye());
-    gl.uniform3fv(gl.getUniformLocation(this.surfaceProgram, 'stripeAxis'), m.unit(ins.axis));
-    gl.uniform1f(gl.getUniformLocation(this.surfaceProgram, 'stripes'), Math.max(1, Math.round(ins.stripes)));
+    const program = this.surfaceProgramFor(ins.mode);
+    gl.useProgram(program);
+    gl.uniformMatrix4fv(gl.getUniformLocation(program, 'mvp'), false, mvp);
+    gl.uniform3fv(gl.getUniformLocation(program, 'eyeDir'), eyeDir);
+    gl.uniform3fv(gl.getUniformLocation(program, 'lightDir'), light);
+    gl.uniform1f(gl.getUniformLocation(program, 'draftAngle'), (ins.draft * Math.PI) / 180);
+    gl.uniform3fv(gl.getUniformLocation(program, 'eyePos'), ins.lockedEye || this.eye());
+    gl.uniform3fv(gl.getUniformLocation(program, 'stripeAxis'), m.unit(ins.axis));
+    gl.uniform1f(gl.getUniformLocation(program, 'stripes'), Math.max(1, Math.round(ins.stripes)));
     const colorLoc = SURFACE_ATTRIBUTES.indexOf('color');
     for (const mesh of this.meshes) {
       gl.bindVertexArray(mesh.vao);

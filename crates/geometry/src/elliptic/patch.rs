@@ -852,20 +852,21 @@ mod row_tests {
                 curve: f(1.0, -0.2, 0.0),
             },
         ];
+        // 2 modes leave the third to the remainder.
+        let solved = |modes: usize| {
+            let options = SolveOptions {
+                modes,
+                ..Default::default()
+            };
+            solve(&op, conds.clone(), &options).unwrap()
+        };
+        let nodes =
+            |nv: usize| -> Vec<f64> { (0..nv).map(|j| TAU * j as f64 / nv as f64).collect() };
         for modes in [3usize, 2] {
-            // 2 modes leave the third to the remainder.
-            let patch = solve(
-                &op,
-                conds.clone(),
-                &SolveOptions {
-                    modes,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
+            let patch = solved(modes);
             assert_eq!(patch.has_remainder(), modes == 2);
             for nv in [16usize, 15, 8, 4 * BLOCK + 8, 4 * BLOCK] {
-                let vs: Vec<f64> = (0..nv).map(|j| TAU * j as f64 / nv as f64).collect();
+                let vs = nodes(nv);
                 let rows = PdeRows::new(&patch, &vs);
                 assert_eq!(rows.symmetric, nv.is_multiple_of(4));
                 let mut row = RowBuf::new(nv);
@@ -882,23 +883,13 @@ mod row_tests {
         // Shared tables of more modes (3) serve both patches with the very values of their own
         // tables, bit for bit (with and without remainder, symmetric grid or not); tables of
         // other nodes, or of fewer modes, are not used.
-        let shared_nodes =
-            |nv: usize| -> Vec<f64> { (0..nv).map(|j| TAU * j as f64 / nv as f64).collect() };
         for nv in [16usize, 15] {
-            let vs = shared_nodes(nv);
+            let vs = nodes(nv);
             let tables = RowTables::new(&vs, 3);
-            let other = RowTables::new(&shared_nodes(nv + 4), 3);
+            let other = RowTables::new(&nodes(nv + 4), 3);
             let fewer = RowTables::new(&vs, 1);
             for modes in [3usize, 2] {
-                let patch = solve(
-                    &op,
-                    conds.clone(),
-                    &SolveOptions {
-                        modes,
-                        ..Default::default()
-                    },
-                )
-                .unwrap();
+                let patch = solved(modes);
                 for &u in &[0.0, 0.3, 1.0] {
                     let mut own = vec![Partials::default(); nv];
                     patch.partials_rows(&vs).eval_row(u, &mut own);

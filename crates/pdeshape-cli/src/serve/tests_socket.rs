@@ -54,6 +54,11 @@ async fn ask(ws: &mut Ws, message: Value) -> (u32, u16, u16, Vec<u8>) {
 
 async fn ask_text(ws: &mut Ws, text: &str) -> (u32, u16, u16, Vec<u8>) {
     ws.send(Message::Text(text.into())).await.unwrap();
+    answer(ws).await
+}
+
+/// The next answer: id, status, kind and bytes.
+async fn answer(ws: &mut Ws) -> (u32, u16, u16, Vec<u8>) {
     loop {
         match ws.next().await.unwrap().unwrap() {
             Message::Binary(b) => {
@@ -182,13 +187,8 @@ async fn socket_refusals_name_the_place_and_keep_it_open() {
     ws.send(Message::Binary(vec![1, 2, 3].into()))
         .await
         .unwrap();
-    let answer = loop {
-        match ws.next().await.unwrap().unwrap() {
-            Message::Binary(b) => break b,
-            _ => continue,
-        }
-    };
-    assert_eq!(u16::from_le_bytes(answer[4..6].try_into().unwrap()), 400);
+    let (id, status, kind, _) = answer(&mut ws).await;
+    assert_eq!((id, status, kind), (0, 400, 1));
     // Still serving.
     let (id, status, kind, bytes) = ask(
         &mut ws,
