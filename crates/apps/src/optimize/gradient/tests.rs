@@ -18,6 +18,7 @@ fn problems() -> Vec<(&'static str, Problem)> {
     for name in [
         "optimize_curvature.toml",
         "vesicle.toml",
+        "vesicle_disc.toml",
         "yoghurt_optimize.toml",
         "swirl_port_params.toml",
     ] {
