@@ -115,7 +115,7 @@ def starts(branch, k):
     (ψ'(0) = π(1 + 2 b2) < 0: two dimples, a discocyte), b1 < −1 at the north pole only, deep
     enough to fold the profile back (a stomatocyte)."""
     out = []
-    for amp in (0.0, 0.5, 1.0):
+    for amp in (0.0, 0.5, 1.0) if branch != "stomatocyte" else (-0.4, 0.0, 0.25, 0.5, 1.0):
         b = np.zeros(k)
         if branch == "prolate":
             b[1] = 0.05 + 0.15 * amp
@@ -151,8 +151,10 @@ def solve(target, c0, k, branch, accept=None):
             constraints=cons,
             options={"maxiter": 1000, "ftol": 1e-13},
         )
+        inside = profile(r.x, INT_Q)[0]
         ok = (
             r.success
+            and inside.min() > 0.0  # the profile meets the axis only at the poles
             and abs(measures(r.x, c0)[1] - target) < 1e-8
             and abs(closure(r.x)) < 1e-8
             and np.isfinite(r.fun)
