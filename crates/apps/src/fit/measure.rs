@@ -15,7 +15,7 @@
 //!   parameters, operator) as an 8-byte `f64`. The design file's size in bytes is given beside.
 
 use super::mesh::InputMesh;
-use crate::design::SolvedDesign;
+use crate::design::{DesignSurface, SolvedDesign};
 use crate::mesh::{self, Samples};
 use crate::spec::{write_design, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex};
@@ -29,15 +29,28 @@ struct Tri {
     corners: [Vec3; 3],
     /// Index of the triangle (mesh) or `(patch, grid index of the first corner, …)`.
     id: usize,
+    /// The corners' bounding box, kept: the tree's searches ask for it at every leaf they
+    /// look at (recomputing it was a tenth of a fit's time).
+    bounds: AABB<[f64; 3]>,
+}
+
+impl Tri {
+    fn new(corners: [Vec3; 3], id: usize) -> Tri {
+        let [a, b, c] = corners;
+        let lo = a.inf(&b).inf(&c);
+        let hi = a.sup(&b).sup(&c);
+        Tri {
+            corners,
+            id,
+            bounds: AABB::from_corners([lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z]),
+        }
+    }
 }
 
 impl RTreeObject for Tri {
     type Envelope = AABB<[f64; 3]>;
     fn envelope(&self) -> Self::Envelope {
-        let [a, b, c] = self.corners;
-        let lo = a.inf(&b).inf(&c);
-        let hi = a.sup(&b).sup(&c);
-        AABB::from_corners([lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z])
+        self.bounds
     }
 }
 
@@ -110,10 +123,7 @@ impl MeshDistance {
     /// Indexes every triangle of `mesh`.
     pub fn new(mesh: &InputMesh) -> Self {
         let tris = (0..mesh.triangles.len())
-            .map(|t| Tri {
-                corners: mesh.corners(t),
-                id: t,
-            })
+            .map(|t| Tri::new(mesh.corners(t), t))
             .collect();
         MeshDistance {
             tree: RTree::bulk_load(tris),
@@ -266,18 +276,35 @@ pub fn measure(
     nu: usize,
     nv: usize,
 ) -> Result<(Measures, PointDistances)> {
-    let grids: Vec<Samples> = solved
-        .surfaces
-        .par_iter()
-        .map(|s| mesh::sample(s.surface(), nu, nv))
-        .collect::<Result<_>>()?;
+    measure_surfaces(mesh, spec, &solved.surfaces, (nu, nv), None)
+}
+
+/// [`measure`] of `surfaces`, the surfaces of `spec` as solved (in the design's order): a
+/// design whose patchworks were solved one by one need not be solved again to be measured.
+/// `sampled`, when given, is their `nu × nv` sample grids, already taken (by a measure of the
+/// same surfaces against another mesh).
+pub(crate) fn measure_surfaces(
+    mesh: &InputMesh,
+    spec: &DesignSpec,
+    surfaces: &[DesignSurface],
+    (nu, nv): (usize, usize),
+    sampled: Option<Vec<Samples>>,
+) -> Result<(Measures, PointDistances)> {
+    let grids: Vec<Samples> = match sampled {
+        Some(g) if g.len() == surfaces.len() => g,
+        _ => surfaces
+            .par_iter()
+            .map(|s| mesh::sample(s.surface(), nu, nv))
+            .collect::<Result<_>>()?,
+    };
     // Fit to mesh.
     let index = MeshDistance::new(mesh);
+    // In parallel over the grids (a fit has thousands of pieces of 100 samples each).
     let fit: Vec<Vec<f64>> = grids
-        .iter()
+        .par_iter()
         .map(|g| {
             g.positions
-                .par_iter()
+                .iter()
                 .map(|p| {
                     index
                         .closest(Vec3::new(p[0], p[1], p[2]))
@@ -300,10 +327,7 @@ pub fn measure(
     let tree = RTree::bulk_load(
         tris.iter()
             .enumerate()
-            .map(|(id, (_, _, corners))| Tri {
-                corners: *corners,
-                id,
-            })
+            .map(|(id, (_, _, corners))| Tri::new(*corners, id))
             .collect(),
     );
     // Only Newton runs from a grid triangle's `(u, v)` are asked of these indices
@@ -315,8 +339,7 @@ pub fn measure(
         samples_v: 3,
         ..ClosestOptions::default()
     };
-    let indices: Vec<ClosestPointIndex<'_, dyn crate::surface::Surface>> = solved
-        .surfaces
+    let indices: Vec<ClosestPointIndex<'_, dyn crate::surface::Surface>> = surfaces
         .iter()
         .map(|s| ClosestPointIndex::new(s.surface(), &opts))
         .collect();

@@ -183,7 +183,8 @@ fn a_mesh_with_flipped_triangles_is_refused_with_a_point() {
 }
 
 /// A mesh whose first layout round alone would exceed the work bound (a torus of about 270 000
-/// triangles: some 20 s of decimation) is refused at once, with the estimate and what to do.
+/// triangles: some 10 s of decimation at the rate the bound prices) is refused at once, with
+/// the estimate and what to do.
 #[test]
 fn a_mesh_too_large_for_the_layout_is_refused_from_its_cost() {
     let (n, m) = (300usize, 450usize);
