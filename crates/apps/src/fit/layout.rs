@@ -2185,25 +2185,19 @@ mod tests {
     }
 
     /// A closed UV sphere of `rings` rings of `segments` vertices between two poles (`2 ·
-    /// segments · (rings − 1)` triangles), its radius varied by ±10 % from vertex to vertex by
-    /// a fixed hash: bumps at the mesh's own spacing, which no layout coarser than the mesh
-    /// follows to a small tolerance.
-    fn bumpy_sphere(rings: usize, segments: usize) -> InputMesh {
-        let bump = |k: usize| {
-            let h = (k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40;
-            1.0 + 0.1 * (2.0 * (h as f64 / (1u64 << 24) as f64) - 1.0)
-        };
-        let mut positions = vec![Vec3::new(0.0, 0.0, bump(0))];
+    /// segments · (rings − 1)` triangles), vertex `k` at the radius `radius(k)`.
+    fn uv_sphere(rings: usize, segments: usize, radius: impl Fn(usize) -> f64) -> InputMesh {
+        let mut positions = vec![Vec3::new(0.0, 0.0, radius(0))];
         for k in 1..rings {
             let th = std::f64::consts::PI * k as f64 / rings as f64;
             for j in 0..segments {
                 let ph = std::f64::consts::TAU * j as f64 / segments as f64;
-                let r = bump(positions.len());
+                let r = radius(positions.len());
                 positions.push(Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()) * r);
             }
         }
         let south = positions.len() as u32;
-        positions.push(Vec3::new(0.0, 0.0, -bump(positions.len())));
+        positions.push(Vec3::new(0.0, 0.0, -radius(positions.len())));
         let at = |k: usize, j: usize| (1 + (k - 1) * segments + j % segments) as u32;
         let mut triangles = Vec::new();
         for j in 0..segments {
@@ -2215,6 +2209,16 @@ mod tests {
             triangles.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
         }
         InputMesh::new(positions, triangles).unwrap()
+    }
+
+    /// [`uv_sphere`] with its radius varied by ±10 % from vertex to vertex by a fixed hash:
+    /// bumps at the mesh's own spacing, which no layout coarser than the mesh follows to a
+    /// small tolerance.
+    fn bumpy_sphere(rings: usize, segments: usize) -> InputMesh {
+        uv_sphere(rings, segments, |k| {
+            let h = (k as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40;
+            1.0 + 0.1 * (2.0 * (h as f64 / (1u64 << 24) as f64) - 1.0)
+        })
     }
 
     /// The options of a target no layout coarser than [`bumpy_sphere`] meets (10⁻⁴ of the
@@ -2311,34 +2315,9 @@ mod tests {
         }
     }
 
-    /// A UV sphere of radius 1 (`rings` rings of `segments` vertices between two poles, every
-    /// vertex on the sphere).
+    /// A UV sphere of radius 1 (every vertex on the sphere).
     fn sphere(rings: usize, segments: usize) -> InputMesh {
-        let mut positions = vec![Vec3::z()];
-        for k in 1..rings {
-            let th = std::f64::consts::PI * k as f64 / rings as f64;
-            for j in 0..segments {
-                let ph = std::f64::consts::TAU * j as f64 / segments as f64;
-                positions.push(Vec3::new(
-                    th.sin() * ph.cos(),
-                    th.sin() * ph.sin(),
-                    th.cos(),
-                ));
-            }
-        }
-        let south = positions.len() as u32;
-        positions.push(-Vec3::z());
-        let at = |k: usize, j: usize| (1 + (k - 1) * segments + j % segments) as u32;
-        let mut triangles = Vec::new();
-        for j in 0..segments {
-            triangles.push([0, at(1, j), at(1, j + 1)]);
-            for k in 1..rings - 1 {
-                triangles.push([at(k, j), at(k + 1, j), at(k + 1, j + 1)]);
-                triangles.push([at(k, j), at(k + 1, j + 1), at(k, j + 1)]);
-            }
-            triangles.push([south, at(rings - 1, j + 1), at(rings - 1, j)]);
-        }
-        InputMesh::new(positions, triangles).unwrap()
+        uv_sphere(rings, segments, |_| 1.0)
     }
 
     /// The circumradius of the triangle `a, b, c`.

@@ -655,24 +655,9 @@ fn interpolate(table: &[(f64, f64)], nu: f64) -> f64 {
     y0 + (y1 - y0) * (nu - x0) / (x1 - x0)
 }
 
-/// Extent of a design along z and its largest distance from the z axis, from a 32 × 64 grid.
+/// Extent of a design along z and its largest distance from the z axis ([`profile_extremes`]).
 fn extents(spec: &DesignSpec) -> (f64, f64) {
-    let built = crate::design::solve_design(spec).unwrap();
-    let (mut zmin, mut zmax, mut rmax) = (f64::MAX, f64::MIN, 0.0f64);
-    for p in built.surfaces.iter().filter(|s| s.is_patch()) {
-        for i in 0..=32 {
-            for j in 0..64 {
-                let x = crate::surface::Surface::point(
-                    p.surface(),
-                    i as f64 / 32.0,
-                    crate::TAU * j as f64 / 64.0,
-                );
-                zmin = zmin.min(x.z);
-                zmax = zmax.max(x.z);
-                rmax = rmax.max(x.x.hypot(x.y));
-            }
-        }
-    }
+    let [_, _, zmax, zmin, rmax, _] = profile_extremes(spec);
     (zmax - zmin, rmax)
 }
 
