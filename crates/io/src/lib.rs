@@ -8,7 +8,9 @@
 #![warn(missing_docs)]
 
 use pdeshape_design::{design, memory, mesh, spec, trim};
-use pdeshape_geometry::{curve, dynamic, elliptic, formula, majorant, spline, splinepde, surface};
+use pdeshape_geometry::{
+    curve, dynamic, elliptic, formula, majorant, nsided, spline, splinepde, surface,
+};
 pub use pdeshape_geometry::{Error, ErrorKind, Result, Vec3, TAU};
 
 pub mod cad;

@@ -251,7 +251,7 @@ impl Curve for BSpline {
     /// bounds outside its domain (its end pieces extended).
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
         let (a, b) = self.bounds();
-        if out.len() > 5 || !(self.periodic || (a <= t0 && t1 <= b)) {
+        if out.len() > 6 || !(self.periodic || (a <= t0 && t1 <= b)) {
             return false;
         }
         let pieces = super::pieces(&self.breaks(), self.periodic, t0, t1);
@@ -259,11 +259,11 @@ impl Curve for BSpline {
             return false;
         }
         out.iter_mut().for_each(|o| *o = 0.0);
-        let mut piece = [0.0f64; 5];
-        let kmax = out.len().min(5);
+        let mut piece = [0.0f64; 6];
+        let kmax = out.len().min(6);
         for &(x0, x1) in &pieces {
             let hull = self.hull_bounds(0.5 * (x0 + x1), &mut piece[..kmax]);
-            let mut taylor = [f64::INFINITY; 5];
+            let mut taylor = [f64::INFINITY; 6];
             let near = self.degree <= super::MAX_ORDER
                 && super::polynomial_piece_bounds(
                     self,

@@ -39,7 +39,7 @@ pub struct Formula {
 }
 
 /// `[component][k]`: the program of `d^k x_c / dv^k` (`None`: identically zero).
-type Derived = [[Option<Program>; 5]; 3];
+type Derived = [[Option<Program>; 6]; 3];
 
 /// Pieces per period a periodic interval is cut into before interval evaluation (a narrower
 /// box gives a tighter enclosure), and the most halvings of a piece without enclosure.
@@ -275,7 +275,7 @@ impl Curve for Formula {
     /// a square root or logarithm of 0, a kink of `abs`, … There an enclosure would be no
     /// bound, and the curve has no breaks: it is analytic wherever the bounds exist.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
-        if out.len() > 5 {
+        if out.len() > 6 {
             return false;
         }
         let Ok(d) = self.derived.get_or_init(|| self.derive()) else {

@@ -71,7 +71,7 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
     }
 
     /// Proven bounds `out[k] ≥ sup |C⁽ᵏ⁾(t)|` (Euclidean norm) for `k = 0 ..= out.len() − 1
-    /// ≤ 4`, over the open pieces of `(t0, t1)` between [`Curve::breaks`] (one-sided
+    /// ≤ 5` (kinds whose bounds stop at order 4 answer `false` to a longer `out`), over the open pieces of `(t0, t1)` between [`Curve::breaks`] (one-sided
     /// derivatives at a break), `t0 < t1` inside one period for a periodic curve. `false` if the
     /// curve kind has no such bounds (`out` is then unspecified): the caller falls back to a
     /// sampled estimate.

@@ -60,7 +60,7 @@ fn legendre_array<const D: usize>(p: usize, x: f64) -> [[f64; 4]; MAX_DEGREE + 1
 pub(crate) struct Basis {
     pub(crate) degree: usize,
     pub(crate) multiplicity: Vec<usize>,
-    inradius: f64,
+    pub(crate) inradius: f64,
 }
 
 impl Basis {

@@ -73,8 +73,10 @@
 //! not optimised by the energy.
 
 mod basis;
+mod bounds;
 mod domain;
 mod jet;
+mod model;
 mod rows;
 mod side;
 #[cfg(test)]
@@ -82,6 +84,7 @@ mod tests;
 #[cfg(test)]
 mod tests_g2;
 
+pub use model::{model_exponents, model_index, CellModel, MODEL_DEGREE, MODEL_LEN};
 pub use side::{NormalField, Ribbon, ShapeField, Side};
 
 use crate::surface::{
@@ -184,6 +187,10 @@ pub struct NSidedPatch {
     coeffs: Vec<Vec3>,
     size: f64,
     corners: Vec<Corner>,
+    /// The correction's coefficient sums for [`bounds`], made at the first request.
+    correction_bounds: OnceLock<Box<bounds::Correction>>,
+    /// The correction's columns and bounds for [`model`], made at the first request.
+    correction_data: OnceLock<Box<model::CorrectionData>>,
 }
 
 impl std::fmt::Debug for NSidedPatch {
@@ -561,6 +568,8 @@ impl NSidedPatch {
             coeffs: Vec::new(),
             size,
             corners,
+            correction_bounds: OnceLock::new(),
+            correction_data: OnceLock::new(),
         };
         patch.build_ribbons()?;
         let multiplicity: Vec<usize> = patch.sides.iter().map(BuiltSide::multiplicity).collect();

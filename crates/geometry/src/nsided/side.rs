@@ -264,6 +264,12 @@ impl ChebVec {
         self.series_at(0, s)
     }
 
+    /// The series of the three coordinates in `x = 2s − 1`, if the field is evaluated from
+    /// them (`None` for a tabulated one, whose third derivative jumps between table points).
+    pub(crate) fn coordinate_series(&self) -> Option<&[Vec<f64>; 3]> {
+        self.table.is_empty().then_some(&self.series[0])
+    }
+
     /// The `k`-th derivative (`k ≤ 3`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).
     pub(crate) fn at(&self, k: usize, s: f64) -> Vec3 {
         self.jet::<3>(s)[k]

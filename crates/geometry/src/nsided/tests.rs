@@ -51,6 +51,16 @@ impl Curve for GreatArc {
     fn domain(&self) -> Domain {
         Domain::Interval(0.0, 1.0)
     }
+    /// `|C − c| = r`, `|C⁽ᵏ⁾| = r ωᵏ`.
+    fn derivative_bounds(&self, _t0: f64, _t1: f64, out: &mut [f64]) -> bool {
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = self.r * self.omega.powi(k as i32) * (1.0 + 1e-15);
+            if k == 0 {
+                *o += self.c.norm();
+            }
+        }
+        true
+    }
     fn jet(&self, t: f64, out: &mut [Vec3]) {
         for (k, o) in out.iter_mut().enumerate() {
             let ph = t * self.omega + k as f64 * std::f64::consts::FRAC_PI_2;

@@ -97,6 +97,27 @@
 //! patch. A base with an active remainder, or frames without a settled series, leave the patch
 //! sampled.
 //!
+//! # The bound for n-sided patches
+//!
+//! An n-sided piece is certified a posteriori, cell by cell of the grid: on a box `B` of a
+//! cell, `NSidedSurface::taylor_model` gives a polynomial `P` of degree 4 in the box's
+//! coordinates `σ ∈ [−1, 1]²` and radii `r_c` with `|X_c − P_c| ≤ r_c` on `B` (Taylor-model
+//! arithmetic over the blends, side parameters, ribbons and correction; see
+//! `geometry/src/nsided/model.rs`). The cell's bicubic Hermite interpolant `H`, re-expanded in
+//! the box's `σ`, is a polynomial too, and `P − H` (degree ≤ 4 in each variable) is bounded by
+//! its largest Bernstein coefficient on the square (the convex hull property), so
+//! `|X − H| ≤ (Σ_c (max|b_c| + r_c)²)^{1/2}` on `B`. Where that exceeds the budget the box is
+//! split in four, up to 14 times; the box at a corner of the polygon, where the blends are
+//! `0/0` and there is no model, is bounded by `|X − X(c)| + |H − X(c)|`: the corner reach
+//! (`NSidedSurface::corner_reach`) plus the largest distance of `H`'s Bernstein points from
+//! `X(c)`. A cell whose sampled deviation already exceeds the budget, or whose boxes do not
+//! all meet it, has its row and column cut (the direction from the model's quartic terms
+//! `c₄₀`, `c₀₄`, about the Hermite interpolant's error in each direction); a cell's check
+//! depends only on its corners, so the cells of rows and columns not cut keep theirs. The
+//! figure is the largest box bound plus the rounding allowance,
+//! [`Certificate::Models`]. A side with a break of its curve inside it, a curve kind without
+//! bounds or a tabulated neighbour field leaves the piece sampled, with the reason.
+//!
 //! # Sampled kinds
 //!
 //! PDE patches with an active spectral remainder whose condition curves give no derivative
@@ -115,12 +136,14 @@ use crate::{Error, Result, Vec3};
 mod analytic;
 mod exact;
 mod formula;
+mod nsided;
 mod remainder;
 mod sampled;
 pub use analytic::{approximate_pde, pde_grid};
 use analytic::{approximate_with_sums, sums_grid};
 use exact::{clamp_u, exact};
 pub use formula::approximate_formula;
+pub use nsided::approximate_nsided;
 use remainder::approximate_remainder;
 pub use remainder::{approximate_pde_on, shared_v_nodes, PdePlan};
 pub use sampled::{approximate_sampled, sampled_deviation};
@@ -167,6 +190,14 @@ pub enum Certificate {
         /// Number of grid cells.
         cells: usize,
     },
+    /// A proven bound from Taylor models of the surface over boxes of every grid cell
+    /// (n-sided patches): the number of cells and of boxes.
+    Models {
+        /// Number of grid cells.
+        cells: usize,
+        /// Number of boxes the cells were checked on.
+        boxes: usize,
+    },
     /// The largest deviation on a dense sample: an estimate, not a bound.
     Sampled,
 }
@@ -176,7 +207,9 @@ impl Certificate {
     pub fn word(&self) -> &'static str {
         match self {
             Certificate::Exact => "exact",
-            Certificate::Derivatives { .. } | Certificate::Intervals { .. } => "certified",
+            Certificate::Derivatives { .. }
+            | Certificate::Intervals { .. }
+            | Certificate::Models { .. } => "certified",
             Certificate::Sampled => "sampled, not certified",
         }
     }
@@ -247,13 +280,7 @@ pub fn approximate(kind: &SurfaceKind, tolerance: f64, min_v: usize) -> Result<A
                 BSplineSurface::new(b.degree(), ku, b.knots_v().to_vec(), b.control().to_vec())?;
             Ok(exact(b, [false, false]))
         }
-        SurfaceKind::NSided(s) => {
-            let mut a = approximate_sampled(&**s, tolerance, min_v)?;
-            a.note = Some(
-                "n-sided patches have no derivative bounds yet: the deviation is sampled".into(),
-            );
-            Ok(a)
-        }
+        SurfaceKind::NSided(s) => approximate_nsided(s, tolerance, min_v),
         SurfaceKind::Disk(s) => {
             let mut a = approximate_sampled(&**s, tolerance, min_v)?;
             a.note =
