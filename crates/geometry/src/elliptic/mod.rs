@@ -15,7 +15,7 @@ mod patch;
 mod smoothing;
 mod tangent;
 
-pub use adjoint::{AdjointTangent, NODE_WEIGHTS};
+pub use adjoint::{AdjointTangent, Partial, NODE_WEIGHTS};
 pub use basis::BasisKind;
 pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
