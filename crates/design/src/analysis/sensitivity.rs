@@ -23,7 +23,7 @@ use super::design::{cap_derivative, CURVE_NODES};
 use super::quadrature::{periodic_trapezoid, Rule};
 use super::{DesignIntegrals, Integrals, Quadrature};
 use crate::design::{SolvedDesign, SurfaceKind};
-use crate::elliptic::{AdjointTangent, PdePatch, RowTables, NODE_WEIGHTS};
+use crate::elliptic::{AdjointTangent, Partial, PdePatch, NODE_WEIGHTS};
 use crate::surface::{normal_degenerates, Partials, Surface};
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
@@ -170,40 +170,90 @@ pub fn integrals_derivatives(
             add_patch_derivative(total, &d, at.orientation[i], name)?;
         }
     }
-    let rule = periodic_trapezoid(CURVE_NODES);
-    // The caps' rows of every direction on the same nodes: one table of `cos nv`, `sin nv`
-    // for all (the values each patch's own would hold).
-    let modes = tangents
-        .iter()
-        .flatten()
-        .map(|t| t.patch.modes())
-        .max()
-        .unwrap_or(0);
     if at.caps.is_empty() {
         return Ok(totals);
     }
-    let tables = RowTables::new(&rule.nodes, modes);
-    let mut d = vec![Partials::default(); rule.nodes.len()];
-    let mut rows = Vec::with_capacity(rule.nodes.len());
-    for cap in &at.caps {
-        let i = cap.patch;
-        let b = cap_row(base.surfaces[i].surface(), &rule.nodes, cap.u);
-        let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
-        for (total, t) in totals.iter_mut().zip(tangents) {
-            let t = &t[i];
-            t.patch
-                .partials_rows_sharing(&rule.nodes, &tables)
-                .eval_row(cap.u, &mut d);
-            rows.clear();
-            rows.extend(b.iter().zip(&d).map(|(p, d)| {
-                // `patch + stretch · u X_u` and its v-derivative on the row.
-                let s = t.stretch * cap.u;
-                (p.x, p.xv, d.x + s * p.xu, d.xv + s * p.xuv)
-            }));
-            total.volume += sign * at.orientation[i] * cap_derivative(&rows, &rule.weights);
+    // The caps: a cap's derivative is linear in the tangent's `Ẋ`, `Ẋ_v` on the boundary row
+    // ([`cap_weights`]), so it is one more adjoint, over the rows of the patch's caps with the
+    // weights of `X` and `X_v` only.
+    let rule = periodic_trapezoid(CURVE_NODES);
+    for i in 0..n {
+        let caps: Vec<&super::Cap> = at.caps.iter().filter(|c| c.patch == i).collect();
+        if caps.is_empty() {
+            continue;
+        }
+        let name = &base.surfaces[i].name;
+        let SurfaceKind::Pde(pde) = &base.surfaces[i].kind else {
+            continue;
+        };
+        let s = base.surfaces[i].surface();
+        let rows = s.partials_rows(&rule.nodes);
+        let mut row = vec![Partials::default(); rule.nodes.len()];
+        let us: Vec<f64> = caps.iter().map(|c| c.u).collect();
+        let cap_rows: Vec<Vec<f64>> = caps
+            .iter()
+            .map(|cap| {
+                rows.eval_row(cap.u, &mut row);
+                let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
+                let mut g = vec![0.0; rule.nodes.len() * NODE_WEIGHTS];
+                cap_weights(&row, &rule.weights, sign * at.orientation[i], &mut g);
+                g
+            })
+            .collect();
+        let weights = |a: usize, out: &mut [f64]| out.copy_from_slice(&cap_rows[a]);
+        let list: Vec<AdjointTangent> = tangents
+            .iter()
+            .map(|t| AdjointTangent {
+                patch: &t[i].patch,
+                stretch: t[i].stretch,
+            })
+            .collect();
+        let d = pde
+            .quadrature_adjoint_using(
+                &us,
+                &rule.nodes,
+                1,
+                &[Partial::X, Partial::Xv],
+                &weights,
+                &list,
+            )
+            .map_err(|e| e.at(&format!("patch '{name}'")))?;
+        for (total, d) in totals.iter_mut().zip(&d) {
+            if !d[0].is_finite() {
+                return Err(Error::invalid(
+                    "the derivative of a cap's volume is not finite at some node",
+                )
+                .at(&format!("patch '{name}'")));
+            }
+            total.volume += d[0];
         }
     }
     Ok(totals)
+}
+
+/// The weights of a cap's derivative [`cap_derivative`] times `scale` on its boundary row
+/// `row` (the point's partials at the trapezoid nodes with weights `w`): `out[b·18 + q]` for the
+/// tangent's `Ẋ` (`q` = 0, 1, 2) and `Ẋ_v` (`q` = 6, 7, 8) at node `b`, the others zero, so that
+/// `Σ_b out_b · (Ẋ_b, Ẋ_v,b) = scale · cap_derivative`. With `P = Σ w`, `c = Σ w X / P`,
+/// `S = ½ Σ w (X − c) × X_v` and `K = ½ Σ w X_v × c`, the derivative
+/// `(1/3)(ċ·S + c·Ṡ)` is, since `c·(a × b) = a·(b × c) = b·(c × a)`,
+/// `(1/3) Σ_b w_b [Ẋ_b · ((S − K)/P + ½ X_v,b × c) + Ẋ_v,b · ½ c × (X_b − c)]`.
+pub(crate) fn cap_weights(row: &[Partials], w: &[f64], scale: f64, out: &mut [f64]) {
+    out.fill(0.0);
+    let period: f64 = w.iter().sum();
+    let c = row.iter().zip(w).map(|(p, w)| p.x * *w).sum::<Vec3>() / period;
+    let (mut s, mut k) = (Vec3::zeros(), Vec3::zeros());
+    for (p, w) in row.iter().zip(w) {
+        s += (p.x - c).cross(&p.xv) * (0.5 * w);
+        k += p.xv.cross(&c) * (0.5 * w);
+    }
+    let mean = (s - k) / period;
+    for ((p, &w), out) in row.iter().zip(w).zip(out.chunks_exact_mut(NODE_WEIGHTS)) {
+        let gx = (mean + p.xv.cross(&c) * 0.5) * (scale * w / 3.0);
+        let gv = c.cross(&(p.x - c)) * (scale * w / 6.0);
+        out[..3].copy_from_slice(gx.as_slice());
+        out[6..9].copy_from_slice(gv.as_slice());
+    }
 }
 
 /// The partials of `s` along its parameter line `u` at the nodes `v` (a cap's boundary row).
@@ -527,6 +577,94 @@ mod tests {
                 assert!(g[2 * NODE_WEIGHTS..].iter().all(|&x| x == 0.0));
             }
         }
+    }
+
+    /// The cap's weights against [`cap_derivative`] on a boundary row (a closed, non-planar
+    /// curve `X`, its `X_v`, and a tangent `Ẋ`, `Ẋ_v`) at the nodes of the caps' rule. The two
+    /// are the same expression summed in different orders over `N = 512` nodes: each is a sum
+    /// of `N` products whose factors are themselves sums of at most `N` terms (`c`, `S`, `K`,
+    /// `ċ`, `Ṡ`), so each is within `γ_{2N+8}` of the sum of the magnitudes of its terms (the
+    /// terms bounded by products of norms: `|a·(b × c)| ≤ |a||b||c|`), the weights' own sums
+    /// `S`, `K` adding their magnitudes times `Σ w |Ẋ| / P`; the difference is checked against
+    /// the sum of these bounds.
+    #[test]
+    fn cap_weights_are_the_gradient_of_the_cap_derivative() {
+        let rule = periodic_trapezoid(CURVE_NODES);
+        let nn = rule.nodes.len();
+        let curve = |v: f64| {
+            Vec3::new(
+                1.3 * v.cos() + 0.2 * (2.0 * v).sin(),
+                0.4 + 0.3 * (3.0 * v).cos(),
+                0.9 * v.sin(),
+            )
+        };
+        let dcurve = |v: f64| {
+            Vec3::new(
+                -1.3 * v.sin() + 0.4 * (2.0 * v).cos(),
+                -0.9 * (3.0 * v).sin(),
+                0.9 * v.cos(),
+            )
+        };
+        // A dilation, a shift and a bend.
+        let tangent = |v: f64| {
+            curve(v) * 0.25 + Vec3::new(0.3 + (2.0 * v).cos(), 0.6 + 0.5 * v.sin(), -0.7 + v.cos())
+        };
+        let dtangent =
+            |v: f64| dcurve(v) * 0.25 + Vec3::new(-2.0 * (2.0 * v).sin(), 0.5 * v.cos(), -v.sin());
+        let row: Vec<Partials> = rule
+            .nodes
+            .iter()
+            .map(|&v| Partials {
+                x: curve(v),
+                xv: dcurve(v),
+                ..Partials::default()
+            })
+            .collect();
+        let scale = -0.8;
+        let mut g = vec![0.0; nn * NODE_WEIGHTS];
+        cap_weights(&row, &rule.weights, scale, &mut g);
+        let mut adjoint = 0.0;
+        let mut magnitude = 0.0;
+        for (b, &v) in rule.nodes.iter().enumerate() {
+            let gb = &g[b * NODE_WEIGHTS..(b + 1) * NODE_WEIGHTS];
+            assert!(gb[3..6].iter().chain(&gb[9..]).all(|&x| x == 0.0));
+            let (t, dt) = (tangent(v), dtangent(v));
+            for k in 0..3 {
+                adjoint += gb[k] * t[k] + gb[6 + k] * dt[k];
+                magnitude += (gb[k] * t[k]).abs() + (gb[6 + k] * dt[k]).abs();
+            }
+        }
+        let rows: Vec<_> = rule
+            .nodes
+            .iter()
+            .zip(&row)
+            .map(|(&v, p)| (p.x, p.xv, tangent(v), dtangent(v)))
+            .collect();
+        let direct = scale * cap_derivative(&rows, &rule.weights);
+        // The magnitudes of the direct sums' terms, by norms.
+        let period: f64 = rule.weights.iter().sum();
+        let w = &rule.weights;
+        let c = rows.iter().zip(w).map(|(r, w)| r.0 * *w).sum::<Vec3>() / period;
+        let dc = rows.iter().zip(w).map(|(r, w)| r.2 * *w).sum::<Vec3>() / period;
+        type Node = (Vec3, Vec3, Vec3, Vec3);
+        let norm_sum =
+            |f: &dyn Fn(&Node) -> f64| -> f64 { rows.iter().zip(w).map(|(r, w)| w * f(r)).sum() };
+        let s_abs = norm_sum(&|r| (r.0 - c).norm() * r.1.norm()) / 2.0;
+        let ds_abs =
+            norm_sum(&|r| (r.2 - dc).norm() * r.1.norm() + (r.0 - c).norm() * r.3.norm()) / 2.0;
+        let dc_abs = norm_sum(&|r| r.2.norm()) / period;
+        let direct_magnitude = scale.abs() * (dc_abs * s_abs + c.norm() * ds_abs) / 3.0;
+        // The rounding of the weights' own sums `S`, `K`, carried by `Σ w |Ẋ| / P`.
+        let k_abs = norm_sum(&|r| r.1.norm()) * c.norm() / 2.0;
+        let weight_magnitude = scale.abs() * dc_abs * (s_abs + k_abs) / 3.0;
+        let m = (2 * nn + 8) as f64 * f64::EPSILON;
+        let gamma = m / (1.0 - m);
+        let bound = gamma * (magnitude + direct_magnitude + weight_magnitude);
+        assert!(direct.abs() > 0.1, "a tangent that moves the cap: {direct}");
+        assert!(
+            (adjoint - direct).abs() <= bound,
+            "{adjoint} vs {direct} (bound {bound:e})"
+        );
     }
 
     /// The node derivative against central differences of the integrands on a surface moved

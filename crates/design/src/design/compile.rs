@@ -617,8 +617,7 @@ fn plan_patches(
         }
         let mut conditions = Vec::with_capacity(p.conditions.len());
         for (i, c) in p.conditions.iter().enumerate() {
-            let place = format!("{}[{i}].curve", p.place);
-            let curve = builder.reference(&c.curve, &place)?;
+            let curve = builder.reference_at(&c.curve, &|| format!("{}[{i}].curve", p.place))?;
             let (curve_name, kind) = match &c.curve {
                 CurveRef::Name(n) => (
                     Some(n.clone()),

@@ -4,7 +4,9 @@
 use super::attach::{CurveOnSurface, PathOnHost, TangentField};
 use super::solved::{NamedCurve, SurfaceKind};
 use super::trim::trim_curve;
-use super::validate::{curve_place, kind_name, references, unknown_curve, validate_patches};
+use super::validate::{
+    curve_place, kind_name, reference_names, references, unknown_curve, validate_patches,
+};
 use crate::curve::{
     ArcLength, BSpline, Bezier, Combination, Domain, Ellipse, Formula, FourierSeries, Hermite,
     LocalEdit, OriginShift, Point, PointSamples, RationalBSpline, SampleParam, SharedCurve,
@@ -25,6 +27,11 @@ struct Built {
     hosts: Vec<usize>,
     curve: SharedCurve,
 }
+
+/// A place in the design file, built only when an error names it (or an inline curve is
+/// cached under it): building the designs at the steps of a derivative would otherwise
+/// format the place of every condition and curve of every design.
+type Place<'p> = &'p dyn Fn() -> String;
 
 /// The curves of the last build: named curves by name, inline curves by their place
 /// (`patches[2].conditions[1].curve`).
@@ -131,15 +138,20 @@ impl<'a> CurveBuilder<'a> {
     }
 
     pub(crate) fn named(&mut self, name: &str, place: &str) -> Result<SharedCurve> {
+        self.named_at(name, &|| place.to_string())
+    }
+
+    /// [`CurveBuilder::named`] with the place of the reference built only if an error names it.
+    fn named_at(&mut self, name: &str, place: Place<'_>) -> Result<SharedCurve> {
         if let Some(c) = self.built.get(name) {
             return Ok(c.clone());
         }
         let (specs, previous) = (self.specs, self.previous);
         let Some(spec) = specs.get(name) else {
-            return Err(unknown_curve(name, specs, place));
+            return Err(unknown_curve(name, specs, &place()));
         };
         let old = previous.named.get(name);
-        let built = self.cached(spec, &curve_place(name), old)?;
+        let built = self.cached(spec, &|| curve_place(name), old)?;
         self.built.insert(name.to_string(), built.curve.clone());
         self.next.named.insert(name.to_string(), built.clone());
         Ok(built.curve)
@@ -147,13 +159,20 @@ impl<'a> CurveBuilder<'a> {
 
     /// A condition's curve: a named curve, or an inline table cached under its place.
     pub(crate) fn reference(&mut self, r: &CurveRef, place: &str) -> Result<SharedCurve> {
+        self.reference_at(r, &|| place.to_string())
+    }
+
+    /// [`CurveBuilder::reference`] with the place built only when an error names it or an
+    /// inline curve is cached under it.
+    pub(crate) fn reference_at(&mut self, r: &CurveRef, place: Place<'_>) -> Result<SharedCurve> {
         match r {
-            CurveRef::Name(n) => self.named(n, place),
+            CurveRef::Name(n) => self.named_at(n, place),
             CurveRef::Inline(spec) => {
+                let key = place();
                 let previous = self.previous;
-                let old = previous.inline.get(place);
-                let built = self.cached(spec, place, old)?;
-                self.next.inline.insert(place.to_string(), built.clone());
+                let old = previous.inline.get(&key);
+                let built = self.cached(spec, &|| key.clone(), old)?;
+                self.next.inline.insert(key, built.clone());
                 Ok(built.curve)
             }
         }
@@ -161,15 +180,21 @@ impl<'a> CurveBuilder<'a> {
 
     /// The curve of `spec`: the previous one if the spec is equal and every curve it refers to
     /// is the same object as last time, else a fresh build.
-    fn cached(&mut self, spec: &CurveSpec, place: &str, old: Option<&Built>) -> Result<Built> {
+    fn cached(&mut self, spec: &CurveSpec, place: Place<'_>, old: Option<&Built>) -> Result<Built> {
         let mut names = Vec::new();
-        references(spec, place, &mut names);
+        reference_names(spec, &mut names);
         let mut deps = Vec::with_capacity(names.len());
-        for (n, p) in names {
-            deps.push(self.named(n, &p)?);
+        for (k, n) in names.into_iter().enumerate() {
+            // The reference's place, as `references` words it.
+            let at = || {
+                let mut refs = Vec::new();
+                references(spec, &place(), &mut refs);
+                refs.into_iter().nth(k).map(|(_, p)| p).unwrap_or_default()
+            };
+            deps.push(self.named_at(n, &at)?);
         }
         let hosts: Vec<usize> = match self.on_patch_of(spec) {
-            Some((h, _)) => vec![self.host(h, &format!("{place}.patch"))?.id()],
+            Some((h, _)) => vec![self.host(h, &format!("{}.patch", place()))?.id()],
             None => Vec::new(),
         };
         if let Some(old) = old {
@@ -184,7 +209,7 @@ impl<'a> CurveBuilder<'a> {
                 // The reused curve's path on its host stays this build's (and the next's).
                 if let Some((h, path)) = self.on_patch_of(spec) {
                     let (h, path) = (h.to_string(), path.clone());
-                    self.path_on(&h, &path, &format!("{place}.patch"))?;
+                    self.path_on(&h, &path, &format!("{}.patch", place()))?;
                 }
                 return Ok(old.clone());
             }
@@ -199,8 +224,8 @@ impl<'a> CurveBuilder<'a> {
     }
 
     /// Builds one curve: its kind, then arc length, `v_origin`, and the transforms in order.
-    fn build(&mut self, spec: &CurveSpec, place: &str) -> Result<SharedCurve> {
-        let at = |e: Error| e.at(place);
+    fn build(&mut self, spec: &CurveSpec, place: Place<'_>) -> Result<SharedCurve> {
+        let at = |e: Error| e.at(&place());
         let v3 = |v: &V3| Vec3::new(v[0], v[1], v[2]);
         let pts = |v: &[V3]| v.iter().map(v3).collect::<Vec<_>>();
         let mut curve: SharedCurve = match &spec.kind {
@@ -285,15 +310,15 @@ impl<'a> CurveBuilder<'a> {
                 direction,
                 scale,
             } => {
-                let p = self.reference(position, &format!("{place}.position"))?;
-                let d = self.reference(direction, &format!("{place}.direction"))?;
+                let p = self.reference_at(position, &|| format!("{}.position", place()))?;
+                let d = self.reference_at(direction, &|| format!("{}.direction", place()))?;
                 if p.domain() != d.domain() {
                     return Err(Error::invalid(format!(
                         "position and direction curves have different domains ({:?} and {:?})",
                         p.domain(),
                         d.domain()
                     ))
-                    .at(place));
+                    .at(&place()));
                 }
                 // X_u = s (d − p): points from the position curve towards the direction curve.
                 Arc::new(Combination::new(vec![(*scale, d), (-*scale, p)]).map_err(at)?)
@@ -307,40 +332,41 @@ impl<'a> CurveBuilder<'a> {
                 across,
                 normal,
             } => {
-                let base = self.reference(curve, &format!("{place}.curve"))?;
+                let base = self.reference_at(curve, &|| format!("{}.curve", place()))?;
                 Arc::new(
                     LocalEdit::new(base, *from, *to, *handle, [*along, *across, *normal])
                         .map_err(at)?,
                 )
             }
             CurveKind::OnPatch { patch, path, .. } => {
-                let on = self.path_on(patch, path, &format!("{place}.patch"))?;
+                let on = self.path_on(patch, path, &format!("{}.patch", place()))?;
                 Arc::new(CurveOnSurface::on(on))
             }
             CurveKind::TangentField { curve, scale } => {
                 let Some((patch, path)) = self.on_patch_of(spec) else {
                     return Err(
                         Error::invalid(format!("'{curve}' is not an on_patch curve"))
-                            .at(&format!("{place}.curve")),
+                            .at(&format!("{}.curve", place())),
                     );
                 };
                 let (patch, path) = (patch.to_string(), path.clone());
-                let on = self.path_on(&patch, &path, &format!("{place}.curve"))?;
+                let on = self.path_on(&patch, &path, &format!("{}.curve", place()))?;
                 Arc::new(TangentField::on(on, *scale))
             }
         };
         if spec.arc_length {
-            curve =
-                Arc::new(ArcLength::new(curve).map_err(|e| e.at(&format!("{place}.arc_length")))?);
+            curve = Arc::new(
+                ArcLength::new(curve).map_err(|e| e.at(&format!("{}.arc_length", place())))?,
+            );
         }
         if spec.v_origin != 0.0 {
             curve = Arc::new(
                 OriginShift::new(curve, spec.v_origin)
-                    .map_err(|e| e.at(&format!("{place}.v_origin")))?,
+                    .map_err(|e| e.at(&format!("{}.v_origin", place())))?,
             );
         }
         if !spec.transform.is_empty() {
-            let map = super::transform_map(&spec.transform, place)?;
+            let map = super::transform::transform_map_at(&spec.transform, place)?;
             curve = Arc::new(Transformed::new(curve, map));
         }
         Ok(curve)

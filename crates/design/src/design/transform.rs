@@ -12,20 +12,29 @@ fn v3(p: &V3) -> Vec3 {
 /// The affine map of `transform` steps applied in order (rotation angles in degrees). An
 /// invalid step is refused at `{place}.transform[i].rotate` (`.scale`, `.dilate`).
 pub fn transform_map(steps: &[TransformStep], place: &str) -> Result<Affine> {
+    transform_map_at(steps, &|| place.to_string())
+}
+
+/// [`transform_map`] with the place built only when a step is refused.
+pub(crate) fn transform_map_at(
+    steps: &[TransformStep],
+    place: &dyn Fn() -> String,
+) -> Result<Affine> {
     let mut map = Affine::identity();
     for (i, step) in steps.iter().enumerate() {
-        let p = format!("{place}.transform[{i}]");
+        let at = |what: &str| format!("{}.transform[{i}].{what}", place());
         let next = match step {
             TransformStep::Translate(d) => Affine::translation(v3(d)),
             TransformStep::Rotate { axis, angle, about } => {
                 Affine::rotation(v3(axis), angle.to_radians(), v3(about))
-                    .map_err(|e| e.at(&format!("{p}.rotate")))?
+                    .map_err(|e| e.at(&at("rotate")))?
             }
             TransformStep::Scale { factor, about } => {
-                Affine::scaling(*factor, v3(about)).map_err(|e| e.at(&format!("{p}.scale")))?
+                Affine::scaling(*factor, v3(about)).map_err(|e| e.at(&at("scale")))?
             }
-            TransformStep::Dilate { factors, about } => Affine::dilation(v3(factors), v3(about))
-                .map_err(|e| e.at(&format!("{p}.dilate")))?,
+            TransformStep::Dilate { factors, about } => {
+                Affine::dilation(v3(factors), v3(about)).map_err(|e| e.at(&at("dilate")))?
+            }
         };
         map = map.then(&next);
     }

@@ -238,6 +238,33 @@ pub(crate) fn references<'a>(c: &'a CurveSpec, place: &str, out: &mut Vec<(&'a s
     }
 }
 
+/// The names [`references`] lists for `c`, in the same order, without their places (which are
+/// formatted only when an error names one).
+pub(crate) fn reference_names<'a>(c: &'a CurveSpec, out: &mut Vec<&'a str>) {
+    if let CurveKind::TangentField { curve, .. } = &c.kind {
+        out.push(curve.as_str());
+    }
+    if let CurveKind::Local { curve, .. } = &c.kind {
+        match curve {
+            CurveRef::Name(n) => out.push(n.as_str()),
+            CurveRef::Inline(inner) => reference_names(inner, out),
+        }
+    }
+    if let CurveKind::Derivative {
+        position,
+        direction,
+        ..
+    } = &c.kind
+    {
+        for r in [position, direction] {
+            match r {
+                CurveRef::Name(n) => out.push(n.as_str()),
+                CurveRef::Inline(inner) => reference_names(inner, out),
+            }
+        }
+    }
+}
+
 pub(crate) fn unknown_curve(
     name: &str,
     curves: &BTreeMap<String, CurveSpec>,

@@ -40,6 +40,48 @@ const XUU: usize = 9;
 const XUV: usize = 12;
 const XVV: usize = 15;
 
+/// A partial of a surface whose node weights a functional uses
+/// ([`PdePatch::quadrature_adjoint_using`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Partial {
+    /// `X`.
+    X,
+    /// `X_u`.
+    Xu,
+    /// `X_v`.
+    Xv,
+    /// `X_uu`.
+    Xuu,
+    /// `X_uv`.
+    Xuv,
+    /// `X_vv`.
+    Xvv,
+}
+
+impl Partial {
+    /// All six, in the order of a node's weights.
+    pub const ALL: [Partial; 6] = [
+        Partial::X,
+        Partial::Xu,
+        Partial::Xv,
+        Partial::Xuu,
+        Partial::Xuv,
+        Partial::Xvv,
+    ];
+
+    /// The offset of the partial's three weights among a node's 18.
+    fn offset(self) -> usize {
+        match self {
+            Partial::X => X,
+            Partial::Xu => XU,
+            Partial::Xv => XV,
+            Partial::Xuu => XUU,
+            Partial::Xuv => XUV,
+            Partial::Xvv => XVV,
+        }
+    }
+}
+
 /// A tangent of a patch for [`PdePatch::quadrature_adjoint`]: `patch + stretch · u X_u` with `X`
 /// the patch the adjoint is gathered on.
 #[derive(Clone, Copy)]
@@ -67,6 +109,12 @@ struct Layout {
     stretched_remainder: bool,
     conditions: usize,
     nv: usize,
+    /// The offsets of the used partials' weights among a node's 18 (all six unless the
+    /// functionals use fewer).
+    used: Vec<usize>,
+    /// The distinct modes of `live` and `stretched`, ascending: each one's cosine and sine
+    /// sums of a row are made once.
+    distinct: Vec<usize>,
 }
 
 impl Layout {
@@ -205,6 +253,21 @@ impl PdePatch {
         weights: &(dyn Fn(usize, &mut [f64]) + Sync),
         tangents: &[AdjointTangent],
     ) -> Result<Vec<Vec<f64>>> {
+        self.quadrature_adjoint_using(us, vs, outputs, &Partial::ALL, weights, tangents)
+    }
+
+    /// [`PdePatch::quadrature_adjoint`] of functionals that weigh only the partials `uses`
+    /// (such as `X` and `X_v` on a boundary row): the sums over the nodes skip the others, and
+    /// their weights are taken as zero whatever `weights` writes into their places.
+    pub fn quadrature_adjoint_using(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        outputs: usize,
+        uses: &[Partial],
+        weights: &(dyn Fn(usize, &mut [f64]) + Sync),
+        tangents: &[AdjointTangent],
+    ) -> Result<Vec<Vec<f64>>> {
         let nm = self.modes.len();
         let len = self.modes[0].basis.len();
         for (k, t) in tangents.iter().enumerate() {
@@ -239,7 +302,17 @@ impl PdePatch {
             stretched_remainder: stretch && self.remainder.is_some(),
             conditions: self.conditions().len(),
             nv: vs.len(),
+            used: Partial::ALL
+                .iter()
+                .filter(|p| uses.contains(p))
+                .map(|p| p.offset())
+                .collect(),
+            distinct: Vec::new(),
         };
+        let mut lay = lay;
+        lay.distinct = (0..nm)
+            .filter(|n| lay.live.contains(n) || lay.stretched.contains(n))
+            .collect();
         // The cardinal functions of the tangents' remainder (all the same), and every
         // condition that is active in some tangent.
         let cardinal = lay
@@ -254,19 +327,14 @@ impl PdePatch {
             .collect();
         let total = lay.total();
         let block = vs.len() * outputs * NODE_WEIGHTS;
-        // cos(n v_b), sin(n v_b) of the live and stretched modes.
-        let trig: Vec<(Vec<f64>, Vec<f64>)> = (0..nm)
-            .map(|n| {
-                if lay.live.contains(&n) || lay.stretched.contains(&n) {
-                    vs.iter()
-                        .map(|&v| {
-                            let (s, c) = (n as f64 * v).sin_cos();
-                            (c, s)
-                        })
-                        .unzip()
-                } else {
-                    (Vec::new(), Vec::new())
-                }
+        // trig[b·D + d] = (cos n v_b, sin n v_b) of the distinct modes `n = lay.distinct[d]`.
+        let trig: Vec<(f64, f64)> = vs
+            .iter()
+            .flat_map(|&v| {
+                lay.distinct.iter().map(move |&n| {
+                    let (s, c) = (n as f64 * v).sin_cos();
+                    (c, s)
+                })
             })
             .collect();
         // Each row's sums, then their total in row order: the same bits whatever the number
@@ -274,7 +342,16 @@ impl PdePatch {
         let rows: Vec<Vec<f64>> = (0..us.len())
             .into_par_iter()
             .map_init(
-                || Scratch::new(total, block, outputs, len, lay.conditions),
+                || {
+                    Scratch::new(
+                        total,
+                        block,
+                        outputs,
+                        len,
+                        lay.conditions,
+                        lay.distinct.len(),
+                    )
+                },
                 |s, a| {
                     s.acc.fill(0.0);
                     s.row(a, us[a], weights, &lay, self, cardinal, &active, &trig);
@@ -326,11 +403,57 @@ impl PdePatch {
     }
 }
 
+/// The cosine and sine sums of a row's weights `g` (`[b][o][18]`) for `modes` modes whose
+/// `(cos, sin)` at node `b` are `trig[b·modes + d]`: `cs[d·outputs + o][q] = Σ_b g · cos`, each
+/// sum in node order, over all 18 weights (`ALL`) or those of the partials at the offsets
+/// `used` only.
+#[inline(always)]
+fn v_sums<const ALL: bool>(
+    g: &[f64],
+    trig: &[(f64, f64)],
+    modes: usize,
+    outputs: usize,
+    used: &[usize],
+    cs: &mut [[f64; NODE_WEIGHTS]],
+    sn: &mut [[f64; NODE_WEIGHTS]],
+) {
+    if modes == 0 {
+        return;
+    }
+    for (gb, trig) in g
+        .chunks_exact(outputs * NODE_WEIGHTS)
+        .zip(trig.chunks_exact(modes))
+    {
+        for (d, &(cb, sb)) in trig.iter().enumerate() {
+            let (cs, sn) = (
+                &mut cs[d * outputs..][..outputs],
+                &mut sn[d * outputs..][..outputs],
+            );
+            for ((c, s), g) in cs.iter_mut().zip(sn).zip(gb.chunks_exact(NODE_WEIGHTS)) {
+                if ALL {
+                    for q in 0..NODE_WEIGHTS {
+                        c[q] += g[q] * cb;
+                        s[q] += g[q] * sb;
+                    }
+                } else {
+                    for &p in used {
+                        for q in p..p + 3 {
+                            c[q] += g[q] * cb;
+                            s[q] += g[q] * sb;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// One thread's accumulator and row buffers.
 struct Scratch {
     acc: Vec<f64>,
     g: Vec<f64>,
-    /// Per functional: the row's cosine and sine sums of the 18 weights.
+    /// Per distinct mode and functional: the row's cosine and sine sums of the 18 weights,
+    /// `cs[d·outputs + o]`.
     cs: Vec<[f64; NODE_WEIGHTS]>,
     sn: Vec<[f64; NODE_WEIGHTS]>,
     phi: [Vec<f64>; 4],
@@ -342,13 +465,20 @@ struct Scratch {
 }
 
 impl Scratch {
-    fn new(total: usize, block: usize, outputs: usize, len: usize, conditions: usize) -> Self {
+    fn new(
+        total: usize,
+        block: usize,
+        outputs: usize,
+        len: usize,
+        conditions: usize,
+        distinct: usize,
+    ) -> Self {
         let v = |n: usize| vec![0.0; n];
         Scratch {
             acc: v(total),
             g: v(block),
-            cs: vec![[0.0; NODE_WEIGHTS]; outputs],
-            sn: vec![[0.0; NODE_WEIGHTS]; outputs],
+            cs: vec![[0.0; NODE_WEIGHTS]; outputs * distinct],
+            sn: vec![[0.0; NODE_WEIGHTS]; outputs * distinct],
             phi: [v(len), v(len), v(len), v(len)],
             stretched: [v(len), v(len), v(len)],
             card: [v(conditions), v(conditions), v(conditions), v(conditions)],
@@ -369,9 +499,19 @@ impl Scratch {
         patch: &PdePatch,
         cardinal: Option<&super::patch::Remainder>,
         active: &[bool],
-        trig: &[(Vec<f64>, Vec<f64>)],
+        trig: &[(f64, f64)],
     ) {
         weights(a, &mut self.g);
+        if lay.used.len() < 6 {
+            // The weights of the partials not used are zero.
+            for node in self.g.chunks_exact_mut(NODE_WEIGHTS) {
+                for p in Partial::ALL.map(Partial::offset) {
+                    if !lay.used.contains(&p) {
+                        node[p..p + 3].fill(0.0);
+                    }
+                }
+            }
+        }
         let outputs = lay.outputs;
         let mb = lay.mode_block();
         let modes = lay
@@ -379,27 +519,30 @@ impl Scratch {
             .iter()
             .map(|&n| (n, false))
             .chain(lay.stretched.iter().map(|&n| (n, true)));
+        // The row's cosine and sine sums of every functional's weights, all distinct modes in
+        // one pass over the nodes (each sum in node order).
+        let dd = lay.distinct.len();
+        self.cs.fill([0.0; NODE_WEIGHTS]);
+        self.sn.fill([0.0; NODE_WEIGHTS]);
+        if lay.used.len() == 6 {
+            v_sums::<true>(&self.g, trig, dd, outputs, &[], &mut self.cs, &mut self.sn);
+        } else {
+            v_sums::<false>(
+                &self.g,
+                trig,
+                dd,
+                outputs,
+                &lay.used,
+                &mut self.cs,
+                &mut self.sn,
+            );
+        }
         for (k, (n, stretched)) in modes.enumerate() {
-            let (cos, sin) = &trig[n];
-            // The row's cosine and sine sums of every functional's 18 weights.
-            for (c, s) in self.cs.iter_mut().zip(self.sn.iter_mut()) {
-                *c = [0.0; NODE_WEIGHTS];
-                *s = [0.0; NODE_WEIGHTS];
-            }
-            for (b, (&cb, &sb)) in cos.iter().zip(sin).enumerate() {
-                for o in 0..outputs {
-                    let g = &self.g[(b * outputs + o) * NODE_WEIGHTS..][..NODE_WEIGHTS];
-                    let (c, s) = (&mut self.cs[o], &mut self.sn[o]);
-                    for q in 0..NODE_WEIGHTS {
-                        c[q] += g[q] * cb;
-                        s[q] += g[q] * sb;
-                    }
-                }
-            }
+            let d = lay.distinct.partition_point(|&m| m < n);
             let nf = n as f64;
             let v3 = |x: &[f64; NODE_WEIGHTS], q: usize| Vec3::new(x[q], x[q + 1], x[q + 2]);
             for o in 0..outputs {
-                let (c, s) = (&self.cs[o], &self.sn[o]);
+                let (c, s) = (&self.cs[d * outputs + o], &self.sn[d * outputs + o]);
                 self.p[o] = [
                     v3(c, X) - v3(c, XVV) * (nf * nf) - v3(s, XV) * nf,
                     v3(c, XU) - v3(s, XUV) * nf,

@@ -15,7 +15,7 @@ mod patch;
 mod smoothing;
 mod tangent;
 
-pub use adjoint::{AdjointTangent, NODE_WEIGHTS};
+pub use adjoint::{AdjointTangent, Partial, NODE_WEIGHTS};
 pub use basis::BasisKind;
 pub use bounds::{mode_sum, RemainderTerm};
 pub use operator::{Operator, RootGroup, MAX_HALF_ORDER};
@@ -249,14 +249,16 @@ pub fn solve(
     } else {
         options.samples
     };
-    let series: Vec<FourierSeries> = conditions
+    let (series, exact): (Vec<FourierSeries>, Vec<bool>) = conditions
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            FourierSeries::from_curve(&*c.curve, m, samples)
+            condition_series(&*c.curve, m, samples)
                 .map_err(|e| e.at(&format!("conditions[{i}].curve")))
         })
-        .collect::<Result<_>>()?;
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
     let at: Vec<(f64, usize)> = conditions.iter().map(|c| (c.u, c.derivative)).collect();
 
     let mut modes = Vec::with_capacity(m + 1);
@@ -284,6 +286,7 @@ pub fn solve(
         operator,
         conditions,
         &series,
+        &exact,
         modes,
         reports,
         options,
@@ -294,7 +297,27 @@ pub fn solve(
     Ok(patch)
 }
 
-/// The patch of the solved `modes` of `conditions` (whose Fourier series are `series`), with
+/// A condition curve's Fourier series of `m` modes (as [`FourierSeries::from_curve`] makes it)
+/// and whether the curve is a finite series within those modes, from one call of
+/// [`Curve::fourier`] (which builds the series of every part of a combined curve).
+pub(crate) fn condition_series(
+    curve: &dyn crate::curve::Curve,
+    m: usize,
+    samples: usize,
+) -> Result<(FourierSeries, bool)> {
+    let own = curve.fourier();
+    let within = own.as_ref().is_some_and(|f| f.modes() <= m);
+    let series = match own {
+        Some(f) if m <= crate::fourier::MAX_MODES && samples <= crate::fourier::MAX_SAMPLES => {
+            f.truncated(m)
+        }
+        _ => FourierSeries::from_curve(curve, m, samples)?,
+    };
+    Ok((series, within))
+}
+
+/// The patch of the solved `modes` of `conditions` (whose Fourier series are `series`, `exact`
+/// where the curve is a finite series within the modes), with
 /// the spectral remainder when a condition needs it; also each condition's coefficient distance
 /// and whether it takes part in the remainder. `cardinal` holds the remainder's cardinal
 /// functions and their report once solved (they depend on the operator and the conditions'
@@ -304,6 +327,7 @@ fn assemble(
     operator: &Operator,
     conditions: Vec<Condition>,
     series: &[FourierSeries],
+    exact: &[bool],
     modes: Vec<ModeFn>,
     mut reports: Vec<ModeReport>,
     options: &SolveOptions,
@@ -331,11 +355,10 @@ fn assemble(
         .zip(&fitted)
         .map(|(s, f)| series_distance(s, f))
         .collect();
-    let active: Vec<bool> = conditions
+    let active: Vec<bool> = exact
         .iter()
         .zip(series.iter().zip(&distances))
-        .map(|(c, (s, &dist))| {
-            let exact = c.curve.fourier().is_some_and(|f| f.modes() <= m);
+        .map(|(&exact, (s, &dist))| {
             !exact || dist > ROUNDING_LEFTOVER * series_size(s).max(design_size)
         })
         .collect();

@@ -28,7 +28,9 @@ pub struct PdePatch {
     /// condition `i` the `M` modes leave (Eqs. 4.50–4.52).
     pub(super) remainder: Option<Remainder>,
     reports: Vec<ModeReport>,
-    scale: f64,
+    /// [`design_scale`] of the conditions, measured when first asked for (a tangent solve's
+    /// patches never are).
+    scale: std::sync::OnceLock<f64>,
 }
 
 // Closest points by the general search (no closed form).
@@ -80,14 +82,13 @@ impl PdePatch {
         remainder: Option<Remainder>,
         reports: Vec<ModeReport>,
     ) -> Self {
-        let scale = design_scale(&conditions);
         PdePatch {
             operator,
             conditions,
             modes,
             remainder,
             reports,
-            scale,
+            scale: std::sync::OnceLock::new(),
         }
     }
 
@@ -134,7 +135,7 @@ impl PdePatch {
     /// The size used to make condition errors relative: the largest distance of a position
     /// curve sample from the centroid of all of them.
     pub fn scale(&self) -> f64 {
-        self.scale
+        *self.scale.get_or_init(|| design_scale(&self.conditions))
     }
 
     /// `∂ᵈX/∂uᵈ (u, v)` for any order `d`.
@@ -219,9 +220,9 @@ impl PdePatch {
                     size = size.max(g.norm());
                 }
                 let denom = if c.derivative == 0 {
-                    self.scale
+                    self.scale()
                 } else {
-                    self.scale.max(size)
+                    self.scale().max(size)
                 };
                 ConditionError {
                     u: c.u,

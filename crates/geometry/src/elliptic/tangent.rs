@@ -9,7 +9,7 @@
 //! same [`super::solve_mode`] the patch was solved with) and solved with the `6K` columns of all
 //! directions at once; the remainder's cardinal functions are solved once for the batch.
 
-use super::{assemble, solve_mode, Condition, PdePatch, SolveOptions};
+use super::{assemble, condition_series, solve_mode, Condition, PdePatch, SolveOptions};
 use crate::curve::{Curve, Domain, SharedCurve};
 use crate::fourier::FourierSeries;
 use crate::{Error, Result, Vec3};
@@ -110,18 +110,21 @@ impl PdePatch {
         } else {
             options.samples
         };
-        let series: Vec<Vec<FourierSeries>> = directions
+        let (series, exact): (Vec<Vec<FourierSeries>>, Vec<Vec<bool>>) = directions
             .iter()
             .map(|d| {
                 d.iter()
                     .enumerate()
                     .map(|(i, c)| {
-                        FourierSeries::from_curve(&**c, m, samples)
+                        condition_series(&**c, m, samples)
                             .map_err(|e| e.at(&format!("conditions[{i}].curve")))
                     })
-                    .collect::<Result<_>>()
+                    .collect::<Result<Vec<_>>>()
+                    .map(|v| v.into_iter().unzip())
             })
-            .collect::<Result<_>>()?;
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .unzip();
         let at: Vec<(f64, usize)> = base.iter().map(|c| (c.u, c.derivative)).collect();
         let kk = directions.len();
         let mut modes: Vec<Vec<super::ModeFn>> =
@@ -152,8 +155,9 @@ impl PdePatch {
         directions
             .iter()
             .zip(series)
+            .zip(exact)
             .zip(modes)
-            .map(|((d, s), modes)| {
+            .map(|(((d, s), exact), modes)| {
                 let conditions = base
                     .iter()
                     .zip(d)
@@ -167,6 +171,7 @@ impl PdePatch {
                     operator,
                     conditions,
                     &s,
+                    &exact,
                     modes,
                     reports.clone(),
                     options,

@@ -968,6 +968,84 @@ fn quadrature_adjoint_equals_the_functional_node_by_node() {
     }
 }
 
+/// [`PdePatch::quadrature_adjoint_using`] with a subset of the partials (a boundary row's `X`,
+/// `X_v`): the same sums as [`PdePatch::quadrature_adjoint`] of weights that are zero on the
+/// other partials, in the same order, so the same bits, whatever the callback writes into the
+/// places of the partials it does not use; with a remainder and a stretched tangent.
+#[test]
+fn quadrature_adjoint_using_a_subset_equals_zero_weights_elsewhere() {
+    let op = Operator::polyharmonic(2, 1.5).unwrap();
+    let options = SolveOptions {
+        modes: 4,
+        ..Default::default()
+    };
+    let bumpy = |b: f64| -> SharedCurve { Arc::new(Bumpy { r: 0.8, h: 1.0, b }) };
+    let base = solve(
+        &op,
+        vec![
+            cond(0.0, 0, circle(0.0, 1.0)),
+            cond(0.0, 1, circle(1.0, 0.5)),
+            cond(1.0, 0, bumpy(0.2)),
+            cond(1.0, 1, circle(1.0, 0.3)),
+        ],
+        &options,
+    )
+    .unwrap();
+    let dirs = vec![
+        vec![
+            circle(0.1, 0.4),
+            circle(0.3, 0.2),
+            bumpy(0.5),
+            circle(0.5, 0.7),
+        ],
+        vec![
+            circle(0.0, 1.0),
+            circle(1.0, 0.5),
+            circle(0.2, 0.2),
+            circle(0.5, 0.7),
+        ],
+    ];
+    let tangents = base.solve_tangents(&dirs, &options).unwrap();
+    assert!(base.has_remainder() && tangents[0].has_remainder());
+    let us = [0.0, 0.37, 1.0];
+    let vs: Vec<f64> = (0..64).map(|b| TAU * b as f64 / 64.0).collect();
+    let uses = [Partial::X, Partial::Xv];
+    let kept = |q: usize| q < 3 || (6..9).contains(&q);
+    let vs = &vs;
+    let g = move |a: usize, b: usize, q: usize| ((1 + q + 5 * a) as f64 * 0.37 + vs[b]).sin();
+    let with = move |zero_others: bool| {
+        move |a: usize, row: &mut [f64]| {
+            for b in 0..vs.len() {
+                for q in 0..NODE_WEIGHTS {
+                    row[b * NODE_WEIGHTS + q] = if kept(q) || !zero_others {
+                        g(a, b, q)
+                    } else {
+                        0.0
+                    };
+                }
+            }
+        }
+    };
+    let list: Vec<AdjointTangent> = tangents
+        .iter()
+        .zip([0.0, 0.8])
+        .map(|(patch, stretch)| AdjointTangent { patch, stretch })
+        .collect();
+    let full = base
+        .quadrature_adjoint(&us, vs, 1, &with(true), &list)
+        .unwrap();
+    let subset = base
+        .quadrature_adjoint_using(&us, vs, 1, &uses, &with(false), &list)
+        .unwrap();
+    assert_eq!(full, subset);
+    assert!(full.iter().all(|d| d[0].abs() > 1e-3), "{full:?}");
+    // The weights of the other partials do count in the full adjoint.
+    let all = base
+        .quadrature_adjoint(&us, vs, 1, &with(false), &list)
+        .unwrap();
+    assert!(all.iter().zip(&full).all(|(a, f)| a[0] != f[0]));
+}
+
 /// The derivative with respect to the smoothing parameter, `(1/a) u X_u + T`
 /// ([`PdePatch::smoothing_tangent_curves`]), against central differences of solves at `a ± h`:
 /// `D(h) = (X(a + h) − X(a − h))/(2h)` errs by the truncation `h²/6 |X'''|` (with `X'''` estimated
