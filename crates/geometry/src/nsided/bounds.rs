@@ -9,11 +9,11 @@
 //! Every quantity is bounded over the cell from its range: the distances to the sides are
 //! bilinear in `(u, v)` (the piece's map is bilinear, a distance affine in the domain point),
 //! so they take their extremes at the cell's corners; a side's data `P, D, E, F` are bounded
-//! over the range of its parameter `s = d_{i−1} / (d_{i−1} + d_{i+1})` (monotone in each
-//! distance) by majorants ([`crate::majorant`]) built from the curves' proven derivative
-//! bounds ([`crate::curve::Curve::derivative_bounds`]), the Chebyshev series of neighbours'
-//! fields (`|T_n| ≤ 1`) and the cubics' coefficients. With `a`, `b` the sides meeting at the
-//! corner `c` (`X(c) = P_a(0) = P_b(1)`): the adjacent sides' blends sum to at most 1 and
+//! in size over the range of its parameter `s = d_{i−1} / (d_{i−1} + d_{i+1})` (monotone in
+//! each distance) from the curves' proven bounds over that range
+//! ([`crate::curve::Curve::derivative_bounds`]), the cubics' coefficients and the neighbour
+//! fields' sizes ([`super::side::ChebVec::size_bounds`]). With `a`, `b` the sides meeting at
+//! the corner `c` (`X(c) = P_a(0) = P_b(1)`): the adjacent sides' blends sum to at most 1 and
 //! their ribbons move from `X(c)` by at most `|s − end| sup|P'| + t sup|D| + t² sup|E| +
 //! t³ sup|F|`; every other blend is at most `(min(d_a, d_b) / d_i)^q` (`B_i ≤ π_i / π_a`);
 //! and the correction is at most `w Σ |c_ab|` (`|P_a P_b| ≤ 1` on the square).
@@ -21,86 +21,23 @@
 //! # Where there is no bound
 //!
 //! A side whose curve has a break inside it (the surface is not `C⁵` across the break's image
-//! in the domain), a curve kind without derivative bounds (NURBS curves), a neighbour's field
-//! long enough to be tabulated (it is evaluated by quintic Hermite pieces, `C²` across the
-//! table's points): the export samples the surface and says why.
+//! in the domain), or a curve kind without derivative bounds (NURBS curves): the export samples
+//! the surface and says why.
 
-use super::side::{BuiltCurvature, BuiltRibbon, BuiltSide, ChebVec};
+use super::side::{BuiltCurvature, BuiltRibbon, BuiltSide};
 use super::{NSidedPatch, NSidedSurface, MAX_SIDES};
 use crate::curve::SharedCurve;
-use crate::majorant::{Majorant, ORDER};
 use crate::Vec3;
 
 /// Rounding slack added to the ends of domain-coordinate enclosures (the coordinates are of
 /// size ≤ 1, computed with a few operations).
 const SLACK: f64 = 1e-15;
 
-/// A scalar over a cell: its values lie in `[lo, hi]`, and `m` majorises it along every line
-/// (`m.0[0] = max(|lo|, |hi|)`).
+/// A scalar's range over a cell.
 #[derive(Clone, Copy, Debug)]
 struct Scalar {
     lo: f64,
     hi: f64,
-    m: Majorant,
-}
-
-impl Scalar {
-    fn new(lo: f64, hi: f64, mut m: Majorant) -> Scalar {
-        m.0[0] = lo.abs().max(hi.abs());
-        Scalar { lo, hi, m }
-    }
-}
-
-/// The majorant of `g(p + σ w) − g(p)`: the constant term dropped.
-fn increment(mut m: Majorant) -> Majorant {
-    m.0[0] = 0.0;
-    m
-}
-
-/// `F(s)` for a function with `|F^{(k)}| ≤ f[k]` over the range of `s`.
-fn compose(f: &[f64], s: &Scalar) -> Majorant {
-    Majorant::compose1(f, &increment(s.m))
-}
-
-/// `Σ_k f_k T_k(x)` on `[−1, 1]` as a function of `s = (x + 1)/2`: bounds of its derivatives
-/// `0 ..= ORDER` in `s` from the coefficients.
-fn chebyshev_bounds(c: &[f64]) -> [f64; ORDER + 1] {
-    let mut out = [0.0; ORDER + 1];
-    for (n, cn) in c.iter().enumerate() {
-        let n2 = (n * n) as f64;
-        let mut t = 1.0;
-        for (k, o) in out.iter_mut().enumerate() {
-            if k > 0 {
-                let j = (k - 1) as f64;
-                t *= (n2 - j * j).max(0.0) / (2.0 * j + 1.0) * 2.0;
-            }
-            *o += cn.abs() * t;
-        }
-    }
-    out
-}
-
-/// The bounds of a vector Chebyshev field's derivatives (the Euclidean norm of the three
-/// coordinates' bounds), or `None` for a tabulated (long) series.
-fn field_bounds(f: &ChebVec) -> Option<[f64; ORDER + 1]> {
-    let [x, y, z] = coordinate_bounds(f)?;
-    Some(std::array::from_fn(|k| x[k].hypot(y[k]).hypot(z[k])))
-}
-
-/// Each coordinate's derivative bounds of a Chebyshev field ([`chebyshev_bounds`]).
-fn coordinate_bounds(f: &ChebVec) -> Option<[[f64; ORDER + 1]; 3]> {
-    let c = f.coordinate_series()?;
-    Some([0, 1, 2].map(|i| chebyshev_bounds(&c[i])))
-}
-
-/// Bounds of `Σ_m a_m s^m`'s derivatives `0 ..= ORDER` (vector coefficients) for `|s| ≤ 1`.
-fn cubic_bounds(a: [f64; 4]) -> [f64; ORDER + 1] {
-    std::array::from_fn(|k| (k..4).map(|m| a[m] * falling(m, k) as f64).sum::<f64>())
-}
-
-/// `m! / (m − k)!`.
-fn falling(m: usize, k: usize) -> usize {
-    (m + 1 - k..=m).product()
 }
 
 /// The monomial coefficients' norms of the cubic Hermite `[v0, m0, v1, m1]` on `[0, 1]`.
@@ -168,14 +105,6 @@ impl Correction {
     }
 }
 
-/// The majorised data of one side over a cell: `P, D, E, F` composed with `s`.
-struct SideMajorants {
-    p: Majorant,
-    d: Majorant,
-    e: Majorant,
-    f: Majorant,
-}
-
 impl NSidedSurface {
     /// The cell's corners in the domain with the map's partials.
     fn cell_maps(&self, u: [f64; 2], v: [f64; 2]) -> [[[f64; 2]; 4]; 4] {
@@ -190,17 +119,16 @@ impl NSidedSurface {
     /// `c + g · (x, y)` over the cell (see the module documentation).
     fn affine(maps: &[[[f64; 2]; 4]; 4], g: [f64; 2], c: f64) -> Scalar {
         let dot = |a: [f64; 2]| g[0] * a[0] + g[1] * a[1];
-        let (mut lo, mut hi, mut d1) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for m in maps {
             let val = c + dot(m[0]);
             lo = lo.min(val);
             hi = hi.max(val);
-            d1 = d1.max(dot(m[1]).hypot(dot(m[2])));
         }
-        let mut m = Majorant::zero();
-        m.0[1] = d1 * (1.0 + 1e-15);
-        m.0[2] = 0.5 * dot(maps[0][3]).abs() * (1.0 + 1e-15);
-        Scalar::new(lo - SLACK, hi + SLACK, m)
+        Scalar {
+            lo: lo - SLACK,
+            hi: hi + SLACK,
+        }
     }
 
     /// The distances to the sides over the cell (`≥ 0` inside the polygon).
@@ -211,7 +139,10 @@ impl NSidedSurface {
                 let nrm = poly.normal(i);
                 let c = poly.distance(i, [0.0, 0.0]);
                 let s = Self::affine(maps, nrm, c);
-                Scalar::new(s.lo.max(0.0), s.hi, s.m)
+                Scalar {
+                    lo: s.lo.max(0.0),
+                    hi: s.hi,
+                }
             })
             .collect()
     }
@@ -272,76 +203,57 @@ fn side_range(dm: Scalar, dp: Scalar) -> [f64; 2] {
     [lo, hi]
 }
 
-/// Bounds of `|P|, |D|, |E|, |F|` and `|P'|` over `s ∈ range`.
+/// Bounds of `|P|, |D|, |E|, |F|` and `|P'|` over `s ∈ range`, from the curves' bounds over
+/// the range, the cubics' coefficients (`Σ |a_m|` for `s ∈ [0, 1]`) and the neighbour
+/// fields' sizes ([`ChebVec::size_bounds`]).
 fn side_sizes(side: &BuiltSide, range: [f64; 2]) -> Option<[f64; 5]> {
-    let s = Scalar::new(range[0], range[1], Majorant::zero());
-    let m = side_majorants(side, &s, range)?;
-    let p = curve_bounds(&side.side.curve, side.side.t0, side.side.t1, range, 2)?;
-    Some([m.p.0[0], m.d.0[0], m.e.0[0], m.f.0[0], p[1]])
-}
-
-/// The side's `P, D, E, F` composed with `s` (values in `range`).
-fn side_majorants(side: &BuiltSide, s: &Scalar, range: [f64; 2]) -> Option<SideMajorants> {
-    let plane = matches!(side.ribbon, BuiltRibbon::Plane { .. });
-    let pos = curve_bounds(
-        &side.side.curve,
-        side.side.t0,
-        side.side.t1,
-        range,
-        if plane { 6 } else { 5 },
-    )?;
-    let p = compose(&pos[..5], s);
-    let tangent = compose(&pos[1..6], s);
+    let pos = curve_bounds(&side.side.curve, side.side.t0, side.side.t1, range, 2)?;
+    let (p, tangent) = (pos[0], pos[1]);
+    let cubic = |a: [f64; 4]| a.iter().sum::<f64>();
+    let norm3 = |c: [f64; 3]| c[0].hypot(c[1]).hypot(c[2]);
     let d = match &side.ribbon {
-        BuiltRibbon::Free(c) => compose(&cubic_bounds(hermite_monomials(*c)), s),
-        BuiltRibbon::Derivative { curve, t0, t1 } => {
-            compose(&curve_bounds(curve, *t0, *t1, range, 5)?[..5], s)
-        }
+        BuiltRibbon::Free(c) => cubic(hermite_monomials(*c)),
+        BuiltRibbon::Derivative { curve, t0, t1 } => curve_bounds(curve, *t0, *t1, range, 1)?[0],
         BuiltRibbon::Plane { normal, a, b } => {
-            let nrm = compose(&field_bounds(normal)?, s);
-            let a = compose(&cubic_bounds(hermite_monomials_scalar(a)), s);
-            let b = compose(&cubic_bounds(hermite_monomials_scalar(b)), s);
-            // |N × P'| ≤ |N| |P'| coefficientwise.
-            a.mul(&nrm.mul(&tangent)).add(&b.mul(&tangent))
+            // |a N × P' + b P'| ≤ (|a| |N| + |b|) |P'|.
+            let (a, b) = (
+                cubic(hermite_monomials_scalar(a)),
+                cubic(hermite_monomials_scalar(b)),
+            );
+            (a * norm3(normal.size_bounds()) + b) * tangent
         }
     };
     // The free part of E: e₀ + (e₁ − e₀) s + δ₀ h₁₀(s) + δ₁ h₁₁(s), h₁₀ = s − 2s² + s³,
     // h₁₁ = −s² + s³.
     let [e0, e1] = side.e;
     let [d0, d1] = side.e_slope;
-    let lin = compose(
-        &cubic_bounds([
-            e0.norm(),
-            (e1 - e0 + d0).norm(),
-            (d0 * -2.0 - d1).norm(),
-            (d0 + d1).norm(),
-        ]),
-        s,
-    );
+    let lin = cubic([
+        e0.norm(),
+        (e1 - e0 + d0).norm(),
+        (d0 * -2.0 - d1).norm(),
+        (d0 + d1).norm(),
+    ]);
     let e = match (&side.curvature, &side.ribbon) {
         (BuiltCurvature::Free, _) => lin,
         (BuiltCurvature::Explicit { curve, t0, t1 }, _) => {
-            compose(&curve_bounds(curve, *t0, *t1, range, 5)?[..5], s).scale(0.5)
+            0.5 * curve_bounds(curve, *t0, *t1, range, 1)?[0]
         }
         (BuiltCurvature::Neighbour(k), BuiltRibbon::Plane { normal, a, b }) => {
             // E = l + N g, g = κ/2 − N·l, κ = a² K₀ + 2ab K₁ + b² K₂.
-            let nrm = compose(&field_bounds(normal)?, s);
-            let a = compose(&cubic_bounds(hermite_monomials_scalar(a)), s);
-            let b = compose(&cubic_bounds(hermite_monomials_scalar(b)), s);
-            let [k0, k1, k2] = coordinate_bounds(k)?.map(|c| compose(&c, s));
-            let kappa = a
-                .mul(&a)
-                .mul(&k0)
-                .add(&a.mul(&b).mul(&k1).scale(2.0))
-                .add(&b.mul(&b).mul(&k2));
-            let g = kappa.scale(0.5).add(&nrm.mul(&lin));
-            lin.add(&nrm.mul(&g))
+            let nrm = norm3(normal.size_bounds());
+            let (a, b) = (
+                cubic(hermite_monomials_scalar(a)),
+                cubic(hermite_monomials_scalar(b)),
+            );
+            let [k0, k1, k2] = k.size_bounds();
+            let kappa = a * a * k0 + 2.0 * a * b * k1 + b * b * k2;
+            lin + nrm * (0.5 * kappa + nrm * lin)
         }
         (BuiltCurvature::Neighbour(_), _) => return None,
     };
     let [f0, f1] = side.f;
-    let f = compose(&cubic_bounds([f0.norm(), (f1 - f0).norm(), 0.0, 0.0]), s);
-    Some(SideMajorants { p, d, e, f })
+    let f = f0.norm() + (f1 - f0).norm();
+    Some([p, d, e, f, tangent].map(|x| x * (1.0 + 1e-14)))
 }
 
 /// The most sides, for arrays on the stack.
@@ -349,8 +261,7 @@ const _: () = assert!(MAX_SIDES <= 8);
 
 impl NSidedSurface {
     /// Why the patch has no cell bounds anywhere, if it has none: a side's curve (or explicit
-    /// ribbon) with a break inside the side or without derivative bounds, or a neighbour's field
-    /// tabulated rather than a series.
+    /// ribbon) with a break inside the side or without derivative bounds.
     pub fn bounds_unavailable(&self) -> Option<String> {
         let patch = &*self.patch;
         for (i, side) in patch.sides.iter().enumerate() {
@@ -377,25 +288,13 @@ impl NSidedSurface {
                     return Some(format!("side {i}'s {what} has no derivative bounds"));
                 }
             }
-            if let BuiltRibbon::Plane { normal, .. } = &side.ribbon {
-                if normal.coordinate_series().is_none() {
-                    return Some(format!(
-                        "side {i}'s neighbour normal needs more than a short Chebyshev series"
-                    ));
-                }
+            if let BuiltRibbon::Plane { .. } = &side.ribbon {
                 if curve_bounds(&side.side.curve, side.side.t0, side.side.t1, [0.0, 1.0], 6)
                     .is_none()
                 {
                     return Some(format!(
                         "side {i}'s curve has no bounds of its fifth derivative (a tangent-plane \
                          ribbon differentiates its tangent)"
-                    ));
-                }
-            }
-            if let BuiltCurvature::Neighbour(k) = &side.curvature {
-                if k.coordinate_series().is_none() {
-                    return Some(format!(
-                        "side {i}'s neighbour curvature needs more than a short Chebyshev series"
                     ));
                 }
             }

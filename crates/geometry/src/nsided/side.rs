@@ -265,9 +265,86 @@ impl ChebVec {
     }
 
     /// The series of the three coordinates in `x = 2s − 1`, if the field is evaluated from
-    /// them (`None` for a tabulated one, whose third derivative jumps between table points).
+    /// them (`None` for a tabulated one, whose third derivative jumps between table points:
+    /// see [`ChebVec::piece_taylor`]).
     pub(crate) fn coordinate_series(&self) -> Option<&[Vec<f64>; 3]> {
         self.table.is_empty().then_some(&self.series[0])
+    }
+
+    /// The table's piece containing `s` (the one [`ChebVec::jet`] evaluates), for a tabulated
+    /// field.
+    pub(crate) fn piece_of(&self, s: f64) -> usize {
+        ((s * TABLE as f64).floor().max(0.0) as usize).min(TABLE - 1)
+    }
+
+    /// The interval `[k/TABLE, (k + 1)/TABLE]` of piece `k`.
+    pub(crate) fn piece_span(&self, k: usize) -> (f64, f64) {
+        let h = 1.0 / TABLE as f64;
+        (k as f64 * h, (k + 1) as f64 * h)
+    }
+
+    /// The Taylor coefficients `q⁽ʲ⁾(y)/j!`, `j = 0 ..= 5`, at any `y` of the quintic `q` that
+    /// piece `k` of a tabulated field evaluates (extended beyond the piece).
+    pub(crate) fn piece_taylor(&self, k: usize, y: f64) -> [Vec3; 6] {
+        // The quintic Hermite basis' monomial coefficients (value, slope, second derivative at
+        // 0, then at 1): `quintic`'s first row.
+        const B: [[f64; 6]; 6] = [
+            [1.0, 0.0, 0.0, -10.0, 15.0, -6.0],
+            [0.0, 1.0, 0.0, -6.0, 8.0, -3.0],
+            [0.0, 0.0, 0.5, -1.5, 1.5, -0.5],
+            [0.0, 0.0, 0.0, 10.0, -15.0, 6.0],
+            [0.0, 0.0, 0.0, -4.0, 7.0, -3.0],
+            [0.0, 0.0, 0.0, 0.5, -1.0, 0.5],
+        ];
+        let h = 1.0 / TABLE as f64;
+        let (a, c) = (&self.table[k], &self.table[k + 1]);
+        let data = [
+            a[0],
+            a[1] * h,
+            a[2] * (h * h),
+            c[0],
+            c[1] * h,
+            c[2] * (h * h),
+        ];
+        let mono: [Vec3; 6] = std::array::from_fn(|m| {
+            data.iter()
+                .zip(&B)
+                .fold(Vec3::zeros(), |acc, (d, b)| acc + d * b[m])
+        });
+        // About x_y = (y − k h)/h, then per unit of s.
+        let x = (y - k as f64 * h) / h;
+        std::array::from_fn(|j| {
+            let mut sum = Vec3::zeros();
+            for (m, cm) in mono.iter().enumerate().skip(j) {
+                let binom = (0..j).fold(1.0, |acc, i| acc * (m - i) as f64 / (i + 1) as f64);
+                sum += cm * (binom * x.powi((m - j) as i32));
+            }
+            sum / h.powi(j as i32)
+        })
+    }
+
+    /// Bounds of each coordinate's size on `[0, 1]`: `Σ |c_n|` of a short series
+    /// (`|T_n| ≤ 1`), or the largest over the table's pieces of their Taylor sums about the
+    /// piece's middle.
+    pub(crate) fn size_bounds(&self) -> [f64; 3] {
+        if let Some(c) = self.coordinate_series() {
+            return [0, 1, 2].map(|i| c[i].iter().map(|x| x.abs()).sum::<f64>() * (1.0 + 1e-14));
+        }
+        let r = 0.5 / TABLE as f64;
+        let mut out = [0.0f64; 3];
+        for k in 0..TABLE {
+            let (a, b) = self.piece_span(k);
+            let t = self.piece_taylor(k, 0.5 * (a + b));
+            for (c, o) in out.iter_mut().enumerate() {
+                let sum: f64 = t
+                    .iter()
+                    .enumerate()
+                    .map(|(j, x)| x[c].abs() * r.powi(j as i32))
+                    .sum();
+                *o = o.max(sum * (1.0 + 1e-14));
+            }
+        }
+        out
     }
 
     /// The `k`-th derivative (`k ≤ 3`) at `s ∈ [0, 1]` (see [`ChebVec::jet`]).

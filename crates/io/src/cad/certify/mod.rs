@@ -115,8 +115,8 @@
 //! `c₄₀`, `c₀₄`, about the Hermite interpolant's error in each direction); a cell's check
 //! depends only on its corners, so the cells of rows and columns not cut keep theirs. The
 //! figure is the largest box bound plus the rounding allowance,
-//! [`Certificate::Models`]. A side with a break of its curve inside it, a curve kind without
-//! bounds or a tabulated neighbour field leaves the piece sampled, with the reason.
+//! [`Certificate::Models`]. A side with a break of its curve inside it or a curve kind without
+//! bounds (NURBS curves) leaves the piece sampled, with the reason.
 //!
 //! # Sampled kinds
 //!
