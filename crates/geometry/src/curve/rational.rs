@@ -101,6 +101,47 @@ impl Curve for RationalBSpline {
     fn breaks(&self) -> Vec<f64> {
         self.numerator.breaks()
     }
+
+    /// From the bounds of the numerator's and the weight's derivatives (B-splines) over the
+    /// interval and Leibniz's rule above: `|C| ≤ max |P_i|` (the curve lies in the convex hull
+    /// of its control points, the weights being positive), and
+    /// `|C⁽ᵐ⁾| ≤ (sup|A⁽ᵐ⁾| + Σ_{j=1}^{m} binom(m, j) sup|w⁽ʲ⁾| sup|C⁽ᵐ⁻ʲ⁾|) / min w`, with
+    /// `w ≥ min w_i` (the basis functions are non-negative and sum to one).
+    fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
+        let k = out.len();
+        let (mut a, mut w) = ([0.0f64; 6], [0.0f64; 6]);
+        if k > 6
+            || !self.numerator.derivative_bounds(t0, t1, &mut a[..k])
+            || !self.weight.derivative_bounds(t0, t1, &mut w[..k])
+        {
+            return false;
+        }
+        let (num, den) = (
+            self.numerator.control_points(),
+            self.weight.control_points(),
+        );
+        let w_min = den.iter().map(|d| d.x).fold(f64::INFINITY, f64::min);
+        if w_min.is_nan() || w_min <= 0.0 {
+            return false;
+        }
+        for m in 0..k {
+            out[m] = if m == 0 {
+                num.iter()
+                    .zip(den)
+                    .map(|(p, d)| p.norm() / d.x)
+                    .fold(0.0, f64::max)
+            } else {
+                let mut sum = a[m];
+                let mut binom = 1.0;
+                for j in 1..=m {
+                    binom = binom * (m + 1 - j) as f64 / j as f64;
+                    sum += binom * w[j] * out[m - j];
+                }
+                sum / w_min
+            } * (1.0 + super::BOUND_ROUNDING);
+        }
+        out.iter().all(|o| o.is_finite())
+    }
 }
 
 #[cfg(test)]
@@ -160,6 +201,53 @@ mod tests {
         // A quarter per knot span: the point at t = 1 is (0, 1).
         assert!((c.point(1.0) - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-15);
         assert_eq!(c.breaks(), vec![1.0, 2.0, 3.0]);
+    }
+
+    /// The bounds hold: every derivative up to order 5 of the circle and of a curve with
+    /// uneven weights, sampled on sub-intervals (their knot spans and across them), lies below
+    /// its bound.
+    #[test]
+    fn the_derivative_bounds_hold() {
+        let uneven = RationalBSpline::clamped(
+            3,
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 2.0, 0.0),
+                Vec3::new(3.0, -1.0, 1.0),
+                Vec3::new(4.0, 0.5, -2.0),
+                Vec3::new(6.0, 1.0, 0.0),
+            ],
+            &[1.0, 3.0, 0.4, 2.0, 1.0],
+            None,
+        )
+        .unwrap();
+        for curve in [circle(), uneven] {
+            let (a, b) = match curve.domain() {
+                Domain::Interval(a, b) => (a, b),
+                Domain::Periodic => (0.0, std::f64::consts::TAU),
+            };
+            for (x0, x1) in [(0.0, 1.0), (0.1, 0.3), (0.45, 0.55), (0.7, 0.72)] {
+                let (t0, t1) = (a + (b - a) * x0, a + (b - a) * x1);
+                let mut bound = [0.0; 6];
+                assert!(curve.derivative_bounds(t0, t1, &mut bound));
+                let mut seen = [0.0f64; 6];
+                for i in 0..=200 {
+                    let mut jet = [Vec3::zeros(); 6];
+                    curve.jet(t0 + (t1 - t0) * i as f64 / 200.0, &mut jet);
+                    for (s, j) in seen.iter_mut().zip(&jet) {
+                        *s = s.max(j.norm());
+                    }
+                }
+                for k in 0..6 {
+                    assert!(
+                        seen[k] <= bound[k] * (1.0 + 1e-12),
+                        "order {k} on [{t0}, {t1}]: {} > {}",
+                        seen[k],
+                        bound[k]
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -21,8 +21,8 @@
 //! # Where there is no bound
 //!
 //! A side whose curve has a break inside it (the surface is not `C⁵` across the break's image
-//! in the domain), or a curve kind without derivative bounds (NURBS curves): the export samples
-//! the surface and says why.
+//! in the domain), or a curve kind without derivative bounds (arc-length or ODE curves): the
+//! export samples the surface and says why.
 
 use super::side::{BuiltCurvature, BuiltRibbon, BuiltSide};
 use super::{NSidedPatch, NSidedSurface, MAX_SIDES};

@@ -116,7 +116,7 @@
 //! depends only on its corners, so the cells of rows and columns not cut keep theirs. The
 //! figure is the largest box bound plus the rounding allowance,
 //! [`Certificate::Models`]. A side with a break of its curve inside it or a curve kind without
-//! bounds (NURBS curves) leaves the piece sampled, with the reason.
+//! bounds leaves the piece sampled, with the reason.
 //!
 //! # Sampled kinds
 //!
