@@ -155,13 +155,7 @@ pub fn integrals_derivatives(
                 node_gradient(p, wu * wv, out);
             }
         };
-        let list: Vec<AdjointTangent> = tangents
-            .iter()
-            .map(|t| AdjointTangent {
-                patch: &t[i].patch,
-                stretch: t[i].stretch,
-            })
-            .collect();
+        let list = adjoint_tangents(tangents, i);
         let d = pde
             .quadrature_adjoint(&ru.nodes, &rv.nodes, 5, &weights, &list)
             .map_err(|e| e.at(&format!("patch '{name}'")))?;
@@ -201,13 +195,7 @@ pub fn integrals_derivatives(
             })
             .collect();
         let weights = |a: usize, out: &mut [f64]| out.copy_from_slice(&cap_rows[a]);
-        let list: Vec<AdjointTangent> = tangents
-            .iter()
-            .map(|t| AdjointTangent {
-                patch: &t[i].patch,
-                stretch: t[i].stretch,
-            })
-            .collect();
+        let list = adjoint_tangents(tangents, i);
         let d = pde
             .quadrature_adjoint_using(
                 &us,
@@ -237,6 +225,17 @@ pub fn integrals_derivatives(
 /// `Σ_b out_b · (Ẋ_b, Ẋ_v,b) = scale · cap_derivative`. With `P = Σ w`, `c = Σ w X / P`,
 /// `S = ½ Σ w (X − c) × X_v` and `K = ½ Σ w X_v × c`, the derivative
 /// `(1/3)(ċ·S + c·Ṡ)` is, since `c·(a × b) = a·(b × c) = b·(c × a)`,
+/// Patch `i`'s tangent in every direction, as the adjoint takes them.
+fn adjoint_tangents(tangents: &[Vec<PatchTangent>], i: usize) -> Vec<AdjointTangent<'_>> {
+    tangents
+        .iter()
+        .map(|t| AdjointTangent {
+            patch: &t[i].patch,
+            stretch: t[i].stretch,
+        })
+        .collect()
+}
+
 /// `(1/3) Σ_b w_b [Ẋ_b · ((S − K)/P + ½ X_v,b × c) + Ẋ_v,b · ½ c × (X_b − c)]`.
 pub(crate) fn cap_weights(row: &[Partials], w: &[f64], scale: f64, out: &mut [f64]) {
     out.fill(0.0);
