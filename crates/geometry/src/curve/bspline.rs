@@ -241,6 +241,26 @@ impl Curve for BSpline {
         v.dedup();
         v
     }
+    /// `p − m` with `m` the most times a knot inside the domain repeats.
+    fn continuity(&self) -> usize {
+        let (a, b) = self.bounds();
+        let inside = |k: f64| {
+            if self.periodic {
+                k >= a && k < b
+            } else {
+                k > a && k < b
+            }
+        };
+        let mut most = 0;
+        let mut run = 0;
+        let mut last = f64::NAN;
+        for &k in self.knots.iter().filter(|&&k| inside(k)) {
+            run = if k == last { run + 1 } else { 1 };
+            last = k;
+            most = most.max(run);
+        }
+        self.degree.saturating_sub(most)
+    }
     /// On a knot span the `k`-th derivative is the B-spline of degree `p − k` with the
     /// derivative control points `L⁽ᵏ⁾` of [`Curve::jet`] (already in the curve's parameter: a
     /// periodic curve's breakpoints are scaled onto `[0, 2π]` before the knots are built, so no
@@ -706,6 +726,7 @@ mod bound_tests {
         let s = BSpline::periodic(3, ctrl(8), None).unwrap();
         let b = s.breaks();
         assert_eq!(b.len(), 8);
+        assert_eq!(s.continuity(), 2);
         assert_eq!(b[0], 0.0);
         assert!((b[1] - TAU / 8.0).abs() < 1e-15);
         let open = BSpline::clamped(3, ctrl(6), None).unwrap();

@@ -264,6 +264,10 @@ impl Curve for LocalEdit {
         b.dedup();
         b
     }
+    /// The base curve's, at most 2 (the bump is a cubic B-spline on simple knots).
+    fn continuity(&self) -> usize {
+        self.base.continuity().min(2)
+    }
     /// `|C̃⁽ᵏ⁾| ≤ sup|C⁽ᵏ⁾| + |d/N(v₃)| sup|N⁽ᵏ⁾|`: the base curve's bounds, and the bump's, a
     /// cubic on each piece between its knots (zero outside them), by Taylor's formula about the
     /// middle of every piece of `(t0, t1)` between [`Curve::breaks`].

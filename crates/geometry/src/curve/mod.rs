@@ -70,6 +70,15 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
         Vec::new()
     }
 
+    /// The order `c` such that the derivatives of orders `0 ..= c` are continuous across every
+    /// one of [`Curve::breaks`] (a B-spline of degree `p` whose inner knots repeat at most `m`
+    /// times: `p − m`). Taylor's formula with the remainder of order `c + 1`, bounded by
+    /// [`Curve::derivative_bounds`] over the pieces, then holds across the breaks. The default,
+    /// 0, claims only that the curve is continuous; a curve without breaks may answer anything.
+    fn continuity(&self) -> usize {
+        0
+    }
+
     /// Proven bounds `out[k] ≥ sup |C⁽ᵏ⁾(t)|` (Euclidean norm) for `k = 0 ..= out.len() − 1
     /// ≤ 5` (kinds whose bounds stop at order 4 answer `false` to a longer `out`), over the open pieces of `(t0, t1)` between [`Curve::breaks`] (one-sided
     /// derivatives at a break), `t0 < t1` inside one period for a periodic curve. `false` if the

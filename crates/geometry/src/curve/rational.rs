@@ -101,6 +101,11 @@ impl Curve for RationalBSpline {
     fn breaks(&self) -> Vec<f64> {
         self.numerator.breaks()
     }
+    /// The numerator's and the weight's (a quotient with a positive denominator is as smooth
+    /// as both).
+    fn continuity(&self) -> usize {
+        self.numerator.continuity().min(self.weight.continuity())
+    }
 
     /// From the bounds of the numerator's and the weight's derivatives (B-splines) over the
     /// interval and Leibniz's rule above: `|C| ≤ max |P_i|` (the curve lies in the convex hull

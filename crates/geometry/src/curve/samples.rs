@@ -187,6 +187,9 @@ impl Curve for PointSamples {
     fn breaks(&self) -> Vec<f64> {
         self.params[..self.segments.len()].to_vec()
     }
+    fn continuity(&self) -> usize {
+        2
+    }
     /// One cubic per segment: Taylor's formula about the middle of each piece of `(t0, t1)`
     /// ([`super::polynomial_piece_bounds`]).
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {

@@ -132,6 +132,9 @@ impl Curve for Transformed {
     fn breaks(&self) -> Vec<f64> {
         self.inner.breaks()
     }
+    fn continuity(&self) -> usize {
+        self.inner.continuity()
+    }
     /// `|M C⁽ᵏ⁾| ≤ ‖M‖₂ |C⁽ᵏ⁾|` (the spectral norm, from the eigenvalues of `MᵀM`), plus `|t|`
     /// for `k = 0`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
@@ -216,6 +219,9 @@ impl Curve for OriginShift {
         b.sort_by(f64::total_cmp);
         b.dedup();
         b
+    }
+    fn continuity(&self) -> usize {
+        self.inner.continuity()
     }
     /// The inner curve's bounds over `(t0 + s, t1 + s)`, cut at `2π` into windows of one period.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
@@ -311,6 +317,15 @@ impl Curve for Combination {
         b.sort_by(f64::total_cmp);
         b.dedup();
         b
+    }
+    /// The least of the terms' that have breaks.
+    fn continuity(&self) -> usize {
+        self.terms
+            .iter()
+            .filter(|(_, c)| !c.breaks().is_empty())
+            .map(|(_, c)| c.continuity())
+            .min()
+            .unwrap_or(0)
     }
     /// `|Σ wᵢ Cᵢ⁽ᵏ⁾| ≤ Σ |wᵢ| sup|Cᵢ⁽ᵏ⁾|`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {

@@ -20,10 +20,12 @@
 //!
 //! # Where there is no bound
 //!
-//! A side whose curve has a break inside it (the surface is not `C⁵` across the break's image
-//! in the domain), or a curve kind without derivative bounds (arc-length or ODE curves): the
-//! export samples the surface and says why.
+//! A curve kind without derivative bounds (arc-length or ODE curves), or a side whose curve is
+//! only `C⁰` at a break inside it (a polyline; a tangent-plane ribbon needs the curve `C¹`):
+//! the export samples the surface and says why. Across a break where the curve is `C^c`
+//! (`c ≥ 1`), the models carry Taylor's remainder of order `c + 1` instead of 5.
 
+use super::model::remainder_order;
 use super::side::{BuiltCurvature, BuiltRibbon, BuiltSide};
 use super::{NSidedPatch, NSidedSurface, MAX_SIDES};
 use crate::curve::SharedCurve;
@@ -57,7 +59,8 @@ fn hermite_monomials_scalar(c: &[f64; 4]) -> [f64; 4] {
 }
 
 /// Bounds of `s ↦ curve(t0 + s (t1 − t0))` and its derivatives `0 ..= len − 1` over
-/// `s ∈ [a, b]`, or `None` where the curve has a break strictly inside or no bounds.
+/// `s ∈ [a, b]` (over the pieces between the curve's breaks, one-sided at a break), or `None`
+/// where the curve has no bounds.
 fn curve_bounds(
     curve: &SharedCurve,
     t0: f64,
@@ -68,12 +71,6 @@ fn curve_bounds(
     let dt = t1 - t0;
     let (ta, tb) = (t0 + a * dt, t0 + b * dt);
     let (lo, hi) = (ta.min(tb), ta.max(tb));
-    // A periodic curve's breaks repeat with the period.
-    let tau = std::f64::consts::TAU;
-    let inside = |x: f64| [x - tau, x, x + tau].iter().any(|&y| lo < y && y < hi);
-    if curve.breaks().into_iter().any(inside) {
-        return None;
-    }
     let mut out = [0.0; 6];
     let hi = if hi > lo {
         hi
@@ -261,41 +258,45 @@ const _: () = assert!(MAX_SIDES <= 8);
 
 impl NSidedSurface {
     /// Why the patch has no cell bounds anywhere, if it has none: a side's curve (or explicit
-    /// ribbon) with a break inside the side or without derivative bounds.
+    /// ribbon) only `C⁰` at a break inside the side (`C¹` under a tangent-plane ribbon), or
+    /// without derivative bounds.
     pub fn bounds_unavailable(&self) -> Option<String> {
         let patch = &*self.patch;
         for (i, side) in patch.sides.iter().enumerate() {
-            let mut curves = vec![("curve", &side.side.curve, side.side.t0, side.side.t1)];
-            if let BuiltRibbon::Derivative { curve, t0, t1 } = &side.ribbon {
-                curves.push(("ribbon", curve, *t0, *t1));
+            let curve = ("curve", &side.side.curve, side.side.t0, side.side.t1, 0);
+            let mut curves = vec![curve];
+            match &side.ribbon {
+                BuiltRibbon::Derivative { curve, t0, t1 } => {
+                    curves.push(("ribbon", curve, *t0, *t1, 0));
+                }
+                // A tangent-plane ribbon differentiates the side's curve.
+                BuiltRibbon::Plane { .. } => curves.push(("tangent", curve.1, curve.2, curve.3, 1)),
+                BuiltRibbon::Free(_) => {}
             }
             if let BuiltCurvature::Explicit { curve, t0, t1 } = &side.curvature {
-                curves.push(("second derivative", curve, *t0, *t1));
+                curves.push(("second derivative", curve, *t0, *t1, 0));
             }
-            for (what, curve, t0, t1) in curves {
+            for (what, curve, t0, t1, shift) in curves {
                 let (lo, hi) = (t0.min(t1), t0.max(t1));
                 let tau = std::f64::consts::TAU;
                 let inside = |x: &f64| [x - tau, *x, x + tau].iter().any(|&y| lo < y && y < hi);
-                if let Some(b) = curve.breaks().iter().find(|x| inside(x)) {
+                let broken = curve.breaks().into_iter().find(inside);
+                let m = remainder_order(curve, broken.is_some(), shift).unwrap_or(0);
+                // A model of order 1 (a constant and the range) would need a box per tolerance.
+                if let (Some(b), true) = (broken, m < 2) {
                     return Some(format!(
-                        "side {i}'s {what} has a break at t = {b} (its fourth derivative is \
-                         not defined there)"
+                        "side {i}'s {what} is only C{} at its break t = {b} (the models need \
+                         C{} there)",
+                        curve.continuity().saturating_sub(shift),
+                        shift + 1
                     ));
                 }
-                if curve_bounds(curve, t0, t1, [0.0, 1.0], 6).is_none()
-                    && curve_bounds(curve, t0, t1, [0.0, 1.0], 5).is_none()
-                {
+                let order = |m: usize| {
+                    let len = m + shift + 1;
+                    (len <= 6).then(|| curve_bounds(curve, t0, t1, [0.0, 1.0], len))?
+                };
+                if order(m).is_none() && order(m.min(4)).is_none() {
                     return Some(format!("side {i}'s {what} has no derivative bounds"));
-                }
-            }
-            if let BuiltRibbon::Plane { .. } = &side.ribbon {
-                if curve_bounds(&side.side.curve, side.side.t0, side.side.t1, [0.0, 1.0], 6)
-                    .is_none()
-                {
-                    return Some(format!(
-                        "side {i}'s curve has no bounds of its fifth derivative (a tangent-plane \
-                         ribbon differentiates its tangent)"
-                    ));
                 }
             }
         }

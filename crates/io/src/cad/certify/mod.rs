@@ -115,8 +115,10 @@
 //! `c₄₀`, `c₀₄`, about the Hermite interpolant's error in each direction); a cell's check
 //! depends only on its corners, so the cells of rows and columns not cut keep theirs. The
 //! figure is the largest box bound plus the rounding allowance,
-//! [`Certificate::Models`]. A side with a break of its curve inside it or a curve kind without
-//! bounds leaves the piece sampled, with the reason.
+//! [`Certificate::Models`]. Across a break of a side's curve where the curve is `C^c` the
+//! models' remainders are of order `c + 1`; a side only `C⁰` at a break inside it (`C¹` under
+//! a tangent-plane ribbon) or a curve kind without bounds leaves the piece sampled, with the
+//! reason.
 //!
 //! # Sampled kinds
 //!
