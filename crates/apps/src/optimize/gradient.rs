@@ -48,8 +48,13 @@
 //! [`crate::elliptic::PdePatch::smoothing_tangent_curves`]). For a design of analytic PDE
 //! patches that is one more direction of the batched tangent solve, labelled
 //! [`Method::Smoothing`] (`exact`); the per-parameter path keeps Richardson differences for it.
+//!
+//! **The shell stress `max_shear`** comes from a CalculiX analysis, which is not differentiated:
+//! [`Problem::gradient`] takes forward differences of it, one design solved and analysed per
+//! parameter at the step [`SHEAR_STEP`] beside the point's own (`n + 1` analyses, run side by
+//! side). The measures' derivatives above stay exact.
 
-use super::{measure_patches, variables, Problem, MASS, NVARS, YIELD};
+use super::{measure_patches, variables, Problem, MASS, MAX_SHEAR, NVARS, YIELD};
 use crate::analysis::{
     integrals_derivative, integrals_derivatives, DesignIntegrals, Integrals, Quadrature,
 };
@@ -58,9 +63,20 @@ use crate::design::{
     SurfaceKind,
 };
 use crate::optimize::{ParamKind, Parameters};
+use crate::shell::ShellSetup;
 use crate::spec::{CurveKind, DesignSpec, OptimizeSpec, ParameterSpec, SolverMethod};
 use crate::{Error, Result};
 use rayon::prelude::*;
+
+/// The step of `max_shear`'s forward differences, relative to each parameter's scale
+/// ([`Sensitivities::scales`]). The difference's error is about `h/2 |τ''|` (truncation) plus
+/// `2 ε τ / h` (the stresses' rounding, [`SHEAR_ROUNDING`]); with `τ''` of the size of
+/// `τ / scale²` the two balance at `h ≈ 2 √ε ≈ 6·10⁻³` scales.
+pub const SHEAR_STEP: f64 = 5e-3;
+
+/// The relative rounding of a shear stress read from CalculiX's results: six significant
+/// digits (`E12.5`) per stress component, twice that for the difference `(σ₁ − σ₃)/2`.
+pub const SHEAR_ROUNDING: f64 = 1e-5;
 
 /// How a parameter's derivatives were computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -117,8 +133,9 @@ pub struct Sensitivities {
     pub parameters: Vec<f64>,
     /// The [`super::VARIABLES`] at the point (the shell measures NaN unless a [`Problem`] fills them).
     pub values: [f64; NVARS],
-    /// `d_values[k][j] = ∂ VARIABLES[j] / ∂ parameter k` (NaN for `max_shear`, and for `mass`
-    /// and `yield` outside a [`Problem`] with a shell set-up).
+    /// `d_values[k][j] = ∂ VARIABLES[j] / ∂ parameter k` (NaN for `max_shear` outside
+    /// [`Problem::gradient`], and for `mass` and `yield` outside a [`Problem`] with a shell
+    /// set-up).
     pub d_values: Vec<[f64; NVARS]>,
     /// How each parameter's derivatives were computed ([`Method::is_exact`]).
     pub methods: Vec<Method>,
@@ -662,7 +679,7 @@ pub struct ProblemGradient {
 impl Problem {
     /// The sensitivities of the measures at `x` (the search's parameters, in the order of
     /// `[optimize].parameters`), with `mass` and `yield` filled in when the problem has a shell
-    /// set-up (`max_shear` stays NaN: the shell analysis is not differentiated).
+    /// set-up (`max_shear` stays NaN here: [`Problem::gradient`] differences the shell analysis).
     pub fn sensitivities(&self, x: &[f64]) -> Result<Sensitivities> {
         self.sensitivities_with(x, true)
     }
@@ -728,18 +745,50 @@ impl Problem {
         Ok(s)
     }
 
-    /// The objective, the constraints and their gradients at `x` (the search's parameters, in
-    /// the order of `[optimize].parameters`). Refused when a formula uses `max_shear` (the
-    /// shell analysis is not differentiated).
-    pub fn gradient(&self, x: &[f64]) -> Result<ProblemGradient> {
-        if self.runs_solver() {
-            return Err(Error::invalid(
-                "gradients of the shell analysis (max_shear) are not available yet: use the \
-                 annealing search for problems with shell stress",
-            )
-            .at("optimize"));
+    /// `max_shear` at `x` and its forward differences (see [`SHEAR_STEP`]): `n + 1` designs
+    /// solved and analysed by CalculiX, side by side; the value and derivatives go into `s`,
+    /// the solves into `s.solves`.
+    fn shear_differences(
+        &self,
+        setup: &ShellSetup,
+        x: &[f64],
+        s: &mut Sensitivities,
+    ) -> Result<()> {
+        let n = x.len();
+        let steps: Vec<f64> = s
+            .scales
+            .iter()
+            .map(|&c| SHEAR_STEP * if c > 0.0 { c } else { 1.0 })
+            .collect();
+        let shear = (0..=n)
+            .into_par_iter()
+            .map(|k| {
+                let mut y = x.to_vec();
+                if k < n {
+                    y[k] += steps[k];
+                }
+                let built = solve_design(&self.parameters.apply_unbounded(&self.base, &y))?;
+                self.max_shear(setup, &built)
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        let tau = shear[n];
+        s.values[MAX_SHEAR] = tau;
+        for k in 0..n {
+            s.d_values[k][MAX_SHEAR] = (shear[k] - tau) / steps[k];
+            s.errors[k][MAX_SHEAR] = 2.0 * SHEAR_ROUNDING * tau.abs() / steps[k];
         }
-        let s = self.sensitivities(x)?;
+        s.solves += n + 1;
+        Ok(())
+    }
+
+    /// The objective, the constraints and their gradients at `x` (the search's parameters, in
+    /// the order of `[optimize].parameters`). Where a formula uses `max_shear`, its derivatives
+    /// are forward differences of the shell analysis ([`SHEAR_STEP`]; `n + 1` analyses).
+    pub fn gradient(&self, x: &[f64]) -> Result<ProblemGradient> {
+        let mut s = self.sensitivities(x)?;
+        if let Some(st) = self.strength.as_ref().filter(|st| st.solve) {
+            self.shear_differences(&st.setup, x, &mut s)?;
+        }
         let n = x.len();
         let chain = |grad: &[f64; NVARS]| -> Vec<f64> {
             (0..n)

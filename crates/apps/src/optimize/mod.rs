@@ -59,7 +59,7 @@ pub use crate::spec::{ConstraintSpec, OptimizeSpec, ParameterSpec};
 pub use anneal::{minimize, nelder_mead, Record, SearchOptions, SearchResult};
 pub use gradient::{
     d_variables, nonlinear_design, sensitivities, ConstraintGradient, Method, ProblemGradient,
-    Sensitivities,
+    Sensitivities, SHEAR_ROUNDING, SHEAR_STEP,
 };
 pub use params::{ParamKind, Parameter, Parameters};
 pub use search::{SearchMethod, SearchPlan, SearchRequest};
@@ -114,7 +114,7 @@ fn rename_for_parser(text: &str) -> String {
 
 /// Positions of the shell measures in [`VARIABLES`].
 const MASS: usize = 11;
-const MAX_SHEAR: usize = 12;
+pub(crate) const MAX_SHEAR: usize = 12;
 const YIELD: usize = 13;
 
 /// Relative tolerance of an equality constraint for a design to count as feasible.
@@ -510,23 +510,25 @@ impl Problem {
         let m2 = setup.metres * setup.metres;
         let mass = setup.material.density * setup.thickness * totals.area * m2;
         let max_shear = if s.solve {
-            let analysed = setup
-                .model(built)
-                .and_then(|model| crate::shell::analyse(&model, &setup.run_options()));
-            match analysed {
-                Ok(r) => r.peak.value,
-                Err(e) => {
-                    self.tracker.solver_failures.fetch_add(1, Ordering::Relaxed);
-                    if let Ok(mut first) = self.tracker.first_failure.lock() {
-                        first.get_or_insert_with(|| e.to_string());
-                    }
-                    return Err(e);
-                }
-            }
+            self.max_shear(setup, built)?
         } else {
             f64::NAN
         };
         Ok([mass, max_shear, setup.material.yield_stress])
+    }
+
+    /// The largest shear stress of a built design from a shell analysis; a failure is counted
+    /// (and the first one kept) before it is returned.
+    fn max_shear(&self, setup: &ShellSetup, built: &SolvedDesign) -> Result<f64> {
+        let analysed = setup
+            .model(built)
+            .and_then(|model| crate::shell::analyse(&model, &setup.run_options()));
+        analysed.map(|r| r.peak.value).inspect_err(|e| {
+            self.tracker.solver_failures.fetch_add(1, Ordering::Relaxed);
+            if let Ok(mut first) = self.tracker.first_failure.lock() {
+                first.get_or_insert_with(|| e.to_string());
+            }
+        })
     }
 
     /// The design with the parameters `x` applied.

@@ -181,17 +181,13 @@ impl Problem {
                     ..defaults
                 };
                 g.check()?;
-                self.refuse_shell_gradient()?;
                 Some(g)
             }
-            SearchMethod::Hybrid => {
-                self.refuse_shell_gradient()?;
-                Some(GradientOptions {
-                    starts: options.chains,
-                    seed: options.seed,
-                    ..GradientOptions::default()
-                })
-            }
+            SearchMethod::Hybrid => Some(GradientOptions {
+                starts: options.chains,
+                seed: options.seed,
+                ..GradientOptions::default()
+            }),
         };
         self.options = options;
         Ok(SearchPlan {

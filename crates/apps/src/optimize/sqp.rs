@@ -308,28 +308,14 @@ impl Problem {
             .sum()
     }
 
-    /// The refusal of a problem whose formulas use `max_shear`.
-    pub(crate) fn refuse_shell_gradient(&self) -> Result<()> {
-        if self.runs_solver() {
-            return Err(Error::invalid(
-                "the gradient search does not differentiate the shell analysis (max_shear) yet: \
-                 use the annealing search (--method anneal) for problems with shell stress",
-            )
-            .at("optimize"));
-        }
-        Ok(())
-    }
-
     /// Runs the gradient search (see [`super::sqp`]) from the initial values (and further
-    /// starts); `report(evaluations, best)` is called after each gradient evaluation. Refused
-    /// when a formula uses `max_shear`.
+    /// starts); `report(evaluations, best)` is called after each gradient evaluation.
     pub fn run_gradient(
         &self,
         o: &GradientOptions,
         report: &(dyn Fn(usize, f64) + Sync),
     ) -> Result<Outcome> {
         o.check()?;
-        self.refuse_shell_gradient()?;
         let n = self.parameters.len();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(o.seed);
         let mut starts = vec![self.to_unit(&self.parameters.initial())];
@@ -341,8 +327,7 @@ impl Problem {
 
     /// The hybrid search (see [`super::search`]): annealing as [`Problem::run`] runs it, then
     /// the gradient search from each chain's best point (the same point once), the result the
-    /// better ([`better`]) of annealing's and the gradient search's. Refused when a formula
-    /// uses `max_shear`.
+    /// better ([`better`]) of annealing's and the gradient search's.
     pub fn run_hybrid(
         &self,
         o: &GradientOptions,
@@ -354,7 +339,6 @@ impl Problem {
             ..o.clone()
         }
         .check()?;
-        self.refuse_shell_gradient()?;
         let anneal = self.run(report)?;
         let mut starts: Vec<Vec<f64>> = Vec::new();
         for (x, _) in &anneal.search.chains {
@@ -873,16 +857,5 @@ mod tests {
         let k = kkt(&inner);
         assert_eq!(k.stationarity, 0.5);
         assert_eq!(k.primal_infeasibility, 0.2);
-    }
-
-    /// Shell stress is refused, before any analysis.
-    #[test]
-    fn max_shear_is_refused() {
-        let p = Problem::new(&example("yoghurt_optimize.toml")).unwrap();
-        let e = p
-            .run_gradient(&GradientOptions::default(), &|_, _| {})
-            .unwrap_err();
-        assert_eq!(e.place(), "optimize");
-        assert!(e.to_string().contains("max_shear"), "{e}");
     }
 }

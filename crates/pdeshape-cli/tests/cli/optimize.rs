@@ -330,16 +330,6 @@ fn gradient_search_bad_input() {
         &[&gradient[..], &["--evaluations", "0"]].concat(),
         &["--evaluations"],
     );
-    // Shell stress is not differentiated: refused plainly, before any analysis.
-    bad(
-        &edit(
-            DESIGN,
-            "parameters = [",
-            "constraints = [{ expr = \"max_shear / yield\", max = 0.3 }]\nparameters = [",
-        ),
-        &gradient,
-        &["d.toml:", "optimize", "max_shear", "--method anneal"],
-    );
 }
 
 /// `--method hybrid`: annealing's evaluations in the log, then gradient ones from each chain's

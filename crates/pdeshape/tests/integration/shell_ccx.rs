@@ -196,3 +196,68 @@ fn sphere_under_internal_pressure() {
     }
     assert!(errors[1] <= errors[0], "not converging: {errors:?}");
 }
+
+/// The gradient of a strength problem: `max_shear`'s forward differences (one analysis per
+/// parameter at [`SHEAR_STEP`] of its scale) against central differences at four times the
+/// step, from the problem's own evaluations. They agree within the two differences' error
+/// bounds: the forward difference's truncation `h/2 |τ''|` (`τ''` from the central stencil),
+/// the central one's `H²/6 |τ'''|` (taken as `H/3 |τ''|`, `τ'''` of the size of `τ''/H`), and
+/// the rounding of the stresses, `2 ε τ / h` and `ε τ / H`. The constraint's gradient is the
+/// derivative over the yield stress.
+#[test]
+#[ignore = "needs CalculiX; run by .ci/shell.sh"]
+fn the_shell_stress_gradient_matches_central_differences() {
+    use pdeshape::optimize::{Problem, SHEAR_ROUNDING, SHEAR_STEP, VARIABLES};
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../examples/yoghurt_optimize.toml"),
+    )
+    .unwrap()
+    .replace("thickness = 0.0005", "thickness = 0.00015")
+    .replace("elements = [4, 32]", "elements = [2, 16]");
+    let p = Problem::new(&pdeshape::parse_design(&text).unwrap()).unwrap();
+    let shear = VARIABLES.iter().position(|&v| v == "max_shear").unwrap();
+    let x = p.parameters.initial();
+    let g = p.gradient(&x).unwrap();
+    let s = &g.sensitivities;
+    let tau = s.values[shear];
+    assert!(tau.is_finite() && tau > 0.0);
+    let constraint = g
+        .constraints
+        .iter()
+        .find(|c| c.text.contains("max_shear"))
+        .unwrap();
+    let tau_at = |k: usize, d: f64| {
+        let mut y = x.clone();
+        y[k] += d;
+        p.evaluate(&y).unwrap().variables[shear]
+    };
+    let mut checked = 0;
+    for k in 0..x.len() {
+        let d = s.d_values[k][shear];
+        let h = SHEAR_STEP * s.scales[k];
+        let big = 4.0 * h;
+        let (plus, minus) = (tau_at(k, big), tau_at(k, -big));
+        let central = (plus - minus) / (2.0 * big);
+        let second = (plus - 2.0 * tau + minus) / (big * big);
+        let eps = SHEAR_ROUNDING * tau;
+        let bound = (h / 2.0 + big / 3.0) * second.abs() + 2.0 * eps / h + eps / big;
+        eprintln!(
+            "{}: forward {d:.6e}, central {central:.6e}, bound {bound:.3e}",
+            p.parameters.list[k].name
+        );
+        assert!(
+            (d - central).abs() <= bound,
+            "{}",
+            p.parameters.list[k].name
+        );
+        let yield_stress = s.values[VARIABLES.iter().position(|&v| v == "yield").unwrap()];
+        let want = d / yield_stress;
+        assert!((constraint.gradient[k] - want).abs() <= 1e-12 * want.abs());
+        checked += usize::from(d != 0.0);
+    }
+    assert!(
+        checked >= x.len() / 2,
+        "the stress moves with most parameters"
+    );
+}
