@@ -307,6 +307,24 @@ mod tests {
         Arc::new(Ellipse::circle(Vec3::new(0.0, 0.0, 2.0), 1.5, Vec3::z()).unwrap())
     }
 
+    /// A curve without breaks is smooth everywhere; an edit of it is `C²` at the bump's knots;
+    /// its image under an affine map and a sum with a smooth curve keep that.
+    #[test]
+    fn continuity_through_edits_and_wrappers() {
+        use crate::curve::{Affine, Combination, Transformed};
+        let circle = rim();
+        assert!(circle.breaks().is_empty());
+        assert_eq!(circle.continuity(), usize::MAX);
+        let edit: SharedCurve =
+            Arc::new(LocalEdit::new(circle.clone(), 0.5, 1.5, None, [0.0, 0.1, 0.2]).unwrap());
+        assert!(!edit.breaks().is_empty());
+        assert_eq!(edit.continuity(), 2);
+        let moved = Transformed::new(edit.clone(), Affine::translation(Vec3::x()));
+        assert_eq!(moved.continuity(), 2);
+        let sum = Combination::new(vec![(0.5, edit), (0.5, circle)]).unwrap();
+        assert_eq!(sum.continuity(), 2);
+    }
+
     /// Outside `[v₁, v₂]` the edited curve is the original bit for bit; the handle moves by
     /// exactly the displacement; at `X₁` and `X₂` value, tangent and second derivative are
     /// continuous (one-sided limits agree to rounding), the third is not (C², not C³).

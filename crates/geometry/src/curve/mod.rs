@@ -73,10 +73,15 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
     /// The order `c` such that the derivatives of orders `0 ..= c` are continuous across every
     /// one of [`Curve::breaks`] (a B-spline of degree `p` whose inner knots repeat at most `m`
     /// times: `p − m`). Taylor's formula with the remainder of order `c + 1`, bounded by
-    /// [`Curve::derivative_bounds`] over the pieces, then holds across the breaks. The default,
-    /// 0, claims only that the curve is continuous; a curve without breaks may answer anything.
+    /// [`Curve::derivative_bounds`] over the pieces, then holds across the breaks. The default
+    /// is `usize::MAX` for a curve without breaks (smooth everywhere) and 0 for one with breaks
+    /// (a claim only that it is continuous), so wrappers may take the least of their parts'.
     fn continuity(&self) -> usize {
-        0
+        if self.breaks().is_empty() {
+            usize::MAX
+        } else {
+            0
+        }
     }
 
     /// Proven bounds `out[k] ≥ sup |C⁽ᵏ⁾(t)|` (Euclidean norm) for `k = 0 ..= out.len() − 1

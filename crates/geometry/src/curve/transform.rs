@@ -318,14 +318,13 @@ impl Curve for Combination {
         b.dedup();
         b
     }
-    /// The least of the terms' that have breaks.
+    /// The least of the terms'.
     fn continuity(&self) -> usize {
         self.terms
             .iter()
-            .filter(|(_, c)| !c.breaks().is_empty())
             .map(|(_, c)| c.continuity())
             .min()
-            .unwrap_or(0)
+            .unwrap_or(usize::MAX)
     }
     /// `|Σ wᵢ Cᵢ⁽ᵏ⁾| ≤ Σ |wᵢ| sup|Cᵢ⁽ᵏ⁾|`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {

@@ -342,7 +342,9 @@ pub(super) fn remainder_order(curve: &SharedCurve, broken: bool, shift: usize) -
     if !broken {
         return Some(ORDER + 1);
     }
-    (curve.continuity() + 1)
+    curve
+        .continuity()
+        .saturating_add(1)
         .checked_sub(shift)
         .filter(|&m| m >= 1)
         .map(|m| m.min(ORDER + 1))
@@ -854,15 +856,10 @@ mod break_tests {
         let control = (0..n)
             .map(|i| {
                 let t = i as f64 / (n - 1) as f64;
-                let p = (a * (1.0 - t) + b * t).normalize();
-                if i == 0 || i == n - 1 {
-                    if i == 0 {
-                        a
-                    } else {
-                        b
-                    }
-                } else {
-                    p * (1.0 + lift * (i % 2) as f64)
+                match i {
+                    0 => a,
+                    i if i == n - 1 => b,
+                    _ => (a * (1.0 - t) + b * t).normalize() * (1.0 + lift * (i % 2) as f64),
                 }
             })
             .collect();
