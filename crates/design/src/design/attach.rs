@@ -248,6 +248,12 @@ impl Curve for CurveOnSurface {
         self.on.path.breaks().into_iter().map(|t| W * t).collect()
     }
 
+    /// Value, tangent and second derivative from the host's partials; higher orders are
+    /// differenced.
+    fn exact_order(&self) -> usize {
+        2
+    }
+
     /// Bounds by the majorant of the composition `X(u(s), v(s))` with the host's partials
     /// bounded near each piece of the curve ([`bounds`]). `false` for hosts other than analytic
     /// PDE patches without an active spectral remainder, or a curve reaching outside
@@ -330,6 +336,11 @@ impl Curve for TangentField {
     /// The breaks of the `(u, v)` curve, `s = 2π t`.
     fn breaks(&self) -> Vec<f64> {
         self.on.path.breaks().into_iter().map(|t| W * t).collect()
+    }
+
+    /// Value and slope; higher orders are differenced.
+    fn exact_order(&self) -> usize {
+        1
     }
 
     /// Bounds through a lower bound of `|C' × N|` on short pieces and the majorant of the
@@ -906,6 +917,7 @@ mod tests {
         for (k, path) in paths.iter().enumerate() {
             let on = CurveOnSurface::new(host.clone(), path.clone());
             let field = TangentField::new(host.clone(), path.clone(), 0.3);
+            assert_eq!((on.exact_order(), field.exact_order()), (2, 1));
             let mut cuts = on.breaks();
             assert_eq!(cuts, field.breaks());
             if cuts.is_empty() {

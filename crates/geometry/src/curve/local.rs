@@ -268,6 +268,9 @@ impl Curve for LocalEdit {
     fn continuity(&self) -> usize {
         self.base.continuity().min(2)
     }
+    fn exact_order(&self) -> usize {
+        self.base.exact_order()
+    }
     /// `|C̃⁽ᵏ⁾| ≤ sup|C⁽ᵏ⁾| + |d/N(v₃)| sup|N⁽ᵏ⁾|`: the base curve's bounds, and the bump's, a
     /// cubic on each piece between its knots (zero outside them), by Taylor's formula about the
     /// middle of every piece of `(t0, t1)` between [`Curve::breaks`].

@@ -84,6 +84,13 @@ pub trait Curve: Send + Sync + std::fmt::Debug {
         }
     }
 
+    /// The highest order up to which [`Curve::jet`] is exact (analytic); above it the kind
+    /// differences a lower derivative. A Taylor polynomial that must hold with a proven
+    /// remainder (the n-sided models of the CAD export) stops at this order.
+    fn exact_order(&self) -> usize {
+        MAX_ORDER
+    }
+
     /// Proven bounds `out[k] ≥ sup |C⁽ᵏ⁾(t)|` (Euclidean norm) for `k = 0 ..= out.len() − 1
     /// ≤ 5` (kinds whose bounds stop at order 4 answer `false` to a longer `out`), over the open pieces of `(t0, t1)` between [`Curve::breaks`] (one-sided
     /// derivatives at a break), `t0 < t1` inside one period for a periodic curve. `false` if the

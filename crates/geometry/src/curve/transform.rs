@@ -135,6 +135,9 @@ impl Curve for Transformed {
     fn continuity(&self) -> usize {
         self.inner.continuity()
     }
+    fn exact_order(&self) -> usize {
+        self.inner.exact_order()
+    }
     /// `|M C⁽ᵏ⁾| ≤ ‖M‖₂ |C⁽ᵏ⁾|` (the spectral norm, from the eigenvalues of `MᵀM`), plus `|t|`
     /// for `k = 0`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
@@ -222,6 +225,9 @@ impl Curve for OriginShift {
     }
     fn continuity(&self) -> usize {
         self.inner.continuity()
+    }
+    fn exact_order(&self) -> usize {
+        self.inner.exact_order()
     }
     /// The inner curve's bounds over `(t0 + s, t1 + s)`, cut at `2π` into windows of one period.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {
@@ -325,6 +331,14 @@ impl Curve for Combination {
             .map(|(_, c)| c.continuity())
             .min()
             .unwrap_or(usize::MAX)
+    }
+    /// The least of the terms'.
+    fn exact_order(&self) -> usize {
+        self.terms
+            .iter()
+            .map(|(_, c)| c.exact_order())
+            .min()
+            .unwrap_or(MAX_ORDER)
     }
     /// `|Σ wᵢ Cᵢ⁽ᵏ⁾| ≤ Σ |wᵢ| sup|Cᵢ⁽ᵏ⁾|`.
     fn derivative_bounds(&self, t0: f64, t1: f64, out: &mut [f64]) -> bool {

@@ -335,16 +335,21 @@ fn scalar_cubic(c: &[f64; 4]) -> [Vec3; 4] {
 
 /// The order of the Taylor remainder of `curve`'s derivative of order `shift` over a range of
 /// its parameter that holds a break (`broken`), or any range: 5, or less where the curve is only
-/// `C^c` at a break. Taylor's formula with the integral remainder of order `m` needs the
-/// function's derivative of order `m − 1` continuous and the one of order `m` bounded on the
-/// pieces, so `m = c + 1 − shift`; `None` where that is below 1.
+/// `C^c` at a break or its jet is exact only to order `e` ([`Curve::exact_order`]). Taylor's
+/// formula with the integral remainder of order `m` needs the function's derivative of order
+/// `m − 1` continuous and the one of order `m` bounded on the pieces, so `m ≤ c + 1 − shift`;
+/// its polynomial takes the curve's derivatives of orders `shift ..= m − 1 + shift` from the
+/// jet, so `m ≤ e + 1 − shift`. `None` where that is below 1.
+///
+/// [`Curve::exact_order`]: crate::curve::Curve::exact_order
 pub(super) fn remainder_order(curve: &SharedCurve, broken: bool, shift: usize) -> Option<usize> {
-    if !broken {
-        return Some(ORDER + 1);
-    }
-    curve
-        .continuity()
-        .saturating_add(1)
+    let smooth = if broken {
+        curve.continuity().saturating_add(1)
+    } else {
+        usize::MAX
+    };
+    smooth
+        .min(curve.exact_order().saturating_add(1))
         .checked_sub(shift)
         .filter(|&m| m >= 1)
         .map(|m| m.min(ORDER + 1))
@@ -917,6 +922,42 @@ mod break_tests {
                 }
             }
         }
+    }
+
+    /// A curve whose jet is exact only to order 2 (as a curve on a surface, which differences
+    /// higher orders) gets models whose polynomial stops there: remainders of order 3 for the
+    /// curve and 2 for its tangent, with or without a break.
+    #[test]
+    fn models_stop_at_the_exact_order_of_the_jet() {
+        #[derive(Debug)]
+        struct Exact2(BSpline);
+        impl Curve for Exact2 {
+            fn domain(&self) -> crate::curve::Domain {
+                self.0.domain()
+            }
+            fn jet(&self, t: f64, out: &mut [Vec3]) {
+                self.0.jet(t, out)
+            }
+            fn breaks(&self) -> Vec<f64> {
+                self.0.breaks()
+            }
+            fn continuity(&self) -> usize {
+                self.0.continuity()
+            }
+            fn exact_order(&self) -> usize {
+                2
+            }
+        }
+        let quintic = || {
+            let control = (0..6).map(|i| Vec3::new(i as f64, 0.0, 0.0)).collect();
+            BSpline::clamped(5, control, None).unwrap()
+        };
+        let smooth: SharedCurve = Arc::new(quintic());
+        assert_eq!(remainder_order(&smooth, false, 0), Some(ORDER + 1));
+        let limited: SharedCurve = Arc::new(Exact2(quintic()));
+        assert_eq!(remainder_order(&limited, false, 0), Some(3));
+        assert_eq!(remainder_order(&limited, false, 1), Some(2));
+        assert_eq!(remainder_order(&limited, true, 0), Some(3));
     }
 
     /// Sides on B-splines with inner knots: a simple knot (`C²`) under a tangent-plane ribbon

@@ -116,7 +116,8 @@
 //! depends only on its corners, so the cells of rows and columns not cut keep theirs. The
 //! figure is the largest box bound plus the rounding allowance,
 //! [`Certificate::Models`]. Across a break of a side's curve where the curve is `C^c` the
-//! models' remainders are of order `c + 1`; a side only `C⁰` at a break inside it (`C¹` under
+//! models' remainders are of order `c + 1`, and a curve whose jet is exact only to order `e`
+//! (`Curve::exact_order`) is modelled to that order (remainder `e + 1`); a side only `C⁰` at a break inside it (`C¹` under
 //! a tangent-plane ribbon) or a curve kind without bounds leaves the piece sampled, with the
 //! reason.
 //!
