@@ -854,9 +854,11 @@ mod break_tests {
     use crate::curve::{BSpline, Curve};
     use std::sync::Arc;
 
-    /// A cubic B-spline from `a` to `b` through points near the great arc between them
-    /// (lifted off the sphere by `lift` at the inner control points), on `knots`.
-    fn bspline_side(a: Vec3, b: Vec3, knots: Vec<f64>, lift: f64) -> BSpline {
+    /// A cubic B-spline from `a` to `b` on the clamped knots with `inner` inside, its inner
+    /// control points on the great arc between them, every other one lifted off the sphere by
+    /// 30 %.
+    fn bspline_side(a: Vec3, b: Vec3, inner: &[f64]) -> SharedCurve {
+        let knots = [&[0.0; 4][..], inner, &[1.0; 4]].concat();
         let n = knots.len() - 4;
         let control = (0..n)
             .map(|i| {
@@ -864,11 +866,11 @@ mod break_tests {
                 match i {
                     0 => a,
                     i if i == n - 1 => b,
-                    _ => (a * (1.0 - t) + b * t).normalize() * (1.0 + lift * (i % 2) as f64),
+                    _ => (a * (1.0 - t) + b * t).normalize() * (1.0 + 0.3 * (i % 2) as f64),
                 }
             })
             .collect();
-        BSpline::clamped(3, control, Some(knots)).unwrap()
+        Arc::new(BSpline::clamped(3, control, Some(knots)).unwrap())
     }
 
     /// The model of a cubic B-spline (or of its derivative, `shift = 1`) composed with
@@ -969,21 +971,11 @@ mod break_tests {
     #[test]
     fn the_models_hold_across_breaks() {
         let mut sides = spherical_polygon(4, 0.6);
-        let ends = |i: usize| (sides[i].curve.point(0.0), sides[i].curve.point(1.0));
-        let (a0, b0) = ends(0);
-        let simple: Arc<dyn Curve> = Arc::new(bspline_side(
-            a0,
-            b0,
-            vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.6, 1.0, 1.0, 1.0, 1.0],
-            0.3,
-        ));
-        let (a1, b1) = ends(1);
-        let double: Arc<dyn Curve> = Arc::new(bspline_side(
-            a1,
-            b1,
-            vec![0.0, 0.0, 0.0, 0.0, 0.45, 0.45, 1.0, 1.0, 1.0, 1.0],
-            0.3,
-        ));
+        let side = |i: usize, inner: &[f64]| {
+            let c = &sides[i].curve;
+            bspline_side(c.point(0.0), c.point(1.0), inner)
+        };
+        let (simple, double) = (side(0, &[0.3, 0.6]), side(1, &[0.45, 0.45]));
         assert_eq!((simple.continuity(), double.continuity()), (2, 1));
         let on = simple.clone();
         sides[0].curve = simple;
