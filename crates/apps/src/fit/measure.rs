@@ -2,9 +2,11 @@
 //!
 //! - **Fit to mesh.** Every patch is sampled on a `nu × nv` grid (exact surface points); each
 //!   sample's distance to the mesh is its exact point-to-triangle distance, the nearest triangle
-//!   found through an R-tree (`rstar`).
+//!   found through an R-tree (`rstar`): a grid's first sample by a nearest-neighbour search,
+//!   each next one among the triangles no farther than the last one's closest triangle.
 //! - **Mesh to fit.** Every vertex used by a triangle is taken to the nearest triangle of the
-//!   same grids (an R-tree again), and from that triangle's `(u, v)` the closest point of the
+//!   same grids (an R-tree of the grids' boxes, then the quads of the nearest grids: a
+//!   [`GridIndex`]), and from that triangle's `(u, v)` the closest point of the
 //!   patch is found by Newton's method ([`ClosestPointIndex::refine`]): the distance to a point
 //!   of the surface itself, not to its tessellation.
 //! - The two-sided **Hausdorff** distance is the larger of the two maxima; the **RMS** distance
@@ -135,6 +137,138 @@ impl MeshDistance {
         let t = self.tree.nearest_neighbor(&[p.x, p.y, p.z])?;
         let (q, _, _) = closest_on_triangle(p, &t.corners);
         Some(((q - p).norm(), q, t.id))
+    }
+
+    /// [`Self::closest`] given a triangle `near` (its corners) to start from: the distance to
+    /// it bounds the search to the box of that half-width about `p`, which holds
+    /// the closest point (for points along a sampled surface, the last point's triangle is a
+    /// close bound, and the box search needs no heap).
+    pub fn closest_from(&self, p: Vec3, near: &[Vec3; 3]) -> Option<(f64, Vec3, usize)> {
+        let (q, _, _) = closest_on_triangle(p, near);
+        let r = (q - p).norm() * (1.0 + 1e-12);
+        if !r.is_finite() {
+            return self.closest(p);
+        }
+        let bounds = AABB::from_corners([p.x - r, p.y - r, p.z - r], [p.x + r, p.y + r, p.z + r]);
+        let mut best: Option<(f64, Vec3, usize)> = None;
+        for t in self.tree.locate_in_envelope_intersecting(&bounds) {
+            let (q, _, _) = closest_on_triangle(p, &t.corners);
+            let d = (q - p).norm();
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, q, t.id));
+            }
+        }
+        best.or_else(|| self.closest(p))
+    }
+}
+
+/// A sample grid's bounding box in an R-tree, its distance the box's (a lower bound of the
+/// distance to any of its triangles).
+struct GridBox {
+    grid: usize,
+    bounds: AABB<[f64; 3]>,
+}
+
+impl RTreeObject for GridBox {
+    type Envelope = AABB<[f64; 3]>;
+    fn envelope(&self) -> Self::Envelope {
+        self.bounds
+    }
+}
+
+impl PointDistance for GridBox {
+    fn distance_2(&self, p: &[f64; 3]) -> f64 {
+        self.bounds.distance_2(p)
+    }
+}
+
+/// The closest triangle of a set of sample grids (their [`Samples::triangles`]) to a point:
+/// the grids by their boxes' distance, nearest first, and in each grid the quads whose box is
+/// nearer than the best triangle so far. A fit's grids hold millions of triangles and are
+/// asked for only as many points as the mesh has vertices: indexing the grids, not their
+/// triangles, keeps the index as small as the fit's pieces.
+pub(crate) struct GridIndex<'a> {
+    grids: &'a [Samples],
+    tree: RTree<GridBox>,
+}
+
+/// The closest grid triangle to a point: its grid, its corners' indices in the grid, the
+/// point's barycentric coordinates `(β, γ)` in it and its distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct GridPoint {
+    pub grid: usize,
+    pub corners: [u32; 3],
+    pub beta: f64,
+    pub gamma: f64,
+    pub distance: f64,
+}
+
+fn vec3(p: [f64; 3]) -> Vec3 {
+    Vec3::new(p[0], p[1], p[2])
+}
+
+impl<'a> GridIndex<'a> {
+    pub(crate) fn new(grids: &'a [Samples]) -> GridIndex<'a> {
+        let boxes = grids
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| !g.positions.is_empty())
+            .map(|(grid, g)| {
+                let (lo, hi) = g.positions.iter().fold(
+                    ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                    |(lo, hi), p| {
+                        (
+                            [0, 1, 2].map(|i| lo[i].min(p[i])),
+                            [0, 1, 2].map(|i| hi[i].max(p[i])),
+                        )
+                    },
+                );
+                GridBox {
+                    grid,
+                    bounds: AABB::from_corners(lo, hi),
+                }
+            })
+            .collect();
+        GridIndex {
+            grids,
+            tree: RTree::bulk_load(boxes),
+        }
+    }
+
+    /// The closest grid triangle to `p` (`None` without grids, or where no distance is
+    /// finite).
+    pub(crate) fn closest(&self, p: Vec3) -> Option<GridPoint> {
+        let at = [p.x, p.y, p.z];
+        let mut best: Option<GridPoint> = None;
+        for (b, d2) in self.tree.nearest_neighbor_iter_with_distance_2(&at) {
+            if best.is_some_and(|x| d2 > x.distance * x.distance) {
+                break;
+            }
+            let g = &self.grids[b.grid];
+            for q in g.quads() {
+                let corners = q.map(|i| g.positions[i as usize]);
+                let quad = AABB::from_points(corners.iter());
+                if best.is_some_and(|x| quad.distance_2(&at) > x.distance * x.distance) {
+                    continue;
+                }
+                let [a, b1, c, d] = q;
+                for t in [[a, b1, c], [a, c, d]] {
+                    let tri = t.map(|i| vec3(g.positions[i as usize]));
+                    let (x, beta, gamma) = closest_on_triangle(p, &tri);
+                    let distance = (x - p).norm();
+                    if distance.is_finite() && best.is_none_or(|y| distance < y.distance) {
+                        best = Some(GridPoint {
+                            grid: b.grid,
+                            corners: t,
+                            beta,
+                            gamma,
+                            distance,
+                        });
+                    }
+                }
+            }
+        }
+        best
     }
 }
 
@@ -303,33 +437,25 @@ pub(crate) fn measure_surfaces(
     let fit: Vec<Vec<f64>> = grids
         .par_iter()
         .map(|g| {
+            let mut near: Option<[Vec3; 3]> = None;
             g.positions
                 .iter()
                 .map(|p| {
-                    index
-                        .closest(Vec3::new(p[0], p[1], p[2]))
-                        .map_or(f64::NAN, |c| c.0)
+                    let p = vec3(*p);
+                    let found = match &near {
+                        Some(t) => index.closest_from(p, t),
+                        None => index.closest(p),
+                    };
+                    if let Some((_, _, t)) = found {
+                        near = Some(mesh.corners(t));
+                    }
+                    found.map_or(f64::NAN, |c| c.0)
                 })
                 .collect()
         })
         .collect();
-    // Mesh to fit: the grids' triangles, then Newton on the surface.
-    let mut tris = Vec::new();
-    for (k, g) in grids.iter().enumerate() {
-        for t in g.triangles() {
-            let corners = t.map(|i| {
-                let p = g.positions[i as usize];
-                Vec3::new(p[0], p[1], p[2])
-            });
-            tris.push((k, t, corners));
-        }
-    }
-    let tree = RTree::bulk_load(
-        tris.iter()
-            .enumerate()
-            .map(|(id, (_, _, corners))| Tri::new(*corners, id))
-            .collect(),
-    );
+    // Mesh to fit: the closest grid triangle, then Newton on the surface.
+    let pieces = GridIndex::new(&grids);
     // Only Newton runs from a grid triangle's `(u, v)` are asked of these indices
     // (`refine`), never a search over the surface, so their own sample grids are the
     // smallest allowed (the default 16 × 32 evaluations per patch were most of the time
@@ -357,13 +483,12 @@ pub(crate) fn measure_surfaces(
             if !u {
                 return f64::NAN;
             }
-            let Some(t) = tree.nearest_neighbor(&[p.x, p.y, p.z]) else {
+            let Some(near) = pieces.closest(*p) else {
                 return f64::NAN;
             };
-            let (q, b, c) = closest_on_triangle(*p, &t.corners);
-            let flat = (q - p).norm();
-            let (k, idx, _) = &tris[t.id];
-            let g = &grids[*k];
+            let (k, idx, b, c) = (near.grid, near.corners, near.beta, near.gamma);
+            let flat = near.distance;
+            let g = &grids[k];
             let uv = |i: u32| {
                 let i = i as usize;
                 (g.u[i / g.nv], g.v[i % g.nv])
@@ -389,8 +514,8 @@ pub(crate) fn measure_surfaces(
             // local minimum where `X_v` vanishes: at the folds `v = 0, π` of a sheet's even
             // curves, which it takes for poles.) Without either, the distance to the grid's
             // triangle stands in.
-            let start = indices[*k].surface().point(u, v).metric_distance(p);
-            let refined = indices[*k]
+            let start = indices[k].surface().point(u, v).metric_distance(p);
+            let refined = indices[k]
                 .refine(*p, u, v)
                 .map_or(f64::INFINITY, |r| r.distance);
             let best = refined.min(start);
@@ -476,6 +601,103 @@ mod tests {
                     let s = t[0] + (t[1] - t[0]) * x + (t[2] - t[0]) * y;
                     assert!((s - p).norm() >= d - 1e-12);
                 }
+            }
+        }
+    }
+
+    /// Wavy grids, some wrapping in `v`, at random places and sizes.
+    fn wavy_grids(rng: &mut rand_chacha::ChaCha8Rng) -> Vec<Samples> {
+        (0..12)
+            .map(|k| {
+                let (nu, nv) = (rng.gen_range(2..9), rng.gen_range(3..9));
+                let periodic_v = k % 3 == 0;
+                let c = Vec3::new(rng.gen(), rng.gen(), rng.gen()) * 4.0;
+                let r: f64 = rng.gen_range(0.2..1.0);
+                let positions = (0..nu * nv)
+                    .map(|i| {
+                        let (a, b) = ((i / nv) as f64, (i % nv) as f64);
+                        let t = crate::TAU * b / nv as f64;
+                        let bump: f64 = rng.gen_range(-0.05..0.05);
+                        let p = c + Vec3::new(r * t.cos(), r * t.sin(), 0.3 * a) * (1.0 + bump);
+                        [p.x, p.y, p.z]
+                    })
+                    .collect();
+                Samples {
+                    nu,
+                    nv,
+                    periodic_v,
+                    u: (0..nu).map(|i| i as f64).collect(),
+                    v: (0..nv).map(|j| j as f64).collect(),
+                    positions,
+                    normals: vec![[0.0; 3]; nu * nv],
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_grid_index_finds_the_closest_grid_triangle() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        let grids = wavy_grids(&mut rng);
+        let index = GridIndex::new(&grids);
+        for _ in 0..400 {
+            let p = Vec3::new(rng.gen(), rng.gen(), rng.gen()) * 6.0 - Vec3::repeat(1.0);
+            // Every triangle of every grid, by brute force.
+            let mut want = f64::INFINITY;
+            for g in &grids {
+                for t in g.triangles() {
+                    let tri = t.map(|i| vec3(g.positions[i as usize]));
+                    want = want.min((closest_on_triangle(p, &tri).0 - p).norm());
+                }
+            }
+            let got = index.closest(p).unwrap();
+            assert_eq!(got.distance, want, "at {p:?}");
+            // The answer names its triangle and the point in it.
+            let g = &grids[got.grid];
+            assert!(g.triangles().any(|t| t == got.corners));
+            let [a, b, c] = got.corners.map(|i| vec3(g.positions[i as usize]));
+            let q = a + (b - a) * got.beta + (c - a) * got.gamma;
+            assert!(((q - p).norm() - want).abs() <= 1e-12 * (1.0 + want));
+        }
+        assert!(GridIndex::new(&[]).closest(Vec3::zeros()).is_none());
+    }
+
+    #[test]
+    fn a_search_from_any_triangle_finds_the_closest() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        // A crumpled sheet of 2 × 20 × 20 triangles.
+        let n = 21;
+        let positions: Vec<Vec3> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i / n) as f64 / 20.0, (i % n) as f64 / 20.0);
+                Vec3::new(
+                    x,
+                    y,
+                    0.2 * (7.0 * x).sin() * (5.0 * y).cos() + rng.gen_range(0.0..0.01),
+                )
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for i in 0..n - 1 {
+            for j in 0..n - 1 {
+                let k = (i * n + j) as u32;
+                triangles.push([k, k + n as u32, k + n as u32 + 1]);
+                triangles.push([k, k + n as u32 + 1, k + 1]);
+            }
+        }
+        let mesh = InputMesh::new(positions, triangles).unwrap();
+        let index = MeshDistance::new(&mesh);
+        for _ in 0..500 {
+            let p = Vec3::new(rng.gen(), rng.gen(), rng.gen()) * 1.4 - Vec3::repeat(0.2);
+            let want = index.closest(p).unwrap();
+            // From a near triangle, a far one and the closest itself.
+            let brute = (0..mesh.triangles.len())
+                .map(|t| (closest_on_triangle(p, &mesh.corners(t)).0 - p).norm())
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(want.0, brute);
+            for seed in [rng.gen_range(0..mesh.triangles.len()), 0, want.2] {
+                let got = index.closest_from(p, &mesh.corners(seed)).unwrap();
+                assert_eq!(got.0, want.0, "at {p:?} from triangle {seed}");
             }
         }
     }
