@@ -1620,11 +1620,8 @@ type Component = (
 );
 
 /// [`fit_rounds`] of one connected mesh; one of more than [`PROXY_ABOVE`] triangles is laid
-/// out and refined on its [`proxy`] instead, to the target less the largest distance of the
-/// mesh's vertices from the proxy (so that a fit within that of the proxy is within the
-/// target of the mesh, by the triangle inequality, up to what the samples miss), and the
-/// round it chose is then measured on the whole mesh: the distances a fit reports, and
-/// whether it meets the target, are always the mesh's own.
+/// out and refined on its [`proxy`] instead, each round measured on the whole mesh: the
+/// distances a fit reports, and whether it meets the target, are always the mesh's own.
 fn fit_component(
     mesh: &InputMesh,
     opts: &FitOptions,
@@ -1632,7 +1629,7 @@ fn fit_component(
     share: f64,
 ) -> Result<Component> {
     if mesh.triangles.len() <= PROXY_ABOVE {
-        return fit_rounds(mesh, opts, rounds, share);
+        return fit_rounds(mesh, opts, rounds, share, None);
     }
     opts.check()?;
     price_layout(mesh)?;
@@ -1644,28 +1641,8 @@ fn fit_component(
     let gap = proxy_gap(mesh, &near);
     let diagonal = mesh.diagonal();
     let tol = opts.target * diagonal;
-    let aim = (tol - gap).max(0.5 * tol);
-    let (mut fit, _, sampled, _, surfaces) = fit_rounds(
-        &near,
-        &FitOptions {
-            target: aim / near.diagonal().max(1e-300),
-            ..opts.clone()
-        },
-        rounds,
-        share,
-    )?;
-    let (m, d) = measure_surfaces(
-        mesh,
-        &fit.spec,
-        &surfaces,
-        (MEASURE_GRID, MEASURE_GRID),
-        Some(sampled.grids),
-    )?;
-    fit.sample_error = m.hausdorff_relative;
-    let miss = (m.hausdorff > tol).then(|| {
-        let (at, distance) = d.worst(mesh);
-        Miss { at, distance }
-    });
+    let (mut fit, m, d, miss, surfaces) =
+        fit_rounds(&near, opts, rounds, share, Some((mesh, tol)))?;
     // Why the rounds stopped is said when the mesh's own measure misses.
     if miss.is_none() {
         fit.notes
@@ -1727,11 +1704,17 @@ pub(crate) fn proxy_gap(mesh: &InputMesh, proxy: &InputMesh) -> f64 {
 /// otherwise), the refining rounds while their layouts stay within [`MAX_FACE_SHARE`] of the
 /// mesh's triangles and their work within `share` of the bound (this component's share of the
 /// whole mesh's triangles).
+///
+/// `whole`, for rounds on a [`proxy`]: the mesh it stands for and the mesh's own tolerance
+/// (a length). The layouts are made on `mesh` (the proxy) and every round is measured on the
+/// whole mesh, against its tolerance: the verdict is the mesh's own, and a fit's samples cost
+/// about as much to measure against either (the proxy's target then plays no part).
 fn fit_rounds(
     mesh: &InputMesh,
     opts: &FitOptions,
     rounds: &mut Rounds,
     share: f64,
+    whole: Option<(&InputMesh, f64)>,
 ) -> Result<Component> {
     opts.check()?;
     price_layout(mesh)?;
@@ -1740,8 +1723,8 @@ fn fit_rounds(
     let normals = vertex_normals(mesh);
     let index = MeshDistance::new(mesh);
     let facing = Facing::new(mesh);
-    let diagonal = mesh.diagonal();
-    let tol = opts.target * diagonal;
+    // The mesh the rounds are measured on, and its tolerance.
+    let (judge, tol) = whole.unwrap_or((mesh, opts.target * mesh.diagonal()));
     let used = {
         let mut u = vec![false; mesh.positions.len()];
         for t in &mesh.triangles {
@@ -1882,7 +1865,7 @@ fn fit_rounds(
                 continue;
             }
         };
-        let (m, d) = measure(mesh, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
+        let (m, d) = measure(judge, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
         rounds.spent += solve_seconds(faces);
         // The worst places both ways.
         let mut worst = Miss {
@@ -1895,12 +1878,12 @@ fn fit_rounds(
             if x.is_finite() {
                 if x > worst.distance {
                     worst = Miss {
-                        at: mesh.positions[i],
+                        at: judge.positions[i],
                         distance: x,
                     };
                 }
                 if x > tol {
-                    bad.push(mesh.positions[i]);
+                    bad.push(judge.positions[i]);
                 }
             }
         }
@@ -2401,6 +2384,34 @@ mod tests {
         assert!(gap <= bound + 1e-12, "gap {gap}, bound {bound}");
         // Not trivially small: the proxy's triangles are much coarser than the mesh's.
         assert!(gap > 1e-3, "gap {gap}");
+    }
+
+    #[test]
+    fn proxy_rounds_are_judged_on_the_whole_mesh() {
+        // The rounds lay out a unit sphere and are judged on a finer sphere 0.7 of the
+        // tolerance larger: the first round's fit is within the tolerance of it, and its
+        // measures are of that sphere (on the layout's own sphere it would be far closer).
+        let near = sphere(24, 36);
+        // Radius r with r − 1 = 0.7 · 0.02 · (its diagonal 2√3 r).
+        let r = 1.0 / (1.0 - 0.7 * 0.02 * 2.0 * 3f64.sqrt());
+        let whole = uv_sphere(40, 60, |_| r);
+        let tol = 0.02 * whole.diagonal();
+        let opts = FitOptions {
+            target: 0.02,
+            ..FitOptions::default()
+        };
+        let mut rounds = Rounds::new(ROUNDS_SECONDS);
+        let (fit, m, d, miss, _) =
+            fit_rounds(&near, &opts, &mut rounds, 1.0, Some((&whole, tol))).unwrap();
+        assert!(miss.is_none(), "{}", m.hausdorff / tol);
+        assert_eq!(m.mesh_vertices, whole.positions.len());
+        assert_eq!(d.mesh.len(), whole.positions.len());
+        assert!(
+            m.hausdorff > 0.6 * tol && m.hausdorff <= tol,
+            "{}",
+            m.hausdorff / tol
+        );
+        assert_eq!(fit.patches, first_faces(&near));
     }
 
     #[test]
