@@ -1368,6 +1368,7 @@ pub fn fit_general_measured(
     let mut grids = Vec::new();
     let mut faces = 0;
     let mut refused: Vec<String> = Vec::new();
+    let mut said: Vec<String> = Vec::new();
     for (k, part) in parts.iter().enumerate() {
         let own = part.diagonal();
         let target = if own > 0.0 {
@@ -1408,6 +1409,14 @@ pub fn fit_general_measured(
             }
         };
         faces += fit.patches;
+        // The component's own notes (a proxy, why its rounds stopped); its creases are
+        // counted again over the whole design.
+        said.extend(
+            fit.notes
+                .iter()
+                .filter(|n| !n.contains("made creases"))
+                .map(|n| format!("component {} of {count}: {n}", k + 1)),
+        );
         for mut p in fit.spec.patchwork {
             p.name = format!("fit{}", k + 1);
             patchwork.push(p);
@@ -1435,6 +1444,7 @@ pub fn fit_general_measured(
     let (at, distance) = d.worst(mesh);
     let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
     let mut fit = general_fit(spec, faces, m.hausdorff_relative);
+    fit.notes.extend(said);
     fit.notes.extend(refused);
     Ok((fit, m, d, miss))
 }

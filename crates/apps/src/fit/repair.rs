@@ -16,9 +16,10 @@
 //! 5. **Non-manifold edges** (three or more triangles): the two triangles of the largest
 //!    manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
 //!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays.
-//! 6. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest are
-//!    dropped (specks of a scan). Components of comparable size stay: the fit decides what to
-//!    do with several bodies.
+//! 6. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest in
+//!    triangles and than [`STRAY_EXTENT`] of it across are dropped (specks of a scan).
+//!    Components of comparable size or extent stay: the fit decides what to do with several
+//!    bodies.
 //! 7. **Orientation**: across every edge of two triangles, the two must run the edge opposite
 //!    ways. Walking each piece (joined across such edges) from its first triangle, a triangle
 //!    that disagrees with the one it was reached from is flipped; a piece most of whose
@@ -43,8 +44,15 @@ use std::collections::HashMap;
 /// a boundary vertex this close to a boundary edge lies on it.
 pub const CRACK_FRACTION: f64 = 1e-4;
 
-/// Components with fewer triangles than this share of the largest one are stray.
+/// Components with fewer triangles than this share of the largest one, and smaller across
+/// than [`STRAY_EXTENT`] of it, are stray.
 pub const STRAY_SHARE: f64 = 0.01;
+
+/// Components whose bounding box's diagonal is at least this share of the largest
+/// component's stay, however few their triangles: a part of a high-resolution scan (a pair of
+/// glasses beside a bust) is not a speck, and the fit would miss it by its distance from the
+/// rest.
+pub const STRAY_EXTENT: f64 = 0.01;
 
 /// The largest share of a piece's triangles that may be dropped to make it orientable (a
 /// piece that needs more, a Möbius band of a few quads, is left as it is).
@@ -270,7 +278,7 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     }
 
     // 6. Stray pieces.
-    let (kept, stray) = drop_stray(&triangles, positions.len());
+    let (kept, stray) = drop_stray(&triangles, &positions);
     if !stray.is_empty() {
         r.stray_components = stray.len();
         r.stray_triangles = triangles.len() - kept.len();
@@ -654,9 +662,11 @@ fn resolve_nonmanifold(triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, usize, Vec<usi
     (kept, bad.len(), gone)
 }
 
-/// Drops the components (through shared vertices) smaller than [`STRAY_SHARE`] of the largest.
-/// Returns the kept triangles and the first triangle of each dropped component.
-fn drop_stray(triangles: &[[u32; 3]], vertices: usize) -> (Vec<[u32; 3]>, Vec<usize>) {
+/// Drops the components (through shared vertices) smaller than [`STRAY_SHARE`] of the largest
+/// in triangles and than [`STRAY_EXTENT`] of its bounding box's diagonal across. Returns the
+/// kept triangles and the first triangle of each dropped component.
+fn drop_stray(triangles: &[[u32; 3]], positions: &[Vec3]) -> (Vec<[u32; 3]>, Vec<usize>) {
+    let vertices = positions.len();
     let mut parent: Vec<usize> = (0..vertices).collect();
     for t in triangles {
         union(&mut parent, t[0] as usize, t[1] as usize);
@@ -667,11 +677,27 @@ fn drop_stray(triangles: &[[u32; 3]], vertices: usize) -> (Vec<[u32; 3]>, Vec<us
         .map(|t| find(&mut parent, t[0] as usize))
         .collect();
     let mut size = vec![0usize; vertices];
-    for &r in &roots {
+    let mut lo = vec![Vec3::repeat(f64::INFINITY); vertices];
+    let mut hi = vec![Vec3::repeat(f64::NEG_INFINITY); vertices];
+    for (t, &r) in triangles.iter().zip(&roots) {
         size[r] += 1;
+        for &i in t {
+            lo[r] = lo[r].inf(&positions[i as usize]);
+            hi[r] = hi[r].sup(&positions[i as usize]);
+        }
     }
-    let largest = size.iter().copied().max().unwrap_or(0);
-    let stray = |r: &usize| (size[*r] as f64) < STRAY_SHARE * largest as f64;
+    let across = |r: usize| (hi[r] - lo[r]).norm();
+    // The largest component (the first of the most triangles).
+    let Some(&main) = roots
+        .iter()
+        .max_by_key(|&&r| (size[r], std::cmp::Reverse(r)))
+    else {
+        return (Vec::new(), Vec::new());
+    };
+    let (largest, extent) = (size[main], across(main));
+    let stray = |r: &usize| {
+        (size[*r] as f64) < STRAY_SHARE * largest as f64 && across(*r) < STRAY_EXTENT * extent
+    };
     let mut firsts = Vec::new();
     let mut seen = std::collections::HashSet::new();
     for (i, r) in roots.iter().enumerate() {
@@ -888,6 +914,34 @@ mod tests {
         let (two, r) = repair(&InputMesh::new(p, t).unwrap()).unwrap();
         assert!(r.is_empty(), "{r:?}");
         assert_eq!(two.topology().components, 2);
+        // So does a piece of two triangles (under 1 % of the cube's 394) a third of the
+        // cube's diagonal across, beside it; a speck 1 % of it across goes.
+        let mut p = base.positions.clone();
+        let mut t = base.triangles.clone();
+        let n = p.len() as u32;
+        let strip = [
+            [3.0, 0.0, 0.0],
+            [3.0, 1.15, 0.0],
+            [3.1, 0.0, 0.0],
+            [3.1, 1.15, 0.0],
+        ];
+        p.extend(strip.map(|[x, y, z]| Vec3::new(x, y, z)));
+        t.extend([[n, n + 2, n + 1], [n + 1, n + 2, n + 3]]);
+        let across = 0.0099 * 12f64.sqrt();
+        p.extend(
+            [
+                [3.0, 1.0, 1.0],
+                [3.0, 1.0 + across, 1.0],
+                [3.0, 1.0, 1.0 + 1e-3],
+            ]
+            .map(|[x, y, z]| Vec3::new(x, y, z)),
+        );
+        t.push([n + 4, n + 5, n + 6]);
+        let m = InputMesh::new(p, t).unwrap();
+        let (kept, r) = repair(&m).unwrap();
+        assert_eq!((r.stray_components, r.stray_triangles), (1, 1), "{r:?}");
+        assert_eq!(kept.triangles.len(), base.triangles.len() + 2);
+        assert_eq!(kept.topology().components, 2);
     }
 
     #[test]
