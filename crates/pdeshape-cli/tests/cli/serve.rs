@@ -10,18 +10,18 @@ fn pdeshape() -> Command {
 
 #[test]
 fn refused_starts_exit_2_with_one_line() {
-    let dir = tempfile::tempdir().unwrap();
+    // Started one level inside a directory of its own, so that `../x.toml` names a file that
+    // does not exist (an existing design anywhere is served from its own directory).
+    let top = tempfile::tempdir().unwrap();
+    let dir = top.path().join("start");
+    std::fs::create_dir(&dir).unwrap();
     for (args, needle) in [
         (vec!["serve", "missing.toml"], "missing.toml"),
         (vec!["serve", "../x.toml"], "'..'"),
         (vec!["serve", "/etc/x.toml"], "relative"),
         (vec!["serve", "--host", "nonsense"], "--host"),
     ] {
-        let out = pdeshape()
-            .args(&args)
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
+        let out = pdeshape().args(&args).current_dir(&dir).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(err.lines().count(), 1, "{err}");
