@@ -23,6 +23,7 @@ use crate::spec::{write_design, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex};
 use crate::{Result, Vec3};
 use rayon::prelude::*;
+use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{PointDistance, RTree, RTreeObject, AABB};
 
 /// A triangle in an R-tree, with what it came from.
@@ -162,26 +163,6 @@ impl MeshDistance {
     }
 }
 
-/// A sample grid's bounding box in an R-tree, its distance the box's (a lower bound of the
-/// distance to any of its triangles).
-struct GridBox {
-    grid: usize,
-    bounds: AABB<[f64; 3]>,
-}
-
-impl RTreeObject for GridBox {
-    type Envelope = AABB<[f64; 3]>;
-    fn envelope(&self) -> Self::Envelope {
-        self.bounds
-    }
-}
-
-impl PointDistance for GridBox {
-    fn distance_2(&self, p: &[f64; 3]) -> f64 {
-        self.bounds.distance_2(p)
-    }
-}
-
 /// The closest triangle of a set of sample grids (their [`Samples::triangles`]) to a point:
 /// the grids by their boxes' distance, nearest first, and in each grid the quads whose box is
 /// nearer than the best triangle so far. A fit's grids hold millions of triangles and are
@@ -189,7 +170,9 @@ impl PointDistance for GridBox {
 /// triangles, keeps the index as small as the fit's pieces.
 pub(crate) struct GridIndex<'a> {
     grids: &'a [Samples],
-    tree: RTree<GridBox>,
+    /// Each grid's bounding box (its distance a lower bound of the distance to any of its
+    /// triangles) and the grid's index.
+    tree: RTree<GeomWithData<Rectangle<[f64; 3]>, usize>>,
 }
 
 /// The closest grid triangle to a point: its grid, its corners' indices in the grid, the
@@ -203,10 +186,6 @@ pub(crate) struct GridPoint {
     pub distance: f64,
 }
 
-fn vec3(p: [f64; 3]) -> Vec3 {
-    Vec3::new(p[0], p[1], p[2])
-}
-
 impl<'a> GridIndex<'a> {
     pub(crate) fn new(grids: &'a [Samples]) -> GridIndex<'a> {
         let boxes = grids
@@ -214,19 +193,7 @@ impl<'a> GridIndex<'a> {
             .enumerate()
             .filter(|(_, g)| !g.positions.is_empty())
             .map(|(grid, g)| {
-                let (lo, hi) = g.positions.iter().fold(
-                    ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                    |(lo, hi), p| {
-                        (
-                            [0, 1, 2].map(|i| lo[i].min(p[i])),
-                            [0, 1, 2].map(|i| hi[i].max(p[i])),
-                        )
-                    },
-                );
-                GridBox {
-                    grid,
-                    bounds: AABB::from_corners(lo, hi),
-                }
+                GeomWithData::new(Rectangle::from_aabb(AABB::from_points(&g.positions)), grid)
             })
             .collect();
         GridIndex {
@@ -244,7 +211,7 @@ impl<'a> GridIndex<'a> {
             if best.is_some_and(|x| d2 > x.distance * x.distance) {
                 break;
             }
-            let g = &self.grids[b.grid];
+            let g = &self.grids[b.data];
             for q in g.quads() {
                 let corners = q.map(|i| g.positions[i as usize]);
                 let quad = AABB::from_points(corners.iter());
@@ -253,12 +220,12 @@ impl<'a> GridIndex<'a> {
                 }
                 let [a, b1, c, d] = q;
                 for t in [[a, b1, c], [a, c, d]] {
-                    let tri = t.map(|i| vec3(g.positions[i as usize]));
+                    let tri = t.map(|i| Vec3::from(g.positions[i as usize]));
                     let (x, beta, gamma) = closest_on_triangle(p, &tri);
                     let distance = (x - p).norm();
                     if distance.is_finite() && best.is_none_or(|y| distance < y.distance) {
                         best = Some(GridPoint {
-                            grid: b.grid,
+                            grid: b.data,
                             corners: t,
                             beta,
                             gamma,
@@ -441,7 +408,7 @@ pub(crate) fn measure_surfaces(
             g.positions
                 .iter()
                 .map(|p| {
-                    let p = vec3(*p);
+                    let p = Vec3::from(*p);
                     let found = match &near {
                         Some(t) => index.closest_from(p, t),
                         None => index.closest(p),
@@ -646,7 +613,7 @@ mod tests {
             let mut want = f64::INFINITY;
             for g in &grids {
                 for t in g.triangles() {
-                    let tri = t.map(|i| vec3(g.positions[i as usize]));
+                    let tri = t.map(|i| Vec3::from(g.positions[i as usize]));
                     want = want.min((closest_on_triangle(p, &tri).0 - p).norm());
                 }
             }
@@ -655,7 +622,7 @@ mod tests {
             // The answer names its triangle and the point in it.
             let g = &grids[got.grid];
             assert!(g.triangles().any(|t| t == got.corners));
-            let [a, b, c] = got.corners.map(|i| vec3(g.positions[i as usize]));
+            let [a, b, c] = got.corners.map(|i| Vec3::from(g.positions[i as usize]));
             let q = a + (b - a) * got.beta + (c - a) * got.gamma;
             assert!(((q - p).norm() - want).abs() <= 1e-12 * (1.0 + want));
         }

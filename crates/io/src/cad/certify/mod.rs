@@ -117,9 +117,9 @@
 //! figure is the largest box bound plus the rounding allowance,
 //! [`Certificate::Models`]. Across a break of a side's curve where the curve is `C^c` the
 //! models' remainders are of order `c + 1`, and a curve whose jet is exact only to order `e`
-//! (`Curve::exact_order`) is modelled to that order (remainder `e + 1`); a side only `C⁰` at a break inside it (`C¹` under
-//! a tangent-plane ribbon) or a curve kind without bounds leaves the piece sampled, with the
-//! reason.
+//! (`Curve::exact_order`) is modelled to that order (remainder `e + 1`); a side only `C⁰` at a
+//! break inside it (`C¹` under a tangent-plane ribbon) or a curve kind without bounds leaves the
+//! piece sampled, with the reason.
 //!
 //! # Sampled kinds
 //!
