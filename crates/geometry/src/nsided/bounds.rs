@@ -202,12 +202,11 @@ fn side_range(dm: Scalar, dp: Scalar) -> [f64; 2] {
 
 /// Bounds of `|P|, |D|, |E|, |F|` and `|P'|` over `s ∈ range`, from the curves' bounds over
 /// the range, the cubics' coefficients (`Σ |a_m|` for `s ∈ [0, 1]`) and the neighbour
-/// fields' sizes ([`ChebVec::size_bounds`]).
+/// fields' sizes ([`ChebVec::norm_bound`]).
 fn side_sizes(side: &BuiltSide, range: [f64; 2]) -> Option<[f64; 5]> {
     let pos = curve_bounds(&side.side.curve, side.side.t0, side.side.t1, range, 2)?;
     let (p, tangent) = (pos[0], pos[1]);
     let cubic = |a: [f64; 4]| a.iter().sum::<f64>();
-    let norm3 = |c: [f64; 3]| c[0].hypot(c[1]).hypot(c[2]);
     let d = match &side.ribbon {
         BuiltRibbon::Free(c) => cubic(hermite_monomials(*c)),
         BuiltRibbon::Derivative { curve, t0, t1 } => curve_bounds(curve, *t0, *t1, range, 1)?[0],
@@ -217,7 +216,7 @@ fn side_sizes(side: &BuiltSide, range: [f64; 2]) -> Option<[f64; 5]> {
                 cubic(hermite_monomials_scalar(a)),
                 cubic(hermite_monomials_scalar(b)),
             );
-            (a * norm3(normal.size_bounds()) + b) * tangent
+            (a * normal.norm_bound() + b) * tangent
         }
     };
     // The free part of E: e₀ + (e₁ − e₀) s + δ₀ h₁₀(s) + δ₁ h₁₁(s), h₁₀ = s − 2s² + s³,
@@ -237,7 +236,7 @@ fn side_sizes(side: &BuiltSide, range: [f64; 2]) -> Option<[f64; 5]> {
         }
         (BuiltCurvature::Neighbour(k), BuiltRibbon::Plane { normal, a, b }) => {
             // E = l + N g, g = κ/2 − N·l, κ = a² K₀ + 2ab K₁ + b² K₂.
-            let nrm = norm3(normal.size_bounds());
+            let nrm = normal.norm_bound();
             let (a, b) = (
                 cubic(hermite_monomials_scalar(a)),
                 cubic(hermite_monomials_scalar(b)),

@@ -1137,11 +1137,11 @@ fn check_c2(curve: &crate::curve::SharedCurve, t0: f64, t1: f64) -> Result<()> {
     Ok(())
 }
 
-/// The unit normal field of a tangent-plane ribbon as a Chebyshev series; an error where the
-/// field vanishes or is not finite.
+/// The unit normal field of a tangent-plane ribbon as a Chebyshev series, of the field's
+/// direction where the field's own series is short ([`ChebVec::fit_unit`]); an error where
+/// the field vanishes or is not finite.
 fn fit_normal(field: &NormalField) -> Result<Box<ChebVec>> {
-    let field = field.clone();
-    let unit = move |s: f64| {
+    let unit = |s: f64| {
         let v = field(s);
         let l = v.norm();
         if l > 0.0 && l.is_finite() {
@@ -1157,7 +1157,9 @@ fn fit_normal(field: &NormalField) -> Result<Box<ChebVec>> {
             ));
         }
     }
-    Ok(Box::new(ChebVec::fit(&unit)))
+    Ok(Box::new(
+        ChebVec::fit_unit(&|s| field(s)).unwrap_or_else(|| ChebVec::fit(&unit)),
+    ))
 }
 
 fn check_interval(curve: &crate::curve::SharedCurve, t0: f64, t1: f64) -> Result<()> {

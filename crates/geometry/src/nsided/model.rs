@@ -439,11 +439,20 @@ fn chebyshev_fifth(c: &[f64]) -> f64 {
 /// other pieces' quintics `q_k` are the field, is added to the radius: on each piece's part
 /// `[a, b]` of the range, `|q_k − q| ≤ Σ_j |(q_k − q)⁽ʲ⁾(m)/j!| ((b − a)/2)^j` about its middle
 /// `m` (exact: both are quintics).
-fn field_model(f: &ChebVec, s: &Powers) -> VModel {
-    if let Some(c) = f.coordinate_series() {
-        return VModel(std::array::from_fn(|i| {
+/// A unit field ([`ChebVec::fit_unit`]) is its series' field `v` times `(v·v)^{−1/2}`
+/// ([`rsqrt`]), as the evaluator computes it (`None` where `v·v`'s range reaches 0).
+fn field_model(f: &ChebVec, s: &Powers) -> Option<VModel> {
+    let series = |c: &[Vec<f64>; 3]| {
+        VModel(std::array::from_fn(|i| {
             s.compose(&chebyshev_jet(&c[i], s.x0), chebyshev_fifth(&c[i]))
-        }));
+        }))
+    };
+    if let Some(c) = f.unit_series() {
+        let v = series(c);
+        return Some(v.times(&rsqrt(&v.dot(&v))?));
+    }
+    if let Some(c) = f.coordinate_series() {
+        return Some(series(c));
     }
     let k0 = f.piece_of(s.x0);
     let t0 = f.piece_taylor(k0, s.x0);
@@ -464,12 +473,12 @@ fn field_model(f: &ChebVec, s: &Powers) -> VModel {
             *o = o.max(sum);
         }
     }
-    VModel(std::array::from_fn(|c| {
+    Some(VModel(std::array::from_fn(|c| {
         let jet: Vec<f64> = (0..=ORDER).map(|j| t0[j][c] * fact[j]).collect();
         let mut m = s.compose(&jet, (t0[5][c] * fact[5]).abs() * (1.0 + 1e-14));
         m.r += far[c] * (1.0 + 1e-14);
         m
-    }))
+    })))
 }
 
 /// Legendre `P_0 … P_p` at `x` with all their derivatives (orders `0 ..= p`; the recurrence
@@ -538,7 +547,7 @@ fn side_model(side: &BuiltSide, s: &Powers) -> Option<[VModel; 4]> {
         BuiltRibbon::Derivative { curve, t0, t1 } => curve_model(curve, *t0, *t1, s, 0)?,
         BuiltRibbon::Plane { normal, a, b } => {
             let tangent = curve_model(curve, t0, t1, s, 1)?;
-            let nrm = field_model(normal, s);
+            let nrm = field_model(normal, s)?;
             nrm.cross(&tangent)
                 .times(&scalar(a))
                 .add(&tangent.times(&scalar(b)))
@@ -556,8 +565,8 @@ fn side_model(side: &BuiltSide, s: &Powers) -> Option<[VModel; 4]> {
         }
         (BuiltCurvature::Neighbour(k), BuiltRibbon::Plane { normal, a, b }) => {
             // E = l + N g, g = κ/2 − N·l, κ = a² K₀ + 2ab K₁ + b² K₂.
-            let nrm = field_model(normal, s);
-            let kk = field_model(k, s);
+            let nrm = field_model(normal, s)?;
+            let kk = field_model(k, s)?;
             let (a, b) = (scalar(a), scalar(b));
             let kappa = a
                 .mul(&a)
@@ -619,6 +628,25 @@ fn recip(g: &Model, known: (f64, f64)) -> Option<Model> {
     let (lo, hi) = residual.range();
     out.r = out.r.min(lo.abs().max(hi.abs()) / pw.lo);
     Some(out)
+}
+
+/// `g^{−1/2}` for `g` positive on the cell: `(x^{−1/2})⁽ᵏ⁾ = (−1)ᵏ (1·3···(2k − 1))/2ᵏ
+/// x^{−1/2−k}`, the fifth largest in size at the range's low end.
+fn rsqrt(g: &Model) -> Option<Model> {
+    let pw = Powers::new(g, (0.0, f64::INFINITY));
+    if pw.lo.is_nan() || pw.lo <= 0.0 {
+        return None;
+    }
+    let x = pw.x0;
+    let mut jet = [0.0; ORDER + 1];
+    let mut c = 1.0;
+    for (k, j) in jet.iter_mut().enumerate() {
+        *j = c * x.powf(-0.5 - k as f64);
+        c *= -(2.0 * k as f64 + 1.0) / 2.0;
+    }
+    // c is now the fifth's coefficient, −945/32.
+    let fifth = c.abs() * pw.lo.powf(-0.5 - (ORDER + 1) as f64) * (1.0 + 1e-14);
+    Some(pw.compose(&jet, fifth))
 }
 
 impl NSidedSurface {
@@ -770,6 +798,7 @@ impl NSidedSurface {
 
 #[cfg(test)]
 mod tests {
+    use super::super::side::Ribbon;
     use super::super::tests::spherical_polygon;
     use super::*;
     use crate::surface::Surface;
@@ -813,12 +842,30 @@ mod tests {
     /// in every coordinate, and the radius falls at least like `h⁴` when the cell is halved
     /// (the remainder is of degree five, order 4 where a bound of order 5 is missing; the
     /// quarters' radii measured here are 31 to 160 times smaller).
+    ///
+    /// Both forms of a neighbour's normal: the sphere's points themselves (a short field:
+    /// its direction is evaluated, [`ChebVec::fit_unit`]), and the points times
+    /// `2 + sin 300s` (too long to be kept: the unit field gets a series of its own).
     #[test]
     fn the_models_hold_on_spherical_polygons() {
-        for n in [3, 4, 5, 6] {
-            let patch = Arc::new(
-                NSidedPatch::solve(spherical_polygon(n, 0.6), &Default::default()).unwrap(),
-            );
+        for (n, scaled) in [(3, false), (4, false), (5, false), (6, false), (5, true)] {
+            let mut sides = spherical_polygon(n, 0.6);
+            if scaled {
+                for side in &mut sides {
+                    let on = side.curve.clone();
+                    side.ribbon = Ribbon::TangentPlane(Arc::new(move |s: f64| {
+                        on.point(s) * (2.0 + (300.0 * s).sin())
+                    }));
+                }
+            }
+            let patch = Arc::new(NSidedPatch::solve(sides, &Default::default()).unwrap());
+            for side in &patch.sides {
+                let BuiltRibbon::Plane { normal, .. } = &side.ribbon else {
+                    panic!("a plane ribbon");
+                };
+                assert_eq!(normal.unit_series().is_some(), !scaled);
+                assert_eq!(normal.coordinate_series().is_some(), scaled);
+            }
             let s = &patch.surfaces()[0];
             for (u, v) in [
                 ([0.4, 0.5], [0.4, 0.5]),

@@ -167,6 +167,9 @@ pub(crate) struct ChebVec {
     table: Vec<[Vec3; 3]>,
     /// The largest difference seen between the series and the function at the check points.
     pub fit_error: f64,
+    /// The field is the unit vector `v/|v|` of the field `v` the series hold (never
+    /// tabulated): see [`ChebVec::fit_unit`].
+    unit: bool,
 }
 
 /// Intervals of the table of a [`ChebVec`].
@@ -233,6 +236,7 @@ impl ChebVec {
                 series,
                 table: Vec::new(),
                 fit_error: 0.0,
+                unit: false,
             };
             // The midpoints: the odd nodes of the next level.
             let odd: Vec<Vec3> = (0..n).map(|j| f(node(2 * j + 1, 2 * n))).collect();
@@ -260,15 +264,78 @@ impl ChebVec {
         }
     }
 
+    /// The unit vector field `v/|v|` of `v`: `v` as its own series ([`ChebVec::fit`], the
+    /// tail that only rounding put there cut off), each evaluation normalising `v`'s jet. A
+    /// side's neighbour normal is often the direction of a polynomial (an interpolant of
+    /// sampled normals) whose unit vector is not one: its own series takes 17 to 65 terms to
+    /// reach `1e-14` where `v` takes a handful, and every evaluation of the patch pays for the
+    /// length. `None` where `v`'s series is long (tabulated), or `|v|` may fall below `1e-6`
+    /// of its largest (the normalisation's derivatives would grow with `1/|v|`): the unit
+    /// field is then fitted as it is.
+    pub(crate) fn fit_unit(v: &dyn Fn(f64) -> Vec3) -> Option<ChebVec> {
+        let mut c = ChebVec::fit(v);
+        if !c.table.is_empty() {
+            return None;
+        }
+        let len = c.series[0][0].len();
+        // |v| at `M + 1` points, and between them at least the nearest one's less
+        // `sup|v'| / 2M` (`sup|v'| ≤ 2 Σ|c'ₙ|` per coordinate, the series in `x = 2s − 1`).
+        const M: usize = 64;
+        let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+        for j in 0..=M {
+            let x = length(c.value(j as f64 / M as f64));
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        let slope = c.series[1]
+            .iter()
+            .map(|x| 2.0 * x.iter().map(|y| y.abs()).sum::<f64>())
+            .fold(0.0, f64::hypot);
+        if !(lo - slope / (2 * M) as f64 >= 1e-6 * hi && hi.is_finite()) {
+            return None;
+        }
+        // Trailing coefficients whose sum is below 1e-15 of the series' size: rounding.
+        let size = |k: usize| c.series[0].iter().map(|x| x[k].abs()).sum::<f64>();
+        let total: f64 = (0..len).map(size).sum();
+        let (mut keep, mut cut) = (len, 0.0);
+        while keep > 1 && cut + size(keep - 1) <= 1e-15 * total {
+            cut += size(keep - 1);
+            keep -= 1;
+        }
+        let kept = c.series[0].clone().map(|mut x| {
+            x.truncate(keep);
+            x
+        });
+        c.series = derivative_series(&kept);
+        c.unit = true;
+        Some(c)
+    }
+
     fn value(&self, s: f64) -> Vec3 {
         self.series_at(0, s)
     }
 
     /// The series of the three coordinates in `x = 2s − 1`, if the field is evaluated from
     /// them (`None` for a tabulated one, whose third derivative jumps between table points:
-    /// see [`ChebVec::piece_taylor`]).
+    /// see [`ChebVec::piece_taylor`], and for a unit field: see [`ChebVec::unit_series`]).
     pub(crate) fn coordinate_series(&self) -> Option<&[Vec<f64>; 3]> {
-        self.table.is_empty().then_some(&self.series[0])
+        (self.table.is_empty() && !self.unit).then_some(&self.series[0])
+    }
+
+    /// For a unit field ([`ChebVec::fit_unit`]), the series of the coordinates of the field
+    /// `v` it is the direction of.
+    pub(crate) fn unit_series(&self) -> Option<&[Vec<f64>; 3]> {
+        self.unit.then_some(&self.series[0])
+    }
+
+    /// A bound of `|f|` on `[0, 1]`: 1 for a unit field (to rounding), else the norm of
+    /// [`ChebVec::size_bounds`].
+    pub(crate) fn norm_bound(&self) -> f64 {
+        if self.unit {
+            return 1.0 + 1e-14;
+        }
+        let [x, y, z] = self.size_bounds();
+        x.hypot(y).hypot(z)
     }
 
     /// The table's piece containing `s` (the one [`ChebVec::jet`] evaluates), for a tabulated
@@ -327,6 +394,9 @@ impl ChebVec {
     /// (`|T_n| ≤ 1`), or the largest over the table's pieces of their Taylor sums about the
     /// piece's middle.
     pub(crate) fn size_bounds(&self) -> [f64; 3] {
+        if self.unit {
+            return [1.0 + 1e-14; 3];
+        }
         if let Some(c) = self.coordinate_series() {
             return [0, 1, 2].map(|i| c[i].iter().map(|x| x.abs()).sum::<f64>() * (1.0 + 1e-14));
         }
@@ -358,6 +428,9 @@ impl ChebVec {
     /// quintic's, accurate to `O(h³)`). Only the derivatives up to `O` (`≤ 3`) are computed; the higher entries are zero and
     /// cost nothing, and the others do not depend on `O` (the same recurrences, to the bit).
     pub(crate) fn jet<const O: usize>(&self, s: f64) -> [Vec3; 4] {
+        if self.unit {
+            return normalised::<O>(self.all_at::<O>(s));
+        }
         if self.table.is_empty() {
             return self.all_at::<O>(s);
         }
@@ -428,6 +501,44 @@ impl ChebVec {
             Vec3::new(out[3 * k], out[3 * k + 1], out[3 * k + 2]) * [1.0, 2.0, 4.0, 8.0][k]
         })
     }
+}
+
+/// `|v|` without over- or underflow in the squares.
+fn length(v: Vec3) -> f64 {
+    let m = v.amax();
+    if m > 0.0 && m.is_finite() {
+        m * (v / m).norm()
+    } else {
+        m
+    }
+}
+
+/// `n = v/|v|` and its derivatives up to `O` (`≤ 3`; the higher entries zero) from `v`'s.
+/// With `g = |v|⁻¹ = w^{−1/2}`, `w = v·v`: `n⁽ᵏ⁾ = Σ_j C(k, j) g⁽ʲ⁾ v⁽ᵏ⁻ʲ⁾`, and `g`'s
+/// derivatives by the chain rule, `g' = −½ w^{−3/2} w'`,
+/// `g'' = ¾ w^{−5/2} w'² − ½ w^{−3/2} w''`,
+/// `g''' = −15/8 w^{−7/2} w'³ + 9/4 w^{−5/2} w' w'' − ½ w^{−3/2} w'''`; written in
+/// `aₖ = w⁽ᵏ⁾/w` and `g⁽ʲ⁾/g` so that no power of `|v|` over- or underflows.
+fn normalised<const O: usize>(v: [Vec3; 4]) -> [Vec3; 4] {
+    let g = 1.0 / length(v[0]);
+    let u = v.map(|x| x * g);
+    let a1 = 2.0 * u[0].dot(&u[1]);
+    let a2 = 2.0 * (u[1].dot(&u[1]) + u[0].dot(&u[2]));
+    let a3 = 2.0 * (3.0 * u[1].dot(&u[2]) + u[0].dot(&u[3]));
+    let h = [
+        1.0,
+        -0.5 * a1,
+        0.75 * a1 * a1 - 0.5 * a2,
+        -1.875 * a1 * a1 * a1 + 2.25 * a1 * a2 - 0.5 * a3,
+    ];
+    [0, 1, 2, 3].map(|k| {
+        if k > O {
+            return Vec3::zeros();
+        }
+        (0..=k).fold(Vec3::zeros(), |acc, j| {
+            acc + u[k - j] * (h[j] * BINOM[k][j])
+        })
+    })
 }
 
 /// `T_m(2 s_j − 1)` at the table's points `s_j = j / TABLE`, `m < len` (kept per length).
@@ -788,5 +899,64 @@ mod tests {
                 (c.at(2, s) - d2).amax()
             );
         }
+    }
+
+    /// The direction of a quintic (an interpolant of sampled normals), at scales from
+    /// `1e-200` to `1e200`: the unit field keeps the quintic's six terms; its value and three
+    /// derivatives agree with the unit field fitted as it is (a series of its own, of `N > 16`
+    /// terms, differentiated term by term: its value within `1e-14`, and by Markov's inequality
+    /// each derivative may multiply that by `N²`), and each derivative with central
+    /// differences of the one below (step `1e-4`: truncation about `1e-8` of the next
+    /// derivatives' size, rounding `1e-12`).
+    #[test]
+    fn unit_fields_normalise_the_jets_of_a_short_field() {
+        let q = |s: f64| {
+            Vec3::new(
+                0.6 * s - 0.4 * s.powi(5),
+                0.2 - 0.8 * s * s + 0.6 * s.powi(4),
+                1.0 + 0.4 * s.powi(3),
+            )
+        };
+        let unit = |s: f64| q(s).normalize();
+        let plain = ChebVec::fit(&unit);
+        let long = plain.coordinate_series().expect("a series")[0].len();
+        assert!(long > 16, "{long}");
+        let markov = (long * long) as f64;
+        for scale in [1e-200, 1.0, 1e200] {
+            let c = ChebVec::fit_unit(&|s| q(s) * scale).expect("a short field");
+            assert_eq!(c.unit_series().unwrap()[0].len(), 6);
+            assert!(c.coordinate_series().is_none());
+            for s in [0.0f64, 0.13, 0.5, 0.77, 1.0] {
+                let (a, b) = (c.jet::<3>(s), plain.jet::<3>(s));
+                for k in 0..4 {
+                    let tol = 1e-14 * markov.powi(k as i32);
+                    assert!(
+                        (a[k] - b[k]).amax() < tol,
+                        "{scale:e} {s} {k}: {:?}",
+                        a[k] - b[k]
+                    );
+                }
+                let h = 1e-4;
+                let t = s.clamp(h, 1.0 - h);
+                let (up, down, here) = (c.jet::<3>(t + h), c.jet::<3>(t - h), c.jet::<3>(t));
+                for k in 1..4 {
+                    let fd = (up[k - 1] - down[k - 1]) / (2.0 * h);
+                    assert!(
+                        (here[k] - fd).amax() < 1e-6 * (1.0 + here[k].amax()),
+                        "{scale:e} {t} {k}: {:?} against {:?}",
+                        here[k],
+                        fd
+                    );
+                }
+                assert!((a[0].norm() - 1.0).abs() < 1e-15);
+                // Only the asked-for derivatives, the same to the bit.
+                let one = c.jet::<1>(s);
+                assert_eq!([one[0], one[1]], [a[0], a[1]]);
+                assert_eq!([one[2], one[3]], [Vec3::zeros(); 2]);
+            }
+        }
+        // A long field, and one whose length falls to 1e-9 of its largest, are not taken.
+        assert!(ChebVec::fit_unit(&|s: f64| Vec3::new((300.0 * s).sin(), 1.0, 0.0)).is_none());
+        assert!(ChebVec::fit_unit(&|s: f64| Vec3::new(s - 0.37, 1e-9, 0.0)).is_none());
     }
 }
