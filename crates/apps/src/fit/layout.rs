@@ -26,7 +26,8 @@
 //!    stopped).
 
 use super::measure::{
-    closest_on_triangle, measure, measure_surfaces, Measures, MeshDistance, PointDistances,
+    closest_on_triangle, measure_components, measure_surfaces, Measures, MeshDistance, PartMeasure,
+    PointDistances,
 };
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
@@ -37,6 +38,7 @@ use crate::spec::{DesignSpec, PatchworkEdgeSpec, PatchworkSpec};
 use crate::{Error, Result, Vec3};
 use rstar::primitives::GeomWithData;
 use rstar::RTree;
+use smallvec::SmallVec;
 use std::cell::Cell;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
@@ -311,8 +313,10 @@ impl Collapser<'_> {
         out
     }
 
-    fn neighbours(&self, u: u32) -> Vec<u32> {
-        let mut out: Vec<u32> = Vec::with_capacity(8);
+    /// The vertices joined to `u` (on the stack up to a valence of 16: the collapses ask
+    /// for them millions of times).
+    fn neighbours(&self, u: u32) -> SmallVec<[u32; 16]> {
+        let mut out = SmallVec::new();
         for &t in &self.vtris[u as usize] {
             if !self.alive[t as usize] {
                 continue;
@@ -349,11 +353,11 @@ impl Collapser<'_> {
     fn stars_with(&self, u: u32, v: u32, nu: &[u32], old_star: Shape) -> Option<(Shape, Shape)> {
         let (ui, vi) = (u as usize, v as usize);
         // Triangles on the edge, and the link condition.
-        let mut opposite: Vec<u32> = Vec::with_capacity(2);
+        let mut opposite: SmallVec<[u32; 4]> = SmallVec::new();
         for &t in &self.vtris[ui] {
             let tri = &self.tris[t as usize];
             if self.alive[t as usize] && tri.contains(&v) {
-                opposite.extend(tri.iter().filter(|&&w| w != u && w != v));
+                opposite.extend(tri.iter().copied().filter(|&w| w != u && w != v));
             }
         }
         let on_boundary_edge = opposite.len() == 1;
@@ -410,6 +414,17 @@ impl Collapser<'_> {
         let len2 = (self.pos[ui] - p).norm_squared();
         let w = self.weight[ui].max(self.weight[vi]);
         Some(w * (q.eval(p).max(0.0) + LENGTH_WEIGHT * len2))
+    }
+
+    /// Every vertex's best collapse, found in parallel (the heap is that of the candidates
+    /// in the vertices' order, whatever the threads).
+    fn candidates(&self) -> BinaryHeap<Candidate> {
+        use rayon::prelude::*;
+        let all: Vec<Candidate> = (0..self.pos.len() as u32)
+            .into_par_iter()
+            .filter_map(|u| self.best(u))
+            .collect();
+        BinaryHeap::from(all)
     }
 
     fn best(&self, u: u32) -> Option<Candidate> {
@@ -593,7 +608,7 @@ impl<'a> Decimation<'a> {
             version: vec![0; n],
         };
         let remaining = used.iter().filter(|&&u| u).count();
-        let heap: BinaryHeap<Candidate> = (0..n as u32).filter_map(|u| c.best(u)).collect();
+        let heap = c.candidates();
         Decimation {
             c,
             heap,
@@ -609,7 +624,6 @@ impl<'a> Decimation<'a> {
 
     /// Collapses until `target` vertices remain or no collapse is allowed.
     pub fn collapse_to(&mut self, target: usize) {
-        let n = self.c.pos.len();
         let Decimation {
             c,
             heap,
@@ -624,7 +638,7 @@ impl<'a> Decimation<'a> {
                     break;
                 }
                 *since_rebuild = 0;
-                *heap = (0..n as u32).filter_map(|u| c.best(u)).collect();
+                *heap = c.candidates();
                 continue;
             };
             let (u, v) = (cand.from, cand.to);
@@ -1355,21 +1369,22 @@ pub fn fit_general_measured(
     let topology = mesh.topology();
     let mut rounds = Rounds::new(ROUNDS_SECONDS);
     if topology.nonmanifold_edges > 0 || topology.components <= 1 {
-        return fit_component(mesh, opts, &mut rounds, 1.0)
-            .map(|(f, m, d, miss, _)| (f, m, d, miss));
+        let (fit, m, d, miss, _) = fit_component(mesh, opts, &mut rounds, 1.0)?;
+        let m = m.sized(&fit.spec)?;
+        return Ok((fit, m, d, miss));
     }
     price_layout(mesh)?;
-    let parts = mesh.components();
+    let parts = mesh.components_indexed();
     let count = parts.len();
     let diagonal = mesh.diagonal();
     let all = mesh.triangles.len().max(1) as f64;
     let mut patchwork = Vec::with_capacity(count);
     let mut surfaces = Vec::new();
-    let mut grids = Vec::new();
+    let mut measured = Vec::with_capacity(count);
     let mut faces = 0;
     let mut refused: Vec<String> = Vec::new();
     let mut said: Vec<String> = Vec::new();
-    for (k, part) in parts.iter().enumerate() {
+    for (k, (part, vertices)) in parts.iter().enumerate() {
         let own = part.diagonal();
         let target = if own > 0.0 {
             (opts.target * diagonal / own).min(0.5)
@@ -1385,16 +1400,24 @@ pub fn fit_general_measured(
             &mut rounds,
             part.triangles.len() as f64 / all,
         );
+        let mut part_measure = PartMeasure {
+            mesh: part,
+            vertices,
+            fitted: None,
+        };
         let fit = match fitted {
-            Ok((fit, _, sampled, _, solved)) => {
+            Ok((fit, _, distances, _, solved)) => {
+                let first = surfaces.len();
                 surfaces.extend(solved);
-                grids.extend(sampled.grids);
+                part_measure.fitted = Some((first..surfaces.len(), distances));
+                measured.push(part_measure);
                 fit
             }
             // A component the mode cannot lay out is left out, said, and measured as a miss
             // (the whole mesh's work bound was checked above).
             Err(e) if e.place() == "tolerance" => return Err(e),
             Err(e) => {
+                measured.push(part_measure);
                 let (lo, hi) = part.bounds();
                 let c = (lo + hi) / 2.0;
                 refused.push(format!(
@@ -1433,14 +1456,10 @@ pub fn fit_general_measured(
         ..DesignSpec::default()
     };
     // The components' patchworks solve on their own (no condition joins two of them): their
-    // solved surfaces, in the design's order, are the whole design's.
-    let (m, d) = measure_surfaces(
-        mesh,
-        &spec,
-        &surfaces,
-        (MEASURE_GRID, MEASURE_GRID),
-        Some(grids),
-    )?;
+    // solved surfaces, in the design's order, are the whole design's, and their measures
+    // against their own components make the whole's.
+    let (m, d) = measure_components(mesh, &surfaces, measured)?;
+    let m = m.sized(&spec)?;
     let (at, distance) = d.worst(mesh);
     let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
     let mut fit = general_fit(spec, faces, m.hausdorff_relative);
@@ -1620,7 +1639,8 @@ fn solve_creasing_folds(
     ))
 }
 
-/// A component's fit: [`fit_general_measured`]'s answer and the surfaces of its design, solved.
+/// A component's fit: [`fit_general_measured`]'s answer (its measures without the design's
+/// sizes, [`Measures::sized`]) and the surfaces of its design, solved.
 type Component = (
     Fit,
     Measures,
@@ -1695,12 +1715,7 @@ pub(crate) fn proxy(mesh: &InputMesh, normals: &[Vec3], vertices: usize) -> Resu
 pub(crate) fn proxy_gap(mesh: &InputMesh, proxy: &InputMesh) -> f64 {
     use rayon::prelude::*;
     let index = MeshDistance::new(proxy);
-    let mut used = vec![false; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for &i in t {
-            used[i as usize] = true;
-        }
-    }
+    let used = mesh.used_vertices();
     mesh.positions
         .par_iter()
         .zip(used.par_iter())
@@ -1735,15 +1750,7 @@ fn fit_rounds(
     let facing = Facing::new(mesh);
     // The mesh the rounds are measured on, and its tolerance.
     let (judge, tol) = whole.unwrap_or((mesh, opts.target * mesh.diagonal()));
-    let used = {
-        let mut u = vec![false; mesh.positions.len()];
-        for t in &mesh.triangles {
-            for &i in t {
-                u[i as usize] = true;
-            }
-        }
-        u
-    };
+    let used = mesh.used_vertices();
     let vertices = used.iter().filter(|&&u| u).count();
     // Euler characteristic: the genus asks for more layout vertices.
     let mut edges = std::collections::HashSet::new();
@@ -1875,7 +1882,7 @@ fn fit_rounds(
                 continue;
             }
         };
-        let (m, d) = measure(judge, &spec, &solved, MEASURE_GRID, MEASURE_GRID)?;
+        let (m, d) = measure_surfaces(judge, &solved.surfaces, (MEASURE_GRID, MEASURE_GRID))?;
         rounds.spent += solve_seconds(faces);
         // The worst places both ways.
         let mut worst = Miss {
@@ -1976,6 +1983,7 @@ fn fit_rounds(
 
 #[cfg(test)]
 mod tests {
+    use super::super::measure::measure;
     use super::*;
 
     /// An edge from `a` to `b` whose end tangents are `d0` (leaving `a`) and `d1` (arriving at

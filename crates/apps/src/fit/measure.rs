@@ -8,7 +8,11 @@
 //!   same grids (an R-tree of the grids' boxes, then the quads of the nearest grids: a
 //!   [`GridIndex`]), and from that triangle's `(u, v)` the closest point of the
 //!   patch is found by Newton's method ([`ClosestPointIndex::refine`]): the distance to a point
-//!   of the surface itself, not to its tessellation.
+//!   of the surface itself, not to its tessellation. Where pieces meet, their grids share the
+//!   boundary's samples: every piece whose grid comes as near is refined, and the least
+//!   distance kept (which piece a search met first decided it before).
+//! - A design of several components' fits is measured from the components' own measures
+//!   ([`measure_components`]): the other components are searched only near their boxes.
 //! - The two-sided **Hausdorff** distance is the larger of the two maxima; the **RMS** distance
 //!   is `√((rms₁² + rms₂²)/2)` of the two directions' root mean squares. Both are also given
 //!   relative to the mesh's bounding-box diagonal.
@@ -21,7 +25,7 @@ use crate::design::{DesignSurface, SolvedDesign};
 use crate::mesh::{self, Samples};
 use crate::spec::{write_design, DesignSpec};
 use crate::surface::{ClosestOptions, ClosestPointIndex};
-use crate::{Result, Vec3};
+use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{PointDistance, RTree, RTreeObject, AABB};
@@ -202,20 +206,27 @@ impl<'a> GridIndex<'a> {
         }
     }
 
-    /// The closest grid triangle to `p` (`None` without grids, or where no distance is
-    /// finite).
-    pub(crate) fn closest(&self, p: Vec3) -> Option<GridPoint> {
+    /// The closest triangle of each grid that comes within [`TIE`] of the closest of all,
+    /// nearest first (none without grids, or where no distance is finite): where pieces meet, their grids share the boundary's samples, and a point
+    /// whose nearest grid point lies there is as near to either piece (which one a search
+    /// meets first is an accident of its order).
+    pub(crate) fn nearest_per_grid(&self, p: Vec3) -> Vec<GridPoint> {
         let at = [p.x, p.y, p.z];
-        let mut best: Option<GridPoint> = None;
+        let reach = |best: Option<f64>| best.map_or(f64::INFINITY, |d| d * (1.0 + TIE));
+        let mut best: Option<f64> = None;
+        let mut found: Vec<GridPoint> = Vec::new();
         for (b, d2) in self.tree.nearest_neighbor_iter_with_distance_2(&at) {
-            if best.is_some_and(|x| d2 > x.distance * x.distance) {
+            let r = reach(best);
+            if d2 > r * r {
                 break;
             }
             let g = &self.grids[b.data];
+            let mut own: Option<GridPoint> = None;
             for q in g.quads() {
                 let corners = q.map(|i| g.positions[i as usize]);
                 let quad = AABB::from_points(corners.iter());
-                if best.is_some_and(|x| quad.distance_2(&at) > x.distance * x.distance) {
+                let r = reach(best).min(own.map_or(f64::INFINITY, |x| x.distance));
+                if quad.distance_2(&at) > r * r {
                     continue;
                 }
                 let [a, b1, c, d] = q;
@@ -223,8 +234,8 @@ impl<'a> GridIndex<'a> {
                     let tri = t.map(|i| Vec3::from(g.positions[i as usize]));
                     let (x, beta, gamma) = closest_on_triangle(p, &tri);
                     let distance = (x - p).norm();
-                    if distance.is_finite() && best.is_none_or(|y| distance < y.distance) {
-                        best = Some(GridPoint {
+                    if distance.is_finite() && own.is_none_or(|y| distance < y.distance) {
+                        own = Some(GridPoint {
                             grid: b.data,
                             corners: t,
                             beta,
@@ -234,10 +245,23 @@ impl<'a> GridIndex<'a> {
                     }
                 }
             }
+            if let Some(x) = own {
+                if best.is_none_or(|d| x.distance < d) {
+                    best = Some(x.distance);
+                }
+                found.push(x);
+            }
         }
-        best
+        let r = reach(best);
+        found.retain(|x| x.distance <= r);
+        found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.grid.cmp(&b.grid)));
+        found
     }
 }
+
+/// Grid triangles within this fraction of the nearest one's distance are as near
+/// ([`GridIndex::nearest_per_grid`]).
+const TIE: f64 = 1e-9;
 
 /// Largest and root-mean-square distance over a set of points.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
@@ -298,6 +322,19 @@ pub struct Measures {
 }
 
 impl Measures {
+    /// The measures with the sizes of the design `spec` (its numbers, its TOML's bytes and
+    /// their ratios to the mesh's), which the searches leave at 0: writing a large design's
+    /// TOML costs as much as a tenth of measuring it, and a fit's rounds need only the
+    /// distances of all but the round they report.
+    pub(crate) fn sized(mut self, spec: &DesignSpec) -> Result<Measures> {
+        self.toml_bytes = write_design(spec)?.len();
+        self.design_numbers = count_numbers(spec);
+        self.design_bytes = 8 * self.design_numbers;
+        self.ratio = self.mesh_bytes as f64 / self.design_bytes.max(1) as f64;
+        self.toml_ratio = self.mesh_bytes as f64 / self.toml_bytes.max(1) as f64;
+        Ok(self)
+    }
+
     /// What `pdeshape fit` prints of a fit (after the mesh's name): the verdict first (whether
     /// the Hausdorff distance is within `tolerance`, a fraction of the diagonal), then the
     /// distances as percentages of the diagonal and in the mesh's units, the patches, and the
@@ -377,27 +414,22 @@ pub fn measure(
     nu: usize,
     nv: usize,
 ) -> Result<(Measures, PointDistances)> {
-    measure_surfaces(mesh, spec, &solved.surfaces, (nu, nv), None)
+    let (m, d) = measure_surfaces(mesh, &solved.surfaces, (nu, nv))?;
+    Ok((m.sized(spec)?, d))
 }
 
-/// [`measure`] of `surfaces`, the surfaces of `spec` as solved (in the design's order): a
+/// [`measure`] of `surfaces`, the surfaces of a design as solved (in the design's order): a
 /// design whose patchworks were solved one by one need not be solved again to be measured.
-/// `sampled`, when given, is their `nu × nv` sample grids, already taken (by a measure of the
-/// same surfaces against another mesh).
+/// The design's sizes are left to [`Measures::sized`].
 pub(crate) fn measure_surfaces(
     mesh: &InputMesh,
-    spec: &DesignSpec,
     surfaces: &[DesignSurface],
     (nu, nv): (usize, usize),
-    sampled: Option<Vec<Samples>>,
 ) -> Result<(Measures, PointDistances)> {
-    let grids: Vec<Samples> = match sampled {
-        Some(g) if g.len() == surfaces.len() => g,
-        _ => surfaces
-            .par_iter()
-            .map(|s| mesh::sample(s.surface(), nu, nv))
-            .collect::<Result<_>>()?,
-    };
+    let grids: Vec<Samples> = surfaces
+        .par_iter()
+        .map(|s| mesh::sample(s.surface(), nu, nv))
+        .collect::<Result<_>>()?;
     // Fit to mesh.
     let index = MeshDistance::new(mesh);
     // In parallel over the grids (a fit has thousands of pieces of 100 samples each).
@@ -421,78 +453,112 @@ pub(crate) fn measure_surfaces(
                 .collect()
         })
         .collect();
-    // Mesh to fit: the closest grid triangle, then Newton on the surface.
-    let pieces = GridIndex::new(&grids);
-    // Only Newton runs from a grid triangle's `(u, v)` are asked of these indices
-    // (`refine`), never a search over the surface, so their own sample grids are the
-    // smallest allowed (the default 16 × 32 evaluations per patch were most of the time
-    // of measuring a fit of hundreds of n-sided pieces).
-    let opts = ClosestOptions {
-        samples_u: 2,
-        samples_v: 3,
-        ..ClosestOptions::default()
-    };
-    let indices: Vec<ClosestPointIndex<'_, dyn crate::surface::Surface>> = surfaces
-        .iter()
-        .map(|s| ClosestPointIndex::new(s.surface(), &opts))
-        .collect();
-    let mut used = vec![false; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for &i in t {
-            used[i as usize] = true;
-        }
-    }
+    let to_fit = ToFit::new(surfaces, &grids);
+    let used = mesh.used_vertices();
     let mesh_d: Vec<f64> = mesh
         .positions
         .par_iter()
         .zip(used.par_iter())
-        .map(|(p, &u)| {
-            if !u {
-                return f64::NAN;
-            }
-            let Some(near) = pieces.closest(*p) else {
-                return f64::NAN;
-            };
-            let (k, idx, b, c) = (near.grid, near.corners, near.beta, near.gamma);
-            let flat = near.distance;
-            let g = &grids[k];
-            let uv = |i: u32| {
-                let i = i as usize;
-                (g.u[i / g.nv], g.v[i % g.nv])
-            };
-            let (u0, v0) = uv(idx[0]);
-            let (u1, mut v1) = uv(idx[1]);
-            let (u2, mut v2) = uv(idx[2]);
-            // Unwrap the periodic seam.
-            if g.periodic_v {
-                let period = crate::TAU;
-                for v in [&mut v1, &mut v2] {
-                    if *v - v0 > 0.5 * period {
-                        *v -= period;
-                    } else if v0 - *v > 0.5 * period {
-                        *v += period;
-                    }
+        .map(|(p, &u)| if u { to_fit.distance(*p) } else { f64::NAN })
+        .collect();
+    drop(to_fit);
+    Ok((
+        summarise(mesh, &mesh_d, &fit),
+        PointDistances {
+            mesh: mesh_d,
+            grids,
+            fit,
+        },
+    ))
+}
+
+/// Distances from points to a fit's surfaces: the closest triangle of their sample grids (a
+/// [`GridIndex`]), then Newton on that triangle's surface from its `(u, v)`.
+struct ToFit<'a> {
+    grids: &'a [Samples],
+    pieces: GridIndex<'a>,
+    indices: Vec<ClosestPointIndex<'a, dyn crate::surface::Surface + 'a>>,
+}
+
+impl<'a> ToFit<'a> {
+    /// `grids[k]` samples `surfaces[k]`.
+    fn new(surfaces: &'a [DesignSurface], grids: &'a [Samples]) -> ToFit<'a> {
+        // Only Newton runs from a grid triangle's `(u, v)` are asked of these indices
+        // (`refine`), never a search over the surface, so their own sample grids are the
+        // smallest allowed (the default 16 × 32 evaluations per patch were most of the time
+        // of measuring a fit of hundreds of n-sided pieces).
+        let opts = ClosestOptions {
+            samples_u: 2,
+            samples_v: 3,
+            ..ClosestOptions::default()
+        };
+        ToFit {
+            grids,
+            pieces: GridIndex::new(grids),
+            indices: surfaces
+                .iter()
+                .map(|s| ClosestPointIndex::new(s.surface(), &opts))
+                .collect(),
+        }
+    }
+
+    /// The distance from `p` to the fit (`NaN` without grids or a finite distance): the
+    /// least over the pieces whose grids come nearest ([`GridIndex::nearest_per_grid`]).
+    fn distance(&self, p: Vec3) -> f64 {
+        self.pieces
+            .nearest_per_grid(p)
+            .iter()
+            .map(|near| self.refine(p, near))
+            .fold(f64::NAN, f64::min)
+    }
+
+    /// The distance from `p` to the piece of `near`, by Newton from `near`'s `(u, v)`.
+    fn refine(&self, p: Vec3, near: &GridPoint) -> f64 {
+        let (k, idx, b, c) = (near.grid, near.corners, near.beta, near.gamma);
+        let flat = near.distance;
+        let g = &self.grids[k];
+        let uv = |i: u32| {
+            let i = i as usize;
+            (g.u[i / g.nv], g.v[i % g.nv])
+        };
+        let (u0, v0) = uv(idx[0]);
+        let (u1, mut v1) = uv(idx[1]);
+        let (u2, mut v2) = uv(idx[2]);
+        // Unwrap the periodic seam.
+        if g.periodic_v {
+            let period = crate::TAU;
+            for v in [&mut v1, &mut v2] {
+                if *v - v0 > 0.5 * period {
+                    *v -= period;
+                } else if v0 - *v > 0.5 * period {
+                    *v += period;
                 }
             }
-            let u = u0 + b * (u1 - u0) + c * (u2 - u0);
-            let v = v0 + b * (v1 - v0) + c * (v2 - v0);
-            // The refined point and the starting point lie on the surface: the nearer bounds
-            // the true distance from above. (Newton from the start can leave for a farther
-            // local minimum where `X_v` vanishes: at the folds `v = 0, π` of a sheet's even
-            // curves, which it takes for poles.) Without either, the distance to the grid's
-            // triangle stands in.
-            let start = indices[k].surface().point(u, v).metric_distance(p);
-            let refined = indices[k]
-                .refine(*p, u, v)
-                .map_or(f64::INFINITY, |r| r.distance);
-            let best = refined.min(start);
-            if best.is_finite() {
-                best
-            } else {
-                flat
-            }
-        })
-        .collect();
+        }
+        let u = u0 + b * (u1 - u0) + c * (u2 - u0);
+        let v = v0 + b * (v1 - v0) + c * (v2 - v0);
+        // The refined point and the starting point lie on the surface: the nearer bounds the
+        // true distance from above. (Newton from the start can leave for a farther local
+        // minimum where `X_v` vanishes: at the folds `v = 0, π` of a sheet's even curves,
+        // which it takes for poles.) Without either, the distance to the grid's triangle
+        // stands in.
+        let start = self.indices[k].surface().point(u, v).metric_distance(&p);
+        let refined = self.indices[k]
+            .refine(p, u, v)
+            .map_or(f64::INFINITY, |r| r.distance);
+        let best = refined.min(start);
+        if best.is_finite() {
+            best
+        } else {
+            flat
+        }
+    }
+}
+
+/// The measures of a fit from its points' distances: `mesh_d` of the mesh's vertices (`NaN`
+/// for those no triangle uses), `fit` of its samples; the design's sizes are left to
+/// [`Measures::sized`].
+fn summarise(mesh: &InputMesh, mesh_d: &[f64], fit: &[Vec<f64>]) -> Measures {
     let used_d: Vec<f64> = mesh_d.iter().cloned().filter(|d| !d.is_nan()).collect();
     let all_fit: Vec<f64> = fit.iter().flatten().cloned().collect();
     let mesh_to_fit = Distances::of(&used_d);
@@ -500,10 +566,7 @@ pub(crate) fn measure_surfaces(
     let diagonal = mesh.diagonal();
     let hausdorff = mesh_to_fit.max.max(fit_to_mesh.max);
     let rms = (0.5 * (mesh_to_fit.rms.powi(2) + fit_to_mesh.rms.powi(2))).sqrt();
-    let toml_bytes = write_design(spec)?.len();
-    let design_numbers = count_numbers(spec);
-    let mesh_bytes = mesh.binary_size();
-    let measures = Measures {
+    Measures {
         diagonal,
         mesh_to_fit,
         fit_to_mesh,
@@ -513,15 +576,163 @@ pub(crate) fn measure_surfaces(
         rms_relative: rms / diagonal,
         mesh_triangles: mesh.triangles.len(),
         mesh_vertices: mesh.positions.len(),
-        mesh_bytes,
-        design_numbers,
-        design_bytes: 8 * design_numbers,
-        toml_bytes,
-        ratio: mesh_bytes as f64 / (8 * design_numbers).max(1) as f64,
-        toml_ratio: mesh_bytes as f64 / toml_bytes.max(1) as f64,
+        mesh_bytes: mesh.binary_size(),
+        design_numbers: 0,
+        design_bytes: 0,
+        toml_bytes: 0,
+        ratio: 0.0,
+        toml_ratio: 0.0,
+    }
+}
+
+/// A component of a mesh and its fit as measured against that component alone, for
+/// [`measure_components`].
+pub(crate) struct PartMeasure<'a> {
+    /// The component.
+    pub mesh: &'a InputMesh,
+    /// The whole mesh's index of each of the component's vertices.
+    pub vertices: &'a [u32],
+    /// The component's surfaces among the design's and their measure against the component
+    /// ([`measure_surfaces`]'s, its grids those of the surfaces); `None` for a component left
+    /// out of the design.
+    pub fitted: Option<(std::ops::Range<usize>, PointDistances)>,
+}
+
+/// [`measure_surfaces`] of a design made of components' fits, against the whole mesh, from
+/// the components' own measures (`parts`: every component of the mesh). A point's distance
+/// to the whole is the least of its distance to its own component and to the others, and
+/// the others are searched only where they come within the own distance: a sample whose ball
+/// of that radius meets another component's bounding box is searched in that component too,
+/// and a mesh vertex whose ball meets the box of another component's grids is measured on
+/// the whole fit. The samples' distances are those a measure of the whole finds; so are the
+/// vertices', but where another component's piece would bulge out of its grid's box to
+/// within the own distance (the whole's search would then run Newton on it too), where the
+/// own distance, the distance to a point of the fit, stands. Only the few points near two
+/// components cost more than their own measures did.
+pub(crate) fn measure_components(
+    mesh: &InputMesh,
+    surfaces: &[DesignSurface],
+    parts: Vec<PartMeasure<'_>>,
+) -> Result<(Measures, PointDistances)> {
+    let mut owner: Vec<Option<(usize, usize)>> = vec![None; mesh.positions.len()];
+    for (k, part) in parts.iter().enumerate() {
+        for (l, &i) in part.vertices.iter().enumerate() {
+            if let Some(o) = owner.get_mut(i as usize) {
+                *o = Some((k, l));
+            }
+        }
+    }
+    let bounds = |points: &mut dyn Iterator<Item = [f64; 3]>| {
+        let all: Vec<[f64; 3]> = points.collect();
+        (!all.is_empty()).then(|| AABB::from_points(all.iter()))
     };
+    let boxes: Vec<Option<AABB<[f64; 3]>>> = parts
+        .iter()
+        .map(|part| bounds(&mut part.mesh.positions.iter().map(|p| [p.x, p.y, p.z])))
+        .collect();
+    let indices: Vec<MeshDistance> = parts
+        .par_iter()
+        .map(|p| MeshDistance::new(p.mesh))
+        .collect();
+    // The design's grids and their samples' own distances, in the design's order.
+    let mut grids: Vec<Samples> = Vec::with_capacity(surfaces.len());
+    let mut fit: Vec<Vec<f64>> = Vec::with_capacity(surfaces.len());
+    let mut grid_owner: Vec<usize> = Vec::with_capacity(surfaces.len());
+    let mut own: Vec<Option<(std::ops::Range<usize>, Vec<f64>)>> = Vec::with_capacity(parts.len());
+    for (k, part) in parts.into_iter().enumerate() {
+        let Some((range, mut d)) = part.fitted else {
+            own.push(None);
+            continue;
+        };
+        if range.start != grids.len() || range.len() != d.grids.len() {
+            return Err(Error::invalid(
+                "the components' surfaces are not in the design's order",
+            ));
+        }
+        grid_owner.extend(std::iter::repeat_n(k, d.grids.len()));
+        grids.append(&mut d.grids);
+        fit.append(&mut d.fit);
+        own.push(Some((range, d.mesh)));
+    }
+    if grids.len() != surfaces.len() {
+        return Err(Error::invalid(
+            "the components' surfaces are not the design's",
+        ));
+    }
+    // Fit to mesh.
+    fit.par_iter_mut()
+        .zip(grids.par_iter())
+        .zip(grid_owner.par_iter())
+        .for_each(|((dist, g), &k)| {
+            for (x, p) in dist.iter_mut().zip(&g.positions) {
+                let reach = if x.is_finite() { *x } else { f64::INFINITY };
+                for (j, (b, index)) in boxes.iter().zip(&indices).enumerate() {
+                    let near = b.is_some_and(|b| b.distance_2(p) <= reach * reach);
+                    if j != k && near {
+                        if let Some((d, _, _)) = index.closest(Vec3::from(*p)) {
+                            if x.is_nan() || d < *x {
+                                *x = d;
+                            }
+                        }
+                    }
+                }
+            }
+        });
+    // Mesh to fit.
+    let grid_boxes: Vec<Option<AABB<[f64; 3]>>> = own
+        .iter()
+        .map(|o| {
+            o.as_ref().and_then(|(range, _)| {
+                bounds(
+                    &mut grids[range.clone()]
+                        .iter()
+                        .flat_map(|g| g.positions.iter().copied()),
+                )
+            })
+        })
+        .collect();
+    let used = mesh.used_vertices();
+    // A vertex's own distance, where no other component's grids come within it.
+    let own_distance = |p: &Vec3, o: &Option<(usize, usize)>| -> Option<f64> {
+        let (k, l) = (*o)?;
+        let d = own[k].as_ref()?.1[l];
+        let at = [p.x, p.y, p.z];
+        let clear = grid_boxes
+            .iter()
+            .enumerate()
+            .all(|(j, b)| j == k || b.is_none_or(|b| b.distance_2(&at) > d * d));
+        (d.is_finite() && clear).then_some(d)
+    };
+    let mesh_d: Vec<Option<f64>> = mesh
+        .positions
+        .par_iter()
+        .zip(used.par_iter())
+        .zip(owner.par_iter())
+        .map(|((p, &u), o)| {
+            if u {
+                own_distance(p, o)
+            } else {
+                Some(f64::NAN)
+            }
+        })
+        .collect();
+    let to_fit = mesh_d
+        .iter()
+        .any(Option::is_none)
+        .then(|| ToFit::new(surfaces, &grids));
+    let mesh_d: Vec<f64> = mesh
+        .positions
+        .par_iter()
+        .zip(mesh_d.par_iter())
+        .map(|(p, d)| match (d, &to_fit) {
+            (Some(d), _) => *d,
+            (None, Some(t)) => t.distance(*p),
+            (None, None) => f64::NAN,
+        })
+        .collect();
+    drop(to_fit);
     Ok((
-        measures,
+        summarise(mesh, &mesh_d, &fit),
         PointDistances {
             mesh: mesh_d,
             grids,
@@ -617,7 +828,10 @@ mod tests {
                     want = want.min((closest_on_triangle(p, &tri).0 - p).norm());
                 }
             }
-            let got = index.closest(p).unwrap();
+            let found = index.nearest_per_grid(p);
+            let got = found[0];
+            // Every other grid found is as near, to the tie's margin.
+            assert!(found.iter().all(|x| x.distance <= want * (1.0 + TIE)));
             assert_eq!(got.distance, want, "at {p:?}");
             // The answer names its triangle and the point in it.
             let g = &grids[got.grid];
@@ -626,7 +840,48 @@ mod tests {
             let q = a + (b - a) * got.beta + (c - a) * got.gamma;
             assert!(((q - p).norm() - want).abs() <= 1e-12 * (1.0 + want));
         }
-        assert!(GridIndex::new(&[]).closest(Vec3::zeros()).is_none());
+        assert!(GridIndex::new(&[])
+            .nearest_per_grid(Vec3::zeros())
+            .is_empty());
+    }
+
+    /// Two pieces meeting along `x = 1` at a fold (the second rises at half a slope): a point
+    /// whose nearest grid point is on the shared edge gets both grids, the first no farther
+    /// than the second, each with its own nearest triangle; a point over one piece's middle,
+    /// or near the edge but nearer one piece, gets that piece only.
+    #[test]
+    fn pieces_meeting_at_the_nearest_point_are_both_found() {
+        let grid = |x0: f64, slope: f64| {
+            let (nu, nv) = (5, 4);
+            Samples {
+                nu,
+                nv,
+                periodic_v: false,
+                u: (0..nu).map(|i| i as f64 / 4.0).collect(),
+                v: (0..nv).map(|j| j as f64 / 3.0).collect(),
+                positions: (0..nu * nv)
+                    .map(|i| {
+                        let (x, y) = ((i / nv) as f64 / 4.0, (i % nv) as f64 / 3.0);
+                        [x0 + x, y, slope * x]
+                    })
+                    .collect(),
+                normals: vec![[0.0; 3]; nu * nv],
+            }
+        };
+        // The first runs from x = 0 to 1, the second from 1 to 2: the edge's samples are the
+        // same points.
+        let grids = [grid(0.0, 0.0), grid(1.0, 0.5)];
+        let index = GridIndex::new(&grids);
+        let on_edge = index.nearest_per_grid(Vec3::new(1.2, 0.5, -0.5));
+        assert_eq!(on_edge.iter().map(|x| x.grid).collect::<Vec<_>>(), [0, 1]);
+        let want = (0.2f64 * 0.2 + 0.5 * 0.5).sqrt();
+        for x in &on_edge {
+            assert!((x.distance - want).abs() < 1e-15, "{x:?}");
+        }
+        let middle = index.nearest_per_grid(Vec3::new(0.5, 0.5, 1.0));
+        assert_eq!(middle.iter().map(|x| x.grid).collect::<Vec<_>>(), [0]);
+        let beside = index.nearest_per_grid(Vec3::new(1.001, 0.5, 0.3));
+        assert_eq!(beside.iter().map(|x| x.grid).collect::<Vec<_>>(), [1]);
     }
 
     #[test]

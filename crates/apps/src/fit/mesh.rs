@@ -247,34 +247,57 @@ impl InputMesh {
     /// The connected components (through shared vertices), each a mesh of its own triangles
     /// and the vertices they use, in the order of their first triangle.
     pub fn components(&self) -> Vec<InputMesh> {
+        self.components_indexed()
+            .into_iter()
+            .map(|(m, _)| m)
+            .collect()
+    }
+
+    /// [`InputMesh::components`], each with the index in this mesh of each of its vertices.
+    pub fn components_indexed(&self) -> Vec<(InputMesh, Vec<u32>)> {
         let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
         for t in &self.triangles {
             union(&mut parent, t[0], t[1]);
             union(&mut parent, t[1], t[2]);
         }
         let mut part_of: HashMap<u32, usize> = HashMap::new();
-        let mut parts: Vec<InputMesh> = Vec::new();
+        let mut parts: Vec<(InputMesh, Vec<u32>)> = Vec::new();
         // Each vertex's index in its part.
         let mut index: HashMap<u32, u32> = HashMap::new();
         for t in &self.triangles {
             let root = find(&mut parent, t[0]);
             let k = *part_of.entry(root).or_insert_with(|| {
-                parts.push(InputMesh {
-                    positions: Vec::new(),
-                    triangles: Vec::new(),
-                });
+                parts.push((
+                    InputMesh {
+                        positions: Vec::new(),
+                        triangles: Vec::new(),
+                    },
+                    Vec::new(),
+                ));
                 parts.len() - 1
             });
-            let part = &mut parts[k];
+            let (part, whole) = &mut parts[k];
             let tri = t.map(|i| {
                 *index.entry(i).or_insert_with(|| {
                     part.positions.push(self.positions[i as usize]);
+                    whole.push(i);
                     (part.positions.len() - 1) as u32
                 })
             });
             part.triangles.push(tri);
         }
         parts
+    }
+
+    /// Per vertex, whether a triangle uses it.
+    pub fn used_vertices(&self) -> Vec<bool> {
+        let mut used = vec![false; self.positions.len()];
+        for t in &self.triangles {
+            for &i in t {
+                used[i as usize] = true;
+            }
+        }
+        used
     }
 
     /// The closed loops of boundary edges (edges of one triangle), each as its vertices in

@@ -280,7 +280,7 @@ fn a_real_ant_of_fifteen_low_polygon_parts_is_fitted_whole() {
         "{:?}",
         fitted.fit.notes
     );
-    assert_real_fit("ant", &fitted, true);
+    assert_real_fit("ant", &mesh, &fitted, true);
 }
 
 /// Reads a mesh of `tests/data/meshes/`, repaired as `pdeshape fit` repairs it, and fits it by
@@ -314,7 +314,12 @@ fn fit_real(file: &str) -> (InputMesh, pdeshape::fit::Fitted, String) {
 /// diagonal, well within the 5 %), and its RMS distance is within 1 % of the diagonal.
 /// Every face meets its sides to rounding and is G1 across every shared edge that is not a
 /// crease; a closed mesh comes out watertight when `watertight`.
-fn assert_real_fit(name: &str, fitted: &pdeshape::fit::Fitted, watertight: bool) {
+///
+/// A fit of several components is measured from the components' own measures (each against
+/// its component alone): the distances must be those of a measure of the whole design
+/// against the whole mesh, point by point (to rounding: a point whose nearest grid triangle
+/// is one of two at the same distance may start Newton from the other, at the same `(u, v)`).
+fn assert_real_fit(name: &str, mesh: &InputMesh, fitted: &pdeshape::fit::Fitted, watertight: bool) {
     let m = &fitted.measures;
     assert_eq!(fitted.fit.mode, FitMode::General);
     assert!(
@@ -334,6 +339,31 @@ fn assert_real_fit(name: &str, fitted: &pdeshape::fit::Fitted, watertight: bool)
         fitted.fit.notes
     );
     let solved = solve_design(&fitted.fit.spec).unwrap();
+    if fitted.fit.spec.patchwork.len() > 1 {
+        let grid = pdeshape::fit::MEASURE_GRID;
+        let (whole, d) = measure(mesh, &fitted.fit.spec, &solved, grid, grid).unwrap();
+        let own = &fitted.distances;
+        let near =
+            |a: f64, b: f64| (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * m.diagonal;
+        assert_eq!(d.mesh.len(), own.mesh.len());
+        for (i, (a, b)) in d.mesh.iter().zip(&own.mesh).enumerate() {
+            assert!(
+                near(*a, *b),
+                "{name}: vertex {i} at {a} of the whole, {b} merged"
+            );
+        }
+        assert_eq!(d.fit.len(), own.fit.len());
+        for (k, (a, b)) in d.fit.iter().zip(&own.fit).enumerate() {
+            for (j, (x, y)) in a.iter().zip(b).enumerate() {
+                assert!(
+                    near(*x, *y),
+                    "{name}: sample {j} of grid {k} at {x} of the whole, {y} merged"
+                );
+            }
+        }
+        assert!((whole.hausdorff - m.hausdorff).abs() <= 1e-12 * m.diagonal);
+        assert!((whole.rms - m.rms).abs() <= 1e-12 * m.diagonal);
+    }
     let d = pdeshape::diagnose(&DesignSpec::default(), &solved);
     let mut shared = 0;
     for net in &d.networks {
@@ -369,7 +399,7 @@ fn the_stanford_bunny_is_fitted_within_the_default_tolerance() {
     let (mesh, fitted, _) = fit_real("bunny.obj");
     assert_eq!(mesh.triangles.len(), 3674);
     assert!(fitted.fallback.is_some());
-    assert_real_fit("bunny", &fitted, true);
+    assert_real_fit("bunny", &mesh, &fitted, true);
 }
 
 /// PyVista's aeroplane (see `tests/data/meshes/README.md`): 7 low-polygon components
@@ -387,7 +417,7 @@ fn a_real_aeroplane_of_thin_low_polygon_parts_is_fitted_whole() {
     assert!(repairs.contains("made manifold by dropping"), "{repairs}");
     assert!(mesh.topology().boundary_edges > 0);
     assert_eq!(fitted.fit.spec.patchwork.len(), 7);
-    assert_real_fit("aeroplane", &fitted, false);
+    assert_real_fit("aeroplane", &mesh, &fitted, false);
 }
 
 /// The Utah teapot as the npm package `teapot` ships it (see `tests/data/meshes/README.md`):
@@ -404,5 +434,5 @@ fn the_utah_teapot_is_fitted_whole() {
     let components = mesh.components().len();
     assert!(mesh.topology().boundary_edges > 0);
     assert_eq!(fitted.fit.spec.patchwork.len(), components);
-    assert_real_fit("teapot", &fitted, false);
+    assert_real_fit("teapot", &mesh, &fitted, false);
 }
