@@ -26,8 +26,8 @@
 //!    stopped).
 
 use super::measure::{
-    closest_on_triangle, measure_components, measure_surfaces, Measures, MeshDistance, PartMeasure,
-    PointDistances,
+    closest_on_triangle, design_sizes, measure_components, measure_surfaces, Measures,
+    MeshDistance, PartMeasure, PointDistances,
 };
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
@@ -237,8 +237,9 @@ fn corner_badness(p: Vec3, next: Vec3, prev: Vec3, n: Vec3) -> f64 {
         .max(0.0)
 }
 
-fn quality(a: Vec3, b: Vec3, c: Vec3) -> f64 {
-    let area2 = (b - a).cross(&(c - a)).norm();
+/// A triangle's shape, `2√3 · 2A / Σ l²` (1 for an equilateral triangle, 0 for a
+/// degenerate one), given twice its area `2A`.
+fn quality_of(area2: f64, [a, b, c]: [Vec3; 3]) -> f64 {
     let s = (b - a).norm_squared() + (c - b).norm_squared() + (a - c).norm_squared();
     if s > 0.0 {
         2.0 * 3f64.sqrt() * area2 / s
@@ -248,7 +249,7 @@ fn quality(a: Vec3, b: Vec3, c: Vec3) -> f64 {
 }
 
 /// The worst of a set of triangles: the smallest cosine between a triangle's normal and the
-/// mesh's at its corners, the largest [`corner_badness`], the smallest [`quality`] and area.
+/// mesh's at its corners, the largest [`corner_badness`], the smallest [`quality_of`] and area.
 #[derive(Clone, Copy)]
 struct Shape {
     facing: f64,
@@ -300,7 +301,7 @@ impl Collapser<'_> {
             facing: 1.0,
             corner: 0.0,
             corner_sum: 0.0,
-            quality: quality(p[0], p[1], p[2]),
+            quality: quality_of(area, p),
             area,
         };
         for k in 0..3 {
@@ -500,6 +501,13 @@ impl Collapser<'_> {
             let tri = &mut self.tris[t as usize];
             if tri.contains(&v) {
                 self.alive[t as usize] = false;
+                // Off the third corner's list (the lists are walked at every cost).
+                let tri = *tri;
+                for w in tri {
+                    if w != u && w != v {
+                        self.vtris[w as usize].retain(|&o| o != t);
+                    }
+                }
             } else {
                 for w in tri.iter_mut() {
                     if *w == u {
@@ -1458,8 +1466,12 @@ pub fn fit_general_measured(
     // The components' patchworks solve on their own (no condition joins two of them): their
     // solved surfaces, in the design's order, are the whole design's, and their measures
     // against their own components make the whole's.
-    let (m, d) = measure_components(mesh, &surfaces, measured)?;
-    let m = m.sized(&spec)?;
+    let (measured, sizes) = rayon::join(
+        || measure_components(mesh, &surfaces, measured),
+        || design_sizes(&spec),
+    );
+    let (m, d) = measured?;
+    let m = m.with_sizes(sizes?);
     let (at, distance) = d.worst(mesh);
     let miss = (m.hausdorff > opts.target * diagonal).then_some(Miss { at, distance });
     let mut fit = general_fit(spec, faces, m.hausdorff_relative);
@@ -1666,13 +1678,19 @@ fn fit_component(
     mesh.require_single()?;
     require_oriented(mesh)?;
     let normals = vertex_normals(mesh);
-    let near = proxy(mesh, &normals, PROXY_VERTICES)?;
+    // The mesh's own index, for the rounds' measures, while the proxy's collapses keep one
+    // thread.
+    let (near, index) = rayon::join(
+        || proxy(mesh, &normals, PROXY_VERTICES),
+        || MeshDistance::new(mesh),
+    );
+    let near = near?;
     rounds.spent += decimation_seconds(mesh.triangles.len());
     let gap = proxy_gap(mesh, &near);
     let diagonal = mesh.diagonal();
     let tol = opts.target * diagonal;
     let (mut fit, m, d, miss, surfaces) =
-        fit_rounds(&near, opts, rounds, share, Some((mesh, tol)))?;
+        fit_rounds(&near, opts, rounds, share, Some((mesh, &index, tol)))?;
     // Why the rounds stopped is said when the mesh's own measure misses.
     if miss.is_none() {
         fit.notes
@@ -1730,8 +1748,8 @@ pub(crate) fn proxy_gap(mesh: &InputMesh, proxy: &InputMesh) -> f64 {
 /// mesh's triangles and their work within `share` of the bound (this component's share of the
 /// whole mesh's triangles).
 ///
-/// `whole`, for rounds on a [`proxy`]: the mesh it stands for and the mesh's own tolerance
-/// (a length). The layouts are made on `mesh` (the proxy) and every round is measured on the
+/// `whole`, for rounds on a [`proxy`]: the mesh it stands for, its index and the mesh's own
+/// tolerance (a length). The layouts are made on `mesh` (the proxy) and every round is measured on the
 /// whole mesh, against its tolerance: the verdict is the mesh's own, and a fit's samples cost
 /// about as much to measure against either (the proxy's target then plays no part).
 fn fit_rounds(
@@ -1739,7 +1757,7 @@ fn fit_rounds(
     opts: &FitOptions,
     rounds: &mut Rounds,
     share: f64,
-    whole: Option<(&InputMesh, f64)>,
+    whole: Option<(&InputMesh, &MeshDistance, f64)>,
 ) -> Result<Component> {
     opts.check()?;
     price_layout(mesh)?;
@@ -1749,7 +1767,7 @@ fn fit_rounds(
     let index = MeshDistance::new(mesh);
     let facing = Facing::new(mesh);
     // The mesh the rounds are measured on, and its tolerance.
-    let (judge, tol) = whole.unwrap_or((mesh, opts.target * mesh.diagonal()));
+    let (judge, judge_index, tol) = whole.unwrap_or((mesh, &index, opts.target * mesh.diagonal()));
     let used = mesh.used_vertices();
     let vertices = used.iter().filter(|&&u| u).count();
     // Euler characteristic: the genus asks for more layout vertices.
@@ -1882,7 +1900,12 @@ fn fit_rounds(
                 continue;
             }
         };
-        let (m, d) = measure_surfaces(judge, &solved.surfaces, (MEASURE_GRID, MEASURE_GRID))?;
+        let (m, d) = measure_surfaces(
+            judge,
+            judge_index,
+            &solved.surfaces,
+            (MEASURE_GRID, MEASURE_GRID),
+        )?;
         rounds.spent += solve_seconds(faces);
         // The worst places both ways.
         let mut worst = Miss {
@@ -2414,13 +2437,14 @@ mod tests {
         let r = 1.0 / (1.0 - 0.7 * 0.02 * 2.0 * 3f64.sqrt());
         let whole = uv_sphere(40, 60, |_| r);
         let tol = 0.02 * whole.diagonal();
+        let index = MeshDistance::new(&whole);
         let opts = FitOptions {
             target: 0.02,
             ..FitOptions::default()
         };
         let mut rounds = Rounds::new(ROUNDS_SECONDS);
         let (fit, m, d, miss, _) =
-            fit_rounds(&near, &opts, &mut rounds, 1.0, Some((&whole, tol))).unwrap();
+            fit_rounds(&near, &opts, &mut rounds, 1.0, Some((&whole, &index, tol))).unwrap();
         assert!(miss.is_none(), "{}", m.hausdorff / tol);
         assert_eq!(m.mesh_vertices, whole.positions.len());
         assert_eq!(d.mesh.len(), whole.positions.len());

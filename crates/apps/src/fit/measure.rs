@@ -326,13 +326,18 @@ impl Measures {
     /// their ratios to the mesh's), which the searches leave at 0: writing a large design's
     /// TOML costs as much as a tenth of measuring it, and a fit's rounds need only the
     /// distances of all but the round they report.
-    pub(crate) fn sized(mut self, spec: &DesignSpec) -> Result<Measures> {
-        self.toml_bytes = write_design(spec)?.len();
-        self.design_numbers = count_numbers(spec);
+    pub(crate) fn sized(self, spec: &DesignSpec) -> Result<Measures> {
+        Ok(self.with_sizes(design_sizes(spec)?))
+    }
+
+    /// [`Measures::sized`] given [`design_sizes`].
+    pub(crate) fn with_sizes(mut self, (toml_bytes, numbers): (usize, usize)) -> Measures {
+        self.toml_bytes = toml_bytes;
+        self.design_numbers = numbers;
         self.design_bytes = 8 * self.design_numbers;
         self.ratio = self.mesh_bytes as f64 / self.design_bytes.max(1) as f64;
         self.toml_ratio = self.mesh_bytes as f64 / self.toml_bytes.max(1) as f64;
-        Ok(self)
+        self
     }
 
     /// What `pdeshape fit` prints of a fit (after the mesh's name): the verdict first (whether
@@ -414,15 +419,17 @@ pub fn measure(
     nu: usize,
     nv: usize,
 ) -> Result<(Measures, PointDistances)> {
-    let (m, d) = measure_surfaces(mesh, &solved.surfaces, (nu, nv))?;
+    let (m, d) = measure_surfaces(mesh, &MeshDistance::new(mesh), &solved.surfaces, (nu, nv))?;
     Ok((m.sized(spec)?, d))
 }
 
 /// [`measure`] of `surfaces`, the surfaces of a design as solved (in the design's order): a
 /// design whose patchworks were solved one by one need not be solved again to be measured.
-/// The design's sizes are left to [`Measures::sized`].
+/// The design's sizes are left to [`Measures::sized`]; `index` is `mesh`'s (a fit's rounds
+/// measure against the same mesh).
 pub(crate) fn measure_surfaces(
     mesh: &InputMesh,
+    index: &MeshDistance,
     surfaces: &[DesignSurface],
     (nu, nv): (usize, usize),
 ) -> Result<(Measures, PointDistances)> {
@@ -431,7 +438,6 @@ pub(crate) fn measure_surfaces(
         .map(|s| mesh::sample(s.surface(), nu, nv))
         .collect::<Result<_>>()?;
     // Fit to mesh.
-    let index = MeshDistance::new(mesh);
     // In parallel over the grids (a fit has thousands of pieces of 100 samples each).
     let fit: Vec<Vec<f64>> = grids
         .par_iter()
@@ -739,6 +745,11 @@ pub(crate) fn measure_components(
             fit,
         },
     ))
+}
+
+/// The bytes of the design's TOML and the count of its numbers.
+pub(crate) fn design_sizes(spec: &DesignSpec) -> Result<(usize, usize)> {
+    Ok((write_design(spec)?.len(), count_numbers(spec)))
 }
 
 /// Every number of a design (its JSON form).
