@@ -468,14 +468,7 @@ pub(crate) fn measure_surfaces(
         .map(|(p, &u)| if u { to_fit.distance(*p) } else { f64::NAN })
         .collect();
     drop(to_fit);
-    Ok((
-        summarise(mesh, &mesh_d, &fit),
-        PointDistances {
-            mesh: mesh_d,
-            grids,
-            fit,
-        },
-    ))
+    Ok(summarise(mesh, mesh_d, grids, fit))
 }
 
 /// Distances from points to a fit's surfaces: the closest triangle of their sample grids (a
@@ -561,10 +554,15 @@ impl<'a> ToFit<'a> {
     }
 }
 
-/// The measures of a fit from its points' distances: `mesh_d` of the mesh's vertices (`NaN`
-/// for those no triangle uses), `fit` of its samples; the design's sizes are left to
-/// [`Measures::sized`].
-fn summarise(mesh: &InputMesh, mesh_d: &[f64], fit: &[Vec<f64>]) -> Measures {
+/// The measures of a fit from its points' distances, with them: `mesh_d` of the mesh's
+/// vertices (`NaN` for those no triangle uses), `fit` of the samples of `grids`; the design's
+/// sizes are left to [`Measures::sized`].
+fn summarise(
+    mesh: &InputMesh,
+    mesh_d: Vec<f64>,
+    grids: Vec<Samples>,
+    fit: Vec<Vec<f64>>,
+) -> (Measures, PointDistances) {
     let used_d: Vec<f64> = mesh_d.iter().cloned().filter(|d| !d.is_nan()).collect();
     let all_fit: Vec<f64> = fit.iter().flatten().cloned().collect();
     let mesh_to_fit = Distances::of(&used_d);
@@ -572,7 +570,7 @@ fn summarise(mesh: &InputMesh, mesh_d: &[f64], fit: &[Vec<f64>]) -> Measures {
     let diagonal = mesh.diagonal();
     let hausdorff = mesh_to_fit.max.max(fit_to_mesh.max);
     let rms = (0.5 * (mesh_to_fit.rms.powi(2) + fit_to_mesh.rms.powi(2))).sqrt();
-    Measures {
+    let measures = Measures {
         diagonal,
         mesh_to_fit,
         fit_to_mesh,
@@ -588,7 +586,13 @@ fn summarise(mesh: &InputMesh, mesh_d: &[f64], fit: &[Vec<f64>]) -> Measures {
         toml_bytes: 0,
         ratio: 0.0,
         toml_ratio: 0.0,
-    }
+    };
+    let distances = PointDistances {
+        mesh: mesh_d,
+        grids,
+        fit,
+    };
+    (measures, distances)
 }
 
 /// A component of a mesh and its fit as measured against that component alone, for
@@ -737,14 +741,7 @@ pub(crate) fn measure_components(
         })
         .collect();
     drop(to_fit);
-    Ok((
-        summarise(mesh, &mesh_d, &fit),
-        PointDistances {
-            mesh: mesh_d,
-            grids,
-            fit,
-        },
-    ))
+    Ok(summarise(mesh, mesh_d, grids, fit))
 }
 
 /// The bytes of the design's TOML and the count of its numbers.
