@@ -28,7 +28,7 @@ use crate::surface::{ClosestOptions, ClosestPointIndex};
 use crate::{Error, Result, Vec3};
 use rayon::prelude::*;
 use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{PointDistance, RTree, RTreeObject, AABB};
+use rstar::{Envelope, PointDistance, RTree, RTreeObject, AABB};
 
 /// A triangle in an R-tree, with what it came from.
 #[derive(Clone, Debug)]
@@ -207,9 +207,10 @@ impl<'a> GridIndex<'a> {
     }
 
     /// The closest triangle of each grid that comes within [`TIE`] of the closest of all,
-    /// nearest first (none without grids, or where no distance is finite): where pieces meet, their grids share the boundary's samples, and a point
-    /// whose nearest grid point lies there is as near to either piece (which one a search
-    /// meets first is an accident of its order).
+    /// nearest first (none without grids, or where no distance is finite): where pieces
+    /// meet, their grids share the boundary's samples, and a point whose nearest grid point
+    /// lies there is as near to either piece (which one a search meets first is an accident
+    /// of its order).
     pub(crate) fn nearest_per_grid(&self, p: Vec3) -> Vec<GridPoint> {
         let at = [p.x, p.y, p.z];
         let reach = |best: Option<f64>| best.map_or(f64::INFINITY, |d| d * (1.0 + TIE));
@@ -467,7 +468,6 @@ pub(crate) fn measure_surfaces(
         .zip(used.par_iter())
         .map(|(p, &u)| if u { to_fit.distance(*p) } else { f64::NAN })
         .collect();
-    drop(to_fit);
     Ok(summarise(mesh, mesh_d, grids, fit))
 }
 
@@ -632,18 +632,17 @@ pub(crate) fn measure_components(
             }
         }
     }
-    let bounds = |points: &mut dyn Iterator<Item = [f64; 3]>| {
-        let all: Vec<[f64; 3]> = points.collect();
-        (!all.is_empty()).then(|| AABB::from_points(all.iter()))
-    };
     let boxes: Vec<Option<AABB<[f64; 3]>>> = parts
         .iter()
-        .map(|part| bounds(&mut part.mesh.positions.iter().map(|p| [p.x, p.y, p.z])))
+        .map(|part| {
+            let (lo, hi) = part.mesh.bounds();
+            (!part.mesh.triangles.is_empty()).then(|| AABB::from_corners(lo.into(), hi.into()))
+        })
         .collect();
-    let indices: Vec<MeshDistance> = parts
-        .par_iter()
-        .map(|p| MeshDistance::new(p.mesh))
-        .collect();
+    // A component's index is built when a point first comes within its box.
+    let meshes: Vec<&InputMesh> = parts.iter().map(|p| p.mesh).collect();
+    let indices: Vec<std::sync::OnceLock<MeshDistance>> =
+        meshes.iter().map(|_| std::sync::OnceLock::new()).collect();
     // The design's grids and their samples' own distances, in the design's order.
     let mut grids: Vec<Samples> = Vec::with_capacity(surfaces.len());
     let mut fit: Vec<Vec<f64>> = Vec::with_capacity(surfaces.len());
@@ -679,6 +678,7 @@ pub(crate) fn measure_components(
                 for (j, (b, index)) in boxes.iter().zip(&indices).enumerate() {
                     let near = b.is_some_and(|b| b.distance_2(p) <= reach * reach);
                     if j != k && near {
+                        let index = index.get_or_init(|| MeshDistance::new(meshes[j]));
                         if let Some((d, _, _)) = index.closest(Vec3::from(*p)) {
                             if x.is_nan() || d < *x {
                                 *x = d;
@@ -693,11 +693,11 @@ pub(crate) fn measure_components(
         .iter()
         .map(|o| {
             o.as_ref().and_then(|(range, _)| {
-                bounds(
-                    &mut grids[range.clone()]
-                        .iter()
-                        .flat_map(|g| g.positions.iter().copied()),
-                )
+                grids[range.clone()]
+                    .iter()
+                    .filter(|g| !g.positions.is_empty())
+                    .map(|g| AABB::from_points(&g.positions))
+                    .reduce(|a, b| a.merged(&b))
             })
         })
         .collect();
@@ -740,7 +740,6 @@ pub(crate) fn measure_components(
             (None, None) => f64::NAN,
         })
         .collect();
-    drop(to_fit);
     Ok(summarise(mesh, mesh_d, grids, fit))
 }
 
