@@ -52,8 +52,33 @@ pub const BYTES_PER_QUADRATURE_COLUMN: u64 = 16 * 1024;
 /// machines.
 pub const BUDGET_VARIABLE: &str = "PDESHAPE_MAX_MEMORY";
 
-/// `MemAvailable` of `/proc/meminfo` in bytes, where there is one.
+/// How long a reading of the available memory stands for "now": requests come by the
+/// thousand (a sample grid per piece of a fit) and `/proc/meminfo` costs a system call and a
+/// parse each time.
+const AVAILABLE_FRESH: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// `MemAvailable` of `/proc/meminfo` in bytes, where there is one, as read within the last
+/// [`AVAILABLE_FRESH`].
 pub fn available() -> Option<u64> {
+    use std::sync::Mutex;
+    use std::time::Instant;
+    static LAST: Mutex<Option<(Instant, Option<u64>)>> = Mutex::new(None);
+    if let Ok(last) = LAST.lock() {
+        if let Some((at, bytes)) = *last {
+            if at.elapsed() < AVAILABLE_FRESH {
+                return bytes;
+            }
+        }
+    }
+    let bytes = read_available();
+    if let Ok(mut last) = LAST.lock() {
+        *last = Some((Instant::now(), bytes));
+    }
+    bytes
+}
+
+/// `MemAvailable` of `/proc/meminfo` in bytes, read now.
+fn read_available() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;

@@ -165,6 +165,35 @@ impl MeshDistance {
         }
         best.or_else(|| self.closest(p))
     }
+
+    /// The closest point of the mesh to `p` if it is nearer than `reach`. The triangles whose
+    /// boxes meet the box of half-width `reach` about `p` hold it; they are few when `reach`
+    /// is short (a point of one component asking another that it nears only here and
+    /// there), and the nearest-neighbour search takes over when they are not.
+    pub fn closest_within(&self, p: Vec3, reach: f64) -> Option<(f64, Vec3, usize)> {
+        const FEW: usize = 32;
+        if !reach.is_finite() {
+            return self.closest(p);
+        }
+        let r = reach;
+        let bounds = AABB::from_corners([p.x - r, p.y - r, p.z - r], [p.x + r, p.y + r, p.z + r]);
+        let mut best: Option<(f64, Vec3, usize)> = None;
+        for (k, t) in self
+            .tree
+            .locate_in_envelope_intersecting(&bounds)
+            .enumerate()
+        {
+            if k == FEW {
+                return self.closest(p).filter(|c| c.0 < reach);
+            }
+            let (q, _, _) = closest_on_triangle(p, &t.corners);
+            let d = (q - p).norm();
+            if best.is_none_or(|b| d < b.0) {
+                best = Some((d, q, t.id));
+            }
+        }
+        best.filter(|c| c.0 < reach)
+    }
 }
 
 /// The closest triangle of a set of sample grids (their [`Samples::triangles`]) to a point:
@@ -679,7 +708,7 @@ pub(crate) fn measure_components(
                     let near = b.is_some_and(|b| b.distance_2(p) <= reach * reach);
                     if j != k && near {
                         let index = index.get_or_init(|| MeshDistance::new(meshes[j]));
-                        if let Some((d, _, _)) = index.closest(Vec3::from(*p)) {
+                        if let Some((d, _, _)) = index.closest_within(Vec3::from(*p), reach) {
                             if x.is_nan() || d < *x {
                                 *x = d;
                             }
@@ -927,6 +956,13 @@ mod tests {
             for seed in [rng.gen_range(0..mesh.triangles.len()), 0, want.2] {
                 let got = index.closest_from(p, &mesh.corners(seed)).unwrap();
                 assert_eq!(got.0, want.0, "at {p:?} from triangle {seed}");
+            }
+            // Within a reach: the closest when it is nearer, nothing otherwise, from a box
+            // of a few triangles or (a long reach) of more than the box search takes.
+            for reach in [want.0 * 0.999, want.0 * 1.001, want.0 + 0.3, f64::INFINITY] {
+                let got = index.closest_within(p, reach).map(|c| c.0);
+                let expect = (want.0 < reach).then_some(want.0);
+                assert_eq!(got, expect, "at {p:?} within {reach}");
             }
         }
     }

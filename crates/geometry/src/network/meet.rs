@@ -32,13 +32,13 @@ pub(crate) struct Hit {
 pub(super) fn sample_all(curves: &[NetworkCurve], segments: usize) -> Result<Vec<Polyline>> {
     let mut out = Vec::with_capacity(curves.len());
     for (i, c) in curves.iter().enumerate() {
-        let place = format!("curves[{i}]");
+        let place = || format!("curves[{i}]");
         if !(c.t0.is_finite() && c.t1.is_finite() && c.t0 < c.t1) {
             return Err(Error::invalid(format!(
                 "the parameter interval [{}, {}] must be finite and increasing",
                 c.t0, c.t1
             ))
-            .at(&place));
+            .at(&place()));
         }
         if let Domain::Interval(a, b) = c.curve.domain() {
             let slack = 1e-12 * (b - a).abs().max(1.0);
@@ -47,7 +47,7 @@ pub(super) fn sample_all(curves: &[NetworkCurve], segments: usize) -> Result<Vec
                     "the interval [{}, {}] leaves the curve's domain [{a}, {b}]",
                     c.t0, c.t1
                 ))
-                .at(&place));
+                .at(&place()));
             }
         }
         let mut points = Vec::with_capacity(segments + 1);
@@ -56,7 +56,7 @@ pub(super) fn sample_all(curves: &[NetworkCurve], segments: usize) -> Result<Vec
             let p = c.curve.point(t);
             if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
                 return Err(
-                    Error::invalid(format!("the curve is not finite at t = {t}")).at(&place),
+                    Error::invalid(format!("the curve is not finite at t = {t}")).at(&place()),
                 );
             }
             points.push(p);
@@ -428,19 +428,27 @@ pub(crate) fn loop_crossing(
         let (_, t0, t1) = &sides[i];
         i * LOOP_PIECES + if t0 < t1 { LOOP_PIECES - 1 } else { 0 }
     };
+    // Each piece's ends and each side's, evaluated once: the joints are asked for at every
+    // pair of segments of two neighbouring pieces' boxes.
+    let piece_ends: Vec<[Vec3; 2]> = pieces
+        .iter()
+        .map(|p| [p.curve.point(p.t0), p.curve.point(p.t1)])
+        .collect();
+    let side_ends: Vec<[Vec3; 2]> = sides
+        .iter()
+        .map(|(curve, t0, t1)| [curve.point(*t0), curve.point(*t1)])
+        .collect();
     // The point two pieces share as neighbours along the loop, if they are neighbours.
     let joint = |a: usize, b: usize| -> Option<Vec3> {
         let (i, j) = (a / LOOP_PIECES, b / LOOP_PIECES);
-        let (curve, t0, t1) = &sides[i];
         if i == j && a.abs_diff(b) == 1 {
-            let pa = &pieces[a];
-            return Some(curve.point(if a < b { pa.t1 } else { pa.t0 }));
+            return Some(piece_ends[a][usize::from(a < b)]);
         }
         if j == (i + 1) % n && a == last(i) && b == first(j) {
-            return Some(curve.point(*t1));
+            return Some(side_ends[i][1]);
         }
         if i == (j + 1) % n && b == last(j) && a == first(i) {
-            return Some(curve.point(*t0));
+            return Some(side_ends[i][0]);
         }
         None
     };

@@ -216,7 +216,34 @@ struct Galerkin {
     /// eigen-decomposition when rounding made it indefinite).
     scale: Vec<f64>,
     factor: Factor,
+    /// The interpolant's operator at every point as weights of the sides' data (see
+    /// [`Weights`]); `None` where the table would be large (many sides at order 3).
+    weights: Option<Weights>,
 }
+
+/// The operator applied to the boundary interpolant `C` at the quadrature points, as weights
+/// of the sides' data. `C = Σ_i B_i Σ_m t_i^m f_{i,m}(s_i)` (`f_{i,0} = P_i`, `f_{i,1} = D_i`,
+/// `f_{i,2} = E_i`, `f_{i,3} = F_i`), and by the chain rule `f(s(x, y))`'s jet is
+/// `Σ_k f^{(k)}(s) · S_k` with `S_k` the jet of `s ↦ e_k` composed with `s` (Faà di Bruno is
+/// linear in `f`'s derivatives). So each component `ℓ_c` of the operator is
+/// `ℓ_c C = Σ_i Σ_{m,k} α_{c,m,k} f_{i,m}^{(k)}(s_i)` with `α_{c,m,k} = ℓ_c(B_i t_i^m S_k)`,
+/// which depend on the polygon, the operator and the point only: a patch pays for its sides'
+/// data at each point and a few products, not for the blends' jets.
+struct Weights {
+    /// `s_i` at point `q`: `s[q · n + i]`.
+    s: Vec<f64>,
+    /// `α_{c,m,k}` at point `q` and side `i`: `alpha[((q · n + i) · comps + c) · stride + m ·
+    /// (O + 1) + k]` (`m` up to the order's terms, `k ≤ O`).
+    alpha: Vec<f64>,
+    /// The entries of one `(q, i, c)`: the terms `m` times the derivatives `k`.
+    stride: usize,
+    /// The derivatives `k` of the data taken (`O + 1`).
+    derivatives: usize,
+}
+
+/// The most `f64` a [`Weights`] table may hold (4 MiB): the operators of many sides at order
+/// 3 evaluate their interpolants directly instead.
+const MAX_WEIGHTS: usize = 1 << 19;
 
 enum Factor {
     Cholesky(nalgebra::Cholesky<f64, nalgebra::Dyn>),
@@ -328,6 +355,15 @@ impl Galerkin {
             Some(c) => Factor::Cholesky(c),
             None => Factor::Eigen(nalgebra::SymmetricEigen::new(k)),
         };
+        let (terms, derivatives) = if order == 3 { (4, 4) } else { (3, 3) };
+        let weights =
+            (points.len() * poly.n * comps * terms * derivatives <= MAX_WEIGHTS).then(|| {
+                if order == 3 {
+                    Weights::new::<3>(poly, &points, order, a, comps)
+                } else {
+                    Weights::new::<2>(poly, &points, order, a, comps)
+                }
+            });
         Galerkin {
             key,
             points,
@@ -335,6 +371,7 @@ impl Galerkin {
             comps,
             scale,
             factor,
+            weights,
         }
     }
 
@@ -379,6 +416,61 @@ impl Galerkin {
         (0..nb)
             .map(|k| Vec3::new(sol[(k, 0)], sol[(k, 1)], sol[(k, 2)]) * self.scale[k])
             .collect()
+    }
+}
+
+impl Weights {
+    fn new<const O: usize>(
+        poly: &Polygon,
+        points: &[([f64; 2], f64)],
+        order: usize,
+        a: f64,
+        comps: usize,
+    ) -> Weights {
+        let n = poly.n;
+        let a2 = a * a;
+        let terms = if order == 3 { 4 } else { 3 };
+        let stride = terms * (O + 1);
+        let per_point: Vec<(Vec<f64>, Vec<f64>)> = points
+            .par_iter()
+            .map(|(p, _)| {
+                let blends = NSidedPatch::blends::<O>(poly, order, *p);
+                let mut s = Vec::with_capacity(n);
+                let mut alpha = Vec::with_capacity(n * comps * stride);
+                for &(si, ti, wi) in &blends[..n] {
+                    s.push(si.v);
+                    let mut per = [vec![0.0; stride], vec![0.0; stride]];
+                    let mut tm = wi;
+                    for m in 0..terms {
+                        for k in 0..=O {
+                            let mut e = [0.0; 4];
+                            e[k] = 1.0;
+                            let j = si.compose(e) * tm;
+                            let l = match order {
+                                1 => [j.d[0], a * j.d[1]],
+                                2 => [j.h[0] + a2 * j.h[2], 0.0],
+                                _ => [j.t[0] + a2 * j.t[2], a * (j.t[1] + a2 * j.t[3])],
+                            };
+                            for (c, x) in per.iter_mut().zip(l) {
+                                c[m * (O + 1) + k] = x;
+                            }
+                        }
+                        tm = tm * ti;
+                    }
+                    for c in &per[..comps] {
+                        alpha.extend_from_slice(c);
+                    }
+                }
+                (s, alpha)
+            })
+            .collect();
+        let (s, alpha): (Vec<Vec<f64>>, Vec<Vec<f64>>) = per_point.into_iter().unzip();
+        Weights {
+            s: s.concat(),
+            alpha: alpha.concat(),
+            stride,
+            derivatives: O + 1,
+        }
     }
 }
 
@@ -694,7 +786,11 @@ impl NSidedPatch {
         let j = (k + n - 1) % n;
         let v = self.poly.verts[k];
         let d: Vec<Jet> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
-        let (hk, hj) = (self.ribbon_jet(k, &d).h, self.ribbon_jet(j, &d).h);
+        let ribbon = |i: usize| {
+            let (s, t) = Self::along(&self.poly, &d, i);
+            self.ribbon_jet(i, s, t)
+        };
+        let (hk, hj) = (ribbon(k).h, ribbon(j).h);
         let (ga, gb) = (self.poly.normal(j), self.poly.normal(k));
         let m = nalgebra::Matrix3::new(
             ga[0] * ga[0],
@@ -771,7 +867,11 @@ impl NSidedPatch {
         let j = (k + n - 1) % n;
         let v = self.poly.verts[k];
         let d: Vec<Jet<3>> = (0..n).map(|i| self.poly.distance_jet(i, v)).collect();
-        let (tk, tj) = (self.ribbon_jet(k, &d).t, self.ribbon_jet(j, &d).t);
+        let ribbon = |i: usize| {
+            let (s, t) = Self::along(&self.poly, &d, i);
+            self.ribbon_jet(i, s, t)
+        };
+        let (tk, tj) = (ribbon(k).t, ribbon(j).t);
         let a = Jet::<3>::affine(0.0, self.poly.normal(j));
         let b = Jet::<3>::affine(0.0, self.poly.normal(k));
         let cubics = [a * a * a, a * a * b, a * b * b, b * b * b];
@@ -808,10 +908,20 @@ impl NSidedPatch {
 
     fn solve_coefficients(&mut self) {
         let galerkin = Galerkin::get(&self.poly, &self.basis, self.options.order, self.options.a);
-        let a2 = self.options.a * self.options.a;
+        let lc = match &galerkin.weights {
+            Some(w) => self.operator_by_weights(&galerkin, w),
+            None => self.operator_at_points(&galerkin),
+        };
+        self.coeffs = self.basis.by_a(&galerkin.solve(&lc));
+    }
+
+    /// The operator's components applied to the interpolant at the quadrature points of
+    /// `galerkin` (`[point][component]`), each point's interpolant evaluated with its blends.
+    fn operator_at_points(&self, galerkin: &Galerkin) -> Vec<Vec3> {
         let order = self.options.order;
         let a = self.options.a;
-        let lc: Vec<Vec3> = galerkin
+        let a2 = a * a;
+        galerkin
             .points
             .par_iter()
             .flat_map_iter(|(p, _)| {
@@ -826,8 +936,39 @@ impl NSidedPatch {
                     vec![c.h[0] + c.h[2] * a2]
                 }
             })
-            .collect();
-        self.coeffs = self.basis.by_a(&galerkin.solve(&lc));
+            .collect()
+    }
+
+    /// [`Self::operator_at_points`] from the sides' data and the operator's [`Weights`].
+    fn operator_by_weights(&self, galerkin: &Galerkin, w: &Weights) -> Vec<Vec3> {
+        let n = self.poly.n;
+        let comps = galerkin.comps;
+        let order = self.options.order;
+        let at = |q: usize| -> [Vec3; 2] {
+            let mut out = [Vec3::zeros(); 2];
+            for (i, side) in self.sides.iter().enumerate() {
+                let s = w.s[q * n + i];
+                let data = if order == 3 {
+                    side.data::<3>(s)
+                } else {
+                    side.data::<2>(s)
+                };
+                for (c, o) in out.iter_mut().enumerate().take(comps) {
+                    let at = ((q * n + i) * comps + c) * w.stride;
+                    let alpha = &w.alpha[at..at + w.stride];
+                    for (f, a) in data.iter().zip(alpha.chunks_exact(w.derivatives)) {
+                        for (x, a) in f.iter().zip(a) {
+                            *o += x * *a;
+                        }
+                    }
+                }
+            }
+            out
+        };
+        let per: Vec<[Vec3; 2]> = (0..galerkin.points.len()).into_par_iter().map(at).collect();
+        per.iter()
+            .flat_map(|o| o[..comps].iter().copied())
+            .collect()
     }
 
     /// The number of sides.
@@ -855,15 +996,11 @@ impl NSidedPatch {
         self.size
     }
 
-    /// Side `i`'s ribbon `R_i = P_i(s_i) + t_i D_i(s_i) + t_i² E_i(s_i)` given the distance
-    /// jets `d` of a point (`t_i = d_i / L`), to order `O`.
+    /// Side `i`'s ribbon `R_i = P_i(s_i) + t_i D_i(s_i) + t_i² E_i(s_i)` (`+ t_i³ F_i(s_i)` at
+    /// order 3) given the jets of `s_i` and `t_i`, to order `O`.
     #[inline(always)]
-    fn ribbon_jet<const O: usize>(&self, i: usize, d: &[Jet<O>]) -> VJet<O> {
-        let n = self.poly.n;
+    fn ribbon_jet<const O: usize>(&self, i: usize, s: Jet<O>, t: Jet<O>) -> VJet<O> {
         let side = &self.sides[i];
-        let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
-        let s = dm.div(dm + dp);
-        let t = d[i].scale(1.0 / self.poly.side);
         let [p, r, e, f] = side.data::<O>(s.v);
         let t2 = t * t;
         let x = VJet::compose(s, p) + VJet::compose(s, r).times(t) + VJet::compose(s, e).times(t2);
@@ -874,18 +1011,25 @@ impl NSidedPatch {
         }
     }
 
-    /// The boundary interpolant `C` at the domain point `p`.
-    fn interpolant<const O: usize>(&self, p: [f64; 2]) -> VJet<O> {
-        // On the stack: this runs at every quadrature node and every evaluation.
-        let n = self.poly.n;
+    /// Per side `i` at the domain point `p`: the jets of the position along it
+    /// `s_i = d_{i−1} / (d_{i−1} + d_{i+1})`, of the scaled distance `t_i = d_i / L` and of
+    /// its blend `B_i = Π_{j≠i} d_j^q / Σ_k Π_{j≠k} d_j^q`. `q = 3` leaves the other blends
+    /// vanishing with two cross derivatives on a side (enough up to G1, and the interpolant C²
+    /// at the corners); order 3 takes `q = 4` (three cross derivatives for G2, and C³ at the
+    /// corners).
+    #[inline(always)]
+    fn blends<const O: usize>(
+        poly: &Polygon,
+        order: usize,
+        p: [f64; 2],
+    ) -> [(Jet<O>, Jet<O>, Jet<O>); MAX_SIDES] {
+        // On the stack: this runs at every evaluation.
+        let n = poly.n;
         let mut d = [Jet::<O>::default(); MAX_SIDES];
         let mut cube = [Jet::<O>::default(); MAX_SIDES];
-        // Blends `Π_{j≠i} d_j^q`: q = 3 leaves the other blends vanishing with two cross
-        // derivatives on a side (enough up to G1, and the interpolant C² at the corners); order
-        // 3 takes q = 4 (three cross derivatives for G2, and C³ at the corners).
-        let fourth = self.options.order == 3;
+        let fourth = order == 3;
         for i in 0..n {
-            d[i] = self.poly.distance_jet(i, p);
+            d[i] = poly.distance_jet(i, p);
             cube[i] = d[i] * d[i] * d[i];
             if fourth {
                 cube[i] = cube[i] * d[i];
@@ -901,9 +1045,33 @@ impl NSidedPatch {
         }
         let total = pis[..n].iter().fold(Jet::constant(0.0), |acc, x| acc + *x);
         let inv_total = total.recip();
+        let mut out = [(
+            Jet::<O>::default(),
+            Jet::<O>::default(),
+            Jet::<O>::default(),
+        ); MAX_SIDES];
+        for (i, o) in out.iter_mut().enumerate().take(n) {
+            let (s, t) = Self::along(poly, &d[..n], i);
+            *o = (s, t, pis[i] * inv_total);
+        }
+        out
+    }
+
+    /// Side `i`'s coordinates `s_i = d_{i−1} / (d_{i−1} + d_{i+1})` and `t_i = d_i / L` from
+    /// the distance jets `d` of a point.
+    #[inline(always)]
+    fn along<const O: usize>(poly: &Polygon, d: &[Jet<O>], i: usize) -> (Jet<O>, Jet<O>) {
+        let n = poly.n;
+        let (dm, dp) = (d[(i + n - 1) % n], d[(i + 1) % n]);
+        (dm.div(dm + dp), d[i].scale(1.0 / poly.side))
+    }
+
+    /// The boundary interpolant `C = Σ_i B_i R_i` at the domain point `p`.
+    fn interpolant<const O: usize>(&self, p: [f64; 2]) -> VJet<O> {
+        let blends = Self::blends::<O>(&self.poly, self.options.order, p);
         let mut c = VJet::default();
-        for (i, pi) in pis[..n].iter().enumerate() {
-            c = c + self.ribbon_jet(i, &d[..n]).times(*pi * inv_total);
+        for (i, &(s, t, b)) in blends[..self.poly.n].iter().enumerate() {
+            c = c + self.ribbon_jet(i, s, t).times(b);
         }
         c
     }

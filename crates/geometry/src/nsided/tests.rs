@@ -551,3 +551,65 @@ fn bad_loops_are_refused_with_the_place() {
     let e = NSidedPatch::solve(sides, &opts).unwrap_err();
     assert!(e.to_string().contains("side 0 crosses itself"), "{e}");
 }
+
+/// The operator applied to the interpolant at the quadrature points from the precomputed
+/// weights of the sides' data agrees with the interpolant evaluated point by point, for three
+/// to eight sides and the three orders: the two differ by rounding only (the weights are the
+/// same chain rule, linear in the data, summed in another order).
+#[test]
+fn the_operator_from_weights_is_the_interpolants() {
+    for n in 3..=MAX_SIDES {
+        for order in 1..=3 {
+            let sides = match order {
+                3 => super::tests_g2::spherical_polygon_g2(n, 0.6),
+                2 => spherical_polygon(n, 0.6),
+                _ => spherical_polygon(n, 0.6)
+                    .into_iter()
+                    .map(|s| Side {
+                        ribbon: Ribbon::Position,
+                        ..s
+                    })
+                    .collect(),
+            };
+            let options = NSidedOptions {
+                order,
+                a: 0.8,
+                degree: 6,
+                ..NSidedOptions::default()
+            };
+            let patch = NSidedPatch::solve(sides, &options).unwrap();
+            let galerkin = Galerkin::get(&patch.poly, &patch.basis, order, options.a);
+            let Some(w) = &galerkin.weights else {
+                // Only the large tables of order 3 (six sides and more at this degree) go
+                // without weights.
+                assert!(order == 3 && n >= 6, "n = {n}, order {order}");
+                continue;
+            };
+            let direct = patch.operator_at_points(&galerkin);
+            let weighted = patch.operator_by_weights(&galerkin, w);
+            assert_eq!(direct.len(), weighted.len());
+            // Rounding's scale at each point and component: the sum of the terms' sizes
+            // `Σ |α| |f^(k)|`.
+            let comps = galerkin.comps;
+            for (j, (x, y)) in direct.iter().zip(&weighted).enumerate() {
+                let (q, c) = (j / comps, j % comps);
+                let mut size = 0.0;
+                for (i, side) in patch.sides.iter().enumerate() {
+                    let data = side.data::<3>(w.s[q * n + i]);
+                    let at = ((q * n + i) * comps + c) * w.stride;
+                    let alpha = &w.alpha[at..at + w.stride];
+                    for (f, a) in data.iter().zip(alpha.chunks_exact(w.derivatives)) {
+                        for (v, a) in f.iter().zip(a) {
+                            size += a.abs() * v.amax();
+                        }
+                    }
+                }
+                let diff = (x - y).amax();
+                assert!(
+                    diff <= 1e-13 * size,
+                    "n = {n}, order {order}, point {q}: {diff:e} of {size:e}"
+                );
+            }
+        }
+    }
+}
