@@ -395,26 +395,33 @@ impl Collapser<'_> {
 
     /// [`Self::cost`] given what [`Self::stars_with`] takes.
     fn cost_with(&self, u: u32, v: u32, nu: &[u32], old: Shape) -> Option<f64> {
+        self.allowed(u, v, nu, old).then(|| self.quadric_cost(u, v))
+    }
+
+    /// The cost of moving `u` onto `v` if it is allowed: the merged quadric at `v` plus the
+    /// squared length moved, times the larger weight.
+    fn quadric_cost(&self, u: u32, v: u32) -> f64 {
         let (ui, vi) = (u as usize, v as usize);
         let p = self.pos[vi];
-        let (old_star, new_star) = self.stars_with(u, v, nu, old)?;
-        if new_star.area.is_nan() || new_star.area <= 0.0 {
-            return None;
-        }
-        if new_star.facing < MIN_FACING_COS && new_star.facing < old_star.facing {
-            return None;
-        }
-        if new_star.corner > 0.0 && new_star.corner > old_star.corner {
-            return None;
-        }
-        if new_star.quality < MIN_QUALITY && new_star.quality < old_star.quality {
-            return None;
-        }
         let mut q = self.quadric[ui];
         q.add(&self.quadric[vi]);
         let len2 = (self.pos[ui] - p).norm_squared();
         let w = self.weight[ui].max(self.weight[vi]);
-        Some(w * (q.eval(p).max(0.0) + LENGTH_WEIGHT * len2))
+        w * (q.eval(p).max(0.0) + LENGTH_WEIGHT * len2)
+    }
+
+    /// Whether moving `u` onto `v` is allowed (the link condition, and no triangle of the
+    /// star turned, folded, cornered or made a sliver beyond the limits unless it was so
+    /// before), given what [`Self::stars_with`] takes.
+    fn allowed(&self, u: u32, v: u32, nu: &[u32], old: Shape) -> bool {
+        let Some((old_star, new_star)) = self.stars_with(u, v, nu, old) else {
+            return false;
+        };
+        !(new_star.area.is_nan()
+            || new_star.area <= 0.0
+            || (new_star.facing < MIN_FACING_COS && new_star.facing < old_star.facing)
+            || (new_star.corner > 0.0 && new_star.corner > old_star.corner)
+            || (new_star.quality < MIN_QUALITY && new_star.quality < old_star.quality))
     }
 
     /// Every vertex's best collapse, found in parallel (the heap is that of the candidates
@@ -432,22 +439,23 @@ impl Collapser<'_> {
         if self.removed[u as usize] {
             return None;
         }
-        let mut best: Option<Candidate> = None;
+        // The cheapest allowed collapse: the costs first (a quadric each), then the stars of
+        // the cheapest until one is allowed (the stars cost far more, and the cheapest is
+        // usually allowed). Equal costs keep the neighbours' order, as a scan would.
         let nu = self.neighbours(u);
+        let mut costs: SmallVec<[(f64, u32); 16]> =
+            nu.iter().map(|&v| (self.quadric_cost(u, v), v)).collect();
+        costs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let old = self.old_star(u);
-        for &v in &nu {
-            if let Some(cost) = self.cost_with(u, v, &nu, old) {
-                if best.as_ref().is_none_or(|b| cost < b.cost) {
-                    best = Some(Candidate {
-                        cost,
-                        from: u,
-                        to: v,
-                        version: self.version[u as usize],
-                    });
-                }
-            }
-        }
-        best
+        costs
+            .into_iter()
+            .find(|&(_, v)| self.allowed(u, v, &nu, old))
+            .map(|(cost, v)| Candidate {
+                cost,
+                from: u,
+                to: v,
+                version: self.version[u as usize],
+            })
     }
 
     /// Flips an edge of triangle `t` where that makes the corners of the two triangles on it
@@ -2378,6 +2386,44 @@ mod tests {
             assert_eq!(again.vertices, layout.vertices);
             assert_eq!(again.faces, layout.faces);
         }
+    }
+
+    /// A vertex's best collapse, found from the costs first and the stars of the cheapest
+    /// only, is the one a scan of every neighbour finds (the least cost of those allowed, the
+    /// first in the neighbours' order on a tie), at every vertex of a bumpy sphere, before
+    /// and after collapses that leave some collapses refused.
+    #[test]
+    fn the_best_collapse_is_the_cheapest_allowed() {
+        let mesh = bumpy_sphere(16, 32);
+        let normals = vertex_normals(&mesh);
+        let weight: Vec<f64> = (0..mesh.positions.len())
+            .map(|i| 1.0 + (i % 3) as f64)
+            .collect();
+        let mut d = Decimation::new(&mesh, &normals, &weight);
+        let mut refused = 0;
+        for target in [usize::MAX, 300, 80, 30] {
+            if target < usize::MAX {
+                d.collapse_to(target);
+            }
+            let c = &d.c;
+            for u in 0..mesh.positions.len() as u32 {
+                let mut scan: Option<(f64, u32)> = None;
+                if !c.removed[u as usize] {
+                    let nu = c.neighbours(u);
+                    let old = c.old_star(u);
+                    for &v in &nu {
+                        match c.cost_with(u, v, &nu, old) {
+                            Some(cost) if scan.is_none_or(|b| cost < b.0) => scan = Some((cost, v)),
+                            Some(_) => {}
+                            None => refused += 1,
+                        }
+                    }
+                }
+                let best = c.best(u).map(|b| (b.cost, b.to));
+                assert_eq!(best, scan, "vertex {u} at target {target}");
+            }
+        }
+        assert!(refused > 0);
     }
 
     /// A UV sphere of radius 1 (every vertex on the sphere).

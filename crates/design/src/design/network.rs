@@ -4,7 +4,8 @@
 
 use super::curves::CurveBuilder;
 use super::nsided::{
-    find_surface, interval, lobatto_interpolate, push_surfaces, sample_normals, NORMAL_SAMPLES,
+    append_unique, find_surface, interval, lobatto_interpolate, push_pieces, sample_normals,
+    NORMAL_SAMPLES,
 };
 use super::solved::DesignSurface;
 use crate::network::{Network, NetworkCurve, NetworkOptions, Run};
@@ -110,11 +111,12 @@ pub(super) fn push_faces(
     surfaces: &mut Vec<DesignSurface>,
 ) -> Result<()> {
     let operator = OperatorSpec::Polyharmonic { order, a };
+    let mut new = Vec::new();
     for (k, patch) in solved.faces.iter().enumerate() {
         let name = format!("{}.{k}", solved.name);
-        push_surfaces(patch, &name, place, &operator, surfaces)?;
+        push_pieces(patch, &name, place, &operator, &mut new);
     }
-    Ok(())
+    append_unique(surfaces, new, place)
 }
 
 fn build_one(

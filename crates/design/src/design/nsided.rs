@@ -39,13 +39,27 @@ pub(crate) fn build_nsided(
 
 /// Appends the surfaces of an n-sided patch: `name` for four sides, else its pieces
 /// `name.0`, `name.1`, … (refused if a name is taken, at `place.name`).
-pub(super) fn push_surfaces(
+fn push_surfaces(
     patch: &Arc<NSidedPatch>,
     name: &str,
     place: &str,
     operator: &OperatorSpec,
     surfaces: &mut Vec<DesignSurface>,
 ) -> Result<()> {
+    let mut new = Vec::new();
+    push_pieces(patch, name, place, operator, &mut new);
+    append_unique(surfaces, new, place)
+}
+
+/// The surfaces of an n-sided patch, as [`push_surfaces`] names them, appended to `out`
+/// without a check of their names.
+pub(super) fn push_pieces(
+    patch: &Arc<NSidedPatch>,
+    name: &str,
+    place: &str,
+    operator: &OperatorSpec,
+    out: &mut Vec<DesignSurface>,
+) {
     let pieces = patch.surfaces();
     let many = pieces.len() > 1;
     for (k, piece) in pieces.into_iter().enumerate() {
@@ -54,13 +68,7 @@ pub(super) fn push_surfaces(
         } else {
             name.to_string()
         };
-        if surfaces.iter().any(|s| s.name == name) {
-            return Err(
-                Error::not_unique(format!("the surface name '{name}' is used twice"))
-                    .at(&format!("{place}.name")),
-            );
-        }
-        surfaces.push(DesignSurface {
+        out.push(DesignSurface {
             name,
             place: place.to_string(),
             kind: SurfaceKind::NSided(Arc::new(piece)),
@@ -68,6 +76,27 @@ pub(super) fn push_surfaces(
             conditions: Vec::new(),
         });
     }
+}
+
+/// Appends `new` to `surfaces`, refused at `place.name` where a name is taken (by a surface
+/// before, or twice among `new`): one set of the names, not a search per surface (a fitted
+/// patchwork has thousands of pieces).
+pub(super) fn append_unique(
+    surfaces: &mut Vec<DesignSurface>,
+    new: Vec<DesignSurface>,
+    place: &str,
+) -> Result<()> {
+    let mut names: std::collections::HashSet<&str> =
+        surfaces.iter().map(|s| s.name.as_str()).collect();
+    for s in &new {
+        if !names.insert(s.name.as_str()) {
+            return Err(
+                Error::not_unique(format!("the surface name '{}' is used twice", s.name))
+                    .at(&format!("{place}.name")),
+            );
+        }
+    }
+    surfaces.extend(new);
     Ok(())
 }
 

@@ -143,3 +143,17 @@ fn bad_layouts_are_refused_with_their_place() {
     assert!(e.place().starts_with("patchwork[0].edges["), "{e}");
     assert!(e.to_string().contains("joins a corner to itself"), "{e}");
 }
+
+/// Two patchworks of one name would give their faces' pieces the same names: the second is
+/// refused at its name, after the first's pieces (`ball.0.0` …) were taken.
+#[test]
+fn a_patchwork_whose_pieces_take_names_already_taken_is_refused() {
+    let one = octahedron(None);
+    let spec = parse_design(&format!("{one}\n{one}")).unwrap();
+    let e = solve_design(&spec).unwrap_err();
+    assert_eq!(e.place(), "patchwork[1].name", "{e}");
+    assert!(e.to_string().contains("'ball.0.0' is used twice"), "{e}");
+    // Renamed, both are built: 8 faces of 3 pieces each.
+    let spec = parse_design(&format!("{one}\n{}", one.replace("\"ball\"", "\"ball2\""))).unwrap();
+    assert_eq!(solve_design(&spec).unwrap().surfaces.len(), 2 * 8 * 3);
+}
