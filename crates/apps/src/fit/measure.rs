@@ -467,29 +467,31 @@ pub(crate) fn measure_surfaces(
         .par_iter()
         .map(|s| mesh::sample(s.surface(), nu, nv))
         .collect::<Result<_>>()?;
-    // Fit to mesh.
-    // In parallel over the grids (a fit has thousands of pieces of 100 samples each).
-    let fit: Vec<Vec<f64>> = grids
-        .par_iter()
-        .map(|g| {
-            let mut near: Option<[Vec3; 3]> = None;
-            g.positions
-                .iter()
-                .map(|p| {
-                    let p = Vec3::from(*p);
-                    let found = match &near {
-                        Some(t) => index.closest_from(p, t),
-                        None => index.closest(p),
-                    };
-                    if let Some((_, _, t)) = found {
-                        near = Some(mesh.corners(t));
-                    }
-                    found.map_or(f64::NAN, |c| c.0)
-                })
-                .collect()
-        })
-        .collect();
-    let to_fit = ToFit::new(surfaces, &grids);
+    // Fit to mesh, in parallel over the grids (a fit has thousands of pieces of 100 samples
+    // each), beside the index of the fit for the mesh's vertices.
+    let fit_to_mesh = || -> Vec<Vec<f64>> {
+        grids
+            .par_iter()
+            .map(|g| {
+                let mut near: Option<[Vec3; 3]> = None;
+                g.positions
+                    .iter()
+                    .map(|p| {
+                        let p = Vec3::from(*p);
+                        let found = match &near {
+                            Some(t) => index.closest_from(p, t),
+                            None => index.closest(p),
+                        };
+                        if let Some((_, _, t)) = found {
+                            near = Some(mesh.corners(t));
+                        }
+                        found.map_or(f64::NAN, |c| c.0)
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let (fit, to_fit) = rayon::join(fit_to_mesh, || ToFit::new(surfaces, &grids));
     let used = mesh.used_vertices();
     let mesh_d: Vec<f64> = mesh
         .positions
@@ -524,7 +526,7 @@ impl<'a> ToFit<'a> {
             grids,
             pieces: GridIndex::new(grids),
             indices: surfaces
-                .iter()
+                .par_iter()
                 .map(|s| ClosestPointIndex::new(s.surface(), &opts))
                 .collect(),
         }
