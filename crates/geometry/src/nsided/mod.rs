@@ -22,8 +22,9 @@
 //!   Euler–Lagrange equation is the PDE: a Galerkin
 //!   (Ritz) solve, spectrally convergent in the degree for smooth data. The matrix depends on
 //!   the polygon, the sides' multiplicities, the operator and the degree only, so it is
-//!   factorised once and cached: an edit of the curves costs one interpolant per quadrature
-//!   point and a back substitution.
+//!   factorised once and cached, with the operator's weights of the sides' data at every
+//!   quadrature point (`Weights`): an edit of the curves costs the sides' data at each point
+//!   and a back substitution.
 //!
 //! Sides without a ribbon take the natural condition of the energy (for `N = 2`). A ribbon is
 //! explicit ([`Ribbon::Derivative`]) or the tangent plane of a neighbour
