@@ -152,6 +152,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .unwrap_or_default();
     spec.title = Some(format!("fitted to {name}"));
     let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
+    let m = m.with_toml_bytes(text.len());
     if let (Some(words), false) = (&miss_words, args.best_effort) {
         let reasons: Vec<String> = declined
             .iter()

@@ -370,6 +370,14 @@ impl Measures {
         self
     }
 
+    /// The measures with the TOML's size as it is written (`bytes`: the design with what the
+    /// writer adds, such as its title), and its ratio to the mesh's.
+    pub fn with_toml_bytes(mut self, bytes: usize) -> Measures {
+        self.toml_bytes = bytes;
+        self.toml_ratio = self.mesh_bytes as f64 / bytes.max(1) as f64;
+        self
+    }
+
     /// What `pdeshape fit` prints of a fit (after the mesh's name): the verdict first (whether
     /// the Hausdorff distance is within `tolerance`, a fraction of the diagonal), then the
     /// distances as percentages of the diagonal and in the mesh's units, the patches, and the

@@ -87,6 +87,12 @@ fn fit_writes_a_design_that_surface_reads() {
     let h = m["hausdorff_relative"].as_f64().unwrap();
     assert!(h > 0.0 && h <= 2e-3, "{report}");
     assert!(m["ratio"].as_f64().unwrap() >= 20.0, "{report}");
+    // The TOML's size is the file's as written (its title line included), and its ratio the
+    // mesh's bytes over it.
+    let written = std::fs::metadata(&design).unwrap().len();
+    assert_eq!(m["toml_bytes"].as_u64(), Some(written), "{report}");
+    let ratio = m["mesh_bytes"].as_f64().unwrap() / written as f64;
+    assert_eq!(m["toml_ratio"].as_f64(), Some(ratio), "{report}");
     // The picture: the bar on the right runs from red at the tolerance (top) to blue at zero
     // (bottom), in the layout the library states; "mesh" and "fit" are written in ink over the
     // two halves of the rest, nowhere else in that band.
