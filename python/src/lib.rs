@@ -1652,7 +1652,7 @@ fn fit_mesh<'py>(
                 tolerance,
                 patches: sections,
             };
-            let fitted = fit::fit_measured(&mesh, &request).map_err(|e| match e.place() {
+            let mut fitted = fit::fit_measured(&mesh, &request).map_err(|e| match e.place() {
                 "tolerance" | "sections" => e.to_string(),
                 _ => format!("{name}: {e}"),
             })?;
@@ -1661,9 +1661,9 @@ fn fit_mesh<'py>(
                     "{name}: {words} (a larger tolerance, or best_effort=True to have it anyway)"
                 ));
             }
-            let mut spec = fitted.fit.spec.clone();
-            spec.title = Some(format!("fitted to {file_name}"));
-            let text = spec::write_design(&spec).map_err(|e| format!("{name}: {e}"))?;
+            let text = fitted
+                .design_file(&file_name)
+                .map_err(|e| format!("{name}: {e}"))?;
             let f = &fitted.fit;
             let report = serde_json::json!({
                 "mesh": name,

@@ -6,7 +6,7 @@
 
 use crate::common::{CliError, Output};
 use pdeshape::fit::{self, InputMesh, MeshFormat};
-use pdeshape::spec::{self, write_design};
+use pdeshape::spec;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -132,6 +132,15 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         })
         .map_err(with_note)?;
     let elapsed_ms = t.elapsed().as_secs_f64() * 1e3;
+    let mut fitted = fitted;
+    let name = args
+        .mesh
+        .file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default();
+    let text = fitted
+        .design_file(&name)
+        .map_err(|e| CliError::input(format!("-o: {e}")))?;
     let miss_words = fitted.miss();
     let fit::Fitted {
         fit: fitted,
@@ -144,15 +153,6 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         declined,
     } = fitted;
     let missed = miss_words.is_some();
-    let mut spec = fitted.spec.clone();
-    let name = args
-        .mesh
-        .file_name()
-        .map(|n| n.to_string_lossy().to_string())
-        .unwrap_or_default();
-    spec.title = Some(format!("fitted to {name}"));
-    let text = write_design(&spec).map_err(|e| CliError::input(format!("-o: {e}")))?;
-    let m = m.with_toml_bytes(text.len());
     if let (Some(words), false) = (&miss_words, args.best_effort) {
         let reasons: Vec<String> = declined
             .iter()

@@ -122,6 +122,16 @@ impl Fitted {
             || self.measures.hausdorff_relative > self.tolerance
     }
 
+    /// The fit's design file, titled after the mesh's file name (`fitted to FILE_NAME`), with
+    /// the measures' TOML size made that file's (the fit sized its design untitled).
+    pub fn design_file(&mut self, file_name: &str) -> Result<String> {
+        let mut spec = self.fit.spec.clone();
+        spec.title = Some(format!("fitted to {file_name}"));
+        let text = crate::spec::write_design(&spec)?;
+        self.measures = self.measures.clone().with_toml_bytes(text.len());
+        Ok(text)
+    }
+
     /// How the fit misses its tolerance, with the farthest point in the mesh's coordinates
     /// (`None` when it does not); the caller adds what to do about it in its own words.
     pub fn miss(&self) -> Option<String> {
