@@ -605,12 +605,7 @@ impl<'a> Decimation<'a> {
                 quadric[y as usize].add(&q);
             }
         }
-        let mut used = vec![false; n];
-        for t in &mesh.triangles {
-            for &i in t {
-                used[i as usize] = true;
-            }
-        }
+        let used = mesh.used_vertices();
         let c = Collapser {
             pos,
             normals,

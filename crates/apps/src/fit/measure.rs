@@ -145,28 +145,19 @@ impl MeshDistance {
     }
 
     /// [`Self::closest`] given a triangle `near` (its corners) to start from: the distance to
-    /// it bounds the search to the box of that half-width about `p`, which holds
-    /// the closest point (for points along a sampled surface, the last point's triangle is a
-    /// close bound, and the box search needs no heap).
+    /// it bounds the search ([`Self::closest_within`]) to the box of that half-width about
+    /// `p`, which holds the closest point (for points along a sampled surface, the last
+    /// point's triangle is a close bound, and the box search needs no heap).
     pub fn closest_from(&self, p: Vec3, near: &[Vec3; 3]) -> Option<(f64, Vec3, usize)> {
         let (q, _, _) = closest_on_triangle(p, near);
         let r = (q - p).norm() * (1.0 + 1e-12);
         if !r.is_finite() {
             return self.closest(p);
         }
-        let bounds = AABB::from_corners([p.x - r, p.y - r, p.z - r], [p.x + r, p.y + r, p.z + r]);
-        let mut best: Option<(f64, Vec3, usize)> = None;
-        for t in self.tree.locate_in_envelope_intersecting(&bounds) {
-            let (q, _, _) = closest_on_triangle(p, &t.corners);
-            let d = (q - p).norm();
-            if best.is_none_or(|b| d < b.0) {
-                best = Some((d, q, t.id));
-            }
-        }
-        best.or_else(|| self.closest(p))
+        self.closest_within(p, r).or_else(|| self.closest(p))
     }
 
-    /// The closest point of the mesh to `p` if it is nearer than `reach`. The triangles whose
+    /// The closest point of the mesh to `p` if it is no farther than `reach`. The triangles whose
     /// boxes meet the box of half-width `reach` about `p` hold it; they are few when `reach`
     /// is short (a point of one component asking another that it nears only here and
     /// there), and the nearest-neighbour search takes over when they are not.
@@ -184,7 +175,7 @@ impl MeshDistance {
             .enumerate()
         {
             if k == FEW {
-                return self.closest(p).filter(|c| c.0 < reach);
+                return self.closest(p).filter(|c| c.0 <= reach);
             }
             let (q, _, _) = closest_on_triangle(p, &t.corners);
             let d = (q - p).norm();
@@ -192,7 +183,7 @@ impl MeshDistance {
                 best = Some((d, q, t.id));
             }
         }
-        best.filter(|c| c.0 < reach)
+        best.filter(|c| c.0 <= reach)
     }
 }
 
@@ -362,12 +353,10 @@ impl Measures {
 
     /// [`Measures::sized`] given [`design_sizes`].
     pub(crate) fn with_sizes(mut self, (toml_bytes, numbers): (usize, usize)) -> Measures {
-        self.toml_bytes = toml_bytes;
         self.design_numbers = numbers;
         self.design_bytes = 8 * self.design_numbers;
         self.ratio = self.mesh_bytes as f64 / self.design_bytes.max(1) as f64;
-        self.toml_ratio = self.mesh_bytes as f64 / self.toml_bytes.max(1) as f64;
-        self
+        self.with_toml_bytes(toml_bytes)
     }
 
     /// The measures with the TOML's size as it is written (`bytes`: the design with what the
@@ -971,7 +960,7 @@ mod tests {
             // of a few triangles or (a long reach) of more than the box search takes.
             for reach in [want.0 * 0.999, want.0 * 1.001, want.0 + 0.3, f64::INFINITY] {
                 let got = index.closest_within(p, reach).map(|c| c.0);
-                let expect = (want.0 < reach).then_some(want.0);
+                let expect = (want.0 <= reach).then_some(want.0);
                 assert_eq!(got, expect, "at {p:?} within {reach}");
             }
         }

@@ -408,12 +408,7 @@ fn weld_by_position(mesh: InputMesh) -> Result<(InputMesh, usize, usize)> {
     let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
     let mut positions: Vec<Vec3> = Vec::new();
     let mut map = vec![u32::MAX; mesh.positions.len()];
-    let mut used = vec![false; mesh.positions.len()];
-    for t in &mesh.triangles {
-        for &i in t {
-            used[i as usize] = true;
-        }
-    }
+    let used = mesh.used_vertices();
     let mut welded = 0;
     for (k, p) in mesh.positions.iter().enumerate() {
         if !used[k] {
