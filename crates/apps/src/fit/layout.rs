@@ -46,10 +46,17 @@ use std::collections::{BinaryHeap, HashMap};
 /// The most layout rounds of [`fit_general`].
 pub const MAX_ROUNDS: usize = 5;
 
-/// Triangles a layout round decimates a second, for the work bound (the Stanford dragon's
-/// `res3`, 45 580 triangles, to a proxy of 23 942 in 0.9 s, the `snowden` bust's 37 028 to its
-/// layouts in 1.1–1.5 s, on the development machine under load).
-const LAYOUT_TRIANGLES_PER_SECOND: f64 = 28_000.0;
+/// Triangles a layout round decimates a second, for the work bound: the slowest measured on
+/// the development machine (2 cores, nothing else running), the full-resolution Stanford
+/// dragon's 870 867 triangles to a proxy of 12 000 vertices in 12.2 s (71 000 a second; the
+/// dragon's `res2`, 199 383 triangles, 86 000 a second; the `snowden` bust's 109 044, 116 000).
+const LAYOUT_TRIANGLES_PER_SECOND: f64 = 70_000.0;
+
+/// The estimated seconds the decimation of a mesh for its first layout (the whole mesh, or
+/// its proxy) may take: a third of [`ROUNDS_SECONDS`], the rounds' own bound, which that
+/// decimation is counted in; a mesh that would take longer is refused before it starts (about
+/// 2 100 000 triangles at the rate above).
+const LAYOUT_PRICE_SECONDS: f64 = ROUNDS_SECONDS / 3.0;
 
 /// Layout faces solved and measured a second, for the rounds' work bound (the `snowden`
 /// bust's first layout, 3858 faces, solved and measured in about 16 s on the development
@@ -353,22 +360,7 @@ impl Collapser<'_> {
     /// `v`).
     fn stars_with(&self, u: u32, v: u32, nu: &[u32], old_star: Shape) -> Option<(Shape, Shape)> {
         let (ui, vi) = (u as usize, v as usize);
-        // Triangles on the edge, and the link condition.
-        let mut opposite: SmallVec<[u32; 4]> = SmallVec::new();
-        for &t in &self.vtris[ui] {
-            let tri = &self.tris[t as usize];
-            if self.alive[t as usize] && tri.contains(&v) {
-                opposite.extend(tri.iter().copied().filter(|&w| w != u && w != v));
-            }
-        }
-        let on_boundary_edge = opposite.len() == 1;
-        if self.boundary[ui] && !on_boundary_edge {
-            // A boundary vertex moves only along its boundary.
-            return None;
-        }
-        let nv = self.neighbours(v);
-        let common = nu.iter().filter(|w| nv.contains(w)).count();
-        if common != opposite.len() {
+        if !self.link_ok(u, v, nu) {
             return None;
         }
         let p = self.pos[vi];
@@ -422,6 +414,41 @@ impl Collapser<'_> {
             || (new_star.facing < MIN_FACING_COS && new_star.facing < old_star.facing)
             || (new_star.corner > 0.0 && new_star.corner > old_star.corner)
             || (new_star.quality < MIN_QUALITY && new_star.quality < old_star.quality))
+    }
+
+    /// The link condition of moving `u` onto `v` (its neighbours `nu`): the two share no
+    /// neighbour but the corners opposite the edge; and a boundary vertex moves only along its
+    /// boundary.
+    fn link_ok(&self, u: u32, v: u32, nu: &[u32]) -> bool {
+        let ui = u as usize;
+        // The corners opposite the edge: one on a boundary edge, two inside.
+        let mut opposite: SmallVec<[u32; 4]> = SmallVec::new();
+        for &t in &self.vtris[ui] {
+            let tri = &self.tris[t as usize];
+            if self.alive[t as usize] && tri.contains(&v) {
+                opposite.extend(tri.iter().copied().filter(|&w| w != u && w != v));
+            }
+        }
+        if self.boundary[ui] && opposite.len() != 1 {
+            return false;
+        }
+        let nv = self.neighbours(v);
+        if nu.iter().filter(|w| nv.contains(w)).count() != opposite.len() {
+            return false;
+        }
+        // The edge between the opposite corners in both links: the two triangles on `u–v`
+        // and `u–x–y`, `v–x–y` close a tetrahedron (a tunnel of three edges around, or a
+        // bubble), which the collapse would flatten into two triangles back to back.
+        let on = |w: u32, x: u32, y: u32| {
+            self.vtris[w as usize].iter().any(|&t| {
+                let tri = &self.tris[t as usize];
+                self.alive[t as usize] && tri.contains(&x) && tri.contains(&y)
+            })
+        };
+        match opposite[..] {
+            [x, y] => !(on(u, x, y) && on(v, x, y)),
+            _ => true,
+        }
     }
 
     /// Every vertex's best collapse, found in parallel (the heap is that of the candidates
@@ -1519,22 +1546,32 @@ fn general_fit(spec: DesignSpec, faces: usize, distance: f64) -> Fit {
     }
 }
 
-/// Time priced like memory: a layout round decimates the whole mesh (about 5.7 s for 80 000
-/// triangles on the development machine), so a mesh whose first round alone would exceed the
-/// work bound is refused before it starts.
+/// Time priced like memory: the first layout decimates the whole mesh (or, for a large one,
+/// makes its proxy from it), so a mesh whose decimation alone would take more than
+/// [`LAYOUT_PRICE_SECONDS`] is refused before it starts.
 fn price_layout(mesh: &InputMesh) -> Result<()> {
-    crate::work::check(
+    crate::work::check_within(
         &[crate::work::Work {
             units: mesh.triangles.len() as f64,
             per_second: LAYOUT_TRIANGLES_PER_SECOND,
         }],
+        LAYOUT_PRICE_SECONDS,
         &format!(
             "the general mode's layout of a mesh of {} triangles",
             mesh.triangles.len()
         ),
-        "decimate the mesh (to about 200 000 triangles), or fit it by a template",
+        &format!(
+            "decimate the mesh (to at most about {} triangles), or fit it by a template",
+            round_down_2(LAYOUT_PRICE_SECONDS * LAYOUT_TRIANGLES_PER_SECOND)
+        ),
         "",
     )
+}
+
+/// `x > 0` rounded down to two significant digits, as a whole number (2 100 000).
+fn round_down_2(x: f64) -> String {
+    let step = 10f64.powf(x.log10().floor() - 1.0).max(1.0);
+    format!("{:.0}", (x / step).floor() * step)
 }
 
 /// Estimated seconds of one solve of a layout of `faces` faces, and of one measure of it
@@ -2381,6 +2418,65 @@ mod tests {
             assert_eq!(again.vertices, layout.vertices);
             assert_eq!(again.faces, layout.faces);
         }
+    }
+
+    /// The first layout's decimation is priced against a third of the rounds' bound: the
+    /// full-resolution Stanford dragon (870 867 triangles, about 12 s) passes, a mesh of
+    /// 2 200 000 triangles (31 s) is refused with the estimate and what to do.
+    #[test]
+    fn the_layout_is_priced_against_a_third_of_the_rounds_bound() {
+        let mesh = |n: usize| {
+            InputMesh::new(
+                vec![Vec3::zeros(), Vec3::x(), Vec3::y()],
+                vec![[0, 1, 2]; n],
+            )
+            .unwrap()
+        };
+        assert!(price_layout(&mesh(870_867)).is_ok());
+        assert!(price_layout(&mesh(2_000_000)).is_ok());
+        let e = price_layout(&mesh(2_200_000)).unwrap_err().to_string();
+        assert!(
+            e.contains("2200000 triangles needs about 31 s of work, more than the 30 s"),
+            "{e}"
+        );
+        assert!(
+            e.contains("decimate the mesh (to at most about 2100000 triangles)"),
+            "{e}"
+        );
+    }
+
+    /// A closed tetrahedron (a scan's bubble hanging from the surface) is not collapsed: any
+    /// of its collapses lays two triangles back to back, which the vertex-count link condition
+    /// alone allows. Without normals (a scan's degenerate corner) no shape rule refuses them.
+    #[test]
+    fn a_tetrahedron_is_not_flattened_into_two_triangles() {
+        let tetra = InputMesh::new(
+            vec![
+                Vec3::zeros(),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+                Vec3::new(0.0, 0.0, 1.0),
+            ],
+            vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        )
+        .unwrap();
+        let normals = vec![Vec3::zeros(); 4];
+        let weight = vec![1.0; 4];
+        let mut d = Decimation::new(&tetra, &normals, &weight);
+        for u in 0..4u32 {
+            let nu = d.c.neighbours(u);
+            assert_eq!(nu.len(), 3);
+            for &v in &nu {
+                // The link condition by vertices holds: `u` and `v` share the two opposite
+                // corners only.
+                let nv = d.c.neighbours(v);
+                assert_eq!(nu.iter().filter(|w| nv.contains(w)).count(), 2);
+                assert!(!d.c.link_ok(u, v, &nu), "{u}–{v}");
+            }
+        }
+        d.collapse_to(3);
+        assert_eq!(d.remaining(), 4);
+        assert_eq!(d.layout().faces.len(), 4);
     }
 
     /// A vertex's best collapse, found from the costs first and the stars of the cheapest

@@ -16,11 +16,20 @@
 //! 5. **Non-manifold edges** (three or more triangles): the two triangles of the largest
 //!    manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
 //!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays.
-//! 6. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest in
-//!    triangles and than [`STRAY_EXTENT`] of it across are dropped (specks of a scan).
-//!    Components of comparable size or extent stay: the fit decides what to do with several
-//!    bodies.
-//! 7. **Orientation**: across every edge of two triangles, the two must run the edge opposite
+//! 6. **Pinched vertices**: a vertex whose triangles make several fans (pieces of the surface
+//!    that touch at the vertex only: a scan's tiny pocket hanging from one point, a fin of a
+//!    few triangles, two sheets of a surface touching) is cut, one vertex per fan at the same
+//!    place, for the next step to see its pieces apart.
+//! 7. **Stray pieces**: connected components smaller than [`STRAY_SHARE`] of the largest in
+//!    triangles and than [`STRAY_EXTENT`] of it across are dropped (specks of a scan), and so
+//!    are pieces cut off at a pinched vertex that are smaller than [`STRAY_SHARE`] of the
+//!    largest in triangles, whatever their extent (a pocket hanging from a point is a defect,
+//!    not a part: a scan's tetrahedral bubble, which no collapse can remove without flattening
+//!    it into two triangles back to back, blocked the Stanford dragon's layouts). Components
+//!    of comparable size or extent stay: the fit decides what to do with several bodies. The
+//!    cut vertices of the pieces that stay are joined again (a pinch between two large sheets
+//!    is left as the file has it).
+//! 8. **Orientation**: across every edge of two triangles, the two must run the edge opposite
 //!    ways. Walking each piece (joined across such edges) from its first triangle, a triangle
 //!    that disagrees with the one it was reached from is flipped; a piece most of whose
 //!    triangles were flipped is flipped back whole, so the file's own majority orientation
@@ -76,6 +85,10 @@ pub struct Repairs {
     pub nonmanifold_edges: usize,
     /// Triangles dropped at those edges.
     pub nonmanifold_dropped: usize,
+    /// Pieces hanging from the surface by one vertex (a pinch), dropped.
+    pub pinched: usize,
+    /// Triangles of those pieces.
+    pub pinched_triangles: usize,
     /// Components dropped as stray, and their triangles.
     pub stray_components: usize,
     /// Triangles of the stray components.
@@ -137,6 +150,13 @@ impl Repairs {
                 plural(self.nonmanifold_dropped, "triangle", "triangles")
             ));
         }
+        if self.pinched > 0 {
+            parts.push(format!(
+                "{} by a single vertex ({}) dropped",
+                plural(self.pinched, "piece hanging", "pieces hanging"),
+                plural(self.pinched_triangles, "triangle", "triangles")
+            ));
+        }
         if self.stray_components > 0 {
             parts.push(format!(
                 "{} of {} dropped",
@@ -169,11 +189,8 @@ impl Repairs {
 /// The mesh with the defects of the module documentation removed, and what was done.
 pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     let mut r = Repairs::default();
-    let positions = mesh.positions.clone();
+    let mut positions = mesh.positions.clone();
     let diag = mesh.diagonal();
-    let centroid = |t: &[u32; 3]| {
-        (positions[t[0] as usize] + positions[t[1] as usize] + positions[t[2] as usize]) / 3.0
-    };
 
     // 1–2. Degenerate and duplicate triangles (duplicates found by sorting, not hashing: a
     // mesh of a million triangles is repaired in a fraction of a second).
@@ -183,7 +200,7 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
         let [a, b, c] = t.map(|i| positions[i as usize]);
         if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || (b - a).cross(&(c - a)).norm() <= tiny {
             r.degenerate += 1;
-            note_at(&mut r, centroid(t));
+            note_at(&mut r, centroid(&positions, t));
             continue;
         }
         let mut key = *t;
@@ -195,7 +212,7 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     for (k, &(key, i)) in keyed.iter().enumerate() {
         if k > 0 && keyed[k - 1].0 == key {
             r.duplicates += 1;
-            note_at(&mut r, centroid(&mesh.triangles[i]));
+            note_at(&mut r, centroid(&positions, &mesh.triangles[i]));
         } else {
             keep[i] = true;
         }
@@ -272,29 +289,48 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
         if edges > 0 {
             r.nonmanifold_edges = edges;
             r.nonmanifold_dropped = dropped.len();
-            note_at(&mut r, centroid(&triangles[dropped[0]]));
+            note_at(&mut r, centroid(&positions, &triangles[dropped[0]]));
             triangles = kept;
         }
     }
 
-    // 6. Stray pieces.
-    let (kept, stray) = drop_stray(&triangles, &positions);
-    if !stray.is_empty() {
-        r.stray_components = stray.len();
-        r.stray_triangles = triangles.len() - kept.len();
-        note_at(&mut r, centroid(&triangles[stray[0]]));
+    // 6. Pinched vertices cut (their copies from `copies` on, each of `origin`).
+    let copies = positions.len();
+    let origin = split_pinches(&mut positions, &mut triangles);
+
+    // 7. Stray pieces, and pieces hanging by a vertex; the cuts of the rest joined again.
+    let (kept, dropped) = drop_stray(&triangles, &positions, copies);
+    for d in &dropped {
+        if d.cut {
+            r.pinched += 1;
+            r.pinched_triangles += d.triangles;
+        } else {
+            r.stray_components += 1;
+            r.stray_triangles += d.triangles;
+        }
+        note_at(&mut r, centroid(&positions, &triangles[d.first]));
+    }
+    if !dropped.is_empty() {
         triangles = kept;
     }
+    for t in &mut triangles {
+        for c in t.iter_mut() {
+            if *c as usize >= copies {
+                *c = origin[*c as usize - copies];
+            }
+        }
+    }
+    positions.truncate(copies);
 
-    // 7. Orientation.
+    // 8. Orientation.
     let (flipped, folded) = orient(&positions, &mut triangles);
     if let Some(&first) = folded.first() {
         r.folded = folded.len();
-        note_at(&mut r, centroid(&triangles[first]));
+        note_at(&mut r, centroid(&positions, &triangles[first]));
     }
     if let Some(&first) = flipped.first() {
         r.flipped = flipped.len();
-        note_at(&mut r, centroid(&triangles[first]));
+        note_at(&mut r, centroid(&positions, &triangles[first]));
     }
     if !folded.is_empty() {
         let mut keep = vec![true; triangles.len()];
@@ -429,6 +465,11 @@ fn orient(positions: &[Vec3], triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<us
     out.sort_unstable();
     drop.sort_unstable();
     (out, drop)
+}
+
+/// The centroid of triangle `t`.
+fn centroid(positions: &[Vec3], t: &[u32; 3]) -> Vec3 {
+    (positions[t[0] as usize] + positions[t[1] as usize] + positions[t[2] as usize]) / 3.0
 }
 
 fn note_at(r: &mut Repairs, p: Vec3) {
@@ -662,10 +703,109 @@ fn resolve_nonmanifold(triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, usize, Vec<usi
     (kept, bad.len(), gone)
 }
 
+/// Splits every vertex whose triangles make several fans (module documentation, step 6):
+/// triangles of a vertex are one fan when a walk across its edges of two triangles joins them
+/// (every edge has at most two after step 5). The largest fan (the first of the largest)
+/// keeps the vertex; each other gets a new vertex at the same place, appended to `positions`.
+/// Returns the vertex each new one was cut from, in their order.
+fn split_pinches(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> Vec<u32> {
+    let n = positions.len();
+    // Each vertex's triangles, in the triangles' order.
+    let mut start = vec![0usize; n + 1];
+    for t in triangles.iter() {
+        for &i in t {
+            start[i as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut star = vec![0u32; start[n]];
+    for (k, t) in triangles.iter().enumerate() {
+        for &i in t {
+            star[fill[i as usize]] = k as u32;
+            fill[i as usize] += 1;
+        }
+    }
+    let mut origin = Vec::new();
+    let mut by_corner: Vec<(u32, usize)> = Vec::new();
+    let mut parent: Vec<usize> = Vec::new();
+    for v in 0..n as u32 {
+        let around = &star[start[v as usize]..start[v as usize + 1]];
+        if around.len() < 2 {
+            continue;
+        }
+        // Two triangles of `v` that share another corner share the edge to it.
+        by_corner.clear();
+        for (j, &t) in around.iter().enumerate() {
+            by_corner.extend(
+                triangles[t as usize]
+                    .iter()
+                    .filter(|&&w| w != v)
+                    .map(|&w| (w, j)),
+            );
+        }
+        by_corner.sort_unstable();
+        parent.clear();
+        parent.extend(0..around.len());
+        for pair in by_corner.windows(2) {
+            if pair[0].0 == pair[1].0 {
+                union(&mut parent, pair[0].1, pair[1].1);
+            }
+        }
+        let roots: Vec<usize> = (0..around.len()).map(|j| find(&mut parent, j)).collect();
+        let mut size: HashMap<usize, usize> = HashMap::new();
+        for &r in &roots {
+            *size.entry(r).or_default() += 1;
+        }
+        if size.len() < 2 {
+            continue;
+        }
+        let keep = roots
+            .iter()
+            .copied()
+            .max_by_key(|r| (size[r], std::cmp::Reverse(*r)))
+            .unwrap_or(0);
+        let mut copy: HashMap<usize, u32> = HashMap::new();
+        for (j, &t) in around.iter().enumerate() {
+            if roots[j] == keep {
+                continue;
+            }
+            let w = *copy.entry(roots[j]).or_insert_with(|| {
+                positions.push(positions[v as usize]);
+                origin.push(v);
+                (positions.len() - 1) as u32
+            });
+            for c in triangles[t as usize].iter_mut() {
+                if *c == v {
+                    *c = w;
+                }
+            }
+        }
+    }
+    origin
+}
+
+/// A component [`drop_stray`] dropped.
+struct Dropped {
+    /// Its first triangle.
+    first: usize,
+    /// Its triangles.
+    triangles: usize,
+    /// Whether it was dropped for hanging by a pinched vertex only (not small across).
+    cut: bool,
+}
+
 /// Drops the components (through shared vertices) smaller than [`STRAY_SHARE`] of the largest
-/// in triangles and than [`STRAY_EXTENT`] of its bounding box's diagonal across. Returns the
-/// kept triangles and the first triangle of each dropped component.
-fn drop_stray(triangles: &[[u32; 3]], positions: &[Vec3]) -> (Vec<[u32; 3]>, Vec<usize>) {
+/// in triangles and than [`STRAY_EXTENT`] of its bounding box's diagonal across, and those
+/// smaller in triangles only that hold a vertex from `copies` on (a piece cut off at a pinched
+/// vertex). Returns the kept triangles and the dropped components.
+fn drop_stray(
+    triangles: &[[u32; 3]],
+    positions: &[Vec3],
+    copies: usize,
+) -> (Vec<[u32; 3]>, Vec<Dropped>) {
     let vertices = positions.len();
     let mut parent: Vec<usize> = (0..vertices).collect();
     for t in triangles {
@@ -677,11 +817,13 @@ fn drop_stray(triangles: &[[u32; 3]], positions: &[Vec3]) -> (Vec<[u32; 3]>, Vec
         .map(|t| find(&mut parent, t[0] as usize))
         .collect();
     let mut size = vec![0usize; vertices];
+    let mut cut = vec![false; vertices];
     let mut lo = vec![Vec3::repeat(f64::INFINITY); vertices];
     let mut hi = vec![Vec3::repeat(f64::NEG_INFINITY); vertices];
     for (t, &r) in triangles.iter().zip(&roots) {
         size[r] += 1;
         for &i in t {
+            cut[r] |= i as usize >= copies;
             lo[r] = lo[r].inf(&positions[i as usize]);
             hi[r] = hi[r].sup(&positions[i as usize]);
         }
@@ -696,13 +838,19 @@ fn drop_stray(triangles: &[[u32; 3]], positions: &[Vec3]) -> (Vec<[u32; 3]>, Vec
     };
     let (largest, extent) = (size[main], across(main));
     let stray = |r: &usize| {
-        (size[*r] as f64) < STRAY_SHARE * largest as f64 && across(*r) < STRAY_EXTENT * extent
+        (size[*r] as f64) < STRAY_SHARE * largest as f64
+            && (cut[*r] || across(*r) < STRAY_EXTENT * extent)
     };
-    let mut firsts = Vec::new();
+    let mut dropped = Vec::new();
     let mut seen = std::collections::HashSet::new();
     for (i, r) in roots.iter().enumerate() {
         if stray(r) && seen.insert(*r) {
-            firsts.push(i);
+            dropped.push(Dropped {
+                first: i,
+                triangles: size[*r],
+                // A speck by its extent is a speck, cut off or not.
+                cut: cut[*r] && across(*r) >= STRAY_EXTENT * extent,
+            });
         }
     }
     let kept = triangles
@@ -711,7 +859,7 @@ fn drop_stray(triangles: &[[u32; 3]], positions: &[Vec3]) -> (Vec<[u32; 3]>, Vec
         .filter(|(_, r)| !stray(r))
         .map(|(t, _)| *t)
         .collect();
-    (kept, firsts)
+    (kept, dropped)
 }
 
 fn find(parent: &mut [usize], mut a: usize) -> usize {
@@ -857,6 +1005,77 @@ mod tests {
         let (open, r) = repair(&InputMesh::new(p, cracked.triangles.clone()).unwrap()).unwrap();
         assert_eq!(r.cracks, 0);
         assert_eq!(open.topology().boundary_edges, 8);
+    }
+
+    /// A closed tetrahedron with corner `at` (an existing vertex) and three new corners
+    /// `at + size·(e_x, e_y, e_z)` (outward for `size > 0` about that corner's octant), appended.
+    fn tetrahedron_at(p: &mut Vec<Vec3>, t: &mut Vec<[u32; 3]>, at: u32, size: f64) {
+        let c = p[at as usize];
+        let s = p.len() as u32;
+        p.extend([
+            c + Vec3::new(size, 0.0, 0.0),
+            c + Vec3::new(0.0, size, 0.0),
+            c + Vec3::new(0.0, 0.0, size),
+        ]);
+        let (x, y, z) = (s, s + 1, s + 2);
+        t.extend([[at, y, x], [at, x, z], [at, z, y], [x, y, z]]);
+    }
+
+    #[test]
+    fn pieces_hanging_by_a_vertex_are_dropped_and_pinches_between_large_pieces_kept() {
+        let (base, _) = repair(&cube_with_fine_top(15)).unwrap();
+        // 460 triangles: a tetrahedron's 4 are under `STRAY_SHARE` of them.
+        assert!(4.0 < STRAY_SHARE * base.triangles.len() as f64);
+        let corner = |p: &[Vec3], q: Vec3| p.iter().position(|x| (x - q).norm() == 0.0).unwrap();
+        let mut p = base.positions.clone();
+        let mut t = base.triangles.clone();
+        // A tetrahedron a quarter of the cube across hanging from the corner (2, 2, 2), and
+        // a speck of one from (0, 0, 0).
+        let far = corner(&p, Vec3::new(2.0, 2.0, 2.0)) as u32;
+        tetrahedron_at(&mut p, &mut t, far, 0.5);
+        let near = corner(&p, Vec3::zeros()) as u32;
+        tetrahedron_at(&mut p, &mut t, near, -1e-3);
+        let dirty = InputMesh::new(p, t).unwrap();
+        assert_eq!(dirty.topology().components, 1);
+        let (fixed, r) = repair(&dirty).unwrap();
+        assert_eq!(
+            (
+                r.pinched,
+                r.pinched_triangles,
+                r.stray_components,
+                r.stray_triangles
+            ),
+            (1, 4, 1, 4),
+            "{r:?}"
+        );
+        assert!(r
+            .note()
+            .unwrap()
+            .contains("1 piece hanging by a single vertex (4 triangles)"));
+        assert_eq!(fixed.triangles, base.triangles);
+        assert_eq!(fixed.positions.len(), dirty.positions.len());
+        closed_and_manifold(&fixed);
+
+        // Two cubes meeting at a corner: neither hangs from the other, and the corner they
+        // share stays one vertex.
+        let mut p = base.positions.clone();
+        let mut t = base.triangles.clone();
+        let shift = p.len() as u32;
+        p.extend(base.positions.iter().map(|q| q + Vec3::repeat(2.0)));
+        t.extend(base.triangles.iter().map(|x| x.map(|i| i + shift)));
+        let origin = shift + corner(&base.positions, Vec3::zeros()) as u32;
+        for x in t.iter_mut() {
+            for i in x.iter_mut() {
+                if *i == origin {
+                    *i = far;
+                }
+            }
+        }
+        let touching = InputMesh::new(p, t).unwrap();
+        let (fixed, r) = repair(&touching).unwrap();
+        assert!(r.is_empty(), "{r:?}");
+        assert_eq!(fixed.triangles, touching.triangles);
+        assert_eq!(fixed.topology().components, 1);
     }
 
     #[test]
