@@ -417,8 +417,8 @@ impl Collapser<'_> {
     }
 
     /// The link condition of moving `u` onto `v` (its neighbours `nu`): the two share no
-    /// neighbour but the corners opposite the edge; and a boundary vertex moves only along its
-    /// boundary.
+    /// neighbour but the corners opposite the edge; a boundary vertex moves only along its
+    /// boundary; and every opposite corner stays joined to `v` by a triangle.
     fn link_ok(&self, u: u32, v: u32, nu: &[u32]) -> bool {
         let ui = u as usize;
         // The corners opposite the edge: one on a boundary edge, two inside.
@@ -445,10 +445,23 @@ impl Collapser<'_> {
                 self.alive[t as usize] && tri.contains(&x) && tri.contains(&y)
             })
         };
-        match opposite[..] {
-            [x, y] => !(on(u, x, y) && on(v, x, y)),
-            _ => true,
+        if let [x, y] = opposite[..] {
+            if on(u, x, y) && on(v, x, y) {
+                return false;
+            }
         }
+        // A triangle on the edge whose other two edges have no other triangle (its corners
+        // joined to the rest only at pinched vertices: a bridge between two pieces that touch
+        // the surface at points) would take the only join between its opposite corner and
+        // `v` with it, and the mesh would come apart.
+        opposite.iter().all(|&x| {
+            self.vtris[x as usize].iter().any(|&t| {
+                let tri = &self.tris[t as usize];
+                self.alive[t as usize]
+                    && !(tri.contains(&u) && tri.contains(&v))
+                    && (tri.contains(&u) || tri.contains(&v))
+            })
+        })
     }
 
     /// Every vertex's best collapse, found in parallel (the heap is that of the candidates
@@ -2443,6 +2456,45 @@ mod tests {
             e.contains("decimate the mesh (to at most about 2100000 triangles)"),
             "{e}"
         );
+    }
+
+    /// A lone triangle whose corners touch two pieces of the surface at points (its edges on
+    /// the boundary, two of its corners pinched) is not collapsed away: the pieces would come
+    /// apart. An ear of an ordinary boundary is.
+    #[test]
+    fn a_triangle_bridging_two_pieces_is_not_collapsed() {
+        // Two fans of four triangles around the origin and around (3, 0, 0), and a triangle
+        // from a rim vertex of each to a point between them.
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for cx in [0.0, 3.0] {
+            let c = positions.len() as u32;
+            positions.push(Vec3::new(cx, 0.0, 0.0));
+            for k in 0..5 {
+                let a = std::f64::consts::PI * k as f64 / 4.0;
+                positions.push(Vec3::new(cx + a.cos(), a.sin(), 0.0));
+            }
+            for k in 0..4 {
+                triangles.push([c, c + 1 + k, c + 2 + k]);
+            }
+        }
+        // Rim vertices (1, 0, 0) of the first fan and (2, 0, 0) of the second.
+        let (a, b) = (1u32, 6 + 5);
+        let w = positions.len() as u32;
+        positions.push(Vec3::new(1.5, -0.5, 0.0));
+        triangles.push([a, w, b]);
+        let mesh = InputMesh::new(positions, triangles).unwrap();
+        assert_eq!(mesh.topology().components, 1);
+        let normals = vertex_normals(&mesh);
+        let weight = vec![1.0; mesh.positions.len()];
+        let d = Decimation::new(&mesh, &normals, &weight);
+        for (u, v) in [(w, a), (w, b), (a, w), (b, w)] {
+            let nu = d.c.neighbours(u);
+            assert!(!d.c.link_ok(u, v, &nu), "{u}–{v}");
+        }
+        // The first fan's last rim vertex, an ear on an ordinary boundary, may move along it.
+        let nu = d.c.neighbours(5);
+        assert!(d.c.link_ok(5, 4, &nu));
     }
 
     /// A closed tetrahedron (a scan's bubble hanging from the surface) is not collapsed: any
