@@ -755,12 +755,13 @@ fn split_pinches(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> Vec<u
             }
         }
         let roots: Vec<usize> = (0..around.len()).map(|j| find(&mut parent, j)).collect();
+        // One fan (nearly every vertex): nothing to cut.
+        if roots.iter().all(|&r| r == roots[0]) {
+            continue;
+        }
         let mut size: HashMap<usize, usize> = HashMap::new();
         for &r in &roots {
             *size.entry(r).or_default() += 1;
-        }
-        if size.len() < 2 {
-            continue;
         }
         let keep = roots
             .iter()
@@ -848,8 +849,9 @@ fn drop_stray(
             dropped.push(Dropped {
                 first: i,
                 triangles: size[*r],
-                // A speck by its extent is a speck, cut off or not.
-                cut: cut[*r] && across(*r) >= STRAY_EXTENT * extent,
+                // A speck by its extent is a speck, cut off or not: dropped although not
+                // small across, it was cut off.
+                cut: across(*r) >= STRAY_EXTENT * extent,
             });
         }
     }
