@@ -17,7 +17,10 @@
 //! [`pack`] returns that size with the design as a decoder would restore it (every quantised
 //! number replaced by its quantised value), so the cost of quantising is measured, not
 //! assumed: [`crate::fit::rate_distortion`] solves and measures it. The step is `s =
-//! tolerance · diagonal / 64` ([`STEP_FRACTION`]); a corner moves by at most `√3 s / 2`, a
+//! tolerance · diagonal / 64` ([`STEP_FRACTION`]), or [`GAP_FRACTION`] of the shortest distance
+//! between two corners of a face or edge tangent when that is smaller (a corner then moves by at
+//! most `√3/16` of that distance, so no two corners of a face become one point and no tangent
+//! becomes 0: a layout refined at a spot can have corners far closer than the tolerance); a corner moves by at most `√3 s / 2`, a
 //! Hermite edge by at most `(1 + 4/27)·√3 s / 2`, and `b = ⌈log₂(diagonal / s)⌉ + 1` keeps a
 //! normal's angle error (at most about `2.2 / 2ᵇ` rad) times the diagonal below `s`, so the
 //! quantised fit stays within a few steps (a few percent of the tolerance) of the fit. The
@@ -29,6 +32,10 @@ use crate::{Error, Result};
 /// The step of the lengths as a fraction of `tolerance · diagonal`.
 pub const STEP_FRACTION: f64 = 1.0 / 64.0;
 
+/// The largest step as a fraction of the shortest distance between two corners of a face or
+/// edge tangent.
+pub(super) const GAP_FRACTION: f64 = 1.0 / 8.0;
+
 /// A fit's numbers, quantised.
 #[derive(Clone, Debug)]
 pub struct Packed {
@@ -38,6 +45,8 @@ pub struct Packed {
     pub spec: DesignSpec,
     /// The step of the lengths.
     pub step: f64,
+    /// The step was shortened below the tolerance's by the shortest corner distance or tangent.
+    pub step_by_corners: bool,
     /// Bits per octahedral coordinate of a normal (0 when nothing was quantised).
     pub normal_bits: u32,
 }
@@ -49,8 +58,13 @@ impl Packed {
             "8 bytes per number".to_string()
         } else {
             format!(
-                "lengths to a step of {} (1/64 of the tolerance), normals in 2 × {} bits",
+                "lengths to a step of {} ({}), normals in 2 × {} bits",
                 crate::number::sig(self.step, 3),
+                if self.step_by_corners {
+                    "1/8 of the shortest corner distance or tangent"
+                } else {
+                    "1/64 of the tolerance"
+                },
                 self.normal_bits
             )
         }
@@ -102,6 +116,32 @@ fn octahedral(n: [f64; 3], bits: u32) -> [f64; 3] {
     [x / l, y / l, z / l]
 }
 
+/// The shortest length the quantisation must keep: the distance between two distinct corners
+/// of one face of `p`, or an edge's tangent (infinite for none).
+fn shortest_length(p: &PatchworkSpec) -> f64 {
+    let norm = |a: &[f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let mut gap = p
+        .edges
+        .iter()
+        .flat_map(|e| e.tangents.iter().map(norm))
+        .filter(|&l| l > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    for face in &p.faces {
+        for (k, &i) in face.iter().enumerate() {
+            for &j in &face[k + 1..] {
+                let (Some(a), Some(b)) = (p.points.get(i), p.points.get(j)) else {
+                    continue;
+                };
+                let d = norm(&[a[0] - b[0], a[1] - b[1], a[2] - b[2]]);
+                if d > 0.0 {
+                    gap = gap.min(d);
+                }
+            }
+        }
+    }
+    gap
+}
+
 /// One patchwork quantised: `(bits, header bytes)`, the table changed in place.
 fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, usize) {
     let flat: Vec<f64> = p.points.iter().flatten().copied().collect();
@@ -144,7 +184,14 @@ fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, u
 /// The numbers of `spec` (a fit of a mesh whose bounding box has the diagonal `diagonal`)
 /// packed for `tolerance` (module documentation).
 pub fn pack(spec: &DesignSpec, diagonal: f64, tolerance: f64) -> Result<Packed> {
-    let step = tolerance * diagonal * STEP_FRACTION;
+    let by_tolerance = tolerance * diagonal * STEP_FRACTION;
+    let by_corners = GAP_FRACTION
+        * spec
+            .patchwork
+            .iter()
+            .map(shortest_length)
+            .fold(f64::INFINITY, f64::min);
+    let step = by_tolerance.min(by_corners);
     if !(step > 0.0 && step.is_finite()) {
         return Err(Error::invalid(format!(
             "no quantisation step for the tolerance {tolerance} and the diagonal {diagonal}"
@@ -169,6 +216,7 @@ pub fn pack(spec: &DesignSpec, diagonal: f64, tolerance: f64) -> Result<Packed> 
         bytes: 8 * rest + header + bits.div_ceil(8) as usize,
         spec: out,
         step,
+        step_by_corners: by_corners < by_tolerance,
         normal_bits,
     })
 }
@@ -210,5 +258,57 @@ mod tests {
         }
         // Range 1075 steps: 11 bits each.
         assert_eq!(bits, 4 * 11);
+    }
+
+    /// One flat quadrilateral whose first two corners are 10⁻³ apart, packed for a tolerance
+    /// whose step (1/64 of 0.5 of the diagonal 1.5: 0.0117) would round both to the origin:
+    /// the step is shortened to 1/8 of that distance, the corners stay apart, every number
+    /// moves by at most half a step per coordinate, and the packed design solves.
+    #[test]
+    fn corners_closer_than_the_tolerance_step_stay_apart() {
+        use crate::spec::PatchworkEdgeSpec;
+        let points = vec![
+            [0.0, 0.0, 0.0],
+            [1e-3, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let edge = |a: usize, b: usize| {
+            let c: [f64; 3] = std::array::from_fn(|k| points[b][k] - points[a][k]);
+            PatchworkEdgeSpec {
+                ends: [a, b],
+                tangents: [c, c],
+                normals: Vec::new(),
+                crease: false,
+            }
+        };
+        let spec = DesignSpec {
+            patchwork: vec![PatchworkSpec {
+                name: "quad".to_string(),
+                order: 2,
+                a: 1.0,
+                degree: 6,
+                points: points.clone(),
+                normals: vec![[0.0, 0.0, 1.0]; 4],
+                edges: vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)],
+                faces: vec![vec![0, 1, 2, 3]],
+            }],
+            ..DesignSpec::default()
+        };
+        let packed = pack(&spec, 1.5, 0.5).unwrap();
+        assert!(packed.step_by_corners);
+        assert!((packed.step - 1e-3 / 8.0).abs() < 1e-15, "{}", packed.step);
+        assert!(packed.describe().contains("shortest corner distance"));
+        let q = &packed.spec.patchwork[0];
+        for (a, b) in points.iter().zip(&q.points) {
+            for k in 0..3 {
+                assert!((a[k] - b[k]).abs() <= packed.step / 2.0 + 1e-15);
+            }
+        }
+        assert!(q.points[0] != q.points[1]);
+        crate::design::solve_design(&packed.spec).unwrap();
+        // With the tolerance's step the two corners would be one point.
+        let coarse = 0.5 * 1.5 * STEP_FRACTION;
+        assert_eq!((1e-3 / coarse).round(), 0.0);
     }
 }

@@ -57,6 +57,8 @@ pub struct RatePoint {
     pub packed_bytes: usize,
     /// Hausdorff distance of the packed design (its numbers quantised) over the diagonal.
     pub packed_hausdorff: f64,
+    /// RMS distance of the packed design over the diagonal.
+    pub packed_rms: f64,
     /// Seconds the fit took.
     pub seconds: f64,
 }
@@ -173,6 +175,7 @@ pub fn rate_distortion(
             f64_bytes: m.design_bytes,
             packed_bytes: packed.bytes,
             packed_hausdorff: pm.hausdorff_relative,
+            packed_rms: pm.rms_relative,
             seconds,
         });
     }
@@ -296,11 +299,11 @@ impl RateDistortion {
         let mut s = String::from(
             "kind,tolerance_percent,mode,patches_or_triangles,hausdorff_percent,rms_percent,\
              missed,toml_bytes,toml_gz_bytes,f64_bytes,packed_bytes,packed_hausdorff_percent,\
-             seconds\n",
+             packed_rms_percent,seconds\n",
         );
         for p in &self.fits {
             s += &format!(
-                "fit,{},{},{},{},{},{},{},{},{},{},{},{:.3}\n",
+                "fit,{},{},{},{},{},{},{},{},{},{},{},{},{:.3}\n",
                 100.0 * p.tolerance,
                 p.mode,
                 p.patches,
@@ -312,12 +315,13 @@ impl RateDistortion {
                 p.f64_bytes,
                 p.packed_bytes,
                 100.0 * p.packed_hausdorff,
+                100.0 * p.packed_rms,
                 p.seconds
             );
         }
         for p in &self.decimated {
             s += &format!(
-                "decimation,,,{},{},{},,,,{},{},,\n",
+                "decimation,,,{},{},{},,,,{},{},,,\n",
                 p.triangles,
                 100.0 * p.hausdorff,
                 100.0 * p.rms,
@@ -328,19 +332,69 @@ impl RateDistortion {
         s
     }
 
-    /// The sweep as an SVG plot: Hausdorff distance (percent of the diagonal, log scale)
-    /// against bytes (log scale); the fits packed and as gzipped TOML, the decimation raw and
-    /// packed; `title` above it.
+    /// The sweep as an SVG plot, two panels above each other: the Hausdorff distance and the
+    /// RMS distance (percent of the diagonal, log scale) against bytes (log scale, the same
+    /// range in both); the fits packed and as gzipped TOML, the decimation raw and packed;
+    /// `title` above them.
     pub fn svg(&self, title: &str) -> String {
-        type Series<'a> = (&'a str, &'a str, bool, Vec<(f64, f64)>);
-        let series: Vec<Series> = vec![
+        let (w, panel) = (760.0, 430.0);
+        let h = 30.0 + 2.0 * panel;
+        let esc = |t: &str| {
+            t.replace('&', "&amp;")
+                .replace('<', "&lt;")
+                .replace('>', "&gt;")
+        };
+        let all = [Distance::Hausdorff, Distance::Rms].map(|d| self.series(d));
+        // One byte range for both panels, the mesh's own size included.
+        let mesh = (self.mesh_bytes.max(1) as f64).log10();
+        let (mut x0, mut x1) = (mesh, mesh);
+        for (_, _, _, pts) in all.iter().flatten() {
+            for &(b, d) in pts {
+                if b > 0.0 && b.is_finite() && d > 0.0 && d.is_finite() {
+                    (x0, x1) = (x0.min(b.log10()), x1.max(b.log10()));
+                }
+            }
+        }
+        let bytes = (x0.floor(), x1.ceil().max(x0.floor() + 1.0));
+        let mut s = format!(
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
+             viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
+             <rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n\
+             <text x=\"80\" y=\"22\" font-size=\"14\">{}</text>\n",
+            esc(title)
+        );
+        for (k, (distance, series)) in [Distance::Hausdorff, Distance::Rms]
+            .into_iter()
+            .zip(&all)
+            .enumerate()
+        {
+            s += &self.panel(distance, series, bytes, 30.0 + k as f64 * panel, w, panel);
+        }
+        s += "</svg>\n";
+        s
+    }
+
+    /// The four curves of one distance: `(name, colour, dashed, (bytes, percent))`.
+    fn series(&self, distance: Distance) -> Vec<Series> {
+        let rms = distance == Distance::Rms;
+        let fit = |p: &RatePoint, packed: bool| {
+            100.0
+                * match (rms, packed) {
+                    (false, false) => p.hausdorff,
+                    (false, true) => p.packed_hausdorff,
+                    (true, false) => p.rms,
+                    (true, true) => p.packed_rms,
+                }
+        };
+        let dec = |p: &DecimatedPoint| 100.0 * if rms { p.rms } else { p.hausdorff };
+        vec![
             (
                 "PDE patches, packed",
                 "#c0392b",
                 false,
                 self.fits
                     .iter()
-                    .map(|p| (p.packed_bytes as f64, 100.0 * p.packed_hausdorff))
+                    .map(|p| (p.packed_bytes as f64, fit(p, true)))
                     .collect(),
             ),
             (
@@ -349,7 +403,7 @@ impl RateDistortion {
                 true,
                 self.fits
                     .iter()
-                    .map(|p| (p.toml_gz_bytes as f64, 100.0 * p.hausdorff))
+                    .map(|p| (p.toml_gz_bytes as f64, fit(p, false)))
                     .collect(),
             ),
             (
@@ -358,7 +412,7 @@ impl RateDistortion {
                 false,
                 self.decimated
                     .iter()
-                    .map(|p| (p.packed_bytes as f64, 100.0 * p.hausdorff))
+                    .map(|p| (p.packed_bytes as f64, dec(p)))
                     .collect(),
             ),
             (
@@ -367,53 +421,49 @@ impl RateDistortion {
                 true,
                 self.decimated
                     .iter()
-                    .map(|p| (p.raw_bytes as f64, 100.0 * p.hausdorff))
+                    .map(|p| (p.raw_bytes as f64, dec(p)))
                     .collect(),
             ),
-        ];
-        let points = series
-            .iter()
-            .flat_map(|s| s.3.iter())
-            .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite());
-        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for &(x, y) in points {
-            x0 = x0.min(x.log10());
-            x1 = x1.max(x.log10());
-            y0 = y0.min(y.log10());
-            y1 = y1.max(y.log10());
-        }
-        if x0 > x1 {
-            (x0, x1, y0, y1) = (2.0, 6.0, -2.0, 1.0);
-        }
+        ]
+    }
+
+    /// One panel of [`Self::svg`], `height` tall from `y_top`, bytes over the decades
+    /// `(x0, x1)`.
+    fn panel(
+        &self,
+        distance: Distance,
+        series: &[Series],
+        (x0, x1): (f64, f64),
+        y_top: f64,
+        w: f64,
+        height: f64,
+    ) -> String {
         let esc = |t: &str| {
             t.replace('&', "&amp;")
                 .replace('<', "&lt;")
                 .replace('>', "&gt;")
         };
-        // The mesh itself, f32 positions and u32 indices: a vertical line.
-        let mesh_line = (self.mesh_bytes.max(1) as f64).log10();
-        x0 = x0.min(mesh_line);
-        x1 = x1.max(mesh_line);
-        let (x0, x1) = (x0.floor(), x1.ceil().max(x0.floor() + 1.0));
+        let finite = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
+        let (mut y0, mut y1) = (f64::MAX, f64::MIN);
+        for &(_, y) in series.iter().flat_map(|s| s.3.iter()).filter(|p| finite(p)) {
+            (y0, y1) = (y0.min(y.log10()), y1.max(y.log10()));
+        }
+        if y0 > y1 {
+            (y0, y1) = (-2.0, 1.0);
+        }
         let (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
-        let (w, h, left, right, top, bottom) = (760.0, 480.0, 80.0, 230.0, 40.0, 56.0);
+        let (left, right, top, bottom) = (80.0, 230.0, y_top + 10.0, y_top + height - 46.0);
         let px = |x: f64| left + (x.log10() - x0) / (x1 - x0) * (w - left - right);
-        let py = |y: f64| h - bottom - (y.log10() - y0) / (y1 - y0) * (h - top - bottom);
-        let mut s = format!(
-            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
-             viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
-             <rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n\
-             <text x=\"{left}\" y=\"22\" font-size=\"14\">{}</text>\n",
-            esc(title)
-        );
+        let py = |y: f64| bottom - (y.log10() - y0) / (y1 - y0) * (bottom - top);
+        let mut s = String::new();
         // Decades and their labels.
         for e in x0 as i32..=x1 as i32 {
             let x = px(10f64.powi(e));
             s += &format!(
-                "<line x1=\"{x:.1}\" y1=\"{top}\" x2=\"{x:.1}\" y2=\"{:.1}\" stroke=\"#ddd\"/>\n\
+                "<line x1=\"{x:.1}\" y1=\"{top}\" x2=\"{x:.1}\" y2=\"{bottom:.1}\" \
+                 stroke=\"#ddd\"/>\n\
                  <text x=\"{x:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{}</text>\n",
-                h - bottom,
-                h - bottom + 16.0,
+                bottom + 16.0,
                 bytes_label(e)
             );
         }
@@ -433,19 +483,19 @@ impl RateDistortion {
              stroke=\"#444\"/>\n\
              <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"middle\">bytes</text>\n\
              <text transform=\"translate(18 {:.1}) rotate(-90)\" text-anchor=\"middle\">\
-             Hausdorff distance, % of the diagonal</text>\n",
+             {} distance, % of the diagonal</text>\n",
             w - left - right,
-            h - top - bottom,
+            bottom - top,
             (left + w - right) / 2.0,
-            h - 12.0,
-            (top + h - bottom) / 2.0
+            bottom + 34.0,
+            (top + bottom) / 2.0,
+            distance.name()
         );
         let mx = px(self.mesh_bytes as f64);
         s += &format!(
-            "<line x1=\"{mx:.1}\" y1=\"{top}\" x2=\"{mx:.1}\" y2=\"{:.1}\" stroke=\"#777\" \
-             stroke-dasharray=\"2 3\"/>\n\
+            "<line x1=\"{mx:.1}\" y1=\"{top}\" x2=\"{mx:.1}\" y2=\"{bottom:.1}\" \
+             stroke=\"#777\" stroke-dasharray=\"2 3\"/>\n\
              <text x=\"{:.1}\" y=\"{:.1}\" fill=\"#555\" text-anchor=\"end\">the mesh</text>\n",
-            h - bottom,
             mx - 4.0,
             top + 14.0
         );
@@ -455,11 +505,7 @@ impl RateDistortion {
             } else {
                 ""
             };
-            let mut pts: Vec<(f64, f64)> = pts
-                .iter()
-                .copied()
-                .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
-                .collect();
+            let mut pts: Vec<(f64, f64)> = pts.iter().copied().filter(finite).collect();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
             if !pts.is_empty() {
                 let path: Vec<String> = pts
@@ -491,10 +537,28 @@ impl RateDistortion {
                 esc(name)
             );
         }
-        s += "</svg>\n";
         s
     }
 }
+
+/// The distance a panel of the plot shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Distance {
+    Hausdorff,
+    Rms,
+}
+
+impl Distance {
+    fn name(self) -> &'static str {
+        match self {
+            Distance::Hausdorff => "Hausdorff",
+            Distance::Rms => "RMS",
+        }
+    }
+}
+
+/// A curve of the plot: name, colour, dashed, `(bytes, distance in percent)`.
+type Series = (&'static str, &'static str, bool, Vec<(f64, f64)>);
 
 #[cfg(test)]
 mod tests {

@@ -914,6 +914,8 @@ fn a_sweep_writes_bytes_against_distances_beside_decimation() {
                 // (pack.rs): allow four.
                 let moved = (num("packed_hausdorff_percent") - num("hausdorff_percent")).abs();
                 assert!(moved <= t / 16.0, "{text}");
+                let moved = (num("packed_rms_percent") - num("rms_percent")).abs();
+                assert!(moved <= t / 16.0, "{text}");
                 assert!(num("packed_bytes") < num("f64_bytes"), "{text}");
                 assert!(num("toml_gz_bytes") < num("toml_bytes"), "{text}");
             }
@@ -929,6 +931,9 @@ fn a_sweep_writes_bytes_against_distances_beside_decimation() {
     let plot = std::fs::read_to_string(&svg).unwrap();
     assert!(plot.starts_with("<svg") && plot.trim_end().ends_with("</svg>"));
     assert!(plot.contains("decimation, packed") && plot.contains("PDE patches, packed"));
+    // Two panels: bytes against the Hausdorff and against the RMS distance.
+    assert!(plot.contains("Hausdorff distance, %") && plot.contains("RMS distance, %"));
+    assert_eq!(plot.matches("PDE patches, packed").count(), 2);
     // A tolerance outside (0, 1): one line naming it, exit 2, nothing written.
     let bad = dir.path().join("bad.csv");
     let out = pdeshape(&["fit", s(&mesh), "--sweep", "0.02,1.5", "-o", s(&bad)]);

@@ -6,7 +6,9 @@
 //! (`bench/peers/decimate_rate.py`) to compare at equal bytes and equal error.
 //!
 //! Usage: `cargo bench -p pdeshape --bench fit_general_bench -- [DIR] [--large]` (`--large`
-//! adds a torus of about 100 000 triangles).
+//! adds the smooth meshes finely tessellated: a torus of about 100 000 triangles, a double
+//! torus of about 90 000 and a half torus of about 50 000, whose facets lie far closer to the
+//! implicit surface than the fits do).
 
 use pdeshape::fit::{fit_measured, InputMesh, ModeChoice, Request};
 use pdeshape::spec::write_design;
@@ -40,6 +42,8 @@ fn main() {
     ];
     if large {
         cases.push(("torus_large", implicit::torus(84)));
+        cases.push(("double_torus_large", implicit::double_torus(100)));
+        cases.push(("half_torus_large", implicit::half_torus(84)));
     }
     println!(
         "| mesh | triangles | faces | Hausdorff / diag | RMS / diag | TOML bytes | mesh bytes (12V + 12T) | fit |"
