@@ -43,7 +43,7 @@ def fit(
     """Fits PDE patches to a triangle mesh, as ``pdeshape fit MESH -o design.toml --json
     report.json`` does (with ``--tolerance``, ``--sections``, ``--mode`` and ``--best-effort``).
 
-    ``mesh``: the path of an OBJ, STL or PLY file, or its bytes with ``name`` a file name whose
+    ``mesh``: the path of an OBJ, STL, PLY or OFF file, or its bytes with ``name`` a file name whose
     extension gives the format. ``tolerance``: the largest two-sided Hausdorff distance between
     the mesh and the fit, relative to the mesh's bounding-box diagonal (default 0.02; the tube
     and sheet modes then refine their sections to 0.002). ``sections``: a fixed number of
@@ -88,7 +88,7 @@ def fill(
     """Fills the holes of a triangle mesh with PDE patches, as ``pdeshape fill MESH -o OUT
     --design D.toml`` does.
 
-    ``mesh``: the path of an OBJ, STL or PLY file, its bytes with ``name`` a file name whose
+    ``mesh``: the path of an OBJ, STL, PLY or OFF file, its bytes with ``name`` a file name whose
     extension gives the format, or a pair ``(positions, triangles)`` of arrays (n × 3 floats,
     m × 3 vertex indices from 0). ``continuity``: ``"g1"`` (tangent to the mesh), ``"g2"`` or
     ``"g0"``; ``largest``: only the K longest holes; ``max_boundary``: only the holes of at most

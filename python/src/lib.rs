@@ -1602,7 +1602,7 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
 
 /// Fits PDE patches to a triangle mesh as `pdeshape fit MESH -o design.toml --json r.json
 /// [--tolerance T] [--sections N] [--mode M] [--best-effort]` does: `data` are the bytes of an
-/// OBJ, STL or PLY file, `name` its file name (the extension gives the format; errors name it).
+/// OBJ, STL, PLY or OFF file, `name` its file name (the extension gives the format; errors name it).
 /// The mode and its fallback, the tolerance and the measures are the library's
 /// ([`fit::fit_measured`]). Returns the fitted design (its text is the `-o` file) and the
 /// report of `--json` as a dict (without `timings_ms`); a fit that misses the tolerance raises
@@ -1631,11 +1631,7 @@ fn fit_mesh<'py>(
         .extension()
         .and_then(|e| e.to_str())
         .and_then(fit::MeshFormat::from_extension)
-        .ok_or_else(|| {
-            err(format!(
-                "{name}: unknown mesh format (the extension must be obj, stl or ply)"
-            ))
-        })?;
+        .ok_or_else(|| err(fit::MeshFormat::unknown(name)))?;
     let file_name = Path::new(name)
         .file_name()
         .map(|n| n.to_string_lossy().to_string())
@@ -1691,7 +1687,7 @@ fn fit_mesh<'py>(
 }
 
 /// Fills the holes of a triangle mesh with PDE patches as `pdeshape fill MESH -o OUT --design
-/// D.toml` does. The mesh is `data` (the bytes of an OBJ, STL or PLY file, `name` its file
+/// D.toml` does. The mesh is `data` (the bytes of an OBJ, STL, PLY or OFF file, `name` its file
 /// name) or `positions` (n × 3) and `triangles` (m × 3, from 0). Returns a dict: `vertices`
 /// and `faces` (numpy arrays: the mesh's, then the fill's), `mesh_faces` (how many faces are
 /// the mesh's), `open_edges`, `holes_found`, `holes` (one dict per filled hole) and `design`
@@ -1735,11 +1731,7 @@ fn fill_mesh<'py>(
                 .extension()
                 .and_then(|e| e.to_str())
                 .and_then(fit::MeshFormat::from_extension)
-                .ok_or_else(|| {
-                    err(format!(
-                        "{name}: unknown mesh format (the extension must be obj, stl or ply)"
-                    ))
-                })?;
+                .ok_or_else(|| err(fit::MeshFormat::unknown(name)))?;
             fit::InputMesh::read(&data, format).map_err(|e| err(format!("{name}: {e}")))?
         }
         (None, Some(p), Some(t)) => {

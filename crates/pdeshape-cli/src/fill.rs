@@ -1,4 +1,4 @@
-//! `pdeshape fill MESH -o OUT`: fill the holes of a triangle mesh (obj, stl, ply) with PDE
+//! `pdeshape fill MESH -o OUT`: fill the holes of a triangle mesh (obj, stl, ply, off) with PDE
 //! patches G1 to the mesh, welded in; write the mesh (obj, stl, ply or glb by extension),
 //! print one line per hole and whether the result is watertight.
 
@@ -13,7 +13,7 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one manifold, consistently
+    /// The mesh: an OBJ, STL (binary or ASCII), PLY or OFF file of one manifold, consistently
     /// oriented surface with holes.
     pub mesh: PathBuf,
     /// The filled mesh (obj, stl, ply or glb, by extension).

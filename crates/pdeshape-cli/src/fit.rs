@@ -1,4 +1,4 @@
-//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply): a
+//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply, off): a
 //! closed one by the tube mode, an open one by the sheet mode, any other manifold mesh by the
 //! general mode (a layout of n-sided patches, G1 across its edges), or any as a template says;
 //! write the design, print the two-sided distances and the compression ratio. A fit that misses
@@ -12,7 +12,7 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The mesh: an OBJ, STL (binary or ASCII) or PLY file of one surface: closed (fitted along
+    /// The mesh: an OBJ, STL (binary or ASCII), PLY or OFF file of one surface: closed (fitted along
     /// its main axis, poles at both ends) or open (a sheet, fitted by profiles across it).
     pub mesh: PathBuf,
     /// The fitted design file (TOML).
@@ -368,11 +368,7 @@ pub(crate) fn input_format(path: &std::path::Path, shown: &str) -> Result<MeshFo
     path.extension()
         .and_then(|e| e.to_str())
         .and_then(MeshFormat::from_extension)
-        .ok_or_else(|| {
-            CliError::input(format!(
-                "{shown}: unknown mesh format (the extension must be obj, stl or ply)"
-            ))
-        })
+        .ok_or_else(|| CliError::input(MeshFormat::unknown(shown)))
 }
 
 pub(crate) fn read_mesh_bytes(path: &std::path::Path, shown: &str) -> Result<Vec<u8>, CliError> {

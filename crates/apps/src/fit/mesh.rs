@@ -1,4 +1,5 @@
-//! Triangle meshes read from OBJ, STL and PLY files (through `tobj`, `stl_io` and `ply-rs`), and
+//! Triangle meshes read from OBJ, STL, PLY and OFF files (through `tobj`, `stl_io` and `ply-rs`;
+//! OFF, a few lines of text, by [`read_off`]), and
 //! the checks the fitting needs: finite coordinates, valid indices, a size limit, edge
 //! manifoldness, closedness and connectedness. An OBJ file of several objects or groups (the
 //! tool's own OBJ has one object per patch, Blender writes one per object) is read as one mesh
@@ -12,7 +13,7 @@ use std::io::Cursor;
 /// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
 pub const MAX_TRIANGLES: usize = 4_000_000;
 
-/// An indexed triangle mesh read for fitting (OBJ, STL, PLY), with its topology checks; the
+/// An indexed triangle mesh read for fitting (OBJ, STL, PLY, OFF), with its topology checks; the
 /// design layer's [`crate::mesh::TriMesh`] is the mesh a design is written as.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputMesh {
@@ -44,17 +45,32 @@ pub enum MeshFormat {
     Stl,
     /// PLY (`.ply`).
     Ply,
+    /// Object File Format (`.off`), as text.
+    Off,
 }
 
 impl MeshFormat {
-    /// The format named by a file extension (`obj`, `stl`, `ply`, any case).
+    /// The extensions [`MeshFormat::from_extension`] knows, in words for messages.
+    pub const EXTENSIONS: &'static str = "obj, stl, ply or off";
+
+    /// The format named by a file extension (`obj`, `stl`, `ply`, `off`, any case).
     pub fn from_extension(ext: &str) -> Option<Self> {
         match ext.to_ascii_lowercase().as_str() {
             "obj" => Some(MeshFormat::Obj),
             "stl" => Some(MeshFormat::Stl),
             "ply" => Some(MeshFormat::Ply),
+            "off" => Some(MeshFormat::Off),
             _ => None,
         }
+    }
+
+    /// The message for a file whose extension names no mesh format: `{shown}: unknown mesh
+    /// format (…)`.
+    pub fn unknown(shown: &str) -> String {
+        format!(
+            "{shown}: unknown mesh format (the extension must be {})",
+            Self::EXTENSIONS
+        )
     }
 }
 
@@ -159,6 +175,10 @@ impl InputMesh {
             }
             MeshFormat::Ply => {
                 let (p, t) = read_ply(bytes)?;
+                (p, t, 1)
+            }
+            MeshFormat::Off => {
+                let (p, t) = read_off(bytes)?;
                 (p, t, 1)
             }
         };
@@ -713,6 +733,171 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     Ok((positions, triangles))
 }
 
+/// The positions and triangles of an OFF file as text: a header line whose keyword ends in
+/// `OFF` (`OFF`, or `COFF`, `NOFF`, `STOFF`, … whose vertices carry colours, normals or texture
+/// coordinates after their three coordinates, which are not read), the counts of vertices,
+/// faces and (optionally) edges on the same line or the next, one vertex per line, then one
+/// face per line: its corner count `n`, `n` indices from 0, and anything after them (a colour)
+/// not read. `#` starts a comment; blank lines are skipped. Faces of more than three corners
+/// are split into fans, faces of fewer skipped (points and segments, as OBJ's are). Binary OFF
+/// and the `4OFF` and `nOFF` variants (points of other dimensions) are refused. Errors name the
+/// file's line.
+fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
+    let bad = |line: usize, what: String| {
+        Error::invalid(format!("not a readable OFF file: line {line}: {what}"))
+    };
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let line = 1 + bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        bad(
+            line,
+            "not text (binary OFF is not read: write it as text)".into(),
+        )
+    })?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.split('#').next().unwrap_or("").trim()))
+        .filter(|(_, l)| !l.is_empty());
+    let (at, header) = lines
+        .next()
+        .ok_or_else(|| Error::invalid("not a readable OFF file: the file is empty"))?;
+    let mut words = header.split_whitespace();
+    let keyword = words.next().unwrap_or("");
+    let prefix = keyword.strip_suffix("OFF").ok_or_else(|| {
+        bad(
+            at,
+            format!(
+                "the file starts with '{}', not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
+                crate::spec::words::user_text(keyword)
+            ),
+        )
+    })?;
+    if prefix.contains('4') || prefix.contains('n') {
+        return Err(bad(
+            at,
+            format!("{keyword}: points of other than three coordinates are not read"),
+        ));
+    }
+    if !prefix.chars().all(|c| matches!(c, 'S' | 'T' | 'C' | 'N')) {
+        return Err(bad(
+            at,
+            format!(
+                "'{}' is not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
+                crate::spec::words::user_text(keyword)
+            ),
+        ));
+    }
+    let mut rest: Vec<&str> = words.collect();
+    if rest.first() == Some(&"BINARY") {
+        return Err(bad(at, "binary OFF is not read: write it as text".into()));
+    }
+    let mut counts_at = at;
+    if rest.is_empty() {
+        let (l, c) = lines
+            .next()
+            .ok_or_else(|| bad(at, "no counts of vertices and faces follow".into()))?;
+        counts_at = l;
+        rest = c.split_whitespace().collect();
+    }
+    let count = |k: usize, what: &str| -> Result<usize> {
+        let w = rest
+            .get(k)
+            .ok_or_else(|| bad(counts_at, format!("no count of {what}")))?;
+        let n: usize = w.parse().map_err(|_| {
+            bad(
+                counts_at,
+                format!(
+                    "the count of {what} '{}' is not a whole number",
+                    crate::spec::words::user_text(w)
+                ),
+            )
+        })?;
+        // Every vertex and face takes a line of at least two bytes.
+        if n > bytes.len() / 2 {
+            return Err(bad(
+                counts_at,
+                format!(
+                    "{n} {what} announced, more than its {} bytes can hold",
+                    bytes.len()
+                ),
+            ));
+        }
+        Ok(n)
+    };
+    let (nv, nf) = (count(0, "vertices")?, count(1, "faces")?);
+    check_count(nf)?;
+    check_memory(bytes, nv + nf)?;
+    let number = |line: usize, w: &str, what: &str| -> Result<f64> {
+        w.parse::<f64>().map_err(|_| {
+            bad(
+                line,
+                format!(
+                    "{what}: '{}' is not a number",
+                    crate::spec::words::user_text(w)
+                ),
+            )
+        })
+    };
+    let mut positions = Vec::with_capacity(nv);
+    for k in 0..nv {
+        let (l, v) = lines
+            .next()
+            .ok_or_else(|| bad(at, format!("the file ends after {k} of its {nv} vertices")))?;
+        let w: Vec<&str> = v.split_whitespace().take(3).collect();
+        if w.len() < 3 {
+            return Err(bad(
+                l,
+                format!("vertex {k} has fewer than three coordinates"),
+            ));
+        }
+        let what = format!("vertex {k}");
+        positions.push(Vec3::new(
+            number(l, w[0], &what)?,
+            number(l, w[1], &what)?,
+            number(l, w[2], &what)?,
+        ));
+    }
+    let mut triangles = Vec::with_capacity(nf);
+    let mut corners = Vec::new();
+    for k in 0..nf {
+        let (l, f) = lines
+            .next()
+            .ok_or_else(|| bad(at, format!("the file ends after {k} of its {nf} faces")))?;
+        let mut w = f.split_whitespace();
+        let n: usize = w
+            .next()
+            .and_then(|x| x.parse().ok())
+            .ok_or_else(|| bad(l, format!("face {k} does not start with its corner count")))?;
+        corners.clear();
+        for _ in 0..n {
+            let x = w
+                .next()
+                .ok_or_else(|| bad(l, format!("face {k} has fewer than its {n} corner indices")))?;
+            let i: u32 = x.parse().map_err(|_| {
+                bad(
+                    l,
+                    format!(
+                        "face {k}: '{}' is not a vertex index",
+                        crate::spec::words::user_text(x)
+                    ),
+                )
+            })?;
+            if i as usize >= nv {
+                return Err(bad(
+                    l,
+                    format!("face {k} refers to vertex {i} but the file has {nv} vertices (counted from 0)"),
+                ));
+            }
+            corners.push(i);
+        }
+        fan(&mut triangles, &corners);
+    }
+    Ok((positions, triangles))
+}
+
 /// A mesh reader's message on one line in plain words: its first line, the Rust number types
 /// it names (`vertex f32 f32 f32`) called numbers, long quoted values shortened.
 fn reader_message(raw: &str) -> String {
@@ -833,6 +1018,84 @@ mod tests {
         for word in ["f32", "Infinite", "expected"] {
             assert!(!e.contains(word), "{word} in {e}");
         }
+    }
+
+    /// An OFF file as CGAL's and Princeton's data write them: a `COFF` header, counts on the
+    /// next line, colours after the coordinates and after a face's indices, comments and blank
+    /// lines; a quadrilateral is split into a fan. The tetrahedron is read as [`tetra`] is.
+    #[test]
+    fn off_files_are_read_with_their_colours_and_comments_ignored() {
+        let off = "COFF # a tetrahedron\n\n4 5 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n\
+                   0 1 0 0 0 255 255\n  0 0 1 9 9 9 255\n# faces\n3 0 2 1 200 200 200\n\
+                   3 0 1 3\n3 1 2 3\n3 0 3 2\n2 0 1\n";
+        let m = InputMesh::read(off.as_bytes(), MeshFormat::Off).unwrap();
+        assert_eq!(m, tetra());
+        let quad = "OFF 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+        let m = InputMesh::read(quad.as_bytes(), MeshFormat::Off).unwrap();
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(MeshFormat::from_extension("OFF"), Some(MeshFormat::Off));
+    }
+
+    /// Damaged OFF files: one line naming the file's line and what is wrong there.
+    #[test]
+    fn off_read_errors_name_the_line() {
+        let cases = [
+            ("", "the file is empty"),
+            (
+                "PLY\n",
+                "line 1: the file starts with 'PLY', not an OFF keyword",
+            ),
+            (
+                "4OFF\n1 0 0\n",
+                "line 1: 4OFF: points of other than three coordinates",
+            ),
+            ("OFF BINARY\n", "line 1: binary OFF is not read"),
+            ("OFF\n3\n", "line 2: no count of faces"),
+            (
+                "OFF\n3 x 0\n",
+                "line 2: the count of faces 'x' is not a whole number",
+            ),
+            (
+                "OFF\n99999 1 0\n",
+                "line 2: 99999 vertices announced, more than its",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0\n0 1 0\n3 0 1 2\n",
+                "line 4: vertex 1 has fewer than three coordinates",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 zero\n0 1 0\n3 0 1 2\n",
+                "line 4: vertex 1: 'zero' is not a number",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+                "line 6: face 0 refers to vertex 3 but the file has 3 vertices",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
+                "line 6: face 0: '-1' is not a vertex index",
+            ),
+            (
+                "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                "the file ends after 1 of its 2 faces",
+            ),
+            (
+                "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n",
+                "line 6: face 0 has fewer than its 3 corner indices",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = InputMesh::read(text.as_bytes(), MeshFormat::Off)
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with("not a readable OFF file: "), "{e}");
+            assert!(e.contains(want), "{text:?}: {e}");
+            assert!(!e.contains('\n'), "{e}");
+        }
+        let e = InputMesh::read(b"OFF\n\xff\xfe", MeshFormat::Off)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2: not text"), "{e}");
     }
 
     fn tetra() -> InputMesh {

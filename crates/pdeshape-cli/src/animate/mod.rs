@@ -42,7 +42,7 @@ pub(crate) struct Args {
     /// Multiply every position by this factor (finite, positive).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
-    /// Re-target the motion onto this triangle mesh (OBJ, STL or PLY, in the design's units):
+    /// Re-target the motion onto this triangle mesh (OBJ, STL, PLY or OFF, in the design's units):
     /// each vertex follows its closest point on the design at the first frame.
     #[arg(long)]
     pub retarget: Option<PathBuf>,

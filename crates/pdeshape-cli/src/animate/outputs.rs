@@ -28,10 +28,10 @@ pub(super) fn check(args: &Args) -> Result<(), CliError> {
         (Some(m), Some(o)) => {
             let ext = m.extension().and_then(|e| e.to_str()).unwrap_or("");
             if MeshFormat::from_extension(&ext.to_ascii_lowercase()).is_none() {
-                return Err(CliError::input(format!(
-                    "--retarget {}: must end in .obj, .stl or .ply",
+                return Err(CliError::input(MeshFormat::unknown(&format!(
+                    "--retarget {}",
                     m.display()
-                )));
+                ))));
             }
             if !extension_is(o, "glb") {
                 return Err(CliError::input(format!(

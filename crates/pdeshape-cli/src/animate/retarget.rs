@@ -19,7 +19,7 @@ fn read_mesh(path: &Path) -> Result<InputMesh, CliError> {
         .unwrap_or("")
         .to_ascii_lowercase();
     let format = MeshFormat::from_extension(&ext)
-        .ok_or_else(|| CliError::input(format!("--retarget {shown}: unknown mesh format")))?;
+        .ok_or_else(|| CliError::input(MeshFormat::unknown(&format!("--retarget {shown}"))))?;
     InputMesh::read(&bytes, format).map_err(|e| CliError::input(format!("--retarget {shown}: {e}")))
 }
 

@@ -146,6 +146,71 @@ fn fit_writes_a_design_that_surface_reads() {
     );
 }
 
+/// `obj` (vertices and triangles only) as an OFF text, with a colour after every vertex and a
+/// comment, as CGAL's data files are written. The OBJ reader keeps single precision, the OFF
+/// reader double: each coordinate is written as the single-precision value the OBJ reader gets.
+fn off_of(obj: &str) -> String {
+    let v: Vec<&str> = obj.lines().filter_map(|l| l.strip_prefix("v ")).collect();
+    let f: Vec<Vec<usize>> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("f "))
+        .map(|l| {
+            l.split(' ')
+                .map(|i| i.parse::<usize>().unwrap() - 1)
+                .collect()
+        })
+        .collect();
+    let mut out = format!("COFF\n# converted\n{} {} 0\n", v.len(), f.len());
+    for p in v {
+        let c: Vec<String> = p
+            .split(' ')
+            .map(|x| (x.parse::<f32>().unwrap() as f64).to_string())
+            .collect();
+        out += &format!("{} 128 128 128 255\n", c.join(" "));
+    }
+    for t in f {
+        out += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+    }
+    out
+}
+
+/// An OFF file is read as the same mesh as the OBJ it was made from: the designs differ only in
+/// their titles. A damaged one gets one line naming its line, exit 2 and no file.
+#[test]
+fn off_meshes_fit_like_the_same_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = ellipsoid_obj(24, 32);
+    let obj = write(dir.path(), "egg.obj", &text);
+    let off = write(dir.path(), "egg.off", &off_of(&text));
+    let (a, b) = (dir.path().join("a.toml"), dir.path().join("b.toml"));
+    for (mesh, design) in [(&obj, &a), (&off, &b)] {
+        let out = pdeshape(&["fit", s(mesh), "-o", s(design), "-q"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let body = |p: &std::path::Path| {
+        let t = std::fs::read_to_string(p).unwrap();
+        t.split_once('\n').unwrap().1.to_string()
+    };
+    assert!(
+        body(&a) == body(&b),
+        "the OFF file's design differs from the OBJ's"
+    );
+    let broken = off_of(&text).replacen("3 0 ", "3 0 x", 1);
+    bad_mesh(
+        "broken.off",
+        broken.as_bytes(),
+        &[
+            "broken.off",
+            "not a readable OFF file: line",
+            "is not a vertex index",
+        ],
+    );
+}
+
 #[test]
 fn quiet_fit_prints_nothing() {
     let dir = tempfile::tempdir().unwrap();

@@ -16,7 +16,7 @@ fn main() -> Result<(), String> {
         .extension()
         .and_then(|e| e.to_str())
         .and_then(MeshFormat::from_extension)
-        .ok_or("mesh: extension must be obj, stl or ply")?;
+        .ok_or("mesh: extension must be obj, stl, ply or off")?;
     let bytes = std::fs::read(&args[1]).map_err(|e| e.to_string())?;
     let mesh = InputMesh::read(&bytes, format).map_err(|e| e.to_string())?;
     let index = MeshDistance::new(&mesh);
