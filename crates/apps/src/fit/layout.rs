@@ -879,7 +879,7 @@ pub(super) fn hermite(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
         + d1 * (t3 - t2)
 }
 
-fn hermite_tangent(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
+pub(super) fn hermite_tangent(p0: Vec3, p1: Vec3, d0: Vec3, d1: Vec3, t: f64) -> Vec3 {
     let t2 = t * t;
     p0 * (6.0 * t2 - 6.0 * t)
         + p1 * (-6.0 * t2 + 6.0 * t)

@@ -2,17 +2,26 @@
 //! tolerance allows, beside the TOML text and the plain `f64` count.
 //!
 //! Only the `[[patchwork]]` tables of the general mode are quantised (the tube and sheet
-//! modes write a few hundred numbers, counted at 8 bytes each). Per patchwork:
+//! modes write a few hundred numbers, counted at 8 bytes each). A patchwork's numbers are
+//! stored without the ones its other numbers determine:
 //!
-//! - corners and edge tangents (lengths): each an integer multiple of the step `s`, stored as
-//!   its offset from the smallest in `⌈log₂(range/s + 1)⌉` bits, one width per table (corners,
-//!   tangents), with that smallest value and the width in the header;
-//! - normals (corner normals and the edge samples, directions only): octahedral coordinates
-//!   (the unit sphere unfolded onto the square `|x| + |y| ≤ 1` and its folded corners), two
-//!   integers of `b` bits;
-//! - corner indices (edge ends, face loops): `⌈log₂ V⌉` bits each, a face's side count in 3
-//!   bits, an edge's sample count in 5 bits and its crease flag in 1 bit;
-//! - the name, the counts and `order`, `a`, `degree` in a header of whole bytes.
+//! - corners: each coordinate an integer multiple of the step `s`, stored as its offset from
+//!   the smallest in `⌈log₂(range/s + 1)⌉` bits, one width for the table, the smallest value and
+//!   the width in the header;
+//! - corner normals (directions only): octahedral coordinates (the unit sphere unfolded onto
+//!   the square `|x| + |y| ≤ 1` and its folded corners), two integers of `b` bits;
+//! - edge tangents: a fit's lie in their corners' tangent planes, so each is two coordinates in
+//!   a frame of the plane of the *decoded* corner normal (`plane_frame`), multiples of `s` in
+//!   one table as the corners are (three coordinates each when some tangent leaves its plane);
+//! - an edge's inner normal samples: the design makes each normal to the curve
+//!   (`design/patchwork.rs`), so each is one angle about the decoded curve's tangent, from the
+//!   decoded corner normals blended linearly along the edge and made normal to the curve, in
+//!   `b + 2` bits over the full turn;
+//! - connectivity: a face's side count in 3 bits and its corners in `⌈log₂ V⌉` bits each; an
+//!   edge's sample count in 5 bits and its crease flag in 1; its ends only when some edge is
+//!   no face's side (otherwise the edges are stored in the order and direction in which the
+//!   faces' sides first appear, a reversed edge's tangents swapped and negated, exactly);
+//! - the name, the counts, `order`, `a`, `degree`, `b` and two flags in a header of whole bytes.
 //!
 //! [`pack`] returns that size with the design as a decoder would restore it (every quantised
 //! number replaced by its quantised value), so the cost of quantising is measured, not
@@ -20,14 +29,18 @@
 //! tolerance · diagonal / 64` ([`STEP_FRACTION`]), or [`GAP_FRACTION`] of the shortest distance
 //! between two corners of a face or edge tangent when that is smaller (a corner then moves by at
 //! most `√3/16` of that distance, so no two corners of a face become one point and no tangent
-//! becomes 0: a layout refined at a spot can have corners far closer than the tolerance); a corner moves by at most `√3 s / 2`, a
-//! Hermite edge by at most `(1 + 4/27)·√3 s / 2`, and `b = ⌈log₂(diagonal / s)⌉ + 1` keeps a
-//! normal's angle error (at most about `2.2 / 2ᵇ` rad) times the diagonal below `s`, so the
-//! quantised fit stays within a few steps (a few percent of the tolerance) of the fit. The
-//! size is computed, not written: no file format is defined for it.
+//! becomes 0: a layout refined at a spot can have corners far closer than the tolerance). A
+//! corner moves by at most `√3 s / 2`; `b = ⌈log₂(diagonal / s)⌉ + 3` keeps a corner normal's
+//! angle error (at most `3√2 / (2ᵇ − 1)` rad) times the diagonal below `s`, so a tangent turns
+//! with its frame by less than `s` over its length and moves by at most `√2 s / 2` in it; a
+//! sample's angle moves by at most `π / 2ᵇ⁺²`. The quantised fit stays within a few steps (a
+//! few percent of the tolerance) of the fit. The size is computed, not written: no file
+//! format is defined for it.
 
+use super::layout::hermite_tangent;
 use crate::spec::{DesignSpec, PatchworkSpec};
-use crate::{Error, Result};
+use crate::{Error, Result, Vec3};
+use pdeshape_geometry::network::{lobatto, normal_to};
 
 /// The step of the lengths as a fraction of `tolerance · diagonal`.
 pub const STEP_FRACTION: f64 = 1.0 / 64.0;
@@ -142,42 +155,137 @@ fn shortest_length(p: &PatchworkSpec) -> f64 {
     gap
 }
 
-/// One patchwork quantised: `(bits, header bytes)`, the table changed in place.
+/// An orthonormal pair spanning the plane normal to the unit vector `n`, the same for the same
+/// `n` (the encoder's and a decoder's frame of a corner's tangents).
+fn plane_frame(n: Vec3) -> (Vec3, Vec3) {
+    let e1 = normal_to(
+        n,
+        if n.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        },
+    );
+    (e1, n.cross(&e1))
+}
+
+/// Whether every edge tangent of `p` lies in its corner's tangent plane (to rounding), as a
+/// fit's do by construction.
+fn tangents_in_planes(p: &PatchworkSpec) -> bool {
+    p.edges.iter().all(|e| {
+        e.ends.iter().zip(&e.tangents).all(|(&c, t)| {
+            let (n, t) = (vec3(p.normals[c]), vec3(*t));
+            n.dot(&t).abs() <= 1e-9 * n.norm() * t.norm()
+        })
+    })
+}
+
+/// Whether every edge of `p` is a side of some face (its ends and direction then follow from
+/// the faces' corner loops: the order and direction in which the sides first appear).
+fn edges_from_faces(p: &PatchworkSpec) -> bool {
+    let mut sides = std::collections::HashSet::new();
+    for f in &p.faces {
+        for (k, &a) in f.iter().enumerate() {
+            let b = f[(k + 1) % f.len()];
+            sides.insert((a.min(b), a.max(b)));
+        }
+    }
+    p.edges
+        .iter()
+        .all(|e| sides.contains(&(e.ends[0].min(e.ends[1]), e.ends[0].max(e.ends[1]))))
+}
+
+fn vec3(a: [f64; 3]) -> Vec3 {
+    Vec3::new(a[0], a[1], a[2])
+}
+
+/// One patchwork quantised (module documentation): `(bits, header bytes)`, the table changed
+/// in place to what a decoder restores.
 fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, usize) {
+    let in_planes = tangents_in_planes(p);
+    let implied = edges_from_faces(p);
     let flat: Vec<f64> = p.points.iter().flatten().copied().collect();
     let (mut bits, mut header, q) = lengths(&flat, step);
     for (k, x) in q.into_iter().enumerate() {
         p.points[k / 3][k % 3] = x;
     }
-    let flat: Vec<f64> = p
-        .edges
-        .iter()
-        .flat_map(|e| e.tangents.iter().flatten().copied())
-        .collect();
-    let (b, h, q) = lengths(&flat, step);
-    bits += b;
-    header += h;
-    for (k, x) in q.into_iter().enumerate() {
-        p.edges[k / 6].tangents[(k / 3) % 2][k % 3] = x;
-    }
-    let per_normal = 2 * normal_bits as u64;
     for n in p.normals.iter_mut() {
         *n = octahedral(*n, normal_bits);
-        bits += per_normal;
+        bits += 2 * normal_bits as u64;
+    }
+    // Tangents: two coordinates in the plane of the decoded corner normal, or three.
+    let ends: Vec<(usize, usize, usize)> = p
+        .edges
+        .iter()
+        .enumerate()
+        .flat_map(|(e, edge)| (0..2).map(move |k| (e, k, edge.ends[k])))
+        .collect();
+    if in_planes {
+        let mut flat = Vec::with_capacity(2 * ends.len());
+        for &(e, k, c) in &ends {
+            let (e1, e2) = plane_frame(vec3(p.normals[c]));
+            let t = vec3(p.edges[e].tangents[k]);
+            flat.extend([t.dot(&e1), t.dot(&e2)]);
+        }
+        let (b, h, q) = lengths(&flat, step);
+        bits += b;
+        header += h;
+        for (i, &(e, k, c)) in ends.iter().enumerate() {
+            let (e1, e2) = plane_frame(vec3(p.normals[c]));
+            let t = e1 * q[2 * i] + e2 * q[2 * i + 1];
+            p.edges[e].tangents[k] = [t.x, t.y, t.z];
+        }
+    } else {
+        let flat: Vec<f64> = p
+            .edges
+            .iter()
+            .flat_map(|e| e.tangents.iter().flatten().copied())
+            .collect();
+        let (b, h, q) = lengths(&flat, step);
+        bits += b;
+        header += h;
+        for (k, x) in q.into_iter().enumerate() {
+            p.edges[k / 6].tangents[(k / 3) % 2][k % 3] = x;
+        }
+    }
+    // An edge's inner normals: one angle each about the decoded curve's tangent, from the
+    // corners' normals blended linearly and made normal to the curve.
+    let angle_bits = normal_bits + 2;
+    let levels = (1u64 << angle_bits) as f64;
+    for e in p.edges.iter_mut() {
+        let [a, b] = e.ends;
+        let (p0, p1) = (vec3(p.points[a]), vec3(p.points[b]));
+        let (d0, d1) = (vec3(e.tangents[0]), vec3(e.tangents[1]));
+        let (na, nb) = (vec3(p.normals[a]), vec3(p.normals[b]));
+        let m = e.normals.len() + 1;
+        for (j, n) in e.normals.iter_mut().enumerate() {
+            let s = lobatto(j + 1, m);
+            let t = hermite_tangent(p0, p1, d0, d1, s);
+            let t = if t.norm() > 0.0 {
+                t.normalize()
+            } else {
+                (p1 - p0).normalize()
+            };
+            let f1 = normal_to(t, na * (1.0 - s) + nb * s);
+            let f2 = t.cross(&f1);
+            let v = vec3(*n);
+            let turn = v.dot(&f2).atan2(v.dot(&f1));
+            let k = (turn / std::f64::consts::TAU * levels).round();
+            let turn = k / levels * std::f64::consts::TAU;
+            let q = f1 * turn.cos() + f2 * turn.sin();
+            *n = [q.x, q.y, q.z];
+            bits += angle_bits as u64;
+        }
     }
     let index = bits_for(p.points.len().saturating_sub(1) as u64).max(1) as u64;
-    for e in p.edges.iter_mut() {
-        for n in e.normals.iter_mut() {
-            *n = octahedral(*n, normal_bits);
-            bits += per_normal;
-        }
-        bits += 2 * index + 5 + 1;
-    }
+    // Per edge its sample count (5 bits) and crease flag; its ends when the faces do not give
+    // them.
+    bits += p.edges.len() as u64 * (5 + 1 + if implied { 0 } else { 2 * index });
     for f in &p.faces {
         bits += 3 + index * f.len() as u64;
     }
-    // Name, three counts, order, a, degree and the normals' width.
-    header += p.name.len() + 1 + 3 * 4 + 1 + 8 + 1 + 1;
+    // Name, three counts, order, a, degree, the normals' width and the two flags.
+    header += p.name.len() + 1 + 3 * 4 + 1 + 8 + 1 + 1 + 1;
     (bits, header)
 }
 
@@ -310,5 +418,101 @@ mod tests {
         // With the tolerance's step the two corners would be one point.
         let coarse = 0.5 * 1.5 * STEP_FRACTION;
         assert_eq!((1e-3 / coarse).round(), 0.0);
+    }
+
+    /// A flat square whose edges carry the tilted normal samples a fit gives them (normal to
+    /// the edge, turned about it): packed, every tangent stays in its decoded corner's plane
+    /// within its half step, every sample within half an angle step of its turn about the
+    /// edge, and the size is the module documentation's count, bit by bit. A tangent out of its
+    /// plane makes the tangents three coordinates again.
+    #[test]
+    fn tangents_are_two_coordinates_in_their_planes_and_samples_one_angle() {
+        use crate::spec::PatchworkEdgeSpec;
+        let points = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let turns = [0.3, -0.2, 0.1];
+        let edge = |a: usize, b: usize| {
+            let c: [f64; 3] = std::array::from_fn(|k| points[b][k] - points[a][k]);
+            // The unit normal turned by `turn` about the edge's direction `c`.
+            let side = Vec3::new(-c[1], c[0], 0.0);
+            let normals = turns
+                .iter()
+                .map(|&w| {
+                    let n = Vec3::z() * f64::cos(w) + side * f64::sin(w);
+                    [n.x, n.y, n.z]
+                })
+                .collect();
+            PatchworkEdgeSpec {
+                ends: [a, b],
+                tangents: [c, c],
+                normals,
+                crease: false,
+            }
+        };
+        let spec = DesignSpec {
+            patchwork: vec![PatchworkSpec {
+                name: "quad".to_string(),
+                order: 2,
+                a: 1.0,
+                degree: 6,
+                points: points.clone(),
+                normals: vec![[0.0, 0.0, 1.0]; 4],
+                edges: vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)],
+                faces: vec![vec![0, 1, 2, 3]],
+            }],
+            ..DesignSpec::default()
+        };
+        let (diagonal, tolerance) = (2f64.sqrt(), 0.01);
+        let packed = pack(&spec, diagonal, tolerance).unwrap();
+        let (s, b) = (packed.step, packed.normal_bits as u64);
+        assert!(!packed.step_by_corners);
+        let q = &packed.spec.patchwork[0];
+        let angle_step = std::f64::consts::TAU / (1u64 << (b + 2)) as f64;
+        for (e, (orig, got)) in spec.patchwork[0].edges.iter().zip(&q.edges).enumerate() {
+            for k in 0..2 {
+                let n = vec3(q.normals[got.ends[k]]);
+                let t = vec3(got.tangents[k]);
+                assert!(n.dot(&t).abs() <= 1e-12 * t.norm(), "edge {e}");
+                assert!((t - vec3(orig.tangents[k])).norm() <= s, "edge {e}");
+            }
+            // The curve's tangent at a sample, before and after: the sample is normal to it,
+            // so it turns with it besides its own half step.
+            let curve = |p: &PatchworkSpec, e: &PatchworkEdgeSpec, x: f64| {
+                let [a, b] = e.ends;
+                let (p0, p1) = (vec3(p.points[a]), vec3(p.points[b]));
+                hermite_tangent(p0, p1, vec3(e.tangents[0]), vec3(e.tangents[1]), x).normalize()
+            };
+            for (j, (a, m)) in orig.normals.iter().zip(&got.normals).enumerate() {
+                let (a, m) = (vec3(*a), vec3(*m));
+                assert!((m.norm() - 1.0).abs() < 1e-12);
+                let x = lobatto(j + 1, orig.normals.len() + 1);
+                let before = curve(&spec.patchwork[0], orig, x);
+                let turned = before.dot(&curve(q, got, x)).clamp(-1.0, 1.0).acos();
+                assert!(turned < 1e-3, "edge {e} sample {j}: {turned}");
+                let angle = a.dot(&m).clamp(-1.0, 1.0).acos();
+                assert!(
+                    angle <= angle_step / 2.0 + turned + 1e-12,
+                    "edge {e} sample {j}: {angle}"
+                );
+            }
+        }
+        // The count: corners (12 coordinates, range 1 in steps of s), 4 normals, 8 tangents of
+        // two coordinates (range from −1 to 1), 12 samples, 4 edges of 6 bits (no ends: the
+        // face gives them), one face of 3 + 4 · 2 bits.
+        let width = |range: f64| bits_for((range / s).round() as u64) as u64;
+        let bits = 12 * width(1.0) + 4 * 2 * b + 16 * width(2.0) + 12 * (b + 2) + 4 * 6 + 11;
+        let header = 9 + 9 + "quad".len() + 1 + 12 + 1 + 8 + 3;
+        assert_eq!(packed.bytes, header + bits.div_ceil(8) as usize);
+        // A tangent out of its plane: three coordinates for every tangent (8 more widths).
+        let mut tilted = spec.clone();
+        tilted.patchwork[0].edges[0].tangents[0][2] = 0.1;
+        let more = pack(&tilted, diagonal, tolerance).unwrap();
+        let extra = more.bytes as i64 - packed.bytes as i64;
+        assert!((extra * 8 - 8 * width(2.0) as i64).abs() <= 8, "{extra}");
+        crate::design::solve_design(&packed.spec).unwrap();
     }
 }

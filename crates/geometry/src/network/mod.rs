@@ -32,6 +32,7 @@
 mod faces;
 pub(crate) mod meet;
 mod normals;
+pub use normals::{lobatto, normal_to};
 #[cfg(test)]
 mod tests;
 

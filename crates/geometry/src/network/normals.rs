@@ -218,7 +218,7 @@ impl Frame {
 }
 
 /// `r` made unit and normal to the unit vector `t` (any normal if `r` is along `t`).
-fn normal_to(t: Vec3, r: Vec3) -> Vec3 {
+pub fn normal_to(t: Vec3, r: Vec3) -> Vec3 {
     let m = r - t * t.dot(&r);
     let len = m.norm();
     if len > 1e-12 * r.norm().max(1e-300) {
@@ -233,7 +233,7 @@ fn normal_to(t: Vec3, r: Vec3) -> Vec3 {
 }
 
 /// The `j`-th of `m + 1` Chebyshev–Lobatto points on `[0, 1]`, increasing.
-pub(crate) fn lobatto(j: usize, m: usize) -> f64 {
+pub fn lobatto(j: usize, m: usize) -> f64 {
     0.5 * (1.0 - (std::f64::consts::PI * j as f64 / m as f64).cos())
 }
 
