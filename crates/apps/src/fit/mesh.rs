@@ -556,7 +556,7 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
         positions.extend(
             m.positions
                 .chunks_exact(3)
-                .map(|c| Vec3::new(c[0] as f64, c[1] as f64, c[2] as f64)),
+                .map(|c| Vec3::new(c[0], c[1], c[2])),
         );
         let mut at = 0;
         let arities: Vec<u32> = if m.face_arities.is_empty() {
@@ -1096,6 +1096,22 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("line 2: not text"), "{e}");
+    }
+
+    /// OBJ coordinates are read in double precision: a scan in world coordinates (millions of
+    /// units from the origin, millimetre detail) keeps its detail (single precision would
+    /// round 10 000 000.123 to 10 000 000).
+    #[test]
+    fn obj_coordinates_keep_double_precision() {
+        let obj = "v 10000000.123 -30000000.5 5000000.25\nv 10000000.124 -30000000.5 5000000.25\n\
+                   v 10000000.123 -30000000.499 5000000.25\nf 1 2 3\n";
+        let m = InputMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(
+            m.positions[0],
+            Vec3::new(10000000.123, -30000000.5, 5000000.25)
+        );
+        assert_eq!(m.positions[1].x, 10000000.124);
+        assert_eq!(m.positions[2].y, -30000000.499);
     }
 
     fn tetra() -> InputMesh {

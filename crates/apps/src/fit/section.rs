@@ -292,10 +292,13 @@ impl Section {
                 "the section at height {h:.6} is a degenerate loop of {n} points"
             )));
         }
-        // 2-D coordinates and the area centroid of the polygon.
+        // 2-D coordinates and the area centroid of the polygon, from the loop's first point:
+        // the shoelace sums of coordinates far from the origin (a scan in world coordinates)
+        // would cancel catastrophically.
+        let o = ring[0];
         let xy: Vec<[f64; 2]> = ring
             .iter()
-            .map(|p| [p.dot(&frame.e1), p.dot(&frame.e2)])
+            .map(|p| [(p - o).dot(&frame.e1), (p - o).dot(&frame.e2)])
             .collect();
         let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
         for k in 0..n {
@@ -313,7 +316,8 @@ impl Section {
         let c = [cx / (3.0 * area), cy / (3.0 * area)];
         // Points of the plane from their 2-D coordinates.
         let lift = frame.axis * (h + frame.origin.dot(&frame.axis));
-        let to3 = |x: f64, y: f64| frame.e1 * x + frame.e2 * y + lift;
+        let (ox, oy) = (o.dot(&frame.e1), o.dot(&frame.e2));
+        let to3 = |x: f64, y: f64| frame.e1 * (x + ox) + frame.e2 * (y + oy) + lift;
         let centroid = to3(c[0], c[1]);
         let step = TAU / samples as f64;
         let mut radius = vec![f64::NAN; samples];
@@ -503,6 +507,28 @@ mod tests {
             }
         }
         assert_eq!(slicer.loops(1.5).unwrap().len(), 0);
+    }
+
+    /// A section is the same, moved, when its loop lies 10⁷ units from the origin (a scan in
+    /// world coordinates): its centroid and samples move with the loop, to rounding of the
+    /// coordinates' size.
+    #[test]
+    fn sections_far_from_the_origin_are_the_same_moved() {
+        let ring: Vec<Vec3> = (0..50)
+            .map(|k| {
+                let t = TAU * k as f64 / 50.0;
+                Vec3::new((1.0 + 0.2 * (3.0 * t).cos()) * t.cos(), 0.7 * t.sin(), 0.25)
+            })
+            .collect();
+        let shift = Vec3::new(1e7, -3e7, 0.0);
+        let far: Vec<Vec3> = ring.iter().map(|p| p + shift).collect();
+        let a = Section::from_loop(&ring, &z_frame(), 0.25, 64).unwrap();
+        let b = Section::from_loop(&far, &z_frame(), 0.25, 64).unwrap();
+        // Rounding of coordinates of 3·10⁷: about 4·10⁻⁹ each.
+        assert!((b.centroid - shift - a.centroid).norm() < 1e-7);
+        for (p, q) in a.points.iter().zip(&b.points) {
+            assert!((q - shift - p).norm() < 1e-7, "{p:?} {q:?}");
+        }
     }
 
     #[test]

@@ -147,8 +147,7 @@ fn fit_writes_a_design_that_surface_reads() {
 }
 
 /// `obj` (vertices and triangles only) as an OFF text, with a colour after every vertex and a
-/// comment, as CGAL's data files are written. The OBJ reader keeps single precision, the OFF
-/// reader double: each coordinate is written as the single-precision value the OBJ reader gets.
+/// comment, as CGAL's data files are written.
 fn off_of(obj: &str) -> String {
     let v: Vec<&str> = obj.lines().filter_map(|l| l.strip_prefix("v ")).collect();
     let f: Vec<Vec<usize>> = obj
@@ -162,11 +161,7 @@ fn off_of(obj: &str) -> String {
         .collect();
     let mut out = format!("COFF\n# converted\n{} {} 0\n", v.len(), f.len());
     for p in v {
-        let c: Vec<String> = p
-            .split(' ')
-            .map(|x| (x.parse::<f32>().unwrap() as f64).to_string())
-            .collect();
-        out += &format!("{} 128 128 128 255\n", c.join(" "));
+        out += &format!("{p} 128 128 128 255\n");
     }
     for t in f {
         out += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
@@ -199,7 +194,7 @@ fn off_meshes_fit_like_the_same_obj() {
         body(&a) == body(&b),
         "the OFF file's design differs from the OBJ's"
     );
-    let broken = off_of(&text).replacen("3 0 ", "3 0 x", 1);
+    let broken = off_of(&text).replacen("\n3 0 ", "\n3 0 x", 1);
     bad_mesh(
         "broken.off",
         broken.as_bytes(),

@@ -265,13 +265,14 @@ fn obj_reads_back_exactly() {
                     let i = i as usize;
                     let pi = t.indices[3 * k + c] as usize;
                     let ni = t.normal_indices[3 * k + c] as usize;
-                    let p = [0, 1, 2].map(|a| t.positions[3 * pi + a]);
-                    let n = [0, 1, 2].map(|a| t.normals[3 * ni + a]);
+                    // tobj parses in double precision; the file holds single-precision values.
+                    let p = [0, 1, 2].map(|a| t.positions[3 * pi + a] as f32);
+                    let n = [0, 1, 2].map(|a| t.normals[3 * ni + a] as f32);
                     assert_eq!(bits3(p), bits3(m.positions[i]), "{name}");
                     assert_eq!(bits3(n), bits3(m.normals[i]), "{name}");
                     if !m.uv.is_empty() {
                         let ti = t.texcoord_indices[3 * k + c] as usize;
-                        assert_eq!(t.texcoords[2 * ti], m.uv[i][0], "{name}");
+                        assert_eq!(t.texcoords[2 * ti] as f32, m.uv[i][0], "{name}");
                     }
                 }
             }
