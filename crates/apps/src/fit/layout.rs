@@ -1719,7 +1719,32 @@ fn fit_component(
     share: f64,
 ) -> Result<Component> {
     if mesh.triangles.len() <= PROXY_ABOVE {
-        return fit_rounds(mesh, opts, rounds, share, None);
+        let first = fit_rounds(mesh, opts, rounds, share, None);
+        let vertices = mesh.used_vertices().iter().filter(|&&u| u).count();
+        let missed = first.as_ref().map_or(true, |c| c.3.is_some());
+        if !missed || vertices >= SPLIT_BELOW {
+            return first;
+        }
+        // Too few vertices for the layout to place corners where the faces need them (a box,
+        // a capped cylinder): laid out again on the same surface with its triangles split,
+        // measured on the mesh itself. That fit is the answer when it meets the target (its
+        // layout may then have more faces than the mesh has triangles, which a note says);
+        // otherwise the first is, as without the split.
+        let (fine, splits) = split_until(mesh, SPLIT_BELOW)?;
+        let index = MeshDistance::new(mesh);
+        let tol = opts.target * mesh.diagonal();
+        let second = fit_rounds(&fine, opts, rounds, share, Some((mesh, &index, tol)));
+        if !matches!(&second, Ok(c) if c.3.is_none()) {
+            return first;
+        }
+        let (mut fit, m, d, miss, surfaces) = second?;
+        fit.notes.push(format!(
+            "laid out on the mesh with its triangles split in four {splits} times ({} \
+             triangles): its {vertices} vertices were too few for a layout within the \
+             tolerance",
+            fine.triangles.len()
+        ));
+        return Ok((fit, m, d, miss, surfaces));
     }
     opts.check()?;
     price_layout(mesh)?;
@@ -1752,6 +1777,42 @@ fn fit_component(
         sig(100.0 * gap / diagonal, 3)
     ));
     Ok((fit, m, d, miss, surfaces))
+}
+
+/// A connected mesh of fewer used vertices than this whose fit misses the target (or is
+/// refused) is laid out again on its triangles split 1-to-4 ([`split_until`]): the same
+/// surface, with vertices between its corners for the layout's; that fit is kept when it
+/// meets the target.
+const SPLIT_BELOW: usize = 2000;
+
+/// `mesh` with every triangle split into four at its edges' midpoints (the same surface,
+/// orientation kept, a midpoint shared by the edge's triangles), as many times as it takes to
+/// have at least `vertices` used vertices: the mesh and the number of splits.
+fn split_until(mesh: &InputMesh, vertices: usize) -> Result<(InputMesh, usize)> {
+    let mut m = mesh.clone();
+    let mut splits = 0;
+    while m.used_vertices().iter().filter(|&&u| u).count() < vertices {
+        let mut positions = m.positions.clone();
+        let mut middle: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut mid = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
+            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
+                positions.len() as u32 - 1
+            })
+        };
+        let mut triangles = Vec::with_capacity(4 * m.triangles.len());
+        for &[a, b, c] in &m.triangles {
+            let (ab, bc, ca) = (
+                mid(a, b, &mut positions),
+                mid(b, c, &mut positions),
+                mid(c, a, &mut positions),
+            );
+            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        m = InputMesh::new(positions, triangles)?;
+        splits += 1;
+    }
+    Ok((m, splits))
 }
 
 /// Meshes of more triangles than this (a connected piece of one) are laid out on a
@@ -2665,6 +2726,67 @@ mod tests {
             "{again:?} against {m:?}"
         );
         assert_eq!(again.mesh_to_fit.points, mesh.positions.len());
+        assert!(m.hausdorff <= opts.target * mesh.diagonal());
+    }
+
+    /// A box of 12 triangles: its 8 vertices leave the layout no room (every layout is the box
+    /// itself, its faces bulging off the flat sides), so it is laid out again on its triangles
+    /// split in four until it has 2000 vertices, and that fit meets 2 % of the diagonal; its
+    /// measures are of the box's own triangles and vertices, as measuring the design afresh
+    /// gives them. The split mesh is the same surface: every midpoint on the box.
+    #[test]
+    fn a_box_of_twelve_triangles_is_laid_out_on_its_triangles_split() {
+        let p = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+        let positions = vec![
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(1.0, 1.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 1.0),
+            p(1.0, 0.0, 1.0),
+            p(1.0, 1.0, 1.0),
+            p(0.0, 1.0, 1.0),
+        ];
+        let quads = [
+            [0, 3, 2, 1],
+            [4, 5, 6, 7],
+            [0, 1, 5, 4],
+            [1, 2, 6, 5],
+            [2, 3, 7, 6],
+            [3, 0, 4, 7],
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        let mesh = InputMesh::new(positions, triangles).unwrap();
+        mesh.require_closed().unwrap();
+        let (fine, splits) = split_until(&mesh, SPLIT_BELOW).unwrap();
+        assert_eq!(splits, 5);
+        assert_eq!(fine.triangles.len(), 12 * 4usize.pow(5));
+        fine.require_closed().unwrap();
+        assert!(fine.positions.iter().all(|q| {
+            let on = |c: f64| c.abs() < 1e-15 || (c - 1.0).abs() < 1e-15;
+            on(q.x) || on(q.y) || on(q.z)
+        }));
+        let opts = FitOptions {
+            target: 0.02,
+            ..FitOptions::default()
+        };
+        let (fit, m, d, miss) = fit_general_measured(&mesh, &opts).unwrap();
+        assert!(miss.is_none(), "{}", m.hausdorff_relative);
+        assert!(
+            fit.notes
+                .iter()
+                .any(|n| n.contains("split in four 5 times")),
+            "{:?}",
+            fit.notes
+        );
+        assert_eq!(m.mesh_triangles, 12);
+        assert_eq!(d.mesh.len(), 8);
+        let solved = solve_design(&fit.spec).unwrap();
+        let (again, _) = measure(&mesh, &fit.spec, &solved, MEASURE_GRID, MEASURE_GRID).unwrap();
+        assert!((again.hausdorff - m.hausdorff).abs() <= 1e-12);
         assert!(m.hausdorff <= opts.target * mesh.diagonal());
     }
 }
