@@ -46,7 +46,7 @@
 //! one it joins), so the repaired mesh is the file's surface with its defects removed.
 
 use super::mesh::InputMesh;
-use crate::{Result, Vec3};
+use crate::{Error, Result, Vec3};
 use std::collections::HashMap;
 
 /// Boundary vertices closer than this fraction of the bounding-box diagonal are one vertex, and
@@ -342,6 +342,15 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
             k += 1;
             keep[k - 1]
         });
+    }
+    if triangles.is_empty() {
+        // Every triangle dropped (all without area, say): the repairs say what they dropped.
+        let what = r.note().unwrap_or_default();
+        let what = what.strip_prefix("repaired: ").unwrap_or(&what);
+        return Err(Error::invalid(format!(
+            "no triangle of the mesh's {} is left once repaired ({what})",
+            mesh.triangles.len()
+        )));
     }
     Ok((InputMesh::new(positions, triangles)?, r))
 }
@@ -1271,5 +1280,24 @@ mod tests {
                 "{t:?}"
             );
         }
+    }
+
+    /// A mesh whose every triangle has no area is refused by the repairs in words that say so
+    /// and where, not as a mesh without triangles.
+    #[test]
+    fn a_mesh_of_triangles_without_area_is_refused_by_what_was_dropped() {
+        let p = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+        ];
+        let mesh = InputMesh::new(p, vec![[0, 1, 2], [0, 2, 1]]).unwrap();
+        let e = repair(&mesh).unwrap_err().to_string();
+        assert!(
+            e.contains("no triangle of the mesh's 2 is left once repaired")
+                && e.contains("2 degenerate triangles dropped")
+                && e.contains("the first near (1"),
+            "{e}"
+        );
     }
 }
