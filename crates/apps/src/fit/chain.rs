@@ -481,8 +481,15 @@ impl Chain {
         trim: f64,
         out: &mut DesignSpec,
     ) {
-        let digits = (-quantum.log10()).ceil().clamp(0.0, 17.0) as usize;
-        let round = |x: f64| -> f64 {
+        // Positions to `quantum`; derivative curves, which the patches scale by their chord
+        // lengths, to `quantum` over the longest chord (the same absolute rounding of the
+        // surface, and the same digits for the same shape at any size).
+        let longest = (0..nodes.len().saturating_sub(1))
+            .map(|p| self.length(nodes, p))
+            .fold(0.0, f64::max);
+        let slope_quantum = quantum / longest.max(1e-300);
+        let digits = |q: f64| (-q.log10()).ceil().clamp(0.0, 17.0) as usize;
+        let round = |x: f64, digits: usize| -> f64 {
             let r: f64 = format!("{x:.digits$}").parse().unwrap_or(x);
             if r == 0.0 {
                 0.0
@@ -490,8 +497,11 @@ impl Chain {
                 r
             }
         };
-        let v3 = |p: Vec3| -> V3 { [round(p.x), round(p.y), round(p.z)] };
-        let series = |c: &Series, budget: f64| -> CurveKind {
+        let v3 = |p: Vec3, q: f64| -> V3 {
+            let d = digits(q);
+            [round(p.x, d), round(p.y, d), round(p.z, d)]
+        };
+        let series = |c: &Series, budget: f64, quantum: f64| -> CurveKind {
             let mut cos: Vec<Vec3> = (1..=self.modes).map(|m| c[2 * m - 1]).collect();
             let mut sin: Vec<Vec3> = (1..=self.modes).map(|m| c[2 * m]).collect();
             // Drop trailing terms, the smaller list's last first, while the budget lasts;
@@ -518,9 +528,9 @@ impl Chain {
                 }
             }
             CurveKind::Fourier {
-                a0: v3(c[0]),
-                cos: cos.into_iter().map(v3).collect(),
-                sin: sin.into_iter().map(v3).collect(),
+                a0: v3(c[0], quantum),
+                cos: cos.into_iter().map(|x| v3(x, quantum)).collect(),
+                sin: sin.into_iter().map(|x| v3(x, quantum)).collect(),
             }
         };
         let curve = |kind| CurveSpec {
@@ -532,10 +542,10 @@ impl Chain {
         let position = |i: usize| -> CurveKind {
             if self.stations[i].pole {
                 CurveKind::Point {
-                    at: v3(self.data[i][0]),
+                    at: v3(self.data[i][0], quantum),
                 }
             } else {
-                series(&self.data[i], 0.0)
+                series(&self.data[i], 0.0, quantum)
             }
         };
         let cond = |u: f64, derivative: usize, curve: CurveRef| ConditionSpec {
@@ -560,12 +570,13 @@ impl Chain {
             Joint::Hermite => {
                 // A derivative curve moves a patch of chord length L by at most L·4/27 times
                 // its size (the largest Hermite weight of a slope, u(1 − u)², at u = 1/3).
-                let longest = (0..last).map(|p| self.length(nodes, p)).fold(0.0, f64::max);
                 let slope_budget = 0.5 * trim * 27.0 / 4.0 / longest.max(1e-300);
                 for (k, &i) in nodes.iter().enumerate() {
                     out.curves.insert(name_p(k), curve(position(i)));
-                    out.curves
-                        .insert(name_d(k), curve(series(&solved.curves[k], slope_budget)));
+                    out.curves.insert(
+                        name_d(k),
+                        curve(series(&solved.curves[k], slope_budget, slope_quantum)),
+                    );
                 }
                 let origin = format!("{prefix}origin");
                 out.curves
@@ -602,7 +613,7 @@ impl Chain {
                     for q in 0..2 {
                         out.curves.insert(
                             name_p(3 * p + 1 + q),
-                            curve(series(&solved.curves[2 * p + q], 0.5 * trim / 1.3)),
+                            curve(series(&solved.curves[2 * p + q], 0.5 * trim / 1.3, quantum)),
                         );
                     }
                     out.curves
