@@ -332,6 +332,42 @@ pub fn pack(spec: &DesignSpec, diagonal: f64, tolerance: f64) -> Result<Packed> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::PatchworkEdgeSpec;
+
+    /// One flat quadrilateral face (normal +z) on `points`, each edge a straight Hermite curve
+    /// (chord tangents) with normal samples turned about it by `turns`.
+    fn quad(points: &[[f64; 3]; 4], turns: &[f64]) -> DesignSpec {
+        let edge = |a: usize, b: usize| {
+            let c: [f64; 3] = std::array::from_fn(|k| points[b][k] - points[a][k]);
+            let side = Vec3::new(-c[1], c[0], 0.0).normalize();
+            let normals = turns
+                .iter()
+                .map(|&w| {
+                    let n = Vec3::z() * w.cos() + side * w.sin();
+                    [n.x, n.y, n.z]
+                })
+                .collect();
+            PatchworkEdgeSpec {
+                ends: [a, b],
+                tangents: [c, c],
+                normals,
+                crease: false,
+            }
+        };
+        DesignSpec {
+            patchwork: vec![PatchworkSpec {
+                name: "quad".to_string(),
+                order: 2,
+                a: 1.0,
+                degree: 6,
+                points: points.to_vec(),
+                normals: vec![[0.0, 0.0, 1.0]; 4],
+                edges: vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)],
+                faces: vec![vec![0, 1, 2, 3]],
+            }],
+            ..DesignSpec::default()
+        }
+    }
 
     #[test]
     fn octahedral_coordinates_keep_directions_to_their_resolution() {
@@ -374,35 +410,13 @@ mod tests {
     /// moves by at most half a step per coordinate, and the packed design solves.
     #[test]
     fn corners_closer_than_the_tolerance_step_stay_apart() {
-        use crate::spec::PatchworkEdgeSpec;
-        let points = vec![
+        let points = [
             [0.0, 0.0, 0.0],
             [1e-3, 0.0, 0.0],
             [1.0, 1.0, 0.0],
             [0.0, 1.0, 0.0],
         ];
-        let edge = |a: usize, b: usize| {
-            let c: [f64; 3] = std::array::from_fn(|k| points[b][k] - points[a][k]);
-            PatchworkEdgeSpec {
-                ends: [a, b],
-                tangents: [c, c],
-                normals: Vec::new(),
-                crease: false,
-            }
-        };
-        let spec = DesignSpec {
-            patchwork: vec![PatchworkSpec {
-                name: "quad".to_string(),
-                order: 2,
-                a: 1.0,
-                degree: 6,
-                points: points.clone(),
-                normals: vec![[0.0, 0.0, 1.0]; 4],
-                edges: vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)],
-                faces: vec![vec![0, 1, 2, 3]],
-            }],
-            ..DesignSpec::default()
-        };
+        let spec = quad(&points, &[]);
         let packed = pack(&spec, 1.5, 0.5).unwrap();
         assert!(packed.step_by_corners);
         assert!((packed.step - 1e-3 / 8.0).abs() < 1e-15, "{}", packed.step);
@@ -427,45 +441,13 @@ mod tests {
     /// plane makes the tangents three coordinates again.
     #[test]
     fn tangents_are_two_coordinates_in_their_planes_and_samples_one_angle() {
-        use crate::spec::PatchworkEdgeSpec;
-        let points = vec![
+        let points = [
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
             [1.0, 1.0, 0.0],
             [0.0, 1.0, 0.0],
         ];
-        let turns = [0.3, -0.2, 0.1];
-        let edge = |a: usize, b: usize| {
-            let c: [f64; 3] = std::array::from_fn(|k| points[b][k] - points[a][k]);
-            // The unit normal turned by `turn` about the edge's direction `c`.
-            let side = Vec3::new(-c[1], c[0], 0.0);
-            let normals = turns
-                .iter()
-                .map(|&w| {
-                    let n = Vec3::z() * f64::cos(w) + side * f64::sin(w);
-                    [n.x, n.y, n.z]
-                })
-                .collect();
-            PatchworkEdgeSpec {
-                ends: [a, b],
-                tangents: [c, c],
-                normals,
-                crease: false,
-            }
-        };
-        let spec = DesignSpec {
-            patchwork: vec![PatchworkSpec {
-                name: "quad".to_string(),
-                order: 2,
-                a: 1.0,
-                degree: 6,
-                points: points.clone(),
-                normals: vec![[0.0, 0.0, 1.0]; 4],
-                edges: vec![edge(0, 1), edge(1, 2), edge(2, 3), edge(3, 0)],
-                faces: vec![vec![0, 1, 2, 3]],
-            }],
-            ..DesignSpec::default()
-        };
+        let spec = quad(&points, &[0.3, -0.2, 0.1]);
         let (diagonal, tolerance) = (2f64.sqrt(), 0.01);
         let packed = pack(&spec, diagonal, tolerance).unwrap();
         let (s, b) = (packed.step, packed.normal_bits as u64);

@@ -44,7 +44,11 @@ fn bad_flags_are_refused_before_any_work() {
     run_bad(
         &["--retarget", "DIR/m.txt", "--retarget-output", "DIR/s.glb"],
         &[],
-        &["--retarget", "m.txt", ".obj, .stl or .ply"],
+        &[
+            "--retarget",
+            "m.txt",
+            "unknown mesh format (the extension must be obj, stl, ply or off)",
+        ],
     );
     run_bad(
         &["--retarget", "DIR/m.obj", "--retarget-output", "DIR/s.gltf"],

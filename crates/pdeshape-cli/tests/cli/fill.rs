@@ -196,7 +196,10 @@ fn bad_meshes_and_options_get_one_line_and_no_output() {
         holed.as_bytes(),
         &[],
         "o.obj",
-        &["holed.txt", "obj, stl or ply"],
+        &[
+            "holed.txt",
+            "unknown mesh format (the extension must be obj, stl, ply or off)",
+        ],
     );
 }
 
