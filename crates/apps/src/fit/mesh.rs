@@ -733,7 +733,7 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     Ok((positions, triangles))
 }
 
-/// The positions and triangles of an OFF file as text: a header line whose keyword ends in
+/// The positions and triangles of an OFF file as text: a header line whose keyword (any case) ends in
 /// `OFF` (`OFF`, or `COFF`, `NOFF`, `STOFF`, … whose vertices carry colours, normals or texture
 /// coordinates after their three coordinates, which are not read), the counts of vertices,
 /// faces and (optionally) edges on the same line or the next, one vertex per line, then one
@@ -765,33 +765,42 @@ fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         .next()
         .ok_or_else(|| Error::invalid("not a readable OFF file: the file is empty"))?;
     let mut words = header.split_whitespace();
-    let keyword = words.next().unwrap_or("");
+    let raw = words.next().unwrap_or("");
+    // `4OFF` and `nOFF` (a lower-case n) are points of other dimensions; otherwise the
+    // keyword is read in any case (`off` is seen too).
+    if raw.contains('4') || raw.ends_with("nOFF") {
+        return Err(bad(
+            at,
+            format!(
+                "{}: points of other than three coordinates are not read",
+                crate::spec::words::user_text(raw)
+            ),
+        ));
+    }
+    let keyword = raw.to_ascii_uppercase();
     let prefix = keyword.strip_suffix("OFF").ok_or_else(|| {
         bad(
             at,
             format!(
                 "the file starts with '{}', not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
-                crate::spec::words::user_text(keyword)
+                crate::spec::words::user_text(raw)
             ),
         )
     })?;
-    if prefix.contains('4') || prefix.contains('n') {
-        return Err(bad(
-            at,
-            format!("{keyword}: points of other than three coordinates are not read"),
-        ));
-    }
     if !prefix.chars().all(|c| matches!(c, 'S' | 'T' | 'C' | 'N')) {
         return Err(bad(
             at,
             format!(
                 "'{}' is not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
-                crate::spec::words::user_text(keyword)
+                crate::spec::words::user_text(raw)
             ),
         ));
     }
     let mut rest: Vec<&str> = words.collect();
-    if rest.first() == Some(&"BINARY") {
+    if rest
+        .first()
+        .is_some_and(|w| w.eq_ignore_ascii_case("BINARY"))
+    {
         return Err(bad(at, "binary OFF is not read: write it as text".into()));
     }
     let mut counts_at = at;
@@ -1030,7 +1039,7 @@ mod tests {
                    3 0 1 3\n3 1 2 3\n3 0 3 2\n2 0 1\n";
         let m = InputMesh::read(off.as_bytes(), MeshFormat::Off).unwrap();
         assert_eq!(m, tetra());
-        let quad = "OFF 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+        let quad = "off 4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
         let m = InputMesh::read(quad.as_bytes(), MeshFormat::Off).unwrap();
         assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert_eq!(MeshFormat::from_extension("OFF"), Some(MeshFormat::Off));
@@ -1049,6 +1058,11 @@ mod tests {
                 "4OFF\n1 0 0\n",
                 "line 1: 4OFF: points of other than three coordinates",
             ),
+            (
+                "nOFF\n4\n1 0 0\n",
+                "line 1: nOFF: points of other than three coordinates",
+            ),
+            ("off binary\n", "line 1: binary OFF is not read"),
             ("OFF BINARY\n", "line 1: binary OFF is not read"),
             ("OFF\n3\n", "line 2: no count of faces"),
             (
