@@ -309,7 +309,7 @@ pub fn svg_picture(
             "<g transform=\"translate({x:.2},{y:.2})\">{mark}</g><text x=\"{:.2}\" y=\"{:.2}\">{}</text>",
             x + 18.0,
             y + 4.0,
-            escape(text)
+            crate::svg::escape(text)
         );
     }
     s.push_str("</g>\n</svg>\n");
@@ -328,12 +328,6 @@ fn short_time(t: f64) -> String {
     } else {
         s.to_string()
     }
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 #[cfg(test)]

@@ -2,8 +2,8 @@
 //!
 //! Readers, writers and pictures of pdeshape, beside the design layer: mesh formats
 //! (`mesh_write`, and `design_write` for a solved design), CAD exchange with certified deviations
-//! (`cad`: STEP, IGES), pictures (`render`) and the outputs of dynamic-curve runs
-//! (`dynamic_output`).
+//! (`cad`: STEP, IGES), pictures (`render`), the outputs of dynamic-curve runs
+//! (`dynamic_output`) and text for SVG plots (`svg`).
 
 #![warn(missing_docs)]
 
@@ -19,3 +19,4 @@ pub mod dynamic_output;
 pub mod format;
 pub mod mesh_write;
 pub mod render;
+pub mod svg;

@@ -88,7 +88,7 @@ impl Measures {
             s,
             r#"<text x="{}" y="22" text-anchor="middle" font-size="15">{}</text>"#,
             w / 2.0,
-            escape(title)
+            pdeshape_io::svg::escape(title)
         );
         let u = &self.units;
         let t: Vec<f64> = self.rows.iter().map(|r| r.t).collect();
@@ -99,13 +99,6 @@ impl Measures {
         s.push_str("</svg>\n");
         s
     }
-}
-
-fn escape(t: &str) -> String {
-    t.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// Round tick values covering `[lo, hi]`.
@@ -178,7 +171,7 @@ fn panel(s: &mut String, top: f64, x: &[f64], y: &[f64], label: &str, color: &st
         s,
         r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
         top + height / 2.0,
-        escape(label)
+        pdeshape_io::svg::escape(label)
     );
     let pts: Vec<String> = x
         .iter()

@@ -733,9 +733,10 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     Ok((positions, triangles))
 }
 
-/// The positions and triangles of an OFF file as text: a header line whose keyword (any case) ends in
-/// `OFF` (`OFF`, or `COFF`, `NOFF`, `STOFF`, … whose vertices carry colours, normals or texture
-/// coordinates after their three coordinates, which are not read), the counts of vertices,
+/// The positions and triangles of an OFF file as text: a header line whose keyword (in any
+/// case) ends in `OFF` (`OFF`, or `COFF`, `NOFF`, `STOFF`, … whose vertices carry colours,
+/// normals or texture coordinates after their three coordinates, which are not read), the
+/// counts of vertices,
 /// faces and (optionally) edges on the same line or the next, one vertex per line, then one
 /// face per line: its corner count `n`, `n` indices from 0, and anything after them (a colour)
 /// not read. `#` starts a comment; blank lines are skipped. Faces of more than three corners
@@ -778,20 +779,14 @@ fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         ));
     }
     let keyword = raw.to_ascii_uppercase();
-    let prefix = keyword.strip_suffix("OFF").ok_or_else(|| {
-        bad(
-            at,
-            format!(
-                "the file starts with '{}', not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
-                crate::spec::words::user_text(raw)
-            ),
-        )
-    })?;
-    if !prefix.chars().all(|c| matches!(c, 'S' | 'T' | 'C' | 'N')) {
+    let known = keyword
+        .strip_suffix("OFF")
+        .is_some_and(|prefix| prefix.chars().all(|c| matches!(c, 'S' | 'T' | 'C' | 'N')));
+    if !known {
         return Err(bad(
             at,
             format!(
-                "'{}' is not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
+                "the file starts with '{}', not an OFF keyword (OFF, COFF, NOFF, STOFF, …)",
                 crate::spec::words::user_text(raw)
             ),
         ));

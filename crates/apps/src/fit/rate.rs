@@ -339,11 +339,6 @@ impl RateDistortion {
     pub fn svg(&self, title: &str) -> String {
         let (w, panel) = (760.0, 430.0);
         let h = 30.0 + 2.0 * panel;
-        let esc = |t: &str| {
-            t.replace('&', "&amp;")
-                .replace('<', "&lt;")
-                .replace('>', "&gt;")
-        };
         let all = [Distance::Hausdorff, Distance::Rms].map(|d| self.series(d));
         // One byte range for both panels, the mesh's own size included.
         let mesh = (self.mesh_bytes.max(1) as f64).log10();
@@ -361,7 +356,7 @@ impl RateDistortion {
              viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n\
              <rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n\
              <text x=\"80\" y=\"22\" font-size=\"14\">{}</text>\n",
-            esc(title)
+            pdeshape_io::svg::escape(title)
         );
         for (k, (distance, series)) in [Distance::Hausdorff, Distance::Rms]
             .into_iter()
@@ -438,11 +433,6 @@ impl RateDistortion {
         w: f64,
         height: f64,
     ) -> String {
-        let esc = |t: &str| {
-            t.replace('&', "&amp;")
-                .replace('<', "&lt;")
-                .replace('>', "&gt;")
-        };
         let finite = |&(x, y): &(f64, f64)| x > 0.0 && y > 0.0 && x.is_finite() && y.is_finite();
         let (mut y0, mut y1) = (f64::MAX, f64::MIN);
         for &(_, y) in series.iter().flat_map(|s| s.3.iter()).filter(|p| finite(p)) {
@@ -534,7 +524,7 @@ impl RateDistortion {
                 lx + 24.0,
                 lx + 30.0,
                 ly + 4.0,
-                esc(name)
+                pdeshape_io::svg::escape(name)
             );
         }
         s
