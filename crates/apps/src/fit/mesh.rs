@@ -736,10 +736,9 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
 /// The positions and triangles of an OFF file as text: a header line whose keyword (in any
 /// case) ends in `OFF` (`OFF`, or `COFF`, `NOFF`, `STOFF`, … whose vertices carry colours,
 /// normals or texture coordinates after their three coordinates, which are not read), the
-/// counts of vertices,
-/// faces and (optionally) edges on the same line or the next, one vertex per line, then one
-/// face per line: its corner count `n`, `n` indices from 0, and anything after them (a colour)
-/// not read. `#` starts a comment; blank lines are skipped. Faces of more than three corners
+/// counts of vertices, faces and (optionally) edges on the same line or the next, one vertex
+/// per line, then one face per line: its corner count `n`, `n` indices from 0, and anything
+/// after them (a colour) not read. `#` starts a comment; blank lines are skipped. Faces of more than three corners
 /// are split into fans, faces of fewer skipped (points and segments, as OBJ's are). Binary OFF
 /// and the `4OFF` and `nOFF` variants (points of other dimensions) are refused. Errors name the
 /// file's line.
