@@ -44,6 +44,7 @@
 mod auto;
 mod basis;
 pub mod chain;
+mod features;
 mod layout;
 mod measure;
 mod mesh;

@@ -17,6 +17,9 @@
 //!   (`design/patchwork.rs`), so each is one angle about the decoded curve's tangent, from the
 //!   decoded corner normals blended linearly along the edge and made normal to the curve, in
 //!   `b + 2` bits over the full turn;
+//! - an edge's own end normals (`end_normals`, at sharp features): a flag bit per edge, and two
+//!   octahedral normals of `2b` bits each where it is set; the edge's tangents and samples are
+//!   then taken in the planes of those normals;
 //! - connectivity: a face's side count in 3 bits and its corners in `⌈log₂ V⌉` bits each; an
 //!   edge's sample count in 5 bits and its crease flag in 1; its ends only when some edge is
 //!   no face's side (otherwise the edges are stored in the order and direction in which the
@@ -169,12 +172,18 @@ fn plane_frame(n: Vec3) -> (Vec3, Vec3) {
     (e1, n.cross(&e1))
 }
 
-/// Whether every edge tangent of `p` lies in its corner's tangent plane (to rounding), as a
-/// fit's do by construction.
+/// The normal of edge `e` of `p` at its end `k`: the edge's own (`end_normals`) or its corner's.
+fn end_normal(p: &PatchworkSpec, e: usize, k: usize) -> Vec3 {
+    let edge = &p.edges[e];
+    vec3(edge.end_normals.map_or(p.normals[edge.ends[k]], |n| n[k]))
+}
+
+/// Whether every edge tangent of `p` lies in its end's tangent plane (to rounding), as a fit's
+/// do by construction.
 fn tangents_in_planes(p: &PatchworkSpec) -> bool {
-    p.edges.iter().all(|e| {
-        e.ends.iter().zip(&e.tangents).all(|(&c, t)| {
-            let (n, t) = (vec3(p.normals[c]), vec3(*t));
+    (0..p.edges.len()).all(|e| {
+        (0..2).all(|k| {
+            let (n, t) = (end_normal(p, e, k), vec3(p.edges[e].tangents[k]));
             n.dot(&t).abs() <= 1e-9 * n.norm() * t.norm()
         })
     })
@@ -213,25 +222,32 @@ fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, u
         *n = octahedral(*n, normal_bits);
         bits += 2 * normal_bits as u64;
     }
-    // Tangents: two coordinates in the plane of the decoded corner normal, or three.
-    let ends: Vec<(usize, usize, usize)> = p
-        .edges
-        .iter()
-        .enumerate()
-        .flat_map(|(e, edge)| (0..2).map(move |k| (e, k, edge.ends[k])))
+    // An edge's own end normals (at sharp features): a flag, and two normals when set.
+    for e in p.edges.iter_mut() {
+        bits += 1;
+        if let Some(ns) = e.end_normals.as_mut() {
+            for n in ns.iter_mut() {
+                *n = octahedral(*n, normal_bits);
+                bits += 2 * normal_bits as u64;
+            }
+        }
+    }
+    // Tangents: two coordinates in the plane of the decoded end normal, or three.
+    let ends: Vec<(usize, usize)> = (0..p.edges.len())
+        .flat_map(|e| (0..2).map(move |k| (e, k)))
         .collect();
     if in_planes {
         let mut flat = Vec::with_capacity(2 * ends.len());
-        for &(e, k, c) in &ends {
-            let (e1, e2) = plane_frame(vec3(p.normals[c]));
+        for &(e, k) in &ends {
+            let (e1, e2) = plane_frame(end_normal(p, e, k));
             let t = vec3(p.edges[e].tangents[k]);
             flat.extend([t.dot(&e1), t.dot(&e2)]);
         }
         let (b, h, q) = lengths(&flat, step);
         bits += b;
         header += h;
-        for (i, &(e, k, c)) in ends.iter().enumerate() {
-            let (e1, e2) = plane_frame(vec3(p.normals[c]));
+        for (i, &(e, k)) in ends.iter().enumerate() {
+            let (e1, e2) = plane_frame(end_normal(p, e, k));
             let t = e1 * q[2 * i] + e2 * q[2 * i + 1];
             p.edges[e].tangents[k] = [t.x, t.y, t.z];
         }
@@ -249,14 +265,15 @@ fn pack_patchwork(p: &mut PatchworkSpec, step: f64, normal_bits: u32) -> (u64, u
         }
     }
     // An edge's inner normals: one angle each about the decoded curve's tangent, from the
-    // corners' normals blended linearly and made normal to the curve.
+    // end normals blended linearly and made normal to the curve.
     let angle_bits = normal_bits + 2;
     let levels = (1u64 << angle_bits) as f64;
-    for e in p.edges.iter_mut() {
+    for i in 0..p.edges.len() {
+        let (na, nb) = (end_normal(p, i, 0), end_normal(p, i, 1));
+        let e = &mut p.edges[i];
         let [a, b] = e.ends;
         let (p0, p1) = (vec3(p.points[a]), vec3(p.points[b]));
         let (d0, d1) = (vec3(e.tangents[0]), vec3(e.tangents[1]));
-        let (na, nb) = (vec3(p.normals[a]), vec3(p.normals[b]));
         let m = e.normals.len() + 1;
         for (j, n) in e.normals.iter_mut().enumerate() {
             let s = lobatto(j + 1, m);
@@ -352,6 +369,7 @@ mod tests {
                 tangents: [c, c],
                 normals,
                 crease: false,
+                end_normals: None,
             }
         };
         DesignSpec {
@@ -483,12 +501,21 @@ mod tests {
             }
         }
         // The count: corners (12 coordinates, range 1 in steps of s), 4 normals, 8 tangents of
-        // two coordinates (range from −1 to 1), 12 samples, 4 edges of 6 bits (no ends: the
+        // two coordinates (range from −1 to 1), 12 samples, 4 edges of 7 bits (no ends: the
         // face gives them), one face of 3 + 4 · 2 bits.
         let width = |range: f64| bits_for((range / s).round() as u64) as u64;
-        let bits = 12 * width(1.0) + 4 * 2 * b + 16 * width(2.0) + 12 * (b + 2) + 4 * 6 + 11;
+        let bits = 12 * width(1.0) + 4 * 2 * b + 16 * width(2.0) + 12 * (b + 2) + 4 * 7 + 11;
         let header = 9 + 9 + "quad".len() + 1 + 12 + 1 + 8 + 3;
         assert_eq!(packed.bytes, header + bits.div_ceil(8) as usize);
+        // An edge's own end normals (here its corners' own, so its tangents stay in their
+        // planes): two more normals of 2 · b bits.
+        let mut own = spec.clone();
+        let e0 = own.patchwork[0].edges[0].clone();
+        let ends = e0.ends.map(|c| own.patchwork[0].normals[c]);
+        own.patchwork[0].edges[0].end_normals = Some(ends);
+        let more = pack(&own, diagonal, tolerance).unwrap();
+        let extra = more.bytes as i64 - packed.bytes as i64;
+        assert!((extra * 8 - 4 * b as i64).abs() <= 8, "{extra}");
         // A tangent out of its plane: three coordinates for every tangent (8 more widths).
         let mut tilted = spec.clone();
         tilted.patchwork[0].edges[0].tangents[0][2] = 0.1;

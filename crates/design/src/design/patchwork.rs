@@ -131,6 +131,8 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
     let mut by_pair: HashMap<(usize, usize), usize> = HashMap::new();
     let mut curves = Vec::with_capacity(spec.edges.len());
     let mut edges = Vec::with_capacity(spec.edges.len());
+    // Each edge's normals at its start and end (its corners', or its own `end_normals`).
+    let mut end_normals: Vec<[Vec3; 2]> = Vec::with_capacity(spec.edges.len());
     for (e, edge) in spec.edges.iter().enumerate() {
         let at = format!("edges[{e}]");
         let [a, b] = edge.ends;
@@ -171,6 +173,18 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
                 );
             }
         }
+        let mut ends = [normals[a], normals[b]];
+        if let Some(given) = &edge.end_normals {
+            for (k, n) in given.iter().enumerate() {
+                let where_ = format!("{at}.end_normals[{k}]");
+                let v = finite(n, &where_)?;
+                if v.norm() == 0.0 {
+                    return Err(Error::invalid("a normal of length 0").at(&where_));
+                }
+                ends[k] = v.normalize();
+            }
+        }
+        end_normals.push(ends);
         let curve: SharedCurve = Arc::new(Hermite::new(points[a], points[b], d0, d1));
         curves.push(NetworkCurve {
             curve,
@@ -234,23 +248,23 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
         return Err(Error::invalid("a patchwork needs at least one face").at("faces"));
     }
 
-    // Per edge its normal field: the corners' normals at the ends, the given samples between,
-    // each made normal to the curve.
+    // Per edge its normal field: its end normals at the ends, the given samples between, each
+    // made normal to the curve.
     let fields: Vec<Arc<Vec<Vec3>>> = spec
         .edges
         .iter()
         .zip(&curves)
-        .map(|(edge, c)| {
-            let [a, b] = edge.ends;
+        .zip(&end_normals)
+        .map(|((edge, c), &[na, nb])| {
             let inner: Vec<Vec3> = if edge.normals.is_empty() {
                 Vec::new()
             } else {
                 edge.normals.iter().map(vec3).collect()
             };
             let mut values = Vec::with_capacity(inner.len() + 2);
-            values.push(normals[a]);
+            values.push(na);
             values.extend(inner);
-            values.push(normals[b]);
+            values.push(nb);
             let m = values.len() - 1;
             for (j, v) in values.iter_mut().enumerate() {
                 let t = tangent(&c.curve, lobatto(j, m));
@@ -266,13 +280,16 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
         })
         .collect();
 
-    // Nodes: the corners, their normals and how far the edges' tangents leave their planes.
+    // Nodes: the corners, their normals and how far the edges' tangents leave their planes
+    // (each edge's own plane at its ends).
     let mut residual = vec![0.0f64; n_points];
     let mut valence = vec![0usize; n_points];
     for (e, edge) in edges.iter().enumerate() {
-        for (k, s) in [(edge.start, 0.0), (edge.end, 1.0)] {
+        for (end, (k, s)) in [(edge.start, 0.0), (edge.end, 1.0)].into_iter().enumerate() {
             let t = tangent(&curves[e].curve, s);
-            let angle = (t.dot(&normals[k]).abs() / t.norm()).min(1.0).asin();
+            let angle = (t.dot(&end_normals[e][end]).abs() / t.norm())
+                .min(1.0)
+                .asin();
             residual[k] = residual[k].max(angle);
             valence[k] += 1;
         }
@@ -302,7 +319,7 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
         tolerance: 1e-9 * size,
     };
 
-    let joints: Vec<Joint> = (0..network.edges.len())
+    let mut joints: Vec<Joint> = (0..network.edges.len())
         .map(|e| {
             let edge = &network.edges[e];
             if runs_of[e].len() == 2 {
@@ -318,6 +335,47 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
             }
         })
         .collect();
+    // A face's corner takes the one tangent plane of the edges there that share their planes:
+    // where two such edges give it different normals, both are creases, and where the other
+    // edge (a crease or an outline) leaves that plane, so is the sharing one. Until no corner
+    // changes (an edge made a crease is judged again at its other end).
+    let end_of = |e: usize, v: usize| usize::from(network.edges[e].start != v);
+    let leaving = |e: usize, v: usize| tangent(&network.curves[e].curve, end_of(e, v) as f64);
+    loop {
+        let mut changed = false;
+        for corners in &spec.faces {
+            let n = corners.len();
+            for k in 0..n {
+                let v = corners[k];
+                let (prev, next) = (corners[(k + n - 1) % n], corners[(k + 1) % n]);
+                let (Some(&a), Some(&b)) = (
+                    by_pair.get(&(prev.min(v), prev.max(v))),
+                    by_pair.get(&(v.min(next), v.max(next))),
+                ) else {
+                    continue;
+                };
+                let shared = |e: usize| joints[e] == Joint::Shared;
+                let off_plane = |e: usize, n: Vec3| {
+                    let t = leaving(e, v);
+                    (t.dot(&n).abs() / t.norm()).min(1.0).asin() > CREASE_ANGLE
+                };
+                let (na, nb) = (end_normals[a][end_of(a, v)], end_normals[b][end_of(b, v)]);
+                let creased: &[usize] = match (shared(a), shared(b)) {
+                    (true, true) if na.angle(&nb) > CREASE_ANGLE => &[a, b],
+                    (true, false) if off_plane(b, na) => &[a],
+                    (false, true) if off_plane(a, nb) => &[b],
+                    _ => &[],
+                };
+                for &e in creased {
+                    joints[e] = Joint::Crease;
+                    changed = true;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
 
     let options = NSidedOptions {
         order: spec.order,

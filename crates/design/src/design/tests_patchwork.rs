@@ -157,3 +157,164 @@ fn a_patchwork_whose_pieces_take_names_already_taken_is_refused() {
     let spec = parse_design(&format!("{one}\n{}", one.replace("\"ball\"", "\"ball2\""))).unwrap();
     assert_eq!(solve_design(&spec).unwrap().surfaces.len(), 2 * 8 * 3);
 }
+
+/// A fold at a right angle along the x axis: two flat quads in `z = 0` (facing `−z`) and two
+/// upright in `y = 0` (facing `+y`), meeting along the ridge `A M B`, which is a crease. The
+/// edges leaving the ridge's middle corner `M` into each side (`M D`, `M G`) are shared by the
+/// two quads of that side; `end_normals` (when `own`) gives them their side's plane at `M`,
+/// whose corner normal is the ridge's average. Edge `M D`'s normal at `M` is `md` when given.
+fn fold(own: bool, md: Option<[f64; 3]>) -> String {
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    // A, M, B on the ridge; C, D, E on the flat side; F, G, H on the upright side.
+    let points = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [2.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.0],
+        [2.0, 0.0, 1.0],
+    ];
+    let ridge = [0.0, s, -s];
+    let normals = [
+        ridge,
+        ridge,
+        ridge,
+        [0.0, 0.0, -1.0],
+        [0.0, 0.0, -1.0],
+        [0.0, 0.0, -1.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ];
+    let (a, m, b, c, d, e, f, g, h) = (0, 1, 2, 3, 4, 5, 6, 7, 8);
+    let mut t = String::from("[[patchwork]]\nname = \"fold\"\npoints = [");
+    for p in points {
+        let _ = write!(t, "[{:?}, {:?}, {:?}], ", p[0], p[1], p[2]);
+    }
+    t += "]\nnormals = [";
+    for n in normals {
+        let _ = write!(t, "[{:?}, {:?}, {:?}], ", n[0], n[1], n[2]);
+    }
+    t += "]\nedges = [\n";
+    let edges: [(usize, usize, &str); 12] = [
+        (a, m, "crease = true"),
+        (m, b, "crease = true"),
+        (m, d, "md"),
+        (m, g, "end_normals = [[0.0, 1.0, 0.0], [0.0, 1.0, 0.0]]"),
+        (c, d, ""),
+        (a, c, ""),
+        (d, e, ""),
+        (b, e, ""),
+        (a, f, ""),
+        (f, g, ""),
+        (g, h, ""),
+        (b, h, ""),
+    ];
+    for (p, q, extra) in edges {
+        let x = [0, 1, 2].map(|k| points[q][k] - points[p][k]);
+        let extra = match extra {
+            "md" => {
+                let n = md.unwrap_or([0.0, 0.0, -1.0]);
+                format!(
+                    "end_normals = [[{:?}, {:?}, {:?}], [0.0, 0.0, -1.0]]",
+                    n[0], n[1], n[2]
+                )
+            }
+            x => x.to_string(),
+        };
+        let extra = if !own && extra.starts_with("end_normals") {
+            String::new()
+        } else {
+            extra
+        };
+        let _ = writeln!(
+            t,
+            "  {{ ends = [{p}, {q}], tangents = [[{:?}, {:?}, {:?}], [{:?}, {:?}, {:?}]]{}{extra} }},",
+            x[0],
+            x[1],
+            x[2],
+            x[0],
+            x[1],
+            x[2],
+            if extra.is_empty() { "" } else { ", " }
+        );
+    }
+    let _ = writeln!(
+        t,
+        "]\nfaces = [[{a}, {m}, {d}, {c}], [{m}, {b}, {e}, {d}], [{m}, {a}, {f}, {g}], [{b}, {m}, {g}, {h}]]"
+    );
+    t
+}
+
+/// The edge of `net` between corners `p` and `q`.
+fn edge_between(net: &SolvedNetwork, p: usize, q: usize) -> usize {
+    (0..net.network.edges.len())
+        .find(|&e| {
+            let x = &net.network.edges[e];
+            (x.start, x.end) == (p, q) || (x.start, x.end) == (q, p)
+        })
+        .unwrap()
+}
+
+#[test]
+fn edges_leaving_a_fold_in_their_sides_planes_keep_g1_and_the_sides_stay_flat() {
+    let spec = parse_design(&fold(true, None)).unwrap();
+    let d = solve_design(&spec).unwrap();
+    let net = &d.networks[0];
+    // The edges into each side share their side's plane at the ridge.
+    for (p, q) in [(1, 4), (1, 7)] {
+        assert_eq!(
+            net.joints[edge_between(net, p, q)],
+            Joint::Shared,
+            "{p}-{q}"
+        );
+    }
+    for (p, q) in [(0, 1), (1, 2)] {
+        assert_eq!(
+            net.joints[edge_between(net, p, q)],
+            Joint::Crease,
+            "{p}-{q}"
+        );
+    }
+    // Planar sides: flat boundary data and normals in the plane give the plane (to rounding).
+    let mut off: f64 = 0.0;
+    for s in &d.surfaces {
+        let upright = s.surface().point(0.5, 0.5).z > 1e-3;
+        for i in 0..=16 {
+            for j in 0..=16 {
+                let p = s.surface().point(i as f64 / 16.0, j as f64 / 16.0);
+                off = off.max(if upright { p.y.abs() } else { p.z.abs() });
+            }
+        }
+    }
+    assert!(off < 1e-12, "a side leaves its plane by {off}");
+}
+
+#[test]
+fn a_corner_whose_edges_leave_its_normals_plane_or_disagree_is_creased() {
+    // Without their own normals the edges into the sides leave the ridge's average plane by
+    // 45°: the corner's edges are creases.
+    let spec = parse_design(&fold(false, None)).unwrap();
+    let net = &solve_design(&spec).unwrap().networks[0];
+    for (p, q) in [(1, 4), (1, 7)] {
+        assert_eq!(
+            net.joints[edge_between(net, p, q)],
+            Joint::Crease,
+            "{p}-{q}"
+        );
+    }
+    // Edge M D given a plane at M that holds its own tangent but not the ridge: the flat
+    // side's corners at M between M D and the ridge (a crease whose tangent leaves that plane)
+    // make M D a crease, while M G keeps its side's plane.
+    let spec = parse_design(&fold(true, Some([0.6, 0.0, -0.8]))).unwrap();
+    let net = &solve_design(&spec).unwrap().networks[0];
+    assert_eq!(net.joints[edge_between(net, 1, 4)], Joint::Crease);
+    assert_eq!(net.joints[edge_between(net, 1, 7)], Joint::Shared);
+    // A normal of length 0 is refused with its place.
+    let spec = parse_design(&fold(true, Some([0.0, 0.0, 0.0]))).unwrap();
+    let e = solve_design(&spec).unwrap_err();
+    assert!(e.place().ends_with("edges[2].end_normals[0]"), "{e}");
+}

@@ -57,4 +57,14 @@ pub struct PatchworkEdgeSpec {
     /// (default false).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub crease: bool,
+    /// The normals at the edge's start and end when they are not its corners' `normals`: at a
+    /// corner on a sharp feature of the surface (the corner of a box, a point of a drilled
+    /// hole's rim) the faces on either side of the feature have tangent planes of their own,
+    /// and each edge leaving the corner takes the plane of the faces it runs between. The
+    /// edge's normal field then starts and ends with these, and its end tangents are judged
+    /// against them. Two edges along which a face shares its neighbours' tangent planes must
+    /// give that face's corner between them the same normal; where they do not, both are
+    /// creases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_normals: Option<[[f64; 3]; 2]>,
 }

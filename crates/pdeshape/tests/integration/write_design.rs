@@ -1131,6 +1131,7 @@ impl Gen {
                     tangents: [[g.f(), g.f(), g.f()], [g.f(), g.f(), g.f()]],
                     normals: g.vec(3, |g| [g.f(), g.f(), g.f()]),
                     crease: g.chance(0.5),
+                    end_normals: g.opt(|g| [[g.f(), g.f(), g.f()], [g.f(), g.f(), g.f()]]),
                 }),
                 faces: g.vec(3, |g| g.vec(4, Self::n)),
             }),
