@@ -65,7 +65,7 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
     with pytest.raises(DesignError) as e:
         pdeshape.fit(mesh, tolerance=0.0)
     assert str(e.value) == cli_error(r).replace("--", "", 1)
-    with pytest.raises(DesignError, match=r"^x\.3ds: unknown mesh format \(the extension must be obj, stl, ply or off\)"):
+    with pytest.raises(DesignError, match=r"^x\.3ds: unknown mesh format \(the extension must be obj, stl, ply, off, glb or gltf\)"):
         pdeshape.fit(b"3DS", name="x.3ds")
     # An OFF file's errors name its line.
     with pytest.raises(DesignError, match=r"^x\.off: not a readable OFF file: line 2: no count of faces"):
