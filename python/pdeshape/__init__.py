@@ -43,8 +43,9 @@ def fit(
     """Fits PDE patches to a triangle mesh, as ``pdeshape fit MESH -o design.toml --json
     report.json`` does (with ``--tolerance``, ``--sections``, ``--mode`` and ``--best-effort``).
 
-    ``mesh``: the path of an OBJ, STL, PLY or OFF file, or its bytes with ``name`` a file name whose
-    extension gives the format. ``tolerance``: the largest two-sided Hausdorff distance between
+    ``mesh``: the path of an OBJ, STL, PLY, OFF or glTF file (``.glb``, or ``.gltf`` with its
+    buffers as data URIs), or its bytes with ``name`` a file name whose extension gives the
+    format; the units a file states (glTF: metres) are the design's ``units``. ``tolerance``: the largest two-sided Hausdorff distance between
     the mesh and the fit, relative to the mesh's bounding-box diagonal (default 0.02; the tube
     and sheet modes then refine their sections to 0.002). ``sections``: a fixed number of
     patches instead of the adaptive choice. ``mode``: ``"auto"`` (tube for a closed body, sheet

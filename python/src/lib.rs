@@ -1602,7 +1602,9 @@ fn apply_params(base: &DesignSpec, params: &[(String, f64)]) -> PyResult<Option<
 
 /// Fits PDE patches to a triangle mesh as `pdeshape fit MESH -o design.toml --json r.json
 /// [--tolerance T] [--sections N] [--mode M] [--best-effort]` does: `data` are the bytes of an
-/// OBJ, STL, PLY or OFF file, `name` its file name (the extension gives the format; errors name it).
+/// OBJ, STL, PLY, OFF or glTF file (a `.glb`, or a `.gltf` whose buffers are data URIs), `name`
+/// its file name (the extension gives the format; errors name it). The units a file states
+/// (glTF: metres, or the design units of pdeshape's extras) are the design's `units`.
 /// The mode and its fallback, the tolerance and the measures are the library's
 /// ([`fit::fit_measured`]). Returns the fitted design (its text is the `-o` file) and the
 /// report of `--json` as a dict (without `timings_ms`); a fit that misses the tolerance raises
@@ -1652,6 +1654,9 @@ fn fit_mesh<'py>(
                 "tolerance" | "sections" => e.to_string(),
                 _ => format!("{name}: {e}"),
             })?;
+            if let Some(units) = read.units {
+                fitted.fit.spec.units = Some(units);
+            }
             if let (Some(words), false) = (fitted.miss(), best_effort) {
                 return Err(format!(
                     "{name}: {words} (a larger tolerance, or best_effort=True to have it anyway)"
@@ -1687,10 +1692,11 @@ fn fit_mesh<'py>(
 }
 
 /// Fills the holes of a triangle mesh with PDE patches as `pdeshape fill MESH -o OUT --design
-/// D.toml` does. The mesh is `data` (the bytes of an OBJ, STL, PLY or OFF file, `name` its file
-/// name) or `positions` (n × 3) and `triangles` (m × 3, from 0). Returns a dict: `vertices`
-/// and `faces` (numpy arrays: the mesh's, then the fill's), `mesh_faces` (how many faces are
-/// the mesh's), `open_edges`, `holes_found`, `holes` (one dict per filled hole) and `design`
+/// D.toml` does. The mesh is `data` (the bytes of an OBJ, STL, PLY, OFF or glTF file, `name`
+/// its file name, read in the units and up axis the file states, which the design carries) or
+/// `positions` (n × 3) and `triangles` (m × 3, from 0). Returns a dict: `vertices` and `faces`
+/// (numpy arrays: the mesh's, then the fill's), `mesh_faces` (how many faces are the mesh's),
+/// `open_edges`, `holes_found`, `holes` (one dict per filled hole) and `design`
 /// (the patches' design text, one `[[disk]]` table each).
 #[pyfunction]
 #[pyo3(signature = (data = None, name = "<mesh>", positions = None, triangles = None, continuity = "g1", largest = None, max_boundary = None, grading = 0.1))]
@@ -1725,6 +1731,7 @@ fn fill_mesh<'py>(
         (None, Some(n)) => HoleSelection::MaxBoundary(n),
         (None, None) => HoleSelection::All,
     };
+    let mut units = None;
     let mesh = match (data, positions, triangles) {
         (Some(data), None, None) => {
             let format = Path::new(name)
@@ -1732,7 +1739,10 @@ fn fill_mesh<'py>(
                 .and_then(|e| e.to_str())
                 .and_then(fit::MeshFormat::from_extension)
                 .ok_or_else(|| err(fit::MeshFormat::unknown(name)))?;
-            fit::InputMesh::read(&data, format).map_err(|e| err(format!("{name}: {e}")))?
+            let read = fit::InputMesh::read_report(&data, format)
+                .map_err(|e| err(format!("{name}: {e}")))?;
+            units = read.units;
+            read.mesh
         }
         (None, Some(p), Some(t)) => {
             let n = p.len();
@@ -1775,8 +1785,9 @@ fn fill_mesh<'py>(
         .file_name()
         .map(|n| n.to_string_lossy().to_string())
         .unwrap_or_default();
-    let text = spec::write_design(&filled.design(&format!("{file_name}, hole fill")))
-        .map_err(|e| err(format!("{name}: {e}")))?;
+    let mut fill_spec = filled.design(&format!("{file_name}, hole fill"));
+    fill_spec.units = units;
+    let text = spec::write_design(&fill_spec).map_err(|e| err(format!("{name}: {e}")))?;
     let d = PyDict::new(py);
     d.set_item(
         "vertices",

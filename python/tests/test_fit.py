@@ -65,7 +65,7 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
     with pytest.raises(DesignError) as e:
         pdeshape.fit(mesh, tolerance=0.0)
     assert str(e.value) == cli_error(r).replace("--", "", 1)
-    with pytest.raises(DesignError, match=r"^x\.3ds: unknown mesh format \(the extension must be obj, stl, ply or off\)"):
+    with pytest.raises(DesignError, match=r"^x\.3ds: unknown mesh format \(the extension must be obj, stl, ply, off, glb or gltf\)"):
         pdeshape.fit(b"3DS", name="x.3ds")
     # An OFF file's errors name its line.
     with pytest.raises(DesignError, match=r"^x\.off: not a readable OFF file: line 2: no count of faces"):
@@ -74,6 +74,65 @@ def test_fit_errors_equal_the_cli(cli, tmp_path):
         pdeshape.fit(tmp_path / "missing.stl")
     with pytest.raises(DesignError, match=r"^name: "):
         pdeshape.fit(b"solid")
+    assert not (tmp_path / "out.toml").exists()
+
+
+def glb_of_obj(obj: str) -> bytes:
+    """The OBJ's mesh as a GLB: +Y up (the design's (x, y, z) written (x, z, -y)), metres, f32
+    positions and u32 indices, one node, no pdeshape extras."""
+    import struct
+
+    points = [tuple(float(w) for w in l.split()[1:4]) for l in obj.splitlines() if l.startswith("v ")]
+    faces = [[int(w) - 1 for w in l.split()[1:4]] for l in obj.splitlines() if l.startswith("f ")]
+    turned = [(x, z, -y) for x, y, z in points]
+    pos = b"".join(struct.pack("<3f", *p) for p in turned)
+    stored = [struct.unpack("<3f", pos[12 * k : 12 * k + 12]) for k in range(len(turned))]
+    idx = b"".join(struct.pack("<3I", *f) for f in faces)
+    doc = {
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(turned), "type": "VEC3",
+             "min": [min(p[c] for p in stored) for c in range(3)],
+             "max": [max(p[c] for p in stored) for c in range(3)]},
+            {"bufferView": 1, "componentType": 5125, "count": 3 * len(faces), "type": "SCALAR"},
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": len(pos)},
+            {"buffer": 0, "byteOffset": len(pos), "byteLength": len(idx)},
+        ],
+        "buffers": [{"byteLength": len(pos) + len(idx)}],
+    }
+    js = json.dumps(doc).encode()
+    js += b" " * (-len(js) % 4)
+    binary = pos + idx
+    total = 12 + 8 + len(js) + 8 + len(binary)
+    return (
+        b"glTF" + struct.pack("<II", 2, total) + struct.pack("<I", len(js)) + b"JSON" + js
+        + struct.pack("<I", len(binary)) + b"BIN\0" + binary
+    )
+
+
+def test_fit_of_a_glb_equals_the_cli(cli, tmp_path):
+    mesh = tmp_path / "egg.glb"
+    mesh.write_bytes(glb_of_obj(ellipsoid_obj(24, 32)))
+    cli("fit", str(mesh), "-o", str(tmp_path / "egg.toml"))
+    d, report = pdeshape.fit(mesh)
+    assert d.text == (tmp_path / "egg.toml").read_text()
+    # glTF is in metres: the design says so, and the report's notes say what was turned
+    assert '\nunits = "m"\n' in d.text
+    assert any("read as glTF: metres, +Y up, turned to +Z up" in n for n in report["notes"])
+    # a damaged GLB: the CLI's one line
+    bad = tmp_path / "cut.glb"
+    bad.write_bytes(mesh.read_bytes()[:-10])
+    r = cli("fit", str(bad), "-o", str(tmp_path / "out.toml"), check=False)
+    with pytest.raises(DesignError) as e:
+        pdeshape.fit(bad)
+    assert str(e.value) == cli_error(r)
+    assert "not a readable glTF file: the GLB file is truncated" in str(e.value)
     assert not (tmp_path / "out.toml").exists()
 
 

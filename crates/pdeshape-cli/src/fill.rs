@@ -1,10 +1,9 @@
-//! `pdeshape fill MESH -o OUT`: fill the holes of a triangle mesh (obj, stl, ply, off) with PDE
-//! patches G1 to the mesh, welded in; write the mesh (obj, stl, ply or glb by extension),
-//! print one line per hole and whether the result is watertight.
+//! `pdeshape fill MESH -o OUT`: fill the holes of a triangle mesh (obj, stl, ply, off, glb,
+//! gltf) with PDE patches G1 to the mesh, welded in; write the mesh (obj, stl, ply or glb by
+//! extension), print one line per hole and whether the result is watertight.
 
 use crate::common::{self, CliError, Output};
 use pdeshape::fill::{self, Continuity, FillOptions, HoleSelection};
-use pdeshape::fit::InputMesh;
 use pdeshape::mesh::{self, Format};
 use std::fmt::Write as _;
 use std::io::Write;
@@ -13,8 +12,9 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The mesh: an OBJ, STL (binary or ASCII), PLY or OFF file of one manifold, consistently
-    /// oriented surface with holes.
+    /// The mesh: an OBJ, STL (binary or ASCII), PLY, OFF or glTF (.glb, .gltf) file of one
+    /// manifold, consistently oriented surface with holes (in the units and up axis the file
+    /// states, which the filled mesh and the design then carry).
     pub mesh: PathBuf,
     /// The filled mesh (obj, stl, ply or glb, by extension).
     #[arg(short, long)]
@@ -77,9 +77,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     let bytes = crate::fit::read_mesh_bytes(&args.mesh, &shown)?;
     let mut out = Output::create(&args.output)?;
     let mut design_out = args.design.as_deref().map(Output::create).transpose()?;
-    let read = InputMesh::read_report(&bytes, input)
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = crate::fit::read_mesh(&args.mesh, &shown, &bytes, input)?;
     let note = read.note();
+    let units = read.units;
     let mesh = read.mesh;
     let t = Instant::now();
     let filled = fill::fill_holes(&mesh, &options).map_err(|e| match (e.place(), &note) {
@@ -99,6 +99,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .unwrap_or_default();
     let info = mesh::MeshInfo {
         title: Some(format!("{name}, holes filled")),
+        units: units.unwrap_or_default(),
         ..mesh::MeshInfo::default()
     };
     {
@@ -109,7 +110,8 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
             .map_err(|e| CliError::input(format!("-o {}: {e}", args.output.display())))?;
     }
     if let Some(d) = design_out.as_mut() {
-        let spec = filled.design(&format!("{name}, hole fill"));
+        let mut spec = filled.design(&format!("{name}, hole fill"));
+        spec.units = units;
         let text = pdeshape::spec::write_design(&spec)
             .map_err(|e| CliError::input(format!("--design: {e}")))?;
         d.write_all(text.as_bytes())?;

@@ -1,19 +1,23 @@
-//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply, off): a
+//! `pdeshape fit MESH -o DESIGN.toml`: fit PDE patches to a triangle mesh (obj, stl, ply, off,
+//! glb or gltf; in the units and up axis the file states, which the design then carries): a
 //! closed one by the tube mode, an open one by the sheet mode, any other manifold mesh by the
 //! general mode (a layout of n-sided patches, G1 across its edges), or any as a template says;
 //! write the design, print the two-sided distances and the compression ratio. A fit that misses
 //! the tolerance is not written (exit status 1) unless `--best-effort` is given.
 
 use crate::common::{CliError, Output};
-use pdeshape::fit::{self, InputMesh, MeshFormat};
+use pdeshape::fit::{self, InputMesh, MeshFormat, MeshRead};
 use pdeshape::spec;
 use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub(crate) struct Args {
-    /// The mesh: an OBJ, STL (binary or ASCII), PLY or OFF file of one surface: closed (fitted along
-    /// its main axis, poles at both ends) or open (a sheet, fitted by profiles across it).
+    /// The mesh: an OBJ, STL (binary or ASCII), PLY, OFF or glTF (.glb, .gltf) file of one
+    /// surface: closed (fitted along its main axis, poles at both ends) or open (a sheet, fitted
+    /// by profiles across it). glTF is read in metres and turned from +Y up to +Z up (in the
+    /// design units its pdeshape extras name); the tool's own OBJ, STL and PLY are read in the
+    /// units and up axis they state; the design carries the units a file states.
     pub mesh: PathBuf,
     /// The fitted design file (TOML).
     #[arg(short, long)]
@@ -101,8 +105,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .transpose()?;
 
     let t = Instant::now();
-    let read = InputMesh::read_report(&bytes, format)
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = read_mesh(&args.mesh, &shown, &bytes, format)?;
     // What the reader and the repairs did (an OBJ's objects welded into one mesh, T-junctions
     // split, fins dropped …): a note after a fit, the reason's context after a refusal, so a
     // refusal stays one line.
@@ -133,6 +136,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .map_err(with_note)?;
     let elapsed_ms = t.elapsed().as_secs_f64() * 1e3;
     let mut fitted = fitted;
+    if let Some(units) = read.units {
+        fitted.fit.spec.units = Some(units);
+    }
     let name = args
         .mesh
         .file_name()
@@ -278,8 +284,7 @@ fn sweep(
     let bytes = read_mesh_bytes(&args.mesh, shown)?;
     let mut out = Output::create(&args.output)?;
     let mut plot = args.plot.as_ref().map(|p| Output::create(p)).transpose()?;
-    let read = InputMesh::read_report(&bytes, format)
-        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let read = read_mesh(&args.mesh, shown, &bytes, format)?;
     let (mesh, _) =
         fit::repair(&read.mesh).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let t = Instant::now();
@@ -373,4 +378,19 @@ pub(crate) fn input_format(path: &std::path::Path, shown: &str) -> Result<MeshFo
 
 pub(crate) fn read_mesh_bytes(path: &std::path::Path, shown: &str) -> Result<Vec<u8>, CliError> {
     pdeshape::open::read_held(path).map_err(|e| CliError::input(format!("{shown}: {}", e.words())))
+}
+
+/// Reads the bytes of the mesh file `path` as `format`; the files a `.gltf` file names (its
+/// buffers) are read beside it as the file itself is ([`pdeshape::open::read_held`]). Errors
+/// are `{shown}: …`.
+pub(crate) fn read_mesh(
+    path: &std::path::Path,
+    shown: &str,
+    bytes: &[u8],
+    format: MeshFormat,
+) -> Result<MeshRead, CliError> {
+    let dir = path.parent().unwrap_or(std::path::Path::new(""));
+    let external = |name: &str| pdeshape::open::read_held(&dir.join(name)).map_err(|e| e.words());
+    InputMesh::read_report_with(bytes, format, &external)
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))
 }

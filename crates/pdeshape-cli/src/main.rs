@@ -67,11 +67,12 @@ enum Command {
     /// Start the browser designer on a local web server and print its URL (with a per-launch
     /// token): drag curves and watch the surface re-solve.
     Serve(serve::Args),
-    /// Fit PDE patches to a closed triangle mesh (obj, stl, ply) and write the design (toml),
-    /// with the two-sided distances and the compression ratio.
+    /// Fit PDE patches to a triangle mesh (obj, stl, ply, off, glb, gltf) and write the design
+    /// (toml), with the two-sided distances and the compression ratio.
     Fit(fit::Args),
-    /// Fill the holes of a triangle mesh (obj, stl, ply) with PDE patches G1 to the mesh and
-    /// weld them in; write the mesh (obj, stl, ply or glb), watertight if it had only holes.
+    /// Fill the holes of a triangle mesh (obj, stl, ply, off, glb, gltf) with PDE patches G1 to
+    /// the mesh and weld them in; write the mesh (obj, stl, ply or glb), watertight if it had
+    /// only holes.
     Fill(fill::Args),
     /// Read a CAD part's faces and edges from a STEP or IGES file into a design file (toml);
     /// with --fill, an n-sided patch tangent to the faces around every gap.

@@ -1,10 +1,19 @@
-//! Triangle meshes read from OBJ, STL, PLY and OFF files (through `tobj`, `stl_io` and `ply-rs`;
-//! OFF, a few lines of text, by [`read_off`]), and
+//! Triangle meshes read from OBJ, STL, PLY, OFF and glTF files (through `tobj`, `stl_io` and
+//! `ply-rs`; OFF, a few lines of text, by [`read_off`]; glTF by `super::gltf_read`), and
 //! the checks the fitting needs: finite coordinates, valid indices, a size limit, edge
 //! manifoldness, closedness and connectedness. An OBJ file of several objects or groups (the
-//! tool's own OBJ has one object per patch, Blender writes one per object) is read as one mesh
-//! welded by position, and [`MeshRead::note`] says so.
+//! tool's own OBJ has one object per patch, Blender writes one per object), or a glTF file of
+//! several triangle primitives, is read as one mesh welded by position, and [`MeshRead::note`]
+//! says so.
+//!
+//! Units and the up axis are taken as the file states them: glTF is in metres and +Y up by its
+//! specification (turned to the design's +Z up; pdeshape's GLB records the design's units in
+//! its extras, and the mesh is read in those); the tool's own OBJ, STL and PLY state
+//! `units: mm (1 unit = 0.001 m); up: +Y` in a comment or header (`stated_frame`), and a
+//! `+Y` up file is turned back the same way. A file that states nothing is read as its numbers
+//! are, without units.
 
+use crate::spec::Units;
 use crate::{Error, Result, Vec3};
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -13,7 +22,7 @@ use std::io::Cursor;
 /// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
 pub const MAX_TRIANGLES: usize = 4_000_000;
 
-/// An indexed triangle mesh read for fitting (OBJ, STL, PLY, OFF), with its topology checks; the
+/// An indexed triangle mesh read for fitting (OBJ, STL, PLY, OFF, glTF), with its topology checks; the
 /// design layer's [`crate::mesh::TriMesh`] is the mesh a design is written as.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InputMesh {
@@ -47,19 +56,38 @@ pub enum MeshFormat {
     Ply,
     /// Object File Format (`.off`), as text.
     Off,
+    /// glTF 2.0: binary (`.glb`) or JSON (`.gltf`, its buffers embedded as data URIs or in
+    /// files beside it, read through [`InputMesh::read_report_with`]); told apart by content.
+    Gltf,
+}
+
+/// Reads a file that a mesh file names beside it (a `.gltf` file's buffers): given the
+/// reference as the file writes it (percent-decoded, a relative path), its bytes, or why they
+/// cannot be read in a few words.
+pub type External<'a> = dyn Fn(&str) -> std::result::Result<Vec<u8>, String> + 'a;
+
+/// The reader of external files for bytes read without their directory: none is read.
+fn no_external(_: &str) -> std::result::Result<Vec<u8>, String> {
+    Err(
+        "the glTF file's buffers in other files are read only beside the file (give a .glb, or \
+         a .gltf whose buffers are data URIs)"
+            .to_string(),
+    )
 }
 
 impl MeshFormat {
     /// The extensions [`MeshFormat::from_extension`] knows, in words for messages.
-    pub const EXTENSIONS: &'static str = "obj, stl, ply or off";
+    pub const EXTENSIONS: &'static str = "obj, stl, ply, off, glb or gltf";
 
-    /// The format named by a file extension (`obj`, `stl`, `ply`, `off`, any case).
+    /// The format named by a file extension (`obj`, `stl`, `ply`, `off`, `glb`, `gltf`, any
+    /// case).
     pub fn from_extension(ext: &str) -> Option<Self> {
         match ext.to_ascii_lowercase().as_str() {
             "obj" => Some(MeshFormat::Obj),
             "stl" => Some(MeshFormat::Stl),
             "ply" => Some(MeshFormat::Ply),
             "off" => Some(MeshFormat::Off),
+            "glb" | "gltf" => Some(MeshFormat::Gltf),
             _ => None,
         }
     }
@@ -77,16 +105,28 @@ impl MeshFormat {
 /// A mesh read from a file, with what the reader did to it beyond parsing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshRead {
-    /// The mesh.
+    /// The mesh, in the design's frame (+Z up) and in `units` when the file states them.
     pub mesh: InputMesh,
-    /// Set when an OBJ file's several objects or groups were joined into one mesh.
+    /// Set when an OBJ file's several objects or groups, or a glTF file's several triangle
+    /// primitives, were joined into one mesh.
     pub joined: Option<Joined>,
+    /// The format read.
+    pub format: MeshFormat,
+    /// The length unit of the mesh's coordinates when the file states it (glTF: metres, or
+    /// the design units its extras name; the tool's own OBJ, STL and PLY: their units line);
+    /// a design fitted to the mesh carries it.
+    pub units: Option<Units>,
+    /// What the reader converted or left out (a turn to +Z up, glTF primitives of points or
+    /// lines), each a phrase for [`MeshRead::note`].
+    pub converted: Vec<String>,
 }
 
-/// How an OBJ file's objects or groups were joined into one mesh ([`InputMesh::read_report`]).
+/// How a file's objects, groups or primitives were joined into one mesh
+/// ([`InputMesh::read_report`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Joined {
-    /// Objects, groups or material runs of the file (each a model to the OBJ parser).
+    /// Objects, groups or material runs of an OBJ file (each a model to the OBJ parser), or
+    /// triangle primitives of a glTF file (each placed by its node).
     pub parts: usize,
     /// Vertices merged into another one at the same position (within [`WELD_FRACTION`] of the
     /// bounding-box diagonal).
@@ -100,20 +140,47 @@ pub struct Joined {
 pub const WELD_FRACTION: f64 = 1e-6;
 
 impl MeshRead {
-    /// One line for the user when the reader joined parts of the file, `None` otherwise.
+    /// One line for the user when the reader converted the file's frame, left primitives out
+    /// or joined parts of the file, `None` otherwise.
     pub fn note(&self) -> Option<String> {
-        let j = self.joined?;
-        let mut text = format!(
-            "the OBJ file has {} objects or groups, read as one mesh: {} vertices welded by position",
-            j.parts, j.welded
-        );
-        if j.dropped > 0 {
-            text += &format!(
-                ", {} triangles left with two equal corners dropped",
-                j.dropped
-            );
+        let mut parts = self.converted.clone();
+        if let Some(j) = self.joined {
+            let mut text = match self.format {
+                MeshFormat::Gltf => format!(
+                    "the glTF file has {} triangle primitives, read as one mesh: {} vertices \
+                     welded by position",
+                    j.parts, j.welded
+                ),
+                _ => format!(
+                    "the OBJ file has {} objects or groups, read as one mesh: {} vertices welded \
+                     by position",
+                    j.parts, j.welded
+                ),
+            };
+            if j.dropped > 0 {
+                text += &format!(
+                    ", {} triangles left with two equal corners dropped",
+                    j.dropped
+                );
+            }
+            parts.push(text);
         }
-        Some(text)
+        (!parts.is_empty()).then(|| parts.join("; "))
+    }
+
+    /// The mesh with its coordinates in `units`: scaled from the units the file states, as it
+    /// is when the file states none (a mesh given to a design in those units).
+    pub fn mesh_in(&self, units: Units) -> InputMesh {
+        let mut mesh = self.mesh.clone();
+        if let Some(from) = self.units {
+            if from != units {
+                let k = from.metres() / units.metres();
+                for p in &mut mesh.positions {
+                    *p *= k;
+                }
+            }
+        }
+        mesh
     }
 }
 
@@ -165,9 +232,23 @@ impl InputMesh {
     }
 
     /// [`InputMesh::read`], with what the reader did: whether an OBJ file's objects or groups
-    /// were joined, and how many vertices were welded.
+    /// (a glTF file's primitives) were joined, and how many vertices were welded; the units
+    /// and up axis the file states, and what was converted. A `.gltf` file whose buffers are
+    /// in other files is refused: [`InputMesh::read_report_with`] reads those.
     pub fn read_report(bytes: &[u8], format: MeshFormat) -> Result<MeshRead> {
-        let (positions, triangles, parts) = match format {
+        InputMesh::read_report_with(bytes, format, &no_external)
+    }
+
+    /// [`InputMesh::read_report`], the files a `.gltf` file names beside it (its buffers) read
+    /// by `external`.
+    pub fn read_report_with(
+        bytes: &[u8],
+        format: MeshFormat,
+        external: &External<'_>,
+    ) -> Result<MeshRead> {
+        let mut units = None;
+        let mut converted = Vec::new();
+        let (mut positions, triangles, parts) = match format {
             MeshFormat::Obj => read_obj(bytes)?,
             MeshFormat::Stl => {
                 let (p, t) = read_stl(bytes)?;
@@ -181,11 +262,33 @@ impl InputMesh {
                 let (p, t) = read_off(bytes)?;
                 (p, t, 1)
             }
+            MeshFormat::Gltf => {
+                let g = super::gltf_read::read_gltf(bytes, external)?;
+                units = Some(g.units);
+                converted = g.notes;
+                (g.positions, g.triangles, g.parts)
+            }
         };
+        if let Some((stated, y_up)) = stated_frame(bytes, format) {
+            units = Some(stated);
+            if y_up {
+                // The writers' turn (x, y, z) → (x, z, −y), undone.
+                for p in &mut positions {
+                    *p = Vec3::new(p.x, -p.z, p.y);
+                }
+                converted.push(format!(
+                    "the file states +Y up (units: {}): turned to +Z up",
+                    stated.as_str()
+                ));
+            }
+        }
         if parts < 2 {
             return Ok(MeshRead {
                 mesh: InputMesh::new(positions, triangles)?,
                 joined: None,
+                format,
+                units,
+                converted,
             });
         }
         // Checked before welding, so a bad value or index is named as the file has it.
@@ -198,6 +301,9 @@ impl InputMesh {
                 welded,
                 dropped,
             }),
+            format,
+            units,
+            converted,
         })
     }
 
@@ -494,7 +600,7 @@ fn union(parent: &mut [u32], a: u32, b: u32) {
 /// Refuses a mesh whose reading ([`crate::memory::mesh_read`]: the file's bytes and
 /// `elements` vertices and faces, counted from the header or the lines before anything is
 /// stored) would not fit in the memory budget.
-fn check_memory(bytes: &[u8], elements: usize) -> Result<()> {
+pub(super) fn check_memory(bytes: &[u8], elements: usize) -> Result<()> {
     crate::memory::check(
         crate::memory::mesh_read(bytes.len() as u64, elements as u64),
         &format!("reading a mesh of {elements} vertices and faces"),
@@ -502,7 +608,7 @@ fn check_memory(bytes: &[u8], elements: usize) -> Result<()> {
     )
 }
 
-fn check_count(triangles: usize) -> Result<()> {
+pub(super) fn check_count(triangles: usize) -> Result<()> {
     if triangles > MAX_TRIANGLES {
         return Err(Error::invalid(format!(
             "the mesh has {triangles} triangles, more than the {MAX_TRIANGLES} a fit reads; \
@@ -510,6 +616,57 @@ fn check_count(triangles: usize) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The units and up axis (whether `+Y`) an OBJ, STL or PLY file states in the line the tool's
+/// writers put in its comments or header: `units: mm (1 unit = 0.001 m); up: +Y` (OBJ comments
+/// before the first element, PLY `comment` lines of the header) or `units mm; up +Y` (the
+/// binary STL's 80-byte header). `None` for a file that states no units.
+pub(crate) fn stated_frame(bytes: &[u8], format: MeshFormat) -> Option<(Units, bool)> {
+    let lines = || {
+        bytes
+            .split(|&b| b == b'\n')
+            .map(|l| String::from_utf8_lossy(l).trim().to_string())
+    };
+    match format {
+        MeshFormat::Obj => lines()
+            .take_while(|l| l.is_empty() || l.starts_with('#'))
+            .find_map(|l| stated_line(l.trim_start_matches('#'))),
+        MeshFormat::Ply => lines()
+            .take_while(|l| l != "end_header")
+            .filter_map(|l| l.strip_prefix("comment ").map(str::to_string))
+            .find_map(|l| stated_line(&l)),
+        MeshFormat::Stl if bytes.len() >= 84 && !bytes.starts_with(b"solid") => {
+            let head = &bytes[..80];
+            let end = head.iter().position(|&b| b == 0).unwrap_or(80);
+            stated_line(&String::from_utf8_lossy(&head[..end]))
+        }
+        _ => None,
+    }
+}
+
+/// The units and up axis of one line: `;`-separated pieces, one `units[:] U` (mm, cm, m or
+/// in, then anything), optionally one `up[:] +Y` or `+Z`; other pieces are not read.
+fn stated_line(line: &str) -> Option<(Units, bool)> {
+    let mut units = None;
+    let mut y_up = false;
+    let value = |piece: &str, key: &str| -> Option<String> {
+        let rest = piece.strip_prefix(key)?;
+        rest.starts_with([':', ' '])
+            .then(|| rest.trim_start_matches(':').trim().to_string())
+    };
+    for piece in line.split(';').map(str::trim) {
+        if let Some(v) = value(piece, "units") {
+            units = Some(Units::parse(v.split_whitespace().next()?).ok()?);
+        } else if let Some(v) = value(piece, "up") {
+            y_up = match v.to_ascii_lowercase().as_str() {
+                "+y" | "y" => true,
+                "+z" | "z" => false,
+                _ => return None,
+            };
+        }
+    }
+    units.map(|u| (u, y_up))
 }
 
 /// Splits a polygon of `n ≥ 3` corners into a fan.

@@ -26,13 +26,13 @@
 //! or miss the tolerance, measured.
 //!
 //! ```text
-//! OBJ/STL/PLY bytes ──InputMesh::read──▶ InputMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
+//! mesh bytes ──InputMesh::read────────▶ InputMesh ──fit_mesh / fit_template──▶ Fit { spec, … }
 //!                                                 │ design::solve_design(spec)
 //!                                                 ▼
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
 //! ```
 //!
-//! Modules: `auto` (the tolerance and the choice of mode), `layout` (the general mode), `mesh` (reading and topology checks), `repair` (what files leave that is not a
+//! Modules: `auto` (the tolerance and the choice of mode), `layout` (the general mode), `mesh` (reading and topology checks), `gltf_read` (glTF meshes and their frame), `repair` (what files leave that is not a
 //! surface: degenerate and duplicate triangles, cracks, T-junctions, non-manifold edges, specks), `section` (plane sections: loops and open
 //! pieces, and the periodic curves of loops), `profile` (open profiles as even periodic
 //! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
@@ -45,6 +45,7 @@ mod auto;
 mod basis;
 pub mod chain;
 mod features;
+mod gltf_read;
 mod layout;
 mod measure;
 mod mesh;
@@ -68,7 +69,9 @@ pub use layout::{
     Decimation, Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,
 };
 pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
-pub use mesh::{InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION};
+pub use mesh::{
+    External, InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION,
+};
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use pack::{pack, Packed, STEP_FRACTION};
 pub use picture::{layout_edges, picture};

@@ -42,8 +42,9 @@ pub(crate) struct Args {
     /// Multiply every position by this factor (finite, positive).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
-    /// Re-target the motion onto this triangle mesh (OBJ, STL, PLY or OFF, in the design's units):
-    /// each vertex follows its closest point on the design at the first frame.
+    /// Re-target the motion onto this triangle mesh (OBJ, STL, PLY, OFF or glTF, in the design's
+    /// units; a file that states its units, as glTF does, is converted to them): each vertex
+    /// follows its closest point on the design at the first frame.
     #[arg(long)]
     pub retarget: Option<PathBuf>,
     /// Where the re-targeted mesh's animation goes (.glb; required with --retarget).

@@ -6,11 +6,12 @@ use super::load::Animated;
 use super::Args;
 use crate::common::CliError;
 use pdeshape::anim::{self, Retarget};
-use pdeshape::fit::{InputMesh, MeshFormat};
+use pdeshape::fit::{MeshFormat, MeshRead};
 use pdeshape::render::{self as pic, Polyline};
 use std::path::Path;
 
-fn read_mesh(path: &Path) -> Result<InputMesh, CliError> {
+/// The mesh to re-target, in the units the file states (the caller puts it in the design's).
+fn read_mesh(path: &Path) -> Result<MeshRead, CliError> {
     let shown = path.display();
     let bytes = crate::fit::read_mesh_bytes(path, &format!("--retarget {shown}"))?;
     let ext = path
@@ -20,7 +21,7 @@ fn read_mesh(path: &Path) -> Result<InputMesh, CliError> {
         .to_ascii_lowercase();
     let format = MeshFormat::from_extension(&ext)
         .ok_or_else(|| CliError::input(MeshFormat::unknown(&format!("--retarget {shown}"))))?;
-    InputMesh::read(&bytes, format).map_err(|e| CliError::input(format!("--retarget {shown}: {e}")))
+    crate::fit::read_mesh(path, &format!("--retarget {shown}"), &bytes, format)
 }
 
 /// What the extra outputs take from the one pass over the frames: the re-targeted mesh's frames
@@ -39,8 +40,9 @@ impl Collector {
         let located = |e: pdeshape::Error| l.design.error(&e);
         let retarget = match &args.retarget {
             Some(path) => {
-                let mesh = read_mesh(path)?;
+                let read = read_mesh(path)?;
                 let spec = l.anim.spec_at(times[0]).map_err(located)?;
+                let mesh = read.mesh_in(spec.units.unwrap_or_default());
                 let compiled = pdeshape::design::compile(&spec).map_err(located)?;
                 let r = Retarget::new(
                     compiled.solved(),

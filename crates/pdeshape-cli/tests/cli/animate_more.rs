@@ -47,7 +47,7 @@ fn bad_flags_are_refused_before_any_work() {
         &[
             "--retarget",
             "m.txt",
-            "unknown mesh format (the extension must be obj, stl, ply or off)",
+            "unknown mesh format (the extension must be obj, stl, ply, off, glb or gltf)",
         ],
     );
     run_bad(

@@ -198,7 +198,7 @@ fn bad_meshes_and_options_get_one_line_and_no_output() {
         "o.obj",
         &[
             "holed.txt",
-            "unknown mesh format (the extension must be obj, stl, ply or off)",
+            "unknown mesh format (the extension must be obj, stl, ply, off, glb or gltf)",
         ],
     );
 }
