@@ -16,6 +16,11 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// The angle (radians) by which a face's corner may leave the plane an edge there gives it
+/// with its own `end_normals` before that edge is made a crease: rounding's, far below what
+/// `check` reports as a corner's tangent mismatch.
+const OWN_PLANE_ANGLE: f64 = 1e-9;
+
 /// The most corners, edges or faces of one layout.
 pub const MAX_PATCHWORK_ITEMS: usize = 1 << 20;
 
@@ -338,7 +343,11 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
     // A face's corner takes the one tangent plane of the edges there that share their planes:
     // where two such edges give it different normals, both are creases, and where the other
     // edge (a crease or an outline) leaves that plane, so is the sharing one. Until no corner
-    // changes (an edge made a crease is judged again at its other end).
+    // changes (an edge made a crease is judged again at its other end). The angle allowed is
+    // the node's (`CREASE_ANGLE`) where both edges take their corner's normal, and rounding's
+    // (`OWN_PLANE_ANGLE`) where one has its own: a plane given for that edge alone is met
+    // exactly or not at all.
+    let own = |e: usize| spec.edges[e].end_normals.is_some();
     let end_of = |e: usize, v: usize| usize::from(network.edges[e].start != v);
     let leaving = |e: usize, v: usize| tangent(&network.curves[e].curve, end_of(e, v) as f64);
     loop {
@@ -355,13 +364,18 @@ fn build_one(spec: &PatchworkSpec, place: &str) -> Result<SolvedNetwork> {
                     continue;
                 };
                 let shared = |e: usize| joints[e] == Joint::Shared;
+                let allowed = if own(a) || own(b) {
+                    OWN_PLANE_ANGLE
+                } else {
+                    CREASE_ANGLE
+                };
                 let off_plane = |e: usize, n: Vec3| {
                     let t = leaving(e, v);
-                    (t.dot(&n).abs() / t.norm()).min(1.0).asin() > CREASE_ANGLE
+                    (t.dot(&n).abs() / t.norm()).min(1.0).asin() > allowed
                 };
                 let (na, nb) = (end_normals[a][end_of(a, v)], end_normals[b][end_of(b, v)]);
                 let creased: &[usize] = match (shared(a), shared(b)) {
-                    (true, true) if na.angle(&nb) > CREASE_ANGLE => &[a, b],
+                    (true, true) if na.angle(&nb) > allowed => &[a, b],
                     (true, false) if off_plane(b, na) => &[a],
                     (false, true) if off_plane(a, nb) => &[b],
                     _ => &[],

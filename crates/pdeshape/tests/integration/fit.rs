@@ -9,8 +9,8 @@
 use pdeshape::curve::FourierSeries;
 use pdeshape::design::{solve_design, SolvedDesign};
 use pdeshape::fit::{
-    fit_mesh, fit_template, measure, parse_template, position_weights, weights, Fit, FitMode,
-    FitOptions, InputMesh, Measures,
+    fit_general, fit_mesh, fit_template, measure, parse_template, position_weights, weights, Fit,
+    FitMode, FitOptions, InputMesh, Measures,
 };
 use pdeshape::spec::{describe_error, parse_design, write_design, CurveKind, DesignSpec};
 use pdeshape::Vec3;
@@ -405,4 +405,127 @@ sin = [[0.0, -0.4, 0.0]]
             assert!(worst < 1e-9, "a = {a}, four points: {is_four}: {worst}");
         }
     }
+}
+
+/// A washer (flat rings between two coaxial cylinders: outer radius 1, inner 0.5, height 0.4, 48
+/// sections, each side of the cross-section in 4 rows), built here as a surface of revolution of
+/// its rectangular profile. Its rims are sharp features: the general mode lays its edges along
+/// them as creases, and the faces on a ring take the ring's plane at the rims. A face whose
+/// corners all lie on a ring is then flat to rounding (flat boundary curves, normals square to
+/// the plane along them: the plane is the patch; with one normal per corner the rings' faces
+/// leaned into the rims' 45° average normals).
+#[test]
+fn a_washers_rings_are_flat_and_its_rims_creases() {
+    let (outer, inner, h, n, k) = (1.0, 0.5, 0.2, 48usize, 4usize);
+    // The profile in (r, z), counterclockwise: outer wall up, top ring in, inner wall down,
+    // bottom ring out.
+    let mut profile = Vec::new();
+    for i in 0..k {
+        let t = i as f64 / k as f64;
+        profile.push((outer, -h + 2.0 * h * t));
+    }
+    for i in 0..k {
+        let t = i as f64 / k as f64;
+        profile.push((outer + (inner - outer) * t, h));
+    }
+    for i in 0..k {
+        let t = i as f64 / k as f64;
+        profile.push((inner, h - 2.0 * h * t));
+    }
+    for i in 0..k {
+        let t = i as f64 / k as f64;
+        profile.push((inner + (outer - inner) * t, -h));
+    }
+    let m = profile.len();
+    let mut positions = Vec::new();
+    for j in 0..n {
+        let phi = pdeshape::TAU * j as f64 / n as f64;
+        for &(r, z) in &profile {
+            positions.push(Vec3::new(r * phi.cos(), r * phi.sin(), z));
+        }
+    }
+    let at = |j: usize, i: usize| ((j % n) * m + i % m) as u32;
+    let mut triangles = Vec::new();
+    for j in 0..n {
+        for i in 0..m {
+            let (a, b, c, d) = (at(j, i), at(j, i + 1), at(j + 1, i + 1), at(j + 1, i));
+            triangles.push([a, d, c]);
+            triangles.push([a, c, b]);
+        }
+    }
+    let mut mesh = InputMesh::new(positions, triangles).unwrap();
+    mesh.require_closed().unwrap();
+    // Outward: the enclosed volume positive.
+    let volume: f64 = mesh
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            a.dot(&b.cross(&c)) / 6.0
+        })
+        .sum();
+    if volume < 0.0 {
+        for t in &mut mesh.triangles {
+            t.swap(1, 2);
+        }
+    }
+    let (fit, miss) = fit_general(&mesh, &options(0.02)).unwrap();
+    assert!(miss.is_none(), "{miss:?}");
+    let (spec, solved, m) = measured(&mesh, &fit);
+    assert!(m.hausdorff_relative <= 0.02, "{m:?}");
+    let p = &spec.patchwork[0];
+    let point = |c: usize| Vec3::from(p.points[c]);
+    let on_rim = |c: usize| {
+        let q = point(c);
+        let r = q.xy().norm();
+        ((r - outer).abs() < 1e-9 || (r - inner).abs() < 1e-9) && (q.z.abs() - h).abs() < 1e-9
+    };
+    // The creases run from rim to rim, on all four rims.
+    let creases: Vec<_> = p.edges.iter().filter(|e| e.crease).collect();
+    // (A few more may be folds the layout creases wherever its tangent planes would fold.)
+    let along = creases
+        .iter()
+        .filter(|e| on_rim(e.ends[0]) && on_rim(e.ends[1]))
+        .count();
+    assert!(
+        10 * along >= 9 * creases.len(),
+        "{along} of {} creases run along the rims",
+        creases.len()
+    );
+    for (r, z) in [(outer, h), (outer, -h), (inner, h), (inner, -h)] {
+        assert!(
+            creases.iter().any(|e| e.ends.iter().all(|&c| {
+                let q = point(c);
+                (q.xy().norm() - r).abs() < 1e-9 && (q.z - z).abs() < 1e-9
+            })),
+            "no crease on the rim r = {r}, z = {z}"
+        );
+    }
+    // The faces on a ring are flat: the patch reproduces the plane to rounding (10⁻⁹ of a
+    // diagonal of 2.06 leaves 8 digits for the solve's conditioning).
+    let mut flat_faces = 0;
+    let mut off: f64 = 0.0;
+    for (f, corners) in p.faces.iter().enumerate() {
+        let z0 = point(corners[0]).z;
+        if (z0.abs() - h).abs() > 1e-12 || corners.iter().any(|&c| (point(c).z - z0).abs() > 1e-12)
+        {
+            continue;
+        }
+        flat_faces += 1;
+        let name = format!("fit.{f}");
+        for s in solved
+            .surfaces
+            .iter()
+            .filter(|s| s.name == name || s.name.starts_with(&format!("{name}.")))
+        {
+            for i in 0..=8 {
+                for j in 0..=8 {
+                    let q = s.surface().point(i as f64 / 8.0, j as f64 / 8.0);
+                    off = off.max((q.z - z0).abs());
+                }
+            }
+        }
+    }
+    assert!(flat_faces >= 8, "{flat_faces} faces on the rings");
+    assert!(off < 1e-9, "a ring's face leaves its plane by {off}");
 }
