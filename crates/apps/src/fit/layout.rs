@@ -25,7 +25,7 @@
 //!    of the mesh's triangles (the best round is the answer, with a note saying why the rounds
 //!    stopped).
 
-use super::features::{plan_edges, Sectors};
+use super::features::{plan_edges, EndPlan, Sectors};
 use super::measure::{
     closest_on_triangle, design_sizes, measure_components, measure_surfaces, Measures,
     MeshDistance, PartMeasure, PointDistances,
@@ -1341,6 +1341,53 @@ fn crease_folds(layout: &Layout, corner: &[Vec3], edges: &mut [PatchworkEdgeSpec
     }
 }
 
+/// The times [`layout_spec`] takes the features away from the corners of faces no patch would
+/// take and checks again.
+const PLAIN_ROUNDS: usize = 4;
+
+/// The faces of `layout` (corners `points`, sides the Hermite curves of `edges`) whose
+/// boundaries no n-sided patch takes ([`pdeshape_geometry::nsided::boundary`]: a corner that
+/// does not turn, sides that touch away from their corners).
+fn refused_faces(layout: &Layout, points: &[Vec3], edges: &[PatchworkEdgeSpec]) -> Vec<usize> {
+    use pdeshape_geometry::curve::{Hermite, SharedCurve};
+    use pdeshape_geometry::nsided::{boundary, Side};
+    use rayon::prelude::*;
+    let edge_of = edge_index(edges);
+    let curves: Vec<SharedCurve> = edges
+        .iter()
+        .map(|e| {
+            let v = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
+            let c: SharedCurve = std::sync::Arc::new(Hermite::new(
+                points[e.ends[0]],
+                points[e.ends[1]],
+                v(e.tangents[0]),
+                v(e.tangents[1]),
+            ));
+            c
+        })
+        .collect();
+    (0..layout.faces.len())
+        .into_par_iter()
+        .filter(|&f| {
+            let face = &layout.faces[f];
+            let m = face.len();
+            let sides: Option<Vec<Side>> = (0..m)
+                .map(|k| {
+                    let (a, b) = (face[k], face[(k + 1) % m]);
+                    let e = *edge_of.get(&(a.min(b), a.max(b)))?;
+                    let (t0, t1) = if edges[e].ends[0] == a {
+                        (0.0, 1.0)
+                    } else {
+                        (1.0, 0.0)
+                    };
+                    Some(Side::position(curves[e].clone(), t0, t1))
+                })
+                .collect();
+            sides.is_some_and(|s| boundary(&s, 1e-9).is_err())
+        })
+        .collect()
+}
+
 /// The `[[patchwork]]` of a layout: corners and normals from the mesh (the planes of sharp
 /// vertices chosen again: [`corner_normals`]), each edge's curve and
 /// normal field fitted to it.
@@ -1403,11 +1450,27 @@ fn layout_spec_planes(
         &corner,
         &ends,
     );
-    let edges: Vec<PatchworkEdgeSpec> = {
+    let points: Vec<Vec3> = (0..layout.vertices.len()).map(pos).collect();
+    // The edges with the plans, except at the vertices in `plain` (which take their corner's
+    // normal, as without features), spread and creased where they fold.
+    let build = |plain: &[bool]| {
         use rayon::prelude::*;
-        ends.par_iter()
+        let mut edges: Vec<PatchworkEdgeSpec> = ends
+            .par_iter()
             .zip(&plans)
             .map(|(&[a, b], &(crease, [pa, pb]))| {
+                let smooth = |i: usize, p: EndPlan| {
+                    if plain[i] {
+                        EndPlan {
+                            normal: corner[i],
+                            own: false,
+                            along: None,
+                        }
+                    } else {
+                        p
+                    }
+                };
+                let (pa, pb) = (smooth(a, pa), smooth(b, pb));
                 let (tangents, inner) = fit_edge(
                     index,
                     mesh,
@@ -1423,12 +1486,31 @@ fn layout_spec_planes(
                     end_normals: (pa.own || pb.own).then(|| [arr(pa.normal), arr(pb.normal)]),
                 }
             })
-            .collect()
+            .collect();
+        spread_corners(layout, &points, &corner, &mut edges);
+        crease_folds(layout, &corner, &mut edges);
+        edges
     };
-    let mut edges = edges;
-    let points: Vec<Vec3> = (0..layout.vertices.len()).map(pos).collect();
-    spread_corners(layout, &points, &corner, &mut edges);
-    crease_folds(layout, &corner, &mut edges);
+    // A face no patch would take (a corner that does not turn, sides that touch) with a
+    // corner on a feature: its corners go without their features, a few times over.
+    let mut plain = vec![false; layout.vertices.len()];
+    let mut edges = build(&plain);
+    for _ in 0..PLAIN_ROUNDS {
+        let refused = refused_faces(layout, &points, &edges);
+        let mut more = false;
+        for f in refused {
+            for &c in &layout.faces[f] {
+                if !plain[c] && sectors.is_sharp(layout.vertices[c]) {
+                    plain[c] = true;
+                    more = true;
+                }
+            }
+        }
+        if !more {
+            break;
+        }
+        edges = build(&plain);
+    }
     Ok(PatchworkSpec {
         name: "fit".to_string(),
         order: 2,
@@ -2200,6 +2282,35 @@ mod tests {
     fn dir(deg: f64) -> Vec3 {
         let r = deg.to_radians();
         Vec3::new(r.cos(), r.sin(), 0.0)
+    }
+
+    /// Two triangles on a square's diagonal: with straight edges both bound disks; with the
+    /// first triangle's side from corner 0 to 2 leaving corner 0 along the side to corner 1 (a
+    /// corner that does not turn), that triangle alone is refused, as the n-sided solve would.
+    #[test]
+    fn faces_no_patch_takes_are_found_without_solving() {
+        let points = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ];
+        let layout = Layout {
+            vertices: (0..4).collect(),
+            faces: vec![vec![0, 1, 2], vec![0, 2, 3]],
+        };
+        let straight =
+            |a: usize, b: usize| edge(a, b, points[b] - points[a], points[b] - points[a]);
+        let mut edges = vec![
+            straight(0, 1),
+            straight(1, 2),
+            straight(0, 2),
+            straight(2, 3),
+            straight(0, 3),
+        ];
+        assert!(refused_faces(&layout, &points, &edges).is_empty());
+        edges[2].tangents[0] = arr(dir(0.0) * 2.0f64.sqrt());
+        assert_eq!(refused_faces(&layout, &points, &edges), vec![0]);
     }
 
     /// Four faces about vertex 0 (the origin, normal +z) in the xy-plane: points, layout and

@@ -480,6 +480,108 @@ fn line_angle(a: Vec3, b: Vec3) -> f64 {
     a.cross(&b).norm().atan2(a.dot(&b).abs())
 }
 
+/// The checks a boundary passes before any n-sided solve, on the sides' curves alone (not
+/// their ribbons): every side finite and longer than 10⁻⁹ of the boundary's size (the diagonal
+/// of its points' box), the loop closed at every corner within `gap_tolerance` of that size,
+/// every corner turning by more than 0.5° and less than 179.5°, and no two sides (nor one
+/// with itself) meeting away from their corners. Returns the size and each corner's gap (the
+/// distance from the end of side `k − 1` to the start of side `k`). [`NSidedPatch::solve`]
+/// runs these first; a caller laying out many patches can run them alone to find the faces no
+/// solve would take.
+pub fn boundary(sides: &[Side], gap_tolerance: f64) -> Result<(f64, Vec<f64>)> {
+    let n = sides.len();
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+    let mut lengths = vec![0.0; n];
+    for (i, s) in sides.iter().enumerate() {
+        let mut prev: Option<Vec3> = None;
+        for j in 0..=64 {
+            let mut c = [Vec3::zeros(); 1];
+            s.jet(j as f64 / 64.0, &mut c);
+            let p = c[0];
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(Error::invalid("the curve is not finite on the side")
+                    .at(&format!("sides[{i}]")));
+            }
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+            if let Some(q) = prev {
+                lengths[i] += (p - q).norm();
+            }
+            prev = Some(p);
+        }
+    }
+    let size = (hi - lo).norm();
+    if !(size.is_finite() && size > 0.0) {
+        return Err(Error::invalid(
+            "the sides enclose nothing: every point is the same",
+        ));
+    }
+    for (i, l) in lengths.iter().enumerate() {
+        if *l <= 1e-9 * size {
+            return Err(Error::invalid(format!(
+                "the side is degenerate: its length {l:.3e} is nothing next to the boundary's \
+                 size {size:.3e}"
+            ))
+            .at(&format!("sides[{i}]")));
+        }
+    }
+    let jet = |s: &Side, t: f64| {
+        let mut c = [Vec3::zeros(); 2];
+        s.jet(t, &mut c);
+        c
+    };
+    let mut gaps = vec![0.0; n];
+    for (k, gap) in gaps.iter_mut().enumerate() {
+        let prev = (k + n - 1) % n;
+        let (end, start) = (jet(&sides[prev], 1.0), jet(&sides[k], 0.0));
+        *gap = (end[0] - start[0]).norm();
+        if *gap > gap_tolerance * size {
+            return Err(Error::invalid(format!(
+                "the loop does not close at corner {k} (end of side {prev}, start of side {k}): \
+                 the gap is {gap:.3e}, more than {gap_tolerance:.1e} of the boundary's size \
+                 {size:.3e}"
+            )));
+        }
+        // The domain's corner turns by 2π/n; a side that continues its predecessor (a flat
+        // corner) or turns back on it (a cusp) maps that turn singularly.
+        let (a, b) = (end[1], start[1]);
+        let turn = a.cross(&b).norm().atan2(a.dot(&b));
+        if !(MIN_TURN..=std::f64::consts::PI - MIN_TURN).contains(&turn) {
+            return Err(Error::invalid(format!(
+                "the sides meet without a corner at corner {k} (end of side {prev}, start of \
+                 side {k}): the tangent turns by {:.3}°; every corner of an n-sided patch must \
+                 turn (by more than {:.1}° and less than {:.1}°): join the two sides into one",
+                turn.to_degrees(),
+                MIN_TURN.to_degrees(),
+                180.0 - MIN_TURN.to_degrees()
+            )));
+        }
+    }
+    // Sides that cross or touch each other, or themselves, bound no disk.
+    let loop_sides: Vec<_> = sides
+        .iter()
+        .map(|s| (s.curve.clone(), s.t0, s.t1))
+        .collect();
+    let largest_gap = gaps.iter().fold(0.0f64, |a, &g| a.max(g));
+    let ends = (1e-6 * size).max(4.0 * largest_gap);
+    if let Some((i, s, j, t, p)) =
+        crate::network::meet::loop_crossing(&loop_sides, 1e-9 * size, ends)
+    {
+        let what = if i == j {
+            format!("side {i} crosses itself (at s = {s:.4} and s = {t:.4})")
+        } else {
+            format!("side {i} (at s = {s:.4}) meets side {j} (at s = {t:.4})")
+        };
+        return Err(Error::invalid(format!(
+            "{what} at ({:.4e}, {:.4e}, {:.4e}): the sides of an n-sided patch must bound a disk \
+             without touching away from their corners",
+            p.x, p.y, p.z
+        )));
+    }
+    Ok((size, gaps))
+}
+
 impl NSidedPatch {
     /// Solves the patch bounded by `sides` (in loop order, each ending where the next
     /// starts).
@@ -552,43 +654,7 @@ impl NSidedPatch {
                  its energy does not fix the patch (use order 1 or 2)",
             ));
         }
-        // Size, degenerate sides, gaps.
-        let mut lo = Vec3::repeat(f64::INFINITY);
-        let mut hi = Vec3::repeat(f64::NEG_INFINITY);
-        let mut lengths = vec![0.0; n];
-        for (i, s) in sides.iter().enumerate() {
-            let mut prev: Option<Vec3> = None;
-            for j in 0..=64 {
-                let mut c = [Vec3::zeros(); 1];
-                s.jet(j as f64 / 64.0, &mut c);
-                let p = c[0];
-                if !p.iter().all(|x| x.is_finite()) {
-                    return Err(Error::invalid("the curve is not finite on the side")
-                        .at(&format!("sides[{i}]")));
-                }
-                lo = lo.inf(&p);
-                hi = hi.sup(&p);
-                if let Some(q) = prev {
-                    lengths[i] += (p - q).norm();
-                }
-                prev = Some(p);
-            }
-        }
-        let size = (hi - lo).norm();
-        if !(size.is_finite() && size > 0.0) {
-            return Err(Error::invalid(
-                "the sides enclose nothing: every point is the same",
-            ));
-        }
-        for (i, l) in lengths.iter().enumerate() {
-            if *l <= 1e-9 * size {
-                return Err(Error::invalid(format!(
-                    "the side is degenerate: its length {l:.3e} is nothing next to the \
-                     boundary's size {size:.3e}"
-                ))
-                .at(&format!("sides[{i}]")));
-            }
-        }
+        let (size, gaps) = boundary(&sides, options.gap_tolerance)?;
         let built: Vec<BuiltSide> = sides
             .iter()
             .map(|s| BuiltSide {
@@ -600,58 +666,13 @@ impl NSidedPatch {
                 curvature: BuiltCurvature::Free,
             })
             .collect();
-        let mut corners = vec![Corner::default(); n];
-        for (k, corner) in corners.iter_mut().enumerate() {
-            let prev = (k + n - 1) % n;
-            let end = built[prev].position(1.0)[0];
-            let start = built[k].position(0.0)[0];
-            let gap = (end - start).norm();
-            if gap > options.gap_tolerance * size {
-                return Err(Error::invalid(format!(
-                    "the loop does not close at corner {k} (end of side {prev}, start of side \
-                     {k}): the gap is {gap:.3e}, more than {:.1e} of the boundary's size \
-                     {size:.3e}",
-                    options.gap_tolerance
-                )));
-            }
-            corner.gap = gap;
-            // The domain's corner turns by 2π/n; a side that continues its predecessor
-            // (a flat corner) or turns back on it (a cusp) maps that turn singularly.
-            let (a, b) = (built[prev].position(1.0)[1], built[k].position(0.0)[1]);
-            let turn = a.cross(&b).norm().atan2(a.dot(&b));
-            if !(MIN_TURN..=std::f64::consts::PI - MIN_TURN).contains(&turn) {
-                return Err(Error::invalid(format!(
-                    "the sides meet without a corner at corner {k} (end of side {prev}, start \
-                     of side {k}): the tangent turns by {:.3}°; every corner of an n-sided \
-                     patch must turn (by more than {:.1}° and less than {:.1}°): join the two \
-                     sides into one",
-                    turn.to_degrees(),
-                    MIN_TURN.to_degrees(),
-                    180.0 - MIN_TURN.to_degrees()
-                )));
-            }
-        }
-        // Sides that cross or touch each other, or themselves, bound no disk.
-        let loop_sides: Vec<_> = sides
-            .iter()
-            .map(|s| (s.curve.clone(), s.t0, s.t1))
+        let corners: Vec<Corner> = gaps
+            .into_iter()
+            .map(|gap| Corner {
+                gap,
+                ..Corner::default()
+            })
             .collect();
-        let largest_gap = corners.iter().fold(0.0f64, |a, c| a.max(c.gap));
-        let ends = (1e-6 * size).max(4.0 * largest_gap);
-        if let Some((i, s, j, t, p)) =
-            crate::network::meet::loop_crossing(&loop_sides, 1e-9 * size, ends)
-        {
-            let what = if i == j {
-                format!("side {i} crosses itself (at s = {s:.4} and s = {t:.4})")
-            } else {
-                format!("side {i} (at s = {s:.4}) meets side {j} (at s = {t:.4})")
-            };
-            return Err(Error::invalid(format!(
-                "{what} at ({:.4e}, {:.4e}, {:.4e}): the sides of an n-sided patch must bound a \
-                 disk without touching away from their corners",
-                p.x, p.y, p.z
-            )));
-        }
         let poly = Polygon::new(n);
         let mut patch = NSidedPatch {
             basis: Basis::new(&poly, vec![1; n], options.degree),
