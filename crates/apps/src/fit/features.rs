@@ -454,11 +454,11 @@ pub(super) fn plan_edges(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// The unit box as 12 triangles, counterclockwise seen from outside.
-    fn unit_box() -> InputMesh {
+    pub(in crate::fit) fn unit_box() -> InputMesh {
         let p = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
         let positions = vec![
             p(0.0, 0.0, 0.0),

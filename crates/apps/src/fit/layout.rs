@@ -2916,30 +2916,7 @@ mod tests {
     /// midpoint on the box.
     #[test]
     fn a_box_of_twelve_triangles_is_its_own_layout_with_flat_faces() {
-        let p = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
-        let positions = vec![
-            p(0.0, 0.0, 0.0),
-            p(1.0, 0.0, 0.0),
-            p(1.0, 1.0, 0.0),
-            p(0.0, 1.0, 0.0),
-            p(0.0, 0.0, 1.0),
-            p(1.0, 0.0, 1.0),
-            p(1.0, 1.0, 1.0),
-            p(0.0, 1.0, 1.0),
-        ];
-        let quads = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
-        let triangles = quads
-            .iter()
-            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-            .collect();
-        let mesh = InputMesh::new(positions, triangles).unwrap();
+        let mesh = super::super::features::tests::unit_box();
         mesh.require_closed().unwrap();
         let (fine, splits) = split_until(&mesh, SPLIT_BELOW).unwrap();
         assert_eq!(splits, 5);
