@@ -12,6 +12,44 @@ pub(crate) fn check_finite(value: &toml::Value, place: &str) -> Result<()> {
     find_not_finite(value, place)
 }
 
+/// Refuses an array of the file longer than what was read from it (`read`, the spec written
+/// back as TOML): the reader takes a fixed-size array (a point's three coordinates, an edge's
+/// two tangents) from the first items and would drop the rest unseen. Tables are compared on
+/// the keys both have, arrays of equal length item by item; values read into another form (a
+/// string for a table) are not compared. The error names the path.
+pub(crate) fn check_lengths(file: &toml::Value, read: &toml::Value, place: &str) -> Result<()> {
+    match (file, read) {
+        (toml::Value::Array(a), toml::Value::Array(b)) => {
+            if a.len() > b.len() {
+                return Err(Error::invalid(format!(
+                    "{} items where {} are expected",
+                    a.len(),
+                    b.len()
+                ))
+                .at(place));
+            }
+            for (i, (x, y)) in a.iter().zip(b).enumerate() {
+                check_lengths(x, y, &format!("{place}[{i}]"))?;
+            }
+            Ok(())
+        }
+        (toml::Value::Table(a), toml::Value::Table(b)) => {
+            for (k, x) in a {
+                if let Some(y) = b.get(k) {
+                    let p = if place.is_empty() {
+                        key_path(k)
+                    } else {
+                        format!("{place}.{}", key_path(k))
+                    };
+                    check_lengths(x, y, &p)?;
+                }
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Whether every number in the tree is finite.
 fn all_finite(value: &toml::Value) -> bool {
     match value {
@@ -236,6 +274,39 @@ fn invisible(c: char) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A fixed-size array written longer than it is (a point of four coordinates, an edge of
+    /// three tangents) is refused with its place, where the reader would keep its first items;
+    /// the same file with the right lengths is read.
+    #[test]
+    fn arrays_longer_than_their_fields_are_refused_with_their_place() {
+        let layout = |point: &str, tangents: &str| {
+            format!(
+                "[[patchwork]]\nname = \"p\"\npoints = [{point}, [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]\n\
+                 normals = [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]\nedges = [\n\
+                 {{ ends = [0, 1], tangents = {tangents} }},\n\
+                 {{ ends = [1, 2], tangents = [[-1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]] }},\n\
+                 {{ ends = [0, 2], tangents = [[0.0, 1.0, 0.0], [0.0, 1.0, 0.0]] }},\n]\n\
+                 faces = [[0, 1, 2]]\n"
+            )
+        };
+        let good = "[[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]";
+        let spec = crate::spec::parse_design(&layout("[0.0, 0.0, 0.0]", good)).unwrap();
+        assert_eq!(spec.patchwork[0].points[0], [0.0, 0.0, 0.0]);
+        let e = crate::spec::parse_design(&layout("[9.0, 0.0, 0.0, 0.0]", good)).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("patchwork[0].points[0]: 4 items where 3 are expected"),
+            "{e}"
+        );
+        let three = "[[1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]";
+        let e = crate::spec::parse_design(&layout("[0.0, 0.0, 0.0]", three)).unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("patchwork[0].edges[0].tangents: 3 items where 2 are expected"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn keys_with_invisible_characters_are_quoted_as_toml_and_read_back() {

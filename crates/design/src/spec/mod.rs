@@ -73,6 +73,10 @@ pub fn parse_design(text: &str) -> Result<DesignSpec> {
     locate::check_finite(&doc, "")?;
     let de = toml::Deserializer::new(text);
     let spec = serde_path_to_error::deserialize::<_, DesignSpec>(de).map_err(|e| located(e, ""))?;
+    // (A spec that does not write back as TOML has nothing to compare.)
+    if let Ok(read) = toml::Value::try_from(&spec) {
+        locate::check_lengths(&doc, &read, "")?;
+    }
     limits::check_spec(&spec)?;
     Ok(spec)
 }
