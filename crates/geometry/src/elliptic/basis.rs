@@ -19,6 +19,7 @@
 
 use super::operator::{Operator, RootGroup};
 use nalgebra::{Complex, DMatrix};
+use std::sync::Arc;
 
 /// Which basis a mode is represented in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -45,8 +46,14 @@ impl BasisKind {
 /// The `2N` basis functions of `V_n` in one of the two representations.
 #[derive(Clone, Debug)]
 pub(crate) enum Basis {
-    /// Chebyshev coefficients (in `x = 2u − 1`) of each basis function: `series[k][m]`.
-    Chebyshev { series: Vec<Vec<f64>> },
+    /// Chebyshev coefficients (in `x = 2u − 1`) of each basis function: `series[k][m]`, and
+    /// those of its first three x-derivatives, `derivatives[d − 1][k]` ([`cheb_diff`] applied
+    /// `d` times), made once so that evaluations do not differentiate the series again. Shared:
+    /// the modes of a patch's tangents clone their bases.
+    Chebyshev {
+        series: Arc<Vec<Vec<f64>>>,
+        derivatives: Arc<[Vec<Vec<f64>>; 3]>,
+    },
     /// Layer functions.
     Layers(LayerBasis),
 }
@@ -60,6 +67,17 @@ pub(crate) struct LayerBasis {
 }
 
 impl Basis {
+    /// The Chebyshev basis of the series `series[k]` with their derivatives' series.
+    fn chebyshev_of(series: Vec<Vec<f64>>) -> Basis {
+        let d1: Vec<Vec<f64>> = series.iter().map(|s| cheb_diff(s)).collect();
+        let d2: Vec<Vec<f64>> = d1.iter().map(|s| cheb_diff(s)).collect();
+        let d3: Vec<Vec<f64>> = d2.iter().map(|s| cheb_diff(s)).collect();
+        Basis::Chebyshev {
+            series: Arc::new(series),
+            derivatives: Arc::new([d1, d2, d3]),
+        }
+    }
+
     pub(super) fn kind(&self) -> BasisKind {
         match self {
             Basis::Chebyshev { .. } => BasisKind::Chebyshev,
@@ -69,7 +87,7 @@ impl Basis {
 
     pub(super) fn len(&self) -> usize {
         match self {
-            Basis::Chebyshev { series } => series.len(),
+            Basis::Chebyshev { series, .. } => series.len(),
             Basis::Layers(l) => l.funcs.len(),
         }
     }
@@ -107,7 +125,7 @@ impl Basis {
                     c
                 })
                 .collect();
-            return Some(Basis::Chebyshev { series });
+            return Some(Basis::chebyshev_of(series));
         }
         let gammas = op.mode_gammas_x(n);
         // Growth rate in x is n|s|/2; Chebyshev coefficients of e^{zx} decay like I_k(z). Beyond
@@ -119,7 +137,7 @@ impl Basis {
         let mut m = two_n + (z + 8.0 * z.sqrt()).ceil() as usize + 24 + 2 * two_n;
         while m <= MAX_CHEBYSHEV {
             if let Some(series) = chebyshev_tail(&gammas, two_n, m) {
-                let basis = Basis::Chebyshev { series };
+                let basis = Basis::chebyshev_of(series);
                 // A posteriori: every ψ_k must solve the mode equation.
                 return (basis.mode_residual(&gammas) <= 1e-9).then_some(basis);
             }
@@ -131,12 +149,12 @@ impl Basis {
     /// The largest relative residual of the mode equation `f^{(2N)} + Σ γ_j f^{(2N−2j)} = 0`
     /// (in `x`) over the Chebyshev basis functions, at the ends and the middle of `[−1, 1]`.
     fn mode_residual(&self, gammas: &[f64]) -> f64 {
-        let Basis::Chebyshev { series } = self else {
+        let Basis::Chebyshev { series, .. } = self else {
             return 0.0;
         };
         let nn = gammas.len();
         let mut worst = 0.0f64;
-        for s in series {
+        for s in series.iter() {
             // Derivatives 0, 2, …, 2N of the series.
             let mut derivs = vec![s.clone()];
             for _ in 0..2 * nn {
@@ -195,9 +213,23 @@ impl Basis {
     /// `d`-th u-derivatives of every basis function at `u`: `out[k]`.
     pub(super) fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
         match self {
-            Basis::Chebyshev { series } => {
-                for (k, s) in series.iter().enumerate() {
-                    out[k] = cheb_derivative_at(s, 2.0 * u - 1.0, d) * 2f64.powi(d as i32);
+            Basis::Chebyshev {
+                series,
+                derivatives,
+            } => {
+                // The same values as `cheb_derivative_at` of `series`, bit for bit: its
+                // derivative series are those kept, and the functions' recurrences run
+                // interleaved (`clenshaw_lanes`, the operations of `clenshaw`).
+                let scale = 2f64.powi(d as i32);
+                let x = 2.0 * u - 1.0;
+                match d {
+                    0 => clenshaw_lanes(series.as_slice(), x, scale, out),
+                    1..=3 => clenshaw_lanes(derivatives[d - 1].as_slice(), x, scale, out),
+                    _ => {
+                        for (k, s) in series.iter().enumerate() {
+                            out[k] = cheb_derivative_at(s, x, d) * scale;
+                        }
+                    }
                 }
             }
             Basis::Layers(l) => l.eval(u, d, out),

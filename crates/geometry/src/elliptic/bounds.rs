@@ -41,7 +41,7 @@ impl ModeFn {
     fn sup_bound_of(&self, d: usize, cols: &[usize]) -> f64 {
         let norm = |x: &mut dyn Iterator<Item = f64>| x.map(|a| a * a).sum::<f64>().sqrt();
         match &self.basis {
-            Basis::Chebyshev { series } => {
+            Basis::Chebyshev { series, .. } => {
                 let len = series.iter().map(Vec::len).max().unwrap_or(0);
                 let diffed: Vec<Vec<f64>> = cols
                     .iter()

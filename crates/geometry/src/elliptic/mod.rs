@@ -108,8 +108,12 @@ pub(crate) struct ModeFn {
 
 impl ModeFn {
     fn new(basis: Basis, coef: DMatrix<f64>) -> Self {
+        let zero = coef.iter().all(|&x| x == 0.0);
         let series = match &basis {
-            Basis::Chebyshev { series } => {
+            // A zero mode of the Chebyshev basis is evaluated as zeros without its series
+            // (`zero_series`), the values its series of zeros would give.
+            Basis::Chebyshev { .. } if zero => None,
+            Basis::Chebyshev { series, .. } => {
                 let len = series.iter().map(Vec::len).max().unwrap_or(0);
                 let cols: Vec<Vec<f64>> = (0..coef.ncols())
                     .map(|c| {
@@ -131,7 +135,6 @@ impl ModeFn {
             }
             Basis::Layers(_) => None,
         };
-        let zero = coef.iter().all(|&x| x == 0.0);
         ModeFn {
             basis,
             coef,
@@ -144,6 +147,12 @@ impl ModeFn {
         self.coef.ncols()
     }
 
+    /// A zero mode of the Chebyshev basis, kept without its combined series: its values and
+    /// first two derivatives are `+0.0`, as Clenshaw's sums of a series of zeros are.
+    fn zero_series(&self) -> bool {
+        self.zero && self.series.is_none() && matches!(self.basis, Basis::Chebyshev { .. })
+    }
+
     /// The mode of columns `start .. start + count` (one direction of a block solve).
     fn columns(&self, start: usize, count: usize) -> ModeFn {
         ModeFn::new(
@@ -154,7 +163,7 @@ impl ModeFn {
 
     /// Values and first u-derivatives of every column at `u` (one basis evaluation for both).
     fn eval01(&self, u: f64, out0: &mut [f64], out1: &mut [f64]) {
-        if self.series.is_some() {
+        if self.series.is_some() || self.zero_series() {
             self.eval(u, 0, out0);
             self.eval(u, 1, out1);
             return;
@@ -177,7 +186,7 @@ impl ModeFn {
     /// [`Self::eval`] for `d = 0, 1, 2` into `out[d]`, the same values bit for bit, with one
     /// basis evaluation for the three.
     fn eval012(&self, u: f64, out: [&mut [f64]; 3]) {
-        if self.series.is_some() {
+        if self.series.is_some() || self.zero_series() {
             for (d, o) in out.into_iter().enumerate() {
                 self.eval(u, d, o);
             }
@@ -213,6 +222,11 @@ impl ModeFn {
 
     /// `d`-th u-derivative of every column at `u` into `out[c]`.
     fn eval(&self, u: f64, d: usize, out: &mut [f64]) {
+        if d <= 2 && self.zero_series() {
+            let n = self.ncols().min(out.len());
+            out[..n].fill(0.0);
+            return;
+        }
         if let (Some(series), true) = (&self.series, d <= 2) {
             let x = 2.0 * u - 1.0;
             let scale = 2f64.powi(d as i32);

@@ -915,7 +915,7 @@ fn quadrature_adjoint_equals_the_functional_node_by_node() {
                     }
                 }
                 terms += match &mode.basis {
-                    basis::Basis::Chebyshev { series } => series.iter().map(Vec::len).sum(),
+                    basis::Basis::Chebyshev { series, .. } => series.iter().map(Vec::len).sum(),
                     basis::Basis::Layers(_) => len,
                 } * 6;
             }
