@@ -190,7 +190,15 @@ impl InputMesh {
     /// [`MAX_TRIANGLES`].
     pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<Self> {
         if triangles.is_empty() {
-            return Err(Error::invalid("the mesh has no triangles"));
+            return Err(Error::invalid(if positions.len() >= 3 {
+                format!(
+                    "the mesh has {} vertices and no triangles (a point cloud?): reconstruct a \
+                     surface from the points first (a Poisson or ball-pivoting reconstruction)",
+                    positions.len()
+                )
+            } else {
+                "the mesh has no triangles".to_string()
+            }));
         }
         check_count(triangles.len())?;
         if let Some(k) = positions
@@ -223,8 +231,8 @@ impl InputMesh {
         })
     }
 
-    /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ or PLY file are
-    /// split into fans of triangles; coincident STL corners are merged into one vertex.
+    /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ, PLY or OFF file
+    /// are split into triangles in their own planes (convex ones into fans: [`polygon`]); coincident STL corners are merged into one vertex.
     /// An OBJ file of several objects or groups is one mesh, welded by position
     /// ([`InputMesh::read_report`] says when).
     pub fn read(bytes: &[u8], format: MeshFormat) -> Result<Self> {
@@ -676,6 +684,111 @@ fn fan(out: &mut Vec<[u32; 3]>, corners: &[u32]) {
     }
 }
 
+/// Splits a face of `n ≥ 3` corners into `n − 2` triangles of its orientation: a convex face
+/// (every corner turning the same way about its Newell normal) into a fan, a non-convex one
+/// (a CAD export's L-shaped or notched face) by a constrained Delaunay triangulation of its
+/// corners in its own plane, the triangles inside its outline kept (a fan of a non-convex
+/// face folds triangles back over each other). A face that has no plane, touches or crosses
+/// itself, or refers to vertices not yet read is fanned, as the file has it.
+fn polygon(out: &mut Vec<[u32; 3]>, positions: &[Vec3], corners: &[u32]) {
+    let n = corners.len();
+    if n <= 3 || corners.iter().any(|&c| c as usize >= positions.len()) {
+        return fan(out, corners);
+    }
+    let p: Vec<Vec3> = corners.iter().map(|&c| positions[c as usize]).collect();
+    let origin = p[0];
+    let mut normal = Vec3::zeros();
+    for k in 0..n {
+        normal += (p[k] - origin).cross(&(p[(k + 1) % n] - origin));
+    }
+    let len = normal.norm();
+    if !(len.is_finite() && len > 0.0) {
+        return fan(out, corners);
+    }
+    let normal = normal / len;
+    let e1 = {
+        let t = if normal.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::y()
+        };
+        (t - normal * normal.dot(&t)).normalize()
+    };
+    let e2 = normal.cross(&e1);
+    let q: Vec<[f64; 2]> = p
+        .iter()
+        .map(|x| [(x - origin).dot(&e1), (x - origin).dot(&e2)])
+        .collect();
+    let turn = |k: usize| {
+        let (a, b, c) = (q[k], q[(k + 1) % n], q[(k + 2) % n]);
+        (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+    };
+    if (0..n).all(|k| turn(k) >= 0.0) {
+        return fan(out, corners);
+    }
+    match triangulate_outline(&q) {
+        Some(tris) => out.extend(tris.iter().map(|t| t.map(|k| corners[k]))),
+        None => fan(out, corners),
+    }
+}
+
+/// The triangles (corner indices, counterclockwise) of the simple counterclockwise polygon
+/// `q`, from a constrained Delaunay triangulation of its corners and sides: `None` when its
+/// sides touch or cross, two corners coincide, or the triangles inside are not `n − 2`.
+fn triangulate_outline(q: &[[f64; 2]]) -> Option<Vec<[usize; 3]>> {
+    use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
+    let n = q.len();
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::new();
+    let mut handles = Vec::with_capacity(n);
+    for c in q {
+        handles.push(cdt.insert(Point2::new(c[0], c[1])).ok()?);
+    }
+    if cdt.num_vertices() != n {
+        return None;
+    }
+    let corner: HashMap<usize, usize> = handles
+        .iter()
+        .enumerate()
+        .map(|(k, h)| (h.index(), k))
+        .collect();
+    for k in 0..n {
+        let (a, b) = (handles[k], handles[(k + 1) % n]);
+        if !cdt.can_add_constraint(a, b) {
+            return None;
+        }
+        cdt.add_constraint(a, b);
+    }
+    // Inside the outline: the centroid's winding number about it.
+    let inside = |x: f64, y: f64| {
+        let mut wind = 0i32;
+        for k in 0..n {
+            let (a, b) = (q[k], q[(k + 1) % n]);
+            let side = (b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1]);
+            if a[1] <= y && b[1] > y && side > 0.0 {
+                wind += 1;
+            } else if a[1] > y && b[1] <= y && side < 0.0 {
+                wind -= 1;
+            }
+        }
+        wind != 0
+    };
+    let mut tris = Vec::with_capacity(n - 2);
+    for f in cdt.inner_faces() {
+        let v = f.vertices();
+        let (x, y) = v.iter().fold((0.0, 0.0), |(x, y), h| {
+            (x + h.position().x / 3.0, y + h.position().y / 3.0)
+        });
+        if inside(x, y) {
+            tris.push([
+                *corner.get(&v[0].fix().index())?,
+                *corner.get(&v[1].fix().index())?,
+                *corner.get(&v[2].fix().index())?,
+            ]);
+        }
+    }
+    (tris.len() == n - 2).then_some(tris)
+}
+
 /// The positions and triangles of an OBJ file, and how many models (objects, groups, material
 /// runs) the parser found.
 fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
@@ -728,7 +841,7 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
             }
             let corners: Vec<u32> = m.indices[at..at + a].iter().map(|&i| i + base).collect();
             if a >= 3 {
-                fan(&mut triangles, &corners);
+                polygon(&mut triangles, &positions, &corners);
             }
             at += a;
         }
@@ -885,7 +998,7 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
             )));
         }
         let corners: Vec<u32> = corners.iter().map(|&i| i as u32).collect();
-        fan(&mut triangles, &corners);
+        polygon(&mut triangles, &positions, &corners);
     }
     Ok((positions, triangles))
 }
@@ -1053,7 +1166,7 @@ fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
             }
             corners.push(i);
         }
-        fan(&mut triangles, &corners);
+        polygon(&mut triangles, &positions, &corners);
     }
     Ok((positions, triangles))
 }
@@ -1381,6 +1494,133 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("triangle 1 refers to vertex 8"), "{e}");
+    }
+
+    /// An L-shaped prism whose two ends are single hexagons, each listed from a corner that
+    /// does not see the whole face (a fan from it folds a triangle back over the face), and
+    /// whose six sides are quads: every format splits the ends in their planes, so every
+    /// triangle faces out, the surface is closed, and its area is the prism's.
+    #[test]
+    fn non_convex_faces_are_split_in_their_planes_in_every_format() {
+        let outline = [
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+            (0.0, 0.0),
+        ];
+        let h = 0.5;
+        let mut v = String::new();
+        for z in [0.0, h] {
+            for (x, y) in outline {
+                v += &format!("{x} {y} {z}\n");
+            }
+        }
+        // Zero-based corners: the bottom reversed (seen from below), the top, the sides.
+        let mut faces: Vec<Vec<usize>> = vec![(0..6).rev().collect(), (6..12).collect()];
+        for k in 0..6 {
+            let j = (k + 1) % 6;
+            faces.push(vec![k, j, j + 6, k + 6]);
+        }
+        let line = |f: &Vec<usize>, base: usize| {
+            f.iter()
+                .map(|i| (i + base).to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        let obj: String = v.lines().map(|l| format!("v {l}\n")).collect::<String>()
+            + &faces
+                .iter()
+                .map(|f| format!("f {}\n", line(f, 1)))
+                .collect::<String>();
+        let off = format!("OFF\n12 8 0\n{v}")
+            + &faces
+                .iter()
+                .map(|f| format!("{} {}\n", f.len(), line(f, 0)))
+                .collect::<String>();
+        let ply = "ply\nformat ascii 1.0\nelement vertex 12\nproperty double x\n\
+                   property double y\nproperty double z\nelement face 8\n\
+                   property list uchar int vertex_indices\nend_header\n"
+            .to_string()
+            + &v
+            + &faces
+                .iter()
+                .map(|f| format!("{} {}\n", f.len(), line(f, 0)))
+                .collect::<String>();
+        let area = 2.0 * 3.0 + h * 8.0;
+        for (name, bytes, format) in [
+            ("OBJ", obj, MeshFormat::Obj),
+            ("OFF", off, MeshFormat::Off),
+            ("PLY", ply, MeshFormat::Ply),
+        ] {
+            let m = InputMesh::read(bytes.as_bytes(), format).unwrap();
+            assert_eq!(m.triangles.len(), 2 * 4 + 6 * 2, "{name}");
+            m.require_closed().unwrap();
+            let mut total = 0.0;
+            for k in 0..m.triangles.len() {
+                let [a, b, c] = m.corners(k);
+                let n = (b - a).cross(&(c - a));
+                total += 0.5 * n.norm();
+                let centre = (a + b + c) / 3.0;
+                // Outward: the ends along ∓z, the sides away from the outline's inside.
+                let out = if centre.z.abs() < 1e-12 {
+                    -Vec3::z()
+                } else if (centre.z - h).abs() < 1e-12 {
+                    Vec3::z()
+                } else {
+                    let inner = Vec3::new(0.75, 0.75, centre.z);
+                    let d = centre - inner;
+                    Vec3::new(d.x, d.y, 0.0)
+                };
+                assert!(
+                    n.dot(&out) > 0.0,
+                    "{name}: triangle {k} faces in: {a} {b} {c}"
+                );
+            }
+            assert!(
+                (total - area).abs() < 1e-12,
+                "{name}: area {total} against {area}"
+            );
+        }
+    }
+
+    /// Faces the plane split cannot take keep the fan, without a panic: one that crosses
+    /// itself (a bow tie), one with two corners at one point, one without area.
+    #[test]
+    fn faces_without_a_simple_outline_are_fanned() {
+        let p = |x: f64, y: f64| Vec3::new(x, y, 0.0);
+        let positions = vec![
+            p(0.0, 0.0),
+            p(1.0, 1.0),
+            p(1.0, 0.0),
+            p(0.0, 1.0),
+            p(0.5, 0.2),
+        ];
+        for corners in [
+            vec![0, 1, 2, 3],
+            vec![0, 2, 4, 1, 4, 3],
+            vec![0, 4, 4, 1],
+            vec![0, 0, 0, 0],
+        ] {
+            let mut fanned = Vec::new();
+            fan(&mut fanned, &corners);
+            let mut out = Vec::new();
+            polygon(&mut out, &positions, &corners);
+            assert_eq!(out, fanned, "{corners:?}");
+        }
+        // Convex faces are fanned as before, whatever their size.
+        let hexagon: Vec<u32> = (0..6).collect();
+        let ring: Vec<Vec3> = (0..6)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::PI / 3.0;
+                Vec3::new(t.cos(), t.sin(), 0.3)
+            })
+            .collect();
+        let (mut out, mut fanned) = (Vec::new(), Vec::new());
+        polygon(&mut out, &ring, &hexagon);
+        fan(&mut fanned, &hexagon);
+        assert_eq!(out, fanned);
     }
 
     #[test]

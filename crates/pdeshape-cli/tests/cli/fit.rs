@@ -237,6 +237,19 @@ fn bad_mesh(name: &str, bytes: &[u8], needles: &[&str]) {
 fn bad_meshes_get_one_line_and_no_output() {
     let good = ellipsoid_obj(12, 16);
     bad_mesh("empty.obj", b"", &["empty.obj", "no triangles"]);
+    // A point cloud (a PLY of vertices and no faces, as scanners write them).
+    bad_mesh(
+        "cloud.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+          property float z\nelement face 0\nproperty list uchar int vertex_indices\n\
+          end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n",
+        &[
+            "cloud.ply",
+            "4 vertices and no triangles",
+            "point cloud",
+            "reconstruct",
+        ],
+    );
     bad_mesh(
         "nan.obj",
         good.replacen("v 0 0 -1.5", "v nan 0 -1.5", 1).as_bytes(),
