@@ -2958,16 +2958,12 @@ mod tests {
         // Corners at x, y ∈ {0, w}, the top (z = l) first; each side a quad split at its
         // first corner, counterclockwise seen from outside.
         let beam = |w: f64, l: f64| {
-            let positions = vec![
-                Vec3::new(w, w, l),
-                Vec3::new(w, 0.0, l),
-                Vec3::new(0.0, w, l),
-                Vec3::new(0.0, 0.0, l),
-                Vec3::new(w, w, 0.0),
-                Vec3::new(w, 0.0, 0.0),
-                Vec3::new(0.0, w, 0.0),
-                Vec3::new(0.0, 0.0, 0.0),
-            ];
+            let positions = (0..8)
+                .map(|i| {
+                    let at = |bit: bool, x: f64| if bit { 0.0 } else { x };
+                    Vec3::new(at(i & 2 != 0, w), at(i & 1 != 0, w), at(i >= 4, l))
+                })
+                .collect();
             let quads = [
                 [2, 3, 1, 0],
                 [7, 6, 4, 5],
