@@ -232,7 +232,8 @@ impl InputMesh {
     }
 
     /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ, PLY or OFF file
-    /// are split into triangles in their own planes (convex ones into fans: [`polygon`]); coincident STL corners are merged into one vertex.
+    /// are split into triangles in their own planes (convex ones into fans); coincident STL
+    /// corners are merged into one vertex.
     /// An OBJ file of several objects or groups is one mesh, welded by position
     /// ([`InputMesh::read_report`] says when).
     pub fn read(bytes: &[u8], format: MeshFormat) -> Result<Self> {
