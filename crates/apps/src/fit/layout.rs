@@ -583,7 +583,9 @@ impl Collapser<'_> {
 }
 
 /// Collapses the mesh's edges (module documentation) until `target` vertices remain or no
-/// collapse is allowed; `weight` multiplies the cost of moving each vertex.
+/// collapse is allowed; `weight` multiplies the cost of moving each vertex. The slivers left
+/// are then cleaned up ([`Decimation::clean_slivers`]) by collapses that move the surface at
+/// most `max_move` off the mesh's planes.
 pub fn decimate(
     mesh: &InputMesh,
     normals: &[Vec3],
@@ -740,8 +742,11 @@ impl<'a> Decimation<'a> {
     }
 
     /// Triangles whose corners are still too sharp or too flat in their tangent planes
-    /// (slivers of the mesh no cheap collapse removed): collapses an edge of each where that
-    /// makes its star better, whatever it costs.
+    /// (slivers of the mesh no cheap collapse removed): flips an edge of each, or collapses
+    /// one where that makes its star better whatever its quadric cost, as long as the
+    /// collapse moves the surface at most `max_move` off the mesh's planes
+    /// ([`Collapser::moved_off`]; a CAD mesh's long thin triangles along a sharp edge would
+    /// otherwise lose the edge's corners).
     pub fn clean_slivers(&mut self, max_move: f64) {
         let c = &mut self.c;
         let pos = c.pos;
