@@ -397,19 +397,21 @@ impl Collapser<'_> {
     fn quadric_cost(&self, u: u32, v: u32) -> f64 {
         let (ui, vi) = (u as usize, v as usize);
         let w = self.weight[ui].max(self.weight[vi]);
-        w * (self.moved_off(u, v).powi(2)
-            + LENGTH_WEIGHT * (self.pos[ui] - self.pos[vi]).norm_squared())
+        w * (self.merged_error(u, v) + LENGTH_WEIGHT * (self.pos[ui] - self.pos[vi]).norm_squared())
     }
 
-    /// How far moving `u` onto `v` takes the surface off the planes of the mesh's triangles
-    /// merged into the two (the root of their summed squared distances: at least the
-    /// largest distance to any one of those planes).
+    /// The summed squared distances of `v`'s place from the planes of the mesh's triangles
+    /// merged into `u` and `v`.
+    fn merged_error(&self, u: u32, v: u32) -> f64 {
+        let mut q = self.quadric[u as usize];
+        q.add(&self.quadric[v as usize]);
+        q.eval(self.pos[v as usize]).max(0.0)
+    }
+
+    /// How far moving `u` onto `v` takes the surface off those planes: the root of
+    /// [`Self::merged_error`], at least the distance to any one of them.
     fn moved_off(&self, u: u32, v: u32) -> f64 {
-        let (ui, vi) = (u as usize, v as usize);
-        let p = self.pos[vi];
-        let mut q = self.quadric[ui];
-        q.add(&self.quadric[vi]);
-        q.eval(p).max(0.0).sqrt()
+        self.merged_error(u, v).sqrt()
     }
 
     /// Whether moving `u` onto `v` is allowed (the link condition, and no triangle of the
