@@ -11,7 +11,7 @@
 //! means ([`Fitted::missed`]).
 
 use super::layout::{fit_general_measured, MEASURE_GRID};
-use super::measure::{measure, Measures, PointDistances};
+use super::measure::{measure, Measures, MeshSamples, PointDistances};
 use super::mesh::InputMesh;
 use super::options::{fit_mesh, Fit, FitMode, FitOptions};
 use super::template::{fit_template, Template};
@@ -152,20 +152,22 @@ impl Fitted {
     }
 }
 
-/// Measures `spec` against `mesh` on the samples the mode of `fit` is measured with (a
-/// variant of the fit's design, such as its packed form).
+/// Measures `spec` against `mesh` on the samples `fitted` is measured with (a variant of the
+/// fit's design, such as its packed form): its mode's grids, the mesh's samples for its
+/// tolerance.
 pub fn measure_like(
     mesh: &InputMesh,
-    fit: &Fit,
+    fitted: &Fitted,
     spec: &DesignSpec,
 ) -> Result<(Measures, PointDistances)> {
-    let (nu, nv) = match fit.mode {
+    let grid = match fitted.fit.mode {
         FitMode::General => (MEASURE_GRID, MEASURE_GRID),
         _ => FAST_GRID,
     };
     let solved = solve_design(spec)
         .map_err(|e| Error::invalid(format!("the design does not solve: {}", e.message())))?;
-    measure(mesh, spec, &solved, nu, nv)
+    let samples = MeshSamples::for_tolerance(mesh, fitted.tolerance);
+    measure(mesh, spec, &solved, grid, &samples)
 }
 
 /// Fits `mesh` as `request` asks (module documentation) and measures the fit. Errors are the
@@ -209,7 +211,8 @@ pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
         let solved = solve_design(&fit.spec).map_err(|e| {
             Error::invalid(format!("the fitted design does not solve: {}", e.message()))
         })?;
-        let (measures, distances) = measure(mesh, &fit.spec, &solved, FAST_GRID.0, FAST_GRID.1)?;
+        let samples = MeshSamples::for_tolerance(mesh, tolerance);
+        let (measures, distances) = measure(mesh, &fit.spec, &solved, FAST_GRID, &samples)?;
         let auto = request.mode == ModeChoice::Auto && request.template.is_none();
         let (worst, _) = distances.worst(mesh);
         let fitted = Fitted {

@@ -28,7 +28,7 @@
 use super::features::{plan_edges, EndPlan, Sectors};
 use super::measure::{
     closest_on_triangle, design_sizes, measure_components, measure_surfaces, Measures,
-    MeshDistance, PartMeasure, PointDistances,
+    MeshDistance, MeshSamples, PartMeasure, PointDistances,
 };
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
@@ -1671,7 +1671,10 @@ pub fn fit_general_measured(
     // solved surfaces, in the design's order, are the whole design's, and their measures
     // against their own components make the whole's.
     let (measured, sizes) = rayon::join(
-        || measure_components(mesh, &surfaces, measured),
+        || {
+            let spacing = MeshSamples::TOLERANCE_SHARE * opts.target * diagonal;
+            measure_components(mesh, &surfaces, measured, spacing)
+        },
         || design_sizes(&spec),
     );
     let (m, d) = measured?;
@@ -1889,12 +1892,22 @@ fn fit_component(
         // a capped cylinder): laid out again on the same surface with its triangles split,
         // measured on the mesh itself. That fit is the answer when it meets the target (its
         // layout may then have more faces than the mesh has triangles, which a note says);
-        // otherwise the first is, as without the split.
+        // otherwise the nearer of the two is (the first when they are as near, or when the
+        // second's layout is finer than the rounds allow the mesh's own).
         let (fine, splits) = split_until(mesh, SPLIT_BELOW)?;
         let index = MeshDistance::new(mesh);
         let tol = opts.target * mesh.diagonal();
         let second = fit_rounds(&fine, opts, rounds, share, Some((mesh, &index, tol)));
-        if !matches!(&second, Ok(c) if c.3.is_none()) {
+        let nearer = match (&first, &second) {
+            (_, Err(_)) => false,
+            (Err(_), Ok(_)) => true,
+            (Ok(a), Ok(b)) => {
+                b.3.is_none()
+                    || (b.1.hausdorff < a.1.hausdorff
+                        && b.0.patches as f64 <= MAX_FACE_SHARE * mesh.triangles.len() as f64)
+            }
+        };
+        if !nearer {
             return first;
         }
         let (mut fit, m, d, miss, surfaces) = second?;
@@ -2045,6 +2058,8 @@ fn fit_rounds(
     let facing = Facing::new(mesh);
     // The mesh the rounds are measured on, and its tolerance.
     let (judge, judge_index, tol) = whole.unwrap_or((mesh, &index, opts.target * mesh.diagonal()));
+    // The judged mesh's points inside its long triangles, measured with its vertices.
+    let samples = MeshSamples::new(judge, MeshSamples::TOLERANCE_SHARE * tol);
     let used = mesh.used_vertices();
     let vertices = used.iter().filter(|&&u| u).count();
     // Euler characteristic: the genus asks for more layout vertices.
@@ -2195,6 +2210,7 @@ fn fit_rounds(
         let (m, d) = measure_surfaces(
             judge,
             judge_index,
+            &samples,
             &solved.surfaces,
             (MEASURE_GRID, MEASURE_GRID),
         )?;
@@ -2206,16 +2222,17 @@ fn fit_rounds(
         };
         let mut bad: Vec<Vec3> = Vec::new();
         let mut bad_grids: Vec<usize> = Vec::new();
-        for (i, &x) in d.mesh.iter().enumerate() {
+        let points = judge.positions.iter().zip(&d.mesh);
+        for (p, &x) in points.chain(d.samples.points.iter().zip(&d.inner)) {
             if x.is_finite() {
                 if x > worst.distance {
                     worst = Miss {
-                        at: judge.positions[i],
+                        at: *p,
                         distance: x,
                     };
                 }
                 if x > tol {
-                    bad.push(judge.positions[i]);
+                    bad.push(*p);
                 }
             }
         }
@@ -2243,12 +2260,16 @@ fn fit_rounds(
         // points of all its samples), not only under the samples that miss: a piece that
         // bulges away has its far samples closest to some unrelated part of the mesh.
         let mut heavier: std::collections::HashSet<usize> = std::collections::HashSet::new();
+        let mut bad_triangles = 0;
         if !done {
             for p in &bad {
                 if let Some((_, _, t)) = index.closest(*p) {
                     heavier.insert(t);
                 }
             }
+            // The misses count by the triangles they are on: a long triangle's many samples
+            // ask for no more layout vertices than a vertex's miss.
+            bad_triangles = heavier.len();
             for &k in &bad_grids {
                 for p in &d.grids[k].positions {
                     let p = Vec3::new(p[0], p[1], p[2]);
@@ -2269,7 +2290,7 @@ fn fit_rounds(
                 weight[i as usize] *= 4.0;
             }
         }
-        let misses = bad.len() + bad_grids.len() * MEASURE_GRID * MEASURE_GRID;
+        let misses = bad_triangles + bad_grids.len() * MEASURE_GRID * MEASURE_GRID;
         // From the layout's own size: the collapses may stop above the target (where every
         // further one would make a bad triangle), and a larger target would then change
         // nothing.
@@ -2945,13 +2966,83 @@ mod tests {
         // against it afresh.
         assert_eq!(m.mesh_triangles, mesh.triangles.len());
         let solved = solve_design(&fit.spec).unwrap();
-        let (again, _) = measure(&mesh, &fit.spec, &solved, MEASURE_GRID, MEASURE_GRID).unwrap();
+        let samples = MeshSamples::for_tolerance(&mesh, opts.target);
+        let grid = (MEASURE_GRID, MEASURE_GRID);
+        let (again, _) = measure(&mesh, &fit.spec, &solved, grid, &samples).unwrap();
         assert!(
             (again.hausdorff - m.hausdorff).abs() <= 1e-12 && (again.rms - m.rms).abs() <= 1e-12,
             "{again:?} against {m:?}"
         );
         assert_eq!(again.mesh_to_fit.points, mesh.positions.len());
         assert!(m.hausdorff <= opts.target * mesh.diagonal());
+    }
+
+    /// A box of 12 triangles, `w × w × l`, its corners at `x, y ∈ {0, w}`, `z ∈ {0, l}`
+    /// (the top first); each side a quad split at its first corner, counterclockwise seen
+    /// from outside.
+    fn beam(w: f64, l: f64) -> InputMesh {
+        let positions = (0..8)
+            .map(|i| {
+                let at = |bit: bool, x: f64| if bit { 0.0 } else { x };
+                Vec3::new(at(i & 2 != 0, w), at(i & 1 != 0, w), at(i >= 4, l))
+            })
+            .collect();
+        let quads = [
+            [2, 3, 1, 0],
+            [7, 6, 4, 5],
+            [4, 6, 2, 0],
+            [7, 5, 1, 3],
+            [1, 5, 4, 0],
+            [7, 3, 2, 6],
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+            .collect();
+        InputMesh::new(positions, triangles).unwrap()
+    }
+
+    /// The fit of the unit cube (its faces to rounding) measured against the triangle that
+    /// cuts its corner at the origin `s` along each edge: the triangle's corners lie on the
+    /// cube, and its centroid `(s/3)(1, 1, 1)` is `s/3` inside it, the farthest of its points
+    /// (an inside point's distance to the cube is its least coordinate near that corner). A
+    /// measure at the vertices says 0; the triangle's samples, `h` apart, come within `1.08 h`
+    /// of `s/3` ([`MeshSamples`]).
+    #[test]
+    fn a_fit_off_the_inside_of_a_long_triangle_is_measured() {
+        let cube = beam(1.0, 1.0);
+        let opts = FitOptions {
+            target: 0.02,
+            ..FitOptions::default()
+        };
+        let (fit, m, _, miss) = fit_general_measured(&cube, &opts).unwrap();
+        assert!(miss.is_none() && m.hausdorff < 1e-9, "{}", m.hausdorff);
+        let solved = solve_design(&fit.spec).unwrap();
+        let s = 0.3;
+        let corner = InputMesh::new(
+            vec![
+                Vec3::new(s, 0.0, 0.0),
+                Vec3::new(0.0, s, 0.0),
+                Vec3::new(0.0, 0.0, s),
+            ],
+            vec![[0, 1, 2]],
+        )
+        .unwrap();
+        let grid = (MEASURE_GRID, MEASURE_GRID);
+        for h in [0.05, 0.01] {
+            let samples = MeshSamples::new(&corner, h);
+            let (m, d) = measure(&corner, &fit.spec, &solved, grid, &samples).unwrap();
+            let truth = s / 3.0;
+            let vertices = d.mesh.iter().cloned().fold(0.0, f64::max);
+            assert!(vertices < 1e-9, "{vertices}");
+            let got = m.mesh_to_fit.max;
+            assert!(
+                got <= truth + 1e-9 && got >= truth - 1.08 * h,
+                "{h}: {got} against {truth}"
+            );
+            assert_eq!(m.mesh_to_fit.points, 3);
+            assert_eq!(d.inner.len(), samples.points.len());
+        }
     }
 
     /// Boxes of 12 triangles from a cube to a beam 9 times as long as it is wide: the
@@ -2962,29 +3053,6 @@ mod tests {
     /// tolerance: every box is its own layout and its fit the box to rounding.
     #[test]
     fn a_beam_of_sliver_triangles_keeps_its_corners() {
-        // Corners at x, y ∈ {0, w}, the top (z = l) first; each side a quad split at its
-        // first corner, counterclockwise seen from outside.
-        let beam = |w: f64, l: f64| {
-            let positions = (0..8)
-                .map(|i| {
-                    let at = |bit: bool, x: f64| if bit { 0.0 } else { x };
-                    Vec3::new(at(i & 2 != 0, w), at(i & 1 != 0, w), at(i >= 4, l))
-                })
-                .collect();
-            let quads = [
-                [2, 3, 1, 0],
-                [7, 6, 4, 5],
-                [4, 6, 2, 0],
-                [7, 5, 1, 3],
-                [1, 5, 4, 0],
-                [7, 3, 2, 6],
-            ];
-            let triangles = quads
-                .iter()
-                .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-                .collect();
-            InputMesh::new(positions, triangles).unwrap()
-        };
         for long in [1.0, 3.0, 9.0, 20.0] {
             let mesh = beam(0.4, 0.4 * long);
             mesh.require_closed().unwrap();
@@ -3053,7 +3121,9 @@ mod tests {
         assert_eq!(m.mesh_triangles, 12);
         assert_eq!(d.mesh.len(), 8);
         let solved = solve_design(&fit.spec).unwrap();
-        let (again, _) = measure(&mesh, &fit.spec, &solved, MEASURE_GRID, MEASURE_GRID).unwrap();
+        let samples = MeshSamples::for_tolerance(&mesh, opts.target);
+        let grid = (MEASURE_GRID, MEASURE_GRID);
+        let (again, _) = measure(&mesh, &fit.spec, &solved, grid, &samples).unwrap();
         assert!((again.hausdorff - m.hausdorff).abs() <= 1e-12);
         assert!(m.hausdorff <= opts.target * mesh.diagonal());
     }

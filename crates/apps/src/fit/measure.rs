@@ -1,12 +1,23 @@
 //! How far a fitted design is from its mesh, and how much smaller it is.
 //!
-//! - **Fit to mesh.** Every patch is sampled on a `nu × nv` grid (exact surface points); each
-//!   sample's distance to the mesh is its exact point-to-triangle distance, the nearest triangle
-//!   found through an R-tree (`rstar`): a grid's first sample by a nearest-neighbour search,
-//!   each next one among the triangles no farther than the last one's closest triangle.
-//! - **Mesh to fit.** Every vertex used by a triangle is taken to the nearest triangle of the
-//!   same grids (an R-tree of the grids' boxes, then the quads of the nearest grids: a
-//!   [`GridIndex`]), and from that triangle's `(u, v)` the closest point of the
+//! - **Where.** A fit is measured to a tolerance: both surfaces are measured densely enough
+//!   that no point of either is much farther than its measured points say. The mesh at its
+//!   vertices and, inside triangles longer than a quarter of the tolerance, on a grid of that
+//!   spacing ([`MeshSamples`]: a fit can pass through every vertex of a mesh of long CAD
+//!   triangles and stand off their faces); the fit on each patch's `nu × nv` grid, refined
+//!   where neighbouring samples are more than half the tolerance apart ([`sample_within`]: a
+//!   tube's patch spans the mesh). Every point of the mesh is then within `0.27 ×` the
+//!   tolerance of a measured one, and every point of the fit within about `0.35 ×`: the
+//!   distances being 1-Lipschitz, a measured Hausdorff distance `H` bounds the true one by
+//!   `H + 0.35 × tolerance` (the figures are for the measured points, a lower bound).
+//! - **Fit to mesh.** Each sample's distance to the mesh is its exact point-to-triangle
+//!   distance, the nearest triangle found through an R-tree (`rstar`): a grid's first sample
+//!   by a nearest-neighbour search, each next one among the triangles no farther than the
+//!   last one's closest triangle.
+//! - **Mesh to fit.** Every vertex used by a triangle, and every [`MeshSamples`] point, is
+//!   taken to the nearest triangle of the same grids (an R-tree of tiles of the grids' quads,
+//!   then the quads of the nearest tiles: a [`GridIndex`]), and from that triangle's `(u, v)`
+//!   the closest point of the
 //!   patch is found by Newton's method ([`ClosestPointIndex::refine`]): the distance to a point
 //!   of the surface itself, not to its tessellation. Where pieces meet, their grids share the
 //!   boundary's samples: every piece whose grid comes as near is refined, and the least
@@ -194,10 +205,24 @@ impl MeshDistance {
 /// triangles, keeps the index as small as the fit's pieces.
 pub(crate) struct GridIndex<'a> {
     grids: &'a [Samples],
-    /// Each grid's bounding box (its distance a lower bound of the distance to any of its
-    /// triangles) and the grid's index.
+    /// The grids' tiles of at most [`TILE`] × [`TILE`] quads: their bounding boxes (a
+    /// box's distance a lower bound of the distance to any of its triangles) and their
+    /// indices in `tiles`.
     tree: RTree<GeomWithData<Rectangle<[f64; 3]>, usize>>,
+    tiles: Vec<Tile>,
 }
+
+/// Quads of a grid: rows `rows` and columns `cols` of grid `grid`'s [`Samples::quads`].
+#[derive(Clone, Debug)]
+struct Tile {
+    grid: usize,
+    rows: std::ops::Range<usize>,
+    cols: std::ops::Range<usize>,
+}
+
+/// The side of a [`GridIndex`]'s tiles, in quads: a large grid (a tube's patch spans the
+/// mesh) is searched a few tiles at a time, not quad by quad.
+const TILE: usize = 2;
 
 /// The closest grid triangle to a point: its grid, its corners' indices in the grid, the
 /// point's barycentric coordinates `(β, γ)` in it and its distance.
@@ -212,17 +237,35 @@ pub(crate) struct GridPoint {
 
 impl<'a> GridIndex<'a> {
     pub(crate) fn new(grids: &'a [Samples]) -> GridIndex<'a> {
-        let boxes = grids
+        let mut tiles = Vec::new();
+        for (grid, g) in grids.iter().enumerate() {
+            let (rows, cols) = quad_shape(g);
+            for i in (0..rows).step_by(TILE) {
+                for j in (0..cols).step_by(TILE) {
+                    tiles.push(Tile {
+                        grid,
+                        rows: i..(i + TILE).min(rows),
+                        cols: j..(j + TILE).min(cols),
+                    });
+                }
+            }
+        }
+        let boxes = tiles
             .iter()
             .enumerate()
-            .filter(|(_, g)| !g.positions.is_empty())
-            .map(|(grid, g)| {
-                GeomWithData::new(Rectangle::from_aabb(AABB::from_points(&g.positions)), grid)
+            .map(|(k, t)| {
+                let g = &grids[t.grid];
+                let corners = (t.rows.start..=t.rows.end).flat_map(|i| {
+                    (t.cols.start..=t.cols.end).map(move |j| g.positions[i * g.nv + j % g.nv])
+                });
+                let bounds = AABB::from_points(corners.collect::<Vec<_>>().iter());
+                GeomWithData::new(Rectangle::from_aabb(bounds), k)
             })
             .collect();
         GridIndex {
             grids,
             tree: RTree::bulk_load(boxes),
+            tiles,
         }
     }
 
@@ -235,34 +278,43 @@ impl<'a> GridIndex<'a> {
         let at = [p.x, p.y, p.z];
         let reach = |best: Option<f64>| best.map_or(f64::INFINITY, |d| d * (1.0 + TIE));
         let mut best: Option<f64> = None;
+        // Each grid's closest triangle so far.
         let mut found: Vec<GridPoint> = Vec::new();
         for (b, d2) in self.tree.nearest_neighbor_iter_with_distance_2(&at) {
             let r = reach(best);
             if d2 > r * r {
                 break;
             }
-            let g = &self.grids[b.data];
-            let mut own: Option<GridPoint> = None;
-            for q in g.quads() {
-                let corners = q.map(|i| g.positions[i as usize]);
-                let quad = AABB::from_points(corners.iter());
-                let r = reach(best).min(own.map_or(f64::INFINITY, |x| x.distance));
-                if quad.distance_2(&at) > r * r {
-                    continue;
-                }
-                let [a, b1, c, d] = q;
-                for t in [[a, b1, c], [a, c, d]] {
-                    let tri = t.map(|i| Vec3::from(g.positions[i as usize]));
-                    let (x, beta, gamma) = closest_on_triangle(p, &tri);
-                    let distance = (x - p).norm();
-                    if distance.is_finite() && own.is_none_or(|y| distance < y.distance) {
-                        own = Some(GridPoint {
-                            grid: b.data,
-                            corners: t,
-                            beta,
-                            gamma,
-                            distance,
-                        });
+            let tile = &self.tiles[b.data];
+            let g = &self.grids[tile.grid];
+            let slot = found.iter().position(|x| x.grid == tile.grid);
+            let mut own: Option<GridPoint> = slot.map(|k| found[k]);
+            let nv = g.nv;
+            for i in tile.rows.clone() {
+                for j in tile.cols.clone() {
+                    let j1 = (j + 1) % nv;
+                    let q = [i * nv + j, (i + 1) * nv + j, (i + 1) * nv + j1, i * nv + j1]
+                        .map(|k| k as u32);
+                    let corners = q.map(|i| g.positions[i as usize]);
+                    let quad = AABB::from_points(corners.iter());
+                    let r = reach(best).min(own.map_or(f64::INFINITY, |x| x.distance));
+                    if quad.distance_2(&at) > r * r {
+                        continue;
+                    }
+                    let [a, b1, c, d] = q;
+                    for t in [[a, b1, c], [a, c, d]] {
+                        let tri = t.map(|i| Vec3::from(g.positions[i as usize]));
+                        let (x, beta, gamma) = closest_on_triangle(p, &tri);
+                        let distance = (x - p).norm();
+                        if distance.is_finite() && own.is_none_or(|y| distance < y.distance) {
+                            own = Some(GridPoint {
+                                grid: tile.grid,
+                                corners: t,
+                                beta,
+                                gamma,
+                                distance,
+                            });
+                        }
                     }
                 }
             }
@@ -270,7 +322,10 @@ impl<'a> GridIndex<'a> {
                 if best.is_none_or(|d| x.distance < d) {
                     best = Some(x.distance);
                 }
-                found.push(x);
+                match slot {
+                    Some(k) => found[k] = x,
+                    None => found.push(x),
+                }
             }
         }
         let r = reach(best);
@@ -278,6 +333,16 @@ impl<'a> GridIndex<'a> {
         found.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.grid.cmp(&b.grid)));
         found
     }
+}
+
+/// The rows and columns of a grid's [`Samples::quads`].
+fn quad_shape(g: &Samples) -> (usize, usize) {
+    let cols = if g.periodic_v {
+        g.nv
+    } else {
+        g.nv.saturating_sub(1)
+    };
+    (g.nu.saturating_sub(1), cols)
 }
 
 /// Grid triangles within this fraction of the nearest one's distance are as near
@@ -312,7 +377,8 @@ impl Distances {
 pub struct Measures {
     /// The diagonal of the mesh's bounding box.
     pub diagonal: f64,
-    /// From the mesh's vertices to the fitted surfaces.
+    /// From the mesh to the fitted surfaces: the root mean square and count over its
+    /// vertices, the largest over them and the [`MeshSamples`] of its long triangles.
     pub mesh_to_fit: Distances,
     /// From samples of the fitted surfaces to the mesh.
     pub fit_to_mesh: Distances,
@@ -405,11 +471,133 @@ impl Measures {
     }
 }
 
+/// Points inside a mesh's long triangles, measured to a fit beside its vertices: a fit can
+/// pass near every vertex of a mesh of long thin triangles (a CAD mesh, a coarse cylinder)
+/// and still stand off its faces between them.
+///
+/// Every edge longer than the spacing `h` gets `⌈L/h⌉ − 1` points evenly along it, and every
+/// triangle whose longest edge `L` exceeds `h` the interior points `a + (i/k)(b − a) +
+/// (j/k)(c − a)` (`i, j ≥ 1`, `i + j < k`) of its `k = ⌈L/h⌉` subdivision. With the
+/// vertices, every point of the mesh is within `1.08 h` of a measured point: within `h/√3` of
+/// a point of its triangle's subdivision (the covering radius of a triangle whose sides are at
+/// most `h`), which is measured, a vertex, or on an edge within `h/2` of the edge's points.
+/// The distance to the fit being 1-Lipschitz, the largest measured distance is at most `1.08 h`
+/// short of the largest over the whole mesh. A mesh of short triangles has none.
+#[derive(Clone, Debug, Default)]
+pub struct MeshSamples {
+    /// The points.
+    pub points: Vec<Vec3>,
+    /// The triangle each point is on (an edge's points: the edge's first triangle); empty in
+    /// a measure composed of components' ([`measure_components`]), whose points are then
+    /// all measured when passed to [`measure`] again.
+    pub triangles: Vec<u32>,
+    /// The spacing `h` used (after [`MeshSamples::MAX_POINTS`]).
+    pub spacing: f64,
+}
+
+impl MeshSamples {
+    /// The most points taken: a mesh whose long triangles would need more at the spacing asked
+    /// gets a spacing as much larger as makes this many (about a third of a second to
+    /// measure on two cores, each round of a fit).
+    pub const MAX_POINTS: usize = 60_000;
+
+    /// The spacing as a share of the tolerance: a fit measured within the tolerance is within
+    /// `1.27 ×` it everywhere on the mesh.
+    pub const TOLERANCE_SHARE: f64 = 0.25;
+
+    /// The points of `mesh` for a fit to `tolerance` (a fraction of its diagonal): spacing
+    /// [`Self::TOLERANCE_SHARE`] of the tolerance.
+    pub fn for_tolerance(mesh: &InputMesh, tolerance: f64) -> MeshSamples {
+        MeshSamples::new(mesh, Self::TOLERANCE_SHARE * tolerance * mesh.diagonal())
+    }
+
+    /// The points of `mesh` at spacing `spacing` (a length; none for a spacing that is not a
+    /// positive number), at most [`Self::MAX_POINTS`].
+    pub fn new(mesh: &InputMesh, spacing: f64) -> MeshSamples {
+        if !(spacing > 0.0 && spacing.is_finite()) {
+            return MeshSamples::default();
+        }
+        let longest = |t: usize| {
+            let [a, b, c] = mesh.corners(t);
+            (b - a).norm().max((c - b).norm()).max((a - c).norm())
+        };
+        let mut edges: Vec<(u32, u32)> = mesh
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |j| (t[j].min(t[(j + 1) % 3]), t[j].max(t[(j + 1) % 3]))))
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let divisions = |length: f64, h: f64| (length / h).ceil().min(1e6) as usize;
+        let length =
+            |(a, b): (u32, u32)| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm();
+        // The count at spacing `h`, and a larger spacing until it is within the bound.
+        let count = |h: f64| -> usize {
+            let inner: usize = (0..mesh.triangles.len())
+                .map(|t| {
+                    let k = divisions(longest(t), h);
+                    (k.saturating_sub(1) * k.saturating_sub(2)) / 2
+                })
+                .sum();
+            let along: usize = edges
+                .iter()
+                .map(|&e| divisions(length(e), h).saturating_sub(1))
+                .sum();
+            inner + along
+        };
+        let mut h = spacing;
+        loop {
+            let n = count(h);
+            if n <= Self::MAX_POINTS {
+                break;
+            }
+            h *= (n as f64 / Self::MAX_POINTS as f64).sqrt() * 1.01;
+        }
+        let mut samples = MeshSamples {
+            spacing: h,
+            ..MeshSamples::default()
+        };
+        let mut first = std::collections::HashMap::with_capacity(edges.len());
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            for j in 0..3 {
+                let (a, b) = (tri[j], tri[(j + 1) % 3]);
+                first.entry((a.min(b), a.max(b))).or_insert(t as u32);
+            }
+        }
+        for (a, b) in edges {
+            let t = first[&(a, b)];
+            let k = divisions(length((a, b)), h);
+            let (pa, pb) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+            for i in 1..k {
+                samples.points.push(pa + (pb - pa) * (i as f64 / k as f64));
+                samples.triangles.push(t);
+            }
+        }
+        for t in 0..mesh.triangles.len() {
+            let k = divisions(longest(t), h);
+            let [a, b, c] = mesh.corners(t);
+            for i in 1..k {
+                for j in 1..k - i {
+                    let (x, y) = (i as f64 / k as f64, j as f64 / k as f64);
+                    samples.points.push(a + (b - a) * x + (c - a) * y);
+                    samples.triangles.push(t as u32);
+                }
+            }
+        }
+        samples
+    }
+}
+
 /// Per-point distances, kept for pictures.
 #[derive(Clone, Debug)]
 pub struct PointDistances {
     /// Distance of each mesh vertex to the fit (`NaN` for vertices no triangle uses).
     pub mesh: Vec<f64>,
+    /// The points measured inside the mesh's long triangles.
+    pub samples: MeshSamples,
+    /// The distance of each of `samples`' points to the fit; `NaN` for one not measured, on a
+    /// triangle that cannot reach the Hausdorff distance (see [`measure_surfaces`]).
+    pub inner: Vec<f64>,
     /// The fitted surfaces' sample grids, one per surface.
     pub grids: Vec<Samples>,
     /// The distance of each sample to the mesh: `fit[k][i]` for vertex `i` of `grids[k]`.
@@ -417,11 +605,12 @@ pub struct PointDistances {
 }
 
 impl PointDistances {
-    /// The point, in the mesh's coordinates, farthest from the other surface (a mesh vertex
-    /// or a sample of the fit), and its distance.
+    /// The point, in the mesh's coordinates, farthest from the other surface (a point of the
+    /// mesh or a sample of the fit), and its distance.
     pub fn worst(&self, mesh: &InputMesh) -> (Vec3, f64) {
         let mut best = (Vec3::zeros(), f64::NEG_INFINITY);
-        for (p, &x) in mesh.positions.iter().zip(&self.mesh) {
+        let points = mesh.positions.iter().zip(&self.mesh);
+        for (p, &x) in points.chain(self.samples.points.iter().zip(&self.inner)) {
             if x > best.1 {
                 best = (*p, x);
             }
@@ -438,15 +627,16 @@ impl PointDistances {
 }
 
 /// Measures `solved` (the design `spec`, solved) against `mesh`, sampling each surface on an
-/// `nu × nv` grid.
+/// `nu × nv` grid and the mesh at its vertices and at `samples`.
 pub fn measure(
     mesh: &InputMesh,
     spec: &DesignSpec,
     solved: &SolvedDesign,
-    nu: usize,
-    nv: usize,
+    (nu, nv): (usize, usize),
+    samples: &MeshSamples,
 ) -> Result<(Measures, PointDistances)> {
-    let (m, d) = measure_surfaces(mesh, &MeshDistance::new(mesh), &solved.surfaces, (nu, nv))?;
+    let index = MeshDistance::new(mesh);
+    let (m, d) = measure_surfaces(mesh, &index, samples, &solved.surfaces, (nu, nv))?;
     Ok((m.sized(spec)?, d))
 }
 
@@ -457,13 +647,11 @@ pub fn measure(
 pub(crate) fn measure_surfaces(
     mesh: &InputMesh,
     index: &MeshDistance,
+    samples: &MeshSamples,
     surfaces: &[DesignSurface],
     (nu, nv): (usize, usize),
 ) -> Result<(Measures, PointDistances)> {
-    let grids: Vec<Samples> = surfaces
-        .par_iter()
-        .map(|s| mesh::sample(s.surface(), nu, nv))
-        .collect::<Result<_>>()?;
+    let grids = sample_within(surfaces, (nu, nv), FIT_SPACING * samples.spacing)?;
     // Fit to mesh, in parallel over the grids (a fit has thousands of pieces of 100 samples
     // each), beside the index of the fit for the mesh's vertices.
     let fit_to_mesh = || -> Vec<Vec<f64>> {
@@ -496,8 +684,144 @@ pub(crate) fn measure_surfaces(
         .zip(used.par_iter())
         .map(|(p, &u)| if u { to_fit.distance(*p) } else { f64::NAN })
         .collect();
-    Ok(summarise(mesh, mesh_d, grids, fit))
+    // A triangle whose corners' distances plus its reach (any of its points is within
+    // `L/√3` of a corner, `L` its longest side) stay within the largest distance of a vertex
+    // cannot raise the mesh's largest distance: its samples are left unmeasured. On a fine
+    // mesh of a smooth shape that is nearly every triangle.
+    let lower = mesh_d
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0, |a: f64, &x| a.max(x));
+    let open: Vec<bool> = mesh
+        .triangles
+        .par_iter()
+        .enumerate()
+        .map(|(t, tri)| {
+            let corner = tri
+                .iter()
+                .map(|&i| mesh_d[i as usize])
+                .fold(0.0, |a: f64, x| {
+                    if x.is_finite() {
+                        a.max(x)
+                    } else {
+                        f64::INFINITY
+                    }
+                });
+            let [a, b, c] = mesh.corners(t);
+            let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
+            corner + longest / 3f64.sqrt() > lower
+        })
+        .collect();
+    let inner: Vec<f64> = samples
+        .points
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let t = samples.triangles.get(i).map_or(usize::MAX, |&t| t as usize);
+            if open.get(t).copied().unwrap_or(true) {
+                to_fit.distance(*p)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect();
+    Ok(summarise(
+        mesh,
+        mesh_d,
+        (samples.clone(), inner),
+        grids,
+        fit,
+    ))
 }
+
+/// The samples of `surfaces` on `nu × nv` grids, each refined where neighbouring samples are
+/// farther apart than `spacing` (a length; a surface spanning much of the mesh, such as a
+/// tube's patch, bulges between coarse samples unseen): each direction by the ratio of its
+/// longest step to the spacing, at most [`MAX_REFINE`] times, and the spacing as much larger
+/// as keeps each refined grid within [`MAX_SURFACE_SAMPLES`] samples (or its coarse count,
+/// when that is more).
+fn sample_within(
+    surfaces: &[DesignSurface],
+    (nu, nv): (usize, usize),
+    spacing: f64,
+) -> Result<Vec<Samples>> {
+    let coarse: Vec<Samples> = surfaces
+        .par_iter()
+        .map(|s| mesh::sample(s.surface(), nu, nv))
+        .collect::<Result<_>>()?;
+    if !(spacing > 0.0 && spacing.is_finite()) {
+        return Ok(coarse);
+    }
+    let steps: Vec<(f64, f64)> = coarse.par_iter().map(longest_steps).collect();
+    // The refined grid's intervals in each direction (a periodic `v` has as many as
+    // samples), and its sample count.
+    let shape = |g: &Samples, (along_u, along_v): (f64, f64), h: f64| -> (usize, usize) {
+        let finer = |intervals: usize, step: f64| -> usize {
+            if step.is_finite() {
+                let ratio = (step / h).clamp(1.0, MAX_REFINE as f64);
+                (intervals as f64 * ratio).ceil() as usize
+            } else {
+                intervals
+            }
+        };
+        let iv = if g.periodic_v { g.nv } else { g.nv - 1 };
+        let (fu, fv) = (finer(g.nu - 1, along_u), finer(iv, along_v));
+        (fu + 1, if g.periodic_v { fv } else { fv + 1 })
+    };
+    coarse
+        .into_par_iter()
+        .zip(steps.par_iter())
+        .zip(surfaces.par_iter())
+        .map(|((g, &s), surface)| {
+            // Each surface on its own (a design's measure and its components' agree).
+            let bound = MAX_SURFACE_SAMPLES.max(g.positions.len());
+            let mut h = spacing;
+            let mut shape_at = shape(&g, s, h);
+            while shape_at.0 * shape_at.1 > bound {
+                h *= (shape_at.0 as f64 * shape_at.1 as f64 / bound as f64).sqrt() * 1.01;
+                shape_at = shape(&g, s, h);
+            }
+            if shape_at == (g.nu, g.nv) {
+                Ok(g)
+            } else {
+                mesh::sample(surface.surface(), shape_at.0, shape_at.1)
+            }
+        })
+        .collect()
+}
+
+/// The longest step between neighbouring samples of `g` along `u` and along `v` (across
+/// the seam of a periodic `v`).
+fn longest_steps(g: &Samples) -> (f64, f64) {
+    let at = |i: usize, j: usize| Vec3::from(g.positions[i * g.nv + j]);
+    let (mut along_u, mut along_v) = (0.0f64, 0.0f64);
+    for i in 0..g.nu {
+        for j in 0..g.nv {
+            if i + 1 < g.nu {
+                along_u = along_u.max((at(i + 1, j) - at(i, j)).norm());
+            }
+            if j + 1 < g.nv || g.periodic_v {
+                along_v = along_v.max((at(i, (j + 1) % g.nv) - at(i, j)).norm());
+            }
+        }
+    }
+    (along_u, along_v)
+}
+
+/// The most samples [`sample_within`] refines one surface's grid to (a tube's patch from
+/// 48 × 96 to about 2 × 2 times as many; a general fit's 10 × 10 pieces are never refined
+/// that far).
+const MAX_SURFACE_SAMPLES: usize = 16_384;
+
+/// A fit's samples may be this many times the mesh's spacing apart ([`sample_within`]):
+/// a point of the fit is within about `1/√2` of that of a sample (a grid cell's
+/// half-diagonal), `0.35 ×` the tolerance at [`MeshSamples::TOLERANCE_SHARE`], where the
+/// mesh's own points are within `0.27 ×` of it (a surface evaluation costs as much as a
+/// mesh point's search, and a fit has more samples than the mesh has points).
+const FIT_SPACING: f64 = 2.0;
+
+/// The most a surface's measuring grid is refined in each direction ([`sample_within`]).
+const MAX_REFINE: usize = 8;
 
 /// Distances from points to a fit's surfaces: the closest triangle of their sample grids (a
 /// [`GridIndex`]), then Newton on that triangle's surface from its `(u, v)`.
@@ -583,17 +907,25 @@ impl<'a> ToFit<'a> {
 }
 
 /// The measures of a fit from its points' distances, with them: `mesh_d` of the mesh's
-/// vertices (`NaN` for those no triangle uses), `fit` of the samples of `grids`; the design's
-/// sizes are left to [`Measures::sized`].
+/// vertices (`NaN` for those no triangle uses), `inner` of its samples, `fit` of the samples
+/// of `grids`; the design's sizes are left to [`Measures::sized`].
 fn summarise(
     mesh: &InputMesh,
     mesh_d: Vec<f64>,
+    (samples, inner): (MeshSamples, Vec<f64>),
     grids: Vec<Samples>,
     fit: Vec<Vec<f64>>,
 ) -> (Measures, PointDistances) {
     let used_d: Vec<f64> = mesh_d.iter().cloned().filter(|d| !d.is_nan()).collect();
     let all_fit: Vec<f64> = fit.iter().flatten().cloned().collect();
-    let mesh_to_fit = Distances::of(&used_d);
+    // The samples inside triangles are measured only where they may exceed the vertices
+    // (a biased few): they count towards the largest distance, not the mean.
+    let inner_max = inner
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0, |a: f64, &x| a.max(x));
+    let mut mesh_to_fit = Distances::of(&used_d);
+    mesh_to_fit.max = mesh_to_fit.max.max(inner_max);
     let fit_to_mesh = Distances::of(&all_fit);
     let diagonal = mesh.diagonal();
     let hausdorff = mesh_to_fit.max.max(fit_to_mesh.max);
@@ -617,6 +949,8 @@ fn summarise(
     };
     let distances = PointDistances {
         mesh: mesh_d,
+        samples,
+        inner,
         grids,
         fit,
     };
@@ -651,6 +985,7 @@ pub(crate) fn measure_components(
     mesh: &InputMesh,
     surfaces: &[DesignSurface],
     parts: Vec<PartMeasure<'_>>,
+    spacing: f64,
 ) -> Result<(Measures, PointDistances)> {
     let mut owner: Vec<Option<(usize, usize)>> = vec![None; mesh.positions.len()];
     for (k, part) in parts.iter().enumerate() {
@@ -676,8 +1011,18 @@ pub(crate) fn measure_components(
     let mut fit: Vec<Vec<f64>> = Vec::with_capacity(surfaces.len());
     let mut grid_owner: Vec<usize> = Vec::with_capacity(surfaces.len());
     let mut own: Vec<Option<(std::ops::Range<usize>, Vec<f64>)>> = Vec::with_capacity(parts.len());
+    // The components' samples, each with its component and own distance.
+    let mut samples = MeshSamples {
+        spacing,
+        ..MeshSamples::default()
+    };
+    let mut sample_own: Vec<(usize, f64)> = Vec::new();
     for (k, part) in parts.into_iter().enumerate() {
         let Some((range, mut d)) = part.fitted else {
+            // Measured on the whole fit, as its vertices are.
+            let mut left_out = MeshSamples::new(part.mesh, spacing);
+            sample_own.extend(left_out.points.iter().map(|_| (k, f64::INFINITY)));
+            samples.points.append(&mut left_out.points);
             own.push(None);
             continue;
         };
@@ -690,6 +1035,9 @@ pub(crate) fn measure_components(
         grids.append(&mut d.grids);
         fit.append(&mut d.fit);
         own.push(Some((range, d.mesh)));
+        samples.points.append(&mut d.samples.points);
+        samples.spacing = samples.spacing.max(d.samples.spacing);
+        sample_own.extend(d.inner.iter().map(|&x| (k, x)));
     }
     if grids.len() != surfaces.len() {
         return Err(Error::invalid(
@@ -730,16 +1078,19 @@ pub(crate) fn measure_components(
         })
         .collect();
     let used = mesh.used_vertices();
-    // A vertex's own distance, where no other component's grids come within it.
-    let own_distance = |p: &Vec3, o: &Option<(usize, usize)>| -> Option<f64> {
-        let (k, l) = (*o)?;
-        let d = own[k].as_ref()?.1[l];
+    // A point's own distance `d` to its component `k`'s fit, where no other component's
+    // grids come within it.
+    let clear_of_others = |p: &Vec3, k: usize, d: f64| -> Option<f64> {
         let at = [p.x, p.y, p.z];
         let clear = grid_boxes
             .iter()
             .enumerate()
             .all(|(j, b)| j == k || b.is_none_or(|b| b.distance_2(&at) > d * d));
         (d.is_finite() && clear).then_some(d)
+    };
+    let own_distance = |p: &Vec3, o: &Option<(usize, usize)>| -> Option<f64> {
+        let (k, l) = (*o)?;
+        clear_of_others(p, k, own[k].as_ref()?.1[l])
     };
     let mesh_d: Vec<Option<f64>> = mesh
         .positions
@@ -754,21 +1105,36 @@ pub(crate) fn measure_components(
             }
         })
         .collect();
-    let to_fit = mesh_d
-        .iter()
-        .any(Option::is_none)
-        .then(|| ToFit::new(surfaces, &grids));
-    let mesh_d: Vec<f64> = mesh
-        .positions
+    let inner: Vec<Option<f64>> = samples
+        .points
         .par_iter()
-        .zip(mesh_d.par_iter())
-        .map(|(p, d)| match (d, &to_fit) {
-            (Some(d), _) => *d,
-            (None, Some(t)) => t.distance(*p),
-            (None, None) => f64::NAN,
+        .zip(sample_own.par_iter())
+        .map(|(p, &(k, d))| {
+            // One its component's measure left unmeasured stays so (the whole's distance is
+            // no larger than the component's own); a left-out component's are measured.
+            if d.is_nan() {
+                Some(f64::NAN)
+            } else {
+                clear_of_others(p, k, d)
+            }
         })
         .collect();
-    Ok(summarise(mesh, mesh_d, grids, fit))
+    let to_fit =
+        (mesh_d.iter().chain(&inner).any(Option::is_none)).then(|| ToFit::new(surfaces, &grids));
+    let whole = |points: &[Vec3], own: &[Option<f64>]| -> Vec<f64> {
+        points
+            .par_iter()
+            .zip(own.par_iter())
+            .map(|(p, d)| match (d, &to_fit) {
+                (Some(d), _) => *d,
+                (None, Some(t)) => t.distance(*p),
+                (None, None) => f64::NAN,
+            })
+            .collect()
+    };
+    let mesh_d = whole(&mesh.positions, &mesh_d);
+    let inner = whole(&samples.points, &inner);
+    Ok(summarise(mesh, mesh_d, (samples, inner), grids, fit))
 }
 
 /// The bytes of the design's TOML and the count of its numbers.
@@ -793,6 +1159,73 @@ pub(crate) fn count_numbers(spec: &DesignSpec) -> usize {
 mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
+
+    /// Every point of a mesh of long and short triangles is within `1.08 h` of a vertex or a
+    /// sample (random points against every measured one); no triangle shorter than `h` has
+    /// samples; a spacing too fine for [`MeshSamples::MAX_POINTS`] is widened.
+    #[test]
+    fn mesh_samples_come_within_their_stated_reach_of_every_point() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        // A strip of long thin triangles, a fan about an obtuse corner and small ones.
+        let mut positions: Vec<Vec3> = Vec::new();
+        let mut triangles: Vec<[u32; 3]> = Vec::new();
+        for k in 0..6 {
+            let x = k as f64 * 0.4;
+            positions.extend([Vec3::new(x, 0.0, 0.0), Vec3::new(x + 0.2, 3.0, 0.3 * x)]);
+        }
+        for k in 0..5u32 {
+            let (a, b, c, d) = (2 * k, 2 * k + 1, 2 * k + 2, 2 * k + 3);
+            triangles.extend([[a, c, b], [b, c, d]]);
+        }
+        let o = positions.len() as u32;
+        positions.extend([
+            Vec3::new(0.0, -1.0, 0.0),
+            Vec3::new(-2.0, -1.1, 0.5),
+            Vec3::new(2.0, -1.1, -0.5),
+            Vec3::new(0.0, -1.05, 0.01),
+            Vec3::new(0.01, -1.04, 0.0),
+        ]);
+        triangles.extend([[o, o + 1, o + 2], [o, o + 3, o + 4]]);
+        let mesh = InputMesh::new(positions, triangles).unwrap();
+        for h in [0.5, 0.1, 0.05] {
+            let samples = MeshSamples::new(&mesh, h);
+            assert_eq!(samples.spacing, h);
+            let measured: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .chain(&samples.points)
+                .cloned()
+                .collect();
+            // Every sample lies on the mesh.
+            let index = MeshDistance::new(&mesh);
+            for p in &samples.points {
+                assert!(index.closest(*p).unwrap().0 < 1e-12);
+            }
+            for _ in 0..3000 {
+                let t = rng.gen_range(0..mesh.triangles.len());
+                let (mut x, mut y): (f64, f64) = (rng.gen(), rng.gen());
+                if x + y > 1.0 {
+                    (x, y) = (1.0 - x, 1.0 - y);
+                }
+                let [a, b, c] = mesh.corners(t);
+                let p = a + (b - a) * x + (c - a) * y;
+                let near = measured
+                    .iter()
+                    .map(|q| (q - p).norm())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(near <= 1.08 * h, "{h}: {near} at {p:?}");
+            }
+        }
+        // The small triangle (sides under 0.06) has none at h = 0.1.
+        let small_only = InputMesh::new(mesh.positions.clone(), vec![[12, 15, 16]]).unwrap();
+        assert!(MeshSamples::new(&small_only, 0.1).points.is_empty());
+        // Too fine a spacing is widened to the bound.
+        let fine = MeshSamples::new(&mesh, 1e-4);
+        assert!(fine.points.len() <= MeshSamples::MAX_POINTS && fine.spacing > 1e-4);
+        assert!(fine.points.len() > MeshSamples::MAX_POINTS / 2);
+        assert!(MeshSamples::new(&mesh, 0.0).points.is_empty());
+        assert!(MeshSamples::new(&mesh, f64::NAN).points.is_empty());
+    }
 
     #[test]
     fn closest_point_on_a_triangle_agrees_with_dense_sampling() {

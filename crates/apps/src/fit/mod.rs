@@ -68,7 +68,7 @@ pub use layout::{
     decimate, fit_general, fit_general_measured, layout_spec, require_oriented, vertex_normals,
     Decimation, Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,
 };
-pub use measure::{measure, Distances, Measures, MeshDistance, PointDistances};
+pub use measure::{measure, Distances, Measures, MeshDistance, MeshSamples, PointDistances};
 pub use mesh::{
     External, InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION,
 };

@@ -175,6 +175,7 @@ pub fn layout_edges(spec: &DesignSpec, distances: &PointDistances) -> Vec<Vec<Ve
 
 #[cfg(test)]
 mod tests {
+    use super::super::measure::MeshSamples;
     use super::*;
     use crate::mesh::Samples;
 
@@ -203,6 +204,8 @@ mod tests {
         };
         let d = PointDistances {
             mesh: vec![0.0; 4],
+            samples: MeshSamples::default(),
+            inner: Vec::new(),
             grids: vec![grid],
             fit: vec![vec![0.0; n * n]],
         };

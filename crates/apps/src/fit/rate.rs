@@ -161,7 +161,7 @@ pub fn rate_distortion(
         let seconds = t.elapsed().as_secs_f64();
         let text = write_design(&fitted.fit.spec)?;
         let packed = pack(&fitted.fit.spec, diagonal, tolerance)?;
-        let (pm, _) = measure_like(mesh, &fitted.fit, &packed.spec)?;
+        let (pm, _) = measure_like(mesh, &fitted, &packed.spec)?;
         let m = &fitted.measures;
         fits.push(RatePoint {
             tolerance,

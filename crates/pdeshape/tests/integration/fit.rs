@@ -10,7 +10,7 @@ use pdeshape::curve::FourierSeries;
 use pdeshape::design::{solve_design, SolvedDesign};
 use pdeshape::fit::{
     fit_general, fit_mesh, fit_template, measure, parse_template, position_weights, weights, Fit,
-    FitMode, FitOptions, InputMesh, Measures,
+    FitMode, FitOptions, InputMesh, Measures, MeshSamples,
 };
 use pdeshape::spec::{describe_error, parse_design, write_design, CurveKind, DesignSpec};
 use pdeshape::Vec3;
@@ -32,7 +32,9 @@ fn measured(mesh: &InputMesh, fit: &Fit) -> (DesignSpec, SolvedDesign, Measures)
     let spec = parse_design(&text).unwrap();
     assert_eq!(spec, fit.spec);
     let solved = solve_design(&spec).unwrap();
-    let (m, _) = measure(mesh, &spec, &solved, 48, 96).unwrap();
+    // The mesh sampled for the default tolerance, as `pdeshape fit` measures.
+    let samples = MeshSamples::for_tolerance(mesh, pdeshape::fit::DEFAULT_TOLERANCE);
+    let (m, _) = measure(mesh, &spec, &solved, (48, 96), &samples).unwrap();
     (spec, solved, m)
 }
 

@@ -5,7 +5,7 @@
 //! tessellation where the mesh is closed, and read back from its file unchanged.
 
 use pdeshape::design::{solve_design, SolvedDesign};
-use pdeshape::fit::{fit_general, measure, FitMode, FitOptions, InputMesh, Measures};
+use pdeshape::fit::{fit_general, measure, FitMode, FitOptions, InputMesh, Measures, MeshSamples};
 use pdeshape::spec::{parse_design, write_design, DesignSpec};
 use pdeshape_testkit::implicit;
 use std::collections::HashMap;
@@ -24,7 +24,8 @@ fn fit(name: &str, mesh: &InputMesh, target: f64) -> (SolvedDesign, Measures) {
     let spec = parse_design(&text).unwrap();
     assert_eq!(spec, fit.spec, "{name}: the design does not round-trip");
     let solved = solve_design(&spec).unwrap();
-    let (m, _) = measure(mesh, &spec, &solved, 12, 12).unwrap();
+    let samples = MeshSamples::for_tolerance(mesh, target);
+    let (m, _) = measure(mesh, &spec, &solved, (12, 12), &samples).unwrap();
     eprintln!(
         "{name}: {} triangles → {} faces, Hausdorff {:.3e}, RMS {:.3e} of the diagonal, {} \
          TOML bytes (mesh {}), miss {:?}, {:.2} s",
@@ -341,7 +342,10 @@ fn assert_real_fit(name: &str, mesh: &InputMesh, fitted: &pdeshape::fit::Fitted,
     let solved = solve_design(&fitted.fit.spec).unwrap();
     if fitted.fit.spec.patchwork.len() > 1 {
         let grid = pdeshape::fit::MEASURE_GRID;
-        let (whole, d) = measure(mesh, &fitted.fit.spec, &solved, grid, grid).unwrap();
+        // The same points as the fit's own measure (the components' samples, in another
+        // order): the largest distances agree, not the samples one by one.
+        let samples = MeshSamples::for_tolerance(mesh, fitted.tolerance);
+        let (whole, d) = measure(mesh, &fitted.fit.spec, &solved, (grid, grid), &samples).unwrap();
         let own = &fitted.distances;
         let near =
             |a: f64, b: f64| (a.is_nan() && b.is_nan()) || (a - b).abs() <= 1e-12 * m.diagonal;
