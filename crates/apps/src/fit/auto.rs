@@ -211,9 +211,27 @@ pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
         let solved = solve_design(&fit.spec).map_err(|e| {
             Error::invalid(format!("the fitted design does not solve: {}", e.message()))
         })?;
-        let samples = MeshSamples::for_tolerance(mesh, tolerance);
-        let (measures, distances) = measure(mesh, &fit.spec, &solved, FAST_GRID, &samples)?;
         let auto = request.mode == ModeChoice::Auto && request.template.is_none();
+        // In the automatic choice a fast fit is first measured at its grid and the mesh's
+        // vertices: those are points of the two surfaces, so a distance past the tolerance
+        // there is a miss already, and the general mode takes over without the dense measure
+        // (a tube fitted to a tetrahedron, hundreds of diagonals off, took seconds to
+        // measure densely).
+        let coarse = if auto {
+            let none = MeshSamples::default();
+            Some(measure(mesh, &fit.spec, &solved, FAST_GRID, &none)?)
+        } else {
+            None
+        };
+        let (measures, distances) = match coarse {
+            Some((m, d)) if m.hausdorff_relative.is_nan() || m.hausdorff_relative > tolerance => {
+                (m, d)
+            }
+            _ => {
+                let samples = MeshSamples::for_tolerance(mesh, tolerance);
+                measure(mesh, &fit.spec, &solved, FAST_GRID, &samples)?
+            }
+        };
         let (worst, _) = distances.worst(mesh);
         let fitted = Fitted {
             fit,
