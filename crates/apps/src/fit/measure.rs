@@ -517,10 +517,6 @@ impl MeshSamples {
         if !(spacing > 0.0 && spacing.is_finite()) {
             return MeshSamples::default();
         }
-        let longest = |t: usize| {
-            let [a, b, c] = mesh.corners(t);
-            (b - a).norm().max((c - b).norm()).max((a - c).norm())
-        };
         let mut edges: Vec<(u32, u32)> = mesh
             .triangles
             .iter()
@@ -535,7 +531,7 @@ impl MeshSamples {
         let count = |h: f64| -> usize {
             let inner: usize = (0..mesh.triangles.len())
                 .map(|t| {
-                    let k = divisions(longest(t), h);
+                    let k = divisions(longest_side(mesh, t), h);
                     (k.saturating_sub(1) * k.saturating_sub(2)) / 2
                 })
                 .sum();
@@ -574,7 +570,7 @@ impl MeshSamples {
             }
         }
         for t in 0..mesh.triangles.len() {
-            let k = divisions(longest(t), h);
+            let k = divisions(longest_side(mesh, t), h);
             let [a, b, c] = mesh.corners(t);
             for i in 1..k {
                 for j in 1..k - i {
@@ -586,6 +582,12 @@ impl MeshSamples {
         }
         samples
     }
+}
+
+/// The longest side of triangle `t` of `mesh`.
+fn longest_side(mesh: &InputMesh, t: usize) -> f64 {
+    let [a, b, c] = mesh.corners(t);
+    (b - a).norm().max((c - b).norm()).max((a - c).norm())
 }
 
 /// Per-point distances, kept for pictures.
@@ -707,9 +709,7 @@ pub(crate) fn measure_surfaces(
                         f64::INFINITY
                     }
                 });
-            let [a, b, c] = mesh.corners(t);
-            let longest = (b - a).norm().max((c - b).norm()).max((a - c).norm());
-            corner + longest / 3f64.sqrt() > lower
+            corner + longest_side(mesh, t) / 3f64.sqrt() > lower
         })
         .collect();
     let inner: Vec<f64> = samples
