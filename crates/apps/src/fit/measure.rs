@@ -524,16 +524,12 @@ impl MeshSamples {
             .collect();
         edges.sort_unstable();
         edges.dedup();
-        let divisions = |length: f64, h: f64| (length / h).ceil().min(1e6) as usize;
         let length =
             |(a, b): (u32, u32)| (mesh.positions[a as usize] - mesh.positions[b as usize]).norm();
         // The count at spacing `h`, and a larger spacing until it is within the bound.
         let count = |h: f64| -> usize {
             let inner: usize = (0..mesh.triangles.len())
-                .map(|t| {
-                    let k = divisions(longest_side(mesh, t), h);
-                    (k.saturating_sub(1) * k.saturating_sub(2)) / 2
-                })
+                .map(|t| InnerLattice::count(divisions(longest_side(mesh, t), h)))
                 .sum();
             let along: usize = edges
                 .iter()
@@ -581,6 +577,60 @@ impl MeshSamples {
             }
         }
         samples
+    }
+}
+
+/// The pieces a length is cut into at spacing `h` (each at most `h` long).
+fn divisions(length: f64, h: f64) -> usize {
+    (length / h).ceil().min(1e6) as usize
+}
+
+/// Where a triangle's inner points are among [`MeshSamples`]' points: its sides divided in
+/// `k`, the points `a + (b − a)·i/k + (c − a)·j/k` (`a, b, c` its corners) for `i, j ≥ 1`,
+/// `i + j < k`, by `i` then `j`, from index `start`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InnerLattice {
+    /// The divisions of the triangle's sides.
+    pub k: usize,
+    /// The index of its first inner point.
+    pub start: usize,
+}
+
+impl InnerLattice {
+    /// The index of the inner point `(i, j)` (`i, j ≥ 1`, `i + j < k`).
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        self.start + (i - 1) * (self.k - 1) - (i - 1) * i / 2 + (j - 1)
+    }
+
+    /// The number of inner points.
+    fn count(k: usize) -> usize {
+        (k.saturating_sub(1) * k.saturating_sub(2)) / 2
+    }
+}
+
+impl MeshSamples {
+    /// Each triangle's [`InnerLattice`] (the edges' points come first, then the triangles'
+    /// inner points in the triangles' order); empty for samples composed of components'
+    /// (without their triangles) or not of `mesh`.
+    pub fn lattices(&self, mesh: &InputMesh) -> Vec<InnerLattice> {
+        if self.triangles.len() != self.points.len() || self.spacing.is_nan() || self.spacing <= 0.0
+        {
+            return Vec::new();
+        }
+        let ks: Vec<usize> = (0..mesh.triangles.len())
+            .map(|t| divisions(longest_side(mesh, t), self.spacing))
+            .collect();
+        let inner: usize = ks.iter().map(|&k| InnerLattice::count(k)).sum();
+        let Some(mut start) = self.points.len().checked_sub(inner) else {
+            return Vec::new();
+        };
+        ks.into_iter()
+            .map(|k| {
+                let l = InnerLattice { k, start };
+                start += InnerLattice::count(k);
+                l
+            })
+            .collect()
     }
 }
 
@@ -1196,6 +1246,23 @@ mod tests {
                 .chain(&samples.points)
                 .cloned()
                 .collect();
+            // Each triangle's inner points are where its lattice says.
+            let lattices = samples.lattices(&mesh);
+            assert_eq!(lattices.len(), mesh.triangles.len());
+            let mut inner = 0;
+            for (t, l) in lattices.iter().enumerate() {
+                let [a, b, c] = mesh.corners(t);
+                for i in 1..l.k {
+                    for j in 1..l.k - i {
+                        let (x, y) = (i as f64 / l.k as f64, j as f64 / l.k as f64);
+                        let q = a + (b - a) * x + (c - a) * y;
+                        assert!((samples.points[l.index(i, j)] - q).norm() < 1e-15);
+                        assert_eq!(samples.triangles[l.index(i, j)], t as u32);
+                        inner += 1;
+                    }
+                }
+            }
+            assert_eq!(lattices[0].start + inner, samples.points.len());
             // Every sample lies on the mesh.
             let index = MeshDistance::new(&mesh);
             for p in &samples.points {

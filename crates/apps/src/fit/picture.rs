@@ -1,7 +1,7 @@
 //! The mesh and its fit side by side, each coloured by its distance to the other, the fit's
 //! layout edges drawn over it.
 
-use super::measure::PointDistances;
+use super::measure::{InnerLattice, PointDistances};
 use super::mesh::InputMesh;
 use crate::mesh::GridMesh;
 use crate::render::{
@@ -55,24 +55,27 @@ fn picture_rgb(
     };
     let mut meshes = Vec::with_capacity(mesh.triangles.len() + distances.grids.len());
     let mut colors = Vec::with_capacity(meshes.capacity());
-    // Each triangle as a 2 × 2 grid with a repeated corner.
+    let lattices = distances.samples.lattices(mesh);
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let [a, b, c] = mesh.corners(t);
         let n = (b - a).cross(&(c - a));
         let n = if n.norm() > 0.0 { n.normalize() } else { up };
+        let corners = tri.map(|i| distances.mesh[i as usize]);
+        let (grid, d) = triangle_grid(
+            [a, b, c],
+            corners,
+            lattices.get(t).copied(),
+            &distances.inner,
+        );
         meshes.push(GridMesh {
-            nu: 2,
-            nv: 2,
+            nu: grid.0,
+            nv: grid.0,
             periodic_v: false,
-            u: vec![0.0, 1.0],
-            v: vec![0.0, 1.0],
-            positions: vec![f(a), f(b), f(c), f(c)],
-            normals: vec![f(n); 4],
+            u: grid.1.clone(),
+            v: grid.1,
+            normals: vec![f(n); d.len()],
+            positions: grid.2.into_iter().map(f).collect(),
         });
-        let d: Vec<f64> = [tri[0], tri[1], tri[2], tri[2]]
-            .iter()
-            .map(|&i| distances.mesh[i as usize])
-            .collect();
         colors.push(diverging_colors(&d, 0.0, scale));
     }
     for (g, d) in distances.grids.iter().zip(&distances.fit) {
@@ -124,6 +127,62 @@ fn picture_rgb(
         write_caption(&mut rgb, options.width, options.height, centre, top, text);
     }
     Ok(rgb)
+}
+
+/// A mesh triangle `a, b, c` as a square grid for the renderer, with the distance at each
+/// node. A triangle whose inner points were measured (`lattice`, their distances in `inner`)
+/// is drawn on their lattice: node `(i, j)` of the `(k + 1) × (k + 1)` grid is the inner point
+/// `a + (b − a)·j/k + (c − a)·i/k`, coloured by its distance, so a miss inside a long triangle
+/// shows where it is. The nodes on the triangle's sides (and past `b–c`, `i + j > k`) are
+/// moved to the nearer corner of their side and take its distance (`corners`): the strips
+/// along the sides become fans of the corners (quads with two nodes alike, flat ones past
+/// `b–c`), so the triangle's sides have no nodes between its corners and meet the
+/// neighbouring triangles without T-junctions (whose cracks let the far side show through).
+/// Any other triangle is one quad `a, b, c, c`, coloured by its corners. Row `i` runs towards
+/// `c` and column `j` towards `b`, so the grid faces the way the triangle does. Returns the
+/// grid's side, its parameters and nodes, and the distances at them.
+#[allow(clippy::type_complexity)]
+fn triangle_grid(
+    [a, b, c]: [Vec3; 3],
+    corners: [f64; 3],
+    lattice: Option<InnerLattice>,
+    inner: &[f64],
+) -> ((usize, Vec<f64>, Vec<Vec3>), Vec<f64>) {
+    let measured = lattice.filter(|l| {
+        l.k >= 3
+            && l.index(l.k - 2, 1) < inner.len()
+            && (1..l.k).all(|i| (1..l.k - i).all(|j| inner[l.index(i, j)].is_finite()))
+    });
+    let k = measured.map_or(1, |l| l.k);
+    let n = k + 1;
+    let params: Vec<f64> = (0..n).map(|i| i as f64 / k as f64).collect();
+    let mut nodes = Vec::with_capacity(n * n);
+    let mut values = Vec::with_capacity(n * n);
+    for i in 0..n {
+        for j in 0..n {
+            // The corner a side node goes to: along `a–b` by `j`, `a–c` by `i`, `b–c` by
+            // the share of `i` in `i + j`.
+            let corner = if i + j >= k {
+                Some(if 2 * i < i + j { 1 } else { 2 })
+            } else if i == 0 {
+                Some(if 2 * j < k { 0 } else { 1 })
+            } else if j == 0 {
+                Some(if 2 * i < k { 0 } else { 2 })
+            } else {
+                None
+            };
+            if let (None, Some(l)) = (corner, measured) {
+                nodes.push(a + (b - a) * params[j] + (c - a) * params[i]);
+                values.push(inner[l.index(j, i)]);
+            } else {
+                // Every node of the one-quad grid (`k = 1`) is a corner.
+                let q = corner.unwrap_or(0);
+                nodes.push([a, b, c][q]);
+                values.push(corners[q]);
+            }
+        }
+    }
+    ((n, params, nodes), values)
 }
 
 /// Segments per patchwork edge in [`layout_edges`].
@@ -210,6 +269,42 @@ mod tests {
             fit: vec![vec![0.0; n * n]],
         };
         (mesh, d)
+    }
+
+    /// A miss inside a mesh triangle (at 25 of its inner points, its corners at distance
+    /// 0) colours the mesh there: red pixels on the mesh's half of the picture, none when
+    /// every point is at 0 (before, the triangles were coloured from their corners only).
+    #[test]
+    fn a_miss_inside_a_triangle_is_drawn_where_it_is() {
+        let (mesh, mut d) = square();
+        d.samples = MeshSamples::new(&mesh, 0.1);
+        let lattices = d.samples.lattices(&mesh);
+        assert_eq!(lattices[0].k, 15);
+        d.inner = vec![0.0; d.samples.points.len()];
+        let options = RenderOptions {
+            width: 400,
+            height: 200,
+            view: Some(Vec3::new(0.0, 0.0, 1.0)),
+            up: Vec3::new(0.0, 1.0, 0.0),
+        };
+        let half = BarLayout::new(options.width, options.height).panel_x / 2;
+        let red = |rgb: &[u8]| {
+            rgb.chunks(3)
+                .enumerate()
+                .filter(|(k, p)| {
+                    (k % options.width as usize) < half && p[0] > 150 && p[1] < 90 && p[2] < 110
+                })
+                .count()
+        };
+        assert_eq!(red(&picture_rgb(&mesh, &d, &[], 1.0, &options).unwrap()), 0);
+        let l = lattices[0];
+        for i in 3..=7 {
+            for j in 3..=7 {
+                d.inner[l.index(i, j)] = 3.0;
+            }
+        }
+        let drawn = red(&picture_rgb(&mesh, &d, &[], 1.0, &options).unwrap());
+        assert!(drawn > 20, "{drawn}");
     }
 
     #[test]
