@@ -61,20 +61,21 @@ fn picture_rgb(
         let n = (b - a).cross(&(c - a));
         let n = if n.norm() > 0.0 { n.normalize() } else { up };
         let corners = tri.map(|i| distances.mesh[i as usize]);
-        let (grid, d) = triangle_grid(
+        let (side, nodes, d) = triangle_grid(
             [a, b, c],
             corners,
             lattices.get(t).copied(),
             &distances.inner,
         );
+        let params: Vec<f64> = (0..side).map(|i| i as f64 / (side - 1) as f64).collect();
         meshes.push(GridMesh {
-            nu: grid.0,
-            nv: grid.0,
+            nu: side,
+            nv: side,
             periodic_v: false,
-            u: grid.1.clone(),
-            v: grid.1,
+            u: params.clone(),
+            v: params,
             normals: vec![f(n); d.len()],
-            positions: grid.2.into_iter().map(f).collect(),
+            positions: nodes.into_iter().map(f).collect(),
         });
         colors.push(diverging_colors(&d, 0.0, scale));
     }
@@ -140,14 +141,13 @@ fn picture_rgb(
 /// neighbouring triangles without T-junctions (whose cracks let the far side show through).
 /// Any other triangle is one quad `a, b, c, c`, coloured by its corners. Row `i` runs towards
 /// `c` and column `j` towards `b`, so the grid faces the way the triangle does. Returns the
-/// grid's side, its parameters and nodes, and the distances at them.
-#[allow(clippy::type_complexity)]
+/// grid's side (at least 2), its nodes row by row, and the distances at them.
 fn triangle_grid(
     [a, b, c]: [Vec3; 3],
     corners: [f64; 3],
     lattice: Option<InnerLattice>,
     inner: &[f64],
-) -> ((usize, Vec<f64>, Vec<Vec3>), Vec<f64>) {
+) -> (usize, Vec<Vec3>, Vec<f64>) {
     let measured = lattice.filter(|l| {
         l.k >= 3
             && l.index(l.k - 2, 1) < inner.len()
@@ -155,7 +155,7 @@ fn triangle_grid(
     });
     let k = measured.map_or(1, |l| l.k);
     let n = k + 1;
-    let params: Vec<f64> = (0..n).map(|i| i as f64 / k as f64).collect();
+    let at = |i: usize| i as f64 / k as f64;
     let mut nodes = Vec::with_capacity(n * n);
     let mut values = Vec::with_capacity(n * n);
     for i in 0..n {
@@ -172,7 +172,7 @@ fn triangle_grid(
                 None
             };
             if let (None, Some(l)) = (corner, measured) {
-                nodes.push(a + (b - a) * params[j] + (c - a) * params[i]);
+                nodes.push(a + (b - a) * at(j) + (c - a) * at(i));
                 values.push(inner[l.index(j, i)]);
             } else {
                 // Every node of the one-quad grid (`k = 1`) is a corner.
@@ -182,7 +182,7 @@ fn triangle_grid(
             }
         }
     }
-    ((n, params, nodes), values)
+    (n, nodes, values)
 }
 
 /// Segments per patchwork edge in [`layout_edges`].
