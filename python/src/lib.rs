@@ -1642,21 +1642,18 @@ fn fit_mesh<'py>(
         .detach(|| -> Result<(String, String), String> {
             let read =
                 fit::InputMesh::read_report(&data, format).map_err(|e| format!("{name}: {e}"))?;
-            let (mesh, repairs) = fit::repair(&read.mesh).map_err(|e| format!("{name}: {e}"))?;
-            let notes: Vec<String> = read.note().into_iter().chain(repairs.note()).collect();
+            let (mesh, notes) = read.repaired().map_err(|e| format!("{name}: {e}"))?;
             let request = fit::Request {
                 mode,
                 template: None,
                 tolerance,
                 patches: sections,
+                units: read.units,
             };
             let mut fitted = fit::fit_measured(&mesh, &request).map_err(|e| match e.place() {
                 "tolerance" | "sections" => e.to_string(),
                 _ => format!("{name}: {e}"),
             })?;
-            if let Some(units) = read.units {
-                fitted.fit.spec.units = Some(units);
-            }
             if let (Some(words), false) = (fitted.miss(), best_effort) {
                 return Err(format!(
                     "{name}: {words} (a larger tolerance, or best_effort=True to have it anyway)"
@@ -1665,24 +1662,7 @@ fn fit_mesh<'py>(
             let text = fitted
                 .design_file(&file_name)
                 .map_err(|e| format!("{name}: {e}"))?;
-            let f = &fitted.fit;
-            let report = serde_json::json!({
-                "mesh": name,
-                "mode": f.mode,
-                "a": f.a,
-                "patches": f.patches,
-                "modes": f.modes,
-                "sections": f.sections,
-                "sections_dropped": f.dropped,
-                "sample_error_relative": f.sample_error,
-                "tolerance": fitted.target,
-                "accept_tolerance": fitted.tolerance,
-                "missed": fitted.missed(),
-                "fallback": fitted.fallback,
-                "general_declined": fitted.declined,
-                "measures": fitted.measures,
-                "notes": notes.iter().chain(&fitted.fit.notes).collect::<Vec<_>>(),
-            });
+            let report = fitted.report(name, &notes);
             Ok((text, report.to_string()))
         })
         .map_err(err)?;

@@ -119,11 +119,15 @@ def glb_of_obj(obj: str) -> bytes:
 def test_fit_of_a_glb_equals_the_cli(cli, tmp_path):
     mesh = tmp_path / "egg.glb"
     mesh.write_bytes(glb_of_obj(ellipsoid_obj(24, 32)))
-    cli("fit", str(mesh), "-o", str(tmp_path / "egg.toml"))
+    cli("fit", str(mesh), "-o", str(tmp_path / "egg.toml"), "--json", str(tmp_path / "egg.json"))
     d, report = pdeshape.fit(mesh)
     assert d.text == (tmp_path / "egg.toml").read_text()
-    # glTF is in metres: the design says so, and the report's notes say what was turned
-    assert '\nunits = "m"\n' in d.text
+    # the same report as the CLI's, which adds its timings
+    cli_report = json.loads((tmp_path / "egg.json").read_text())
+    del cli_report["timings_ms"]
+    assert cli_report == report
+    # glTF is in metres: the design and the report say so, and the notes say what was turned
+    assert '\nunits = "m"\n' in d.text and report["units"] == "m"
     assert any("read as glTF: metres, +Y up, turned to +Z up" in n for n in report["notes"])
     # a damaged GLB: the CLI's one line
     bad = tmp_path / "cut.glb"

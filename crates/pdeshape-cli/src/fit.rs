@@ -109,9 +109,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     // What the reader and the repairs did (an OBJ's objects welded into one mesh, T-junctions
     // split, fins dropped …): a note after a fit, the reason's context after a refusal, so a
     // refusal stays one line.
-    let (mesh, repairs) =
-        fit::repair(&read.mesh).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
-    let notes: Vec<String> = read.note().into_iter().chain(repairs.note()).collect();
+    let (mesh, notes) = read
+        .repaired()
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let note = (!notes.is_empty()).then(|| notes.join("; "));
     let with_note = |e: CliError| match &note {
         Some(n) => CliError::input(format!("{} ({n})", e.message)),
@@ -124,8 +124,9 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         template: template.as_ref().map(|(_, _, t)| t),
         tolerance: args.tolerance,
         patches: args.sections,
+        units: read.units,
     };
-    let fitted = fit::fit_measured(&mesh, &request)
+    let mut fitted = fit::fit_measured(&mesh, &request)
         .map_err(|e| match &template {
             Some((file, text, _)) if e.place().starts_with("parts") => CliError::input(format!(
                 "{} (fitting {shown})",
@@ -135,10 +136,6 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         })
         .map_err(with_note)?;
     let elapsed_ms = t.elapsed().as_secs_f64() * 1e3;
-    let mut fitted = fitted;
-    if let Some(units) = read.units {
-        fitted.fit.spec.units = Some(units);
-    }
     let name = args
         .mesh
         .file_name()
@@ -148,15 +145,16 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .design_file(&name)
         .map_err(|e| CliError::input(format!("-o: {e}")))?;
     let miss_words = fitted.miss();
+    let mut report = fitted.report(&shown, &notes);
     let fit::Fitted {
         fit: fitted,
         measures: m,
         distances,
         worst: miss,
         tolerance,
-        target,
         fallback,
         declined,
+        ..
     } = fitted;
     let missed = miss_words.is_some();
     if let (Some(words), false) = (&miss_words, args.best_effort) {
@@ -192,29 +190,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     for n in &fitted.notes {
         crate::common::note(&format!("{shown}: {n}"));
     }
-    let notes: Vec<&String> = notes.iter().chain(&fitted.notes).collect();
     out.write_all(text.as_bytes())?;
     if let Some(j) = json_out.as_mut() {
-        let report = serde_json::json!({
-            "mesh": shown,
-            "mode": fitted.mode,
-            "a": fitted.a,
-            "patches": fitted.patches,
-            "modes": fitted.modes,
-            "sections": fitted.sections,
-            "sections_dropped": fitted.dropped,
-            "sample_error_relative": fitted.sample_error,
-            // The target the fit was refined to (the sections' for tube and sheet).
-            "tolerance": target,
-            "accept_tolerance": tolerance,
-            "missed": missed,
-            "fallback": fallback,
-            "general_declined": declined,
-            "measures": m,
-            "notes": notes,
-            // The measures are taken inside the fit (the general mode measures every round).
-            "timings_ms": { "read": read_ms, "fit": elapsed_ms },
-        });
+        // The measures are taken inside the fit (the general mode measures every round).
+        report["timings_ms"] = serde_json::json!({ "read": read_ms, "fit": elapsed_ms });
         let s = serde_json::to_string_pretty(&report)
             .map_err(|e| CliError::input(format!("--json: {e}")))?;
         j.write_all(s.as_bytes())?;

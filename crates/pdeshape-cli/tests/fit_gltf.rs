@@ -155,6 +155,41 @@ fn a_glb_sphere_fits_in_metres_like_the_same_obj() {
     // The design is in metres: a sphere of radius 0.05.
     let design = pdeshape::open::open(&a).unwrap().spec;
     assert_eq!(design.units, Some(pdeshape::spec::Units::Metre));
+    // The reports say in which units their distances are: the GLB's in metres, the OBJ's in
+    // the file's own (none stated), the same numbers (the two meshes are the same points).
+    let report = |mesh: &Path, name: &str| {
+        let (design, json) = (
+            dir.path().join(name),
+            dir.path().join(format!("{name}.json")),
+        );
+        let out = pdeshape(&["fit", s(mesh), "-o", s(&design), "--json", s(&json)]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice::<serde_json::Value>(&std::fs::read(&json).unwrap()).unwrap()
+    };
+    let (rg, ro) = (report(&sphere_glb, "g.toml"), report(&sphere_obj, "o.toml"));
+    assert_eq!(
+        (&rg["units"], &ro["units"]),
+        (&serde_json::json!("m"), &serde_json::json!(null))
+    );
+    let diagonal = |r: &serde_json::Value| r["measures"]["diagonal"].as_f64().unwrap();
+    // The polyhedron's box: 0.1 along the poles, at most 0.1 across (its corners f32s, within
+    // 2⁻²⁴ of their values).
+    assert!(
+        (0.1 * 2f64.sqrt()..=0.1 * 3f64.sqrt() * (1.0 + 1e-7)).contains(&diagonal(&rg)),
+        "{rg}"
+    );
+    assert_eq!(diagonal(&rg), diagonal(&ro));
+    assert!(
+        rg["notes"][0]
+            .as_str()
+            .unwrap()
+            .starts_with("read as glTF: metres"),
+        "{rg}"
+    );
     // A .gltf with its buffer in a file beside it (a name with a space, percent-encoded).
     let sub = dir.path().join("scan");
     std::fs::create_dir(&sub).unwrap();

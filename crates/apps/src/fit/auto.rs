@@ -17,7 +17,7 @@ use super::options::{fit_mesh, Fit, FitMode, FitOptions};
 use super::template::{fit_template, Template};
 use crate::design::solve_design;
 use crate::number::sig;
-use crate::spec::DesignSpec;
+use crate::spec::{DesignSpec, Units};
 use crate::{Error, Result, Vec3};
 
 /// The two-sided Hausdorff distance, as a fraction of the mesh's bounding-box diagonal, a fit
@@ -77,6 +77,9 @@ pub struct Request<'a> {
     /// A fixed number of patches (tube and sheet) or of first-round layout vertices
     /// (general), instead of the adaptive choice.
     pub patches: Option<usize>,
+    /// The length unit of the mesh's coordinates when its file states one
+    /// ([`MeshRead::units`](super::MeshRead::units)): the fitted design's `units`.
+    pub units: Option<Units>,
 }
 
 impl Default for Request<'_> {
@@ -86,6 +89,7 @@ impl Default for Request<'_> {
             template: None,
             tolerance: None,
             patches: None,
+            units: None,
         }
     }
 }
@@ -150,6 +154,36 @@ impl Fitted {
             )
         })
     }
+
+    /// The report of `pdeshape fit --json` (and of Python's `fit_mesh`): the mesh's name as
+    /// the caller shows it, the fit's mode and sizes, the tolerance and whether it is missed,
+    /// why the automatic choice fell back or declined, the measures (distances in `units`, the
+    /// mesh's own when its file states none: `null`), and the notes: `input_notes` (what the
+    /// reader and the repairs did, [`MeshRead::repaired`](super::MeshRead::repaired)) and the
+    /// fit's own.
+    pub fn report(&self, mesh: &str, input_notes: &[String]) -> serde_json::Value {
+        let f = &self.fit;
+        serde_json::json!({
+            "mesh": mesh,
+            "mode": f.mode,
+            "a": f.a,
+            "patches": f.patches,
+            "modes": f.modes,
+            "sections": f.sections,
+            "sections_dropped": f.dropped,
+            "sample_error_relative": f.sample_error,
+            // The target the fit was refined to (the sections' for tube and sheet).
+            "tolerance": self.target,
+            "accept_tolerance": self.tolerance,
+            "missed": self.missed(),
+            "fallback": self.fallback,
+            "general_declined": self.declined,
+            "units": f.spec.units.map(Units::as_str),
+            "measures": self.measures,
+            "worst": [self.worst.x, self.worst.y, self.worst.z],
+            "notes": input_notes.iter().chain(&f.notes).collect::<Vec<_>>(),
+        })
+    }
 }
 
 /// Measures `spec` against `mesh` on the samples `fitted` is measured with (a variant of the
@@ -175,6 +209,15 @@ pub fn measure_like(
 /// the general mode and that mode refuses the mesh too, the error says why the fast mode was
 /// left.
 pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
+    let mut fitted = fit_chosen(mesh, request)?;
+    if let Some(units) = request.units {
+        fitted.fit.spec.units = Some(units);
+    }
+    Ok(fitted)
+}
+
+/// [`fit_measured`] but for the units.
+fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
     if let Some(t) = request.tolerance {
         if !(t > 0.0 && t < 1.0) {
             return Err(Error::invalid(format!(

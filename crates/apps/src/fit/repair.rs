@@ -45,7 +45,7 @@
 //! Nothing is moved: vertices keep their positions (a welded vertex takes the position of the
 //! one it joins), so the repaired mesh is the file's surface with its defects removed.
 
-use super::mesh::InputMesh;
+use super::mesh::{InputMesh, MeshRead};
 use crate::{Error, Result, Vec3};
 use std::collections::HashMap;
 
@@ -183,6 +183,17 @@ impl Repairs {
             crate::number::sig(p.y, 4),
             crate::number::sig(p.z, 4)
         ))
+    }
+}
+
+impl MeshRead {
+    /// The mesh [`repair`]ed, with one phrase for each of what the reader
+    /// ([`MeshRead::note`]) and the repairs ([`Repairs::note`]) did: what a fit reports of its
+    /// input.
+    pub fn repaired(&self) -> Result<(InputMesh, Vec<String>)> {
+        let (mesh, repairs) = repair(&self.mesh)?;
+        let notes = self.note().into_iter().chain(repairs.note()).collect();
+        Ok((mesh, notes))
     }
 }
 
