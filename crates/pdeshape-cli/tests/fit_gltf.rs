@@ -176,10 +176,12 @@ fn a_glb_sphere_fits_in_metres_like_the_same_obj() {
         (&serde_json::json!("m"), &serde_json::json!(null))
     );
     let diagonal = |r: &serde_json::Value| r["measures"]["diagonal"].as_f64().unwrap();
-    // The polyhedron's box: 0.1 along the poles, at most 0.1 across (its corners f32s, within
-    // 2⁻²⁴ of their values).
+    // The polyhedron's box in metres: a cube of side 2 r (the poles, and the equator's points
+    // at 0°, 90°, 180° and 270°), r the f32 nearest 0.05, so its diagonal is 2 r √3 to the
+    // rounding of a norm (a few ε); in millimetres it would be 1000 times that.
+    let cube = 2.0 * f64::from(0.05f32) * 3f64.sqrt();
     assert!(
-        (0.1 * 2f64.sqrt()..=0.1 * 3f64.sqrt() * (1.0 + 1e-7)).contains(&diagonal(&rg)),
+        (diagonal(&rg) - cube).abs() <= 4.0 * f64::EPSILON * cube,
         "{rg}"
     );
     assert_eq!(diagonal(&rg), diagonal(&ro));
