@@ -977,21 +977,12 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     }
     let mut triangles = Vec::new();
     for (k, f) in payload.get("face").unwrap_or(&empty).iter().enumerate() {
-        let list = f.get("vertex_indices").or_else(|| f.get("vertex_index"));
-        let corners: Vec<i64> = match list {
-            Some(Property::ListChar(x)) => x.iter().map(|&i| i as i64).collect(),
-            Some(Property::ListUChar(x)) => x.iter().map(|&i| i as i64).collect(),
-            Some(Property::ListShort(x)) => x.iter().map(|&i| i as i64).collect(),
-            Some(Property::ListUShort(x)) => x.iter().map(|&i| i as i64).collect(),
-            Some(Property::ListInt(x)) => x.iter().map(|&i| i as i64).collect(),
-            Some(Property::ListUInt(x)) => x.iter().map(|&i| i as i64).collect(),
-            _ => {
-                return Err(Error::invalid(format!(
-                    "PLY face {}: no integer list 'vertex_indices'",
-                    k + 1
-                )))
-            }
-        };
+        let corners = index_list(f).ok_or_else(|| {
+            Error::invalid(format!(
+                "PLY face {}: no integer list 'vertex_indices'",
+                k + 1
+            ))
+        })?;
         if corners.iter().any(|&i| i < 0 || i > u32::MAX as i64) {
             return Err(Error::invalid(format!(
                 "PLY face {}: a negative or too large vertex index",
@@ -1001,7 +992,68 @@ fn read_ply(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         let corners: Vec<u32> = corners.iter().map(|&i| i as u32).collect();
         polygon(&mut triangles, &positions, &corners);
     }
+    for (k, s) in payload
+        .get("tristrips")
+        .unwrap_or(&empty)
+        .iter()
+        .enumerate()
+    {
+        let list = index_list(s).ok_or_else(|| {
+            Error::invalid(format!(
+                "PLY tristrips {}: no integer list 'vertex_indices'",
+                k + 1
+            ))
+        })?;
+        strips(&mut triangles, &list).map_err(|at| {
+            Error::invalid(format!(
+                "PLY tristrips {}: index {} ({}) is neither a vertex nor -1, the end of a strip",
+                k + 1,
+                at + 1,
+                list[at]
+            ))
+        })?;
+        check_count(triangles.len())?;
+    }
     Ok((positions, triangles))
+}
+
+/// A PLY element's list of vertex indices (`vertex_indices`, or `vertex_index` as some writers
+/// name it), of any integer type.
+fn index_list(e: &ply_rs::ply::DefaultElement) -> Option<Vec<i64>> {
+    use ply_rs::ply::Property;
+    Some(
+        match e.get("vertex_indices").or_else(|| e.get("vertex_index"))? {
+            Property::ListChar(x) => x.iter().map(|&i| i as i64).collect(),
+            Property::ListUChar(x) => x.iter().map(|&i| i as i64).collect(),
+            Property::ListShort(x) => x.iter().map(|&i| i as i64).collect(),
+            Property::ListUShort(x) => x.iter().map(|&i| i as i64).collect(),
+            Property::ListInt(x) => x.iter().map(|&i| i as i64).collect(),
+            Property::ListUInt(x) => x.iter().map(|&i| i as i64).collect(),
+            _ => return None,
+        },
+    )
+}
+
+/// The triangles of a PLY `tristrips` list (the Stanford and Georgia Tech scans' layout):
+/// strips of vertex indices separated by `−1`, each strip `s₀ s₁ s₂ …` the triangles
+/// `(s_{k}, s_{k+1}, s_{k+2})` for even `k` and `(s_{k+1}, s_{k}, s_{k+2})` for odd `k`, so that
+/// every triangle keeps the first one's orientation. A triangle with a repeated corner (how a
+/// strip turns or jumps) is no triangle and left out. `Err(position)` names an index that is
+/// neither a vertex index nor `−1`.
+fn strips(out: &mut Vec<[u32; 3]>, list: &[i64]) -> std::result::Result<(), usize> {
+    if let Some(at) = list.iter().position(|&i| i < -1 || i > u32::MAX as i64) {
+        return Err(at);
+    }
+    for strip in list.split(|&i| i == -1) {
+        for (k, w) in strip.windows(3).enumerate() {
+            let [a, b, c] = [w[0] as u32, w[1] as u32, w[2] as u32];
+            if a == b || b == c || a == c {
+                continue;
+            }
+            out.push(if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
+        }
+    }
+    Ok(())
 }
 
 /// The positions and triangles of an OFF file as text: a header line whose keyword (in any
@@ -1266,6 +1318,48 @@ mod tests {
         ] {
             assert!(!e.contains(word), "{word} in {e}");
         }
+    }
+
+    /// A PLY of triangle strips (`element tristrips`, as the Stanford and Georgia Tech scans
+    /// are written) reads as its triangles: a tetrahedron as one strip, and as three strips
+    /// with `-1` between them and a repeated corner, is closed and every edge is used once in
+    /// each direction (the strips' alternate triangles turned to the first one's orientation),
+    /// facing out (volume 1/6 by the divergence theorem). An index below -1 is refused by its
+    /// strip and place.
+    #[test]
+    fn triangle_strips_read_as_their_triangles() {
+        let ply = |list: &str| {
+            let n = list.split_whitespace().count();
+            format!(
+                "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+                 property float z\nelement tristrips 1\nproperty list int int vertex_indices\n\
+                 end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n{n} {list}\n"
+            )
+        };
+        for list in ["0 1 2 3 0 1", "0 1 2 3 3 -1 2 3 0 -1 0 3 1"] {
+            let m = InputMesh::read(ply(list).as_bytes(), MeshFormat::Ply).unwrap();
+            assert_eq!(m.triangles.len(), 4, "{list}");
+            let mut directed = std::collections::HashSet::new();
+            let mut volume = 0.0;
+            for t in &m.triangles {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                volume += a.dot(&b.cross(&c)) / 6.0;
+                for k in 0..3 {
+                    assert!(directed.insert((t[k], t[(k + 1) % 3])), "{list}: {t:?}");
+                }
+            }
+            for &(a, b) in &directed {
+                assert!(directed.contains(&(b, a)), "{list}: edge {a}-{b} once");
+            }
+            assert!(
+                (volume - 1.0 / 6.0).abs() < 1e-15,
+                "{list}: volume {volume}"
+            );
+        }
+        let e = InputMesh::read(ply("0 1 2 -2").as_bytes(), MeshFormat::Ply)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("PLY tristrips 1: index 4 (-2)"), "{e}");
     }
 
     /// An ASCII STL vertex line that is not three numbers is reported without Rust type names.
