@@ -810,6 +810,8 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
         ignore_points: true,
         ignore_lines: true,
     };
+    let prepared = obj_for_parser(bytes);
+    let bytes = prepared.as_deref().unwrap_or(bytes);
     let (models, _) =
         tobj::load_obj_buf(&mut Cursor::new(bytes), &opts, |_| Ok(Default::default())).map_err(
             |e| Error::invalid(reader_message(&format!("not a readable OBJ file: {e}"))),
@@ -848,6 +850,40 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
         }
     }
     Ok((positions, triangles, models.len()))
+}
+
+/// An OBJ file's text as the parser takes it, when it differs from the file: a line ending in
+/// `\` is continued on the next (the format's line continuation, as Rhino writes long faces),
+/// and a `usemtl` that names no material is blanked (materials are not read; the parser
+/// refuses it). Lines joined or blanked are kept as empty lines, so the text has the file's
+/// line count.
+fn obj_for_parser(bytes: &[u8]) -> Option<Vec<u8>> {
+    let unnamed = |l: &[u8]| l.trim_ascii() == b"usemtl";
+    let continued = |l: &[u8]| l.trim_ascii_end().ends_with(b"\\");
+    if !bytes
+        .split(|&b| b == b'\n')
+        .any(|l| unnamed(l) || continued(l))
+    {
+        return None;
+    }
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut pending = 0;
+    for l in bytes.split(|&b| b == b'\n') {
+        if continued(l) {
+            let l = l.trim_ascii_end();
+            out.extend_from_slice(&l[..l.len() - 1]);
+            out.push(b' ');
+            pending += 1;
+            continue;
+        }
+        if !unnamed(l) {
+            out.extend_from_slice(l);
+        }
+        out.push(b'\n');
+        out.extend(std::iter::repeat_n(b'\n', pending));
+        pending = 0;
+    }
+    Some(out)
 }
 
 fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
@@ -1089,6 +1125,13 @@ fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         .ok_or_else(|| Error::invalid("not a readable OFF file: the file is empty"))?;
     let mut words = header.split_whitespace();
     let raw = words.next().unwrap_or("");
+    // A count glued to the keyword (`OFF8 6 12`, as some writers leave it) is the first count.
+    let (raw, glued) = match raw.to_ascii_uppercase().find("OFF") {
+        Some(i) if i + 3 < raw.len() && raw[i + 3..].bytes().all(|b| b.is_ascii_digit()) => {
+            (&raw[..i + 3], Some(&raw[i + 3..]))
+        }
+        _ => (raw, None),
+    };
     // `4OFF` and `nOFF` (a lower-case n) are points of other dimensions; otherwise the
     // keyword is read in any case (`off` is seen too).
     if raw.contains('4') || raw.ends_with("nOFF") {
@@ -1113,7 +1156,7 @@ fn read_off(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
             ),
         ));
     }
-    let mut rest: Vec<&str> = words.collect();
+    let mut rest: Vec<&str> = glued.into_iter().chain(words).collect();
     if rest
         .first()
         .is_some_and(|w| w.eq_ignore_ascii_case("BINARY"))
@@ -1402,6 +1445,45 @@ mod tests {
         let m = InputMesh::read(quad.as_bytes(), MeshFormat::Off).unwrap();
         assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert_eq!(MeshFormat::from_extension("OFF"), Some(MeshFormat::Off));
+        // A count glued to the keyword, after leading blanks, is the vertex count.
+        let glued = "\t  OFF4 1 0 # glued\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+        assert_eq!(
+            InputMesh::read(glued.as_bytes(), MeshFormat::Off).unwrap(),
+            m
+        );
+    }
+
+    /// An OBJ as Rhino writes it, a `usemtl` naming no material, a missing material library
+    /// and faces continued on the next line by a `\`, reads as its faces: materials are not
+    /// read.
+    #[test]
+    fn obj_unnamed_materials_and_continued_lines_are_read() {
+        let obj = "mtllib missing.mtl\nusemtl \nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+                   f 1 3 \\\n 2\nusemtl\r\nf 1 \\\r\n2 \\\n4\nf 2 3 4\nf 1 4 3\n";
+        // The same triangles by their corners' positions (the parser numbers vertices in
+        // the order the faces use them), each turned to start at its smallest corner.
+        let corners = |m: &InputMesh| {
+            let mut t: Vec<[[u64; 3]; 3]> = m
+                .triangles
+                .iter()
+                .map(|t| {
+                    let mut c = t.map(|i| m.positions[i as usize].map(f64::to_bits).into());
+                    let first = (0..3).min_by_key(|&k| c[k]).unwrap();
+                    c.rotate_left(first);
+                    c
+                })
+                .collect();
+            t.sort();
+            t
+        };
+        let m = InputMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap();
+        assert_eq!(corners(&m), corners(&tetra()));
+        // A face's bad index is still reported at the file's own line.
+        let bad = "usemtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n";
+        let e = InputMesh::read(bad.as_bytes(), MeshFormat::Obj)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("OBJ"), "{e}");
     }
 
     /// Damaged OFF files: one line naming the file's line and what is wrong there.
