@@ -257,29 +257,55 @@ impl std::fmt::Debug for SolvedDesign {
 }
 
 /// The number of surfaces a design will have (before solving it): PDE patches, parametric
-/// surfaces, a blend, a spline.
+/// surfaces, a blend, a spline, and the pieces that present n-sided patches and patchwork
+/// faces (one for four sides, else one per side). A network's faces are found when it is
+/// solved; each of its curves is counted as one.
 fn surface_count(spec: &DesignSpec) -> usize {
     let patches = match (&spec.patches, &spec.conditions) {
         (Some(p), _) => p.len(),
         (None, Some(_)) => 1,
         (None, None) => 0,
     };
+    let pieces = |sides: usize| if sides == 4 { 1 } else { sides };
     patches
         + spec.parametric.len()
         + spec.disk.len()
         + spec.blend.is_some() as usize
         + spec.spline.is_some() as usize
+        + spec
+            .nsided
+            .iter()
+            .map(|n| pieces(n.sides.len()))
+            .sum::<usize>()
+        + spec
+            .patchwork
+            .iter()
+            .flat_map(|p| &p.faces)
+            .map(|f| pieces(f.len()))
+            .sum::<usize>()
+        + spec.network.iter().map(|n| n.curves.len()).sum::<usize>()
 }
 
+/// The vertices the default grid may give all of a design's surfaces together: a design of
+/// many pieces (a fitted mesh's thousands of faces) gets a coarser square grid per piece,
+/// down to [`MIN_DEFAULT_GRID`], instead of the default's 128 × 128 each.
+pub(crate) const DEFAULT_GRID_VERTICES: usize = 1 << 22;
+
+/// The coarsest square grid per piece the default grid shrinks to.
+pub(crate) const MIN_DEFAULT_GRID: usize = 9;
+
 /// The tessellation grid of a design: the caller's `nu`/`nv`, else the design's `[output]`,
-/// else 64 × 128 (square, the larger of the two, for a design with `[[nsided]]` patches or
-/// `[[network]]`s); refused (before anything is solved or allocated) beyond the grid limits of
-/// [`check_grid`], or when all surfaces together would exceed [`MAX_VERTICES`] vertices.
-/// A refused request has the place `nu`, `nv` or `nu × nv`; a refused `[output]` has its place
-/// in the file (`output.nu`, …).
+/// else 64 × 128 (square, the larger of the two, for a design with `[[nsided]]` patches,
+/// `[[patchwork]]`s or `[[network]]`s; that square made coarser, down to
+/// [`MIN_DEFAULT_GRID`], until all surfaces together have at most [`DEFAULT_GRID_VERTICES`]
+/// vertices); refused (before anything is solved or allocated) beyond the grid limits of
+/// [`check_grid`], or when all surfaces together would exceed [`MAX_VERTICES`] vertices or
+/// the memory there is. A refused request has the place `nu`, `nv` or `nu × nv`; a refused
+/// `[output]` has its place in the file (`output.nu`, …).
 pub fn grid(spec: &DesignSpec, nu: Option<usize>, nv: Option<usize>) -> Result<(usize, usize)> {
     let nu_v = nu.or(spec.output.nu).unwrap_or(DEFAULT_NU);
     let nv_v = nv.or(spec.output.nv).unwrap_or(DEFAULT_NV);
+    let surfaces = surface_count(spec).max(1);
     // The pieces of an n-sided patch, and the faces of a network, meet along u-lines of one
     // surface and v-lines of another: square grids make their vertices match, so the weld
     // joins them without T-junctions.
@@ -287,9 +313,14 @@ pub fn grid(spec: &DesignSpec, nu: Option<usize>, nv: Option<usize>) -> Result<(
         if spec.nsided.is_empty() && spec.network.is_empty() && spec.patchwork.is_empty() {
             (nu_v, nv_v)
         } else {
-            (nu_v.max(nv_v), nu_v.max(nv_v))
+            let mut n = nu_v.max(nv_v);
+            let defaulted = nu.or(spec.output.nu).is_none() && nv.or(spec.output.nv).is_none();
+            if defaulted && n.saturating_mul(n).saturating_mul(surfaces) > DEFAULT_GRID_VERTICES {
+                let fits = (DEFAULT_GRID_VERTICES / surfaces) as f64;
+                n = (fits.sqrt().floor() as usize).clamp(MIN_DEFAULT_GRID, n);
+            }
+            (n, n)
         };
-    let surfaces = surface_count(spec).max(1);
     let checked = check_grid(nu_v, nv_v).and_then(|()| {
         match nu_v.checked_mul(nv_v).and_then(|n| n.checked_mul(surfaces)) {
             Some(n) if n <= MAX_VERTICES => crate::memory::check_items(

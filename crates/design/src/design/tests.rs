@@ -862,3 +862,45 @@ fn edits_that_do_not_apply_are_refused() {
     d.apply(&undo).unwrap();
     assert_eq!(d.spec(), &spec);
 }
+
+/// The default grid of a design of many pieces is coarser, so that all pieces together stay
+/// within the default's vertex budget; a design of few pieces, an `[output]` grid and the
+/// caller's grid are kept; a caller's grid too large for all the pieces is refused by their
+/// count (every face of a patchwork is one piece for four sides, else one per side).
+#[test]
+fn the_default_grid_of_many_pieces_is_coarser() {
+    let patchwork = |triangles: usize, quads: usize| DesignSpec {
+        patchwork: vec![PatchworkSpec {
+            name: "p".into(),
+            order: 2,
+            a: 1.0,
+            degree: 10,
+            points: Vec::new(),
+            normals: Vec::new(),
+            edges: Vec::new(),
+            faces: [
+                vec![vec![0, 1, 2]; triangles],
+                vec![vec![0, 1, 2, 3]; quads],
+            ]
+            .concat(),
+        }],
+        ..DesignSpec::default()
+    };
+    // 100 triangles and 56 quadrilaterals: 356 pieces of 128 × 128 would be 5.8 million
+    // vertices; 4 194 304 / 356 = 11 781.7, whose square root is 108.5.
+    let many = patchwork(100, 56);
+    assert_eq!(grid(&many, None, None).unwrap(), (108, 108));
+    // 256 pieces of 128 × 128 are exactly the budget.
+    assert_eq!(grid(&patchwork(0, 256), None, None).unwrap(), (128, 128));
+    assert_eq!(grid(&patchwork(0, 257), None, None).unwrap(), (127, 127));
+    // The floor: more than (1 << 22) / 9² = 51 781 pieces get 9 × 9.
+    assert_eq!(grid(&patchwork(0, 60_000), None, None).unwrap(), (9, 9));
+    assert_eq!(grid(&many, Some(40), None).unwrap(), (128, 128));
+    assert_eq!(grid(&many, Some(20), Some(30)).unwrap(), (30, 30));
+    let mut given = many.clone();
+    given.output.nu = Some(100);
+    assert_eq!(grid(&given, None, None).unwrap(), (128, 128));
+    // 200 000 triangles are 600 000 pieces: 128 × 128 each is past every vertex limit.
+    let e = grid(&patchwork(200_000, 0), Some(128), Some(128)).unwrap_err();
+    assert!(e.to_string().contains("600000 patches"), "{e}");
+}
