@@ -7,8 +7,12 @@ use crate::{Error, Result, Vec3};
 /// Segments of each curve's polyline.
 pub(super) const SEGMENTS: usize = 512;
 
-/// Segments per box of the broad phase.
-const CHUNK: usize = 16;
+/// Segments per box of the broad phase among a network's curves.
+pub(super) const CHUNK: usize = 16;
+
+/// Segments per box of the broad phase among a loop's pieces ([`loop_crossing`]): neighbouring
+/// pieces' boxes always meet at their joint, so small boxes leave few pairs of segments there.
+const LOOP_CHUNK: usize = 4;
 
 /// Gauss–Newton steps of a meeting point's refinement.
 const NEWTON_STEPS: usize = 60;
@@ -100,17 +104,18 @@ pub(super) fn intersections(
     polylines: &[Polyline],
     tol: f64,
     reach: f64,
+    chunk: usize,
     skip: &dyn Fn(usize, usize, usize, usize) -> bool,
 ) -> Vec<Hit> {
-    // Boxes of CHUNK segments: two segments within `tol` of each other lie in boxes within
-    // `tol` of each other.
+    // Boxes of `chunk` segments, and each polyline's box: two segments within `tol` of each
+    // other lie in boxes within `tol` of each other.
     let boxes: Vec<Vec<(Vec3, Vec3)>> = polylines
         .iter()
         .map(|p| {
             p.points
                 .windows(2)
                 .collect::<Vec<_>>()
-                .chunks(CHUNK)
+                .chunks(chunk)
                 .map(|c| {
                     let (lo, hi) = bounds(c.iter().flat_map(|w| w.iter()));
                     (lo, hi)
@@ -118,9 +123,13 @@ pub(super) fn intersections(
                 .collect()
         })
         .collect();
+    let whole: Vec<(Vec3, Vec3)> = polylines.iter().map(|p| bounds(p.points.iter())).collect();
     let mut hits: Vec<Hit> = Vec::new();
     for a in 0..curves.len() {
         for b in a + 1..curves.len() {
+            if !overlap(&whole[a], &whole[b], tol) {
+                continue;
+            }
             for (ca, ba) in boxes[a].iter().enumerate() {
                 for (cb, bb) in boxes[b].iter().enumerate() {
                     if !overlap(ba, bb, tol) {
@@ -129,8 +138,8 @@ pub(super) fn intersections(
                     let pa = &polylines[a].points;
                     let pb = &polylines[b].points;
                     let (na, nb) = (pa.len() - 1, pb.len() - 1);
-                    for i in ca * CHUNK..((ca + 1) * CHUNK).min(na) {
-                        for j in cb * CHUNK..((cb + 1) * CHUNK).min(nb) {
+                    for i in ca * chunk..((ca + 1) * chunk).min(na) {
+                        for j in cb * chunk..((cb + 1) * chunk).min(nb) {
                             if skip(a, i, b, j) {
                                 continue;
                             }
@@ -462,7 +471,7 @@ pub(crate) fn loop_crossing(
         let touches = |p: &[Vec3], k: usize| p[k] == x || p[k + 1] == x;
         touches(pa, i) && touches(pb, j)
     };
-    let hits = intersections(&pieces, &polylines, tol, 0.25, &at_joint);
+    let hits = intersections(&pieces, &polylines, tol, 0.25, LOOP_CHUNK, &at_joint);
     for h in hits {
         let p = pieces[h.a].curve.point(h.s);
         // Neighbouring pieces meet where they join, by design.

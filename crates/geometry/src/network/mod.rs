@@ -166,7 +166,14 @@ impl Network {
             return Err(Error::invalid("the curves of the network span no space"));
         }
         let tolerance = options.tolerance * size;
-        let hits = meet::intersections(curves, &polylines, tolerance, 1.0, &|_, _, _, _| false);
+        let hits = meet::intersections(
+            curves,
+            &polylines,
+            tolerance,
+            1.0,
+            meet::CHUNK,
+            &|_, _, _, _| false,
+        );
         let (points, edges) = meet::pieces(curves, &hits, tolerance)?;
         let mut network = Network {
             curves: curves.to_vec(),
