@@ -1596,9 +1596,19 @@ pub fn fit_general_measured(
     mesh: &InputMesh,
     opts: &FitOptions,
 ) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
+    fit_general_within(mesh, opts, Rounds::new(ROUNDS_SECONDS), COMPONENTS_AHEAD)
+}
+
+/// [`fit_general_measured`] within the work bound `rounds`, with `ahead` components fitted
+/// side by side (1: one after another; the result is the same).
+fn fit_general_within(
+    mesh: &InputMesh,
+    opts: &FitOptions,
+    mut rounds: Rounds,
+    ahead: usize,
+) -> Result<(Fit, Measures, PointDistances, Option<Miss>)> {
     opts.check()?;
     let topology = mesh.topology();
-    let mut rounds = Rounds::new(ROUNDS_SECONDS);
     if topology.nonmanifold_edges > 0 || topology.components <= 1 {
         let (fit, m, d, miss, _) = fit_component(mesh, opts, &mut rounds, 1.0)?;
         let m = m.sized(&fit.spec)?;
@@ -1615,22 +1625,48 @@ pub fn fit_general_measured(
     let mut faces = 0;
     let mut refused: Vec<String> = Vec::new();
     let mut said: Vec<String> = Vec::new();
-    for (k, (part, vertices)) in parts.iter().enumerate() {
+    // Each component to the same distance (a fraction of the whole mesh's diagonal), within
+    // its share of the work bound by its triangles.
+    let fit_part = |part: &InputMesh, rounds: &mut Rounds| {
         let own = part.diagonal();
         let target = if own > 0.0 {
             (opts.target * diagonal / own).min(0.5)
         } else {
             opts.target
         };
-        let fitted = fit_component(
-            part,
-            &FitOptions {
-                target,
-                ..opts.clone()
-            },
-            &mut rounds,
-            part.triangles.len() as f64 / all,
-        );
+        let opts = FitOptions {
+            target,
+            ..opts.clone()
+        };
+        fit_component(part, &opts, rounds, part.triangles.len() as f64 / all)
+    };
+    // The components side by side, a few at a time, each from what was spent before the
+    // few; then, in order, each is kept if its decisions hold after what the ones before it
+    // spent, or fitted again from there. (Near the bound, a component that the bound leaves
+    // out is refused at once either way.)
+    let mut results = Vec::with_capacity(count);
+    for wave in parts.chunks(ahead.max(1)) {
+        use rayon::prelude::*;
+        let base = rounds;
+        let fitted: Vec<_> = wave
+            .par_iter()
+            .map(|(part, _)| {
+                let mut own = base;
+                own.slack = f64::INFINITY;
+                (fit_part(part, &mut own), own)
+            })
+            .collect();
+        for ((part, _), (fitted, own)) in wave.iter().zip(fitted) {
+            // The margin keeps rounding apart: `P + (a + b)` against `(P + a) + b`.
+            if rounds.spent - base.spent <= own.slack - 1e-9 * rounds.limit {
+                rounds.spent += own.spent - base.spent;
+                results.push(fitted);
+            } else {
+                results.push(fit_part(part, &mut rounds));
+            }
+        }
+    }
+    for (k, ((part, vertices), fitted)) in parts.iter().zip(results).enumerate() {
         let mut part_measure = PartMeasure {
             mesh: part,
             vertices,
@@ -1775,18 +1811,50 @@ fn decimation_seconds(triangles: usize) -> f64 {
     triangles as f64 / LAYOUT_TRIANGLES_PER_SECOND
 }
 
+/// Components of a mesh fitted side by side before their rounds' accounts are checked in
+/// order (see [`Rounds`]).
+const COMPONENTS_AHEAD: usize = 8;
+
 /// The work bound of a fit's layout rounds, shared by a mesh's components: estimated seconds
 /// spent (decimations, solves and measures at the rates above, not the clock, so the same
 /// mesh always gets the same rounds) against [`ROUNDS_SECONDS`].
+///
+/// `slack` is how much more could have been spent before these rounds with every decision
+/// they took the same: a mesh's components are fitted side by side, each from nothing spent,
+/// and a component whose slack is less than what the components before it spent is fitted
+/// again after them, so the result is what fitting them one after another gives.
 #[derive(Clone, Copy, Debug)]
 struct Rounds {
     spent: f64,
     limit: f64,
+    slack: f64,
 }
 
 impl Rounds {
     fn new(limit: f64) -> Rounds {
-        Rounds { spent: 0.0, limit }
+        Rounds {
+            spent: 0.0,
+            limit,
+            slack: f64::INFINITY,
+        }
+    }
+
+    /// Whether `more` estimated seconds fit within the bound (and `own`, this component's
+    /// share, unless `own` is `None`): a yes holds while what was spent before these rounds
+    /// grows by at most the bound's margin; a no stays a no.
+    fn allows(&mut self, more: f64, own: Option<(f64, f64)>) -> bool {
+        let ok = self.spent + more <= self.limit
+            && own.is_none_or(|(start, own)| self.spent - start + more <= own);
+        if ok {
+            self.slack = self.slack.min(self.limit - self.spent - more);
+        }
+        ok
+    }
+
+    /// A decision that more spent before these rounds would change in a way not bounded above:
+    /// these rounds are taken again from what was really spent.
+    fn depends_on_spent(&mut self) {
+        self.slack = f64::NEG_INFINITY;
     }
 }
 
@@ -2106,9 +2174,8 @@ fn fit_rounds(
     let own = share.clamp(0.0, 1.0) * rounds.limit;
     let mut stopped: Option<String> = None;
     for round in 0..MAX_ROUNDS {
-        let within = |rounds: &Rounds, more: f64| {
-            rounds.spent + more <= rounds.limit
-                && (round == 0 || rounds.spent - start + more <= own)
+        let within = |rounds: &mut Rounds, more: f64| {
+            rounds.allows(more, (round > 0).then_some((start, own)))
         };
         if !within(rounds, decimation_seconds(triangles)) {
             stopped = Some(stop_reason(0, triangles, own));
@@ -2142,6 +2209,8 @@ fn fit_rounds(
             break;
         }
         if round == 0 && !within(rounds, round_cost) {
+            // The message names the estimate from what was spent before.
+            rounds.depends_on_spent();
             return Err(Error::invalid(format!(
                 "the general mode's first layout of this mesh has {faces} faces, and solving \
                  it would take about {} s, more than the {} s its rounds may take; decimate \
@@ -2151,10 +2220,10 @@ fn fit_rounds(
             )));
         }
         // Solves beyond the bound are not started (the measure's share kept aside).
-        let max_solves = (((rounds.limit - rounds.spent) / solve_seconds(faces).max(1e-12))
-            .floor()
-            .max(2.0)
-            - 1.0) as usize;
+        let per_solve = solve_seconds(faces).max(1e-12);
+        let spent_before_solves = rounds.spent;
+        let max_solves =
+            (((rounds.limit - rounds.spent) / per_solve).floor().max(2.0) - 1.0) as usize;
         let solves = Cell::new(0usize);
         // With the sharp features' planes and the sharp vertices' planes chosen again; where
         // that layout has a face no patch takes, without the features, then with the mesh's
@@ -2190,6 +2259,16 @@ fn fit_rounds(
             };
             fall_back(true, &smooth).or_else(|_| fall_back(false, &smooth))
         });
+        // The cap on solves: not reached, it stays out of reach while `max_solves` stays
+        // above the solves taken (at least 1 however much was spent before).
+        let used = solves.get();
+        if used >= max_solves {
+            rounds.depends_on_spent();
+        } else if used >= 1 {
+            rounds.slack = rounds
+                .slack
+                .min(rounds.limit - spent_before_solves - (used + 2) as f64 * per_solve);
+        }
         rounds.spent += solves.get() as f64 * solve_seconds(faces);
         if solved.is_err() && solves.get() >= max_solves {
             stopped = Some(stop_reason(faces, triangles, own));
@@ -2659,6 +2738,67 @@ mod tests {
             "{:?}",
             fit.notes
         );
+    }
+
+    /// Components fitted side by side give what fitting them one after another gives, also
+    /// where the work bound runs out among them (components left out, rounds stopped): six
+    /// bumpy spheres of different sizes, under bounds from a sixth to all of what fitting them
+    /// takes.
+    #[test]
+    fn components_side_by_side_are_fitted_as_one_after_another() {
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for k in 0..6 {
+            let part = bumpy_sphere(8 + 2 * k, 16 + 2 * k);
+            let base = positions.len() as u32;
+            positions.extend(
+                part.positions
+                    .iter()
+                    .map(|p| p + Vec3::new(4.0 * k as f64, 0.0, 0.0)),
+            );
+            triangles.extend(part.triangles.iter().map(|t| t.map(|i| i + base)));
+        }
+        let mesh = InputMesh::new(positions, triangles).unwrap();
+        let opts = FitOptions {
+            target: 0.03,
+            ..FitOptions::default()
+        };
+        let outcome = |limit: f64, ahead: usize| {
+            fit_general_within(&mesh, &opts, Rounds::new(limit), ahead)
+                .map(|(fit, m, _, miss)| (fit.spec, fit.notes, m.hausdorff, miss.map(|m| m.at)))
+                .map_err(|e| e.to_string())
+        };
+        // What all the rounds take unbounded, from the components' own accounts.
+        let mut all = 0.0;
+        for (part, _) in mesh.components_indexed() {
+            let mut rounds = Rounds::new(f64::INFINITY);
+            let target = opts.target * mesh.diagonal() / part.diagonal();
+            let own = FitOptions {
+                target,
+                ..opts.clone()
+            };
+            let _ = fit_component(&part, &own, &mut rounds, 1.0);
+            all += rounds.spent;
+        }
+        let mut left_out = 0;
+        for share in [1.0 / 6.0, 0.35, 0.6, 1.2] {
+            let one_by_one = outcome(share * all, 1);
+            if let Ok((_, notes, _, _)) = &one_by_one {
+                left_out += notes.iter().filter(|n| n.contains("is left out")).count();
+            }
+            assert_eq!(
+                outcome(share * all, 6),
+                one_by_one,
+                "bound {share} of {all} s"
+            );
+            assert_eq!(
+                outcome(share * all, 4),
+                one_by_one,
+                "bound {share} of {all} s"
+            );
+        }
+        // The bounds did leave components out.
+        assert!(left_out > 0);
     }
 
     #[test]
