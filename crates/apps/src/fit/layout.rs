@@ -1820,9 +1820,10 @@ const COMPONENTS_AHEAD: usize = 8;
 /// mesh always gets the same rounds) against [`ROUNDS_SECONDS`].
 ///
 /// `slack` is how much more could have been spent before these rounds with every decision
-/// they took the same: a mesh's components are fitted side by side, each from nothing spent,
-/// and a component whose slack is less than what the components before it spent is fitted
-/// again after them, so the result is what fitting them one after another gives.
+/// they took the same: a mesh's components are fitted side by side, a few at a time, each
+/// from what was spent before the few, and a component whose slack is less than what the ones
+/// before it among them spent is fitted again after them, so the result is what fitting them
+/// one after another gives.
 #[derive(Clone, Copy, Debug)]
 struct Rounds {
     spent: f64,
