@@ -25,7 +25,8 @@ pub(crate) struct Args {
     /// The format (obj, stl, ply, glb or csv), when -o has no extension or is `-`.
     #[arg(long)]
     pub format: Option<String>,
-    /// Grid rows (values of u; default from [output] or 64).
+    /// Grid rows (values of u; default from [output] or 64; n-sided patches, networks and
+    /// patchworks take a square grid, coarser by default for designs of more than 256 pieces).
     #[arg(long)]
     pub nu: Option<usize>,
     /// Grid columns (values of v; default from [output] or 128).
