@@ -1478,12 +1478,15 @@ mod tests {
         };
         let m = InputMesh::read(obj.as_bytes(), MeshFormat::Obj).unwrap();
         assert_eq!(corners(&m), corners(&tetra()));
-        // A face's bad index is still reported at the file's own line.
+        // A bad face after a blanked `usemtl` is still the parser's refusal, not read past.
         let bad = "usemtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n";
         let e = InputMesh::read(bad.as_bytes(), MeshFormat::Obj)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("OBJ"), "{e}");
+        assert!(
+            e.contains("not a readable OBJ file: face parse error"),
+            "{e}"
+        );
     }
 
     /// Damaged OFF files: one line naming the file's line and what is wrong there.
