@@ -303,3 +303,52 @@ origin = [1, 0, 0]
 positions = [-2.0, 0.0]
 end = "pole"
 "#;
+
+/// A plate as a CAD program exports it: a 4 × 3 rectangle with corners rounded to `radius`,
+/// each corner's arc in `segments` pieces, `thickness` thick, centred at the origin. Its two
+/// flat faces are the outline's polygon cut in a zigzag from end to end (every triangle spans
+/// the plate, a sliver as long as it is wide), its rim long quads of two triangles each: the
+/// vertices are all on the outline, and the faces have none inside them. Closed, oriented
+/// outwards, volume `thickness · (12 − (4 − π) radius²)` up to the arcs' chords.
+pub fn cad_plate(radius: f64, segments: usize, thickness: f64) -> InputMesh {
+    let (w, d) = (4.0, 3.0);
+    let mut outline = Vec::new();
+    for (k, (cx, cy)) in [
+        (w / 2.0 - radius, d / 2.0 - radius),
+        (radius - w / 2.0, d / 2.0 - radius),
+        (radius - w / 2.0, radius - d / 2.0),
+        (w / 2.0 - radius, radius - d / 2.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        for j in 0..=segments {
+            let a = TAU / 4.0 * (k as f64 + j as f64 / segments as f64);
+            outline.push((cx + radius * a.cos(), cy + radius * a.sin()));
+        }
+    }
+    let n = outline.len() as u32;
+    let h = thickness / 2.0;
+    let mut positions: Vec<Vec3> = outline.iter().map(|&(x, y)| Vec3::new(x, y, h)).collect();
+    positions.extend(outline.iter().map(|&(x, y)| Vec3::new(x, y, -h)));
+    let mut triangles = Vec::new();
+    // The zigzag: from both ends of the outline towards its middle, one step at a time.
+    let (mut i, mut j) = (0, n - 1);
+    while j - i >= 2 {
+        let t = if (j - i) % 2 == (n - 1) % 2 {
+            i += 1;
+            [i - 1, i, j]
+        } else {
+            j -= 1;
+            [i, j, j + 1]
+        };
+        triangles.push(t);
+        triangles.push([n + t[0], n + t[2], n + t[1]]);
+    }
+    for i in 0..n {
+        let k = (i + 1) % n;
+        triangles.push([i, n + i, n + k]);
+        triangles.push([i, n + k, k]);
+    }
+    InputMesh::new(positions, triangles).unwrap()
+}

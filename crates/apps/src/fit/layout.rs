@@ -33,6 +33,7 @@ use super::measure::{
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
 use super::section::AxisFrame;
+use super::split::{split_long, split_until};
 use crate::design::{solve_design, DesignSurface, SolvedDesign};
 use crate::number::sig;
 use crate::spec::{DesignSpec, PatchworkEdgeSpec, PatchworkSpec};
@@ -43,6 +44,14 @@ use smallvec::SmallVec;
 use std::cell::Cell;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
+
+/// Triangles around a vertex above which its neighbours are deduplicated through a set.
+const MANY_AROUND: usize = 32;
+
+/// The triangles' shapes a vertex's search for its best collapse may compute in its tries
+/// (each try computes the shapes of the vertex's star): every collapse of a vertex of up to 90
+/// triangles is tried, and a fan's hub of 1600 tries its 6 cheapest.
+const STAR_WORK: usize = 8192;
 
 /// The most layout rounds of [`fit_general`].
 pub const MAX_ROUNDS: usize = 5;
@@ -327,12 +336,21 @@ impl Collapser<'_> {
     /// for them millions of times).
     fn neighbours(&self, u: u32) -> SmallVec<[u32; 16]> {
         let mut out = SmallVec::new();
-        for &t in &self.vtris[u as usize] {
+        let around = &self.vtris[u as usize];
+        // A fan's hub (a CAD face of hundreds of triangles about one corner) is deduplicated
+        // through a set, in the same order, instead of by scans of the list.
+        let mut seen = (around.len() > MANY_AROUND)
+            .then(|| std::collections::HashSet::with_capacity(2 * around.len()));
+        for &t in around {
             if !self.alive[t as usize] {
                 continue;
             }
             for &w in &self.tris[t as usize] {
-                if w != u && !out.contains(&w) {
+                let new = match seen.as_mut() {
+                    Some(seen) => w != u && seen.insert(w),
+                    None => w != u && !out.contains(&w),
+                };
+                if new {
                     out.push(w);
                 }
             }
@@ -499,8 +517,13 @@ impl Collapser<'_> {
             nu.iter().map(|&v| (self.quadric_cost(u, v), v)).collect();
         costs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let old = self.old_star(u);
+        // Each try reshapes the whole star of `u`: a hub of a fan of a thousand triangles
+        // tries its few cheapest collapses (each collapse of a vertex on its rim asks again),
+        // not all of them (a million triangles' shapes each time).
+        let tries = STAR_WORK.div_ceil(self.vtris[u as usize].len().max(1));
         costs
             .into_iter()
+            .take(tries)
             .find(|&(_, v)| self.allowed(u, v, &nu, old))
             .map(|(cost, v)| Candidate {
                 cost,
@@ -1258,10 +1281,14 @@ fn spread_corners(
             continue;
         }
         // A sharp feature's vertex, whose edges lie in the planes of their sectors, has no one
-        // plane to turn them in: its edges leave along their chords.
+        // plane to turn them in: its edges leave along their chords. An edge whose end here
+        // takes the vertex's own normal (a smooth or plain end, whatever its other end takes)
+        // turns in that plane like any other; along its chord, a sliver between two such
+        // edges would stay closed, and its face refused.
         let own = here
             .iter()
-            .any(|&(a, b)| edges[a].end_normals.is_some() || edges[b].end_normals.is_some());
+            .flat_map(|&(a, b)| [a, b])
+            .any(|e| end_normal(edges, e, v, corner) != corner[v]);
         let n = corner[v].normalize();
         let turned = (|| {
             if own {
@@ -1970,42 +1997,45 @@ fn fit_component(
     share: f64,
 ) -> Result<Component> {
     if mesh.triangles.len() <= PROXY_ABOVE {
-        let first = fit_rounds(mesh, opts, rounds, share, None);
-        let vertices = mesh.used_vertices().iter().filter(|&&u| u).count();
-        let missed = first.as_ref().map_or(true, |c| c.3.is_some());
-        if !missed || vertices >= SPLIT_BELOW {
-            return first;
-        }
-        // Too few vertices for the layout to place corners where the faces need them (a box,
-        // a capped cylinder): laid out again on the same surface with its triangles split,
-        // measured on the mesh itself. That fit is the answer when it meets the target (its
-        // layout may then have more faces than the mesh has triangles, which a note says);
-        // otherwise the nearer of the two is (the first when they are as near, or when the
-        // second's layout is finer than the rounds allow the mesh's own).
-        let (fine, splits) = split_until(mesh, SPLIT_BELOW)?;
-        let index = MeshDistance::new(mesh);
-        let tol = opts.target * mesh.diagonal();
-        let second = fit_rounds(&fine, opts, rounds, share, Some((mesh, &index, tol)));
-        let nearer = match (&first, &second) {
-            (_, Err(_)) => false,
-            (Err(_), Ok(_)) => true,
-            (Ok(a), Ok(b)) => {
-                b.3.is_none()
-                    || (b.1.hausdorff < a.1.hausdorff
-                        && b.0.patches as f64 <= MAX_FACE_SHARE * mesh.triangles.len() as f64)
+        let mut best = fit_rounds(mesh, opts, rounds, share, None);
+        // Too few vertices, or too few where the faces need them, for the layout to place
+        // its corners (a box, a capped cylinder, a CAD part whose flat sides are a few long
+        // triangles): laid out again on the same surface refined ([`Refinement`]), measured
+        // on the mesh itself, until a fit meets the target. A refined fit is the answer when
+        // it meets the target (its layout may then have more faces than the mesh has
+        // triangles, which a note says); otherwise the nearest is (the earlier when they are
+        // as near, or when the later's layout is finer than the rounds allow the mesh's own).
+        let mut index: Option<MeshDistance> = None;
+        for how in [Refinement::Even, Refinement::Long] {
+            if best.as_ref().is_ok_and(|c| c.3.is_none()) {
+                break;
             }
-        };
-        if !nearer {
-            return first;
+            let Some((fine, how)) = refined(mesh, how)? else {
+                continue;
+            };
+            let index = index.get_or_insert_with(|| MeshDistance::new(mesh));
+            let tol = opts.target * mesh.diagonal();
+            let next = fit_rounds(&fine, opts, rounds, share, Some((mesh, index, tol)));
+            let nearer = match (&best, &next) {
+                (_, Err(_)) => false,
+                (Err(_), Ok(_)) => true,
+                (Ok(a), Ok(b)) => {
+                    b.3.is_none()
+                        || (b.1.hausdorff < a.1.hausdorff
+                            && b.0.patches as f64 <= MAX_FACE_SHARE * mesh.triangles.len() as f64)
+                }
+            };
+            if nearer {
+                let (mut fit, m, d, miss, surfaces) = next?;
+                fit.notes.push(format!(
+                    "laid out on the mesh with {how} ({} triangles): its own vertices were too \
+                     few for a layout within the tolerance",
+                    fine.triangles.len()
+                ));
+                best = Ok((fit, m, d, miss, surfaces));
+            }
         }
-        let (mut fit, m, d, miss, surfaces) = second?;
-        fit.notes.push(format!(
-            "laid out on the mesh with its triangles split in four {splits} times ({} \
-             triangles): its {vertices} vertices were too few for a layout within the \
-             tolerance",
-            fine.triangles.len()
-        ));
-        return Ok((fit, m, d, miss, surfaces));
+        return best;
     }
     opts.check()?;
     price_layout(mesh)?;
@@ -2041,39 +2071,65 @@ fn fit_component(
 }
 
 /// A connected mesh of fewer used vertices than this whose fit misses the target (or is
-/// refused) is laid out again on its triangles split 1-to-4 ([`split_until`]): the same
-/// surface, with vertices between its corners for the layout's; that fit is kept when it
-/// meets the target.
+/// refused) is laid out again on its triangles split 1-to-4 ([`split_until`], [`Refinement`]):
+/// the same surface, with vertices between its corners for the layout's.
 const SPLIT_BELOW: usize = 2000;
 
-/// `mesh` with every triangle split into four at its edges' midpoints (the same surface,
-/// orientation kept, a midpoint shared by the edge's triangles), as many times as it takes to
-/// have at least `vertices` used vertices: the mesh and the number of splits.
-fn split_until(mesh: &InputMesh, vertices: usize) -> Result<(InputMesh, usize)> {
-    let mut m = mesh.clone();
-    let mut splits = 0;
-    while m.used_vertices().iter().filter(|&&u| u).count() < vertices {
-        let mut positions = m.positions.clone();
-        let mut middle: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut mid = |a: u32, b: u32, positions: &mut Vec<Vec3>| -> u32 {
-            *middle.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                positions.push((positions[a as usize] + positions[b as usize]) * 0.5);
-                positions.len() as u32 - 1
-            })
-        };
-        let mut triangles = Vec::with_capacity(4 * m.triangles.len());
-        for &[a, b, c] in &m.triangles {
-            let (ab, bc, ca) = (
-                mid(a, b, &mut positions),
-                mid(b, c, &mut positions),
-                mid(c, a, &mut positions),
-            );
-            triangles.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+/// Edges longer than this share of the mesh's diagonal are bisected ([`split_long`]) when a
+/// fit that missed is laid out again ([`Refinement`]): a CAD part's flat side of a few long
+/// triangles then has vertices inside it for the layout's corners, whatever the mesh's vertex
+/// count (the ADIS16480 sensor's 3672 vertices are its connector's pins and its holes' rims;
+/// its sides, 47 by 14 mm, are slivers from corner to corner, and their patches, spanning a
+/// side between the rounds of its edges, bulged 8 % of the diagonal off it).
+const LONG_EDGE_SHARE: f64 = 0.1;
+
+/// The most triangles the bisections of [`Refinement::Long`] make: the rounds on the refined
+/// mesh then cost at most what a mesh laid out without a proxy does.
+const REFINED_TRIANGLES: usize = PROXY_ABOVE;
+
+/// The refinements [`fit_component`] lays a mesh out on after a fit that missed, in order.
+#[derive(Clone, Copy, Debug)]
+enum Refinement {
+    /// While the mesh has fewer than [`SPLIT_BELOW`] used vertices, its triangles split in
+    /// four until it has that many: a low-polygon body's new vertices spread evenly over it.
+    Even,
+    /// Its edges longer than [`LONG_EDGE_SHARE`] of the diagonal bisected (a CAD part's long
+    /// triangles cut where they are long), then split in four while it has few vertices.
+    Long,
+}
+
+/// `mesh` refined by `how`, with the words for what was done; `None` when the refinement
+/// does not apply (the mesh has enough vertices, or no long edge).
+fn refined(mesh: &InputMesh, how: Refinement) -> Result<Option<(InputMesh, String)>> {
+    let even = |m: &InputMesh| -> Result<(InputMesh, Option<String>)> {
+        let (fine, splits) = split_until(m, SPLIT_BELOW)?;
+        Ok((
+            fine,
+            (splits > 0).then(|| format!("its triangles split in four {splits} times")),
+        ))
+    };
+    match how {
+        Refinement::Even => {
+            let (fine, words) = even(mesh)?;
+            Ok(words.map(|w| (fine, w)))
         }
-        m = InputMesh::new(positions, triangles)?;
-        splits += 1;
+        Refinement::Long => {
+            let longest = LONG_EDGE_SHARE * mesh.diagonal();
+            let (long, bisections) = split_long(mesh, longest, REFINED_TRIANGLES)?;
+            if bisections == 0 {
+                return Ok(None);
+            }
+            let (fine, split) = even(&long)?;
+            let mut words = format!(
+                "its edges longer than {} bisected {bisections} times",
+                sig(longest, 3)
+            );
+            if let Some(split) = split {
+                words = format!("{words} and {split}");
+            }
+            Ok(Some((fine, words)))
+        }
     }
-    Ok((m, splits))
 }
 
 /// Meshes of more triangles than this (a connected piece of one) are laid out on a

@@ -57,6 +57,7 @@ mod rate;
 mod repair;
 mod section;
 mod sheet;
+mod split;
 mod template;
 mod tube;
 

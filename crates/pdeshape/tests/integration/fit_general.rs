@@ -440,3 +440,42 @@ fn the_utah_teapot_is_fitted_whole() {
     assert_eq!(fitted.fit.spec.patchwork.len(), components);
     assert_real_fit("teapot", &mesh, &fitted, false);
 }
+
+/// A plate as CAD programs export it (`fit_meshes::cad_plate`, a construction the fitting
+/// code does not share): its 2008 vertices are all on its outline, four finely cut rounded
+/// corners, and its flat faces are zigzags of slivers across the plate. The layout, made of
+/// the mesh's vertices, has none inside a face, and patches spanning a face from rim to rim
+/// miss the default tolerance (2.14 % of the diagonal); laid out again with the edges longer
+/// than a tenth of the diagonal bisected (the same surface), the fit meets it, G1 across
+/// every shared layout edge and watertight.
+#[test]
+fn a_cad_plate_of_slivers_is_laid_out_on_its_long_edges_bisected() {
+    let mesh = pdeshape_testkit::fit_meshes::cad_plate(0.3, 250, 0.5);
+    mesh.require_closed().unwrap();
+    assert_eq!(mesh.positions.len(), 2008);
+    let volume: f64 = (0..mesh.triangles.len())
+        .map(|t| {
+            let [a, b, c] = mesh.corners(t);
+            a.dot(&b.cross(&c)) / 6.0
+        })
+        .sum();
+    // The thickness times the rounded rectangle's area less the segments its arcs' 1000
+    // chords cut off (each r²(θ − sin θ)/2, θ = π/500).
+    let (r, th) = (0.3, std::f64::consts::PI / 500.0);
+    let area = 12.0 - (4.0 - std::f64::consts::PI) * r * r - 500.0 * r * r * (th - th.sin());
+    assert!((volume - 0.5 * area).abs() < 1e-12, "{volume} against {}", 0.5 * area);
+    let fitted = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
+    eprintln!(
+        "cad plate: {} faces, Hausdorff {:.3e}, RMS {:.3e}; {:?}",
+        fitted.fit.patches,
+        fitted.measures.hausdorff_relative,
+        fitted.measures.rms_relative,
+        fitted.fit.notes
+    );
+    assert!(
+        fitted.fit.notes.iter().any(|n| n.contains("bisected")),
+        "{:?}",
+        fitted.fit.notes
+    );
+    assert_real_fit("cad plate", &mesh, &fitted, true);
+}
