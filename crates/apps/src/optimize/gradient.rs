@@ -54,9 +54,12 @@
 //! parameter at the step [`SHEAR_STEP`] beside the point's own (`n + 1` analyses, run side by
 //! side). The measures' derivatives above stay exact.
 
-use super::{measure_patches, variables, Problem, MASS, MAX_SHEAR, NVARS, YIELD};
+use super::{
+    measure_patches, measure_patches_keeping, variables, Problem, MASS, MAX_SHEAR, NVARS, YIELD,
+};
 use crate::analysis::{
-    integrals_derivative, integrals_derivatives, DesignIntegrals, Integrals, Quadrature,
+    integrals_derivative, integrals_derivatives_at, DesignIntegrals, Integrals, NodePartials,
+    Quadrature,
 };
 use crate::design::{
     design_a, design_parameters, parse_book_name, solve_design, tangent_patches, SolvedDesign,
@@ -308,7 +311,7 @@ impl Point<'_> {
         batch: &[usize],
         smoothing: bool,
         built: &SolvedDesign,
-        at: &DesignIntegrals,
+        (at, kept): (&DesignIntegrals, Option<&NodePartials>),
         q: &Quadrature,
         size: f64,
         rounding: &dyn Fn(&[f64; NVARS], f64) -> [f64; NVARS],
@@ -350,7 +353,7 @@ impl Point<'_> {
             })
             .collect();
         let tangents = tangent_patches(built, &self.spec, &directions, smoothing)?;
-        let dts = integrals_derivatives(built, at, &tangents, q)?;
+        let dts = integrals_derivatives_at(built, at, kept, &tangents, q)?;
         let mut out: Vec<Derivatives> = batch
             .iter()
             .zip(&steps)
@@ -389,7 +392,14 @@ impl Point<'_> {
     fn run(&self) -> Result<Sensitivities> {
         let q = Quadrature::fixed(self.quadrature.0, self.quadrature.1);
         let built = solve_design(&self.spec)?;
-        let at = measure_patches(&built, &q)?;
+        // The batch's adjoint weighs the point's partials at the quadrature nodes again: kept
+        // from its integrals.
+        let (at, kept) = if self.batched {
+            let (at, kept) = measure_patches_keeping(&built, &q)?;
+            (at, Some(kept))
+        } else {
+            (measure_patches(&built, &q)?, None)
+        };
         let t = at.total;
         let values = variables(&t, self.c0);
         let size = t.area.abs().sqrt().max(f64::MIN_POSITIVE);
@@ -440,7 +450,7 @@ impl Point<'_> {
             &batch,
             !smoothing.is_empty(),
             &built,
-            &at,
+            (&at, kept.as_ref()),
             &q,
             size,
             &rounding,
@@ -703,10 +713,16 @@ impl Problem {
             ))
             .at("x"));
         }
+        // The designs at the steps need no `[optimize]` section (nothing of a design's solve
+        // reads it): left out of the base they are cloned from, once per step.
+        let steps_base = DesignSpec {
+            optimize: None,
+            ..self.base.clone()
+        };
         let at = |k: usize, v: f64| {
             let mut y = x.to_vec();
             y[k] = v;
-            self.parameters.apply_unbounded(&self.base, &y)
+            self.parameters.apply_unbounded(&steps_base, &y)
         };
         let mut s = Point {
             spec: self.parameters.apply_unbounded(&self.base, x),

@@ -66,7 +66,10 @@ pub use search::{SearchMethod, SearchPlan, SearchRequest};
 pub use sqp::{GradientOptions, GradientReport, Kkt, StartReport, KKT_ACTIVE};
 pub use values::{apply_values, ValueError};
 
-use crate::analysis::{integrate_design, DesignIntegrals, Integrals, Quadrature};
+use crate::analysis::{
+    integrate_design, integrate_design_keeping, DesignIntegrals, Integrals, NodePartials,
+    Quadrature,
+};
 use crate::design::{solve_design, SolvedDesign};
 use crate::formula::{self, Parsed, Variables};
 use crate::shell::ShellSetup;
@@ -156,7 +159,21 @@ pub fn measure(built: &SolvedDesign, qu: usize, qv: usize) -> Result<Integrals> 
 /// The integrals of a built design per patch and in total with the quadrature `q`; a total
 /// that is not finite is an error.
 fn measure_patches(built: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegrals> {
-    let d = integrate_design(built, q)?;
+    finite_measures(integrate_design(built, q)?)
+}
+
+/// [`measure_patches`] with the partials its quadratures and caps evaluated, for the
+/// derivatives' adjoint at the same nodes.
+fn measure_patches_keeping(
+    built: &SolvedDesign,
+    q: &Quadrature,
+) -> Result<(DesignIntegrals, NodePartials)> {
+    let (d, kept) = integrate_design_keeping(built, q)?;
+    Ok((finite_measures(d)?, kept))
+}
+
+/// `d`, unless one of its total integrals is not finite.
+fn finite_measures(d: DesignIntegrals) -> Result<DesignIntegrals> {
     let t = d.total;
     if [t.area, t.volume, t.mean, t.mean_sq, t.gauss]
         .iter()

@@ -2,7 +2,7 @@
 //! orientation from the sign of the enclosed volume, and caps over open boundaries.
 
 use super::quadrature::periodic_trapezoid;
-use super::{analyze_surface, Integrals, Quadrature, SurfaceAnalysis};
+use super::{analyze_surface_keeping, Integrals, NodeRows, Quadrature, SurfaceAnalysis};
 use crate::design::SolvedDesign;
 use crate::surface::{Partials, Surface, VDomain};
 use crate::{Result, Vec3};
@@ -80,6 +80,39 @@ pub fn integrate_design(d: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegr
     integrate_surfaces(&surfaces, &edges, q)
 }
 
+/// The partials of a design's patches where its integrals evaluated them
+/// ([`integrate_design_keeping`]): at every patch's quadrature nodes of the level its
+/// quadrature ended at, and along its boundary rows `u = 0` and `u = 1` (periodic patches) at
+/// the caps' trapezoid nodes. A derivative's adjoint weighs the same partials at the same
+/// nodes, so it takes them from here instead of evaluating the patches again.
+#[derive(Clone, Debug, Default)]
+pub struct NodePartials {
+    /// Per patch: `rows[a][b]` at `(u_a, v_b)`.
+    pub(crate) grids: Vec<NodeRows>,
+    /// Per patch: the rows at `u = 0` and `u = 1` (none for an interval `v` domain).
+    pub(crate) ends: Vec<[Option<Vec<Partials>>; 2]>,
+}
+
+/// [`integrate_design`], with the partials its quadratures and caps evaluated
+/// ([`NodePartials`]): the same integrals, the same bits.
+pub fn integrate_design_keeping(
+    d: &SolvedDesign,
+    q: &Quadrature,
+) -> Result<(DesignIntegrals, NodePartials)> {
+    let surfaces: Vec<(&str, &dyn Surface)> = d
+        .surfaces
+        .iter()
+        .map(|s| (s.name.as_str(), s.surface()))
+        .collect();
+    let edges: Vec<(usize, f64, usize, f64)> = d
+        .edges()
+        .iter()
+        .map(|e| (e.report.a, e.report.ua, e.report.b, e.report.ub))
+        .collect();
+    let (integrals, kept) = integrate_surfaces_with(&surfaces, &edges, q, true)?;
+    Ok((integrals, kept.unwrap_or_default()))
+}
+
 /// The integrals of a set of patches forming a design. Orientation: two patches that share a
 /// boundary curve with the same `v` parametrisation (named in `edges` as `(a, u_a, b, u_b)`, or
 /// found by comparing boundary rows `X(u_b, v)`, `u_b ∈ {0, 1}`, to `10⁻⁸` of the design's
@@ -96,28 +129,49 @@ pub fn integrate_surfaces(
     edges: &[(usize, f64, usize, f64)],
     q: &Quadrature,
 ) -> Result<DesignIntegrals> {
+    integrate_surfaces_with(surfaces, edges, q, false).map(|(d, _)| d)
+}
+
+/// [`integrate_surfaces`], with the partials it evaluated kept (`keep`).
+fn integrate_surfaces_with(
+    surfaces: &[(&str, &dyn Surface)],
+    edges: &[(usize, f64, usize, f64)],
+    q: &Quadrature,
+    keep: bool,
+) -> Result<(DesignIntegrals, Option<NodePartials>)> {
     let n = surfaces.len();
     let mut analyses = Vec::with_capacity(n);
+    let mut kept = keep.then(NodePartials::default);
     for (name, s) in surfaces {
-        analyses.push(analyze_surface(*s, q).map_err(|e| e.at(&format!("patch '{name}'")))?);
+        let (analysis, grid) =
+            analyze_surface_keeping(*s, q, keep).map_err(|e| e.at(&format!("patch '{name}'")))?;
+        analyses.push(analysis);
+        if let (Some(k), Some(grid)) = (&mut kept, grid) {
+            k.grids.push(grid);
+        }
     }
     // Boundary curves of periodic patches: rows at u = 0 and u = 1.
     let rule = periodic_trapezoid(CURVE_NODES);
-    let rows: Vec<[Option<BoundaryRow>; 2]> = surfaces
-        .iter()
-        .map(|(_, s)| match s.v_domain() {
-            VDomain::Periodic => {
-                // Row by row: the surfaces' row paths are far cheaper than point by point.
-                let eval = s.partials_rows(&rule.nodes);
-                let mut buf = vec![Partials::default(); rule.nodes.len()];
-                [0.0, 1.0].map(|u| {
-                    eval.eval_row(u, &mut buf);
-                    Some(buf.iter().map(|p| (p.x, p.xv)).collect())
-                })
+    let mut rows: Vec<[Option<BoundaryRow>; 2]> = Vec::with_capacity(n);
+    for (i, (_, s)) in surfaces.iter().enumerate() {
+        let mut ends: [Option<BoundaryRow>; 2] = [None, None];
+        if let Some(k) = &mut kept {
+            k.ends.push([None, None]);
+        }
+        if let VDomain::Periodic = s.v_domain() {
+            // Row by row: the surfaces' row paths are far cheaper than point by point.
+            let eval = s.partials_rows(&rule.nodes);
+            let mut buf = vec![Partials::default(); rule.nodes.len()];
+            for (e, u) in [0.0, 1.0].into_iter().enumerate() {
+                eval.eval_row(u, &mut buf);
+                ends[e] = Some(buf.iter().map(|p| (p.x, p.xv)).collect());
+                if let Some(k) = &mut kept {
+                    k.ends[i][e] = Some(buf.clone());
+                }
             }
-            VDomain::Interval(..) => [None, None],
-        })
-        .collect();
+        }
+        rows.push(ends);
+    }
     // The design's size, for the tolerances.
     let size = rows
         .iter()
@@ -294,7 +348,7 @@ pub fn integrate_surfaces(
     }
     total.volume += caps.iter().map(|c| c.volume).sum::<f64>();
     let error = analyses.iter().map(|a| a.error).fold(0.0, f64::max);
-    Ok(DesignIntegrals {
+    let integrals = DesignIntegrals {
         patches,
         total,
         closed,
@@ -303,7 +357,8 @@ pub fn integrate_surfaces(
         caps,
         analyses,
         error,
-    })
+    };
+    Ok((integrals, kept))
 }
 
 /// `((1/3) c·S, radius, |S|, planarity)` of a closed curve given by `(C, C')` at the trapezoid

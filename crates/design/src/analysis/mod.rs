@@ -15,11 +15,16 @@ mod quadrature;
 mod sensitivity;
 mod trimmed;
 
-pub use design::{integrate_design, integrate_surfaces, Cap, DesignIntegrals};
+pub use design::{
+    integrate_design, integrate_design_keeping, integrate_surfaces, Cap, DesignIntegrals,
+    NodePartials,
+};
 pub use geometry::{curvature, curvature_at, Curvature, FundamentalForms};
 #[cfg(test)]
 pub(crate) use quadrature::gauss_legendre;
-pub use sensitivity::{integrals_derivative, integrals_derivatives, PatchTangent};
+pub use sensitivity::{
+    integrals_derivative, integrals_derivatives, integrals_derivatives_at, PatchTangent,
+};
 pub use trimmed::{integrate_trimmed, integrate_trimmed_design, TrimmedIntegrals};
 
 use crate::surface::{Interval, Partials, Surface, VDomain};
@@ -359,10 +364,11 @@ fn accumulate(p: &Partials, w: f64, s: &mut Sums) {
 }
 
 /// One level: rows in parallel, summed in row order (the result does not depend on the
-/// number of threads).
-fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule) -> Sums {
+/// number of threads); with `keep`, the partials of every row too, for a pass that needs them
+/// again at the same nodes (a derivative's adjoint): `rows[a][b]` at `(u_a, v_b)`.
+fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule, keep: bool) -> (Sums, Option<NodeRows>) {
     let eval = s.partials_rows(&rv.nodes);
-    let rows: Vec<Sums> = ru
+    let rows: Vec<(Sums, Option<Vec<Partials>>)> = ru
         .nodes
         .par_iter()
         .zip(&ru.weights)
@@ -374,15 +380,16 @@ fn integrate_grid(s: &dyn Surface, ru: &Rule, rv: &Rule) -> Sums {
                 for (p, &wv) in buf.iter().zip(&rv.weights) {
                     accumulate(p, wu * wv, &mut sums);
                 }
-                sums
+                (sums, keep.then(|| buf.clone()))
             },
         )
         .collect();
     let mut total = Sums::default();
-    for r in &rows {
+    for (r, _) in &rows {
         total.merge(r);
     }
-    total
+    let kept = keep.then(|| rows.into_iter().filter_map(|(_, p)| p).collect());
+    (total, kept)
 }
 
 /// The largest change between two levels relative to each integral's scale (see
@@ -415,6 +422,19 @@ pub fn integrate_surface(s: &dyn Surface, q: &Quadrature) -> Result<Integrals> {
 /// `X_u × X_v / |X_u × X_v|`. Fails if the surface gives a non-finite value at a node, or for
 /// quadrature settings out of range.
 pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysis> {
+    analyze_surface_keeping(s, q, false).map(|(a, _)| a)
+}
+
+/// The partials of a surface at the nodes of its quadrature's last level, row by row
+/// (`rows[a][b]` at `(u_a, v_b)`), as the integrals evaluated them.
+pub(crate) type NodeRows = Vec<Vec<Partials>>;
+
+/// [`analyze_surface`], with the partials at the nodes of the level it ends at kept (`keep`).
+pub(crate) fn analyze_surface_keeping(
+    s: &dyn Surface,
+    q: &Quadrature,
+    keep: bool,
+) -> Result<(SurfaceAnalysis, Option<NodeRows>)> {
     q.check()?;
     let domain = s.v_domain();
     let u_range = s.u_range();
@@ -431,13 +451,17 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
             )));
         }
     }
-    let finish = |sums: Sums, ru: &Rule, rv: &Rule, error: f64, converged: bool| {
+    let finish = |(sums, kept): (Sums, Option<NodeRows>),
+                  ru: &Rule,
+                  rv: &Rule,
+                  error: f64,
+                  converged: bool| {
         if sums.nonfinite {
             return Err(Error::invalid(
                 "the surface is not finite at some quadrature node (NaN or infinite partials)",
             ));
         }
-        Ok(SurfaceAnalysis {
+        let analysis = SurfaceAnalysis {
             integrals: sums.i,
             gauss_range: sums.gauss_range,
             mean_range: sums.mean_range,
@@ -446,17 +470,18 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
             u_nodes: ru.nodes.len(),
             v_nodes: rv.nodes.len(),
             degenerate_nodes: sums.degenerate,
-        })
+        };
+        Ok((analysis, kept))
     };
     let breaks = s.breaks();
     let (ru, rv) = q.rules(u_range, domain, &breaks, 0);
     level_memory(&ru, &rv)?;
-    let mut prev = integrate_grid(s, &ru, &rv);
+    let mut prev = integrate_grid(s, &ru, &rv, keep);
     let mut prev_rules = (ru, rv);
     if !q.adaptive {
         return finish(prev, &prev_rules.0, &prev_rules.1, 0.0, true);
     }
-    if prev.nonfinite {
+    if prev.0.nonfinite {
         return finish(prev, &prev_rules.0, &prev_rules.1, f64::NAN, false);
     }
     let mut k = 1;
@@ -466,17 +491,17 @@ pub fn analyze_surface(s: &dyn Surface, q: &Quadrature) -> Result<SurfaceAnalysi
         if level_memory(&ru, &rv).is_err() {
             return finish(prev, &prev_rules.0, &prev_rules.1, f64::NAN, false);
         }
-        let cur = integrate_grid(s, &ru, &rv);
+        let cur = integrate_grid(s, &ru, &rv, keep);
         // A surface degenerate at every node of two levels (a curve) has no area to refine.
-        let flat = prev.all_degenerate() && cur.all_degenerate();
+        let flat = prev.0.all_degenerate() && cur.0.all_degenerate();
         let change = if flat {
             0.0
         } else {
-            relative_change(&prev.i, &cur.i, cur.extent())
+            relative_change(&prev.0.i, &cur.0.i, cur.0.extent())
         };
         let converged = change <= q.tolerance;
         let (nu2, nv2) = (2 * ru.nodes.len(), 2 * rv.nodes.len());
-        if converged || cur.nonfinite || nu2.saturating_mul(nv2) > q.max_nodes {
+        if converged || cur.0.nonfinite || nu2.saturating_mul(nv2) > q.max_nodes {
             return finish(cur, &ru, &rv, change, converged);
         }
         prev = cur;

@@ -21,7 +21,7 @@
 
 use super::design::{cap_derivative, CURVE_NODES};
 use super::quadrature::{periodic_trapezoid, Rule};
-use super::{DesignIntegrals, Integrals, Quadrature};
+use super::{DesignIntegrals, Integrals, NodePartials, Quadrature};
 use crate::design::{SolvedDesign, SurfaceKind};
 use crate::elliptic::{AdjointTangent, Partial, PdePatch, NODE_WEIGHTS};
 use crate::surface::{normal_degenerates, Partials, Surface};
@@ -120,6 +120,21 @@ pub fn integrals_derivatives(
     tangents: &[Vec<PatchTangent>],
     q: &Quadrature,
 ) -> Result<Vec<Integrals>> {
+    integrals_derivatives_at(base, at, None, tangents, q)
+}
+
+/// [`integrals_derivatives`] with the point's partials at the quadrature nodes and on the caps'
+/// boundary rows taken from `kept` (those its integrals `at` evaluated,
+/// [`super::integrate_design_keeping`]) instead of evaluated again: the same partials at the
+/// same nodes, so the same derivatives to the bit. A patch whose kept partials do not match
+/// the nodes (or `kept` = `None`) is evaluated.
+pub fn integrals_derivatives_at(
+    base: &SolvedDesign,
+    at: &DesignIntegrals,
+    kept: Option<&NodePartials>,
+    tangents: &[Vec<PatchTangent>],
+    q: &Quadrature,
+) -> Result<Vec<Integrals>> {
     let n = base.surfaces.len();
     if at.patches.len() != n {
         return Err(Error::invalid(format!(
@@ -145,11 +160,22 @@ pub fn integrals_derivatives(
         };
         let s = base.surfaces[i].surface();
         let (ru, rv) = rules_of(s, q, at.analyses[i].u_nodes, at.analyses[i].v_nodes)?;
-        let rows = s.partials_rows(&rv.nodes);
         let nv = rv.nodes.len();
+        let grid = kept
+            .and_then(|k| k.grids.get(i))
+            .filter(|g| g.len() == ru.nodes.len() && g.iter().all(|r| r.len() == nv));
+        let rows = grid.is_none().then(|| s.partials_rows(&rv.nodes));
         let weights = |a: usize, out: &mut [f64]| {
-            let mut row = vec![Partials::default(); nv];
-            rows.eval_row(ru.nodes[a], &mut row);
+            let mut own = Vec::new();
+            let row: &[Partials] = match (grid, &rows) {
+                (Some(g), _) => &g[a],
+                (None, Some(rows)) => {
+                    own.resize(nv, Partials::default());
+                    rows.eval_row(ru.nodes[a], &mut own);
+                    &own
+                }
+                (None, None) => unreachable!("the rows are made when no grid is kept"),
+            };
             let wu = ru.weights[a];
             for ((p, &wv), out) in row.iter().zip(&rv.weights).zip(out.chunks_exact_mut(NODE)) {
                 node_gradient(p, wu * wv, out);
@@ -181,16 +207,33 @@ pub fn integrals_derivatives(
             continue;
         };
         let s = base.surfaces[i].surface();
-        let rows = s.partials_rows(&rule.nodes);
+        // The point's boundary row of each cap, as its integrals evaluated it where kept.
+        let kept_row = |u: f64| {
+            let e = usize::from(u == 1.0);
+            kept.and_then(|k| k.ends.get(i))
+                .and_then(|ends| ends[e].as_ref())
+                .filter(|r| (u == 0.0 || u == 1.0) && r.len() == rule.nodes.len())
+        };
+        let rows = caps
+            .iter()
+            .any(|c| kept_row(c.u).is_none())
+            .then(|| s.partials_rows(&rule.nodes));
         let mut row = vec![Partials::default(); rule.nodes.len()];
         let us: Vec<f64> = caps.iter().map(|c| c.u).collect();
         let cap_rows: Vec<Vec<f64>> = caps
             .iter()
             .map(|cap| {
-                rows.eval_row(cap.u, &mut row);
+                let row: &[Partials] = match (kept_row(cap.u), &rows) {
+                    (Some(r), _) => r,
+                    (None, Some(rows)) => {
+                        rows.eval_row(cap.u, &mut row);
+                        &row
+                    }
+                    (None, None) => unreachable!("the rows are made when one is not kept"),
+                };
                 let sign = if cap.u == 1.0 { -1.0 } else { 1.0 };
                 let mut g = vec![0.0; rule.nodes.len() * NODE_WEIGHTS];
-                cap_weights(&row, &rule.weights, sign * at.orientation[i], &mut g);
+                cap_weights(row, &rule.weights, sign * at.orientation[i], &mut g);
                 g
             })
             .collect();
