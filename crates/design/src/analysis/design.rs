@@ -66,18 +66,29 @@ const SAME_CURVE: f64 = 1e-8;
 /// The integrals of a solved design: [`integrate_surfaces`] of all its surfaces (PDE patches,
 /// then `[[parametric]]` surfaces, the blend and the spline surface), in that order.
 pub fn integrate_design(d: &SolvedDesign, q: &Quadrature) -> Result<DesignIntegrals> {
-    let surfaces: Vec<(&str, &dyn Surface)> = d
+    let (surfaces, edges) = design_parts(d);
+    integrate_surfaces(&surfaces, &edges, q)
+}
+
+/// A design's surfaces by name, and its named shared position curves at `u ∈ {0, 1}` (as
+/// [`integrate_surfaces`] takes them).
+type DesignParts<'a> = (
+    Vec<(&'a str, &'a dyn Surface)>,
+    Vec<(usize, f64, usize, f64)>,
+);
+
+fn design_parts(d: &SolvedDesign) -> DesignParts<'_> {
+    let surfaces = d
         .surfaces
         .iter()
         .map(|s| (s.name.as_str(), s.surface()))
         .collect();
-    // Named shared position curves at u ∈ {0, 1}.
-    let edges: Vec<(usize, f64, usize, f64)> = d
+    let edges = d
         .edges()
         .iter()
         .map(|e| (e.report.a, e.report.ua, e.report.b, e.report.ub))
         .collect();
-    integrate_surfaces(&surfaces, &edges, q)
+    (surfaces, edges)
 }
 
 /// The partials of a design's patches where its integrals evaluated them
@@ -99,16 +110,7 @@ pub fn integrate_design_keeping(
     d: &SolvedDesign,
     q: &Quadrature,
 ) -> Result<(DesignIntegrals, NodePartials)> {
-    let surfaces: Vec<(&str, &dyn Surface)> = d
-        .surfaces
-        .iter()
-        .map(|s| (s.name.as_str(), s.surface()))
-        .collect();
-    let edges: Vec<(usize, f64, usize, f64)> = d
-        .edges()
-        .iter()
-        .map(|e| (e.report.a, e.report.ua, e.report.b, e.report.ub))
-        .collect();
+    let (surfaces, edges) = design_parts(d);
     let (integrals, kept) = integrate_surfaces_with(&surfaces, &edges, q, true)?;
     Ok((integrals, kept.unwrap_or_default()))
 }

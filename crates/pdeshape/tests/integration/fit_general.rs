@@ -463,7 +463,11 @@ fn a_cad_plate_of_slivers_is_laid_out_on_its_long_edges_bisected() {
     // chords cut off (each r²(θ − sin θ)/2, θ = π/500).
     let (r, th) = (0.3, std::f64::consts::PI / 500.0);
     let area = 12.0 - (4.0 - std::f64::consts::PI) * r * r - 500.0 * r * r * (th - th.sin());
-    assert!((volume - 0.5 * area).abs() < 1e-12, "{volume} against {}", 0.5 * area);
+    assert!(
+        (volume - 0.5 * area).abs() < 1e-12,
+        "{volume} against {}",
+        0.5 * area
+    );
     let fitted = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
     eprintln!(
         "cad plate: {} faces, Hausdorff {:.3e}, RMS {:.3e}; {:?}",
