@@ -379,16 +379,20 @@ impl Collapser<'_> {
     /// [`Self::stars`] given `u`'s neighbours `nu` and [`Self::old_star`] (the same for every
     /// `v`).
     fn stars_with(&self, u: u32, v: u32, nu: &[u32], old_star: Shape) -> Option<(Shape, Shape)> {
-        let (ui, vi) = (u as usize, v as usize);
         if !self.link_ok(u, v, nu) {
             return None;
         }
-        let p = self.pos[vi];
-        // The star of `u` before and after: its worst facing, corner and shape. A collapse
-        // may not make any of them worse than the limits unless it was already so (slivers of
-        // the mesh do not block the collapses that remove them).
+        Some((old_star, self.new_star(u, v, |_| false)))
+    }
+
+    /// The star of `u` after moving `u` onto `v`: its worst facing, corner and shape (a
+    /// collapse may not make any of them worse than the limits unless it was already so:
+    /// slivers of the mesh do not block the collapses that remove them). Shaped triangle by
+    /// triangle until `enough` holds of the part shaped, which is then returned.
+    fn new_star(&self, u: u32, v: u32, enough: impl Fn(&Shape) -> bool) -> Shape {
+        let p = self.pos[v as usize];
         let mut new_star = Shape::BEST;
-        for &t in &self.vtris[ui] {
+        for &t in &self.vtris[u as usize] {
             let tri = self.tris[t as usize];
             if !self.alive[t as usize] || tri.contains(&v) {
                 continue;
@@ -396,8 +400,11 @@ impl Collapser<'_> {
             let corners = tri.map(|w| if w == u { v } else { w });
             let new = tri.map(|w| if w == u { p } else { self.pos[w as usize] });
             new_star = new_star.worst(self.shape(new, corners));
+            if enough(&new_star) {
+                break;
+            }
         }
-        Some((old_star, new_star))
+        new_star
     }
 
     /// The cost of moving `u` onto `v`, or `None` when the collapse is not allowed.
@@ -435,15 +442,23 @@ impl Collapser<'_> {
     /// Whether moving `u` onto `v` is allowed (the link condition, and no triangle of the
     /// star turned, folded, cornered or made a sliver beyond the limits unless it was so
     /// before), given what [`Self::stars_with`] takes.
+    ///
+    /// The new star is checked triangle by triangle: each limit compares a minimum or a
+    /// maximum over the star, so once a part of it is refused the whole is, and the rest of
+    /// a large star (a fan's hub) is not shaped.
     fn allowed(&self, u: u32, v: u32, nu: &[u32], old: Shape) -> bool {
-        let Some((old_star, new_star)) = self.stars_with(u, v, nu, old) else {
+        if !self.link_ok(u, v, nu) {
             return false;
+        }
+        let refused = |new: &Shape| {
+            new.area.is_nan()
+                || new.area <= 0.0
+                || (new.facing < MIN_FACING_COS && new.facing < old.facing)
+                || (new.corner > 0.0 && new.corner > old.corner)
+                || (new.quality < MIN_QUALITY && new.quality < old.quality)
         };
-        !(new_star.area.is_nan()
-            || new_star.area <= 0.0
-            || (new_star.facing < MIN_FACING_COS && new_star.facing < old_star.facing)
-            || (new_star.corner > 0.0 && new_star.corner > old_star.corner)
-            || (new_star.quality < MIN_QUALITY && new_star.quality < old_star.quality))
+        let new_star = self.new_star(u, v, refused);
+        !refused(&new_star)
     }
 
     /// The link condition of moving `u` onto `v` (its neighbours `nu`): the two share no

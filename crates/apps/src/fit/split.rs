@@ -73,7 +73,7 @@ impl Ord for Long {
 /// orientation. Taking the longest edge of the whole mesh first means each bisected edge is
 /// the longest of its triangles (any longer one would have gone before), which is Rivara's
 /// longest-edge bisection: no angle of the refined mesh falls below half the smallest angle
-/// of the triangle it came from, so a sliver is cut into slivers no thinner than itself.
+/// of the triangle it came from (a sliver's pieces keep at least half its sharpest corner).
 pub(super) fn split_long(
     mesh: &InputMesh,
     longest: f64,
