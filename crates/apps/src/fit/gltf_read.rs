@@ -897,17 +897,6 @@ mod tests {
             .to_string()
     }
 
-    /// The signed volume enclosed by a closed mesh (positive when its triangles turn
-    /// counter-clockwise seen from outside).
-    fn volume(m: &InputMesh) -> f64 {
-        (0..m.triangles.len())
-            .map(|k| {
-                let [a, b, c] = m.corners(k);
-                a.dot(&b.cross(&c)) / 6.0
-            })
-            .sum()
-    }
-
     /// `v` turned by the quaternion `(x, y, z, w)`, normalised: `q v q*` written out.
     fn turn(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
         let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
@@ -965,9 +954,9 @@ mod tests {
         }
         let want = 2.0 * 0.5 * 1.5;
         assert!(
-            (volume(&r.mesh) - want).abs() < 1e-12,
+            (r.mesh.signed_volume() - want).abs() < 1e-12,
             "{}",
-            volume(&r.mesh)
+            r.mesh.signed_volume()
         );
         r.mesh.require_closed().unwrap();
     }
@@ -993,7 +982,7 @@ mod tests {
             };
             let r = read(&bin.glb(mesh.clone(), node, &[0]));
             let want = (scale[0] * scale[1] * scale[2]).abs() as f64;
-            assert!((volume(&r.mesh) - want).abs() < 1e-12, "{scale:?}");
+            assert!((r.mesh.signed_volume() - want).abs() < 1e-12, "{scale:?}");
             for (k, v) in p.iter().enumerate() {
                 let w = [0, 1, 2].map(|c| v[c] as f64 * scale[c] as f64);
                 assert_eq!(r.mesh.positions[k], design(w));
@@ -1030,7 +1019,7 @@ mod tests {
             let world = [mid[0], mid[1], mid[2] + 5.0];
             assert!(close(r.mesh.positions[k], design(world), 1e-12), "{k}");
         }
-        assert!((volume(&r.mesh) - 3.0).abs() < 1e-12);
+        assert!((r.mesh.signed_volume() - 3.0).abs() < 1e-12);
     }
 
     /// Strips and fans become triangles of one orientation (glTF's order of their corners);
@@ -1102,7 +1091,7 @@ mod tests {
         assert_eq!(r.mesh.positions.len(), 4);
         assert_eq!(r.mesh.triangles.len(), 4);
         r.mesh.require_closed().unwrap();
-        assert!((volume(&r.mesh) - 1.0 / 6.0).abs() < 1e-15);
+        assert!((r.mesh.signed_volume() - 1.0 / 6.0).abs() < 1e-15);
         // Two halves of the same soup as two primitives, with a points primitive skipped.
         let mut bin = Bin::default();
         let h1 = bin.positions(&soup[..6]);

@@ -321,6 +321,18 @@ impl InputMesh {
         self.triangles[t].map(|i| self.positions[i as usize])
     }
 
+    /// The signed volume enclosed by the triangles (positive for a closed mesh whose
+    /// triangles turn counter-clockwise seen from outside): the sum of the tetrahedra from the
+    /// origin to each triangle.
+    pub fn signed_volume(&self) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| {
+                let [a, b, c] = self.corners(t);
+                a.dot(&b.cross(&c)) / 6.0
+            })
+            .sum()
+    }
+
     /// The length of the bounding box's diagonal.
     pub fn diagonal(&self) -> f64 {
         let (lo, hi) = self.bounds();
@@ -1383,10 +1395,8 @@ mod tests {
             let m = InputMesh::read(ply(list).as_bytes(), MeshFormat::Ply).unwrap();
             assert_eq!(m.triangles.len(), 4, "{list}");
             let mut directed = std::collections::HashSet::new();
-            let mut volume = 0.0;
+            let volume = m.signed_volume();
             for t in &m.triangles {
-                let [a, b, c] = t.map(|i| m.positions[i as usize]);
-                volume += a.dot(&b.cross(&c)) / 6.0;
                 for k in 0..3 {
                     assert!(directed.insert((t[k], t[(k + 1) % 3])), "{list}: {t:?}");
                 }

@@ -965,17 +965,6 @@ mod tests {
         assert_eq!(topo.components, 1, "{topo:?}");
     }
 
-    /// Signed volume: a closed outward mesh of the cube `[0, 2]³` has volume 8.
-    fn volume(m: &InputMesh) -> f64 {
-        m.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| m.positions[i as usize]);
-                a.dot(&b.cross(&c)) / 6.0
-            })
-            .sum()
-    }
-
     #[test]
     fn t_junctions_are_split_and_the_cube_closes_with_its_volume() {
         let m = cube_with_fine_top(4);
@@ -988,7 +977,11 @@ mod tests {
             (0, 0, 0, 0)
         );
         closed_and_manifold(&fixed);
-        assert!((volume(&fixed) - 8.0).abs() < 1e-12, "{}", volume(&fixed));
+        assert!(
+            (fixed.signed_volume() - 8.0).abs() < 1e-12,
+            "{}",
+            fixed.signed_volume()
+        );
         assert_eq!(fixed.positions, m.positions);
         assert!(r.note().unwrap().contains("12 T-junctions split"));
         // A whole mesh is left as it is.
@@ -1199,7 +1192,11 @@ mod tests {
         );
         crate::fit::require_oriented(&r).unwrap();
         closed_and_manifold(&r);
-        assert!((volume(&r) - 8.0).abs() < 1e-12, "{}", volume(&r));
+        assert!(
+            (r.signed_volume() - 8.0).abs() < 1e-12,
+            "{}",
+            r.signed_volume()
+        );
     }
 
     #[test]
@@ -1213,7 +1210,11 @@ mod tests {
         assert_eq!(rep.flipped, 1, "{rep:?}");
         assert!(n > 2);
         crate::fit::require_oriented(&r).unwrap();
-        assert!((volume(&r) + 8.0).abs() < 1e-12, "{}", volume(&r));
+        assert!(
+            (r.signed_volume() + 8.0).abs() < 1e-12,
+            "{}",
+            r.signed_volume()
+        );
     }
 
     /// A Möbius band of `n` quads (`2n` triangles), the last joining the first with its rows

@@ -171,15 +171,6 @@ mod tests {
         (area, sum)
     }
 
-    fn volume(mesh: &InputMesh) -> f64 {
-        (0..mesh.triangles.len())
-            .map(|t| {
-                let [a, b, c] = mesh.corners(t);
-                a.dot(&b.cross(&c)) / 6.0
-            })
-            .sum()
-    }
-
     fn smallest_angle(mesh: &InputMesh) -> f64 {
         let mut least = f64::INFINITY;
         for t in 0..mesh.triangles.len() {
@@ -206,7 +197,7 @@ mod tests {
         let (area, sum) = area_vector(&fine);
         assert!((area - 6.0).abs() < 1e-13, "{area}");
         assert!(sum.norm() < 1e-13);
-        assert!((volume(&fine) - 1.0).abs() < 1e-13);
+        assert!((fine.signed_volume() - 1.0).abs() < 1e-13);
         assert!(fine.positions.iter().all(|q| {
             let on = |c: f64| c.abs() < 1e-15 || (c - 1.0).abs() < 1e-15;
             on(q.x) || on(q.y) || on(q.z)

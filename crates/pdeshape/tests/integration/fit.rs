@@ -458,15 +458,7 @@ fn a_washers_rings_are_flat_and_its_rims_creases() {
     let mut mesh = InputMesh::new(positions, triangles).unwrap();
     mesh.require_closed().unwrap();
     // Outward: the enclosed volume positive.
-    let volume: f64 = mesh
-        .triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-            a.dot(&b.cross(&c)) / 6.0
-        })
-        .sum();
-    if volume < 0.0 {
+    if mesh.signed_volume() < 0.0 {
         for t in &mut mesh.triangles {
             t.swap(1, 2);
         }
