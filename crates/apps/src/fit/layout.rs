@@ -32,6 +32,7 @@ use super::measure::{
 };
 use super::mesh::InputMesh;
 use super::options::{Fit, FitMode, FitOptions};
+use super::queue::KeyedHeap;
 use super::section::AxisFrame;
 use super::split::{split_long, split_until};
 use crate::design::{solve_design, DesignSurface, SolvedDesign};
@@ -43,7 +44,7 @@ use rstar::RTree;
 use smallvec::SmallVec;
 use std::cell::Cell;
 use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::HashMap;
 
 /// Triangles around a vertex above which its neighbours are deduplicated through a set.
 const MANY_AROUND: usize = 32;
@@ -208,12 +209,11 @@ impl Quadric {
     }
 }
 
-#[derive(PartialEq)]
+#[derive(Clone, Copy, PartialEq)]
 struct Candidate {
     cost: f64,
     from: u32,
     to: u32,
-    version: u32,
 }
 
 impl Eq for Candidate {}
@@ -306,7 +306,6 @@ struct Collapser<'a> {
     removed: Vec<bool>,
     boundary: Vec<bool>,
     quadric: Vec<Quadric>,
-    version: Vec<u32>,
 }
 
 impl Collapser<'_> {
@@ -509,15 +508,15 @@ impl Collapser<'_> {
         })
     }
 
-    /// Every vertex's best collapse, found in parallel (the heap is that of the candidates
+    /// Every vertex's best collapse, found in parallel (the queue is that of the candidates
     /// in the vertices' order, whatever the threads).
-    fn candidates(&self) -> BinaryHeap<Candidate> {
+    fn candidates(&self) -> KeyedHeap<Candidate> {
         use rayon::prelude::*;
         let all: Vec<Candidate> = (0..self.pos.len() as u32)
             .into_par_iter()
             .filter_map(|u| self.best(u))
             .collect();
-        BinaryHeap::from(all)
+        KeyedHeap::new(self.pos.len(), all.into_iter().map(|c| (c.from, c)))
     }
 
     fn best(&self, u: u32) -> Option<Candidate> {
@@ -544,7 +543,6 @@ impl Collapser<'_> {
                 cost,
                 from: u,
                 to: v,
-                version: self.version[u as usize],
             })
     }
 
@@ -663,7 +661,9 @@ pub fn decimate(
 /// targets gives the levels of detail of one run ([`crate::fit::rate_distortion`]).
 pub struct Decimation<'a> {
     c: Collapser<'a>,
-    heap: BinaryHeap<Candidate>,
+    /// Every vertex's best collapse (one entry a vertex, replaced when a collapse nearby
+    /// changes it).
+    heap: KeyedHeap<Candidate>,
     remaining: usize,
     since_rebuild: usize,
 }
@@ -733,7 +733,6 @@ impl<'a> Decimation<'a> {
             removed: used.iter().map(|u| !u).collect(),
             boundary,
             quadric,
-            version: vec![0; n],
         };
         let remaining = used.iter().filter(|&&u| u).count();
         let heap = c.candidates();
@@ -759,7 +758,7 @@ impl<'a> Decimation<'a> {
             since_rebuild,
         } = self;
         while *remaining > target {
-            let Some(cand) = heap.pop() else {
+            let Some((_, cand)) = heap.pop() else {
                 // Refused collapses may have become possible through changes two rings away:
                 // look again at every vertex, once per batch of collapses.
                 if *since_rebuild == 0 {
@@ -770,14 +769,11 @@ impl<'a> Decimation<'a> {
                 continue;
             };
             let (u, v) = (cand.from, cand.to);
-            if c.removed[u as usize] || c.version[u as usize] != cand.version {
+            if c.removed[u as usize] {
                 continue;
             }
             if c.removed[v as usize] || c.cost(u, v).is_none() {
-                c.version[u as usize] += 1;
-                if let Some(b) = c.best(u) {
-                    heap.push(b);
-                }
+                heap.set(u, c.best(u));
                 continue;
             }
             let around = c.neighbours(u);
@@ -792,10 +788,7 @@ impl<'a> Decimation<'a> {
                 }
             }
             for w in touched {
-                c.version[w as usize] += 1;
-                if let Some(b) = c.best(w) {
-                    heap.push(b);
-                }
+                heap.set(w, c.best(w));
             }
         }
     }

@@ -32,7 +32,7 @@
 //!                        measure(mesh, spec, solved) ──▶ Hausdorff, RMS, compression
 //! ```
 //!
-//! Modules: `auto` (the tolerance and the choice of mode), `layout` (the general mode), `features` (a mesh's sharp features: sectors, creases and the planes at them), `mesh` (reading and topology checks), `gltf_read` (glTF meshes and their frame), `repair` (what files leave that is not a
+//! Modules: `auto` (the tolerance and the choice of mode), `layout` (the general mode), `queue` (its candidate collapses, one per vertex), `features` (a mesh's sharp features: sectors, creases and the planes at them), `mesh` (reading and topology checks), `gltf_read` (glTF meshes and their frame), `repair` (what files leave that is not a
 //! surface: degenerate and duplicate triangles, cracks, T-junctions, non-manifold edges, specks), `section` (plane sections: loops and open
 //! pieces, and the periodic curves of loops), `profile` (open profiles as even periodic
 //! curves), `basis` (the biharmonic patch mode by mode as a function of its four curves),
@@ -53,6 +53,7 @@ mod options;
 mod pack;
 mod picture;
 mod profile;
+mod queue;
 mod rate;
 mod repair;
 mod section;
