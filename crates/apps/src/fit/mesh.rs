@@ -22,6 +22,14 @@ use std::io::Cursor;
 /// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
 pub const MAX_TRIANGLES: usize = 4_000_000;
 
+/// The largest coordinate a fit reads: lengths up to about `1e60` square and multiply (areas of
+/// areas, quadrics' constant terms) without overflow.
+pub const MAX_COORDINATE: f64 = 1e60;
+
+/// The smallest extent (bounding box's longest side) of a mesh a fit reads: its triangles'
+/// squared areas, `1e-240` at this size, stay clear of underflow.
+pub const MIN_SPAN: f64 = 1e-60;
+
 /// An indexed triangle mesh read for fitting (OBJ, STL, PLY, OFF, glTF), with its topology checks; the
 /// design layer's [`crate::mesh::TriMesh`] is the mesh a design is written as.
 #[derive(Clone, Debug, PartialEq)]
@@ -225,10 +233,12 @@ impl InputMesh {
                 triangles[k].iter().max().map_or(0, |&i| i as usize + 1)
             )));
         }
-        Ok(InputMesh {
+        let mesh = InputMesh {
             positions,
             triangles,
-        })
+        };
+        mesh.check_scale()?;
+        Ok(mesh)
     }
 
     /// Reads a mesh from the bytes of a file in `format`. Polygons of an OBJ, PLY or OFF file
@@ -331,6 +341,39 @@ impl InputMesh {
                 a.dot(&b.cross(&c)) / 6.0
             })
             .sum()
+    }
+
+    /// Refuses coordinates beyond [`MAX_COORDINATE`] and a mesh whose used vertices span less
+    /// than [`MIN_SPAN`]: the fit squares lengths and multiplies areas, which overflow or
+    /// vanish there (a mesh of kilometres in micrometres is `1e9`, far inside).
+    fn check_scale(&self) -> Result<()> {
+        if let Some(k) = self
+            .positions
+            .iter()
+            .position(|p| p.amax() > MAX_COORDINATE)
+        {
+            let p = self.positions[k];
+            return Err(Error::invalid(format!(
+                "vertex {} lies at ({:e}, {:e}, {:e}), beyond the ±{MAX_COORDINATE:e} a mesh is \
+                 computed in (its squared distances would overflow): scale the mesh down",
+                k + 1,
+                p.x,
+                p.y,
+                p.z
+            )));
+        }
+        // The box's longest side, not its diagonal: the diagonal's squares vanish first.
+        let (lo, hi) = self.bounds();
+        let span = (hi - lo).amax();
+        if span > 0.0 && span < MIN_SPAN {
+            return Err(Error::invalid(format!(
+                "the mesh spans only {span:e} (its bounding box's longest side, from ({:e}, \
+                 {:e}, {:e})), less than the {MIN_SPAN:e} a mesh is computed in (its triangles' \
+                 areas would vanish): scale the mesh up",
+                lo.x, lo.y, lo.z
+            )));
+        }
+        Ok(())
     }
 
     /// The length of the bounding box's diagonal.
@@ -906,8 +949,8 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
     };
     if !ascii && bytes.len() >= 84 {
         let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        check_count(n)?;
-        check_memory(bytes, 4 * n)?;
+        // The file's own length first: a count past its end is a truncated file (or not an
+        // STL), whatever the count.
         if 84 + 50 * n > bytes.len() {
             return Err(Error::invalid(format!(
                 "the STL file is truncated: it announces {n} triangles ({} bytes) but has {} bytes",
@@ -915,6 +958,8 @@ fn read_stl(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
                 bytes.len()
             )));
         }
+        check_count(n)?;
+        check_memory(bytes, 4 * n)?;
     }
     if ascii || bytes.len() < 84 {
         let corners = bytes
@@ -1684,6 +1729,37 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("triangle 1 refers to vertex 8"), "{e}");
+    }
+
+    /// Coordinates whose squares overflow, or a mesh so small its areas vanish, are refused
+    /// with the vertex or the extent; any size between (and far from the origin) is read.
+    #[test]
+    fn scales_a_fit_cannot_compute_in_are_refused() {
+        let scaled = |k: f64, shift: f64| {
+            let t = tetra();
+            let p = t.positions.iter().map(|p| p * k + Vec3::repeat(shift));
+            InputMesh::new(p.collect(), t.triangles)
+        };
+        let e = scaled(1e200, 0.0).unwrap_err().to_string();
+        assert!(e.contains("vertex 2 lies at (1e200, 0e0, 0e0)"), "{e}");
+        assert!(e.contains("scale the mesh down"), "{e}");
+        let e = scaled(1e-200, 0.0).unwrap_err().to_string();
+        assert!(e.contains("spans only 1e-200"), "{e}");
+        assert!(e.contains("scale the mesh up"), "{e}");
+        // An unused vertex far away counts as well (its coordinates are the file's).
+        let mut t = tetra();
+        t.positions.push(Vec3::new(0.0, -2e61, 0.0));
+        let e = InputMesh::new(t.positions, t.triangles)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("vertex 5 lies at"), "{e}");
+        // Read at any scale between: the diagonal √3 k, up to the rounding of the shifted
+        // coordinates (a few units in the last place of the shift).
+        for (k, shift) in [(1e59, 0.0), (1e-59, 0.0), (1.0, 1e9), (1e-50, 1e-40)] {
+            let d = scaled(k, shift).unwrap().diagonal();
+            let bound = 1e-15 * k + 4.0 * f64::EPSILON * shift;
+            assert!((d - 3f64.sqrt() * k).abs() <= bound, "{k} {shift}: {d}");
+        }
     }
 
     /// An L-shaped prism whose two ends are single hexagons, each listed from a corner that

@@ -72,7 +72,8 @@ pub use layout::{
 };
 pub use measure::{measure, Distances, Measures, MeshDistance, MeshSamples, PointDistances};
 pub use mesh::{
-    External, InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_TRIANGLES, WELD_FRACTION,
+    External, InputMesh, Joined, MeshFormat, MeshRead, Topology, MAX_COORDINATE, MAX_TRIANGLES,
+    MIN_SPAN, WELD_FRACTION,
 };
 pub use options::{fit_mesh, Fit, FitMode, FitOptions, TubeFit, TubeOptions};
 pub use pack::{pack, Packed, STEP_FRACTION};

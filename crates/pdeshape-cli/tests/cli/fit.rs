@@ -255,6 +255,39 @@ fn bad_meshes_get_one_line_and_no_output() {
         good.replacen("v 0 0 -1.5", "v nan 0 -1.5", 1).as_bytes(),
         &["nan.obj", "vertex 1 is not finite"],
     );
+    // Coordinates whose squares overflow, and a mesh too small for its areas.
+    let scaled = |k: f64| {
+        let mut out = String::new();
+        for l in good.lines() {
+            match l.strip_prefix("v ") {
+                Some(rest) => {
+                    let c: Vec<f64> = rest.split(' ').map(|x| x.parse().unwrap()).collect();
+                    out += &format!("v {:e} {:e} {:e}\n", c[0] * k, c[1] * k, c[2] * k);
+                }
+                None => out += &format!("{l}\n"),
+            }
+        }
+        out
+    };
+    bad_mesh(
+        "huge.obj",
+        scaled(1e200).as_bytes(),
+        &["huge.obj", "vertex 1 lies at", "scale the mesh down"],
+    );
+    bad_mesh(
+        "tiny.obj",
+        scaled(1e-200).as_bytes(),
+        &["tiny.obj", "spans only", "scale the mesh up"],
+    );
+    // A binary STL whose count runs past its end is truncated, whatever the count says.
+    let mut stl = vec![0u8; 80];
+    stl.extend_from_slice(&u32::MAX.to_le_bytes());
+    stl.extend_from_slice(&[0; 150]);
+    bad_mesh(
+        "short.stl",
+        &stl,
+        &["short.stl", "truncated", "announces 4294967295 triangles"],
+    );
     // Two components: the ellipsoid twice, the second shifted.
     let n = 2 + 11 * 16;
     let mut two = good.clone();
