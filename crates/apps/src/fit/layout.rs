@@ -149,7 +149,9 @@ pub fn vertex_normals(mesh: &InputMesh) -> Vec<Vec3> {
 }
 
 /// Refuses a mesh whose triangles are not consistently oriented (an edge run the same way by
-/// two triangles), naming the edge's midpoint in the mesh's coordinates.
+/// two triangles), naming the edge's midpoint in the mesh's coordinates, and saying whether
+/// flipping triangles would orient the surface there or no orientation exists (a Möbius band,
+/// a Klein bottle, the folds of a crude decimation: [`orientable_from`]).
 pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
     let mut seen: HashMap<(u32, u32), usize> = HashMap::with_capacity(mesh.triangles.len() * 3);
     for (k, t) in mesh.triangles.iter().enumerate() {
@@ -157,16 +159,73 @@ pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
             let (a, b) = (t[j], t[(j + 1) % 3]);
             if let Some(&other) = seen.get(&(a, b)) {
                 let m = (mesh.positions[a as usize] + mesh.positions[b as usize]) * 0.5;
-                return Err(Error::invalid(format!(
-                    "the triangles are not consistently oriented: triangles {other} and {k} run \
-                     the edge at ({:.6}, {:.6}, {:.6}) the same way (flip one of them)",
-                    m.x, m.y, m.z
-                )));
+                let place = format!("({:.6}, {:.6}, {:.6})", m.x, m.y, m.z);
+                return Err(Error::invalid(if orientable_from(mesh, k) {
+                    format!(
+                        "the triangles are not consistently oriented: triangles {other} and {k} \
+                         run the edge at {place} the same way (flip one of them)"
+                    )
+                } else {
+                    format!(
+                        "the surface is not orientable: its triangles cannot all face one side \
+                         (triangles {other} and {k} run the edge at {place} the same way, and \
+                         flipping either only moves the conflict around a loop, as on a Möbius \
+                         band or at the folds of a crude decimation); cut the surface open there \
+                         or remove the folds"
+                    )
+                }));
             }
             seen.insert((a, b), k);
         }
     }
     Ok(())
+}
+
+/// Whether the triangles reached from triangle `seed` across edges of exactly two triangles
+/// can all be flipped to run every such edge both ways: a walk gives each triangle the flip
+/// its neighbour asks, and the piece is orientable when no edge asks a reached triangle for
+/// the other one.
+fn orientable_from(mesh: &InputMesh, seed: usize) -> bool {
+    // Each edge's triangles, and whether each runs it from its smaller end.
+    type Sides = SmallVec<[(usize, bool); 2]>;
+    let mut by_edge: HashMap<(u32, u32), Sides> = HashMap::new();
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for j in 0..3 {
+            let (a, b) = (t[j], t[(j + 1) % 3]);
+            by_edge
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((k, a < b));
+        }
+    }
+    let mut across: Vec<SmallVec<[(usize, bool); 3]>> = vec![SmallVec::new(); mesh.triangles.len()];
+    for sides in by_edge.values() {
+        if let [(s, sd), (t, td)] = sides[..] {
+            if s != t {
+                across[s].push((t, sd == td));
+                across[t].push((s, sd == td));
+            }
+        }
+    }
+    let mut flip: Vec<Option<bool>> = vec![None; mesh.triangles.len()];
+    flip[seed] = Some(false);
+    let mut stack = vec![seed];
+    while let Some(t) = stack.pop() {
+        let f = flip[t] == Some(true);
+        for &(o, same) in &across[t] {
+            // Two triangles running their edge the same way need opposite flips.
+            let want = f ^ same;
+            match flip[o] {
+                None => {
+                    flip[o] = Some(want);
+                    stack.push(o);
+                }
+                Some(g) if g != want => return false,
+                Some(_) => {}
+            }
+        }
+    }
+    true
 }
 
 #[derive(Clone, Copy)]

@@ -1259,7 +1259,10 @@ mod tests {
             assert_eq!(rep.flipped, 0, "{rep:?}");
             assert_eq!(rep.folded, 0, "{rep:?}");
             assert_eq!(r.triangles, m.triangles);
-            assert!(crate::fit::require_oriented(&r).is_err());
+            // Refused as what it is: no flipping would orient it.
+            let e = crate::fit::require_oriented(&r).unwrap_err().to_string();
+            assert!(e.contains("the surface is not orientable"), "{e}");
+            assert!(!e.contains("flip one of them"), "{e}");
         }
     }
 

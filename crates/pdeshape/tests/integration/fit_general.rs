@@ -181,6 +181,8 @@ fn a_mesh_with_flipped_triangles_is_refused_with_a_point() {
     let e = fit_general(&mesh, &opts).unwrap_err();
     assert!(e.to_string().contains("not consistently oriented"), "{e}");
     assert!(e.to_string().contains("the edge at ("), "{e}");
+    // One flip orients it, and the message says so (not that the surface has no orientation).
+    assert!(e.to_string().contains("flip one of them"), "{e}");
 }
 
 /// A mesh whose first decimation alone would exceed its price (a third of the layout rounds'
