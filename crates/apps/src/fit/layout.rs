@@ -465,12 +465,8 @@ impl Collapser<'_> {
         new_star
     }
 
-    /// The cost of moving `u` onto `v`, or `None` when the collapse is not allowed.
-    fn cost(&self, u: u32, v: u32) -> Option<f64> {
-        self.cost_with(u, v, &self.neighbours(u), self.old_star(u))
-    }
-
-    /// [`Self::cost`] given what [`Self::stars_with`] takes.
+    /// The cost of moving `u` onto `v` (its neighbours `nu`, its star's worst shape `old`),
+    /// or `None` when the collapse is not allowed.
     fn cost_with(&self, u: u32, v: u32, nu: &[u32], old: Shape) -> Option<f64> {
         self.allowed(u, v, nu, old).then(|| self.quadric_cost(u, v))
     }
@@ -557,12 +553,16 @@ impl Collapser<'_> {
         // joined to the rest only at pinched vertices: a bridge between two pieces that touch
         // the surface at points) would take the only join between its opposite corner and
         // `v` with it, and the mesh would come apart.
+        // Every triangle on `x` and `u` or `v` is in the list of `u` or of `v`, which the
+        // checks above have just read (`x`'s own list would be a cold read per corner).
         opposite.iter().all(|&x| {
-            self.vtris[x as usize].iter().any(|&t| {
-                let tri = &self.tris[t as usize];
-                self.alive[t as usize]
-                    && !(tri.contains(&u) && tri.contains(&v))
-                    && (tri.contains(&u) || tri.contains(&v))
+            [u, v].iter().any(|&w| {
+                self.vtris[w as usize].iter().any(|&t| {
+                    let tri = &self.tris[t as usize];
+                    self.alive[t as usize]
+                        && tri.contains(&x)
+                        && !(tri.contains(&u) && tri.contains(&v))
+                })
             })
         })
     }
@@ -831,11 +831,11 @@ impl<'a> Decimation<'a> {
             if c.removed[u as usize] {
                 continue;
             }
-            if c.removed[v as usize] || c.cost(u, v).is_none() {
+            let around = c.neighbours(u);
+            if c.removed[v as usize] || c.cost_with(u, v, &around, c.old_star(u)).is_none() {
                 heap.set(u, c.best(u));
                 continue;
             }
-            let around = c.neighbours(u);
             c.collapse(u, v);
             *remaining -= 1;
             *since_rebuild += 1;
