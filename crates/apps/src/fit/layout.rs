@@ -355,6 +355,9 @@ impl Shape {
     }
 }
 
+/// The mesh under collapse. `vtris[w]` lists exactly the alive triangles with corner `w` (the
+/// collapses and flips keep it so: [`Collapser::collapse`], [`Collapser::flip_better`]), so a
+/// walk over a star needs no look at `alive`.
 struct Collapser<'a> {
     pos: &'a [Vec3],
     normals: &'a [Vec3],
@@ -400,9 +403,6 @@ impl Collapser<'_> {
         let mut seen = (around.len() > MANY_AROUND)
             .then(|| std::collections::HashSet::with_capacity(2 * around.len()));
         for &t in around {
-            if !self.alive[t as usize] {
-                continue;
-            }
             for &w in &self.tris[t as usize] {
                 let new = match seen.as_mut() {
                     Some(seen) => w != u && seen.insert(w),
@@ -416,14 +416,31 @@ impl Collapser<'_> {
         out
     }
 
+    /// Whether every vertex's list holds exactly its alive triangles (the invariant the walks
+    /// over stars rely on).
+    #[cfg(test)]
+    fn lists_hold_the_alive_triangles(&self) -> bool {
+        let mut expected: Vec<Vec<u32>> = vec![Vec::new(); self.vtris.len()];
+        for (t, tri) in self.tris.iter().enumerate() {
+            if self.alive[t] {
+                for &w in tri {
+                    expected[w as usize].push(t as u32);
+                }
+            }
+        }
+        self.vtris.iter().zip(&expected).all(|(have, want)| {
+            let mut have = have.clone();
+            have.sort_unstable();
+            have == *want
+        })
+    }
+
     /// The worst shape of the triangles around `u`.
     fn old_star(&self, u: u32) -> Shape {
         let mut star = Shape::BEST;
         for &t in &self.vtris[u as usize] {
-            if self.alive[t as usize] {
-                let tri = self.tris[t as usize];
-                star = star.worst(self.shape(tri.map(|w| self.pos[w as usize]), tri));
-            }
+            let tri = self.tris[t as usize];
+            star = star.worst(self.shape(tri.map(|w| self.pos[w as usize]), tri));
         }
         star
     }
@@ -452,7 +469,7 @@ impl Collapser<'_> {
         let mut new_star = Shape::BEST;
         for &t in &self.vtris[u as usize] {
             let tri = self.tris[t as usize];
-            if !self.alive[t as usize] || tri.contains(&v) {
+            if tri.contains(&v) {
                 continue;
             }
             let corners = tri.map(|w| if w == u { v } else { w });
@@ -524,7 +541,7 @@ impl Collapser<'_> {
         let mut opposite: SmallVec<[u32; 4]> = SmallVec::new();
         for &t in &self.vtris[ui] {
             let tri = &self.tris[t as usize];
-            if self.alive[t as usize] && tri.contains(&v) {
+            if tri.contains(&v) {
                 opposite.extend(tri.iter().copied().filter(|&w| w != u && w != v));
             }
         }
@@ -541,7 +558,7 @@ impl Collapser<'_> {
         let on = |w: u32, x: u32, y: u32| {
             self.vtris[w as usize].iter().any(|&t| {
                 let tri = &self.tris[t as usize];
-                self.alive[t as usize] && tri.contains(&x) && tri.contains(&y)
+                tri.contains(&x) && tri.contains(&y)
             })
         };
         if let [x, y] = opposite[..] {
@@ -559,9 +576,7 @@ impl Collapser<'_> {
             [u, v].iter().any(|&w| {
                 self.vtris[w as usize].iter().any(|&t| {
                     let tri = &self.tris[t as usize];
-                    self.alive[t as usize]
-                        && tri.contains(&x)
-                        && !(tri.contains(&u) && tri.contains(&v))
+                    tri.contains(&x) && !(tri.contains(&u) && tri.contains(&v))
                 })
             })
         })
@@ -616,7 +631,7 @@ impl Collapser<'_> {
             // The other triangle on a–b runs b → a → d.
             let Some(&t2) = self.vtris[a as usize].iter().find(|&&o| {
                 let o = o as usize;
-                o != t && self.alive[o] && self.tris[o].contains(&b)
+                o != t && self.tris[o].contains(&b)
             }) else {
                 continue;
             };
@@ -642,8 +657,8 @@ impl Collapser<'_> {
             {
                 self.tris[t] = n1;
                 self.tris[t2] = n2;
-                self.vtris[a as usize].retain(|&o| o as usize != t2);
-                self.vtris[b as usize].retain(|&o| o as usize != t);
+                self.vtris[a as usize].retain(|o| *o as usize != t2);
+                self.vtris[b as usize].retain(|o| *o as usize != t);
                 self.vtris[c as usize].push(t2 as u32);
                 self.vtris[d as usize].push(t as u32);
                 return true;
@@ -666,7 +681,7 @@ impl Collapser<'_> {
                 let tri = *tri;
                 for w in tri {
                     if w != u && w != v {
-                        self.vtris[w as usize].retain(|&o| o != t);
+                        self.vtris[w as usize].retain(|o| *o != t);
                     }
                 }
             } else {
@@ -681,7 +696,8 @@ impl Collapser<'_> {
         let q = self.quadric[ui];
         self.quadric[vi].add(&q);
         self.removed[ui] = true;
-        self.vtris[vi].retain(|&t| self.alive[t as usize]);
+        let alive = &self.alive;
+        self.vtris[vi].retain(|t| alive[*t as usize]);
     }
 }
 
@@ -3154,6 +3170,29 @@ mod tests {
         assert!(refused > 0);
     }
 
+    /// Every vertex's list holds exactly its alive triangles through collapses, refused
+    /// collapses, the slivers' flips and forced collapses (the walks over stars no longer ask
+    /// whether a listed triangle is alive).
+    #[test]
+    fn the_vertex_lists_hold_the_alive_triangles() {
+        for (mesh, collapses) in [(bumpy_sphere(16, 32), true), (beam(0.4, 3.6), false)] {
+            let normals = vertex_normals(&mesh);
+            let weight = vec![1.0; mesh.positions.len()];
+            let mut d = Decimation::new(&mesh, &normals, &weight);
+            assert!(d.c.lists_hold_the_alive_triangles());
+            let n = mesh.positions.len();
+            for target in [n / 2, n / 4, 20, 4] {
+                d.collapse_to(target);
+                assert!(d.c.lists_hold_the_alive_triangles(), "at {target}");
+            }
+            // The sphere collapses (the box's slivers are left to the clean-up).
+            assert_eq!(d.c.alive.iter().any(|a| !*a), collapses);
+            d.clean_slivers(f64::INFINITY);
+            assert!(d.c.lists_hold_the_alive_triangles());
+        }
+        // (A flip keeps it too: `the_clean_up_does_not_flip_across_a_sharp_edge`.)
+    }
+
     /// A UV sphere of radius 1 (every vertex on the sphere).
     fn sphere(rings: usize, segments: usize) -> InputMesh {
         uv_sphere(rings, segments, |_| 1.0)
@@ -3372,6 +3411,7 @@ mod tests {
         assert_eq!(dec.c.tris, [[0, 1, 2], [1, 0, 3]]);
         assert!(dec.c.flip_better(0, 1.01 * gap));
         assert_eq!(dec.c.tris, [[0, 3, 2], [3, 1, 2]]);
+        assert!(dec.c.lists_hold_the_alive_triangles());
     }
 
     /// Boxes of 12 triangles from a cube to a beam 9 times as long as it is wide: the
