@@ -151,7 +151,7 @@ pub fn vertex_normals(mesh: &InputMesh) -> Vec<Vec3> {
 /// Refuses a mesh whose triangles are not consistently oriented (an edge run the same way by
 /// two triangles), naming the edge's midpoint in the mesh's coordinates, and saying whether
 /// flipping triangles would orient the surface there or no orientation exists (a Möbius band,
-/// a Klein bottle, the folds of a crude decimation: [`orientable_from`]).
+/// a Klein bottle, the folds of a crude decimation: [`super::repair::orientable_from`]).
 pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
     let mut seen: HashMap<(u32, u32), usize> = HashMap::with_capacity(mesh.triangles.len() * 3);
     for (k, t) in mesh.triangles.iter().enumerate() {
@@ -160,7 +160,7 @@ pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
             if let Some(&other) = seen.get(&(a, b)) {
                 let m = (mesh.positions[a as usize] + mesh.positions[b as usize]) * 0.5;
                 let place = format!("({:.6}, {:.6}, {:.6})", m.x, m.y, m.z);
-                return Err(Error::invalid(if orientable_from(mesh, k) {
+                return Err(Error::invalid(if super::repair::orientable_from(mesh, k) {
                     format!(
                         "the triangles are not consistently oriented: triangles {other} and {k} \
                          run the edge at {place} the same way (flip one of them)"
@@ -179,53 +179,6 @@ pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Whether the triangles reached from triangle `seed` across edges of exactly two triangles
-/// can all be flipped to run every such edge both ways: a walk gives each triangle the flip
-/// its neighbour asks, and the piece is orientable when no edge asks a reached triangle for
-/// the other one.
-fn orientable_from(mesh: &InputMesh, seed: usize) -> bool {
-    // Each edge's triangles, and whether each runs it from its smaller end.
-    type Sides = SmallVec<[(usize, bool); 2]>;
-    let mut by_edge: HashMap<(u32, u32), Sides> = HashMap::new();
-    for (k, t) in mesh.triangles.iter().enumerate() {
-        for j in 0..3 {
-            let (a, b) = (t[j], t[(j + 1) % 3]);
-            by_edge
-                .entry((a.min(b), a.max(b)))
-                .or_default()
-                .push((k, a < b));
-        }
-    }
-    let mut across: Vec<SmallVec<[(usize, bool); 3]>> = vec![SmallVec::new(); mesh.triangles.len()];
-    for sides in by_edge.values() {
-        if let [(s, sd), (t, td)] = sides[..] {
-            if s != t {
-                across[s].push((t, sd == td));
-                across[t].push((s, sd == td));
-            }
-        }
-    }
-    let mut flip: Vec<Option<bool>> = vec![None; mesh.triangles.len()];
-    flip[seed] = Some(false);
-    let mut stack = vec![seed];
-    while let Some(t) = stack.pop() {
-        let f = flip[t] == Some(true);
-        for &(o, same) in &across[t] {
-            // Two triangles running their edge the same way need opposite flips.
-            let want = f ^ same;
-            match flip[o] {
-                None => {
-                    flip[o] = Some(want);
-                    stack.push(o);
-                }
-                Some(g) if g != want => return false,
-                Some(_) => {}
-            }
-        }
-    }
-    true
 }
 
 #[derive(Clone, Copy)]
@@ -657,8 +610,8 @@ impl Collapser<'_> {
             {
                 self.tris[t] = n1;
                 self.tris[t2] = n2;
-                self.vtris[a as usize].retain(|o| *o as usize != t2);
-                self.vtris[b as usize].retain(|o| *o as usize != t);
+                self.vtris[a as usize].retain(|&o| o as usize != t2);
+                self.vtris[b as usize].retain(|&o| o as usize != t);
                 self.vtris[c as usize].push(t2 as u32);
                 self.vtris[d as usize].push(t as u32);
                 return true;
@@ -681,7 +634,7 @@ impl Collapser<'_> {
                 let tri = *tri;
                 for w in tri {
                     if w != u && w != v {
-                        self.vtris[w as usize].retain(|o| *o != t);
+                        self.vtris[w as usize].retain(|&o| o != t);
                     }
                 }
             } else {
@@ -696,8 +649,7 @@ impl Collapser<'_> {
         let q = self.quadric[ui];
         self.quadric[vi].add(&q);
         self.removed[ui] = true;
-        let alive = &self.alive;
-        self.vtris[vi].retain(|t| alive[*t as usize]);
+        self.vtris[vi].retain(|&t| self.alive[t as usize]);
     }
 }
 

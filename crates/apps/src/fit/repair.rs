@@ -394,32 +394,7 @@ fn orient(positions: &[Vec3], triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<us
             }
         })
         .collect();
-    // Each edge's triangles, and whether each runs it from its smaller end.
-    let mut sides: Vec<((u32, u32), usize, bool)> = Vec::with_capacity(3 * triangles.len());
-    for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            sides.push(((a.min(b), a.max(b)), i, a < b));
-        }
-    }
-    sides.sort_unstable();
-    // Neighbours across edges of exactly two triangles: (other, same way).
-    let mut next: Vec<Vec<(usize, bool)>> = vec![Vec::new(); triangles.len()];
-    let mut k = 0;
-    while k < sides.len() {
-        let mut j = k + 1;
-        while j < sides.len() && sides[j].0 == sides[k].0 {
-            j += 1;
-        }
-        if j - k == 2 {
-            let (s, t) = (sides[k], sides[k + 1]);
-            if s.1 != t.1 {
-                next[s.1].push((t.1, s.2 == t.2));
-                next[t.1].push((s.1, s.2 == t.2));
-            }
-        }
-        k = j;
-    }
+    let next = across_edges(triangles);
     let mut flip: Vec<Option<bool>> = vec![None; triangles.len()];
     let mut out = Vec::new();
     let mut drop: Vec<usize> = Vec::new();
@@ -485,6 +460,64 @@ fn orient(positions: &[Vec3], triangles: &mut [[u32; 3]]) -> (Vec<usize>, Vec<us
     out.sort_unstable();
     drop.sort_unstable();
     (out, drop)
+}
+
+/// Each triangle's neighbours across its edges of exactly two triangles, with whether the two
+/// run that edge the same way (so that one of them must be flipped for the pair to agree).
+fn across_edges(triangles: &[[u32; 3]]) -> Vec<Vec<(usize, bool)>> {
+    // Each edge's triangles, and whether each runs it from its smaller end.
+    let mut sides: Vec<((u32, u32), usize, bool)> = Vec::with_capacity(3 * triangles.len());
+    for (i, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            sides.push(((a.min(b), a.max(b)), i, a < b));
+        }
+    }
+    sides.sort_unstable();
+    let mut next: Vec<Vec<(usize, bool)>> = vec![Vec::new(); triangles.len()];
+    let mut k = 0;
+    while k < sides.len() {
+        let mut j = k + 1;
+        while j < sides.len() && sides[j].0 == sides[k].0 {
+            j += 1;
+        }
+        if j - k == 2 {
+            let (s, t) = (sides[k], sides[k + 1]);
+            if s.1 != t.1 {
+                next[s.1].push((t.1, s.2 == t.2));
+                next[t.1].push((s.1, s.2 == t.2));
+            }
+        }
+        k = j;
+    }
+    next
+}
+
+/// Whether the triangles reached from triangle `seed` across edges of exactly two triangles
+/// can all be flipped to run every such edge both ways (what [`orient`] does where it can): a
+/// walk gives each triangle the flip its neighbour asks, and the piece is orientable when no
+/// edge asks a reached triangle for the other one.
+pub(super) fn orientable_from(mesh: &InputMesh, seed: usize) -> bool {
+    let across = across_edges(&mesh.triangles);
+    let mut flip: Vec<Option<bool>> = vec![None; mesh.triangles.len()];
+    flip[seed] = Some(false);
+    let mut stack = vec![seed];
+    while let Some(t) = stack.pop() {
+        let f = flip[t] == Some(true);
+        for &(o, same) in &across[t] {
+            // Two triangles running their edge the same way need opposite flips.
+            let want = f ^ same;
+            match flip[o] {
+                None => {
+                    flip[o] = Some(want);
+                    stack.push(o);
+                }
+                Some(g) if g != want => return false,
+                Some(_) => {}
+            }
+        }
+    }
+    true
 }
 
 /// The centroid of triangle `t`.
