@@ -1680,7 +1680,7 @@ fn fit_general_within(
     let parts = mesh.components_indexed();
     let count = parts.len();
     let diagonal = mesh.diagonal();
-    let all = mesh.triangles.len().max(1) as f64;
+    let shares = work_shares(&parts);
     let mut patchwork = Vec::with_capacity(count);
     let mut surfaces = Vec::new();
     let mut measured = Vec::with_capacity(count);
@@ -1688,8 +1688,8 @@ fn fit_general_within(
     let mut refused: Vec<String> = Vec::new();
     let mut said: Vec<String> = Vec::new();
     // Each component to the same distance (a fraction of the whole mesh's diagonal), within
-    // its share of the work bound by its triangles.
-    let fit_part = |part: &InputMesh, rounds: &mut Rounds| {
+    // `share` of the work bound.
+    let fit_part = |part: &InputMesh, rounds: &mut Rounds, share: f64| {
         let own = part.diagonal();
         let target = if own > 0.0 {
             (opts.target * diagonal / own).min(0.5)
@@ -1700,31 +1700,62 @@ fn fit_general_within(
             target,
             ..opts.clone()
         };
-        fit_component(part, &opts, rounds, part.triangles.len() as f64 / all)
+        fit_component(part, &opts, rounds, share)
     };
     // The components side by side, a few at a time, each from what was spent before the
     // few; then, in order, each is kept if its decisions hold after what the ones before it
     // spent, or fitted again from there. (Near the bound, a component that the bound leaves
     // out is refused at once either way.)
     let mut results = Vec::with_capacity(count);
-    for wave in parts.chunks(ahead.max(1)) {
+    // What each component's rounds spent.
+    let mut spent = Vec::with_capacity(count);
+    let indexed: Vec<(usize, &(InputMesh, Vec<u32>))> = parts.iter().enumerate().collect();
+    for wave in indexed.chunks(ahead.max(1)) {
         use rayon::prelude::*;
         let base = rounds;
         let fitted: Vec<_> = wave
             .par_iter()
-            .map(|(part, _)| {
+            .map(|&(k, (part, _))| {
                 let mut own = base;
                 own.slack = f64::INFINITY;
-                (fit_part(part, &mut own), own)
+                (fit_part(part, &mut own, shares[k]), own)
             })
             .collect();
-        for ((part, _), (fitted, own)) in wave.iter().zip(fitted) {
+        for (&(k, (part, _)), (fitted, own)) in wave.iter().zip(fitted) {
             // The margin keeps rounding apart: `P + (a + b)` against `(P + a) + b`.
+            let before = rounds.spent;
             if rounds.spent - base.spent <= own.slack - 1e-9 * rounds.limit {
                 rounds.spent += own.spent - base.spent;
                 results.push(fitted);
             } else {
-                results.push(fit_part(part, &mut rounds));
+                results.push(fit_part(part, &mut rounds, shares[k]));
+            }
+            spent.push(rounds.spent - before);
+        }
+    }
+    // What the components left of the bound goes to those that missed (a large simple part
+    // of few triangles, a cylinder of long slivers among many small detailed ones, whose
+    // share stopped its rounds): each is fitted again, from its first round, within its
+    // share of what is left by its triangles and area among those that missed, when that is
+    // more than twice what its rounds took the first time, and the nearer fit is kept.
+    let missed: Vec<usize> = (0..count)
+        .filter(|&k| results[k].as_ref().is_ok_and(|c| c.3.is_some()))
+        .collect();
+    let left = rounds.limit - rounds.spent;
+    if !missed.is_empty() && left > 0.0 {
+        let again = work_shares(&missed.iter().map(|&k| &parts[k]).collect::<Vec<_>>());
+        for (&k, w) in missed.iter().zip(again) {
+            let budget = w * left;
+            if budget <= 2.0 * spent[k] {
+                continue;
+            }
+            let mut own = rounds;
+            let next = fit_part(&parts[k].0, &mut own, budget / rounds.limit);
+            rounds.spent = own.spent;
+            if let (Ok(b), Ok(a)) = (&next, &results[k]) {
+                if b.1.hausdorff < a.1.hausdorff {
+                    results[k] = next;
+                }
             }
         }
     }
@@ -1802,6 +1833,31 @@ fn fit_general_within(
     fit.notes.extend(said);
     fit.notes.extend(refused);
     Ok((fit, m, d, miss))
+}
+
+/// Each component's share of the layout rounds' work bound: the mean of its shares of the
+/// components' triangles and of their area (a large part of few triangles, a box or a
+/// cylinder of long slivers, needs layout vertices for its extent that its triangles do not
+/// ask for; a detailed small part needs them for its triangles). The shares add up to 1.
+fn work_shares<P: std::borrow::Borrow<(InputMesh, Vec<u32>)>>(parts: &[P]) -> Vec<f64> {
+    let triangles: Vec<f64> = parts
+        .iter()
+        .map(|p| p.borrow().0.triangles.len() as f64)
+        .collect();
+    let areas: Vec<f64> = parts.iter().map(|p| p.borrow().0.area()).collect();
+    let (t_all, a_all): (f64, f64) = (triangles.iter().sum(), areas.iter().sum());
+    triangles
+        .iter()
+        .zip(&areas)
+        .map(|(&t, &a)| {
+            let t = if t_all > 0.0 { t / t_all } else { 0.0 };
+            if a_all > 0.0 && a_all.is_finite() {
+                0.5 * (t + a / a_all)
+            } else {
+                t
+            }
+        })
+        .collect()
 }
 
 /// A general fit of `faces` faces (no sections, modes or axis: the frame is the identity)
@@ -2891,6 +2947,32 @@ mod tests {
         }
         // The bounds did leave components out.
         assert!(left_out > 0);
+    }
+
+    /// The work bound's shares: a large sphere of few triangles beside a small one of many
+    /// gets more than its share of the triangles (its area asks for layout vertices), the
+    /// small one less; the shares add up to 1, and parts of no area share by triangles.
+    #[test]
+    fn the_work_is_shared_by_triangles_and_area() {
+        let large = uv_sphere(6, 8, |_| 10.0);
+        let small = uv_sphere(30, 40, |_| 1.0);
+        let parts = [(large.clone(), Vec::new()), (small.clone(), Vec::new())];
+        let shares = work_shares(&parts);
+        let (t0, t1) = (large.triangles.len() as f64, small.triangles.len() as f64);
+        let (a0, a1) = (large.area(), small.area());
+        assert!((shares[0] - 0.5 * (t0 / (t0 + t1) + a0 / (a0 + a1))).abs() < 1e-15);
+        assert!(shares[0] > t0 / (t0 + t1) && shares[1] < t1 / (t0 + t1));
+        assert!((shares[0] + shares[1] - 1.0).abs() < 1e-15);
+        let flat = |m: &InputMesh| {
+            let positions = m
+                .positions
+                .iter()
+                .map(|p| Vec3::new(p.x, 0.0, 0.0))
+                .collect();
+            InputMesh::new(positions, m.triangles.clone()).unwrap()
+        };
+        let shares = work_shares(&[(flat(&large), Vec::new()), (flat(&small), Vec::new())]);
+        assert_eq!(shares, vec![t0 / (t0 + t1), t1 / (t0 + t1)]);
     }
 
     #[test]

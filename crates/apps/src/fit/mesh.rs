@@ -377,6 +377,17 @@ impl InputMesh {
         Ok(())
     }
 
+    /// The surface's area: the sum of its triangles' areas.
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.positions[i as usize]);
+                0.5 * (b - a).cross(&(c - a)).norm()
+            })
+            .sum()
+    }
+
     /// The length of the bounding box's diagonal.
     pub fn diagonal(&self) -> f64 {
         let (lo, hi) = self.bounds();

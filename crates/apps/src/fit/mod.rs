@@ -82,7 +82,8 @@ pub use rate::{
     rate_distortion, DecimatedPoint, RateDistortion, RatePoint, Refusal, MAX_TOLERANCES,
 };
 pub use repair::{
-    repair, Repairs, CRACK_FRACTION, FOLD_SHARE, MAX_PASSES, STRAY_EXTENT, STRAY_SHARE,
+    repair, Repairs, CRACK_FRACTION, FOLD_SHARE, MAX_NONMANIFOLD_SHARE, MAX_PASSES, STRAY_EXTENT,
+    STRAY_SHARE,
 };
 pub use section::{fourier, AxisFrame, Piece, Section, Slicer};
 pub use sheet::{fit_sheet, SHEET_AM};

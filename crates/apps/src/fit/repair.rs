@@ -15,7 +15,9 @@
 //!    [`MAX_PASSES`] times).
 //! 5. **Non-manifold edges** (three or more triangles): the two triangles of the largest
 //!    manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
-//!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays.
+//!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays. A file
+//!    whose repair would drop more than [`MAX_NONMANIFOLD_SHARE`] of its triangles is refused
+//!    (a volume mesh's cells, not a surface).
 //! 6. **Pinched vertices**: a vertex whose triangles make several fans (pieces of the surface
 //!    that touch at the vertex only: a scan's tiny pocket hanging from one point, a fin of a
 //!    few triangles, two sheets of a surface touching) is cut, one vertex per fan at the same
@@ -66,6 +68,14 @@ pub const STRAY_EXTENT: f64 = 0.01;
 /// The largest share of a piece's triangles that may be dropped to make it orientable (a
 /// piece that needs more, a Möbius band of a few quads, is left as it is).
 pub const FOLD_SHARE: f64 = 0.01;
+
+/// The largest share of the triangles the non-manifold edges' repair may drop: beyond it the
+/// file is not a surface with a few fins and strays but something else (the faces of a volume
+/// mesh's cells, every inner face shared by two cells and each edge by four or more: a grid
+/// of 20³ cubes loses 70 % of its triangles), and what the repair would leave is not the
+/// object. (A building of three boxes stacked face to face loses the 31 % between them, and
+/// what is left is its outside.)
+pub const MAX_NONMANIFOLD_SHARE: f64 = 0.5;
 
 /// Passes of the T-junction split at most (each splits every edge it can).
 pub const MAX_PASSES: usize = 8;
@@ -298,9 +308,23 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     if nonmanifold > 0 || changed {
         let (kept, edges, dropped) = resolve_nonmanifold(&triangles);
         if edges > 0 {
+            let at = centroid(&positions, &triangles[dropped[0]]);
+            if dropped.len() as f64 > MAX_NONMANIFOLD_SHARE * triangles.len() as f64 {
+                return Err(Error::invalid(format!(
+                    "the mesh is not one surface: {edges} of its edges are shared by three or \
+                     more triangles (the first near ({}, {}, {})), and making it manifold would \
+                     drop {} of its {} triangles (a volume mesh's cells, or surfaces overlapping \
+                     face to face): export the object's outer surface alone",
+                    crate::number::sig(at.x, 4),
+                    crate::number::sig(at.y, 4),
+                    crate::number::sig(at.z, 4),
+                    dropped.len(),
+                    triangles.len()
+                )));
+            }
             r.nonmanifold_edges = edges;
             r.nonmanifold_dropped = dropped.len();
-            note_at(&mut r, centroid(&positions, &triangles[dropped[0]]));
+            note_at(&mut r, at);
             triangles = kept;
         }
     }
@@ -1209,6 +1233,61 @@ mod tests {
         assert_eq!((r.stray_components, r.stray_triangles), (1, 1), "{r:?}");
         assert_eq!(kept.triangles.len(), base.triangles.len() + 2);
         assert_eq!(kept.topology().components, 2);
+    }
+
+    /// The faces of every cell of an `n`³ grid of cubes (a volume mesh written as a surface
+    /// file): each inner face shared by two cells, each inner edge by four faces.
+    fn cell_faces(n: u32) -> InputMesh {
+        let v = |i: u32, j: u32, k: u32| i + (n + 1) * (j + (n + 1) * k);
+        let mut p = Vec::new();
+        for k in 0..=n {
+            for j in 0..=n {
+                for i in 0..=n {
+                    p.push(Vec3::new(i as f64, j as f64, k as f64));
+                }
+            }
+        }
+        let mut t = Vec::new();
+        for k in 0..n {
+            for j in 0..n {
+                for i in 0..n {
+                    // The cell's six faces, each cell writing all of its own, split along the
+                    // diagonal its parity picks (a face between two cells is two different
+                    // pairs of triangles, not a duplicate).
+                    let odd = (i + j + k) % 2 == 1;
+                    let mut quad = |q: [u32; 4]| {
+                        let q = if odd { [q[1], q[2], q[3], q[0]] } else { q };
+                        t.push([q[0], q[1], q[2]]);
+                        t.push([q[0], q[2], q[3]]);
+                    };
+                    let c = |a: u32, b: u32, d: u32| v(i + a, j + b, k + d);
+                    quad([c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)]);
+                    quad([c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)]);
+                    quad([c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)]);
+                    quad([c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)]);
+                    quad([c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)]);
+                    quad([c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)]);
+                }
+            }
+        }
+        InputMesh::new(p, t).unwrap()
+    }
+
+    /// A volume mesh's cell faces are not a surface with a few fins: the repair that would
+    /// drop most of them refuses the file instead, naming a point; one cell (a closed cube)
+    /// and two cells sharing a face (one inner face, dropped with its fins) are repaired.
+    #[test]
+    fn a_volume_mesh_is_refused_not_repaired_away() {
+        let e = repair(&cell_faces(3)).unwrap_err();
+        let m = e.message();
+        assert!(
+            m.starts_with("the mesh is not one surface: ") && m.contains("near ("),
+            "{m}"
+        );
+        assert!(m.contains("export the object's outer surface alone"), "{m}");
+        let (cube, r) = repair(&cell_faces(1)).unwrap();
+        assert!(r.is_empty(), "{r:?}");
+        closed_and_manifold(&cube);
     }
 
     #[test]

@@ -288,6 +288,54 @@ fn bad_meshes_get_one_line_and_no_output() {
         &stl,
         &["short.stl", "truncated", "announces 4294967295 triangles"],
     );
+    // A volume mesh's cells (a 3 × 3 × 3 grid of cubes, each writing its six faces as quads):
+    // not a surface, refused with a point instead of repaired away.
+    let mut cells = String::new();
+    let v = |i: u32, j: u32, k: u32| 1 + i + 4 * (j + 4 * k);
+    for k in 0..4 {
+        for j in 0..4 {
+            for i in 0..4 {
+                cells += &format!("v {i} {j} {k}\n");
+            }
+        }
+    }
+    for k in 0..3 {
+        for j in 0..3 {
+            for i in 0..3 {
+                let c = |a: u32, b: u32, d: u32| v(i + a, j + b, k + d);
+                let quads = [
+                    [c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)],
+                    [c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)],
+                    [c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)],
+                    [c(0, 1, 0), c(0, 1, 1), c(1, 1, 1), c(1, 1, 0)],
+                    [c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)],
+                    [c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)],
+                ];
+                for q in quads {
+                    // Each cell's own diagonal: a face between two cells is not written twice
+                    // alike.
+                    let q = if (i + j + k) % 2 == 1 {
+                        [q[1], q[2], q[3], q[0]]
+                    } else {
+                        q
+                    };
+                    cells += &format!(
+                        "f {} {} {}\nf {} {} {}\n",
+                        q[0], q[1], q[2], q[0], q[2], q[3]
+                    );
+                }
+            }
+        }
+    }
+    bad_mesh(
+        "cells.obj",
+        cells.as_bytes(),
+        &[
+            "cells.obj",
+            "not one surface",
+            "export the object's outer surface alone",
+        ],
+    );
     // Two components: the ellipsoid twice, the second shifted.
     let n = 2 + 11 * 16;
     let mut two = good.clone();

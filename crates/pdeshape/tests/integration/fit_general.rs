@@ -286,6 +286,21 @@ fn a_real_ant_of_fifteen_low_polygon_parts_is_fitted_whole() {
     assert_real_fit("ant", &mesh, &fitted, true);
 }
 
+/// trimesh's `boolean.glb` (see `tests/data/meshes/README.md`): a CAD part of 26 bodies once
+/// welded. Its largest body, a block with a cylindrical cut, has 110 of the 3930 triangles,
+/// long slivers across its faces. With the layout rounds' work shared among the bodies by
+/// their triangles alone, that body's rounds stopped at 84 faces, bulging 3.75 % of the
+/// diagonal off its top edge, while the bodies together spent under a tenth of the bound.
+/// Shared by triangles and area, with what the bodies leave given to those that missed, the
+/// whole meets the default tolerance.
+#[test]
+fn a_real_cad_part_of_many_bodies_is_fitted_within_the_default_tolerance() {
+    let (mesh, fitted, _) = fit_real("boolean.glb");
+    assert!(mesh.components().len() >= 20, "{}", mesh.components().len());
+    assert_eq!(fitted.fit.spec.patchwork.len(), mesh.components().len());
+    assert_real_fit("boolean", &mesh, &fitted, false);
+}
+
 /// Reads a mesh of `tests/data/meshes/`, repaired as `pdeshape fit` repairs it, and fits it by
 /// the automatic choice with the default options, as `pdeshape fit MESH -o OUT` runs it.
 fn fit_real(file: &str) -> (InputMesh, pdeshape::fit::Fitted, String) {
@@ -293,6 +308,8 @@ fn fit_real(file: &str) -> (InputMesh, pdeshape::fit::Fitted, String) {
     let bytes = std::fs::read(&path).unwrap();
     let format = if file.ends_with(".ply") {
         pdeshape::fit::MeshFormat::Ply
+    } else if file.ends_with(".glb") {
+        pdeshape::fit::MeshFormat::Gltf
     } else {
         pdeshape::fit::MeshFormat::Obj
     };
@@ -321,7 +338,8 @@ fn fit_real(file: &str) -> (InputMesh, pdeshape::fit::Fitted, String) {
 /// A fit of several components is measured from the components' own measures (each against
 /// its component alone): the distances must be those of a measure of the whole design
 /// against the whole mesh, point by point (to rounding: a point whose nearest grid triangle
-/// is one of two at the same distance may start Newton from the other, at the same `(u, v)`).
+/// is one of two at the same distance may start Newton from the other, at the same `(u, v)`),
+/// where the whole is sampled as finely as its components were.
 fn assert_real_fit(name: &str, mesh: &InputMesh, fitted: &pdeshape::fit::Fitted, watertight: bool) {
     let m = &fitted.measures;
     assert_eq!(fitted.fit.mode, FitMode::General);
@@ -359,16 +377,30 @@ fn assert_real_fit(name: &str, mesh: &InputMesh, fitted: &pdeshape::fit::Fitted,
             );
         }
         assert_eq!(d.fit.len(), own.fit.len());
-        for (k, (a, b)) in d.fit.iter().zip(&own.fit).enumerate() {
-            for (j, (x, y)) in a.iter().zip(b).enumerate() {
-                assert!(
-                    near(*x, *y),
-                    "{name}: sample {j} of grid {k} at {x} of the whole, {y} merged"
-                );
+        if own.samples.spacing == samples.spacing {
+            for (k, (a, b)) in d.fit.iter().zip(&own.fit).enumerate() {
+                for (j, (x, y)) in a.iter().zip(b).enumerate() {
+                    assert!(
+                        near(*x, *y),
+                        "{name}: sample {j} of grid {k} at {x} of the whole, {y} merged"
+                    );
+                }
             }
+            assert!((whole.hausdorff - m.hausdorff).abs() <= 1e-12 * m.diagonal);
+            assert!((whole.rms - m.rms).abs() <= 1e-12 * m.diagonal);
+        } else {
+            // The whole mesh at the tolerance's spacing has more points than a measure takes
+            // (`MeshSamples::MAX_POINTS`), so its measure samples it and the fit's grids more
+            // coarsely than each component's did: not the same points, but that measure of
+            // the whole must meet the same bounds.
+            assert!(own.samples.spacing < samples.spacing, "{name}");
+            assert!(
+                whole.hausdorff <= fitted.tolerance * m.diagonal,
+                "{name}: Hausdorff {} of the whole",
+                whole.hausdorff / m.diagonal
+            );
+            assert!(whole.rms <= 0.01 * m.diagonal, "{name}: RMS of the whole");
         }
-        assert!((whole.hausdorff - m.hausdorff).abs() <= 1e-12 * m.diagonal);
-        assert!((whole.rms - m.rms).abs() <= 1e-12 * m.diagonal);
     }
     let d = pdeshape::diagnose(&DesignSpec::default(), &solved);
     let mut shared = 0;
