@@ -13,8 +13,10 @@
 //!    same tolerance, and away from the edge's ends) splits that triangle there, so both sides
 //!    of the seam share the vertex. Repeated until no such vertex is left (at most
 //!    [`MAX_PASSES`] times).
-//! 5. **Non-manifold edges** (three or more triangles): the two triangles of the largest
-//!    manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
+//! 5. **Non-manifold edges** (three or more triangles): where the triangles fall in pieces of
+//!    two each (parts of an assembly touching along an edge), the parts are split apart there,
+//!    every part but the largest taking its own copies of the edge's vertices, and keep all
+//!    their triangles. Elsewhere the two triangles of the largest manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
 //!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays. A file
 //!    whose repair would drop more than [`MAX_NONMANIFOLD_SHARE`] of its triangles is refused
 //!    (a volume mesh's cells, not a surface).
@@ -91,6 +93,8 @@ pub struct Repairs {
     pub cracks: usize,
     /// Boundary vertices that split a triangle's edge (T-junctions).
     pub t_junctions: usize,
+    /// Edges where parts touched (each with its two triangles there), split apart.
+    pub touching: usize,
     /// Edges that had three or more triangles.
     pub nonmanifold_edges: usize,
     /// Triangles dropped at those edges.
@@ -151,6 +155,12 @@ impl Repairs {
                 self.t_junctions,
                 "T-junction split",
                 "T-junctions split",
+            ));
+        }
+        if self.touching > 0 {
+            parts.push(format!(
+                "{} where parts touch split apart",
+                plural(self.touching, "edge", "edges")
             ));
         }
         if self.nonmanifold_edges > 0 {
@@ -303,8 +313,16 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
         note_at(&mut r, positions[split[0] as usize]);
     }
 
-    // 5. Non-manifold edges (looked for again only if the steps before changed the edges).
+    // 5. Non-manifold edges (looked for again only if the steps before changed the edges):
+    // parts touching along an edge split apart there, then the rest resolved.
     let changed = r.cracks > 0 || r.t_junctions > 0;
+    if nonmanifold > 0 || changed {
+        let (split, first) = unzip_touching(&mut positions, &mut triangles);
+        if let Some(p) = first {
+            r.touching = split;
+            note_at(&mut r, p);
+        }
+    }
     if nonmanifold > 0 || changed {
         let (kept, edges, dropped) = resolve_nonmanifold(&triangles);
         if edges > 0 {
@@ -723,6 +741,90 @@ fn split_t_junctions(positions: &[Vec3], triangles: &mut Vec<[u32; 3]>, tol: f64
         split.extend(on.iter().map(|x| x.1));
     }
     split
+}
+
+/// Parts that touch along edges (two closed bodies of a CAD assembly sharing an edge, each
+/// with its two triangles there): at an edge of more than two triangles, the pieces (joined
+/// across edges of exactly two triangles) with exactly two triangles there running the edge
+/// opposite ways are parts; when there are several, every part but the largest (the first of
+/// the largest) takes its own copies of the edge's two vertices, at the same places, in all
+/// its triangles (other triangles there, a fin, stay with the largest part). Each part then keeps
+/// all its triangles (dropping two of the four left holes in a part that the fit then did not
+/// cover). Returns the number of edges so split and the middle of the first.
+fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usize, Option<Vec3>) {
+    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (i, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
+        }
+    }
+    let mut bad: Vec<(u32, u32)> = by_edge
+        .iter()
+        .filter(|(_, l)| l.len() > 2)
+        .map(|(e, _)| *e)
+        .collect();
+    if bad.is_empty() {
+        return (0, None);
+    }
+    bad.sort_unstable();
+    let mut parent: Vec<usize> = (0..triangles.len()).collect();
+    for l in by_edge.values() {
+        if l.len() == 2 {
+            union(&mut parent, l[0], l[1]);
+        }
+    }
+    let mut size: HashMap<usize, usize> = HashMap::new();
+    for i in 0..triangles.len() {
+        *size.entry(find(&mut parent, i)).or_insert(0) += 1;
+    }
+    let mut first = None;
+    // Whether triangle `t` runs the edge from `a` to `b`.
+    let forward = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
+    // The (vertex, piece) pairs that take a copy.
+    let mut copy: HashMap<(u32, usize), u32> = HashMap::new();
+    let mut split = 0;
+    for &(a, b) in &bad {
+        let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
+        for &t in &by_edge[&(a, b)] {
+            let r = find(&mut parent, t);
+            match groups.iter_mut().find(|g| g.0 == r) {
+                Some(g) => g.1.push(t),
+                None => groups.push((r, vec![t])),
+            }
+        }
+        // The parts: pieces with two triangles here that run the edge opposite ways (a fin,
+        // one triangle, stays with the largest, for the next step to drop).
+        groups.retain(|(_, l)| {
+            l.len() == 2 && forward(&triangles[l[0]], a, b) != forward(&triangles[l[1]], a, b)
+        });
+        if groups.len() < 2 {
+            continue;
+        }
+        groups.sort_by_key(|g| (std::cmp::Reverse(size[&g.0]), g.0));
+        for (r, _) in &groups[1..] {
+            for v in [a, b] {
+                copy.entry((v, *r)).or_insert_with(|| {
+                    positions.push(positions[v as usize]);
+                    (positions.len() - 1) as u32
+                });
+            }
+        }
+        split += 1;
+        first.get_or_insert((positions[a as usize] + positions[b as usize]) / 2.0);
+    }
+    if copy.is_empty() {
+        return (0, None);
+    }
+    for (i, t) in triangles.iter_mut().enumerate() {
+        let r = find(&mut parent, i);
+        for c in t.iter_mut() {
+            if let Some(&w) = copy.get(&(*c, r)) {
+                *c = w;
+            }
+        }
+    }
+    (split, first)
 }
 
 /// Keeps at most two triangles per edge: those of the largest manifold pieces. Returns the kept
@@ -1233,6 +1335,67 @@ mod tests {
         assert_eq!((r.stray_components, r.stray_triangles), (1, 1), "{r:?}");
         assert_eq!(kept.triangles.len(), base.triangles.len() + 2);
         assert_eq!(kept.topology().components, 2);
+    }
+
+    /// Two closed cubes of an assembly touching along an edge (the first's edge at x = y = 2
+    /// is the second's at its corner x = y = 0): the edge has four triangles, two of each
+    /// cube. The cubes are split apart there and keep all their triangles, each closed (the
+    /// repair dropped two of the four before, leaving a hole in one cube); a fin beside them
+    /// (one triangle on an edge) is still dropped.
+    #[test]
+    fn parts_touching_along_an_edge_are_split_apart_not_cut_open() {
+        let a = cube_with_fine_top(1);
+        let mut p = a.positions.clone();
+        let mut t = a.triangles.clone();
+        let shift = Vec3::new(2.0, 2.0, 0.0);
+        let index: Vec<u32> = a
+            .positions
+            .iter()
+            .map(|q| {
+                let q = q + shift;
+                match p.iter().position(|x| (x - q).norm() < 1e-12) {
+                    Some(i) => i as u32,
+                    None => {
+                        p.push(q);
+                        (p.len() - 1) as u32
+                    }
+                }
+            })
+            .collect();
+        t.extend(a.triangles.iter().map(|tri| tri.map(|i| index[i as usize])));
+        let m = InputMesh::new(p.clone(), t.clone()).unwrap();
+        assert_eq!(m.topology().nonmanifold_edges, 1);
+        let (fixed, r) = repair(&m).unwrap();
+        assert_eq!(
+            (r.touching, r.nonmanifold_edges, r.nonmanifold_dropped),
+            (1, 0, 0),
+            "{r:?}"
+        );
+        assert_eq!(fixed.triangles.len(), m.triangles.len());
+        let topo = fixed.topology();
+        assert_eq!(
+            (topo.boundary_edges, topo.nonmanifold_edges, topo.components),
+            (0, 0, 2),
+            "{topo:?}"
+        );
+        assert!((fixed.signed_volume() - 16.0).abs() < 1e-12);
+        // Nothing moved: every vertex of the repaired mesh is one of the file's.
+        assert!(fixed.positions.iter().all(|q| p.contains(q)));
+        let note = r.note().unwrap();
+        assert!(
+            note.contains("1 edge where parts touch split apart"),
+            "{note}"
+        );
+        // A fin on the touching edge: five triangles there, the fin's piece of one.
+        let mut p2 = p.clone();
+        p2.push(Vec3::new(3.0, 1.0, 1.0));
+        let mut t2 = t.clone();
+        let at = |q: Vec3| p.iter().position(|x| *x == q).unwrap() as u32;
+        let (e0, e1) = (at(Vec3::new(2.0, 2.0, 0.0)), at(Vec3::new(2.0, 2.0, 2.0)));
+        t2.push([e0, e1, (p2.len() - 1) as u32]);
+        let (fixed, r) = repair(&InputMesh::new(p2, t2).unwrap()).unwrap();
+        assert_eq!((r.touching, r.nonmanifold_dropped), (1, 1), "{r:?}");
+        assert_eq!(fixed.triangles.len(), m.triangles.len());
     }
 
     /// The faces of every cell of an `n`³ grid of cubes (a volume mesh written as a surface

@@ -292,10 +292,18 @@ fn a_real_ant_of_fifteen_low_polygon_parts_is_fitted_whole() {
 /// their triangles alone, that body's rounds stopped at 84 faces, bulging 3.75 % of the
 /// diagonal off its top edge, while the bodies together spent under a tenth of the bound.
 /// Shared by triangles and area, with what the bodies leave given to those that missed, the
-/// whole meets the default tolerance.
+/// whole meets the default tolerance. Three of its bodies touch others along an edge (four
+/// triangles there): the repair dropped two of them, leaving holes the fit did not cover
+/// (trimesh measured the fit 3.95 % off the file's surface while the fit's own measure said
+/// 1.94 %); split apart there, every triangle of the file is kept and fitted.
 #[test]
 fn a_real_cad_part_of_many_bodies_is_fitted_within_the_default_tolerance() {
-    let (mesh, fitted, _) = fit_real("boolean.glb");
+    let (mesh, fitted, repairs) = fit_real("boolean.glb");
+    assert!(
+        repairs.contains("3 edges where parts touch split apart") && !repairs.contains("dropping"),
+        "{repairs}"
+    );
+    assert_eq!(mesh.triangles.len(), 3936);
     assert!(mesh.components().len() >= 20, "{}", mesh.components().len());
     assert_eq!(fitted.fit.spec.patchwork.len(), mesh.components().len());
     assert_real_fit("boolean", &mesh, &fitted, false);
