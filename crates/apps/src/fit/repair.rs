@@ -743,6 +743,57 @@ fn split_t_junctions(positions: &[Vec3], triangles: &mut Vec<[u32; 3]>, tol: f64
     split
 }
 
+/// The edges of more than two triangles and the manifold pieces around them (what step 5's
+/// two parts share).
+struct EdgePieces {
+    /// Each edge's triangles (its ends sorted).
+    by_edge: HashMap<(u32, u32), Vec<usize>>,
+    /// The edges of more than two triangles, sorted.
+    bad: Vec<(u32, u32)>,
+    /// Union-find over the triangles: pieces joined across edges of exactly two triangles.
+    parent: Vec<usize>,
+    /// Each piece's triangles, by its root.
+    size: HashMap<usize, usize>,
+}
+
+impl EdgePieces {
+    /// `None` when every edge has at most two triangles.
+    fn new(triangles: &[[u32; 3]]) -> Option<EdgePieces> {
+        let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+        for (i, t) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
+            }
+        }
+        let mut bad: Vec<(u32, u32)> = by_edge
+            .iter()
+            .filter(|(_, l)| l.len() > 2)
+            .map(|(e, _)| *e)
+            .collect();
+        if bad.is_empty() {
+            return None;
+        }
+        bad.sort_unstable();
+        let mut parent: Vec<usize> = (0..triangles.len()).collect();
+        for l in by_edge.values() {
+            if l.len() == 2 {
+                union(&mut parent, l[0], l[1]);
+            }
+        }
+        let mut size: HashMap<usize, usize> = HashMap::new();
+        for i in 0..triangles.len() {
+            *size.entry(find(&mut parent, i)).or_insert(0) += 1;
+        }
+        Some(EdgePieces {
+            by_edge,
+            bad,
+            parent,
+            size,
+        })
+    }
+}
+
 /// Parts that touch along edges (two closed bodies of a CAD assembly sharing an edge, each
 /// with its two triangles there): at an edge of more than two triangles, the pieces (joined
 /// across edges of exactly two triangles) with exactly two triangles there running the edge
@@ -752,32 +803,15 @@ fn split_t_junctions(positions: &[Vec3], triangles: &mut Vec<[u32; 3]>, tol: f64
 /// all its triangles (dropping two of the four left holes in a part that the fit then did not
 /// cover). Returns the number of edges so split and the middle of the first.
 fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usize, Option<Vec3>) {
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
-        }
-    }
-    let mut bad: Vec<(u32, u32)> = by_edge
-        .iter()
-        .filter(|(_, l)| l.len() > 2)
-        .map(|(e, _)| *e)
-        .collect();
-    if bad.is_empty() {
+    let Some(EdgePieces {
+        by_edge,
+        bad,
+        mut parent,
+        size,
+    }) = EdgePieces::new(triangles)
+    else {
         return (0, None);
-    }
-    bad.sort_unstable();
-    let mut parent: Vec<usize> = (0..triangles.len()).collect();
-    for l in by_edge.values() {
-        if l.len() == 2 {
-            union(&mut parent, l[0], l[1]);
-        }
-    }
-    let mut size: HashMap<usize, usize> = HashMap::new();
-    for i in 0..triangles.len() {
-        *size.entry(find(&mut parent, i)).or_insert(0) += 1;
-    }
+    };
     let mut first = None;
     // Whether triangle `t` runs the edge from `a` to `b`.
     let forward = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
@@ -830,33 +864,15 @@ fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usi
 /// Keeps at most two triangles per edge: those of the largest manifold pieces. Returns the kept
 /// triangles, the number of non-manifold edges and the indices of the dropped triangles.
 fn resolve_nonmanifold(triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, usize, Vec<usize>) {
-    let mut by_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (i, t) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            by_edge.entry((a.min(b), a.max(b))).or_default().push(i);
-        }
-    }
-    let mut bad: Vec<(u32, u32)> = by_edge
-        .iter()
-        .filter(|(_, l)| l.len() > 2)
-        .map(|(e, _)| *e)
-        .collect();
-    if bad.is_empty() {
+    let Some(EdgePieces {
+        by_edge,
+        bad,
+        mut parent,
+        size,
+    }) = EdgePieces::new(triangles)
+    else {
         return (triangles.to_vec(), 0, Vec::new());
-    }
-    bad.sort_unstable();
-    // Pieces joined across manifold edges only.
-    let mut parent: Vec<usize> = (0..triangles.len()).collect();
-    for l in by_edge.values() {
-        if l.len() == 2 {
-            union(&mut parent, l[0], l[1]);
-        }
-    }
-    let mut size: HashMap<usize, usize> = HashMap::new();
-    for i in 0..triangles.len() {
-        *size.entry(find(&mut parent, i)).or_insert(0) += 1;
-    }
+    };
     let mut dropped = vec![false; triangles.len()];
     for e in &bad {
         let mut l: Vec<usize> = by_edge[e]
