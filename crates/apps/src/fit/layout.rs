@@ -2277,8 +2277,8 @@ pub(crate) fn proxy_gap(mesh: &InputMesh, proxy: &InputMesh) -> f64 {
 /// [`fit_general_measured`] of one connected mesh, within the work bound `rounds` (shared by
 /// the mesh's components): the first round is run while the bound allows it (refused
 /// otherwise), the refining rounds while their layouts stay within [`MAX_FACE_SHARE`] of the
-/// mesh's triangles and their work within `share` of the bound (this component's share of the
-/// whole mesh's triangles).
+/// mesh's triangles and their work within `share` of the bound (this component's share,
+/// [`work_shares`], or its part of what the components left).
 ///
 /// `whole`, for rounds on a [`proxy`]: the mesh it stands for, its index and the mesh's own
 /// tolerance (a length). The layouts are made on `mesh` (the proxy) and every round is measured on the

@@ -16,10 +16,11 @@
 //! 5. **Non-manifold edges** (three or more triangles): where the triangles fall in pieces of
 //!    two each (parts of an assembly touching along an edge), the parts are split apart there,
 //!    every part but the largest taking its own copies of the edge's vertices, and keep all
-//!    their triangles. Elsewhere the two triangles of the largest manifold pieces stay (pieces joined across edges of exactly two triangles), the others are
-//!    dropped: a fin or a stray triangle glued to the surface goes, the surface stays. A file
-//!    whose repair would drop more than [`MAX_NONMANIFOLD_SHARE`] of its triangles is refused
-//!    (a volume mesh's cells, not a surface).
+//!    their triangles. Elsewhere the two triangles of the largest manifold pieces stay (pieces
+//!    joined across edges of exactly two triangles), the others are dropped: a fin or a stray
+//!    triangle glued to the surface goes, the surface stays. A file whose repair would drop
+//!    more than [`MAX_NONMANIFOLD_SHARE`] of its triangles is refused (a volume mesh's cells,
+//!    not a surface).
 //! 6. **Pinched vertices**: a vertex whose triangles make several fans (pieces of the surface
 //!    that touch at the vertex only: a scan's tiny pocket hanging from one point, a fin of a
 //!    few triangles, two sheets of a surface touching) is cut, one vertex per fan at the same
