@@ -20,7 +20,9 @@ use std::collections::HashMap;
 use std::io::Cursor;
 
 /// Largest number of triangles read: a mesh beyond it is refused before its triangles are stored
-/// (a fit keeps a few arrays of the mesh's size; four million triangles take about 1 GB).
+/// (a fit keeps a few arrays of the mesh's size: the fit of `igea1m.ply`, a million triangles,
+/// peaked at 642 MiB; above about two million the first decimation's price refuses a mesh
+/// anyway, BENCHMARKS.md).
 pub const MAX_TRIANGLES: usize = 4_000_000;
 
 /// The largest coordinate a fit reads: lengths up to about `1e60` square and multiply (areas of
