@@ -317,16 +317,23 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
     // 5. Non-manifold edges (looked for again only if the steps before changed the edges):
     // parts touching along an edge split apart there, then the rest resolved.
     let changed = r.cracks > 0 || r.t_junctions > 0;
-    if nonmanifold > 0 || changed {
-        let (split, first) = unzip_touching(&mut positions, &mut triangles);
+    let pieces = (nonmanifold > 0 || changed)
+        .then(|| EdgePieces::new(&triangles))
+        .flatten();
+    if let Some(mut pieces) = pieces {
+        let (split, first) = unzip_touching(&mut pieces, &mut positions, &mut triangles);
         if let Some(p) = first {
             r.touching = split;
             note_at(&mut r, p);
         }
-    }
-    if nonmanifold > 0 || changed {
-        let (kept, edges, dropped) = resolve_nonmanifold(&triangles);
-        if edges > 0 {
+        // The split edges have two triangles each now: what is left, looked at again.
+        let rest = if split > 0 {
+            EdgePieces::new(&triangles)
+        } else {
+            Some(pieces)
+        };
+        if let Some(rest) = rest {
+            let (kept, edges, dropped) = resolve_nonmanifold(&triangles, rest);
             let at = centroid(&positions, &triangles[dropped[0]]);
             if dropped.len() as f64 > MAX_NONMANIFOLD_SHARE * triangles.len() as f64 {
                 return Err(Error::invalid(format!(
@@ -803,26 +810,27 @@ impl EdgePieces {
 /// its triangles (other triangles there, a fin, stay with the largest part). Each part then keeps
 /// all its triangles (dropping two of the four left holes in a part that the fit then did not
 /// cover). Returns the number of edges so split and the middle of the first.
-fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usize, Option<Vec3>) {
-    let Some(EdgePieces {
+fn unzip_touching(
+    pieces: &mut EdgePieces,
+    positions: &mut Vec<Vec3>,
+    triangles: &mut [[u32; 3]],
+) -> (usize, Option<Vec3>) {
+    let EdgePieces {
         by_edge,
         bad,
-        mut parent,
+        parent,
         size,
-    }) = EdgePieces::new(triangles)
-    else {
-        return (0, None);
-    };
+    } = pieces;
     let mut first = None;
     // Whether triangle `t` runs the edge from `a` to `b`.
     let forward = |t: &[u32; 3], a: u32, b: u32| (0..3).any(|k| t[k] == a && t[(k + 1) % 3] == b);
     // The (vertex, piece) pairs that take a copy.
     let mut copy: HashMap<(u32, usize), u32> = HashMap::new();
     let mut split = 0;
-    for &(a, b) in &bad {
+    for &(a, b) in bad.iter() {
         let mut groups: Vec<(usize, Vec<usize>)> = Vec::new();
         for &t in &by_edge[&(a, b)] {
-            let r = find(&mut parent, t);
+            let r = find(parent, t);
             match groups.iter_mut().find(|g| g.0 == r) {
                 Some(g) => g.1.push(t),
                 None => groups.push((r, vec![t])),
@@ -852,7 +860,7 @@ fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usi
         return (0, None);
     }
     for (i, t) in triangles.iter_mut().enumerate() {
-        let r = find(&mut parent, i);
+        let r = find(parent, i);
         for c in t.iter_mut() {
             if let Some(&w) = copy.get(&(*c, r)) {
                 *c = w;
@@ -862,18 +870,19 @@ fn unzip_touching(positions: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) -> (usi
     (split, first)
 }
 
-/// Keeps at most two triangles per edge: those of the largest manifold pieces. Returns the kept
-/// triangles, the number of non-manifold edges and the indices of the dropped triangles.
-fn resolve_nonmanifold(triangles: &[[u32; 3]]) -> (Vec<[u32; 3]>, usize, Vec<usize>) {
-    let Some(EdgePieces {
+/// Keeps at most two triangles per edge: those of the largest manifold pieces (`pieces`, of
+/// `triangles`). Returns the kept triangles, the number of non-manifold edges and the indices
+/// of the dropped triangles (at least one).
+fn resolve_nonmanifold(
+    triangles: &[[u32; 3]],
+    pieces: EdgePieces,
+) -> (Vec<[u32; 3]>, usize, Vec<usize>) {
+    let EdgePieces {
         by_edge,
         bad,
         mut parent,
         size,
-    }) = EdgePieces::new(triangles)
-    else {
-        return (triangles.to_vec(), 0, Vec::new());
-    };
+    } = pieces;
     let mut dropped = vec![false; triangles.len()];
     for e in &bad {
         let mut l: Vec<usize> = by_edge[e]
