@@ -125,6 +125,7 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         tolerance: args.tolerance,
         patches: args.sections,
         units: read.units,
+        file: read.file,
     };
     let mut fitted = fit::fit_measured(&mesh, &request)
         .map_err(|e| match &template {
@@ -145,12 +146,12 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
         .design_file(&name)
         .map_err(|e| CliError::input(format!("-o: {e}")))?;
     let miss_words = fitted.miss();
+    let worst_shown = fitted.worst_shown();
     let mut report = fitted.report(&shown, &notes);
     let fit::Fitted {
         fit: fitted,
         measures: m,
         distances,
-        worst: miss,
         tolerance,
         fallback,
         declined,
@@ -236,12 +237,10 @@ pub(crate) fn run(args: &Args) -> Result<(), CliError> {
     if missed {
         crate::common::note(&format!(
             "{shown}: written anyway (--best-effort): the fit misses the tolerance {}% of the \
-             diagonal by {} at ({}, {}, {})",
+             diagonal by {} at {}",
             pct(tolerance),
             num(m.hausdorff - tolerance * m.diagonal),
-            num(miss.x),
-            num(miss.y),
-            num(miss.z)
+            worst_shown
         ));
     }
     Ok(())
@@ -264,10 +263,11 @@ fn sweep(
     let mut out = Output::create(&args.output)?;
     let mut plot = args.plot.as_ref().map(|p| Output::create(p)).transpose()?;
     let read = read_mesh(&args.mesh, shown, &bytes, format)?;
-    let (mesh, _) =
-        fit::repair(&read.mesh).map_err(|e| CliError::input(format!("{shown}: {e}")))?;
+    let (mesh, _) = read
+        .repaired()
+        .map_err(|e| CliError::input(format!("{shown}: {e}")))?;
     let t = Instant::now();
-    let rd = fit::rate_distortion(&mesh, tolerances, mode).map_err(|e| {
+    let rd = fit::rate_distortion(&mesh, tolerances, mode, read.file).map_err(|e| {
         if e.place().starts_with("tolerances") {
             CliError::input(format!("--sweep {}", e.message()))
         } else {

@@ -10,6 +10,7 @@
 //! mode or a template is measured and returned as it is, so the caller decides what a miss
 //! means ([`Fitted::missed`]).
 
+use super::frame::FileFrame;
 use super::layout::{fit_general_measured, MEASURE_GRID};
 use super::measure::{measure, Measures, MeshSamples, PointDistances};
 use super::mesh::InputMesh;
@@ -80,6 +81,9 @@ pub struct Request<'a> {
     /// The length unit of the mesh's coordinates when its file states one
     /// ([`MeshRead::units`](super::MeshRead::units)): the fitted design's `units`.
     pub units: Option<Units>,
+    /// The frame of the mesh's file ([`MeshRead::file`](super::MeshRead::file)): points in
+    /// messages are named in its coordinates.
+    pub file: FileFrame,
 }
 
 impl Default for Request<'_> {
@@ -90,6 +94,7 @@ impl Default for Request<'_> {
             tolerance: None,
             patches: None,
             units: None,
+            file: FileFrame::default(),
         }
     }
 }
@@ -103,8 +108,11 @@ pub struct Fitted {
     pub measures: Measures,
     /// The per-point distances (for pictures).
     pub distances: PointDistances,
-    /// The point, in the mesh's coordinates, farthest from the other surface.
+    /// The point, in the mesh's (design) coordinates, farthest from the other surface.
     pub worst: Vec3,
+    /// The frame of the mesh's file: [`Fitted::miss`] and [`Fitted::report`] name `worst` in
+    /// its coordinates.
+    pub file: FileFrame,
     /// The tolerance the fit is held to (a fraction of the diagonal).
     pub tolerance: f64,
     /// The target the fit was refined to: the sections' for tube, sheet and template fits,
@@ -136,23 +144,26 @@ impl Fitted {
         Ok(text)
     }
 
-    /// How the fit misses its tolerance, with the farthest point in the mesh's coordinates
-    /// (`None` when it does not); the caller adds what to do about it in its own words.
+    /// How the fit misses its tolerance, with the farthest point in the coordinates of the
+    /// mesh's file (`None` when it does not); the caller adds what to do about it in its own
+    /// words.
     pub fn miss(&self) -> Option<String> {
         let m = &self.measures;
-        let w = self.worst;
         self.missed().then(|| {
             format!(
                 "the fit misses the tolerance {}% of the diagonal: the Hausdorff distance is {} \
-                 ({}% of the diagonal) at ({}, {}, {})",
+                 ({}% of the diagonal) at {}",
                 sig(100.0 * self.tolerance, 4),
                 sig(m.hausdorff, 6),
                 sig(100.0 * m.hausdorff_relative, 4),
-                sig(w.x, 6),
-                sig(w.y, 6),
-                sig(w.z, 6)
+                self.worst_shown()
             )
         })
+    }
+
+    /// The farthest point, `(x, y, z)` in the coordinates of the mesh's file.
+    pub fn worst_shown(&self) -> String {
+        self.file.point(self.worst)
     }
 
     /// The report of `pdeshape fit --json` (and of Python's `fit_mesh`): the mesh's name as
@@ -163,6 +174,7 @@ impl Fitted {
     /// fit's own.
     pub fn report(&self, mesh: &str, input_notes: &[String]) -> serde_json::Value {
         let f = &self.fit;
+        let worst = self.file.to_file(self.worst);
         serde_json::json!({
             "mesh": mesh,
             "mode": f.mode,
@@ -180,7 +192,8 @@ impl Fitted {
             "general_declined": self.declined,
             "units": f.spec.units.map(Units::as_str),
             "measures": self.measures,
-            "worst": [self.worst.x, self.worst.y, self.worst.z],
+            // In the file's coordinates, as the messages name it.
+            "worst": [worst.x, worst.y, worst.z],
             "notes": input_notes.iter().chain(&f.notes).collect::<Vec<_>>(),
         })
     }
@@ -210,6 +223,7 @@ pub fn measure_like(
 /// left.
 pub fn fit_measured(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
     let mut fitted = fit_chosen(mesh, request)?;
+    fitted.file = request.file;
     if let Some(units) = request.units {
         fitted.fit.spec.units = Some(units);
     }
@@ -230,6 +244,7 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
     let opts = FitOptions {
         target: request.tolerance.unwrap_or(FAST_TARGET),
         patches: request.patches,
+        file: request.file,
         ..FitOptions::default()
     };
     let mut fallback: Option<String> = None;
@@ -281,6 +296,7 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
             measures,
             distances,
             worst,
+            file: request.file,
             tolerance,
             target: opts.target,
             fallback: None,
@@ -339,6 +355,7 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
         measures,
         distances,
         worst,
+        file: request.file,
         tolerance,
         target: tolerance,
         fallback,

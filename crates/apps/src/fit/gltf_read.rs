@@ -6,11 +6,13 @@
 //! and the accessors' bytes are read here, every range checked, so a damaged file is refused
 //! with the place it names (`meshes[2].primitives[0]`, `accessors[5]`, `buffers[0]`).
 //!
-//! glTF is +Y up and in metres: positions are turned to +Z up by the inverse of the GLB
-//! writer's turn (`(x, y, z)` of the file is `(x, −z, y)` of the design) and kept in metres,
-//! unless the file's `asset.extras` name the design's units (`design_units`, as pdeshape's GLB
-//! writer records them): the mesh is then in those units.
+//! glTF is +Y up and in metres: positions are read in the scene's frame, and their
+//! [`FileFrame`] turns them to +Z up by the inverse of the GLB writer's turn (`(x, y, z)` of the
+//! file is `(x, −z, y)` of the design), in metres unless the file's `asset.extras` name the
+//! design's units (`design_units`, as pdeshape's GLB writer records them): the mesh is then in
+//! those units.
 
+use super::frame::FileFrame;
 use super::mesh::{check_count, check_memory, External};
 use crate::spec::Units;
 use crate::{Error, Result, Vec3};
@@ -22,12 +24,16 @@ use std::collections::HashMap;
 
 /// What a glTF file gave: the positions and triangles of all its parts, in the design's frame.
 pub(super) struct GltfMesh {
+    /// Positions in the file's frame: the scene's, once each node's transform is applied
+    /// (metres, +Y up).
     pub positions: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
     /// Triangle primitives read (each a part).
     pub parts: usize,
-    /// The unit of the positions.
+    /// The design's unit: metres, or the units the file's extras state.
     pub units: Units,
+    /// How the positions become the design's.
+    pub frame: FileFrame,
     /// What was converted or skipped, for the read's note.
     pub notes: Vec<String>,
 }
@@ -666,8 +672,7 @@ pub(super) fn read_gltf(bytes: &[u8], external: &External<'_>) -> Result<GltfMes
                 merged.insert(key, (positions.len() - base) as u32);
             }
             let w = linear * p + shift;
-            // glTF (x, y, z), +Y up, is the design's (x, −z, y).
-            let d = Vec3::new(w.x, -w.z, w.y) / metres;
+            let d = Vec3::new(w.x, w.y, w.z);
             if !d.iter().all(|c| c.is_finite()) {
                 let node = plan
                     .node
@@ -768,6 +773,11 @@ pub(super) fn read_gltf(bytes: &[u8], external: &External<'_>) -> Result<GltfMes
         triangles,
         parts: plans.len(),
         units: units.unwrap_or(Units::Metre),
+        // glTF (x, y, z), +Y up, is the design's (x, −z, y).
+        frame: FileFrame {
+            y_up: true,
+            design_unit: metres,
+        },
         notes,
     })
 }
@@ -959,6 +969,38 @@ mod tests {
             r.mesh.signed_volume()
         );
         r.mesh.require_closed().unwrap();
+    }
+
+    /// What the repairs say of a glTF file names its points in the file's frame (+Y up,
+    /// metres, placed by its node), not the design's: a cube raised 5 along the file's +Y with
+    /// its first triangle given twice.
+    #[test]
+    fn repairs_name_points_where_the_file_has_them() {
+        let (p, mut t) = cube();
+        t.extend_from_within(..3);
+        let mut bin = Bin::default();
+        let a = bin.positions(&p);
+        let i = bin.indices(&t);
+        let file = bin.glb(
+            json!([{ "primitives": [{ "attributes": { "POSITION": a }, "indices": i }] }]),
+            json!([{ "mesh": 0, "translation": [0.0, 5.0, 0.0] }]),
+            &[0],
+        );
+        let r = read(&file);
+        let (mesh, notes) = r.repaired().unwrap();
+        assert_eq!(mesh.triangles.len(), 12);
+        // The repeated triangle (0, 2, 3): corners (0, 0, 0), (0, 1, 0), (1, 1, 0) of the
+        // file, raised 5 along y; its centroid in the design's frame is (1/3, 0, 5 + 2/3).
+        let note = notes.join("; ");
+        assert!(
+            note.contains("1 duplicate triangle dropped (the first near (0.333333, 5.66667, 0))"),
+            "{note}"
+        );
+        assert!(close(
+            r.file.to_design(Vec3::new(1.0 / 3.0, 5.0 + 2.0 / 3.0, 0.0)),
+            Vec3::new(1.0 / 3.0, 0.0, 5.0 + 2.0 / 3.0),
+            1e-15
+        ));
     }
 
     /// A mirrored node (negative determinant) keeps the triangles facing out: their corners

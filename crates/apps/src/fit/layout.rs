@@ -26,6 +26,7 @@
 //!    stopped).
 
 use super::features::{plan_edges, EndPlan, Sectors};
+use super::frame::FileFrame;
 use super::measure::{
     closest_on_triangle, design_sizes, measure_components, measure_surfaces, Measures,
     MeshDistance, MeshSamples, PartMeasure, PointDistances,
@@ -149,17 +150,17 @@ pub fn vertex_normals(mesh: &InputMesh) -> Vec<Vec3> {
 }
 
 /// Refuses a mesh whose triangles are not consistently oriented (an edge run the same way by
-/// two triangles), naming the edge's midpoint in the mesh's coordinates, and saying whether
+/// two triangles), naming the edge's midpoint in the coordinates of the frame `file`, and saying whether
 /// flipping triangles would orient the surface there or no orientation exists (a Möbius band,
 /// a Klein bottle, the folds of a crude decimation: [`super::repair::orientable_from`]).
-pub fn require_oriented(mesh: &InputMesh) -> Result<()> {
+pub fn require_oriented(mesh: &InputMesh, file: FileFrame) -> Result<()> {
     let mut seen: HashMap<(u32, u32), usize> = HashMap::with_capacity(mesh.triangles.len() * 3);
     for (k, t) in mesh.triangles.iter().enumerate() {
         for j in 0..3 {
             let (a, b) = (t[j], t[(j + 1) % 3]);
             if let Some(&other) = seen.get(&(a, b)) {
                 let m = (mesh.positions[a as usize] + mesh.positions[b as usize]) * 0.5;
-                let place = format!("({:.6}, {:.6}, {:.6})", m.x, m.y, m.z);
+                let place = file.point(m);
                 return Err(Error::invalid(if super::repair::orientable_from(mesh, k) {
                     format!(
                         "the triangles are not consistently oriented: triangles {other} and {k} \
@@ -1503,8 +1504,26 @@ pub fn layout_spec(
     layout: &Layout,
     degree: usize,
 ) -> Result<PatchworkSpec> {
+    require_normals(mesh, normals, layout, FileFrame::default())?;
     let sectors = Sectors::new(mesh, normals);
     layout_spec_planes(mesh, normals, &sectors, index, layout, degree, true)
+}
+
+/// Refuses a layout with a vertex where the mesh has no normal (its triangles there have no
+/// area), naming the place in the coordinates of the frame `file`.
+fn require_normals(
+    mesh: &InputMesh,
+    normals: &[Vec3],
+    layout: &Layout,
+    file: FileFrame,
+) -> Result<()> {
+    match layout.vertices.iter().find(|&&v| normals[v].norm() == 0.0) {
+        Some(&v) => Err(Error::invalid(format!(
+            "the mesh has no normal at {} (its triangles there have no area)",
+            file.point(mesh.positions[v])
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// [`layout_spec`], its sharp vertices' planes chosen again ([`corner_normals`]) when `sharp`,
@@ -1525,16 +1544,6 @@ fn layout_spec_planes(
         layout.vertices.iter().map(|&v| normals[v]).collect()
     };
     let nrm = |i: usize| corner[i];
-    for (i, &v) in layout.vertices.iter().enumerate() {
-        if normals[v].norm() == 0.0 {
-            let p = pos(i);
-            return Err(Error::invalid(format!(
-                "the mesh has no normal at ({:.6}, {:.6}, {:.6}) (its triangles there have no \
-                 area)",
-                p.x, p.y, p.z
-            )));
-        }
-    }
     let mut edge_of: HashMap<(usize, usize), usize> = HashMap::new();
     let mut ends: Vec<[usize; 2]> = Vec::new();
     for face in &layout.faces {
@@ -1788,13 +1797,10 @@ fn fit_general_within(
             Err(e) => {
                 measured.push(part_measure);
                 let (lo, hi) = part.bounds();
-                let c = (lo + hi) / 2.0;
                 refused.push(format!(
-                    "component {} of {count} (about ({}, {}, {})) is left out: {}",
+                    "component {} of {count} (about {}) is left out: {}",
                     k + 1,
-                    sig(c.x, 6),
-                    sig(c.y, 6),
-                    sig(c.z, 6),
+                    opts.file.point((lo + hi) / 2.0),
                     e.message()
                 ));
                 continue;
@@ -2140,7 +2146,7 @@ fn fit_component(
     opts.check()?;
     price_layout(mesh)?;
     mesh.require_single()?;
-    require_oriented(mesh)?;
+    require_oriented(mesh, opts.file)?;
     let normals = vertex_normals(mesh);
     // The mesh's own index, for the rounds' measures, while the proxy's collapses keep one
     // thread.
@@ -2294,7 +2300,7 @@ fn fit_rounds(
     opts.check()?;
     price_layout(mesh)?;
     let topology = mesh.require_single()?;
-    require_oriented(mesh)?;
+    require_oriented(mesh, opts.file)?;
     let normals = vertex_normals(mesh);
     let sectors = Sectors::new(mesh, &normals);
     let smooth = Sectors::smooth(mesh, &normals);
@@ -2385,6 +2391,7 @@ fn fit_rounds(
         // With the sharp features' planes and the sharp vertices' planes chosen again; where
         // that layout has a face no patch takes, without the features, then with the mesh's
         // normals everywhere (the layout may be one that they suit).
+        require_normals(mesh, &normals, &layout, opts.file)?;
         let solve = |sharp: bool, sectors: &Sectors| {
             layout_spec_planes(
                 mesh,

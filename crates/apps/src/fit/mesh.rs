@@ -13,6 +13,7 @@
 //! `+Y` up file is turned back the same way. A file that states nothing is read as its numbers
 //! are, without units.
 
+use super::frame::FileFrame;
 use crate::spec::Units;
 use crate::{Error, Result, Vec3};
 use smallvec::SmallVec;
@@ -130,6 +131,8 @@ pub struct MeshRead {
     /// What the reader converted or left out (a turn to +Z up, glTF primitives of points or
     /// lines), each a phrase for [`MeshRead::note`].
     pub converted: Vec<String>,
+    /// How the file's own coordinates became `mesh`'s: messages name points in the file's.
+    pub file: FileFrame,
 }
 
 /// How a file's objects, groups or primitives were joined into one mesh
@@ -270,7 +273,8 @@ impl InputMesh {
     ) -> Result<MeshRead> {
         let mut units = None;
         let mut converted = Vec::new();
-        let (mut positions, triangles, parts) = match format {
+        let mut file = FileFrame::default();
+        let (positions, triangles, parts) = match format {
             MeshFormat::Obj => read_obj(bytes)?,
             MeshFormat::Stl => {
                 let (p, t) = read_stl(bytes)?;
@@ -288,6 +292,7 @@ impl InputMesh {
                 let g = super::gltf_read::read_gltf(bytes, external)?;
                 units = Some(g.units);
                 converted = g.notes;
+                file = g.frame;
                 (g.positions, g.triangles, g.parts)
             }
         };
@@ -295,26 +300,32 @@ impl InputMesh {
             units = Some(stated);
             if y_up {
                 // The writers' turn (x, y, z) → (x, z, −y), undone.
-                for p in &mut positions {
-                    *p = Vec3::new(p.x, -p.z, p.y);
-                }
+                file.y_up = true;
                 converted.push(format!(
                     "the file states +Y up (units: {}): turned to +Z up",
                     stated.as_str()
                 ));
             }
         }
+        // Checked in the file's frame, so a bad value or index is named as the file has it
+        // (and before welding).
+        let mut mesh = InputMesh::new(positions, triangles)?;
+        if file != FileFrame::default() {
+            for p in &mut mesh.positions {
+                *p = file.to_design(*p);
+            }
+            mesh.check_scale()?;
+        }
         if parts < 2 {
             return Ok(MeshRead {
-                mesh: InputMesh::new(positions, triangles)?,
+                mesh,
                 joined: None,
                 format,
                 units,
                 converted,
+                file,
             });
         }
-        // Checked before welding, so a bad value or index is named as the file has it.
-        let mesh = InputMesh::new(positions, triangles)?;
         let (mesh, welded, dropped) = weld_by_position(mesh)?;
         Ok(MeshRead {
             mesh,
@@ -326,6 +337,7 @@ impl InputMesh {
             format,
             units,
             converted,
+            file,
         })
     }
 

@@ -45,6 +45,7 @@ mod auto;
 mod basis;
 pub mod chain;
 mod features;
+mod frame;
 mod gltf_read;
 mod layout;
 mod measure;
@@ -66,6 +67,7 @@ pub use auto::{
     fit_measured, measure_like, Fitted, ModeChoice, Request, DEFAULT_TOLERANCE, FAST_TARGET,
 };
 pub use basis::{position_weights, weights};
+pub use frame::FileFrame;
 pub use layout::{
     decimate, fit_general, fit_general_measured, layout_spec, require_oriented, vertex_normals,
     Decimation, Facing, Layout, Miss, MAX_ROUNDS, MEASURE_GRID,

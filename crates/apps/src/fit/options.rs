@@ -1,5 +1,6 @@
 //! What every fitting mode takes and gives, and the automatic choice between the modes.
 
+use super::frame::FileFrame;
 use super::mesh::InputMesh;
 use super::section::AxisFrame;
 use crate::spec::DesignSpec;
@@ -22,6 +23,9 @@ pub struct FitOptions {
     /// A fixed number of patches (the nodes spread evenly over the fine sections), instead of
     /// the adaptive choice.
     pub patches: Option<usize>,
+    /// The frame of the file the mesh was read from: points in messages are named in its
+    /// coordinates ([`FileFrame::point`]).
+    pub file: FileFrame,
 }
 
 /// The options of the tube mode (the same as every mode's).
@@ -36,6 +40,7 @@ impl Default for FitOptions {
             samples: 128,
             max_modes: 32,
             patches: None,
+            file: FileFrame::default(),
         }
     }
 }

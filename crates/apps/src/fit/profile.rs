@@ -24,6 +24,7 @@
 //! the same place across the sheet, so the patches between them do not shear. `v = 0` is the
 //! end with the smaller `e₁` coordinate on every profile.
 
+use super::frame::FileFrame;
 use super::section::{AxisFrame, Section};
 use crate::{Error, Result, Vec3, TAU};
 
@@ -37,8 +38,9 @@ pub(super) fn from_polyline(
     frame: &AxisFrame,
     h: f64,
     samples: usize,
+    file: FileFrame,
 ) -> Result<Section> {
-    closed_evenly(line, frame, h, samples, Interpolant::Spline)
+    closed_evenly(line, (frame, h, file), samples, Interpolant::Spline)
 }
 
 /// An end of a sheet: the arc of the mesh's boundary beyond the last plane, as
@@ -51,8 +53,9 @@ pub(super) fn from_edge_arc(
     frame: &AxisFrame,
     h: f64,
     samples: usize,
+    file: FileFrame,
 ) -> Result<Section> {
-    closed_evenly(line, frame, h, samples, Interpolant::Linear)
+    closed_evenly(line, (frame, h, file), samples, Interpolant::Linear)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -61,19 +64,22 @@ enum Interpolant {
     Linear,
 }
 
+/// [`from_polyline`] and [`from_edge_arc`]; `at` is the plane: its frame, its height and the
+/// frame messages name it in.
 fn closed_evenly(
     line: &[Vec3],
-    frame: &AxisFrame,
-    h: f64,
+    at: (&AxisFrame, f64, FileFrame),
     samples: usize,
     how: Interpolant,
 ) -> Result<Section> {
+    let (frame, h, file) = at;
     // Points closer than a millionth of the profile's length to the previous one are merged:
     // a spline needs distinct parameters.
     let total: f64 = line.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
     if !(total.is_finite() && total > 0.0) || line.len() < 2 {
         return Err(Error::invalid(format!(
-            "the section at height {h:.6} is a degenerate profile of {} points",
+            "the section {} is a degenerate profile of {} points",
+            frame.plane(h, file),
             line.len()
         )));
     }
@@ -86,7 +92,8 @@ fn closed_evenly(
     }
     if pts.len() < 2 {
         return Err(Error::invalid(format!(
-            "the section at height {h:.6} is a degenerate profile"
+            "the section {} is a degenerate profile",
+            frame.plane(h, file)
         )));
     }
     if pts[0].dot(&frame.e1) > pts[pts.len() - 1].dot(&frame.e1) {
@@ -239,7 +246,7 @@ mod tests {
                 Vec3::new(x, 0.0, (2.0 * x).sin())
             })
             .collect();
-        let s = from_polyline(&line, &frame(), 0.0, 128).unwrap();
+        let s = from_polyline(&line, &frame(), 0.0, 128, FileFrame::default()).unwrap();
         assert!((s.points[0] - line[200]).norm() < 1e-12);
         assert!((s.points[64] - line[0]).norm() < 1e-12);
         for k in 1..64 {

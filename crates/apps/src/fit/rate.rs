@@ -15,6 +15,7 @@
 //! each decimated triangle (the cubic barycentric lattice) to the mesh.
 
 use super::auto::{fit_measured, measure_like, ModeChoice, Request};
+use super::frame::FileFrame;
 use super::layout::{vertex_normals, Decimation};
 use super::measure::{Distances, MeshDistance};
 use super::mesh::InputMesh;
@@ -117,11 +118,13 @@ fn gz_len(bytes: &[u8]) -> Result<usize> {
 
 /// Fits `mesh` at each of `tolerances` in `mode` and decimates it (module documentation).
 /// Errors: no tolerance, more than [`MAX_TOLERANCES`], one outside `(0, 1)`, each placed at
-/// `tolerances[i]`; a tolerance the modes refuse is a [`Refusal`], not an error.
+/// `tolerances[i]`; a tolerance the modes refuse is a [`Refusal`], not an error. Points the
+/// refusals name are in the coordinates of the frame `file` (the mesh's file's).
 pub fn rate_distortion(
     mesh: &InputMesh,
     tolerances: &[f64],
     mode: ModeChoice,
+    file: FileFrame,
 ) -> Result<RateDistortion> {
     if tolerances.is_empty() || tolerances.len() > MAX_TOLERANCES {
         return Err(Error::invalid(format!(
@@ -146,6 +149,7 @@ pub fn rate_distortion(
         let request = Request {
             mode,
             tolerance: Some(tolerance),
+            file,
             ..Request::default()
         };
         let fitted = match fit_measured(mesh, &request) {
@@ -612,9 +616,10 @@ mod tests {
     #[test]
     fn bad_tolerances_are_refused_at_their_place() {
         let mesh = flat(4);
-        let e = rate_distortion(&mesh, &[0.01, 1.5], ModeChoice::Auto).unwrap_err();
+        let e = rate_distortion(&mesh, &[0.01, 1.5], ModeChoice::Auto, FileFrame::default())
+            .unwrap_err();
         assert_eq!(e.place(), "tolerances[1]");
-        let e = rate_distortion(&mesh, &[], ModeChoice::Auto).unwrap_err();
+        let e = rate_distortion(&mesh, &[], ModeChoice::Auto, FileFrame::default()).unwrap_err();
         assert_eq!(e.place(), "tolerances");
     }
 }

@@ -50,6 +50,7 @@
 //! Nothing is moved: vertices keep their positions (a welded vertex takes the position of the
 //! one it joins), so the repaired mesh is the file's surface with its defects removed.
 
+use super::frame::FileFrame;
 use super::mesh::{InputMesh, MeshRead};
 use crate::{Error, Result, Vec3};
 use std::collections::HashMap;
@@ -113,8 +114,11 @@ pub struct Repairs {
     /// Triangles dropped where they fold against their neighbours so that no flipping orients
     /// their piece (a crude decimation's folds), at most [`FOLD_SHARE`] of the piece.
     pub folded: usize,
-    /// A point of the first repair, in the mesh's coordinates.
+    /// A point of the first repair, in the mesh's (design) coordinates.
     pub first: Option<Vec3>,
+    /// The frame of the file the mesh was read from: the note names `first` in its
+    /// coordinates.
+    pub file: FileFrame,
 }
 
 impl Repairs {
@@ -198,11 +202,9 @@ impl Repairs {
             ));
         }
         Some(format!(
-            "repaired: {} (the first near ({}, {}, {}))",
+            "repaired: {} (the first near {})",
             parts.join(", "),
-            crate::number::sig(p.x, 4),
-            crate::number::sig(p.y, 4),
-            crate::number::sig(p.z, 4)
+            self.file.point(p)
         ))
     }
 }
@@ -212,15 +214,24 @@ impl MeshRead {
     /// ([`MeshRead::note`]) and the repairs ([`Repairs::note`]) did: what a fit reports of its
     /// input.
     pub fn repaired(&self) -> Result<(InputMesh, Vec<String>)> {
-        let (mesh, repairs) = repair(&self.mesh)?;
+        let (mesh, repairs) = repair_in(&self.mesh, self.file)?;
         let notes = self.note().into_iter().chain(repairs.note()).collect();
         Ok((mesh, notes))
     }
 }
 
-/// The mesh with the defects of the module documentation removed, and what was done.
+/// The mesh with the defects of the module documentation removed, and what was done (a mesh
+/// read from a file: [`MeshRead::repaired`], whose messages name points in the file's frame).
 pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
-    let mut r = Repairs::default();
+    repair_in(mesh, FileFrame::default())
+}
+
+/// [`repair`], its messages naming points in the coordinates of the file `file` describes.
+fn repair_in(mesh: &InputMesh, file: FileFrame) -> Result<(InputMesh, Repairs)> {
+    let mut r = Repairs {
+        file,
+        ..Repairs::default()
+    };
     let mut positions = mesh.positions.clone();
     let diag = mesh.diagonal();
 
@@ -338,12 +349,10 @@ pub fn repair(mesh: &InputMesh) -> Result<(InputMesh, Repairs)> {
             if dropped.len() as f64 > MAX_NONMANIFOLD_SHARE * triangles.len() as f64 {
                 return Err(Error::invalid(format!(
                     "the mesh is not one surface: {edges} of its edges are shared by three or \
-                     more triangles (the first near ({}, {}, {})), and making it manifold would \
-                     drop {} of its {} triangles (a volume mesh's cells, or surfaces overlapping \
-                     face to face): export the object's outer surface alone",
-                    crate::number::sig(at.x, 4),
-                    crate::number::sig(at.y, 4),
-                    crate::number::sig(at.z, 4),
+                     more triangles (the first near {}), and making it manifold would drop {} of \
+                     its {} triangles (a volume mesh's cells, or surfaces overlapping face to \
+                     face): export the object's outer surface alone",
+                    file.point(at),
                     dropped.len(),
                     triangles.len()
                 )));
@@ -1483,7 +1492,7 @@ mod tests {
     fn a_flipped_triangle_is_flipped_back_and_the_cube_keeps_its_volume() {
         let mut m = cube_with_fine_top(3);
         m.triangles[4].swap(0, 1);
-        assert!(crate::fit::require_oriented(&m).is_err());
+        assert!(crate::fit::require_oriented(&m, crate::fit::FileFrame::default()).is_err());
         let (r, rep) = repair(&m).unwrap();
         assert_eq!(rep.flipped, 1, "{rep:?}");
         assert!(
@@ -1491,7 +1500,7 @@ mod tests {
             "{:?}",
             rep.note()
         );
-        crate::fit::require_oriented(&r).unwrap();
+        crate::fit::require_oriented(&r, crate::fit::FileFrame::default()).unwrap();
         closed_and_manifold(&r);
         assert!(
             (r.signed_volume() - 8.0).abs() < 1e-12,
@@ -1510,7 +1519,7 @@ mod tests {
         let (r, rep) = repair(&m).unwrap();
         assert_eq!(rep.flipped, 1, "{rep:?}");
         assert!(n > 2);
-        crate::fit::require_oriented(&r).unwrap();
+        crate::fit::require_oriented(&r, crate::fit::FileFrame::default()).unwrap();
         assert!(
             (r.signed_volume() + 8.0).abs() < 1e-12,
             "{}",
@@ -1561,7 +1570,9 @@ mod tests {
             assert_eq!(rep.folded, 0, "{rep:?}");
             assert_eq!(r.triangles, m.triangles);
             // Refused as what it is: no flipping would orient it.
-            let e = crate::fit::require_oriented(&r).unwrap_err().to_string();
+            let e = crate::fit::require_oriented(&r, crate::fit::FileFrame::default())
+                .unwrap_err()
+                .to_string();
             assert!(e.contains("the surface is not orientable"), "{e}");
             assert!(!e.contains("flip one of them"), "{e}");
         }
@@ -1577,7 +1588,7 @@ mod tests {
         let (r, rep) = repair(&m).unwrap();
         assert_eq!(rep.folded, 1, "{rep:?}");
         assert_eq!(r.triangles.len(), m.triangles.len() - 1);
-        crate::fit::require_oriented(&r).unwrap();
+        crate::fit::require_oriented(&r, crate::fit::FileFrame::default()).unwrap();
         let note = rep.note().unwrap();
         assert!(
             note.contains("1 triangle dropped at folds that no flipping orients"),

@@ -13,6 +13,7 @@
 //! sections are joined without twist. A loop that is not star-shaped about its centroid (rays
 //! that meet it more than once over more than a small share of the turn) is refused.
 
+use super::frame::FileFrame;
 use crate::fit::mesh::InputMesh;
 use crate::{Error, Result, Vec3, TAU};
 use std::collections::HashMap;
@@ -35,24 +36,43 @@ impl AxisFrame {
     pub fn height(&self, p: &Vec3) -> f64 {
         (p - self.origin).dot(&self.axis)
     }
+
+    /// The section plane at height `h` as messages name it: through its point on the axis,
+    /// normal to the axis, in the coordinates of the frame `file`.
+    pub fn plane(&self, h: f64, file: FileFrame) -> String {
+        file.plane(self.origin + self.axis * h, self.axis)
+    }
 }
 
 /// Triangles sorted for repeated sectioning along one axis: each triangle's height range.
 pub struct Slicer<'m> {
     mesh: &'m InputMesh,
     frame: AxisFrame,
+    file: FileFrame,
     heights: Vec<f64>,
 }
 
 impl<'m> Slicer<'m> {
-    /// Heights of every vertex along `frame.axis`.
-    pub fn new(mesh: &'m InputMesh, frame: AxisFrame) -> Self {
+    /// Heights of every vertex along `frame.axis`; messages name planes in the coordinates
+    /// of the frame `file` (the mesh's file's).
+    pub fn new(mesh: &'m InputMesh, frame: AxisFrame, file: FileFrame) -> Self {
         let heights = mesh.positions.iter().map(|p| frame.height(p)).collect();
         Slicer {
             mesh,
             frame,
+            file,
             heights,
         }
+    }
+
+    /// The frame messages name points in.
+    pub fn file(&self) -> FileFrame {
+        self.file
+    }
+
+    /// The plane at height `h`, as messages name it ([`AxisFrame::plane`]).
+    fn plane(&self, h: f64) -> String {
+        self.frame.plane(h, self.file)
     }
 
     /// The frame of the sections.
@@ -103,8 +123,9 @@ impl<'m> Slicer<'m> {
             for (x, y) in [(ends[0], ends[1]), (ends[1], ends[0])] {
                 if fill[x] >= 2 {
                     return Err(Error::invalid(format!(
-                        "the section at height {h:.6} crosses an edge of three or more \
-                         triangles: the mesh is not manifold"
+                        "the section {} crosses an edge of three or more triangles: the mesh \
+                         is not manifold",
+                        self.plane(h)
                     )));
                 }
                 links[x][fill[x] as usize] = y;
@@ -159,8 +180,9 @@ impl<'m> Slicer<'m> {
         if let Some(p) = pieces.iter().find(|p| !p.closed) {
             let q = p.points[0];
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} ends at {:?}: the mesh is open",
-                [q.x, q.y, q.z]
+                "the section {} ends at {}: the mesh is open",
+                self.plane(h),
+                self.file.point(q)
             )));
         }
         Ok(pieces)
@@ -173,16 +195,18 @@ impl<'m> Slicer<'m> {
         let k = match (loops.len(), near) {
             (0, _) => {
                 return Err(Error::invalid(format!(
-                    "the plane at height {h:.6} misses the mesh"
+                    "the plane {} misses the mesh",
+                    self.plane(h)
                 )))
             }
             (1, _) => 0,
             (_, Some(p)) => nearest(&loops, p),
             (k, None) => {
                 return Err(Error::invalid(format!(
-                    "the section at height {h:.6} has {k} separate loops: the automatic mode \
-                     fits bodies whose sections along the main axis are single loops (a \
-                     template names the planes of each part)"
+                    "the section {} has {k} separate loops: the automatic mode fits bodies \
+                     whose sections along the main axis are single loops (a template names the \
+                     planes of each part)",
+                    self.plane(h)
                 )))
             }
         };
@@ -195,7 +219,7 @@ impl<'m> Slicer<'m> {
     /// loop is not star-shaped.
     pub fn section(&self, h: f64, samples: usize, near: Option<Vec3>) -> Result<Section> {
         let ring = self.loop_near(h, near)?;
-        Section::from_loop(&ring.points, &self.frame, h, samples)
+        Section::from_loop(&ring.points, &self.frame, h, samples, self.file)
     }
 
     /// The open profile of the section at height `h` (an open mesh), sampled as an even
@@ -203,7 +227,7 @@ impl<'m> Slicer<'m> {
     /// piece; with it, the piece whose centroid is nearest to `near` is taken.
     pub fn profile(&self, h: f64, samples: usize, near: Option<Vec3>) -> Result<Section> {
         let line = self.open_piece(h, near)?;
-        super::profile::from_polyline(&line.points, &self.frame, h, samples)
+        super::profile::from_polyline(&line.points, &self.frame, h, samples, self.file)
     }
 
     /// The open piece of the section at height `h` (see [`Slicer::profile`]).
@@ -214,23 +238,26 @@ impl<'m> Slicer<'m> {
         let line = match (open.len(), near) {
             (0, _) if loops > 0 => {
                 return Err(Error::invalid(format!(
-                    "the section at height {h:.6} is a closed loop: the mesh is open, but not a \
-                     sheet whose sections across its main axis are open profiles (a closed body \
-                     with a hole?)"
+                    "the section {} is a closed loop: the mesh is open, but not a sheet whose \
+                     sections across its main axis are open profiles (a closed body with a \
+                     hole?)",
+                    self.plane(h)
                 )))
             }
             (0, _) => {
                 return Err(Error::invalid(format!(
-                    "the plane at height {h:.6} misses the mesh"
+                    "the plane {} misses the mesh",
+                    self.plane(h)
                 )))
             }
             (1, _) => 0,
             (_, Some(p)) => nearest(&open, p),
             (k, None) => {
                 return Err(Error::invalid(format!(
-                    "the section at height {h:.6} has {k} separate pieces: the sheet mode fits \
-                     sheets whose sections across the main axis are single profiles (a \
-                     template names the planes of each part)"
+                    "the section {} has {k} separate pieces: the sheet mode fits sheets whose \
+                     sections across the main axis are single profiles (a template names the \
+                     planes of each part)",
+                    self.plane(h)
                 )))
             }
         };
@@ -285,11 +312,20 @@ const BACKTRACK_SHARE: f64 = 0.02;
 
 impl Section {
     /// Samples a closed loop lying in the plane at height `h` (see the module documentation).
-    pub fn from_loop(ring: &[Vec3], frame: &AxisFrame, h: f64, samples: usize) -> Result<Self> {
+    /// Messages name the plane in the coordinates of the frame `file`.
+    pub fn from_loop(
+        ring: &[Vec3],
+        frame: &AxisFrame,
+        h: f64,
+        samples: usize,
+        file: FileFrame,
+    ) -> Result<Self> {
+        let plane = || frame.plane(h, file);
         let n = ring.len();
         if n < 3 {
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} is a degenerate loop of {n} points"
+                "the section {} is a degenerate loop of {n} points",
+                plane()
             )));
         }
         // 2-D coordinates and the area centroid of the polygon, from the loop's first point:
@@ -310,7 +346,8 @@ impl Section {
         }
         if area.abs() < 1e-300 {
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} encloses no area"
+                "the section {} encloses no area",
+                plane()
             )));
         }
         let c = [cx / (3.0 * area), cy / (3.0 * area)];
@@ -338,8 +375,9 @@ impl Section {
         let turn = winding / TAU;
         if (turn.abs() - 1.0).abs() > 1e-6 {
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} does not wind once around its centroid \
-                 (winding number {turn:.3}): it is not star-shaped"
+                "the section {} does not wind once around its centroid (winding number \
+                 {turn:.3}): it is not star-shaped",
+                plane()
             )));
         }
         let sign = turn.signum();
@@ -381,14 +419,16 @@ impl Section {
         }
         if backtrack > BACKTRACK_SHARE * TAU {
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} is not star-shaped about its centroid \
-                 (rays from it meet the loop more than once over {:.0}% of the turn)",
+                "the section {} is not star-shaped about its centroid (rays from it meet the \
+                 loop more than once over {:.0}% of the turn)",
+                plane(),
                 100.0 * backtrack / TAU
             )));
         }
         if radius.iter().any(|r| !r.is_finite() || *r < 0.0) {
             return Err(Error::invalid(format!(
-                "the section at height {h:.6} is not star-shaped about its centroid"
+                "the section {} is not star-shaped about its centroid",
+                plane()
             )));
         }
         let points = radius
@@ -485,7 +525,7 @@ mod tests {
     fn sections_of_a_body_of_revolution_are_its_polygons() {
         let mesh = body(40, 64);
         mesh.require_closed().unwrap();
-        let slicer = Slicer::new(&mesh, z_frame());
+        let slicer = Slicer::new(&mesh, z_frame(), FileFrame::default());
         for h in [-0.9, -0.3, 0.0, 0.45, 0.97] {
             let loops = slicer.loops(h).unwrap();
             assert_eq!(loops.len(), 1);
@@ -522,8 +562,8 @@ mod tests {
             .collect();
         let shift = Vec3::new(1e7, -3e7, 0.0);
         let far: Vec<Vec3> = ring.iter().map(|p| p + shift).collect();
-        let a = Section::from_loop(&ring, &z_frame(), 0.25, 64).unwrap();
-        let b = Section::from_loop(&far, &z_frame(), 0.25, 64).unwrap();
+        let a = Section::from_loop(&ring, &z_frame(), 0.25, 64, FileFrame::default()).unwrap();
+        let b = Section::from_loop(&far, &z_frame(), 0.25, 64, FileFrame::default()).unwrap();
         // Rounding of coordinates of 3·10⁷: about 4·10⁻⁹ each.
         assert!((b.centroid - shift - a.centroid).norm() < 1e-7);
         for (p, q) in a.points.iter().zip(&b.points) {
@@ -540,9 +580,18 @@ mod tests {
             .extend(a.positions.iter().map(|p| p + Vec3::new(5.0, 0.0, 0.0)));
         two.triangles
             .extend(a.triangles.iter().map(|t| t.map(|i| i + n)));
-        let slicer = Slicer::new(&two, z_frame());
+        // Read from a +Y-up file: the plane is named where the file has it, not by its height
+        // along the design's axis.
+        let file = FileFrame {
+            y_up: true,
+            design_unit: 1.0,
+        };
+        let slicer = Slicer::new(&two, z_frame(), file);
         let e = slicer.section(0.1, 64, None).unwrap_err().to_string();
-        assert!(e.contains("2 separate loops"), "{e}");
+        assert!(
+            e.contains("the section through (0, 0.1, 0) normal to (0, 1, 0) has 2 separate loops"),
+            "{e}"
+        );
     }
 
     #[test]

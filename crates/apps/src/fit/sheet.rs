@@ -45,7 +45,7 @@ pub fn fit_sheet(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     }
     let tol = opts.target * diag;
     let frame = principal_frame(mesh);
-    let slicer = Slicer::new(mesh, frame);
+    let slicer = Slicer::new(mesh, frame, opts.file);
     let (hmin, hmax) = mesh
         .triangles
         .iter()
@@ -87,9 +87,9 @@ pub fn fit_sheet(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
     let outline = &boundary[0];
     let station = |points: &[Vec3], h: f64, edge: bool| -> Result<Station> {
         let s = if edge {
-            super::profile::from_edge_arc(points, &frame, h, opts.samples)?
+            super::profile::from_edge_arc(points, &frame, h, opts.samples, opts.file)?
         } else {
-            super::profile::from_polyline(points, &frame, h, opts.samples)?
+            super::profile::from_polyline(points, &frame, h, opts.samples, opts.file)?
         };
         Ok(Station {
             points: s.points,

@@ -697,12 +697,10 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
                     // The junction: the previous part's last section.
                     continue;
                 }
-                let slicer = Slicer::new(mesh, fp.frame);
+                let slicer = Slicer::new(mesh, fp.frame, opts.file);
                 let near = Some(fp.frame.origin);
-                let at = |e: Error| {
-                    let text = relabel(&e, 0.0, fp.frame.origin);
-                    Error::invalid(format!("{text} (part '{}')", part.name)).at(&fp.place)
-                };
+                let at =
+                    |e: Error| Error::invalid(format!("{e} (part '{}')", part.name)).at(&fp.place);
                 let (piece, section) =
                     cut_at(&slicer, part.mode, 0.0, near, opts.samples).map_err(at)?;
                 cut.push((station_of(section, part), piece, fp.frame));
@@ -722,7 +720,7 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
                         first_frame,
                         -1.0,
                         part,
-                        opts.samples,
+                        opts,
                     )
                     .map_err(|e| e.at(&format!("{place}.start")))?;
                     dropped += d;
@@ -732,7 +730,13 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
                     let line = edge_line(mesh, &outlines, first_piece, first_frame, true)
                         .map_err(|e| e.at(&format!("{place}.start")))?;
                     head.push(station_of(
-                        super::profile::from_edge_arc(&line, first_frame, 0.0, opts.samples)?,
+                        super::profile::from_edge_arc(
+                            &line,
+                            first_frame,
+                            0.0,
+                            opts.samples,
+                            opts.file,
+                        )?,
                         part,
                     ));
                 }
@@ -742,16 +746,9 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
             let mut tail: Vec<Station> = Vec::new();
             match part.end {
                 End::Pole => {
-                    let (mut cap, d) = cap_stations(
-                        mesh,
-                        &neighbours,
-                        last_piece,
-                        last_frame,
-                        1.0,
-                        part,
-                        opts.samples,
-                    )
-                    .map_err(|e| e.at(&format!("{place}.end")))?;
+                    let (mut cap, d) =
+                        cap_stations(mesh, &neighbours, last_piece, last_frame, 1.0, part, opts)
+                            .map_err(|e| e.at(&format!("{place}.end")))?;
                     dropped += d;
                     cap.reverse();
                     tail = cap;
@@ -760,7 +757,13 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
                     let line = edge_line(mesh, &outlines, last_piece, last_frame, false)
                         .map_err(|e| e.at(&format!("{place}.end")))?;
                     tail.push(station_of(
-                        super::profile::from_edge_arc(&line, last_frame, 0.0, opts.samples)?,
+                        super::profile::from_edge_arc(
+                            &line,
+                            last_frame,
+                            0.0,
+                            opts.samples,
+                            opts.file,
+                        )?,
                         part,
                     ));
                 }
@@ -828,17 +831,6 @@ pub fn fit_template(mesh: &InputMesh, template: &Template, opts: &FitOptions) ->
     })
 }
 
-/// The message of a section's error with its plane named by a point on it instead of its
-/// height in the plane's own frame.
-fn relabel(e: &Error, h: f64, point: Vec3) -> String {
-    let through = format!("through ({:.6}, {:.6}, {:.6})", point.x, point.y, point.z);
-    let mut text = e.to_string();
-    for h in [h, -h] {
-        text = text.replace(&format!("at height {h:.6}"), &through);
-    }
-    text
-}
-
 fn station_of(section: Section, part: &Part) -> Station {
     Station {
         points: section.points,
@@ -859,12 +851,18 @@ fn cut_at(
     match mode {
         PartMode::Tube => {
             let piece = slicer.loop_near(h, near)?;
-            let s = Section::from_loop(&piece.points, slicer.frame(), h, samples)?;
+            let s = Section::from_loop(&piece.points, slicer.frame(), h, samples, slicer.file())?;
             Ok((piece, s))
         }
         PartMode::Sheet => {
             let piece = slicer.open_piece(h, near)?;
-            let s = super::profile::from_polyline(&piece.points, slicer.frame(), h, samples)?;
+            let s = super::profile::from_polyline(
+                &piece.points,
+                slicer.frame(),
+                h,
+                samples,
+                slicer.file(),
+            )?;
             Ok((piece, s))
         }
     }
@@ -920,8 +918,9 @@ fn cap_stations(
     frame: &AxisFrame,
     side: f64,
     part: &Part,
-    samples: usize,
+    opts: &FitOptions,
 ) -> Result<(Vec<Station>, usize)> {
+    let samples = opts.samples;
     let beyond = |i: u32| side * frame.height(&mesh.positions[i as usize]) > 0.0;
     let mut seen = vec![false; mesh.positions.len()];
     let mut stack: Vec<u32> = Vec::new();
@@ -952,7 +951,7 @@ fn cap_stations(
         ));
     };
     let pole_point = mesh.positions[pv as usize];
-    let slicer = Slicer::new(mesh, *frame);
+    let slicer = Slicer::new(mesh, *frame, opts.file);
     let count = cap_count(part);
     let centre = piece.centre();
     let mut out = vec![Station::at_pole(pole_point, samples, &part.name)];
@@ -965,14 +964,11 @@ fn cap_stations(
         let near = centre + frame.axis * h;
         match slicer
             .loop_near(h, Some(near))
-            .and_then(|p| Section::from_loop(&p.points, frame, h, samples))
+            .and_then(|p| Section::from_loop(&p.points, frame, h, samples, opts.file))
         {
             Ok(s) => out.push(station_of(s, part)),
             Err(_) if j <= EDGE => dropped += 1,
-            Err(e) => {
-                let text = relabel(&e, h, frame.origin + frame.axis * h);
-                return Err(Error::invalid(text));
-            }
+            Err(e) => return Err(e),
         }
     }
     Ok((out, dropped))

@@ -157,7 +157,7 @@ pub fn fit_open_tube(mesh: &InputMesh, opts: &FitOptions) -> Result<Fit> {
 fn fit_along(mesh: &InputMesh, opts: &FitOptions, frame: AxisFrame, ends: Ends) -> Result<Fit> {
     let diag = mesh.diagonal();
     let tol = opts.target * diag;
-    let slicer = Slicer::new(mesh, frame);
+    let slicer = Slicer::new(mesh, frame, opts.file);
     let (lo, hi) = extremes(mesh, &frame);
     let h0 = ends[0].as_ref().map_or(frame.height(&lo), |e| e.0);
     let h1 = ends[1].as_ref().map_or(frame.height(&hi), |e| e.0);
@@ -183,7 +183,7 @@ fn fit_along(mesh: &InputMesh, opts: &FitOptions, frame: AxisFrame, ends: Ends) 
     let end_station = |end: &Option<(f64, Vec<Vec3>)>, pole: Vec3| -> Result<Station> {
         Ok(match end {
             Some((h, ring)) => Station {
-                points: Section::from_loop(ring, &frame, *h, opts.samples)?.points,
+                points: Section::from_loop(ring, &frame, *h, opts.samples, opts.file)?.points,
                 pole: false,
                 part: String::new(),
             },

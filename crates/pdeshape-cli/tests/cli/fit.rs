@@ -1207,3 +1207,76 @@ fn a_component_the_general_mode_cannot_lay_out_is_left_out_and_named() {
     // The one fitted lies about the first torus (x near 0), not the second (x near 10).
     assert!(spec.patchwork[0].points.iter().all(|p| p[0] < 5.0));
 }
+
+/// The point `(x, y, z)` that follows the first `marker` in `text`.
+fn point_after(text: &str, marker: &str) -> [f64; 3] {
+    let rest = &text[text
+        .find(marker)
+        .unwrap_or_else(|| panic!("{marker}: {text}"))
+        + marker.len()..];
+    let inside = &rest[..rest.find(')').unwrap()];
+    let c: Vec<f64> = inside.split(", ").map(|x| x.parse().unwrap()).collect();
+    [c[0], c[1], c[2]]
+}
+
+#[test]
+fn points_in_messages_are_where_the_file_has_them() {
+    // The torus and the pillow of the test above, raised 20 along the design's +Z, written to
+    // a file that states +Y up: the file's (x, y, z) is the design's (x, −z, y), so both lie
+    // about y = 20 in the file (the pillow in that plane, the torus within its tube's radius
+    // 0.35 of it), about z = 20 in the design. Every point a message names must be the file's.
+    let dir = tempfile::tempdir().unwrap();
+    let a = pdeshape_testkit::implicit::torus(12);
+    let b = pillow(10.0, 36);
+    let up = pdeshape::Vec3::new(0.0, 0.0, 20.0);
+    let mut text = String::from("# units: mm; up: +Y\n");
+    for d in a.positions.iter().chain(&b.positions).map(|p| p + up) {
+        text += &format!("v {} {} {}\n", d.x, d.z, -d.y);
+    }
+    let offset = a.positions.len() as u32;
+    for t in a
+        .triangles
+        .iter()
+        .copied()
+        .chain(b.triangles.iter().map(|t| t.map(|i| i + offset)))
+    {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    let mesh = write(dir.path(), "up.obj", &text);
+    let design = dir.path().join("up.toml");
+    let json = dir.path().join("up.json");
+    let args = ["fit", s(&mesh), "-o", s(&design), "--mode", "general"];
+    let out = pdeshape(&args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    // The pillow's box is centred at the file's (10, 20, 0).
+    assert!(
+        err.contains("component 2 of 2 (about (10, 20, 0)) is left out"),
+        "{err}"
+    );
+    let at = point_after(&err[err.find("misses the tolerance").unwrap()..], " at (");
+    assert!((at[1] - 20.0).abs() <= 0.36, "{at:?}: {err}");
+    let mut more = args.to_vec();
+    more.extend(["--best-effort", "--json", s(&json)]);
+    let out = pdeshape(&more);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    // A rim vertex of the pillow, to the six digits shown.
+    let rim = point_after(&err, "has no normal at (");
+    assert_eq!(rim[1], 20.0, "{err}");
+    assert!(
+        ((rim[0] - 10.0).powi(2) + rim[2].powi(2) - 1.0).abs() < 1e-3,
+        "{err}"
+    );
+    let at = point_after(&err[err.find("--best-effort").unwrap()..], " at (");
+    assert!((at[1] - 20.0).abs() <= 0.36, "{at:?}: {err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let worst: Vec<f64> = report["worst"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!((worst[1] - 20.0).abs() <= 0.36, "{worst:?}");
+}
