@@ -1649,6 +1649,7 @@ fn fit_mesh<'py>(
                 tolerance,
                 patches: sections,
                 units: read.units,
+                file: read.file,
             };
             let mut fitted = fit::fit_measured(&mesh, &request).map_err(|e| match e.place() {
                 "tolerance" | "sections" => e.to_string(),
