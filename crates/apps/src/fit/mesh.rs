@@ -219,14 +219,9 @@ impl InputMesh {
             .iter()
             .position(|p| !p.iter().all(|c| c.is_finite()))
         {
-            let p = positions[k];
-            return Err(Error::invalid(format!(
-                "vertex {} is not finite: ({}, {}, {})",
-                k + 1,
-                p.x,
-                p.y,
-                p.z
-            )));
+            return Err(Error::invalid(
+                vertex_problem(k + 1, positions[k]).unwrap_or_default(),
+            ));
         }
         let n = positions.len();
         if let Some(k) = triangles
@@ -367,15 +362,9 @@ impl InputMesh {
             .iter()
             .position(|p| p.amax() > MAX_COORDINATE)
         {
-            let p = self.positions[k];
-            return Err(Error::invalid(format!(
-                "vertex {} lies at ({:e}, {:e}, {:e}), beyond the ±{MAX_COORDINATE:e} a mesh is \
-                 computed in (its squared distances would overflow): scale the mesh down",
-                k + 1,
-                p.x,
-                p.y,
-                p.z
-            )));
+            return Err(Error::invalid(
+                vertex_problem(k + 1, self.positions[k]).unwrap_or_default(),
+            ));
         }
         // The box's longest side, not its diagonal: the diagonal's squares vanish first.
         let (lo, hi) = self.bounds();
@@ -759,6 +748,51 @@ fn stated_line(line: &str) -> Option<(Units, bool)> {
     units.map(|u| (u, y_up))
 }
 
+/// What is wrong with the mesh's vertex number `k` (counted from 1) at `p`: a coordinate that
+/// is not finite, or one beyond [`MAX_COORDINATE`]; `None` for a vertex a mesh can be
+/// computed with.
+fn vertex_problem(k: usize, p: Vec3) -> Option<String> {
+    if !p.iter().all(|c| c.is_finite()) {
+        Some(format!(
+            "vertex {k} is not finite: ({}, {}, {})",
+            p.x, p.y, p.z
+        ))
+    } else if p.amax() > MAX_COORDINATE {
+        Some(format!(
+            "vertex {k} lies at ({:e}, {:e}, {:e}), beyond the ±{MAX_COORDINATE:e} a mesh is \
+             computed in (its squared distances would overflow): scale the mesh down",
+            p.x, p.y, p.z
+        ))
+    } else {
+        None
+    }
+}
+
+/// The first `v` line of an OBJ file whose vertex a mesh cannot be computed with
+/// ([`vertex_problem`]), as `line L: vertex k …` with `k` the file's own number of the vertex
+/// (the parser numbers vertices in the order faces first use them). Looked for only once the
+/// parsed mesh has such a vertex.
+fn obj_vertex_problem(bytes: &[u8]) -> Option<String> {
+    let mut k = 0;
+    for (line, l) in bytes.split(|&b| b == b'\n').enumerate() {
+        let Some(rest) = l.strip_prefix(b"v ").or_else(|| l.strip_prefix(b"v\t")) else {
+            continue;
+        };
+        k += 1;
+        let c: Vec<f64> = String::from_utf8_lossy(rest)
+            .split_whitespace()
+            .take(3)
+            .filter_map(|x| x.parse().ok())
+            .collect();
+        if let [x, y, z] = c[..] {
+            if let Some(what) = vertex_problem(k, Vec3::new(x, y, z)) {
+                return Some(format!("line {}: {what}", line + 1));
+            }
+        }
+    }
+    None
+}
+
 /// Splits a polygon of `n ≥ 3` corners into a fan.
 fn fan(out: &mut Vec<[u32; 3]>, corners: &[u32]) {
     for k in 1..corners.len().saturating_sub(1) {
@@ -928,6 +962,11 @@ fn read_obj(bytes: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>, usize)> {
                 polygon(&mut triangles, &positions, &corners);
             }
             at += a;
+        }
+    }
+    if positions.iter().any(|p| vertex_problem(0, *p).is_some()) {
+        if let Some(what) = obj_vertex_problem(bytes) {
+            return Err(Error::invalid(what));
         }
     }
     Ok((positions, triangles, models.len()))
