@@ -265,6 +265,9 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
     // The fast mode's fit when it missed: kept if the general mode refuses the mesh or does
     // no better.
     let mut missed_fast: Option<Fitted> = None;
+    // The fast mode's fit when it met the tolerance in more bytes than the mesh has: kept
+    // unless the general mode meets it in fewer.
+    let mut larger_fast: Option<Fitted> = None;
     if let Some(fit) = fast {
         let solved = solve_design(&fit.spec).map_err(|e| {
             Error::invalid(format!("the fitted design does not solve: {}", e.message()))
@@ -309,6 +312,8 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
                 sig(100.0 * fitted.measures.hausdorff_relative, 4)
             ));
             missed_fast = Some(fitted);
+        } else if auto && fitted.measures.design_bytes > fitted.measures.mesh_bytes {
+            larger_fast = Some(fitted);
         } else {
             return Ok(fitted);
         }
@@ -317,7 +322,38 @@ fn fit_chosen(mesh: &InputMesh, request: &Request) -> Result<Fitted> {
         target: tolerance,
         ..opts
     };
-    let (fit, measures, distances) = match (fit_general_measured(mesh, &general), missed_fast) {
+    let attempt = fit_general_measured(mesh, &general);
+    // A fast fit within the tolerance but larger than the mesh (a cube as a tube of 30
+    // patches, 87 kB for 240 bytes): the general mode's fit takes its place when it is within
+    // the tolerance too, in fewer bytes.
+    if let Some(f) = larger_fast {
+        return Ok(match attempt {
+            Ok((fit, measures, distances, _))
+                if measures.hausdorff_relative <= tolerance
+                    && measures.design_bytes < f.measures.design_bytes =>
+            {
+                let (worst, _) = distances.worst(mesh);
+                Fitted {
+                    fallback: Some(format!(
+                        "the {} mode's design ({} bytes) is larger than the mesh ({} bytes), the \
+                         general mode's within the tolerance in {} bytes",
+                        f.fit.mode.name(),
+                        f.measures.design_bytes,
+                        f.measures.mesh_bytes,
+                        measures.design_bytes
+                    )),
+                    fit,
+                    measures,
+                    distances,
+                    worst,
+                    target: tolerance,
+                    ..f
+                }
+            }
+            _ => f,
+        });
+    }
+    let (fit, measures, distances) = match (attempt, missed_fast) {
         (Ok((fit, measures, distances, _)), fast) => match fast {
             Some(mut f)
                 if measures

@@ -520,3 +520,68 @@ fn a_cad_plate_of_slivers_is_laid_out_on_its_long_edges_bisected() {
     );
     assert_real_fit("cad plate", &mesh, &fitted, true);
 }
+
+/// A 3 × 2 × 1 box of 12 triangles, facing out.
+fn box_mesh() -> InputMesh {
+    let p = (0..8)
+        .map(|k| {
+            pdeshape::Vec3::new(
+                3.0 * (k & 1) as f64,
+                2.0 * ((k >> 1) & 1) as f64,
+                ((k >> 2) & 1) as f64,
+            )
+        })
+        .collect();
+    let t = vec![
+        [0, 2, 3],
+        [0, 3, 1],
+        [4, 5, 7],
+        [4, 7, 6],
+        [0, 1, 5],
+        [0, 5, 4],
+        [2, 6, 7],
+        [2, 7, 3],
+        [0, 4, 6],
+        [0, 6, 2],
+        [1, 3, 7],
+        [1, 7, 5],
+    ];
+    InputMesh::new(p, t).unwrap()
+}
+
+#[test]
+fn a_box_is_fitted_exactly_by_the_general_mode_not_as_a_tube_larger_than_it() {
+    // A box's sections along its axis are single star-shaped loops, so the tube mode fits it,
+    // within the default tolerance but with rounded edges and in many times the mesh's bytes.
+    // The automatic choice keeps the general mode's fit instead: its faces are the box's own
+    // (flat patches, creased edges), so the distance is rounding only.
+    let mesh = box_mesh();
+    assert!(mesh.signed_volume() > 5.99 && mesh.signed_volume() < 6.01);
+    let tube = pdeshape::fit::fit_measured(
+        &mesh,
+        &pdeshape::fit::Request {
+            mode: pdeshape::fit::ModeChoice::Tube,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(!tube.missed());
+    assert!(tube.measures.design_bytes > tube.measures.mesh_bytes);
+    let auto = pdeshape::fit::fit_measured(&mesh, &pdeshape::fit::Request::default()).unwrap();
+    assert_eq!(auto.fit.mode, FitMode::General);
+    assert!(
+        auto.fallback
+            .as_deref()
+            .is_some_and(|w| w.contains("is larger than the mesh")),
+        "{:?}",
+        auto.fallback
+    );
+    // Flat patches through the box's corners: the distance is rounding of coordinates of
+    // size 3 (a few ulps), far below any tolerance.
+    assert!(
+        auto.measures.hausdorff_relative < 1e-9,
+        "{:?}",
+        auto.measures
+    );
+    assert!(auto.measures.design_bytes < tube.measures.design_bytes);
+}
