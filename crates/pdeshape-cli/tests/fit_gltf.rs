@@ -114,8 +114,11 @@ fn glb(doc: &serde_json::Value, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// Fits `mesh` by the tube mode, whose design depends on the surface only (the general mode
+/// breaks ties between equal collapses by vertex number, which the OBJ parser gives in the
+/// order faces first use them and glTF in its accessor's order).
 fn fit_ok(mesh: &Path, design: &Path) -> String {
-    let out = pdeshape(&["fit", s(mesh), "-o", s(design)]);
+    let out = pdeshape(&["fit", s(mesh), "-o", s(design), "--mode", "tube"]);
     let stderr = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(out.status.success(), "{stderr}");
     stderr
